@@ -4,12 +4,37 @@
 //! captured frames, joins the counts with a Part Identification Texture into
 //! per-part statistics, and renders a heatmap texture.
 
+pub mod analyze;
+pub mod archive;
+pub mod bitset;
 pub mod color;
+pub mod count;
+pub mod decode;
 pub mod error;
+pub mod heatmap;
 pub mod manifest;
 pub mod output;
+pub mod palette;
+pub mod parts;
+pub mod report;
+pub mod synthetic;
+pub mod trim;
 
+pub use analyze::{
+    Analysis, AnalyzeOptions, Dedupe, PaletteChoice, Progress, Timings, WrittenFiles, analyze,
+    default_output_dir, write_results,
+};
+pub use archive::{Archive, ImageSource};
 pub use color::{COLOR_COUNT, Color, ParseColorError};
+pub use count::{Classifier, Counts, ImageTally, PixelClass, scan_image};
 pub use error::{Error, Result};
+pub use heatmap::{HeatmapOptions, Scale};
 pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
 pub use output::{write_atomically, write_bytes_atomically};
+pub use palette::{Fcsp, PaletteDescription};
+pub use parts::{Legend, Part, PartStats, PartTable, Pidt, UNLABELLED, join_parts};
+pub use report::{
+    AnalysisResult, RESULT_SCHEMA, format_table, read_result_summary, read_texel_counts, write_parts_csv,
+    write_result_json, write_timings_json,
+};
+pub use trim::{EmptyTile, TrimMode};

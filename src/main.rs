@@ -1,1 +1,282 @@
-fn main() {}
+//! `ufcsr-analyze`: command-line front end. Parses arguments into
+//! [`ufcsr::AnalyzeOptions`], runs the library, prints the report and maps
+//! the outcome to an exit code (0 complete, 1 some images failed, 2 error).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use clap::{Args, Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use ufcsr::{
+    AnalyzeOptions, Color, Dedupe, HeatmapOptions, PaletteChoice, Progress, Scale, TrimMode, analyze,
+    default_output_dir, format_table, read_texel_counts, write_results,
+};
+
+/// Counts how often each texel of a vehicle is visible in captured frames
+/// (UFCSR), and turns the counts into per-part statistics and a heatmap.
+///
+/// ARCHIVE is a folder of PNG tiles rendered with a Full Color Space Palette.
+/// With a manifest.json in it (written by ufcsr-capture), no other option is
+/// needed. Writes result.json, parts.csv, heatmap.png and timings.json to
+/// --out (default: ARCHIVE/results).
+#[derive(Parser)]
+#[command(
+    name = "ufcsr-analyze",
+    version,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    #[command(flatten)]
+    analyze: AnalyzeArgs,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Re-render the heatmap from a result.json, without the archive.
+    Heatmap(HeatmapArgs),
+}
+
+#[derive(Args)]
+struct AnalyzeArgs {
+    /// Folder of captured PNG tiles (searched recursively without a manifest).
+    #[arg(required = true)]
+    archive: Option<PathBuf>,
+
+    /// Part Identification Texture: palette-sized PNG, each texel in its part's colour.
+    #[arg(long, value_name = "PNG")]
+    pidt: Option<PathBuf>,
+
+    /// Legend of the PIdT: CSV `name,color` (#RRGGBB) or JSON [{"name","color"}].
+    #[arg(long, value_name = "CSV|JSON")]
+    parts: Option<PathBuf>,
+
+    /// Palette image with unique colours, in any layout (default: the canonical palette).
+    #[arg(long, value_name = "PNG", conflicts_with = "palette_size")]
+    fcsp: Option<PathBuf>,
+
+    /// Size of the canonical palette, WxH (default 4096x4096).
+    #[arg(long, value_name = "WxH")]
+    palette_size: Option<String>,
+
+    /// Background colour to ignore, #RRGGBB; repeat for several (default #000FFF).
+    #[arg(long, value_name = "HEX")]
+    background: Vec<String>,
+
+    /// What one count means: `image` (once per PNG) or `frame` (once per eye-frame; needs a manifest).
+    #[arg(long, default_value = "image", value_name = "image|frame")]
+    dedupe: String,
+
+    /// Skip all-background tiles: `auto` (find and verify the empty-file size), a size in bytes, or `off`.
+    #[arg(long, default_value = "auto", value_name = "auto|BYTES|off")]
+    trim: String,
+
+    #[command(flatten)]
+    heatmap: HeatmapScaleArgs,
+
+    /// Output folder (default: ARCHIVE/results).
+    #[arg(long, short, value_name = "DIR")]
+    out: Option<PathBuf>,
+
+    /// Worker threads (default: all cores).
+    #[arg(long, short = 'j', value_name = "N")]
+    threads: Option<usize>,
+
+    /// Stop at the first image that cannot be read (default: report it, go on, exit 1).
+    #[arg(long)]
+    strict: bool,
+
+    /// Ignore ARCHIVE/manifest.json.
+    #[arg(long)]
+    no_manifest: bool,
+
+    /// No progress bar and no table; errors still go to stderr.
+    #[arg(long, short)]
+    quiet: bool,
+
+    /// Print the result summary as JSON on stdout instead of the table.
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+struct HeatmapScaleArgs {
+    /// Colour scale of the heatmap: `linear` or `log`.
+    #[arg(long, value_name = "linear|log")]
+    scale: Option<String>,
+
+    /// Count shown as the top of the colour scale (share one scale across scenarios).
+    #[arg(long, value_name = "N")]
+    max: Option<u32>,
+}
+
+#[derive(Args)]
+struct HeatmapArgs {
+    /// A result.json written by ufcsr-analyze.
+    result: PathBuf,
+
+    /// Heatmap PNG to write.
+    #[arg(long, short, value_name = "PNG")]
+    out: PathBuf,
+
+    #[command(flatten)]
+    heatmap: HeatmapScaleArgs,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let outcome = match cli.command {
+        Some(Command::Heatmap(args)) => run_heatmap(args),
+        None => run_analyze(cli.analyze),
+    };
+    match outcome {
+        Ok(code) => code,
+        Err(error) => {
+            eprintln!("error: {error:#}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn heatmap_options(args: &HeatmapScaleArgs, stored: Option<(Scale, Option<u32>)>) -> Result<HeatmapOptions> {
+    let scale = match &args.scale {
+        Some(text) => text.parse()?,
+        None => stored.map(|s| s.0).unwrap_or_default(),
+    };
+    let max = args.max.or(stored.and_then(|s| s.1));
+    if max == Some(0) {
+        anyhow::bail!("--max must be at least 1");
+    }
+    Ok(HeatmapOptions { scale, max })
+}
+
+fn run_heatmap(args: HeatmapArgs) -> Result<ExitCode> {
+    let stored = read_texel_counts(&args.result)?;
+    let options = heatmap_options(&args.heatmap, Some((stored.scale, stored.max)))?;
+    ufcsr::heatmap::write_heatmap(&args.out, &stored.texel_counts, stored.width, stored.height, options)?;
+    eprintln!("wrote {}", args.out.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A progress bar on stderr (drawn only on a terminal).
+struct Bar(ProgressBar);
+
+impl Progress for Bar {
+    fn start(&self, total: u64) {
+        self.0.set_length(total);
+    }
+    fn advance(&self, done: u64) {
+        self.0.inc(done);
+    }
+    fn finish(&self) {
+        self.0.finish_and_clear();
+    }
+}
+
+fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
+    let archive = args.archive.clone().context("ARCHIVE is required")?;
+    if let Some(threads) = args.threads {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads.max(1))
+            .build_global()
+            .context("could not start the worker threads")?;
+    }
+    let palette = match (&args.fcsp, &args.palette_size) {
+        (Some(path), _) => Some(PaletteChoice::Image(path.clone())),
+        (None, Some(size)) => {
+            let (width, height) = ufcsr::palette::parse_size(size)?;
+            Some(PaletteChoice::Canonical { width, height })
+        }
+        (None, None) => None,
+    };
+    let background = if args.background.is_empty() {
+        None
+    } else {
+        Some(
+            args.background
+                .iter()
+                .map(|text| text.parse::<Color>().with_context(|| "invalid --background".to_string()))
+                .collect::<Result<Vec<_>>>()?,
+        )
+    };
+    let out_dir = args.out.clone().unwrap_or_else(|| default_output_dir(&archive));
+    let heatmap = heatmap_options(&args.heatmap, None)?;
+    let options = AnalyzeOptions {
+        archive,
+        palette,
+        pidt: args.pidt.clone(),
+        legend: args.parts.clone(),
+        background,
+        dedupe: args.dedupe.parse::<Dedupe>()?,
+        trim: args.trim.parse::<TrimMode>()?,
+        heatmap,
+        strict: args.strict,
+        exclude: vec![out_dir.clone()],
+        ignore_manifest: args.no_manifest,
+    };
+
+    let bar = ProgressBar::with_draw_target(
+        Some(0),
+        if args.quiet { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() },
+    );
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} counting {pos}/{len} images [{bar:40}] {per_sec} eta {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    let mut analysis = analyze(&options, Some(&Bar(bar)))?;
+    let written = write_results(&mut analysis, &out_dir)?;
+
+    let result = &analysis.result;
+    if args.json {
+        let summary = serde_json::json!({
+            "result": result,
+            "timings": analysis.timings,
+            "files": {
+                "result_json": written.result_json,
+                "parts_csv": written.parts_csv,
+                "heatmap_png": written.heatmap_png,
+                "timings_json": written.timings_json,
+            },
+        });
+        println!("{}", serde_json::to_string_pretty(&summary)?);
+    } else if !args.quiet {
+        print!("{}", format_table(result));
+        println!(
+            "\n{:.2} s ({:.0} Mpixel/s decoded); wrote {}",
+            analysis.timings.total_seconds,
+            analysis.timings.decoded_megapixels_per_second,
+            out_dir.display()
+        );
+    }
+    for warning in &result.warnings {
+        eprintln!("warning: {warning}");
+    }
+    for stray in result.images_with_stray_pixels.iter().take(10) {
+        eprintln!(
+            "warning: {}: {} stray pixels (neither background nor palette)",
+            stray.file, stray.stray_pixels
+        );
+    }
+    if result.images_with_stray_pixels.len() > 10 {
+        eprintln!(
+            "warning: {} more images have stray pixels (see result.json)",
+            result.images_with_stray_pixels.len() - 10
+        );
+    }
+    for failure in &result.failures {
+        eprintln!("error: {}", failure.error);
+    }
+    if analysis.is_complete() {
+        Ok(ExitCode::SUCCESS)
+    } else {
+        eprintln!(
+            "{} of {} images failed and were not counted; results cover the rest",
+            result.images.failed, result.images.found
+        );
+        Ok(ExitCode::from(1))
+    }
+}

@@ -128,7 +128,10 @@ impl Manifest {
             );
             match (&tile.file, tile.empty) {
                 (None, false) => {
-                    return Err(Error::bad_file(path, format!("{place} has no file and is not marked empty")));
+                    return Err(Error::bad_file(
+                        path,
+                        format!("{place} has no file and is not marked empty"),
+                    ));
                 }
                 (Some(_), true) => {
                     return Err(Error::bad_file(path, format!("{place} names a file but is marked empty")));

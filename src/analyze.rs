@@ -1,0 +1,496 @@
+//! The analysis job: archive in, counts and per-part statistics out.
+//!
+//! [`analyze`] resolves the options against the archive's manifest once,
+//! builds every read-only object the workers need (palette, classifier,
+//! trimming plan), then counts the images in parallel with rayon and joins
+//! the counts with the PIdT. Per-image outcomes are kept in archive order, so
+//! the result is identical whatever the number of threads.
+
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::archive::Archive;
+use crate::bitset::{AtomicColorSet, TouchedSet};
+use crate::color::Color;
+use crate::count::{Classifier, Counts, ImageTally, scan_image};
+use crate::decode::map_file;
+use crate::error::{Error, Result};
+use crate::heatmap::HeatmapOptions;
+use crate::manifest::{Manifest, PaletteSpec};
+use crate::palette::{DEFAULT_PALETTE_SIDE, Fcsp};
+use crate::parts::{Legend, Pidt, join_parts};
+use crate::report::{
+    AnalysisResult, DedupeReport, FailedImage, ImageCounts, Settings, StrayImage, TrimReport,
+    UnlabelledReport,
+};
+use crate::trim::{TrimMode, TrimPlan};
+
+/// Which palette to use.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PaletteChoice {
+    /// The canonical W×H palette.
+    Canonical { width: u32, height: u32 },
+    /// A palette image with unique colours.
+    Image(PathBuf),
+}
+
+/// What one count means.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Dedupe {
+    /// A texel counts once per image (tile) that shows it.
+    #[default]
+    Image,
+    /// A texel counts once per eye-frame, however many of its tiles show it.
+    Frame,
+}
+
+impl std::str::FromStr for Dedupe {
+    type Err = Error;
+    fn from_str(text: &str) -> Result<Dedupe> {
+        match text {
+            "image" => Ok(Dedupe::Image),
+            "frame" => Ok(Dedupe::Frame),
+            other => Err(Error::BadOptions(format!("unknown --dedupe {other:?}: use image or frame"))),
+        }
+    }
+}
+
+/// Receives progress while images are counted (the binary draws a bar).
+pub trait Progress: Sync {
+    /// Counting starts; `total` images will be reported.
+    fn start(&self, total: u64);
+    /// `done` more images are finished.
+    fn advance(&self, done: u64);
+    /// Counting is over.
+    fn finish(&self);
+}
+
+/// Everything [`analyze`] needs. `None` fields fall back to the archive's
+/// manifest, then to the defaults.
+#[derive(Debug, Clone, Default)]
+pub struct AnalyzeOptions {
+    /// The archive folder.
+    pub archive: PathBuf,
+    pub palette: Option<PaletteChoice>,
+    pub pidt: Option<PathBuf>,
+    pub legend: Option<PathBuf>,
+    pub background: Option<Vec<Color>>,
+    pub dedupe: Dedupe,
+    pub trim: TrimMode,
+    /// Heatmap settings, recorded in the result.
+    pub heatmap: HeatmapOptions,
+    /// Stop at the first failed image.
+    pub strict: bool,
+    /// Files or folders never taken as images (e.g. the output folder).
+    pub exclude: Vec<PathBuf>,
+    /// Ignore `manifest.json` even if present.
+    pub ignore_manifest: bool,
+}
+
+/// Wall-clock seconds per stage, and the thread count (kept out of
+/// `result.json`, which must not change from run to run).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Timings {
+    pub threads: usize,
+    pub load_seconds: f64,
+    pub trim_seconds: f64,
+    pub count_seconds: f64,
+    pub join_seconds: f64,
+    pub heatmap_seconds: f64,
+    pub write_seconds: f64,
+    pub total_seconds: f64,
+    /// Decoded pixels per second during counting, in millions.
+    pub decoded_megapixels_per_second: f64,
+}
+
+/// The outcome of an analysis.
+pub struct Analysis {
+    /// Everything that goes into `result.json` except the per-texel counts.
+    pub result: AnalysisResult,
+    /// Count per texel, row-major over the palette (`width * height`).
+    pub texel_counts: Vec<u32>,
+    pub timings: Timings,
+}
+
+impl Analysis {
+    /// True when every image was read (exit code 0 material).
+    pub fn is_complete(&self) -> bool {
+        self.result.images.failed == 0
+    }
+}
+
+/// What happened to one image.
+enum Outcome {
+    Trimmed,
+    Decoded(ImageTally),
+    Failed(Error),
+    /// Not looked at because `--strict` stopped the run.
+    Skipped,
+}
+
+/// Options resolved against the manifest: the fully built inputs.
+struct Inputs {
+    palette: Fcsp,
+    backgrounds: Vec<Color>,
+    parts: Option<(PathBuf, Legend, PathBuf, Pidt)>,
+    archive: Archive,
+    dedupe: Dedupe,
+}
+
+/// Runs the analysis.
+pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Result<Analysis> {
+    let started = Instant::now();
+    let mut timings = Timings { threads: rayon::current_num_threads(), ..Timings::default() };
+    let inputs = resolve(options)?;
+    let classifier =
+        Classifier::new(&inputs.palette, &inputs.backgrounds.iter().map(|c| c.packed()).collect::<Vec<_>>());
+    timings.load_seconds = started.elapsed().as_secs_f64();
+
+    let stage = Instant::now();
+    let images = &inputs.archive.images;
+    let plan = TrimPlan::build(options.trim, images, &classifier);
+    timings.trim_seconds = stage.elapsed().as_secs_f64();
+
+    let stage = Instant::now();
+    let image_counts = Counts::new();
+    let frame_counts = (inputs.dedupe == Dedupe::Frame).then(Counts::new);
+    let strays = AtomicColorSet::new();
+    let stop = AtomicBool::new(false);
+    // Work units: one eye-frame (so frame deduplication stays in one thread),
+    // or one image.
+    let units: Vec<Vec<usize>> = match inputs.dedupe {
+        Dedupe::Frame => {
+            let mut groups = vec![Vec::new(); inputs.archive.frame_groups];
+            for (index, image) in images.iter().enumerate() {
+                // resolve() guarantees every image has a group in frame mode.
+                groups[image.frame_group.unwrap_or(0)].push(index);
+            }
+            groups
+        }
+        Dedupe::Image => (0..images.len()).map(|i| vec![i]).collect(),
+    };
+    if let Some(progress) = progress {
+        progress.start(images.len() as u64);
+    }
+    let mut outcomes: Vec<(usize, Outcome)> = units
+        .par_iter()
+        .map_init(
+            || (TouchedSet::new(), TouchedSet::new()),
+            |(seen, frame_seen), unit| {
+                let mut unit_outcomes = Vec::with_capacity(unit.len());
+                for &index in unit {
+                    if options.strict && stop.load(Ordering::Relaxed) {
+                        unit_outcomes.push((index, Outcome::Skipped));
+                        continue;
+                    }
+                    let outcome = count_one(index, &inputs.archive, &plan, &classifier, seen, &strays);
+                    if let Outcome::Decoded(_) = outcome {
+                        image_counts.add_once(seen.touched());
+                        if frame_counts.is_some() {
+                            for &color in seen.touched() {
+                                frame_seen.insert(color);
+                            }
+                        }
+                    }
+                    seen.clear();
+                    if let Outcome::Failed(_) = outcome {
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                    unit_outcomes.push((index, outcome));
+                    if let Some(progress) = progress {
+                        progress.advance(1);
+                    }
+                }
+                if let Some(counts) = &frame_counts {
+                    counts.add_once(frame_seen.touched());
+                    frame_seen.clear();
+                }
+                unit_outcomes
+            },
+        )
+        .flatten_iter()
+        .collect();
+    if let Some(progress) = progress {
+        progress.finish();
+    }
+    outcomes.sort_by_key(|(index, _)| *index);
+    timings.count_seconds = stage.elapsed().as_secs_f64();
+
+    let mut images_report = ImageCounts { found: inputs.archive.found(), ..ImageCounts::default() };
+    images_report.listed_empty = inputs.archive.listed_empty;
+    images_report.trimmed = inputs.archive.listed_empty;
+    let mut failures = Vec::new();
+    let mut stray_images = Vec::new();
+    let (mut background_pixels, mut stray_pixels, mut texel_pixels) = (0u64, 0u64, 0u64);
+    for (index, outcome) in outcomes {
+        let name = &images[index].name;
+        match outcome {
+            Outcome::Trimmed => images_report.trimmed += 1,
+            Outcome::Decoded(tally) => {
+                images_report.decoded += 1;
+                background_pixels += tally.background_pixels;
+                stray_pixels += tally.stray_pixels;
+                texel_pixels += tally.texel_pixels;
+                if tally.stray_pixels > 0 {
+                    stray_images.push(StrayImage { file: name.clone(), stray_pixels: tally.stray_pixels });
+                }
+            }
+            Outcome::Failed(error) => {
+                if options.strict {
+                    return Err(Error::Strict(Box::new(error)));
+                }
+                images_report.failed += 1;
+                failures.push(FailedImage { file: name.clone(), error: error.to_string() });
+            }
+            // Only under --strict, which returned above when anything failed.
+            Outcome::Skipped => {}
+        }
+    }
+    let decoded_pixels = background_pixels + stray_pixels + texel_pixels;
+    timings.decoded_megapixels_per_second = decoded_pixels as f64 / 1e6 / timings.count_seconds.max(1e-9);
+
+    let stage = Instant::now();
+    let texel_counts = texel_counts_of(&inputs.palette, image_counts);
+    let frame_texel_counts = frame_counts.map(|counts| texel_counts_of(&inputs.palette, counts));
+    let (texel_counts, per_image_counts) = match frame_texel_counts {
+        Some(frame) => (frame, Some(texel_counts)),
+        None => (texel_counts, None),
+    };
+    let texels_seen = texel_counts.par_iter().filter(|&&c| c > 0).count() as u64;
+    let max_count = texel_counts.par_iter().copied().max().unwrap_or(0);
+    let mut warnings = Vec::new();
+    let mut notes = Vec::new();
+    for background in &inputs.backgrounds {
+        if inputs.palette.contains(background.packed()) {
+            notes.push(format!(
+                "background {background} is also a palette colour; that texel is ignored (never counted)"
+            ));
+        }
+    }
+    let (table, unlabelled, dedupe_report) = match &inputs.parts {
+        Some((legend_path, legend, pidt_path, pidt)) => {
+            let table = join_parts(&texel_counts, pidt, legend);
+            for part in table.parts.iter().filter(|p| p.texels == 0) {
+                warnings.push(format!(
+                    "{}: part {:?} ({}) has no texels in {}",
+                    legend_path.display(),
+                    part.name,
+                    part.color.map(|c| c.to_string()).unwrap_or_default(),
+                    pidt_path.display()
+                ));
+            }
+            let dedupe_report = per_image_counts.as_ref().map(|per_image| {
+                let per_image_total = join_parts(per_image, pidt, legend).grand_total;
+                DedupeReport::new(per_image_total, table.grand_total)
+            });
+            let unlabelled = UnlabelledReport::new(&table, pidt);
+            (Some(table), Some(unlabelled), dedupe_report)
+        }
+        None => {
+            let dedupe_report = per_image_counts.as_ref().map(|per_image| {
+                let sum = |counts: &[u32]| counts.par_iter().map(|&c| u64::from(c)).sum::<u64>();
+                DedupeReport::new(sum(per_image), sum(&texel_counts))
+            });
+            (None, None, dedupe_report)
+        }
+    };
+    timings.join_seconds = stage.elapsed().as_secs_f64();
+    timings.total_seconds = started.elapsed().as_secs_f64();
+
+    let settings = Settings {
+        archive: options.archive.display().to_string(),
+        manifest: !options.ignore_manifest && inputs.archive.frame_groups > 0,
+        palette: inputs.palette.describe(),
+        background: inputs.backgrounds.clone(),
+        pidt: inputs.parts.as_ref().map(|p| p.2.display().to_string()),
+        parts: inputs.parts.as_ref().map(|p| p.0.display().to_string()),
+        dedupe: inputs.dedupe,
+        trim: TrimReport { mode: options.trim.to_string(), empty_tiles: plan.empty_tiles.clone() },
+        heatmap_scale: options.heatmap.scale,
+        heatmap_max: options.heatmap.max,
+    };
+    let result = AnalysisResult::new(
+        images_report,
+        texels_seen,
+        decoded_pixels,
+        texel_pixels,
+        background_pixels,
+        stray_pixels,
+        &strays,
+        max_count,
+        table.as_ref(),
+        unlabelled,
+        dedupe_report,
+        settings,
+        failures,
+        stray_images,
+        warnings,
+        notes,
+    );
+    Ok(Analysis { result, texel_counts, timings })
+}
+
+/// Counts one image into `seen` (left for the caller to commit and clear).
+fn count_one(
+    index: usize,
+    archive: &Archive,
+    plan: &TrimPlan,
+    classifier: &Classifier,
+    seen: &mut TouchedSet,
+    strays: &AtomicColorSet,
+) -> Outcome {
+    let image = &archive.images[index];
+    let bytes = match map_file(&image.path) {
+        Ok(bytes) => bytes,
+        Err(error) => return Outcome::Failed(error),
+    };
+    if plan.is_trimmable(index, &bytes) {
+        return Outcome::Trimmed;
+    }
+    match scan_image(&image.path, &bytes, classifier, seen, strays) {
+        Ok(tally) => Outcome::Decoded(tally),
+        Err(error) => Outcome::Failed(error),
+    }
+}
+
+/// Per-colour counts → per-texel counts in palette layout.
+fn texel_counts_of(palette: &Fcsp, counts: Counts) -> Vec<u32> {
+    match palette {
+        Fcsp::Canonical { .. } => {
+            // Texel index == colour: reuse the allocation.
+            let mut per_color = counts.into_vec();
+            per_color.truncate(palette.texel_count());
+            per_color
+        }
+        Fcsp::Image { colors, .. } => colors.par_iter().map(|&color| counts.get(color)).collect(),
+    }
+}
+
+/// Resolves options against the manifest and loads every input once.
+fn resolve(options: &AnalyzeOptions) -> Result<Inputs> {
+    let root = &options.archive;
+    if !root.is_dir() {
+        return Err(Error::bad_file(root, "not a folder (expected an archive folder of PNG tiles)"));
+    }
+    let manifest = if options.ignore_manifest { None } else { Manifest::load_from_dir(root)? };
+    let from_manifest = |path: &Option<PathBuf>| path.as_ref().map(|p| root.join(p));
+
+    let palette_choice = match (&options.palette, manifest.as_ref().and_then(|m| m.palette.as_ref())) {
+        (Some(choice), _) => choice.clone(),
+        (None, Some(PaletteSpec::Canonical { canonical: [width, height] })) => {
+            PaletteChoice::Canonical { width: *width, height: *height }
+        }
+        (None, Some(PaletteSpec::File(file))) => PaletteChoice::Image(root.join(file)),
+        (None, None) => {
+            PaletteChoice::Canonical { width: DEFAULT_PALETTE_SIDE, height: DEFAULT_PALETTE_SIDE }
+        }
+    };
+    let palette = match &palette_choice {
+        PaletteChoice::Canonical { width, height } => Fcsp::canonical(*width, *height)?,
+        PaletteChoice::Image(path) => Fcsp::from_png(path)?,
+    };
+
+    let backgrounds = options
+        .background
+        .clone()
+        .or_else(|| manifest.as_ref().and_then(|m| m.background.clone()))
+        .unwrap_or_else(|| vec![Color::DEFAULT_BACKGROUND]);
+    if backgrounds.is_empty() {
+        return Err(Error::BadOptions("at least one background colour is needed".into()));
+    }
+
+    let pidt_path = options.pidt.clone().or_else(|| manifest.as_ref().and_then(|m| from_manifest(&m.pidt)));
+    let legend_path =
+        options.legend.clone().or_else(|| manifest.as_ref().and_then(|m| from_manifest(&m.parts)));
+    let parts = match (pidt_path, legend_path) {
+        (Some(pidt_path), Some(legend_path)) => {
+            let legend = Legend::load(&legend_path)?;
+            let pidt = Pidt::load(&pidt_path, &legend, palette.width(), palette.height())?;
+            Some((legend_path, legend, pidt_path, pidt))
+        }
+        (Some(pidt_path), None) => {
+            return Err(Error::BadOptions(format!(
+                "the PIdT {} needs its legend: add --parts parts.csv",
+                pidt_path.display()
+            )));
+        }
+        (None, Some(legend_path)) => {
+            return Err(Error::BadOptions(format!(
+                "the legend {} needs its PIdT: add --pidt pidt.png",
+                legend_path.display()
+            )));
+        }
+        (None, None) => None,
+    };
+
+    let archive = match &manifest {
+        Some(manifest) => Archive::from_manifest(root, manifest),
+        None => {
+            let mut exclude = options.exclude.clone();
+            exclude.extend(options.pidt.iter().cloned());
+            if let PaletteChoice::Image(path) = &palette_choice {
+                exclude.push(path.clone());
+            }
+            Archive::scan_folder(root, &exclude)?
+        }
+    };
+    if archive.found() == 0 {
+        return Err(Error::NoImages { path: root.to_path_buf() });
+    }
+    if options.dedupe == Dedupe::Frame && archive.frame_groups == 0 {
+        return Err(Error::BadOptions(format!(
+            "--dedupe frame needs {}/manifest.json to know which tiles form one eye-frame",
+            root.display()
+        )));
+    }
+    Ok(Inputs { palette, backgrounds, parts, archive, dedupe: options.dedupe })
+}
+
+/// The default output folder for an archive: `<archive>/results` (excluded
+/// from the images when the archive has no manifest).
+pub fn default_output_dir(archive: &Path) -> PathBuf {
+    archive.join("results")
+}
+
+/// The files [`write_results`] wrote.
+#[derive(Debug, Clone)]
+pub struct WrittenFiles {
+    pub result_json: PathBuf,
+    pub parts_csv: Option<PathBuf>,
+    pub heatmap_png: PathBuf,
+    pub timings_json: PathBuf,
+}
+
+/// Writes `result.json`, `parts.csv` (with a PIdT), `heatmap.png` and
+/// `timings.json` into `out_dir` (created if needed), each atomically. The
+/// heatmap uses the scale recorded in the result's settings.
+pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenFiles> {
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    let palette = &analysis.result.settings.palette;
+    let (width, height) = (palette.width, palette.height);
+    let files = WrittenFiles {
+        result_json: out_dir.join("result.json"),
+        parts_csv: (!analysis.result.parts.is_empty()).then(|| out_dir.join("parts.csv")),
+        heatmap_png: out_dir.join("heatmap.png"),
+        timings_json: out_dir.join("timings.json"),
+    };
+    let settings = &analysis.result.settings;
+    let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
+    let stage = Instant::now();
+    crate::heatmap::write_heatmap(&files.heatmap_png, &analysis.texel_counts, width, height, heatmap)?;
+    analysis.timings.heatmap_seconds = stage.elapsed().as_secs_f64();
+    let stage = Instant::now();
+    crate::report::write_result_json(&files.result_json, &analysis.result, &analysis.texel_counts)?;
+    if let Some(path) = &files.parts_csv {
+        crate::report::write_parts_csv(path, &analysis.result.parts)?;
+    }
+    analysis.timings.write_seconds = stage.elapsed().as_secs_f64();
+    analysis.timings.total_seconds += analysis.timings.heatmap_seconds + analysis.timings.write_seconds;
+    crate::report::write_timings_json(&files.timings_json, &analysis.timings)?;
+    Ok(files)
+}

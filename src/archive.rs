@@ -1,0 +1,105 @@
+//! The archive: which files are images, and how they group into eye-frames.
+//!
+//! With a `manifest.json` the manifest's tile list is the truth (tiles it marks
+//! empty were never written and count as trimmed). Without one, every `*.png`
+//! below the folder is an image, in sorted path order so that reports and
+//! results never depend on directory iteration order.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use walkdir::WalkDir;
+
+use crate::error::{Error, Result};
+use crate::manifest::Manifest;
+
+/// One image file to analyse.
+#[derive(Debug, Clone)]
+pub struct ImageSource {
+    /// Where to read it.
+    pub path: PathBuf,
+    /// Its path relative to the archive folder, `/`-separated, for reports.
+    pub name: String,
+    /// Eye-frame group (index into the sorted `(frame, eye)` pairs), when known.
+    pub frame_group: Option<usize>,
+}
+
+/// The images of an archive.
+#[derive(Debug, Clone)]
+pub struct Archive {
+    pub root: PathBuf,
+    pub images: Vec<ImageSource>,
+    /// Tiles the manifest lists as empty (no file written).
+    pub listed_empty: u64,
+    /// Number of distinct `(frame, eye)` groups; 0 without a manifest.
+    pub frame_groups: usize,
+}
+
+impl Archive {
+    /// The images a manifest lists.
+    pub fn from_manifest(root: &Path, manifest: &Manifest) -> Archive {
+        let mut groups = BTreeMap::new();
+        for tile in &manifest.tiles {
+            let next = groups.len();
+            groups.entry((tile.frame, tile.eye.clone())).or_insert(next);
+        }
+        // Renumber groups in (frame, eye) order so group ids are stable.
+        for (number, id) in groups.values_mut().enumerate() {
+            *id = number;
+        }
+        let mut listed_empty = 0;
+        let mut images = Vec::new();
+        for tile in &manifest.tiles {
+            let group = groups[&(tile.frame, tile.eye.clone())];
+            match &tile.file {
+                Some(file) => images.push(ImageSource {
+                    path: root.join(file),
+                    name: slash_path(file),
+                    frame_group: Some(group),
+                }),
+                None => listed_empty += 1,
+            }
+        }
+        images.sort_by(|a, b| a.name.cmp(&b.name));
+        Archive { root: root.to_path_buf(), images, listed_empty, frame_groups: groups.len() }
+    }
+
+    /// Every `*.png` below `root` except those in `exclude` (files or folders,
+    /// e.g. the PIdT or the output folder when they sit inside the archive).
+    pub fn scan_folder(root: &Path, exclude: &[PathBuf]) -> Result<Archive> {
+        if !root.is_dir() {
+            return Err(Error::bad_file(root, "not a folder (expected an archive folder of PNG tiles)"));
+        }
+        let excluded: Vec<PathBuf> = exclude.iter().filter_map(|p| p.canonicalize().ok()).collect();
+        let mut images = Vec::new();
+        let walker = WalkDir::new(root).follow_links(true).sort_by_file_name().into_iter();
+        for entry in walker.filter_entry(|entry| {
+            entry.path().canonicalize().map(|p| !excluded.iter().any(|x| p.starts_with(x))).unwrap_or(true)
+        }) {
+            let entry = entry.map_err(|e| {
+                let path = e.path().unwrap_or(root).to_path_buf();
+                Error::Io { path, source: e.into() }
+            })?;
+            let is_png = entry.path().extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
+            if entry.file_type().is_file() && is_png {
+                let relative = entry.path().strip_prefix(root).unwrap_or(entry.path());
+                images.push(ImageSource {
+                    path: entry.path().to_path_buf(),
+                    name: slash_path(relative),
+                    frame_group: None,
+                });
+            }
+        }
+        images.sort_by(|a, b| a.name.cmp(&b.name));
+        Ok(Archive { root: root.to_path_buf(), images, listed_empty: 0, frame_groups: 0 })
+    }
+
+    /// Number of tiles found: image files plus tiles listed as empty.
+    pub fn found(&self) -> u64 {
+        self.images.len() as u64 + self.listed_empty
+    }
+}
+
+fn slash_path(path: &Path) -> String {
+    path.components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/")
+}

@@ -1,0 +1,187 @@
+//! Dense bit sets over the 2^24 colours.
+//!
+//! Counting "once per image" needs a set membership test for every distinct
+//! pixel colour. A hash set costs ~10 ns per lookup; a 2 MiB bit set costs one
+//! load, and clearing it through the list of touched colours keeps the per
+//! image reset proportional to what the image showed, not to 2^24.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use crate::color::COLOR_COUNT;
+
+const WORDS: usize = COLOR_COUNT / 64;
+
+/// A per-thread set of colours with the list of colours inserted since the
+/// last clear.
+pub struct TouchedSet {
+    words: Box<[u64]>,
+    touched: Vec<u32>,
+}
+
+impl Default for TouchedSet {
+    fn default() -> Self {
+        TouchedSet::new()
+    }
+}
+
+impl TouchedSet {
+    /// An empty set over all 2^24 colours (2 MiB, zeroed lazily by the OS).
+    pub fn new() -> TouchedSet {
+        TouchedSet { words: vec![0u64; WORDS].into_boxed_slice(), touched: Vec::with_capacity(1 << 16) }
+    }
+
+    /// Inserts `color` (< 2^24); returns true when it was not yet present.
+    #[inline(always)]
+    pub fn insert(&mut self, color: u32) -> bool {
+        let index = (color >> 6) as usize & (WORDS - 1);
+        let bit = 1u64 << (color & 63);
+        // `index` is masked into range, so this never panics and the bounds
+        // check folds away.
+        let word = &mut self.words[index];
+        if *word & bit == 0 {
+            *word |= bit;
+            self.touched.push(color);
+            true
+        } else {
+            false
+        }
+    }
+
+    /// The colours inserted since the last clear, in insertion order.
+    pub fn touched(&self) -> &[u32] {
+        &self.touched
+    }
+
+    /// Number of colours in the set.
+    pub fn len(&self) -> usize {
+        self.touched.len()
+    }
+
+    /// True when nothing was inserted since the last clear.
+    pub fn is_empty(&self) -> bool {
+        self.touched.is_empty()
+    }
+
+    /// Empties the set in time proportional to its size.
+    pub fn clear(&mut self) {
+        for &color in &self.touched {
+            self.words[(color >> 6) as usize & (WORDS - 1)] = 0;
+        }
+        self.touched.clear();
+    }
+}
+
+/// A read-only set of colours, e.g. the colours of a non-canonical palette.
+#[derive(Clone)]
+pub struct ColorSet {
+    words: Box<[u64]>,
+}
+
+impl Default for ColorSet {
+    fn default() -> Self {
+        ColorSet::new()
+    }
+}
+
+impl ColorSet {
+    /// The empty set.
+    pub fn new() -> ColorSet {
+        ColorSet { words: vec![0u64; WORDS].into_boxed_slice() }
+    }
+
+    /// Inserts `color`; returns true when it was not yet present.
+    pub fn insert(&mut self, color: u32) -> bool {
+        let index = (color >> 6) as usize & (WORDS - 1);
+        let bit = 1u64 << (color & 63);
+        let fresh = self.words[index] & bit == 0;
+        self.words[index] |= bit;
+        fresh
+    }
+
+    /// Removes `color`.
+    pub fn remove(&mut self, color: u32) {
+        self.words[(color >> 6) as usize & (WORDS - 1)] &= !(1u64 << (color & 63));
+    }
+
+    /// True when `color` is in the set.
+    #[inline(always)]
+    pub fn contains(&self, color: u32) -> bool {
+        self.words[(color >> 6) as usize & (WORDS - 1)] & (1u64 << (color & 63)) != 0
+    }
+}
+
+/// A set of colours shared by all threads (used for the rare stray colours).
+pub struct AtomicColorSet {
+    words: Box<[AtomicU64]>,
+}
+
+impl Default for AtomicColorSet {
+    fn default() -> Self {
+        AtomicColorSet::new()
+    }
+}
+
+impl AtomicColorSet {
+    /// The empty set.
+    pub fn new() -> AtomicColorSet {
+        AtomicColorSet { words: (0..WORDS).map(|_| AtomicU64::new(0)).collect() }
+    }
+
+    /// Inserts `color`.
+    pub fn insert(&self, color: u32) {
+        self.words[(color >> 6) as usize & (WORDS - 1)].fetch_or(1u64 << (color & 63), Ordering::Relaxed);
+    }
+
+    /// Number of colours in the set.
+    pub fn len(&self) -> u64 {
+        self.words.iter().map(|word| u64::from(word.load(Ordering::Relaxed).count_ones())).sum()
+    }
+
+    /// True when the set is empty.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Up to `limit` members in ascending order (for examples in reports).
+    pub fn first(&self, limit: usize) -> Vec<u32> {
+        let mut found = Vec::new();
+        for (index, word) in self.words.iter().enumerate() {
+            let mut bits = word.load(Ordering::Relaxed);
+            while bits != 0 && found.len() < limit {
+                found.push((index as u32) << 6 | bits.trailing_zeros());
+                bits &= bits - 1;
+            }
+            if found.len() >= limit {
+                break;
+            }
+        }
+        found
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn touched_set_inserts_once_and_clears() {
+        let mut set = TouchedSet::new();
+        assert!(set.insert(5));
+        assert!(!set.insert(5));
+        assert!(set.insert(0xFF_FFFF));
+        assert_eq!(set.touched(), &[5, 0xFF_FFFF]);
+        set.clear();
+        assert!(set.is_empty());
+        assert!(set.insert(5));
+    }
+
+    #[test]
+    fn atomic_set_counts_and_lists() {
+        let set = AtomicColorSet::new();
+        set.insert(70);
+        set.insert(3);
+        set.insert(70);
+        assert_eq!(set.len(), 2);
+        assert_eq!(set.first(10), vec![3, 70]);
+    }
+}
