@@ -148,7 +148,7 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
     let mut timings = Timings { threads: rayon::current_num_threads(), ..Timings::default() };
     let inputs = resolve(options)?;
     let classifier =
-        Classifier::new(&inputs.palette, &inputs.backgrounds.iter().map(|c| c.packed()).collect::<Vec<_>>());
+        Classifier::new(&inputs.palette, &inputs.backgrounds.iter().map(|c| c.packed()).collect::<Vec<_>>())?;
     timings.load_seconds = started.elapsed().as_secs_f64();
 
     let stage = Instant::now();
@@ -190,12 +190,12 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
                     }
                     let outcome = count_one(index, &inputs.archive, &plan, &classifier, seen, &strays);
                     if let Outcome::Decoded(_) = outcome {
-                        image_counts.add_once(seen.touched());
                         if frame_counts.is_some() {
                             for &color in seen.touched() {
                                 frame_seen.insert(color);
                             }
                         }
+                        image_counts.add_set(seen);
                     }
                     seen.clear();
                     if let Outcome::Failed(_) = outcome {
@@ -207,8 +207,7 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
                     }
                 }
                 if let Some(counts) = &frame_counts {
-                    counts.add_once(frame_seen.touched());
-                    frame_seen.clear();
+                    counts.add_set(frame_seen);
                 }
                 unit_outcomes
             },
@@ -367,7 +366,10 @@ fn texel_counts_of(palette: &Fcsp, counts: Counts) -> Vec<u32> {
             per_color.truncate(palette.texel_count());
             per_color
         }
-        Fcsp::Image { colors, .. } => colors.par_iter().map(|&color| counts.get(color)).collect(),
+        Fcsp::Image { colors, .. } => {
+            let per_color = counts.into_vec();
+            colors.par_iter().map(|&color| per_color[color as usize]).collect()
+        }
     }
 }
 
@@ -400,9 +402,6 @@ fn resolve(options: &AnalyzeOptions) -> Result<Inputs> {
         .clone()
         .or_else(|| manifest.as_ref().and_then(|m| m.background.clone()))
         .unwrap_or_else(|| vec![Color::DEFAULT_BACKGROUND]);
-    if backgrounds.is_empty() {
-        return Err(Error::BadOptions("at least one background colour is needed".into()));
-    }
 
     let pidt_path = options.pidt.clone().or_else(|| manifest.as_ref().and_then(|m| from_manifest(&m.pidt)));
     let legend_path =

@@ -1,0 +1,212 @@
+//! Throughput benchmark: ufcsr counting vs the decode-only ceiling vs a
+//! faithful per-pixel hash-map implementation of the original algorithm, on
+//! the same tiles in the same run, with the ratios the issue targets.
+//!
+//! `cargo bench --bench throughput -- [--frames N] [--block N] [--archive DIR]`
+//!
+//! Without `--archive` it generates a realistic archive (1284×1620 tiles,
+//! 5×5 per eye, mostly empty; object tiles with smooth unique-colour
+//! gradients and occlusion edges at 0.2–2 texels per pixel).
+
+use std::collections::{HashMap, HashSet};
+use std::hint::black_box;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use rayon::prelude::*;
+use ufcsr::bitset::{AtomicColorSet, TouchedSet};
+use ufcsr::decode::{RowReader, map_file};
+use ufcsr::synthetic::{ArchiveSpec, write_archive};
+use ufcsr::{AnalyzeOptions, Classifier, Counts, Fcsp, analyze, scan_image};
+
+struct Args {
+    frames: u32,
+    block: u32,
+    archive: Option<PathBuf>,
+}
+
+fn parse_args() -> Args {
+    let mut args = Args { frames: 3, block: 3, archive: None };
+    let mut iter = std::env::args().skip(1);
+    while let Some(arg) = iter.next() {
+        match arg.as_str() {
+            "--frames" => args.frames = iter.next().and_then(|v| v.parse().ok()).unwrap_or(args.frames),
+            "--block" => args.block = iter.next().and_then(|v| v.parse().ok()).unwrap_or(args.block),
+            "--archive" => args.archive = iter.next().map(PathBuf::from),
+            _ => {} // cargo bench passes --bench
+        }
+    }
+    args
+}
+
+/// Peak resident memory of this process so far, in MiB (Linux).
+fn peak_rss_mib() -> f64 {
+    std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| s.lines().find(|l| l.starts_with("VmHWM:")).map(|l| l.to_string()))
+        .and_then(|l| l.split_whitespace().nth(1).and_then(|kb| kb.parse::<f64>().ok()))
+        .map(|kb| kb / 1024.0)
+        .unwrap_or(f64::NAN)
+}
+
+/// Best of `runs` wall times, in seconds.
+fn best_of<F: FnMut()>(runs: usize, mut work: F) -> f64 {
+    (0..runs)
+        .map(|_| {
+            let start = Instant::now();
+            work();
+            start.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Decode only: every row of every tile, nothing counted.
+fn decode_only(files: &[PathBuf]) -> u64 {
+    files
+        .par_iter()
+        .map(|path| {
+            let bytes = map_file(path).unwrap();
+            let mut reader = RowReader::new(path, &bytes).unwrap();
+            let mut sum = 0u64;
+            while let Some(row) = reader.next_row().unwrap() {
+                sum += u64::from(black_box(row)[0]);
+            }
+            sum
+        })
+        .sum()
+}
+
+/// ufcsr's counting: decode + dense once-per-image counting.
+fn ours(files: &[PathBuf], classifier: &Classifier) -> Counts {
+    let counts = Counts::new();
+    let strays = AtomicColorSet::new();
+    files.par_iter().for_each_init(TouchedSet::new, |seen, path| {
+        let bytes = map_file(path).unwrap();
+        scan_image(path, &bytes, classifier, seen, &strays).unwrap();
+        counts.add_set(seen);
+    });
+    counts
+}
+
+/// The original algorithm: decode the whole image, put every pixel's colour
+/// into a hash set, then add one per distinct colour to a hash map.
+fn hash_map_baseline(files: &[PathBuf]) -> HashMap<u32, u32> {
+    files
+        .par_iter()
+        .fold(HashMap::new, |mut counts: HashMap<u32, u32>, path| {
+            let bytes = map_file(path).unwrap();
+            let reader = RowReader::new(path, &bytes).unwrap();
+            let colors = reader.into_colors().unwrap();
+            let distinct: HashSet<u32> = colors.into_iter().collect();
+            for color in distinct {
+                if color != 0x000FFF {
+                    *counts.entry(color).or_default() += 1;
+                }
+            }
+            counts
+        })
+        .reduce(HashMap::new, |mut a, b| {
+            for (color, count) in b {
+                *a.entry(color).or_default() += count;
+            }
+            a
+        })
+}
+
+fn main() {
+    let args = parse_args();
+    let temporary = tempfile::tempdir().unwrap();
+    let archive = match &args.archive {
+        Some(dir) => dir.clone(),
+        None => {
+            let dir = temporary.path().join("archive");
+            let spec =
+                ArchiveSpec { frames: args.frames, object_block: args.block, ..ArchiveSpec::default() };
+            let start = Instant::now();
+            let summary = write_archive(&dir, &spec).unwrap();
+            println!(
+                "generated {} tiles ({} with the vehicle, 1284×1620), {:.1} MiB, in {:.1} s",
+                summary.tiles,
+                summary.object_tiles,
+                summary.bytes as f64 / (1 << 20) as f64,
+                start.elapsed().as_secs_f64()
+            );
+            dir
+        }
+    };
+    let threads = rayon::current_num_threads();
+
+    // The whole job first (so peak memory is ours alone).
+    let options = AnalyzeOptions { archive: archive.clone(), ..Default::default() };
+    let start = Instant::now();
+    let analysis = analyze(&options, None).unwrap();
+    let whole = start.elapsed().as_secs_f64();
+    let rss = peak_rss_mib();
+    let images = &analysis.result.images;
+    println!(
+        "analyze(): {} images ({} trimmed, {} decoded) in {:.3} s = {:.0} images/s; peak RSS {:.0} MiB (target ≤ 512)",
+        images.found,
+        images.trimmed,
+        images.decoded,
+        whole,
+        images.found as f64 / whole,
+        rss
+    );
+
+    // Same tiles for the three contenders: the non-empty ones.
+    // The archive's own images (the manifest's tiles; never the PIdT).
+    let listed = match ufcsr::Manifest::load_from_dir(&archive).unwrap() {
+        Some(manifest) => ufcsr::Archive::from_manifest(&archive, &manifest),
+        None => ufcsr::Archive::scan_folder(&archive, &[]).unwrap(),
+    };
+    let files: Vec<PathBuf> =
+        listed.images.into_iter().map(|image| image.path).filter(|path| !is_empty_tile(path)).collect();
+    let pixels: u64 = files.iter().map(|p| pixels_of(p)).sum();
+    let megapixels = pixels as f64 / 1e6;
+    let palette = Fcsp::canonical(4096, 4096).unwrap();
+    let classifier = Classifier::new(&palette, &[0x000FFF]).unwrap();
+
+    let decode = best_of(3, || {
+        black_box(decode_only(&files));
+    });
+    let count = best_of(3, || {
+        black_box(ours(&files, &classifier));
+    });
+    let baseline = best_of(1, || {
+        black_box(hash_map_baseline(&files));
+    });
+    // The two counters must agree exactly.
+    let dense = ours(&files, &classifier).into_vec();
+    let sparse = hash_map_baseline(&files);
+    let agree = sparse.iter().all(|(&color, &n)| dense[color as usize] == n)
+        && sparse.values().map(|&n| u64::from(n)).sum::<u64>()
+            == dense.iter().map(|&c| u64::from(c)).sum::<u64>();
+
+    println!("{} object tiles, {:.1} Mpixel, {} threads", files.len(), megapixels, threads);
+    println!("  decode only (ceiling)      {:8.1} Mpixel/s", megapixels / decode);
+    println!("  ufcsr decode + count       {:8.1} Mpixel/s", megapixels / count);
+    println!("  per-pixel hash map (orig.) {:8.1} Mpixel/s", megapixels / baseline);
+    println!("  ratio ufcsr / decode-only   {:6.2}  (target ≥ 0.70)", decode / count);
+    println!("  ratio ufcsr / hash map      {:6.1}x", baseline / count);
+    println!("  counts identical to the hash map: {agree}");
+    assert!(agree, "dense and hash-map counts differ");
+}
+
+fn pixels_of(path: &Path) -> u64 {
+    let bytes = map_file(path).unwrap();
+    let reader = RowReader::new(path, &bytes).unwrap();
+    u64::from(reader.width()) * u64::from(reader.height())
+}
+
+/// True for an all-background tile (decoded once here, outside the timings).
+fn is_empty_tile(path: &Path) -> bool {
+    let bytes = map_file(path).unwrap();
+    let mut reader = RowReader::new(path, &bytes).unwrap();
+    let layout = reader.layout();
+    while let Some(row) = reader.next_row().unwrap() {
+        if row.chunks_exact(layout.bytes_per_pixel()).any(|p| layout.pack(p) != 0x000FFF) {
+            return false;
+        }
+    }
+    true
+}
