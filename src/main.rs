@@ -38,6 +38,19 @@ struct Cli {
 enum Command {
     /// Re-render the heatmap from a result.json, without the archive.
     Heatmap(HeatmapArgs),
+    /// Write the canonical Full Color Space Palette as a PNG (to texture a mesh in Unity/Blender).
+    Palette(PaletteArgs),
+}
+
+#[derive(Args)]
+struct PaletteArgs {
+    /// PNG to write.
+    #[arg(long, short, value_name = "PNG")]
+    out: PathBuf,
+
+    /// Palette size, WxH (at most 2^24 texels).
+    #[arg(long, default_value = "4096x4096", value_name = "WxH")]
+    size: String,
 }
 
 #[derive(Args)]
@@ -130,6 +143,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let outcome = match cli.command {
         Some(Command::Heatmap(args)) => run_heatmap(args),
+        Some(Command::Palette(args)) => run_palette(args),
         None => run_analyze(cli.analyze),
     };
     match outcome {
@@ -158,6 +172,13 @@ fn run_heatmap(args: HeatmapArgs) -> Result<ExitCode> {
     let options = heatmap_options(&args.heatmap, Some((stored.scale, stored.max)))?;
     ufcsr::heatmap::write_heatmap(&args.out, &stored.texel_counts, stored.width, stored.height, options)?;
     eprintln!("wrote {}", args.out.display());
+    Ok(ExitCode::SUCCESS)
+}
+
+fn run_palette(args: PaletteArgs) -> Result<ExitCode> {
+    let (width, height) = ufcsr::palette::parse_size(&args.size)?;
+    ufcsr::palette::write_canonical_png(&args.out, width, height)?;
+    eprintln!("wrote {} ({width}×{height} canonical palette)", args.out.display());
     Ok(ExitCode::SUCCESS)
 }
 

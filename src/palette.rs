@@ -138,6 +138,21 @@ impl Fcsp {
     }
 }
 
+/// Writes the canonical W×H palette as an 8-bit RGB PNG, for putting on a
+/// mesh in Unity or Blender (texel `(x, y)` has colour `y * W + x`).
+pub fn write_canonical_png(path: &Path, width: u32, height: u32) -> Result<()> {
+    use rayon::prelude::*;
+    Fcsp::canonical(width, height)?;
+    let row_bytes = width as usize * 3;
+    let mut rgb = vec![0u8; row_bytes * height as usize];
+    rgb.par_chunks_mut(row_bytes).enumerate().for_each(|(y, row)| {
+        for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
+            pixel.copy_from_slice(&Color::from_packed((y * width as usize + x) as u32).rgb());
+        }
+    });
+    crate::output::write_rgb_png(path, width, height, &rgb, png::Compression::Fast)
+}
+
 /// Parses `W`, `WxH` or `W×H` into a size.
 pub fn parse_size(text: &str) -> Result<(u32, u32)> {
     let bad =
@@ -166,6 +181,16 @@ mod tests {
         assert!(!palette.contains(64));
         assert!(Fcsp::canonical(4097, 4096).is_err());
         assert!(Fcsp::canonical(0, 4).is_err());
+    }
+
+    #[test]
+    fn written_canonical_palette_loads_as_an_image_palette() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("fcsp.png");
+        write_canonical_png(&path, 64, 32).unwrap();
+        let palette = Fcsp::from_png(&path).unwrap();
+        assert_eq!((palette.width(), palette.height()), (64, 32));
+        assert!((0..64 * 32).all(|texel| palette.color_of(texel) == texel as u32));
     }
 
     #[test]
