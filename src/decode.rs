@@ -225,9 +225,13 @@ pub struct ColorImage {
     pub colors: Vec<u32>,
 }
 
-/// Decodes a texture (palette or PIdT) completely.
-pub fn read_color_image(path: &Path) -> Result<ColorImage> {
+/// Decodes a texture (palette or PIdT) completely. `check_size` sees the
+/// width and height from the header first, so a wrong or absurd size is
+/// rejected before anything is allocated.
+pub fn read_color_image(path: &Path, check_size: impl FnOnce(u32, u32) -> Result<()>) -> Result<ColorImage> {
     let bytes = map_file(path)?;
+    let header = parse_header(path, &bytes)?;
+    check_size(header.width, header.height)?;
     let reader = RowReader::new(path, &bytes)?;
     let (width, height) = (reader.width(), reader.height());
     let colors = reader.into_colors()?;

@@ -51,7 +51,18 @@ impl Fcsp {
 
     /// Loads a palette image and checks that its colours are unique.
     pub fn from_png(path: &Path) -> Result<Fcsp> {
-        let image = read_color_image(path)?;
+        let image = read_color_image(path, |width, height| {
+            let texels = u64::from(width) * u64::from(height);
+            if texels > COLOR_COUNT as u64 {
+                return Err(Error::bad_file(
+                    path,
+                    format!(
+                        "a {width}×{height} palette has {texels} texels, more than the 2^24 distinct colours"
+                    ),
+                ));
+            }
+            Ok(())
+        })?;
         let mut members = ColorSet::new();
         let mut repeats = 0u64;
         let mut first_repeat = None;

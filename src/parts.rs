@@ -140,17 +140,20 @@ pub struct Pidt {
 impl Pidt {
     /// Reads the PIdT at `path`, which must be `width`×`height` texels.
     pub fn load(path: &Path, legend: &Legend, width: u32, height: u32) -> Result<Pidt> {
-        let image = read_color_image(path)?;
-        if (image.width, image.height) != (width, height) {
-            return Err(Error::WrongSize {
-                path: path.to_path_buf(),
-                what: "the PIdT must match the palette".to_string(),
-                expected_width: width,
-                expected_height: height,
-                found_width: image.width,
-                found_height: image.height,
-            });
-        }
+        let image = read_color_image(path, |found_width, found_height| {
+            if (found_width, found_height) == (width, height) {
+                Ok(())
+            } else {
+                Err(Error::WrongSize {
+                    path: path.to_path_buf(),
+                    what: "the PIdT must match the palette".to_string(),
+                    expected_width: width,
+                    expected_height: height,
+                    found_width,
+                    found_height,
+                })
+            }
+        })?;
         Ok(Pidt::from_colors(width, height, &image.colors, legend))
     }
 

@@ -339,6 +339,12 @@ pub fn read_texel_counts(path: &Path) -> Result<StoredCounts> {
     }
     let palette = source.settings.palette;
     let texel_count = palette.width as usize * palette.height as usize;
+    if palette.width == 0 || palette.height == 0 || texel_count > crate::color::COLOR_COUNT {
+        return Err(Error::bad_file(
+            path,
+            format!("settings.palette is {}×{}: not a palette size", palette.width, palette.height),
+        ));
+    }
     let texel_counts = source.texel_counts.to_dense(texel_count, path)?;
     Ok(StoredCounts {
         width: palette.width,

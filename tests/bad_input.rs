@@ -158,6 +158,20 @@ fn wrong_sizes_missing_partners_and_empty_folders_are_clear_errors() {
     let error = analyze(&wrong_palette, None).err().unwrap().to_string();
     assert!(error.contains("pidt.png") && error.contains("expected 2×1"), "{error}");
 
+    // A PIdT whose header claims 60000×60000 is rejected before decoding.
+    let mut huge = std::fs::read(dir.path().join("pidt.png")).unwrap();
+    huge[16..20].copy_from_slice(&60000u32.to_be_bytes());
+    huge[20..24].copy_from_slice(&60000u32.to_be_bytes());
+    std::fs::write(dir.path().join("huge.png"), huge).unwrap();
+    let error = analyze(
+        &AnalyzeOptions { pidt: Some(dir.path().join("huge.png")), ..known_options(dir.path()) },
+        None,
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(error.contains("huge.png") && error.contains("60000×60000"), "{error}");
+
     let no_legend = AnalyzeOptions { legend: None, ..known_options(dir.path()) };
     assert!(analyze(&no_legend, None).err().unwrap().to_string().contains("--parts"));
 
