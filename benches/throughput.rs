@@ -2,7 +2,9 @@
 //! faithful per-pixel hash-map implementation of the original algorithm, on
 //! the same tiles in the same run, with the ratios the issue targets.
 //!
-//! `cargo bench --bench throughput -- [--frames N] [--block N] [--archive DIR]`
+//! `cargo bench --bench throughput -- [--frames N] [--block N] [--archive DIR] [--keep DIR]`
+//!
+//! `--keep DIR` writes the generated archive to DIR and leaves it there.
 //!
 //! Without `--archive` it generates a realistic archive (1284×1620 tiles,
 //! 5×5 per eye, mostly empty; object tiles with smooth unique-colour
@@ -11,6 +13,7 @@
 use std::collections::{HashMap, HashSet};
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -23,16 +26,18 @@ struct Args {
     frames: u32,
     block: u32,
     archive: Option<PathBuf>,
+    keep: Option<PathBuf>,
 }
 
 fn parse_args() -> Args {
-    let mut args = Args { frames: 3, block: 3, archive: None };
+    let mut args = Args { frames: 3, block: 3, archive: None, keep: None };
     let mut iter = std::env::args().skip(1);
     while let Some(arg) = iter.next() {
         match arg.as_str() {
             "--frames" => args.frames = iter.next().and_then(|v| v.parse().ok()).unwrap_or(args.frames),
             "--block" => args.block = iter.next().and_then(|v| v.parse().ok()).unwrap_or(args.block),
             "--archive" => args.archive = iter.next().map(PathBuf::from),
+            "--keep" => args.keep = iter.next().map(PathBuf::from),
             _ => {} // cargo bench passes --bench
         }
     }
@@ -80,10 +85,13 @@ fn decode_only(files: &[PathBuf]) -> u64 {
 fn ours(files: &[PathBuf], classifier: &Classifier) -> Counts {
     let counts = Counts::new();
     let strays = AtomicColorSet::new();
-    files.par_iter().for_each_init(TouchedSet::new, |seen, path| {
+    let sets: Vec<Mutex<TouchedSet>> =
+        (0..rayon::current_num_threads()).map(|_| Mutex::new(TouchedSet::new())).collect();
+    files.par_iter().for_each(|path| {
+        let mut seen = sets[rayon::current_thread_index().unwrap_or(0) % sets.len()].lock().unwrap();
         let bytes = map_file(path).unwrap();
-        scan_image(path, &bytes, classifier, seen, &strays).unwrap();
-        counts.add_set(seen);
+        scan_image(path, &bytes, classifier, &mut seen, &strays).unwrap();
+        counts.add_set(&mut seen);
     });
     counts
 }
@@ -119,7 +127,7 @@ fn main() {
     let archive = match &args.archive {
         Some(dir) => dir.clone(),
         None => {
-            let dir = temporary.path().join("archive");
+            let dir = args.keep.clone().unwrap_or_else(|| temporary.path().join("archive"));
             let spec =
                 ArchiveSpec { frames: args.frames, object_block: args.block, ..ArchiveSpec::default() };
             let start = Instant::now();

@@ -8,6 +8,7 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 
 use rayon::prelude::*;
@@ -177,41 +178,48 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
     if let Some(progress) = progress {
         progress.start(images.len() as u64);
     }
+    // One pair of 2 MiB sets per worker thread, reused for every image: fresh
+    // sets per rayon split would pay their page faults again and again.
+    let worker_sets: Vec<Mutex<(TouchedSet, TouchedSet)>> = (0..rayon::current_num_threads())
+        .map(|_| Mutex::new((TouchedSet::new(), TouchedSet::new())))
+        .collect();
     let mut outcomes: Vec<(usize, Outcome)> = units
         .par_iter()
-        .map_init(
-            || (TouchedSet::new(), TouchedSet::new()),
-            |(seen, frame_seen), unit| {
-                let mut unit_outcomes = Vec::with_capacity(unit.len());
-                for &index in unit {
-                    if options.strict && stop.load(Ordering::Relaxed) {
-                        unit_outcomes.push((index, Outcome::Skipped));
-                        continue;
-                    }
-                    let outcome = count_one(index, &inputs.archive, &plan, &classifier, seen, &strays);
-                    if let Outcome::Decoded(_) = outcome {
-                        if frame_counts.is_some() {
-                            for &color in seen.touched() {
-                                frame_seen.insert(color);
-                            }
+        .map(|unit| {
+            let slot = rayon::current_thread_index().unwrap_or(0) % worker_sets.len();
+            // Only this thread uses its slot, and nothing below yields to rayon,
+            // so the lock is never contended.
+            let mut sets = worker_sets[slot].lock().unwrap_or_else(PoisonError::into_inner);
+            let (seen, frame_seen) = &mut *sets;
+            let mut unit_outcomes = Vec::with_capacity(unit.len());
+            for &index in unit {
+                if options.strict && stop.load(Ordering::Relaxed) {
+                    unit_outcomes.push((index, Outcome::Skipped));
+                    continue;
+                }
+                let outcome = count_one(index, &inputs.archive, &plan, &classifier, seen, &strays);
+                if let Outcome::Decoded(_) = outcome {
+                    if frame_counts.is_some() {
+                        for &color in seen.touched() {
+                            frame_seen.insert(color);
                         }
-                        image_counts.add_set(seen);
                     }
-                    seen.clear();
-                    if let Outcome::Failed(_) = outcome {
-                        stop.store(true, Ordering::Relaxed);
-                    }
-                    unit_outcomes.push((index, outcome));
-                    if let Some(progress) = progress {
-                        progress.advance(1);
-                    }
+                    image_counts.add_set(seen);
                 }
-                if let Some(counts) = &frame_counts {
-                    counts.add_set(frame_seen);
+                seen.clear();
+                if let Outcome::Failed(_) = outcome {
+                    stop.store(true, Ordering::Relaxed);
                 }
-                unit_outcomes
-            },
-        )
+                unit_outcomes.push((index, outcome));
+                if let Some(progress) = progress {
+                    progress.advance(1);
+                }
+            }
+            if let Some(counts) = &frame_counts {
+                counts.add_set(frame_seen);
+            }
+            unit_outcomes
+        })
         .flatten_iter()
         .collect();
     if let Some(progress) = progress {

@@ -83,14 +83,31 @@ impl TouchedSet {
         self.touched.is_empty()
     }
 
-    /// Calls `visit` with every member in ascending order and empties the set.
+    /// Calls `visit` with every member in ascending order, starting at
+    /// `start` and wrapping around, and empties the set.
     ///
     /// Ascending order turns the caller's count updates into a sequential
-    /// sweep. Large sets are read straight from the bit words (2 MiB, faster
-    /// than sorting hundreds of thousands of colours); small ones are sorted.
-    pub fn drain_sorted(&mut self, mut visit: impl FnMut(u32)) {
+    /// sweep; distinct starts keep threads that sweep at the same time out of
+    /// each other's way. Large sets are read straight from the bit words
+    /// (2 MiB, faster than sorting hundreds of thousands of colours); small
+    /// ones are sorted.
+    pub fn drain_sorted_from(&mut self, start: u32, mut visit: impl FnMut(u32)) {
+        let start = start as usize & (COLOR_COUNT - 1);
         if self.touched.len() > WORDS / 16 {
-            for (index, word) in self.words.iter_mut().enumerate() {
+            let first_word = start / 64;
+            let (tail, head) = self.words.split_at_mut(first_word);
+            for (index, word) in head
+                .iter_mut()
+                .enumerate()
+                .map(|(i, w)| (i + first_word, w))
+                .chain(tail.iter_mut().enumerate())
+            {
+                // Write only words that hold members: untouched pages of a
+                // fresh set are the kernel's shared zero page, and writing
+                // them would fault them in (with TLB shootdowns) for nothing.
+                if *word == 0 {
+                    continue;
+                }
                 let mut bits = std::mem::take(word);
                 while bits != 0 {
                     visit(((index as u32) << 6) | bits.trailing_zeros());
@@ -100,11 +117,17 @@ impl TouchedSet {
             self.touched.clear();
         } else {
             self.touched.sort_unstable();
-            for &color in &self.touched {
+            let split = self.touched.partition_point(|&color| (color as usize) < start);
+            for &color in self.touched[split..].iter().chain(&self.touched[..split]) {
                 visit(color);
             }
             self.clear();
         }
+    }
+
+    /// [`TouchedSet::drain_sorted_from`] starting at 0.
+    pub fn drain_sorted(&mut self, visit: impl FnMut(u32)) {
+        self.drain_sorted_from(0, visit);
     }
 
     /// Empties the set in time proportional to its size.
@@ -248,6 +271,17 @@ mod tests {
             set.drain_sorted(|c| drained.push(c));
             assert_eq!(drained, expected);
             assert!(set.is_empty());
+            assert!(set.words.iter().all(|&w| w == 0));
+            // From the middle: the upper part first, then the wrapped lower part.
+            for &c in &colors {
+                set.insert(c);
+            }
+            let start = 1 << 23;
+            let mut rotated = Vec::new();
+            set.drain_sorted_from(start, |c| rotated.push(c));
+            let split = expected.partition_point(|&c| c < start);
+            let wanted: Vec<u32> = expected[split..].iter().chain(&expected[..split]).copied().collect();
+            assert_eq!(rotated, wanted);
             assert!(set.words.iter().all(|&w| w == 0));
         }
     }

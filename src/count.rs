@@ -57,9 +57,16 @@ impl Counts {
     }
 
     /// Adds one to every key of `seen` (keys from [`color_key`]) and empties it.
+    ///
+    /// The sweep starts at a point chosen by the calling rayon thread, so
+    /// workers that commit at the same moment work on different shards
+    /// instead of queueing behind each other's locks.
     pub fn add_set(&self, seen: &mut TouchedSet) {
+        let threads = rayon::current_num_threads().max(1);
+        let slot = rayon::current_thread_index().unwrap_or(0) % threads;
+        let start = (slot * (COLOR_COUNT / threads)) as u32;
         let mut writer = self.writer();
-        seen.drain_sorted(|key| writer.add(key));
+        seen.drain_sorted_from(start, |key| writer.add(key));
     }
 
     /// Adds one to every colour in `colors` (each at most once per call).
