@@ -330,6 +330,7 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
         stray_pixels,
         &strays,
         max_count,
+        texel_counts.par_iter().map(|&count| u64::from(count)).sum(),
         table.as_ref(),
         unlabelled,
         dedupe_report,

@@ -75,6 +75,7 @@ fn background_colour_that_is_a_palette_colour_is_ignored() {
     let analysis = analyze(&options, None).unwrap();
     assert_eq!(analysis.texel_counts[7], 0);
     assert_eq!(analysis.texel_counts[3], 1);
+    assert_eq!(analysis.result.grand_total, 1, "without a PIdT: the sum over all texels");
     assert_eq!(analysis.result.background_pixels, 1);
     assert!(!analysis.result.notes.is_empty());
 }
