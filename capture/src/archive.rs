@@ -169,6 +169,8 @@ pub struct Summary {
     /// Rendered but pure background.
     pub background: u64,
     pub seconds: f64,
+    /// Of which unwrap, PIdT and pipeline setup.
+    pub setup_seconds: f64,
     pub texels_per_m2: f64,
     pub palette_share: f64,
     pub parts: usize,
@@ -176,9 +178,11 @@ pub struct Summary {
 }
 
 impl Summary {
-    /// Frames per second of the whole capture (both eyes, encoding included).
+    /// Frames per second of the frame loop (both eyes, rendering, readback
+    /// and PNG encoding; setup excluded).
     pub fn frames_per_second(&self) -> f64 {
-        if self.seconds > 0.0 { f64::from(self.frames) / self.seconds } else { 0.0 }
+        let seconds = self.seconds - self.setup_seconds;
+        if seconds > 0.0 { f64::from(self.frames) / seconds } else { 0.0 }
     }
 }
 
@@ -249,6 +253,7 @@ pub fn capture(gpu: &Gpu, scene: &Scene, scenario: &Scenario, options: &CaptureO
         occluders: &scene.occluders,
     };
     let renderer = Renderer::new(&gpu.device, &gpu.queue, &setup)?;
+    let setup_seconds = start.elapsed().as_secs_f64();
 
     let count = rig.frame_count(scenario.duration_s);
     let frames = options.frames.frames(count);
@@ -283,6 +288,7 @@ pub fn capture(gpu: &Gpu, scene: &Scene, scenario: &Scenario, options: &CaptureO
         palette_share: pidt.share(),
         parts: scene.vehicle.parts.len(),
         triangles: scene.vehicle.triangles.len(),
+        setup_seconds,
         ..Summary::default()
     };
     let mut entries = Vec::with_capacity(total as usize);

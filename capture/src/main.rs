@@ -148,10 +148,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
 
 fn report(s: &Summary) {
     println!(
-        "scenario {}: {} frames in {:.2} s ({:.2} frames/s, both eyes) → {}",
+        "scenario {}: {} frames in {:.2} s ({:.2} s setup; {:.2} frames/s, both eyes, encoding included) → {}",
         s.scenario,
         s.frames,
         s.seconds,
+        s.setup_seconds,
         s.frames_per_second(),
         s.out.display()
     );
