@@ -130,6 +130,9 @@ pub struct CaptureOptions {
     pub compression: Compression,
     pub resume: bool,
     pub keep_background_tiles: bool,
+    /// Render every tile, even those the vehicle's bounds do not touch
+    /// (for benchmarks and checks of the culling).
+    pub no_cull: bool,
     pub progress: bool,
     /// PNG encoder threads (0: as many as cores).
     pub encoder_threads: usize,
@@ -145,6 +148,7 @@ impl Default for CaptureOptions {
             compression: Compression::Fast,
             resume: false,
             keep_background_tiles: false,
+            no_cull: false,
             progress: false,
             encoder_threads: 0,
         }
@@ -314,7 +318,8 @@ pub fn capture(gpu: &Gpu, scene: &Scene, scenario: &Scenario, options: &CaptureO
             let cameras = rig.cameras(&pose);
             let mut frame_tiles = Map::new();
             for (eye, camera) in Eye::BOTH.into_iter().zip(cameras) {
-                let touched = rig.tiles_touched(&camera, &world_box);
+                let touched =
+                    if options.no_cull { rig.all_tiles() } else { rig.tiles_touched(&camera, &world_box) };
                 let mut written_here = 0u32;
                 for tile in rig.all_tiles() {
                     let mut extra = Map::new();

@@ -82,6 +82,9 @@ struct Common {
     /// Write rendered tiles even when they are pure background.
     #[arg(long)]
     keep_background_tiles: bool,
+    /// Render every tile, even those the vehicle's projected bounds do not touch.
+    #[arg(long)]
+    no_cull: bool,
     /// GPU backend: auto (Vulkan, then GL), vulkan or gl.
     #[arg(long, default_value = "auto")]
     backend: String,
@@ -116,6 +119,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         compression: common.png_compression.parse::<Compression>()?,
         resume: common.resume,
         keep_background_tiles: common.keep_background_tiles,
+        no_cull: common.no_cull,
         progress: !common.quiet,
         encoder_threads: common.threads,
     };

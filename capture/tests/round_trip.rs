@@ -193,3 +193,14 @@ fn unity_scenarios_replay_with_the_demo_truck() {
         assert!(vehicle > 100, "scenario {scenario}: {vehicle}");
     }
 }
+
+#[test]
+fn committed_demo_archive_fixture_is_clean() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes/demo-archive");
+    let (vehicle, stray) = verify(&dir).unwrap();
+    assert_eq!(stray, 0);
+    assert!(vehicle > 10_000, "{vehicle}");
+    let manifest = Manifest::load_from_dir(&dir).unwrap().unwrap();
+    assert_eq!(manifest.tiles.len(), 10 * 2 * 25);
+    assert!(part_totals(&dir).get("windshield").copied().unwrap_or(0) > 0);
+}
