@@ -19,6 +19,7 @@ use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
 
 use crate::error::{CaptureError, Result};
 use crate::gpu::Gpu;
+use crate::palette::ExternalPalette;
 use crate::pidt::{self, Pidt};
 use crate::render::{Palette, RenderSetup, Renderer, TileDraw, vehicle_vertices};
 use crate::rig::{Eye, box_corners, box_outside, vehicle_to_world};
@@ -124,7 +125,10 @@ impl std::str::FromStr for FrameSelection {
 #[derive(Debug, Clone)]
 pub struct CaptureOptions {
     pub out: PathBuf,
+    /// Size of the canonical palette (ignored with `palette_file`).
     pub palette: [u32; 2],
+    /// An external palette PNG instead of the canonical palette.
+    pub palette_file: Option<PathBuf>,
     pub keep_uvs: bool,
     pub frames: FrameSelection,
     pub compression: Compression,
@@ -143,6 +147,7 @@ impl Default for CaptureOptions {
         CaptureOptions {
             out: PathBuf::from("archive"),
             palette: [4096, 4096],
+            palette_file: None,
             keep_uvs: false,
             frames: FrameSelection::all(),
             compression: Compression::Fast,
@@ -190,12 +195,47 @@ impl Summary {
     }
 }
 
-/// The unwrap and PIdT of a vehicle for some options.
-pub fn prepare(scene: &Scene, options: &CaptureOptions) -> Result<(Unwrapped, Pidt)> {
-    let unwrapped = if options.keep_uvs {
-        unwrap::keep_uvs(&scene.vehicle, options.palette)?
+/// The palette of a capture.
+pub struct PaletteChoice {
+    /// What the renderer gets.
+    pub palette: Palette,
+    /// The external palette, if one was given.
+    pub external: Option<ExternalPalette>,
+    /// The texel holding the background colour (left out of the unwrap).
+    pub background_texel: Option<(u32, u32)>,
+}
+
+/// Loads the palette the options ask for.
+pub fn load_palette(options: &CaptureOptions) -> Result<PaletteChoice> {
+    match &options.palette_file {
+        None => Ok(PaletteChoice {
+            palette: Palette::Canonical(options.palette),
+            external: None,
+            background_texel: unwrap::background_texel(options.palette),
+        }),
+        Some(path) => {
+            let external = ExternalPalette::load(path)?;
+            Ok(PaletteChoice {
+                palette: Palette::External { size: external.size, rgba: external.rgba() },
+                background_texel: external.texel_of(Color::DEFAULT_BACKGROUND),
+                external: Some(external),
+            })
+        }
+    }
+}
+
+/// The unwrap and PIdT of a vehicle for a palette size, avoiding the texel
+/// that holds the background colour.
+pub fn prepare(
+    scene: &Scene,
+    size: [u32; 2],
+    background: Option<(u32, u32)>,
+    keep_uvs: bool,
+) -> Result<(Unwrapped, Pidt)> {
+    let unwrapped = if keep_uvs {
+        unwrap::keep_uvs_avoiding(&scene.vehicle, size, background)?
     } else {
-        unwrap::unwrap_islands(&scene.vehicle, options.palette)?
+        unwrap::unwrap_islands_avoiding(&scene.vehicle, size, background)?
     };
     let pidt = pidt::paint(&scene.vehicle, &unwrapped);
     Ok((unwrapped, pidt))
@@ -242,12 +282,26 @@ pub fn capture(gpu: &Gpu, scene: &Scene, scenario: &Scenario, options: &CaptureO
     let tiles_dir = out.join("tiles");
     std::fs::create_dir_all(&tiles_dir).map_err(|e| CaptureError::io(&tiles_dir, e))?;
 
-    let (unwrapped, pidt) = prepare(scene, options)?;
+    let PaletteChoice { palette, external, background_texel } = load_palette(options)?;
+    let palette_size = palette.size();
+    let (unwrapped, pidt) = prepare(scene, palette_size, background_texel, options.keep_uvs)?;
     pidt::write_png(&pidt, &out.join("pidt.png"))?;
     pidt::write_legend(&scene.vehicle, &pidt, &out.join("parts.csv"))?;
+    let palette_spec = match &external {
+        None => PaletteSpec::Canonical { canonical: palette_size },
+        Some(external) => {
+            // The archive carries its palette so that it stands alone.
+            pidt::write_rgb_png(
+                &out.join("palette.png"),
+                external.size,
+                &external.rgb,
+                png::Compression::Fast,
+            )?;
+            PaletteSpec::File(PathBuf::from("palette.png"))
+        }
+    };
 
     let vertices = vehicle_vertices(&scene.vehicle, &unwrapped);
-    let palette = Palette::Canonical(options.palette);
     let background = Color::DEFAULT_BACKGROUND;
     let setup = RenderSetup {
         tile_size: rig.tile_pixels(),
@@ -257,6 +311,7 @@ pub fn capture(gpu: &Gpu, scene: &Scene, scenario: &Scenario, options: &CaptureO
         occluders: &scene.occluders,
     };
     let renderer = Renderer::new(&gpu.device, &gpu.queue, &setup)?;
+    drop(external);
     let setup_seconds = start.elapsed().as_secs_f64();
 
     let count = rig.frame_count(scenario.duration_s);
@@ -426,7 +481,8 @@ pub fn capture(gpu: &Gpu, scene: &Scene, scenario: &Scenario, options: &CaptureO
         "unwrap".into(),
         json!({
             "method": unwrapped.method,
-            "palette": options.palette,
+            "palette": palette_size,
+            "background_texel": background_texel,
             "texels_per_m2": round6(unwrapped.texels_per_m2),
             "texel_size_mm": round6(1000.0 / unwrapped.texels_per_m2.sqrt()),
             "palette_share_used": round6(pidt.share()),
@@ -447,7 +503,7 @@ pub fn capture(gpu: &Gpu, scene: &Scene, scenario: &Scenario, options: &CaptureO
     );
     let manifest = Manifest {
         schema: Some(MANIFEST_SCHEMA.into()),
-        palette: Some(PaletteSpec::Canonical { canonical: options.palette }),
+        palette: Some(palette_spec),
         pidt: Some(PathBuf::from("pidt.png")),
         parts: Some(PathBuf::from("parts.csv")),
         background: Some(vec![background]),
@@ -488,8 +544,14 @@ pub fn capture_all(
 pub fn verify(dir: &Path) -> Result<(u64, u64)> {
     let manifest =
         Manifest::load_from_dir(dir)?.ok_or_else(|| CaptureError::bad_input(dir, "no manifest.json"))?;
-    let Some(PaletteSpec::Canonical { canonical: [w, h] }) = manifest.palette else {
-        return Err(CaptureError::bad_input(dir, "verify only knows canonical palettes"));
+    // Colour → texel index: computed for the canonical palette, looked up otherwise.
+    let (w, h, lookup) = match &manifest.palette {
+        Some(PaletteSpec::Canonical { canonical: [w, h] }) => (*w, *h, None),
+        Some(PaletteSpec::File(file)) => {
+            let external = ExternalPalette::load(&dir.join(file))?;
+            (external.size[0], external.size[1], Some(external.index()))
+        }
+        None => (4096, 4096, None),
     };
     let (size, pidt) = read_rgb_png(&dir.join("pidt.png"))?;
     if size != [w, h] {
@@ -504,8 +566,13 @@ pub fn verify(dir: &Path) -> Result<(u64, u64)> {
             if color == Color::DEFAULT_BACKGROUND {
                 continue;
             }
-            let index = color.packed() as usize;
-            let labelled = index < (w as usize) * (h as usize) && pidt[index * 3..index * 3 + 3] != [0, 0, 0];
+            let index = match &lookup {
+                None => Some(color.packed() as usize),
+                Some(lookup) => lookup.get(&color).map(|&i| i as usize),
+            };
+            let labelled = index.is_some_and(|index| {
+                index < (w as usize) * (h as usize) && pidt[index * 3..index * 3 + 3] != [0, 0, 0]
+            });
             if labelled {
                 vehicle += 1;
             } else {

@@ -8,15 +8,17 @@
 //!
 //! Module map: [`track`] keyframes, [`unity`] import of Unity scenarios,
 //! [`mesh`] geometry and loaders, [`demo`] the built-in truck and intersection,
-//! [`scene`] the JSON scene file, [`unwrap`] island packing, [`pidt`] label
-//! painting, [`rig`] cameras and tiles, [`gpu`] device creation, [`render`]
-//! the renderer, [`archive`] the capture loop and output files.
+//! [`scene`] the JSON scene file, [`unwrap`] island packing, [`palette`]
+//! external palettes, [`pidt`] label painting, [`rig`] cameras and tiles,
+//! [`gpu`] device creation, [`render`] the renderer, [`archive`] the capture
+//! loop and output files.
 
 pub mod archive;
 pub mod demo;
 pub mod error;
 pub mod gpu;
 pub mod mesh;
+pub mod palette;
 pub mod pidt;
 pub mod render;
 pub mod rig;

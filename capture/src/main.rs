@@ -67,6 +67,9 @@ struct Common {
     /// Canonical palette size, W or WxH (default 4096).
     #[arg(long, default_value = "4096")]
     palette_size: String,
+    /// An external palette PNG (unique colours) instead of the canonical palette.
+    #[arg(long, value_name = "PNG")]
+    palette: Option<PathBuf>,
     /// Keep the mesh's own UVs (checked to be unique and non-overlapping).
     #[arg(long)]
     keep_uvs: bool,
@@ -114,6 +117,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     let options = CaptureOptions {
         out: common.out.clone(),
         palette: parse_palette_size(&common.palette_size)?,
+        palette_file: common.palette.clone(),
         keep_uvs: common.keep_uvs,
         frames: common.frames.parse::<FrameSelection>()?,
         compression: common.png_compression.parse::<Compression>()?,
@@ -132,7 +136,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     eprintln!("adapter: {}", gpu.describe());
     let rig = &scene.rig;
     eprintln!(
-        "eye {}×{} px in {}×{} tiles of {}×{}, {:.2} px/°, palette {}×{}",
+        "eye {}×{} px in {}×{} tiles of {}×{}, {:.2} px/°, palette {}",
         rig.eye_pixels[0],
         rig.eye_pixels[1],
         rig.tiles[0],
@@ -140,8 +144,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         rig.tile_pixels()[0],
         rig.tile_pixels()[1],
         rig.pixels_per_degree(),
-        options.palette[0],
-        options.palette[1]
+        match &options.palette_file {
+            Some(file) => file.display().to_string(),
+            None => format!("{}×{} (canonical)", options.palette[0], options.palette[1]),
+        }
     );
     let summaries = archive::capture_all(&gpu, &scene, &names, &options)?;
     for summary in &summaries {

@@ -90,9 +90,13 @@ fn flatten(corners: [glam::Vec3; 3]) -> [DVec2; 3] {
 
 /// Shelf-packs rectangles; returns their top-left corners, or `None` if they
 /// do not fit. `order` lists rectangles by decreasing height.
-fn shelf_pack(sizes: &[(u32, u32)], order: &[usize], palette: [u32; 2]) -> Option<Vec<(u32, u32)>> {
+fn shelf_pack(
+    sizes: &[(u32, u32)],
+    order: &[usize],
+    palette: [u32; 2],
+    background: Option<(u32, u32)>,
+) -> Option<Vec<(u32, u32)>> {
     let [w, h] = palette;
-    let background = background_texel(palette);
     let mut at = vec![(0, 0); sizes.len()];
     let (mut x, mut y, mut shelf) = (0u32, 0u32, 0u32);
     for &i in order {
@@ -126,8 +130,19 @@ fn shelf_pack(sizes: &[(u32, u32)], order: &[usize], palette: [u32; 2]) -> Optio
     Some(at)
 }
 
-/// Unwraps `mesh` into islands at the highest density that fits `palette`.
+/// Unwraps `mesh` into islands at the highest density that fits the
+/// canonical `palette`.
 pub fn unwrap_islands(mesh: &Mesh, palette: [u32; 2]) -> Result<Unwrapped> {
+    unwrap_islands_avoiding(mesh, palette, background_texel(palette))
+}
+
+/// Unwraps `mesh` into islands, leaving the texel `background` (the one that
+/// holds the background colour in the palette, if any) unused.
+pub fn unwrap_islands_avoiding(
+    mesh: &Mesh,
+    palette: [u32; 2],
+    background: Option<(u32, u32)>,
+) -> Result<Unwrapped> {
     let flat: Vec<[DVec2; 3]> = (0..mesh.triangles.len()).map(|t| flatten(mesh.corners(t))).collect();
     let extent = |tri: &[DVec2; 3]| {
         let max = tri.iter().fold(DVec2::ZERO, |m, p| m.max(*p));
@@ -152,7 +167,7 @@ pub fn unwrap_islands(mesh: &Mesh, palette: [u32; 2]) -> Result<Unwrapped> {
     let texels = f64::from(palette[0]) * f64::from(palette[1]);
     // Bisection on texels per metre: `hi` is the density of a perfect packing.
     let (mut lo, mut hi) = (0.0, (texels / area).sqrt());
-    if shelf_pack(&sizes_at(lo), &order, palette).is_none() {
+    if shelf_pack(&sizes_at(lo), &order, palette, background).is_none() {
         return Err(CaptureError::Unwrap(format!(
             "{} triangles do not fit a {}×{} palette even at zero size (each needs {MARGIN_TOTAL}×{MARGIN_TOTAL} texels of gutter); use a larger --palette-size",
             flat.len(),
@@ -162,14 +177,14 @@ pub fn unwrap_islands(mesh: &Mesh, palette: [u32; 2]) -> Result<Unwrapped> {
     }
     for _ in 0..40 {
         let mid = (lo + hi) / 2.0;
-        if shelf_pack(&sizes_at(mid), &order, palette).is_some() {
+        if shelf_pack(&sizes_at(mid), &order, palette, background).is_some() {
             lo = mid;
         } else {
             hi = mid;
         }
     }
     let scale = lo;
-    let at = shelf_pack(&sizes_at(scale), &order, palette)
+    let at = shelf_pack(&sizes_at(scale), &order, palette, background)
         .ok_or_else(|| CaptureError::Unwrap("packing failed at the density that fitted".into()))?;
     let offset = f64::from(MARGIN_BEFORE);
     let texel_uvs = flat
@@ -186,6 +201,15 @@ pub fn unwrap_islands(mesh: &Mesh, palette: [u32; 2]) -> Result<Unwrapped> {
 /// that no two triangles share a texel centre and that none covers the
 /// background texel.
 pub fn keep_uvs(mesh: &Mesh, palette: [u32; 2]) -> Result<Unwrapped> {
+    keep_uvs_avoiding(mesh, palette, background_texel(palette))
+}
+
+/// [`keep_uvs`] for a palette whose background colour sits at `background`.
+pub fn keep_uvs_avoiding(
+    mesh: &Mesh,
+    palette: [u32; 2],
+    background: Option<(u32, u32)>,
+) -> Result<Unwrapped> {
     let Some(uvs) = &mesh.uvs else {
         return Err(CaptureError::Unwrap("--keep-uvs: the mesh has no UVs (TEXCOORD_0 / vt)".into()));
     };
@@ -208,7 +232,7 @@ pub fn keep_uvs(mesh: &Mesh, palette: [u32; 2]) -> Result<Unwrapped> {
             }
             *slot = number as u32;
         });
-        if let Some((bx, by)) = background_texel(palette) {
+        if let Some((bx, by)) = background {
             let mut covers = false;
             footprint(tri, palette, 0, |x, y| covers |= (x, y) == (bx, by));
             if covers {
