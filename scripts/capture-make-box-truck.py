@@ -117,3 +117,16 @@ gltf = {
 with open(os.path.join(OUT, "box-truck.gltf"), "w") as f:
     json.dump(gltf, f, indent=1)
 print(f"wrote {len(quads)} faces to {OUT}/box-truck.{{obj,mtl,gltf}}")
+
+# The same truck as binary glTF (.glb): JSON chunk + BIN chunk, no data URI.
+glb_json = dict(gltf)
+glb_json["buffers"] = [{"byteLength": len(buf)}]
+json_bytes = json.dumps(glb_json, separators=(",", ":")).encode()
+json_bytes += b" " * (-len(json_bytes) % 4)
+bin_bytes = buf + b"\0" * (-len(buf) % 4)
+total = 12 + 8 + len(json_bytes) + 8 + len(bin_bytes)
+with open(os.path.join(OUT, "box-truck.glb"), "wb") as f:
+    f.write(struct.pack("<4sII", b"glTF", 2, total))
+    f.write(struct.pack("<I4s", len(json_bytes), b"JSON") + json_bytes)
+    f.write(struct.pack("<I4s", len(bin_bytes), b"BIN\0") + bin_bytes)
+print(f"wrote {OUT}/box-truck.glb")

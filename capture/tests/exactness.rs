@@ -108,13 +108,36 @@ fn segment_distance(p: DVec2, a: DVec2, b: DVec2) -> f64 {
     (a + ab * s - p).length()
 }
 
+/// Devices for every backend that works here; at least one must.
+fn devices() -> Vec<Gpu> {
+    let gpus: Vec<Gpu> =
+        [Backend::Vulkan, Backend::Gl].into_iter().filter_map(|b| Gpu::create(b).ok()).collect();
+    if gpus.is_empty() {
+        let error = Gpu::create(Backend::Auto).err().map(|e| e.to_string()).unwrap_or_default();
+        panic!("GPU tests need an adapter (Vulkan or GL): {error}");
+    }
+    gpus
+}
+
 #[test]
 fn pixels_name_texels_of_the_triangle_they_show_and_runs_agree() {
-    let gpu = Gpu::create(Backend::Auto).unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
-    eprintln!("adapter: {}", gpu.describe());
+    let mut images = Vec::new();
+    for gpu in devices() {
+        eprintln!("adapter: {}", gpu.describe());
+        images.push(check_exactness(&gpu));
+    }
+    // Backends may differ by one texel at texel boundaries, on very few pixels.
+    if let [a, b] = &images[..] {
+        let differing = a.chunks_exact(4).zip(b.chunks_exact(4)).filter(|(p, q)| p != q).count();
+        eprintln!("Vulkan and GL differ on {differing} of {} pixels", a.len() / 4);
+        assert!(differing * 1000 < a.len() / 4, "{differing} pixels differ between backends");
+    }
+}
+
+fn check_exactness(gpu: &Gpu) -> Vec<u8> {
     let (mesh, occluders, rig, pose) = scene();
-    let image = render_eye(&gpu, &mesh, &occluders, &rig, &pose);
-    let again = render_eye(&gpu, &mesh, &occluders, &rig, &pose);
+    let image = render_eye(gpu, &mesh, &occluders, &rig, &pose);
+    let again = render_eye(gpu, &mesh, &occluders, &rig, &pose);
     assert!(image == again, "two renders differ");
 
     let unwrapped = unwrap_islands(&mesh, PALETTE).unwrap();
@@ -142,7 +165,7 @@ fn pixels_name_texels_of_the_triangle_they_show_and_runs_agree() {
             (0..3).any(|k| segment_distance(centre, p[k], p[(k + 1) % 3]) < 1.0)
         })
     };
-    let (mut vehicle_pixels, mut exact, mut checked) = (0, 0, 0);
+    let (mut vehicle_pixels, mut exact, mut checked, mut checked_vehicle) = (0, 0, 0, 0);
     for py in 0..h {
         for px in 0..w {
             let i = ((py * w + px) * 4) as usize;
@@ -203,11 +226,18 @@ fn pixels_name_texels_of_the_triangle_they_show_and_runs_agree() {
                     );
                     assert_eq!(owner[index as usize], t as u32);
                     exact += usize::from(got == want);
+                    checked_vehicle += 1;
                 }
                 _ => assert_eq!(color, Color::DEFAULT_BACKGROUND, "pixel ({px}, {py}) should be background"),
             }
         }
     }
-    eprintln!("{vehicle_pixels} vehicle pixels, {checked} unambiguous pixels checked, {exact} texel-exact");
+    eprintln!(
+        "{vehicle_pixels} vehicle pixels; {checked} pixels away from edges checked, \
+         {checked_vehicle} of them on the vehicle, {exact} of those texel-exact (the rest ±1)"
+    );
+    // Off-by-one texels only come from rounding at texel boundaries: rare.
+    assert!(exact * 10 > checked_vehicle * 9, "{exact} of {checked_vehicle} texel-exact");
     assert!(vehicle_pixels > 1000, "{vehicle_pixels}");
+    image
 }

@@ -28,6 +28,18 @@ fn own_vehicles_load_with_their_parts() {
     assert!((max.x - 3.0).abs() < 1e-6 && (min.x + 3.0).abs() < 1e-6, "{min} {max}");
     assert!((max.z - 3.2).abs() < 1e-6 && (min.z - 0.4).abs() < 1e-6, "{min} {max}");
 
+    // The same truck as binary glTF, parts from materials.
+    let glb = ufcsr_capture::mesh::load_vehicle(
+        &fixture("box-truck.glb"),
+        ufcsr_capture::mesh::PartSource::Material,
+        &ufcsr_capture::mesh::Axes::default(),
+    )
+    .unwrap();
+    assert_eq!(glb.triangles.len(), 18);
+    assert_eq!(glb.parts.len(), 9);
+    assert_eq!(glb.bounds(), gltf.vehicle.bounds());
+    assert!(glb.uvs.is_some());
+
     let obj = Scene::load(&fixture("obj-vehicle.json")).unwrap();
     let mut parts = obj.vehicle.parts.clone();
     parts.sort();
