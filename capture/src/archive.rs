@@ -18,7 +18,6 @@ use serde_json::{Map, Value, json};
 use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
 
 use crate::error::{CaptureError, Result};
-use crate::gpu::Gpu;
 use crate::palette::ExternalPalette;
 use crate::pidt::{self, Pidt};
 use crate::render::{Palette, RenderSetup, Renderer, TileDraw, vehicle_vertices};
@@ -273,8 +272,15 @@ fn encoder_worker(
     }
 }
 
-/// Captures one scenario of `scene` into `options.out`.
-pub fn capture(gpu: &Gpu, scene: &Scene, scenario: &Scenario, options: &CaptureOptions) -> Result<Summary> {
+/// Captures one scenario of `scene` into `options.out` with a device the
+/// caller created (see [`crate::gpu`]).
+pub fn capture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    scenario: &Scenario,
+    options: &CaptureOptions,
+) -> Result<Summary> {
     let start = Instant::now();
     let rig = &scene.rig;
     rig.check()?;
@@ -310,7 +316,7 @@ pub fn capture(gpu: &Gpu, scene: &Scene, scenario: &Scenario, options: &CaptureO
         vehicle: &vertices,
         occluders: &scene.occluders,
     };
-    let renderer = Renderer::new(&gpu.device, &gpu.queue, &setup)?;
+    let renderer = Renderer::new(device, queue, &setup)?;
     drop(external);
     let setup_seconds = start.elapsed().as_secs_f64();
 
@@ -419,7 +425,7 @@ pub fn capture(gpu: &Gpu, scene: &Scene, scenario: &Scenario, options: &CaptureO
                         clip_from_world,
                         occluders: &visible,
                     };
-                    let rgba = renderer.render_tile(&gpu.device, &gpu.queue, &draw)?;
+                    let rgba = renderer.render_tile(device, queue, &draw)?;
                     summary.rendered += 1;
                     let [r, g, b] = background.rgb();
                     let all_background = rgba.chunks_exact(4).all(|p| p[0] == r && p[1] == g && p[2] == b);
@@ -522,7 +528,8 @@ fn round6(value: f64) -> f64 {
 
 /// Captures several scenarios, each into `out/NAME` when there are more than one.
 pub fn capture_all(
-    gpu: &Gpu,
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
     scene: &Scene,
     names: &[String],
     options: &CaptureOptions,
@@ -533,7 +540,7 @@ pub fn capture_all(
         let out: PathBuf =
             if names.len() > 1 { options.out.join(&scenario.name) } else { options.out.clone() };
         let options = CaptureOptions { out, ..options.clone() };
-        summaries.push(capture(gpu, scene, scenario, &options)?);
+        summaries.push(capture(device, queue, scene, scenario, &options)?);
     }
     Ok(summaries)
 }

@@ -149,7 +149,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             None => format!("{}×{} (canonical)", options.palette[0], options.palette[1]),
         }
     );
-    let summaries = archive::capture_all(&gpu, &scene, &names, &options)?;
+    let summaries = archive::capture_all(&gpu.device, &gpu.queue, &scene, &names, &options)?;
     for summary in &summaries {
         report(summary);
     }

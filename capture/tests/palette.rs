@@ -22,7 +22,7 @@ fn demo_capture(gpu: &Gpu, out: &Path, palette_file: Option<&Path>) {
         ..CaptureOptions::default()
     };
     let scenario = scene.scenario("D").unwrap().clone();
-    capture(gpu, &scene, &scenario, &options).unwrap();
+    capture(&gpu.device, &gpu.queue, &scene, &scenario, &options).unwrap();
 }
 
 #[test]

@@ -72,7 +72,7 @@ fn fixture_scenes_capture_without_stray_pixels() {
             ..CaptureOptions::default()
         };
         let scenario = scene.scenarios[0].clone();
-        let summary = capture(&gpu, &scene, &scenario, &options).unwrap();
+        let summary = capture(&gpu.device, &gpu.queue, &scene, &scenario, &options).unwrap();
         let (vehicle, stray) = verify(&out).unwrap();
         eprintln!("{file} keep_uvs={keep_uvs}: {} tiles written, {vehicle} vehicle pixels", summary.written);
         assert_eq!(stray, 0, "{file}");
