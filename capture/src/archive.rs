@@ -287,6 +287,11 @@ pub fn capture(
     let out = &options.out;
     let tiles_dir = out.join("tiles");
     std::fs::create_dir_all(&tiles_dir).map_err(|e| CaptureError::io(&tiles_dir, e))?;
+    if !options.resume {
+        // A fresh capture replaces the previous one: tiles it does not write
+        // again must not linger beside the new manifest.
+        remove_old_tiles(&tiles_dir)?;
+    }
 
     let PaletteChoice { palette, external, background_texel } = load_palette(options)?;
     let palette_size = palette.size();
@@ -521,6 +526,36 @@ pub fn capture(
     Ok(summary)
 }
 
+/// Removes files named like our tiles (`fNNNN_left|right_rR_cC.png`).
+fn remove_old_tiles(dir: &Path) -> Result<()> {
+    let entries = std::fs::read_dir(dir).map_err(|e| CaptureError::io(dir, e))?;
+    for entry in entries {
+        let entry = entry.map_err(|e| CaptureError::io(dir, e))?;
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        if is_tile_name(&name) {
+            std::fs::remove_file(entry.path()).map_err(|e| CaptureError::io(entry.path(), e))?;
+        }
+    }
+    Ok(())
+}
+
+/// True for `f0000_left_r0_c0.png` and the like.
+fn is_tile_name(name: &str) -> bool {
+    let Some(rest) = name.strip_prefix('f').and_then(|n| n.strip_suffix(".png")) else {
+        return false;
+    };
+    let parts: Vec<&str> = rest.split('_').collect();
+    let number = |text: &str, prefix: char| {
+        text.strip_prefix(prefix).is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+    };
+    matches!(parts.as_slice(), [frame, eye, row, col]
+        if !frame.is_empty() && frame.bytes().all(|b| b.is_ascii_digit())
+            && (*eye == "left" || *eye == "right")
+            && number(row, 'r')
+            && number(col, 'c'))
+}
+
 /// Six decimals keep the manifest readable and stable across platforms.
 fn round6(value: f64) -> f64 {
     (value * 1e6).round() / 1e6
@@ -621,5 +656,11 @@ mod tests {
         assert_eq!("all".parse::<FrameSelection>().unwrap().frames(3), vec![0, 1, 2]);
         assert!("5-1".parse::<FrameSelection>().is_err());
         assert_eq!(tile_file(7, Eye::Right, 1, 4), PathBuf::from("tiles/f0007_right_r1_c4.png"));
+        assert!(is_tile_name("f0007_right_r1_c4.png"));
+        assert!(
+            !is_tile_name("f0007_right_r1_c4.png.bak")
+                && !is_tile_name("notes.png")
+                && !is_tile_name("f1_up_r1_c1.png")
+        );
     }
 }

@@ -58,9 +58,9 @@ struct Common {
     /// Output folder (one archive; with --scenario all, one sub-folder per scenario).
     #[arg(long, default_value = "archive")]
     out: PathBuf,
-    /// Scenario name, or `all`.
-    #[arg(long, default_value = "A")]
-    scenario: String,
+    /// Scenario name, or `all` (default: the first, A for the demo).
+    #[arg(long)]
+    scenario: Option<String>,
     /// Pixels per degree (60 = the paper's 6420×8100 per eye); rounded to whole tiles.
     #[arg(long)]
     ppd: Option<f64>,
@@ -127,10 +127,12 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         progress: !common.quiet,
         encoder_threads: common.threads,
     };
-    let names: Vec<String> = if common.scenario.eq_ignore_ascii_case("all") {
-        scene.scenarios.iter().map(|s| s.name.clone()).collect()
-    } else {
-        vec![scene.scenario(&common.scenario)?.name.clone()]
+    let names: Vec<String> = match &common.scenario {
+        Some(all) if all.eq_ignore_ascii_case("all") => {
+            scene.scenarios.iter().map(|s| s.name.clone()).collect()
+        }
+        Some(name) => vec![scene.scenario(name)?.name.clone()],
+        None => scene.scenarios.iter().take(1).map(|s| s.name.clone()).collect(),
     };
     let gpu = Gpu::create(common.backend.parse::<Backend>()?).context("creating the GPU device")?;
     eprintln!("adapter: {}", gpu.describe());

@@ -166,6 +166,10 @@ fn captures_are_deterministic_and_resume_skips_written_tiles() {
     std::fs::remove_file(one.join(&tile)).unwrap();
     capture(&one, &["--scenario", "D", "--frames", "120,180", "--resume"]);
     assert!(files(&one) == first, "resumed capture differs");
+    // A fresh capture into the same folder removes tiles of the old one.
+    std::fs::write(one.join("tiles/f0999_left_r0_c0.png"), b"stale").unwrap();
+    capture(&one, &["--scenario", "D", "--frames", "120,180"]);
+    assert!(files(&one) == first, "stale tile survived a fresh capture");
 }
 
 #[test]
