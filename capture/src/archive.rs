@@ -501,6 +501,15 @@ pub fn capture(
             "label_conflicts": pidt.conflicts,
             "triangles": scene.vehicle.triangles.len(),
             "vehicle_area_m2": round6(scene.vehicle.area()),
+            // Surface per part, to turn the analyzer's per-part totals into
+            // counts per square metre.
+            "part_area_m2": scene
+                .vehicle
+                .parts
+                .iter()
+                .zip(unwrap::part_areas(&scene.vehicle))
+                .map(|(name, area)| (name.clone(), json!(round6(area))))
+                .collect::<Map<String, Value>>(),
         }),
     );
     extra.insert(

@@ -8,7 +8,7 @@
 //! plane keep sub-millimetre depth resolution at street distances.
 //! Readback rows are padded to 256 bytes as wgpu requires and unpadded here.
 
-use glam::{DMat4, Mat4, Vec3};
+use glam::{DMat4, Vec3};
 use ufcsr::Color;
 
 use crate::error::{CaptureError, Result};
@@ -460,9 +460,4 @@ pub fn vehicle_vertices(mesh: &crate::mesh::Mesh, unwrapped: &crate::unwrap::Unw
         }
     }
     vertices
-}
-
-/// Converts a matrix for the renderer's f32 uniforms (exposed for tests).
-pub fn as_f32(m: &DMat4) -> Mat4 {
-    m.as_mat4()
 }
