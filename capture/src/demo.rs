@@ -57,7 +57,8 @@ pub fn truck() -> Mesh {
         );
     }
     // Front bumper and plate.
-    m.add_box(v(2.75, -hw, 0.28), v(hl, hw, 0.58), [Some("front_bumper"); 6]);
+    let bumper = Some("front_bumper");
+    m.add_box(v(2.75, -hw, 0.28), v(hl, hw, 0.58), [bumper, None, bumper, bumper, bumper, bumper]);
     m.add_box(
         v(hl, -0.3, 0.33),
         v(hl + 0.02, 0.3, 0.5),
@@ -123,10 +124,11 @@ pub fn truck() -> Mesh {
         m.add_box(v(-2.8, y0, 0.45), v(-0.65, y1, 1.25), [None, None, pos, neg, Some("bed_rail"), None]);
         let (f0, f1) = if s > 0.0 { (hw, hw + 0.05) } else { (-hw - 0.05, -hw) };
         let (fp, fn_) = if s > 0.0 { (Some(fender.as_str()), None) } else { (None, Some(fender.as_str())) };
+        // A flare over the wheel arch, its underside open to view.
         m.add_box(
-            v(-2.4, f0, 0.45),
-            v(-1.3, f1, 0.98),
-            [Some(&fender), Some(&fender), fp, fn_, Some(&fender), None],
+            v(-2.4, f0, 0.86),
+            v(-1.3, f1, 1.0),
+            [Some(&fender), Some(&fender), fp, fn_, Some(&fender), Some(&fender)],
         );
         let tail = format!("tail_light_{side}");
         let (t0, t1) = if s > 0.0 { (0.78, 0.98) } else { (-0.98, -0.78) };
@@ -135,13 +137,18 @@ pub fn truck() -> Mesh {
             v(-2.8, t1, 1.2),
             [None, Some(&tail), Some(&tail), Some(&tail), Some(&tail), Some(&tail)],
         );
-        // Side mirrors on the doors, step bars below them.
-        let mirror = format!("side_mirror_{side}");
+        // Side mirrors on the doors, step bars below them; the faces against
+        // the body are left out (they would lie in the door's plane and fight it).
+        let outward = |name: &str| -> [Option<String>; 6] {
+            let n = || Some(name.to_string());
+            if s > 0.0 { [n(), n(), n(), None, n(), n()] } else { [n(), n(), None, n(), n(), n()] }
+        };
+        let mirror = outward(&format!("side_mirror_{side}"));
         let (m0, m1) = if s > 0.0 { (hw, hw + 0.24) } else { (-hw - 0.24, -hw) };
-        m.add_box(v(1.3, m0, 1.12), v(1.5, m1, 1.36), [Some(&mirror); 6]);
-        let step = format!("step_bar_{side}");
+        m.add_box(v(1.3, m0, 1.12), v(1.5, m1, 1.36), mirror.each_ref().map(|f| f.as_deref()));
+        let step = outward(&format!("step_bar_{side}"));
         let (s0, s1) = if s > 0.0 { (hw, hw + 0.12) } else { (-hw - 0.12, -hw) };
-        m.add_box(v(-0.6, s0, 0.3), v(1.5, s1, 0.38), [Some(&step); 6]);
+        m.add_box(v(-0.6, s0, 0.3), v(1.5, s1, 0.38), step.each_ref().map(|f| f.as_deref()));
     }
     m.add_quad(
         "truck_bed",
@@ -187,12 +194,13 @@ pub fn truck() -> Mesh {
         ],
     );
 
-    // Wheels: tyre tread and sidewall, rim disc on the outer face.
+    // Wheels: tyre tread and sidewall, rim disc on the outer face. The tyres
+    // stand 2 cm proud of the body so that no sidewall lies in a body panel's plane.
     for (axle, x) in [("front", 1.85_f32), ("rear", -1.85_f32)] {
         for (side, s) in sides {
             wheel(
                 &mut m,
-                vec3(x, 0.86 * s, 0.42),
+                vec3(x, 0.88 * s, 0.42),
                 s,
                 &format!("tyre_{axle}_{side}"),
                 &format!("rim_{axle}_{side}"),
@@ -210,7 +218,8 @@ fn wheel(m: &mut Mesh, centre: Vec3, s: f32, tyre: &str, rim: &str) {
     let outer = half_width * s;
     for i in 0..SEGMENTS {
         let a0 = i as f32 / SEGMENTS as f32 * std::f32::consts::TAU;
-        let a1 = (i + 1) as f32 / SEGMENTS as f32 * std::f32::consts::TAU;
+        // Wrap the last angle to 0 exactly, so the seam's vertices match bit for bit.
+        let a1 = ((i + 1) % SEGMENTS) as f32 / SEGMENTS as f32 * std::f32::consts::TAU;
         // Tread: outward normal.
         let (p, q) = if s > 0.0 { (a1, a0) } else { (a0, a1) };
         m.add_quad(
@@ -358,6 +367,55 @@ mod tests {
             assert!(truck.parts.iter().any(|p| p == part), "missing {part}");
         }
         assert!(truck.parts.len() >= 40, "{}", truck.parts.len());
+    }
+
+    /// Two triangles in one plane that overlap would fight in the depth
+    /// buffer, and which one a pixel shows would depend on the driver.
+    #[test]
+    fn truck_has_no_overlapping_coplanar_triangles() {
+        let truck = truck();
+        let n = truck.triangles.len();
+        let tris: Vec<[DVec3; 3]> = (0..n).map(|t| truck.corners(t).map(|c| c.as_dvec3())).collect();
+        let normal = |t: &[DVec3; 3]| (t[1] - t[0]).cross(t[2] - t[0]).normalize();
+        let mut overlaps = Vec::new();
+        for a in 0..n {
+            let na = normal(&tris[a]);
+            for b in a + 1..n {
+                let nb = normal(&tris[b]);
+                if na.cross(nb).length() > 1e-6 || (tris[b][0] - tris[a][0]).dot(na).abs() > 1e-6 {
+                    continue;
+                }
+                // Project both into the plane and look for a separating axis.
+                let u = na.any_orthonormal_vector();
+                let w = na.cross(u);
+                let flat = |t: &[DVec3; 3]| t.map(|p| dvec2(p.dot(u), p.dot(w)));
+                let (pa, pb) = (flat(&tris[a]), flat(&tris[b]));
+                let separated = [pa, pb].iter().any(|tri| {
+                    (0..3).any(|k| {
+                        let edge = tri[(k + 1) % 3] - tri[k];
+                        let axis = dvec2(-edge.y, edge.x);
+                        let range = |t: &[DVec2; 3]| {
+                            let d = t.map(|p| p.dot(axis));
+                            (d[0].min(d[1]).min(d[2]), d[0].max(d[1]).max(d[2]))
+                        };
+                        let (ra, rb) = (range(&pa), range(&pb));
+                        ra.1 <= rb.0 + 1e-9 || rb.1 <= ra.0 + 1e-9
+                    })
+                });
+                if !separated {
+                    overlaps.push((
+                        truck.parts[truck.triangle_part[a] as usize].clone(),
+                        truck.parts[truck.triangle_part[b] as usize].clone(),
+                    ));
+                }
+            }
+        }
+        assert!(
+            overlaps.is_empty(),
+            "{} coplanar overlaps, e.g. {:?}",
+            overlaps.len(),
+            &overlaps[..overlaps.len().min(5)]
+        );
     }
 
     #[test]
