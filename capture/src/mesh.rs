@@ -343,6 +343,14 @@ impl Occluders {
         self.objects.push((first, self.positions.len() as u32 - first, min, max));
     }
 
+    /// Appends another set of occluders, object by object.
+    pub fn append(&mut self, other: &Occluders) {
+        let base = self.positions.len() as u32;
+        self.positions.extend(&other.positions);
+        self.objects
+            .extend(other.objects.iter().map(|&(first, count, min, max)| (first + base, count, min, max)));
+    }
+
     /// Adds an axis-aligned box (all six faces).
     pub fn add_box(&mut self, min: DVec3, max: DVec3) {
         let mut mesh = Mesh::default();

@@ -198,16 +198,7 @@ impl Scene {
                     let pose = Pose { position: DVec3::from(*position), yaw_deg: *yaw_deg };
                     occluders.add_mesh(&vehicle, crate::rig::vehicle_to_world(&pose));
                 }
-                OccluderSpec::DemoIntersection => {
-                    let demo = demo::intersection();
-                    for &(first, count, _, _) in &demo.objects {
-                        let mut mesh = Mesh::default();
-                        for tri in demo.positions[first as usize..(first + count) as usize].chunks_exact(3) {
-                            mesh.add_triangle("x", tri[0], tri[1], tri[2]);
-                        }
-                        occluders.add_mesh(&mesh, DMat4::IDENTITY);
-                    }
-                }
+                OccluderSpec::DemoIntersection => occluders.append(&demo::intersection()),
                 OccluderSpec::Ground { z } => add_ground(&mut occluders, *z, DVec3::from(rig.pedestrian)),
             }
         }

@@ -52,6 +52,21 @@ fn own_vehicles_load_with_their_parts() {
 }
 
 #[test]
+fn demo_scene_file_matches_the_built_in_demo() {
+    let file = Scene::load(&fixture("demo.json")).unwrap();
+    let demo = Scene::demo();
+    assert_eq!(file.rig, demo.rig);
+    assert_eq!(file.occluders.positions, demo.occluders.positions);
+    assert_eq!(file.vehicle, demo.vehicle);
+    let (a, b) = (file.scenario("A").unwrap(), demo.scenario("A").unwrap());
+    for frame in 0..=180 {
+        let t = f64::from(frame) / 60.0;
+        let (p, q) = (a.motion.pose(t), b.motion.pose(t));
+        assert!((p.position - q.position).length() < 1e-9 && (p.yaw_deg - q.yaw_deg).abs() < 1e-9, "t = {t}");
+    }
+}
+
+#[test]
 fn fixture_scenes_capture_without_stray_pixels() {
     let gpu = Gpu::create(Backend::Auto).unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
     let dir = tempfile::tempdir().unwrap();
