@@ -408,7 +408,7 @@ pub fn capture(
                         entries.push(entry);
                         continue;
                     }
-                    if options.resume && path.is_file() {
+                    if options.resume && png_size(&path) == Some(rig.tile_pixels()) {
                         summary.resumed += 1;
                         written_here += 1;
                         entry.file = Some(file);
@@ -570,19 +570,23 @@ fn round6(value: f64) -> f64 {
     (value * 1e6).round() / 1e6
 }
 
-/// Captures several scenarios, each into `out/NAME` when there are more than one.
+/// Captures several scenarios; with `subfolders` each goes to `out/NAME`
+/// (`--scenario all`), otherwise into `out` itself.
 pub fn capture_all(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     scene: &Scene,
     names: &[String],
+    subfolders: bool,
     options: &CaptureOptions,
 ) -> Result<Vec<Summary>> {
+    if names.len() > 1 && !subfolders {
+        return Err(CaptureError::BadOptions("several scenarios need one sub-folder each".into()));
+    }
     let mut summaries = Vec::new();
     for name in names {
         let scenario = scene.scenario(name)?;
-        let out: PathBuf =
-            if names.len() > 1 { options.out.join(&scenario.name) } else { options.out.clone() };
+        let out: PathBuf = if subfolders { options.out.join(&scenario.name) } else { options.out.clone() };
         let options = CaptureOptions { out, ..options.clone() };
         summaries.push(capture(device, queue, scene, scenario, &options)?);
     }
@@ -632,6 +636,14 @@ pub fn verify(dir: &Path) -> Result<(u64, u64)> {
         }
     }
     Ok((vehicle, stray))
+}
+
+/// The size of a readable PNG, from its header; `None` for anything else.
+fn png_size(path: &Path) -> Option<[u32; 2]> {
+    let file = std::fs::File::open(path).ok()?;
+    let reader = png::Decoder::new(std::io::BufReader::new(file)).read_info().ok()?;
+    let info = reader.info();
+    Some([info.width, info.height])
 }
 
 /// Reads an 8-bit RGB or RGBA PNG as RGB.

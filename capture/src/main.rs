@@ -79,7 +79,7 @@ struct Common {
     /// Tile PNG compression: fastest, fast, balanced or high.
     #[arg(long, default_value = "fast")]
     png_compression: String,
-    /// Skip tiles already on disk.
+    /// Skip tiles already on disk (readable PNGs of the tile size; others are rendered again).
     #[arg(long)]
     resume: bool,
     /// Write rendered tiles even when they are pure background.
@@ -127,6 +127,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         progress: !common.quiet,
         encoder_threads: common.threads,
     };
+    let all = common.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
     let names: Vec<String> = match &common.scenario {
         Some(all) if all.eq_ignore_ascii_case("all") => {
             scene.scenarios.iter().map(|s| s.name.clone()).collect()
@@ -151,7 +152,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             None => format!("{}×{} (canonical)", options.palette[0], options.palette[1]),
         }
     );
-    let summaries = archive::capture_all(&gpu.device, &gpu.queue, &scene, &names, &options)?;
+    let summaries = archive::capture_all(&gpu.device, &gpu.queue, &scene, &names, all, &options)?;
     for summary in &summaries {
         report(summary);
     }

@@ -161,9 +161,12 @@ fn captures_are_deterministic_and_resume_skips_written_tiles() {
     let first = files(&one);
     assert!(first.keys().any(|p| p.starts_with("tiles")));
     assert!(first == files(&two), "two captures differ");
-    // Resume: remove one tile, capture again; the rest are not rewritten.
-    let tile = first.keys().find(|p| p.starts_with("tiles")).unwrap().clone();
-    std::fs::remove_file(one.join(&tile)).unwrap();
+    // Resume: remove one tile and spoil another, capture again; both come
+    // back and the rest are not rewritten.
+    let mut tiles = first.keys().filter(|p| p.starts_with("tiles"));
+    let (removed, spoiled) = (tiles.next().unwrap().clone(), tiles.next().unwrap().clone());
+    std::fs::remove_file(one.join(&removed)).unwrap();
+    std::fs::write(one.join(&spoiled), b"not a png").unwrap();
     capture(&one, &["--scenario", "D", "--frames", "120,180", "--resume"]);
     assert!(files(&one) == first, "resumed capture differs");
     // A fresh capture into the same folder removes tiles of the old one.
