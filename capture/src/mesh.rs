@@ -343,6 +343,30 @@ impl Occluders {
         self.objects.push((first, self.positions.len() as u32 - first, min, max));
     }
 
+    /// Adds a large mesh (an environment) as one object per `cell` × `cell`
+    /// metre square of the ground plan, by triangle centroid, so that a tile
+    /// draws only the pieces its frustum can see.
+    pub fn add_mesh_chunked(&mut self, mesh: &Mesh, to_world: glam::DMat4, cell: f64) {
+        let mut chunks: std::collections::BTreeMap<(i64, i64), Vec<[DVec3; 3]>> = Default::default();
+        for tri in &mesh.triangles {
+            let corners = tri.map(|i| to_world.transform_point3(mesh.positions[i as usize].as_dvec3()));
+            let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
+            let key = ((centroid.x / cell).floor() as i64, (centroid.y / cell).floor() as i64);
+            chunks.entry(key).or_default().push(corners);
+        }
+        for triangles in chunks.values() {
+            let first = self.positions.len() as u32;
+            let mut min = DVec3::splat(f64::INFINITY);
+            let mut max = DVec3::splat(f64::NEG_INFINITY);
+            for p in triangles.iter().flatten() {
+                min = min.min(*p);
+                max = max.max(*p);
+                self.positions.push(p.as_vec3());
+            }
+            self.objects.push((first, self.positions.len() as u32 - first, min, max));
+        }
+    }
+
     /// Appends another set of occluders, object by object.
     pub fn append(&mut self, other: &Occluders) {
         let base = self.positions.len() as u32;
@@ -362,6 +386,27 @@ impl Occluders {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn environment_meshes_split_into_chunks_with_tight_bounds() {
+        let mut ground = Mesh::default();
+        for i in 0..10 {
+            let x = i as f32 * 10.0;
+            ground.add_quad(
+                "g",
+                vec3(x, 0.0, 0.0),
+                vec3(x + 10.0, 0.0, 0.0),
+                vec3(x + 10.0, 5.0, 0.0),
+                vec3(x, 5.0, 0.0),
+            );
+        }
+        let mut occluders = Occluders::default();
+        occluders.add_mesh_chunked(&ground, glam::DMat4::IDENTITY, 25.0);
+        assert_eq!(occluders.objects.len(), 4);
+        assert_eq!(occluders.positions.len(), 60);
+        let (_, _, min, max) = occluders.objects[0];
+        assert_eq!((min.x, max.x), (0.0, 30.0));
+    }
 
     #[test]
     fn box_faces_point_outwards_and_axes_convert() {

@@ -192,7 +192,11 @@ impl Scene {
                 OccluderSpec::Mesh { path: mesh_path, axes, position, yaw_deg } => {
                     let mesh = load_vehicle(&base.join(mesh_path), PartSource::Node, axes)?;
                     let pose = Pose { position: DVec3::from(*position), yaw_deg: *yaw_deg };
-                    occluders.add_mesh(&mesh, crate::rig::vehicle_to_world(&pose));
+                    occluders.add_mesh_chunked(
+                        &mesh,
+                        crate::rig::vehicle_to_world(&pose),
+                        ENVIRONMENT_CELL_M,
+                    );
                 }
                 OccluderSpec::Vehicle { position, yaw_deg } => {
                     let pose = Pose { position: DVec3::from(*position), yaw_deg: *yaw_deg };
@@ -228,6 +232,9 @@ impl Scene {
         })
     }
 }
+
+/// Environment meshes are split into squares of this size for culling.
+const ENVIRONMENT_CELL_M: f64 = 20.0;
 
 /// A 400 m square ground plane at height `z` around `centre`.
 fn add_ground(occluders: &mut Occluders, z: f64, centre: DVec3) {
