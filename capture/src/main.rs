@@ -64,6 +64,9 @@ struct Common {
     /// Pixels per degree (60 = the paper's 6420×8100 per eye); rounded to whole tiles.
     #[arg(long)]
     ppd: Option<f64>,
+    /// Rig overrides as JSON, e.g. '{"eye_height_m": 1.6, "pedestrian": [-6, -6, 0]}' (applied before --ppd).
+    #[arg(long, value_name = "JSON")]
+    rig: Option<String>,
     /// Canonical palette size, W or WxH (default 4096).
     #[arg(long, default_value = "4096")]
     palette_size: String,
@@ -111,6 +114,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             return Ok(());
         }
     };
+    if let Some(json) = &common.rig {
+        scene.rig = scene.rig.override_with(json)?;
+    }
     if let Some(ppd) = common.ppd {
         scene.rig.set_pixels_per_degree(ppd)?;
     }

@@ -94,6 +94,19 @@ pub struct EyeCamera {
 }
 
 impl Rig {
+    /// Overrides fields from a JSON object such as `{"eye_height_m": 1.6}`.
+    pub fn override_with(&self, json: &str) -> Result<Rig> {
+        let bad = |e: serde_json::Error| CaptureError::BadOptions(format!("--rig: {e}"));
+        let changes: serde_json::Map<String, serde_json::Value> = serde_json::from_str(json).map_err(bad)?;
+        let mut value = serde_json::to_value(self).map_err(bad)?;
+        if let Some(fields) = value.as_object_mut() {
+            fields.extend(changes);
+        }
+        let rig: Rig = serde_json::from_value(value).map_err(bad)?;
+        rig.check()?;
+        Ok(rig)
+    }
+
     /// Pixels per degree horizontally.
     pub fn pixels_per_degree(&self) -> f64 {
         f64::from(self.eye_pixels[0]) / self.horizontal_fov_deg
@@ -319,6 +332,16 @@ mod tests {
         low.set_pixels_per_degree(2.0).unwrap();
         low.check().unwrap();
         assert_eq!(low.eye_pixels, [215, 270]);
+    }
+
+    #[test]
+    fn rig_fields_can_be_overridden_from_json() {
+        let rig = Rig::default()
+            .override_with(r#"{"eye_height_m": 1.6, "tiles": [2, 2], "eye_pixels": [100, 120]}"#);
+        let rig = rig.unwrap();
+        assert_eq!((rig.eye_height_m, rig.tiles, rig.ipd_m), (1.6, [2, 2], 0.1103594));
+        assert!(Rig::default().override_with(r#"{"eye_hieght_m": 1.6}"#).is_err());
+        assert!(Rig::default().override_with(r#"{"tiles": [7, 7]}"#).is_err());
     }
 
     #[test]
