@@ -211,3 +211,28 @@ fn committed_demo_archive_fixture_is_clean() {
     assert_eq!(manifest.tiles.len(), 10 * 2 * 25);
     assert!(part_totals(&dir).get("windshield").copied().unwrap_or(0) > 0);
 }
+
+#[test]
+fn verify_rejects_an_archive_with_a_stray_pixel() {
+    let source = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes/demo-archive");
+    let dir = tempfile::tempdir().unwrap();
+    let copy = dir.path().join("archive");
+    std::fs::create_dir_all(copy.join("tiles")).unwrap();
+    for file in ["manifest.json", "pidt.png", "parts.csv"] {
+        std::fs::copy(source.join(file), copy.join(file)).unwrap();
+    }
+    let manifest = Manifest::load_from_dir(&source).unwrap().unwrap();
+    let files: Vec<PathBuf> = manifest.tiles.iter().filter_map(|t| t.file.clone()).collect();
+    for file in &files {
+        std::fs::copy(source.join(file), copy.join(file)).unwrap();
+    }
+    let run = || Command::new(env!("CARGO_BIN_EXE_ufcsr-capture")).arg("verify").arg(&copy).output().unwrap();
+    assert!(run().status.success());
+    // White is index 16777215, far outside a 512² palette.
+    let (size, mut rgb) = read_rgb_png(&copy.join(&files[0])).unwrap();
+    rgb[..3].copy_from_slice(&[255, 255, 255]);
+    ufcsr_capture::pidt::write_rgb_png(&copy.join(&files[0]), size, &rgb, png::Compression::Fast).unwrap();
+    let output = run();
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stdout).contains("1 stray pixels"), "{output:?}");
+}
