@@ -1,0 +1,209 @@
+//! `ufcsr-capture`: record UFCSR archives of a vehicle approaching a pedestrian.
+//!
+//! Thin edge: parse the command line, build the scene and options, call the
+//! library, print a report, turn errors into an exit code.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use clap::{Args, Parser, Subcommand};
+use ufcsr_capture::archive::{self, CaptureOptions, Compression, FrameSelection, Summary};
+use ufcsr_capture::gpu::{Backend, Gpu};
+use ufcsr_capture::scene::Scene;
+use ufcsr_capture::unwrap::parse_palette_size;
+
+#[derive(Parser)]
+#[command(
+    name = "ufcsr-capture",
+    version,
+    about = "Record UFCSR archives with a headless, exact wgpu renderer"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// The built-in demo: pickup truck, intersection, scenarios A–D.
+    Demo {
+        #[command(flatten)]
+        common: Common,
+    },
+    /// A scene file (see capture/README.md).
+    Scene {
+        /// The scene JSON file.
+        scene: PathBuf,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Replay a Unity export (unity-intersection.json) with the demo truck.
+    Unity {
+        /// The Unity scenario export.
+        file: PathBuf,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Check an archive without the analyzer: tile pixels are background or
+    /// palette colours the PIdT labels.
+    Verify {
+        /// The archive folder.
+        archive: PathBuf,
+    },
+}
+
+#[derive(Args)]
+struct Common {
+    /// Output folder (one archive; with --scenario all, one sub-folder per scenario).
+    #[arg(long, default_value = "archive")]
+    out: PathBuf,
+    /// Scenario name, or `all` (default: the first, A for the demo).
+    #[arg(long)]
+    scenario: Option<String>,
+    /// Pixels per degree (60 = the paper's 6420×8100 per eye); rounded to whole tiles.
+    #[arg(long)]
+    ppd: Option<f64>,
+    /// Rig overrides as JSON, e.g. '{"eye_height_m": 1.6, "pedestrian": [-6, -6, 0]}' (applied before --ppd).
+    #[arg(long, value_name = "JSON")]
+    rig: Option<String>,
+    /// Canonical palette size, W or WxH (default 4096).
+    #[arg(long, default_value = "4096")]
+    palette_size: String,
+    /// An external palette PNG (unique colours) instead of the canonical palette.
+    #[arg(long, value_name = "PNG")]
+    palette: Option<PathBuf>,
+    /// Keep the mesh's own UVs (checked to be unique and non-overlapping).
+    #[arg(long)]
+    keep_uvs: bool,
+    /// Frames to capture: `all` or a list like 0,30,60-90/10.
+    #[arg(long, default_value = "all")]
+    frames: String,
+    /// Tile PNG compression: fastest, fast, balanced or high.
+    #[arg(long, default_value = "fast")]
+    png_compression: String,
+    /// Skip tiles already on disk (readable PNGs of the tile size; others are rendered again).
+    #[arg(long)]
+    resume: bool,
+    /// Write rendered tiles even when they are pure background.
+    #[arg(long)]
+    keep_background_tiles: bool,
+    /// Render every tile, even those the vehicle's projected bounds do not touch.
+    #[arg(long)]
+    no_cull: bool,
+    /// GPU backend: auto (Vulkan, then GL), vulkan or gl.
+    #[arg(long, default_value = "auto")]
+    backend: String,
+    /// PNG encoder threads (0: one per core).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// No progress bar.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+fn run(cli: Cli) -> anyhow::Result<()> {
+    let (mut scene, common) = match cli.command {
+        Command::Demo { common } => (Scene::demo(), common),
+        Command::Scene { scene, common } => (Scene::load(&scene)?, common),
+        Command::Unity { file, common } => (Scene::unity(&file)?, common),
+        Command::Verify { archive } => {
+            let (vehicle, stray) = archive::verify(&archive)?;
+            println!("{}: {vehicle} vehicle pixels, {stray} stray pixels", archive.display());
+            anyhow::ensure!(stray == 0, "{stray} pixels are neither background nor labelled palette texels");
+            return Ok(());
+        }
+    };
+    if let Some(json) = &common.rig {
+        scene.rig = scene.rig.override_with(json)?;
+    }
+    if let Some(ppd) = common.ppd {
+        scene.rig.set_pixels_per_degree(ppd)?;
+    }
+    let options = CaptureOptions {
+        out: common.out.clone(),
+        palette: parse_palette_size(&common.palette_size)?,
+        palette_file: common.palette.clone(),
+        keep_uvs: common.keep_uvs,
+        frames: common.frames.parse::<FrameSelection>()?,
+        compression: common.png_compression.parse::<Compression>()?,
+        resume: common.resume,
+        keep_background_tiles: common.keep_background_tiles,
+        no_cull: common.no_cull,
+        progress: !common.quiet,
+        encoder_threads: common.threads,
+    };
+    let all = common.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
+    let names: Vec<String> = match &common.scenario {
+        Some(all) if all.eq_ignore_ascii_case("all") => {
+            scene.scenarios.iter().map(|s| s.name.clone()).collect()
+        }
+        Some(name) => vec![scene.scenario(name)?.name.clone()],
+        None => scene.scenarios.iter().take(1).map(|s| s.name.clone()).collect(),
+    };
+    let gpu = Gpu::create(common.backend.parse::<Backend>()?).context("creating the GPU device")?;
+    eprintln!("adapter: {}", gpu.describe());
+    let rig = &scene.rig;
+    eprintln!(
+        "eye {}×{} px in {}×{} tiles of {}×{}, {:.2} px/°, palette {}",
+        rig.eye_pixels[0],
+        rig.eye_pixels[1],
+        rig.tiles[0],
+        rig.tiles[1],
+        rig.tile_pixels()[0],
+        rig.tile_pixels()[1],
+        rig.pixels_per_degree(),
+        match &options.palette_file {
+            Some(file) => file.display().to_string(),
+            None => format!("{}×{} (canonical)", options.palette[0], options.palette[1]),
+        }
+    );
+    let summaries = archive::capture_all(&gpu.device, &gpu.queue, &scene, &names, all, &options)?;
+    for summary in &summaries {
+        report(summary);
+    }
+    Ok(())
+}
+
+fn report(s: &Summary) {
+    println!(
+        "scenario {}: {} frames in {:.2} s ({:.2} s setup; {:.2} frames/s, both eyes, encoding included) → {}",
+        s.scenario,
+        s.frames,
+        s.seconds,
+        s.setup_seconds,
+        s.frames_per_second(),
+        s.out.display()
+    );
+    println!(
+        "  tiles: {} total, {} rendered, {} written, {} culled (outside the vehicle's bounds), {} background only, {} resumed",
+        s.tiles, s.rendered, s.written, s.culled, s.background, s.resumed
+    );
+    println!(
+        "  unwrap: {} triangles, {} parts, {:.1} texels/m² ({:.1} mm texels), {:.1}% of the palette used",
+        s.triangles,
+        s.parts,
+        s.texels_per_m2,
+        1000.0 / s.texels_per_m2.sqrt(),
+        s.palette_share * 100.0
+    );
+}
+
+fn main() -> ExitCode {
+    match run(Cli::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            // Library errors already name their cause; only add causes that
+            // are not in the message yet (anyhow context, wrapped errors).
+            let mut message = error.to_string();
+            for cause in error.chain().skip(1) {
+                let text = cause.to_string();
+                if !message.contains(&text) {
+                    message = format!("{message}: {text}");
+                }
+            }
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

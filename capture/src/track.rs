@@ -1,0 +1,250 @@
+//! Keyframe tracks: vehicle position and yaw over time.
+//!
+//! Keys are stored the way Unity's `AnimationCurve` stores them — a value plus
+//! an in and an out slope (units per second) — so scenarios exported from
+//! Unity replay exactly. A segment between two keys is a cubic Hermite when
+//! the left key has an out slope and the right key an in slope, and linear
+//! otherwise (keys without slopes are "linear keys"). Before the first and
+//! after the last key the curve holds its end value, like Unity's default
+//! clamp wrap mode.
+
+use glam::{DVec3, dvec3};
+use serde::{Deserialize, Serialize};
+
+use crate::error::{CaptureError, Result};
+
+/// One key of an N-dimensional track.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Key<const N: usize> {
+    /// Time in seconds.
+    pub t: f64,
+    /// Value at `t`.
+    #[serde(with = "array_or_scalar")]
+    pub value: [f64; N],
+    /// Slope arriving at the key (per second); absent for a linear key.
+    #[serde(default, skip_serializing_if = "Option::is_none", with = "opt_array_or_scalar")]
+    pub in_slope: Option<[f64; N]>,
+    /// Slope leaving the key (per second); absent for a linear key.
+    #[serde(default, skip_serializing_if = "Option::is_none", with = "opt_array_or_scalar")]
+    pub out_slope: Option<[f64; N]>,
+}
+
+impl<const N: usize> Key<N> {
+    /// A linear key (no slopes).
+    pub fn linear(t: f64, value: [f64; N]) -> Key<N> {
+        Key { t, value, in_slope: None, out_slope: None }
+    }
+
+    /// A Hermite key with the same slope on both sides.
+    pub fn smooth(t: f64, value: [f64; N], slope: [f64; N]) -> Key<N> {
+        Key { t, value, in_slope: Some(slope), out_slope: Some(slope) }
+    }
+}
+
+/// A track: keys sorted by time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct Track<const N: usize> {
+    pub keys: Vec<Key<N>>,
+}
+
+impl<const N: usize> Track<N> {
+    /// Builds a track, rejecting empty tracks and unsorted or non-finite keys.
+    pub fn new(keys: Vec<Key<N>>) -> Result<Track<N>> {
+        let track = Track { keys };
+        track.check()?;
+        Ok(track)
+    }
+
+    /// Checks that there is a key and that times strictly increase.
+    pub fn check(&self) -> Result<()> {
+        if self.keys.is_empty() {
+            return Err(CaptureError::BadOptions("a track needs at least one key".into()));
+        }
+        for key in &self.keys {
+            let finite = key.t.is_finite()
+                && key.value.iter().all(|v| v.is_finite())
+                && key.in_slope.iter().flatten().all(|v| v.is_finite())
+                && key.out_slope.iter().flatten().all(|v| v.is_finite());
+            if !finite {
+                return Err(CaptureError::BadOptions(format!("track key at t={} is not finite", key.t)));
+            }
+        }
+        for pair in self.keys.windows(2) {
+            if pair[1].t <= pair[0].t {
+                return Err(CaptureError::BadOptions(format!(
+                    "track key times must increase, but {} follows {}",
+                    pair[1].t, pair[0].t
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// The value at time `t`.
+    pub fn eval(&self, t: f64) -> [f64; N] {
+        let keys = &self.keys;
+        let (Some(first), Some(last)) = (keys.first(), keys.last()) else {
+            return [0.0; N];
+        };
+        if t <= first.t {
+            return first.value;
+        }
+        if t >= last.t {
+            return last.value;
+        }
+        // The segment whose right key is the first key after t.
+        let right = keys.partition_point(|key| key.t <= t);
+        let (k0, k1) = (&keys[right - 1], &keys[right]);
+        let dt = k1.t - k0.t;
+        let s = (t - k0.t) / dt;
+        match (k0.out_slope, k1.in_slope) {
+            (Some(m0), Some(m1)) => {
+                let s2 = s * s;
+                let s3 = s2 * s;
+                let h00 = 2.0 * s3 - 3.0 * s2 + 1.0;
+                let h10 = s3 - 2.0 * s2 + s;
+                let h01 = -2.0 * s3 + 3.0 * s2;
+                let h11 = s3 - s2;
+                std::array::from_fn(|i| {
+                    h00 * k0.value[i] + h10 * dt * m0[i] + h01 * k1.value[i] + h11 * dt * m1[i]
+                })
+            }
+            _ => std::array::from_fn(|i| k0.value[i] + s * (k1.value[i] - k0.value[i])),
+        }
+    }
+
+    /// Time of the last key.
+    pub fn end_time(&self) -> f64 {
+        self.keys.last().map_or(0.0, |key| key.t)
+    }
+}
+
+/// A vehicle's motion: position (world metres, Z up) and yaw (degrees,
+/// counter-clockwise from +X seen from above).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Motion {
+    pub position: Track<3>,
+    pub yaw_deg: Track<1>,
+}
+
+/// Where the vehicle is at one instant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    pub position: DVec3,
+    pub yaw_deg: f64,
+}
+
+impl Motion {
+    /// The pose at time `t`.
+    pub fn pose(&self, t: f64) -> Pose {
+        let [x, y, z] = self.position.eval(t);
+        Pose { position: dvec3(x, y, z), yaw_deg: self.yaw_deg.eval(t)[0] }
+    }
+
+    /// Checks both tracks.
+    pub fn check(&self) -> Result<()> {
+        self.position.check()?;
+        self.yaw_deg.check()
+    }
+}
+
+/// Reads `[a, b, c]` or, for one-dimensional tracks, a bare number.
+mod array_or_scalar {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Either {
+        One(f64),
+        Many(Vec<f64>),
+    }
+
+    pub fn to_array<const N: usize, E: serde::de::Error>(value: serde_json::Value) -> Result<[f64; N], E> {
+        let either: Either = serde_json::from_value(value).map_err(E::custom)?;
+        let values = match either {
+            Either::One(v) => vec![v],
+            Either::Many(values) => values,
+        };
+        values.try_into().map_err(|v: Vec<f64>| E::custom(format!("expected {N} numbers, found {}", v.len())))
+    }
+
+    pub fn serialize<const N: usize, S: Serializer>(value: &[f64; N], s: S) -> Result<S::Ok, S::Error> {
+        if N == 1 { s.serialize_f64(value[0]) } else { serde::Serialize::serialize(&value[..], s) }
+    }
+
+    pub fn deserialize<'de, const N: usize, D: Deserializer<'de>>(d: D) -> Result<[f64; N], D::Error> {
+        to_array(serde_json::Value::deserialize(d)?)
+    }
+}
+
+mod opt_array_or_scalar {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<const N: usize, S: Serializer>(
+        value: &Option<[f64; N]>,
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
+        match value {
+            Some(value) => super::array_or_scalar::serialize(value, s),
+            None => s.serialize_none(),
+        }
+    }
+
+    pub fn deserialize<'de, const N: usize, D: Deserializer<'de>>(
+        d: D,
+    ) -> Result<Option<[f64; N]>, D::Error> {
+        match Option::<serde_json::Value>::deserialize(d)? {
+            None => Ok(None),
+            Some(value) => super::array_or_scalar::to_array(value).map(Some),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hermite_matches_hand_computed_values() {
+        // Segment 0→1 over 2 s, slopes 1 and -1 per second.
+        let track =
+            Track::new(vec![Key::smooth(0.0, [0.0], [1.0]), Key::smooth(2.0, [1.0], [-1.0])]).unwrap();
+        assert_eq!(track.eval(0.0), [0.0]);
+        assert_eq!(track.eval(2.0), [1.0]);
+        // s = 0.5: h00 = 0.5, h10 = 0.125, h01 = 0.5, h11 = -0.125;
+        // 0 + 0.125*2*1 + 0.5*1 + (-0.125)*2*(-1) = 1.0
+        assert!((track.eval(1.0)[0] - 1.0).abs() < 1e-12);
+        // s = 0.25: h10 = 0.140625, h01 = 0.15625, h11 = -0.046875;
+        // 0.140625*2 + 0.15625 + 0.046875*2 = 0.53125
+        assert!((track.eval(0.5)[0] - 0.53125).abs() < 1e-12);
+        // Clamped outside the keys.
+        assert_eq!(track.eval(-1.0), [0.0]);
+        assert_eq!(track.eval(5.0), [1.0]);
+    }
+
+    #[test]
+    fn linear_keys_interpolate_linearly_and_braking_decelerates_uniformly() {
+        let track =
+            Track::new(vec![Key::linear(1.0, [2.0, 4.0, 0.0]), Key::linear(3.0, [4.0, 0.0, 0.0])]).unwrap();
+        assert_eq!(track.eval(2.0), [3.0, 2.0, 0.0]);
+        // 8 m/s to a stop in 0.7 s over 2.8 m: constant deceleration, so the
+        // position is 8t - (8/1.4) t².
+        let brake = Track::new(vec![Key::smooth(0.0, [0.0], [8.0]), Key::smooth(0.7, [2.8], [0.0])]).unwrap();
+        for t in [0.1, 0.35, 0.6] {
+            assert!((brake.eval(t)[0] - (8.0 * t - 8.0 / 1.4 * t * t)).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn parses_scalar_and_vector_keys_and_rejects_unsorted() {
+        let yaw: Track<1> =
+            serde_json::from_str(r#"[{"t":0,"value":90,"in_slope":0,"out_slope":0},{"t":1,"value":0}]"#)
+                .unwrap();
+        assert_eq!(yaw.eval(0.5), [45.0]);
+        let pos: Track<3> = serde_json::from_str(r#"[{"t":0,"value":[1,2,3]}]"#).unwrap();
+        assert_eq!(pos.eval(9.0), [1.0, 2.0, 3.0]);
+        let bad = Track::new(vec![Key::linear(1.0, [0.0]), Key::linear(1.0, [1.0])]);
+        assert!(bad.is_err());
+    }
+}

@@ -1,0 +1,238 @@
+//! Round trip: `ufcsr-capture demo` at a low `--ppd` with a few frames, then
+//! checks of the archive — our own (no stray pixel, every pixel's texel
+//! labelled, hidden frames contribute nothing, frontal parts outrank rear
+//! parts, same bytes on every run) and, when its binary can be found,
+//! `ufcsr-analyze`'s.
+
+use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use ufcsr::{Color, Manifest};
+use ufcsr_capture::archive::{read_rgb_png, verify};
+
+const FRONT: [&str; 3] = ["front_bumper", "grill", "hood"];
+const REAR: [&str; 2] = ["tailgate", "rear_bumper"];
+
+fn capture(out: &Path, extra: &[&str]) {
+    let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .args(["demo", "--out"])
+        .arg(out)
+        .args(["--ppd", "3", "--palette-size", "256", "-q"])
+        .args(extra)
+        .status()
+        .expect("run ufcsr-capture");
+    assert!(status.success(), "ufcsr-capture failed (is a Vulkan or GL driver installed?)");
+}
+
+/// Per-part totals: each texel counted once per eye-frame, as the analyzer's
+/// `--dedupe frame` would.
+fn part_totals(dir: &Path) -> BTreeMap<String, u64> {
+    let manifest = Manifest::load_from_dir(dir).unwrap().unwrap();
+    let (size, pidt) = read_rgb_png(&dir.join("pidt.png")).unwrap();
+    let legend = std::fs::read_to_string(dir.join("parts.csv")).unwrap();
+    let names: HashMap<Color, String> = legend
+        .lines()
+        .skip(1)
+        .filter_map(|line| line.rsplit_once(','))
+        .map(|(name, color)| (color.parse().unwrap(), name.to_string()))
+        .collect();
+    let mut seen: BTreeMap<(u32, String), BTreeSet<u32>> = BTreeMap::new();
+    for tile in &manifest.tiles {
+        let Some(file) = &tile.file else { continue };
+        let (_, rgb) = read_rgb_png(&dir.join(file)).unwrap();
+        let texels = seen.entry((tile.frame, tile.eye.clone())).or_default();
+        for p in rgb.chunks_exact(3) {
+            let color = Color::from_rgb(p[0], p[1], p[2]);
+            if color != Color::DEFAULT_BACKGROUND {
+                texels.insert(color.packed());
+            }
+        }
+    }
+    let mut totals = BTreeMap::new();
+    for texels in seen.values() {
+        for &texel in texels {
+            assert!(texel < size[0] * size[1]);
+            let i = texel as usize * 3;
+            let label = Color::from_rgb(pidt[i], pidt[i + 1], pidt[i + 2]);
+            let name =
+                names.get(&label).unwrap_or_else(|| panic!("texel {texel} has unlabelled colour {label}"));
+            *totals.entry(name.clone()).or_insert(0) += 1;
+        }
+    }
+    totals
+}
+
+fn sum(totals: &BTreeMap<String, u64>, parts: &[&str]) -> u64 {
+    parts.iter().map(|p| totals.get(*p).copied().unwrap_or(0)).sum()
+}
+
+fn analyzer() -> Option<PathBuf> {
+    if let Ok(path) = std::env::var("UFCSR_ANALYZE") {
+        return Some(PathBuf::from(path));
+    }
+    let target = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target");
+    ["release", "debug"].iter().map(|p| target.join(p).join("ufcsr-analyze")).find(|p| p.is_file())
+}
+
+#[test]
+fn demo_capture_round_trips_through_the_checks_and_the_analyzer() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo");
+    capture(&out, &["--scenario", "all", "--frames", "0-180/20"]);
+    let analyze = analyzer();
+    if analyze.is_none() {
+        eprintln!("SKIP analyzer part: no ufcsr-analyze binary (set UFCSR_ANALYZE or build it into target/)");
+    }
+    for scenario in ["A", "B", "C", "D"] {
+        let archive = out.join(scenario);
+        let (vehicle, stray) = verify(&archive).unwrap();
+        assert_eq!(stray, 0, "scenario {scenario}");
+        assert!(vehicle > 1000, "scenario {scenario}: {vehicle} vehicle pixels");
+
+        // Frame 0: the truck is behind a corner building, so nothing of it is
+        // written (tiles culled or rendered as pure background).
+        let manifest = Manifest::load_from_dir(&archive).unwrap().unwrap();
+        let first: Vec<_> = manifest.tiles.iter().filter(|t| t.frame == 0).collect();
+        assert_eq!(first.len(), 50);
+        assert!(first.iter().all(|t| t.empty), "scenario {scenario}: frame 0 has vehicle tiles");
+        let frames = manifest.extra["frames"].as_array().unwrap();
+        assert_eq!(frames.len(), 10);
+        assert_eq!(frames[9]["time_s"], 3.0);
+
+        let totals = part_totals(&archive);
+        let (front, rear) = (sum(&totals, &FRONT), sum(&totals, &REAR));
+        eprintln!("scenario {scenario}: front {front}, rear {rear} texel-views");
+        assert!(front > rear, "scenario {scenario}: front {front} ≤ rear {rear}");
+
+        if let Some(analyze) = &analyze {
+            let results = dir.path().join(format!("results-{scenario}"));
+            let status = Command::new(analyze)
+                .arg(&archive)
+                .arg("--out")
+                .arg(&results)
+                .arg("--quiet")
+                .status()
+                .expect("run ufcsr-analyze");
+            assert!(status.success(), "ufcsr-analyze failed on scenario {scenario}");
+            let result: serde_json::Value =
+                serde_json::from_slice(&std::fs::read(results.join("result.json")).unwrap()).unwrap();
+            assert_eq!(result["stray_pixels"], 0, "scenario {scenario}");
+            let part = |name: &str| {
+                result["parts"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .find(|p| p["name"] == name)
+                    .map_or(0, |p| p["total"].as_u64().unwrap_or(0))
+            };
+            let front: u64 = FRONT.iter().map(|p| part(p)).sum();
+            let rear: u64 = REAR.iter().map(|p| part(p)).sum();
+            assert!(front > rear, "analyzer, scenario {scenario}: front {front} ≤ rear {rear}");
+        }
+    }
+}
+
+#[test]
+fn captures_are_deterministic_and_resume_skips_written_tiles() {
+    let dir = tempfile::tempdir().unwrap();
+    let (one, two) = (dir.path().join("one"), dir.path().join("two"));
+    for out in [&one, &two] {
+        capture(out, &["--scenario", "D", "--frames", "120,180"]);
+    }
+    let files = |root: &Path| -> BTreeMap<PathBuf, Vec<u8>> {
+        let mut files = BTreeMap::new();
+        let mut stack = vec![root.to_path_buf()];
+        while let Some(dir) = stack.pop() {
+            for entry in std::fs::read_dir(&dir).unwrap() {
+                let path = entry.unwrap().path();
+                if path.is_dir() {
+                    stack.push(path);
+                } else {
+                    files.insert(
+                        path.strip_prefix(root).unwrap().to_path_buf(),
+                        std::fs::read(&path).unwrap(),
+                    );
+                }
+            }
+        }
+        files
+    };
+    let first = files(&one);
+    assert!(first.keys().any(|p| p.starts_with("tiles")));
+    assert!(first == files(&two), "two captures differ");
+    // Resume: remove one tile and spoil another, capture again; both come
+    // back and the rest are not rewritten.
+    let mut tiles = first.keys().filter(|p| p.starts_with("tiles"));
+    let (removed, spoiled) = (tiles.next().unwrap().clone(), tiles.next().unwrap().clone());
+    std::fs::remove_file(one.join(&removed)).unwrap();
+    std::fs::write(one.join(&spoiled), b"not a png").unwrap();
+    capture(&one, &["--scenario", "D", "--frames", "120,180", "--resume"]);
+    assert!(files(&one) == first, "resumed capture differs");
+    // A fresh capture into the same folder removes tiles of the old one.
+    std::fs::write(one.join("tiles/f0999_left_r0_c0.png"), b"stale").unwrap();
+    capture(&one, &["--scenario", "D", "--frames", "120,180"]);
+    assert!(files(&one) == first, "stale tile survived a fresh capture");
+}
+
+#[test]
+fn unity_scenarios_replay_with_the_demo_truck() {
+    let reference =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/ref/scenarios/unity-intersection.json");
+    if !reference.exists() {
+        eprintln!("SKIP: {} not found", reference.display());
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .arg("unity")
+        .arg(&reference)
+        .arg("--out")
+        .arg(dir.path())
+        .args(["--scenario", "all", "--ppd", "3", "--palette-size", "256", "--frames", "0,90,180", "-q"])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    for scenario in ["A", "B", "C", "D"] {
+        let (vehicle, stray) = verify(&dir.path().join(scenario)).unwrap();
+        assert_eq!(stray, 0);
+        // The head turns to the truck, and no building stands in between.
+        assert!(vehicle > 100, "scenario {scenario}: {vehicle}");
+    }
+}
+
+#[test]
+fn committed_demo_archive_fixture_is_clean() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes/demo-archive");
+    let (vehicle, stray) = verify(&dir).unwrap();
+    assert_eq!(stray, 0);
+    assert!(vehicle > 10_000, "{vehicle}");
+    let manifest = Manifest::load_from_dir(&dir).unwrap().unwrap();
+    assert_eq!(manifest.tiles.len(), 10 * 2 * 25);
+    assert!(part_totals(&dir).get("windshield").copied().unwrap_or(0) > 0);
+}
+
+#[test]
+fn verify_rejects_an_archive_with_a_stray_pixel() {
+    let source = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes/demo-archive");
+    let dir = tempfile::tempdir().unwrap();
+    let copy = dir.path().join("archive");
+    std::fs::create_dir_all(copy.join("tiles")).unwrap();
+    for file in ["manifest.json", "pidt.png", "parts.csv"] {
+        std::fs::copy(source.join(file), copy.join(file)).unwrap();
+    }
+    let manifest = Manifest::load_from_dir(&source).unwrap().unwrap();
+    let files: Vec<PathBuf> = manifest.tiles.iter().filter_map(|t| t.file.clone()).collect();
+    for file in &files {
+        std::fs::copy(source.join(file), copy.join(file)).unwrap();
+    }
+    let run = || Command::new(env!("CARGO_BIN_EXE_ufcsr-capture")).arg("verify").arg(&copy).output().unwrap();
+    assert!(run().status.success());
+    // White is index 16777215, far outside a 512² palette.
+    let (size, mut rgb) = read_rgb_png(&copy.join(&files[0])).unwrap();
+    rgb[..3].copy_from_slice(&[255, 255, 255]);
+    ufcsr_capture::pidt::write_rgb_png(&copy.join(&files[0]), size, &rgb, png::Compression::Fast).unwrap();
+    let output = run();
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stdout).contains("1 stray pixels"), "{output:?}");
+}

@@ -1,0 +1,99 @@
+//! Scene files under `fixtures/scenes/`: own glTF and OBJ vehicles (parts from
+//! nodes or materials, renames, kept UVs), occluders of every kind, and the
+//! demo expressed as a scene file.
+
+use std::path::PathBuf;
+
+use ufcsr_capture::archive::{CaptureOptions, FrameSelection, capture, verify};
+use ufcsr_capture::gpu::{Backend, Gpu};
+use ufcsr_capture::scene::Scene;
+
+fn fixture(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes").join(name)
+}
+
+fn low_res(scene: &mut Scene) {
+    scene.rig.set_pixels_per_degree(3.0).unwrap();
+}
+
+#[test]
+fn own_vehicles_load_with_their_parts() {
+    let gltf = Scene::load(&fixture("gltf-vehicle.json")).unwrap();
+    let mut parts = gltf.vehicle.parts.clone();
+    parts.sort();
+    assert_eq!(parts, ["cab", "cargo"]);
+    assert_eq!(gltf.vehicle.triangles.len(), 18);
+    // Y up / +Z forward became z up / x forward: the cab (front) is at +x.
+    let (min, max) = gltf.vehicle.bounds();
+    assert!((max.x - 3.0).abs() < 1e-6 && (min.x + 3.0).abs() < 1e-6, "{min} {max}");
+    assert!((max.z - 3.2).abs() < 1e-6 && (min.z - 0.4).abs() < 1e-6, "{min} {max}");
+
+    // The same truck as binary glTF, parts from materials.
+    let glb = ufcsr_capture::mesh::load_vehicle(
+        &fixture("box-truck.glb"),
+        ufcsr_capture::mesh::PartSource::Material,
+        &ufcsr_capture::mesh::Axes::default(),
+    )
+    .unwrap();
+    assert_eq!(glb.triangles.len(), 18);
+    assert_eq!(glb.parts.len(), 9);
+    assert_eq!(glb.bounds(), gltf.vehicle.bounds());
+    assert!(glb.uvs.is_some());
+
+    let obj = Scene::load(&fixture("obj-vehicle.json")).unwrap();
+    let mut parts = obj.vehicle.parts.clone();
+    parts.sort();
+    assert_eq!(
+        parts,
+        ["cargo_box", "mat_cab_left", "mat_cab_right", "mat_cab_top", "rear_doors", "windshield"]
+    );
+    // Ground, box, parked vehicle, and an environment mesh in one 20 m chunk.
+    assert_eq!(obj.occluders.objects.len(), 4);
+    let (_, _, min, max) = obj.occluders.objects[3];
+    // The glTF truck turned by 90°: its 6 m length now runs north-south.
+    assert!((max.y - min.y - 6.0).abs() < 1e-5 && (max.x - min.x - 2.2).abs() < 1e-5, "{min} {max}");
+}
+
+#[test]
+fn demo_scene_file_matches_the_built_in_demo() {
+    let file = Scene::load(&fixture("demo.json")).unwrap();
+    let demo = Scene::demo();
+    assert_eq!(file.rig, demo.rig);
+    assert_eq!(file.occluders.positions, demo.occluders.positions);
+    assert_eq!(file.vehicle, demo.vehicle);
+    let (a, b) = (file.scenario("A").unwrap(), demo.scenario("A").unwrap());
+    for frame in 0..=180 {
+        let t = f64::from(frame) / 60.0;
+        let (p, q) = (a.motion.pose(t), b.motion.pose(t));
+        assert!((p.position - q.position).length() < 1e-9 && (p.yaw_deg - q.yaw_deg).abs() < 1e-9, "t = {t}");
+    }
+}
+
+#[test]
+fn fixture_scenes_capture_without_stray_pixels() {
+    let gpu = Gpu::create(Backend::Auto).unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
+    let dir = tempfile::tempdir().unwrap();
+    for (file, keep_uvs) in [
+        ("demo.json", false),
+        ("obj-vehicle.json", false),
+        ("obj-vehicle.json", true),
+        ("gltf-vehicle.json", true),
+    ] {
+        let mut scene = Scene::load(&fixture(file)).unwrap();
+        low_res(&mut scene);
+        let out = dir.path().join(format!("{file}-{keep_uvs}"));
+        let options = CaptureOptions {
+            out: out.clone(),
+            palette: [256, 256],
+            keep_uvs,
+            frames: "0-180/30".parse::<FrameSelection>().unwrap(),
+            ..CaptureOptions::default()
+        };
+        let scenario = scene.scenarios[0].clone();
+        let summary = capture(&gpu.device, &gpu.queue, &scene, &scenario, &options).unwrap();
+        let (vehicle, stray) = verify(&out).unwrap();
+        eprintln!("{file} keep_uvs={keep_uvs}: {} tiles written, {vehicle} vehicle pixels", summary.written);
+        assert_eq!(stray, 0, "{file}");
+        assert!(vehicle > 100, "{file}: {vehicle}");
+    }
+}
