@@ -78,7 +78,7 @@ impl Archive {
         }) {
             let entry = entry.map_err(|e| {
                 let path = e.path().unwrap_or(root).to_path_buf();
-                Error::Io { path, source: e.into() }
+                Error::Io { path, cause: e.into() }
             })?;
             let is_png = entry.path().extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
             if entry.file_type().is_file() && is_png {

@@ -9,9 +9,11 @@ use std::path::{Path, PathBuf};
 /// Everything that can go wrong while reading inputs or writing results.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    /// A file could not be opened, read, mapped or written.
-    #[error("{}: {source}", path.display())]
-    Io { path: PathBuf, source: io::Error },
+    /// A file could not be opened, read, mapped or written. (The I/O error
+    /// is part of the message rather than a `source`, so reports that print
+    /// an error's chain do not repeat it.)
+    #[error("{}: {cause}", path.display())]
+    Io { path: PathBuf, cause: io::Error },
 
     /// A file is not a PNG we can decode (corrupt, truncated, not a PNG at all).
     #[error("{}: not a readable PNG: {message}", path.display())]
@@ -67,7 +69,7 @@ pub enum Error {
 impl Error {
     /// An I/O error on `path`.
     pub fn io(path: &Path, source: io::Error) -> Error {
-        Error::Io { path: path.to_path_buf(), source }
+        Error::Io { path: path.to_path_buf(), cause: source }
     }
 
     /// A content problem in `path`.

@@ -1,14 +1,15 @@
 //! Round trip: `ufcsr-capture demo` at a low `--ppd` with a few frames, then
 //! checks of the archive — our own (no stray pixel, every pixel's texel
 //! labelled, hidden frames contribute nothing, frontal parts outrank rear
-//! parts, same bytes on every run) and, when its binary can be found,
-//! `ufcsr-analyze`'s.
+//! parts, same bytes on every run) and the analyzer's (`ufcsr::analyze`, the
+//! library behind `ufcsr-analyze`), whose per-eye-frame part totals must
+//! equal the independent tally made here.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use ufcsr::{Color, Manifest};
+use ufcsr::{AnalyzeOptions, Color, Dedupe, Manifest};
 use ufcsr_capture::archive::{read_rgb_png, verify};
 
 const FRONT: [&str; 3] = ["front_bumper", "grill", "hood"];
@@ -67,12 +68,10 @@ fn sum(totals: &BTreeMap<String, u64>, parts: &[&str]) -> u64 {
     parts.iter().map(|p| totals.get(*p).copied().unwrap_or(0)).sum()
 }
 
-fn analyzer() -> Option<PathBuf> {
-    if let Ok(path) = std::env::var("UFCSR_ANALYZE") {
-        return Some(PathBuf::from(path));
-    }
-    let target = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target");
-    ["release", "debug"].iter().map(|p| target.join(p).join("ufcsr-analyze")).find(|p| p.is_file())
+/// The analyzer on an archive with its manifest's settings.
+fn analyze(archive: &Path, dedupe: Dedupe) -> ufcsr::Analysis {
+    let options = AnalyzeOptions { archive: archive.to_path_buf(), dedupe, ..Default::default() };
+    ufcsr::analyze(&options, None).expect("ufcsr::analyze")
 }
 
 #[test]
@@ -80,10 +79,6 @@ fn demo_capture_round_trips_through_the_checks_and_the_analyzer() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("demo");
     capture(&out, &["--scenario", "all", "--frames", "0-180/20"]);
-    let analyze = analyzer();
-    if analyze.is_none() {
-        eprintln!("SKIP analyzer part: no ufcsr-analyze binary (set UFCSR_ANALYZE or build it into target/)");
-    }
     for scenario in ["A", "B", "C", "D"] {
         let archive = out.join(scenario);
         let (vehicle, stray) = verify(&archive).unwrap();
@@ -105,31 +100,24 @@ fn demo_capture_round_trips_through_the_checks_and_the_analyzer() {
         eprintln!("scenario {scenario}: front {front}, rear {rear} texel-views");
         assert!(front > rear, "scenario {scenario}: front {front} ≤ rear {rear}");
 
-        if let Some(analyze) = &analyze {
-            let results = dir.path().join(format!("results-{scenario}"));
-            let status = Command::new(analyze)
-                .arg(&archive)
-                .arg("--out")
-                .arg(&results)
-                .arg("--quiet")
-                .status()
-                .expect("run ufcsr-analyze");
-            assert!(status.success(), "ufcsr-analyze failed on scenario {scenario}");
-            let result: serde_json::Value =
-                serde_json::from_slice(&std::fs::read(results.join("result.json")).unwrap()).unwrap();
-            assert_eq!(result["stray_pixels"], 0, "scenario {scenario}");
-            let part = |name: &str| {
-                result["parts"]
-                    .as_array()
-                    .unwrap()
-                    .iter()
-                    .find(|p| p["name"] == name)
-                    .map_or(0, |p| p["total"].as_u64().unwrap_or(0))
-            };
-            let front: u64 = FRONT.iter().map(|p| part(p)).sum();
-            let rear: u64 = REAR.iter().map(|p| part(p)).sum();
-            assert!(front > rear, "analyzer, scenario {scenario}: front {front} ≤ rear {rear}");
+        // The analyzer: no stray pixel, the hidden frame's tiles trimmed,
+        // front beats rear, and per eye-frame totals equal the tally above.
+        let per_image = analyze(&archive, Dedupe::Image);
+        let result = &per_image.result;
+        assert_eq!(result.stray_pixels, 0, "analyzer, scenario {scenario}");
+        assert_eq!(result.images.failed, 0, "analyzer, scenario {scenario}");
+        assert!(result.images.listed_empty >= 50, "frame 0 is listed empty");
+        let total = |result: &ufcsr::AnalysisResult, names: &[&str]| -> u64 {
+            result.parts.iter().filter(|p| names.contains(&p.name.as_str())).map(|p| p.total).sum()
+        };
+        let (front, rear) = (total(result, &FRONT), total(result, &REAR));
+        assert!(front > rear, "analyzer, scenario {scenario}: front {front} ≤ rear {rear}");
+        let per_frame = analyze(&archive, Dedupe::Frame);
+        for part in &per_frame.result.parts {
+            let expected = totals.get(&part.name).copied().unwrap_or(0);
+            assert_eq!(part.total, expected, "scenario {scenario}, part {}", part.name);
         }
+        assert_eq!(per_frame.result.unlabelled.as_ref().map(|u| u.total), Some(0));
     }
 }
 
@@ -203,7 +191,7 @@ fn unity_scenarios_replay_with_the_demo_truck() {
 
 #[test]
 fn committed_demo_archive_fixture_is_clean() {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes/demo-archive");
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let (vehicle, stray) = verify(&dir).unwrap();
     assert_eq!(stray, 0);
     assert!(vehicle > 10_000, "{vehicle}");
@@ -214,7 +202,7 @@ fn committed_demo_archive_fixture_is_clean() {
 
 #[test]
 fn verify_rejects_an_archive_with_a_stray_pixel() {
-    let source = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes/demo-archive");
+    let source = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let dir = tempfile::tempdir().unwrap();
     let copy = dir.path().join("archive");
     std::fs::create_dir_all(copy.join("tiles")).unwrap();
