@@ -33,7 +33,10 @@ pub const fn key_color(key: u32) -> u32 {
 }
 
 /// A per-thread set of colours with the list of colours inserted since the
-/// last clear.
+/// last clear. Aligned to 128 bytes so that the sets of different workers,
+/// kept side by side, never share a cache line (the scan updates the list's
+/// length every 16 pixels).
+#[repr(align(128))]
 pub struct TouchedSet {
     pub(crate) words: Box<[u64]>,
     pub(crate) touched: Vec<u32>,
