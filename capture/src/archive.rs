@@ -646,23 +646,12 @@ fn png_size(path: &Path) -> Option<[u32; 2]> {
     Some([info.width, info.height])
 }
 
-/// Reads an 8-bit RGB or RGBA PNG as RGB.
+/// Reads a PNG (any 8-bit format; alpha dropped) as RGB bytes, with the
+/// analyzer's texture reader so both crates accept and reject the same files.
 pub fn read_rgb_png(path: &Path) -> Result<([u32; 2], Vec<u8>)> {
-    let png_error = |message: String| CaptureError::Png { path: path.to_path_buf(), message };
-    let file = std::fs::File::open(path).map_err(|e| CaptureError::io(path, e))?;
-    let decoder = png::Decoder::new(std::io::BufReader::new(file));
-    let mut reader = decoder.read_info().map_err(|e| png_error(e.to_string()))?;
-    let mut buffer = vec![0; reader.output_buffer_size().unwrap_or(0)];
-    let info = reader.next_frame(&mut buffer).map_err(|e| png_error(e.to_string()))?;
-    buffer.truncate(info.buffer_size());
-    let rgb = match (info.color_type, info.bit_depth) {
-        (png::ColorType::Rgb, png::BitDepth::Eight) => buffer,
-        (png::ColorType::Rgba, png::BitDepth::Eight) => {
-            buffer.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()
-        }
-        other => return Err(png_error(format!("expected 8-bit RGB or RGBA, found {other:?}"))),
-    };
-    Ok(([info.width, info.height], rgb))
+    let image = ufcsr::decode::read_color_image(path, |_, _| Ok(()))?;
+    let rgb = image.colors.iter().flat_map(|&color| Color::from_packed(color).rgb()).collect();
+    Ok(([image.width, image.height], rgb))
 }
 
 #[cfg(test)]

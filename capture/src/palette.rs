@@ -10,8 +10,7 @@ use std::path::Path;
 
 use ufcsr::Color;
 
-use crate::archive::read_rgb_png;
-use crate::error::{CaptureError, Result};
+use crate::error::Result;
 
 /// A loaded external palette.
 #[derive(Debug, Clone)]
@@ -22,19 +21,15 @@ pub struct ExternalPalette {
 }
 
 impl ExternalPalette {
-    /// Loads and checks a palette PNG (8-bit RGB or RGBA, unique colours).
+    /// Loads and checks a palette PNG (unique colours) with the analyzer's
+    /// palette loader, whose error names a repeated colour and both places.
     pub fn load(path: &Path) -> Result<ExternalPalette> {
-        let (size, rgb) = read_rgb_png(path)?;
-        let palette = ExternalPalette { size, rgb };
-        let index = palette.index();
-        let texels = (size[0] as usize) * (size[1] as usize);
-        if index.len() != texels {
-            return Err(CaptureError::bad_input(
-                path,
-                format!("palette colours must be unique, but only {} of {texels} are", index.len()),
-            ));
-        }
-        Ok(palette)
+        let palette = ufcsr::Fcsp::from_png(path)?;
+        let size = [palette.width(), palette.height()];
+        let rgb = (0..palette.texel_count())
+            .flat_map(|texel| Color::from_packed(palette.color_of(texel)).rgb())
+            .collect();
+        Ok(ExternalPalette { size, rgb })
     }
 
     /// Colour → texel index.
