@@ -108,8 +108,14 @@ impl TrimPlan {
         let chosen: Vec<((u32, u32, u64), Vec<usize>)> =
             by_size.into_iter().filter(|((_, _, bytes), files)| is_candidate(*bytes, files.len())).collect();
         // Verify each candidate's first file (in path order) in parallel.
-        let verified_bytes: Vec<Option<MappedFile>> =
-            chosen.par_iter().map(|(_, files)| verify_empty(&images[files[0]], classifier)).collect();
+        // A verified file has no stray pixels, so the shared stray set only
+        // collects colours of candidates that fail verification; it is not
+        // reported (those files are decoded again, and counted, later).
+        let strays = AtomicColorSet::new();
+        let verified_bytes: Vec<Option<MappedFile>> = chosen
+            .par_iter()
+            .map(|(_, files)| verify_empty(&images[files[0]], classifier, &strays))
+            .collect();
         let mut candidate_of = vec![None; images.len()];
         let mut empty_tiles = Vec::with_capacity(chosen.len());
         for (slot, ((width, height, bytes), files)) in chosen.into_iter().enumerate() {
@@ -149,10 +155,9 @@ fn file_facts(image: &ImageSource) -> Option<(u32, u32, u64)> {
 }
 
 /// Decodes `image`; returns its bytes when every pixel is background.
-fn verify_empty(image: &ImageSource, classifier: &Classifier) -> Option<MappedFile> {
+fn verify_empty(image: &ImageSource, classifier: &Classifier, strays: &AtomicColorSet) -> Option<MappedFile> {
     let bytes = map_file(&image.path).ok()?;
     let mut seen = TouchedSet::new();
-    let strays = AtomicColorSet::new();
-    let tally = scan_image(&image.path, &bytes, classifier, &mut seen, &strays).ok()?;
+    let tally = scan_image(&image.path, &bytes, classifier, &mut seen, strays).ok()?;
     tally.is_pure_background().then_some(bytes)
 }
