@@ -49,6 +49,31 @@ fn counts_once_per_image_and_joins_parts() {
 }
 
 #[test]
+fn a_json_legend_gives_the_same_table_as_the_csv() {
+    let dir = tempfile::tempdir().unwrap();
+    known_archive(dir.path());
+    let legend = r##"[{"name": "A", "color": "#FF0000"}, {"name": "B", "color": "#00ff00"}, {"name": "C", "color": "#0000FF"}]"##;
+    std::fs::write(dir.path().join("parts.json"), legend).unwrap();
+    let csv = analyze(&known_options(dir.path()), None).unwrap();
+    let json = analyze(
+        &AnalyzeOptions { legend: Some(dir.path().join("parts.json")), ..known_options(dir.path()) },
+        None,
+    )
+    .unwrap();
+    assert_eq!(json.result.parts, csv.result.parts);
+
+    std::fs::write(dir.path().join("bad.json"), r#"[{"name": "A"}]"#).unwrap();
+    let error = analyze(
+        &AnalyzeOptions { legend: Some(dir.path().join("bad.json")), ..known_options(dir.path()) },
+        None,
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(error.contains("bad.json") && error.contains("color"), "{error}");
+}
+
+#[test]
 fn heatmap_pixels_follow_plasma() {
     let counts = [0, 2, 2, 1, 0, 1];
     let linear = ufcsr::heatmap::render(&counts, 3, HeatmapOptions::default());
