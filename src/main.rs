@@ -25,7 +25,10 @@ use ufcsr::{
     name = "ufcsr-analyze",
     version,
     args_conflicts_with_subcommands = true,
-    subcommand_negates_reqs = true
+    subcommand_negates_reqs = true,
+    after_help = "Exit status: 0 every image was read; 1 results written but some images could not be \
+                  read (named on stderr and in result.json); 2 nothing written (bad options or inputs).\n\
+                  Example: ufcsr-analyze archive/ --pidt pidt.png --parts parts.csv --out results/"
 )]
 struct Cli {
     #[command(subcommand)]
