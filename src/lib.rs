@@ -30,7 +30,7 @@ pub use count::{Classifier, Counts, ImageTally, PixelClass, scan_image};
 pub use error::{Error, Result};
 pub use heatmap::{HeatmapOptions, Scale};
 pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
-pub use output::{write_atomically, write_bytes_atomically};
+pub use output::{write_atomically, write_bytes_atomically, write_rgb_png};
 pub use palette::{Fcsp, PaletteDescription};
 pub use parts::{Legend, Part, PartStats, PartTable, Pidt, UNLABELLED, join_parts};
 pub use report::{

@@ -395,7 +395,8 @@ pub fn write_parts_csv(path: &Path, parts: &[PartStats]) -> Result<()> {
     })
 }
 
-fn csv_field(text: &str) -> String {
+/// `text` as one CSV field, quoted when it holds a comma, quote or newline.
+pub fn csv_field(text: &str) -> String {
     if text.contains([',', '"', '\n']) {
         format!("\"{}\"", text.replace('"', "\"\""))
     } else {

@@ -264,10 +264,10 @@ fn encoder_worker(
         let Ok(job) = job else { return };
         // Tiles are written as RGB: alpha is always 255 and the analyzer reads both.
         let rgb: Vec<u8> = job.rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
-        if let Err(error) = pidt::write_rgb_png(&job.path, job.size, &rgb, compression)
+        if let Err(error) = ufcsr::write_rgb_png(&job.path, job.size[0], job.size[1], &rgb, compression)
             && let Ok(mut errors) = errors.lock()
         {
-            errors.push(error);
+            errors.push(error.into());
         }
     }
 }
@@ -302,9 +302,10 @@ pub fn capture(
         None => PaletteSpec::Canonical { canonical: palette_size },
         Some(external) => {
             // The archive carries its palette so that it stands alone.
-            pidt::write_rgb_png(
+            ufcsr::write_rgb_png(
                 &out.join("palette.png"),
-                external.size,
+                external.size[0],
+                external.size[1],
                 &external.rgb,
                 png::Compression::Fast,
             )?;

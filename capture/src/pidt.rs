@@ -12,7 +12,7 @@ use std::path::Path;
 
 use ufcsr::Color;
 
-use crate::error::{CaptureError, Result};
+use crate::error::Result;
 use crate::mesh::Mesh;
 use crate::unwrap::{Unwrapped, footprint};
 
@@ -104,24 +104,7 @@ pub fn paint(mesh: &Mesh, unwrapped: &Unwrapped) -> Pidt {
 
 /// Writes the PIdT as an 8-bit RGB PNG.
 pub fn write_png(pidt: &Pidt, path: &Path) -> Result<()> {
-    write_rgb_png(path, pidt.size, &pidt.rgb, png::Compression::Fast)
-}
-
-/// Writes an 8-bit RGB PNG atomically.
-pub fn write_rgb_png(path: &Path, [w, h]: [u32; 2], rgb: &[u8], compression: png::Compression) -> Result<()> {
-    let mut encoded = Vec::new();
-    {
-        let mut encoder = png::Encoder::new(&mut encoded, w, h);
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        encoder.set_compression(compression);
-        let png_error =
-            |e: png::EncodingError| CaptureError::Png { path: path.to_path_buf(), message: e.to_string() };
-        let mut writer = encoder.write_header().map_err(png_error)?;
-        writer.write_image_data(rgb).map_err(png_error)?;
-        writer.finish().map_err(png_error)?;
-    }
-    ufcsr::write_bytes_atomically(path, &encoded)?;
+    ufcsr::write_rgb_png(path, pidt.size[0], pidt.size[1], &pidt.rgb, png::Compression::Fast)?;
     Ok(())
 }
 
@@ -130,12 +113,7 @@ pub fn write_legend(mesh: &Mesh, pidt: &Pidt, path: &Path) -> Result<()> {
     ufcsr::write_atomically(path, |w| {
         writeln!(w, "name,color")?;
         for (name, color) in mesh.parts.iter().zip(&pidt.part_colors) {
-            let quoted = if name.contains([',', '"']) {
-                format!("\"{}\"", name.replace('"', "\"\""))
-            } else {
-                name.clone()
-            };
-            writeln!(w, "{quoted},{color}")?;
+            writeln!(w, "{},{color}", ufcsr::report::csv_field(name))?;
         }
         Ok(())
     })?;

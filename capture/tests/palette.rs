@@ -4,11 +4,11 @@
 
 use std::path::Path;
 
+use ufcsr::write_rgb_png;
 use ufcsr::{Color, Manifest, PaletteSpec};
 use ufcsr_capture::archive::{CaptureOptions, FrameSelection, capture, read_rgb_png, verify};
 use ufcsr_capture::gpu::{Backend, Gpu};
 use ufcsr_capture::palette::ExternalPalette;
-use ufcsr_capture::pidt::write_rgb_png;
 use ufcsr_capture::scene::Scene;
 
 fn demo_capture(gpu: &Gpu, out: &Path, palette_file: Option<&Path>) {
@@ -33,7 +33,8 @@ fn external_palettes_render_through_texture_load() {
     // The canonical palette as an image: same tiles, byte for byte.
     let canonical = ExternalPalette::canonical([256, 256]);
     let image = dir.path().join("canonical.png");
-    write_rgb_png(&image, canonical.size, &canonical.rgb, png::Compression::Fast).unwrap();
+    write_rgb_png(&image, canonical.size[0], canonical.size[1], &canonical.rgb, png::Compression::Fast)
+        .unwrap();
     demo_capture(&gpu, &dir.path().join("computed"), None);
     demo_capture(&gpu, &dir.path().join("loaded"), Some(&image));
     let manifest = Manifest::load_from_dir(&dir.path().join("computed")).unwrap().unwrap();
@@ -57,7 +58,7 @@ fn external_palettes_render_through_texture_load() {
     }
     let rgb: Vec<u8> = colors.iter().flat_map(|&c| Color::from_packed(c).rgb()).collect();
     let shuffled = dir.path().join("shuffled.png");
-    write_rgb_png(&shuffled, [256, 256], &rgb, png::Compression::Fast).unwrap();
+    write_rgb_png(&shuffled, 256, 256, &rgb, png::Compression::Fast).unwrap();
     let out = dir.path().join("shuffled");
     demo_capture(&gpu, &out, Some(&shuffled));
     let manifest = Manifest::load_from_dir(&out).unwrap().unwrap();
