@@ -46,7 +46,7 @@ fn broken_files_are_reported_by_name_and_the_batch_goes_on() {
     assert!(message("deep.png").contains("16-bit"), "{}", message("deep.png"));
 
     let strict = AnalyzeOptions { strict: true, ..options(archive) };
-    let error = analyze(&strict, None).err().unwrap().to_string();
+    let error = failure(&strict);
     assert!(error.contains("--strict") && error.contains(".png"), "{error}");
 }
 
@@ -146,7 +146,7 @@ fn wrong_sizes_missing_partners_and_empty_folders_are_clear_errors() {
         palette: Some(PaletteChoice::Canonical { width: 8, height: 8 }),
         ..known_options(dir.path())
     };
-    let error = analyze(&wrong, None).err().unwrap().to_string();
+    let error = failure(&wrong);
     assert!(error.contains("pidt.png") && error.contains("4×4") && error.contains("8×8"), "{error}");
 
     // A palette image whose size differs from the PIdT.
@@ -155,7 +155,7 @@ fn wrong_sizes_missing_partners_and_empty_folders_are_clear_errors() {
         palette: Some(PaletteChoice::Image(dir.path().join("palette.png"))),
         ..known_options(dir.path())
     };
-    let error = analyze(&wrong_palette, None).err().unwrap().to_string();
+    let error = failure(&wrong_palette);
     assert!(error.contains("pidt.png") && error.contains("expected 2×1"), "{error}");
 
     // A PIdT whose header claims 60000×60000 is rejected before decoding.
@@ -163,29 +163,24 @@ fn wrong_sizes_missing_partners_and_empty_folders_are_clear_errors() {
     huge[16..20].copy_from_slice(&60000u32.to_be_bytes());
     huge[20..24].copy_from_slice(&60000u32.to_be_bytes());
     std::fs::write(dir.path().join("huge.png"), huge).unwrap();
-    let error = analyze(
-        &AnalyzeOptions { pidt: Some(dir.path().join("huge.png")), ..known_options(dir.path()) },
-        None,
-    )
-    .err()
-    .unwrap()
-    .to_string();
+    let error =
+        failure(&AnalyzeOptions { pidt: Some(dir.path().join("huge.png")), ..known_options(dir.path()) });
     assert!(error.contains("huge.png") && error.contains("60000×60000"), "{error}");
 
     let no_legend = AnalyzeOptions { legend: None, ..known_options(dir.path()) };
-    assert!(analyze(&no_legend, None).err().unwrap().to_string().contains("--parts"));
+    assert!(failure(&no_legend).contains("--parts"));
 
     let empty = dir.path().join("empty");
     std::fs::create_dir(&empty).unwrap();
-    let error = analyze(&options(&empty), None).err().unwrap().to_string();
+    let error = failure(&options(&empty));
     assert!(error.contains("empty") && error.contains("no PNG images"), "{error}");
 
-    let missing = analyze(&options(&dir.path().join("nowhere")), None).err().unwrap().to_string();
+    let missing = failure(&options(&dir.path().join("nowhere")));
     assert!(missing.contains("nowhere") && missing.contains("not a folder"), "{missing}");
 
     std::fs::write(dir.path().join("bad.csv"), "name,color\nHood,#12345\n").unwrap();
     let bad_legend = AnalyzeOptions { legend: Some(dir.path().join("bad.csv")), ..known_options(dir.path()) };
-    let error = analyze(&bad_legend, None).err().unwrap().to_string();
+    let error = failure(&bad_legend);
     assert!(error.contains("bad.csv") && error.contains("line 2"), "{error}");
     drop(archive);
 }
@@ -204,9 +199,6 @@ fn manifest_listing_a_missing_file_counts_it_as_failed() {
     assert!(analysis.result.failures[0].error.contains("gone.png"));
 
     std::fs::write(dir.path().join("manifest.json"), "{\"tiles\": 3}").unwrap();
-    let error = analyze(&AnalyzeOptions { archive: dir.path().to_path_buf(), ..Default::default() }, None)
-        .err()
-        .unwrap()
-        .to_string();
+    let error = failure(&AnalyzeOptions { archive: dir.path().to_path_buf(), ..Default::default() });
     assert!(error.contains("manifest.json") && error.contains("invalid manifest"), "{error}");
 }

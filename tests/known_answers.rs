@@ -63,13 +63,8 @@ fn a_json_legend_gives_the_same_table_as_the_csv() {
     assert_eq!(json.result.parts, csv.result.parts);
 
     std::fs::write(dir.path().join("bad.json"), r#"[{"name": "A"}]"#).unwrap();
-    let error = analyze(
-        &AnalyzeOptions { legend: Some(dir.path().join("bad.json")), ..known_options(dir.path()) },
-        None,
-    )
-    .err()
-    .unwrap()
-    .to_string();
+    let error =
+        failure(&AnalyzeOptions { legend: Some(dir.path().join("bad.json")), ..known_options(dir.path()) });
     assert!(error.contains("bad.json") && error.contains("color"), "{error}");
 }
 
@@ -134,7 +129,7 @@ fn palette_with_repeated_colour_is_rejected_with_position() {
         palette: Some(PaletteChoice::Image(dir.path().join("palette.png"))),
         ..Default::default()
     };
-    let error = analyze(&options, None).err().unwrap().to_string();
+    let error = failure(&options);
     assert!(error.contains("palette.png") && error.contains("1 texels repeat"), "{error}");
     assert!(error.contains("(x 1, y 1)") && error.contains("(x 1, y 0)"), "{error}");
 }
@@ -172,7 +167,7 @@ fn frame_dedupe_counts_a_texel_once_per_eye_frame() {
 
     let no_manifest =
         AnalyzeOptions { archive, dedupe: Dedupe::Frame, ignore_manifest: true, ..Default::default() };
-    let error = analyze(&no_manifest, None).err().unwrap().to_string();
+    let error = failure(&no_manifest);
     assert!(error.contains("manifest"), "{error}");
 }
 

@@ -125,6 +125,14 @@ pub fn known_options(dir: &Path) -> ufcsr::AnalyzeOptions {
     }
 }
 
+/// The error message of an analysis that must fail.
+pub fn failure(options: &ufcsr::AnalyzeOptions) -> String {
+    match ufcsr::analyze(options, None) {
+        Ok(_) => panic!("expected the analysis of {} to fail", options.archive.display()),
+        Err(error) => error.to_string(),
+    }
+}
+
 /// Path of the built `ufcsr-analyze` binary.
 pub fn analyzer() -> std::process::Command {
     std::process::Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
