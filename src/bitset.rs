@@ -128,11 +128,6 @@ impl TouchedSet {
         }
     }
 
-    /// [`TouchedSet::drain_sorted_from`] starting at 0.
-    pub fn drain_sorted(&mut self, visit: impl FnMut(u32)) {
-        self.drain_sorted_from(0, visit);
-    }
-
     /// Empties the set in time proportional to its size.
     pub fn clear(&mut self) {
         for &color in &self.touched {
@@ -167,11 +162,6 @@ impl ColorSet {
         let fresh = self.words[index] & bit == 0;
         self.words[index] |= bit;
         fresh
-    }
-
-    /// Removes `color`.
-    pub fn remove(&mut self, color: u32) {
-        self.words[(color >> 6) as usize & (WORDS - 1)] &= !(1u64 << (color & 63));
     }
 
     /// True when `color` is in the set.
@@ -271,7 +261,7 @@ mod tests {
             expected.sort_unstable();
             expected.dedup();
             let mut drained = Vec::new();
-            set.drain_sorted(|c| drained.push(c));
+            set.drain_sorted_from(0, |c| drained.push(c));
             assert_eq!(drained, expected);
             assert!(set.is_empty());
             assert!(set.words.iter().all(|&w| w == 0));

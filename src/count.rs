@@ -69,16 +69,6 @@ impl Counts {
         seen.drain_sorted_from(start, |key| writer.add(key));
     }
 
-    /// Adds one to every colour in `colors` (each at most once per call).
-    pub fn add_once(&self, colors: &[u32]) {
-        let mut keys: Vec<u32> = colors.iter().map(|&color| color_key(color)).collect();
-        keys.sort_unstable();
-        let mut writer = self.writer();
-        for key in keys {
-            writer.add(key);
-        }
-    }
-
     /// The counts as plain integers, indexed by colour (`0xRRGGBB`).
     pub fn into_vec(self) -> Vec<u32> {
         let mut by_key = Vec::with_capacity(COLOR_COUNT);
@@ -400,10 +390,13 @@ mod counts_tests {
     #[test]
     fn sharded_counts_add_and_flatten() {
         let counts = Counts::new();
-        counts.add_once(&[70_000, 3, 0xFF_FFFF]);
         let mut seen = TouchedSet::new();
-        seen.insert(3);
-        seen.insert(65_536);
+        for color in [70_000, 3, 0xFF_FFFF] {
+            seen.insert(color_key(color));
+        }
+        counts.add_set(&mut seen);
+        seen.insert(color_key(3));
+        seen.insert(color_key(65_536));
         counts.add_set(&mut seen);
         assert!(seen.is_empty());
         let flat = counts.into_vec();
