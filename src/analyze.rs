@@ -206,7 +206,8 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
                     }
                     image_counts.add_set(seen);
                 }
-                seen.clear();
+                // add_set drained it; a failed image was cleared by scan_image.
+                debug_assert!(seen.is_empty());
                 if let Outcome::Failed(_) = outcome {
                     stop.store(true, Ordering::Relaxed);
                 }

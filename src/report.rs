@@ -147,9 +147,7 @@ impl DedupeReport {
         DedupeReport {
             grand_total_per_image: per_image,
             grand_total_per_frame: per_frame,
-            change_percent: 100.0
-                * (ratio(per_frame, per_image.max(1)) - 1.0)
-                * f64::from(u8::from(per_image > 0)),
+            change_percent: if per_image == 0 { 0.0 } else { 100.0 * (ratio(per_frame, per_image) - 1.0) },
         }
     }
 }
