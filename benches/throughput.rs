@@ -17,7 +17,7 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use rayon::prelude::*;
-use ufcsr::bitset::{AtomicColorSet, TouchedSet};
+use ufcsr::bitset::{AtomicColorSet, SeenSet};
 use ufcsr::decode::{RowReader, map_file};
 use ufcsr::synthetic::{ArchiveSpec, write_archive};
 use ufcsr::{AnalyzeOptions, Classifier, Counts, Fcsp, analyze, scan_image};
@@ -85,8 +85,8 @@ fn decode_only(files: &[PathBuf]) -> u64 {
 fn ours(files: &[PathBuf], classifier: &Classifier) -> Counts {
     let counts = Counts::new();
     let strays = AtomicColorSet::new();
-    let sets: Vec<Mutex<TouchedSet>> =
-        (0..rayon::current_num_threads()).map(|_| Mutex::new(TouchedSet::new())).collect();
+    let sets: Vec<Mutex<SeenSet>> =
+        (0..rayon::current_num_threads()).map(|_| Mutex::new(SeenSet::new())).collect();
     files.par_iter().for_each(|path| {
         let mut seen = sets[rayon::current_thread_index().unwrap_or(0) % sets.len()].lock().unwrap();
         let bytes = map_file(path).unwrap();
@@ -190,7 +190,8 @@ fn main() {
         && sparse.values().map(|&n| u64::from(n)).sum::<u64>()
             == dense.iter().map(|&c| u64::from(c)).sum::<u64>();
 
-    println!("{} object tiles, {:.1} Mpixel, {} threads", files.len(), megapixels, threads);
+    let kernel = if ufcsr::scan::avx512_enabled() { "AVX-512" } else { "portable" };
+    println!("{} object tiles, {:.1} Mpixel, {} threads, {kernel} kernels", files.len(), megapixels, threads);
     println!("  decode only (ceiling)      {:8.1} Mpixel/s", megapixels / decode);
     println!("  ufcsr decode + count       {:8.1} Mpixel/s", megapixels / count);
     println!("  per-pixel hash map (orig.) {:8.1} Mpixel/s", megapixels / baseline);

@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::archive::Archive;
-use crate::bitset::{AtomicColorSet, TouchedSet};
+use crate::bitset::{AtomicColorSet, SeenSet};
 use crate::color::Color;
 use crate::count::{Classifier, Counts, ImageTally, scan_image};
 use crate::decode::map_file;
@@ -180,9 +180,8 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
     }
     // One pair of 2 MiB sets per worker thread, reused for every image: fresh
     // sets per rayon split would pay their page faults again and again.
-    let worker_sets: Vec<Mutex<(TouchedSet, TouchedSet)>> = (0..rayon::current_num_threads())
-        .map(|_| Mutex::new((TouchedSet::new(), TouchedSet::new())))
-        .collect();
+    let worker_sets: Vec<Mutex<(SeenSet, SeenSet)>> =
+        (0..rayon::current_num_threads()).map(|_| Mutex::new((SeenSet::new(), SeenSet::new()))).collect();
     let mut outcomes: Vec<(usize, Outcome)> = units
         .par_iter()
         .map(|unit| {
@@ -200,9 +199,7 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
                 let outcome = count_one(index, &inputs.archive, &plan, &classifier, seen, &strays);
                 if let Outcome::Decoded(_) = outcome {
                     if frame_counts.is_some() {
-                        for &color in seen.touched() {
-                            frame_seen.insert(color);
-                        }
+                        seen.merge_into(frame_seen);
                     }
                     image_counts.add_set(seen);
                 }
@@ -350,7 +347,7 @@ fn count_one(
     archive: &Archive,
     plan: &TrimPlan,
     classifier: &Classifier,
-    seen: &mut TouchedSet,
+    seen: &mut SeenSet,
     strays: &AtomicColorSet,
 ) -> Outcome {
     let image = &archive.images[index];

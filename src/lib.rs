@@ -17,6 +17,7 @@ pub mod output;
 pub mod palette;
 pub mod parts;
 pub mod report;
+pub mod scan;
 pub mod synthetic;
 pub mod trim;
 

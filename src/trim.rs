@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::archive::ImageSource;
-use crate::bitset::{AtomicColorSet, TouchedSet};
+use crate::bitset::{AtomicColorSet, SeenSet};
 use crate::count::{Classifier, scan_image};
 use crate::decode::{HEADER_BYTES, MappedFile, map_file, parse_header};
 use crate::error::Error;
@@ -157,7 +157,7 @@ fn file_facts(image: &ImageSource) -> Option<(u32, u32, u64)> {
 /// Decodes `image`; returns its bytes when every pixel is background.
 fn verify_empty(image: &ImageSource, classifier: &Classifier, strays: &AtomicColorSet) -> Option<MappedFile> {
     let bytes = map_file(&image.path).ok()?;
-    let mut seen = TouchedSet::new();
+    let mut seen = SeenSet::new();
     let tally = scan_image(&image.path, &bytes, classifier, &mut seen, strays).ok()?;
     tally.is_pure_background().then_some(bytes)
 }
