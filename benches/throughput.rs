@@ -190,7 +190,7 @@ fn main() {
         && sparse.values().map(|&n| u64::from(n)).sum::<u64>()
             == dense.iter().map(|&c| u64::from(c)).sum::<u64>();
 
-    let kernel = if ufcsr::scan::avx512_enabled() { "AVX-512" } else { "portable" };
+    let kernel = ufcsr::scan::Kernel::selected().name();
     println!("{} object tiles, {:.1} Mpixel, {} threads, {kernel} kernels", files.len(), megapixels, threads);
     println!("  decode only (ceiling)      {:8.1} Mpixel/s", megapixels / decode);
     println!("  ufcsr decode + count       {:8.1} Mpixel/s", megapixels / count);

@@ -98,6 +98,8 @@ pub struct AnalyzeOptions {
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct Timings {
     pub threads: usize,
+    /// The row kernels used ([`crate::scan::Kernel::name`]).
+    pub kernel: String,
     pub load_seconds: f64,
     pub trim_seconds: f64,
     pub count_seconds: f64,
@@ -146,7 +148,11 @@ struct Inputs {
 /// Runs the analysis.
 pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Result<Analysis> {
     let started = Instant::now();
-    let mut timings = Timings { threads: rayon::current_num_threads(), ..Timings::default() };
+    let mut timings = Timings {
+        threads: rayon::current_num_threads(),
+        kernel: crate::scan::Kernel::selected().name().to_string(),
+        ..Timings::default()
+    };
     let inputs = resolve(options)?;
     let classifier =
         Classifier::new(&inputs.palette, &inputs.backgrounds.iter().map(|c| c.packed()).collect::<Vec<_>>())?;

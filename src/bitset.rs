@@ -11,7 +11,7 @@ use crate::color::COLOR_COUNT;
 
 const WORDS: usize = COLOR_COUNT / 64;
 
-/// The position of a colour in the dense per-colour tables ([`TouchedSet`]
+/// The position of a colour in the dense per-colour tables ([`SeenSet`]
 /// and `Counts`): a bijection of the 24 bits that stores each block of 32×16
 /// canonical-palette texels (colour = `y * 4096 + x`) in one 64-byte run of
 /// bits. Neighbouring pixels show neighbouring texels in *both* directions,
@@ -151,7 +151,7 @@ impl SeenSet {
         self.for_each_word(0, |index, word| other.or_word(index, word));
     }
 
-    /// Keys per [`SeenSet::drain_block`] block (2^12).
+    /// Keys per block of [`SeenSet::drain_blocks`] (2^12).
     pub const BLOCK_KEYS: usize = 64 * 64;
 
     /// True when keys `block * BLOCK_KEYS ..` to `(block + blocks) * BLOCK_KEYS`

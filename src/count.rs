@@ -17,7 +17,7 @@ use crate::color::COLOR_COUNT;
 use crate::decode::RowReader;
 use crate::error::{Error, Result};
 use crate::palette::Fcsp;
-use crate::scan::row_scan;
+use crate::scan::{Kernel, row_scan};
 
 /// Colours per shard of [`Counts`] (2^16 counts = 256 KiB).
 const SHARD_BITS: u32 = 16;
@@ -63,20 +63,23 @@ impl Counts {
         let threads = rayon::current_num_threads().max(1);
         let slot = rayon::current_thread_index().unwrap_or(0) % threads;
         let first = slot * SHARDS / threads;
+        let kernel = Kernel::selected();
         let mut busy = Vec::new();
         for shard in (first..SHARDS).chain(0..first) {
             if !seen.blocks_marked(shard * BLOCKS_PER_SHARD, BLOCKS_PER_SHARD) {
                 continue;
             }
             match self.shards[shard].try_lock() {
-                Ok(mut counts) => add_blocks(seen, shard, &mut counts),
-                Err(TryLockError::Poisoned(poisoned)) => add_blocks(seen, shard, &mut poisoned.into_inner()),
+                Ok(mut counts) => add_blocks(kernel, seen, shard, &mut counts),
+                Err(TryLockError::Poisoned(poisoned)) => {
+                    add_blocks(kernel, seen, shard, &mut poisoned.into_inner())
+                }
                 Err(TryLockError::WouldBlock) => busy.push(shard),
             }
         }
         for shard in busy {
             let mut counts = self.shards[shard].lock().unwrap_or_else(PoisonError::into_inner);
-            add_blocks(seen, shard, &mut counts);
+            add_blocks(kernel, seen, shard, &mut counts);
         }
     }
 
@@ -94,11 +97,19 @@ impl Counts {
 const BLOCKS_PER_SHARD: usize = SHARD_SIZE / SeenSet::BLOCK_KEYS;
 
 /// Moves the keys of `seen` that fall in `shard` into its `counts`.
-fn add_blocks(seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
+/// `kernel` must not be above [`Kernel::supported`].
+fn add_blocks(kernel: Kernel, seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
+    debug_assert!(kernel <= Kernel::supported());
     #[cfg(target_arch = "x86_64")]
-    if crate::scan::avx512_enabled() {
-        // SAFETY: `avx512_enabled` checked that the CPU has AVX-512 F.
+    if kernel == Kernel::Avx512 {
+        // SAFETY: the CPU supports the kernel (see above).
         unsafe { add_blocks_avx512(seen, shard, counts) };
+        return;
+    }
+    #[cfg(target_arch = "x86_64")]
+    if kernel == Kernel::Avx2 {
+        // SAFETY: the CPU supports the kernel (see above).
+        unsafe { add_blocks_avx2(seen, shard, counts) };
         return;
     }
     seen.drain_blocks(shard * BLOCKS_PER_SHARD, BLOCKS_PER_SHARD, |index, mut word| {
@@ -133,6 +144,36 @@ fn add_blocks_avx512(seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
                     let room = _mm512_cmpneq_epi32_mask(counts, full);
                     let counts = _mm512_mask_add_epi32(counts, mask & room, counts, one);
                     _mm512_storeu_si512(lanes.as_mut_ptr().cast(), counts);
+                }
+            }
+        }
+    });
+}
+
+/// [`add_blocks`] 8 counts per instruction: each byte of a set word becomes
+/// a lane mask (lane i set when bit i is), and subtracting the all-ones
+/// lanes adds one.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn add_blocks_avx2(seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
+    use std::arch::x86_64::*;
+    let lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    let full = _mm256_set1_epi32(-1);
+    seen.drain_blocks(shard * BLOCKS_PER_SHARD, BLOCKS_PER_SHARD, |index, word| {
+        let offset = (index * 64) & (SHARD_SIZE - 1);
+        let slots = &mut counts[offset..offset + 64];
+        for (eighth, lanes) in slots.chunks_exact_mut(8).enumerate() {
+            let byte = (word >> (8 * eighth)) as u8;
+            if byte != 0 {
+                let bits = _mm256_and_si256(_mm256_set1_epi32(i32::from(byte)), lane_bits);
+                let add = _mm256_cmpeq_epi32(bits, lane_bits);
+                // SAFETY: `lanes` is 8 valid u32s (32 bytes); unaligned
+                // access is allowed.
+                unsafe {
+                    let counts = _mm256_loadu_si256(lanes.as_ptr().cast());
+                    // Saturate like the scalar path: a full count stays full.
+                    let add = _mm256_andnot_si256(_mm256_cmpeq_epi32(counts, full), add);
+                    _mm256_storeu_si256(lanes.as_mut_ptr().cast(), _mm256_sub_epi32(counts, add));
                 }
             }
         }
@@ -289,5 +330,30 @@ mod counts_tests {
         let flat = counts.into_vec();
         assert_eq!(flat.len(), COLOR_COUNT);
         assert_eq!((flat[3], flat[70_000], flat[65_536], flat[0xFF_FFFF], flat[4]), (2, 1, 1, 1, 0));
+    }
+
+    #[test]
+    fn every_kernel_adds_words_and_saturates() {
+        let kernels = [Kernel::Portable, Kernel::Avx2, Kernel::Avx512];
+        for kernel in kernels.into_iter().filter(|&k| k <= Kernel::supported()) {
+            let mut counts = vec![0u32; SHARD_SIZE];
+            counts[64 + 5] = u32::MAX;
+            counts[64 + 6] = u32::MAX - 1;
+            let mut seen = SeenSet::new();
+            let keys = [0u32, 7, 8, 63, 64 + 5, 64 + 6, 64 + 40, 2 * SHARD_SIZE as u32 + 3];
+            for &key in &keys {
+                seen.insert(key);
+            }
+            add_blocks(kernel, &mut seen, 0, &mut counts);
+            let mut expected = vec![0u32; SHARD_SIZE];
+            for key in [0, 7, 8, 63, 64 + 40] {
+                expected[key] = 1;
+            }
+            expected[64 + 5] = u32::MAX;
+            expected[64 + 6] = u32::MAX;
+            assert_eq!(counts, expected, "{kernel:?}");
+            // Keys of other shards stay in the set.
+            assert_eq!(seen.keys(), vec![2 * SHARD_SIZE as u32 + 3], "{kernel:?}");
+        }
     }
 }

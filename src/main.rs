@@ -144,6 +144,13 @@ struct HeatmapArgs {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(value) = ufcsr::scan::Kernel::unknown_request() {
+        eprintln!(
+            "warning: {}={value:?} names no kernel (portable, avx2, avx512); using {}",
+            ufcsr::scan::KERNEL_ENV,
+            ufcsr::scan::Kernel::selected().name()
+        );
+    }
     let outcome = match cli.command {
         Some(Command::Heatmap(args)) => run_heatmap(args),
         Some(Command::Palette(args)) => run_palette(args),

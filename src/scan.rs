@@ -1,19 +1,20 @@
 //! Row kernels: classify the pixels of one decoded row and record the
 //! palette texels they show.
 //!
-//! The hot loop of the whole tool, in two forms that give identical results:
+//! The hot loop of the whole tool, in forms that give identical results
+//! (a unit test compares them on random rows):
 //!
 //! * a portable kernel for every sample layout and palette kind, which scans
 //!   blocks of 16 pixels without branches and skips a block equal to the block
 //!   one pixel earlier (a run of background, or of one magnified texel) with
 //!   one comparison;
-//! * an AVX-512 kernel for RGB and RGBA rows against the canonical palette
-//!   (the layout every capture writes), picked at run time when the CPU has
-//!   AVX-512 VBMI: it classifies 16 pixels per instruction and leaves only
-//!   the pixels whose colour differs from their left neighbour to scalar
-//!   code.
+//! * vector kernels for RGB and RGBA rows against the canonical palette (the
+//!   layout every capture writes), picked at run time ([`Kernel`]): AVX-512
+//!   (`scan/avx512.rs`, 16 pixels per instruction) and AVX2 (`scan/avx2.rs`, 8). They
+//!   classify whole blocks at once and leave to scalar code only the texels
+//!   whose colour differs from their left neighbour's.
 //!
-//! Both accumulate the bits of one 64-bit word of the [`SeenSet`] in a
+//! All accumulate the bits of one 64-bit word of the [`SeenSet`] in a
 //! register and write it back only when a pixel needs another word:
 //! neighbouring pixels nearly always share a word (see
 //! [`crate::bitset::color_key`]), so memory sees one update per run of
@@ -24,6 +25,11 @@ use crate::count::{Classifier, PixelClass};
 use crate::decode::PixelLayout;
 use crate::palette::Fcsp;
 
+#[cfg(target_arch = "x86_64")]
+mod avx2;
+#[cfg(target_arch = "x86_64")]
+mod avx512;
+
 /// Pixel counts by [`PixelClass`] (indexed by its discriminant).
 pub(crate) type ClassCounts = [u64; 3];
 
@@ -32,36 +38,95 @@ pub(crate) type ClassCounts = [u64; 3];
 /// pixels to the per-class counts.
 pub(crate) type RowScan = fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet, &mut ClassCounts);
 
-/// Set to `1` to use the portable kernels even where AVX-512 is available
-/// (for comparisons, or to rule the vector code out when debugging).
-pub const PORTABLE_ENV: &str = "UFCSR_PORTABLE";
+/// Environment variable that caps the kernel: `portable` or `avx2` (for
+/// comparisons, or to rule the vector code out when debugging). Results are
+/// identical whatever the kernel.
+pub const KERNEL_ENV: &str = "UFCSR_KERNEL";
 
-/// True when this CPU has the AVX-512 subset the vector kernels use and
-/// [`PORTABLE_ENV`] does not ask for the portable ones.
-pub fn avx512_enabled() -> bool {
-    static ENABLED: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *ENABLED.get_or_init(|| {
-        let requested = std::env::var_os(PORTABLE_ENV).is_none_or(|value| value.is_empty() || value == "0");
-        #[cfg(target_arch = "x86_64")]
-        let available = std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512bw")
-            && std::arch::is_x86_feature_detected!("avx512vbmi")
-            && std::arch::is_x86_feature_detected!("popcnt")
-            && std::arch::is_x86_feature_detected!("bmi1")
-            && std::arch::is_x86_feature_detected!("bmi2");
-        #[cfg(not(target_arch = "x86_64"))]
-        let available = false;
-        requested && available
-    })
+/// Which row kernels (and count updates) this process uses, slowest first.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Kernel {
+    /// Plain Rust, every CPU.
+    Portable,
+    /// 8 pixels per instruction (x86-64 with AVX2, BMI1/2 and POPCNT).
+    Avx2,
+    /// 16 pixels per instruction (x86-64 with AVX-512 F, BW and VBMI).
+    Avx512,
 }
 
-/// The fastest kernel for `layout` and the classifier's palette.
-pub(crate) fn row_scan(layout: PixelLayout, classifier: &Classifier) -> RowScan {
-    #[cfg(target_arch = "x86_64")]
-    if let Some(scan) = vector::row_scan(layout, classifier) {
-        return scan;
+impl Kernel {
+    /// Its name, as [`KERNEL_ENV`] accepts it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kernel::Portable => "portable",
+            Kernel::Avx2 => "avx2",
+            Kernel::Avx512 => "avx512",
+        }
     }
-    portable_row_scan(layout, classifier)
+
+    /// The kernel named `name` (as [`Kernel::name`] writes it).
+    pub fn from_name(name: &str) -> Option<Kernel> {
+        [Kernel::Portable, Kernel::Avx2, Kernel::Avx512].into_iter().find(|kernel| kernel.name() == name)
+    }
+
+    /// The best kernel this CPU can run.
+    pub fn supported() -> Kernel {
+        #[cfg(target_arch = "x86_64")]
+        {
+            use std::arch::is_x86_feature_detected as has;
+            let scalar = has!("popcnt") && has!("bmi1") && has!("bmi2");
+            if scalar && has!("avx512f") && has!("avx512bw") && has!("avx512vbmi") {
+                return Kernel::Avx512;
+            }
+            if scalar && has!("avx2") {
+                return Kernel::Avx2;
+            }
+        }
+        Kernel::Portable
+    }
+
+    /// The value of [`KERNEL_ENV`] when it names no kernel (for a warning).
+    pub fn unknown_request() -> Option<String> {
+        let value = std::env::var(KERNEL_ENV).ok()?;
+        (!value.is_empty() && Kernel::from_name(&value).is_none()).then_some(value)
+    }
+
+    /// The kernel in use: [`Kernel::supported`], capped by [`KERNEL_ENV`].
+    pub fn selected() -> Kernel {
+        static SELECTED: std::sync::OnceLock<Kernel> = std::sync::OnceLock::new();
+        *SELECTED.get_or_init(|| {
+            let cap = std::env::var(KERNEL_ENV).ok().and_then(|name| Kernel::from_name(&name));
+            let supported = Kernel::supported();
+            cap.map_or(supported, |cap| cap.min(supported))
+        })
+    }
+}
+
+/// The row kernel of [`Kernel::selected`] for `layout` and the classifier's
+/// palette.
+pub(crate) fn row_scan(layout: PixelLayout, classifier: &Classifier) -> RowScan {
+    vector_row_scan(Kernel::selected(), layout, classifier)
+        .unwrap_or_else(|| portable_row_scan(layout, classifier))
+}
+
+/// The vector row kernel of `kernel`, if it has one for `layout` and the
+/// palette (RGB or RGBA rows against a canonical palette, whose membership
+/// test is one comparison) and this CPU can run it.
+pub(crate) fn vector_row_scan(
+    kernel: Kernel,
+    layout: PixelLayout,
+    classifier: &Classifier,
+) -> Option<RowScan> {
+    if kernel > Kernel::supported() || !matches!(classifier.palette(), Fcsp::Canonical { .. }) {
+        return None;
+    }
+    match kernel {
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx512 => avx512::kernel(layout),
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx2 => avx2::kernel(layout),
+        _ => None,
+    }
 }
 
 /// The portable kernel for `layout` and the classifier's palette.
@@ -188,234 +253,6 @@ fn scan_row<const BYTES: usize, const GRAY: bool, const CANONICAL: bool, const S
     word.flush(seen);
 }
 
-#[cfg(target_arch = "x86_64")]
-mod vector {
-    //! The AVX-512 kernel (x86-64 only, chosen at run time).
-
-    use std::arch::x86_64::*;
-
-    use super::{ClassCounts, RowScan, WordAccumulator};
-    use crate::bitset::{AtomicColorSet, SeenSet};
-    use crate::count::{Classifier, PixelClass};
-    use crate::decode::PixelLayout;
-    use crate::palette::Fcsp;
-
-    /// The AVX-512 kernel for `layout`, when it is enabled and the palette
-    /// is canonical (membership is then one comparison).
-    pub(super) fn row_scan(layout: PixelLayout, classifier: &Classifier) -> Option<RowScan> {
-        if !super::avx512_enabled() || !matches!(classifier.palette(), Fcsp::Canonical { .. }) {
-            return None;
-        }
-        match layout {
-            PixelLayout::Rgb => Some(scan_rgb),
-            PixelLayout::Rgba => Some(scan_rgba),
-            PixelLayout::Gray | PixelLayout::GrayAlpha => None,
-        }
-    }
-
-    fn scan_rgb(
-        row: &[u8],
-        classifier: &Classifier,
-        seen: &mut SeenSet,
-        strays: &AtomicColorSet,
-        by_class: &mut ClassCounts,
-    ) {
-        // SAFETY: `row_scan` hands out this function only after
-        // `avx512_enabled` checked that the CPU has the features it enables.
-        unsafe { scan_row::<3>(row, classifier, seen, strays, by_class) }
-    }
-
-    fn scan_rgba(
-        row: &[u8],
-        classifier: &Classifier,
-        seen: &mut SeenSet,
-        strays: &AtomicColorSet,
-        by_class: &mut ClassCounts,
-    ) {
-        // SAFETY: as for `scan_rgb`.
-        unsafe { scan_row::<4>(row, classifier, seen, strays, by_class) }
-    }
-
-    /// Byte shuffle that turns 16 pixels of `BYTES` samples into 16 lanes of
-    /// `0x00RRGGBB` (lane byte 0 = B, 1 = G, 2 = R; byte 3 is zeroed by the
-    /// mask in [`scan_row`]).
-    const fn unpack_index<const BYTES: usize>() -> [u8; 64] {
-        let mut index = [0u8; 64];
-        let mut lane = 0;
-        while lane < 16 {
-            index[lane * 4] = (lane * BYTES + 2) as u8;
-            index[lane * 4 + 1] = (lane * BYTES + 1) as u8;
-            index[lane * 4 + 2] = (lane * BYTES) as u8;
-            lane += 1;
-        }
-        index
-    }
-
-    /// The vector form of [`crate::bitset::color_key`].
-    #[target_feature(enable = "avx512f")]
-    #[inline]
-    fn color_keys(colors: __m512i) -> __m512i {
-        let low = _mm512_and_si512(colors, _mm512_set1_epi32(0xFF_001F));
-        let x_blocks = _mm512_and_si512(_mm512_slli_epi32::<4>(colors), _mm512_set1_epi32(0xFE00));
-        let y_rows = _mm512_and_si512(_mm512_srli_epi32::<7>(colors), _mm512_set1_epi32(0x1E0));
-        _mm512_or_si512(low, _mm512_or_si512(x_blocks, y_rows))
-    }
-
-    /// What one block of up to 16 pixels contributed.
-    struct BlockTally {
-        background: u32,
-        stray: u32,
-    }
-
-    /// Classifies the 16 colours of `colors` (lanes outside `lanes` are
-    /// ignored) and records the texels whose colour differs from their left
-    /// neighbour's (`previous` holds the block before).
-    ///
-    /// # Safety
-    /// The CPU must have the features `scan_row` enables. (A plain
-    /// `#[target_feature]` function is not inlined into its caller, and the
-    /// call per 16 pixels cost 15 % of the kernel.)
-    #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
-    unsafe fn scan_block<const SINGLE_BACKGROUND: bool>(
-        colors: __m512i,
-        previous: __m512i,
-        lanes: __mmask16,
-        classifier: &Classifier,
-        texel_limit: __m512i,
-        seen: &mut SeenSet,
-        word: &mut WordAccumulator,
-        strays: &AtomicColorSet,
-    ) -> BlockTally {
-        // SAFETY: the caller guarantees the CPU features (see above); the
-        // stores below write 64-byte arrays.
-        unsafe {
-            let backgrounds = classifier.backgrounds();
-            let mut is_background = _mm512_cmpeq_epi32_mask(colors, _mm512_set1_epi32(backgrounds[0] as i32));
-            if !SINGLE_BACKGROUND {
-                for &color in &backgrounds[1..] {
-                    is_background |= _mm512_cmpeq_epi32_mask(colors, _mm512_set1_epi32(color as i32));
-                }
-            }
-            is_background &= lanes;
-            let member = _mm512_cmplt_epu32_mask(colors, texel_limit);
-            let is_texel = member & !is_background & lanes;
-            let is_stray = !member & !is_background & lanes;
-            if is_stray != 0 {
-                // Rare: damaged or filtered pixels.
-                let mut lane_colors = [0u32; 16];
-                _mm512_storeu_si512(lane_colors.as_mut_ptr().cast(), colors);
-                let mut remaining = is_stray;
-                while remaining != 0 {
-                    strays.insert(lane_colors[remaining.trailing_zeros() as usize]);
-                    remaining &= remaining - 1;
-                }
-            }
-            // A pixel with its left neighbour's colour adds nothing new.
-            let left = _mm512_alignr_epi32::<15>(colors, previous);
-            let fresh = _mm512_mask_cmpneq_epi32_mask(is_texel, colors, left);
-            if fresh != 0 {
-                let mut keys = [0u32; 16];
-                let fresh_keys = _mm512_maskz_compress_epi32(fresh, color_keys(colors));
-                _mm512_storeu_si512(keys.as_mut_ptr().cast(), fresh_keys);
-                for &key in &keys[..fresh.count_ones() as usize] {
-                    word.add(seen, (key >> 6) as usize, 1u64 << (key & 63));
-                }
-            }
-            BlockTally { background: is_background.count_ones(), stray: is_stray.count_ones() }
-        }
-    }
-
-    #[target_feature(enable = "avx512f,avx512bw,avx512vbmi,popcnt,bmi1,bmi2")]
-    fn scan_row<const BYTES: usize>(
-        row: &[u8],
-        classifier: &Classifier,
-        seen: &mut SeenSet,
-        strays: &AtomicColorSet,
-        by_class: &mut ClassCounts,
-    ) {
-        if classifier.backgrounds().len() == 1 {
-            scan_row_with::<BYTES, true>(row, classifier, seen, strays, by_class)
-        } else {
-            scan_row_with::<BYTES, false>(row, classifier, seen, strays, by_class)
-        }
-    }
-
-    #[target_feature(enable = "avx512f,avx512bw,avx512vbmi,popcnt,bmi1,bmi2")]
-    fn scan_row_with<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
-        row: &[u8],
-        classifier: &Classifier,
-        seen: &mut SeenSet,
-        strays: &AtomicColorSet,
-        by_class: &mut ClassCounts,
-    ) {
-        let pixels = row.len() / BYTES;
-        let texel_limit = _mm512_set1_epi32(classifier.palette().texel_count() as i32);
-        // SAFETY: a 64-byte array.
-        let index = unsafe { _mm512_loadu_si512(unpack_index::<BYTES>().as_ptr().cast()) };
-        // 16 pixels' bytes: 48 of RGB, 64 of RGBA.
-        const fn bytes_mask(bytes: usize) -> u64 {
-            if bytes >= 64 { !0 } else { (1u64 << bytes) - 1 }
-        }
-        let unpack = |start: usize, lanes: usize| {
-            // SAFETY: the mask covers only bytes of `row` (masked-out bytes
-            // are neither read nor faulted on).
-            let raw = unsafe {
-                _mm512_maskz_loadu_epi8(bytes_mask(lanes * BYTES), row.as_ptr().add(start * BYTES).cast())
-            };
-            _mm512_maskz_permutexvar_epi8(0x7777_7777_7777_7777, index, raw)
-        };
-        // An impossible colour (above 2^24), so the first pixel always differs.
-        let mut previous = _mm512_set1_epi32(-1);
-        let mut word = WordAccumulator::new();
-        let (mut background, mut stray) = (0u64, 0u64);
-        let full_blocks = pixels / 16;
-        for block in 0..full_blocks {
-            let colors = unpack(block * 16, 16);
-            // SAFETY: this function has the features `scan_block` needs.
-            let tally = unsafe {
-                scan_block::<SINGLE_BACKGROUND>(
-                    colors,
-                    previous,
-                    !0,
-                    classifier,
-                    texel_limit,
-                    seen,
-                    &mut word,
-                    strays,
-                )
-            };
-            background += u64::from(tally.background);
-            stray += u64::from(tally.stray);
-            previous = colors;
-        }
-        let rest = pixels - full_blocks * 16;
-        if rest > 0 {
-            let colors = unpack(full_blocks * 16, rest);
-            let lanes = ((1u32 << rest) - 1) as __mmask16;
-            // SAFETY: this function has the features `scan_block` needs.
-            let tally = unsafe {
-                scan_block::<SINGLE_BACKGROUND>(
-                    colors,
-                    previous,
-                    lanes,
-                    classifier,
-                    texel_limit,
-                    seen,
-                    &mut word,
-                    strays,
-                )
-            };
-            background += u64::from(tally.background);
-            stray += u64::from(tally.stray);
-        }
-        word.flush(seen);
-        by_class[PixelClass::Background as usize] += background;
-        by_class[PixelClass::Stray as usize] += stray;
-        by_class[PixelClass::Texel as usize] += pixels as u64 - background - stray;
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -502,19 +339,21 @@ mod tests {
     }
 
     #[test]
-    fn vector_kernel_equals_portable_kernel() {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if !avx512_enabled() {
-                eprintln!("skipped: the AVX-512 kernel is not in use on this CPU (or {PORTABLE_ENV} is set)");
-                return;
-            }
-            // 4096 × 3000 texels: colours from 12,288,000 up are strays.
-            let palette = Fcsp::canonical(4096, 3000).unwrap();
+    fn vector_kernels_equal_the_portable_kernel() {
+        let kernels: Vec<Kernel> =
+            [Kernel::Avx2, Kernel::Avx512].into_iter().filter(|&k| k <= Kernel::supported()).collect();
+        if kernels.is_empty() {
+            eprintln!("skipped: this CPU runs only the portable kernel");
+        }
+        // 4096 × 3000 texels: colours from 12,288,000 up are strays.
+        let palette = Fcsp::canonical(4096, 3000).unwrap();
+        for kernel in kernels {
             for backgrounds in [vec![0x000FFF], vec![0x000FFF, 0x000010, 0xFFFFFF]] {
                 let classifier = Classifier::new(&palette, &backgrounds).unwrap();
                 for (layout, bytes) in [(PixelLayout::Rgb, 3), (PixelLayout::Rgba, 4)] {
-                    let vector = row_scan(layout, &classifier);
+                    let Some(vector) = vector_row_scan(kernel, layout, &classifier) else {
+                        panic!("{kernel:?} has no kernel for {layout:?}");
+                    };
                     let portable = portable_row_scan(layout, &classifier);
                     let (vector_strays, portable_strays) = (AtomicColorSet::new(), AtomicColorSet::new());
                     for seed in 0..300u64 {
@@ -523,7 +362,7 @@ mod tests {
                         assert_eq!(
                             scan_with(vector, &classifier, &row, &vector_strays),
                             scan_with(portable, &classifier, &row, &portable_strays),
-                            "seed {seed}, {pixels} pixels, {bytes} bytes per pixel"
+                            "{kernel:?}, seed {seed}, {pixels} pixels, {bytes} bytes per pixel"
                         );
                     }
                     let all = usize::MAX;

@@ -1,0 +1,174 @@
+//! The AVX2 row kernel (x86-64 only, chosen at run time on CPUs without
+//! AVX-512, such as most Intel desktop parts since Alder Lake): the AVX-512
+//! kernel's method on 8 pixels per instruction. AVX2 has neither masked
+//! loads of bytes nor a compress instruction, so whole 32-byte loads cover
+//! the row up to its last full block, the rest of the row is finished in
+//! scalar code, and new texels are picked from a bit mask.
+
+use std::arch::x86_64::*;
+
+use super::{ClassCounts, RowScan, WordAccumulator, pack};
+use crate::bitset::{AtomicColorSet, SeenSet, color_key};
+use crate::count::{Classifier, PixelClass};
+use crate::decode::PixelLayout;
+
+/// The AVX2 kernel for `layout` against a canonical palette. Only for CPUs
+/// where [`super::Kernel::supported`] is at least [`super::Kernel::Avx2`].
+pub(super) fn kernel(layout: PixelLayout) -> Option<RowScan> {
+    match layout {
+        PixelLayout::Rgb => Some(scan_rgb),
+        PixelLayout::Rgba => Some(scan_rgba),
+        PixelLayout::Gray | PixelLayout::GrayAlpha => None,
+    }
+}
+
+fn scan_rgb(
+    row: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+    by_class: &mut ClassCounts,
+) {
+    // SAFETY: `vector_row_scan` hands out this function only when
+    // `Kernel::supported` found the CPU features it enables.
+    unsafe { scan_row::<3>(row, classifier, seen, strays, by_class) }
+}
+
+fn scan_rgba(
+    row: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+    by_class: &mut ClassCounts,
+) {
+    // SAFETY: as for `scan_rgb`.
+    unsafe { scan_row::<4>(row, classifier, seen, strays, by_class) }
+}
+
+/// Per 128-bit half: the byte shuffle that turns 4 pixels of `BYTES`
+/// samples into 4 lanes of `0x00RRGGBB` (0x80 zeroes a byte).
+const fn unpack_shuffle<const BYTES: usize>() -> [u8; 32] {
+    let mut shuffle = [0x80u8; 32];
+    let mut lane = 0;
+    while lane < 8 {
+        let pixel = lane % 4;
+        shuffle[lane * 4] = (pixel * BYTES + 2) as u8;
+        shuffle[lane * 4 + 1] = (pixel * BYTES + 1) as u8;
+        shuffle[lane * 4 + 2] = (pixel * BYTES) as u8;
+        lane += 1;
+    }
+    shuffle
+}
+
+#[target_feature(enable = "avx2,popcnt,bmi1,bmi2")]
+fn scan_row<const BYTES: usize>(
+    row: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+    by_class: &mut ClassCounts,
+) {
+    if classifier.backgrounds().len() == 1 {
+        scan_row_with::<BYTES, true>(row, classifier, seen, strays, by_class)
+    } else {
+        scan_row_with::<BYTES, false>(row, classifier, seen, strays, by_class)
+    }
+}
+
+#[target_feature(enable = "avx2,popcnt,bmi1,bmi2")]
+fn scan_row_with<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
+    row: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+    by_class: &mut ClassCounts,
+) {
+    let pixels = row.len() / BYTES;
+    let texels = classifier.palette().texel_count() as u32;
+    let backgrounds = classifier.backgrounds();
+    // Every colour and the limit are below 2^31, so signed comparison works.
+    let texel_limit = _mm256_set1_epi32(texels as i32);
+    let first_background = _mm256_set1_epi32(backgrounds[0] as i32);
+    // SAFETY: 32-byte arrays.
+    let shuffle = unsafe { _mm256_loadu_si256(unpack_shuffle::<BYTES>().as_ptr().cast()) };
+    // RGB: move bytes 12..24 (pixels 4..8) to the upper 128-bit half.
+    let spread = _mm256_setr_epi32(0, 1, 2, 0, 3, 4, 5, 0);
+    let rotate = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);
+    // Blocks of 8 pixels whose 32-byte load stays inside the row.
+    let blocks = if row.len() >= 32 { ((row.len() - 32) / (8 * BYTES) + 1).min(pixels / 8) } else { 0 };
+    // An impossible colour (above 2^24), so the first pixel always differs.
+    let mut previous = _mm256_set1_epi32(-1);
+    let mut word = WordAccumulator::new();
+    let (mut background, mut stray) = (0u64, 0u64);
+    let mut lane_values = [0u32; 8];
+    for block in 0..blocks {
+        // SAFETY: `blocks` keeps the 32 bytes from `block * 8 * BYTES` inside
+        // `row`.
+        let raw = unsafe { _mm256_loadu_si256(row.as_ptr().add(block * 8 * BYTES).cast()) };
+        let raw = if BYTES == 3 { _mm256_permutevar8x32_epi32(raw, spread) } else { raw };
+        let colors = _mm256_shuffle_epi8(raw, shuffle);
+        let mut is_background = _mm256_cmpeq_epi32(colors, first_background);
+        if !SINGLE_BACKGROUND {
+            for &color in &backgrounds[1..] {
+                is_background = _mm256_or_si256(
+                    is_background,
+                    _mm256_cmpeq_epi32(colors, _mm256_set1_epi32(color as i32)),
+                );
+            }
+        }
+        let member = _mm256_cmpgt_epi32(texel_limit, colors);
+        let is_background = _mm256_movemask_ps(_mm256_castsi256_ps(is_background)) as u32;
+        let member = _mm256_movemask_ps(_mm256_castsi256_ps(member)) as u32;
+        let is_texel = member & !is_background;
+        let is_stray = !member & !is_background & 0xFF;
+        background += u64::from(is_background.count_ones());
+        stray += u64::from(is_stray.count_ones());
+        // Lane 0 of `left` is the last pixel of the previous block.
+        let left = _mm256_blend_epi32::<1>(
+            _mm256_permutevar8x32_epi32(colors, rotate),
+            _mm256_permutevar8x32_epi32(previous, rotate),
+        );
+        let same = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(colors, left))) as u32;
+        let fresh = is_texel & !same;
+        previous = colors;
+        if fresh | is_stray != 0 {
+            // SAFETY: a 32-byte array.
+            unsafe { _mm256_storeu_si256(lane_values.as_mut_ptr().cast(), colors) };
+            let mut remaining = fresh;
+            while remaining != 0 {
+                let key = color_key(lane_values[remaining.trailing_zeros() as usize]);
+                word.add(seen, (key >> 6) as usize, 1u64 << (key & 63));
+                remaining &= remaining - 1;
+            }
+            // Rare: damaged or filtered pixels.
+            let mut remaining = is_stray;
+            while remaining != 0 {
+                strays.insert(lane_values[remaining.trailing_zeros() as usize]);
+                remaining &= remaining - 1;
+            }
+        }
+    }
+    // The rest of the row, one pixel at a time, continuing from the blocks.
+    // SAFETY: a 32-byte array.
+    unsafe { _mm256_storeu_si256(lane_values.as_mut_ptr().cast(), previous) };
+    let mut previous_color = lane_values[7];
+    for pixel in blocks * 8..pixels {
+        let color = pack::<BYTES, false>(row, pixel);
+        let is_background =
+            if SINGLE_BACKGROUND { color == backgrounds[0] } else { backgrounds.contains(&color) };
+        if is_background {
+            background += 1;
+        } else if color >= texels {
+            stray += 1;
+            strays.insert(color);
+        } else if color != previous_color {
+            let key = color_key(color);
+            word.add(seen, (key >> 6) as usize, 1u64 << (key & 63));
+        }
+        previous_color = color;
+    }
+    word.flush(seen);
+    by_class[PixelClass::Background as usize] += background;
+    by_class[PixelClass::Stray as usize] += stray;
+    by_class[PixelClass::Texel as usize] += pixels as u64 - background - stray;
+}

@@ -1,0 +1,222 @@
+//! The AVX-512 row kernel (x86-64 only, chosen at run time): unpacks,
+//! classifies and keys 16 RGB or RGBA pixels per instruction and hands only
+//! the texels whose colour differs from their left neighbour's to scalar code.
+
+use std::arch::x86_64::*;
+
+use super::{ClassCounts, RowScan, WordAccumulator};
+use crate::bitset::{AtomicColorSet, SeenSet};
+use crate::count::{Classifier, PixelClass};
+use crate::decode::PixelLayout;
+
+/// The AVX-512 kernel for `layout` against a canonical palette. Only for
+/// CPUs where [`Kernel::supported`] is [`Kernel::Avx512`].
+pub(super) fn kernel(layout: PixelLayout) -> Option<RowScan> {
+    match layout {
+        PixelLayout::Rgb => Some(scan_rgb),
+        PixelLayout::Rgba => Some(scan_rgba),
+        PixelLayout::Gray | PixelLayout::GrayAlpha => None,
+    }
+}
+
+fn scan_rgb(
+    row: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+    by_class: &mut ClassCounts,
+) {
+    // SAFETY: `row_scan` hands out this function only after
+    // `avx512_enabled` checked that the CPU has the features it enables.
+    unsafe { scan_row::<3>(row, classifier, seen, strays, by_class) }
+}
+
+fn scan_rgba(
+    row: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+    by_class: &mut ClassCounts,
+) {
+    // SAFETY: as for `scan_rgb`.
+    unsafe { scan_row::<4>(row, classifier, seen, strays, by_class) }
+}
+
+/// Byte shuffle that turns 16 pixels of `BYTES` samples into 16 lanes of
+/// `0x00RRGGBB` (lane byte 0 = B, 1 = G, 2 = R; byte 3 is zeroed by the
+/// mask in [`scan_row`]).
+const fn unpack_index<const BYTES: usize>() -> [u8; 64] {
+    let mut index = [0u8; 64];
+    let mut lane = 0;
+    while lane < 16 {
+        index[lane * 4] = (lane * BYTES + 2) as u8;
+        index[lane * 4 + 1] = (lane * BYTES + 1) as u8;
+        index[lane * 4 + 2] = (lane * BYTES) as u8;
+        lane += 1;
+    }
+    index
+}
+
+/// The vector form of [`crate::bitset::color_key`].
+#[target_feature(enable = "avx512f")]
+#[inline]
+fn color_keys(colors: __m512i) -> __m512i {
+    let low = _mm512_and_si512(colors, _mm512_set1_epi32(0xFF_001F));
+    let x_blocks = _mm512_and_si512(_mm512_slli_epi32::<4>(colors), _mm512_set1_epi32(0xFE00));
+    let y_rows = _mm512_and_si512(_mm512_srli_epi32::<7>(colors), _mm512_set1_epi32(0x1E0));
+    _mm512_or_si512(low, _mm512_or_si512(x_blocks, y_rows))
+}
+
+/// What one block of up to 16 pixels contributed.
+struct BlockTally {
+    background: u32,
+    stray: u32,
+}
+
+/// Classifies the 16 colours of `colors` (lanes outside `lanes` are
+/// ignored) and records the texels whose colour differs from their left
+/// neighbour's (`previous` holds the block before).
+///
+/// # Safety
+/// The CPU must have the features `scan_row` enables. (A plain
+/// `#[target_feature]` function is not inlined into its caller, and the
+/// call per 16 pixels cost 15 % of the kernel.)
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+unsafe fn scan_block<const SINGLE_BACKGROUND: bool>(
+    colors: __m512i,
+    previous: __m512i,
+    lanes: __mmask16,
+    classifier: &Classifier,
+    texel_limit: __m512i,
+    seen: &mut SeenSet,
+    word: &mut WordAccumulator,
+    strays: &AtomicColorSet,
+) -> BlockTally {
+    // SAFETY: the caller guarantees the CPU features (see above); the
+    // stores below write 64-byte arrays.
+    unsafe {
+        let backgrounds = classifier.backgrounds();
+        let mut is_background = _mm512_cmpeq_epi32_mask(colors, _mm512_set1_epi32(backgrounds[0] as i32));
+        if !SINGLE_BACKGROUND {
+            for &color in &backgrounds[1..] {
+                is_background |= _mm512_cmpeq_epi32_mask(colors, _mm512_set1_epi32(color as i32));
+            }
+        }
+        is_background &= lanes;
+        let member = _mm512_cmplt_epu32_mask(colors, texel_limit);
+        let is_texel = member & !is_background & lanes;
+        let is_stray = !member & !is_background & lanes;
+        if is_stray != 0 {
+            // Rare: damaged or filtered pixels.
+            let mut lane_colors = [0u32; 16];
+            _mm512_storeu_si512(lane_colors.as_mut_ptr().cast(), colors);
+            let mut remaining = is_stray;
+            while remaining != 0 {
+                strays.insert(lane_colors[remaining.trailing_zeros() as usize]);
+                remaining &= remaining - 1;
+            }
+        }
+        // A pixel with its left neighbour's colour adds nothing new.
+        let left = _mm512_alignr_epi32::<15>(colors, previous);
+        let fresh = _mm512_mask_cmpneq_epi32_mask(is_texel, colors, left);
+        if fresh != 0 {
+            let mut keys = [0u32; 16];
+            let fresh_keys = _mm512_maskz_compress_epi32(fresh, color_keys(colors));
+            _mm512_storeu_si512(keys.as_mut_ptr().cast(), fresh_keys);
+            for &key in &keys[..fresh.count_ones() as usize] {
+                word.add(seen, (key >> 6) as usize, 1u64 << (key & 63));
+            }
+        }
+        BlockTally { background: is_background.count_ones(), stray: is_stray.count_ones() }
+    }
+}
+
+#[target_feature(enable = "avx512f,avx512bw,avx512vbmi,popcnt,bmi1,bmi2")]
+fn scan_row<const BYTES: usize>(
+    row: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+    by_class: &mut ClassCounts,
+) {
+    if classifier.backgrounds().len() == 1 {
+        scan_row_with::<BYTES, true>(row, classifier, seen, strays, by_class)
+    } else {
+        scan_row_with::<BYTES, false>(row, classifier, seen, strays, by_class)
+    }
+}
+
+#[target_feature(enable = "avx512f,avx512bw,avx512vbmi,popcnt,bmi1,bmi2")]
+fn scan_row_with<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
+    row: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+    by_class: &mut ClassCounts,
+) {
+    let pixels = row.len() / BYTES;
+    let texel_limit = _mm512_set1_epi32(classifier.palette().texel_count() as i32);
+    // SAFETY: a 64-byte array.
+    let index = unsafe { _mm512_loadu_si512(unpack_index::<BYTES>().as_ptr().cast()) };
+    // 16 pixels' bytes: 48 of RGB, 64 of RGBA.
+    const fn bytes_mask(bytes: usize) -> u64 {
+        if bytes >= 64 { !0 } else { (1u64 << bytes) - 1 }
+    }
+    let unpack = |start: usize, lanes: usize| {
+        // SAFETY: the mask covers only bytes of `row` (masked-out bytes
+        // are neither read nor faulted on).
+        let raw = unsafe {
+            _mm512_maskz_loadu_epi8(bytes_mask(lanes * BYTES), row.as_ptr().add(start * BYTES).cast())
+        };
+        _mm512_maskz_permutexvar_epi8(0x7777_7777_7777_7777, index, raw)
+    };
+    // An impossible colour (above 2^24), so the first pixel always differs.
+    let mut previous = _mm512_set1_epi32(-1);
+    let mut word = WordAccumulator::new();
+    let (mut background, mut stray) = (0u64, 0u64);
+    let full_blocks = pixels / 16;
+    for block in 0..full_blocks {
+        let colors = unpack(block * 16, 16);
+        // SAFETY: this function has the features `scan_block` needs.
+        let tally = unsafe {
+            scan_block::<SINGLE_BACKGROUND>(
+                colors,
+                previous,
+                !0,
+                classifier,
+                texel_limit,
+                seen,
+                &mut word,
+                strays,
+            )
+        };
+        background += u64::from(tally.background);
+        stray += u64::from(tally.stray);
+        previous = colors;
+    }
+    let rest = pixels - full_blocks * 16;
+    if rest > 0 {
+        let colors = unpack(full_blocks * 16, rest);
+        let lanes = ((1u32 << rest) - 1) as __mmask16;
+        // SAFETY: this function has the features `scan_block` needs.
+        let tally = unsafe {
+            scan_block::<SINGLE_BACKGROUND>(
+                colors,
+                previous,
+                lanes,
+                classifier,
+                texel_limit,
+                seen,
+                &mut word,
+                strays,
+            )
+        };
+        background += u64::from(tally.background);
+        stray += u64::from(tally.stray);
+    }
+    word.flush(seen);
+    by_class[PixelClass::Background as usize] += background;
+    by_class[PixelClass::Stray as usize] += stray;
+    by_class[PixelClass::Texel as usize] += pixels as u64 - background - stray;
+}
