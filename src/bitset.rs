@@ -164,6 +164,10 @@ impl SeenSet {
     /// `index * 64 + bit`) of keys `block * BLOCK_KEYS ..` to
     /// `(block + blocks) * BLOCK_KEYS`, in ascending order, and removes those
     /// keys from the set.
+    ///
+    /// Always inlined, so that a caller compiled with extra CPU features (the
+    /// vector count updates) can inline `visit` too.
+    #[inline(always)]
     pub fn drain_blocks(&mut self, block: usize, blocks: usize, mut visit: impl FnMut(usize, u64)) {
         for dirty_index in block..block + blocks {
             let mut marks = std::mem::take(&mut self.dirty[dirty_index]);

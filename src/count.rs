@@ -300,7 +300,7 @@ fn scan_rows(
     let scan = row_scan(reader.layout(), classifier);
     let mut by_class = [0u64; 3];
     while let Some(row) = reader.next_row()? {
-        scan(row, classifier, seen, strays, &mut by_class);
+        scan.scan(row, classifier, seen, strays, &mut by_class);
     }
     Ok(ImageTally {
         width: reader.width(),

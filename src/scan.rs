@@ -36,7 +36,41 @@ pub(crate) type ClassCounts = [u64; 3];
 /// A row kernel: classifies `row`, adds its palette texels (as
 /// [`color_key`]s) to the set, its stray colours to the stray set, and its
 /// pixels to the per-class counts.
-pub(crate) type RowScan = fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet, &mut ClassCounts);
+type SafeKernel = fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet, &mut ClassCounts);
+
+/// A row kernel compiled for CPU features the CPU may lack.
+type VectorKernel = unsafe fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet, &mut ClassCounts);
+
+/// The row kernel chosen for one image.
+#[derive(Clone, Copy)]
+pub(crate) struct RowScan(Choice);
+
+#[derive(Clone, Copy)]
+enum Choice {
+    Portable(SafeKernel),
+    /// Only built by [`vector_row_scan`], after checking the CPU.
+    Vector(VectorKernel),
+}
+
+impl RowScan {
+    /// Scans one row (see [`SafeKernel`]).
+    #[inline]
+    pub(crate) fn scan(
+        self,
+        row: &[u8],
+        classifier: &Classifier,
+        seen: &mut SeenSet,
+        strays: &AtomicColorSet,
+        by_class: &mut ClassCounts,
+    ) {
+        match self.0 {
+            Choice::Portable(kernel) => kernel(row, classifier, seen, strays, by_class),
+            // SAFETY: `vector_row_scan` builds this only for kernels whose
+            // CPU features `Kernel::supported` found.
+            Choice::Vector(kernel) => unsafe { kernel(row, classifier, seen, strays, by_class) },
+        }
+    }
+}
 
 /// Environment variable that caps the kernel: `portable` or `avx2` (for
 /// comparisons, or to rule the vector code out when debugging). Results are
@@ -120,12 +154,26 @@ pub(crate) fn vector_row_scan(
     if kernel > Kernel::supported() || !matches!(classifier.palette(), Fcsp::Canonical { .. }) {
         return None;
     }
-    match kernel {
-        #[cfg(target_arch = "x86_64")]
-        Kernel::Avx512 => avx512::kernel(layout),
-        #[cfg(target_arch = "x86_64")]
-        Kernel::Avx2 => avx2::kernel(layout),
-        _ => None,
+    #[cfg(target_arch = "x86_64")]
+    {
+        let single = classifier.backgrounds().len() == 1;
+        let vector: VectorKernel = match (kernel, layout, single) {
+            (Kernel::Avx512, PixelLayout::Rgb, true) => avx512::scan_row::<3, true>,
+            (Kernel::Avx512, PixelLayout::Rgb, false) => avx512::scan_row::<3, false>,
+            (Kernel::Avx512, PixelLayout::Rgba, true) => avx512::scan_row::<4, true>,
+            (Kernel::Avx512, PixelLayout::Rgba, false) => avx512::scan_row::<4, false>,
+            (Kernel::Avx2, PixelLayout::Rgb, true) => avx2::scan_row::<3, true>,
+            (Kernel::Avx2, PixelLayout::Rgb, false) => avx2::scan_row::<3, false>,
+            (Kernel::Avx2, PixelLayout::Rgba, true) => avx2::scan_row::<4, true>,
+            (Kernel::Avx2, PixelLayout::Rgba, false) => avx2::scan_row::<4, false>,
+            _ => return None,
+        };
+        Some(RowScan(Choice::Vector(vector)))
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        let _ = layout;
+        None
     }
 }
 
@@ -133,7 +181,7 @@ pub(crate) fn vector_row_scan(
 pub(crate) fn portable_row_scan(layout: PixelLayout, classifier: &Classifier) -> RowScan {
     let canonical = matches!(classifier.palette(), Fcsp::Canonical { .. });
     let single = classifier.backgrounds().len() == 1;
-    match (layout, canonical, single) {
+    let kernel: SafeKernel = match (layout, canonical, single) {
         (PixelLayout::Rgb, true, true) => scan_row::<3, false, true, true>,
         (PixelLayout::Rgb, true, false) => scan_row::<3, false, true, false>,
         (PixelLayout::Rgb, false, true) => scan_row::<3, false, false, true>,
@@ -146,7 +194,8 @@ pub(crate) fn portable_row_scan(layout: PixelLayout, classifier: &Classifier) ->
         (PixelLayout::Gray, false, _) => scan_row::<1, true, false, false>,
         (PixelLayout::GrayAlpha, true, _) => scan_row::<2, true, true, false>,
         (PixelLayout::GrayAlpha, false, _) => scan_row::<2, true, false, false>,
-    }
+    };
+    RowScan(Choice::Portable(kernel))
 }
 
 #[inline(always)]
@@ -157,6 +206,35 @@ fn pack<const BYTES: usize, const GRAY: bool>(row: &[u8], pixel: usize) -> u32 {
     } else {
         (u32::from(row[at]) << 16) | (u32::from(row[at + 1]) << 8) | u32::from(row[at + 2])
     }
+}
+
+/// A byte shuffle for the vector kernels that turns pixels of `BYTES`
+/// samples into `N / 4` lanes of `0x00RRGGBB` (lane byte 0 = B, 1 = G,
+/// 2 = R): lane i takes pixel `i % group` of its group of `group` lanes (a
+/// 128-bit half for AVX2's in-lane shuffle, the whole register for
+/// AVX-512's). Byte 3 is 0x80, which zeroes it (AVX2) or is masked off
+/// (AVX-512).
+#[cfg(target_arch = "x86_64")]
+const fn unpack_table<const BYTES: usize, const N: usize>(group: usize) -> [u8; N] {
+    let mut table = [0x80u8; N];
+    let mut lane = 0;
+    while lane < N / 4 {
+        let pixel = lane % group;
+        table[lane * 4] = (pixel * BYTES + 2) as u8;
+        table[lane * 4 + 1] = (pixel * BYTES + 1) as u8;
+        table[lane * 4 + 2] = (pixel * BYTES) as u8;
+        lane += 1;
+    }
+    table
+}
+
+/// Adds a row of `pixels` pixels to the per-class counts: `background` and
+/// `stray` of them, the rest texels.
+#[inline(always)]
+fn add_row_classes(by_class: &mut ClassCounts, pixels: usize, background: u64, stray: u64) {
+    by_class[PixelClass::Background as usize] += background;
+    by_class[PixelClass::Stray as usize] += stray;
+    by_class[PixelClass::Texel as usize] += pixels as u64 - background - stray;
 }
 
 /// Accumulates the bits of one [`SeenSet`] word at a time.
@@ -270,7 +348,7 @@ mod tests {
         }
         SEEN.with_borrow_mut(|seen| {
             let mut by_class = [0; 3];
-            scan(row, classifier, seen, strays, &mut by_class);
+            scan.scan(row, classifier, seen, strays, &mut by_class);
             let keys = seen.keys();
             seen.clear();
             (by_class, keys)

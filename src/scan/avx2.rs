@@ -7,76 +7,16 @@
 
 use std::arch::x86_64::*;
 
-use super::{ClassCounts, RowScan, WordAccumulator, pack};
+use super::{ClassCounts, WordAccumulator, pack, unpack_table};
 use crate::bitset::{AtomicColorSet, SeenSet, color_key};
-use crate::count::{Classifier, PixelClass};
-use crate::decode::PixelLayout;
+use crate::count::Classifier;
 
-/// The AVX2 kernel for `layout` against a canonical palette. Only for CPUs
-/// where [`super::Kernel::supported`] is at least [`super::Kernel::Avx2`].
-pub(super) fn kernel(layout: PixelLayout) -> Option<RowScan> {
-    match layout {
-        PixelLayout::Rgb => Some(scan_rgb),
-        PixelLayout::Rgba => Some(scan_rgba),
-        PixelLayout::Gray | PixelLayout::GrayAlpha => None,
-    }
-}
-
-fn scan_rgb(
-    row: &[u8],
-    classifier: &Classifier,
-    seen: &mut SeenSet,
-    strays: &AtomicColorSet,
-    by_class: &mut ClassCounts,
-) {
-    // SAFETY: `vector_row_scan` hands out this function only when
-    // `Kernel::supported` found the CPU features it enables.
-    unsafe { scan_row::<3>(row, classifier, seen, strays, by_class) }
-}
-
-fn scan_rgba(
-    row: &[u8],
-    classifier: &Classifier,
-    seen: &mut SeenSet,
-    strays: &AtomicColorSet,
-    by_class: &mut ClassCounts,
-) {
-    // SAFETY: as for `scan_rgb`.
-    unsafe { scan_row::<4>(row, classifier, seen, strays, by_class) }
-}
-
-/// Per 128-bit half: the byte shuffle that turns 4 pixels of `BYTES`
-/// samples into 4 lanes of `0x00RRGGBB` (0x80 zeroes a byte).
-const fn unpack_shuffle<const BYTES: usize>() -> [u8; 32] {
-    let mut shuffle = [0x80u8; 32];
-    let mut lane = 0;
-    while lane < 8 {
-        let pixel = lane % 4;
-        shuffle[lane * 4] = (pixel * BYTES + 2) as u8;
-        shuffle[lane * 4 + 1] = (pixel * BYTES + 1) as u8;
-        shuffle[lane * 4 + 2] = (pixel * BYTES) as u8;
-        lane += 1;
-    }
-    shuffle
-}
-
+/// The AVX2 kernel for rows of `BYTES`-byte pixels (3: RGB, 4: RGBA)
+/// against a canonical palette with one background colour or (when
+/// `SINGLE_BACKGROUND` is false) several; for CPUs where
+/// [`super::Kernel::supported`] is at least [`super::Kernel::Avx2`].
 #[target_feature(enable = "avx2,popcnt,bmi1,bmi2")]
-fn scan_row<const BYTES: usize>(
-    row: &[u8],
-    classifier: &Classifier,
-    seen: &mut SeenSet,
-    strays: &AtomicColorSet,
-    by_class: &mut ClassCounts,
-) {
-    if classifier.backgrounds().len() == 1 {
-        scan_row_with::<BYTES, true>(row, classifier, seen, strays, by_class)
-    } else {
-        scan_row_with::<BYTES, false>(row, classifier, seen, strays, by_class)
-    }
-}
-
-#[target_feature(enable = "avx2,popcnt,bmi1,bmi2")]
-fn scan_row_with<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
+pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
     row: &[u8],
     classifier: &Classifier,
     seen: &mut SeenSet,
@@ -89,8 +29,9 @@ fn scan_row_with<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
     // Every colour and the limit are below 2^31, so signed comparison works.
     let texel_limit = _mm256_set1_epi32(texels as i32);
     let first_background = _mm256_set1_epi32(backgrounds[0] as i32);
-    // SAFETY: 32-byte arrays.
-    let shuffle = unsafe { _mm256_loadu_si256(unpack_shuffle::<BYTES>().as_ptr().cast()) };
+    // In-lane shuffle: each 128-bit half unpacks 4 pixels.
+    // SAFETY: a 32-byte array.
+    let shuffle = unsafe { _mm256_loadu_si256(unpack_table::<BYTES, 32>(4).as_ptr().cast()) };
     // RGB: move bytes 12..24 (pixels 4..8) to the upper 128-bit half.
     let spread = _mm256_setr_epi32(0, 1, 2, 0, 3, 4, 5, 0);
     let rotate = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);
@@ -168,7 +109,5 @@ fn scan_row_with<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
         previous_color = color;
     }
     word.flush(seen);
-    by_class[PixelClass::Background as usize] += background;
-    by_class[PixelClass::Stray as usize] += stray;
-    by_class[PixelClass::Texel as usize] += pixels as u64 - background - stray;
+    super::add_row_classes(by_class, pixels, background, stray);
 }

@@ -4,58 +4,9 @@
 
 use std::arch::x86_64::*;
 
-use super::{ClassCounts, RowScan, WordAccumulator};
+use super::{ClassCounts, WordAccumulator, unpack_table};
 use crate::bitset::{AtomicColorSet, SeenSet};
-use crate::count::{Classifier, PixelClass};
-use crate::decode::PixelLayout;
-
-/// The AVX-512 kernel for `layout` against a canonical palette. Only for
-/// CPUs where [`Kernel::supported`] is [`Kernel::Avx512`].
-pub(super) fn kernel(layout: PixelLayout) -> Option<RowScan> {
-    match layout {
-        PixelLayout::Rgb => Some(scan_rgb),
-        PixelLayout::Rgba => Some(scan_rgba),
-        PixelLayout::Gray | PixelLayout::GrayAlpha => None,
-    }
-}
-
-fn scan_rgb(
-    row: &[u8],
-    classifier: &Classifier,
-    seen: &mut SeenSet,
-    strays: &AtomicColorSet,
-    by_class: &mut ClassCounts,
-) {
-    // SAFETY: `row_scan` hands out this function only after
-    // `avx512_enabled` checked that the CPU has the features it enables.
-    unsafe { scan_row::<3>(row, classifier, seen, strays, by_class) }
-}
-
-fn scan_rgba(
-    row: &[u8],
-    classifier: &Classifier,
-    seen: &mut SeenSet,
-    strays: &AtomicColorSet,
-    by_class: &mut ClassCounts,
-) {
-    // SAFETY: as for `scan_rgb`.
-    unsafe { scan_row::<4>(row, classifier, seen, strays, by_class) }
-}
-
-/// Byte shuffle that turns 16 pixels of `BYTES` samples into 16 lanes of
-/// `0x00RRGGBB` (lane byte 0 = B, 1 = G, 2 = R; byte 3 is zeroed by the
-/// mask in [`scan_row`]).
-const fn unpack_index<const BYTES: usize>() -> [u8; 64] {
-    let mut index = [0u8; 64];
-    let mut lane = 0;
-    while lane < 16 {
-        index[lane * 4] = (lane * BYTES + 2) as u8;
-        index[lane * 4 + 1] = (lane * BYTES + 1) as u8;
-        index[lane * 4 + 2] = (lane * BYTES) as u8;
-        lane += 1;
-    }
-    index
-}
+use crate::count::Classifier;
 
 /// The vector form of [`crate::bitset::color_key`].
 #[target_feature(enable = "avx512f")]
@@ -132,23 +83,12 @@ unsafe fn scan_block<const SINGLE_BACKGROUND: bool>(
     }
 }
 
+/// The AVX-512 kernel for rows of `BYTES`-byte pixels (3: RGB, 4: RGBA)
+/// against a canonical palette with one background colour or (when
+/// `SINGLE_BACKGROUND` is false) several; for CPUs where
+/// [`super::Kernel::supported`] is at least [`super::Kernel::Avx512`].
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi,popcnt,bmi1,bmi2")]
-fn scan_row<const BYTES: usize>(
-    row: &[u8],
-    classifier: &Classifier,
-    seen: &mut SeenSet,
-    strays: &AtomicColorSet,
-    by_class: &mut ClassCounts,
-) {
-    if classifier.backgrounds().len() == 1 {
-        scan_row_with::<BYTES, true>(row, classifier, seen, strays, by_class)
-    } else {
-        scan_row_with::<BYTES, false>(row, classifier, seen, strays, by_class)
-    }
-}
-
-#[target_feature(enable = "avx512f,avx512bw,avx512vbmi,popcnt,bmi1,bmi2")]
-fn scan_row_with<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
+pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
     row: &[u8],
     classifier: &Classifier,
     seen: &mut SeenSet,
@@ -158,7 +98,7 @@ fn scan_row_with<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
     let pixels = row.len() / BYTES;
     let texel_limit = _mm512_set1_epi32(classifier.palette().texel_count() as i32);
     // SAFETY: a 64-byte array.
-    let index = unsafe { _mm512_loadu_si512(unpack_index::<BYTES>().as_ptr().cast()) };
+    let index = unsafe { _mm512_loadu_si512(unpack_table::<BYTES, 64>(16).as_ptr().cast()) };
     // 16 pixels' bytes: 48 of RGB, 64 of RGBA.
     const fn bytes_mask(bytes: usize) -> u64 {
         if bytes >= 64 { !0 } else { (1u64 << bytes) - 1 }
@@ -175,6 +115,8 @@ fn scan_row_with<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
     let mut previous = _mm512_set1_epi32(-1);
     let mut word = WordAccumulator::new();
     let (mut background, mut stray) = (0u64, 0u64);
+    // Two explicit calls rather than one closure: rustc keeps such a closure
+    // out of line, which cost 5 % of the whole count (measured).
     let full_blocks = pixels / 16;
     for block in 0..full_blocks {
         let colors = unpack(block * 16, 16);
@@ -216,7 +158,5 @@ fn scan_row_with<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
         stray += u64::from(tally.stray);
     }
     word.flush(seen);
-    by_class[PixelClass::Background as usize] += background;
-    by_class[PixelClass::Stray as usize] += stray;
-    by_class[PixelClass::Texel as usize] += pixels as u64 - background - stray;
+    super::add_row_classes(by_class, pixels, background, stray);
 }
