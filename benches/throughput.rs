@@ -2,9 +2,11 @@
 //! faithful per-pixel hash-map implementation of the original algorithm, on
 //! the same tiles in the same run, with the ratios the issue targets.
 //!
-//! `cargo bench --bench throughput -- [--frames N] [--block N] [--archive DIR] [--keep DIR]`
+//! `cargo bench --bench throughput -- [--frames N] [--block N] [--archive DIR] [--keep DIR] [--kernels]`
 //!
 //! `--keep DIR` writes the generated archive to DIR and leaves it there.
+//! `--kernels` times only the row kernels on decoded rows (one thread, each
+//! kernel this CPU runs), for work on the kernels.
 //!
 //! Without `--archive` it generates a realistic archive (1284×1620 tiles,
 //! 5×5 per eye, mostly empty; object tiles with smooth unique-colour
@@ -19,6 +21,7 @@ use std::time::Instant;
 use rayon::prelude::*;
 use ufcsr::bitset::{AtomicColorSet, SeenSet};
 use ufcsr::decode::{RowReader, map_file};
+use ufcsr::scan::{Kernel, RowScan};
 use ufcsr::synthetic::{ArchiveSpec, write_archive};
 use ufcsr::{AnalyzeOptions, Classifier, Counts, Fcsp, analyze, scan_image};
 
@@ -27,10 +30,12 @@ struct Args {
     block: u32,
     archive: Option<PathBuf>,
     keep: Option<PathBuf>,
+    /// Only the row kernels on decoded rows (quick, for kernel work).
+    kernels_only: bool,
 }
 
 fn parse_args() -> Args {
-    let mut args = Args { frames: 3, block: 3, archive: None, keep: None };
+    let mut args = Args { frames: 3, block: 3, archive: None, keep: None, kernels_only: false };
     let mut iter = std::env::args().skip(1);
     while let Some(arg) = iter.next() {
         match arg.as_str() {
@@ -38,6 +43,7 @@ fn parse_args() -> Args {
             "--block" => args.block = iter.next().and_then(|v| v.parse().ok()).unwrap_or(args.block),
             "--archive" => args.archive = iter.next().map(PathBuf::from),
             "--keep" => args.keep = iter.next().map(PathBuf::from),
+            "--kernels" => args.kernels_only = true,
             _ => {} // cargo bench passes --bench
         }
     }
@@ -96,6 +102,60 @@ fn ours(files: &[PathBuf], classifier: &Classifier) -> Counts {
     counts
 }
 
+/// The row kernels alone, one thread, on rows decoded beforehand: nanoseconds
+/// per pixel for each kernel this CPU runs, including the commit of each
+/// tile's texels to the counts.
+fn kernels_alone(files: &[PathBuf], classifier: &Classifier) {
+    // A few tiles, kept decoded in memory (1284×1620×3 bytes each).
+    let tiles: Vec<(ufcsr::decode::PixelLayout, Vec<Vec<u8>>)> = files
+        .iter()
+        .take(12)
+        .map(|path| {
+            let bytes = map_file(path).unwrap();
+            let mut reader = RowReader::new(path, &bytes).unwrap();
+            let mut rows = Vec::new();
+            while let Some(row) = reader.next_row().unwrap() {
+                rows.push(row.to_vec());
+            }
+            (reader.layout(), rows)
+        })
+        .collect();
+    let pixels: usize = tiles
+        .iter()
+        .map(|(layout, rows)| rows.iter().map(|r| r.len() / layout.bytes_per_pixel()).sum::<usize>())
+        .sum();
+    let counts = Counts::new();
+    let strays = AtomicColorSet::new();
+    let mut seen = SeenSet::new();
+    for kernel in [Kernel::Portable, Kernel::Avx2, Kernel::Avx512] {
+        if kernel > Kernel::supported() {
+            continue;
+        }
+        let mut by_class = [0u64; 3];
+        let mut commit = 0.0;
+        let scan = best_of(3, || {
+            commit = 0.0;
+            for (layout, rows) in &tiles {
+                let kernel = RowScan::new(kernel, *layout, classifier);
+                for row in rows {
+                    kernel.scan(row, classifier, &mut seen, &strays, &mut by_class);
+                }
+                let start = Instant::now();
+                counts.add_set(&mut seen);
+                commit += start.elapsed().as_secs_f64();
+            }
+        });
+        println!(
+            "  {:<8} kernel alone (1 thread, decoded rows)  {:5.2} ns/pixel, of which commit {:4.2}",
+            kernel.name(),
+            scan * 1e9 / pixels as f64,
+            commit * 1e9 / pixels as f64
+        );
+        black_box(by_class);
+    }
+    black_box(counts);
+}
+
 /// The original algorithm: decode the whole image, put every pixel's colour
 /// into a hash set, then add one per distinct colour to a hash map.
 fn hash_map_baseline(files: &[PathBuf]) -> HashMap<u32, u32> {
@@ -144,7 +204,26 @@ fn main() {
     };
     let threads = rayon::current_num_threads();
 
-    // The whole job first (so peak memory is ours alone).
+    // Same tiles for the three contenders: the non-empty ones.
+    // The archive's own images (the manifest's tiles; never the PIdT).
+    let listed = match ufcsr::Manifest::load_from_dir(&archive).unwrap() {
+        Some(manifest) => ufcsr::Archive::from_manifest(&archive, &manifest),
+        None => ufcsr::Archive::scan_folder(&archive, &[]).unwrap(),
+    };
+    let files: Vec<PathBuf> =
+        listed.images.into_iter().map(|image| image.path).filter(|path| !is_empty_tile(path)).collect();
+    let pixels: u64 = files.iter().map(|p| pixels_of(p)).sum();
+    let megapixels = pixels as f64 / 1e6;
+    let palette = Fcsp::canonical(4096, 4096).unwrap();
+    let classifier = Classifier::new(&palette, &[0x000FFF]).unwrap();
+    if args.kernels_only {
+        let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+        one_thread.install(|| kernels_alone(&files, &classifier));
+        return;
+    }
+
+    // The whole job first (so peak memory is ours alone; the listing above
+    // only read headers and decoded rows one at a time).
     let options = AnalyzeOptions { archive: archive.clone(), ..Default::default() };
     let start = Instant::now();
     let analysis = analyze(&options, None).unwrap();
@@ -160,19 +239,6 @@ fn main() {
         images.found as f64 / whole,
         rss
     );
-
-    // Same tiles for the three contenders: the non-empty ones.
-    // The archive's own images (the manifest's tiles; never the PIdT).
-    let listed = match ufcsr::Manifest::load_from_dir(&archive).unwrap() {
-        Some(manifest) => ufcsr::Archive::from_manifest(&archive, &manifest),
-        None => ufcsr::Archive::scan_folder(&archive, &[]).unwrap(),
-    };
-    let files: Vec<PathBuf> =
-        listed.images.into_iter().map(|image| image.path).filter(|path| !is_empty_tile(path)).collect();
-    let pixels: u64 = files.iter().map(|p| pixels_of(p)).sum();
-    let megapixels = pixels as f64 / 1e6;
-    let palette = Fcsp::canonical(4096, 4096).unwrap();
-    let classifier = Classifier::new(&palette, &[0x000FFF]).unwrap();
 
     let decode = best_of(3, || {
         black_box(decode_only(&files));
@@ -196,8 +262,11 @@ fn main() {
     println!("  ufcsr decode + count       {:8.1} Mpixel/s", megapixels / count);
     println!("  per-pixel hash map (orig.) {:8.1} Mpixel/s", megapixels / baseline);
     println!("  ratio ufcsr / decode-only   {:6.2}  (target ≥ 0.70)", decode / count);
+    println!("  decode only, per thread      {:5.2} ns/pixel", decode * threads as f64 * 1e9 / pixels as f64);
     println!("  ratio ufcsr / hash map      {:6.1}x", baseline / count);
     println!("  counts identical to the hash map: {agree}");
+    let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    one_thread.install(|| kernels_alone(&files, &classifier));
     assert!(agree, "dense and hash-map counts differ");
 }
 

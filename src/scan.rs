@@ -31,11 +31,9 @@ mod avx2;
 mod avx512;
 
 /// Pixel counts by [`PixelClass`] (indexed by its discriminant).
-pub(crate) type ClassCounts = [u64; 3];
+pub type ClassCounts = [u64; 3];
 
-/// A row kernel: classifies `row`, adds its palette texels (as
-/// [`color_key`]s) to the set, its stray colours to the stray set, and its
-/// pixels to the per-class counts.
+/// A row kernel (see [`RowScan::scan`]).
 type SafeKernel = fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet, &mut ClassCounts);
 
 /// A row kernel compiled for CPU features the CPU may lack.
@@ -43,7 +41,7 @@ type VectorKernel = unsafe fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet,
 
 /// The row kernel chosen for one image.
 #[derive(Clone, Copy)]
-pub(crate) struct RowScan(Choice);
+pub struct RowScan(Choice);
 
 #[derive(Clone, Copy)]
 enum Choice {
@@ -53,9 +51,24 @@ enum Choice {
 }
 
 impl RowScan {
-    /// Scans one row (see [`SafeKernel`]).
+    /// The row kernel of `kernel` for `layout` and the classifier's palette,
+    /// or the portable one where `kernel` has none or the CPU cannot run it
+    /// (for benchmarks and tests; [`scan_image`](crate::count::scan_image)
+    /// uses [`Kernel::selected`]).
+    pub fn new(kernel: Kernel, layout: PixelLayout, classifier: &Classifier) -> RowScan {
+        vector_row_scan(kernel, layout, classifier).unwrap_or_else(|| portable_row_scan(layout, classifier))
+    }
+
+    /// True for a vector kernel.
+    pub fn is_vector(self) -> bool {
+        matches!(self.0, Choice::Vector(_))
+    }
+
+    /// Classifies `row` (decoded samples of `layout`), adds its palette
+    /// texels (as [`color_key`]s) to `seen`, its stray colours to `strays`,
+    /// and its pixels to `by_class`.
     #[inline]
-    pub(crate) fn scan(
+    pub fn scan(
         self,
         row: &[u8],
         classifier: &Classifier,
@@ -139,8 +152,7 @@ impl Kernel {
 /// The row kernel of [`Kernel::selected`] for `layout` and the classifier's
 /// palette.
 pub(crate) fn row_scan(layout: PixelLayout, classifier: &Classifier) -> RowScan {
-    vector_row_scan(Kernel::selected(), layout, classifier)
-        .unwrap_or_else(|| portable_row_scan(layout, classifier))
+    RowScan::new(Kernel::selected(), layout, classifier)
 }
 
 /// The vector row kernel of `kernel`, if it has one for `layout` and the
