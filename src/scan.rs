@@ -116,20 +116,23 @@ impl Kernel {
         [Kernel::Portable, Kernel::Avx2, Kernel::Avx512].into_iter().find(|kernel| kernel.name() == name)
     }
 
-    /// The best kernel this CPU can run.
+    /// The best kernel this CPU can run (detected once).
     pub fn supported() -> Kernel {
-        #[cfg(target_arch = "x86_64")]
-        {
-            use std::arch::is_x86_feature_detected as has;
-            let scalar = has!("popcnt") && has!("bmi1") && has!("bmi2");
-            if scalar && has!("avx512f") && has!("avx512bw") && has!("avx512vbmi") {
-                return Kernel::Avx512;
+        static SUPPORTED: std::sync::OnceLock<Kernel> = std::sync::OnceLock::new();
+        *SUPPORTED.get_or_init(|| {
+            #[cfg(target_arch = "x86_64")]
+            {
+                use std::arch::is_x86_feature_detected as has;
+                let scalar = has!("popcnt") && has!("bmi1") && has!("bmi2");
+                if scalar && has!("avx512f") && has!("avx512bw") && has!("avx512vbmi") {
+                    return Kernel::Avx512;
+                }
+                if scalar && has!("avx2") {
+                    return Kernel::Avx2;
+                }
             }
-            if scalar && has!("avx2") {
-                return Kernel::Avx2;
-            }
-        }
-        Kernel::Portable
+            Kernel::Portable
+        })
     }
 
     /// The value of [`KERNEL_ENV`] when it names no kernel (for a warning).
