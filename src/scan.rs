@@ -59,11 +59,6 @@ impl RowScan {
         vector_row_scan(kernel, layout, classifier).unwrap_or_else(|| portable_row_scan(layout, classifier))
     }
 
-    /// True for a vector kernel.
-    pub fn is_vector(self) -> bool {
-        matches!(self.0, Choice::Vector(_))
-    }
-
     /// Classifies `row` (decoded samples of `layout`), adds its palette
     /// texels (as [`color_key`]s) to `seen`, its stray colours to `strays`,
     /// and its pixels to `by_class`.
