@@ -101,19 +101,18 @@ const BLOCKS_PER_SHARD: usize = SHARD_SIZE / SeenSet::BLOCK_KEYS;
 /// Moves the keys of `seen` that fall in `shard` into its `counts`, with
 /// the vector instructions of `kernel` where this CPU has them.
 fn add_blocks(kernel: Kernel, seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
-    let kernel = kernel.min(Kernel::supported());
-    #[cfg(target_arch = "x86_64")]
-    if kernel == Kernel::Avx512 {
-        // SAFETY: the CPU supports the kernel (see above).
-        unsafe { add_blocks_avx512(seen, shard, counts) };
-        return;
+    match kernel.min(Kernel::supported()) {
+        // SAFETY (both): the CPU supports the kernel, clamped just above.
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx512 => unsafe { add_blocks_avx512(seen, shard, counts) },
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx2 => unsafe { add_blocks_avx2(seen, shard, counts) },
+        _ => add_blocks_portable(seen, shard, counts),
     }
-    #[cfg(target_arch = "x86_64")]
-    if kernel == Kernel::Avx2 {
-        // SAFETY: the CPU supports the kernel (see above).
-        unsafe { add_blocks_avx2(seen, shard, counts) };
-        return;
-    }
+}
+
+/// [`add_blocks`] one count at a time.
+fn add_blocks_portable(seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
     seen.drain_blocks(shard * BLOCKS_PER_SHARD, BLOCKS_PER_SHARD, |index, mut word| {
         let offset = (index * 64) & (SHARD_SIZE - 1);
         let slots = &mut counts[offset..offset + 64];

@@ -44,6 +44,8 @@ type VectorKernel = unsafe fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet,
 pub struct RowScan(Choice);
 
 #[derive(Clone, Copy)]
+// Vector kernels exist on x86-64 only.
+#[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 enum Choice {
     Portable(SafeKernel),
     /// Only built by [`vector_row_scan`], after checking the CPU.
@@ -240,6 +242,7 @@ const fn unpack_table<const BYTES: usize, const N: usize>(group: usize) -> [u8; 
 
 /// Adds a row of `pixels` pixels to the per-class counts: `background` and
 /// `stray` of them, the rest texels.
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 fn add_row_classes(by_class: &mut ClassCounts, pixels: usize, background: u64, stray: u64) {
     by_class[PixelClass::Background as usize] += background;
