@@ -104,7 +104,7 @@ fn ours(files: &[PathBuf], classifier: &Classifier) -> Counts {
 
 /// The row kernels alone, one thread, on rows decoded beforehand: nanoseconds
 /// per pixel for each kernel this CPU runs, including the commit of each
-/// tile's texels to the counts.
+/// tile's texels to the counts (with the selected kernel's count updates).
 fn kernels_alone(files: &[PathBuf], classifier: &Classifier) {
     // A few tiles, kept decoded in memory (1284×1620×3 bytes each).
     let tiles: Vec<(ufcsr::decode::PixelLayout, Vec<Vec<u8>>)> = files
@@ -146,10 +146,11 @@ fn kernels_alone(files: &[PathBuf], classifier: &Classifier) {
             }
         });
         println!(
-            "  {:<8} kernel alone (1 thread, decoded rows)  {:5.2} ns/pixel, of which commit {:4.2}",
+            "  {:<8} kernel alone (1 thread, decoded rows)  {:5.2} ns/pixel, of which commit {:4.2} ({} count updates)",
             kernel.name(),
             scan * 1e9 / pixels as f64,
-            commit * 1e9 / pixels as f64
+            commit * 1e9 / pixels as f64,
+            Kernel::selected().name()
         );
         black_box(by_class);
     }

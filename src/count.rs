@@ -111,11 +111,20 @@ fn add_blocks(kernel: Kernel, seen: &mut SeenSet, shard: usize, counts: &mut [u3
     }
 }
 
+/// Calls `add(slots, word)` for every non-zero 64-bit word of `seen` that
+/// falls in `shard`, with the 64 counts its bits stand for, and removes those
+/// keys from `seen`. Always inlined, so each caller's `add` is too.
+#[inline(always)]
+fn drain_shard(seen: &mut SeenSet, shard: usize, counts: &mut [u32], mut add: impl FnMut(&mut [u32], u64)) {
+    seen.drain_blocks(shard * BLOCKS_PER_SHARD, BLOCKS_PER_SHARD, |index, word| {
+        let offset = (index * 64) & (SHARD_SIZE - 1);
+        add(&mut counts[offset..offset + 64], word);
+    });
+}
+
 /// [`add_blocks`] one count at a time.
 fn add_blocks_portable(seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
-    seen.drain_blocks(shard * BLOCKS_PER_SHARD, BLOCKS_PER_SHARD, |index, mut word| {
-        let offset = (index * 64) & (SHARD_SIZE - 1);
-        let slots = &mut counts[offset..offset + 64];
+    drain_shard(seen, shard, counts, |slots, mut word| {
         while word != 0 {
             let slot = &mut slots[word.trailing_zeros() as usize];
             *slot = slot.saturating_add(1);
@@ -131,9 +140,7 @@ fn add_blocks_portable(seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
 fn add_blocks_avx512(seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
     use std::arch::x86_64::*;
     let (one, full) = (_mm512_set1_epi32(1), _mm512_set1_epi32(-1));
-    seen.drain_blocks(shard * BLOCKS_PER_SHARD, BLOCKS_PER_SHARD, |index, word| {
-        let offset = (index * 64) & (SHARD_SIZE - 1);
-        let slots = &mut counts[offset..offset + 64];
+    drain_shard(seen, shard, counts, |slots, word| {
         for (quarter, lanes) in slots.chunks_exact_mut(16).enumerate() {
             let mask = (word >> (16 * quarter)) as u16;
             if mask != 0 {
@@ -160,9 +167,7 @@ fn add_blocks_avx2(seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
     use std::arch::x86_64::*;
     let lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
     let full = _mm256_set1_epi32(-1);
-    seen.drain_blocks(shard * BLOCKS_PER_SHARD, BLOCKS_PER_SHARD, |index, word| {
-        let offset = (index * 64) & (SHARD_SIZE - 1);
-        let slots = &mut counts[offset..offset + 64];
+    drain_shard(seen, shard, counts, |slots, word| {
         for (eighth, lanes) in slots.chunks_exact_mut(8).enumerate() {
             let byte = (word >> (8 * eighth)) as u8;
             if byte != 0 {
