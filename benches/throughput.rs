@@ -106,10 +106,11 @@ fn ours(files: &[PathBuf], classifier: &Classifier) -> Counts {
 /// per pixel for each kernel this CPU runs, including the commit of each
 /// tile's texels to the counts (with the selected kernel's count updates).
 fn kernels_alone(files: &[PathBuf], classifier: &Classifier) {
-    // A few tiles, kept decoded in memory (1284×1620×3 bytes each).
+    // 12 tiles spread over the archive (an approach changes from frame to
+    // frame), kept decoded in memory (1284×1620×3 bytes each).
     let tiles: Vec<(ufcsr::decode::PixelLayout, Vec<Vec<u8>>)> = files
         .iter()
-        .take(12)
+        .step_by(files.len().div_ceil(12).max(1))
         .map(|path| {
             let bytes = map_file(path).unwrap();
             let mut reader = RowReader::new(path, &bytes).unwrap();

@@ -9,7 +9,7 @@ use std::arch::x86_64::*;
 
 use super::{ClassCounts, WordAccumulator, pack, unpack_table};
 use crate::bitset::{AtomicColorSet, SeenSet, color_key};
-use crate::count::Classifier;
+use crate::count::{Classifier, PixelClass};
 
 /// The AVX2 kernel for rows of `BYTES`-byte pixels (3: RGB, 4: RGBA)
 /// against a canonical palette with one background colour or (when
@@ -42,10 +42,25 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
     let mut word = WordAccumulator::new();
     let (mut background, mut stray) = (0u64, 0u64);
     let mut lane_values = [0u32; 8];
+    // The bytes of 8 pixels within a 32-byte load.
+    let block_bytes_mask = if BYTES == 4 { u32::MAX } else { (1u32 << (8 * BYTES)) - 1 };
+    let mut last_class = PixelClass::Background as usize;
     for block in 0..blocks {
-        // SAFETY: `blocks` keeps the 32 bytes from `block * 8 * BYTES` inside
-        // `row`.
-        let raw = unsafe { _mm256_loadu_si256(row.as_ptr().add(block * 8 * BYTES).cast()) };
+        let at = block * 8 * BYTES;
+        // SAFETY: `blocks` keeps the 32 bytes from `at` inside `row`.
+        let raw = unsafe { _mm256_loadu_si256(row.as_ptr().add(at).cast()) };
+        if block > 0 {
+            // SAFETY: `at - BYTES` is at least 0 for every block after the
+            // first, and ends before `at + 32`.
+            let before = unsafe { _mm256_loadu_si256(row.as_ptr().add(at - BYTES).cast()) };
+            let equal = _mm256_movemask_epi8(_mm256_cmpeq_epi8(raw, before)) as u32;
+            if equal & block_bytes_mask == block_bytes_mask {
+                // Each pixel repeats the one before it: see the AVX-512 kernel.
+                background += 8 * u64::from(last_class == PixelClass::Background as usize);
+                stray += 8 * u64::from(last_class == PixelClass::Stray as usize);
+                continue;
+            }
+        }
         let raw = if BYTES == 3 { _mm256_permutevar8x32_epi32(raw, spread) } else { raw };
         let colors = _mm256_shuffle_epi8(raw, shuffle);
         let mut is_background = _mm256_cmpeq_epi32(colors, first_background);
@@ -72,6 +87,8 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
         let same = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(colors, left))) as u32;
         let fresh = is_texel & !same;
         previous = colors;
+        // Background 0, texel 1, stray 2 (the two flags never both hold).
+        last_class = (1 - (is_background >> 7) as usize) * (1 + (is_stray >> 7) as usize);
         if fresh | is_stray != 0 {
             // SAFETY: a 32-byte array.
             unsafe { _mm256_storeu_si256(lane_values.as_mut_ptr().cast(), colors) };
