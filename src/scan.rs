@@ -5,14 +5,18 @@
 //! (a unit test compares them on random rows):
 //!
 //! * a portable kernel for every sample layout and palette kind, which scans
-//!   blocks of 16 pixels without branches and skips a block equal to the block
-//!   one pixel earlier (a run of background, or of one magnified texel) with
-//!   one comparison;
+//!   blocks of 16 pixels without branches;
 //! * vector kernels for RGB and RGBA rows against the canonical palette (the
 //!   layout every capture writes), picked at run time ([`Kernel`]): AVX-512
-//!   (`scan/avx512.rs`, 16 pixels per instruction) and AVX2 (`scan/avx2.rs`, 8). They
-//!   classify whole blocks at once and leave to scalar code only the texels
-//!   whose colour differs from their left neighbour's.
+//!   (`scan/avx512.rs`, 16 pixels per instruction) and AVX2
+//!   (`scan/avx2.rs`, 8). They classify whole blocks at once and leave to
+//!   scalar code only the texels whose colour differs from their left
+//!   neighbour's.
+//!
+//! Every kernel skips a block whose bytes equal the bytes one pixel earlier
+//! (a run of background, or of one magnified texel) with one comparison: it
+//! repeats the last pixel scanned, so it adds that pixel's class and nothing
+//! new.
 //!
 //! All accumulate the bits of one 64-bit word of the [`SeenSet`] in a
 //! register and write it back only when a pixel needs another word:

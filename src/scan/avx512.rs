@@ -1,6 +1,7 @@
-//! The AVX-512 row kernel (x86-64 only, chosen at run time): unpacks,
-//! classifies and keys 16 RGB or RGBA pixels per instruction and hands only
-//! the texels whose colour differs from their left neighbour's to scalar code.
+//! The AVX-512 row kernel (x86-64 only, chosen at run time): skips blocks
+//! that repeat the pixel before them, unpacks, classifies and keys 16 RGB or
+//! RGBA pixels per instruction, and hands only the texels whose colour
+//! differs from their left neighbour's to scalar code.
 
 use std::arch::x86_64::*;
 
