@@ -184,10 +184,12 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
     if let Some(progress) = progress {
         progress.start(images.len() as u64);
     }
-    // One pair of 2 MiB sets per worker thread, reused for every image: fresh
-    // sets per rayon split would pay their page faults again and again.
-    let worker_sets: Vec<Mutex<(SeenSet, SeenSet)>> =
-        (0..rayon::current_num_threads()).map(|_| Mutex::new((SeenSet::new(), SeenSet::new()))).collect();
+    // Per worker thread a 2 MiB set for the image, and one for the eye-frame
+    // in frame mode, reused for every image: fresh sets per rayon split
+    // would pay their page faults again and again.
+    let worker_sets: Vec<Mutex<(SeenSet, Option<SeenSet>)>> = (0..rayon::current_num_threads())
+        .map(|_| Mutex::new((SeenSet::new(), frame_counts.as_ref().map(|_| SeenSet::new()))))
+        .collect();
     let mut outcomes: Vec<(usize, Outcome)> = units
         .par_iter()
         .map(|unit| {
@@ -204,7 +206,7 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
                 }
                 let outcome = count_one(index, &inputs.archive, &plan, &classifier, seen, &strays);
                 if let Outcome::Decoded(_) = outcome {
-                    if frame_counts.is_some() {
+                    if let Some(frame_seen) = frame_seen.as_mut() {
                         seen.merge_into(frame_seen);
                     }
                     image_counts.add_set(seen);
@@ -219,7 +221,7 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
                     progress.advance(1);
                 }
             }
-            if let Some(counts) = &frame_counts {
+            if let (Some(counts), Some(frame_seen)) = (&frame_counts, frame_seen.as_mut()) {
                 counts.add_set(frame_seen);
             }
             unit_outcomes
