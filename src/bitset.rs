@@ -107,9 +107,9 @@ impl SeenSet {
     }
 
     /// Calls `visit(index, word)` for every non-zero word, in ascending order
-    /// of `index` from dirty word `first_dirty` on, wrapping around.
-    fn for_each_word(&self, first_dirty: usize, mut visit: impl FnMut(usize, u64)) {
-        for dirty_index in (first_dirty..DIRTY_WORDS).chain(0..first_dirty) {
+    /// of `index`.
+    fn for_each_word(&self, mut visit: impl FnMut(usize, u64)) {
+        for dirty_index in 0..DIRTY_WORDS {
             let mut marks = self.dirty[dirty_index];
             while marks != 0 {
                 let index = dirty_index * 64 + marks.trailing_zeros() as usize;
@@ -125,7 +125,7 @@ impl SeenSet {
     /// Number of keys in the set.
     pub fn len(&self) -> usize {
         let mut members = 0;
-        self.for_each_word(0, |_, word| members += word.count_ones() as usize);
+        self.for_each_word(|_, word| members += word.count_ones() as usize);
         members
     }
 
@@ -137,7 +137,7 @@ impl SeenSet {
     /// The members in ascending order.
     pub fn keys(&self) -> Vec<u32> {
         let mut keys = Vec::new();
-        self.for_each_word(0, |index, mut word| {
+        self.for_each_word(|index, mut word| {
             while word != 0 {
                 keys.push(((index as u32) << 6) | word.trailing_zeros());
                 word &= word - 1;
@@ -148,7 +148,7 @@ impl SeenSet {
 
     /// Adds every member of this set to `other`.
     pub fn merge_into(&self, other: &mut SeenSet) {
-        self.for_each_word(0, |index, word| other.or_word(index, word));
+        self.for_each_word(|index, word| other.or_word(index, word));
     }
 
     /// Keys per block of [`SeenSet::drain_blocks`] (2^12).
@@ -184,13 +184,7 @@ impl SeenSet {
 
     /// Empties the set in time proportional to the words it touched.
     pub fn clear(&mut self) {
-        for dirty_index in 0..DIRTY_WORDS {
-            let mut marks = std::mem::take(&mut self.dirty[dirty_index]);
-            while marks != 0 {
-                self.words[dirty_index * 64 + marks.trailing_zeros() as usize] = 0;
-                marks &= marks - 1;
-            }
-        }
+        self.drain_blocks(0, DIRTY_WORDS, |_, _| {});
     }
 }
 
