@@ -2,12 +2,12 @@
 //! AVX-512, such as most Intel desktop parts since Alder Lake): the AVX-512
 //! kernel's method on 8 pixels per instruction. AVX2 has neither masked
 //! loads of bytes nor a compress instruction, so whole 32-byte loads cover
-//! the row up to its last full block, the rest of the row is finished in
-//! scalar code, and new texels are picked from a bit mask.
+//! the row up to its last full block, the portable kernel finishes the row,
+//! and new texels are picked from a bit mask.
 
 use std::arch::x86_64::*;
 
-use super::{ClassCounts, WordAccumulator, pack, unpack_table};
+use super::{ClassCounts, WordAccumulator, unpack_table};
 use crate::bitset::{AtomicColorSet, SeenSet, color_key};
 use crate::count::{Classifier, PixelClass};
 
@@ -106,25 +106,16 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
             }
         }
     }
-    // The rest of the row, one pixel at a time, continuing from the blocks.
-    // SAFETY: a 32-byte array.
-    unsafe { _mm256_storeu_si256(lane_values.as_mut_ptr().cast(), previous) };
-    let mut previous_color = lane_values[7];
-    for pixel in blocks * 8..pixels {
-        let color = pack::<BYTES, false>(row, pixel);
-        let is_background =
-            if SINGLE_BACKGROUND { color == backgrounds[0] } else { backgrounds.contains(&color) };
-        if is_background {
-            background += 1;
-        } else if color >= texels {
-            stray += 1;
-            strays.insert(color);
-        } else if color != previous_color {
-            let key = color_key(color);
-            word.add(seen, (key >> 6) as usize, 1u64 << (key & 63));
-        }
-        previous_color = color;
-    }
     word.flush(seen);
-    super::add_row_classes(by_class, pixels, background, stray);
+    super::add_row_classes(by_class, blocks * 8, background, stray);
+    // The rest of the row (a few pixels): the portable kernel. It does
+    // not know the last block's colours, so it may set a bit that is already
+    // set, which changes nothing.
+    super::scan_row::<BYTES, false, true, SINGLE_BACKGROUND>(
+        &row[blocks * 8 * BYTES..],
+        classifier,
+        seen,
+        strays,
+        by_class,
+    );
 }
