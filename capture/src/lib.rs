@@ -20,11 +20,13 @@ pub mod gpu;
 pub mod mesh;
 pub mod palette;
 pub mod pidt;
+pub mod regions;
 pub mod render;
 pub mod rig;
 pub mod scene;
 pub mod track;
 pub mod unity;
 pub mod unwrap;
+pub mod vehicle;
 
 pub use error::{CaptureError, Result};

@@ -114,6 +114,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             return Ok(());
         }
     };
+    for warning in &scene.warnings {
+        eprintln!("warning: {warning}");
+    }
     if let Some(json) = &common.rig {
         scene.rig = scene.rig.override_with(json)?;
     }

@@ -24,6 +24,9 @@ pub struct Mesh {
     /// Index into `parts` for each triangle.
     pub triangle_part: Vec<u32>,
     pub parts: Vec<String>,
+    /// Primitives (glTF) or objects (OBJ) that came without UVs, named for
+    /// the `--keep-uvs` error; `uvs` is `None` when this is not empty.
+    pub missing_uvs: Vec<String>,
 }
 
 impl Mesh {
@@ -83,6 +86,7 @@ impl Mesh {
             (Some(uvs), Some(theirs)) => uvs.extend(theirs),
             _ => self.uvs = None,
         }
+        self.missing_uvs.extend(other.missing_uvs.iter().cloned());
         self.triangles.extend(other.triangles.iter().map(|t| t.map(|i| i + base)));
         self.triangle_part.extend(other.triangle_part.iter().map(|&p| map[p as usize]));
     }
@@ -168,12 +172,16 @@ pub struct Axes {
     pub up: String,
     /// Uniform scale to metres.
     pub scale: f64,
+    /// The point of the file (file units, after glTF node transforms) that
+    /// becomes the vehicle's origin — on the ground under its centre. It is
+    /// subtracted before scaling and axis conversion.
+    pub origin: [f64; 3],
 }
 
 impl Default for Axes {
     /// glTF's convention: +Y up, the front of the asset facing +Z.
     fn default() -> Axes {
-        Axes { forward: "+z".into(), up: "+y".into(), scale: 1.0 }
+        Axes { forward: "+z".into(), up: "+y".into(), scale: 1.0, origin: [0.0; 3] }
     }
 }
 
@@ -193,8 +201,8 @@ fn parse_axis(text: &str) -> Result<Vec3> {
 }
 
 impl Axes {
-    /// The map from file coordinates to the vehicle frame.
-    pub fn converter(&self) -> Result<impl Fn([f32; 3]) -> Vec3 + use<>> {
+    /// The file's forward, left and up unit axes.
+    fn basis(&self) -> Result<[Vec3; 3]> {
         let forward = parse_axis(&self.forward)?;
         let up = parse_axis(&self.up)?;
         if forward.dot(up) != 0.0 {
@@ -203,13 +211,32 @@ impl Axes {
                 self.forward, self.up
             )));
         }
+        if !(self.scale.is_finite() && self.scale > 0.0 && DVec3::from(self.origin).is_finite()) {
+            return Err(CaptureError::BadOptions(format!(
+                "axes: scale must be positive and origin finite (scale {}, origin {:?})",
+                self.scale, self.origin
+            )));
+        }
         // Vehicle frame: x forward, y left, z up; right-handed, so left = up × forward.
-        let left = up.cross(forward);
+        Ok([forward, up.cross(forward), up])
+    }
+
+    /// The map from file coordinates to the vehicle frame.
+    pub fn converter(&self) -> Result<impl Fn([f32; 3]) -> Vec3 + use<>> {
+        let [forward, left, up] = self.basis()?;
         let scale = self.scale as f32;
+        let origin = DVec3::from(self.origin).as_vec3();
         Ok(move |p: [f32; 3]| {
-            let p = Vec3::from(p) * scale;
+            let p = (Vec3::from(p) - origin) * scale;
             vec3(p.dot(forward), p.dot(left), p.dot(up))
         })
+    }
+
+    /// The inverse of [`Axes::converter`]: where a vehicle-frame point lies
+    /// in the file (to suggest an `origin`).
+    pub fn to_file(&self, vehicle: DVec3) -> Result<DVec3> {
+        let [forward, left, up] = self.basis()?.map(|v| v.as_dvec3());
+        Ok((forward * vehicle.x + left * vehicle.y + up * vehicle.z) / self.scale + DVec3::from(self.origin))
     }
 }
 
@@ -268,7 +295,12 @@ fn load_gltf(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
             mesh.positions.extend(positions);
             match (&mut mesh.uvs, uvs) {
                 (Some(all), Some(uvs)) if uvs.len() == count => all.extend(uvs),
-                _ => mesh.uvs = None,
+                (_, uvs) => {
+                    mesh.uvs = None;
+                    if uvs.is_none_or(|uvs| uvs.len() != count) {
+                        mesh.missing_uvs.push(describe_primitive(&node, &node_mesh, &primitive, number));
+                    }
+                }
             }
             // A mirroring transform flips the winding; culling is off, so it does not matter.
             for tri in indices.chunks_exact(3) {
@@ -278,6 +310,24 @@ fn load_gltf(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
         }
     }
     Ok(mesh)
+}
+
+/// Names a glTF primitive for messages: node, mesh, primitive number and material.
+fn describe_primitive(
+    node: &gltf::Node,
+    mesh: &gltf::Mesh,
+    primitive: &gltf::Primitive,
+    number: usize,
+) -> String {
+    let quoted = |name: Option<&str>| name.map_or_else(|| "unnamed".to_string(), |n| format!("{n:?}"));
+    format!(
+        "primitive {number} of mesh {} ({}) in node {} ({}), material {} (no TEXCOORD_0)",
+        mesh.index(),
+        quoted(mesh.name()),
+        node.index(),
+        quoted(node.name()),
+        quoted(primitive.material().name()),
+    )
 }
 
 fn load_obj(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
@@ -304,7 +354,12 @@ fn load_obj(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
             Some(all) if m.texcoords.len() == count * 2 => {
                 all.extend(m.texcoords.chunks_exact(2).map(|t| Vec2::new(t[0], 1.0 - t[1])))
             }
-            _ => mesh.uvs = None,
+            _ => {
+                mesh.uvs = None;
+                if m.texcoords.len() != count * 2 {
+                    mesh.missing_uvs.push(format!("object {:?} (no vt texture coordinates)", name));
+                }
+            }
         }
         for tri in m.indices.chunks_exact(3) {
             mesh.triangles.push([tri[0] + base, tri[1] + base, tri[2] + base]);

@@ -14,6 +14,7 @@ use serde_json::json;
 use crate::demo;
 use crate::error::{CaptureError, Result};
 use crate::mesh::{Axes, Mesh, Occluders, PartSource, load_vehicle};
+use crate::regions::PartRule;
 use crate::rig::Rig;
 use crate::track::{Motion, Pose};
 use crate::unity::{self, Scenario};
@@ -52,9 +53,15 @@ pub struct VehicleSpec {
     /// Renames parts (`from → to`); several names may map to one part.
     #[serde(default)]
     pub rename: BTreeMap<String, String>,
-    /// Which file axes are forward and up, and the scale to metres.
+    /// Which file axes are forward and up, the scale to metres and the origin.
     #[serde(default)]
     pub axes: Axes,
+    /// Parts by region, applied after `rename` (see [`crate::regions`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub parts: Vec<PartRule>,
+    /// The vehicle's real length: warn when it is off by more than 20 %.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub expect_length_m: Option<f64>,
 }
 
 /// Something that hides the vehicle but is never counted.
@@ -102,6 +109,8 @@ pub struct Scene {
     pub scenarios: Vec<Scenario>,
     /// What the manifest records about the scene.
     pub info: serde_json::Value,
+    /// Doubts about the vehicle (size, axes, origin, part rules) to show the user.
+    pub warnings: Vec<String>,
 }
 
 impl Scene {
@@ -121,6 +130,7 @@ impl Scene {
             occluders: demo::intersection(),
             rig: demo::rig(),
             scenarios,
+            warnings: Vec::new(),
         }
     }
 
@@ -142,6 +152,7 @@ impl Scene {
             occluders,
             rig,
             scenarios,
+            warnings: Vec::new(),
         })
     }
 
@@ -151,13 +162,8 @@ impl Scene {
         let file: SceneFile = serde_json::from_slice(&bytes)
             .map_err(|e| CaptureError::bad_input(path, format!("invalid scene file: {e}")))?;
         let base = path.parent().unwrap_or(Path::new("."));
-        let vehicle = if file.vehicle.mesh == "demo" {
-            demo::truck()
-        } else {
-            load_vehicle(&base.join(&file.vehicle.mesh), file.vehicle.parts_from, &file.vehicle.axes)?
-        };
-        let mut vehicle = vehicle;
-        vehicle.rename_parts(&file.vehicle.rename);
+        let crate::vehicle::Vehicle { mesh: vehicle, warnings, .. } =
+            crate::vehicle::build(&file.vehicle, base, path)?;
 
         let (mut rig, mut scenarios) = match &file.unity {
             Some(unity_path) => unity::load(&base.join(unity_path))?,
@@ -221,6 +227,7 @@ impl Scene {
             occluders,
             rig,
             scenarios,
+            warnings,
         })
     }
 

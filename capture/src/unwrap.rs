@@ -211,7 +211,15 @@ pub fn keep_uvs_avoiding(
     background: Option<(u32, u32)>,
 ) -> Result<Unwrapped> {
     let Some(uvs) = &mesh.uvs else {
-        return Err(CaptureError::Unwrap("--keep-uvs: the mesh has no UVs (TEXCOORD_0 / vt)".into()));
+        return Err(CaptureError::Unwrap(match mesh.missing_uvs.as_slice() {
+            [] => "--keep-uvs: the mesh has no UVs (TEXCOORD_0 / vt)".into(),
+            missing => format!(
+                "--keep-uvs: every part needs its own UVs, but {} {} none: {}; unwrap those in Blender (or capture without --keep-uvs)",
+                missing.len(),
+                if missing.len() == 1 { "has" } else { "have" },
+                missing.join("; ")
+            ),
+        }));
     };
     let size = dvec2(f64::from(palette[0]), f64::from(palette[1]));
     let texel_uvs: Vec<[DVec2; 3]> =
