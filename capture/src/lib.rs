@@ -17,6 +17,7 @@ pub mod archive;
 pub mod demo;
 pub mod error;
 pub mod gpu;
+pub mod inspect;
 pub mod mesh;
 pub mod palette;
 pub mod pidt;
@@ -28,5 +29,6 @@ pub mod track;
 pub mod unity;
 pub mod unwrap;
 pub mod vehicle;
+pub mod views;
 
 pub use error::{CaptureError, Result};

@@ -10,6 +10,7 @@ use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
 use ufcsr_capture::archive::{self, CaptureOptions, Compression, FrameSelection, Summary};
 use ufcsr_capture::gpu::{Backend, Gpu};
+use ufcsr_capture::inspect::{self, InspectOptions};
 use ufcsr_capture::scene::Scene;
 use ufcsr_capture::unwrap::parse_palette_size;
 
@@ -44,6 +45,18 @@ enum Command {
         file: PathBuf,
         #[command(flatten)]
         common: Common,
+    },
+    /// Look at a vehicle before capturing: size and origin after `axes`,
+    /// triangle quality, UVs, parts and their areas, and pictures of it.
+    Inspect {
+        /// A scene file (.json) or a mesh (.glb, .gltf, .obj; default axes).
+        input: PathBuf,
+        /// Folder for inspect-side/top/front.png and inspect-parts.csv.
+        #[arg(long, default_value = "inspect")]
+        out: PathBuf,
+        /// Picture scale (default: the longest picture about 1200 pixels).
+        #[arg(long)]
+        pixels_per_metre: Option<f64>,
     },
     /// Check an archive without the analyzer: tile pixels are background or
     /// palette colours the PIdT labels.
@@ -107,6 +120,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Demo { common } => (Scene::demo(), common),
         Command::Scene { scene, common } => (Scene::load(&scene)?, common),
         Command::Unity { file, common } => (Scene::unity(&file)?, common),
+        Command::Inspect { input, out, pixels_per_metre } => {
+            let inspection = inspect::inspect(&InspectOptions { input, out, pixels_per_metre })?;
+            print!("{inspection}");
+            return Ok(());
+        }
         Command::Verify { archive } => {
             let (vehicle, stray) = archive::verify(&archive)?;
             println!("{}: {vehicle} vehicle pixels, {stray} stray pixels", archive.display());
