@@ -18,6 +18,7 @@ use serde_json::{Map, Value, json};
 use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
 
 use crate::error::{CaptureError, Result};
+use crate::own_pidt::{self, OwnLabels};
 use crate::palette::ExternalPalette;
 use crate::pidt::{self, Pidt};
 use crate::render::{Palette, RenderSetup, Renderer, TileDraw, vehicle_vertices};
@@ -129,6 +130,8 @@ pub struct CaptureOptions {
     /// An external palette PNG instead of the canonical palette.
     pub palette_file: Option<PathBuf>,
     pub keep_uvs: bool,
+    /// A PIdT and legend painted for the kept UVs, used as is (see [`own_pidt`]).
+    pub own_labels: Option<OwnLabels>,
     pub frames: FrameSelection,
     pub compression: Compression,
     pub resume: bool,
@@ -148,6 +151,7 @@ impl Default for CaptureOptions {
             palette: [4096, 4096],
             palette_file: None,
             keep_uvs: false,
+            own_labels: None,
             frames: FrameSelection::all(),
             compression: Compression::Fast,
             resume: false,
@@ -183,6 +187,8 @@ pub struct Summary {
     pub palette_share: f64,
     pub parts: usize,
     pub triangles: usize,
+    /// What did not fit but did not stop the capture (own PIdT texels).
+    pub warnings: Vec<String>,
 }
 
 impl Summary {
@@ -295,9 +301,19 @@ pub fn capture(
 
     let PaletteChoice { palette, external, background_texel } = load_palette(options)?;
     let palette_size = palette.size();
-    let (unwrapped, pidt) = prepare(scene, palette_size, background_texel, options.keep_uvs)?;
+    let (unwrapped, painted) = prepare(scene, palette_size, background_texel, options.keep_uvs)?;
+    let (pidt, part_count, label_warnings) = match &options.own_labels {
+        None => {
+            pidt::write_legend(&scene.vehicle, &painted, &out.join("parts.csv"))?;
+            (painted, scene.vehicle.parts.len(), Vec::new())
+        }
+        Some(own) => {
+            let loaded = own_pidt::load(own, &unwrapped)?;
+            own_pidt::write_legend(&loaded.legend, &out.join("parts.csv"))?;
+            (loaded.pidt, loaded.legend.parts.len(), loaded.warnings)
+        }
+    };
     pidt::write_png(&pidt, &out.join("pidt.png"))?;
-    pidt::write_legend(&scene.vehicle, &pidt, &out.join("parts.csv"))?;
     let palette_spec = match &external {
         None => PaletteSpec::Canonical { canonical: palette_size },
         Some(external) => {
@@ -357,8 +373,9 @@ pub fn capture(
         tiles: total,
         texels_per_m2: unwrapped.texels_per_m2,
         palette_share: pidt.share(),
-        parts: scene.vehicle.parts.len(),
+        parts: part_count,
         triangles: scene.vehicle.triangles.len(),
+        warnings: label_warnings,
         setup_seconds,
         ..Summary::default()
     };
@@ -493,6 +510,10 @@ pub fn capture(
         "unwrap".into(),
         json!({
             "method": unwrapped.method,
+            "labels": match &options.own_labels {
+                None => json!("painted by part"),
+                Some(own) => json!({"pidt": own.pidt, "parts": own.parts}),
+            },
             "palette": palette_size,
             "background_texel": background_texel,
             "texels_per_m2": round6(unwrapped.texels_per_m2),

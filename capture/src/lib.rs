@@ -19,6 +19,7 @@ pub mod error;
 pub mod gpu;
 pub mod inspect;
 pub mod mesh;
+pub mod own_pidt;
 pub mod palette;
 pub mod pidt;
 pub mod regions;

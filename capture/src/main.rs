@@ -11,6 +11,7 @@ use clap::{Args, Parser, Subcommand};
 use ufcsr_capture::archive::{self, CaptureOptions, Compression, FrameSelection, Summary};
 use ufcsr_capture::gpu::{Backend, Gpu};
 use ufcsr_capture::inspect::{self, InspectOptions};
+use ufcsr_capture::own_pidt::OwnLabels;
 use ufcsr_capture::scene::Scene;
 use ufcsr_capture::unwrap::parse_palette_size;
 
@@ -89,6 +90,12 @@ struct Common {
     /// Keep the mesh's own UVs (checked to be unique and non-overlapping).
     #[arg(long)]
     keep_uvs: bool,
+    /// With --keep-uvs: a PIdT painted for the mesh's own UVs (e.g. in Blender), used as is.
+    #[arg(long, value_name = "PNG", requires_all = ["keep_uvs", "parts"])]
+    pidt: Option<PathBuf>,
+    /// The legend (name,color CSV or JSON) of --pidt.
+    #[arg(long, value_name = "FILE", requires = "pidt")]
+    parts: Option<PathBuf>,
     /// Frames to capture: `all` or a list like 0,30,60-90/10.
     #[arg(long, default_value = "all")]
     frames: String,
@@ -146,6 +153,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         palette: parse_palette_size(&common.palette_size)?,
         palette_file: common.palette.clone(),
         keep_uvs: common.keep_uvs,
+        own_labels: match (common.pidt.clone(), common.parts.clone()) {
+            (Some(pidt), Some(parts)) => Some(OwnLabels { pidt, parts }),
+            _ => None,
+        },
         frames: common.frames.parse::<FrameSelection>()?,
         compression: common.png_compression.parse::<Compression>()?,
         resume: common.resume,
@@ -208,6 +219,9 @@ fn report(s: &Summary) {
         1000.0 / s.texels_per_m2.sqrt(),
         s.palette_share * 100.0
     );
+    for warning in &s.warnings {
+        println!("  warning: {warning}");
+    }
 }
 
 fn main() -> ExitCode {
