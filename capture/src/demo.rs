@@ -17,8 +17,8 @@ use glam::{DMat4, DVec2, DVec3, Vec3, dvec2, dvec3, vec3};
 
 use crate::mesh::{Mesh, Occluders};
 use crate::rig::Rig;
+use crate::scenario::Scenario;
 use crate::track::{Key, Motion, Track};
-use crate::unity::Scenario;
 
 /// Truck dimensions: length, width (body), height.
 pub const TRUCK_SIZE: [f64; 3] = [5.9, 2.0, 1.9];
@@ -435,7 +435,7 @@ mod tests {
             for corner in box_corners(min, max) {
                 let p = vehicle_to_world(&pose).transform_point3(corner);
                 let blocked =
-                    occluders.objects.iter().skip(1).any(|&(_, _, lo, hi)| segment_hits_box(eye, p, lo, hi));
+                    occluders.objects.iter().skip(1).any(|o| segment_hits_box(eye, p, o.min, o.max));
                 assert!(blocked, "{name}: corner {p} visible at t=0");
             }
         }

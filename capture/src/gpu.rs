@@ -17,13 +17,18 @@ pub struct Gpu {
 
 /// Which backend to try.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Backend {
     /// Vulkan, then GL.
     #[default]
     Auto,
+    #[cfg_attr(feature = "cli", value(alias = "vk"))]
     Vulkan,
+    #[cfg_attr(feature = "cli", value(aliases = ["gles", "opengl"]))]
     Gl,
 }
+
+// Parsing text stays for the `UFCSR_BACKEND` variable, which clap never sees.
 
 impl std::str::FromStr for Backend {
     type Err = CaptureError;

@@ -6,26 +6,37 @@
 //! scenario is rendered unlit from both eyes of a pedestrian into tiles whose
 //! pixels name the texel they show. The archive is what `ufcsr-analyze` reads.
 //!
-//! Module map: [`track`] keyframes, [`unity`] import of Unity scenarios,
-//! [`mesh`] geometry and loaders, [`demo`] the built-in truck and intersection,
-//! [`scene`] the JSON scene file, [`unwrap`] island packing, [`palette`]
-//! external palettes, [`pidt`] label painting, [`rig`] cameras and tiles,
-//! [`gpu`] device creation, [`render`] the renderer, [`archive`] the capture
-//! loop and output files.
+//! Module map: [`track`] keyframes, [`scenario`] a timed vehicle motion,
+//! [`unity`] import of Unity scenarios, [`mesh`] geometry and loaders,
+//! [`vehicle`] and [`regions`] vehicle checks and parts by region,
+//! [`demo`] the built-in truck and intersection, [`scene`] the JSON scene
+//! file, [`unwrap`] island packing, [`palette`] external palettes, [`pidt`]
+//! label painting, [`own_pidt`] a user's own PIdT, [`rig`] cameras and tiles,
+//! [`gpu`] device creation, [`render`] the renderer; the capture job:
+//! [`options`] what to do, [`archive`] its stages, [`frame_capture`] one
+//! frame, [`tile_sink`] where tiles go, [`encoder_pool`] the PNG sink,
+//! [`manifest_builder`] the manifest; [`inspect`] and [`views`] look at a
+//! vehicle before capturing.
 
 pub mod archive;
 pub mod demo;
+pub mod encoder_pool;
 pub mod error;
+pub mod frame_capture;
 pub mod gpu;
 pub mod inspect;
+pub mod manifest_builder;
 pub mod mesh;
+pub mod options;
 pub mod own_pidt;
 pub mod palette;
 pub mod pidt;
 pub mod regions;
 pub mod render;
 pub mod rig;
+pub mod scenario;
 pub mod scene;
+pub mod tile_sink;
 pub mod track;
 pub mod unity;
 pub mod unwrap;

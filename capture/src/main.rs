@@ -99,9 +99,9 @@ struct Common {
     /// Frames to capture: `all` or a list like 0,30,60-90/10.
     #[arg(long, default_value = "all")]
     frames: String,
-    /// Tile PNG compression: fastest, fast, balanced or high.
-    #[arg(long, default_value = "fast")]
-    png_compression: String,
+    /// Tile PNG compression.
+    #[arg(long, value_enum, default_value_t = Compression::Fast)]
+    png_compression: Compression,
     /// Skip tiles already on disk (readable PNGs of the tile size; others are rendered again).
     #[arg(long)]
     resume: bool,
@@ -111,9 +111,9 @@ struct Common {
     /// Render every tile, even those the vehicle's projected bounds do not touch.
     #[arg(long)]
     no_cull: bool,
-    /// GPU backend: auto (Vulkan, then GL), vulkan or gl.
-    #[arg(long, default_value = "auto")]
-    backend: String,
+    /// GPU backend: auto (Vulkan, then GL; UFCSR_BACKEND overrides auto), vulkan or gl.
+    #[arg(long, value_enum, default_value_t = Backend::Auto)]
+    backend: Backend,
     /// PNG encoder threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     threads: usize,
@@ -158,7 +158,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             _ => None,
         },
         frames: common.frames.parse::<FrameSelection>()?,
-        compression: common.png_compression.parse::<Compression>()?,
+        compression: common.png_compression,
         resume: common.resume,
         keep_background_tiles: common.keep_background_tiles,
         no_cull: common.no_cull,
@@ -173,7 +173,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Some(name) => vec![scene.scenario(name)?.name.clone()],
         None => scene.scenarios.iter().take(1).map(|s| s.name.clone()).collect(),
     };
-    let gpu = Gpu::create(common.backend.parse::<Backend>()?).context("creating the GPU device")?;
+    let gpu = Gpu::create(common.backend).context("creating the GPU device")?;
     eprintln!("adapter: {}", gpu.describe());
     let rig = &scene.rig;
     eprintln!(

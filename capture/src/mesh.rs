@@ -374,8 +374,17 @@ fn load_obj(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
 #[derive(Debug, Clone, Default)]
 pub struct Occluders {
     pub positions: Vec<Vec3>,
-    /// `(first vertex, vertex count, min, max)` per object.
-    pub objects: Vec<(u32, u32, DVec3, DVec3)>,
+    pub objects: Vec<OccluderObject>,
+}
+
+/// One occluder object: a run of triangle vertices in [`Occluders::positions`]
+/// and its world-space bounding box (for per-tile culling).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OccluderObject {
+    pub first_vertex: u32,
+    pub vertex_count: u32,
+    pub min: DVec3,
+    pub max: DVec3,
 }
 
 impl Occluders {
@@ -395,7 +404,12 @@ impl Occluders {
                 self.positions.push(p.as_vec3());
             }
         }
-        self.objects.push((first, self.positions.len() as u32 - first, min, max));
+        self.objects.push(OccluderObject {
+            first_vertex: first,
+            vertex_count: self.positions.len() as u32 - first,
+            min,
+            max,
+        });
     }
 
     /// Adds a large mesh (an environment) as one object per `cell` × `cell`
@@ -418,7 +432,12 @@ impl Occluders {
                 max = max.max(*p);
                 self.positions.push(p.as_vec3());
             }
-            self.objects.push((first, self.positions.len() as u32 - first, min, max));
+            self.objects.push(OccluderObject {
+                first_vertex: first,
+                vertex_count: self.positions.len() as u32 - first,
+                min,
+                max,
+            });
         }
     }
 
@@ -426,8 +445,12 @@ impl Occluders {
     pub fn append(&mut self, other: &Occluders) {
         let base = self.positions.len() as u32;
         self.positions.extend(&other.positions);
-        self.objects
-            .extend(other.objects.iter().map(|&(first, count, min, max)| (first + base, count, min, max)));
+        self.objects.extend(
+            other
+                .objects
+                .iter()
+                .map(|&object| OccluderObject { first_vertex: object.first_vertex + base, ..object }),
+        );
     }
 
     /// Adds an axis-aligned box (all six faces).
@@ -459,7 +482,7 @@ mod tests {
         occluders.add_mesh_chunked(&ground, glam::DMat4::IDENTITY, 25.0);
         assert_eq!(occluders.objects.len(), 4);
         assert_eq!(occluders.positions.len(), 60);
-        let (_, _, min, max) = occluders.objects[0];
+        let OccluderObject { min, max, .. } = occluders.objects[0];
         assert_eq!((min.x, max.x), (0.0, 30.0));
     }
 

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use ufcsr::{Color, Legend};
 
 use crate::error::{CaptureError, Result};
-use crate::pidt::{Pidt, UNLABELLED};
+use crate::pidt::{PaintedPidt, UNLABELLED_COLOR};
 use crate::unwrap::{Unwrapped, for_texel_centres};
 
 /// The user's PIdT and legend files.
@@ -29,7 +29,7 @@ pub struct OwnLabels {
 #[derive(Debug, Clone)]
 pub struct LoadedLabels {
     /// In the form a capture writes (`rgb` as in the file).
-    pub pidt: Pidt,
+    pub pidt: PaintedPidt,
     pub legend: Legend,
     /// What does not fit, one line each.
     pub warnings: Vec<String>,
@@ -58,16 +58,16 @@ pub fn load(labels: &OwnLabels, unwrapped: &Unwrapped) -> Result<LoadedLabels> {
             })
         }
     })?;
-    if legend.parts.iter().any(|p| p.color == UNLABELLED) {
+    if legend.parts.iter().any(|p| p.color == UNLABELLED_COLOR) {
         return Err(CaptureError::bad_input(
             &labels.parts,
-            format!("{UNLABELLED} marks unlabelled texels; no part may use it"),
+            format!("{UNLABELLED_COLOR} marks unlabelled texels; no part may use it"),
         ));
     }
     let resolved = ufcsr::Pidt::from_colors(w, h, &image.colors, &legend);
     let mut warnings = Vec::new();
     let unknown: Vec<(&Color, &u64)> =
-        resolved.unlabelled_colors.iter().filter(|(c, _)| **c != UNLABELLED).collect();
+        resolved.unlabelled_colors.iter().filter(|(c, _)| **c != UNLABELLED_COLOR).collect();
     if !unknown.is_empty() {
         let texels: u64 = unknown.iter().map(|(_, n)| **n).sum();
         let mut by_count = unknown.clone();
@@ -99,7 +99,7 @@ pub fn load(labels: &OwnLabels, unwrapped: &Unwrapped) -> Result<LoadedLabels> {
     }
     let rgb: Vec<u8> = image.colors.iter().flat_map(|&c| Color::from_packed(c).rgb()).collect();
     let labelled = resolved.part_texels.iter().sum();
-    let pidt = Pidt {
+    let pidt = PaintedPidt {
         size: [w, h],
         rgb,
         part_colors: legend.parts.iter().map(|p| p.color).collect(),

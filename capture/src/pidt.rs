@@ -17,11 +17,11 @@ use crate::mesh::Mesh;
 use crate::unwrap::{Unwrapped, footprint};
 
 /// Colour of texels that belong to no part.
-pub const UNLABELLED: Color = Color::from_rgb(0, 0, 0);
+pub const UNLABELLED_COLOR: Color = Color::from_rgb(0, 0, 0);
 
 /// A painted PIdT.
 #[derive(Debug, Clone)]
-pub struct Pidt {
+pub struct PaintedPidt {
     pub size: [u32; 2],
     /// RGB, row 0 at the top.
     pub rgb: Vec<u8>,
@@ -33,7 +33,7 @@ pub struct Pidt {
     pub conflicts: u64,
 }
 
-impl Pidt {
+impl PaintedPidt {
     /// The colour at texel (x, y).
     pub fn at(&self, x: u32, y: u32) -> Color {
         let i = ((y as usize) * (self.size[0] as usize) + x as usize) * 3;
@@ -56,7 +56,7 @@ pub fn part_colors(count: usize) -> Vec<Color> {
         let saturation = [0.85, 0.55, 1.0][i % 3];
         let value = [0.95, 0.75, 0.55][(i / 3) % 3];
         let color = hsv(hue, saturation, value);
-        if color != UNLABELLED && color != Color::DEFAULT_BACKGROUND && !colors.contains(&color) {
+        if color != UNLABELLED_COLOR && color != Color::DEFAULT_BACKGROUND && !colors.contains(&color) {
             colors.push(color);
         }
         i += 1;
@@ -81,7 +81,7 @@ fn hsv(h: f64, s: f64, v: f64) -> Color {
 }
 
 /// Paints the PIdT of an unwrapped mesh.
-pub fn paint(mesh: &Mesh, unwrapped: &Unwrapped) -> Pidt {
+pub fn paint(mesh: &Mesh, unwrapped: &Unwrapped) -> PaintedPidt {
     let [w, h] = unwrapped.palette;
     let part_colors = part_colors(mesh.parts.len());
     let mut rgb = vec![0u8; (w as usize) * (h as usize) * 3];
@@ -91,7 +91,7 @@ pub fn paint(mesh: &Mesh, unwrapped: &Unwrapped) -> Pidt {
         footprint(tri, unwrapped.palette, 1, |x, y| {
             let i = ((y as usize) * (w as usize) + x as usize) * 3;
             let old = Color::from_rgb(rgb[i], rgb[i + 1], rgb[i + 2]);
-            if old == UNLABELLED {
+            if old == UNLABELLED_COLOR {
                 rgb[i..i + 3].copy_from_slice(&color.rgb());
                 labelled += 1;
             } else if old != color {
@@ -99,17 +99,17 @@ pub fn paint(mesh: &Mesh, unwrapped: &Unwrapped) -> Pidt {
             }
         });
     }
-    Pidt { size: [w, h], rgb, part_colors, labelled, conflicts }
+    PaintedPidt { size: [w, h], rgb, part_colors, labelled, conflicts }
 }
 
 /// Writes the PIdT as an 8-bit RGB PNG.
-pub fn write_png(pidt: &Pidt, path: &Path) -> Result<()> {
+pub fn write_png(pidt: &PaintedPidt, path: &Path) -> Result<()> {
     ufcsr::write_rgb_png(path, pidt.size[0], pidt.size[1], &pidt.rgb, png::Compression::Fast)?;
     Ok(())
 }
 
 /// Writes the legend `name,color`.
-pub fn write_legend(mesh: &Mesh, pidt: &Pidt, path: &Path) -> Result<()> {
+pub fn write_legend(mesh: &Mesh, pidt: &PaintedPidt, path: &Path) -> Result<()> {
     ufcsr::write_atomically(path, |w| {
         writeln!(w, "name,color")?;
         for (name, color) in mesh.parts.iter().zip(&pidt.part_colors) {
@@ -140,7 +140,7 @@ mod tests {
             });
         }
         let (bx, by) = background_texel(palette).unwrap();
-        assert_eq!(pidt.at(bx, by), UNLABELLED);
+        assert_eq!(pidt.at(bx, by), UNLABELLED_COLOR);
         assert!(pidt.share() > 0.2 && pidt.share() < 1.0, "{}", pidt.share());
         let colors = part_colors(80);
         let mut unique = colors.clone();

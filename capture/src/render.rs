@@ -289,7 +289,7 @@ impl Renderer {
             .map(|p: &Vec3| Vertex { position: p.to_array(), uv: [0.0, 0.0] })
             .collect();
         let occluders = vertex_buffer(device, queue, "occluders", bytemuck::cast_slice(&occluder_vertices));
-        let objects = setup.occluders.objects.iter().map(|&(first, count, _, _)| (first, count)).collect();
+        let objects = setup.occluders.objects.iter().map(|o| (o.first_vertex, o.vertex_count)).collect();
 
         let target = |label: &str, format: wgpu::TextureFormat, usage: wgpu::TextureUsages| {
             device.create_texture(&wgpu::TextureDescriptor {

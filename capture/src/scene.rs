@@ -16,8 +16,9 @@ use crate::error::{CaptureError, Result};
 use crate::mesh::{Axes, Mesh, Occluders, PartSource, load_vehicle};
 use crate::regions::PartRule;
 use crate::rig::Rig;
+use crate::scenario::Scenario;
 use crate::track::{Motion, Pose};
-use crate::unity::{self, Scenario};
+use crate::unity;
 
 /// A scene file.
 #[derive(Debug, Clone, Serialize, Deserialize)]

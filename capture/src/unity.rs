@@ -18,15 +18,8 @@ use serde::Deserialize;
 
 use crate::error::{CaptureError, Result};
 use crate::rig::Rig;
+use crate::scenario::Scenario;
 use crate::track::{Key, Motion, Track};
-
-/// A scenario ready to capture.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Scenario {
-    pub name: String,
-    pub duration_s: f64,
-    pub motion: Motion,
-}
 
 #[derive(Deserialize)]
 struct File {

@@ -66,7 +66,7 @@ fn render_eye(gpu: &Gpu, mesh: &Mesh, occluders: &Occluders, rig: &Rig, pose: &P
             .objects
             .iter()
             .enumerate()
-            .filter(|(_, o)| !box_outside(&clip_from_world, &ufcsr_capture::rig::box_corners(o.2, o.3)))
+            .filter(|(_, o)| !box_outside(&clip_from_world, &ufcsr_capture::rig::box_corners(o.min, o.max)))
             .map(|(i, _)| i)
             .collect();
         let draw = TileDraw {

@@ -1,0 +1,152 @@
+//! The PNG sink: encoder threads behind a short queue.
+//!
+//! The GPU renders the next tile while earlier tiles are encoded; the bounded
+//! queue (two jobs per thread) keeps the renderer at most a few tiles ahead,
+//! so memory stays flat however long the capture.
+
+use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::thread::JoinHandle;
+
+use crate::error::{CaptureError, Result};
+use crate::options::Compression;
+use crate::tile_sink::{RenderedTile, TileAddress, TileSink, is_tile_name};
+
+struct EncodeJob {
+    path: PathBuf,
+    size: [u32; 2],
+    rgba: Vec<u8>,
+}
+
+/// Writes tiles as RGB PNGs under `archive/tiles/` on worker threads.
+pub struct EncoderPool {
+    archive: PathBuf,
+    tile_size: [u32; 2],
+    resume: bool,
+    sender: Option<SyncSender<EncodeJob>>,
+    workers: Vec<JoinHandle<()>>,
+    errors: Arc<Mutex<Vec<CaptureError>>>,
+}
+
+impl EncoderPool {
+    /// Starts `threads` encoders (0: one per core) writing into `archive/tiles`.
+    /// Without `resume`, tiles of an earlier capture are removed first: tiles
+    /// this capture does not write again must not linger beside its manifest.
+    pub fn start(
+        archive: &Path,
+        tile_size: [u32; 2],
+        compression: Compression,
+        threads: usize,
+        resume: bool,
+    ) -> Result<EncoderPool> {
+        let tiles_dir = archive.join("tiles");
+        std::fs::create_dir_all(&tiles_dir).map_err(|e| CaptureError::io(&tiles_dir, e))?;
+        if !resume {
+            remove_old_tiles(&tiles_dir)?;
+        }
+        let threads =
+            if threads == 0 { std::thread::available_parallelism().map_or(2, |n| n.get()) } else { threads };
+        let (sender, receiver) = sync_channel::<EncodeJob>(threads * 2);
+        let receiver = Arc::new(Mutex::new(receiver));
+        let errors = Arc::new(Mutex::new(Vec::new()));
+        let workers = (0..threads)
+            .map(|_| {
+                let (receiver, errors) = (receiver.clone(), errors.clone());
+                let compression = compression.png();
+                std::thread::spawn(move || encoder_worker(&receiver, compression, &errors))
+            })
+            .collect();
+        Ok(EncoderPool {
+            archive: archive.to_path_buf(),
+            tile_size,
+            resume,
+            sender: Some(sender),
+            workers,
+            errors,
+        })
+    }
+
+    fn first_error(&self) -> Option<CaptureError> {
+        self.errors.lock().unwrap_or_else(PoisonError::into_inner).drain(..).next()
+    }
+}
+
+impl TileSink for EncoderPool {
+    fn is_done(&self, address: &TileAddress) -> bool {
+        self.resume && png_size(&self.archive.join(address.file())) == Some(self.tile_size)
+    }
+
+    fn accept(&mut self, tile: RenderedTile) -> Result<()> {
+        if let Some(error) = self.first_error() {
+            return Err(error);
+        }
+        let job =
+            EncodeJob { path: self.archive.join(tile.address.file()), size: tile.size, rgba: tile.rgba };
+        let sender =
+            self.sender.as_ref().ok_or_else(|| CaptureError::Gpu("PNG encoders already finished".into()))?;
+        sender.send(job).map_err(|_| CaptureError::Gpu("PNG encoders stopped".into()))
+    }
+
+    fn finish(&mut self) -> Result<()> {
+        // Closing the queue lets the workers drain it and exit.
+        self.sender = None;
+        for worker in self.workers.drain(..) {
+            if worker.join().is_err() {
+                return Err(CaptureError::Gpu("a PNG encoder thread panicked".into()));
+            }
+        }
+        self.first_error().map_or(Ok(()), Err)
+    }
+}
+
+impl Drop for EncoderPool {
+    fn drop(&mut self) {
+        // On an early error the workers still finish what is queued; joining
+        // here keeps no thread writing after the capture returned.
+        self.sender = None;
+        for worker in self.workers.drain(..) {
+            let _ = worker.join();
+        }
+    }
+}
+
+fn encoder_worker(
+    jobs: &Mutex<Receiver<EncodeJob>>,
+    compression: png::Compression,
+    errors: &Mutex<Vec<CaptureError>>,
+) {
+    loop {
+        let job = match jobs.lock() {
+            Ok(receiver) => receiver.recv(),
+            Err(_) => return,
+        };
+        let Ok(job) = job else { return };
+        // Tiles are written as RGB: alpha is always 255 and the analyzer reads both.
+        let rgb: Vec<u8> = job.rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
+        if let Err(error) = ufcsr::write_rgb_png(&job.path, job.size[0], job.size[1], &rgb, compression) {
+            errors.lock().unwrap_or_else(PoisonError::into_inner).push(error.into());
+        }
+    }
+}
+
+/// Removes files named like our tiles (`fNNNN_left|right_rR_cC.png`).
+fn remove_old_tiles(dir: &Path) -> Result<()> {
+    let entries = std::fs::read_dir(dir).map_err(|e| CaptureError::io(dir, e))?;
+    for entry in entries {
+        let entry = entry.map_err(|e| CaptureError::io(dir, e))?;
+        let name = entry.file_name();
+        if is_tile_name(&name.to_string_lossy()) {
+            std::fs::remove_file(entry.path()).map_err(|e| CaptureError::io(entry.path(), e))?;
+        }
+    }
+    Ok(())
+}
+
+/// The size of a readable PNG, from its header; `None` for anything else.
+fn png_size(path: &Path) -> Option<[u32; 2]> {
+    let file = std::fs::File::open(path).ok()?;
+    let reader = png::Decoder::new(std::io::BufReader::new(file)).read_info().ok()?;
+    let info = reader.info();
+    Some([info.width, info.height])
+}

@@ -1,0 +1,172 @@
+//! One frame of a capture: both eyes, every tile, into a [`TileSink`].
+//!
+//! A tile the vehicle's projected bounding box does not touch is neither
+//! rendered nor handed on, only listed as empty; a rendered tile that comes
+//! out pure background (the vehicle is hidden) is listed as empty too unless
+//! background tiles are kept. Occluder objects outside a tile's frustum are
+//! not drawn. The loop knows nothing of files: the sink decides what a tile
+//! becomes.
+
+use glam::{DMat4, DVec3};
+use serde_json::{Map, Value, json};
+use ufcsr::{Color, TileEntry};
+
+use crate::error::Result;
+use crate::options::TileTally;
+use crate::render::{Renderer, TileDraw};
+use crate::rig::{Eye, Rig, box_corners, box_outside, vehicle_to_world};
+use crate::scenario::Scenario;
+use crate::scene::Scene;
+use crate::tile_sink::{RenderedTile, TileAddress, TileSink};
+
+/// Everything a frame needs that does not change from frame to frame.
+pub struct FrameCapture<'a> {
+    pub device: &'a wgpu::Device,
+    pub queue: &'a wgpu::Queue,
+    pub renderer: &'a Renderer,
+    pub scene: &'a Scene,
+    pub scenario: &'a Scenario,
+    pub background: Color,
+    /// Render every tile, even those outside the vehicle's projected bounds.
+    pub no_cull: bool,
+    /// Hand pure-background tiles to the sink too.
+    pub keep_background_tiles: bool,
+    /// The vehicle's bounding box corners in the vehicle frame.
+    pub vehicle_box: [DVec3; 8],
+}
+
+/// What one frame produced.
+pub struct CapturedFrame {
+    /// One manifest entry per tile, in archive order (eye, row, column).
+    pub entries: Vec<TileEntry>,
+    /// The frame's record for the manifest's `frames` list.
+    pub record: Value,
+    pub tally: TileTally,
+}
+
+impl<'a> FrameCapture<'a> {
+    /// The vehicle box for `scene`.
+    pub fn vehicle_box(scene: &Scene) -> [DVec3; 8] {
+        let (min, max) = scene.vehicle.bounds();
+        box_corners(min, max)
+    }
+
+    fn rig(&self) -> &Rig {
+        &self.scene.rig
+    }
+
+    /// Renders `frame` for both eyes; `first_index` is the archive position of
+    /// its first tile. `on_tile` is called once per tile (for progress).
+    pub fn capture(
+        &self,
+        frame: u32,
+        first_index: usize,
+        sink: &mut dyn TileSink,
+        on_tile: &dyn Fn(),
+    ) -> Result<CapturedFrame> {
+        let rig = self.rig();
+        let time_s = (f64::from(frame) / rig.fps).min(self.scenario.duration_s);
+        let pose = self.scenario.motion.pose(time_s);
+        let to_world = vehicle_to_world(&pose);
+        let world_box = self.vehicle_box.map(|c| to_world.transform_point3(c));
+        let pedestrian = glam::dvec2(rig.pedestrian[0], rig.pedestrian[1]);
+        let distance_m = (pose.position.truncate() - pedestrian).length();
+        let mut captured =
+            CapturedFrame { entries: Vec::new(), record: Value::Null, tally: TileTally::default() };
+        let mut tiles_with_vehicle = Map::new();
+        for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(&pose)) {
+            let touched = if self.no_cull { rig.all_tiles() } else { rig.tiles_touched(&camera, &world_box) };
+            let mut with_vehicle = 0u32;
+            for tile in rig.all_tiles() {
+                on_tile();
+                let address = TileAddress { frame, eye, row: tile.row, col: tile.col };
+                let mut entry = tile_entry(&address, time_s, distance_m);
+                let index = first_index + captured.entries.len();
+                let shows_vehicle = if !touched.contains(&tile) {
+                    captured.tally.culled += 1;
+                    false
+                } else if sink.is_done(&address) {
+                    captured.tally.resumed += 1;
+                    true
+                } else {
+                    let clip_from_world = rig.tile_matrix(tile) * camera.view_proj;
+                    self.render_into(sink, address, index, clip_from_world, to_world, &mut captured.tally)?
+                };
+                if shows_vehicle {
+                    with_vehicle += 1;
+                    entry.file = Some(address.file());
+                    entry.empty = false;
+                }
+                captured.entries.push(entry);
+            }
+            tiles_with_vehicle.insert(eye.name().into(), json!(with_vehicle));
+        }
+        captured.record = json!({
+            "frame": frame,
+            "time_s": round6(time_s),
+            "vehicle": {
+                "position": pose.position.to_array().map(round6),
+                "yaw_deg": round6(pose.yaw_deg),
+            },
+            "distance_m": round6(distance_m),
+            "tiles_with_vehicle": tiles_with_vehicle,
+        });
+        Ok(captured)
+    }
+
+    /// Renders one tile and hands it to the sink unless it is pure background
+    /// (and those are not kept). Returns whether the sink took it.
+    fn render_into(
+        &self,
+        sink: &mut dyn TileSink,
+        address: TileAddress,
+        index: usize,
+        clip_from_world: DMat4,
+        to_world: DMat4,
+        tally: &mut TileTally,
+    ) -> Result<bool> {
+        let visible: Vec<usize> = self
+            .scene
+            .occluders
+            .objects
+            .iter()
+            .enumerate()
+            .filter(|(_, object)| !box_outside(&clip_from_world, &box_corners(object.min, object.max)))
+            .map(|(i, _)| i)
+            .collect();
+        let draw =
+            TileDraw { clip_from_vehicle: clip_from_world * to_world, clip_from_world, occluders: &visible };
+        let rgba = self.renderer.render_tile(self.device, self.queue, &draw)?;
+        tally.rendered += 1;
+        let [r, g, b] = self.background.rgb();
+        let all_background = rgba.chunks_exact(4).all(|p| p[0] == r && p[1] == g && p[2] == b);
+        if all_background && !self.keep_background_tiles {
+            tally.background += 1;
+            return Ok(false);
+        }
+        sink.accept(RenderedTile { address, index, size: self.renderer.tile_size(), rgba })?;
+        tally.written += 1;
+        Ok(true)
+    }
+}
+
+/// The manifest entry of a tile, empty until the sink takes it.
+fn tile_entry(address: &TileAddress, time_s: f64, distance_m: f64) -> TileEntry {
+    let mut extra = Map::new();
+    extra.insert("time_s".into(), json!(round6(time_s)));
+    extra.insert("distance_m".into(), json!(round6(distance_m)));
+    TileEntry {
+        file: None,
+        frame: address.frame,
+        eye: address.eye.name().into(),
+        row: address.row,
+        col: address.col,
+        empty: true,
+        extra,
+    }
+}
+
+/// Six decimals keep the manifest readable and stable across platforms.
+pub fn round6(value: f64) -> f64 {
+    (value * 1e6).round() / 1e6
+}
