@@ -28,6 +28,7 @@ use crate::report::{
     AnalysisResult, DedupeReport, FailedImage, ImageCounts, Settings, StrayImage, TrimReport,
     UnlabelledReport,
 };
+use crate::tile_counter::TileCounter;
 use crate::trim::{TrimMode, TrimPlan};
 
 /// Which palette to use.
@@ -143,6 +144,9 @@ struct Inputs {
     parts: Option<(PathBuf, Legend, PathBuf, Pidt)>,
     archive: Archive,
     dedupe: Dedupe,
+    /// False for a capture counted while rendering (`--count`): its manifest
+    /// names tiles that were never written.
+    tiles_written: bool,
 }
 
 /// Runs the analysis.
@@ -153,7 +157,14 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
         kernel: crate::scan::Kernel::selected().name().to_string(),
         ..Timings::default()
     };
-    let inputs = resolve(options)?;
+    let inputs = resolve_inputs(options)?;
+    if !inputs.tiles_written {
+        return Err(Error::bad_file(
+            &options.archive.join(crate::manifest::MANIFEST_FILE),
+            "this capture was counted while rendering (--count) and its tiles were never written; \
+             its results are in results/ beside the manifest",
+        ));
+    }
     let classifier =
         Classifier::new(&inputs.palette, &inputs.backgrounds.iter().map(|c| c.packed()).collect::<Vec<_>>())?;
     timings.load_seconds = started.elapsed().as_secs_f64();
@@ -233,38 +244,122 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
     }
     outcomes.sort_by_key(|(index, _)| *index);
     timings.count_seconds = stage.elapsed().as_secs_f64();
+    let counted = CountedImages {
+        outcomes: outcomes.into_iter().map(|(_, outcome)| outcome).collect(),
+        image_counts,
+        frame_counts,
+        strays,
+    };
+    summarize(options, &inputs, plan.empty_tiles.clone(), counted, timings, started)
+}
 
-    let mut images_report = ImageCounts { found: inputs.archive.found(), ..ImageCounts::default() };
-    images_report.listed_empty = inputs.archive.listed_empty;
-    images_report.trimmed = inputs.archive.listed_empty;
-    let mut failures = Vec::new();
-    let mut stray_images = Vec::new();
-    let (mut background_pixels, mut stray_pixels, mut texel_pixels) = (0u64, 0u64, 0u64);
-    for (index, outcome) in outcomes {
-        let name = &images[index].name;
+/// Joins tiles counted from memory ([`TileCounter`], the capture's `--count`)
+/// with the archive folder `options.archive`, whose `manifest.json` lists
+/// those tiles by name, exactly as [`analyze`] would have after decoding them
+/// as PNGs: the same `result.json`, except that nothing was trimmed (the
+/// renderer knew which tiles were empty and listed them so).
+pub fn analyze_counted(options: &AnalyzeOptions, mut counter: TileCounter) -> Result<Analysis> {
+    let started = Instant::now();
+    let timings = Timings {
+        threads: 1,
+        kernel: crate::scan::Kernel::selected().name().to_string(),
+        ..Timings::default()
+    };
+    counter.commit_eye_frame();
+    let inputs = resolve_inputs(options)?;
+    let mut outcomes = Vec::with_capacity(inputs.archive.images.len());
+    for image in &inputs.archive.images {
+        outcomes.push(match counter.tallies.remove(&image.name) {
+            Some(tally) => Outcome::Decoded(tally),
+            None => Outcome::Failed(Error::bad_file(&image.path, "listed in the manifest but never counted")),
+        });
+    }
+    if let Some(name) = counter.tallies.keys().next() {
+        return Err(Error::BadOptions(format!(
+            "tile {name} was counted but {} does not list it",
+            options.archive.join(crate::manifest::MANIFEST_FILE).display()
+        )));
+    }
+    let counted = CountedImages {
+        outcomes,
+        image_counts: counter.image_counts,
+        frame_counts: counter.frame_counts,
+        strays: counter.strays,
+    };
+    summarize(options, &inputs, Vec::new(), counted, timings, started)
+}
+
+/// What counting produced, in archive image order: the input of [`summarize`].
+struct CountedImages {
+    /// One outcome per image of the archive, in order.
+    outcomes: Vec<Outcome>,
+    /// Per-colour counts, one per image that shows the colour.
+    image_counts: Counts,
+    /// Per-colour counts, one per eye-frame (`--dedupe frame`).
+    frame_counts: Option<Counts>,
+    strays: AtomicColorSet,
+}
+
+/// Pixel and image bookkeeping of the outcomes.
+#[derive(Default)]
+struct Tally {
+    images: ImageCounts,
+    failures: Vec<FailedImage>,
+    stray_images: Vec<StrayImage>,
+    background_pixels: u64,
+    stray_pixels: u64,
+    texel_pixels: u64,
+}
+
+/// Stage "tally": outcomes → image and pixel bookkeeping (failures reported
+/// in archive order; under `--strict` the first failure is the error).
+fn tally(options: &AnalyzeOptions, archive: &Archive, outcomes: Vec<Outcome>) -> Result<Tally> {
+    let mut tally = Tally::default();
+    tally.images.found = archive.found();
+    tally.images.listed_empty = archive.listed_empty;
+    tally.images.trimmed = archive.listed_empty;
+    for (image, outcome) in archive.images.iter().zip(outcomes) {
+        let name = &image.name;
         match outcome {
-            Outcome::Trimmed => images_report.trimmed += 1,
-            Outcome::Decoded(tally) => {
-                images_report.decoded += 1;
-                background_pixels += tally.background_pixels;
-                stray_pixels += tally.stray_pixels;
-                texel_pixels += tally.texel_pixels;
-                if tally.stray_pixels > 0 {
-                    stray_images.push(StrayImage { file: name.clone(), stray_pixels: tally.stray_pixels });
+            Outcome::Trimmed => tally.images.trimmed += 1,
+            Outcome::Decoded(image_tally) => {
+                tally.images.decoded += 1;
+                tally.background_pixels += image_tally.background_pixels;
+                tally.stray_pixels += image_tally.stray_pixels;
+                tally.texel_pixels += image_tally.texel_pixels;
+                if image_tally.stray_pixels > 0 {
+                    tally
+                        .stray_images
+                        .push(StrayImage { file: name.clone(), stray_pixels: image_tally.stray_pixels });
                 }
             }
             Outcome::Failed(error) => {
                 if options.strict {
                     return Err(Error::Strict(Box::new(error)));
                 }
-                images_report.failed += 1;
-                failures.push(FailedImage { file: name.clone(), error: error.to_string() });
+                tally.images.failed += 1;
+                tally.failures.push(FailedImage { file: name.clone(), error: error.to_string() });
             }
             // Only under --strict, which returned above when anything failed.
             Outcome::Skipped => {}
         }
     }
-    let decoded_pixels = background_pixels + stray_pixels + texel_pixels;
+    Ok(tally)
+}
+
+/// Stages "tally" and "summarize": counted images → per-texel counts, the
+/// parts table and everything `result.json` reports.
+fn summarize(
+    options: &AnalyzeOptions,
+    inputs: &Inputs,
+    empty_tiles: Vec<crate::trim::EmptyTile>,
+    counted: CountedImages,
+    mut timings: Timings,
+    started: Instant,
+) -> Result<Analysis> {
+    let CountedImages { outcomes, image_counts, frame_counts, strays } = counted;
+    let tally = tally(options, &inputs.archive, outcomes)?;
+    let decoded_pixels = tally.background_pixels + tally.stray_pixels + tally.texel_pixels;
     timings.decoded_megapixels_per_second = decoded_pixels as f64 / 1e6 / timings.count_seconds.max(1e-9);
 
     let stage = Instant::now();
@@ -323,26 +418,27 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
         pidt: inputs.parts.as_ref().map(|p| p.2.display().to_string()),
         parts: inputs.parts.as_ref().map(|p| p.0.display().to_string()),
         dedupe: inputs.dedupe,
-        trim: TrimReport { mode: options.trim.to_string(), empty_tiles: plan.empty_tiles.clone() },
+        trim: TrimReport { mode: options.trim.to_string(), empty_tiles },
         heatmap_scale: options.heatmap.scale,
         heatmap_max: options.heatmap.max,
     };
+    let grand_total = texel_counts.par_iter().map(|&count| u64::from(count)).sum();
     let result = AnalysisResult::new(
-        images_report,
+        tally.images,
         texels_seen,
         decoded_pixels,
-        texel_pixels,
-        background_pixels,
-        stray_pixels,
+        tally.texel_pixels,
+        tally.background_pixels,
+        tally.stray_pixels,
         &strays,
         max_count,
-        texel_counts.par_iter().map(|&count| u64::from(count)).sum(),
+        grand_total,
         table.as_ref(),
         unlabelled,
         dedupe_report,
         settings,
-        failures,
-        stray_images,
+        tally.failures,
+        tally.stray_images,
         warnings,
         notes,
     );
@@ -389,7 +485,7 @@ fn texel_counts_of(palette: &Fcsp, counts: Counts) -> Vec<u32> {
 }
 
 /// Resolves options against the manifest and loads every input once.
-fn resolve(options: &AnalyzeOptions) -> Result<Inputs> {
+fn resolve_inputs(options: &AnalyzeOptions) -> Result<Inputs> {
     let root = &options.archive;
     if !root.is_dir() {
         return Err(Error::bad_file(root, "not a folder (expected an archive folder of PNG tiles)"));
@@ -462,7 +558,13 @@ fn resolve(options: &AnalyzeOptions) -> Result<Inputs> {
             root.display()
         )));
     }
-    Ok(Inputs { palette, backgrounds, parts, archive, dedupe: options.dedupe })
+    let tiles_written = manifest
+        .as_ref()
+        .and_then(|m| m.extra.get("capture"))
+        .and_then(|capture| capture.get("tiles_written"))
+        .and_then(serde_json::Value::as_bool)
+        .unwrap_or(true);
+    Ok(Inputs { palette, backgrounds, parts, archive, dedupe: options.dedupe, tiles_written })
 }
 
 /// The default output folder for an archive: `<archive>/results` (excluded

@@ -19,11 +19,12 @@ pub mod parts;
 pub mod report;
 pub mod scan;
 pub mod synthetic;
+pub mod tile_counter;
 pub mod trim;
 
 pub use analyze::{
     Analysis, AnalyzeOptions, Dedupe, PaletteChoice, Progress, Timings, WrittenFiles, analyze,
-    default_output_dir, write_results,
+    analyze_counted, default_output_dir, write_results,
 };
 pub use archive::{Archive, ImageSource};
 pub use color::{COLOR_COUNT, Color, ParseColorError};
@@ -38,4 +39,5 @@ pub use report::{
     AnalysisResult, RESULT_SCHEMA, format_table, read_result_summary, read_texel_counts, write_parts_csv,
     write_result_json, write_timings_json,
 };
+pub use tile_counter::TileCounter;
 pub use trim::{EmptyTile, TrimMode};
