@@ -13,6 +13,7 @@ use std::time::Instant;
 
 use ufcsr::{Color, Manifest, PaletteSpec};
 
+use crate::count_sink::CountSink;
 use crate::encoder_pool::EncoderPool;
 use crate::error::{CaptureError, Result};
 use crate::frame_capture::FrameCapture;
@@ -245,8 +246,60 @@ pub fn capture(
     )?;
     let captured = capture_frames(device, queue, scene, scenario, options, &prepared, &mut pool)?;
     let summary = summarize(scene, scenario, options, &prepared, &captured, setup_seconds);
-    write_manifest(scene, scenario, options, &prepared, captured)?;
+    write_manifest(scene, scenario, options, &prepared, captured, true)?;
     Ok(Summary { seconds: start.elapsed().as_secs_f64(), ..summary })
+}
+
+/// A capture counted while rendering (`--count`): its summary, the analysis
+/// and where the analyzer's files went.
+pub struct CountedCapture {
+    pub summary: Summary,
+    pub analysis: ufcsr::Analysis,
+    pub written: ufcsr::WrittenFiles,
+    /// RGBA pixels counted (what PNGs would have held).
+    pub pixels_counted: u64,
+}
+
+/// Captures one scenario and counts every tile straight from the readback
+/// buffer: writes the archive's `manifest.json`, `pidt.png` and `parts.csv`
+/// (no tiles) and the analyzer's results into `options.out/results`, the same
+/// `result.json` as writing the tiles and running `ufcsr-analyze --trim off`
+/// on them.
+pub fn capture_counted(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    scenario: &Scenario,
+    options: &CaptureOptions,
+    dedupe: ufcsr::Dedupe,
+) -> Result<CountedCapture> {
+    let start = Instant::now();
+    scene.rig.check()?;
+    let prepared = prepare_archive(device, queue, scene, options)?;
+    // Tiles of an earlier capture would contradict a manifest that says none were written.
+    crate::encoder_pool::remove_old_tiles(&options.out.join("tiles"))?;
+    let palette = match &prepared.palette {
+        PaletteSpec::Canonical { canonical: [width, height] } => ufcsr::Fcsp::canonical(*width, *height)?,
+        PaletteSpec::File(file) => ufcsr::Fcsp::from_png(&options.out.join(file))?,
+    };
+    let setup_seconds = start.elapsed().as_secs_f64();
+    let counter = ufcsr::TileCounter::new(&palette, &[prepared.background], dedupe)?;
+    let mut sink = CountSink::new(counter);
+    let captured = capture_frames(device, queue, scene, scenario, options, &prepared, &mut sink)?;
+    let summary = summarize(scene, scenario, options, &prepared, &captured, setup_seconds);
+    write_manifest(scene, scenario, options, &prepared, captured, false)?;
+    let analyze_options = ufcsr::AnalyzeOptions {
+        archive: options.out.clone(),
+        dedupe,
+        // Nothing to trim: the renderer knew which tiles were empty.
+        trim: ufcsr::TrimMode::Off,
+        ..ufcsr::AnalyzeOptions::default()
+    };
+    let CountSink { counter, pixels } = sink;
+    let mut analysis = ufcsr::analyze_counted(&analyze_options, counter)?;
+    let written = ufcsr::write_results(&mut analysis, &ufcsr::default_output_dir(&options.out))?;
+    let summary = Summary { seconds: start.elapsed().as_secs_f64(), ..summary };
+    Ok(CountedCapture { summary, analysis, written, pixels_counted: pixels })
 }
 
 /// The summary of a capture (its `seconds` still to be filled in).
@@ -286,6 +339,7 @@ pub fn write_manifest(
     options: &CaptureOptions,
     prepared: &PreparedCapture,
     captured: CapturedTiles,
+    tiles_written: bool,
 ) -> Result<Manifest> {
     let manifest = build_manifest(ManifestParts {
         scene,
@@ -300,13 +354,34 @@ pub fn write_manifest(
         tiles: captured.entries,
         frame_records: captured.frame_records,
         tally: captured.tally,
+        tiles_written,
     });
     manifest.write_to_dir(&options.out)?;
     Ok(manifest)
 }
 
-/// Captures several scenarios; with `subfolders` each goes to `out/NAME`
-/// (`--scenario all`), otherwise into `out` itself.
+/// Runs `job` for each named scenario; with `subfolders` each goes to
+/// `out/NAME` (`--scenario all`), otherwise into `out` itself.
+pub fn for_each_scenario<T>(
+    scene: &Scene,
+    names: &[String],
+    subfolders: bool,
+    options: &CaptureOptions,
+    mut job: impl FnMut(&Scenario, &CaptureOptions) -> Result<T>,
+) -> Result<Vec<T>> {
+    if names.len() > 1 && !subfolders {
+        return Err(CaptureError::BadOptions("several scenarios need one sub-folder each".into()));
+    }
+    let mut done = Vec::new();
+    for name in names {
+        let scenario = scene.scenario(name)?;
+        let out: PathBuf = if subfolders { options.out.join(&scenario.name) } else { options.out.clone() };
+        done.push(job(scenario, &CaptureOptions { out, ..options.clone() })?);
+    }
+    Ok(done)
+}
+
+/// Captures several scenarios as PNG archives (see [`for_each_scenario`]).
 pub fn capture_all(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -315,17 +390,9 @@ pub fn capture_all(
     subfolders: bool,
     options: &CaptureOptions,
 ) -> Result<Vec<Summary>> {
-    if names.len() > 1 && !subfolders {
-        return Err(CaptureError::BadOptions("several scenarios need one sub-folder each".into()));
-    }
-    let mut summaries = Vec::new();
-    for name in names {
-        let scenario = scene.scenario(name)?;
-        let out: PathBuf = if subfolders { options.out.join(&scenario.name) } else { options.out.clone() };
-        let options = CaptureOptions { out, ..options.clone() };
-        summaries.push(capture(device, queue, scene, scenario, &options)?);
-    }
-    Ok(summaries)
+    for_each_scenario(scene, names, subfolders, options, |scenario, options| {
+        capture(device, queue, scene, scenario, options)
+    })
 }
 
 /// Checks a written archive without the analyzer: every tile pixel is the

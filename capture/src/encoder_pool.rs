@@ -131,7 +131,10 @@ fn encoder_worker(
 }
 
 /// Removes files named like our tiles (`fNNNN_left|right_rR_cC.png`).
-fn remove_old_tiles(dir: &Path) -> Result<()> {
+pub(crate) fn remove_old_tiles(dir: &Path) -> Result<()> {
+    if !dir.is_dir() {
+        return Ok(());
+    }
     let entries = std::fs::read_dir(dir).map_err(|e| CaptureError::io(dir, e))?;
     for entry in entries {
         let entry = entry.map_err(|e| CaptureError::io(dir, e))?;

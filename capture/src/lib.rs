@@ -19,6 +19,7 @@
 //! vehicle before capturing.
 
 pub mod archive;
+pub mod count_sink;
 pub mod demo;
 pub mod encoder_pool;
 pub mod error;

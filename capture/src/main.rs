@@ -117,6 +117,14 @@ struct Common {
     /// PNG encoder threads (0: one per core).
     #[arg(long, default_value_t = 0)]
     threads: usize,
+    /// Count each rendered tile straight from the GPU readback with the analyzer (no PNGs):
+    /// writes the manifest, PIdT, legend and the analyzer's results/ (same result.json as
+    /// capturing PNGs and running `ufcsr-analyze --trim off`).
+    #[arg(long)]
+    count: bool,
+    /// With --count: what one count means, image (once per tile) or frame (once per eye-frame).
+    #[arg(long, default_value = "image", requires = "count")]
+    dedupe: String,
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
@@ -190,6 +198,17 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             None => format!("{}×{} (canonical)", options.palette[0], options.palette[1]),
         }
     );
+    if common.count {
+        let dedupe: ufcsr::Dedupe = common.dedupe.parse()?;
+        archive::for_each_scenario(&scene, &names, all, &options, |scenario, options| {
+            let counted =
+                archive::capture_counted(&gpu.device, &gpu.queue, &scene, scenario, options, dedupe)?;
+            report(&counted.summary);
+            report_counted(&counted);
+            Ok(())
+        })?;
+        return Ok(());
+    }
     let summaries = archive::capture_all(&gpu.device, &gpu.queue, &scene, &names, all, &options)?;
     for summary in &summaries {
         report(summary);
@@ -222,6 +241,24 @@ fn report(s: &Summary) {
     for warning in &s.warnings {
         println!("  warning: {warning}");
     }
+}
+
+fn report_counted(counted: &archive::CountedCapture) {
+    let result = &counted.analysis.result;
+    println!(
+        "  counted: {} tiles, {:.1} Mpixels straight from the renderer (no PNGs); {} texels seen, grand total {}",
+        result.images.decoded,
+        counted.pixels_counted as f64 / 1e6,
+        result.texels_seen,
+        result.grand_total
+    );
+    print!("{}", ufcsr::format_table(result));
+    let written = &counted.written;
+    println!("  results: {}", written.result_json.display());
+    if let Some(parts) = &written.parts_csv {
+        println!("           {}", parts.display());
+    }
+    println!("           {}", written.heatmap_png.display());
 }
 
 fn main() -> ExitCode {

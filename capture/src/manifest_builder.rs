@@ -30,6 +30,8 @@ pub struct ManifestParts<'a> {
     pub tiles: Vec<TileEntry>,
     pub frame_records: Vec<Value>,
     pub tally: TileTally,
+    /// False when the tiles were counted while rendering (`--count`) and never written.
+    pub tiles_written: bool,
 }
 
 /// Builds the manifest of a capture.
@@ -80,15 +82,18 @@ pub fn build_manifest(parts: ManifestParts) -> Manifest {
                 .collect::<Map<String, Value>>(),
         }),
     );
-    extra.insert(
-        "capture".into(),
-        json!({
-            "tool": concat!("ufcsr-capture ", env!("CARGO_PKG_VERSION")),
-            "tiles_rendered": tally.rendered + tally.resumed,
-            "tiles_culled": tally.culled,
-            "tiles_background_only": tally.background,
-        }),
-    );
+    let mut capture = json!({
+        "tool": concat!("ufcsr-capture ", env!("CARGO_PKG_VERSION")),
+        "tiles_rendered": tally.rendered + tally.resumed,
+        "tiles_culled": tally.culled,
+        "tiles_background_only": tally.background,
+    });
+    if !parts.tiles_written {
+        // The analyzer refuses to read tiles of such an archive (they do not
+        // exist); the manifest still names them, as the results do.
+        capture["tiles_written"] = json!(false);
+    }
+    extra.insert("capture".into(), capture);
     Manifest {
         schema: Some(MANIFEST_SCHEMA.into()),
         palette: Some(parts.palette),

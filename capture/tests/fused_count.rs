@@ -1,0 +1,72 @@
+//! `--count`: counting tiles straight from the GPU readback must give the
+//! same `result.json`, byte for byte, as writing PNG tiles and analysing the
+//! archive with `ufcsr::analyze` (trimming off: the fused path has no files
+//! to trim, and the renderer already lists empty tiles as such).
+
+use std::path::Path;
+use std::process::Command;
+
+use ufcsr::{AnalyzeOptions, Dedupe, TrimMode};
+
+fn capture(out: &Path, extra: &[&str]) {
+    let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .args(["demo", "--scenario", "B", "--out"])
+        .arg(out)
+        .args(["--ppd", "4", "--palette-size", "512", "-q"])
+        .args(extra)
+        .stdout(std::process::Stdio::null())
+        .status()
+        .expect("run ufcsr-capture");
+    assert!(status.success(), "ufcsr-capture {extra:?} failed (is a Vulkan or GL driver installed?)");
+}
+
+fn analyse_png_archive(archive: &Path, dedupe: Dedupe, trim: TrimMode) -> Vec<u8> {
+    let options =
+        AnalyzeOptions { archive: archive.to_path_buf(), dedupe, trim, ..AnalyzeOptions::default() };
+    let mut analysis = ufcsr::analyze(&options, None).expect("analyse the PNG archive");
+    let out = archive.join("png-results");
+    let written = ufcsr::write_results(&mut analysis, &out).unwrap();
+    std::fs::read(written.result_json).unwrap()
+}
+
+#[test]
+fn counting_from_the_renderer_equals_the_png_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = dir.path().join("archive");
+    for (dedupe, flag) in [(Dedupe::Image, "image"), (Dedupe::Frame, "frame")] {
+        capture(&archive, &["--frames", "0-180/3"]);
+        let png = analyse_png_archive(&archive, dedupe, TrimMode::Off);
+        let png_auto = analyse_png_archive(&archive, dedupe, TrimMode::Auto);
+
+        capture(&archive, &["--frames", "0-180/3", "--count", "--dedupe", flag]);
+        let fused = std::fs::read(archive.join("results/result.json")).unwrap();
+        assert!(
+            png == fused,
+            "--count --dedupe {flag} differs from the PNG path:\n{}\n---\n{}",
+            String::from_utf8_lossy(&png[..png.len().min(3000)]),
+            String::from_utf8_lossy(&fused[..fused.len().min(3000)])
+        );
+        // No tile file is left behind, and the archive says so.
+        let tiles = std::fs::read_dir(archive.join("tiles")).map(|d| d.count()).unwrap_or(0);
+        assert_eq!(tiles, 0, "--count wrote or kept tiles");
+
+        // With default trimming only the trimming report may differ.
+        let strip = |bytes: &[u8]| {
+            let mut value: serde_json::Value = serde_json::from_slice(bytes).unwrap();
+            value["settings"]["trim"] = serde_json::Value::Null;
+            value
+        };
+        assert_eq!(strip(&png_auto), strip(&fused), "--dedupe {flag}: more than the trim report differs");
+    }
+}
+
+#[test]
+fn a_counted_archive_is_not_analysed_again_as_png() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = dir.path().join("archive");
+    capture(&archive, &["--count", "--frames", "90-100"]);
+    let options = AnalyzeOptions { archive: archive.clone(), ..AnalyzeOptions::default() };
+    let error = ufcsr::analyze(&options, None).err().expect("a counted archive has no tiles to analyse");
+    let message = error.to_string();
+    assert!(message.contains("manifest.json") && message.contains("--count"), "{message}");
+}
