@@ -8,6 +8,7 @@ pub mod analyze;
 pub mod archive;
 pub mod bitset;
 pub mod color;
+pub mod compare;
 pub mod count;
 pub mod decode;
 pub mod error;
@@ -28,6 +29,7 @@ pub use analyze::{
 };
 pub use archive::{Archive, ImageSource};
 pub use color::{COLOR_COUNT, Color, ParseColorError};
+pub use compare::{Comparison, compare_parts, kendall_tau_b};
 pub use count::{Classifier, Counts, ImageTally, PixelClass, scan_image};
 pub use error::{Error, Result};
 pub use heatmap::{HeatmapOptions, Scale};

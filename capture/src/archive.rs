@@ -13,7 +13,7 @@ use std::time::Instant;
 
 use ufcsr::{Color, Manifest, PaletteSpec};
 
-use crate::count_sink::CountSink;
+use crate::count_sink::{Counted, count_while};
 use crate::encoder_pool::EncoderPool;
 use crate::error::{CaptureError, Result};
 use crate::frame_capture::FrameCapture;
@@ -284,8 +284,9 @@ pub fn capture_counted(
     };
     let setup_seconds = start.elapsed().as_secs_f64();
     let counter = ufcsr::TileCounter::new(&palette, &[prepared.background], dedupe)?;
-    let mut sink = CountSink::new(counter);
-    let captured = capture_frames(device, queue, scene, scenario, options, &prepared, &mut sink)?;
+    let (captured, counted) = count_while(counter, |sink| {
+        capture_frames(device, queue, scene, scenario, options, &prepared, sink)
+    })?;
     let summary = summarize(scene, scenario, options, &prepared, &captured, setup_seconds);
     write_manifest(scene, scenario, options, &prepared, captured, false)?;
     let analyze_options = ufcsr::AnalyzeOptions {
@@ -295,7 +296,7 @@ pub fn capture_counted(
         trim: ufcsr::TrimMode::Off,
         ..ufcsr::AnalyzeOptions::default()
     };
-    let CountSink { counter, pixels } = sink;
+    let Counted { counter, pixels } = counted;
     let mut analysis = ufcsr::analyze_counted(&analyze_options, counter)?;
     let written = ufcsr::write_results(&mut analysis, &ufcsr::default_output_dir(&options.out))?;
     let summary = Summary { seconds: start.elapsed().as_secs_f64(), ..summary };

@@ -15,7 +15,8 @@
 //! [`gpu`] device creation, [`render`] the renderer; the capture job:
 //! [`options`] what to do, [`archive`] its stages, [`frame_capture`] one
 //! frame, [`tile_sink`] where tiles go, [`encoder_pool`] the PNG sink,
-//! [`manifest_builder`] the manifest; [`inspect`] and [`views`] look at a
+//! [`manifest_builder`] the manifest, [`count_sink`] counting without PNGs;
+//! [`study`] and [`study_plot`] the resolution study; [`inspect`] and [`views`] look at a
 //! vehicle before capturing.
 
 pub mod archive;
@@ -37,6 +38,8 @@ pub mod render;
 pub mod rig;
 pub mod scenario;
 pub mod scene;
+pub mod study;
+pub mod study_plot;
 pub mod tile_sink;
 pub mod track;
 pub mod unity;

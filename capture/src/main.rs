@@ -59,12 +59,46 @@ enum Command {
         #[arg(long)]
         pixels_per_metre: Option<f64>,
     },
+    /// Capture and count one scenario at several ppd and frame steps, compare each with the
+    /// finest, and plot error against run time (writes study.csv, study.json, study.svg/.png).
+    Study(StudyArgs),
     /// Check an archive without the analyzer: tile pixels are background or
     /// palette colours the PIdT labels.
     Verify {
         /// The archive folder.
         archive: PathBuf,
     },
+}
+
+/// A resolution study (see `ufcsr_capture::study`).
+#[derive(Args)]
+struct StudyArgs {
+    /// `demo`, or a scene JSON file.
+    scene: String,
+    /// Scenario name (default: the first, A for the demo).
+    #[arg(long)]
+    scenario: Option<String>,
+    /// Pixels per degree to try; the highest is the reference.
+    #[arg(long, value_delimiter = ',', default_value = "60,40,30,20,15,10,6")]
+    ppd: Vec<f64>,
+    /// Every n-th frame to try; the smallest is the reference.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,4,6,10")]
+    frame_step: Vec<u32>,
+    /// Largest acceptable share L1 error against the reference, percentage points.
+    #[arg(long, default_value_t = 1.0)]
+    tolerance: f64,
+    /// What one count means: image (once per tile) or frame (once per eye-frame).
+    #[arg(long, default_value = "image")]
+    dedupe: String,
+    /// Canonical palette size, W or WxH.
+    #[arg(long, default_value = "4096")]
+    palette_size: String,
+    /// Study folder: study.csv, study.json, study.svg/.png and one folder per setting.
+    #[arg(long, default_value = "study")]
+    out: PathBuf,
+    /// GPU backend.
+    #[arg(long, value_enum, default_value_t = Backend::Auto)]
+    backend: Backend,
 }
 
 #[derive(Args)]
@@ -140,6 +174,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             print!("{inspection}");
             return Ok(());
         }
+        Command::Study(args) => return run_study(args),
         Command::Verify { archive } => {
             let (vehicle, stray) = archive::verify(&archive)?;
             println!("{}: {vehicle} vehicle pixels, {stray} stray pixels", archive.display());
@@ -241,6 +276,67 @@ fn report(s: &Summary) {
     for warning in &s.warnings {
         println!("  warning: {warning}");
     }
+}
+
+fn run_study(args: StudyArgs) -> anyhow::Result<()> {
+    let scene =
+        if args.scene == "demo" { Scene::demo() } else { Scene::load(std::path::Path::new(&args.scene))? };
+    let scenario = match &args.scenario {
+        Some(name) => scene.scenario(name)?.name.clone(),
+        None => scene.scenarios.first().map(|s| s.name.clone()).context("the scene has no scenario")?,
+    };
+    let options = ufcsr_capture::study::StudyOptions {
+        scenario,
+        ppds: args.ppd,
+        frame_steps: args.frame_step,
+        tolerance_pp: args.tolerance,
+        dedupe: args.dedupe.parse()?,
+        capture: CaptureOptions {
+            out: args.out.clone(),
+            palette: parse_palette_size(&args.palette_size)?,
+            ..CaptureOptions::default()
+        },
+    };
+    let gpu = Gpu::create(args.backend).context("creating the GPU device")?;
+    eprintln!("adapter: {}", gpu.describe());
+    let study = ufcsr_capture::study::run_study(&gpu.device, &gpu.queue, &scene, &options)?;
+    println!("scenario {}: reference {}", study.scenario, study.reference);
+    println!(
+        "{:>6} {:>5} {:>6} {:>9} {:>9} {:>9} {:>7} {:>5} {:>6}",
+        "ppd", "step", "frames", "seconds", "L1 pp", "max pp", "tau", "top5", "pareto"
+    );
+    for row in &study.rows {
+        let e = &row.error;
+        println!(
+            "{:>6} {:>5} {:>6} {:>9.2} {:>9.3} {:>9.3} {:>7.3} {:>5} {:>6}",
+            row.ppd,
+            row.frame_step,
+            row.frames,
+            row.seconds,
+            e.share_l1_pp,
+            e.share_max_pp,
+            e.kendall_tau_total,
+            e.top_k_overlap,
+            if row.pareto { "*" } else { "" }
+        );
+    }
+    match study.cheapest_within_tolerance {
+        Some(index) => {
+            let row = &study.rows[index];
+            println!(
+                "cheapest within {} pp: {} ({:.2} s, share L1 {:.3} pp)",
+                study.tolerance_pp,
+                row.label(),
+                row.seconds,
+                row.error.share_l1_pp
+            );
+        }
+        None => println!("no setting is within {} pp of the reference", study.tolerance_pp),
+    }
+    for file in ufcsr_capture::study::write_study(&study, &args.out)? {
+        println!("wrote {}", file.display());
+    }
+    Ok(())
 }
 
 fn report_counted(counted: &archive::CountedCapture) {

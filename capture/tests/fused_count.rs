@@ -70,3 +70,40 @@ fn a_counted_archive_is_not_analysed_again_as_png() {
     let message = error.to_string();
     assert!(message.contains("manifest.json") && message.contains("--count"), "{message}");
 }
+
+#[test]
+fn a_small_study_compares_every_setting_with_the_finest() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .args([
+            "study",
+            "demo",
+            "--scenario",
+            "B",
+            "--ppd",
+            "4,3",
+            "--frame-step",
+            "1,6",
+            "--palette-size",
+            "256",
+        ])
+        .arg("--out")
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .status()
+        .expect("run ufcsr-capture study");
+    assert!(status.success());
+    let study: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("study.json")).unwrap()).unwrap();
+    let rows = study["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 4);
+    // The reference (finest) has no error and is on the Pareto front.
+    assert_eq!((rows[0]["ppd"].as_f64(), rows[0]["frame_step"].as_u64()), (Some(4.0), Some(1)));
+    assert_eq!(rows[0]["error"]["share_l1_pp"].as_f64(), Some(0.0));
+    assert_eq!(rows[0]["pareto"].as_bool(), Some(true));
+    assert!(rows.iter().all(|r| r["error"]["share_l1_pp"].as_f64().unwrap() >= 0.0));
+    let csv = std::fs::read_to_string(out.join("study.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 5, "{csv}");
+    assert!(out.join("study.svg").is_file());
+}
