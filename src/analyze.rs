@@ -28,6 +28,7 @@ use crate::report::{
     AnalysisResult, DedupeReport, FailedImage, ImageCounts, Settings, StrayImage, TrimReport,
     UnlabelledReport,
 };
+use crate::resolution::{CaptureGeometry, ResolutionReport};
 use crate::tile_counter::TileCounter;
 use crate::trim::{TrimMode, TrimPlan};
 
@@ -144,6 +145,8 @@ struct Inputs {
     parts: Option<(PathBuf, Legend, PathBuf, Pidt)>,
     archive: Archive,
     dedupe: Dedupe,
+    /// Resolution and texel size from the capture's manifest.
+    geometry: CaptureGeometry,
     /// False for a capture counted while rendering (`--count`): its manifest
     /// names tiles that were never written.
     tiles_written: bool,
@@ -423,7 +426,13 @@ fn summarize(
         heatmap_max: options.heatmap.max,
     };
     let grand_total = texel_counts.par_iter().map(|&count| u64::from(count)).sum();
-    let result = AnalysisResult::new(
+    let per_image_total = match &per_image_counts {
+        Some(per_image) => per_image.par_iter().map(|&count| u64::from(count)).sum(),
+        None => grand_total,
+    };
+    let resolution = ResolutionReport::new(tally.texel_pixels, per_image_total, &inputs.geometry);
+    warnings.extend(resolution.warnings());
+    let mut result = AnalysisResult::new(
         tally.images,
         texels_seen,
         decoded_pixels,
@@ -442,6 +451,7 @@ fn summarize(
         warnings,
         notes,
     );
+    result.resolution = Some(resolution);
     Ok(Analysis { result, texel_counts, timings })
 }
 
@@ -564,7 +574,8 @@ fn resolve_inputs(options: &AnalyzeOptions) -> Result<Inputs> {
         .and_then(|capture| capture.get("tiles_written"))
         .and_then(serde_json::Value::as_bool)
         .unwrap_or(true);
-    Ok(Inputs { palette, backgrounds, parts, archive, dedupe: options.dedupe, tiles_written })
+    let geometry = manifest.as_ref().map(CaptureGeometry::from_manifest).unwrap_or_default();
+    Ok(Inputs { palette, backgrounds, parts, archive, dedupe: options.dedupe, tiles_written, geometry })
 }
 
 /// The default output folder for an archive: `<archive>/results` (excluded

@@ -18,6 +18,7 @@ pub mod output;
 pub mod palette;
 pub mod parts;
 pub mod report;
+pub mod resolution;
 pub mod scan;
 pub mod synthetic;
 pub mod tile_counter;
@@ -41,5 +42,6 @@ pub use report::{
     AnalysisResult, RESULT_SCHEMA, format_table, read_result_summary, read_texel_counts, write_parts_csv,
     write_result_json, write_timings_json,
 };
+pub use resolution::{CaptureGeometry, ResolutionReport};
 pub use tile_counter::TileCounter;
 pub use trim::{EmptyTile, TrimMode};

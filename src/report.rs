@@ -180,6 +180,9 @@ pub struct AnalysisResult {
     pub warnings: Vec<String>,
     /// Facts worth knowing that need no action.
     pub notes: Vec<String>,
+    /// Whether the counts depend on resolution (absent in older results).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resolution: Option<crate::resolution::ResolutionReport>,
 }
 
 impl AnalysisResult {
@@ -228,6 +231,7 @@ impl AnalysisResult {
             images_with_stray_pixels,
             warnings,
             notes,
+            resolution: None,
         }
     }
 }
