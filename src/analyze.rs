@@ -120,6 +120,9 @@ pub struct Analysis {
     /// Count per texel, row-major over the palette (`width * height`).
     pub texel_counts: Vec<u32>,
     pub timings: Timings,
+    /// Every file the analysis read (legend, PIdT, palette, manifest, images):
+    /// [`write_results`] refuses to write over any of them.
+    pub input_files: Vec<PathBuf>,
 }
 
 impl Analysis {
@@ -145,6 +148,8 @@ struct Inputs {
     parts: Option<(PathBuf, Legend, PathBuf, Pidt)>,
     archive: Archive,
     dedupe: Dedupe,
+    /// The palette image, when the palette is not the canonical one.
+    palette_file: Option<PathBuf>,
     /// Resolution and texel size from the capture's manifest.
     geometry: CaptureGeometry,
     /// False for a capture counted while rendering (`--count`): its manifest
@@ -452,7 +457,12 @@ fn summarize(
         notes,
     );
     result.resolution = Some(resolution);
-    Ok(Analysis { result, texel_counts, timings })
+    let mut input_files: Vec<PathBuf> =
+        inputs.archive.images.iter().map(|image| image.path.clone()).collect();
+    input_files.extend(inputs.parts.iter().flat_map(|(legend, _, pidt, _)| [legend.clone(), pidt.clone()]));
+    input_files.extend(inputs.palette_file.iter().cloned());
+    input_files.push(options.archive.join(crate::manifest::MANIFEST_FILE));
+    Ok(Analysis { result, texel_counts, timings, input_files })
 }
 
 /// Counts one image into `seen` (left for the caller to commit and clear).
@@ -575,7 +585,20 @@ fn resolve_inputs(options: &AnalyzeOptions) -> Result<Inputs> {
         .and_then(serde_json::Value::as_bool)
         .unwrap_or(true);
     let geometry = manifest.as_ref().map(CaptureGeometry::from_manifest).unwrap_or_default();
-    Ok(Inputs { palette, backgrounds, parts, archive, dedupe: options.dedupe, tiles_written, geometry })
+    let palette_file = match palette_choice {
+        PaletteChoice::Image(path) => Some(path),
+        PaletteChoice::Canonical { .. } => None,
+    };
+    Ok(Inputs {
+        palette,
+        backgrounds,
+        parts,
+        archive,
+        dedupe: options.dedupe,
+        tiles_written,
+        geometry,
+        palette_file,
+    })
 }
 
 /// The default output folder for an archive: `<archive>/results` (excluded
@@ -593,6 +616,30 @@ pub struct WrittenFiles {
     pub timings_json: PathBuf,
 }
 
+/// Errors when writing `files` would replace one of the analysis's inputs
+/// (e.g. `--out` pointing at the archive, whose legend is `parts.csv`).
+fn refuse_to_overwrite_inputs(inputs: &[PathBuf], files: &WrittenFiles) -> Result<()> {
+    let outputs = [
+        Some(&files.result_json),
+        files.parts_csv.as_ref(),
+        Some(&files.heatmap_png),
+        Some(&files.timings_json),
+    ];
+    for output in outputs.into_iter().flatten() {
+        let Ok(output_real) = output.canonicalize() else { continue };
+        for input in inputs.iter().filter(|input| input.file_name() == output.file_name()) {
+            if input.canonicalize().is_ok_and(|input_real| input_real == output_real) {
+                return Err(Error::BadOptions(format!(
+                    "writing {} would overwrite the input {}: choose another --out folder",
+                    output.display(),
+                    input.display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Writes `result.json`, `parts.csv` (with a PIdT), `heatmap.png` and
 /// `timings.json` into `out_dir` (created if needed), each atomically. The
 /// heatmap uses the scale recorded in the result's settings.
@@ -606,6 +653,7 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
         heatmap_png: out_dir.join("heatmap.png"),
         timings_json: out_dir.join("timings.json"),
     };
+    refuse_to_overwrite_inputs(&analysis.input_files, &files)?;
     let settings = &analysis.result.settings;
     let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
     let stage = Instant::now();

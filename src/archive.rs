@@ -81,7 +81,10 @@ impl Archive {
                 Error::Io { path, cause: e.into() }
             })?;
             let is_png = entry.path().extension().is_some_and(|e| e.eq_ignore_ascii_case("png"));
-            if entry.file_type().is_file() && is_png {
+            // Anything named *.png that is not a folder is an image: a FIFO,
+            // socket or device then fails to open and is reported and counted
+            // as failed, never silently skipped (nor opened and waited on).
+            if !entry.file_type().is_dir() && is_png {
                 let relative = entry.path().strip_prefix(root).unwrap_or(entry.path());
                 images.push(ImageSource {
                     path: entry.path().to_path_buf(),

@@ -308,6 +308,7 @@ fn scan_rows(
     while let Some(row) = reader.next_row()? {
         scan.scan(row, classifier, seen, strays, &mut by_class);
     }
+    reader.finish()?;
     Ok(ImageTally {
         width: reader.width(),
         height: reader.height(),

@@ -1,49 +1,33 @@
 //! PNG reading: cheap headers, streaming rows for tiles, whole images for textures.
 //!
-//! Tiles are decoded row by row straight from a memory-mapped file, so a
-//! worker never holds more than one row and the kernel's page cache is the
-//! only copy of the compressed bytes. Every accepted PNG is turned into 8-bit
+//! Tiles are read whole (compressed) and decoded row by row, so a worker
+//! holds the compressed bytes and one row. (They used to be memory-mapped; a
+//! tile truncated by another process while mapped kills the process with
+//! SIGBUS, while a read just sees a short, reported file.) The zlib Adler-32
+//! of the image data is verified: a corrupted IDAT with valid chunk CRCs must
+//! fail, not count wrong texels. Every accepted PNG is turned into 8-bit
 //! samples (palette and low-bit grey expanded); 16-bit images are rejected,
 //! because their colours cannot name 8-bit palette texels exactly.
 
-use std::fs::File;
 use std::io::Cursor;
 use std::ops::Deref;
 use std::path::Path;
 
-use memmap2::Mmap;
-
 use crate::error::{Error, Result};
 
-/// The bytes of a file, memory-mapped (or empty for a zero-byte file, which
-/// cannot be mapped).
-pub enum MappedFile {
-    Mapped(Mmap),
-    Empty,
-}
+/// The bytes of an input file, read whole.
+pub struct MappedFile(Vec<u8>);
 
 impl Deref for MappedFile {
     type Target = [u8];
     fn deref(&self) -> &[u8] {
-        match self {
-            MappedFile::Mapped(map) => map,
-            MappedFile::Empty => &[],
-        }
+        &self.0
     }
 }
 
-/// Maps `path` read-only.
+/// Reads `path` (a regular file; see [`crate::input_file`]).
 pub fn map_file(path: &Path) -> Result<MappedFile> {
-    let file = File::open(path).map_err(|e| Error::io(path, e))?;
-    let length = file.metadata().map_err(|e| Error::io(path, e))?.len();
-    if length == 0 {
-        return Ok(MappedFile::Empty);
-    }
-    // SAFETY: the map is read-only and private to this process. A file that
-    // another process truncates while we read it could fault; archives are
-    // written before analysis, so we accept that like every mmap-based tool.
-    let map = unsafe { Mmap::map(&file) }.map_err(|e| Error::io(path, e))?;
-    Ok(MappedFile::Mapped(map))
+    crate::input_file::read_limited(path, crate::input_file::IMAGE_LIMIT).map(MappedFile)
 }
 
 /// What the IHDR chunk says, read without decoding anything.
@@ -134,7 +118,10 @@ impl<'a> RowReader<'a> {
     pub fn new(path: &'a Path, bytes: &'a [u8]) -> Result<RowReader<'a>> {
         // Cheap structural checks first give clearer messages than the decoder's.
         parse_header(path, bytes)?;
-        let mut decoder = png::Decoder::new(Cursor::new(bytes));
+        let mut options = png::DecodeOptions::default();
+        // The png crate skips the zlib checksum by default, for speed.
+        options.set_ignore_adler32(false);
+        let mut decoder = png::Decoder::new_with_options(Cursor::new(bytes), options);
         decoder.set_transformations(png::Transformations::EXPAND);
         let reader = decoder.read_info().map_err(|e| png_error(path, e))?;
         let info = reader.info();
@@ -194,6 +181,12 @@ impl<'a> RowReader<'a> {
         }
     }
 
+    /// Reads to the end of the image data after the last row, so the zlib
+    /// checksum that follows it is verified (call once `next_row` is done).
+    pub fn finish(&mut self) -> Result<()> {
+        self.reader.finish().map_err(|e| png_error(self.path, e))
+    }
+
     /// Decodes the whole image in raster order into packed `0xRRGGBB` colours.
     pub fn into_colors(mut self) -> Result<Vec<u32>> {
         let size = self.reader.output_buffer_size().ok_or_else(|| Error::Png {
@@ -202,6 +195,7 @@ impl<'a> RowReader<'a> {
         })?;
         let mut buffer = vec![0u8; size];
         self.reader.next_frame(&mut buffer).map_err(|e| png_error(self.path, e))?;
+        self.finish()?;
         let step = self.layout.bytes_per_pixel();
         let layout = self.layout;
         Ok(buffer.chunks_exact(step).map(|pixel| layout.pack(pixel)).collect())

@@ -13,6 +13,7 @@ pub mod count;
 pub mod decode;
 pub mod error;
 pub mod heatmap;
+pub mod input_file;
 pub mod manifest;
 pub mod output;
 pub mod palette;

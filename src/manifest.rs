@@ -97,11 +97,15 @@ impl Manifest {
     /// Reads `dir/manifest.json` if there is one.
     pub fn load_from_dir(dir: &Path) -> Result<Option<Manifest>> {
         let path = dir.join(MANIFEST_FILE);
-        match std::fs::read(&path) {
-            Ok(bytes) => Manifest::parse(&path, &bytes).map(Some),
-            Err(error) if error.kind() == std::io::ErrorKind::NotFound => Ok(None),
-            Err(error) => Err(Error::io(&path, error)),
+        // symlink_metadata: a dangling link is still "a manifest that is there".
+        if let Err(error) = std::fs::symlink_metadata(&path) {
+            if error.kind() == std::io::ErrorKind::NotFound {
+                return Ok(None);
+            }
+            return Err(Error::io(&path, error));
         }
+        let bytes = crate::input_file::read_limited(&path, crate::input_file::SMALL_INPUT_LIMIT)?;
+        Manifest::parse(&path, &bytes).map(Some)
     }
 
     /// Parses and checks a manifest's bytes; `path` is only used in messages.

@@ -33,7 +33,8 @@ impl Legend {
     /// Reads a legend: CSV `name,color` (header optional) or a JSON list of
     /// `{"name", "color"}`.
     pub fn load(path: &Path) -> Result<Legend> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let bytes = crate::input_file::read_limited(path, crate::input_file::SMALL_INPUT_LIMIT)?;
+        let text = String::from_utf8(bytes).map_err(|_| Error::bad_file(path, "legend is not UTF-8 text"))?;
         let is_json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"))
             || text.trim_start().starts_with('[');
         let parts = if is_json {

@@ -334,7 +334,7 @@ pub struct StoredCounts {
 
 /// Reads the per-texel counts of a `result.json` (without the summary).
 pub fn read_texel_counts(path: &Path) -> Result<StoredCounts> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let file = crate::input_file::open_regular(path)?;
     let source: HeatmapSource = serde_json::from_reader(std::io::BufReader::new(file))
         .map_err(|e| Error::bad_file(path, format!("not a ufcsr result.json: {e}")))?;
     if !source.schema.starts_with("ufcsr-result/") {
@@ -360,7 +360,7 @@ pub fn read_texel_counts(path: &Path) -> Result<StoredCounts> {
 
 /// Reads the summary of a `result.json` (the per-texel arrays are skipped).
 pub fn read_result_summary(path: &Path) -> Result<AnalysisResult> {
-    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let file = crate::input_file::open_regular(path)?;
     serde_json::from_reader(std::io::BufReader::new(file))
         .map_err(|e| Error::bad_file(path, format!("not a ufcsr result.json: {e}")))
 }

@@ -8,7 +8,6 @@
 //! the vehicle has different bytes and is decoded: nothing is ever lost.
 
 use std::collections::BTreeMap;
-use std::fs::File;
 use std::io::Read;
 
 use rayon::prelude::*;
@@ -146,7 +145,8 @@ impl TrimPlan {
 
 /// `(width, height, file size)` of a PNG, or None when it cannot be read.
 fn file_facts(image: &ImageSource) -> Option<(u32, u32, u64)> {
-    let mut file = File::open(&image.path).ok()?;
+    // Never File::open here: a FIFO would block (decoding reports it instead).
+    let mut file = crate::input_file::open_regular(&image.path).ok()?;
     let size = file.metadata().ok()?.len();
     let mut head = [0u8; HEADER_BYTES];
     file.read_exact(&mut head).ok()?;
