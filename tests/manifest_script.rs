@@ -12,6 +12,8 @@ use ufcsr::{AnalyzeOptions, Dedupe, analyze};
 #[test]
 fn unity_named_tiles_get_a_working_manifest() {
     if Command::new("python3").arg("--version").output().is_err() {
+        // A skip must not hide a missing tool where the suite is meant to be complete.
+        assert!(std::env::var_os("CI").is_none(), "CI: python3 is not installed");
         eprintln!("SKIPPED: python3 is not installed");
         return;
     }

@@ -153,6 +153,29 @@ pub fn prepare_archive(
     })
 }
 
+/// Longest scenario a capture accepts: a day (longer is a unit mistake, and
+/// would select billions of frames).
+pub const MAX_SCENARIO_SECONDS: f64 = 86_400.0;
+
+/// What must hold before any frame is rendered, so that bad values are
+/// errors naming the problem instead of `null`s in the manifest.
+fn check_capturable(scene: &Scene, scenario: &Scenario) -> Result<()> {
+    let duration = scenario.duration_s;
+    if !(duration.is_finite() && (0.0..=MAX_SCENARIO_SECONDS).contains(&duration)) {
+        return Err(CaptureError::BadOptions(format!(
+            "scenario {}: duration {duration} s is not between 0 and {MAX_SCENARIO_SECONDS} s",
+            scenario.name
+        )));
+    }
+    scenario.motion.check()?;
+    if let Some(index) = scene.vehicle.parts.iter().position(|name| name.trim().is_empty()) {
+        return Err(CaptureError::BadOptions(format!(
+            "vehicle part {index} has an empty name (check `rename` in the scene file): the legend needs a name per part"
+        )));
+    }
+    Ok(())
+}
+
 /// The tiles of a whole capture, as the frame loop produced them.
 pub struct CapturedTiles {
     pub entries: Vec<ufcsr::TileEntry>,
@@ -173,7 +196,16 @@ pub fn capture_frames(
     sink: &mut dyn TileSink,
 ) -> Result<CapturedTiles> {
     let rig = &scene.rig;
-    let frames = options.frames.frames(rig.frame_count(scenario.duration_s));
+    check_capturable(scene, scenario)?;
+    let frame_count = rig.frame_count(scenario.duration_s);
+    let frames = options.frames.frames(frame_count);
+    if frames.is_empty() {
+        return Err(CaptureError::BadOptions(format!(
+            "no frame selected: scenario {} has frames 0-{}, and the frame selection names none of them",
+            scenario.name,
+            frame_count.saturating_sub(1)
+        )));
+    }
     let tiles_per_eye = u64::from(rig.tiles[0]) * u64::from(rig.tiles[1]);
     let total = frames.len() as u64 * 2 * tiles_per_eye;
     let progress = progress_bar(options.progress, total, &scenario.name);

@@ -74,7 +74,7 @@ impl EncoderPool {
 
 impl TileSink for EncoderPool {
     fn is_done(&self, address: &TileAddress) -> bool {
-        self.resume && png_size(&self.archive.join(address.file())) == Some(self.tile_size)
+        self.resume && is_complete_tile(&self.archive.join(address.file()), self.tile_size)
     }
 
     fn accept(&mut self, tile: RenderedTile) -> Result<()> {
@@ -146,10 +146,16 @@ pub(crate) fn remove_old_tiles(dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The size of a readable PNG, from its header; `None` for anything else.
-fn png_size(path: &Path) -> Option<[u32; 2]> {
-    let file = std::fs::File::open(path).ok()?;
-    let reader = png::Decoder::new(std::io::BufReader::new(file)).read_info().ok()?;
-    let info = reader.info();
-    Some([info.width, info.height])
+/// True for a tile that decodes completely (zlib checksum included) at the
+/// tile size: a header alone is not enough, since an interrupted write
+/// leaves a valid header over missing image data.
+fn is_complete_tile(path: &Path, tile_size: [u32; 2]) -> bool {
+    ufcsr::decode::read_color_image(path, |width, height| {
+        if [width, height] == tile_size {
+            Ok(())
+        } else {
+            Err(ufcsr::Error::bad_file(path, "not the tile size"))
+        }
+    })
+    .is_ok()
 }

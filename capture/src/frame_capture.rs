@@ -67,6 +67,12 @@ impl<'a> FrameCapture<'a> {
         let rig = self.rig();
         let time_s = (f64::from(frame) / rig.fps).min(self.scenario.duration_s);
         let pose = self.scenario.motion.pose(time_s);
+        if !(pose.position.is_finite() && pose.yaw_deg.is_finite()) {
+            return Err(crate::error::CaptureError::BadOptions(format!(
+                "scenario {}: the vehicle's pose at {time_s} s is not finite",
+                self.scenario.name
+            )));
+        }
         let to_world = vehicle_to_world(&pose);
         let world_box = self.vehicle_box.map(|c| to_world.transform_point3(c));
         let pedestrian = glam::dvec2(rig.pedestrian[0], rig.pedestrian[1]);

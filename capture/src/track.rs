@@ -13,6 +13,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{CaptureError, Result};
 
+/// Largest time, value or slope a track key may have (metres, seconds, degrees).
+pub const MAX_TRACK_MAGNITUDE: f64 = 1.0e6;
+
 /// One key of an N-dimensional track.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Key<const N: usize> {
@@ -56,7 +59,8 @@ impl<const N: usize> Track<N> {
         Ok(track)
     }
 
-    /// Checks that there is a key and that times strictly increase.
+    /// Checks that there is a key, values and slopes are finite and of street
+    /// scale ([`MAX_TRACK_MAGNITUDE`]), and that times strictly increase.
     pub fn check(&self) -> Result<()> {
         if self.keys.is_empty() {
             return Err(CaptureError::BadOptions("a track needs at least one key".into()));
@@ -68,6 +72,20 @@ impl<const N: usize> Track<N> {
                 && key.out_slope.iter().flatten().all(|v| v.is_finite());
             if !finite {
                 return Err(CaptureError::BadOptions(format!("track key at t={} is not finite", key.t)));
+            }
+            // Finite is not enough: 1e308 overflows to infinity in the Hermite
+            // sums and ends as `null` in the manifest. A street scene fits
+            // within ±1000 km and 1000 km/s (or degrees and degrees per second).
+            let huge = |v: &f64| v.abs() > MAX_TRACK_MAGNITUDE;
+            if key.t.abs() > MAX_TRACK_MAGNITUDE
+                || key.value.iter().any(huge)
+                || key.in_slope.iter().flatten().any(huge)
+                || key.out_slope.iter().flatten().any(huge)
+            {
+                return Err(CaptureError::BadOptions(format!(
+                    "track key at t={} has a time, value or slope beyond ±{MAX_TRACK_MAGNITUDE:e}: not a street scene",
+                    key.t
+                )));
             }
         }
         for pair in self.keys.windows(2) {
