@@ -29,6 +29,7 @@ use crate::report::{
     UnlabelledReport,
 };
 use crate::resolution::{CaptureGeometry, ResolutionReport};
+use crate::shard::Shard;
 use crate::tile_counter::TileCounter;
 use crate::trim::{TrimMode, TrimPlan};
 
@@ -93,6 +94,8 @@ pub struct AnalyzeOptions {
     pub exclude: Vec<PathBuf>,
     /// Ignore `manifest.json` even if present.
     pub ignore_manifest: bool,
+    /// Count only this shard of the archive (see [`crate::shard`]).
+    pub shard: Option<Shard>,
 }
 
 /// Wall-clock seconds per stage, and the thread count (kept out of
@@ -188,20 +191,23 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
     let strays = AtomicColorSet::new();
     let stop = AtomicBool::new(false);
     // Work units: one eye-frame (so frame deduplication stays in one thread),
-    // or one image.
+    // or one image; with a shard, only its images.
+    let selected: Vec<usize> =
+        (0..images.len()).filter(|&index| in_shard(options.shard, index, &images[index])).collect();
     let units: Vec<Vec<usize>> = match inputs.dedupe {
         Dedupe::Frame => {
             let mut groups = vec![Vec::new(); inputs.archive.frame_groups];
-            for (index, image) in images.iter().enumerate() {
+            for &index in &selected {
                 // resolve() guarantees every image has a group in frame mode.
-                groups[image.frame_group.unwrap_or(0)].push(index);
+                groups[images[index].frame_group.unwrap_or(0)].push(index);
             }
+            groups.retain(|group| !group.is_empty());
             groups
         }
-        Dedupe::Image => (0..images.len()).map(|i| vec![i]).collect(),
+        Dedupe::Image => selected.iter().map(|&i| vec![i]).collect(),
     };
     if let Some(progress) = progress {
-        progress.start(images.len() as u64);
+        progress.start(selected.len() as u64);
     }
     // Per worker thread a 2 MiB set for the image, and one for the eye-frame
     // in frame mode, reused for every image: fresh sets per rayon split
@@ -250,14 +256,13 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
     if let Some(progress) = progress {
         progress.finish();
     }
-    outcomes.sort_by_key(|(index, _)| *index);
     timings.count_seconds = stage.elapsed().as_secs_f64();
-    let counted = CountedImages {
-        outcomes: outcomes.into_iter().map(|(_, outcome)| outcome).collect(),
-        image_counts,
-        frame_counts,
-        strays,
-    };
+    // One outcome per archive image, in order; images of other shards are Skipped.
+    let mut by_image: Vec<Outcome> = (0..images.len()).map(|_| Outcome::Skipped).collect();
+    for (index, outcome) in outcomes.drain(..) {
+        by_image[index] = outcome;
+    }
+    let counted = CountedImages { outcomes: by_image, image_counts, frame_counts, strays };
     summarize(options, &inputs, plan.empty_tiles.clone(), counted, timings, started)
 }
 
@@ -297,6 +302,28 @@ pub fn analyze_counted(options: &AnalyzeOptions, mut counter: TileCounter) -> Re
     summarize(options, &inputs, Vec::new(), counted, timings, started)
 }
 
+/// One warning per legend part without texels in the PIdT.
+pub(crate) fn empty_part_warnings(table: &crate::parts::PartTable, legend: &str, pidt: &str) -> Vec<String> {
+    table
+        .parts
+        .iter()
+        .filter(|p| p.texels == 0)
+        .map(|part| {
+            format!(
+                "{legend}: part {:?} ({}) has no texels in {pidt}",
+                part.name,
+                part.color.map(|c| c.to_string()).unwrap_or_default(),
+            )
+        })
+        .collect()
+}
+
+/// True when image `position` of the archive belongs to `shard` (whole
+/// eye-frames with a manifest, single images without).
+fn in_shard(shard: Option<Shard>, position: usize, image: &crate::archive::ImageSource) -> bool {
+    shard.is_none_or(|shard| shard.takes(image.frame_group.unwrap_or(position)))
+}
+
 /// What counting produced, in archive image order: the input of [`summarize`].
 struct CountedImages {
     /// One outcome per image of the archive, in order.
@@ -323,9 +350,17 @@ struct Tally {
 /// in archive order; under `--strict` the first failure is the error).
 fn tally(options: &AnalyzeOptions, archive: &Archive, outcomes: Vec<Outcome>) -> Result<Tally> {
     let mut tally = Tally::default();
-    tally.images.found = archive.found();
-    tally.images.listed_empty = archive.listed_empty;
-    tally.images.trimmed = archive.listed_empty;
+    let (images_here, listed_empty) = match options.shard {
+        None => (archive.images.len() as u64, archive.listed_empty),
+        Some(shard) => (
+            archive.images.iter().enumerate().filter(|(i, image)| in_shard(Some(shard), *i, image)).count()
+                as u64,
+            archive.listed_empty_groups.iter().filter(|&&group| shard.takes(group)).count() as u64,
+        ),
+    };
+    tally.images.found = images_here + listed_empty;
+    tally.images.listed_empty = listed_empty;
+    tally.images.trimmed = listed_empty;
     for (image, outcome) in archive.images.iter().zip(outcomes) {
         let name = &image.name;
         match outcome {
@@ -391,15 +426,11 @@ fn summarize(
     let (table, unlabelled, dedupe_report) = match &inputs.parts {
         Some((legend_path, legend, pidt_path, pidt)) => {
             let table = join_parts(&texel_counts, pidt, legend);
-            for part in table.parts.iter().filter(|p| p.texels == 0) {
-                warnings.push(format!(
-                    "{}: part {:?} ({}) has no texels in {}",
-                    legend_path.display(),
-                    part.name,
-                    part.color.map(|c| c.to_string()).unwrap_or_default(),
-                    pidt_path.display()
-                ));
-            }
+            warnings.extend(empty_part_warnings(
+                &table,
+                &legend_path.display().to_string(),
+                &pidt_path.display().to_string(),
+            ));
             let dedupe_report = per_image_counts.as_ref().map(|per_image| {
                 let per_image_total = join_parts(per_image, pidt, legend).grand_total;
                 DedupeReport::new(per_image_total, table.grand_total)
@@ -429,6 +460,7 @@ fn summarize(
         trim: TrimReport { mode: options.trim.to_string(), empty_tiles },
         heatmap_scale: options.heatmap.scale,
         heatmap_max: options.heatmap.max,
+        shard: options.shard,
     };
     let grand_total = texel_counts.par_iter().map(|&count| u64::from(count)).sum();
     let per_image_total = match &per_image_counts {

@@ -33,6 +33,8 @@ pub struct Archive {
     pub listed_empty: u64,
     /// Number of distinct `(frame, eye)` groups; 0 without a manifest.
     pub frame_groups: usize,
+    /// The eye-frame group of each tile listed as empty (for sharding).
+    pub listed_empty_groups: Vec<usize>,
 }
 
 impl Archive {
@@ -48,6 +50,7 @@ impl Archive {
             *id = number;
         }
         let mut listed_empty = 0;
+        let mut listed_empty_groups = Vec::new();
         let mut images = Vec::new();
         for tile in &manifest.tiles {
             let group = groups[&(tile.frame, tile.eye.clone())];
@@ -57,11 +60,20 @@ impl Archive {
                     name: slash_path(file),
                     frame_group: Some(group),
                 }),
-                None => listed_empty += 1,
+                None => {
+                    listed_empty += 1;
+                    listed_empty_groups.push(group);
+                }
             }
         }
         images.sort_by(|a, b| a.name.cmp(&b.name));
-        Archive { root: root.to_path_buf(), images, listed_empty, frame_groups: groups.len() }
+        Archive {
+            root: root.to_path_buf(),
+            images,
+            listed_empty,
+            frame_groups: groups.len(),
+            listed_empty_groups,
+        }
     }
 
     /// Every `*.png` below `root` except those in `exclude` (files or folders,
@@ -94,7 +106,13 @@ impl Archive {
             }
         }
         images.sort_by(|a, b| a.name.cmp(&b.name));
-        Ok(Archive { root: root.to_path_buf(), images, listed_empty: 0, frame_groups: 0 })
+        Ok(Archive {
+            root: root.to_path_buf(),
+            images,
+            listed_empty: 0,
+            frame_groups: 0,
+            listed_empty_groups: Vec::new(),
+        })
     }
 
     /// Number of tiles found: image files plus tiles listed as empty.

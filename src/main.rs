@@ -9,7 +9,7 @@ use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use ufcsr::{
-    AnalyzeOptions, Color, Dedupe, HeatmapOptions, PaletteChoice, Progress, Scale, TrimMode, analyze,
+    AnalyzeOptions, Color, Dedupe, HeatmapOptions, PaletteChoice, Progress, Scale, Shard, TrimMode, analyze,
     default_output_dir, format_table, read_texel_counts, write_results,
 };
 
@@ -41,6 +41,9 @@ struct Cli {
 enum Command {
     /// Re-render the heatmap from a result.json, without the archive.
     Heatmap(HeatmapArgs),
+    /// Add up the result.json of every shard (`--shard I/N`) of one archive: the same files as
+    /// analysing it whole.
+    Merge(MergeArgs),
     /// Write the canonical Full Color Space Palette as a PNG (to texture a mesh in Unity/Blender).
     Palette(PaletteArgs),
 }
@@ -97,6 +100,12 @@ struct AnalyzeArgs {
     #[arg(long, short, value_name = "DIR")]
     out: Option<PathBuf>,
 
+    /// Count only shard I of N (0 ≤ I < N) of the archive's eye-frames; merge the shards'
+    /// results with `ufcsr-analyze merge`. Default: from SLURM_ARRAY_TASK_ID/COUNT, or
+    /// JOB_COMPLETION_INDEX / AWS_BATCH_JOB_ARRAY_INDEX with UFCSR_SHARD_COUNT.
+    #[arg(long, value_name = "I/N")]
+    shard: Option<String>,
+
     /// Worker threads (default: all cores).
     #[arg(long, short = 'j', value_name = "N")]
     threads: Option<usize>,
@@ -130,6 +139,17 @@ struct HeatmapScaleArgs {
 }
 
 #[derive(Args)]
+struct MergeArgs {
+    /// The shards' result.json files.
+    #[arg(required = true)]
+    results: Vec<PathBuf>,
+
+    /// Output folder.
+    #[arg(long, short, value_name = "DIR")]
+    out: PathBuf,
+}
+
+#[derive(Args)]
 struct HeatmapArgs {
     /// A result.json written by ufcsr-analyze.
     result: PathBuf,
@@ -154,6 +174,7 @@ fn main() -> ExitCode {
     let outcome = match cli.command {
         Some(Command::Heatmap(args)) => run_heatmap(args),
         Some(Command::Palette(args)) => run_palette(args),
+        Some(Command::Merge(args)) => run_merge(args),
         None => run_analyze(cli.analyze),
     };
     match outcome {
@@ -207,9 +228,24 @@ impl Progress for Bar {
     }
 }
 
+/// More worker threads than this is a typo, not a machine.
+const MAX_THREADS: usize = 1024;
+
+fn run_merge(args: MergeArgs) -> Result<ExitCode> {
+    let mut analysis = ufcsr::merge_results(&args.results)?;
+    let written = write_results(&mut analysis, &args.out)?;
+    print!("{}", format_table(&analysis.result));
+    println!("\nmerged {} results; wrote {}", args.results.len(), written.result_json.display());
+    for warning in &analysis.result.warnings {
+        eprintln!("warning: {warning}");
+    }
+    Ok(if analysis.is_complete() { ExitCode::SUCCESS } else { ExitCode::from(1) })
+}
+
 fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
     let archive = args.archive.clone().context("ARCHIVE is required")?;
     if let Some(threads) = args.threads {
+        anyhow::ensure!(threads <= MAX_THREADS, "--threads {threads}: at most {MAX_THREADS}");
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads.max(1))
             .build_global()
@@ -247,6 +283,10 @@ fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
         strict: args.strict,
         exclude: vec![out_dir.clone()],
         ignore_manifest: args.no_manifest,
+        shard: match &args.shard {
+            Some(text) => Some(text.parse::<Shard>()?),
+            None => Shard::from_job_array(|name| std::env::var(name).ok())?,
+        },
     };
 
     let bar = ProgressBar::with_draw_target(

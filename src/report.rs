@@ -88,6 +88,9 @@ pub struct Settings {
     pub trim: TrimReport,
     pub heatmap_scale: Scale,
     pub heatmap_max: Option<u32>,
+    /// The shard counted (`ufcsr-analyze --shard`); absent for a whole archive.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<crate::shard::Shard>,
 }
 
 /// Unlabelled texels: PIdT colours that no legend entry names.

@@ -63,6 +63,13 @@ pub struct ResolutionReport {
     /// texels). About 1: each count is one pixel. Well above 1: texels covered
     /// by many pixels counted once — the count saturates with resolution.
     pub pixels_per_count: f64,
+    /// The counts behind it: per-image counts summed over all texels (kept
+    /// so that the results of shards can be merged exactly).
+    #[serde(default)]
+    pub per_image_counts: u64,
+    /// The pixels behind it: pixels that showed a texel.
+    #[serde(default)]
+    pub texel_pixels: u64,
     pub pixels_per_degree: Option<f64>,
     pub texel_size_mm: Option<f64>,
     /// Beyond this distance a texel is smaller than a pixel.
@@ -87,11 +94,30 @@ impl ResolutionReport {
             } else {
                 texel_pixels as f64 / per_image_total as f64
             },
+            per_image_counts: per_image_total,
+            texel_pixels,
             pixels_per_degree: geometry.pixels_per_degree,
             texel_size_mm: geometry.texel_size_mm,
             sub_pixel_distance_m,
             sub_pixel_frame_share,
         }
+    }
+
+    /// The report of several shards together (same capture geometry).
+    pub fn merged(reports: &[&ResolutionReport]) -> Option<ResolutionReport> {
+        let first = *reports.first()?;
+        let texel_pixels = reports.iter().map(|r| r.texel_pixels).sum::<u64>();
+        let per_image_counts = reports.iter().map(|r| r.per_image_counts).sum::<u64>();
+        Some(ResolutionReport {
+            pixels_per_count: if per_image_counts == 0 {
+                0.0
+            } else {
+                texel_pixels as f64 / per_image_counts as f64
+            },
+            per_image_counts,
+            texel_pixels,
+            ..first.clone()
+        })
     }
 
     /// Warnings for `result.json` when the counts depend on resolution.
