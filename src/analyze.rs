@@ -96,6 +96,9 @@ pub struct AnalyzeOptions {
     pub ignore_manifest: bool,
     /// Count only this shard of the archive (see [`crate::shard`]).
     pub shard: Option<Shard>,
+    /// The vehicle as unwrapped (glTF with the palette UVs), for `heatmap.glb`;
+    /// default: the manifest's `vehicle`.
+    pub mesh: Option<PathBuf>,
 }
 
 /// Wall-clock seconds per stage, and the thread count (kept out of
@@ -126,6 +129,8 @@ pub struct Analysis {
     /// Every file the analysis read (legend, PIdT, palette, manifest, images):
     /// [`write_results`] refuses to write over any of them.
     pub input_files: Vec<PathBuf>,
+    /// The vehicle model `heatmap.glb` is made from, when there is one.
+    pub vehicle_model: Option<PathBuf>,
 }
 
 impl Analysis {
@@ -153,6 +158,8 @@ struct Inputs {
     dedupe: Dedupe,
     /// The palette image, when the palette is not the canonical one.
     palette_file: Option<PathBuf>,
+    /// `--mesh`, or the manifest's `vehicle`.
+    vehicle_model: Option<PathBuf>,
     /// Resolution and texel size from the capture's manifest.
     geometry: CaptureGeometry,
     /// False for a capture counted while rendering (`--count`): its manifest
@@ -494,7 +501,8 @@ fn summarize(
     input_files.extend(inputs.parts.iter().flat_map(|(legend, _, pidt, _)| [legend.clone(), pidt.clone()]));
     input_files.extend(inputs.palette_file.iter().cloned());
     input_files.push(options.archive.join(crate::manifest::MANIFEST_FILE));
-    Ok(Analysis { result, texel_counts, timings, input_files })
+    input_files.extend(inputs.vehicle_model.iter().cloned());
+    Ok(Analysis { result, texel_counts, timings, input_files, vehicle_model: inputs.vehicle_model.clone() })
 }
 
 /// Counts one image into `seen` (left for the caller to commit and clear).
@@ -621,6 +629,10 @@ fn resolve_inputs(options: &AnalyzeOptions) -> Result<Inputs> {
         PaletteChoice::Image(path) => Some(path),
         PaletteChoice::Canonical { .. } => None,
     };
+    let vehicle_model = options.mesh.clone().or_else(|| {
+        let file = manifest.as_ref()?.extra.get("vehicle")?.as_str()?;
+        Some(root.join(file))
+    });
     Ok(Inputs {
         palette,
         backgrounds,
@@ -630,6 +642,7 @@ fn resolve_inputs(options: &AnalyzeOptions) -> Result<Inputs> {
         tiles_written,
         geometry,
         palette_file,
+        vehicle_model,
     })
 }
 
@@ -646,6 +659,10 @@ pub struct WrittenFiles {
     pub parts_csv: Option<PathBuf>,
     pub heatmap_png: PathBuf,
     pub timings_json: PathBuf,
+    /// The vehicle with the heatmap on it, when the analysis had a vehicle model.
+    pub heatmap_glb: Option<PathBuf>,
+    /// The page that shows it all.
+    pub report_html: PathBuf,
 }
 
 /// Errors when writing `files` would replace one of the analysis's inputs
@@ -656,6 +673,8 @@ fn refuse_to_overwrite_inputs(inputs: &[PathBuf], files: &WrittenFiles) -> Resul
         files.parts_csv.as_ref(),
         Some(&files.heatmap_png),
         Some(&files.timings_json),
+        files.heatmap_glb.as_ref(),
+        Some(&files.report_html),
     ];
     for output in outputs.into_iter().flatten() {
         let Ok(output_real) = output.canonicalize() else { continue };
@@ -684,6 +703,8 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
         parts_csv: (!analysis.result.parts.is_empty()).then(|| out_dir.join("parts.csv")),
         heatmap_png: out_dir.join("heatmap.png"),
         timings_json: out_dir.join("timings.json"),
+        heatmap_glb: analysis.vehicle_model.as_ref().map(|_| out_dir.join("heatmap.glb")),
+        report_html: out_dir.join("report.html"),
     };
     refuse_to_overwrite_inputs(&analysis.input_files, &files)?;
     let settings = &analysis.result.settings;
@@ -699,5 +720,10 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
     analysis.timings.write_seconds = stage.elapsed().as_secs_f64();
     analysis.timings.total_seconds += analysis.timings.heatmap_seconds + analysis.timings.write_seconds;
     crate::report::write_timings_json(&files.timings_json, &analysis.timings)?;
+    if let (Some(model), Some(glb)) = (&analysis.vehicle_model, &files.heatmap_glb) {
+        let png = crate::input_file::read_limited(&files.heatmap_png, crate::input_file::IMAGE_LIMIT)?;
+        crate::vehicle_model::VehicleModel::read(model)?.write_glb(glb, Some(&png))?;
+    }
+    crate::html_report::write_report(&files.report_html, &analysis.result, &files)?;
     Ok(files)
 }

@@ -13,6 +13,7 @@ pub mod count;
 pub mod decode;
 pub mod error;
 pub mod heatmap;
+pub mod html_report;
 pub mod input_file;
 pub mod manifest;
 pub mod merge;
@@ -26,6 +27,7 @@ pub mod shard;
 pub mod synthetic;
 pub mod tile_counter;
 pub mod trim;
+pub mod vehicle_model;
 
 pub use analyze::{
     Analysis, AnalyzeOptions, Dedupe, PaletteChoice, Progress, Timings, WrittenFiles, analyze,
@@ -50,3 +52,4 @@ pub use resolution::{CaptureGeometry, ResolutionReport};
 pub use shard::Shard;
 pub use tile_counter::TileCounter;
 pub use trim::{EmptyTile, TrimMode};
+pub use vehicle_model::{ModelPart, VehicleModel};

@@ -106,6 +106,11 @@ struct AnalyzeArgs {
     #[arg(long, value_name = "I/N")]
     shard: Option<String>,
 
+    /// The vehicle as unwrapped (glTF/GLB whose UVs address the palette), for heatmap.glb;
+    /// default: the archive's vehicle.glb (written by ufcsr-capture).
+    #[arg(long, value_name = "GLB")]
+    mesh: Option<PathBuf>,
+
     /// Worker threads (default: all cores).
     #[arg(long, short = 'j', value_name = "N")]
     threads: Option<usize>,
@@ -283,6 +288,7 @@ fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
         strict: args.strict,
         exclude: vec![out_dir.clone()],
         ignore_manifest: args.no_manifest,
+        mesh: args.mesh.clone(),
         shard: match &args.shard {
             Some(text) => Some(text.parse::<Shard>()?),
             None => Shard::from_job_array(|name| std::env::var(name).ok())?,
@@ -322,6 +328,11 @@ fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
             analysis.timings.decoded_megapixels_per_second,
             out_dir.display()
         );
+        println!("  report:  {}", written.report_html.display());
+        if let Some(glb) = &written.heatmap_glb {
+            println!("  vehicle: {} (the heatmap on the vehicle, glTF)", glb.display());
+        }
+        println!("  data:    {}, {}", written.result_json.display(), written.heatmap_png.display());
     }
     for warning in &result.warnings {
         eprintln!("warning: {warning}");

@@ -147,7 +147,7 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
     };
     let mut input_files = paths.to_vec();
     input_files.extend(parts.iter().flat_map(|(legend, _, pidt, _)| [legend.clone(), pidt.clone()]));
-    Ok(Analysis { result, texel_counts, timings: Timings::default(), input_files })
+    Ok(Analysis { result, texel_counts, timings: Timings::default(), input_files, vehicle_model: None })
 }
 
 /// Prefixes an error with the result that named the file.

@@ -131,6 +131,8 @@ pub fn prepare_archive(
         }
     };
     let vertices = vehicle_vertices(&scene.vehicle, &unwrapped);
+    // The mesh exactly as unwrapped, so results can go back onto the vehicle.
+    vehicle_model(scene, &vertices).write_glb(&out.join(VEHICLE_FILE), None)?;
     let background = Color::DEFAULT_BACKGROUND;
     let setup = RenderSetup {
         tile_size: scene.rig.tile_pixels(),
@@ -174,6 +176,27 @@ fn check_capturable(scene: &Scene, scenario: &Scenario) -> Result<()> {
         )));
     }
     Ok(())
+}
+
+/// The archive's copy of the vehicle as unwrapped (named in the manifest).
+pub const VEHICLE_FILE: &str = "vehicle.glb";
+
+/// The vehicle's triangles by part, with their palette UVs.
+fn vehicle_model(scene: &Scene, vertices: &[crate::render::Vertex]) -> ufcsr::VehicleModel {
+    let mesh = &scene.vehicle;
+    let mut parts: Vec<ufcsr::ModelPart> =
+        mesh.parts.iter().map(|name| ufcsr::ModelPart { name: name.clone(), ..Default::default() }).collect();
+    for (triangle, corners) in vertices.chunks_exact(3).enumerate() {
+        let Some(part) = mesh.triangle_part.get(triangle).and_then(|&p| parts.get_mut(p as usize)) else {
+            continue;
+        };
+        for vertex in corners {
+            part.positions.push(vertex.position);
+            part.uvs.push(vertex.uv);
+        }
+    }
+    parts.retain(|part| !part.positions.is_empty());
+    ufcsr::VehicleModel { parts }
 }
 
 /// The tiles of a whole capture, as the frame loop produced them.

@@ -1,0 +1,208 @@
+//! `report.html`: one self-contained page per result, for people.
+//!
+//! What a researcher checks first — warnings (stray pixels, unlabelled
+//! texels, resolution dependence, failed files) — then the summary, the
+//! parts table with the paper's top-5 union marked, the heatmap texture and
+//! links to the vehicle with the heatmap on it (`heatmap.glb`) and the
+//! machine-readable files, and the settings. No script, no network: the page
+//! links only files beside it, so the results folder can be zipped and sent.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::analyze::WrittenFiles;
+use crate::error::Result;
+use crate::parts::PartStats;
+use crate::report::AnalysisResult;
+
+/// Writes the report page for `result` into `path` (beside the other files).
+pub fn write_report(path: &Path, result: &AnalysisResult, files: &WrittenFiles) -> Result<()> {
+    crate::output::write_bytes_atomically(path, render(result, files).as_bytes())
+}
+
+/// Escapes text for HTML.
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+fn file_name(path: &Path) -> String {
+    escape(&path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default())
+}
+
+/// Parts in the paper's table: the union of the top five by total, by peak
+/// and by average.
+fn top_five_union(parts: &[PartStats]) -> Vec<bool> {
+    let mut marked = vec![false; parts.len()];
+    let mut order: Vec<usize> = (0..parts.len()).collect();
+    let mut mark = |key: &dyn Fn(&PartStats) -> f64| {
+        order.sort_by(|&a, &b| key(&parts[b]).total_cmp(&key(&parts[a])).then(a.cmp(&b)));
+        for &index in order.iter().take(5) {
+            if key(&parts[index]) > 0.0 {
+                marked[index] = true;
+            }
+        }
+    };
+    mark(&|p| p.total as f64);
+    mark(&|p| f64::from(p.peak));
+    mark(&|p| p.average);
+    marked
+}
+
+fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
+    let settings = &result.settings;
+    let mut page = String::new();
+    let title = format!("UFCSR result: {}", escape(&settings.archive));
+    let _ = write!(
+        page,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title>\n<style>\
+         body{{font-family:sans-serif;margin:2em;max-width:1100px;color:#222}}\
+         table{{border-collapse:collapse;margin:0.5em 0}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}\
+         td:first-child,th:first-child{{text-align:left}}tr.top{{background:#fff4d6}}\
+         .swatch{{display:inline-block;width:0.9em;height:0.9em;border:1px solid #555;vertical-align:middle;margin-right:0.4em}}\
+         .warn{{background:#fde8e8;border-left:4px solid #c00;padding:0.4em 0.8em;margin:0.3em 0}}\
+         img{{max-width:100%;image-rendering:pixelated;border:1px solid #ccc}}</style></head><body>\n<h1>{title}</h1>\n"
+    );
+
+    // Warnings first: what needs looking at before trusting the numbers.
+    let _ = writeln!(page, "<h2>Warnings</h2>");
+    let mut warnings: Vec<String> = result.warnings.iter().map(|w| escape(w)).collect();
+    if result.images.failed > 0 {
+        warnings.push(format!(
+            "{} images could not be read and were not counted (see <code>failures</code> in result.json)",
+            result.images.failed
+        ));
+    }
+    if result.stray_pixels > 0 {
+        warnings.push(format!(
+            "{} stray pixels (neither background nor palette) in {} images",
+            result.stray_pixels,
+            result.images_with_stray_pixels.len()
+        ));
+    }
+    if let Some(unlabelled) = &result.unlabelled
+        && unlabelled.total > 0
+    {
+        warnings.push(format!(
+            "{} counts fell on {} texels the PIdT does not label (not in the grand total)",
+            unlabelled.total, unlabelled.texels_seen
+        ));
+    }
+    if warnings.is_empty() {
+        let _ = writeln!(page, "<p>None.</p>");
+    }
+    for warning in warnings {
+        let _ = writeln!(page, "<div class=\"warn\">{warning}</div>");
+    }
+
+    let images = &result.images;
+    let _ = writeln!(
+        page,
+        "<h2>Summary</h2>\n<table><tr><th>tiles found</th><td>{}</td></tr><tr><th>decoded</th><td>{}</td></tr>\
+         <tr><th>trimmed (all background)</th><td>{}</td></tr><tr><th>failed</th><td>{}</td></tr>\
+         <tr><th>texels seen</th><td>{}</td></tr><tr><th>grand total</th><td>{}</td></tr>\
+         <tr><th>largest count of a texel</th><td>{}</td></tr></table>",
+        images.found,
+        images.decoded,
+        images.trimmed,
+        images.failed,
+        result.texels_seen,
+        result.grand_total,
+        result.max_count
+    );
+    if let Some(resolution) = &result.resolution {
+        let optional =
+            |value: Option<f64>, digits: usize| value.map_or("–".to_string(), |v| format!("{v:.digits$}"));
+        let _ = writeln!(
+            page,
+            "<h3>Does the count depend on resolution?</h3>\n<table><tr><th>pixels per degree</th><td>{}</td></tr>\
+             <tr><th>texel size (mm)</th><td>{}</td></tr><tr><th>pixels per count</th><td>{:.2}</td></tr>\
+             <tr><th>texels smaller than a pixel beyond (m)</th><td>{}</td></tr>\
+             <tr><th>share of frames beyond that</th><td>{}</td></tr></table>",
+            optional(resolution.pixels_per_degree, 2),
+            optional(resolution.texel_size_mm, 2),
+            resolution.pixels_per_count,
+            optional(resolution.sub_pixel_distance_m, 1),
+            resolution.sub_pixel_frame_share.map_or("–".to_string(), |s| format!("{:.0} %", 100.0 * s)),
+        );
+    }
+
+    if !result.parts.is_empty() {
+        let marked = top_five_union(&result.parts);
+        let mut order: Vec<usize> = (0..result.parts.len()).collect();
+        order.sort_by(|&a, &b| result.parts[b].total.cmp(&result.parts[a].total).then(a.cmp(&b)));
+        let _ = writeln!(
+            page,
+            "<h2>Parts</h2>\n<p>Highlighted: the paper's table, the union of the five parts with the highest total, \
+             peak and average.</p>\n<table><tr><th>part</th><th>texels</th><th>total</th><th>peak</th><th>average</th>\
+             <th>share %</th><th>coverage %</th></tr>"
+        );
+        for index in order {
+            let part = &result.parts[index];
+            let swatch = part
+                .color
+                .map(|c| format!("<span class=\"swatch\" style=\"background:{c}\"></span>"))
+                .unwrap_or_default();
+            let _ = writeln!(
+                page,
+                "<tr{}><td>{swatch}{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.2}</td><td>{:.1}</td></tr>",
+                if marked[index] { " class=\"top\"" } else { "" },
+                escape(&part.name),
+                part.texels,
+                part.total,
+                part.peak,
+                part.average,
+                part.share,
+                part.coverage
+            );
+        }
+        let _ = writeln!(page, "</table>");
+    }
+
+    let _ = writeln!(
+        page,
+        "<h2>Heatmap</h2>\n<p>Per-texel counts on the plasma scale ({:?}{}), laid out like the palette.{}</p>\n\
+         <img src=\"{}\" alt=\"heatmap texture\" width=\"512\">",
+        settings.heatmap_scale,
+        settings.heatmap_max.map(|m| format!(", top of scale {m}")).unwrap_or_default(),
+        match &files.heatmap_glb {
+            Some(glb) => format!(
+                " The vehicle with this heatmap on it: <a href=\"{}\">{}</a> (glTF; opens in Blender, three.js or any glTF viewer).",
+                file_name(glb),
+                file_name(glb)
+            ),
+            None => " (No vehicle model: give <code>--mesh</code> for heatmap.glb.)".to_string(),
+        },
+        file_name(&files.heatmap_png)
+    );
+    let _ = writeln!(page, "<h2>Files</h2>\n<ul>");
+    let listed = [
+        Some(&files.result_json),
+        files.parts_csv.as_ref(),
+        Some(&files.heatmap_png),
+        files.heatmap_glb.as_ref(),
+        Some(&files.timings_json),
+    ];
+    for file in listed.into_iter().flatten() {
+        let _ = writeln!(page, "<li><a href=\"{0}\">{0}</a></li>", file_name(file));
+    }
+    let _ = writeln!(page, "</ul>");
+
+    let _ = writeln!(
+        page,
+        "<h2>Settings</h2>\n<table><tr><th>archive</th><td>{}</td></tr><tr><th>palette</th><td>{} {}×{}</td></tr>\
+         <tr><th>background</th><td>{}</td></tr><tr><th>PIdT</th><td>{}</td></tr><tr><th>legend</th><td>{}</td></tr>\
+         <tr><th>one count means</th><td>{:?}</td></tr><tr><th>trimming</th><td>{}</td></tr><tr><th>shard</th><td>{}</td></tr></table>",
+        escape(&settings.archive),
+        escape(&settings.palette.kind),
+        settings.palette.width,
+        settings.palette.height,
+        settings.background.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(", "),
+        escape(settings.pidt.as_deref().unwrap_or("–")),
+        escape(settings.parts.as_deref().unwrap_or("–")),
+        settings.dedupe,
+        escape(&settings.trim.mode),
+        settings.shard.map_or("whole archive".to_string(), |s| s.to_string()),
+    );
+    let _ = writeln!(page, "<p><small>ufcsr {}</small></p>\n</body></html>", env!("CARGO_PKG_VERSION"));
+    page
+}

@@ -1,0 +1,83 @@
+//! `report.html` in a real browser: headless Chromium loads the page of the
+//! bundled example; every image must render (a probe script added to a copy
+//! of the page reports `naturalWidth` of each image and any error event) and
+//! the screenshot must not be blank. A page with a missing image must fail
+//! the same probe, so the check bites. Skipped with a message where Chromium
+//! is not installed; a failure when `CI` is set (`.ci/run` installs it).
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const PROBE: &str = r#"<script>
+window.__errors = [];
+window.addEventListener("error", e => window.__errors.push(String(e.message || (e.target && e.target.src))), true);
+window.addEventListener("load", () => {
+  const images = [...document.images].map(i => (i.complete && i.naturalWidth > 0) ? 1 : 0).join("");
+  document.body.setAttribute("data-probe", "images=" + images + ";errors=" + window.__errors.length);
+});
+</script></body>"#;
+
+fn chromium() -> Option<&'static str> {
+    ["chromium", "chromium-browser", "google-chrome"]
+        .into_iter()
+        .find(|name| Command::new(name).arg("--version").output().is_ok_and(|o| o.status.success()))
+}
+
+fn browser(binary: &str, args: &[&str], page: &Path) -> String {
+    let output = Command::new(binary)
+        .args(["--headless", "--no-sandbox", "--disable-gpu", "--hide-scrollbars"])
+        .args(args)
+        .arg(format!("file://{}", page.display()))
+        .output()
+        .expect("run chromium");
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn probe(binary: &str, report: &Path) -> String {
+    let page = std::fs::read_to_string(report).unwrap().replace("</body>", PROBE);
+    let probe_page = report.with_file_name("probe.html");
+    std::fs::write(&probe_page, page).unwrap();
+    let dom = browser(binary, &["--virtual-time-budget=5000", "--dump-dom"], &probe_page);
+    let start = dom.find("data-probe=\"").expect("the page's load event never ran") + "data-probe=\"".len();
+    dom[start..].split('"').next().unwrap_or_default().to_string()
+}
+
+#[test]
+fn the_report_of_the_bundled_example_renders_in_chromium() {
+    let Some(binary) = chromium() else {
+        assert!(std::env::var_os("CI").is_none(), "CI: chromium is not installed");
+        eprintln!("SKIPPED: chromium is not installed (apt-get install chromium)");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("results");
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+        .arg(&example)
+        .arg("--out")
+        .arg(&out)
+        .arg("-q")
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let report = out.join("report.html");
+    assert!(out.join("heatmap.glb").is_file(), "the example's vehicle.glb should give heatmap.glb");
+
+    assert_eq!(probe(binary, &report), "images=1;errors=0");
+
+    let screenshot = dir.path().join("report.png");
+    browser(binary, &["--window-size=1000,1400", &format!("--screenshot={}", screenshot.display())], &report);
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&screenshot).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+    let frame = reader.next_frame(&mut pixels).unwrap();
+    let step = frame.color_type.samples();
+    let mut colours: Vec<&[u8]> = pixels[..frame.buffer_size()].chunks(step).collect();
+    colours.sort_unstable();
+    colours.dedup();
+    assert!(colours.len() > 50, "the screenshot is blank ({} colours)", colours.len());
+
+    // The probe bites: without the heatmap image it reports it.
+    std::fs::remove_file(out.join("heatmap.png")).unwrap();
+    assert_eq!(probe(binary, &report), "images=0;errors=1");
+}
