@@ -663,6 +663,8 @@ pub struct WrittenFiles {
     pub heatmap_glb: Option<PathBuf>,
     /// The page that shows it all.
     pub report_html: PathBuf,
+    /// `views.png`, the contact sheet of the eight views (with a vehicle model).
+    pub views_png: Option<PathBuf>,
 }
 
 /// Errors when writing `files` would replace one of the analysis's inputs
@@ -675,6 +677,7 @@ fn refuse_to_overwrite_inputs(inputs: &[PathBuf], files: &WrittenFiles) -> Resul
         Some(&files.timings_json),
         files.heatmap_glb.as_ref(),
         Some(&files.report_html),
+        files.views_png.as_ref(),
     ];
     for output in outputs.into_iter().flatten() {
         let Ok(output_real) = output.canonicalize() else { continue };
@@ -705,6 +708,7 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
         timings_json: out_dir.join("timings.json"),
         heatmap_glb: analysis.vehicle_model.as_ref().map(|_| out_dir.join("heatmap.glb")),
         report_html: out_dir.join("report.html"),
+        views_png: analysis.vehicle_model.as_ref().map(|_| out_dir.join("views.png")),
     };
     refuse_to_overwrite_inputs(&analysis.input_files, &files)?;
     let settings = &analysis.result.settings;
@@ -722,7 +726,15 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
     crate::report::write_timings_json(&files.timings_json, &analysis.timings)?;
     if let (Some(model), Some(glb)) = (&analysis.vehicle_model, &files.heatmap_glb) {
         let png = crate::input_file::read_limited(&files.heatmap_png, crate::input_file::IMAGE_LIMIT)?;
-        crate::vehicle_model::VehicleModel::read(model)?.write_glb(glb, Some(&png))?;
+        let model = crate::vehicle_model::VehicleModel::read(model)?;
+        model.write_glb(glb, Some(&png))?;
+        let texture = crate::heatmap_views::ViewTexture {
+            counts: &analysis.texel_counts,
+            width,
+            height,
+            options: heatmap,
+        };
+        crate::heatmap_views::write_views(&model, &texture, out_dir)?;
     }
     crate::html_report::write_report(&files.report_html, &analysis.result, &files)?;
     Ok(files)

@@ -174,6 +174,18 @@ fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
         },
         file_name(&files.heatmap_png)
     );
+    if let Some(views) = &files.views_png {
+        let _ = writeln!(
+            page,
+            "<h2>The heatmap on the vehicle</h2>\n<p>Front, front-left, left, rear-left (top row); rear, rear-right, \
+             right, front-right (bottom row); seen from 15° above, one scale for all. Colour bar: grey = never seen, \
+             then plasma from 0 to {} ({:?} scale). Each view is also in <code>views/</code>.</p>\n\
+             <img src=\"{}\" alt=\"the heatmap on the vehicle from eight directions\">",
+            settings.heatmap_max.unwrap_or(result.max_count),
+            settings.heatmap_scale,
+            file_name(views)
+        );
+    }
     let _ = writeln!(page, "<h2>Files</h2>\n<ul>");
     let listed = [
         Some(&files.result_json),

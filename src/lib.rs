@@ -13,6 +13,7 @@ pub mod count;
 pub mod decode;
 pub mod error;
 pub mod heatmap;
+pub mod heatmap_views;
 pub mod html_report;
 pub mod input_file;
 pub mod manifest;

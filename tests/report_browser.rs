@@ -63,7 +63,8 @@ fn the_report_of_the_bundled_example_renders_in_chromium() {
     let report = out.join("report.html");
     assert!(out.join("heatmap.glb").is_file(), "the example's vehicle.glb should give heatmap.glb");
 
-    assert_eq!(probe(binary, &report), "images=1;errors=0");
+    // The heatmap texture and the contact sheet of the eight views.
+    assert_eq!(probe(binary, &report), "images=11;errors=0");
 
     let screenshot = dir.path().join("report.png");
     browser(binary, &["--window-size=1000,1400", &format!("--screenshot={}", screenshot.display())], &report);
@@ -79,5 +80,5 @@ fn the_report_of_the_bundled_example_renders_in_chromium() {
 
     // The probe bites: without the heatmap image it reports it.
     std::fs::remove_file(out.join("heatmap.png")).unwrap();
-    assert_eq!(probe(binary, &report), "images=0;errors=1");
+    assert_eq!(probe(binary, &report), "images=01;errors=1");
 }

@@ -1,0 +1,230 @@
+//! The heatmap on the vehicle from the paper's eight directions, as pictures.
+//!
+//! Front, front-right, right, rear-right, rear, rear-left, left and
+//! front-left, seen from slightly above, orthographic, one scale for all
+//! eight so that sizes compare. Each pixel shows the count of the texel its
+//! surface point maps to (nearest, through the vehicle's palette UVs) on the
+//! heatmap's plasma scale; texels never seen are grey, so they are told
+//! apart from the darkest colour, and everything off the vehicle is white.
+//! A small CPU rasterizer with a z-buffer: the analyzer needs no GPU, so
+//! views render wherever analyses run (and in CI).
+//!
+//! `views/NAME.png` for each direction and `views.png`, a contact sheet
+//! (four by two) with a colour bar underneath: grey (never seen), then the
+//! plasma scale from 0 to the heatmap's maximum (the page and result.json
+//! state the maximum and the scale).
+
+use std::path::{Path, PathBuf};
+
+use crate::error::Result;
+use crate::heatmap::{HeatmapOptions, plasma, position};
+use crate::vehicle_model::VehicleModel;
+
+/// Colour of texels on the vehicle that were never seen.
+pub const NEVER_SEEN: [u8; 3] = [160, 160, 160];
+const PAPER: [u8; 3] = [255, 255, 255];
+/// Size of one view.
+const VIEW: (u32, u32) = (400, 300);
+/// Height of the colour bar under the contact sheet.
+const BAR: u32 = 28;
+/// Degrees above the horizon the views look down from.
+const ELEVATION_DEG: f64 = 15.0;
+
+/// The eight directions, named; azimuth in degrees from the vehicle's front
+/// (+x), counter-clockwise seen from above (towards its left, +y).
+pub const DIRECTIONS: [(&str, f64); 8] = [
+    ("front", 0.0),
+    ("front-left", 45.0),
+    ("left", 90.0),
+    ("rear-left", 135.0),
+    ("rear", 180.0),
+    ("rear-right", 225.0),
+    ("right", 270.0),
+    ("front-right", 315.0),
+];
+
+/// A camera basis: `right` and `up` span the picture, `back` points to the viewer.
+struct Basis {
+    right: [f64; 3],
+    up: [f64; 3],
+    back: [f64; 3],
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+impl Basis {
+    fn looking_from(azimuth_deg: f64) -> Basis {
+        let (a, e) = (azimuth_deg.to_radians(), ELEVATION_DEG.to_radians());
+        let back = [a.cos() * e.cos(), a.sin() * e.cos(), e.sin()];
+        // right = normalize(Z × back); up = back × right.
+        let right = [-back[1], back[0], 0.0];
+        let length = (right[0] * right[0] + right[1] * right[1]).sqrt();
+        let right = [right[0] / length, right[1] / length, 0.0];
+        let up = [
+            back[1] * right[2] - back[2] * right[1],
+            back[2] * right[0] - back[0] * right[2],
+            back[0] * right[1] - back[1] * right[0],
+        ];
+        Basis { right, up, back }
+    }
+
+    /// Picture coordinates (right, up) and depth (smaller is nearer).
+    fn project(&self, p: [f32; 3]) -> (f64, f64, f64) {
+        let p = [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])];
+        (dot(p, self.right), dot(p, self.up), -dot(p, self.back))
+    }
+}
+
+/// Per-texel colours for the views: plasma for seen texels, grey for the rest.
+pub struct ViewTexture<'a> {
+    pub counts: &'a [u32],
+    pub width: u32,
+    pub height: u32,
+    pub options: HeatmapOptions,
+}
+
+impl ViewTexture<'_> {
+    fn max(&self) -> u32 {
+        self.options.max.unwrap_or_else(|| self.counts.iter().copied().max().unwrap_or(0))
+    }
+
+    fn color(&self, uv: [f64; 2], max: u32) -> [u8; 3] {
+        let x = ((uv[0] * f64::from(self.width)).floor().max(0.0) as u32).min(self.width - 1);
+        let y = ((uv[1] * f64::from(self.height)).floor().max(0.0) as u32).min(self.height - 1);
+        match self.counts.get(y as usize * self.width as usize + x as usize) {
+            Some(&count) if count > 0 => plasma(position(count, max, self.options.scale)),
+            _ => NEVER_SEEN,
+        }
+    }
+}
+
+/// Renders one direction into an RGB picture of [`VIEW`] size, at `scale`
+/// pixels per metre around `centre` (picture coordinates).
+fn render_view(
+    model: &VehicleModel,
+    texture: &ViewTexture,
+    basis: &Basis,
+    scale: f64,
+    centre: (f64, f64),
+) -> Vec<u8> {
+    let (width, height) = VIEW;
+    let mut rgb = PAPER.repeat((width * height) as usize);
+    let mut depth = vec![f64::INFINITY; (width * height) as usize];
+    let max = texture.max();
+    let to_pixel = |(x, y, _): (f64, f64, f64)| {
+        (f64::from(width) / 2.0 + (x - centre.0) * scale, f64::from(height) / 2.0 - (y - centre.1) * scale)
+    };
+    for part in &model.parts {
+        for (corners, uvs) in part.positions.chunks_exact(3).zip(part.uvs.chunks_exact(3)) {
+            let projected = [basis.project(corners[0]), basis.project(corners[1]), basis.project(corners[2])];
+            let p = projected.map(to_pixel);
+            let area = (p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[1].1 - p[0].1) * (p[2].0 - p[0].0);
+            if area.abs() < 1e-12 {
+                continue;
+            }
+            let (x0, x1) = (
+                p.iter().map(|q| q.0).fold(f64::MAX, f64::min),
+                p.iter().map(|q| q.0).fold(f64::MIN, f64::max),
+            );
+            let (y0, y1) = (
+                p.iter().map(|q| q.1).fold(f64::MAX, f64::min),
+                p.iter().map(|q| q.1).fold(f64::MIN, f64::max),
+            );
+            let xs = (x0.floor().max(0.0) as u32)..(x1.ceil().min(f64::from(width)).max(0.0) as u32);
+            let ys = (y0.floor().max(0.0) as u32)..(y1.ceil().min(f64::from(height)).max(0.0) as u32);
+            for y in ys {
+                for x in xs.clone() {
+                    let q = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+                    let edge = |a: (f64, f64), b: (f64, f64)| {
+                        ((b.0 - a.0) * (q.1 - a.1) - (b.1 - a.1) * (q.0 - a.0)) / area
+                    };
+                    let w = [edge(p[1], p[2]), edge(p[2], p[0]), edge(p[0], p[1])];
+                    if w.iter().any(|&w| w < 0.0) {
+                        continue;
+                    }
+                    let z = w[0] * projected[0].2 + w[1] * projected[1].2 + w[2] * projected[2].2;
+                    let i = (y * width + x) as usize;
+                    if z < depth[i] {
+                        depth[i] = z;
+                        let uv = [
+                            w[0] * f64::from(uvs[0][0])
+                                + w[1] * f64::from(uvs[1][0])
+                                + w[2] * f64::from(uvs[2][0]),
+                            w[0] * f64::from(uvs[0][1])
+                                + w[1] * f64::from(uvs[1][1])
+                                + w[2] * f64::from(uvs[2][1]),
+                        ];
+                        rgb[i * 3..i * 3 + 3].copy_from_slice(&texture.color(uv, max));
+                    }
+                }
+            }
+        }
+    }
+    rgb
+}
+
+/// The files [`write_views`] wrote.
+#[derive(Debug, Clone)]
+pub struct WrittenViews {
+    pub contact_sheet: PathBuf,
+    pub views: Vec<PathBuf>,
+}
+
+/// Writes `dir/views/NAME.png` for the eight directions and `dir/views.png`.
+pub fn write_views(model: &VehicleModel, texture: &ViewTexture, dir: &Path) -> Result<WrittenViews> {
+    let bases: Vec<Basis> = DIRECTIONS.iter().map(|&(_, azimuth)| Basis::looking_from(azimuth)).collect();
+    // One scale for all eight views: the largest extent in any of them fits.
+    let mut scale = f64::INFINITY;
+    let mut centres = Vec::with_capacity(bases.len());
+    for basis in &bases {
+        let (mut lo, mut hi) = ((f64::MAX, f64::MAX), (f64::MIN, f64::MIN));
+        for p in model.parts.iter().flat_map(|part| part.positions.iter()) {
+            let (x, y, _) = basis.project(*p);
+            lo = (lo.0.min(x), lo.1.min(y));
+            hi = (hi.0.max(x), hi.1.max(y));
+        }
+        let fit = (f64::from(VIEW.0) * 0.9 / (hi.0 - lo.0).max(1e-6))
+            .min(f64::from(VIEW.1) * 0.9 / (hi.1 - lo.1).max(1e-6));
+        scale = scale.min(fit);
+        centres.push(((lo.0 + hi.0) / 2.0, (lo.1 + hi.1) / 2.0));
+    }
+    let views_dir = dir.join("views");
+    std::fs::create_dir_all(&views_dir).map_err(|e| crate::error::Error::io(&views_dir, e))?;
+    let (width, height) = VIEW;
+    let sheet_width = width * 4;
+    let sheet_height = height * 2 + BAR;
+    let mut sheet = PAPER.repeat((sheet_width * sheet_height) as usize);
+    let mut views = Vec::with_capacity(bases.len());
+    for (index, ((name, _), basis)) in DIRECTIONS.iter().zip(&bases).enumerate() {
+        let rgb = render_view(model, texture, basis, scale, centres[index]);
+        let path = views_dir.join(format!("{name}.png"));
+        crate::output::write_rgb_png(&path, width, height, &rgb, png::Compression::Fast)?;
+        views.push(path);
+        let (column, row) = (index as u32 % 4, index as u32 / 4);
+        for y in 0..height {
+            let from = (y * width * 3) as usize;
+            let to = (((row * height + y) * sheet_width + column * width) * 3) as usize;
+            sheet[to..to + (width * 3) as usize].copy_from_slice(&rgb[from..from + (width * 3) as usize]);
+        }
+    }
+    // Colour bar: grey (never seen) on the left, then the plasma scale.
+    let grey_width = sheet_width / 16;
+    for y in height * 2 + 6..sheet_height - 4 {
+        for x in 8..sheet_width - 8 {
+            let color = if x < 8 + grey_width {
+                NEVER_SEEN
+            } else if x < 16 + grey_width {
+                PAPER
+            } else {
+                plasma(f64::from(x - 16 - grey_width) / f64::from(sheet_width - 24 - grey_width))
+            };
+            let i = ((y * sheet_width + x) * 3) as usize;
+            sheet[i..i + 3].copy_from_slice(&color);
+        }
+    }
+    let contact_sheet = dir.join("views.png");
+    crate::output::write_rgb_png(&contact_sheet, sheet_width, sheet_height, &sheet, png::Compression::Fast)?;
+    Ok(WrittenViews { contact_sheet, views })
+}
