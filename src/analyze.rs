@@ -331,6 +331,44 @@ fn in_shard(shard: Option<Shard>, position: usize, image: &crate::archive::Image
     shard.is_none_or(|shard| shard.takes(image.frame_group.unwrap_or(position)))
 }
 
+/// A result for per-texel counts measured some other way than by counting
+/// pixels (e.g. the capture's exact "unobstructed" measure, `measure` names
+/// it), joined with the archive's PIdT and legend exactly as an analysis
+/// would: same parts table, heatmap and files. `options.archive` is an
+/// archive folder with a manifest (its tiles need not exist).
+pub fn analyze_texel_counts(
+    options: &AnalyzeOptions,
+    texel_counts: Vec<u32>,
+    measure: &'static str,
+    notes: Vec<String>,
+) -> Result<Analysis> {
+    let started = Instant::now();
+    let inputs = resolve_inputs_allowing_no_images(options, true)?;
+    if texel_counts.len() != inputs.palette.texel_count() {
+        return Err(Error::BadOptions(format!(
+            "{} per-texel counts for a palette of {} texels",
+            texel_counts.len(),
+            inputs.palette.texel_count()
+        )));
+    }
+    let tally = Tally { images: ImageCounts::default(), ..Tally::default() };
+    let per_texel = PerTexel { texel_counts, per_image_counts: None, measure, resolution_report: false };
+    let strays = AtomicColorSet::new();
+    let mut analysis = finish(
+        options,
+        &inputs,
+        Vec::new(),
+        tally,
+        per_texel,
+        &strays,
+        Timings::default(),
+        started,
+        Instant::now(),
+    )?;
+    analysis.result.notes.extend(notes);
+    Ok(analysis)
+}
+
 /// What counting produced, in archive image order: the input of [`summarize`].
 struct CountedImages {
     /// One outcome per image of the archive, in order.
@@ -419,6 +457,40 @@ fn summarize(
         Some(frame) => (frame, Some(texel_counts)),
         None => (texel_counts, None),
     };
+    let per_texel =
+        PerTexel { texel_counts, per_image_counts, measure: MEASURE_PIXELS, resolution_report: true };
+    finish(options, inputs, empty_tiles, tally, per_texel, &strays, timings, started, stage)
+}
+
+/// The paper's measure: a texel counts once per image (or eye-frame) whose pixels show it.
+pub const MEASURE_PIXELS: &str = "pixels";
+
+/// Per-texel counts ready to be joined with the PIdT.
+struct PerTexel {
+    texel_counts: Vec<u32>,
+    /// The once-per-image counts when `texel_counts` are per eye-frame.
+    per_image_counts: Option<Vec<u32>>,
+    measure: &'static str,
+    /// Whether pixel-based resolution diagnostics apply.
+    resolution_report: bool,
+}
+
+/// Stage "summarize": per-texel counts → parts table and everything
+/// `result.json` reports.
+#[allow(clippy::too_many_arguments)]
+fn finish(
+    options: &AnalyzeOptions,
+    inputs: &Inputs,
+    empty_tiles: Vec<crate::trim::EmptyTile>,
+    tally: Tally,
+    per_texel: PerTexel,
+    strays: &AtomicColorSet,
+    mut timings: Timings,
+    started: Instant,
+    stage: Instant,
+) -> Result<Analysis> {
+    let PerTexel { texel_counts, per_image_counts, measure, resolution_report } = per_texel;
+    let decoded_pixels = tally.background_pixels + tally.stray_pixels + tally.texel_pixels;
     let texels_seen = texel_counts.par_iter().filter(|&&c| c > 0).count() as u64;
     let max_count = texel_counts.par_iter().copied().max().unwrap_or(0);
     let mut warnings = Vec::new();
@@ -474,8 +546,9 @@ fn summarize(
         Some(per_image) => per_image.par_iter().map(|&count| u64::from(count)).sum(),
         None => grand_total,
     };
-    let resolution = ResolutionReport::new(tally.texel_pixels, per_image_total, &inputs.geometry);
-    warnings.extend(resolution.warnings());
+    let resolution = resolution_report
+        .then(|| ResolutionReport::new(tally.texel_pixels, per_image_total, &inputs.geometry));
+    warnings.extend(resolution.iter().flat_map(ResolutionReport::warnings));
     let mut result = AnalysisResult::new(
         tally.images,
         texels_seen,
@@ -483,7 +556,7 @@ fn summarize(
         tally.texel_pixels,
         tally.background_pixels,
         tally.stray_pixels,
-        &strays,
+        strays,
         max_count,
         grand_total,
         table.as_ref(),
@@ -495,7 +568,8 @@ fn summarize(
         warnings,
         notes,
     );
-    result.resolution = Some(resolution);
+    result.resolution = resolution;
+    result.measure = measure.to_string();
     let mut input_files: Vec<PathBuf> =
         inputs.archive.images.iter().map(|image| image.path.clone()).collect();
     input_files.extend(inputs.parts.iter().flat_map(|(legend, _, pidt, _)| [legend.clone(), pidt.clone()]));
@@ -546,6 +620,10 @@ fn texel_counts_of(palette: &Fcsp, counts: Counts) -> Vec<u32> {
 
 /// Resolves options against the manifest and loads every input once.
 fn resolve_inputs(options: &AnalyzeOptions) -> Result<Inputs> {
+    resolve_inputs_allowing_no_images(options, false)
+}
+
+fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: bool) -> Result<Inputs> {
     let root = &options.archive;
     if !root.is_dir() {
         return Err(Error::bad_file(root, "not a folder (expected an archive folder of PNG tiles)"));
@@ -609,7 +687,7 @@ fn resolve_inputs(options: &AnalyzeOptions) -> Result<Inputs> {
             Archive::scan_folder(root, &exclude)?
         }
     };
-    if archive.found() == 0 {
+    if archive.found() == 0 && !allow_no_images {
         return Err(Error::NoImages { path: root.to_path_buf() });
     }
     if options.dedupe == Dedupe::Frame && archive.frame_groups == 0 {

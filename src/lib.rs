@@ -31,8 +31,8 @@ pub mod trim;
 pub mod vehicle_model;
 
 pub use analyze::{
-    Analysis, AnalyzeOptions, Dedupe, PaletteChoice, Progress, Timings, WrittenFiles, analyze,
-    analyze_counted, default_output_dir, write_results,
+    Analysis, AnalyzeOptions, Dedupe, MEASURE_PIXELS, PaletteChoice, Progress, Timings, WrittenFiles,
+    analyze, analyze_counted, analyze_texel_counts, default_output_dir, write_results,
 };
 pub use archive::{Archive, ImageSource};
 pub use color::{COLOR_COUNT, Color, ParseColorError};

@@ -126,6 +126,7 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
     strays.sort_by(|a, b| a.file.cmp(&b.file));
     let result = AnalysisResult {
         schema: RESULT_SCHEMA.to_string(),
+        measure: first.measure.clone(),
         images,
         texels_seen: texel_counts.iter().filter(|&&c| c > 0).count() as u64,
         pixels,

@@ -159,6 +159,11 @@ impl DedupeReport {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct AnalysisResult {
     pub schema: String,
+    /// What a count is: `"pixels"` (the paper's: once per image whose pixels
+    /// show the texel) or `"unobstructed"` (eye-frames in which the texel's
+    /// point is in view, faces the eye and nothing is in between).
+    #[serde(default = "default_measure")]
+    pub measure: String,
     pub images: ImageCounts,
     /// Texels with count ≥ 1.
     pub texels_seen: u64,
@@ -188,6 +193,10 @@ pub struct AnalysisResult {
     pub resolution: Option<crate::resolution::ResolutionReport>,
 }
 
+fn default_measure() -> String {
+    crate::analyze::MEASURE_PIXELS.to_string()
+}
+
 impl AnalysisResult {
     /// Assembles the summary.
     #[allow(clippy::too_many_arguments)]
@@ -212,6 +221,7 @@ impl AnalysisResult {
     ) -> AnalysisResult {
         AnalysisResult {
             schema: RESULT_SCHEMA.to_string(),
+            measure: default_measure(),
             images,
             texels_seen,
             pixels: PixelCounts {

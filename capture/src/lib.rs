@@ -16,7 +16,8 @@
 //! [`options`] what to do, [`archive`] its stages, [`frame_capture`] one
 //! frame, [`tile_sink`] where tiles go, [`encoder_pool`] the PNG sink,
 //! [`manifest_builder`] the manifest, [`count_sink`] counting without PNGs;
-//! [`study`] and [`study_plot`] the resolution study; [`inspect`] and [`views`] look at a
+//! [`study`] and [`study_plot`] the resolution study; [`unobstructed`] and
+//! [`ray_bvh`] the exact per-point reference measure; [`inspect`] and [`views`] look at a
 //! vehicle before capturing.
 
 pub mod archive;
@@ -33,6 +34,7 @@ pub mod options;
 pub mod own_pidt;
 pub mod palette;
 pub mod pidt;
+pub mod ray_bvh;
 pub mod regions;
 pub mod render;
 pub mod rig;
@@ -43,6 +45,7 @@ pub mod study_plot;
 pub mod tile_sink;
 pub mod track;
 pub mod unity;
+pub mod unobstructed;
 pub mod unwrap;
 pub mod vehicle;
 pub mod views;

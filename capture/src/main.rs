@@ -159,9 +159,29 @@ struct Common {
     /// With --count: what one count means, image (once per tile) or frame (once per eye-frame).
     #[arg(long, default_value = "image", requires = "count")]
     dedupe: String,
+    /// `unobstructed`: instead of rendering pixels, count per texel the eye-frames in which its
+    /// point is in view, faces the eye and is not hidden (exact ray casts; writes results/).
+    #[arg(long, value_name = "unobstructed")]
+    measure: Option<String>,
+    /// With --measure unobstructed: the share of texels to measure, e.g. 1/16 or 0.25 (seeded).
+    #[arg(long, default_value = "1", requires = "measure")]
+    sample: String,
+    /// Seed of the texel sample.
+    #[arg(long, default_value_t = 1, requires = "measure")]
+    seed: u64,
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
+}
+
+/// `1/16`, `0.25` or `1`.
+fn parse_fraction(text: &str) -> anyhow::Result<f64> {
+    let value = match text.split_once('/') {
+        Some((a, b)) => a.trim().parse::<f64>()? / b.trim().parse::<f64>()?,
+        None => text.trim().parse::<f64>()?,
+    };
+    anyhow::ensure!(value > 0.0 && value <= 1.0, "--sample {text}: must be a fraction in (0, 1]");
+    Ok(value)
 }
 
 fn run(cli: Cli) -> anyhow::Result<()> {
@@ -233,6 +253,37 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             None => format!("{}×{} (canonical)", options.palette[0], options.palette[1]),
         }
     );
+    if let Some(measure) = &common.measure {
+        anyhow::ensure!(
+            measure == "unobstructed",
+            "--measure {measure:?}: the only other measure is unobstructed"
+        );
+        let sample = parse_fraction(&common.sample)?;
+        archive::for_each_scenario(&scene, &names, all, &options, |scenario, options| {
+            let measured = ufcsr_capture::unobstructed::measure_unobstructed(
+                &gpu.device,
+                &gpu.queue,
+                &scene,
+                scenario,
+                options,
+                sample,
+                common.seed,
+            )?;
+            println!(
+                "scenario {}: unobstructed measure of {} of {} labelled texels over {} eye-frames in {:.2} s",
+                scenario.name,
+                measured.sampled_texels,
+                measured.labelled_texels,
+                measured.eye_frames,
+                measured.seconds
+            );
+            print!("{}", ufcsr::format_table(&measured.analysis.result));
+            println!("  results: {}", measured.written.result_json.display());
+            println!("           {} (per-part estimates, standard errors)", measured.estimates_csv.display());
+            Ok(())
+        })?;
+        return Ok(());
+    }
     if common.count {
         let dedupe: ufcsr::Dedupe = common.dedupe.parse()?;
         archive::for_each_scenario(&scene, &names, all, &options, |scenario, options| {
