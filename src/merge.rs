@@ -171,6 +171,15 @@ fn check_agreement(paths: &[PathBuf], summaries: &[AnalysisResult]) -> Result<()
                 format!("schema {} differs from {}", summary.schema, first.schema),
             ));
         }
+        if summary.measure != first.measure {
+            return Err(Error::bad_file(
+                path,
+                format!(
+                    "its measure {:?} differs from {:?}: counts of different measures do not add",
+                    summary.measure, first.measure
+                ),
+            ));
+        }
         if settings != reference {
             let field = [
                 ("archive", settings.archive != reference.archive),
