@@ -99,6 +99,10 @@ struct StudyArgs {
     /// GPU backend.
     #[arg(long, value_enum, default_value_t = Backend::Auto)]
     backend: Backend,
+    /// Also compare every setting with the exact unobstructed measure of this share of the
+    /// texels, e.g. 1/64 (see --measure unobstructed).
+    #[arg(long, value_name = "FRACTION")]
+    unobstructed_sample: Option<String>,
 }
 
 #[derive(Args)]
@@ -347,19 +351,31 @@ fn run_study(args: StudyArgs) -> anyhow::Result<()> {
             palette: parse_palette_size(&args.palette_size)?,
             ..CaptureOptions::default()
         },
+        unobstructed_sample: args.unobstructed_sample.as_deref().map(parse_fraction).transpose()?,
     };
     let gpu = Gpu::create(args.backend).context("creating the GPU device")?;
     eprintln!("adapter: {}", gpu.describe());
     let study = ufcsr_capture::study::run_study(&gpu.device, &gpu.queue, &scene, &options)?;
     println!("scenario {}: reference {}", study.scenario, study.reference);
     println!(
-        "{:>6} {:>5} {:>6} {:>9} {:>9} {:>9} {:>7} {:>5} {:>6}",
-        "ppd", "step", "frames", "seconds", "L1 pp", "max pp", "tau", "top5", "pareto"
+        "{:>6} {:>5} {:>6} {:>9} {:>9} {:>9} {:>7} {:>5} {:>6} {:>12} {:>9}",
+        "ppd",
+        "step",
+        "frames",
+        "seconds",
+        "L1 pp",
+        "max pp",
+        "tau",
+        "top5",
+        "pareto",
+        "L1 vs exact",
+        "tau exact"
     );
     for row in &study.rows {
         let e = &row.error;
+        let exact = row.error_vs_unobstructed.as_ref();
         println!(
-            "{:>6} {:>5} {:>6} {:>9.2} {:>9.3} {:>9.3} {:>7.3} {:>5} {:>6}",
+            "{:>6} {:>5} {:>6} {:>9.2} {:>9.3} {:>9.3} {:>7.3} {:>5} {:>6} {:>12} {:>9}",
             row.ppd,
             row.frame_step,
             row.frames,
@@ -368,7 +384,9 @@ fn run_study(args: StudyArgs) -> anyhow::Result<()> {
             e.share_max_pp,
             e.kendall_tau_total,
             e.top_k_overlap,
-            if row.pareto { "*" } else { "" }
+            if row.pareto { "*" } else { "" },
+            exact.map_or("-".into(), |u| format!("{:.3}", u.share_l1_pp)),
+            exact.map_or("-".into(), |u| format!("{:.3}", u.kendall_tau_total)),
         );
     }
     match study.cheapest_within_tolerance {

@@ -31,6 +31,9 @@ pub struct StudyOptions {
     pub dedupe: Dedupe,
     /// Capture settings; `out` is the study folder (one sub-folder per setting).
     pub capture: CaptureOptions,
+    /// Also compare every setting with the exact unobstructed measure of
+    /// this share of the texels (every frame), in `out/unobstructed`.
+    pub unobstructed_sample: Option<f64>,
 }
 
 /// One setting of a study.
@@ -45,6 +48,8 @@ pub struct StudyRow {
     pub texels_seen: u64,
     /// Against the reference setting.
     pub error: Comparison,
+    /// Against the exact unobstructed measure, when the study made one.
+    pub error_vs_unobstructed: Option<Comparison>,
     /// No other setting is both faster and closer to the reference.
     pub pareto: bool,
     /// The setting's results folder.
@@ -116,6 +121,24 @@ pub fn run_study(
             ));
         }
     }
+    let unobstructed_parts: Option<Vec<PartStats>> = match options.unobstructed_sample {
+        None => None,
+        Some(sample) => {
+            let capture = CaptureOptions {
+                out: options.capture.out.join("unobstructed"),
+                progress: false,
+                ..options.capture.clone()
+            };
+            let measured = crate::unobstructed::measure_unobstructed(
+                device, queue, scene, scenario, &capture, sample, 1,
+            )?;
+            eprintln!(
+                "study: unobstructed reference of {} texels over {} eye-frames in {:.2} s",
+                measured.sampled_texels, measured.eye_frames, measured.seconds
+            );
+            Some(measured.analysis.result.parts)
+        }
+    };
     let reference_parts: Vec<PartStats> = runs[0].4.parts.clone();
     if reference_parts.is_empty() {
         return Err(CaptureError::BadOptions("the study needs a PIdT and legend to compare parts".into()));
@@ -123,6 +146,10 @@ pub fn run_study(
     let mut rows = Vec::with_capacity(runs.len());
     for (ppd, frame_step, frames, seconds, result, results) in runs {
         let error = ufcsr::compare_parts(&reference_parts, &result.parts, 5)?;
+        let error_vs_unobstructed = unobstructed_parts
+            .as_ref()
+            .map(|exact| ufcsr::compare_parts(exact, &result.parts, 5))
+            .transpose()?;
         rows.push(StudyRow {
             ppd,
             frame_step,
@@ -131,6 +158,7 @@ pub fn run_study(
             grand_total: result.grand_total,
             texels_seen: result.texels_seen,
             error,
+            error_vs_unobstructed,
             pareto: false,
             results,
         });
@@ -189,6 +217,9 @@ pub fn write_study(study: &Study, dir: &Path) -> Result<Vec<PathBuf>> {
             "grand_total",
             "texels_seen",
             "pareto",
+            "share_l1_vs_unobstructed_pp",
+            "kendall_tau_total_vs_unobstructed",
+            "top5_overlap_vs_unobstructed",
         ])
         .map_err(|e| csv_error(&csv_path, e))?;
     for row in &study.rows {
@@ -211,6 +242,11 @@ pub fn write_study(study: &Study, dir: &Path) -> Result<Vec<PathBuf>> {
                 row.grand_total.to_string(),
                 row.texels_seen.to_string(),
                 row.pareto.to_string(),
+                row.error_vs_unobstructed.as_ref().map_or(String::new(), |u| format!("{:.4}", u.share_l1_pp)),
+                row.error_vs_unobstructed
+                    .as_ref()
+                    .map_or(String::new(), |u| format!("{:.4}", u.kendall_tau_total)),
+                row.error_vs_unobstructed.as_ref().map_or(String::new(), |u| u.top_k_overlap.to_string()),
             ])
             .map_err(|e| csv_error(&csv_path, e))?;
     }

@@ -5,12 +5,16 @@
 //! pixels, so it does not depend on pixels per degree or tiling. For every
 //! (sampled) texel of the unwrap, its point on the vehicle (the texel centre
 //! mapped through its triangle) counts once per eye-frame in which it lies in
-//! the eye's field of view, its triangle faces the eye, and the segment from
-//! the point to the eye crosses no triangle of the vehicle or the scene.
+//! the eye's field of view, the eye is not edge-on to its triangle, and the
+//! segment from the point to the eye crosses no triangle of the vehicle or
+//! the scene. Surfaces are two-sided, as the renderer draws them (no
+//! back-face culling), so the measure does not depend on the mesh's winding
+//! (the demo truck's is not consistent); on a closed mesh the far side of a
+//! panel is hidden by the vehicle itself anyway.
 //! Rays are cast in f64: against the vehicle in the vehicle's own frame
 //! (so a scene 10 km from the origin loses no precision) and against the
 //! occluders in the world frame, each through a [`TriangleBvh`]. The point
-//! is lifted 0.1 mm off its surface along the normal so that it does not hit
+//! is lifted 0.1 mm off its surface towards the eye so that it does not hit
 //! its own triangle.
 //!
 //! A random subset of texels (`--sample`, seeded) keeps it fast; per-part
@@ -42,6 +46,8 @@ pub const SURFACE_OFFSET_M: f64 = 1e-4;
 pub struct SurfacePoint {
     pub texel: usize,
     pub part: u32,
+    /// The vehicle triangle it lies on.
+    pub triangle: usize,
     /// Vehicle frame, metres.
     pub position: DVec3,
     /// Unit normal of its triangle (the side the palette is drawn on).
@@ -88,11 +94,12 @@ pub fn surface_points(
                 return;
             }
             let q = DVec2::new(f64::from(x) + 0.5, f64::from(y) + 0.5);
-            let w1 = (q - uv[0]).perp_dot(uv[2] - uv[0]) / -area;
+            // q = uv0 + w1·(uv1 − uv0) + w2·(uv2 − uv0).
+            let w1 = (q - uv[0]).perp_dot(uv[2] - uv[0]) / area;
             let w2 = (uv[1] - uv[0]).perp_dot(q - uv[0]) / area;
             let w0 = 1.0 - w1 - w2;
             let position = corners[0] * w0 + corners[1] * w1 + corners[2] * w2;
-            points.push(SurfacePoint { texel, part, position, normal });
+            points.push(SurfacePoint { texel, part, triangle, position, normal });
         });
     }
     (points, per_part)
@@ -138,7 +145,9 @@ pub fn unobstructed(
     brute_force: bool,
 ) -> bool {
     let towards_eye = eye_frame.eye_in_vehicle - point.position;
-    if point.normal.dot(towards_eye) <= 0.0 {
+    // Two-sided: the side of the triangle the eye is on.
+    let side = point.normal.dot(towards_eye);
+    if side == 0.0 {
         return false;
     }
     let world = eye_frame.to_world.transform_point3(point.position);
@@ -149,7 +158,7 @@ pub fn unobstructed(
     if !in_view {
         return false;
     }
-    let lifted = point.position + point.normal * SURFACE_OFFSET_M;
+    let lifted = point.position + point.normal * (SURFACE_OFFSET_M * side.signum());
     let lifted_world = eye_frame.to_world.transform_point3(lifted);
     let (vehicle, world) = if brute_force {
         (

@@ -36,6 +36,21 @@ fn the_hierarchy_answers_exactly_as_brute_force_on_sampled_points() {
 }
 
 #[test]
+fn every_point_lies_inside_its_own_triangle() {
+    let scene = Scene::demo();
+    let points = demo_points(&scene, 0.2);
+    for point in &points {
+        let [a, b, c] = scene.vehicle.corners(point.triangle).map(|v| v.as_dvec3());
+        let p = point.position;
+        let n = (b - a).cross(c - a);
+        assert!((p - a).dot(n.normalize()).abs() < 1e-6, "texel {} is off its plane", point.texel);
+        // Barycentric weights from sub-triangle areas: all positive inside.
+        let w = [(b - p).cross(c - p).dot(n), (c - p).cross(a - p).dot(n), (a - p).cross(b - p).dot(n)];
+        assert!(w.iter().all(|&w| w > 0.0), "texel {} lies outside its triangle: {w:?}", point.texel);
+    }
+}
+
+#[test]
 fn a_scene_far_from_the_origin_counts_the_same() {
     let scene = Scene::demo();
     let scenario = scene.scenario("A").unwrap().clone();
