@@ -309,6 +309,26 @@ pub fn analyze_counted(options: &AnalyzeOptions, mut counter: TileCounter) -> Re
     summarize(options, &inputs, Vec::new(), counted, timings, started)
 }
 
+/// Joins per-texel counts with the PIdT and legend: the parts table, the
+/// unlabelled report, and a warning per legend part without texels.
+pub(crate) fn join_with_legend(
+    texel_counts: &[u32],
+    legend_path: &Path,
+    legend: &Legend,
+    pidt_path: &Path,
+    pidt: &Pidt,
+    warnings: &mut Vec<String>,
+) -> (crate::parts::PartTable, UnlabelledReport) {
+    let table = join_parts(texel_counts, pidt, legend);
+    warnings.extend(empty_part_warnings(
+        &table,
+        &legend_path.display().to_string(),
+        &pidt_path.display().to_string(),
+    ));
+    let unlabelled = UnlabelledReport::new(&table, pidt);
+    (table, unlabelled)
+}
+
 /// One warning per legend part without texels in the PIdT.
 pub(crate) fn empty_part_warnings(table: &crate::parts::PartTable, legend: &str, pidt: &str) -> Vec<String> {
     table
@@ -504,17 +524,12 @@ fn finish(
     }
     let (table, unlabelled, dedupe_report) = match &inputs.parts {
         Some((legend_path, legend, pidt_path, pidt)) => {
-            let table = join_parts(&texel_counts, pidt, legend);
-            warnings.extend(empty_part_warnings(
-                &table,
-                &legend_path.display().to_string(),
-                &pidt_path.display().to_string(),
-            ));
+            let (table, unlabelled) =
+                join_with_legend(&texel_counts, legend_path, legend, pidt_path, pidt, &mut warnings);
             let dedupe_report = per_image_counts.as_ref().map(|per_image| {
                 let per_image_total = join_parts(per_image, pidt, legend).grand_total;
                 DedupeReport::new(per_image_total, table.grand_total)
             });
-            let unlabelled = UnlabelledReport::new(&table, pidt);
             (Some(table), Some(unlabelled), dedupe_report)
         }
         None => {

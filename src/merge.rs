@@ -12,13 +12,13 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::analyze::{Analysis, Timings, empty_part_warnings};
+use crate::analyze::{Analysis, Timings, join_with_legend};
 use crate::color::Color;
 use crate::error::{Error, Result};
-use crate::parts::{Legend, Pidt, join_parts};
+use crate::parts::{Legend, Pidt};
 use crate::report::{
-    AnalysisResult, DedupeReport, ImageCounts, PixelCounts, RESULT_SCHEMA, UnlabelledReport,
-    read_result_summary, read_texel_counts,
+    AnalysisResult, DedupeReport, ImageCounts, PixelCounts, RESULT_SCHEMA, read_result_summary,
+    read_texel_counts,
 };
 use crate::resolution::ResolutionReport;
 use crate::shard::Shard;
@@ -70,13 +70,8 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
     let mut warnings = Vec::new();
     let (table, unlabelled) = match &parts {
         Some((legend_path, legend, pidt_path, pidt)) => {
-            let table = join_parts(&texel_counts, pidt, legend);
-            warnings.extend(empty_part_warnings(
-                &table,
-                &legend_path.display().to_string(),
-                &pidt_path.display().to_string(),
-            ));
-            let unlabelled = UnlabelledReport::new(&table, pidt);
+            let (table, unlabelled) =
+                join_with_legend(&texel_counts, legend_path, legend, pidt_path, pidt, &mut warnings);
             (Some(table), Some(unlabelled))
         }
         None => (None, None),

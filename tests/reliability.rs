@@ -5,7 +5,6 @@
 
 mod common;
 
-use std::io::Write;
 use std::path::Path;
 use std::sync::mpsc;
 use std::time::Duration;
@@ -23,27 +22,7 @@ fn stored_png(path: &Path, width: u32, height: u32, colors: &[u32]) {
         raw.push(0u8);
         raw.extend(rgb_bytes(row));
     }
-    let mut zlib = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::none());
-    zlib.write_all(&raw).unwrap();
-    let compressed = zlib.finish().unwrap();
-    let mut png = vec![0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
-    let mut chunk = |kind: &[u8; 4], body: &[u8]| {
-        png.extend((body.len() as u32).to_be_bytes());
-        let mut crc = crc32fast::Hasher::new();
-        crc.update(kind);
-        crc.update(body);
-        png.extend(kind);
-        png.extend(body);
-        png.extend(crc.finalize().to_be_bytes());
-    };
-    let mut header = Vec::new();
-    header.extend(width.to_be_bytes());
-    header.extend(height.to_be_bytes());
-    header.extend([8, 2, 0, 0, 0]);
-    chunk(b"IHDR", &header);
-    chunk(b"IDAT", &compressed);
-    chunk(b"IEND", &[]);
-    std::fs::write(path, png).unwrap();
+    png_from_filtered_rows(path, width, height, &raw, 0, flate2::Compression::none());
 }
 
 fn options(archive: &Path, trim: TrimMode) -> AnalyzeOptions {

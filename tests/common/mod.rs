@@ -65,8 +65,21 @@ pub fn interlaced_rgb_png(path: &Path, width: u32, height: u32, colors: &[u32]) 
             }
         }
     }
-    let mut zlib = flate2::write::ZlibEncoder::new(Vec::new(), flate2::Compression::default());
-    zlib.write_all(&raw).unwrap();
+    png_from_filtered_rows(path, width, height, &raw, 1, flate2::Compression::default());
+}
+
+/// Writes an 8-bit RGB PNG from filtered scanlines (`raw`), deflated at
+/// `level`; `interlace` 1 is Adam7.
+pub fn png_from_filtered_rows(
+    path: &Path,
+    width: u32,
+    height: u32,
+    raw: &[u8],
+    interlace: u8,
+    level: flate2::Compression,
+) {
+    let mut zlib = flate2::write::ZlibEncoder::new(Vec::new(), level);
+    zlib.write_all(raw).unwrap();
     let compressed = zlib.finish().unwrap();
     let mut png = vec![0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
     let mut chunk = |kind: &[u8; 4], body: &[u8]| {
@@ -81,7 +94,7 @@ pub fn interlaced_rgb_png(path: &Path, width: u32, height: u32, colors: &[u32]) 
     let mut header = Vec::new();
     header.extend(width.to_be_bytes());
     header.extend(height.to_be_bytes());
-    header.extend([8, 2, 0, 0, 1]); // 8-bit RGB, deflate, adaptive filtering, Adam7
+    header.extend([8, 2, 0, 0, interlace]); // 8-bit RGB, deflate, adaptive filtering
     chunk(b"IHDR", &header);
     chunk(b"IDAT", &compressed);
     chunk(b"IEND", &[]);
