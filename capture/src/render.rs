@@ -22,6 +22,17 @@ pub struct Vertex {
     pub uv: [f32; 2],
 }
 
+/// What the fragment shader draws (`Uniforms::mode`); the same numbers are
+/// spelled `MODE_*` in `shader.wgsl` — change both together.
+mod draw_mode {
+    /// The canonical palette colour of the texel, computed.
+    pub const CANONICAL_PALETTE: u32 = 0;
+    /// The texel of the external palette texture.
+    pub const EXTERNAL_PALETTE: u32 = 1;
+    /// The background colour (occluders).
+    pub const BACKGROUND: u32 = 2;
+}
+
 /// Uniforms as laid out in the shader (80 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -209,14 +220,14 @@ impl Renderer {
         // The palette texture: the external palette, or a 1×1 stand-in that the
         // canonical mode never reads.
         let (mode, texture_size, texels): (u32, [u32; 2], Vec<u8>) = match setup.palette {
-            Palette::Canonical(_) => (0, [1, 1], vec![0; 4]),
+            Palette::Canonical(_) => (draw_mode::CANONICAL_PALETTE, [1, 1], vec![0; 4]),
             Palette::External { size, rgba } => {
                 if rgba.len() != (size[0] as usize) * (size[1] as usize) * 4 {
                     return Err(CaptureError::BadOptions(
                         "external palette data does not match its size".into(),
                     ));
                 }
-                (1, *size, rgba.clone())
+                (draw_mode::EXTERNAL_PALETTE, *size, rgba.clone())
             }
         };
         let palette_texture = device.create_texture(&wgpu::TextureDescriptor {
@@ -356,8 +367,11 @@ impl Renderer {
             mode: self.mode,
             background: self.background.packed(),
         };
-        let world_uniforms =
-            Uniforms { clip_from_model: to_f32(&draw.clip_from_world), mode: 2, ..vehicle_uniforms };
+        let world_uniforms = Uniforms {
+            clip_from_model: to_f32(&draw.clip_from_world),
+            mode: draw_mode::BACKGROUND,
+            ..vehicle_uniforms
+        };
         queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&vehicle_uniforms));
         queue.write_buffer(&self.uniforms, UNIFORM_STRIDE, bytemuck::bytes_of(&world_uniforms));
 

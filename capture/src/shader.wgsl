@@ -33,14 +33,18 @@ fn unpack(packed: u32) -> vec4<f32> {
     return vec4<f32>(f32((packed >> 16u) & 255u), f32((packed >> 8u) & 255u), f32(packed & 255u), 255.0) / 255.0;
 }
 
+// Draw modes, the same numbers as `draw_mode` in render.rs (change both together).
+const MODE_EXTERNAL_PALETTE: u32 = 1u;
+const MODE_BACKGROUND: u32 = 2u;
+
 @fragment
 fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
-    if (u.mode == 2u) {
+    if (u.mode == MODE_BACKGROUND) {
         return unpack(u.background);
     }
     let size = vec2<f32>(u.palette);
     let texel = vec2<u32>(clamp(floor(in.uv * size), vec2<f32>(0.0), size - vec2<f32>(1.0)));
-    if (u.mode == 1u) {
+    if (u.mode == MODE_EXTERNAL_PALETTE) {
         return textureLoad(palette_texture, vec2<i32>(texel), 0);
     }
     return unpack(texel.y * u.palette.x + texel.x);
