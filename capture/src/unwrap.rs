@@ -54,17 +54,12 @@ pub fn background_texel(palette: [u32; 2]) -> Option<(u32, u32)> {
 
 /// Parses `W` or `WxH`.
 pub fn parse_palette_size(text: &str) -> Result<[u32; 2]> {
-    let bad = || {
-        CaptureError::BadOptions(format!("palette size must be W or WxH (e.g. 4096, 512x256), not {text:?}"))
-    };
-    let mut parts = text.split(['x', 'X']);
-    let w: u32 = parts.next().and_then(|p| p.trim().parse().ok()).ok_or_else(bad)?;
-    let h: u32 = match parts.next() {
-        Some(p) => p.trim().parse().map_err(|_| bad())?,
-        None => w,
-    };
-    if parts.next().is_some() || w == 0 || h == 0 || u64::from(w) * u64::from(h) > 1 << 24 {
-        return Err(bad());
+    // One parser for both crates; the capture adds the palette's limits.
+    let (w, h) = ufcsr::palette::parse_size(text)?;
+    if w == 0 || h == 0 || u64::from(w) * u64::from(h) > 1 << 24 {
+        return Err(CaptureError::BadOptions(format!(
+            "palette size {w}x{h}: needs 1 to 2^24 texels (e.g. 4096, 512x256), from {text:?}"
+        )));
     }
     Ok([w, h])
 }
