@@ -21,6 +21,7 @@
 //! vehicle before capturing.
 
 pub mod archive;
+pub mod batch;
 pub mod count_sink;
 pub mod demo;
 pub mod encoder_pool;

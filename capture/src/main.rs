@@ -59,6 +59,12 @@ enum Command {
         #[arg(long)]
         pixels_per_metre: Option<f64>,
     },
+    /// Plan a batch (batch.json: scenes × scenarios × ppd × frame steps): prints one
+    /// `ufcsr-capture ... --count` command per task, task i on line i (for job arrays, xargs -P).
+    Batch {
+        #[command(subcommand)]
+        action: BatchAction,
+    },
     /// Capture and count one scenario at several ppd and frame steps, compare each with the
     /// finest, and plot error against run time (writes study.csv, study.json, study.svg/.png).
     Study(StudyArgs),
@@ -103,6 +109,18 @@ struct StudyArgs {
     /// texels, e.g. 1/64 (see --measure unobstructed).
     #[arg(long, value_name = "FRACTION")]
     unobstructed_sample: Option<String>,
+}
+
+#[derive(Subcommand)]
+enum BatchAction {
+    /// Print the tasks' commands, one per line.
+    Plan {
+        /// The batch file.
+        batch: PathBuf,
+        /// The ufcsr-capture the commands call (default: this one).
+        #[arg(long)]
+        program: Option<String>,
+    },
 }
 
 #[derive(Args)]
@@ -199,6 +217,18 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             return Ok(());
         }
         Command::Study(args) => return run_study(args),
+        Command::Batch { action: BatchAction::Plan { batch, program } } => {
+            let plan = ufcsr_capture::batch::load(&batch)?;
+            let program = match program {
+                Some(program) => program,
+                None => std::env::current_exe()?.display().to_string(),
+            };
+            let base = batch.parent().unwrap_or(std::path::Path::new("."));
+            for task in ufcsr_capture::batch::plan(&plan, base, &program)? {
+                println!("{}", task.shell_line());
+            }
+            return Ok(());
+        }
         Command::Verify { archive } => {
             let (vehicle, stray) = archive::verify(&archive)?;
             println!("{}: {vehicle} vehicle pixels, {stray} stray pixels", archive.display());
