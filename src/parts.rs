@@ -75,50 +75,42 @@ impl Legend {
 }
 
 /// Splits one CSV line into fields, honouring double quotes.
-fn csv_fields(line: &str) -> Vec<String> {
-    let mut fields = Vec::new();
-    let mut field = String::new();
-    let mut quoted = false;
-    let mut chars = line.chars().peekable();
-    while let Some(c) = chars.next() {
-        match c {
-            '"' if quoted && chars.peek() == Some(&'"') => {
-                chars.next();
-                field.push('"');
-            }
-            '"' => quoted = !quoted,
-            ',' if !quoted => fields.push(std::mem::take(&mut field)),
-            _ => field.push(c),
-        }
-    }
-    fields.push(field);
-    fields.into_iter().map(|f| f.trim().to_string()).collect()
-}
-
 fn parse_csv_legend(path: &Path, text: &str) -> Result<Vec<Part>> {
-    let mut lines = text.lines().enumerate().filter(|(_, line)| !line.trim().is_empty()).peekable();
+    // The csv crate: quoted names with commas, quotes, CR or LF round-trip.
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .from_reader(text.trim_start_matches('\u{feff}').as_bytes());
+    let mut records = Vec::new();
+    for record in reader.records() {
+        let record = record.map_err(|e| Error::bad_file(path, format!("invalid CSV legend: {e}")))?;
+        let line = record.position().map_or(0, |p| p.line());
+        if record.iter().all(str::is_empty) {
+            continue;
+        }
+        records.push((line, record));
+    }
     let (mut name_column, mut color_column) = (0, 1);
-    if let Some((_, first)) = lines.peek() {
-        let header: Vec<String> = csv_fields(first.trim_start_matches('\u{feff}'));
-        let find = |wanted: &[&str]| header.iter().position(|h| wanted.contains(&h.to_lowercase().as_str()));
+    let mut rows = records.iter().peekable();
+    if let Some((_, first)) = rows.peek() {
+        let find = |wanted: &[&str]| first.iter().position(|h| wanted.contains(&h.to_lowercase().as_str()));
         if let (Some(name), Some(color)) = (find(&["name", "part", "part_name"]), find(&["color", "colour"]))
         {
             (name_column, color_column) = (name, color);
-            lines.next();
+            rows.next();
         }
     }
     let mut parts = Vec::new();
-    for (number, line) in lines {
-        let fields = csv_fields(line);
-        let line_no = number + 1;
-        let (Some(name), Some(color)) = (fields.get(name_column), fields.get(color_column)) else {
+    for (line_no, record) in rows {
+        let (Some(name), Some(color)) = (record.get(name_column), record.get(color_column)) else {
             return Err(Error::bad_file(path, format!("line {line_no}: expected name,color")));
         };
         let color = color.parse().map_err(|e| Error::bad_file(path, format!("line {line_no}: {e}")))?;
         if name.is_empty() {
             return Err(Error::bad_file(path, format!("line {line_no}: empty part name")));
         }
-        parts.push(Part { name: name.clone(), color });
+        parts.push(Part { name: name.to_string(), color });
     }
     Ok(parts)
 }
@@ -315,6 +307,10 @@ mod tests {
         assert_eq!(parts[1].color, Color::from_packed(0xFF0000));
         let error = parse_csv_legend(Path::new("p.csv"), "name,color\nHood,red\n").unwrap_err();
         assert!(error.to_string().contains("line 2"), "{error}");
+        // Names with CR, LF and quotes round-trip through the writer.
+        let odd = "Door\r\n\"front\", left";
+        let written = format!("name,color\n{},#010203\n", crate::report::csv_field(odd));
+        assert_eq!(parse_csv_legend(Path::new("p.csv"), &written).unwrap()[0].name, odd);
     }
 
     #[test]

@@ -412,7 +412,8 @@ pub fn write_parts_csv(path: &Path, parts: &[PartStats]) -> Result<()> {
 
 /// `text` as one CSV field, quoted when it holds a comma, quote or newline.
 pub fn csv_field(text: &str) -> String {
-    if text.contains([',', '"', '\n']) {
+    // CR too: an unquoted CR would end the record for any CSV reader.
+    if text.contains([',', '"', '\n', '\r']) || text.trim() != text {
         format!("\"{}\"", text.replace('"', "\"\""))
     } else {
         text.to_string()
