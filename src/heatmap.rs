@@ -68,13 +68,16 @@ pub fn plasma(t: f64) -> [u8; 3] {
 pub fn render(texel_counts: &[u32], width: u32, options: HeatmapOptions) -> Vec<u8> {
     let largest = texel_counts.par_iter().copied().max().unwrap_or(0);
     let max = options.max.unwrap_or(largest);
-    // One entry per possible (clamped) count: exact colours, no per-texel math.
-    let table: Vec<[u8; 3]> = (0..=max).map(|count| plasma(position(count, max, options.scale))).collect();
+    // One entry per count that occurs (clamped): exact colours, no per-texel
+    // math. Up to the largest count present, not to `max`: `--max 4000000000`
+    // must not build a 12 GB table.
+    let top = max.min(largest);
+    let table: Vec<[u8; 3]> = (0..=top).map(|count| plasma(position(count, max, options.scale))).collect();
     let mut rgb = vec![0u8; texel_counts.len() * 3];
     let row = width.max(1) as usize;
     rgb.par_chunks_mut(row * 3).zip(texel_counts.par_chunks(row)).for_each(|(out, counts)| {
         for (pixel, &count) in out.chunks_exact_mut(3).zip(counts) {
-            pixel.copy_from_slice(&table[count.min(max) as usize]);
+            pixel.copy_from_slice(&table[count.min(top) as usize]);
         }
     });
     rgb

@@ -263,7 +263,19 @@ fn load_gltf(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
     };
     let mut mesh = Mesh { uvs: Some(Vec::new()), ..Mesh::default() };
     let mut stack: Vec<(gltf::Node, glam::Mat4)> = scene.nodes().map(|n| (n, glam::Mat4::IDENTITY)).collect();
+    // glTF nodes form a forest: a node met twice means a cycle (which would
+    // grow this stack forever) or a shared child, both invalid.
+    let mut visited = vec![false; gltf.document.nodes().len()];
     while let Some((node, parent)) = stack.pop() {
+        if std::mem::replace(&mut visited[node.index()], true) {
+            return Err(CaptureError::bad_input(
+                path,
+                format!(
+                    "glTF node {} appears twice in the node tree (a cycle or a shared child)",
+                    node.index()
+                ),
+            ));
+        }
         let transform = parent * glam::Mat4::from_cols_array_2d(&node.transform().matrix());
         for child in node.children() {
             stack.push((child, transform));

@@ -31,6 +31,9 @@ impl Compression {
     }
 }
 
+/// Most frames a `--frames` list may name (a day at 100 frames/s is 8.6 million).
+pub const MAX_SELECTED_FRAMES: u64 = 10_000_000;
+
 /// Which frames to capture: all, or a list such as `0,30,60-90/10`.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct FrameSelection(Option<Vec<u32>>);
@@ -78,6 +81,13 @@ impl std::str::FromStr for FrameSelection {
             };
             if step == 0 || b < a {
                 return Err(bad());
+            }
+            // A selection is expanded into a list: bound it before it is.
+            let selected = u64::from(b - a) / u64::from(step) + 1;
+            if frames.len() as u64 + selected > MAX_SELECTED_FRAMES {
+                return Err(CaptureError::BadOptions(format!(
+                    "--frames {text:?} selects more than {MAX_SELECTED_FRAMES} frames"
+                )));
             }
             frames.extend((a..=b).step_by(step as usize));
         }

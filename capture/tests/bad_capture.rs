@@ -76,3 +76,24 @@ fn resume_redoes_a_truncated_tile() {
     assert!(capture(&["demo", "--frames", "170-180", "--resume"], &out).status.success());
     assert_eq!(std::fs::read(&path).unwrap(), whole, "the truncated tile was kept");
 }
+
+#[test]
+fn a_frame_list_of_billions_is_refused_before_it_is_built() {
+    let error = "0-4294967295".parse::<ufcsr_capture::archive::FrameSelection>().unwrap_err().to_string();
+    assert!(error.contains("more than"), "{error}");
+    assert!("0-180/10".parse::<ufcsr_capture::archive::FrameSelection>().is_ok());
+}
+
+#[test]
+fn a_gltf_whose_nodes_form_a_cycle_is_an_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("cycle.gltf");
+    // Node 0 is its own child: the loader must not grow forever.
+    std::fs::write(&path, r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"children": [0]}]}"#)
+        .unwrap();
+    let loaded =
+        ufcsr_capture::mesh::load_vehicle(&path, ufcsr_capture::mesh::PartSource::Node, &Default::default());
+    let Err(error) = loaded else { panic!("a cycle must be refused") };
+    let error = error.to_string();
+    assert!(error.contains("appears twice"), "{error}");
+}
