@@ -12,7 +12,6 @@ use std::sync::{Mutex, PoisonError};
 use std::time::Instant;
 
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
 use crate::archive::Archive;
 use crate::bitset::{AtomicColorSet, SeenSet};
@@ -22,8 +21,10 @@ use crate::decode::map_file;
 use crate::error::{Error, Result};
 use crate::heatmap::HeatmapOptions;
 use crate::manifest::{Manifest, PaletteSpec};
+pub use crate::options::{AnalyzeOptions, Dedupe, MEASURE_PIXELS, PaletteChoice, Progress, Timings};
 use crate::palette::{DEFAULT_PALETTE_SIDE, Fcsp};
 use crate::parts::{Legend, Pidt, join_parts};
+pub use crate::report::WrittenFiles;
 use crate::report::{
     AnalysisResult, DedupeReport, FailedImage, ImageCounts, Settings, StrayImage, TrimReport,
     UnlabelledReport,
@@ -31,93 +32,7 @@ use crate::report::{
 use crate::resolution::{CaptureGeometry, ResolutionReport};
 use crate::shard::Shard;
 use crate::tile_counter::TileCounter;
-use crate::trim::{TrimMode, TrimPlan};
-
-/// Which palette to use.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub enum PaletteChoice {
-    /// The canonical W×H palette.
-    Canonical { width: u32, height: u32 },
-    /// A palette image with unique colours.
-    Image(PathBuf),
-}
-
-/// What one count means.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Dedupe {
-    /// A texel counts once per image (tile) that shows it.
-    #[default]
-    Image,
-    /// A texel counts once per eye-frame, however many of its tiles show it.
-    Frame,
-}
-
-impl std::str::FromStr for Dedupe {
-    type Err = Error;
-    fn from_str(text: &str) -> Result<Dedupe> {
-        match text {
-            "image" => Ok(Dedupe::Image),
-            "frame" => Ok(Dedupe::Frame),
-            other => Err(Error::BadOptions(format!("unknown --dedupe {other:?}: use image or frame"))),
-        }
-    }
-}
-
-/// Receives progress while images are counted (the binary draws a bar).
-pub trait Progress: Sync {
-    /// Counting starts; `total` images will be reported.
-    fn start(&self, total: u64);
-    /// `done` more images are finished.
-    fn advance(&self, done: u64);
-    /// Counting is over.
-    fn finish(&self);
-}
-
-/// Everything [`analyze`] needs. `None` fields fall back to the archive's
-/// manifest, then to the defaults.
-#[derive(Debug, Clone, Default)]
-pub struct AnalyzeOptions {
-    /// The archive folder.
-    pub archive: PathBuf,
-    pub palette: Option<PaletteChoice>,
-    pub pidt: Option<PathBuf>,
-    pub legend: Option<PathBuf>,
-    pub background: Option<Vec<Color>>,
-    pub dedupe: Dedupe,
-    pub trim: TrimMode,
-    /// Heatmap settings, recorded in the result.
-    pub heatmap: HeatmapOptions,
-    /// Stop at the first failed image.
-    pub strict: bool,
-    /// Files or folders never taken as images (e.g. the output folder).
-    pub exclude: Vec<PathBuf>,
-    /// Ignore `manifest.json` even if present.
-    pub ignore_manifest: bool,
-    /// Count only this shard of the archive (see [`crate::shard`]).
-    pub shard: Option<Shard>,
-    /// The vehicle as unwrapped (glTF with the palette UVs), for `heatmap.glb`;
-    /// default: the manifest's `vehicle`.
-    pub mesh: Option<PathBuf>,
-}
-
-/// Wall-clock seconds per stage, and the thread count (kept out of
-/// `result.json`, which must not change from run to run).
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
-pub struct Timings {
-    pub threads: usize,
-    /// The row kernels used ([`crate::scan::Kernel::name`]).
-    pub kernel: String,
-    pub load_seconds: f64,
-    pub trim_seconds: f64,
-    pub count_seconds: f64,
-    pub join_seconds: f64,
-    pub heatmap_seconds: f64,
-    pub write_seconds: f64,
-    pub total_seconds: f64,
-    /// Decoded pixels per second during counting, in millions.
-    pub decoded_megapixels_per_second: f64,
-}
+use crate::trim::TrimPlan;
 
 /// The outcome of an analysis.
 pub struct Analysis {
@@ -482,9 +397,6 @@ fn summarize(
     finish(options, inputs, empty_tiles, tally, per_texel, &strays, timings, started, stage)
 }
 
-/// The paper's measure: a texel counts once per image (or eye-frame) whose pixels show it.
-pub const MEASURE_PIXELS: &str = "pixels";
-
 /// Per-texel counts ready to be joined with the PIdT.
 struct PerTexel {
     texel_counts: Vec<u32>,
@@ -571,7 +483,8 @@ fn finish(
         tally.texel_pixels,
         tally.background_pixels,
         tally.stray_pixels,
-        strays,
+        strays.len(),
+        strays.first(crate::report::STRAY_EXAMPLES).into_iter().map(Color::from_packed).collect(),
         max_count,
         grand_total,
         table.as_ref(),
@@ -743,21 +656,6 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
 /// from the images when the archive has no manifest).
 pub fn default_output_dir(archive: &Path) -> PathBuf {
     archive.join("results")
-}
-
-/// The files [`write_results`] wrote.
-#[derive(Debug, Clone)]
-pub struct WrittenFiles {
-    pub result_json: PathBuf,
-    pub parts_csv: Option<PathBuf>,
-    pub heatmap_png: PathBuf,
-    pub timings_json: PathBuf,
-    /// The vehicle with the heatmap on it, when the analysis had a vehicle model.
-    pub heatmap_glb: Option<PathBuf>,
-    /// The page that shows it all.
-    pub report_html: PathBuf,
-    /// `views.png`, the contact sheet of the eight views (with a vehicle model).
-    pub views_png: Option<PathBuf>,
 }
 
 /// Errors when writing `files` would replace one of the analysis's inputs

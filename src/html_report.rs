@@ -10,10 +10,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
-use crate::analyze::WrittenFiles;
 use crate::error::Result;
 use crate::parts::PartStats;
-use crate::report::AnalysisResult;
+use crate::report::{AnalysisResult, WrittenFiles};
 
 /// Writes the report page for `result` into `path` (beside the other files).
 pub fn write_report(path: &Path, result: &AnalysisResult, files: &WrittenFiles) -> Result<()> {

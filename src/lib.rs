@@ -18,6 +18,7 @@ pub mod html_report;
 pub mod input_file;
 pub mod manifest;
 pub mod merge;
+pub mod options;
 pub mod output;
 pub mod palette;
 pub mod parts;

@@ -12,9 +12,10 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::analyze::{Analysis, Timings, join_with_legend};
+use crate::analyze::{Analysis, join_with_legend};
 use crate::color::Color;
 use crate::error::{Error, Result};
+use crate::options::Timings;
 use crate::parts::{Legend, Pidt};
 use crate::report::{
     AnalysisResult, DedupeReport, ImageCounts, PixelCounts, RESULT_SCHEMA, read_result_summary,
@@ -24,7 +25,7 @@ use crate::resolution::ResolutionReport;
 use crate::shard::Shard;
 
 /// Stray colour examples kept in a result.
-const EXAMPLES: usize = 10;
+const EXAMPLES: usize = crate::report::STRAY_EXAMPLES;
 
 /// Merges shard results into one analysis (write it with [`crate::write_results`]).
 pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {

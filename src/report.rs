@@ -6,15 +6,14 @@
 //! no timings or thread counts, so the same input always gives the same bytes.
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
-use crate::analyze::{Dedupe, Timings};
-use crate::bitset::AtomicColorSet;
 use crate::color::Color;
 use crate::error::{Error, Result};
 use crate::heatmap::Scale;
+use crate::options::{Dedupe, Timings};
 use crate::output::write_atomically;
 use crate::palette::PaletteDescription;
 use crate::parts::{PartStats, PartTable, Pidt, ratio};
@@ -24,7 +23,7 @@ use crate::trim::EmptyTile;
 pub const RESULT_SCHEMA: &str = "ufcsr-result/1";
 
 /// How many example stray colours and unlabelled PIdT colours to list.
-const EXAMPLES: usize = 10;
+pub(crate) const STRAY_EXAMPLES: usize = 10;
 
 /// Image bookkeeping: `found = trimmed + decoded + failed`.
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -120,7 +119,7 @@ impl UnlabelledReport {
             pidt.unlabelled_colors.iter().map(|(&color, &texels)| ColorTexels { color, texels }).collect();
         colors.sort_by(|a, b| b.texels.cmp(&a.texels).then(a.color.cmp(&b.color)));
         let distinct_colors = colors.len() as u64;
-        colors.truncate(EXAMPLES);
+        colors.truncate(STRAY_EXAMPLES);
         let row = &table.unlabelled;
         UnlabelledReport {
             texels: row.texels,
@@ -194,7 +193,7 @@ pub struct AnalysisResult {
 }
 
 fn default_measure() -> String {
-    crate::analyze::MEASURE_PIXELS.to_string()
+    crate::options::MEASURE_PIXELS.to_string()
 }
 
 impl AnalysisResult {
@@ -207,7 +206,8 @@ impl AnalysisResult {
         texel_pixels: u64,
         background_pixels: u64,
         stray_pixels: u64,
-        strays: &AtomicColorSet,
+        stray_colors: u64,
+        stray_color_examples: Vec<Color>,
         max_count: u32,
         all_texels_total: u64,
         table: Option<&PartTable>,
@@ -231,8 +231,8 @@ impl AnalysisResult {
                 stray: stray_pixels,
             },
             stray_pixels,
-            stray_colors: strays.len(),
-            stray_color_examples: strays.first(EXAMPLES).into_iter().map(Color::from_packed).collect(),
+            stray_colors,
+            stray_color_examples,
             background_pixels,
             grand_total: table.map(|t| t.grand_total).unwrap_or(all_texels_total),
             max_count,
@@ -513,4 +513,19 @@ fn truncate(text: &str, width: usize) -> String {
         short.push('…');
         short
     }
+}
+
+/// The files [`crate::write_results`] wrote.
+#[derive(Debug, Clone)]
+pub struct WrittenFiles {
+    pub result_json: PathBuf,
+    pub parts_csv: Option<PathBuf>,
+    pub heatmap_png: PathBuf,
+    pub timings_json: PathBuf,
+    /// The vehicle with the heatmap on it, when the analysis had a vehicle model.
+    pub heatmap_glb: Option<PathBuf>,
+    /// The page that shows it all.
+    pub report_html: PathBuf,
+    /// `views.png`, the contact sheet of the eight views (with a vehicle model).
+    pub views_png: Option<PathBuf>,
 }

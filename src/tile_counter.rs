@@ -10,12 +10,12 @@
 
 use std::collections::BTreeMap;
 
-use crate::analyze::Dedupe;
 use crate::bitset::{AtomicColorSet, SeenSet};
 use crate::color::Color;
 use crate::count::{Classifier, Counts, ImageTally, PixelClass};
 use crate::decode::PixelLayout;
 use crate::error::{Error, Result};
+use crate::options::Dedupe;
 use crate::palette::Fcsp;
 use crate::scan::row_scan;
 

@@ -1,0 +1,104 @@
+//! What an analysis is asked to do and what it measures about itself: the
+//! options ([`AnalyzeOptions`], [`Dedupe`], [`PaletteChoice`]), progress
+//! reporting, and per-stage [`Timings`]. Its own module so that the job
+//! (`analyze`) and the report layer (`report`) both depend on it and not on
+//! each other.
+
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+
+use crate::color::Color;
+use crate::error::{Error, Result};
+use crate::heatmap::HeatmapOptions;
+use crate::shard::Shard;
+use crate::trim::TrimMode;
+
+/// Which palette to use.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PaletteChoice {
+    /// The canonical W×H palette.
+    Canonical { width: u32, height: u32 },
+    /// A palette image with unique colours.
+    Image(PathBuf),
+}
+
+/// What one count means.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Dedupe {
+    /// A texel counts once per image (tile) that shows it.
+    #[default]
+    Image,
+    /// A texel counts once per eye-frame, however many of its tiles show it.
+    Frame,
+}
+
+impl std::str::FromStr for Dedupe {
+    type Err = Error;
+    fn from_str(text: &str) -> Result<Dedupe> {
+        match text {
+            "image" => Ok(Dedupe::Image),
+            "frame" => Ok(Dedupe::Frame),
+            other => Err(Error::BadOptions(format!("unknown --dedupe {other:?}: use image or frame"))),
+        }
+    }
+}
+
+/// Receives progress while images are counted (the binary draws a bar).
+pub trait Progress: Sync {
+    /// Counting starts; `total` images will be reported.
+    fn start(&self, total: u64);
+    /// `done` more images are finished.
+    fn advance(&self, done: u64);
+    /// Counting is over.
+    fn finish(&self);
+}
+
+/// Everything [`crate::analyze`] needs. `None` fields fall back to the archive's
+/// manifest, then to the defaults.
+#[derive(Debug, Clone, Default)]
+pub struct AnalyzeOptions {
+    /// The archive folder.
+    pub archive: PathBuf,
+    pub palette: Option<PaletteChoice>,
+    pub pidt: Option<PathBuf>,
+    pub legend: Option<PathBuf>,
+    pub background: Option<Vec<Color>>,
+    pub dedupe: Dedupe,
+    pub trim: TrimMode,
+    /// Heatmap settings, recorded in the result.
+    pub heatmap: HeatmapOptions,
+    /// Stop at the first failed image.
+    pub strict: bool,
+    /// Files or folders never taken as images (e.g. the output folder).
+    pub exclude: Vec<PathBuf>,
+    /// Ignore `manifest.json` even if present.
+    pub ignore_manifest: bool,
+    /// Count only this shard of the archive (see [`crate::shard`]).
+    pub shard: Option<Shard>,
+    /// The vehicle as unwrapped (glTF with the palette UVs), for `heatmap.glb`;
+    /// default: the manifest's `vehicle`.
+    pub mesh: Option<PathBuf>,
+}
+
+/// Wall-clock seconds per stage, and the thread count (kept out of
+/// `result.json`, which must not change from run to run).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Timings {
+    pub threads: usize,
+    /// The row kernels used ([`crate::scan::Kernel::name`]).
+    pub kernel: String,
+    pub load_seconds: f64,
+    pub trim_seconds: f64,
+    pub count_seconds: f64,
+    pub join_seconds: f64,
+    pub heatmap_seconds: f64,
+    pub write_seconds: f64,
+    pub total_seconds: f64,
+    /// Decoded pixels per second during counting, in millions.
+    pub decoded_megapixels_per_second: f64,
+}
+
+/// The paper's measure: a texel counts once per image (or eye-frame) whose pixels show it.
+pub const MEASURE_PIXELS: &str = "pixels";
