@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use crate::archive::Archive;
 use crate::bitset::{AtomicColorSet, SeenSet};
 use crate::color::Color;
-use crate::count::{Classifier, Counts, ImageTally, scan_image};
+use crate::count::Counts;
 use crate::decode::map_file;
 use crate::error::{Error, Result};
 use crate::heatmap::HeatmapOptions;
@@ -30,6 +30,7 @@ use crate::report::{
     UnlabelledReport,
 };
 use crate::resolution::{CaptureGeometry, ResolutionReport};
+use crate::scan::{Classifier, ImageTally, scan_image};
 use crate::shard::Shard;
 use crate::tile_counter::TileCounter;
 use crate::trim::TrimPlan;

@@ -38,7 +38,7 @@ pub use analyze::{
 pub use archive::{Archive, ImageSource};
 pub use color::{COLOR_COUNT, Color, ParseColorError};
 pub use compare::{Comparison, compare_parts, kendall_tau_b};
-pub use count::{Classifier, Counts, ImageTally, PixelClass, scan_image};
+pub use count::Counts;
 pub use error::{Error, Result};
 pub use heatmap::{HeatmapOptions, Scale};
 pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
@@ -51,6 +51,7 @@ pub use report::{
     write_result_json, write_timings_json,
 };
 pub use resolution::{CaptureGeometry, ResolutionReport};
+pub use scan::{Classifier, ImageTally, PixelClass, scan_image};
 pub use shard::Shard;
 pub use tile_counter::TileCounter;
 pub use trim::{EmptyTile, TrimMode};

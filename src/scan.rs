@@ -24,9 +24,11 @@
 //! [`crate::bitset::color_key`]), so memory sees one update per run of
 //! nearby texels, not one per pixel.
 
+use std::path::Path;
+
 use crate::bitset::{AtomicColorSet, SeenSet, color_key};
-use crate::count::{Classifier, PixelClass};
-use crate::decode::PixelLayout;
+use crate::decode::{PixelLayout, RowReader};
+use crate::error::{Error, Result};
 use crate::palette::Fcsp;
 
 #[cfg(target_arch = "x86_64")]
@@ -59,7 +61,7 @@ enum Choice {
 impl RowScan {
     /// The row kernel of `kernel` for `layout` and the classifier's palette,
     /// or the portable one where `kernel` has none or the CPU cannot run it
-    /// (for benchmarks and tests; [`scan_image`](crate::count::scan_image)
+    /// (for benchmarks and tests; [`scan_image`]
     /// uses [`Kernel::selected`]).
     pub fn new(kernel: Kernel, layout: PixelLayout, classifier: &Classifier) -> RowScan {
         vector_row_scan(kernel, layout, classifier).unwrap_or_else(|| portable_row_scan(layout, classifier))
@@ -467,4 +469,136 @@ mod tests {
             }
         }
     }
+}
+
+/// At most this many background colours (checked without branches).
+pub const MAX_BACKGROUNDS: usize = 8;
+
+/// Decides, for each pixel colour, whether it is background, a palette
+/// texel or a stray. Built once from validated options; shared read-only.
+pub struct Classifier<'a> {
+    palette: &'a Fcsp,
+    /// Background colours, padded by repeating the first.
+    backgrounds: [u32; MAX_BACKGROUNDS],
+    /// How many of `backgrounds` were given.
+    background_count: usize,
+}
+
+/// What a pixel colour is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(usize)]
+pub enum PixelClass {
+    Background = 0,
+    Texel = 1,
+    Stray = 2,
+}
+
+impl<'a> Classifier<'a> {
+    /// A classifier for `palette` ignoring `backgrounds` (1 to
+    /// [`MAX_BACKGROUNDS`] packed colours).
+    pub fn new(palette: &'a Fcsp, backgrounds: &[u32]) -> Result<Classifier<'a>> {
+        let Some(&first) = backgrounds.first() else {
+            return Err(Error::BadOptions("at least one background colour is needed".into()));
+        };
+        if backgrounds.len() > MAX_BACKGROUNDS {
+            return Err(Error::BadOptions(format!(
+                "at most {MAX_BACKGROUNDS} background colours are supported, {} were given",
+                backgrounds.len()
+            )));
+        }
+        let mut padded = [first; MAX_BACKGROUNDS];
+        padded[..backgrounds.len()].copy_from_slice(backgrounds);
+        Ok(Classifier { palette, backgrounds: padded, background_count: backgrounds.len() })
+    }
+
+    /// The palette whose colours are texels.
+    pub fn palette(&self) -> &Fcsp {
+        self.palette
+    }
+
+    /// The background colours, as given.
+    pub fn backgrounds(&self) -> &[u32] {
+        &self.backgrounds[..self.background_count]
+    }
+
+    /// Compares with all [`MAX_BACKGROUNDS`] slots, so the check has no
+    /// branches whatever the number of backgrounds.
+    #[inline(always)]
+    pub(crate) fn is_background(&self, color: u32) -> bool {
+        self.backgrounds.iter().fold(false, |hit, &background| hit | (color == background))
+    }
+
+    /// Background wins over palette membership: a background colour is
+    /// ignored even when it also names a texel.
+    #[inline(always)]
+    pub fn classify(&self, color: u32) -> PixelClass {
+        if self.is_background(color) {
+            PixelClass::Background
+        } else if self.palette.contains(color) {
+            PixelClass::Texel
+        } else {
+            PixelClass::Stray
+        }
+    }
+}
+
+/// Pixel statistics of one decoded image.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct ImageTally {
+    pub width: u32,
+    pub height: u32,
+    /// Pixels of palette colours.
+    pub texel_pixels: u64,
+    pub background_pixels: u64,
+    pub stray_pixels: u64,
+}
+
+impl ImageTally {
+    /// True when every pixel is background.
+    pub fn is_pure_background(&self) -> bool {
+        self.texel_pixels == 0 && self.stray_pixels == 0
+    }
+}
+
+/// Decodes one PNG and records its distinct palette colours in `seen`
+/// as [`color_key`]s (`seen` must be empty on entry; [`crate::bitset::key_color`] turns
+/// them back into colours). Stray colours go to `strays`.
+///
+/// On error `seen` is cleared again, so nothing of a failed image is counted.
+pub fn scan_image(
+    path: &Path,
+    bytes: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+) -> Result<ImageTally> {
+    debug_assert!(seen.is_empty());
+    let outcome = scan_rows(path, bytes, classifier, seen, strays);
+    if outcome.is_err() {
+        seen.clear();
+    }
+    outcome
+}
+
+fn scan_rows(
+    path: &Path,
+    bytes: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+) -> Result<ImageTally> {
+    let mut reader = RowReader::new(path, bytes)?;
+    let scan = row_scan(reader.layout(), classifier);
+    let mut by_class = [0u64; 3];
+    while let Some(row) = reader.next_row()? {
+        scan.scan(row, classifier, seen, strays, &mut by_class);
+    }
+    reader.finish()?;
+    Ok(ImageTally {
+        width: reader.width(),
+        height: reader.height(),
+        background_pixels: by_class[PixelClass::Background as usize],
+        texel_pixels: by_class[PixelClass::Texel as usize],
+        stray_pixels: by_class[PixelClass::Stray as usize],
+    })
 }

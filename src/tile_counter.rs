@@ -12,12 +12,13 @@ use std::collections::BTreeMap;
 
 use crate::bitset::{AtomicColorSet, SeenSet};
 use crate::color::Color;
-use crate::count::{Classifier, Counts, ImageTally, PixelClass};
+use crate::count::Counts;
 use crate::decode::PixelLayout;
 use crate::error::{Error, Result};
 use crate::options::Dedupe;
 use crate::palette::Fcsp;
 use crate::scan::row_scan;
+use crate::scan::{Classifier, ImageTally, PixelClass};
 
 /// Counts RGBA8 tiles handed over one at a time, in capture order (all tiles
 /// of one eye-frame together).

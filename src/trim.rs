@@ -15,9 +15,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::archive::ImageSource;
 use crate::bitset::{AtomicColorSet, SeenSet};
-use crate::count::{Classifier, scan_image};
 use crate::decode::{HEADER_BYTES, MappedFile, map_file, parse_header};
 use crate::error::Error;
+use crate::scan::{Classifier, scan_image};
 
 /// How to find empty tiles.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -9,7 +9,7 @@ use std::arch::x86_64::*;
 
 use super::{ClassCounts, WordAccumulator, unpack_table};
 use crate::bitset::{AtomicColorSet, SeenSet, color_key};
-use crate::count::{Classifier, PixelClass};
+use crate::scan::{Classifier, PixelClass};
 
 /// The AVX2 kernel for rows of `BYTES`-byte pixels (3: RGB, 4: RGBA)
 /// against a canonical palette with one background colour or (when

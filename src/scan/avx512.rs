@@ -7,7 +7,7 @@ use std::arch::x86_64::*;
 
 use super::{ClassCounts, WordAccumulator, unpack_table};
 use crate::bitset::{AtomicColorSet, SeenSet};
-use crate::count::{Classifier, PixelClass};
+use crate::scan::{Classifier, PixelClass};
 
 /// The vector form of [`crate::bitset::color_key`].
 #[target_feature(enable = "avx512f")]
