@@ -55,7 +55,7 @@ pub trait Progress: Sync {
     fn finish(&self);
 }
 
-/// Everything [`crate::analyze`] needs. `None` fields fall back to the archive's
+/// Everything [`crate::analyze()`] needs. `None` fields fall back to the archive's
 /// manifest, then to the defaults.
 #[derive(Debug, Clone, Default)]
 pub struct AnalyzeOptions {

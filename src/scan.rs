@@ -1,5 +1,6 @@
-//! Row kernels: classify the pixels of one decoded row and record the
-//! palette texels they show.
+//! Scanning: the [`Classifier`] (background, palette texel or stray), the
+//! row kernels that classify the pixels of one decoded row and record the
+//! palette texels they show, and [`scan_image`], one whole PNG.
 //!
 //! The hot loop of the whole tool, in forms that give identical results
 //! (a unit test compares them on random rows):

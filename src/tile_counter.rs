@@ -3,7 +3,7 @@
 //! A renderer that already holds a tile's pixels in memory need not encode a
 //! PNG only for the analyzer to decode it again. [`TileCounter`] takes the
 //! readback buffer (tightly packed RGBA8 rows) and runs the same row kernels
-//! into the same tables as [`crate::analyze`] does for a decoded PNG, with
+//! into the same tables as [`crate::analyze()`] does for a decoded PNG, with
 //! the same once-per-image (and, with `--dedupe frame`, once-per-eye-frame)
 //! rule; [`crate::analyze_counted`] then joins the counts exactly as the PNG
 //! path would, so both give the same `result.json`.
