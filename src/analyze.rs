@@ -245,6 +245,17 @@ pub(crate) fn join_with_legend(
     (table, unlabelled)
 }
 
+/// The warning for stray pixels, in result.json as well as on stderr (on
+/// stderr alone it was lost to anyone reading only the results).
+pub(crate) fn stray_warning(stray_pixels: u64, images: usize) -> Option<String> {
+    (stray_pixels > 0).then(|| {
+        format!(
+            "{stray_pixels} stray pixels (neither background nor a palette colour) in {images} images were not \
+             counted (see images_with_stray_pixels)"
+        )
+    })
+}
+
 /// One warning per legend part without texels in the PIdT.
 pub(crate) fn empty_part_warnings(table: &crate::parts::PartTable, legend: &str, pidt: &str) -> Vec<String> {
     table
@@ -474,6 +485,7 @@ fn finish(
         Some(per_image) => per_image.par_iter().map(|&count| u64::from(count)).sum(),
         None => grand_total,
     };
+    warnings.extend(stray_warning(tally.stray_pixels, tally.stray_images.len()));
     let resolution = resolution_report
         .then(|| ResolutionReport::new(tally.texel_pixels, per_image_total, &inputs.geometry));
     warnings.extend(resolution.iter().flat_map(ResolutionReport::warnings));

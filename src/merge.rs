@@ -12,7 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::analyze::{Analysis, join_with_legend};
+use crate::analyze::{Analysis, join_with_legend, stray_warning};
 use crate::color::Color;
 use crate::error::{Error, Result};
 use crate::options::Timings;
@@ -83,6 +83,9 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         let per_frame = table.as_ref().map_or(all_texels_total, |t| t.grand_total);
         DedupeReport::new(per_image, per_frame)
     });
+    let stray_pixels = summaries.iter().map(|s| s.stray_pixels).sum::<u64>();
+    let stray_images = summaries.iter().map(|s| s.images_with_stray_pixels.len()).sum::<usize>();
+    warnings.extend(stray_warning(stray_pixels, stray_images));
     let resolution =
         ResolutionReport::merged(&summaries.iter().filter_map(|s| s.resolution.as_ref()).collect::<Vec<_>>());
     if let Some(resolution) = &resolution {

@@ -163,3 +163,16 @@ fn a_huge_heatmap_maximum_builds_no_huge_table() {
     // Every count is far below the maximum: all at the bottom of the scale.
     assert_eq!(&rgb[0..3], &ufcsr::heatmap::plasma(0.0));
 }
+
+#[test]
+fn stray_pixels_are_a_warning_in_result_json_too() {
+    let dir = tempfile::tempdir().unwrap();
+    rgb_png(&dir.path().join("a.png"), 2, 1, &[1, 0xFFFFFF]);
+    let analysis = analyze_within_bounds(options(dir.path(), TrimMode::Off)).unwrap();
+    assert_eq!(analysis.result.stray_pixels, 1);
+    assert!(
+        analysis.result.warnings.iter().any(|w| w.contains("1 stray pixels") && w.contains("1 images")),
+        "{:?}",
+        analysis.result.warnings
+    );
+}
