@@ -13,8 +13,9 @@ use std::time::Instant;
 
 use ufcsr::{Color, Manifest, PaletteSpec};
 
+use crate::capture_shard;
 use crate::count_sink::{Counted, count_while};
-use crate::encoder_pool::EncoderPool;
+use crate::encoder_pool::{EncoderPool, OldTiles};
 use crate::error::{CaptureError, Result};
 use crate::frame_capture::FrameCapture;
 use crate::manifest_builder::{ManifestParts, build_manifest};
@@ -220,15 +221,7 @@ pub fn capture_frames(
 ) -> Result<CapturedTiles> {
     let rig = &scene.rig;
     check_capturable(scene, scenario)?;
-    let frame_count = rig.frame_count(scenario.duration_s);
-    let frames = options.frames.frames(frame_count);
-    if frames.is_empty() {
-        return Err(CaptureError::BadOptions(format!(
-            "no frame selected: scenario {} has frames 0-{}, and the frame selection names none of them",
-            scenario.name,
-            frame_count.saturating_sub(1)
-        )));
-    }
+    let frames = frames_to_capture(scene, scenario, options)?;
     let tiles_per_eye = u64::from(rig.tiles[0]) * u64::from(rig.tiles[1]);
     let total = frames.len() as u64 * 2 * tiles_per_eye;
     let progress = progress_bar(options.progress, total, &scenario.name);
@@ -250,8 +243,10 @@ pub fn capture_frames(
         frames: frames.len() as u32,
         tiles: total,
     };
-    let result = frames.iter().try_for_each(|&frame| {
-        let frame = frame_capture.capture(frame, captured.entries.len(), sink, &|| progress.inc(1))?;
+    let result = frames.iter().try_for_each(|&(position, frame)| {
+        // A tile's index is its place in the whole capture, shards or not.
+        let first_index = position * 2 * tiles_per_eye as usize;
+        let frame = frame_capture.capture(frame, first_index, sink, &|| progress.inc(1))?;
         captured.entries.extend(frame.entries);
         captured.frame_records.push(frame.record);
         captured.tally.add(frame.tally);
@@ -263,6 +258,35 @@ pub fn capture_frames(
     let finished = sink.finish();
     result.and(finished)?;
     Ok(captured)
+}
+
+/// The `(position in the selection, frame)` pairs this capture renders: the
+/// selected frames, or this shard's part of them. An empty list is an error.
+pub fn frames_to_capture(
+    scene: &Scene,
+    scenario: &Scenario,
+    options: &CaptureOptions,
+) -> Result<Vec<(usize, u32)>> {
+    let frame_count = scene.rig.frame_count(scenario.duration_s);
+    let selected = options.frames.frames(frame_count);
+    if selected.is_empty() {
+        return Err(CaptureError::BadOptions(format!(
+            "no frame selected: scenario {} has frames 0-{}, and the frame selection names none of them",
+            scenario.name,
+            frame_count.saturating_sub(1)
+        )));
+    }
+    let frames = capture_shard::frames_of_shard(&selected, options.shard);
+    if frames.is_empty()
+        && let Some(shard) = options.shard
+    {
+        return Err(CaptureError::BadOptions(format!(
+            "shard {shard} has no frame: only {} frames are selected; use at most {} shards",
+            selected.len(),
+            selected.len()
+        )));
+    }
+    Ok(frames)
 }
 
 fn progress_bar(show: bool, total: u64, scenario: &str) -> indicatif::ProgressBar {
@@ -292,12 +316,22 @@ pub fn capture(
     scene.rig.check()?;
     let prepared = prepare_archive(device, queue, scene, options)?;
     let setup_seconds = start.elapsed().as_secs_f64();
+    let old_tiles = match options.shard {
+        None => OldTiles::All,
+        Some(_) => {
+            // The whole archive's manifest, if one is left from an earlier
+            // capture, no longer describes it: `assemble` writes a new one.
+            remove_if_there(&options.out.join(ufcsr::MANIFEST_FILE))?;
+            let frames = frames_to_capture(scene, scenario, options)?;
+            OldTiles::OfFrames(frames.into_iter().map(|(_, frame)| frame).collect())
+        }
+    };
     let mut pool = EncoderPool::start(
         &options.out,
         scene.rig.tile_pixels(),
         options.compression,
         options.encoder_threads,
-        options.resume,
+        if options.resume { OldTiles::Keep } else { old_tiles },
     )?;
     let captured = capture_frames(device, queue, scene, scenario, options, &prepared, &mut pool)?;
     let summary = summarize(scene, scenario, options, &prepared, &captured, setup_seconds);
@@ -330,6 +364,13 @@ pub fn capture_counted(
 ) -> Result<CountedCapture> {
     let start = Instant::now();
     scene.rig.check()?;
+    if options.shard.is_some() {
+        return Err(CaptureError::BadOptions(
+            "--count with --shard is not supported: capture the shards as PNG tiles, `ufcsr-capture assemble` \
+             them, then analyse (`ufcsr-analyze --shard` and `merge` split the counting)"
+                .into(),
+        ));
+    }
     let prepared = prepare_archive(device, queue, scene, options)?;
     // Tiles of an earlier capture would contradict a manifest that says none were written.
     crate::encoder_pool::remove_old_tiles(&options.out.join("tiles"))?;
@@ -388,7 +429,16 @@ pub fn summarize(
     }
 }
 
-/// Stage three: writes `manifest.json` for the captured tiles.
+/// Removes `path` unless it is not there.
+fn remove_if_there(path: &Path) -> Result<()> {
+    match std::fs::remove_file(path) {
+        Err(error) if error.kind() != std::io::ErrorKind::NotFound => Err(CaptureError::io(path, error)),
+        _ => Ok(()),
+    }
+}
+
+/// Stage three: writes `manifest.json` for the captured tiles (a shard: its
+/// part of it, `shards/manifest-I-of-N.json`).
 pub fn write_manifest(
     scene: &Scene,
     scenario: &Scenario,
@@ -412,7 +462,22 @@ pub fn write_manifest(
         tally: captured.tally,
         tiles_written,
     });
-    manifest.write_to_dir(&options.out)?;
+    match options.shard {
+        None => manifest.write_to_dir(&options.out)?,
+        Some(shard) => {
+            let mut manifest = manifest.clone();
+            if let Some(serde_json::Value::Object(capture)) = manifest.extra.get_mut("capture") {
+                capture
+                    .insert("shard".into(), serde_json::json!({"index": shard.index, "count": shard.count}));
+            }
+            let path = capture_shard::partial_manifest_path(&options.out, shard);
+            let dir = options.out.join(capture_shard::SHARDS_DIR);
+            std::fs::create_dir_all(&dir).map_err(|e| CaptureError::io(&dir, e))?;
+            let bytes = serde_json::to_vec_pretty(&manifest)
+                .map_err(|e| CaptureError::bad_input(&path, e.to_string()))?;
+            ufcsr::write_bytes_atomically(&path, &bytes)?;
+        }
+    }
     Ok(manifest)
 }
 

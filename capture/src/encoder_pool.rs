@@ -13,6 +13,17 @@ use crate::error::{CaptureError, Result};
 use crate::options::Compression;
 use crate::tile_sink::{RenderedTile, TileAddress, TileSink, is_tile_name};
 
+/// What to do with tiles an earlier capture left in the archive.
+#[derive(Debug, Clone)]
+pub enum OldTiles {
+    /// Remove them all (a fresh capture).
+    All,
+    /// Remove those of these frames (a shard: the others belong to other shards).
+    OfFrames(std::collections::BTreeSet<u32>),
+    /// Keep them; finished tiles are not rendered again (`--resume`).
+    Keep,
+}
+
 struct EncodeJob {
     path: PathBuf,
     size: [u32; 2],
@@ -31,19 +42,26 @@ pub struct EncoderPool {
 
 impl EncoderPool {
     /// Starts `threads` encoders (0: one per core) writing into `archive/tiles`.
-    /// Without `resume`, tiles of an earlier capture are removed first: tiles
-    /// this capture does not write again must not linger beside its manifest.
+    /// Tiles of an earlier capture are removed first as `old_tiles` says:
+    /// tiles this capture does not write again must not linger beside its
+    /// manifest (a shard removes only those of its own frames, since the other
+    /// shards write into the same folder; `--resume` keeps them all).
     pub fn start(
         archive: &Path,
         tile_size: [u32; 2],
         compression: Compression,
         threads: usize,
-        resume: bool,
+        old_tiles: OldTiles,
     ) -> Result<EncoderPool> {
         let tiles_dir = archive.join("tiles");
         std::fs::create_dir_all(&tiles_dir).map_err(|e| CaptureError::io(&tiles_dir, e))?;
-        if !resume {
-            remove_old_tiles(&tiles_dir)?;
+        let resume = matches!(old_tiles, OldTiles::Keep);
+        match &old_tiles {
+            OldTiles::Keep => {}
+            OldTiles::All => remove_old_tiles(&tiles_dir)?,
+            OldTiles::OfFrames(frames) => {
+                remove_old_tiles_where(&tiles_dir, |frame| frames.contains(&frame))?
+            }
         }
         let threads =
             if threads == 0 { std::thread::available_parallelism().map_or(2, |n| n.get()) } else { threads };
@@ -132,6 +150,11 @@ fn encoder_worker(
 
 /// Removes files named like our tiles (`fNNNN_left|right_rR_cC.png`).
 pub(crate) fn remove_old_tiles(dir: &Path) -> Result<()> {
+    remove_old_tiles_where(dir, |_| true)
+}
+
+/// Removes the tiles in `dir` whose frame number `remove` accepts.
+fn remove_old_tiles_where(dir: &Path, remove: impl Fn(u32) -> bool) -> Result<()> {
     if !dir.is_dir() {
         return Ok(());
     }
@@ -139,7 +162,9 @@ pub(crate) fn remove_old_tiles(dir: &Path) -> Result<()> {
     for entry in entries {
         let entry = entry.map_err(|e| CaptureError::io(dir, e))?;
         let name = entry.file_name();
-        if is_tile_name(&name.to_string_lossy()) {
+        let name = name.to_string_lossy();
+        let frame = name.get(1..).and_then(|rest| rest.split('_').next()).and_then(|n| n.parse().ok());
+        if is_tile_name(&name) && frame.is_some_and(&remove) {
             std::fs::remove_file(entry.path()).map_err(|e| CaptureError::io(entry.path(), e))?;
         }
     }

@@ -15,13 +15,15 @@
 //! [`gpu`] device creation, [`render`] the renderer; the capture job:
 //! [`options`] what to do, [`archive`] its stages, [`frame_capture`] one
 //! frame, [`tile_sink`] where tiles go, [`encoder_pool`] the PNG sink,
-//! [`manifest_builder`] the manifest, [`count_sink`] counting without PNGs;
+//! [`manifest_builder`] the manifest, [`count_sink`] counting without PNGs, [`capture_shard`] one capture as
+//! several jobs;
 //! [`study`] and [`study_plot`] the resolution study; [`unobstructed`] and
 //! [`ray_bvh`] the exact per-point reference measure; [`inspect`] and [`views`] look at a
 //! vehicle before capturing.
 
 pub mod archive;
 pub mod batch;
+pub mod capture_shard;
 pub mod count_sink;
 pub mod demo;
 pub mod encoder_pool;

@@ -3,6 +3,7 @@
 //! Thin edge: parse the command line, build the scene and options, call the
 //! library, print a report, turn errors into an exit code.
 
+use std::io::Write;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -68,6 +69,12 @@ enum Command {
     /// Capture and count one scenario at several ppd and frame steps, compare each with the
     /// finest, and plot error against run time (writes study.csv, study.json, study.svg/.png).
     Study(StudyArgs),
+    /// Join the parts the shards of a capture (`--shard I/N`) wrote into the archive's
+    /// manifest.json, once all have finished (checks that every shard is there, once).
+    Assemble {
+        /// The archive folder the shards wrote into (their --out).
+        archive: PathBuf,
+    },
     /// Check an archive without the analyzer: tile pixels are background or
     /// palette colours the PIdT labels.
     Verify {
@@ -191,9 +198,27 @@ struct Common {
     /// Seed of the texel sample.
     #[arg(long, default_value_t = 1, requires = "measure")]
     seed: u64,
+    /// Render only shard I of N (0 ≤ I < N) of the selected frames into --out, with the other
+    /// shards; then `ufcsr-capture assemble OUT`. `auto`: from the job array (SLURM_ARRAY_TASK_ID
+    /// and _COUNT, or JOB_COMPLETION_INDEX / AWS_BATCH_JOB_ARRAY_INDEX with UFCSR_SHARD_COUNT).
+    #[arg(long, value_name = "I/N|auto")]
+    shard: Option<String>,
     /// No progress bar.
     #[arg(long, short)]
     quiet: bool,
+}
+
+/// `I/N`, or `auto`: the job array's index (an error outside one). Unlike the
+/// analyzer, the capture does not read a job array unasked: batch tasks run as
+/// array tasks too, each a whole capture.
+fn parse_shard(text: &str) -> anyhow::Result<ufcsr::Shard> {
+    if text == "auto" {
+        return ufcsr::Shard::from_job_array(|name| std::env::var(name).ok())?.context(
+            "--shard auto: no job array index in the environment (SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX \
+             or AWS_BATCH_JOB_ARRAY_INDEX)",
+        );
+    }
+    Ok(text.parse()?)
 }
 
 /// `1/16`, `0.25` or `1`.
@@ -224,9 +249,27 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 None => std::env::current_exe()?.display().to_string(),
             };
             let base = batch.parent().unwrap_or(std::path::Path::new("."));
+            let mut stdout = std::io::stdout().lock();
             for task in ufcsr_capture::batch::plan(&plan, base, &program)? {
-                println!("{}", task.shell_line());
+                // The plan is made to be piped (`| head`, `| sed -n 5p`): a
+                // reader that stops early is not an error.
+                match writeln!(stdout, "{}", task.shell_line()) {
+                    Err(error) if error.kind() == std::io::ErrorKind::BrokenPipe => return Ok(()),
+                    other => other?,
+                }
             }
+            return Ok(());
+        }
+        Command::Assemble { archive } => {
+            let assembled = ufcsr_capture::capture_shard::assemble(&archive)?;
+            println!(
+                "{}: {} shards, {} frames, {} tiles → {}",
+                archive.display(),
+                assembled.shards,
+                assembled.frames,
+                assembled.tiles,
+                assembled.manifest_path.display()
+            );
             return Ok(());
         }
         Command::Verify { archive } => {
@@ -261,6 +304,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         no_cull: common.no_cull,
         progress: !common.quiet,
         encoder_threads: common.threads,
+        shard: common.shard.as_deref().map(parse_shard).transpose()?,
     };
     let all = common.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
     let names: Vec<String> = match &common.scenario {
@@ -291,6 +335,10 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         anyhow::ensure!(
             measure == "unobstructed",
             "--measure {measure:?}: the only other measure is unobstructed"
+        );
+        anyhow::ensure!(
+            options.shard.is_none(),
+            "--measure unobstructed with --shard is not supported: sample fewer texels (--sample) instead"
         );
         let sample = parse_fraction(&common.sample)?;
         archive::for_each_scenario(&scene, &names, all, &options, |scenario, options| {
@@ -332,6 +380,13 @@ fn run(cli: Cli) -> anyhow::Result<()> {
     let summaries = archive::capture_all(&gpu.device, &gpu.queue, &scene, &names, all, &options)?;
     for summary in &summaries {
         report(summary);
+        if let Some(shard) = options.shard {
+            println!(
+                "  shard {shard}: wrote its part of the manifest; once every shard has finished, run \
+                 `ufcsr-capture assemble {}`",
+                summary.out.display()
+            );
+        }
     }
     Ok(())
 }

@@ -118,6 +118,8 @@ pub struct CaptureOptions {
     pub progress: bool,
     /// PNG encoder threads (0: as many as cores).
     pub encoder_threads: usize,
+    /// Render only this shard of the selected frames (see [`crate::capture_shard`]).
+    pub shard: Option<ufcsr::Shard>,
 }
 
 impl Default for CaptureOptions {
@@ -135,6 +137,7 @@ impl Default for CaptureOptions {
             no_cull: false,
             progress: false,
             encoder_threads: 0,
+            shard: None,
         }
     }
 }

@@ -1,8 +1,10 @@
-//! A batch through a real Slurm job array: `scripts/slurm/submit-batch` runs
-//! each task of a two-task batch (`ufcsr-capture batch plan`) as one array
-//! task on a throwaway local cluster; both must leave a result.json equal to
-//! running the same command directly. Skipped without Slurm or root; a
-//! failure when `CI` is set.
+//! Real Slurm job arrays on a throwaway local cluster: a batch
+//! (`scripts/slurm/submit-batch` runs each task of `ufcsr-capture batch plan`
+//! as one array task; each result.json must equal running the command
+//! directly), and a sharded capture (`scripts/slurm/submit-capture`: a capture
+//! array, an afterok assemble, an analysis array and an afterok merge; the
+//! archive and the merged result must equal one process's). Skipped without
+//! Slurm or root; a failure when `CI` is set.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -11,6 +13,9 @@ use std::time::{Duration, Instant};
 fn script(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scripts/slurm").join(name)
 }
+
+/// One local cluster at a time: they listen on Slurm's fixed ports.
+static ONE_CLUSTER: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 struct Cluster(PathBuf);
 
@@ -52,6 +57,7 @@ fn a_batch_runs_as_a_slurm_array_one_task_per_setting() {
         eprintln!("SKIPPED: Slurm is not installed or this is not root");
         return;
     }
+    let _one = ONE_CLUSTER.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let dir = tempfile::tempdir().unwrap();
     let cluster = Cluster(dir.path().join("cluster"));
     let started = Command::new(script("local-cluster")).arg("start").arg(&cluster.0).output().unwrap();
@@ -97,5 +103,82 @@ fn a_batch_runs_as_a_slurm_array_one_task_per_setting() {
         value
     };
     assert_eq!(strip(&results[0]), strip(&direct.join("results/result.json")));
+    drop(cluster);
+}
+
+/// The analyzer built beside this crate's binary (by `cargo test --workspace`).
+fn analyzer() -> Option<PathBuf> {
+    let path = Path::new(env!("CARGO_BIN_EXE_ufcsr-capture")).with_file_name("ufcsr-analyze");
+    path.is_file().then_some(path)
+}
+
+#[test]
+fn a_sharded_capture_assembles_and_analyses_through_slurm_equal_to_one_process() {
+    let Some(analyzer) = analyzer().filter(|_| slurm_available()) else {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI: Slurm, root or ufcsr-analyze (cargo test --workspace builds it) is missing"
+        );
+        eprintln!("SKIPPED: Slurm is not installed, this is not root, or ufcsr-analyze is not built");
+        return;
+    };
+    let _one = ONE_CLUSTER.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let dir = tempfile::tempdir().unwrap();
+    let cluster = Cluster(dir.path().join("cluster"));
+    let started = Command::new(script("local-cluster")).arg("start").arg(&cluster.0).output().unwrap();
+    assert!(started.status.success(), "{}", String::from_utf8_lossy(&started.stderr));
+    let capture = env!("CARGO_BIN_EXE_ufcsr-capture");
+    let setting = ["demo", "--scenario", "B", "--ppd", "3", "--frames", "0-180/4", "--palette-size", "256"];
+    let run = dir.path().join("run");
+    let submitted = Command::new(script("submit-capture"))
+        .arg(&run)
+        .arg("4")
+        .arg(capture)
+        .arg(&analyzer)
+        .args(setting)
+        .env("SLURM_CONF", cluster.0.join("slurm.conf"))
+        .output()
+        .unwrap();
+    assert!(submitted.status.success(), "{}", String::from_utf8_lossy(&submitted.stderr));
+    let merged = run.join("analysis/merged/result.json");
+    if !wait_for(std::slice::from_ref(&merged), Duration::from_secs(240)) {
+        let logs: String = std::fs::read_dir(&run)
+            .map(|d| d.flatten().filter_map(|e| std::fs::read_to_string(e.path()).ok()).collect())
+            .unwrap_or_default();
+        panic!("the capture, assemble, analysis and merge jobs did not finish in 4 minutes; logs:\n{logs}");
+    }
+    // The assembled archive is the one a single process captures...
+    let whole = dir.path().join("whole");
+    let status = Command::new(capture)
+        .args(setting)
+        .args(["--quiet", "--out"])
+        .arg(&whole)
+        .stdout(std::process::Stdio::null())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let archive = run.join("archive");
+    assert!(
+        std::fs::read(whole.join("manifest.json")).unwrap()
+            == std::fs::read(archive.join("manifest.json")).unwrap(),
+        "the assembled manifest differs from the single-process capture's"
+    );
+    for entry in std::fs::read_dir(whole.join("tiles")).unwrap().flatten() {
+        let sharded = archive.join("tiles").join(entry.file_name());
+        assert!(
+            std::fs::read(entry.path()).unwrap() == std::fs::read(&sharded).unwrap(),
+            "{}",
+            sharded.display()
+        );
+    }
+    // ...and the merged analysis is the single-process analysis of it.
+    let single = dir.path().join("single");
+    let status =
+        Command::new(&analyzer).arg(&archive).arg("--out").arg(&single).arg("--quiet").status().unwrap();
+    assert!(status.success());
+    assert!(
+        std::fs::read(single.join("result.json")).unwrap() == std::fs::read(&merged).unwrap(),
+        "the merged result differs from the single-process analysis"
+    );
     drop(cluster);
 }
