@@ -1,0 +1,80 @@
+//! `ufcsr`: one entry point for the toolkit's commands, like `git`.
+//!
+//! `ufcsr analyze|merge ...` runs `ufcsr-analyze`, `ufcsr capture|batch|study|
+//! assemble|verify|inspect ...` runs `ufcsr-capture` (the program found beside
+//! this one, or else on `PATH`), with the rest of the arguments. It holds no
+//! logic of its own, so each command behaves and is documented exactly as in
+//! the tool it belongs to.
+
+use std::ffi::OsString;
+use std::path::PathBuf;
+use std::process::{Command, ExitCode};
+
+const USAGE: &str = "usage: ufcsr COMMAND [ARGS...]
+
+  analyze ARCHIVE ...          ufcsr-analyze ARCHIVE ...       count an archive
+  merge RESULT... --out DIR    ufcsr-analyze merge ...         add shards' results
+  capture demo|scene|unity ... ufcsr-capture demo|scene|unity  record an archive
+  assemble ARCHIVE             ufcsr-capture assemble          join a sharded capture
+  batch plan BATCH.json        ufcsr-capture batch plan        one command per task
+  study SCENE ...              ufcsr-capture study             error against run time
+  verify ARCHIVE               ufcsr-capture verify            check an archive
+  inspect MESH                 ufcsr-capture inspect           look at a vehicle
+
+`ufcsr COMMAND --help` shows the command's options.";
+
+/// The program and the arguments that replace `ufcsr COMMAND`.
+fn route(command: &str) -> Option<(&'static str, Option<&'static str>)> {
+    Some(match command {
+        "analyze" => ("ufcsr-analyze", None),
+        "merge" => ("ufcsr-analyze", Some("merge")),
+        "capture" => ("ufcsr-capture", None),
+        "assemble" => ("ufcsr-capture", Some("assemble")),
+        "batch" => ("ufcsr-capture", Some("batch")),
+        "study" => ("ufcsr-capture", Some("study")),
+        "verify" => ("ufcsr-capture", Some("verify")),
+        "inspect" => ("ufcsr-capture", Some("inspect")),
+        _ => return None,
+    })
+}
+
+/// `name` beside this executable if it is there, else `name` (found on PATH).
+fn program(name: &str) -> PathBuf {
+    std::env::current_exe()
+        .ok()
+        .map(|exe| exe.with_file_name(name))
+        .filter(|path| path.is_file())
+        .unwrap_or_else(|| PathBuf::from(name))
+}
+
+fn main() -> ExitCode {
+    let mut args = std::env::args_os().skip(1);
+    let Some(command) = args.next() else {
+        eprintln!("{USAGE}");
+        return ExitCode::from(2);
+    };
+    let command_text = command.to_string_lossy();
+    if matches!(command_text.as_ref(), "-h" | "--help" | "help") {
+        println!("{USAGE}");
+        return ExitCode::SUCCESS;
+    }
+    let Some((name, first)) = route(&command_text) else {
+        eprintln!("ufcsr: unknown command {command_text:?}\n\n{USAGE}");
+        return ExitCode::from(2);
+    };
+    let rest: Vec<OsString> = first.map(OsString::from).into_iter().chain(args).collect();
+    let program = program(name);
+    match Command::new(&program).args(&rest).status() {
+        Ok(status) => match status.code() {
+            Some(code) => ExitCode::from(u8::try_from(code).unwrap_or(1)),
+            None => ExitCode::FAILURE, // killed by a signal
+        },
+        Err(error) => {
+            eprintln!(
+                "ufcsr: cannot run {}: {error} (install it beside ufcsr or on PATH)",
+                program.display()
+            );
+            ExitCode::FAILURE
+        }
+    }
+}
