@@ -255,6 +255,39 @@ mod tests {
     }
 
     #[test]
+    fn stiff_tracks_stay_finite_and_within_the_hermite_bound() {
+        // Keys 1 ms apart with the largest slopes allowed, alternating in
+        // sign, late in a long scenario (t near 1e5 s, where t - t0 loses
+        // digits): every value is finite, keys are hit, and no value leaves
+        // the bound |p| <= max|p_k| + (4/27)·dt·(|m0| + |m1|) that the basis
+        // functions give (|h10|, |h11| <= 4/27; h00 + h01 = 1, both in [0, 1]).
+        let dt = 1e-3;
+        let start = 1e5;
+        let slope = MAX_TRACK_MAGNITUDE;
+        let keys: Vec<Key<1>> = (0..50)
+            .map(|i| {
+                let sign = if i % 2 == 0 { 1.0 } else { -1.0 };
+                Key::smooth(start + f64::from(i) * dt, [sign * 3.0], [sign * slope])
+            })
+            .collect();
+        let track = Track::new(keys.clone()).unwrap();
+        let bound = 3.0 + 4.0 / 27.0 * dt * 2.0 * slope;
+        for step in 0..=49_000 {
+            let t = start + f64::from(step) * 1e-6;
+            let [value] = track.eval(t);
+            assert!(value.is_finite(), "t = {t}: {value}");
+            assert!(value.abs() <= bound * (1.0 + 1e-9), "t = {t}: {value} beyond {bound}");
+        }
+        for key in &keys {
+            assert_eq!(track.eval(key.t), key.value, "key at {} missed", key.t);
+        }
+        // Slopes one step beyond the street-scale limit are refused, not evaluated.
+        let too_stiff =
+            Track::new(vec![Key::smooth(0.0, [0.0], [slope * 1.01]), Key::smooth(dt, [0.0], [0.0])]);
+        assert!(too_stiff.is_err());
+    }
+
+    #[test]
     fn parses_scalar_and_vector_keys_and_rejects_unsorted() {
         let yaw: Track<1> =
             serde_json::from_str(r#"[{"t":0,"value":90,"in_slope":0,"out_slope":0},{"t":1,"value":0}]"#)

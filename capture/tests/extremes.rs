@@ -1,0 +1,122 @@
+//! Extreme cases with known answers, counted straight from the renderer:
+//! a wall 0.35 m from the eyes (just beyond the 0.3 m near plane) fills the
+//! view and counts its visible area in texels; the truck 900 m away is
+//! smaller than a few pixels, each pixel shows a different texel, and the
+//! result says the count depends on resolution.
+
+use glam::{DVec3, dvec3, vec3};
+use ufcsr::{AnalysisResult, Dedupe};
+use ufcsr_capture::archive::{self, CaptureOptions};
+use ufcsr_capture::gpu::{Backend, Gpu};
+use ufcsr_capture::mesh::{Mesh, Occluders};
+use ufcsr_capture::rig::Rig;
+use ufcsr_capture::scenario::Scenario;
+use ufcsr_capture::scene::Scene;
+use ufcsr_capture::track::{Key, Motion, Track};
+
+fn gpu() -> Gpu {
+    Gpu::create(Backend::Auto).expect("a Vulkan or GL driver (Mesa's lavapipe or llvmpipe will do)")
+}
+
+/// A vehicle standing still at `position` (yaw 0) for `frames` frames at 60 fps.
+fn standing(position: DVec3, frames: u32) -> Scenario {
+    let p = position.to_array();
+    Scenario {
+        name: "still".into(),
+        duration_s: f64::from(frames - 1) / 60.0,
+        motion: Motion {
+            position: Track::new(vec![Key::linear(0.0, p)]).unwrap(),
+            yaw_deg: Track::new(vec![Key::linear(0.0, [0.0])]).unwrap(),
+        },
+    }
+}
+
+fn scene(vehicle: Mesh, occluders: Occluders, rig: Rig, scenario: Scenario) -> Scene {
+    Scene {
+        name: "extreme".into(),
+        vehicle,
+        occluders,
+        rig,
+        scenarios: vec![scenario],
+        info: serde_json::json!({"name": "extreme"}),
+        warnings: Vec::new(),
+    }
+}
+
+/// Counts the scene's only scenario (`--count`) and returns its result and texel counts.
+fn count(gpu: &Gpu, scene: &Scene, palette: [u32; 2], dedupe: Dedupe) -> (AnalysisResult, Vec<u32>) {
+    let dir = tempfile::tempdir().unwrap();
+    let options = CaptureOptions { out: dir.path().join("a"), palette, ..CaptureOptions::default() };
+    let counted =
+        archive::capture_counted(&gpu.device, &gpu.queue, scene, &scene.scenarios[0], &options, dedupe)
+            .unwrap();
+    (counted.analysis.result, counted.analysis.texel_counts)
+}
+
+#[test]
+fn a_wall_at_the_near_plane_fills_the_view_and_counts_its_visible_area() {
+    let gpu = gpu();
+    // A 4 m × 4 m wall facing the pedestrian, who looks along +x at its
+    // centre line from 0.35 m (the near plane is at 0.3 m).
+    let mut wall = Mesh::default();
+    wall.add_quad(
+        "wall",
+        vec3(0.0, 2.0, 0.0),
+        vec3(0.0, -2.0, 0.0),
+        vec3(0.0, -2.0, 4.0),
+        vec3(0.0, 2.0, 4.0),
+    );
+    let mut rig = Rig {
+        pedestrian: [0.0, 0.0, 0.0],
+        look_at_vehicle: [0.0, 0.0, 1.75],
+        eye_pixels: [200, 250],
+        tiles: [2, 2],
+        ..Rig::default()
+    };
+    rig.set_pixels_per_degree(4.0).unwrap();
+    let distance = 0.35;
+    let scene = scene(wall, Occluders::default(), rig.clone(), standing(dvec3(distance, 0.0, 0.0), 2));
+    let (result, _) = count(&gpu, &scene, [512, 512], Dedupe::Frame);
+    // No pixel is background: the near plane clips nothing of the wall.
+    assert_eq!(result.pixels.background, 0, "{:?}", result.pixels);
+    assert_eq!(result.stray_pixels, 0);
+    // Each eye-frame counts the texels of the visible rectangle once.
+    let horizontal = 2.0 * distance * (rig.horizontal_fov_deg.to_radians() / 2.0).tan();
+    let vertical = 2.0 * distance * (rig.vertical_fov_deg().to_radians() / 2.0).tan();
+    let texels_per_m2 = texels_per_m2(&scene, [512, 512]);
+    let expected = 2.0 * 2.0 * horizontal * vertical * texels_per_m2; // 2 frames × 2 eyes
+    let got = result.grand_total as f64;
+    assert!((got / expected - 1.0).abs() < 0.05, "grand total {got}, visible area says {expected:.0}");
+    // Many pixels per texel: the report says counts saturate.
+    let resolution = result.resolution.as_ref().unwrap();
+    assert!(resolution.pixels_per_count > 4.0, "{}", resolution.pixels_per_count);
+    assert!(result.warnings.iter().any(|w| w.contains("saturate")), "{:?}", result.warnings);
+}
+
+fn texels_per_m2(scene: &Scene, palette: [u32; 2]) -> f64 {
+    ufcsr_capture::unwrap::unwrap_islands_avoiding(
+        &scene.vehicle,
+        palette,
+        ufcsr_capture::unwrap::background_texel(palette),
+    )
+    .unwrap()
+    .texels_per_m2
+}
+
+#[test]
+fn the_truck_900_m_away_counts_one_texel_per_pixel_and_warns() {
+    let gpu = gpu();
+    let demo = Scene::demo();
+    let mut rig = Rig { pedestrian: [0.0, 0.0, 0.0], ..demo.rig.clone() };
+    rig.set_pixels_per_degree(20.0).unwrap();
+    let scene = scene(demo.vehicle.clone(), Occluders::default(), rig, standing(dvec3(900.0, 0.0, 0.0), 3));
+    let (result, _) = count(&gpu, &scene, [256, 256], Dedupe::Image);
+    let texel_pixels = result.pixels.texel;
+    assert!(texel_pixels > 20, "the truck should cover a few pixels at 900 m: {texel_pixels}");
+    assert_eq!(result.stray_pixels, 0);
+    // A pixel is ~0.8 m wide there and a texel ~3 cm: no two pixels show one texel.
+    assert_eq!(result.grand_total, texel_pixels);
+    let resolution = result.resolution.as_ref().unwrap();
+    assert_eq!(resolution.sub_pixel_frame_share, Some(1.0));
+    assert!(result.warnings.iter().any(|w| w.contains("smaller than a pixel")), "{:?}", result.warnings);
+}
