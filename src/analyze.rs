@@ -74,8 +74,10 @@ struct Inputs {
     dedupe: Dedupe,
     /// The palette image, when the palette is not the canonical one.
     palette_file: Option<PathBuf>,
-    /// `--mesh`, or the manifest's `vehicle`.
+    /// `--mesh`, or the manifest's `vehicle` when it is there.
     vehicle_model: Option<PathBuf>,
+    /// What resolving found wrong but not fatal (a missing vehicle model).
+    warnings: Vec<String>,
     /// Resolution and texel size from the capture's manifest.
     geometry: CaptureGeometry,
     /// False for a capture counted while rendering (`--count`): its manifest
@@ -243,6 +245,22 @@ pub(crate) fn join_with_legend(
     ));
     let unlabelled = UnlabelledReport::new(&table, pidt);
     (table, unlabelled)
+}
+
+/// The warning for texels whose count reached the most a `u32` holds
+/// (4,294,967,295: a texel in every image of a 10⁶-frame run at 5×5 tiles
+/// and two eyes is far below it, but merged shards of many runs may get
+/// there). Counting saturates instead of wrapping, so such counts, and the
+/// totals, peaks and shares they enter, are lower bounds.
+pub(crate) fn saturation_warning(texel_counts: &[u32]) -> Option<String> {
+    let saturated = texel_counts.iter().filter(|&&count| count == u32::MAX).count();
+    (saturated > 0).then(|| {
+        format!(
+            "{saturated} texels reached {}, the most a count holds: their counts (and the totals, peaks and \
+             shares they enter) are lower bounds",
+            u32::MAX
+        )
+    })
 }
 
 /// The warning for stray pixels, in result.json as well as on stderr (on
@@ -437,7 +455,7 @@ fn finish(
     let decoded_pixels = tally.background_pixels + tally.stray_pixels + tally.texel_pixels;
     let texels_seen = texel_counts.par_iter().filter(|&&c| c > 0).count() as u64;
     let max_count = texel_counts.par_iter().copied().max().unwrap_or(0);
-    let mut warnings = Vec::new();
+    let mut warnings = inputs.warnings.clone();
     let mut notes = Vec::new();
     for background in &inputs.backgrounds {
         if inputs.palette.contains(background.packed()) {
@@ -486,6 +504,7 @@ fn finish(
         None => grand_total,
     };
     warnings.extend(stray_warning(tally.stray_pixels, tally.stray_images.len()));
+    warnings.extend(saturation_warning(&texel_counts));
     let resolution = resolution_report
         .then(|| ResolutionReport::new(tally.texel_pixels, per_image_total, &inputs.geometry));
     warnings.extend(resolution.iter().flat_map(ResolutionReport::warnings));
@@ -648,10 +667,30 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
         PaletteChoice::Image(path) => Some(path),
         PaletteChoice::Canonical { .. } => None,
     };
-    let vehicle_model = options.mesh.clone().or_else(|| {
-        let file = manifest.as_ref()?.extra.get("vehicle")?.as_str()?;
-        Some(root.join(file))
-    });
+    let mut warnings = Vec::new();
+    let vehicle_model = match &options.mesh {
+        // Asked for: missing is an error now, not after counting.
+        Some(mesh) => {
+            crate::input_file::open_regular(mesh)?;
+            Some(mesh.clone())
+        }
+        // Named by the manifest: only the pictures need it, so counting goes on without.
+        None => manifest
+            .as_ref()
+            .and_then(|m| m.extra.get("vehicle")?.as_str())
+            .map(|file| root.join(file))
+            .and_then(|path| {
+                if path.is_file() {
+                    return Some(path);
+                }
+                warnings.push(format!(
+                    "{}: the vehicle the manifest names is missing, so there is no heatmap.glb and no views \
+                     (give the mesh with --mesh)",
+                    path.display()
+                ));
+                None
+            }),
+    };
     Ok(Inputs {
         palette,
         backgrounds,
@@ -662,6 +701,7 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
         geometry,
         palette_file,
         vehicle_model,
+        warnings,
     })
 }
 

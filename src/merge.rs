@@ -12,7 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::analyze::{Analysis, join_with_legend, stray_warning};
+use crate::analyze::{Analysis, join_with_legend, saturation_warning, stray_warning};
 use crate::color::Color;
 use crate::error::{Error, Result};
 use crate::options::Timings;
@@ -86,6 +86,7 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
     let stray_pixels = summaries.iter().map(|s| s.stray_pixels).sum::<u64>();
     let stray_images = summaries.iter().map(|s| s.images_with_stray_pixels.len()).sum::<usize>();
     warnings.extend(stray_warning(stray_pixels, stray_images));
+    warnings.extend(saturation_warning(&texel_counts));
     let resolution =
         ResolutionReport::merged(&summaries.iter().filter_map(|s| s.resolution.as_ref()).collect::<Vec<_>>());
     if let Some(resolution) = &resolution {
