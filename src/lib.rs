@@ -26,6 +26,7 @@ pub mod report;
 pub mod resolution;
 pub mod scan;
 pub mod shard;
+#[cfg(feature = "synthetic")]
 pub mod synthetic;
 pub mod tile_counter;
 pub mod trim;

@@ -1,5 +1,6 @@
-//! Synthetic archives: realistic stand-ins for a capture, for tests,
-//! benchmarks and the bundled example.
+//! Synthetic archives: realistic stand-ins for a capture, for tests and
+//! benchmarks (behind the `synthetic` feature, which the tests and benches
+//! turn on; the bundled example is a real capture).
 //!
 //! An archive has frames × eyes × rows × cols tiles. Most tiles are empty
 //! (byte-identical background PNGs, as a renderer writes them); the tiles the
