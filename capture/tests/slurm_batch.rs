@@ -47,21 +47,33 @@ fn wait_for(paths: &[PathBuf], limit: Duration) -> bool {
     false
 }
 
-#[test]
-fn a_batch_runs_as_a_slurm_array_one_task_per_setting() {
-    if !slurm_available() {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI: Slurm (slurmctld, slurmd, slurm-client, munge) or root is missing"
-        );
-        eprintln!("SKIPPED: Slurm is not installed or this is not root");
-        return;
+/// A running local cluster in a fresh temporary folder, one at a time; or
+/// `None` (skipped with a message, a failure under CI) when Slurm, root or
+/// `extra_need` is missing.
+fn start_cluster(
+    extra_need: bool,
+    missing: &str,
+) -> Option<(std::sync::MutexGuard<'static, ()>, tempfile::TempDir, Cluster)> {
+    if !(slurm_available() && extra_need) {
+        assert!(std::env::var_os("CI").is_none(), "CI: {missing} is missing");
+        eprintln!("SKIPPED: {missing} is missing");
+        return None;
     }
-    let _one = ONE_CLUSTER.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let one = ONE_CLUSTER.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let dir = tempfile::tempdir().unwrap();
     let cluster = Cluster(dir.path().join("cluster"));
     let started = Command::new(script("local-cluster")).arg("start").arg(&cluster.0).output().unwrap();
     assert!(started.status.success(), "{}", String::from_utf8_lossy(&started.stderr));
+    Some((one, dir, cluster))
+}
+
+#[test]
+fn a_batch_runs_as_a_slurm_array_one_task_per_setting() {
+    let Some((_one, dir, cluster)) =
+        start_cluster(true, "Slurm (slurmctld, slurmd, slurm-client, munge) or root")
+    else {
+        return;
+    };
     let runs = dir.path().join("runs");
     let batch = dir.path().join("batch.json");
     std::fs::write(
@@ -114,19 +126,13 @@ fn analyzer() -> Option<PathBuf> {
 
 #[test]
 fn a_sharded_capture_assembles_and_analyses_through_slurm_equal_to_one_process() {
-    let Some(analyzer) = analyzer().filter(|_| slurm_available()) else {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI: Slurm, root or ufcsr-analyze (cargo test --workspace builds it) is missing"
-        );
-        eprintln!("SKIPPED: Slurm is not installed, this is not root, or ufcsr-analyze is not built");
+    let analyzer = analyzer();
+    let Some((_one, dir, cluster)) =
+        start_cluster(analyzer.is_some(), "Slurm, root or ufcsr-analyze (cargo test --workspace builds it)")
+    else {
         return;
     };
-    let _one = ONE_CLUSTER.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-    let dir = tempfile::tempdir().unwrap();
-    let cluster = Cluster(dir.path().join("cluster"));
-    let started = Command::new(script("local-cluster")).arg("start").arg(&cluster.0).output().unwrap();
-    assert!(started.status.success(), "{}", String::from_utf8_lossy(&started.stderr));
+    let analyzer = analyzer.unwrap_or_default();
     let capture = env!("CARGO_BIN_EXE_ufcsr-capture");
     let setting = ["demo", "--scenario", "B", "--ppd", "3", "--frames", "0-180/4", "--palette-size", "256"];
     let run = dir.path().join("run");
