@@ -6,66 +6,14 @@
 //! archive and the merged result must equal one process's). Skipped without
 //! Slurm or root; a failure when `CI` is set.
 
+#[path = "../../tests/slurm_support/mod.rs"]
+mod slurm_support;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-fn script(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scripts/slurm").join(name)
-}
-
-/// One local cluster at a time: they listen on Slurm's fixed ports.
-static ONE_CLUSTER: std::sync::Mutex<()> = std::sync::Mutex::new(());
-
-struct Cluster(PathBuf);
-
-impl Drop for Cluster {
-    fn drop(&mut self) {
-        let _ = Command::new(script("local-cluster")).arg("stop").arg(&self.0).status();
-    }
-}
-
-fn slurm_available() -> bool {
-    let installed = ["sbatch", "slurmctld", "slurmd", "munged"].iter().all(|tool| {
-        Command::new("sh")
-            .arg("-c")
-            .arg(format!("command -v {tool}"))
-            .output()
-            .is_ok_and(|o| o.status.success())
-    });
-    installed && Command::new("id").arg("-u").output().is_ok_and(|o| o.stdout.starts_with(b"0"))
-}
-
-fn wait_for(paths: &[PathBuf], limit: Duration) -> bool {
-    let start = Instant::now();
-    while start.elapsed() < limit {
-        if paths.iter().all(|p| p.is_file()) {
-            return true;
-        }
-        std::thread::sleep(Duration::from_millis(250));
-    }
-    false
-}
-
-/// A running local cluster in a fresh temporary folder, one at a time; or
-/// `None` (skipped with a message, a failure under CI) when Slurm, root or
-/// `extra_need` is missing.
-fn start_cluster(
-    extra_need: bool,
-    missing: &str,
-) -> Option<(std::sync::MutexGuard<'static, ()>, tempfile::TempDir, Cluster)> {
-    if !(slurm_available() && extra_need) {
-        assert!(std::env::var_os("CI").is_none(), "CI: {missing} is missing");
-        eprintln!("SKIPPED: {missing} is missing");
-        return None;
-    }
-    let one = ONE_CLUSTER.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
-    let dir = tempfile::tempdir().unwrap();
-    let cluster = Cluster(dir.path().join("cluster"));
-    let started = Command::new(script("local-cluster")).arg("start").arg(&cluster.0).output().unwrap();
-    assert!(started.status.success(), "{}", String::from_utf8_lossy(&started.stderr));
-    Some((one, dir, cluster))
-}
+use slurm_support::{logs, script, start_cluster, wait_for};
 
 #[test]
 fn a_batch_runs_as_a_slurm_array_one_task_per_setting() {
@@ -88,7 +36,7 @@ fn a_batch_runs_as_a_slurm_array_one_task_per_setting() {
     let submitted = Command::new(script("submit-batch"))
         .arg(&batch)
         .arg(capture)
-        .env("SLURM_CONF", cluster.0.join("slurm.conf"))
+        .env("SLURM_CONF", cluster.conf())
         .output()
         .unwrap();
     assert!(submitted.status.success(), "{}", String::from_utf8_lossy(&submitted.stderr));
@@ -142,16 +90,16 @@ fn a_sharded_capture_assembles_and_analyses_through_slurm_equal_to_one_process()
         .arg(capture)
         .arg(&analyzer)
         .args(setting)
-        .env("SLURM_CONF", cluster.0.join("slurm.conf"))
+        .env("SLURM_CONF", cluster.conf())
         .output()
         .unwrap();
     assert!(submitted.status.success(), "{}", String::from_utf8_lossy(&submitted.stderr));
     let merged = run.join("analysis/merged/result.json");
     if !wait_for(std::slice::from_ref(&merged), Duration::from_secs(240)) {
-        let logs: String = std::fs::read_dir(&run)
-            .map(|d| d.flatten().filter_map(|e| std::fs::read_to_string(e.path()).ok()).collect())
-            .unwrap_or_default();
-        panic!("the capture, assemble, analysis and merge jobs did not finish in 4 minutes; logs:\n{logs}");
+        panic!(
+            "the capture, assemble, analysis and merge jobs did not finish in 4 minutes; logs:\n{}",
+            logs(&run)
+        );
     }
     // The assembled archive is the one a single process captures...
     let whole = dir.path().join("whole");
