@@ -95,6 +95,9 @@ async fn create_with(backends: wgpu::Backends) -> Result<Gpu> {
             // Whatever the adapter offers: texture sizes up to the palette's
             // 4096 are needed, nothing exotic.
             required_limits: adapter.limits(),
+            // f64 in shaders where the adapter has it: the exact measure
+            // (`unobstructed_gpu`) needs it; rendering does not.
+            required_features: adapter.features() & wgpu::Features::SHADER_F64,
             ..Default::default()
         })
         .await

@@ -18,7 +18,7 @@
 //! [`manifest_builder`] the manifest, [`count_sink`] counting without PNGs, [`capture_shard`] one capture as
 //! several jobs;
 //! [`study`] and [`study_plot`] the resolution study; [`unobstructed`] and
-//! [`ray_bvh`] the exact per-point reference measure; [`inspect`] and [`views`] look at a
+//! [`ray_bvh`] the exact per-point reference measure ([`unobstructed_gpu`] on the GPU); [`inspect`] and [`views`] look at a
 //! vehicle before capturing.
 
 pub mod archive;
@@ -49,6 +49,7 @@ pub mod tile_sink;
 pub mod track;
 pub mod unity;
 pub mod unobstructed;
+pub mod unobstructed_gpu;
 pub mod unwrap;
 pub mod vehicle;
 pub mod views;

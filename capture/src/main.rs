@@ -14,6 +14,7 @@ use ufcsr_capture::gpu::{Backend, Gpu};
 use ufcsr_capture::inspect::{self, InspectOptions};
 use ufcsr_capture::own_pidt::OwnLabels;
 use ufcsr_capture::scene::Scene;
+use ufcsr_capture::unobstructed::MeasureDevice;
 use ufcsr_capture::unwrap::parse_palette_size;
 
 #[derive(Parser)]
@@ -198,6 +199,10 @@ struct Common {
     /// Seed of the texel sample.
     #[arg(long, default_value_t = 1, requires = "measure")]
     seed: u64,
+    /// Where the unobstructed measure runs: cpu (every core; the reference) or gpu (wgpu compute
+    /// in f64; needs SHADER_F64, which Mesa's lavapipe and data-centre GPUs have).
+    #[arg(long, value_enum, default_value_t = MeasureDevice::Cpu, requires = "measure")]
+    measure_on: MeasureDevice,
     /// Render only shard I of N (0 ≤ I < N) of the selected frames into --out, with the other
     /// shards; then `ufcsr-capture assemble OUT`. `auto`: from the job array (SLURM_ARRAY_TASK_ID
     /// and _COUNT, or JOB_COMPLETION_INDEX / AWS_BATCH_JOB_ARRAY_INDEX with UFCSR_SHARD_COUNT).
@@ -348,8 +353,11 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 &scene,
                 scenario,
                 options,
-                sample,
-                common.seed,
+                &ufcsr_capture::unobstructed::MeasureOptions {
+                    sample,
+                    seed: common.seed,
+                    on: common.measure_on,
+                },
             )?;
             println!(
                 "scenario {}: unobstructed measure of {} of {} labelled texels over {} eye-frames in {:.2} s",

@@ -79,6 +79,29 @@ impl TriangleBvh {
         false
     }
 
+    /// The hierarchy as flat arrays for the GPU (`unobstructed.wgsl`): per
+    /// node its bounds (min xyz, max xyz) and `(first, count)`, per triangle
+    /// its corners (9 values), in the order the queries index them.
+    pub fn flatten(&self) -> (Vec<f64>, Vec<u32>, Vec<f64>) {
+        let bounds =
+            self.nodes.iter().flat_map(|n| n.min.to_array().into_iter().chain(n.max.to_array())).collect();
+        let links = self.nodes.iter().flat_map(|n| [n.first as u32, n.count as u32]).collect();
+        let triangles = self.triangles.iter().flatten().flat_map(|p| p.to_array()).collect();
+        (bounds, links, triangles)
+    }
+
+    /// How deep the hierarchy is (root = 1): the GPU's traversal stack must hold it.
+    pub fn depth(&self) -> usize {
+        fn depth_of(nodes: &[Node], index: usize) -> usize {
+            match nodes.get(index) {
+                None => 0,
+                Some(node) if node.count > 0 => 1,
+                Some(node) => 1 + depth_of(nodes, node.first).max(depth_of(nodes, node.first + 1)),
+            }
+        }
+        depth_of(&self.nodes, 0)
+    }
+
     /// The same question by testing every triangle (for tests).
     pub fn blocks_brute_force(&self, from: DVec3, to: DVec3) -> bool {
         let direction = to - from;

@@ -129,8 +129,9 @@ pub fn run_study(
                 progress: false,
                 ..options.capture.clone()
             };
+            let measure = crate::unobstructed::MeasureOptions { sample, ..Default::default() };
             let measured = crate::unobstructed::measure_unobstructed(
-                device, queue, scene, scenario, &capture, sample, 1,
+                device, queue, scene, scenario, &capture, &measure,
             )?;
             eprintln!(
                 "study: unobstructed reference of {} texels over {} eye-frames in {:.2} s",

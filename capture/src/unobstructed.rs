@@ -34,6 +34,8 @@ use crate::ray_bvh::TriangleBvh;
 use crate::rig::{Eye, vehicle_to_world};
 use crate::scenario::Scenario;
 use crate::scene::Scene;
+pub use crate::unobstructed_gpu::MeasureDevice;
+use crate::unobstructed_gpu::count_unobstructed_gpu;
 use crate::unwrap::{Unwrapped, for_texel_centres};
 
 /// The measure's name in result.json.
@@ -258,6 +260,21 @@ pub struct PartEstimate {
     pub standard_error: f64,
 }
 
+/// How to measure: which share of the texels, seeded how, on which device.
+#[derive(Debug, Clone, Copy)]
+pub struct MeasureOptions {
+    /// Share of the texels to measure, in (0, 1].
+    pub sample: f64,
+    pub seed: u64,
+    pub on: MeasureDevice,
+}
+
+impl Default for MeasureOptions {
+    fn default() -> MeasureOptions {
+        MeasureOptions { sample: 1.0, seed: 1, on: MeasureDevice::Cpu }
+    }
+}
+
 /// Measures one scenario: writes the archive skeleton (manifest, PIdT,
 /// legend, vehicle.glb; no tiles) and the analyzer's results for the counts
 /// (`measure: "unobstructed"`), plus `results/unobstructed-parts.csv`.
@@ -267,9 +284,9 @@ pub fn measure_unobstructed(
     scene: &Scene,
     scenario: &Scenario,
     options: &CaptureOptions,
-    sample: f64,
-    seed: u64,
+    measure: &MeasureOptions,
 ) -> Result<UnobstructedCapture> {
+    let MeasureOptions { sample, seed, on } = *measure;
     let start = Instant::now();
     if !(sample > 0.0 && sample <= 1.0) {
         return Err(CaptureError::BadOptions(format!("--sample must be in (0, 1], not {sample}")));
@@ -283,7 +300,10 @@ pub fn measure_unobstructed(
     let (points, per_part) = surface_points(scene, &prepared.unwrapped, sample, seed);
     let (eye_frames, records) = eye_frames(scene, scenario, &frames);
     let obstacles = Obstacles::new(scene);
-    let counts = count_unobstructed(&points, &eye_frames, &obstacles);
+    let counts = match on {
+        MeasureDevice::Cpu => count_unobstructed(&points, &eye_frames, &obstacles),
+        MeasureDevice::Gpu => count_unobstructed_gpu(device, queue, &points, &eye_frames, &obstacles)?,
+    };
 
     let [width, height] = prepared.palette_size;
     let mut texel_counts = vec![0u32; width as usize * height as usize];
@@ -337,10 +357,15 @@ pub fn measure_unobstructed(
         "measure \"unobstructed\": a count is the number of eye-frames ({}) in which the texel's point is in view, \
          faces the eye and nothing is in between (exact ray casts, independent of pixels per degree); {} of {} \
          labelled texels sampled (fraction {sample}, seed {seed}), the others are 0 here: divide totals by the \
-         fraction to estimate them (per-part estimates with standard errors in unobstructed-parts.csv)",
+         fraction to estimate them (per-part estimates with standard errors in unobstructed-parts.csv); \
+         computed on the {}",
         eye_frames.len(),
         points.len(),
-        labelled
+        labelled,
+        match on {
+            MeasureDevice::Cpu => "CPU",
+            MeasureDevice::Gpu => "GPU (f64 compute shader)",
+        }
     )];
     let analyze_options =
         ufcsr::AnalyzeOptions { archive: options.out.clone(), ..ufcsr::AnalyzeOptions::default() };

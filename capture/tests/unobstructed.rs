@@ -1,7 +1,8 @@
 //! The exact "unobstructed" measure: the BVH answers exactly as brute force
 //! on every sampled point and eye-frame, a scene 10 km from the origin gives
 //! the same counts as at the origin, a vehicle hidden behind a building is
-//! never counted, and the CLI writes a result with `measure: "unobstructed"`.
+//! never counted, the CLI writes a result with `measure: "unobstructed"`, and
+//! the GPU version (f64 compute) counts exactly as the CPU on every point.
 
 use std::process::Command;
 
@@ -109,4 +110,86 @@ fn the_cli_writes_an_unobstructed_result() {
     let csv = std::fs::read_to_string(out.join("results/unobstructed-parts.csv")).unwrap();
     assert!(csv.starts_with("part,texels,sampled,sampled_total,estimated_total,standard_error"), "{csv}");
     assert!(!out.join("tiles").read_dir().is_ok_and(|mut d| d.next().is_some()), "no tiles are written");
+}
+
+#[test]
+fn the_gpu_measure_equals_the_cpu_measure_on_every_sampled_point() {
+    let gpu = ufcsr_capture::gpu::Gpu::create(ufcsr_capture::gpu::Backend::Auto).expect("a GPU or lavapipe");
+    if !gpu.device.features().contains(wgpu::Features::SHADER_F64) {
+        assert!(std::env::var_os("CI").is_none(), "CI: lavapipe has SHADER_F64; this adapter does not");
+        eprintln!("SKIPPED: {} has no SHADER_F64", gpu.describe());
+        return;
+    }
+    let scene = Scene::demo();
+    let obstacles = Obstacles::new(&scene);
+    let points = demo_points(&scene, 0.1);
+    // Scenario A: the truck comes out from behind the corner building, so
+    // the scene's occluders decide many of these.
+    let scenario = scene.scenario("A").unwrap();
+    let (frames, _) = eye_frames(&scene, scenario, &[0, 30, 60, 90, 120, 150, 180]);
+    let cpu = count_unobstructed(&points, &frames, &obstacles);
+    let on_gpu = ufcsr_capture::unobstructed_gpu::count_unobstructed_gpu(
+        &gpu.device,
+        &gpu.queue,
+        &points,
+        &frames,
+        &obstacles,
+    )
+    .unwrap();
+    let differing: Vec<usize> = (0..points.len()).filter(|&i| cpu[i] != on_gpu[i]).collect();
+    assert!(
+        differing.is_empty(),
+        "{} of {} points differ, e.g. texel {}: cpu {} gpu {}",
+        differing.len(),
+        points.len(),
+        points[differing[0]].texel,
+        cpu[differing[0]],
+        on_gpu[differing[0]]
+    );
+    let total: u32 = cpu.iter().sum();
+    assert!(total > 1000 && total < points.len() as u32 * frames.len() as u32, "{total}");
+}
+
+#[test]
+fn measuring_on_the_gpu_writes_the_cpu_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |on: &str| {
+        let out = dir.path().join(on);
+        let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+            .args(["demo", "--scenario", "B", "--palette-size", "256", "--frames", "0-180/30"])
+            .args(["--measure", "unobstructed", "--sample", "1/3", "--measure-on", on, "-q", "--out"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+        let mut result: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("results/result.json")).unwrap()).unwrap();
+        // Only the paths and the note naming the device may differ.
+        for field in ["archive", "pidt", "parts"] {
+            result["settings"][field] = serde_json::Value::Null;
+        }
+        let notes = result["notes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| n.as_str().unwrap().to_owned())
+            .collect::<Vec<_>>();
+        assert!(notes.iter().any(|n| n.contains(if on == "gpu" {
+            "computed on the GPU"
+        } else {
+            "computed on the CPU"
+        })));
+        result["notes"] = serde_json::Value::Null;
+        result
+    };
+    let cpu = run("cpu");
+    if !ufcsr_capture::gpu::Gpu::create(ufcsr_capture::gpu::Backend::Auto)
+        .is_ok_and(|g| g.device.features().contains(wgpu::Features::SHADER_F64))
+    {
+        assert!(std::env::var_os("CI").is_none(), "CI: lavapipe has SHADER_F64; this adapter does not");
+        eprintln!("SKIPPED: no SHADER_F64 on this adapter");
+        return;
+    }
+    assert_eq!(cpu, run("gpu"));
+    assert!(cpu["grand_total"].as_u64().unwrap() > 0);
 }
