@@ -9,7 +9,8 @@
 //! Module map: [`track`] keyframes, [`scenario`] a timed vehicle motion,
 //! [`unity`] import of Unity scenarios, [`mesh`] geometry and loaders,
 //! [`vehicle`] and [`regions`] vehicle checks and parts by region,
-//! [`demo`] the built-in truck and intersection, [`scene`] the JSON scene
+//! [`demo`] the built-in truck and intersection, [`degenerate_mesh`] a
+//! generated vehicle of zero-area, needle and sliver triangles, [`scene`] the JSON scene
 //! file, [`unwrap`] island packing, [`palette`] external palettes, [`pidt`]
 //! label painting, [`own_pidt`] a user's own PIdT, [`rig`] cameras and tiles,
 //! [`gpu`] device creation, [`render`] the renderer; the capture job:
@@ -23,6 +24,7 @@
 pub mod archive;
 pub mod batch;
 pub mod count_sink;
+pub mod degenerate_mesh;
 pub mod demo;
 pub mod encoder_pool;
 pub mod error;

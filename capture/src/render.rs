@@ -14,12 +14,16 @@ use ufcsr::Color;
 use crate::error::{CaptureError, Result};
 use crate::mesh::Occluders;
 
-/// A vertex: position (model frame) and UV (0..1, v = 0 at the top row).
+/// A vertex: position (model frame), UV (0..1, v = 0 at the top row) and
+/// its triangle's chart: the three corners in texel coordinates, the same on
+/// all three vertices, which the fragment shader clamps the UV into (so a
+/// degenerate triangle's wild barycentrics still name one of its own texels).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Vertex {
     pub position: [f32; 3],
     pub uv: [f32; 2],
+    pub chart: [[f32; 2]; 3],
 }
 
 /// What the fragment shader draws (`Uniforms::mode`); the same numbers are
@@ -176,7 +180,9 @@ impl Renderer {
         let vertex_layout = wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<Vertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x2],
+            attributes: &wgpu::vertex_attr_array![
+                0 => Float32x3, 1 => Float32x2, 2 => Float32x2, 3 => Float32x2, 4 => Float32x2
+            ],
         };
         let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("palette pipeline"),
@@ -292,12 +298,12 @@ impl Renderer {
 
         let vehicle = vertex_buffer(device, queue, "vehicle", bytemuck::cast_slice(setup.vehicle))
             .map(|b| (b, setup.vehicle.len() as u32));
-        // Occluders carry a UV but the background mode never reads it.
+        // Occluders carry a UV and chart but the background mode never reads them.
         let occluder_vertices: Vec<Vertex> = setup
             .occluders
             .positions
             .iter()
-            .map(|p: &Vec3| Vertex { position: p.to_array(), uv: [0.0, 0.0] })
+            .map(|p: &Vec3| Vertex { position: p.to_array(), uv: [0.0, 0.0], chart: [[0.0; 2]; 3] })
             .collect();
         let occluders = vertex_buffer(device, queue, "occluders", bytemuck::cast_slice(&occluder_vertices));
         let objects = setup.occluders.objects.iter().map(|o| (o.first_vertex, o.vertex_count)).collect();
@@ -465,12 +471,18 @@ impl Renderer {
     }
 }
 
-/// Vehicle vertices for the renderer: three per triangle with their UVs.
+/// Vehicle vertices for the renderer: three per triangle with their UVs and
+/// their triangle's chart.
 pub fn vehicle_vertices(mesh: &crate::mesh::Mesh, unwrapped: &crate::unwrap::Unwrapped) -> Vec<Vertex> {
     let mut vertices = Vec::with_capacity(mesh.triangles.len() * 3);
     for (t, tri) in mesh.triangles.iter().enumerate() {
+        let chart = unwrapped.texel_uvs[t].map(|c| [c.x as f32, c.y as f32]);
         for (k, &i) in tri.iter().enumerate() {
-            vertices.push(Vertex { position: mesh.positions[i as usize].to_array(), uv: unwrapped.uv(t, k) });
+            vertices.push(Vertex {
+                position: mesh.positions[i as usize].to_array(),
+                uv: unwrapped.uv(t, k),
+                chart,
+            });
         }
     }
     vertices
