@@ -13,7 +13,8 @@
 //! generated vehicle of zero-area, needle and sliver triangles, [`scene`] the JSON scene
 //! file, [`unwrap`] island packing, [`palette`] external palettes, [`pidt`]
 //! label painting, [`own_pidt`] a user's own PIdT, [`rig`] cameras and tiles,
-//! [`gpu`] device creation, [`render`] the renderer; the capture job:
+//! [`gpu`] device creation, [`render`] the renderer (with its
+//! pipeline and [`render_target`] targets and readback); the capture job:
 //! [`options`] what to do, [`archive`] its stages, [`frame_capture`] one
 //! frame, [`tile_sink`] where tiles go, [`encoder_pool`] the PNG sink,
 //! [`manifest_builder`] the manifest, [`count_sink`] counting without PNGs;
@@ -40,6 +41,8 @@ pub mod pidt;
 pub mod ray_bvh;
 pub mod regions;
 pub mod render;
+mod render_pipeline;
+pub mod render_target;
 pub mod rig;
 pub mod scenario;
 pub mod scene;
