@@ -16,7 +16,7 @@
 //! [`gpu`] device creation, [`render`] the renderer (with its
 //! pipeline and [`render_target`] targets and readback); the capture job:
 //! [`options`] what to do, [`archive`] its stages, [`frame_capture`] one
-//! frame, [`tile_sink`] where tiles go, [`encoder_pool`] the PNG sink,
+//! frame, [`scissor`] the part of a tile the vehicle can cover, [`tile_sink`] where tiles go, [`encoder_pool`] the PNG sink,
 //! [`manifest_builder`] the manifest, [`count_sink`] counting without PNGs;
 //! [`study`] and [`study_plot`] the resolution study; [`unobstructed`] and
 //! [`ray_bvh`] the exact per-point reference measure; [`inspect`] and [`views`] look at a
@@ -46,6 +46,7 @@ pub mod render_target;
 pub mod rig;
 pub mod scenario;
 pub mod scene;
+pub mod scissor;
 pub mod study;
 pub mod study_plot;
 pub mod tile_sink;

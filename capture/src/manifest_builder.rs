@@ -88,6 +88,10 @@ pub fn build_manifest(parts: ManifestParts) -> Manifest {
         "tiles_rendered": tally.rendered + tally.resumed,
         "tiles_culled": tally.culled,
         "tiles_background_only": tally.background,
+        // Left out without changing a tile: pixels outside the vehicle's
+        // projected bounds (scissor) and tiles occluders hide.
+        "pixels_scissored": tally.pixels_scissored,
+        "tiles_hidden": tally.hidden,
     });
     if !parts.tiles_written {
         // The analyzer refuses to read tiles of such an archive (they do not

@@ -168,11 +168,31 @@ impl Renderer {
         queue: &wgpu::Queue,
         draw: &TileDraw,
     ) -> Result<Vec<u8>> {
-        let region = PixelRect::whole(self.tile_size());
+        self.render_region(device, queue, draw, PixelRect::whole(self.tile_size()))
+    }
+
+    /// Renders only `region` of a tile (a scissor rectangle; see
+    /// [`crate::scissor`]) and returns that region's pixels, RGBA8, tightly
+    /// packed rows top to bottom.
+    pub fn render_region(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        draw: &TileDraw,
+        region: PixelRect,
+    ) -> Result<Vec<u8>> {
+        let [tw, th] = self.tile_size();
+        if region.width == 0
+            || region.height == 0
+            || region.x + region.width > tw
+            || region.y + region.height > th
+        {
+            return Err(CaptureError::Gpu(format!("region {region:?} is not inside the {tw}×{th} tile")));
+        }
         self.write_uniforms(queue, draw);
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tile") });
-        self.encode_pass(&mut encoder, draw);
+        self.encode_pass(&mut encoder, draw, region);
         self.target.copy_to_readback(&mut encoder, region);
         queue.submit([encoder.finish()]);
         self.target.read_back(device, region)
@@ -196,8 +216,9 @@ impl Renderer {
     }
 
     /// Records the render pass: clear to the background, draw the visible
-    /// occluders in the background colour, then the vehicle.
-    fn encode_pass(&self, encoder: &mut wgpu::CommandEncoder, draw: &TileDraw) {
+    /// occluders in the background colour, then the vehicle, all inside
+    /// the scissor rectangle `region`.
+    fn encode_pass(&self, encoder: &mut wgpu::CommandEncoder, draw: &TileDraw, region: PixelRect) {
         let [r, g, b] = self.background.rgb().map(|c| f64::from(c) / 255.0);
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("tile"),
@@ -223,6 +244,7 @@ impl Renderer {
             multiview_mask: None,
         });
         pass.set_pipeline(&self.pipeline.pipeline);
+        pass.set_scissor_rect(region.x, region.y, region.width, region.height);
         let geometry = &self.geometry;
         if let Some(buffer) = &geometry.occluders {
             pass.set_bind_group(0, &self.pipeline.world_group, &[]);
