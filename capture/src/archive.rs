@@ -381,7 +381,7 @@ pub fn summarize(
         background: tally.background,
         pixels_scissored: tally.pixels_scissored,
         hidden: tally.hidden,
-        pixels: captured.tiles
+        pixels: (captured.tiles - tally.culled)
             * u64::from(scene.rig.tile_pixels()[0])
             * u64::from(scene.rig.tile_pixels()[1]),
         seconds: 0.0,

@@ -3,7 +3,8 @@
 //! A tile the vehicle's projected bounding box does not touch is neither
 //! rendered nor handed on, only listed as empty; in a tile it touches, only
 //! the rectangle it covers is rendered and read back (the scissor), the rest
-//! is background by construction. A rendered tile that comes
+//! is background by construction; where occluders hide the vehicle's box
+//! (an occlusion query after drawing them), the vehicle is not drawn at all. A rendered tile that comes
 //! out pure background (the vehicle is hidden) is listed as empty too unless
 //! background tiles are kept. Occluder objects outside a tile's frustum are
 //! not drawn. The loop knows nothing of files: the sink decides what a tile
@@ -16,7 +17,7 @@ use ufcsr::{Color, TileEntry};
 use crate::error::Result;
 use crate::options::TileTally;
 use crate::render::{PixelRect, Renderer, TileDraw};
-use crate::rig::{Eye, Rig, box_corners, box_outside, vehicle_to_world};
+use crate::rig::{Eye, EyeCamera, Rig, box_corners, box_outside, vehicle_to_world};
 use crate::scenario::Scenario;
 use crate::scene::Scene;
 use crate::scissor::{EyeBounds, background_tile, fill_tile};
@@ -92,6 +93,7 @@ impl<'a> FrameCapture<'a> {
             } else {
                 EyeBounds::project(rig, &camera, &world_box)
             };
+            let test_hidden = !self.no_scissor && wholly_in_front(rig, &camera, &world_box);
             let mut with_vehicle = 0u32;
             let tile_pixels = PixelRect::whole(self.renderer.tile_size()).pixels();
             for tile in rig.all_tiles() {
@@ -110,9 +112,8 @@ impl<'a> FrameCapture<'a> {
                     true
                 } else {
                     let clip_from_world = rig.tile_matrix(tile) * camera.view_proj;
-                    let region = bounds.region(rig, tile);
-                    let draw = (address, index, region);
-                    self.render_into(sink, draw, clip_from_world, to_world, &mut captured.tally)?
+                    let job = TileJob { address, index, region: bounds.region(rig, tile), test_hidden };
+                    self.render_into(sink, job, clip_from_world, to_world, &mut captured.tally)?
                 };
                 if shows_vehicle {
                     with_vehicle += 1;
@@ -143,7 +144,7 @@ impl<'a> FrameCapture<'a> {
     fn render_into(
         &self,
         sink: &mut dyn TileSink,
-        (address, index, region): (TileAddress, usize, Option<PixelRect>),
+        TileJob { address, index, region, test_hidden }: TileJob,
         clip_from_world: DMat4,
         to_world: DMat4,
         tally: &mut TileTally,
@@ -170,9 +171,22 @@ impl<'a> FrameCapture<'a> {
                     clip_from_world,
                     occluders: &visible,
                 };
-                let pixels = self.renderer.render_region(self.device, self.queue, &draw, region)?;
-                tally.rendered += 1;
-                pixels
+                // Only a tile with occluders in it can hide the vehicle.
+                let pixels = if test_hidden && !visible.is_empty() {
+                    self.renderer.render_region_unless_hidden(self.device, self.queue, &draw, region)?
+                } else {
+                    Some(self.renderer.render_region(self.device, self.queue, &draw, region)?)
+                };
+                match pixels {
+                    Some(pixels) => {
+                        tally.rendered += 1;
+                        pixels
+                    }
+                    None => {
+                        tally.hidden += 1;
+                        Vec::new()
+                    }
+                }
             }
         };
         tally.pixels_scissored += scissored_pixels(tile_pixels, region);
@@ -183,6 +197,8 @@ impl<'a> FrameCapture<'a> {
             return Ok(false);
         }
         let rgba = match region {
+            // Not rendered (hidden): the tile is background.
+            _ if pixels.is_empty() => background_tile(size, [r, g, b, 255]),
             Some(region) if region == PixelRect::whole(size) => pixels,
             Some(region) => fill_tile(size, [r, g, b, 255], region, &pixels),
             None => background_tile(size, [r, g, b, 255]),
@@ -191,6 +207,27 @@ impl<'a> FrameCapture<'a> {
         tally.written += 1;
         Ok(true)
     }
+}
+
+/// One tile to render: where it goes and what may be left out.
+struct TileJob {
+    address: TileAddress,
+    index: usize,
+    /// The scissor rectangle; `None` when the vehicle covers no pixel of it.
+    region: Option<PixelRect>,
+    /// Whether the hidden-tile test may run (the vehicle box is wholly in
+    /// front of the near plane, and leaving out is allowed).
+    test_hidden: bool,
+}
+
+/// Metres the vehicle box must stay beyond the near plane for the hidden-tile
+/// test: its grown box must not be clipped (it grows by centimetres).
+const HIDDEN_TEST_NEAR_MARGIN_M: f64 = 1.0;
+
+/// True when every corner of `corners` (world) is well in front of the
+/// camera's near plane, so the occlusion test's box is never clipped.
+fn wholly_in_front(rig: &Rig, camera: &EyeCamera, corners: &[DVec3; 8]) -> bool {
+    corners.iter().all(|c| (camera.view_proj * c.extend(1.0)).w > rig.near_m + HIDDEN_TEST_NEAR_MARGIN_M)
 }
 
 /// Pixels of a tile outside its scissor `region` (all of them without one).

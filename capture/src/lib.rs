@@ -41,6 +41,7 @@ pub mod pidt;
 pub mod ray_bvh;
 pub mod regions;
 pub mod render;
+mod render_occlusion;
 mod render_pipeline;
 pub mod render_target;
 pub mod rig;

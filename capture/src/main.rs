@@ -355,8 +355,9 @@ fn report(s: &Summary) {
         "  tiles: {} total, {} rendered, {} written, {} culled (outside the vehicle's bounds), {} background only, {} resumed",
         s.tiles, s.rendered, s.written, s.culled, s.background, s.resumed
     );
-    println!(
-        "  left out: {} of {} pixels ({:.1}%) outside the vehicle's bounds in rendered tiles (scissor), {} tiles hidden by occluders",
+    // On stderr: how the run was done, not what it found.
+    eprintln!(
+        "  left out: {} of the {} pixels of tiles the vehicle's bounds touch ({:.1}%, scissor), {} tiles hidden by occluders (not rendered)",
         s.pixels_scissored,
         s.pixels,
         if s.pixels > 0 { s.pixels_scissored as f64 * 100.0 / s.pixels as f64 } else { 0.0 },

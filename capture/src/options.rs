@@ -197,7 +197,8 @@ pub struct Summary {
     pub pixels_scissored: u64,
     /// Tiles hidden by occluders, not rendered.
     pub hidden: u64,
-    /// Pixels of every tile of the capture (the share left out is against this).
+    /// Pixels of the tiles the vehicle's bounds touch (not culled): the
+    /// share the scissor left out is against this.
     pub pixels: u64,
     pub seconds: f64,
     /// Of which unwrap, PIdT and pipeline setup.

@@ -16,6 +16,7 @@ use ufcsr::Color;
 
 use crate::error::{CaptureError, Result};
 use crate::mesh::Occluders;
+use crate::render_occlusion::OcclusionTest;
 use crate::render_pipeline::{PalettePipeline, UNIFORM_STRIDE, Uniforms, draw_mode};
 pub use crate::render_target::PixelRect;
 use crate::render_target::TileTarget;
@@ -75,6 +76,7 @@ pub struct TileDraw<'a> {
 pub struct Renderer {
     pipeline: PalettePipeline,
     geometry: Geometry,
+    occlusion: OcclusionTest,
     target: TileTarget,
     palette: [u32; 2],
     background: Color,
@@ -150,6 +152,7 @@ impl Renderer {
         Ok(Renderer {
             pipeline: PalettePipeline::new(device, queue, setup.palette)?,
             geometry: Geometry::upload(device, queue, setup),
+            occlusion: OcclusionTest::new(device, queue, setup.vehicle),
             target: TileTarget::new(device, setup.tile_size),
             palette: setup.palette.size(),
             background: setup.background,
@@ -181,6 +184,67 @@ impl Renderer {
         draw: &TileDraw,
         region: PixelRect,
     ) -> Result<Vec<u8>> {
+        self.check_region(region)?;
+        self.write_uniforms(queue, draw);
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tile") });
+        {
+            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Clear(()), false);
+            self.draw_occluders(&mut pass, draw);
+            self.draw_vehicle(&mut pass);
+        }
+        self.target.copy_to_readback(&mut encoder, region);
+        queue.submit([encoder.finish()]);
+        self.target.read_back(device, region)
+    }
+
+    /// [`Renderer::render_region`], unless the occluders hide the vehicle's
+    /// bounding box in `region`: then `None`, and the vehicle is neither drawn
+    /// nor read back (see `render_occlusion.rs`). The caller must know
+    /// the box to be wholly in front of the near plane. The pixels are the
+    /// same as `render_region`'s: the occluders are drawn first either way.
+    pub fn render_region_unless_hidden(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        draw: &TileDraw,
+        region: PixelRect,
+    ) -> Result<Option<Vec<u8>>> {
+        let Some(box_vertices) = &self.occlusion.box_vertices else {
+            return self.render_region(device, queue, draw, region).map(Some);
+        };
+        self.check_region(region)?;
+        self.write_uniforms(queue, draw);
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("occluders") });
+        {
+            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Clear(()), true);
+            self.draw_occluders(&mut pass, draw);
+            pass.set_pipeline(&self.pipeline.bounds_test);
+            pass.set_bind_group(0, &self.pipeline.vehicle_group, &[]);
+            pass.set_vertex_buffer(0, box_vertices.slice(..));
+            pass.begin_occlusion_query(0);
+            pass.draw(0..36, 0..1);
+            pass.end_occlusion_query();
+        }
+        self.occlusion.resolve(&mut encoder);
+        queue.submit([encoder.finish()]);
+        if self.occlusion.samples(device)? == 0 {
+            return Ok(None);
+        }
+        // Visible: draw the vehicle over the occluders already there.
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("vehicle") });
+        {
+            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Load, false);
+            self.draw_vehicle(&mut pass);
+        }
+        self.target.copy_to_readback(&mut encoder, region);
+        queue.submit([encoder.finish()]);
+        self.target.read_back(device, region).map(Some)
+    }
+
+    fn check_region(&self, region: PixelRect) -> Result<()> {
         let [tw, th] = self.tile_size();
         if region.width == 0
             || region.height == 0
@@ -189,13 +253,7 @@ impl Renderer {
         {
             return Err(CaptureError::Gpu(format!("region {region:?} is not inside the {tw}×{th} tile")));
         }
-        self.write_uniforms(queue, draw);
-        let mut encoder =
-            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tile") });
-        self.encode_pass(&mut encoder, draw, region);
-        self.target.copy_to_readback(&mut encoder, region);
-        queue.submit([encoder.finish()]);
-        self.target.read_back(device, region)
+        Ok(())
     }
 
     /// The vehicle's and the world's transforms for this tile.
@@ -215,38 +273,49 @@ impl Renderer {
         queue.write_buffer(&self.pipeline.uniforms, UNIFORM_STRIDE, bytemuck::bytes_of(&world));
     }
 
-    /// Records the render pass: clear to the background, draw the visible
-    /// occluders in the background colour, then the vehicle, all inside
-    /// the scissor rectangle `region`.
-    fn encode_pass(&self, encoder: &mut wgpu::CommandEncoder, draw: &TileDraw, region: PixelRect) {
+    /// Begins the tile's render pass, scissored to `region`: colour and
+    /// depth cleared (to the background and to "infinitely far") or loaded
+    /// from the previous pass, with the occlusion query set when `query`.
+    fn begin_pass<'e>(
+        &'e self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        region: PixelRect,
+        load: wgpu::LoadOp<()>,
+        query: bool,
+    ) -> wgpu::RenderPass<'e> {
         let [r, g, b] = self.background.rgb().map(|c| f64::from(c) / 255.0);
+        let (color_load, depth_load) = match load {
+            wgpu::LoadOp::Clear(()) => {
+                (wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 }), wgpu::LoadOp::Clear(0.0))
+            }
+            _ => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+        };
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("tile"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
                 view: &self.target.color_view,
                 depth_slice: None,
                 resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 }),
-                    store: wgpu::StoreOp::Store,
-                },
+                ops: wgpu::Operations { load: color_load, store: wgpu::StoreOp::Store },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &self.target.depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(0.0),
-                    store: wgpu::StoreOp::Store,
-                }),
+                depth_ops: Some(wgpu::Operations { load: depth_load, store: wgpu::StoreOp::Store }),
                 stencil_ops: None,
             }),
             timestamp_writes: None,
-            occlusion_query_set: None,
+            occlusion_query_set: query.then_some(&self.occlusion.query_set),
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline.pipeline);
         pass.set_scissor_rect(region.x, region.y, region.width, region.height);
+        pass
+    }
+
+    /// The occluders visible in the tile, in the background colour.
+    fn draw_occluders(&self, pass: &mut wgpu::RenderPass, draw: &TileDraw) {
         let geometry = &self.geometry;
         if let Some(buffer) = &geometry.occluders {
+            pass.set_pipeline(&self.pipeline.pipeline);
             pass.set_bind_group(0, &self.pipeline.world_group, &[]);
             pass.set_vertex_buffer(0, buffer.slice(..));
             for &object in draw.occluders {
@@ -255,7 +324,12 @@ impl Renderer {
                 }
             }
         }
-        if let Some((buffer, count)) = &geometry.vehicle {
+    }
+
+    /// The vehicle, in its palette.
+    fn draw_vehicle(&self, pass: &mut wgpu::RenderPass) {
+        if let Some((buffer, count)) = &self.geometry.vehicle {
+            pass.set_pipeline(&self.pipeline.pipeline);
             pass.set_bind_group(0, &self.pipeline.vehicle_group, &[]);
             pass.set_vertex_buffer(0, buffer.slice(..));
             pass.draw(0..*count, 0..1);

@@ -43,13 +43,17 @@ pub(crate) struct PalettePipeline {
     pub world_group: wgpu::BindGroup,
     /// The vehicle's draw mode (`draw_mode::CANONICAL_PALETTE` or `EXTERNAL_PALETTE`).
     pub mode: u32,
+    /// The same pipeline writing neither colour nor depth: draws the
+    /// vehicle's bounding box under an occlusion query (see [`crate::render`]).
+    pub bounds_test: wgpu::RenderPipeline,
 }
 
 impl PalettePipeline {
     /// Compiles the shader, builds the pipeline and uploads the palette.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, palette: &Palette) -> Result<PalettePipeline> {
         let layout = bind_group_layout(device);
-        let pipeline = render_pipeline(device, &layout);
+        let pipeline = render_pipeline(device, &layout, true);
+        let bounds_test = render_pipeline(device, &layout, false);
         let (mode, palette_view) = palette_texture(device, queue, palette)?;
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("uniforms"),
@@ -60,7 +64,7 @@ impl PalettePipeline {
         let group = |offset: u64| bind_group(device, &layout, &uniforms, offset, &palette_view);
         let vehicle_group = group(0);
         let world_group = group(UNIFORM_STRIDE);
-        Ok(PalettePipeline { pipeline, uniforms, vehicle_group, world_group, mode })
+        Ok(PalettePipeline { pipeline, uniforms, vehicle_group, world_group, mode, bounds_test })
     }
 }
 
@@ -94,8 +98,13 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
 }
 
 /// The unlit palette pipeline: no culling, reversed-Z depth, no blending,
-/// one sample, an `Rgba8Unorm` target.
-fn render_pipeline(device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> wgpu::RenderPipeline {
+/// one sample, an `Rgba8Unorm` target; with `writes` false it only tests
+/// depth (for occlusion queries).
+fn render_pipeline(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    writes: bool,
+) -> wgpu::RenderPipeline {
     let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("palette shader"),
         source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
@@ -114,7 +123,7 @@ fn render_pipeline(device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> wgp
         ],
     };
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("palette pipeline"),
+        label: Some(if writes { "palette pipeline" } else { "bounds test pipeline" }),
         layout: Some(&pipeline_layout),
         vertex: wgpu::VertexState {
             module: &shader,
@@ -131,7 +140,7 @@ fn render_pipeline(device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> wgp
         },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: wgpu::TextureFormat::Depth32Float,
-            depth_write_enabled: Some(true),
+            depth_write_enabled: Some(writes),
             // Reversed Z: nearer is larger.
             depth_compare: Some(wgpu::CompareFunction::Greater),
             stencil: Default::default(),
@@ -145,7 +154,7 @@ fn render_pipeline(device: &wgpu::Device, layout: &wgpu::BindGroupLayout) -> wgp
             targets: &[Some(wgpu::ColorTargetState {
                 format: wgpu::TextureFormat::Rgba8Unorm,
                 blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
+                write_mask: if writes { wgpu::ColorWrites::ALL } else { wgpu::ColorWrites::empty() },
             })],
         }),
         multiview_mask: None,
