@@ -233,6 +233,7 @@ pub fn capture_frames(
         scenario,
         background: prepared.background,
         no_cull: options.no_cull,
+        no_scissor: options.no_scissor,
         keep_background_tiles: options.keep_background_tiles,
         vehicle_box: FrameCapture::vehicle_box(scene),
     };
@@ -419,6 +420,11 @@ pub fn summarize(
         resumed: tally.resumed,
         culled: tally.culled,
         background: tally.background,
+        pixels_scissored: tally.pixels_scissored,
+        hidden: tally.hidden,
+        pixels: (captured.tiles - tally.culled)
+            * u64::from(scene.rig.tile_pixels()[0])
+            * u64::from(scene.rig.tile_pixels()[1]),
         seconds: 0.0,
         setup_seconds,
         texels_per_m2: prepared.unwrapped.texels_per_m2,

@@ -20,6 +20,7 @@ use serde_json::Value;
 use ufcsr::{MANIFEST_FILE, Manifest, Shard};
 
 use crate::error::{CaptureError, Result};
+use crate::manifest_builder::CAPTURE_TALLIES;
 
 /// Folder of the shards' partial manifests, inside the archive.
 pub const SHARDS_DIR: &str = "shards";
@@ -150,7 +151,7 @@ pub fn assemble(archive: &Path) -> Result<Assembled> {
     let mut capture = first.extra.get("capture").cloned().unwrap_or(Value::Null);
     if let Value::Object(fields) = &mut capture {
         fields.remove("shard");
-        for tally in ["tiles_rendered", "tiles_culled", "tiles_background_only"] {
+        for tally in CAPTURE_TALLIES {
             let sum: u64 = parts
                 .iter()
                 .filter_map(|(_, m, _)| {
@@ -189,7 +190,8 @@ fn without_shard_fields(manifest: &Manifest) -> Value {
     manifest.tiles.clear();
     manifest.extra.remove("frames");
     if let Some(Value::Object(capture)) = manifest.extra.get_mut("capture") {
-        for field in ["shard", "tiles_rendered", "tiles_culled", "tiles_background_only"] {
+        capture.remove("shard");
+        for field in CAPTURE_TALLIES {
             capture.remove(field);
         }
     }

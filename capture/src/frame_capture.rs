@@ -1,7 +1,10 @@
 //! One frame of a capture: both eyes, every tile, into a [`TileSink`].
 //!
 //! A tile the vehicle's projected bounding box does not touch is neither
-//! rendered nor handed on, only listed as empty; a rendered tile that comes
+//! rendered nor handed on, only listed as empty; in a tile it touches, only
+//! the rectangle it covers is rendered and read back (the scissor), the rest
+//! is background by construction; where occluders hide the vehicle's box
+//! (an occlusion query after drawing them), the vehicle is not drawn at all. A rendered tile that comes
 //! out pure background (the vehicle is hidden) is listed as empty too unless
 //! background tiles are kept. Occluder objects outside a tile's frustum are
 //! not drawn. The loop knows nothing of files: the sink decides what a tile
@@ -13,10 +16,11 @@ use ufcsr::{Color, TileEntry};
 
 use crate::error::Result;
 use crate::options::TileTally;
-use crate::render::{Renderer, TileDraw};
-use crate::rig::{Eye, Rig, box_corners, box_outside, vehicle_to_world};
+use crate::render::{PixelRect, Renderer, TileDraw};
+use crate::rig::{Eye, EyeCamera, Rig, box_corners, box_outside, vehicle_to_world};
 use crate::scenario::Scenario;
 use crate::scene::Scene;
+use crate::scissor::{EyeBounds, background_tile, fill_tile};
 use crate::tile_sink::{RenderedTile, TileAddress, TileSink};
 
 /// Everything a frame needs that does not change from frame to frame.
@@ -29,6 +33,8 @@ pub struct FrameCapture<'a> {
     pub background: Color,
     /// Render every tile, even those outside the vehicle's projected bounds.
     pub no_cull: bool,
+    /// Render whole tiles (no scissor, no hidden-tile skip).
+    pub no_scissor: bool,
     /// Hand pure-background tiles to the sink too.
     pub keep_background_tiles: bool,
     /// The vehicle's bounding box corners in the vehicle frame.
@@ -82,7 +88,14 @@ impl<'a> FrameCapture<'a> {
         let mut tiles_with_vehicle = Map::new();
         for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(&pose)) {
             let touched = if self.no_cull { rig.all_tiles() } else { rig.tiles_touched(&camera, &world_box) };
+            let bounds = if self.no_scissor {
+                EyeBounds::Unbounded
+            } else {
+                EyeBounds::project(rig, &camera, &world_box)
+            };
+            let test_hidden = !self.no_scissor && wholly_in_front(rig, &camera, &world_box);
             let mut with_vehicle = 0u32;
+            let tile_pixels = PixelRect::whole(self.renderer.tile_size()).pixels();
             for tile in rig.all_tiles() {
                 on_tile();
                 let address = TileAddress { frame, eye, row: tile.row, col: tile.col };
@@ -93,10 +106,14 @@ impl<'a> FrameCapture<'a> {
                     false
                 } else if sink.is_done(&address) {
                     captured.tally.resumed += 1;
+                    // Counted as if rendered, so a resumed capture's manifest is the same.
+                    captured.tally.pixels_scissored +=
+                        scissored_pixels(tile_pixels, bounds.region(rig, tile));
                     true
                 } else {
                     let clip_from_world = rig.tile_matrix(tile) * camera.view_proj;
-                    self.render_into(sink, address, index, clip_from_world, to_world, &mut captured.tally)?
+                    let job = TileJob { address, index, region: bounds.region(rig, tile), test_hidden };
+                    self.render_into(sink, job, clip_from_world, to_world, &mut captured.tally)?
                 };
                 if shows_vehicle {
                     with_vehicle += 1;
@@ -120,40 +137,102 @@ impl<'a> FrameCapture<'a> {
         Ok(captured)
     }
 
-    /// Renders one tile and hands it to the sink unless it is pure background
-    /// (and those are not kept). Returns whether the sink took it.
+    /// Renders the `region` of one tile the vehicle may cover (see
+    /// [`crate::scissor`]) and hands the tile, the rest filled with the
+    /// background, to the sink unless it is pure background (and those are
+    /// not kept). Returns whether the sink took it.
     fn render_into(
         &self,
         sink: &mut dyn TileSink,
-        address: TileAddress,
-        index: usize,
+        TileJob { address, index, region, test_hidden }: TileJob,
         clip_from_world: DMat4,
         to_world: DMat4,
         tally: &mut TileTally,
     ) -> Result<bool> {
-        let visible: Vec<usize> = self
-            .scene
-            .occluders
-            .objects
-            .iter()
-            .enumerate()
-            .filter(|(_, object)| !box_outside(&clip_from_world, &box_corners(object.min, object.max)))
-            .map(|(i, _)| i)
-            .collect();
-        let draw =
-            TileDraw { clip_from_vehicle: clip_from_world * to_world, clip_from_world, occluders: &visible };
-        let rgba = self.renderer.render_tile(self.device, self.queue, &draw)?;
-        tally.rendered += 1;
+        let size = self.renderer.tile_size();
+        let tile_pixels = PixelRect::whole(size).pixels();
+        let pixels = match region {
+            // The bounds touch the tile only within the culling's slack.
+            None => Vec::new(),
+            Some(region) => {
+                let visible: Vec<usize> = self
+                    .scene
+                    .occluders
+                    .objects
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, object)| {
+                        !box_outside(&clip_from_world, &box_corners(object.min, object.max))
+                    })
+                    .map(|(i, _)| i)
+                    .collect();
+                let draw = TileDraw {
+                    clip_from_vehicle: clip_from_world * to_world,
+                    clip_from_world,
+                    occluders: &visible,
+                };
+                // Only a tile with occluders in it can hide the vehicle.
+                let pixels = if test_hidden && !visible.is_empty() {
+                    self.renderer.render_region_unless_hidden(self.device, self.queue, &draw, region)?
+                } else {
+                    Some(self.renderer.render_region(self.device, self.queue, &draw, region)?)
+                };
+                match pixels {
+                    Some(pixels) => {
+                        tally.rendered += 1;
+                        pixels
+                    }
+                    None => {
+                        tally.hidden += 1;
+                        Vec::new()
+                    }
+                }
+            }
+        };
+        tally.pixels_scissored += scissored_pixels(tile_pixels, region);
         let [r, g, b] = self.background.rgb();
-        let all_background = rgba.chunks_exact(4).all(|p| p[0] == r && p[1] == g && p[2] == b);
+        let all_background = pixels.chunks_exact(4).all(|p| p[0] == r && p[1] == g && p[2] == b);
         if all_background && !self.keep_background_tiles {
             tally.background += 1;
             return Ok(false);
         }
-        sink.accept(RenderedTile { address, index, size: self.renderer.tile_size(), rgba })?;
+        let rgba = match region {
+            // Not rendered (hidden): the tile is background.
+            _ if pixels.is_empty() => background_tile(size, [r, g, b, 255]),
+            Some(region) if region == PixelRect::whole(size) => pixels,
+            Some(region) => fill_tile(size, [r, g, b, 255], region, &pixels),
+            None => background_tile(size, [r, g, b, 255]),
+        };
+        sink.accept(RenderedTile { address, index, size, rgba })?;
         tally.written += 1;
         Ok(true)
     }
+}
+
+/// One tile to render: where it goes and what may be left out.
+struct TileJob {
+    address: TileAddress,
+    index: usize,
+    /// The scissor rectangle; `None` when the vehicle covers no pixel of it.
+    region: Option<PixelRect>,
+    /// Whether the hidden-tile test may run (the vehicle box is wholly in
+    /// front of the near plane, and leaving out is allowed).
+    test_hidden: bool,
+}
+
+/// Metres the vehicle box must stay beyond the near plane for the hidden-tile
+/// test: its grown box must not be clipped (it grows by centimetres).
+const HIDDEN_TEST_NEAR_MARGIN_M: f64 = 1.0;
+
+/// True when every corner of `corners` (world) is well in front of the
+/// camera's near plane, so the occlusion test's box is never clipped.
+fn wholly_in_front(rig: &Rig, camera: &EyeCamera, corners: &[DVec3; 8]) -> bool {
+    corners.iter().all(|c| (camera.view_proj * c.extend(1.0)).w > rig.near_m + HIDDEN_TEST_NEAR_MARGIN_M)
+}
+
+/// Pixels of a tile outside its scissor `region` (all of them without one).
+fn scissored_pixels(tile_pixels: u64, region: Option<PixelRect>) -> u64 {
+    tile_pixels - region.map_or(0, |r| r.pixels())
 }
 
 /// The manifest entry of a tile, empty until the sink takes it.

@@ -9,14 +9,17 @@
 //! Module map: [`track`] keyframes, [`scenario`] a timed vehicle motion,
 //! [`unity`] import of Unity scenarios, [`mesh`] geometry and loaders,
 //! [`vehicle`] and [`regions`] vehicle checks and parts by region,
-//! [`demo`] the built-in truck and intersection, [`scene`] the JSON scene
+//! [`demo`] the built-in truck and intersection, [`degenerate_mesh`] a
+//! generated vehicle of zero-area, needle and sliver triangles, [`scene`] the JSON scene
 //! file, [`unwrap`] island packing, [`palette`] external palettes, [`pidt`]
 //! label painting, [`own_pidt`] a user's own PIdT, [`rig`] cameras and tiles,
-//! [`gpu`] device creation, [`render`] the renderer; the capture job:
+//! [`gpu`] device creation, [`render`] the renderer (with its
+//! pipeline and [`render_target`] targets and readback); the capture job:
 //! [`options`] what to do, [`archive`] its stages, [`frame_capture`] one
-//! frame, [`tile_sink`] where tiles go, [`encoder_pool`] the PNG sink,
-//! [`manifest_builder`] the manifest, [`count_sink`] counting without PNGs, [`capture_shard`] one capture as
-//! several jobs;
+//! frame, [`scissor`] the part of a tile the vehicle can cover, [`tile_sink`]
+//! where tiles go, [`encoder_pool`] the PNG sink, [`manifest_builder`] the
+//! manifest, [`count_sink`] counting without PNGs, [`capture_shard`] one
+//! capture as several jobs;
 //! [`study`] and [`study_plot`] the resolution study; [`unobstructed`] and
 //! [`ray_bvh`] the exact per-point reference measure ([`unobstructed_gpu`] on the GPU); [`inspect`] and [`views`] look at a
 //! vehicle before capturing.
@@ -25,6 +28,7 @@ pub mod archive;
 pub mod batch;
 pub mod capture_shard;
 pub mod count_sink;
+pub mod degenerate_mesh;
 pub mod demo;
 pub mod encoder_pool;
 pub mod error;
@@ -40,9 +44,13 @@ pub mod pidt;
 pub mod ray_bvh;
 pub mod regions;
 pub mod render;
+mod render_occlusion;
+mod render_pipeline;
+pub mod render_target;
 pub mod rig;
 pub mod scenario;
 pub mod scene;
+pub mod scissor;
 pub mod study;
 pub mod study_plot;
 pub mod tile_sink;

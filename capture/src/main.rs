@@ -175,6 +175,10 @@ struct Common {
     /// Render every tile, even those the vehicle's projected bounds do not touch.
     #[arg(long)]
     no_cull: bool,
+    /// Render whole tiles: no scissor to the vehicle's projected bounds, no skipping of
+    /// tiles occluders hide (same tiles either way; for benchmarks and checks).
+    #[arg(long)]
+    no_scissor: bool,
     /// GPU backend: auto (Vulkan, then GL; UFCSR_BACKEND overrides auto), vulkan or gl.
     #[arg(long, value_enum, default_value_t = Backend::Auto)]
     backend: Backend,
@@ -307,6 +311,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         resume: common.resume,
         keep_background_tiles: common.keep_background_tiles,
         no_cull: common.no_cull,
+        no_scissor: common.no_scissor,
         progress: !common.quiet,
         encoder_threads: common.threads,
         shard: common.shard.as_deref().map(parse_shard).transpose()?,
@@ -412,6 +417,14 @@ fn report(s: &Summary) {
     println!(
         "  tiles: {} total, {} rendered, {} written, {} culled (outside the vehicle's bounds), {} background only, {} resumed",
         s.tiles, s.rendered, s.written, s.culled, s.background, s.resumed
+    );
+    // On stderr: how the run was done, not what it found.
+    eprintln!(
+        "  left out: {} of the {} pixels of tiles the vehicle's bounds touch ({:.1}%, scissor), {} tiles hidden by occluders (not rendered)",
+        s.pixels_scissored,
+        s.pixels,
+        if s.pixels > 0 { s.pixels_scissored as f64 * 100.0 / s.pixels as f64 } else { 0.0 },
+        s.hidden
     );
     println!(
         "  unwrap: {} triangles, {} parts, {:.1} texels/m² ({:.1} mm texels), {:.1}% of the palette used",

@@ -16,6 +16,12 @@ use crate::scenario::Scenario;
 use crate::scene::Scene;
 use crate::unwrap::{self, Unwrapped};
 
+/// The counters in the manifest's `capture` object that add up over the
+/// shards of one capture (see [`crate::capture_shard`]); everything else in
+/// it must agree between them.
+pub const CAPTURE_TALLIES: [&str; 5] =
+    ["tiles_rendered", "tiles_culled", "tiles_background_only", "pixels_scissored", "tiles_hidden"];
+
 /// Everything the manifest describes.
 pub struct ManifestParts<'a> {
     pub scene: &'a Scene,
@@ -88,6 +94,10 @@ pub fn build_manifest(parts: ManifestParts) -> Manifest {
         "tiles_rendered": tally.rendered + tally.resumed,
         "tiles_culled": tally.culled,
         "tiles_background_only": tally.background,
+        // Left out without changing a tile: pixels outside the vehicle's
+        // projected bounds (scissor) and tiles occluders hide.
+        "pixels_scissored": tally.pixels_scissored,
+        "tiles_hidden": tally.hidden,
     });
     if !parts.tiles_written {
         // The analyzer refuses to read tiles of such an archive (they do not

@@ -115,6 +115,10 @@ pub struct CaptureOptions {
     /// Render every tile, even those the vehicle's bounds do not touch
     /// (for benchmarks and checks of the culling).
     pub no_cull: bool,
+    /// Render whole tiles: no scissor to the vehicle's projected bounds and
+    /// no skipping of tiles where occluders hide the vehicle (for benchmarks
+    /// and checks that both give the same tiles).
+    pub no_scissor: bool,
     pub progress: bool,
     /// PNG encoder threads (0: as many as cores).
     pub encoder_threads: usize,
@@ -135,6 +139,7 @@ impl Default for CaptureOptions {
             resume: false,
             keep_background_tiles: false,
             no_cull: false,
+            no_scissor: false,
             progress: false,
             encoder_threads: 0,
             shard: None,
@@ -155,6 +160,11 @@ pub struct TileTally {
     pub culled: u64,
     /// Rendered but pure background.
     pub background: u64,
+    /// Pixels of rendered tiles outside the scissor rectangle: neither
+    /// rendered nor read back, filled with the background.
+    pub pixels_scissored: u64,
+    /// Tiles the vehicle's bounds touch but occluders hide: not rendered.
+    pub hidden: u64,
 }
 
 impl TileTally {
@@ -164,6 +174,8 @@ impl TileTally {
         self.resumed += other.resumed;
         self.culled += other.culled;
         self.background += other.background;
+        self.pixels_scissored += other.pixels_scissored;
+        self.hidden += other.hidden;
     }
 }
 
@@ -184,6 +196,13 @@ pub struct Summary {
     pub culled: u64,
     /// Rendered but pure background.
     pub background: u64,
+    /// Pixels of rendered tiles left out by the scissor.
+    pub pixels_scissored: u64,
+    /// Tiles hidden by occluders, not rendered.
+    pub hidden: u64,
+    /// Pixels of the tiles the vehicle's bounds touch (not culled): the
+    /// share the scissor left out is against this.
+    pub pixels: u64,
     pub seconds: f64,
     /// Of which unwrap, PIdT and pipeline setup.
     pub setup_seconds: f64,

@@ -6,46 +6,32 @@
 //! cleared to the background colour. Depth is `Depth32Float` with reversed Z
 //! (cleared to 0, `Greater` wins), so a 0.3 m near plane and a 1000 m far
 //! plane keep sub-millimetre depth resolution at street distances.
-//! Readback rows are padded to 256 bytes as wgpu requires and unpadded here.
+//! Readback rows are padded to 256 bytes as wgpu requires and unpadded
+//! ([`crate::render_target`]); the pipeline and palette are built once
+//! ([`crate::render_pipeline`]). Getting a device is [`crate::gpu`]'s job:
+//! the renderer only ever takes a device and queue it is given.
 
 use glam::{DMat4, Vec3};
 use ufcsr::Color;
 
 use crate::error::{CaptureError, Result};
 use crate::mesh::Occluders;
+use crate::render_occlusion::OcclusionTest;
+use crate::render_pipeline::{PalettePipeline, UNIFORM_STRIDE, Uniforms, draw_mode};
+pub use crate::render_target::PixelRect;
+use crate::render_target::TileTarget;
 
-/// A vertex: position (model frame) and UV (0..1, v = 0 at the top row).
+/// A vertex: position (model frame), UV (0..1, v = 0 at the top row) and
+/// its triangle's chart: the three corners in texel coordinates, the same on
+/// all three vertices, which the fragment shader clamps the UV into (so a
+/// degenerate triangle's wild barycentrics still name one of its own texels).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Vertex {
     pub position: [f32; 3],
     pub uv: [f32; 2],
+    pub chart: [[f32; 2]; 3],
 }
-
-/// What the fragment shader draws (`Uniforms::mode`); the same numbers are
-/// spelled `MODE_*` in `shader.wgsl` — change both together.
-mod draw_mode {
-    /// The canonical palette colour of the texel, computed.
-    pub const CANONICAL_PALETTE: u32 = 0;
-    /// The texel of the external palette texture.
-    pub const EXTERNAL_PALETTE: u32 = 1;
-    /// The background colour (occluders).
-    pub const BACKGROUND: u32 = 2;
-}
-
-/// Uniforms as laid out in the shader (80 bytes).
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Uniforms {
-    clip_from_model: [[f32; 4]; 4],
-    palette: [u32; 2],
-    mode: u32,
-    background: u32,
-}
-
-/// Where the two uniform blocks of a tile live in the uniform buffer
-/// (256 = the largest minimum uniform offset alignment).
-const UNIFORM_STRIDE: u64 = 256;
 
 /// The palette the vehicle is drawn with.
 #[derive(Debug, Clone)]
@@ -85,24 +71,41 @@ pub struct TileDraw<'a> {
     pub occluders: &'a [usize],
 }
 
-/// A GPU renderer of tiles.
+/// A GPU renderer of tiles: built once for a device and a setup, then
+/// [`Renderer::render_tile`] per tile with the same device and queue.
 pub struct Renderer {
-    pipeline: wgpu::RenderPipeline,
-    uniforms: wgpu::Buffer,
-    vehicle_group: wgpu::BindGroup,
-    world_group: wgpu::BindGroup,
+    pipeline: PalettePipeline,
+    geometry: Geometry,
+    occlusion: OcclusionTest,
+    target: TileTarget,
+    palette: [u32; 2],
+    background: Color,
+}
+
+/// The uploaded vertices: the vehicle's, and the occluders' with each
+/// object's vertex range.
+struct Geometry {
     vehicle: Option<(wgpu::Buffer, u32)>,
     occluders: Option<wgpu::Buffer>,
+    /// `(first vertex, vertex count)` per occluder object.
     objects: Vec<(u32, u32)>,
-    color: wgpu::Texture,
-    depth_view: wgpu::TextureView,
-    color_view: wgpu::TextureView,
-    readback: wgpu::Buffer,
-    tile_size: [u32; 2],
-    padded_row: u32,
-    palette: [u32; 2],
-    mode: u32,
-    background: Color,
+}
+
+impl Geometry {
+    fn upload(device: &wgpu::Device, queue: &wgpu::Queue, setup: &RenderSetup) -> Geometry {
+        let vehicle = vertex_buffer(device, queue, "vehicle", bytemuck::cast_slice(setup.vehicle))
+            .map(|b| (b, setup.vehicle.len() as u32));
+        // Occluders carry a UV and chart but the background mode never reads them.
+        let occluder_vertices: Vec<Vertex> = setup
+            .occluders
+            .positions
+            .iter()
+            .map(|p: &Vec3| Vertex { position: p.to_array(), uv: [0.0, 0.0], chart: [[0.0; 2]; 3] })
+            .collect();
+        let occluders = vertex_buffer(device, queue, "occluders", bytemuck::cast_slice(&occluder_vertices));
+        let objects = setup.occluders.objects.iter().map(|o| (o.first_vertex, o.vertex_count)).collect();
+        Geometry { vehicle, occluders, objects }
+    }
 }
 
 fn to_f32(m: &DMat4) -> [[f32; 4]; 4] {
@@ -128,230 +131,37 @@ fn vertex_buffer(
     Some(buffer)
 }
 
+/// The tile and palette must fit the device's textures.
+fn check_sizes(device: &wgpu::Device, setup: &RenderSetup) -> Result<()> {
+    let [tw, th] = setup.tile_size;
+    let limit = device.limits().max_texture_dimension_2d;
+    let [pw, ph] = setup.palette.size();
+    if tw == 0 || th == 0 || tw > limit || th > limit || pw > limit || ph > limit {
+        return Err(CaptureError::Gpu(format!(
+            "tile {tw}×{th} or palette {pw}×{ph} exceeds the device's texture limit {limit}"
+        )));
+    }
+    Ok(())
+}
+
 impl Renderer {
-    /// Builds the pipeline and uploads the geometry.
+    /// Builds the pipeline, uploads the palette and the geometry, and
+    /// creates the tile's targets.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, setup: &RenderSetup) -> Result<Renderer> {
-        let [tw, th] = setup.tile_size;
-        let limit = device.limits().max_texture_dimension_2d;
-        let [pw, ph] = setup.palette.size();
-        if tw == 0 || th == 0 || tw > limit || th > limit || pw > limit || ph > limit {
-            return Err(CaptureError::Gpu(format!(
-                "tile {tw}×{th} or palette {pw}×{ph} exceeds the device's texture limit {limit}"
-            )));
-        }
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("palette shader"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
-        });
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("uniforms + palette"),
-            entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                    count: None,
-                },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: wgpu::ShaderStages::FRAGMENT,
-                    ty: wgpu::BindingType::Texture {
-                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                        multisampled: false,
-                    },
-                    count: None,
-                },
-            ],
-        });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("palette pipeline"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let vertex_layout = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<Vertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x2],
-        };
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("palette pipeline"),
-            layout: Some(&pipeline_layout),
-            vertex: wgpu::VertexState {
-                module: &shader,
-                entry_point: Some("vs_main"),
-                compilation_options: Default::default(),
-                buffers: &[Some(vertex_layout)],
-            },
-            primitive: wgpu::PrimitiveState {
-                topology: wgpu::PrimitiveTopology::TriangleList,
-                // Both sides: imported meshes do not agree on winding, and an
-                // unlit surface looks the same from behind.
-                cull_mode: None,
-                ..Default::default()
-            },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: wgpu::TextureFormat::Depth32Float,
-                depth_write_enabled: Some(true),
-                // Reversed Z: nearer is larger.
-                depth_compare: Some(wgpu::CompareFunction::Greater),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: wgpu::MultisampleState { count: 1, mask: !0, alpha_to_coverage_enabled: false },
-            fragment: Some(wgpu::FragmentState {
-                module: &shader,
-                entry_point: Some("fs_main"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: wgpu::TextureFormat::Rgba8Unorm,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            multiview_mask: None,
-            cache: None,
-        });
-
-        // The palette texture: the external palette, or a 1×1 stand-in that the
-        // canonical mode never reads.
-        let (mode, texture_size, texels): (u32, [u32; 2], Vec<u8>) = match setup.palette {
-            Palette::Canonical(_) => (draw_mode::CANONICAL_PALETTE, [1, 1], vec![0; 4]),
-            Palette::External { size, rgba } => {
-                if rgba.len() != (size[0] as usize) * (size[1] as usize) * 4 {
-                    return Err(CaptureError::BadOptions(
-                        "external palette data does not match its size".into(),
-                    ));
-                }
-                (draw_mode::EXTERNAL_PALETTE, *size, rgba.clone())
-            }
-        };
-        let palette_texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("palette"),
-            size: wgpu::Extent3d {
-                width: texture_size[0],
-                height: texture_size[1],
-                depth_or_array_layers: 1,
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8Unorm,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        queue.write_texture(
-            wgpu::TexelCopyTextureInfo {
-                texture: &palette_texture,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            &texels,
-            wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(texture_size[0] * 4),
-                rows_per_image: None,
-            },
-            wgpu::Extent3d { width: texture_size[0], height: texture_size[1], depth_or_array_layers: 1 },
-        );
-        let palette_view = palette_texture.create_view(&Default::default());
-
-        let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("uniforms"),
-            size: UNIFORM_STRIDE * 2,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let group = |offset: u64| {
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("uniforms + palette"),
-                layout: &layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                            buffer: &uniforms,
-                            offset,
-                            size: wgpu::BufferSize::new(std::mem::size_of::<Uniforms>() as u64),
-                        }),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: wgpu::BindingResource::TextureView(&palette_view),
-                    },
-                ],
-            })
-        };
-        let vehicle_group = group(0);
-        let world_group = group(UNIFORM_STRIDE);
-
-        let vehicle = vertex_buffer(device, queue, "vehicle", bytemuck::cast_slice(setup.vehicle))
-            .map(|b| (b, setup.vehicle.len() as u32));
-        // Occluders carry a UV but the background mode never reads it.
-        let occluder_vertices: Vec<Vertex> = setup
-            .occluders
-            .positions
-            .iter()
-            .map(|p: &Vec3| Vertex { position: p.to_array(), uv: [0.0, 0.0] })
-            .collect();
-        let occluders = vertex_buffer(device, queue, "occluders", bytemuck::cast_slice(&occluder_vertices));
-        let objects = setup.occluders.objects.iter().map(|o| (o.first_vertex, o.vertex_count)).collect();
-
-        let target = |label: &str, format: wgpu::TextureFormat, usage: wgpu::TextureUsages| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some(label),
-                size: wgpu::Extent3d { width: tw, height: th, depth_or_array_layers: 1 },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: &[],
-            })
-        };
-        let color = target(
-            "tile colour",
-            wgpu::TextureFormat::Rgba8Unorm,
-            wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
-        );
-        let depth =
-            target("tile depth", wgpu::TextureFormat::Depth32Float, wgpu::TextureUsages::RENDER_ATTACHMENT);
-        let padded_row =
-            (tw * 4).div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
-        let readback = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("readback"),
-            size: u64::from(padded_row) * u64::from(th),
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        check_sizes(device, setup)?;
         Ok(Renderer {
-            pipeline,
-            uniforms,
-            vehicle_group,
-            world_group,
-            vehicle,
-            occluders,
-            objects,
-            color_view: color.create_view(&Default::default()),
-            color,
-            depth_view: depth.create_view(&Default::default()),
-            readback,
-            tile_size: setup.tile_size,
-            padded_row,
+            pipeline: PalettePipeline::new(device, queue, setup.palette)?,
+            geometry: Geometry::upload(device, queue, setup),
+            occlusion: OcclusionTest::new(device, queue, setup.vehicle),
+            target: TileTarget::new(device, setup.tile_size),
             palette: setup.palette.size(),
-            mode,
             background: setup.background,
         })
     }
 
     /// Tile size in pixels.
     pub fn tile_size(&self) -> [u32; 2] {
-        self.tile_size
+        self.target.size()
     }
 
     /// Renders one tile and returns its pixels, RGBA8, rows top to bottom.
@@ -361,116 +171,184 @@ impl Renderer {
         queue: &wgpu::Queue,
         draw: &TileDraw,
     ) -> Result<Vec<u8>> {
-        let vehicle_uniforms = Uniforms {
-            clip_from_model: to_f32(&draw.clip_from_vehicle),
-            palette: self.palette,
-            mode: self.mode,
-            background: self.background.packed(),
-        };
-        let world_uniforms = Uniforms {
-            clip_from_model: to_f32(&draw.clip_from_world),
-            mode: draw_mode::BACKGROUND,
-            ..vehicle_uniforms
-        };
-        queue.write_buffer(&self.uniforms, 0, bytemuck::bytes_of(&vehicle_uniforms));
-        queue.write_buffer(&self.uniforms, UNIFORM_STRIDE, bytemuck::bytes_of(&world_uniforms));
+        self.render_region(device, queue, draw, PixelRect::whole(self.tile_size()))
+    }
 
+    /// Renders only `region` of a tile (a scissor rectangle; see
+    /// [`crate::scissor`]) and returns that region's pixels, RGBA8, tightly
+    /// packed rows top to bottom.
+    pub fn render_region(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        draw: &TileDraw,
+        region: PixelRect,
+    ) -> Result<Vec<u8>> {
+        self.check_region(region)?;
+        self.write_uniforms(queue, draw);
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tile") });
         {
-            let [r, g, b] = self.background.rgb().map(|c| f64::from(c) / 255.0);
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("tile"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &self.color_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 }),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &self.depth_view,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(0.0),
-                        store: wgpu::StoreOp::Store,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_pipeline(&self.pipeline);
-            if let Some(buffer) = &self.occluders {
-                pass.set_bind_group(0, &self.world_group, &[]);
-                pass.set_vertex_buffer(0, buffer.slice(..));
-                for &object in draw.occluders {
-                    if let Some(&(first, count)) = self.objects.get(object) {
-                        pass.draw(first..first + count, 0..1);
-                    }
+            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Clear(()), false);
+            self.draw_occluders(&mut pass, draw);
+            self.draw_vehicle(&mut pass);
+        }
+        self.target.copy_to_readback(&mut encoder, region);
+        queue.submit([encoder.finish()]);
+        self.target.read_back(device, region)
+    }
+
+    /// [`Renderer::render_region`], unless the occluders hide the vehicle's
+    /// bounding box in `region`: then `None`, and the vehicle is neither drawn
+    /// nor read back (see `render_occlusion.rs`). The caller must know
+    /// the box to be wholly in front of the near plane. The pixels are the
+    /// same as `render_region`'s: the occluders are drawn first either way.
+    pub fn render_region_unless_hidden(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        draw: &TileDraw,
+        region: PixelRect,
+    ) -> Result<Option<Vec<u8>>> {
+        let Some(box_vertices) = &self.occlusion.box_vertices else {
+            return self.render_region(device, queue, draw, region).map(Some);
+        };
+        self.check_region(region)?;
+        self.write_uniforms(queue, draw);
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("occluders") });
+        {
+            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Clear(()), true);
+            self.draw_occluders(&mut pass, draw);
+            pass.set_pipeline(&self.pipeline.bounds_test);
+            pass.set_bind_group(0, &self.pipeline.vehicle_group, &[]);
+            pass.set_vertex_buffer(0, box_vertices.slice(..));
+            pass.begin_occlusion_query(0);
+            pass.draw(0..36, 0..1);
+            pass.end_occlusion_query();
+        }
+        self.occlusion.resolve(&mut encoder);
+        queue.submit([encoder.finish()]);
+        if self.occlusion.samples(device)? == 0 {
+            return Ok(None);
+        }
+        // Visible: draw the vehicle over the occluders already there.
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("vehicle") });
+        {
+            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Load, false);
+            self.draw_vehicle(&mut pass);
+        }
+        self.target.copy_to_readback(&mut encoder, region);
+        queue.submit([encoder.finish()]);
+        self.target.read_back(device, region).map(Some)
+    }
+
+    fn check_region(&self, region: PixelRect) -> Result<()> {
+        let [tw, th] = self.tile_size();
+        if region.width == 0
+            || region.height == 0
+            || region.x + region.width > tw
+            || region.y + region.height > th
+        {
+            return Err(CaptureError::Gpu(format!("region {region:?} is not inside the {tw}×{th} tile")));
+        }
+        Ok(())
+    }
+
+    /// The vehicle's and the world's transforms for this tile.
+    fn write_uniforms(&self, queue: &wgpu::Queue, draw: &TileDraw) {
+        let vehicle = Uniforms {
+            clip_from_model: to_f32(&draw.clip_from_vehicle),
+            palette: self.palette,
+            mode: self.pipeline.mode,
+            background: self.background.packed(),
+        };
+        let world = Uniforms {
+            clip_from_model: to_f32(&draw.clip_from_world),
+            mode: draw_mode::BACKGROUND,
+            ..vehicle
+        };
+        queue.write_buffer(&self.pipeline.uniforms, 0, bytemuck::bytes_of(&vehicle));
+        queue.write_buffer(&self.pipeline.uniforms, UNIFORM_STRIDE, bytemuck::bytes_of(&world));
+    }
+
+    /// Begins the tile's render pass, scissored to `region`: colour and
+    /// depth cleared (to the background and to "infinitely far") or loaded
+    /// from the previous pass, with the occlusion query set when `query`.
+    fn begin_pass<'e>(
+        &'e self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        region: PixelRect,
+        load: wgpu::LoadOp<()>,
+        query: bool,
+    ) -> wgpu::RenderPass<'e> {
+        let [r, g, b] = self.background.rgb().map(|c| f64::from(c) / 255.0);
+        let (color_load, depth_load) = match load {
+            wgpu::LoadOp::Clear(()) => {
+                (wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 }), wgpu::LoadOp::Clear(0.0))
+            }
+            _ => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("tile"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.target.color_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: color_load, store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.target.depth_view,
+                depth_ops: Some(wgpu::Operations { load: depth_load, store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: query.then_some(&self.occlusion.query_set),
+            multiview_mask: None,
+        });
+        pass.set_scissor_rect(region.x, region.y, region.width, region.height);
+        pass
+    }
+
+    /// The occluders visible in the tile, in the background colour.
+    fn draw_occluders(&self, pass: &mut wgpu::RenderPass, draw: &TileDraw) {
+        let geometry = &self.geometry;
+        if let Some(buffer) = &geometry.occluders {
+            pass.set_pipeline(&self.pipeline.pipeline);
+            pass.set_bind_group(0, &self.pipeline.world_group, &[]);
+            pass.set_vertex_buffer(0, buffer.slice(..));
+            for &object in draw.occluders {
+                if let Some(&(first, count)) = geometry.objects.get(object) {
+                    pass.draw(first..first + count, 0..1);
                 }
             }
-            if let Some((buffer, count)) = &self.vehicle {
-                pass.set_bind_group(0, &self.vehicle_group, &[]);
-                pass.set_vertex_buffer(0, buffer.slice(..));
-                pass.draw(0..*count, 0..1);
-            }
         }
-        let [tw, th] = self.tile_size;
-        encoder.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo {
-                texture: &self.color,
-                mip_level: 0,
-                origin: wgpu::Origin3d::ZERO,
-                aspect: wgpu::TextureAspect::All,
-            },
-            wgpu::TexelCopyBufferInfo {
-                buffer: &self.readback,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(self.padded_row),
-                    rows_per_image: Some(th),
-                },
-            },
-            wgpu::Extent3d { width: tw, height: th, depth_or_array_layers: 1 },
-        );
-        queue.submit([encoder.finish()]);
+    }
 
-        let (sender, receiver) = std::sync::mpsc::channel();
-        self.readback.slice(..).map_async(wgpu::MapMode::Read, move |result| {
-            let _ = sender.send(result);
-        });
-        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| CaptureError::Gpu(e.to_string()))?;
-        receiver
-            .recv()
-            .map_err(|_| CaptureError::Gpu("readback was never mapped".into()))?
-            .map_err(|e| CaptureError::Gpu(format!("readback failed: {e}")))?;
-        let row = (tw * 4) as usize;
-        let mut pixels = Vec::with_capacity(row * th as usize);
-        {
-            let mapped = self
-                .readback
-                .slice(..)
-                .get_mapped_range()
-                .map_err(|e| CaptureError::Gpu(format!("readback mapping: {e}")))?;
-            for y in 0..th as usize {
-                let start = y * self.padded_row as usize;
-                pixels.extend_from_slice(&mapped[start..start + row]);
-            }
+    /// The vehicle, in its palette.
+    fn draw_vehicle(&self, pass: &mut wgpu::RenderPass) {
+        if let Some((buffer, count)) = &self.geometry.vehicle {
+            pass.set_pipeline(&self.pipeline.pipeline);
+            pass.set_bind_group(0, &self.pipeline.vehicle_group, &[]);
+            pass.set_vertex_buffer(0, buffer.slice(..));
+            pass.draw(0..*count, 0..1);
         }
-        self.readback.unmap();
-        Ok(pixels)
     }
 }
 
-/// Vehicle vertices for the renderer: three per triangle with their UVs.
+/// Vehicle vertices for the renderer: three per triangle with their UVs and
+/// their triangle's chart.
 pub fn vehicle_vertices(mesh: &crate::mesh::Mesh, unwrapped: &crate::unwrap::Unwrapped) -> Vec<Vertex> {
     let mut vertices = Vec::with_capacity(mesh.triangles.len() * 3);
     for (t, tri) in mesh.triangles.iter().enumerate() {
+        let chart = unwrapped.texel_uvs[t].map(|c| [c.x as f32, c.y as f32]);
         for (k, &i) in tri.iter().enumerate() {
-            vertices.push(Vertex { position: mesh.positions[i as usize].to_array(), uv: unwrapped.uv(t, k) });
+            vertices.push(Vertex {
+                position: mesh.positions[i as usize].to_array(),
+                uv: unwrapped.uv(t, k),
+                chart,
+            });
         }
     }
     vertices

@@ -3,6 +3,14 @@
 // computed (index = y * W + x, r = index >> 16, g = (index >> 8) & 255,
 // b = index & 255); an external palette is read with textureLoad (no
 // filtering, no mipmaps). Occluders are drawn in the background colour.
+//
+// Exact for any mesh by construction: every vertex also carries its
+// triangle's three corners in texel coordinates (the triangle's chart), passed
+// flat, and the fragment moves its UV onto the closed chart triangle before
+// taking the texel. The rasteriser's barycentrics of a sliver or a zero-area
+// triangle that f32 snapping turned into a sliver can be far outside [0, 1];
+// after the clamp, the texel touches the chart (up to f32 rounding, far below
+// a texel), and the PIdT labels every texel within one texel of the chart.
 
 struct Uniforms {
     clip_from_model: mat4x4<f32>,
@@ -18,19 +26,77 @@ struct Uniforms {
 struct VertexOut {
     @builtin(position) position: vec4<f32>,
     @location(0) uv: vec2<f32>,
+    @location(1) @interpolate(flat) chart0: vec2<f32>,
+    @location(2) @interpolate(flat) chart1: vec2<f32>,
+    @location(3) @interpolate(flat) chart2: vec2<f32>,
 };
 
 @vertex
-fn vs_main(@location(0) position: vec3<f32>, @location(1) uv: vec2<f32>) -> VertexOut {
+fn vs_main(
+    @location(0) position: vec3<f32>,
+    @location(1) uv: vec2<f32>,
+    @location(2) chart0: vec2<f32>,
+    @location(3) chart1: vec2<f32>,
+    @location(4) chart2: vec2<f32>,
+) -> VertexOut {
     var out: VertexOut;
     out.position = u.clip_from_model * vec4<f32>(position, 1.0);
     out.uv = uv;
+    out.chart0 = chart0;
+    out.chart1 = chart1;
+    out.chart2 = chart2;
     return out;
 }
 
 fn unpack(packed: u32) -> vec4<f32> {
     // k / 255 converts back to exactly k in an Rgba8Unorm target.
     return vec4<f32>(f32((packed >> 16u) & 255u), f32((packed >> 8u) & 255u), f32(packed & 255u), 255.0) / 255.0;
+}
+
+fn cross2(a: vec2<f32>, b: vec2<f32>) -> f32 {
+    return a.x * b.y - a.y * b.x;
+}
+
+// The point of segment a-b nearest to p (a itself when the segment is a point).
+fn nearest_on_segment(p: vec2<f32>, a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
+    let ab = b - a;
+    let length2 = dot(ab, ab);
+    var s = 0.0;
+    if (length2 > 0.0) {
+        s = clamp(dot(p - a, ab) / length2, 0.0, 1.0);
+    }
+    return a + ab * s;
+}
+
+// p if it lies in the closed triangle c0-c1-c2, else the nearest point of its
+// edges; a zero-area triangle is its edges. A non-finite p becomes c0.
+fn into_chart(p: vec2<f32>, c0: vec2<f32>, c1: vec2<f32>, c2: vec2<f32>) -> vec2<f32> {
+    if (!(all(abs(p) < vec2<f32>(1e30)))) {
+        return c0;
+    }
+    let area = cross2(c1 - c0, c2 - c0);
+    let side = sign(area);
+    let inside = area != 0.0
+        && cross2(c1 - c0, p - c0) * side >= 0.0
+        && cross2(c2 - c1, p - c1) * side >= 0.0
+        && cross2(c0 - c2, p - c2) * side >= 0.0;
+    if (inside) {
+        return p;
+    }
+    let q0 = nearest_on_segment(p, c0, c1);
+    let q1 = nearest_on_segment(p, c1, c2);
+    let q2 = nearest_on_segment(p, c2, c0);
+    let d0 = dot(p - q0, p - q0);
+    let d1 = dot(p - q1, p - q1);
+    let d2 = dot(p - q2, p - q2);
+    var q = q0;
+    if (d1 < d0) {
+        q = q1;
+    }
+    if (d2 < min(d0, d1)) {
+        q = q2;
+    }
+    return q;
 }
 
 // Draw modes, the same numbers as `draw_mode` in render.rs (change both together).
@@ -43,7 +109,12 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         return unpack(u.background);
     }
     let size = vec2<f32>(u.palette);
-    let texel = vec2<u32>(clamp(floor(in.uv * size), vec2<f32>(0.0), size - vec2<f32>(1.0)));
+    let p = into_chart(in.uv * size, in.chart0, in.chart1, in.chart2);
+    // The chart's texel rectangle bounds the result whatever the rounding.
+    let low = floor(min(in.chart0, min(in.chart1, in.chart2)));
+    let high = floor(max(in.chart0, max(in.chart1, in.chart2)));
+    let in_chart = clamp(floor(p), low, high);
+    let texel = vec2<u32>(clamp(in_chart, vec2<f32>(0.0), size - vec2<f32>(1.0)));
     if (u.mode == MODE_EXTERNAL_PALETTE) {
         return textureLoad(palette_texture, vec2<i32>(texel), 0);
     }
