@@ -141,6 +141,7 @@ pub fn prepare_archive(
         background,
         vehicle: &vertices,
         occluders: &scene.occluders,
+        origin: scene.rig.head(),
     };
     let renderer = Renderer::new(device, queue, &setup)?;
     Ok(PreparedCapture {

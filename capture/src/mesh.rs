@@ -383,9 +383,11 @@ fn load_obj(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
 
 /// Occluders: world-space geometry drawn in the background colour, kept as
 /// objects with bounds so that objects outside a tile's view are skipped.
+/// Positions are f64: a scene 10 km from the origin would lose a millimetre
+/// in f32 (the renderer converts them relative to the pedestrian instead).
 #[derive(Debug, Clone, Default)]
 pub struct Occluders {
-    pub positions: Vec<Vec3>,
+    pub positions: Vec<DVec3>,
     pub objects: Vec<OccluderObject>,
 }
 
@@ -413,7 +415,7 @@ impl Occluders {
                 let p = to_world.transform_point3(mesh.positions[i as usize].as_dvec3());
                 min = min.min(p);
                 max = max.max(p);
-                self.positions.push(p.as_vec3());
+                self.positions.push(p);
             }
         }
         self.objects.push(OccluderObject {
@@ -442,7 +444,7 @@ impl Occluders {
             for p in triangles.iter().flatten() {
                 min = min.min(*p);
                 max = max.max(*p);
-                self.positions.push(p.as_vec3());
+                self.positions.push(*p);
             }
             self.objects.push(OccluderObject {
                 first_vertex: first,

@@ -11,7 +11,7 @@
 //! ([`crate::render_pipeline`]). Getting a device is [`crate::gpu`]'s job:
 //! the renderer only ever takes a device and queue it is given.
 
-use glam::{DMat4, Vec3};
+use glam::{DMat4, DVec3};
 use ufcsr::Color;
 
 use crate::error::{CaptureError, Result};
@@ -59,13 +59,17 @@ pub struct RenderSetup<'a> {
     pub vehicle: &'a [Vertex],
     /// Occluders in world coordinates.
     pub occluders: &'a Occluders,
+    /// Where the occluders are uploaded relative to (in f32): the
+    /// pedestrian's head, so that precision is kept where the eyes are,
+    /// however far the scene is from the world's origin.
+    pub origin: DVec3,
 }
 
 /// What to draw in one tile.
 pub struct TileDraw<'a> {
     /// Vehicle frame → tile clip space.
     pub clip_from_vehicle: DMat4,
-    /// World → tile clip space.
+    /// World → tile clip space (the renderer moves it to its origin).
     pub clip_from_world: DMat4,
     /// Indices into `Occluders::objects` that may be visible in the tile.
     pub occluders: &'a [usize],
@@ -80,6 +84,8 @@ pub struct Renderer {
     target: TileTarget,
     palette: [u32; 2],
     background: Color,
+    /// The occluders' origin (see [`RenderSetup::origin`]).
+    origin: DVec3,
 }
 
 /// The uploaded vertices: the vehicle's, and the occluders' with each
@@ -100,7 +106,11 @@ impl Geometry {
             .occluders
             .positions
             .iter()
-            .map(|p: &Vec3| Vertex { position: p.to_array(), uv: [0.0, 0.0], chart: [[0.0; 2]; 3] })
+            .map(|p| Vertex {
+                position: (*p - setup.origin).as_vec3().to_array(),
+                uv: [0.0, 0.0],
+                chart: [[0.0; 2]; 3],
+            })
             .collect();
         let occluders = vertex_buffer(device, queue, "occluders", bytemuck::cast_slice(&occluder_vertices));
         let objects = setup.occluders.objects.iter().map(|o| (o.first_vertex, o.vertex_count)).collect();
@@ -156,6 +166,7 @@ impl Renderer {
             target: TileTarget::new(device, setup.tile_size),
             palette: setup.palette.size(),
             background: setup.background,
+            origin: setup.origin,
         })
     }
 
@@ -264,8 +275,9 @@ impl Renderer {
             mode: self.pipeline.mode,
             background: self.background.packed(),
         };
+        // The occluders were uploaded relative to the origin: move it back in f64.
         let world = Uniforms {
-            clip_from_model: to_f32(&draw.clip_from_world),
+            clip_from_model: to_f32(&(draw.clip_from_world * DMat4::from_translation(self.origin))),
             mode: draw_mode::BACKGROUND,
             ..vehicle
         };

@@ -119,12 +119,7 @@ impl Obstacles {
     pub fn new(scene: &Scene) -> Obstacles {
         let mesh = &scene.vehicle;
         let vehicle = (0..mesh.triangles.len()).map(|t| mesh.corners(t).map(|c| c.as_dvec3())).collect();
-        let world = scene
-            .occluders
-            .positions
-            .chunks_exact(3)
-            .map(|t| [t[0].as_dvec3(), t[1].as_dvec3(), t[2].as_dvec3()])
-            .collect();
+        let world = scene.occluders.positions.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
         Obstacles { vehicle: TriangleBvh::new(vehicle), world: TriangleBvh::new(world) }
     }
 }

@@ -49,6 +49,7 @@ fn render_and_check(gpu: &Gpu, mesh: &Mesh) -> (u64, u64) {
         background: Color::DEFAULT_BACKGROUND,
         vehicle: &vertices,
         occluders: &occluders,
+        origin: rig.head(),
     };
     let renderer = Renderer::new(&gpu.device, &gpu.queue, &setup).unwrap();
     let poses = [

@@ -3,7 +3,7 @@
 //! boundaries, any adjacent triangle within a pixel of an edge), and the
 //! output is the same on every run.
 
-use glam::{DVec2, DVec3, Vec3, dvec2, dvec3, dvec4, vec3};
+use glam::{DVec2, DVec3, dvec2, dvec3, dvec4, vec3};
 use ufcsr::Color;
 use ufcsr_capture::gpu::{Backend, Gpu};
 use ufcsr_capture::mesh::{Mesh, Occluders};
@@ -54,6 +54,7 @@ fn render_eye(gpu: &Gpu, mesh: &Mesh, occluders: &Occluders, rig: &Rig, pose: &P
         background: Color::DEFAULT_BACKGROUND,
         vehicle: &vertices,
         occluders,
+        origin: rig.head(),
     };
     let renderer = Renderer::new(&gpu.device, &gpu.queue, &setup).unwrap();
     let camera = rig.cameras(pose)[0];
@@ -153,7 +154,7 @@ fn check_exactness(gpu: &Gpu) -> Vec<u8> {
         .map(|t| mesh.corners(t).map(|c| to_world.transform_point3(c.as_dvec3())))
         .collect();
     let occluder_tris: Vec<[DVec3; 3]> =
-        occluders.positions.chunks_exact(3).map(|c| [c[0], c[1], c[2]].map(Vec3::as_dvec3)).collect();
+        occluders.positions.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     let [w, h] = rig.eye_pixels;
     let to_pixel = |p: DVec3| {
         let c = camera.view_proj * p.extend(1.0);

@@ -2,7 +2,8 @@
 //! a wall 0.35 m from the eyes (just beyond the 0.3 m near plane) fills the
 //! view and counts its visible area in texels; the truck 900 m away is
 //! smaller than a few pixels, each pixel shows a different texel, and the
-//! result says the count depends on resolution.
+//! result says the count depends on resolution; a scene moved 10 km from the
+//! origin counts, texel for texel, as at the origin.
 
 use glam::{DVec3, dvec3, vec3};
 use ufcsr::{AnalysisResult, Dedupe};
@@ -119,4 +120,57 @@ fn the_truck_900_m_away_counts_one_texel_per_pixel_and_warns() {
     let resolution = result.resolution.as_ref().unwrap();
     assert_eq!(resolution.sub_pixel_frame_share, Some(1.0));
     assert!(result.warnings.iter().any(|w| w.contains("smaller than a pixel")), "{:?}", result.warnings);
+}
+
+#[test]
+fn a_scene_10_km_from_the_origin_counts_as_at_the_origin() {
+    let gpu = gpu();
+    let demo = Scene::demo();
+    let mut rig = demo.rig.clone();
+    rig.set_pixels_per_degree(12.0).unwrap();
+    let scenario = demo.scenario("B").unwrap().clone();
+    let at_origin = Scene { rig: rig.clone(), scenarios: vec![scenario.clone()], ..demo.clone() };
+    let offset = dvec3(8192.0, 8192.0, 0.0);
+    let moved = moved_scene(&at_origin, offset);
+    let (near, near_counts) = count(&gpu, &at_origin, [256, 256], Dedupe::Image);
+    let (far, far_counts) = count(&gpu, &moved, [256, 256], Dedupe::Image);
+    assert!(near.grand_total > 10_000 && near.stray_pixels == 0, "{}", near.grand_total);
+    // Occluders hide part of the truck in this scenario, so their f32 world
+    // coordinates matter too.
+    assert!(near.pixels.background > 0);
+    assert_eq!(near.grand_total, far.grand_total);
+    assert_eq!(near.pixels.texel, far.pixels.texel);
+    assert!(near_counts == far_counts, "per-texel counts differ 10 km from the origin");
+}
+
+/// `scene` with the pedestrian, the vehicle's track and every occluder moved by `offset`.
+fn moved_scene(scene: &Scene, offset: DVec3) -> Scene {
+    let mut moved = scene.clone();
+    for axis in 0..3 {
+        moved.rig.pedestrian[axis] += offset[axis];
+    }
+    for scenario in &mut moved.scenarios {
+        let keys = scenario
+            .motion
+            .position
+            .keys
+            .iter()
+            .map(|key| {
+                let mut key = key.clone();
+                for axis in 0..3 {
+                    key.value[axis] += offset[axis];
+                }
+                key
+            })
+            .collect();
+        scenario.motion.position = Track::new(keys).unwrap();
+    }
+    for position in &mut moved.occluders.positions {
+        *position += offset;
+    }
+    for object in &mut moved.occluders.objects {
+        object.min += offset;
+        object.max += offset;
+    }
+    moved
 }
