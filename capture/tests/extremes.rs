@@ -174,3 +174,23 @@ fn moved_scene(scene: &Scene, offset: DVec3) -> Scene {
     }
     moved
 }
+
+#[test]
+fn the_full_palette_of_2_to_the_24_texels_names_only_labelled_texels() {
+    // The paper's 4096² palette: UVs in f32 have ~4096 steps per texel at
+    // u ≈ 1, and every pixel must still name a texel of its own triangle's
+    // labelled chart, including in the top rows of the palette.
+    let gpu = gpu();
+    let demo = Scene::demo();
+    let mut rig = Rig { pedestrian: [0.0, 0.0, 0.0], ..demo.rig.clone() };
+    rig.set_pixels_per_degree(20.0).unwrap();
+    // The truck 7 m away, side on: 2.7 mm texels under many pixels.
+    let scene = scene(demo.vehicle.clone(), Occluders::default(), rig, standing(dvec3(7.0, 0.0, 0.0), 2));
+    let (result, counts) = count(&gpu, &scene, [4096, 4096], Dedupe::Image);
+    assert_eq!(result.stray_pixels, 0);
+    let unlabelled = result.unlabelled.as_ref().unwrap();
+    assert_eq!(unlabelled.total, 0, "pixels named unlabelled texels: {unlabelled:?}");
+    let highest = counts.iter().rposition(|&c| c > 0).unwrap();
+    assert!(highest >= 1 << 23, "the upper half of the palette was not reached: texel {highest}");
+    assert!(result.grand_total > 10_000, "{}", result.grand_total);
+}
