@@ -42,6 +42,10 @@ use crate::unwrap::{Unwrapped, for_texel_centres};
 pub const MEASURE_UNOBSTRUCTED: &str = "unobstructed";
 /// How far a point is lifted off its surface before casting (metres).
 pub const SURFACE_OFFSET_M: f64 = 1e-4;
+/// The square of the sine of the angle between a surface and the line of
+/// sight below which the surface is seen edge-on (not counted): (1e-9 rad)²,
+/// far below any pixel. unobstructed.wgsl uses the same literal.
+pub const EDGE_ON_SQUARED: f64 = 1e-18;
 
 /// One point of the vehicle: the centre of a texel.
 #[derive(Debug, Clone, Copy)]
@@ -142,9 +146,12 @@ pub fn unobstructed(
     brute_force: bool,
 ) -> bool {
     let towards_eye = eye_frame.eye_in_vehicle - point.position;
-    // Two-sided: the side of the triangle the eye is on.
+    // Two-sided: the side of the triangle the eye is on. Edge-on (the eye in
+    // the triangle's plane) is not facing; rounding of the eye's position
+    // leaves ±1e-16 there, so anything within 1e-9 rad of the plane is
+    // edge-on (compared squared: no square root, the same on the GPU).
     let side = point.normal.dot(towards_eye);
-    if side == 0.0 {
+    if side * side <= EDGE_ON_SQUARED * towards_eye.dot(towards_eye) {
         return false;
     }
     let world = eye_frame.to_world.transform_point3(point.position);

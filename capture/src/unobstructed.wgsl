@@ -154,8 +154,10 @@ fn count_points(@builtin(global_invocation_id) id: vec3<u32>) {
         let base = e * 40u;
         let offset = eye_frames[base + 38u];
         let eye_in_vehicle = eye_vec(base);
-        let side = dot(normal, eye_in_vehicle - position);
-        if (side == 0.0lf) {
+        let towards_eye = eye_in_vehicle - position;
+        let side = dot(normal, towards_eye);
+        // Edge-on within 1e-9 rad: EDGE_ON_SQUARED, compared as on the CPU.
+        if (side * side <= 1e-18lf * dot(towards_eye, towards_eye)) {
             continue;
         }
         let world = transform(base + 6u, position);

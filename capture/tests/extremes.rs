@@ -194,3 +194,44 @@ fn the_full_palette_of_2_to_the_24_texels_names_only_labelled_texels() {
     assert!(highest >= 1 << 23, "the upper half of the palette was not reached: texel {highest}");
     assert!(result.grand_total > 10_000, "{}", result.grand_total);
 }
+
+#[test]
+fn a_surface_seen_edge_on_is_not_counted_by_pixels_or_by_the_exact_measure() {
+    use ufcsr_capture::unobstructed::{Obstacles, count_unobstructed, eye_frames, surface_points};
+    let gpu = gpu();
+    // A horizontal 4 m square at exactly eye height (1.75 m): both eyes lie
+    // in its plane, so it is seen exactly edge-on in every frame.
+    let mut plate = Mesh::default();
+    plate.add_quad(
+        "plate",
+        vec3(-2.0, -2.0, 1.75),
+        vec3(2.0, -2.0, 1.75),
+        vec3(2.0, 2.0, 1.75),
+        vec3(-2.0, 2.0, 1.75),
+    );
+    let rig = Rig {
+        pedestrian: [0.0, 0.0, 0.0],
+        look_at_vehicle: [0.0, 0.0, 1.75],
+        eye_pixels: [200, 250],
+        tiles: [2, 2],
+        ..Rig::default()
+    };
+    let scene = scene(plate, Occluders::default(), rig, standing(dvec3(6.0, 0.0, 0.0), 3));
+    let (result, _) = count(&gpu, &scene, [256, 256], Dedupe::Image);
+    assert_eq!(result.stray_pixels, 0);
+    // A line at most: no more than one row of pixels per eye-frame.
+    assert!(result.pixels.texel <= 6 * 200, "{} pixels show an edge-on plate", result.pixels.texel);
+    // The exact measure: the eye is in the plane, so no point faces it.
+    let palette = [256, 256];
+    let unwrapped = ufcsr_capture::unwrap::unwrap_islands_avoiding(
+        &scene.vehicle,
+        palette,
+        ufcsr_capture::unwrap::background_texel(palette),
+    )
+    .unwrap();
+    let (points, _) = surface_points(&scene, &unwrapped, 1.0, 1);
+    assert!(points.len() > 1000);
+    let (frames, _) = eye_frames(&scene, &scene.scenarios[0], &[0, 1, 2]);
+    let counts = count_unobstructed(&points, &frames, &Obstacles::new(&scene));
+    assert_eq!(counts.iter().sum::<u32>(), 0);
+}
