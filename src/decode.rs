@@ -117,7 +117,10 @@ impl<'a> RowReader<'a> {
     /// Reads the PNG's header chunks and prepares row decoding.
     pub fn new(path: &'a Path, bytes: &'a [u8]) -> Result<RowReader<'a>> {
         // Cheap structural checks first give clearer messages than the decoder's.
-        parse_header(path, bytes)?;
+        let header = parse_header(path, bytes)?;
+        if header.color_type == INDEXED {
+            check_palette_indices(path, bytes)?;
+        }
         let mut options = png::DecodeOptions::default();
         // The png crate skips the zlib checksum by default, for speed.
         options.set_ignore_adler32(false);
@@ -200,6 +203,52 @@ impl<'a> RowReader<'a> {
         let layout = self.layout;
         Ok(buffer.chunks_exact(step).map(|pixel| layout.pack(pixel)).collect())
     }
+}
+
+/// PNG colour type 3: palette indices.
+const INDEXED: u8 = 3;
+
+/// An index beyond the PLTE's entries is corrupt data, but the png crate
+/// expands it to black, which names texel 0 (or another texel): refuse the
+/// file instead. Only images whose PLTE is shorter than their bit depth
+/// allows can hold such an index; those are decoded once more, unexpanded,
+/// to check every index (indexed tiles are rare: renderers write RGB).
+fn check_palette_indices(path: &Path, bytes: &[u8]) -> Result<()> {
+    let mut decoder = png::Decoder::new(Cursor::new(bytes));
+    decoder.set_transformations(png::Transformations::IDENTITY);
+    let mut reader = decoder.read_info().map_err(|e| png_error(path, e))?;
+    let info = reader.info();
+    let depth = info.bit_depth as u8;
+    let entries = info.palette.as_ref().map_or(0, |p| p.len() / 3);
+    if entries >= 1usize << depth {
+        return Ok(());
+    }
+    let too_large =
+        || Error::Png { path: path.to_path_buf(), message: "image too large to decode".to_string() };
+    let width = info.width as usize;
+    let line = reader.output_line_size(info.width).ok_or_else(too_large)?;
+    let size = reader.output_buffer_size().ok_or_else(too_large)?;
+    let mut raw = vec![0u8; size];
+    reader.next_frame(&mut raw).map_err(|e| png_error(path, e))?;
+    let per_byte = 8 / usize::from(depth);
+    let mask = ((1u16 << depth) - 1) as u8;
+    for (y, row) in raw.chunks(line.max(1)).enumerate() {
+        for x in 0..width {
+            let byte = row.get(x / per_byte).copied().unwrap_or(0);
+            let shift = 8 - usize::from(depth) * (x % per_byte + 1);
+            let index = usize::from((byte >> shift) & mask);
+            if index >= entries {
+                return Err(Error::Png {
+                    path: path.to_path_buf(),
+                    message: format!(
+                        "pixel ({x}, {y}) has palette index {index}, but the PLTE has {entries} entries \
+                         (corrupt data; it would decode as black)"
+                    ),
+                });
+            }
+        }
+    }
+    Ok(())
 }
 
 fn png_error(path: &Path, error: png::DecodingError) -> Error {
