@@ -119,9 +119,40 @@ impl Manifest {
     /// Rejects manifests that would make the analysis ambiguous.
     fn check(&self, path: &Path) -> Result<()> {
         if let Some(schema) = &self.schema
-            && !schema.starts_with("ufcsr-manifest/")
+            && schema != MANIFEST_SCHEMA
         {
-            return Err(Error::bad_file(path, format!("unknown manifest schema {schema:?}")));
+            let hint = if schema.starts_with("ufcsr-manifest/") {
+                format!("a version this ufcsr does not know (it reads {MANIFEST_SCHEMA}); update ufcsr")
+            } else {
+                format!("not a ufcsr manifest (expected {MANIFEST_SCHEMA})")
+            };
+            return Err(Error::bad_file(path, format!("schema {schema:?}: {hint}")));
+        }
+        // Two eyes: numbered 0 and 1, or two names (left/right, L/R...).
+        let mut eyes = BTreeSet::new();
+        for (number, tile) in self.tiles.iter().enumerate() {
+            let numeric = !tile.eye.is_empty()
+                && tile.eye.bytes().all(|b| b.is_ascii_digit() || b == b'.' || b == b'-');
+            if (numeric && tile.eye != "0" && tile.eye != "1") || tile.eye.is_empty() {
+                return Err(Error::bad_file(
+                    path,
+                    format!(
+                        "tiles[{number}]: eye {:?}: a pedestrian has two eyes, 0 and 1 (or left and right)",
+                        tile.eye
+                    ),
+                ));
+            }
+            eyes.insert(tile.eye.as_str());
+            if eyes.len() > 2 {
+                return Err(Error::bad_file(
+                    path,
+                    format!(
+                        "tiles[{number}]: a third eye {:?} besides {:?}: a pedestrian has two eyes",
+                        tile.eye,
+                        eyes.iter().filter(|e| **e != tile.eye).collect::<Vec<_>>()
+                    ),
+                ));
+            }
         }
         let mut positions = BTreeSet::new();
         let mut files = BTreeSet::new();
@@ -213,5 +244,27 @@ mod tests {
         let escaping = EXAMPLE.replace("tiles/f0000", "../f0000");
         let error = Manifest::parse(Path::new("m.json"), escaping.as_bytes()).unwrap_err();
         assert!(error.to_string().contains("inside the archive"), "{error}");
+    }
+
+    #[test]
+    fn rejects_unknown_schemas_and_eyes_a_pedestrian_does_not_have() {
+        let parse = |text: &str| Manifest::parse(Path::new("m.json"), text.as_bytes());
+        let newer = EXAMPLE.replace("ufcsr-manifest/1", "ufcsr-manifest/2");
+        let error = parse(&newer).unwrap_err().to_string();
+        assert!(error.contains("m.json") && error.contains("does not know"), "{error}");
+        let foreign = EXAMPLE.replace("ufcsr-manifest/1", "unity-capture/1");
+        assert!(parse(&foreign).unwrap_err().to_string().contains("not a ufcsr manifest"));
+        let three = EXAMPLE.replace(r#""eye": 1"#, r#""eye": 3"#);
+        assert!(parse(&three).unwrap_err().to_string().contains("eye \"3\""));
+        let third = EXAMPLE.replace(r#""eye": 1"#, r#""eye": "right""#).replace(
+            r#"{"frame": 0, "eye": "right""#,
+            r#"{"frame": 1, "eye": "centre", "row": 0, "col": 0, "empty": true}, {"frame": 0, "eye": "right""#,
+        );
+        assert!(parse(&third).unwrap_err().to_string().contains("a third eye"), "{third}");
+        // Without a schema (a hand-written manifest), numbered eyes are fine.
+        let plain = EXAMPLE
+            .replace(r#""schema": "ufcsr-manifest/1","#, "")
+            .replace(r#""eye": "left""#, r#""eye": 0"#);
+        assert!(parse(&plain).is_ok());
     }
 }

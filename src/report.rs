@@ -269,9 +269,32 @@ impl TexelCountsJson {
                 "texel_counts: expected delta encoding with arrays of equal length",
             ));
         }
+        if self.texels != self.count.len() as u64 {
+            return Err(Error::bad_file(
+                path,
+                format!(
+                    "texel_counts: \"texels\" says {} but {} counts follow (edited or truncated?)",
+                    self.texels,
+                    self.count.len()
+                ),
+            ));
+        }
         let mut dense = vec![0u32; texel_count];
         let mut texel = 0u64;
-        for (&delta, &count) in self.texel_delta.iter().zip(&self.count) {
+        for (position, (&delta, &count)) in self.texel_delta.iter().zip(&self.count).enumerate() {
+            // Indices ascend strictly: only the first delta may be 0.
+            if delta == 0 && position > 0 {
+                return Err(Error::bad_file(
+                    path,
+                    format!("texel_counts: texel {texel} is listed twice (entry {position})"),
+                ));
+            }
+            if count == 0 {
+                return Err(Error::bad_file(
+                    path,
+                    format!("texel_counts: entry {position} has count 0 (only seen texels are listed)"),
+                ));
+            }
             texel += u64::from(delta);
             let slot = dense.get_mut(texel as usize).ok_or_else(|| {
                 Error::bad_file(path, format!("texel_counts: texel {texel} is outside the palette"))
@@ -354,6 +377,12 @@ pub fn read_texel_counts(path: &Path) -> Result<StoredCounts> {
         return Err(Error::bad_file(path, format!("unknown result schema {:?}", source.schema)));
     }
     let palette = source.settings.palette;
+    if palette.kind != "canonical" && palette.kind != "image" {
+        return Err(Error::bad_file(
+            path,
+            format!("settings.palette.kind is {:?}: not \"canonical\" or \"image\"", palette.kind),
+        ));
+    }
     let texel_count = palette.width as usize * palette.height as usize;
     if palette.width == 0 || palette.height == 0 || texel_count > crate::color::COLOR_COUNT {
         return Err(Error::bad_file(
