@@ -210,7 +210,7 @@ fn main() {
     // The archive's own images (the manifest's tiles; never the PIdT).
     let listed = match ufcsr::Manifest::load_from_dir(&archive).unwrap() {
         Some(manifest) => ufcsr::Archive::from_manifest(&archive, &manifest),
-        None => ufcsr::Archive::scan_folder(&archive, &[]).unwrap(),
+        None => ufcsr::Archive::scan_folder(&archive, &[], [4096, 4096]).unwrap(),
     };
     let files: Vec<PathBuf> =
         listed.images.into_iter().map(|image| image.path).filter(|path| !is_empty_tile(path)).collect();

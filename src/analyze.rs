@@ -247,6 +247,17 @@ pub(crate) fn join_with_legend(
     (table, unlabelled)
 }
 
+/// Warnings about the inputs (found while resolving them, the same for every
+/// shard of an archive): merge carries them over from the first shard.
+const SKIPPED_FILES_WARNING: &str = "were left out as not frames";
+const MISSING_VEHICLE_WARNING: &str =
+    "the vehicle the manifest names is missing, so there is no heatmap.glb and no views";
+
+/// True for a warning about the inputs rather than the counts (see above).
+pub(crate) fn is_input_warning(warning: &str) -> bool {
+    warning.contains(SKIPPED_FILES_WARNING) || warning.contains(MISSING_VEHICLE_WARNING)
+}
+
 /// The warning for texels whose count reached the most a `u32` holds
 /// (4,294,967,295: a texel in every image of a 10⁶-frame run at 5×5 tiles
 /// and two eyes is far below it, but merged shards of many runs may get
@@ -370,6 +381,10 @@ fn tally(options: &AnalyzeOptions, archive: &Archive, outcomes: Vec<Outcome>) ->
     };
     tally.images.found = images_here + listed_empty;
     tally.images.listed_empty = listed_empty;
+    // Shards of one folder all see the same skipped files: the first reports them.
+    if options.shard.is_none_or(|s| s.index == 0) {
+        tally.images.skipped = archive.skipped.len() as u64;
+    }
     tally.images.trimmed = listed_empty;
     for (image, outcome) in archive.images.iter().zip(outcomes) {
         let name = &image.name;
@@ -644,7 +659,7 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
             if let PaletteChoice::Image(path) = &palette_choice {
                 exclude.push(path.clone());
             }
-            Archive::scan_folder(root, &exclude)?
+            Archive::scan_folder(root, &exclude, [palette.width(), palette.height()])?
         }
     };
     if archive.found() == 0 && !allow_no_images {
@@ -668,6 +683,16 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
         PaletteChoice::Canonical { .. } => None,
     };
     let mut warnings = Vec::new();
+    if !archive.skipped.is_empty() {
+        warnings.push(format!(
+            "{} PNGs in {} {SKIPPED_FILES_WARNING}: palette- or PIdT-sized textures, or the palette/PIdT a \
+             manifest below names ({}{}); without a manifest every other PNG is counted",
+            archive.skipped.len(),
+            root.display(),
+            archive.skipped.iter().take(5).cloned().collect::<Vec<_>>().join(", "),
+            if archive.skipped.len() > 5 { ", …" } else { "" }
+        ));
+    }
     let vehicle_model = match &options.mesh {
         // Asked for: missing is an error now, not after counting.
         Some(mesh) => {
@@ -684,8 +709,7 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
                     return Some(path);
                 }
                 warnings.push(format!(
-                    "{}: the vehicle the manifest names is missing, so there is no heatmap.glb and no views \
-                     (give the mesh with --mesh)",
+                    "{}: {MISSING_VEHICLE_WARNING} (give the mesh with --mesh)",
                     path.display()
                 ));
                 None

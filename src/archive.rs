@@ -35,6 +35,10 @@ pub struct Archive {
     pub frame_groups: usize,
     /// The eye-frame group of each tile listed as empty (for sharding).
     pub listed_empty_groups: Vec<usize>,
+    /// PNGs left out of a folder without a manifest because they are not
+    /// frames: textures of the palette's size, and files a manifest further
+    /// down names as its palette or PIdT (relative names, for the warning).
+    pub skipped: Vec<String>,
 }
 
 impl Archive {
@@ -73,12 +77,16 @@ impl Archive {
             listed_empty,
             frame_groups: groups.len(),
             listed_empty_groups,
+            skipped: Vec::new(),
         }
     }
 
     /// Every `*.png` below `root` except those in `exclude` (files or folders,
-    /// e.g. the PIdT or the output folder when they sit inside the archive).
-    pub fn scan_folder(root: &Path, exclude: &[PathBuf]) -> Result<Archive> {
+    /// e.g. the PIdT or the output folder when they sit inside the archive),
+    /// the palette and PIdT files that manifests below `root` name, and PNGs
+    /// of `texture_size` (a palette or PIdT kept beside the frames) when
+    /// there are frames of another size: those are listed in `skipped`.
+    pub fn scan_folder(root: &Path, exclude: &[PathBuf], texture_size: [u32; 2]) -> Result<Archive> {
         if !root.is_dir() {
             return Err(Error::bad_file(root, "not a folder (expected an archive folder of PNG tiles)"));
         }
@@ -106,12 +114,20 @@ impl Archive {
             }
         }
         images.sort_by(|a, b| a.name.cmp(&b.name));
+        let named = textures_named_by_manifests(root);
+        let (textures, frames): (Vec<ImageSource>, Vec<ImageSource>) =
+            images.into_iter().partition(|image| {
+                named.iter().any(|n| same_file(n, &image.path)) || png_size(&image.path) == Some(texture_size)
+            });
+        // A folder of nothing but palette-sized PNGs holds frames of that size.
+        let (images, textures) = if frames.is_empty() { (textures, Vec::new()) } else { (frames, textures) };
         Ok(Archive {
             root: root.to_path_buf(),
             images,
             listed_empty: 0,
             frame_groups: 0,
             listed_empty_groups: Vec::new(),
+            skipped: textures.into_iter().map(|t| t.name).collect(),
         })
     }
 
@@ -119,6 +135,41 @@ impl Archive {
     pub fn found(&self) -> u64 {
         self.images.len() as u64 + self.listed_empty
     }
+}
+
+/// Width and height from a PNG's header, if it is a readable regular file.
+fn png_size(path: &Path) -> Option<[u32; 2]> {
+    use std::io::Read;
+    let mut bytes = [0u8; crate::decode::HEADER_BYTES];
+    crate::input_file::open_regular(path).ok()?.read_exact(&mut bytes).ok()?;
+    let header = crate::decode::parse_header(path, &bytes).ok()?;
+    Some([header.width, header.height])
+}
+
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    }
+}
+
+/// The palette and PIdT files of every `manifest.json` below `root` (an
+/// `archives/` folder of captures, analysed as one folder): they are not frames.
+fn textures_named_by_manifests(root: &Path) -> Vec<PathBuf> {
+    let mut named = Vec::new();
+    for entry in WalkDir::new(root).follow_links(true).into_iter().flatten() {
+        if entry.file_name() != crate::manifest::MANIFEST_FILE || !entry.file_type().is_file() {
+            continue;
+        }
+        let Some(folder) = entry.path().parent() else { continue };
+        // An unreadable manifest names nothing; the frames are still counted.
+        let Ok(Some(manifest)) = Manifest::load_from_dir(folder) else { continue };
+        named.extend(manifest.pidt.iter().map(|p| folder.join(p)));
+        if let Some(crate::manifest::PaletteSpec::File(file)) = &manifest.palette {
+            named.push(folder.join(file));
+        }
+    }
+    named
 }
 
 fn slash_path(path: &Path) -> String {

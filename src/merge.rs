@@ -12,7 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
-use crate::analyze::{Analysis, join_with_legend, saturation_warning, stray_warning};
+use crate::analyze::{Analysis, is_input_warning, join_with_legend, saturation_warning, stray_warning};
 use crate::color::Color;
 use crate::error::{Error, Result};
 use crate::options::Timings;
@@ -68,7 +68,8 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         _ => None,
     };
     let all_texels_total: u64 = texel_counts.iter().map(|&c| u64::from(c)).sum();
-    let mut warnings = Vec::new();
+    // Warnings about the inputs are the same in every shard; the rest are recomputed.
+    let mut warnings: Vec<String> = first.warnings.iter().filter(|w| is_input_warning(w)).cloned().collect();
     let (table, unlabelled) = match &parts {
         Some((legend_path, legend, pidt_path, pidt)) => {
             let (table, unlabelled) =
@@ -99,6 +100,7 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         decoded: sum(|s| s.images.decoded),
         failed: sum(|s| s.images.failed),
         listed_empty: sum(|s| s.images.listed_empty),
+        skipped: sum(|s| s.images.skipped),
     };
     let pixels = PixelCounts {
         decoded: sum(|s| s.pixels.decoded),

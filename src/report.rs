@@ -37,6 +37,14 @@ pub struct ImageCounts {
     pub failed: u64,
     /// Tiles the manifest lists as empty (never written by the capture).
     pub listed_empty: u64,
+    /// PNGs of a folder without a manifest left out as not frames (palette-
+    /// or PIdT-sized textures; see `warnings`). Not part of `found`.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub skipped: u64,
+}
+
+fn is_zero(value: &u64) -> bool {
+    *value == 0
 }
 
 /// Pixel bookkeeping over the decoded images.
