@@ -765,11 +765,23 @@ fn refuse_to_overwrite_inputs(inputs: &[PathBuf], files: &WrittenFiles) -> Resul
 /// Writes `result.json`, `parts.csv` (with a PIdT), `heatmap.png` and
 /// `timings.json` into `out_dir` (created if needed), each atomically. The
 /// heatmap uses the scale recorded in the result's settings.
+///
+/// The set is written into a staging folder inside `out_dir` and moved into
+/// place only when every file was written: a failure (a full disk, a bad
+/// vehicle model) or an interruption leaves the previous result set whole.
 pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenFiles> {
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
-    let palette = &analysis.result.settings.palette;
-    let (width, height) = (palette.width, palette.height);
-    let files = WrittenFiles {
+    let files = planned_files(analysis, out_dir);
+    refuse_to_overwrite_inputs(&analysis.input_files, &files)?;
+    let staging = crate::output::Staging::new(out_dir)?;
+    write_results_into(analysis, staging.path())?;
+    staging.commit(out_dir)?;
+    Ok(files)
+}
+
+/// The files [`write_results`] writes into `out_dir`.
+fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
+    WrittenFiles {
         result_json: out_dir.join("result.json"),
         parts_csv: (!analysis.result.parts.is_empty()).then(|| out_dir.join("parts.csv")),
         heatmap_png: out_dir.join("heatmap.png"),
@@ -777,8 +789,14 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
         heatmap_glb: analysis.vehicle_model.as_ref().map(|_| out_dir.join("heatmap.glb")),
         report_html: out_dir.join("report.html"),
         views_png: analysis.vehicle_model.as_ref().map(|_| out_dir.join("views.png")),
-    };
-    refuse_to_overwrite_inputs(&analysis.input_files, &files)?;
+    }
+}
+
+/// Writes the whole result set into `out_dir` (a staging folder).
+fn write_results_into(analysis: &mut Analysis, out_dir: &Path) -> Result<()> {
+    let files = planned_files(analysis, out_dir);
+    let palette = &analysis.result.settings.palette;
+    let (width, height) = (palette.width, palette.height);
     let settings = &analysis.result.settings;
     let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
     let stage = Instant::now();
@@ -805,5 +823,5 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
         crate::heatmap_views::write_views(&model, &texture, out_dir)?;
     }
     crate::html_report::write_report(&files.report_html, &analysis.result, &files)?;
-    Ok(files)
+    Ok(())
 }

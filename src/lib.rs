@@ -44,7 +44,9 @@ pub use error::{Error, Result};
 pub use heatmap::{HeatmapOptions, Scale};
 pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
 pub use merge::merge_results;
-pub use output::{write_atomically, write_bytes_atomically, write_rgb_png};
+#[cfg(feature = "cli")]
+pub use output::remove_temporaries_on_interrupt;
+pub use output::{remove_temporaries, write_atomically, write_bytes_atomically, write_rgb_png};
 pub use palette::{Fcsp, PaletteDescription};
 pub use parts::{Legend, Part, PartStats, PartTable, Pidt, UNLABELLED, join_parts};
 pub use report::{

@@ -169,6 +169,7 @@ struct HeatmapArgs {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    ufcsr::remove_temporaries_on_interrupt();
     if let Some(value) = ufcsr::scan::Kernel::unknown_request() {
         eprintln!(
             "warning: {}={value:?} names no kernel (portable, avx2, avx512); using {}",

@@ -1,13 +1,134 @@
 //! Atomic output files: write to a temporary file beside the target, then rename.
 //!
 //! An interrupted run therefore leaves either the previous file or the complete
-//! new one, never half a result that a later script would read as truth.
+//! new one, never half a result that a later script would read as truth. A
+//! result set of several files is written into a [`Staging`] folder first and
+//! moved into place only when every file was written (with the old files
+//! restored if a move fails). Temporary files and staging folders are
+//! registered while they exist, so that a signal handler in the binaries can
+//! remove them ([`remove_temporaries`]) before exiting.
 
 use std::fs::{self, File};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, PoisonError};
 
 use crate::error::{Error, Result};
+
+/// Temporary files and folders that exist right now.
+static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn register(path: &Path) {
+    TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner).push(path.to_path_buf());
+}
+
+fn unregister(path: &Path) {
+    let mut registered = TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner);
+    if let Some(at) = registered.iter().rposition(|p| p == path) {
+        registered.swap_remove(at);
+    }
+}
+
+/// Removes every temporary file and staging folder this process has open
+/// (for a SIGINT/SIGTERM handler, which then exits): an interrupted run
+/// leaves the previous outputs and nothing else. Returns how many were removed.
+pub fn remove_temporaries() -> usize {
+    let registered = std::mem::take(&mut *TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner));
+    let mut removed = 0;
+    for path in registered {
+        let gone = if path.is_dir() { fs::remove_dir_all(&path) } else { fs::remove_file(&path) };
+        removed += usize::from(gone.is_ok());
+    }
+    removed
+}
+
+/// For the binaries: on SIGINT/SIGTERM, remove this process's temporary files
+/// and staging folders (previous outputs stay whole), say so, and exit 130.
+#[cfg(feature = "cli")]
+pub fn remove_temporaries_on_interrupt() {
+    let installed = ctrlc::set_handler(|| {
+        let removed = remove_temporaries();
+        eprintln!("interrupted: {removed} temporary files removed; earlier outputs are untouched");
+        std::process::exit(130);
+    });
+    if let Err(error) = installed {
+        eprintln!("warning: no interrupt handler ({error}); an interrupted run may leave temporary files");
+    }
+}
+
+/// A folder inside the output folder that a result set is written into, then
+/// moved into place by [`Staging::commit`]; removed if dropped uncommitted.
+pub struct Staging {
+    dir: PathBuf,
+}
+
+impl Staging {
+    /// A fresh staging folder inside `out_dir` (same file system: moves are renames).
+    pub fn new(out_dir: &Path) -> Result<Staging> {
+        let dir = tempfile::Builder::new()
+            .prefix(".ufcsr-staging-")
+            .tempdir_in(out_dir)
+            .map_err(|e| Error::io(out_dir, e))?
+            .keep();
+        register(&dir);
+        Ok(Staging { dir })
+    }
+
+    pub fn path(&self) -> &Path {
+        &self.dir
+    }
+
+    /// Moves every entry of the staging folder into `out_dir`, replacing what
+    /// is there. If a move fails, the entries already moved are taken back and
+    /// the replaced ones restored, so `out_dir` holds the old set or the new.
+    pub fn commit(self, out_dir: &Path) -> Result<()> {
+        let backups = self.dir.join(".replaced");
+        let mut entries: Vec<PathBuf> = fs::read_dir(&self.dir)
+            .map_err(|e| Error::io(&self.dir, e))?
+            .map(|entry| entry.map(|e| e.path()).map_err(|e| Error::io(&self.dir, e)))
+            .collect::<Result<_>>()?;
+        entries.sort();
+        let mut moved: Vec<(PathBuf, Option<PathBuf>)> = Vec::new();
+        let outcome = (|| -> Result<()> {
+            fs::create_dir_all(&backups).map_err(|e| Error::io(&backups, e))?;
+            for entry in &entries {
+                let Some(name) = entry.file_name() else { continue };
+                let target = out_dir.join(name);
+                let backup = match fs::symlink_metadata(&target) {
+                    Ok(_) => {
+                        let backup = backups.join(name);
+                        fs::rename(&target, &backup).map_err(|e| Error::io(&target, e))?;
+                        Some(backup)
+                    }
+                    Err(_) => None,
+                };
+                let renamed = fs::rename(entry, &target).map_err(|e| Error::io(&target, e));
+                moved.push((target, backup));
+                renamed?;
+            }
+            Ok(())
+        })();
+        if outcome.is_err() {
+            for (target, backup) in moved.iter().rev() {
+                if let Some(backup) = backup {
+                    let _ = fs::remove_dir_all(target).or_else(|_| fs::remove_file(target));
+                    let _ = fs::rename(backup, target);
+                } else {
+                    let _ = fs::remove_dir_all(target).or_else(|_| fs::remove_file(target));
+                }
+            }
+        }
+        outcome
+        // Drop removes the staging folder with the replaced files in it.
+    }
+}
+
+impl Drop for Staging {
+    fn drop(&mut self) {
+        let _ = fs::remove_dir_all(&self.dir);
+        unregister(&self.dir);
+    }
+}
 
 /// Writes `path` atomically: `fill` writes into a buffered temporary file in the
 /// same directory, which is flushed, synced and renamed over `path` only if
@@ -17,6 +138,7 @@ where
     F: FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
 {
     let temporary = temporary_path(path);
+    register(&temporary);
     let outcome = (|| {
         let file = File::create(&temporary)?;
         let mut writer = BufWriter::with_capacity(1 << 20, file);
@@ -27,6 +149,7 @@ where
         drop(file);
         fs::rename(&temporary, path)
     })();
+    unregister(&temporary);
     outcome.map_err(|source| {
         let _ = fs::remove_file(&temporary);
         Error::io(path, source)

@@ -533,6 +533,7 @@ fn report_counted(counted: &archive::CountedCapture) {
 }
 
 fn main() -> ExitCode {
+    ufcsr::remove_temporaries_on_interrupt();
     match run(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
