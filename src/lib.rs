@@ -12,6 +12,8 @@ pub mod compare;
 pub mod count;
 pub mod decode;
 pub mod error;
+#[doc(hidden)]
+pub mod fuzz_entry;
 pub mod heatmap;
 pub mod heatmap_views;
 pub mod html_report;

@@ -34,6 +34,12 @@ impl Legend {
     /// `{"name", "color"}`.
     pub fn load(path: &Path) -> Result<Legend> {
         let bytes = crate::input_file::read_limited(path, crate::input_file::SMALL_INPUT_LIMIT)?;
+        Legend::parse(path, bytes)
+    }
+
+    /// Parses a legend's bytes; `path` names it in messages and its
+    /// extension (`.json`) picks the format when the text does not.
+    pub fn parse(path: &Path, bytes: Vec<u8>) -> Result<Legend> {
         let text = String::from_utf8(bytes).map_err(|_| Error::bad_file(path, "legend is not UTF-8 text"))?;
         let is_json = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"))
             || text.trim_start().starts_with('[');

@@ -381,6 +381,17 @@ pub fn read_texel_counts(path: &Path) -> Result<StoredCounts> {
     let file = crate::input_file::open_regular(path)?;
     let source: HeatmapSource = serde_json::from_reader(std::io::BufReader::new(file))
         .map_err(|e| Error::bad_file(path, format!("not a ufcsr result.json: {e}")))?;
+    stored_counts(path, source)
+}
+
+/// [`read_texel_counts`] of a result.json's bytes (`path` names it in messages).
+pub fn parse_texel_counts(path: &Path, bytes: &[u8]) -> Result<StoredCounts> {
+    let source: HeatmapSource = serde_json::from_slice(bytes)
+        .map_err(|e| Error::bad_file(path, format!("not a ufcsr result.json: {e}")))?;
+    stored_counts(path, source)
+}
+
+fn stored_counts(path: &Path, source: HeatmapSource) -> Result<StoredCounts> {
     if !source.schema.starts_with("ufcsr-result/") {
         return Err(Error::bad_file(path, format!("unknown result schema {:?}", source.schema)));
     }

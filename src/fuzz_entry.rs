@@ -1,0 +1,41 @@
+//! Entry points for fuzzing: each takes arbitrary bytes as one kind of input
+//! file and must return, with an error if the bytes are bad, never panic,
+//! hang or allocate without bound. The cargo-fuzz targets in `fuzz/` call
+//! them, and `tests/fuzz_regressions.rs` feeds them the saved corpus and every
+//! input that once failed, so CI re-checks those without nightly.
+
+use std::path::Path;
+
+use crate::color::Color;
+use crate::manifest::Manifest;
+use crate::palette::Fcsp;
+use crate::parts::Legend;
+
+/// A tile: decoded and counted against the canonical 4096² palette.
+pub fn tile(bytes: &[u8]) {
+    let Ok(palette) = Fcsp::canonical(4096, 4096) else { return };
+    let Ok(classifier) = crate::scan::Classifier::new(&palette, &[Color::DEFAULT_BACKGROUND.packed()]) else {
+        return;
+    };
+    let mut seen = crate::bitset::SeenSet::new();
+    let strays = crate::bitset::AtomicColorSet::new();
+    let _ = crate::scan::scan_image(Path::new("fuzz.png"), bytes, &classifier, &mut seen, &strays);
+}
+
+/// A `manifest.json`.
+pub fn manifest(bytes: &[u8]) {
+    let _ = Manifest::parse(Path::new("manifest.json"), bytes);
+}
+
+/// A `result.json`, as `heatmap` and `merge` read it.
+pub fn result_json(bytes: &[u8]) {
+    let path = Path::new("result.json");
+    let _ = crate::report::parse_texel_counts(path, bytes);
+    let _ = serde_json::from_slice::<crate::report::AnalysisResult>(bytes);
+}
+
+/// A legend, as CSV and as JSON.
+pub fn legend(bytes: &[u8]) {
+    let _ = Legend::parse(Path::new("parts.csv"), bytes.to_vec());
+    let _ = Legend::parse(Path::new("parts.json"), bytes.to_vec());
+}
