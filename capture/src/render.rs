@@ -21,10 +21,12 @@ use crate::render_pipeline::{PalettePipeline, UNIFORM_STRIDE, Uniforms, draw_mod
 pub use crate::render_target::PixelRect;
 use crate::render_target::TileTarget;
 
-/// A vertex: position (model frame), UV (0..1, v = 0 at the top row) and
-/// its triangle's chart: the three corners in texel coordinates, the same on
-/// all three vertices, which the fragment shader clamps the UV into (so a
-/// degenerate triangle's wild barycentrics still name one of its own texels).
+/// A vertex: position (model frame), UV (0..1, v = 0 at the top row; what
+/// the archive's `vehicle.glb` records) and its triangle's chart: the three
+/// corners in texel coordinates, the same on all three vertices. The shader
+/// draws from the chart and clamped barycentrics (so a degenerate
+/// triangle's wild barycentrics still name one of its own texels); the UV is
+/// the same point, kept for the vehicle model.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Vertex {

@@ -117,7 +117,8 @@ fn render_pipeline(
     let vertex_layout = wgpu::VertexBufferLayout {
         array_stride: std::mem::size_of::<Vertex>() as u64,
         step_mode: wgpu::VertexStepMode::Vertex,
-        // Position, UV, and the triangle's chart (three texel-space corners).
+        // Position, UV (unused by the shader) and the triangle's chart (three
+        // texel-space corners).
         attributes: &wgpu::vertex_attr_array![
             0 => Float32x3, 1 => Float32x2, 2 => Float32x2, 3 => Float32x2, 4 => Float32x2
         ],

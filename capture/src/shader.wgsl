@@ -6,11 +6,12 @@
 //
 // Exact for any mesh by construction: every vertex also carries its
 // triangle's three corners in texel coordinates (the triangle's chart), passed
-// flat, and the fragment moves its UV onto the closed chart triangle before
-// taking the texel. The rasteriser's barycentrics of a sliver or a zero-area
-// triangle that f32 snapping turned into a sliver can be far outside [0, 1];
-// after the clamp, the texel touches the chart (up to f32 rounding, far below
-// a texel), and the PIdT labels every texel within one texel of the chart.
+// flat, and the fragment's point is rebuilt from barycentrics clamped to the
+// triangle (each >= 0, summing to 1), so it lies on the closed chart triangle.
+// The rasteriser's barycentrics of a sliver, or of a zero-area triangle that
+// f32 snapping turned into a sliver, can be far outside [0, 1]; after the
+// clamp the texel touches the chart (up to f32 rounding, far below a texel),
+// and the PIdT labels every texel within one texel of the chart.
 
 struct Uniforms {
     clip_from_model: mat4x4<f32>,
@@ -25,7 +26,9 @@ struct Uniforms {
 
 struct VertexOut {
     @builtin(position) position: vec4<f32>,
-    @location(0) uv: vec2<f32>,
+    // Barycentric weights of corners 1 and 2 (corner 0 has the rest),
+    // interpolated perspective-correctly as the UV would be.
+    @location(0) weights: vec2<f32>,
     @location(1) @interpolate(flat) chart0: vec2<f32>,
     @location(2) @interpolate(flat) chart1: vec2<f32>,
     @location(3) @interpolate(flat) chart2: vec2<f32>,
@@ -33,15 +36,17 @@ struct VertexOut {
 
 @vertex
 fn vs_main(
+    @builtin(vertex_index) index: u32,
     @location(0) position: vec3<f32>,
-    @location(1) uv: vec2<f32>,
     @location(2) chart0: vec2<f32>,
     @location(3) chart1: vec2<f32>,
     @location(4) chart2: vec2<f32>,
 ) -> VertexOut {
     var out: VertexOut;
     out.position = u.clip_from_model * vec4<f32>(position, 1.0);
-    out.uv = uv;
+    // Triangles are drawn unindexed from vertex 0, three vertices each.
+    let corner = index % 3u;
+    out.weights = vec2<f32>(select(0.0, 1.0, corner == 1u), select(0.0, 1.0, corner == 2u));
     out.chart0 = chart0;
     out.chart1 = chart1;
     out.chart2 = chart2;
@@ -53,50 +58,18 @@ fn unpack(packed: u32) -> vec4<f32> {
     return vec4<f32>(f32((packed >> 16u) & 255u), f32((packed >> 8u) & 255u), f32(packed & 255u), 255.0) / 255.0;
 }
 
-fn cross2(a: vec2<f32>, b: vec2<f32>) -> f32 {
-    return a.x * b.y - a.y * b.x;
-}
-
-// The point of segment a-b nearest to p (a itself when the segment is a point).
-fn nearest_on_segment(p: vec2<f32>, a: vec2<f32>, b: vec2<f32>) -> vec2<f32> {
-    let ab = b - a;
-    let length2 = dot(ab, ab);
-    var s = 0.0;
-    if (length2 > 0.0) {
-        s = clamp(dot(p - a, ab) / length2, 0.0, 1.0);
-    }
-    return a + ab * s;
-}
-
-// p if it lies in the closed triangle c0-c1-c2, else the nearest point of its
-// edges; a zero-area triangle is its edges. A non-finite p becomes c0.
-fn into_chart(p: vec2<f32>, c0: vec2<f32>, c1: vec2<f32>, c2: vec2<f32>) -> vec2<f32> {
-    if (!(all(abs(p) < vec2<f32>(1e30)))) {
+// The point of the closed chart triangle c0-c1-c2 with barycentric weights
+// w (of c1 and c2), clamped to the triangle; a non-finite w gives c0.
+fn on_chart(w: vec2<f32>, c0: vec2<f32>, c1: vec2<f32>, c2: vec2<f32>) -> vec2<f32> {
+    if (!(all(abs(w) < vec2<f32>(1e30)))) {
         return c0;
     }
-    let area = cross2(c1 - c0, c2 - c0);
-    let side = sign(area);
-    let inside = area != 0.0
-        && cross2(c1 - c0, p - c0) * side >= 0.0
-        && cross2(c2 - c1, p - c1) * side >= 0.0
-        && cross2(c0 - c2, p - c2) * side >= 0.0;
-    if (inside) {
-        return p;
+    var clamped = max(w, vec2<f32>(0.0));
+    let sum = clamped.x + clamped.y;
+    if (sum > 1.0) {
+        clamped = clamped / sum;
     }
-    let q0 = nearest_on_segment(p, c0, c1);
-    let q1 = nearest_on_segment(p, c1, c2);
-    let q2 = nearest_on_segment(p, c2, c0);
-    let d0 = dot(p - q0, p - q0);
-    let d1 = dot(p - q1, p - q1);
-    let d2 = dot(p - q2, p - q2);
-    var q = q0;
-    if (d1 < d0) {
-        q = q1;
-    }
-    if (d2 < min(d0, d1)) {
-        q = q2;
-    }
-    return q;
+    return c0 + clamped.x * (c1 - c0) + clamped.y * (c2 - c0);
 }
 
 // Draw modes, the same numbers as `draw_mode` in render.rs (change both together).
@@ -109,7 +82,7 @@ fn fs_main(in: VertexOut) -> @location(0) vec4<f32> {
         return unpack(u.background);
     }
     let size = vec2<f32>(u.palette);
-    let p = into_chart(in.uv * size, in.chart0, in.chart1, in.chart2);
+    let p = on_chart(in.weights, in.chart0, in.chart1, in.chart2);
     // The chart's texel rectangle bounds the result whatever the rounding.
     let low = floor(min(in.chart0, min(in.chart1, in.chart2)));
     let high = floor(max(in.chart0, max(in.chart1, in.chart2)));
