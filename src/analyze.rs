@@ -19,8 +19,10 @@ use crate::color::Color;
 use crate::count::Counts;
 use crate::decode::map_file;
 use crate::error::{Error, Result};
+use crate::frames::{EyeFrame, FrameClock, FrameLabel, FrameRecord, FrameTable, PartLookup};
 use crate::heatmap::HeatmapOptions;
 use crate::manifest::{Manifest, PaletteSpec};
+use crate::measures::Measures;
 pub use crate::options::{AnalyzeOptions, Dedupe, MEASURE_PIXELS, PaletteChoice, Progress, Timings};
 use crate::palette::{DEFAULT_PALETTE_SIDE, Fcsp};
 use crate::parts::{Legend, Pidt, join_parts};
@@ -30,7 +32,7 @@ use crate::report::{
     UnlabelledReport,
 };
 use crate::resolution::{CaptureGeometry, ResolutionReport};
-use crate::scan::{Classifier, ImageTally, scan_image};
+use crate::scan::{Classifier, ImageTally, scan_image_by_part};
 use crate::shard::Shard;
 use crate::tile_counter::TileCounter;
 use crate::trim::TrimPlan;
@@ -47,6 +49,9 @@ pub struct Analysis {
     pub input_files: Vec<PathBuf>,
     /// The vehicle model `heatmap.glb` is made from, when there is one.
     pub vehicle_model: Option<PathBuf>,
+    /// Per-eye-frame tallies by part (`frames.csv`), with
+    /// [`AnalyzeOptions::frames`].
+    pub frames: Option<FrameTable>,
 }
 
 impl Analysis {
@@ -81,6 +86,10 @@ struct Inputs {
     /// False for a capture counted while rendering (`--count`): its manifest
     /// names tiles that were never written.
     tiles_written: bool,
+    /// The manifest's eye-frames, by eye-frame group (empty without one).
+    eye_frames: Vec<EyeFrame>,
+    /// Seconds per captured frame, eyes and pixels per degree.
+    clock: FrameClock,
 }
 
 /// Runs the analysis.
@@ -117,7 +126,12 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
     // or one image; with a shard, only its images.
     let selected: Vec<usize> =
         (0..images.len()).filter(|&index| in_shard(options.shard, index, &images[index])).collect();
+    // frames.csv tallies whole eye-frames, so it needs them in one unit too.
+    let lookup =
+        options.frames.then(|| PartLookup::new(&inputs.palette, inputs.parts.as_ref().map(|p| (&p.1, &p.3))));
+    let by_eye_frame = inputs.archive.frame_groups > 0 && lookup.is_some();
     let units: Vec<Vec<usize>> = match inputs.dedupe {
+        _ if by_eye_frame => eye_frame_units(&inputs.archive, &selected),
         Dedupe::Frame => {
             let mut groups = vec![Vec::new(); inputs.archive.frame_groups];
             for &index in &selected {
@@ -136,9 +150,12 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
     // in frame mode, reused for every image: fresh sets per rayon split
     // would pay their page faults again and again.
     let worker_sets: Vec<Mutex<(SeenSet, Option<SeenSet>)>> = (0..rayon::current_num_threads())
-        .map(|_| Mutex::new((SeenSet::new(), frame_counts.as_ref().map(|_| SeenSet::new()))))
+        .map(|_| {
+            let frame_seen = (frame_counts.is_some() || lookup.is_some()).then(SeenSet::new);
+            Mutex::new((SeenSet::new(), frame_seen))
+        })
         .collect();
-    let mut outcomes: Vec<(usize, Outcome)> = units
+    let unit_results: Vec<UnitResult> = units
         .par_iter()
         .map(|unit| {
             let slot = rayon::current_thread_index().unwrap_or(0) % worker_sets.len();
@@ -147,12 +164,22 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
             let mut sets = worker_sets[slot].lock().unwrap_or_else(PoisonError::into_inner);
             let (seen, frame_seen) = &mut *sets;
             let mut unit_outcomes = Vec::with_capacity(unit.len());
+            let mut image_pixels = lookup.as_ref().map(PartLookup::tally);
+            let mut unit_pixels = lookup.as_ref().map(PartLookup::tally);
             for &index in unit {
                 if options.strict && stop.load(Ordering::Relaxed) {
                     unit_outcomes.push((index, Outcome::Skipped));
                     continue;
                 }
-                let outcome = count_one(index, &inputs.archive, &plan, &classifier, seen, &strays);
+                let parts = lookup.as_ref().zip(image_pixels.as_deref_mut());
+                let outcome = count_one(index, &inputs.archive, &plan, &classifier, seen, &strays, parts);
+                if let (Some(image), Some(sum)) = (image_pixels.as_mut(), unit_pixels.as_mut()) {
+                    // A failed image's partial tally is dropped with it.
+                    if let Outcome::Decoded(_) = outcome {
+                        sum.iter_mut().zip(image.iter()).for_each(|(sum, pixels)| *sum += pixels);
+                    }
+                    image.fill(0);
+                }
                 if let Outcome::Decoded(_) = outcome {
                     if let Some(frame_seen) = frame_seen.as_mut() {
                         seen.merge_into(frame_seen);
@@ -169,13 +196,37 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
                     progress.advance(1);
                 }
             }
-            if let (Some(counts), Some(frame_seen)) = (&frame_counts, frame_seen.as_mut()) {
-                counts.add_set(frame_seen);
+            let record = match (&lookup, unit_pixels, frame_seen.as_mut()) {
+                (Some(lookup), Some(mut pixels), Some(frame_seen)) => {
+                    let mut texels = lookup.tally();
+                    lookup.add_texels(frame_seen, &classifier, &mut texels);
+                    // Drop the non-texel slot.
+                    pixels.pop();
+                    texels.pop();
+                    let label = match images[unit[0]].frame_group {
+                        Some(group) if by_eye_frame => eye_frame_label(&inputs.eye_frames, group),
+                        _ => FrameLabel::Image(unit[0]),
+                    };
+                    Some(FrameRecord { label, pixels, texels })
+                }
+                _ => None,
+            };
+            if let Some(frame_seen) = frame_seen.as_mut() {
+                match &frame_counts {
+                    Some(counts) => counts.add_set(frame_seen),
+                    None => frame_seen.clear(),
+                }
             }
-            unit_outcomes
+            (unit_outcomes, record)
         })
-        .flatten_iter()
         .collect();
+    let mut outcomes = Vec::with_capacity(images.len());
+    let mut records = Vec::new();
+    for (unit_outcomes, record) in unit_results {
+        outcomes.extend(unit_outcomes);
+        records.extend(record);
+    }
+    let frames = lookup.map(|lookup| frame_table(lookup, records, &inputs, options.shard));
     if let Some(progress) = progress {
         progress.finish();
     }
@@ -186,7 +237,77 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
         by_image[index] = outcome;
     }
     let counted = CountedImages { outcomes: by_image, image_counts, frame_counts, strays };
-    summarize(options, &inputs, plan.empty_tiles.clone(), counted, timings, started)
+    let mut analysis = summarize(options, &inputs, plan.empty_tiles.clone(), counted, timings, started)?;
+    if let Some(frames) = &frames {
+        analysis.result.measures = Some(Measures::from_frames(frames, &inputs.clock));
+    }
+    analysis.frames = frames;
+    Ok(analysis)
+}
+
+/// What counting one work unit gives: its images' outcomes, and its
+/// eye-frame's tallies by part when frames are tallied.
+type UnitResult = (Vec<(usize, Outcome)>, Option<FrameRecord>);
+
+/// Work units of whole eye-frames: the selected images grouped by eye-frame.
+fn eye_frame_units(archive: &Archive, selected: &[usize]) -> Vec<Vec<usize>> {
+    let mut groups = vec![Vec::new(); archive.frame_groups];
+    for &index in selected {
+        groups[archive.images[index].frame_group.unwrap_or(0)].push(index);
+    }
+    groups.retain(|group| !group.is_empty());
+    groups
+}
+
+/// The label of eye-frame group `group`.
+fn eye_frame_label(eye_frames: &[EyeFrame], group: usize) -> FrameLabel {
+    match eye_frames.get(group) {
+        Some(eye_frame) => FrameLabel::EyeFrame(eye_frame.clone()),
+        None => FrameLabel::Image(group),
+    }
+}
+
+/// The `frames.csv` table: a record per eye-frame of the shard (with a
+/// manifest, also those whose tiles were all empty or trimmed: zero rows), or
+/// per decoded image without one, in eye-frame (or name) order.
+fn frame_table(
+    lookup: PartLookup,
+    records: Vec<FrameRecord>,
+    inputs: &Inputs,
+    shard: Option<Shard>,
+) -> FrameTable {
+    let parts = lookup.names;
+    if inputs.archive.frame_groups == 0 || inputs.eye_frames.len() != inputs.archive.frame_groups {
+        let mut records = records;
+        records.sort_by_key(|record| match record.label {
+            FrameLabel::Image(position) => position,
+            FrameLabel::EyeFrame(_) => usize::MAX,
+        });
+        return FrameTable { parts, records };
+    }
+    let mut by_label: Vec<Option<FrameRecord>> = vec![None; inputs.eye_frames.len()];
+    for record in records {
+        if let FrameLabel::EyeFrame(eye_frame) = &record.label {
+            let group =
+                inputs.eye_frames.iter().position(|e| e.frame == eye_frame.frame && e.eye == eye_frame.eye);
+            if let Some(group) = group {
+                by_label[group] = Some(record);
+            }
+        }
+    }
+    let records = by_label
+        .into_iter()
+        .enumerate()
+        .filter(|(group, _)| shard.is_none_or(|shard| shard.takes(*group)))
+        .map(|(group, record)| {
+            record.unwrap_or_else(|| FrameRecord {
+                label: eye_frame_label(&inputs.eye_frames, group),
+                pixels: vec![0; parts.len()],
+                texels: vec![0; parts.len()],
+            })
+        })
+        .collect();
+    FrameTable { parts, records }
 }
 
 /// Joins tiles counted from memory ([`TileCounter`], the capture's `--count`)
@@ -517,7 +638,14 @@ fn finish(
     input_files.extend(inputs.palette_file.iter().cloned());
     input_files.push(options.archive.join(crate::manifest::MANIFEST_FILE));
     input_files.extend(inputs.vehicle_model.iter().cloned());
-    Ok(Analysis { result, texel_counts, timings, input_files, vehicle_model: inputs.vehicle_model.clone() })
+    Ok(Analysis {
+        result,
+        texel_counts,
+        timings,
+        input_files,
+        vehicle_model: inputs.vehicle_model.clone(),
+        frames: None,
+    })
 }
 
 /// Counts one image into `seen` (left for the caller to commit and clear).
@@ -528,6 +656,7 @@ fn count_one(
     classifier: &Classifier,
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
+    parts: Option<(&PartLookup, &mut [u64])>,
 ) -> Outcome {
     let image = &archive.images[index];
     let bytes = match map_file(&image.path) {
@@ -537,7 +666,7 @@ fn count_one(
     if plan.is_trimmable(index, &bytes) {
         return Outcome::Trimmed;
     }
-    match scan_image(&image.path, &bytes, classifier, seen, strays) {
+    match scan_image_by_part(&image.path, &bytes, classifier, seen, strays, parts) {
         Ok(tally) => Outcome::Decoded(tally),
         Err(error) => Outcome::Failed(error),
     }
@@ -644,6 +773,8 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
         .and_then(serde_json::Value::as_bool)
         .unwrap_or(true);
     let geometry = manifest.as_ref().map(CaptureGeometry::from_manifest).unwrap_or_default();
+    let eye_frames = manifest.as_ref().map(crate::frames::eye_frames).unwrap_or_default();
+    let clock = manifest.as_ref().map(FrameClock::from_manifest).unwrap_or_default();
     let palette_file = match palette_choice {
         PaletteChoice::Image(path) => Some(path),
         PaletteChoice::Canonical { .. } => None,
@@ -662,6 +793,8 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
         geometry,
         palette_file,
         vehicle_model,
+        eye_frames,
+        clock,
     })
 }
 
@@ -682,6 +815,7 @@ fn refuse_to_overwrite_inputs(inputs: &[PathBuf], files: &WrittenFiles) -> Resul
         files.heatmap_glb.as_ref(),
         Some(&files.report_html),
         files.views_png.as_ref(),
+        files.frames_csv.as_ref(),
     ];
     for output in outputs.into_iter().flatten() {
         let Ok(output_real) = output.canonicalize() else { continue };
@@ -713,6 +847,7 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
         heatmap_glb: analysis.vehicle_model.as_ref().map(|_| out_dir.join("heatmap.glb")),
         report_html: out_dir.join("report.html"),
         views_png: analysis.vehicle_model.as_ref().map(|_| out_dir.join("views.png")),
+        frames_csv: analysis.frames.as_ref().map(|_| out_dir.join(crate::frames::FRAMES_FILE)),
     };
     refuse_to_overwrite_inputs(&analysis.input_files, &files)?;
     let settings = &analysis.result.settings;
@@ -723,7 +858,13 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
     let stage = Instant::now();
     crate::report::write_result_json(&files.result_json, &analysis.result, &analysis.texel_counts)?;
     if let Some(path) = &files.parts_csv {
-        crate::report::write_parts_csv(path, &analysis.result.parts)?;
+        match &analysis.result.measures {
+            Some(measures) => crate::measures::write_parts_csv(path, &analysis.result.parts, measures)?,
+            None => crate::report::write_parts_csv(path, &analysis.result.parts)?,
+        }
+    }
+    if let (Some(frames), Some(path)) = (&analysis.frames, &files.frames_csv) {
+        frames.write_csv(path)?;
     }
     analysis.timings.write_seconds = stage.elapsed().as_secs_f64();
     analysis.timings.total_seconds += analysis.timings.heatmap_seconds + analysis.timings.write_seconds;

@@ -111,6 +111,11 @@ struct AnalyzeArgs {
     #[arg(long, value_name = "GLB")]
     mesh: Option<PathBuf>,
 
+    /// Per-eye-frame pixels and texels by part (frames.csv) and the resolution-independent
+    /// measures (deg²·s, exposure seconds) in result.json and parts.csv: `on` or `off`.
+    #[arg(long, default_value = "on", value_name = "on|off")]
+    frames_csv: String,
+
     /// Worker threads (default: all cores).
     #[arg(long, short = 'j', value_name = "N")]
     threads: Option<usize>,
@@ -289,6 +294,11 @@ fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
         exclude: vec![out_dir.clone()],
         ignore_manifest: args.no_manifest,
         mesh: args.mesh.clone(),
+        frames: match args.frames_csv.as_str() {
+            "on" => true,
+            "off" => false,
+            other => anyhow::bail!("unknown --frames-csv {other:?}: use on or off"),
+        },
         shard: match &args.shard {
             Some(text) => Some(text.parse::<Shard>()?),
             None => Shard::from_job_array(|name| std::env::var(name).ok())?,
@@ -317,6 +327,7 @@ fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
                 "parts_csv": written.parts_csv,
                 "heatmap_png": written.heatmap_png,
                 "timings_json": written.timings_json,
+                "frames_csv": written.frames_csv,
             },
         });
         println!("{}", serde_json::to_string_pretty(&summary)?);
@@ -333,6 +344,9 @@ fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
             println!("  vehicle: {} (the heatmap on the vehicle, glTF)", glb.display());
         }
         println!("  data:    {}, {}", written.result_json.display(), written.heatmap_png.display());
+        if let Some(frames) = &written.frames_csv {
+            println!("  frames:  {} (pixels and texels per eye-frame and part)", frames.display());
+        }
     }
     for warning in &result.warnings {
         eprintln!("warning: {warning}");

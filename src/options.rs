@@ -80,6 +80,11 @@ pub struct AnalyzeOptions {
     /// The vehicle as unwrapped (glTF with the palette UVs), for `heatmap.glb`;
     /// default: the manifest's `vehicle`.
     pub mesh: Option<PathBuf>,
+    /// Tally pixels and texels per eye-frame and part (`frames.csv`) and the
+    /// resolution-independent measures (`measures` in `result.json`). Off by
+    /// default in the library (the capture's `--count` path has no per-part
+    /// tally); the binary turns it on unless `--frames-csv off`.
+    pub frames: bool,
 }
 
 /// Wall-clock seconds per stage, and the thread count (kept out of
