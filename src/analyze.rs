@@ -848,6 +848,7 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
         report_html: out_dir.join("report.html"),
         views_png: analysis.vehicle_model.as_ref().map(|_| out_dir.join("views.png")),
         frames_csv: analysis.frames.as_ref().map(|_| out_dir.join(crate::frames::FRAMES_FILE)),
+        plots: Vec::new(),
     };
     refuse_to_overwrite_inputs(&analysis.input_files, &files)?;
     let settings = &analysis.result.settings;
@@ -881,6 +882,8 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
         };
         crate::heatmap_views::write_views(&model, &texture, out_dir)?;
     }
+    let mut files = files;
+    files.plots = crate::plots::write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref())?;
     crate::html_report::write_report(&files.report_html, &analysis.result, &files)?;
     Ok(files)
 }

@@ -24,6 +24,7 @@ pub mod options;
 pub mod output;
 pub mod palette;
 pub mod parts;
+pub mod plots;
 pub mod report;
 pub mod resolution;
 pub mod scan;

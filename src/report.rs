@@ -534,4 +534,6 @@ pub struct WrittenFiles {
     pub views_png: Option<PathBuf>,
     /// `frames.csv`, when frames were tallied.
     pub frames_csv: Option<PathBuf>,
+    /// The plots written under `plots/`.
+    pub plots: Vec<crate::plots::Plot>,
 }

@@ -63,12 +63,32 @@ fn the_report_of_the_bundled_example_renders_in_chromium() {
     let report = out.join("report.html");
     assert!(out.join("heatmap.glb").is_file(), "the example's vehicle.glb should give heatmap.glb");
 
-    // The heatmap texture and the contact sheet of the eight views.
-    assert_eq!(probe(binary, &report), "images=11;errors=0");
+    // The heatmap texture, the contact sheet of the eight views, and the
+    // three plots (visibility against time and distance, the parts' bars).
+    assert_eq!(probe(binary, &report), "images=11111;errors=0");
+    for plot in ["visibility-time", "visibility-distance", "parts"] {
+        let colours = distinct_colours(&out.join(format!("plots/{plot}.png")));
+        assert!(colours > 8, "plots/{plot}.png is blank ({colours} colours)");
+        assert!(
+            std::fs::read_to_string(report.with_file_name(format!("plots/{plot}.svg")))
+                .unwrap()
+                .contains("<svg")
+        );
+    }
 
     let screenshot = dir.path().join("report.png");
     browser(binary, &["--window-size=1000,1400", &format!("--screenshot={}", screenshot.display())], &report);
-    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&screenshot).unwrap()));
+    let colours = distinct_colours(&screenshot);
+    assert!(colours > 50, "the screenshot is blank ({colours} colours)");
+
+    // The probe bites: without the heatmap image it reports it.
+    std::fs::remove_file(out.join("heatmap.png")).unwrap();
+    assert_eq!(probe(binary, &report), "images=01111;errors=1");
+}
+
+/// Distinct pixel values of a PNG (1 for a blank image).
+fn distinct_colours(path: &Path) -> usize {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
     let mut reader = decoder.read_info().unwrap();
     let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
     let frame = reader.next_frame(&mut pixels).unwrap();
@@ -76,9 +96,5 @@ fn the_report_of_the_bundled_example_renders_in_chromium() {
     let mut colours: Vec<&[u8]> = pixels[..frame.buffer_size()].chunks(step).collect();
     colours.sort_unstable();
     colours.dedup();
-    assert!(colours.len() > 50, "the screenshot is blank ({} colours)", colours.len());
-
-    // The probe bites: without the heatmap image it reports it.
-    std::fs::remove_file(out.join("heatmap.png")).unwrap();
-    assert_eq!(probe(binary, &report), "images=01;errors=1");
+    colours.len()
 }
