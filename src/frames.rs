@@ -52,22 +52,25 @@ pub struct PartLookup {
 impl PartLookup {
     /// The lookup for `palette`, by the legend's parts when a PIdT is given.
     pub fn new(palette: &Fcsp, parts: Option<(&Legend, &Pidt)>) -> PartLookup {
-        let (names, slot_of_texel): (Vec<String>, Box<dyn Fn(usize) -> u16 + '_>) = match parts {
-            Some((legend, pidt)) => {
-                let unlabelled = legend.parts.len() as u16;
-                let mut names: Vec<String> = legend.parts.iter().map(|p| p.name.clone()).collect();
-                names.push(UNLABELLED_NAME.to_string());
-                let slot = move |texel: usize| match pidt.part_of_texel.get(texel) {
-                    Some(&UNLABELLED) | None => unlabelled,
-                    Some(&part) => part,
-                };
-                (names, Box::new(slot))
+        use rayon::prelude::*;
+        let names: Vec<String> = match parts {
+            Some((legend, _)) => {
+                legend.parts.iter().map(|p| p.name.clone()).chain([UNLABELLED_NAME.to_string()]).collect()
             }
-            None => (vec![ALL_TEXELS_NAME.to_string()], Box::new(|_| 0)),
+            None => vec![ALL_TEXELS_NAME.to_string()],
+        };
+        // Legend index per texel, unlabelled texels in the last slot.
+        let unlabelled = (names.len() - 1) as u16;
+        let slot_of_texel = |texel: usize| match parts {
+            Some((_, pidt)) => match pidt.part_of_texel.get(texel) {
+                Some(&UNLABELLED) | None => unlabelled,
+                Some(&part) => part,
+            },
+            None => 0,
         };
         let slot_of_color = match palette {
             // Texel index == colour.
-            Fcsp::Canonical { .. } => (0..palette.texel_count()).map(&slot_of_texel).collect(),
+            Fcsp::Canonical { .. } => (0..palette.texel_count()).into_par_iter().map(slot_of_texel).collect(),
             Fcsp::Image { colors, .. } => {
                 let mut table = vec![NO_PART; COLOR_COUNT];
                 for (texel, &color) in colors.iter().enumerate() {

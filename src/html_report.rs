@@ -20,7 +20,7 @@ pub fn write_report(path: &Path, result: &AnalysisResult, files: &WrittenFiles) 
 }
 
 /// Escapes text for HTML.
-fn escape(text: &str) -> String {
+pub(crate) fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 

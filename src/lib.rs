@@ -9,6 +9,7 @@ pub mod archive;
 pub mod bitset;
 pub mod color;
 pub mod compare;
+pub mod compare_report;
 pub mod count;
 pub mod decode;
 pub mod error;
@@ -41,6 +42,7 @@ pub use analyze::{
 pub use archive::{Archive, ImageSource};
 pub use color::{COLOR_COUNT, Color, ParseColorError};
 pub use compare::{Comparison, compare_parts, kendall_tau_b};
+pub use compare_report::write_comparison;
 pub use count::Counts;
 pub use error::{Error, Result};
 pub use frames::{FrameTable, PartLookup};

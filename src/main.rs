@@ -44,6 +44,9 @@ enum Command {
     /// Add up the result.json of every shard (`--shard I/N`) of one archive: the same files as
     /// analysing it whole.
     Merge(MergeArgs),
+    /// Write one report.html comparing several results (result folders or result.json files;
+    /// the first is the reference for the ranking differences).
+    Report(ReportArgs),
     /// Write the canonical Full Color Space Palette as a PNG (to texture a mesh in Unity/Blender).
     Palette(PaletteArgs),
 }
@@ -149,6 +152,17 @@ struct HeatmapScaleArgs {
 }
 
 #[derive(Args)]
+struct ReportArgs {
+    /// Result folders (or their result.json), at least two.
+    #[arg(required = true, num_args = 2..)]
+    results: Vec<PathBuf>,
+
+    /// Output folder for report.html and the images it shows.
+    #[arg(long, short, value_name = "DIR")]
+    out: PathBuf,
+}
+
+#[derive(Args)]
 struct MergeArgs {
     /// The shards' result.json files.
     #[arg(required = true)]
@@ -185,6 +199,7 @@ fn main() -> ExitCode {
         Some(Command::Heatmap(args)) => run_heatmap(args),
         Some(Command::Palette(args)) => run_palette(args),
         Some(Command::Merge(args)) => run_merge(args),
+        Some(Command::Report(args)) => run_report(args),
         None => run_analyze(cli.analyze),
     };
     match outcome {
@@ -240,6 +255,12 @@ impl Progress for Bar {
 
 /// More worker threads than this is a typo, not a machine.
 const MAX_THREADS: usize = 1024;
+
+fn run_report(args: ReportArgs) -> Result<ExitCode> {
+    let page = ufcsr::write_comparison(&args.results, &args.out)?;
+    println!("compared {} results; wrote {}", args.results.len(), page.display());
+    Ok(ExitCode::SUCCESS)
+}
 
 fn run_merge(args: MergeArgs) -> Result<ExitCode> {
     let mut analysis = ufcsr::merge_results(&args.results)?;

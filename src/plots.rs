@@ -307,11 +307,8 @@ impl PartBars<'_> {
             root.clone()
         };
         let panels = root.split_evenly((1, 3));
-        let measures: [(&str, PartValue); 3] = [
-            ("total", |p| p.total as f64),
-            ("average", |p| p.average),
-            ("peak", |p| f64::from(p.peak)),
-        ];
+        let measures: [(&str, PartValue); 3] =
+            [("total", |p| p.total as f64), ("average", |p| p.average), ("peak", |p| f64::from(p.peak))];
         for (panel_index, (panel, (label, value))) in panels.iter().zip(measures.iter()).enumerate() {
             let max = order.iter().map(|&i| value(&parts[i])).fold(0.0, f64::max).max(1e-9) * 1.05;
             let mut builder = ChartBuilder::on(panel);

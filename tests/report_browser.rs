@@ -4,6 +4,8 @@
 //! the screenshot must not be blank. A page with a missing image must fail
 //! the same probe, so the check bites. Skipped with a message where Chromium
 //! is not installed; a failure when `CI` is set (`.ci/run` installs it).
+//! The comparison page of several results (`ufcsr-analyze report`) is
+//! checked the same way.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -97,4 +99,61 @@ fn distinct_colours(path: &Path) -> usize {
     colours.sort_unstable();
     colours.dedup();
     colours.len()
+}
+
+#[test]
+fn the_comparison_page_of_two_results_renders_in_chromium() {
+    let dir = tempfile::tempdir().unwrap();
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let analyse = |name: &str, dedupe: &str| {
+        let out = dir.path().join(name).join("results");
+        let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+            .arg(&example)
+            .args(["--dedupe", dedupe, "-q", "--out"])
+            .arg(&out)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        out
+    };
+    let (per_image, per_frame) = (analyse("per-image", "image"), analyse("per-frame", "frame"));
+    let compared = dir.path().join("compared");
+    let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+        .arg("report")
+        .arg(&per_image)
+        .arg(per_frame.join("result.json"))
+        .arg("--out")
+        .arg(&compared)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let report = compared.join("report.html");
+    let page = std::fs::read_to_string(&report).unwrap();
+    // Labelled by the result folders' parents; both compared, the second against the first.
+    for text in
+        ["per-image", "per-frame", "Kendall", "Ranking differences against per-image", "5 / 5", "deg²·s"]
+    {
+        assert!(page.contains(text), "the page lacks {text:?}");
+    }
+    // One result alone is no comparison.
+    let alone = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+        .arg("report")
+        .arg(&per_image)
+        .arg("--out")
+        .arg(dir.path().join("alone"))
+        .output()
+        .unwrap();
+    assert!(!alone.status.success());
+
+    let Some(binary) = chromium() else {
+        assert!(std::env::var_os("CI").is_none(), "CI: chromium is not installed");
+        eprintln!("SKIPPED: chromium is not installed (apt-get install chromium)");
+        return;
+    };
+    // The two contact sheets, copied beside the page.
+    assert_eq!(probe(binary, &report), "images=11;errors=0");
+    let screenshot = dir.path().join("compared.png");
+    browser(binary, &["--window-size=1000,1400", &format!("--screenshot={}", screenshot.display())], &report);
+    let colours = distinct_colours(&screenshot);
+    assert!(colours > 50, "the screenshot is blank ({colours} colours)");
 }
