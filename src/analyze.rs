@@ -6,6 +6,7 @@
 //! the counts with the PIdT. Per-image outcomes are kept in archive order, so
 //! the result is identical whatever the number of threads.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, PoisonError};
@@ -119,40 +120,39 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
 
     let stage = Instant::now();
     let image_counts = Counts::new();
-    let frame_counts = (inputs.dedupe == Dedupe::Frame).then(Counts::new);
+    let frame_counts = inputs.dedupe.per_frame().then(Counts::new);
     let strays = AtomicColorSet::new();
     let stop = AtomicBool::new(false);
-    // Work units: one eye-frame (so frame deduplication stays in one thread),
-    // or one image; with a shard, only its images.
     let selected: Vec<usize> =
         (0..images.len()).filter(|&index| in_shard(options.shard, index, &images[index])).collect();
-    // frames.csv tallies whole eye-frames, so it needs them in one unit too.
     let lookup =
         options.frames.then(|| PartLookup::new(&inputs.palette, inputs.parts.as_ref().map(|p| (&p.1, &p.3))));
-    let by_eye_frame = inputs.archive.frame_groups > 0 && lookup.is_some();
-    let units: Vec<Vec<usize>> = match inputs.dedupe {
-        _ if by_eye_frame => eye_frame_units(&inputs.archive, &selected),
-        Dedupe::Frame => {
-            let mut groups = vec![Vec::new(); inputs.archive.frame_groups];
-            for &index in &selected {
-                // resolve() guarantees every image has a group in frame mode.
-                groups[images[index].frame_group.unwrap_or(0)].push(index);
-            }
-            groups.retain(|group| !group.is_empty());
-            groups
+    // Work units, each a list of eye-frames (lists of images), so that what
+    // is deduplicated together stays in one thread: one image; one eye-frame
+    // (frame dedupe, and frames.csv, which tallies whole eye-frames); both
+    // eye-frames of a frame (eye-pair dedupe). With a shard, only its images.
+    let by_eye_frame = inputs.archive.frame_groups > 0 && (lookup.is_some() || inputs.dedupe.per_frame());
+    let units: Vec<Vec<Vec<usize>>> = match inputs.dedupe {
+        Dedupe::EyePair => eye_pair_units(&inputs.archive, &inputs.eye_frames, &selected),
+        _ if by_eye_frame => {
+            eye_frame_units(&inputs.archive, &selected).into_iter().map(|g| vec![g]).collect()
         }
-        Dedupe::Image => selected.iter().map(|&i| vec![i]).collect(),
+        _ => selected.iter().map(|&i| vec![vec![i]]).collect(),
     };
     if let Some(progress) = progress {
         progress.start(selected.len() as u64);
     }
-    // Per worker thread a 2 MiB set for the image, and one for the eye-frame
-    // in frame mode, reused for every image: fresh sets per rayon split
-    // would pay their page faults again and again.
-    let worker_sets: Vec<Mutex<(SeenSet, Option<SeenSet>)>> = (0..rayon::current_num_threads())
+    // Per worker thread a 2 MiB set for the image, one for the eye-frame
+    // (frame dedupe or frames.csv) and one for the frame (eye-pair dedupe),
+    // reused for every unit: fresh sets per rayon split would pay their page
+    // faults again and again.
+    let worker_sets: Vec<Mutex<WorkerSets>> = (0..rayon::current_num_threads())
         .map(|_| {
-            let frame_seen = (frame_counts.is_some() || lookup.is_some()).then(SeenSet::new);
-            Mutex::new((SeenSet::new(), frame_seen))
+            Mutex::new(WorkerSets {
+                image: SeenSet::new(),
+                eye_frame: (frame_counts.is_some() || lookup.is_some()).then(SeenSet::new),
+                pair: (inputs.dedupe == Dedupe::EyePair).then(SeenSet::new),
+            })
         })
         .collect();
     let unit_results: Vec<UnitResult> = units
@@ -162,69 +162,78 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
             // Only this thread uses its slot, and nothing below yields to rayon,
             // so the lock is never contended.
             let mut sets = worker_sets[slot].lock().unwrap_or_else(PoisonError::into_inner);
-            let (seen, frame_seen) = &mut *sets;
-            let mut unit_outcomes = Vec::with_capacity(unit.len());
-            let mut image_pixels = lookup.as_ref().map(PartLookup::tally);
-            let mut unit_pixels = lookup.as_ref().map(PartLookup::tally);
-            for &index in unit {
-                if options.strict && stop.load(Ordering::Relaxed) {
-                    unit_outcomes.push((index, Outcome::Skipped));
-                    continue;
-                }
-                let parts = lookup.as_ref().zip(image_pixels.as_deref_mut());
-                let outcome = count_one(index, &inputs.archive, &plan, &classifier, seen, &strays, parts);
-                if let (Some(image), Some(sum)) = (image_pixels.as_mut(), unit_pixels.as_mut()) {
-                    // A failed image's partial tally is dropped with it.
+            let WorkerSets { image: seen, eye_frame: frame_seen, pair: pair_seen } = &mut *sets;
+            let mut unit_outcomes = Vec::new();
+            let mut records = Vec::new();
+            for eye_frame in unit {
+                let mut image_pixels = lookup.as_ref().map(PartLookup::tally);
+                let mut frame_pixels = lookup.as_ref().map(PartLookup::tally);
+                for &index in eye_frame {
+                    if options.strict && stop.load(Ordering::Relaxed) {
+                        unit_outcomes.push((index, Outcome::Skipped));
+                        continue;
+                    }
+                    let parts = lookup.as_ref().zip(image_pixels.as_deref_mut());
+                    let outcome = count_one(index, &inputs.archive, &plan, &classifier, seen, &strays, parts);
+                    if let (Some(image), Some(sum)) = (image_pixels.as_mut(), frame_pixels.as_mut()) {
+                        // A failed image's partial tally is dropped with it.
+                        if let Outcome::Decoded(_) = outcome {
+                            sum.iter_mut().zip(image.iter()).for_each(|(sum, pixels)| *sum += pixels);
+                        }
+                        image.fill(0);
+                    }
                     if let Outcome::Decoded(_) = outcome {
-                        sum.iter_mut().zip(image.iter()).for_each(|(sum, pixels)| *sum += pixels);
+                        if let Some(frame_seen) = frame_seen.as_mut() {
+                            seen.merge_into(frame_seen);
+                        }
+                        image_counts.add_set(seen);
                     }
-                    image.fill(0);
-                }
-                if let Outcome::Decoded(_) = outcome {
-                    if let Some(frame_seen) = frame_seen.as_mut() {
-                        seen.merge_into(frame_seen);
+                    // add_set drained it; a failed image was cleared by scan_image.
+                    debug_assert!(seen.is_empty());
+                    if let Outcome::Failed(_) = outcome {
+                        stop.store(true, Ordering::Relaxed);
                     }
-                    image_counts.add_set(seen);
+                    unit_outcomes.push((index, outcome));
+                    if let Some(progress) = progress {
+                        progress.advance(1);
+                    }
                 }
-                // add_set drained it; a failed image was cleared by scan_image.
-                debug_assert!(seen.is_empty());
-                if let Outcome::Failed(_) = outcome {
-                    stop.store(true, Ordering::Relaxed);
-                }
-                unit_outcomes.push((index, outcome));
-                if let Some(progress) = progress {
-                    progress.advance(1);
-                }
-            }
-            let record = match (&lookup, unit_pixels, frame_seen.as_mut()) {
-                (Some(lookup), Some(mut pixels), Some(frame_seen)) => {
+                if let (Some(lookup), Some(mut pixels), Some(frame_seen), Some(&first)) =
+                    (&lookup, frame_pixels, frame_seen.as_mut(), eye_frame.first())
+                {
                     let mut texels = lookup.tally();
                     lookup.add_texels(frame_seen, &classifier, &mut texels);
                     // Drop the non-texel slot.
                     pixels.pop();
                     texels.pop();
-                    let label = match images[unit[0]].frame_group {
+                    let label = match images[first].frame_group {
                         Some(group) if by_eye_frame => eye_frame_label(&inputs.eye_frames, group),
-                        _ => FrameLabel::Image(unit[0]),
+                        _ => FrameLabel::Image(first),
                     };
-                    Some(FrameRecord { label, pixels, texels })
+                    records.push(FrameRecord { label, pixels, texels });
                 }
-                _ => None,
-            };
-            if let Some(frame_seen) = frame_seen.as_mut() {
-                match &frame_counts {
-                    Some(counts) => counts.add_set(frame_seen),
-                    None => frame_seen.clear(),
+                if let Some(frame_seen) = frame_seen.as_mut() {
+                    match (&frame_counts, pair_seen.as_mut()) {
+                        (_, Some(pair_seen)) => {
+                            frame_seen.merge_into(pair_seen);
+                            frame_seen.clear();
+                        }
+                        (Some(counts), None) => counts.add_set(frame_seen),
+                        (None, None) => frame_seen.clear(),
+                    }
                 }
             }
-            (unit_outcomes, record)
+            if let (Some(counts), Some(pair_seen)) = (&frame_counts, pair_seen.as_mut()) {
+                counts.add_set(pair_seen);
+            }
+            (unit_outcomes, records)
         })
         .collect();
     let mut outcomes = Vec::with_capacity(images.len());
     let mut records = Vec::new();
-    for (unit_outcomes, record) in unit_results {
+    for (unit_outcomes, unit_records) in unit_results {
         outcomes.extend(unit_outcomes);
-        records.extend(record);
+        records.extend(unit_records);
     }
     let frames = lookup.map(|lookup| frame_table(lookup, records, &inputs, options.shard));
     if let Some(progress) = progress {
@@ -247,7 +256,26 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
 
 /// What counting one work unit gives: its images' outcomes, and its
 /// eye-frame's tallies by part when frames are tallied.
-type UnitResult = (Vec<(usize, Outcome)>, Option<FrameRecord>);
+type UnitResult = (Vec<(usize, Outcome)>, Vec<FrameRecord>);
+
+/// A worker thread's sets (see [`analyze`]).
+struct WorkerSets {
+    image: SeenSet,
+    eye_frame: Option<SeenSet>,
+    pair: Option<SeenSet>,
+}
+
+/// Work units of whole frames: per frame number, its eye-frames (both
+/// eyes), each the list of its selected images.
+fn eye_pair_units(archive: &Archive, eye_frames: &[EyeFrame], selected: &[usize]) -> Vec<Vec<Vec<usize>>> {
+    let mut frames: BTreeMap<u32, Vec<Vec<usize>>> = BTreeMap::new();
+    for group in eye_frame_units(archive, selected) {
+        let frame_group = archive.images[group[0]].frame_group.unwrap_or(0);
+        let frame = eye_frames.get(frame_group).map_or(frame_group as u32, |e| e.frame);
+        frames.entry(frame).or_default().push(group);
+    }
+    frames.into_values().collect()
+}
 
 /// Work units of whole eye-frames: the selected images grouped by eye-frame.
 fn eye_frame_units(archive: &Archive, selected: &[usize]) -> Vec<Vec<usize>> {
@@ -760,11 +788,20 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
     if archive.found() == 0 && !allow_no_images {
         return Err(Error::NoImages { path: root.to_path_buf() });
     }
-    if options.dedupe == Dedupe::Frame && archive.frame_groups == 0 {
+    if options.dedupe.per_frame() && archive.frame_groups == 0 {
         return Err(Error::BadOptions(format!(
-            "--dedupe frame needs {}/manifest.json to know which tiles form one eye-frame",
+            "--dedupe {} needs {}/manifest.json to know which tiles form one eye-frame",
+            options.dedupe.name(),
             root.display()
         )));
+    }
+    if options.dedupe == Dedupe::EyePair && options.shard.is_some() {
+        // Shards hold whole eye-frames, and the two eyes of a frame may fall
+        // in different shards, where a texel would count once in each.
+        return Err(Error::BadOptions(
+            "--dedupe eye-pair cannot be sharded yet (a frame's two eyes may fall in different shards)"
+                .into(),
+        ));
     }
     let tiles_written = manifest
         .as_ref()

@@ -88,8 +88,9 @@ struct AnalyzeArgs {
     #[arg(long, value_name = "HEX")]
     background: Vec<String>,
 
-    /// What one count means: `image` (once per PNG) or `frame` (once per eye-frame; needs a manifest).
-    #[arg(long, default_value = "image", value_name = "image|frame")]
+    /// What one count means: `image` (once per PNG), `frame` (once per eye-frame) or `eye-pair`
+    /// (once per frame over both eyes); the last two need a manifest.
+    #[arg(long, default_value = "image", value_name = "image|frame|eye-pair")]
     dedupe: String,
 
     /// Skip all-background tiles: `auto` (find and verify the empty-file size), a size in bytes, or `off`.

@@ -2,6 +2,8 @@
 //! counts they sit beside, and no change to any existing field of
 //! result.json or column of parts.csv.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 use ufcsr::{AnalyzeOptions, Dedupe, analyze, write_results};
@@ -126,4 +128,66 @@ fn without_a_manifest_there_is_a_row_block_per_image() {
     assert_eq!(rows.iter().map(|r| r.4).sum::<u64>(), analysis.result.grand_total);
     let measures = analysis.result.measures.expect("measures");
     assert!(measures.parts[0].exposure_s.is_none() && !measures.notes.is_empty());
+}
+
+/// A stereo archive with a manifest: frame 0 shows texels {1, 2} to the left
+/// eye (on two tiles, texel 2 on both) and {2, 3} to the right; frame 1
+/// shows {2} to the left eye.
+fn stereo_archive(dir: &Path) -> PathBuf {
+    let archive = dir.join("stereo");
+    std::fs::create_dir_all(&archive).unwrap();
+    let bg = 0x000FFF;
+    common::rgb_png(&archive.join("f0-left-0.png"), 2, 1, &[1, 2]);
+    common::rgb_png(&archive.join("f0-left-1.png"), 2, 1, &[2, bg]);
+    common::rgb_png(&archive.join("f0-right-0.png"), 2, 1, &[2, 3]);
+    common::rgb_png(&archive.join("f1-left-0.png"), 2, 1, &[2, 2]);
+    let tile = |file: &str, frame: u32, eye: &str, col: u32| serde_json::json!({"file": file, "frame": frame, "eye": eye, "row": 0, "col": col});
+    let manifest = serde_json::json!({
+        "schema": "ufcsr-manifest/1",
+        "palette": {"canonical": [4, 4]},
+        "background": ["#000FFF"],
+        "tiles": [
+            tile("f0-left-0.png", 0, "left", 0), tile("f0-left-1.png", 0, "left", 1),
+            tile("f0-right-0.png", 0, "right", 0), tile("f1-left-0.png", 1, "left", 0),
+        ],
+    });
+    std::fs::write(archive.join("manifest.json"), serde_json::to_vec(&manifest).unwrap()).unwrap();
+    archive
+}
+
+#[test]
+fn eye_pair_counts_a_texel_once_per_frame_over_both_eyes() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = stereo_archive(dir.path());
+    let counts = |dedupe: Dedupe, frames: bool| {
+        let options =
+            AnalyzeOptions { archive: archive.clone(), dedupe, frames, ..AnalyzeOptions::default() };
+        analyze(&options, None).expect("analysis").texel_counts[1..4].to_vec()
+    };
+    for frames in [false, true] {
+        assert_eq!(counts(Dedupe::Image, frames), [1, 4, 1], "once per tile");
+        assert_eq!(counts(Dedupe::Frame, frames), [1, 3, 1], "once per eye-frame");
+        assert_eq!(counts(Dedupe::EyePair, frames), [1, 2, 1], "once per frame over both eyes");
+    }
+    // frames.csv keeps one block per eye-frame whatever the dedupe rule.
+    let out = dir.path().join("out");
+    let options = AnalyzeOptions {
+        archive: archive.clone(),
+        dedupe: Dedupe::EyePair,
+        frames: true,
+        ..AnalyzeOptions::default()
+    };
+    run(&options, &out);
+    let rows = frame_rows(&out.join("frames.csv"));
+    let expected = [(0, "left", 3, 2), (0, "right", 2, 2), (1, "left", 2, 1)];
+    let got: Vec<(u64, &str, u64, u64)> = rows.iter().map(|r| (r.0, r.1.as_str(), r.3, r.4)).collect();
+    assert_eq!(got, expected);
+    // Measures without fps are omitted, with a note.
+    let measures = analyze(&options, None).unwrap().result.measures.unwrap();
+    assert_eq!(measures.eyes, 2);
+    assert!(measures.parts[0].exposure_s.is_none() && !measures.notes.is_empty());
+    // Eye-pair needs the manifest and refuses shards.
+    let sharded = AnalyzeOptions { shard: Some(ufcsr::Shard::new(0, 2).unwrap()), ..options.clone() };
+    assert!(analyze(&sharded, None).err().unwrap().to_string().contains("eye-pair"));
+    assert_eq!("eye-pair".parse::<Dedupe>().unwrap(), Dedupe::EyePair);
 }
