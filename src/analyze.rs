@@ -125,8 +125,13 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
     let stop = AtomicBool::new(false);
     let selected: Vec<usize> =
         (0..images.len()).filter(|&index| in_shard(options.shard, index, &images[index])).collect();
-    let lookup =
-        options.frames.then(|| PartLookup::new(&inputs.palette, inputs.parts.as_ref().map(|p| (&p.1, &p.3))));
+    let lookup = options.frames.then(|| {
+        PartLookup::new(
+            &inputs.palette,
+            inputs.parts.as_ref().map(|p| (&p.1, &p.3)),
+            classifier.backgrounds(),
+        )
+    });
     // Work units, each a list of eye-frames (lists of images), so that what
     // is deduplicated together stays in one thread: one image; one eye-frame
     // (frame dedupe, and frames.csv, which tallies whole eye-frames); both
@@ -202,7 +207,7 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
                     (&lookup, frame_pixels, frame_seen.as_mut(), eye_frame.first())
                 {
                     let mut texels = lookup.tally();
-                    lookup.add_texels(frame_seen, &classifier, &mut texels);
+                    lookup.add_texels(frame_seen, &mut texels);
                     // Drop the non-texel slot.
                     pixels.pop();
                     texels.pop();

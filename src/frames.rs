@@ -23,7 +23,6 @@ use crate::output::write_atomically;
 use crate::palette::Fcsp;
 use crate::parts::{Legend, Pidt, UNLABELLED};
 use crate::report::csv_field;
-use crate::scan::Classifier;
 
 /// Name of the per-eye-frame table beside `result.json`.
 pub const FRAMES_FILE: &str = "frames.csv";
@@ -50,8 +49,10 @@ pub struct PartLookup {
 }
 
 impl PartLookup {
-    /// The lookup for `palette`, by the legend's parts when a PIdT is given.
-    pub fn new(palette: &Fcsp, parts: Option<(&Legend, &Pidt)>) -> PartLookup {
+    /// The lookup for `palette`, by the legend's parts when a PIdT is given;
+    /// the `backgrounds` (packed colours) map to no part even where they name
+    /// a texel (background wins, as in [`crate::scan::Classifier::classify`]).
+    pub fn new(palette: &Fcsp, parts: Option<(&Legend, &Pidt)>, backgrounds: &[u32]) -> PartLookup {
         use rayon::prelude::*;
         let names: Vec<String> = match parts {
             Some((legend, _)) => {
@@ -68,7 +69,7 @@ impl PartLookup {
             },
             None => 0,
         };
-        let slot_of_color = match palette {
+        let mut slot_of_color: Vec<u16> = match palette {
             // Texel index == colour.
             Fcsp::Canonical { .. } => (0..palette.texel_count()).into_par_iter().map(slot_of_texel).collect(),
             Fcsp::Image { colors, .. } => {
@@ -79,6 +80,11 @@ impl PartLookup {
                 table
             }
         };
+        for &background in backgrounds {
+            if let Some(slot) = slot_of_color.get_mut(background as usize) {
+                *slot = NO_PART;
+            }
+        }
         PartLookup { names, slot_of_color }
     }
 
@@ -92,11 +98,9 @@ impl PartLookup {
         vec![0; self.parts() + 1]
     }
 
+    /// One table load: background and strays are folded into the table.
     #[inline(always)]
-    fn slot(&self, color: u32, classifier: &Classifier) -> usize {
-        if classifier.is_background(color) {
-            return self.parts();
-        }
+    fn slot(&self, color: u32) -> usize {
         match self.slot_of_color.get(color as usize) {
             Some(&slot) if slot != NO_PART => usize::from(slot),
             _ => self.parts(),
@@ -106,22 +110,17 @@ impl PartLookup {
     /// Adds the pixels of one decoded row to `pixels` (a [`PartLookup::tally`])
     /// by part. Runs of one colour — background, or a magnified texel — cost
     /// one comparison per pixel and one look-up per run.
-    pub fn add_row(&self, row: &[u8], layout: PixelLayout, classifier: &Classifier, pixels: &mut [u64]) {
+    pub fn add_row(&self, row: &[u8], layout: PixelLayout, pixels: &mut [u64]) {
         match layout {
-            PixelLayout::Rgb => self.add_row_of::<3, false>(row, classifier, pixels),
-            PixelLayout::Rgba => self.add_row_of::<4, false>(row, classifier, pixels),
-            PixelLayout::Gray => self.add_row_of::<1, true>(row, classifier, pixels),
-            PixelLayout::GrayAlpha => self.add_row_of::<2, true>(row, classifier, pixels),
+            PixelLayout::Rgb => self.add_row_of::<3, false>(row, pixels),
+            PixelLayout::Rgba => self.add_row_of::<4, false>(row, pixels),
+            PixelLayout::Gray => self.add_row_of::<1, true>(row, pixels),
+            PixelLayout::GrayAlpha => self.add_row_of::<2, true>(row, pixels),
         }
     }
 
     #[inline(always)]
-    fn add_row_of<const BYTES: usize, const GRAY: bool>(
-        &self,
-        row: &[u8],
-        classifier: &Classifier,
-        pixels: &mut [u64],
-    ) {
+    fn add_row_of<const BYTES: usize, const GRAY: bool>(&self, row: &[u8], pixels: &mut [u64]) {
         let mut previous = u32::MAX; // no pixel packs to this
         let mut slot = self.parts();
         let mut run = 0u64;
@@ -135,7 +134,7 @@ impl PartLookup {
                 pixels[slot] += run;
                 run = 0;
                 previous = color;
-                slot = self.slot(color, classifier);
+                slot = self.slot(color);
             }
             run += 1;
         }
@@ -144,9 +143,9 @@ impl PartLookup {
 
     /// Adds the distinct texels of `seen` (keys from [`crate::bitset::color_key`])
     /// to `texels` (a [`PartLookup::tally`]) by part.
-    pub fn add_texels(&self, seen: &SeenSet, classifier: &Classifier, texels: &mut [u64]) {
+    pub fn add_texels(&self, seen: &SeenSet, texels: &mut [u64]) {
         for key in seen.keys() {
-            texels[self.slot(key_color(key), classifier)] += 1;
+            texels[self.slot(key_color(key))] += 1;
         }
     }
 }
@@ -390,23 +389,24 @@ mod tests {
         colors.extend(vec![0x020202; 7]);
         colors.push(0x030303);
         let pidt = Pidt::from_colors(4, 4, &colors, &legend);
-        let lookup = PartLookup::new(&palette, Some((&legend, &pidt)));
+        // Texel 3 is background.
+        let lookup = PartLookup::new(&palette, Some((&legend, &pidt)), &[3]);
         assert_eq!(lookup.names, ["a", "b", UNLABELLED_NAME]);
-        let classifier = Classifier::new(&palette, &[3]).unwrap(); // texel 3 is background
         let row: Vec<u8> = [1u32, 1, 3, 9, 9, 9, 15, 0xFFFFFF, 2]
             .iter()
             .flat_map(|&c| [(c >> 16) as u8, (c >> 8) as u8, c as u8, 255])
             .collect();
         let mut pixels = lookup.tally();
-        lookup.add_row(&row, PixelLayout::Rgba, &classifier, &mut pixels);
+        lookup.add_row(&row, PixelLayout::Rgba, &mut pixels);
         // a: 1,1,2; b: 9,9,9; unlabelled: 15; none: background 3 and stray.
         assert_eq!(pixels, [3, 3, 1, 2]);
         let mut seen = SeenSet::new();
-        for color in [1u32, 2, 9, 15, 3] {
+        for color in [1u32, 2, 9, 15] {
             seen.insert(crate::bitset::color_key(color));
         }
         let mut texels = lookup.tally();
-        lookup.add_texels(&seen, &classifier, &mut texels);
-        assert_eq!(texels, [2, 1, 1, 1]);
+        lookup.add_texels(&seen, &mut texels);
+        // The set holds texels only (the scan never records background).
+        assert_eq!(texels, [2, 1, 1, 0]);
     }
 }

@@ -369,6 +369,10 @@ fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
         if let Some(frames) = &written.frames_csv {
             println!("  frames:  {} (pixels and texels per eye-frame and part)", frames.display());
         }
+        if !written.plots.is_empty() {
+            let plots: Vec<&str> = written.plots.iter().map(|plot| plot.shown.as_str()).collect();
+            println!("  plots:   {} (in {})", plots.join(", "), out_dir.display());
+        }
     }
     for warning in &result.warnings {
         eprintln!("warning: {warning}");

@@ -613,7 +613,7 @@ fn scan_rows(
     while let Some(row) = reader.next_row()? {
         scan.scan(row, classifier, seen, strays, &mut by_class);
         if let Some((lookup, pixels)) = parts.as_mut() {
-            lookup.add_row(row, layout, classifier, pixels);
+            lookup.add_row(row, layout, pixels);
         }
     }
     reader.finish()?;
