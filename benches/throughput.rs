@@ -242,6 +242,24 @@ fn main() {
         rss
     );
 
+    // frames.csv (per-eye-frame tallies by part) against the plain count,
+    // alternating so both see the same cache and machine load.
+    let with_frames = AnalyzeOptions { frames: true, ..options.clone() };
+    let (mut plain, mut framed) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..3 {
+        for (options, best) in [(&options, &mut plain), (&with_frames, &mut framed)] {
+            let start = Instant::now();
+            black_box(analyze(options, None).unwrap());
+            *best = best.min(start.elapsed().as_secs_f64());
+        }
+    }
+    println!(
+        "analyze() with frames.csv / without: {:.3} ({:.3} s vs {:.3} s, best of 3)",
+        framed / plain,
+        framed,
+        plain
+    );
+
     let decode = best_of(3, || {
         black_box(decode_only(&files));
     });

@@ -6,6 +6,7 @@
 //! the counts with the PIdT. Per-image outcomes are kept in archive order, so
 //! the result is identical whatever the number of threads.
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, PoisonError};
@@ -19,8 +20,10 @@ use crate::color::Color;
 use crate::count::Counts;
 use crate::decode::map_file;
 use crate::error::{Error, Result};
+use crate::frames::{EyeFrame, FrameClock, FrameLabel, FrameRecord, FrameTable, PartLookup};
 use crate::heatmap::HeatmapOptions;
 use crate::manifest::{Manifest, PaletteSpec};
+use crate::measures::Measures;
 pub use crate::options::{AnalyzeOptions, Dedupe, MEASURE_PIXELS, PaletteChoice, Progress, Timings};
 use crate::palette::{DEFAULT_PALETTE_SIDE, Fcsp};
 use crate::parts::{Legend, Pidt, join_parts};
@@ -30,7 +33,7 @@ use crate::report::{
     UnlabelledReport,
 };
 use crate::resolution::{CaptureGeometry, ResolutionReport};
-use crate::scan::{Classifier, ImageTally, scan_image};
+use crate::scan::{Classifier, ImageTally, scan_image_by_part};
 use crate::shard::Shard;
 use crate::tile_counter::TileCounter;
 use crate::trim::TrimPlan;
@@ -47,6 +50,9 @@ pub struct Analysis {
     pub input_files: Vec<PathBuf>,
     /// The vehicle model `heatmap.glb` is made from, when there is one.
     pub vehicle_model: Option<PathBuf>,
+    /// Per-eye-frame tallies by part (`frames.csv`), with
+    /// [`AnalyzeOptions::frames`].
+    pub frames: Option<FrameTable>,
 }
 
 impl Analysis {
@@ -83,6 +89,10 @@ struct Inputs {
     /// False for a capture counted while rendering (`--count`): its manifest
     /// names tiles that were never written.
     tiles_written: bool,
+    /// The manifest's eye-frames, by eye-frame group (empty without one).
+    eye_frames: Vec<EyeFrame>,
+    /// Seconds per captured frame, eyes and pixels per degree.
+    clock: FrameClock,
 }
 
 /// Runs the analysis.
@@ -112,72 +122,127 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
 
     let stage = Instant::now();
     let image_counts = Counts::new();
-    let frame_counts = (inputs.dedupe == Dedupe::Frame).then(Counts::new);
+    let frame_counts = inputs.dedupe.per_frame().then(Counts::new);
     let strays = AtomicColorSet::new();
     let stop = AtomicBool::new(false);
-    // Work units: one eye-frame (so frame deduplication stays in one thread),
-    // or one image; with a shard, only its images.
     let selected: Vec<usize> =
         (0..images.len()).filter(|&index| in_shard(options.shard, index, &images[index])).collect();
-    let units: Vec<Vec<usize>> = match inputs.dedupe {
-        Dedupe::Frame => {
-            let mut groups = vec![Vec::new(); inputs.archive.frame_groups];
-            for &index in &selected {
-                // resolve() guarantees every image has a group in frame mode.
-                groups[images[index].frame_group.unwrap_or(0)].push(index);
-            }
-            groups.retain(|group| !group.is_empty());
-            groups
+    let lookup = options.frames.then(|| {
+        PartLookup::new(
+            &inputs.palette,
+            inputs.parts.as_ref().map(|p| (&p.1, &p.3)),
+            classifier.backgrounds(),
+        )
+    });
+    // Work units, each a list of eye-frames (lists of images), so that what
+    // is deduplicated together stays in one thread: one image; one eye-frame
+    // (frame dedupe, and frames.csv, which tallies whole eye-frames); both
+    // eye-frames of a frame (eye-pair dedupe). With a shard, only its images.
+    let by_eye_frame = inputs.archive.frame_groups > 0 && (lookup.is_some() || inputs.dedupe.per_frame());
+    let units: Vec<Vec<Vec<usize>>> = match inputs.dedupe {
+        Dedupe::EyePair => eye_pair_units(&inputs.archive, &inputs.eye_frames, &selected),
+        _ if by_eye_frame => {
+            eye_frame_units(&inputs.archive, &selected).into_iter().map(|g| vec![g]).collect()
         }
-        Dedupe::Image => selected.iter().map(|&i| vec![i]).collect(),
+        _ => selected.iter().map(|&i| vec![vec![i]]).collect(),
     };
     if let Some(progress) = progress {
         progress.start(selected.len() as u64);
     }
-    // Per worker thread a 2 MiB set for the image, and one for the eye-frame
-    // in frame mode, reused for every image: fresh sets per rayon split
-    // would pay their page faults again and again.
-    let worker_sets: Vec<Mutex<(SeenSet, Option<SeenSet>)>> = (0..rayon::current_num_threads())
-        .map(|_| Mutex::new((SeenSet::new(), frame_counts.as_ref().map(|_| SeenSet::new()))))
+    // Per worker thread a 2 MiB set for the image, one for the eye-frame
+    // (frame dedupe or frames.csv) and one for the frame (eye-pair dedupe),
+    // reused for every unit: fresh sets per rayon split would pay their page
+    // faults again and again.
+    let worker_sets: Vec<Mutex<WorkerSets>> = (0..rayon::current_num_threads())
+        .map(|_| {
+            Mutex::new(WorkerSets {
+                image: SeenSet::new(),
+                eye_frame: (frame_counts.is_some() || lookup.is_some()).then(SeenSet::new),
+                pair: (inputs.dedupe == Dedupe::EyePair).then(SeenSet::new),
+            })
+        })
         .collect();
-    let mut outcomes: Vec<(usize, Outcome)> = units
+    let unit_results: Vec<UnitResult> = units
         .par_iter()
         .map(|unit| {
             let slot = rayon::current_thread_index().unwrap_or(0) % worker_sets.len();
             // Only this thread uses its slot, and nothing below yields to rayon,
             // so the lock is never contended.
             let mut sets = worker_sets[slot].lock().unwrap_or_else(PoisonError::into_inner);
-            let (seen, frame_seen) = &mut *sets;
-            let mut unit_outcomes = Vec::with_capacity(unit.len());
-            for &index in unit {
-                if options.strict && stop.load(Ordering::Relaxed) {
-                    unit_outcomes.push((index, Outcome::Skipped));
-                    continue;
-                }
-                let outcome = count_one(index, &inputs.archive, &plan, &classifier, seen, &strays);
-                if let Outcome::Decoded(_) = outcome {
-                    if let Some(frame_seen) = frame_seen.as_mut() {
-                        seen.merge_into(frame_seen);
+            let WorkerSets { image: seen, eye_frame: frame_seen, pair: pair_seen } = &mut *sets;
+            let mut unit_outcomes = Vec::new();
+            let mut records = Vec::new();
+            for eye_frame in unit {
+                let mut image_pixels = lookup.as_ref().map(PartLookup::tally);
+                let mut frame_pixels = lookup.as_ref().map(PartLookup::tally);
+                for &index in eye_frame {
+                    if options.strict && stop.load(Ordering::Relaxed) {
+                        unit_outcomes.push((index, Outcome::Skipped));
+                        continue;
                     }
-                    image_counts.add_set(seen);
+                    let parts = lookup.as_ref().zip(image_pixels.as_deref_mut());
+                    let outcome = count_one(index, &inputs.archive, &plan, &classifier, seen, &strays, parts);
+                    if let (Some(image), Some(sum)) = (image_pixels.as_mut(), frame_pixels.as_mut()) {
+                        // A failed image's partial tally is dropped with it.
+                        if let Outcome::Decoded(_) = outcome {
+                            sum.iter_mut().zip(image.iter()).for_each(|(sum, pixels)| *sum += pixels);
+                        }
+                        image.fill(0);
+                    }
+                    if let Outcome::Decoded(_) = outcome {
+                        if let Some(frame_seen) = frame_seen.as_mut() {
+                            seen.merge_into(frame_seen);
+                        }
+                        image_counts.add_set(seen);
+                    }
+                    // add_set drained it; a failed image was cleared by scan_image.
+                    debug_assert!(seen.is_empty());
+                    if let Outcome::Failed(_) = outcome {
+                        stop.store(true, Ordering::Relaxed);
+                    }
+                    unit_outcomes.push((index, outcome));
+                    if let Some(progress) = progress {
+                        progress.advance(1);
+                    }
                 }
-                // add_set drained it; a failed image was cleared by scan_image.
-                debug_assert!(seen.is_empty());
-                if let Outcome::Failed(_) = outcome {
-                    stop.store(true, Ordering::Relaxed);
+                if let (Some(lookup), Some(mut pixels), Some(frame_seen), Some(&first)) =
+                    (&lookup, frame_pixels, frame_seen.as_mut(), eye_frame.first())
+                {
+                    let mut texels = lookup.tally();
+                    lookup.add_texels(frame_seen, &mut texels);
+                    // Drop the non-texel slot.
+                    pixels.pop();
+                    texels.pop();
+                    let label = match images[first].frame_group {
+                        Some(group) if by_eye_frame => eye_frame_label(&inputs.eye_frames, group),
+                        _ => FrameLabel::Image(first),
+                    };
+                    records.push(FrameRecord { label, pixels, texels });
                 }
-                unit_outcomes.push((index, outcome));
-                if let Some(progress) = progress {
-                    progress.advance(1);
+                if let Some(frame_seen) = frame_seen.as_mut() {
+                    match (&frame_counts, pair_seen.as_mut()) {
+                        (_, Some(pair_seen)) => {
+                            frame_seen.merge_into(pair_seen);
+                            frame_seen.clear();
+                        }
+                        (Some(counts), None) => counts.add_set(frame_seen),
+                        (None, None) => frame_seen.clear(),
+                    }
                 }
             }
-            if let (Some(counts), Some(frame_seen)) = (&frame_counts, frame_seen.as_mut()) {
-                counts.add_set(frame_seen);
+            if let (Some(counts), Some(pair_seen)) = (&frame_counts, pair_seen.as_mut()) {
+                counts.add_set(pair_seen);
             }
-            unit_outcomes
+            (unit_outcomes, records)
         })
-        .flatten_iter()
         .collect();
+    let mut outcomes = Vec::with_capacity(images.len());
+    let mut records = Vec::new();
+    for (unit_outcomes, unit_records) in unit_results {
+        outcomes.extend(unit_outcomes);
+        records.extend(unit_records);
+    }
+    let frames = lookup.map(|lookup| frame_table(lookup, records, &inputs, options.shard));
     if let Some(progress) = progress {
         progress.finish();
     }
@@ -188,7 +253,96 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
         by_image[index] = outcome;
     }
     let counted = CountedImages { outcomes: by_image, image_counts, frame_counts, strays };
-    summarize(options, &inputs, plan.empty_tiles.clone(), counted, timings, started)
+    let mut analysis = summarize(options, &inputs, plan.empty_tiles.clone(), counted, timings, started)?;
+    if let Some(frames) = &frames {
+        analysis.result.measures = Some(Measures::from_frames(frames, &inputs.clock));
+    }
+    analysis.frames = frames;
+    Ok(analysis)
+}
+
+/// What counting one work unit gives: its images' outcomes, and its
+/// eye-frame's tallies by part when frames are tallied.
+type UnitResult = (Vec<(usize, Outcome)>, Vec<FrameRecord>);
+
+/// A worker thread's sets (see [`analyze`]).
+struct WorkerSets {
+    image: SeenSet,
+    eye_frame: Option<SeenSet>,
+    pair: Option<SeenSet>,
+}
+
+/// Work units of whole frames: per frame number, its eye-frames (both
+/// eyes), each the list of its selected images.
+fn eye_pair_units(archive: &Archive, eye_frames: &[EyeFrame], selected: &[usize]) -> Vec<Vec<Vec<usize>>> {
+    let mut frames: BTreeMap<u32, Vec<Vec<usize>>> = BTreeMap::new();
+    for group in eye_frame_units(archive, selected) {
+        let frame_group = archive.images[group[0]].frame_group.unwrap_or(0);
+        let frame = eye_frames.get(frame_group).map_or(frame_group as u32, |e| e.frame);
+        frames.entry(frame).or_default().push(group);
+    }
+    frames.into_values().collect()
+}
+
+/// Work units of whole eye-frames: the selected images grouped by eye-frame.
+fn eye_frame_units(archive: &Archive, selected: &[usize]) -> Vec<Vec<usize>> {
+    let mut groups = vec![Vec::new(); archive.frame_groups];
+    for &index in selected {
+        groups[archive.images[index].frame_group.unwrap_or(0)].push(index);
+    }
+    groups.retain(|group| !group.is_empty());
+    groups
+}
+
+/// The label of eye-frame group `group`.
+fn eye_frame_label(eye_frames: &[EyeFrame], group: usize) -> FrameLabel {
+    match eye_frames.get(group) {
+        Some(eye_frame) => FrameLabel::EyeFrame(eye_frame.clone()),
+        None => FrameLabel::Image(group),
+    }
+}
+
+/// The `frames.csv` table: a record per eye-frame of the shard (with a
+/// manifest, also those whose tiles were all empty or trimmed: zero rows), or
+/// per decoded image without one, in eye-frame (or name) order.
+fn frame_table(
+    lookup: PartLookup,
+    records: Vec<FrameRecord>,
+    inputs: &Inputs,
+    shard: Option<Shard>,
+) -> FrameTable {
+    let parts = lookup.names;
+    if inputs.archive.frame_groups == 0 || inputs.eye_frames.len() != inputs.archive.frame_groups {
+        let mut records = records;
+        records.sort_by_key(|record| match record.label {
+            FrameLabel::Image(position) => position,
+            FrameLabel::EyeFrame(_) => usize::MAX,
+        });
+        return FrameTable { parts, records };
+    }
+    let mut by_label: Vec<Option<FrameRecord>> = vec![None; inputs.eye_frames.len()];
+    for record in records {
+        if let FrameLabel::EyeFrame(eye_frame) = &record.label {
+            let group =
+                inputs.eye_frames.iter().position(|e| e.frame == eye_frame.frame && e.eye == eye_frame.eye);
+            if let Some(group) = group {
+                by_label[group] = Some(record);
+            }
+        }
+    }
+    let records = by_label
+        .into_iter()
+        .enumerate()
+        .filter(|(group, _)| shard.is_none_or(|shard| shard.takes(*group)))
+        .map(|(group, record)| {
+            record.unwrap_or_else(|| FrameRecord {
+                label: eye_frame_label(&inputs.eye_frames, group),
+                pixels: vec![0; parts.len()],
+                texels: vec![0; parts.len()],
+            })
+        })
+        .collect();
+    FrameTable { parts, records }
 }
 
 /// Joins tiles counted from memory ([`TileCounter`], the capture's `--count`)
@@ -551,7 +705,14 @@ fn finish(
     input_files.extend(inputs.palette_file.iter().cloned());
     input_files.push(options.archive.join(crate::manifest::MANIFEST_FILE));
     input_files.extend(inputs.vehicle_model.iter().cloned());
-    Ok(Analysis { result, texel_counts, timings, input_files, vehicle_model: inputs.vehicle_model.clone() })
+    Ok(Analysis {
+        result,
+        texel_counts,
+        timings,
+        input_files,
+        vehicle_model: inputs.vehicle_model.clone(),
+        frames: None,
+    })
 }
 
 /// Counts one image into `seen` (left for the caller to commit and clear).
@@ -562,6 +723,7 @@ fn count_one(
     classifier: &Classifier,
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
+    parts: Option<(&PartLookup, &mut [u64])>,
 ) -> Outcome {
     let image = &archive.images[index];
     let bytes = match map_file(&image.path) {
@@ -571,7 +733,7 @@ fn count_one(
     if plan.is_trimmable(index, &bytes) {
         return Outcome::Trimmed;
     }
-    match scan_image(&image.path, &bytes, classifier, seen, strays) {
+    match scan_image_by_part(&image.path, &bytes, classifier, seen, strays, parts) {
         Ok(tally) => Outcome::Decoded(tally),
         Err(error) => Outcome::Failed(error),
     }
@@ -665,11 +827,20 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
     if archive.found() == 0 && !allow_no_images {
         return Err(Error::NoImages { path: root.to_path_buf() });
     }
-    if options.dedupe == Dedupe::Frame && archive.frame_groups == 0 {
+    if options.dedupe.per_frame() && archive.frame_groups == 0 {
         return Err(Error::BadOptions(format!(
-            "--dedupe frame needs {}/manifest.json to know which tiles form one eye-frame",
+            "--dedupe {} needs {}/manifest.json to know which tiles form one eye-frame",
+            options.dedupe.name(),
             root.display()
         )));
+    }
+    if options.dedupe == Dedupe::EyePair && options.shard.is_some() {
+        // Shards hold whole eye-frames, and the two eyes of a frame may fall
+        // in different shards, where a texel would count once in each.
+        return Err(Error::BadOptions(
+            "--dedupe eye-pair cannot be sharded yet (a frame's two eyes may fall in different shards)"
+                .into(),
+        ));
     }
     let tiles_written = manifest
         .as_ref()
@@ -678,6 +849,8 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
         .and_then(serde_json::Value::as_bool)
         .unwrap_or(true);
     let geometry = manifest.as_ref().map(CaptureGeometry::from_manifest).unwrap_or_default();
+    let eye_frames = manifest.as_ref().map(crate::frames::eye_frames).unwrap_or_default();
+    let clock = manifest.as_ref().map(FrameClock::from_manifest).unwrap_or_default();
     let palette_file = match palette_choice {
         PaletteChoice::Image(path) => Some(path),
         PaletteChoice::Canonical { .. } => None,
@@ -726,6 +899,8 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
         palette_file,
         vehicle_model,
         warnings,
+        eye_frames,
+        clock,
     })
 }
 
@@ -746,6 +921,7 @@ fn refuse_to_overwrite_inputs(inputs: &[PathBuf], files: &WrittenFiles) -> Resul
         files.heatmap_glb.as_ref(),
         Some(&files.report_html),
         files.views_png.as_ref(),
+        files.frames_csv.as_ref(),
     ];
     for output in outputs.into_iter().flatten() {
         let Ok(output_real) = output.canonicalize() else { continue };
@@ -771,10 +947,11 @@ fn refuse_to_overwrite_inputs(inputs: &[PathBuf], files: &WrittenFiles) -> Resul
 /// vehicle model) or an interruption leaves the previous result set whole.
 pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenFiles> {
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
-    let files = planned_files(analysis, out_dir);
+    let mut files = planned_files(analysis, out_dir);
     refuse_to_overwrite_inputs(&analysis.input_files, &files)?;
     let staging = crate::output::Staging::new(out_dir)?;
-    write_results_into(analysis, staging.path())?;
+    // Plot paths are relative to the output folder: the same after the move.
+    files.plots = write_results_into(analysis, staging.path())?;
     staging.commit(out_dir)?;
     Ok(files)
 }
@@ -789,11 +966,14 @@ fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
         heatmap_glb: analysis.vehicle_model.as_ref().map(|_| out_dir.join("heatmap.glb")),
         report_html: out_dir.join("report.html"),
         views_png: analysis.vehicle_model.as_ref().map(|_| out_dir.join("views.png")),
+        frames_csv: analysis.frames.as_ref().map(|_| out_dir.join(crate::frames::FRAMES_FILE)),
+        plots: Vec::new(),
     }
 }
 
-/// Writes the whole result set into `out_dir` (a staging folder).
-fn write_results_into(analysis: &mut Analysis, out_dir: &Path) -> Result<()> {
+/// Writes the whole result set into `out_dir` (a staging folder); returns
+/// the plots written there.
+fn write_results_into(analysis: &mut Analysis, out_dir: &Path) -> Result<Vec<crate::plots::Plot>> {
     let files = planned_files(analysis, out_dir);
     let palette = &analysis.result.settings.palette;
     let (width, height) = (palette.width, palette.height);
@@ -805,7 +985,13 @@ fn write_results_into(analysis: &mut Analysis, out_dir: &Path) -> Result<()> {
     let stage = Instant::now();
     crate::report::write_result_json(&files.result_json, &analysis.result, &analysis.texel_counts)?;
     if let Some(path) = &files.parts_csv {
-        crate::report::write_parts_csv(path, &analysis.result.parts)?;
+        match &analysis.result.measures {
+            Some(measures) => crate::measures::write_parts_csv(path, &analysis.result.parts, measures)?,
+            None => crate::report::write_parts_csv(path, &analysis.result.parts)?,
+        }
+    }
+    if let (Some(frames), Some(path)) = (&analysis.frames, &files.frames_csv) {
+        frames.write_csv(path)?;
     }
     analysis.timings.write_seconds = stage.elapsed().as_secs_f64();
     analysis.timings.total_seconds += analysis.timings.heatmap_seconds + analysis.timings.write_seconds;
@@ -822,6 +1008,8 @@ fn write_results_into(analysis: &mut Analysis, out_dir: &Path) -> Result<()> {
         };
         crate::heatmap_views::write_views(&model, &texture, out_dir)?;
     }
+    let mut files = files;
+    files.plots = crate::plots::write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref())?;
     crate::html_report::write_report(&files.report_html, &analysis.result, &files)?;
-    Ok(())
+    Ok(files.plots)
 }

@@ -20,7 +20,7 @@ pub fn write_report(path: &Path, result: &AnalysisResult, files: &WrittenFiles) 
 }
 
 /// Escapes text for HTML.
-fn escape(text: &str) -> String {
+pub(crate) fn escape(text: &str) -> String {
     text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
@@ -30,7 +30,7 @@ fn file_name(path: &Path) -> String {
 
 /// Parts in the paper's table: the union of the top five by total, by peak
 /// and by average.
-fn top_five_union(parts: &[PartStats]) -> Vec<bool> {
+pub(crate) fn top_five_union(parts: &[PartStats]) -> Vec<bool> {
     let mut marked = vec![false; parts.len()];
     let mut order: Vec<usize> = (0..parts.len()).collect();
     let mut mark = |key: &dyn Fn(&PartStats) -> f64| {
@@ -47,6 +47,49 @@ fn top_five_union(parts: &[PartStats]) -> Vec<bool> {
     marked
 }
 
+/// The resolution-independent measures of the parts with the largest
+/// angular area (see [`crate::measures`]).
+fn render_measures(page: &mut String, result: &AnalysisResult, measures: &crate::measures::Measures) {
+    let optional = |value: Option<f64>| value.map_or("–".to_string(), |v| format!("{v:.3}"));
+    let _ = writeln!(
+        page,
+        "<h2>Resolution-independent measures</h2>\n<p>Per eye, averaged over {} eyes: visible angular area summed \
+         over time (deg²·s) and seconds seen; {} eye-frames, {} s per captured frame, {} pixels per degree. \
+         Definition: <code>{}</code>.</p>",
+        measures.eyes,
+        measures.eye_frames,
+        optional(measures.seconds_per_frame),
+        optional(measures.pixels_per_degree),
+        escape(&measures.definition)
+    );
+    for note in &measures.notes {
+        let _ = writeln!(page, "<div class=\"warn\">{}</div>", escape(note));
+    }
+    let mut order: Vec<&crate::measures::PartMeasure> = measures
+        .parts
+        .iter()
+        .filter(|p| p.pixels > 0 || result.parts.iter().any(|q| q.name == p.name))
+        .collect();
+    order.sort_by(|a, b| b.pixels.cmp(&a.pixels).then(a.name.cmp(&b.name)));
+    let _ = writeln!(
+        page,
+        "<table><tr><th>part</th><th>pixels (all eye-frames)</th><th>eye-frames seen</th><th>deg²·s</th>\
+         <th>exposure s</th></tr>"
+    );
+    for part in order {
+        let _ = writeln!(
+            page,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            escape(&part.name),
+            part.pixels,
+            part.eye_frames_seen,
+            optional(part.angular_area_deg2_s),
+            optional(part.exposure_s)
+        );
+    }
+    let _ = writeln!(page, "</table>");
+}
+
 fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
     let settings = &result.settings;
     let mut page = String::new();
@@ -59,7 +102,7 @@ fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
          td:first-child,th:first-child{{text-align:left}}tr.top{{background:#fff4d6}}\
          .swatch{{display:inline-block;width:0.9em;height:0.9em;border:1px solid #555;vertical-align:middle;margin-right:0.4em}}\
          .warn{{background:#fde8e8;border-left:4px solid #c00;padding:0.4em 0.8em;margin:0.3em 0}}\
-         img{{max-width:100%;image-rendering:pixelated;border:1px solid #ccc}}</style></head><body>\n<h1>{title}</h1>\n"
+         img{{max-width:100%;image-rendering:pixelated;border:1px solid #ccc}}img.plot{{image-rendering:auto}}</style></head><body>\n<h1>{title}</h1>\n"
     );
 
     // Warnings first: what needs looking at before trusting the numbers.
@@ -185,6 +228,26 @@ fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
             file_name(views)
         );
     }
+    if !files.plots.is_empty() {
+        let _ = writeln!(
+            page,
+            "<h2>Plots</h2>\n<p>Pixels showing each of the {} most visible parts per eye (from <code>frames.csv</code>), \
+             and the per-part bar chart. Each plot is also in <code>plots/</code> as SVG.</p>",
+            crate::plots::TOP_PARTS
+        );
+        for plot in &files.plots {
+            let _ = writeln!(
+                page,
+                "<p><a href=\"{svg}\"><img src=\"{shown}\" alt=\"{title}\" class=\"plot\"></a></p>",
+                svg = escape(&plot.svg),
+                shown = escape(&plot.shown),
+                title = escape(&plot.title)
+            );
+        }
+    }
+    if let Some(measures) = &result.measures {
+        render_measures(&mut page, result, measures);
+    }
     let _ = writeln!(page, "<h2>Files</h2>\n<ul>");
     let listed = [
         Some(&files.result_json),
@@ -192,6 +255,7 @@ fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
         Some(&files.heatmap_png),
         files.heatmap_glb.as_ref(),
         Some(&files.timings_json),
+        files.frames_csv.as_ref(),
     ];
     for file in listed.into_iter().flatten() {
         let _ = writeln!(page, "<li><a href=\"{0}\">{0}</a></li>", file_name(file));

@@ -9,9 +9,11 @@ pub mod archive;
 pub mod bitset;
 pub mod color;
 pub mod compare;
+pub mod compare_report;
 pub mod count;
 pub mod decode;
 pub mod error;
+pub mod frames;
 #[doc(hidden)]
 pub mod fuzz_entry;
 pub mod heatmap;
@@ -19,11 +21,13 @@ pub mod heatmap_views;
 pub mod html_report;
 pub mod input_file;
 pub mod manifest;
+pub mod measures;
 pub mod merge;
 pub mod options;
 pub mod output;
 pub mod palette;
 pub mod parts;
+pub mod plots;
 pub mod report;
 pub mod resolution;
 pub mod scan;
@@ -41,10 +45,13 @@ pub use analyze::{
 pub use archive::{Archive, ImageSource};
 pub use color::{COLOR_COUNT, Color, ParseColorError};
 pub use compare::{Comparison, compare_parts, kendall_tau_b};
+pub use compare_report::write_comparison;
 pub use count::Counts;
 pub use error::{Error, Result};
+pub use frames::{FrameTable, PartLookup};
 pub use heatmap::{HeatmapOptions, Scale};
 pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
+pub use measures::Measures;
 pub use merge::merge_results;
 #[cfg(feature = "cli")]
 pub use output::remove_temporaries_on_interrupt;
@@ -56,7 +63,7 @@ pub use report::{
     write_result_json, write_timings_json,
 };
 pub use resolution::{CaptureGeometry, ResolutionReport};
-pub use scan::{Classifier, ImageTally, PixelClass, scan_image};
+pub use scan::{Classifier, ImageTally, PixelClass, scan_image, scan_image_by_part};
 pub use shard::Shard;
 pub use tile_counter::TileCounter;
 pub use trim::{EmptyTile, TrimMode};

@@ -44,6 +44,9 @@ enum Command {
     /// Add up the result.json of every shard (`--shard I/N`) of one archive: the same files as
     /// analysing it whole.
     Merge(MergeArgs),
+    /// Write one report.html comparing several results (result folders or result.json files;
+    /// the first is the reference for the ranking differences).
+    Report(ReportArgs),
     /// Write the canonical Full Color Space Palette as a PNG (to texture a mesh in Unity/Blender).
     Palette(PaletteArgs),
 }
@@ -85,8 +88,9 @@ struct AnalyzeArgs {
     #[arg(long, value_name = "HEX")]
     background: Vec<String>,
 
-    /// What one count means: `image` (once per PNG) or `frame` (once per eye-frame; needs a manifest).
-    #[arg(long, default_value = "image", value_name = "image|frame")]
+    /// What one count means: `image` (once per PNG), `frame` (once per eye-frame) or `eye-pair`
+    /// (once per frame over both eyes); the last two need a manifest.
+    #[arg(long, default_value = "image", value_name = "image|frame|eye-pair")]
     dedupe: String,
 
     /// Skip all-background tiles: `auto` (find and verify the empty-file size), a size in bytes, or `off`.
@@ -110,6 +114,11 @@ struct AnalyzeArgs {
     /// default: the archive's vehicle.glb (written by ufcsr-capture).
     #[arg(long, value_name = "GLB")]
     mesh: Option<PathBuf>,
+
+    /// Per-eye-frame pixels and texels by part (frames.csv) and the resolution-independent
+    /// measures (deg²·s, exposure seconds) in result.json and parts.csv: `on` or `off`.
+    #[arg(long, default_value = "on", value_name = "on|off")]
+    frames_csv: String,
 
     /// Worker threads (default: all cores).
     #[arg(long, short = 'j', value_name = "N")]
@@ -141,6 +150,17 @@ struct HeatmapScaleArgs {
     /// Count shown as the top of the colour scale (share one scale across scenarios).
     #[arg(long, value_name = "N")]
     max: Option<u32>,
+}
+
+#[derive(Args)]
+struct ReportArgs {
+    /// Result folders (or their result.json), at least two.
+    #[arg(required = true, num_args = 2..)]
+    results: Vec<PathBuf>,
+
+    /// Output folder for report.html and the images it shows.
+    #[arg(long, short, value_name = "DIR")]
+    out: PathBuf,
 }
 
 #[derive(Args)]
@@ -181,6 +201,7 @@ fn main() -> ExitCode {
         Some(Command::Heatmap(args)) => run_heatmap(args),
         Some(Command::Palette(args)) => run_palette(args),
         Some(Command::Merge(args)) => run_merge(args),
+        Some(Command::Report(args)) => run_report(args),
         None => run_analyze(cli.analyze),
     };
     match outcome {
@@ -237,6 +258,12 @@ impl Progress for Bar {
 /// More worker threads than this is a typo, not a machine.
 const MAX_THREADS: usize = 1024;
 
+fn run_report(args: ReportArgs) -> Result<ExitCode> {
+    let page = ufcsr::write_comparison(&args.results, &args.out)?;
+    println!("compared {} results; wrote {}", args.results.len(), page.display());
+    Ok(ExitCode::SUCCESS)
+}
+
 fn run_merge(args: MergeArgs) -> Result<ExitCode> {
     let mut analysis = ufcsr::merge_results(&args.results)?;
     let written = write_results(&mut analysis, &args.out)?;
@@ -290,6 +317,11 @@ fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
         exclude: vec![out_dir.clone()],
         ignore_manifest: args.no_manifest,
         mesh: args.mesh.clone(),
+        frames: match args.frames_csv.as_str() {
+            "on" => true,
+            "off" => false,
+            other => anyhow::bail!("unknown --frames-csv {other:?}: use on or off"),
+        },
         shard: match &args.shard {
             Some(text) => Some(text.parse::<Shard>()?),
             None => Shard::from_job_array(|name| std::env::var(name).ok())?,
@@ -318,6 +350,7 @@ fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
                 "parts_csv": written.parts_csv,
                 "heatmap_png": written.heatmap_png,
                 "timings_json": written.timings_json,
+                "frames_csv": written.frames_csv,
             },
         });
         println!("{}", serde_json::to_string_pretty(&summary)?);
@@ -334,6 +367,13 @@ fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
             println!("  vehicle: {} (the heatmap on the vehicle, glTF)", glb.display());
         }
         println!("  data:    {}, {}", written.result_json.display(), written.heatmap_png.display());
+        if let Some(frames) = &written.frames_csv {
+            println!("  frames:  {} (pixels and texels per eye-frame and part)", frames.display());
+        }
+        if !written.plots.is_empty() {
+            let plots: Vec<&str> = written.plots.iter().map(|plot| plot.shown.as_str()).collect();
+            println!("  plots:   {} (in {})", plots.join(", "), out_dir.display());
+        }
     }
     for warning in &result.warnings {
         eprintln!("warning: {warning}");

@@ -147,10 +147,38 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         warnings,
         notes,
         resolution,
+        measures: merged_measures(&summaries),
     };
+    let frames = merged_frames(paths)?;
     let mut input_files = paths.to_vec();
     input_files.extend(parts.iter().flat_map(|(legend, _, pidt, _)| [legend.clone(), pidt.clone()]));
-    Ok(Analysis { result, texel_counts, timings: Timings::default(), input_files, vehicle_model: None })
+    Ok(Analysis {
+        result,
+        texel_counts,
+        timings: Timings::default(),
+        input_files,
+        vehicle_model: None,
+        frames,
+    })
+}
+
+/// The shards' measures added up, when every shard has them.
+fn merged_measures(summaries: &[AnalysisResult]) -> Option<crate::measures::Measures> {
+    let measures: Option<Vec<_>> = summaries.iter().map(|s| s.measures.as_ref()).collect();
+    crate::measures::Measures::merged(&measures?)
+}
+
+/// The shards' `frames.csv` (beside each `result.json`) as one table, when
+/// every shard wrote one.
+fn merged_frames(paths: &[PathBuf]) -> Result<Option<crate::frames::FrameTable>> {
+    let files: Vec<PathBuf> =
+        paths.iter().map(|path| path.with_file_name(crate::frames::FRAMES_FILE)).collect();
+    if !files.iter().all(|file| file.is_file()) {
+        return Ok(None);
+    }
+    let tables =
+        files.iter().map(|file| crate::frames::FrameTable::read_csv(file)).collect::<Result<Vec<_>>>()?;
+    Ok(crate::frames::FrameTable::merged(tables))
 }
 
 /// Prefixes an error with the result that named the file.

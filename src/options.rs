@@ -30,8 +30,28 @@ pub enum Dedupe {
     /// A texel counts once per image (tile) that shows it.
     #[default]
     Image,
-    /// A texel counts once per eye-frame, however many of its tiles show it.
+    /// A texel counts once per eye-frame, however many of its tiles show it
+    /// (each eye counts separately).
     Frame,
+    /// A texel counts once per frame, over both eyes and all their tiles.
+    #[serde(rename = "eye-pair")]
+    EyePair,
+}
+
+impl Dedupe {
+    /// Its name, as `--dedupe` takes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Dedupe::Image => "image",
+            Dedupe::Frame => "frame",
+            Dedupe::EyePair => "eye-pair",
+        }
+    }
+
+    /// True when counts are per eye-frame or per frame (needs a manifest).
+    pub fn per_frame(self) -> bool {
+        self != Dedupe::Image
+    }
 }
 
 impl std::str::FromStr for Dedupe {
@@ -40,7 +60,10 @@ impl std::str::FromStr for Dedupe {
         match text {
             "image" => Ok(Dedupe::Image),
             "frame" => Ok(Dedupe::Frame),
-            other => Err(Error::BadOptions(format!("unknown --dedupe {other:?}: use image or frame"))),
+            "eye-pair" => Ok(Dedupe::EyePair),
+            other => {
+                Err(Error::BadOptions(format!("unknown --dedupe {other:?}: use image, frame or eye-pair")))
+            }
         }
     }
 }
@@ -80,6 +103,11 @@ pub struct AnalyzeOptions {
     /// The vehicle as unwrapped (glTF with the palette UVs), for `heatmap.glb`;
     /// default: the manifest's `vehicle`.
     pub mesh: Option<PathBuf>,
+    /// Tally pixels and texels per eye-frame and part (`frames.csv`) and the
+    /// resolution-independent measures (`measures` in `result.json`). Off by
+    /// default in the library (the capture's `--count` path has no per-part
+    /// tally); the binary turns it on unless `--frames-csv off`.
+    pub frames: bool,
 }
 
 /// Wall-clock seconds per stage, and the thread count (kept out of

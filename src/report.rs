@@ -198,6 +198,9 @@ pub struct AnalysisResult {
     /// Whether the counts depend on resolution (absent in older results).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub resolution: Option<crate::resolution::ResolutionReport>,
+    /// Resolution-independent measures per part (with frames tallied).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measures: Option<crate::measures::Measures>,
 }
 
 fn default_measure() -> String {
@@ -253,6 +256,7 @@ impl AnalysisResult {
             warnings,
             notes,
             resolution: None,
+            measures: None,
         }
     }
 }
@@ -576,4 +580,8 @@ pub struct WrittenFiles {
     pub report_html: PathBuf,
     /// `views.png`, the contact sheet of the eight views (with a vehicle model).
     pub views_png: Option<PathBuf>,
+    /// `frames.csv`, when frames were tallied.
+    pub frames_csv: Option<PathBuf>,
+    /// The plots written under `plots/`.
+    pub plots: Vec<crate::plots::Plot>,
 }

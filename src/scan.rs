@@ -30,6 +30,7 @@ use std::path::Path;
 use crate::bitset::{AtomicColorSet, SeenSet, color_key};
 use crate::decode::{PixelLayout, RowReader};
 use crate::error::{Error, Result};
+use crate::frames::PartLookup;
 use crate::palette::Fcsp;
 
 #[cfg(target_arch = "x86_64")]
@@ -573,8 +574,24 @@ pub fn scan_image(
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
 ) -> Result<ImageTally> {
+    scan_image_by_part(path, bytes, classifier, seen, strays, None)
+}
+
+/// [`scan_image`], and with `parts` also the image's pixels by part (added
+/// to the tally, see [`crate::frames::PartLookup::add_row`]; on error the
+/// tally holds a part of the image's pixels: the caller discards it). The
+/// per-part pass is a separate loop over each row, so [`scan_image`] keeps
+/// its kernels untouched.
+pub fn scan_image_by_part(
+    path: &Path,
+    bytes: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+    parts: Option<(&PartLookup, &mut [u64])>,
+) -> Result<ImageTally> {
     debug_assert!(seen.is_empty());
-    let outcome = scan_rows(path, bytes, classifier, seen, strays);
+    let outcome = scan_rows(path, bytes, classifier, seen, strays, parts);
     if outcome.is_err() {
         seen.clear();
     }
@@ -587,12 +604,17 @@ fn scan_rows(
     classifier: &Classifier,
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
+    mut parts: Option<(&PartLookup, &mut [u64])>,
 ) -> Result<ImageTally> {
     let mut reader = RowReader::new(path, bytes)?;
-    let scan = row_scan(reader.layout(), classifier);
+    let layout = reader.layout();
+    let scan = row_scan(layout, classifier);
     let mut by_class = [0u64; 3];
     while let Some(row) = reader.next_row()? {
         scan.scan(row, classifier, seen, strays, &mut by_class);
+        if let Some((lookup, pixels)) = parts.as_mut() {
+            lookup.add_row(row, layout, pixels);
+        }
     }
     reader.finish()?;
     Ok(ImageTally {

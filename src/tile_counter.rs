@@ -31,6 +31,8 @@ pub struct TileCounter<'a> {
     frame_seen: Option<SeenSet>,
     /// The eye-frame whose tiles `frame_seen` holds.
     current_eye_frame: Option<(u32, String)>,
+    /// With `EyePair` the set is committed per frame, not per eye-frame.
+    dedupe: Dedupe,
     /// Per tile name (`tiles/fNNNN_EYE_rR_cC.png`): its pixel tally.
     pub(crate) tallies: BTreeMap<String, ImageTally>,
 }
@@ -42,10 +44,11 @@ impl<'a> TileCounter<'a> {
         Ok(TileCounter {
             classifier: Classifier::new(palette, &backgrounds)?,
             image_counts: Counts::new(),
-            frame_counts: (dedupe == Dedupe::Frame).then(Counts::new),
+            frame_counts: dedupe.per_frame().then(Counts::new),
             strays: AtomicColorSet::new(),
             seen: SeenSet::new(),
-            frame_seen: (dedupe == Dedupe::Frame).then(SeenSet::new),
+            frame_seen: dedupe.per_frame().then(SeenSet::new),
+            dedupe,
             current_eye_frame: None,
             tallies: BTreeMap::new(),
         })
@@ -72,7 +75,10 @@ impl<'a> TileCounter<'a> {
         if self.tallies.contains_key(name) {
             return Err(Error::BadOptions(format!("tile {name} was counted twice")));
         }
-        if self.current_eye_frame.as_ref().is_none_or(|(f, e)| *f != frame || e != eye) {
+        // Eye-pair dedupe commits when the frame changes (the capture sends
+        // a frame's eyes one after the other).
+        let eye_changes = |e: &String| self.dedupe != Dedupe::EyePair && e != eye;
+        if self.current_eye_frame.as_ref().is_none_or(|(f, e)| *f != frame || eye_changes(e)) {
             self.commit_eye_frame();
             self.current_eye_frame = Some((frame, eye.to_string()));
         }

@@ -4,6 +4,8 @@
 //! the screenshot must not be blank. A page with a missing image must fail
 //! the same probe, so the check bites. Skipped with a message where Chromium
 //! is not installed; a failure when `CI` is set (`.ci/run` installs it).
+//! The comparison page of several results (`ufcsr-analyze report`) is
+//! checked the same way.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -63,12 +65,32 @@ fn the_report_of_the_bundled_example_renders_in_chromium() {
     let report = out.join("report.html");
     assert!(out.join("heatmap.glb").is_file(), "the example's vehicle.glb should give heatmap.glb");
 
-    // The heatmap texture and the contact sheet of the eight views.
-    assert_eq!(probe(binary, &report), "images=11;errors=0");
+    // The heatmap texture, the contact sheet of the eight views, and the
+    // three plots (visibility against time and distance, the parts' bars).
+    assert_eq!(probe(binary, &report), "images=11111;errors=0");
+    for plot in ["visibility-time", "visibility-distance", "parts"] {
+        let colours = distinct_colours(&out.join(format!("plots/{plot}.png")));
+        assert!(colours > 8, "plots/{plot}.png is blank ({colours} colours)");
+        assert!(
+            std::fs::read_to_string(report.with_file_name(format!("plots/{plot}.svg")))
+                .unwrap()
+                .contains("<svg")
+        );
+    }
 
     let screenshot = dir.path().join("report.png");
     browser(binary, &["--window-size=1000,1400", &format!("--screenshot={}", screenshot.display())], &report);
-    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&screenshot).unwrap()));
+    let colours = distinct_colours(&screenshot);
+    assert!(colours > 50, "the screenshot is blank ({colours} colours)");
+
+    // The probe bites: without the heatmap image it reports it.
+    std::fs::remove_file(out.join("heatmap.png")).unwrap();
+    assert_eq!(probe(binary, &report), "images=01111;errors=1");
+}
+
+/// Distinct pixel values of a PNG (1 for a blank image).
+fn distinct_colours(path: &Path) -> usize {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
     let mut reader = decoder.read_info().unwrap();
     let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
     let frame = reader.next_frame(&mut pixels).unwrap();
@@ -76,9 +98,62 @@ fn the_report_of_the_bundled_example_renders_in_chromium() {
     let mut colours: Vec<&[u8]> = pixels[..frame.buffer_size()].chunks(step).collect();
     colours.sort_unstable();
     colours.dedup();
-    assert!(colours.len() > 50, "the screenshot is blank ({} colours)", colours.len());
+    colours.len()
+}
 
-    // The probe bites: without the heatmap image it reports it.
-    std::fs::remove_file(out.join("heatmap.png")).unwrap();
-    assert_eq!(probe(binary, &report), "images=01;errors=1");
+#[test]
+fn the_comparison_page_of_two_results_renders_in_chromium() {
+    let dir = tempfile::tempdir().unwrap();
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let analyse = |name: &str, dedupe: &str| {
+        let out = dir.path().join(name).join("results");
+        let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+            .arg(&example)
+            .args(["--dedupe", dedupe, "-q", "--out"])
+            .arg(&out)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        out
+    };
+    let (per_image, per_frame) = (analyse("per-image", "image"), analyse("per-frame", "frame"));
+    let compared = dir.path().join("compared");
+    let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+        .arg("report")
+        .arg(&per_image)
+        .arg(per_frame.join("result.json"))
+        .arg("--out")
+        .arg(&compared)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let report = compared.join("report.html");
+    let page = std::fs::read_to_string(&report).unwrap();
+    // Labelled by the result folders' parents; both compared, the second against the first.
+    for text in
+        ["per-image", "per-frame", "Kendall", "Ranking differences against per-image", "5 / 5", "deg²·s"]
+    {
+        assert!(page.contains(text), "the page lacks {text:?}");
+    }
+    // One result alone is no comparison.
+    let alone = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+        .arg("report")
+        .arg(&per_image)
+        .arg("--out")
+        .arg(dir.path().join("alone"))
+        .output()
+        .unwrap();
+    assert!(!alone.status.success());
+
+    let Some(binary) = chromium() else {
+        assert!(std::env::var_os("CI").is_none(), "CI: chromium is not installed");
+        eprintln!("SKIPPED: chromium is not installed (apt-get install chromium)");
+        return;
+    };
+    // The two contact sheets, copied beside the page.
+    assert_eq!(probe(binary, &report), "images=11;errors=0");
+    let screenshot = dir.path().join("compared.png");
+    browser(binary, &["--window-size=1000,1400", &format!("--screenshot={}", screenshot.display())], &report);
+    let colours = distinct_colours(&screenshot);
+    assert!(colours > 50, "the screenshot is blank ({colours} colours)");
 }

@@ -28,6 +28,7 @@ fn shards_merge_to_the_whole(options: AnalyzeOptions, count: u32, dir: &Path) {
         (whole.clone(), written.result_json),
         (dir.join("whole/parts.csv"), dir.join("merged/parts.csv")),
         (dir.join("whole/heatmap.png"), dir.join("merged/heatmap.png")),
+        (dir.join("whole/frames.csv"), dir.join("merged/frames.csv")),
     ] {
         if a.exists() {
             assert!(
@@ -48,10 +49,13 @@ fn shards_merge_to_the_whole(options: AnalyzeOptions, count: u32, dir: &Path) {
 #[test]
 fn shards_of_a_captured_archive_merge_to_the_whole_byte_for_byte() {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
-    for dedupe in [Dedupe::Image, Dedupe::Frame] {
+    for (dedupe, frames) in [(Dedupe::Image, false), (Dedupe::Frame, false), (Dedupe::Image, true)] {
         let dir = tempfile::tempdir().unwrap();
-        let options = AnalyzeOptions { archive: example.clone(), dedupe, ..AnalyzeOptions::default() };
+        let options =
+            AnalyzeOptions { archive: example.clone(), dedupe, frames, ..AnalyzeOptions::default() };
         shards_merge_to_the_whole(options, 4, dir.path());
+        // frames.csv and the measures merge too.
+        assert_eq!(dir.path().join("merged/frames.csv").exists(), frames);
     }
 }
 
@@ -60,6 +64,8 @@ fn shards_of_a_folder_without_manifest_merge_to_the_whole() {
     let dir = tempfile::tempdir().unwrap();
     common::known_archive(dir.path());
     shards_merge_to_the_whole(common::known_options(dir.path()), 3, &dir.path().join("out"));
+    let options = AnalyzeOptions { frames: true, ..common::known_options(dir.path()) };
+    shards_merge_to_the_whole(options, 3, &dir.path().join("out-frames"));
 }
 
 #[test]

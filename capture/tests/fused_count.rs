@@ -33,7 +33,8 @@ fn analyse_png_archive(archive: &Path, dedupe: Dedupe, trim: TrimMode) -> Vec<u8
 fn counting_from_the_renderer_equals_the_png_round_trip() {
     let dir = tempfile::tempdir().unwrap();
     let archive = dir.path().join("archive");
-    for (dedupe, flag) in [(Dedupe::Image, "image"), (Dedupe::Frame, "frame")] {
+    for (dedupe, flag) in [(Dedupe::Image, "image"), (Dedupe::Frame, "frame"), (Dedupe::EyePair, "eye-pair")]
+    {
         capture(&archive, &["--frames", "0-180/3"]);
         let png = analyse_png_archive(&archive, dedupe, TrimMode::Off);
         let png_auto = analyse_png_archive(&archive, dedupe, TrimMode::Auto);
