@@ -677,28 +677,38 @@ fn finish(
     let resolution = resolution_report
         .then(|| ResolutionReport::new(tally.texel_pixels, per_image_total, &inputs.geometry));
     warnings.extend(resolution.iter().flat_map(ResolutionReport::warnings));
-    let mut result = AnalysisResult::new(
-        tally.images,
+    let result = AnalysisResult {
+        schema: crate::report::RESULT_SCHEMA.to_string(),
+        measure: measure.to_string(),
+        images: tally.images,
         texels_seen,
-        decoded_pixels,
-        tally.texel_pixels,
-        tally.background_pixels,
-        tally.stray_pixels,
-        strays.len(),
-        strays.first(crate::report::STRAY_EXAMPLES).into_iter().map(Color::from_packed).collect(),
+        pixels: crate::report::PixelCounts {
+            decoded: decoded_pixels,
+            texel: tally.texel_pixels,
+            background: tally.background_pixels,
+            stray: tally.stray_pixels,
+        },
+        stray_pixels: tally.stray_pixels,
+        stray_colors: strays.len(),
+        stray_color_examples: strays
+            .first(crate::report::STRAY_EXAMPLES)
+            .into_iter()
+            .map(Color::from_packed)
+            .collect(),
+        background_pixels: tally.background_pixels,
+        grand_total: table.as_ref().map_or(grand_total, |t| t.grand_total),
         max_count,
-        grand_total,
-        table.as_ref(),
+        parts: table.map(|t| t.parts).unwrap_or_default(),
         unlabelled,
-        dedupe_report,
+        dedupe: dedupe_report,
         settings,
-        tally.failures,
-        tally.stray_images,
+        failures: tally.failures,
+        images_with_stray_pixels: tally.stray_images,
         warnings,
         notes,
-    );
-    result.resolution = resolution;
-    result.measure = measure.to_string();
+        resolution,
+        measures: None,
+    };
     let mut input_files: Vec<PathBuf> =
         inputs.archive.images.iter().map(|image| image.path.clone()).collect();
     input_files.extend(inputs.parts.iter().flat_map(|(legend, _, pidt, _)| [legend.clone(), pidt.clone()]));

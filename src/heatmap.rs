@@ -16,6 +16,7 @@ use crate::output::write_rgb_png;
 
 /// How counts map onto the colormap.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Scale {
     /// `count / max`.

@@ -2,7 +2,7 @@
 //! [`ufcsr::AnalyzeOptions`], runs the library, prints the report and maps
 //! the outcome to an exit code (0 complete, 1 some images failed, 2 error).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use anyhow::{Context, Result};
@@ -90,8 +90,8 @@ struct AnalyzeArgs {
 
     /// What one count means: `image` (once per PNG), `frame` (once per eye-frame) or `eye-pair`
     /// (once per frame over both eyes); the last two need a manifest.
-    #[arg(long, default_value = "image", value_name = "image|frame|eye-pair")]
-    dedupe: String,
+    #[arg(long, value_enum, default_value_t = Dedupe::Image)]
+    dedupe: Dedupe,
 
     /// Skip all-background tiles: `auto` (find and verify the empty-file size), a size in bytes, or `off`.
     #[arg(long, default_value = "auto", value_name = "auto|BYTES|off")]
@@ -117,8 +117,8 @@ struct AnalyzeArgs {
 
     /// Per-eye-frame pixels and texels by part (frames.csv) and the resolution-independent
     /// measures (deg²·s, exposure seconds) in result.json and parts.csv: `on` or `off`.
-    #[arg(long, default_value = "on", value_name = "on|off")]
-    frames_csv: String,
+    #[arg(long, value_enum, default_value_t = Switch::On)]
+    frames_csv: Switch,
 
     /// Worker threads (default: all cores).
     #[arg(long, short = 'j', value_name = "N")]
@@ -141,11 +141,18 @@ struct AnalyzeArgs {
     json: bool,
 }
 
+/// An on/off option.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum Switch {
+    On,
+    Off,
+}
+
 #[derive(Args)]
 struct HeatmapScaleArgs {
-    /// Colour scale of the heatmap: `linear` or `log`.
-    #[arg(long, value_name = "linear|log")]
-    scale: Option<String>,
+    /// Colour scale of the heatmap: `linear` or `log` (default: linear, or the result's own).
+    #[arg(long, value_enum)]
+    scale: Option<Scale>,
 
     /// Count shown as the top of the colour scale (share one scale across scenarios).
     #[arg(long, value_name = "N")]
@@ -214,8 +221,8 @@ fn main() -> ExitCode {
 }
 
 fn heatmap_options(args: &HeatmapScaleArgs, stored: Option<(Scale, Option<u32>)>) -> Result<HeatmapOptions> {
-    let scale = match &args.scale {
-        Some(text) => text.parse()?,
+    let scale = match args.scale {
+        Some(scale) => scale,
         None => stored.map(|s| s.0).unwrap_or_default(),
     };
     let max = args.max.or(stored.and_then(|s| s.1));
@@ -275,7 +282,8 @@ fn run_merge(args: MergeArgs) -> Result<ExitCode> {
     Ok(if analysis.is_complete() { ExitCode::SUCCESS } else { ExitCode::from(1) })
 }
 
-fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
+/// The analysis options from the command line (validated once, here), and the output folder.
+fn analyze_options(args: &AnalyzeArgs) -> Result<(AnalyzeOptions, PathBuf)> {
     let archive = args.archive.clone().context("ARCHIVE is required")?;
     if let Some(threads) = args.threads {
         anyhow::ensure!(threads <= MAX_THREADS, "--threads {threads}: at most {MAX_THREADS}");
@@ -310,36 +318,29 @@ fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
         pidt: args.pidt.clone(),
         legend: args.parts.clone(),
         background,
-        dedupe: args.dedupe.parse::<Dedupe>()?,
+        dedupe: args.dedupe,
         trim: args.trim.parse::<TrimMode>()?,
         heatmap,
         strict: args.strict,
         exclude: vec![out_dir.clone()],
         ignore_manifest: args.no_manifest,
         mesh: args.mesh.clone(),
-        frames: match args.frames_csv.as_str() {
-            "on" => true,
-            "off" => false,
-            other => anyhow::bail!("unknown --frames-csv {other:?}: use on or off"),
-        },
+        frames: args.frames_csv == Switch::On,
         shard: match &args.shard {
             Some(text) => Some(text.parse::<Shard>()?),
             None => Shard::from_job_array(|name| std::env::var(name).ok())?,
         },
     };
+    Ok((options, out_dir))
+}
 
-    let bar = ProgressBar::with_draw_target(
-        Some(0),
-        if args.quiet { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() },
-    );
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} counting {pos}/{len} images [{bar:40}] {per_sec} eta {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
-    let mut analysis = analyze(&options, Some(&Bar(bar)))?;
-    let written = write_results(&mut analysis, &out_dir)?;
-
+/// The table (or JSON) and where every output went, on stdout.
+fn print_summary(
+    args: &AnalyzeArgs,
+    analysis: &ufcsr::Analysis,
+    written: &ufcsr::WrittenFiles,
+    out_dir: &Path,
+) -> Result<()> {
     let result = &analysis.result;
     if args.json {
         let summary = serde_json::json!({
@@ -375,6 +376,25 @@ fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
             println!("  plots:   {} (in {})", plots.join(", "), out_dir.display());
         }
     }
+    Ok(())
+}
+
+fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
+    let (options, out_dir) = analyze_options(&args)?;
+    let bar = ProgressBar::with_draw_target(
+        Some(0),
+        if args.quiet { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() },
+    );
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} counting {pos}/{len} images [{bar:40}] {per_sec} eta {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    let mut analysis = analyze(&options, Some(&Bar(bar)))?;
+    let written = write_results(&mut analysis, &out_dir)?;
+
+    print_summary(&args, &analysis, &written, &out_dir)?;
+    let result = &analysis.result;
     for warning in &result.warnings {
         eprintln!("warning: {warning}");
     }

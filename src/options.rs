@@ -25,6 +25,7 @@ pub enum PaletteChoice {
 
 /// What one count means.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Dedupe {
     /// A texel counts once per image (tile) that shows it.

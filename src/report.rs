@@ -207,60 +207,6 @@ fn default_measure() -> String {
     crate::options::MEASURE_PIXELS.to_string()
 }
 
-impl AnalysisResult {
-    /// Assembles the summary.
-    #[allow(clippy::too_many_arguments)]
-    pub fn new(
-        images: ImageCounts,
-        texels_seen: u64,
-        decoded_pixels: u64,
-        texel_pixels: u64,
-        background_pixels: u64,
-        stray_pixels: u64,
-        stray_colors: u64,
-        stray_color_examples: Vec<Color>,
-        max_count: u32,
-        all_texels_total: u64,
-        table: Option<&PartTable>,
-        unlabelled: Option<UnlabelledReport>,
-        dedupe: Option<DedupeReport>,
-        settings: Settings,
-        failures: Vec<FailedImage>,
-        images_with_stray_pixels: Vec<StrayImage>,
-        warnings: Vec<String>,
-        notes: Vec<String>,
-    ) -> AnalysisResult {
-        AnalysisResult {
-            schema: RESULT_SCHEMA.to_string(),
-            measure: default_measure(),
-            images,
-            texels_seen,
-            pixels: PixelCounts {
-                decoded: decoded_pixels,
-                texel: texel_pixels,
-                background: background_pixels,
-                stray: stray_pixels,
-            },
-            stray_pixels,
-            stray_colors,
-            stray_color_examples,
-            background_pixels,
-            grand_total: table.map(|t| t.grand_total).unwrap_or(all_texels_total),
-            max_count,
-            parts: table.map(|t| t.parts.clone()).unwrap_or_default(),
-            unlabelled,
-            dedupe,
-            settings,
-            failures,
-            images_with_stray_pixels,
-            warnings,
-            notes,
-            resolution: None,
-            measures: None,
-        }
-    }
-}
-
 /// Per-texel counts as stored in `result.json`: only seen texels, texel
 /// indices (`y * width + x`) ascending and delta-coded (the first delta is the
 /// first index), counts in the same order.

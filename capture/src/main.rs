@@ -101,9 +101,10 @@ struct StudyArgs {
     /// Largest acceptable share L1 error against the reference, percentage points.
     #[arg(long, default_value_t = 1.0)]
     tolerance: f64,
-    /// What one count means: image (once per tile) or frame (once per eye-frame).
-    #[arg(long, default_value = "image")]
-    dedupe: String,
+    /// What one count means: image (once per tile), frame (once per eye-frame) or eye-pair
+    /// (once per frame over both eyes).
+    #[arg(long, value_enum, default_value_t = ufcsr::Dedupe::Image)]
+    dedupe: ufcsr::Dedupe,
     /// Canonical palette size, W or WxH.
     #[arg(long, default_value = "4096")]
     palette_size: String,
@@ -190,9 +191,10 @@ struct Common {
     /// capturing PNGs and running `ufcsr-analyze --trim off`).
     #[arg(long)]
     count: bool,
-    /// With --count: what one count means, image (once per tile) or frame (once per eye-frame).
-    #[arg(long, default_value = "image", requires = "count")]
-    dedupe: String,
+    /// With --count: what one count means, image (once per tile), frame (once per eye-frame) or
+    /// eye-pair (once per frame over both eyes).
+    #[arg(long, value_enum, default_value_t = ufcsr::Dedupe::Image, requires = "count")]
+    dedupe: ufcsr::Dedupe,
     /// `unobstructed`: instead of rendering pixels, count per texel the eye-frames in which its
     /// point is in view, faces the eye and is not hidden (exact ray casts; writes results/).
     #[arg(long, value_name = "unobstructed")]
@@ -380,7 +382,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         return Ok(());
     }
     if common.count {
-        let dedupe: ufcsr::Dedupe = common.dedupe.parse()?;
+        let dedupe = common.dedupe;
         archive::for_each_scenario(&scene, &names, all, &options, |scenario, options| {
             let counted =
                 archive::capture_counted(&gpu.device, &gpu.queue, &scene, scenario, options, dedupe)?;
@@ -451,7 +453,7 @@ fn run_study(args: StudyArgs) -> anyhow::Result<()> {
         ppds: args.ppd,
         frame_steps: args.frame_step,
         tolerance_pp: args.tolerance,
-        dedupe: args.dedupe.parse()?,
+        dedupe: args.dedupe,
         capture: CaptureOptions {
             out: args.out.clone(),
             palette: parse_palette_size(&args.palette_size)?,
