@@ -25,8 +25,10 @@ pub const NEVER_SEEN: [u8; 3] = [160, 160, 160];
 const PAPER: [u8; 3] = [255, 255, 255];
 /// Size of one view.
 const VIEW: (u32, u32) = (400, 300);
-/// Height of the colour bar under the contact sheet.
-const BAR: u32 = 28;
+/// Height of the colour bar and its labels under the contact sheet.
+const BAR: u32 = 52;
+/// Height of the colour bar itself.
+const BAR_STRIP: u32 = 20;
 /// Degrees above the horizon the views look down from.
 const ELEVATION_DEG: f64 = 15.0;
 
@@ -83,6 +85,8 @@ pub struct ViewTexture<'a> {
     pub width: u32,
     pub height: u32,
     pub options: HeatmapOptions,
+    /// What the counts are, for the contact sheet (e.g. the measure and the archive).
+    pub caption: String,
 }
 
 impl ViewTexture<'_> {
@@ -211,7 +215,7 @@ pub fn write_views(model: &VehicleModel, texture: &ViewTexture, dir: &Path) -> R
     }
     // Colour bar: grey (never seen) on the left, then the plasma scale.
     let grey_width = sheet_width / 16;
-    for y in height * 2 + 6..sheet_height - 4 {
+    for y in height * 2 + 6..height * 2 + 6 + BAR_STRIP {
         for x in 8..sheet_width - 8 {
             let color = if x < 8 + grey_width {
                 NEVER_SEEN
@@ -224,7 +228,72 @@ pub fn write_views(model: &VehicleModel, texture: &ViewTexture, dir: &Path) -> R
             sheet[i..i + 3].copy_from_slice(&color);
         }
     }
+    let max = texture.max();
+    let scale = match texture.options.scale {
+        crate::heatmap::Scale::Linear => "linear",
+        crate::heatmap::Scale::Log => "log",
+    };
+    let labels = SheetLabels {
+        views: DIRECTIONS.iter().map(|(name, _)| *name).collect(),
+        never_seen_width: grey_width,
+        left: "never seen".into(),
+        low: "0".into(),
+        high: format!("{max} ({scale} scale)"),
+        caption: texture.caption.clone(),
+    };
+    label_sheet(&mut sheet, (sheet_width, sheet_height), (width, height), &labels);
     let contact_sheet = dir.join("views.png");
     crate::output::write_rgb_png(&contact_sheet, sheet_width, sheet_height, &sheet, png::Compression::Fast)?;
     Ok(WrittenViews { contact_sheet, views })
+}
+
+/// The words on the contact sheet.
+struct SheetLabels {
+    views: Vec<&'static str>,
+    never_seen_width: u32,
+    left: String,
+    low: String,
+    high: String,
+    caption: String,
+}
+
+/// Writes each view's direction in its corner and the colour bar's ends and
+/// caption under it, when a font is found (see [`crate::plots`]); without
+/// one the sheet stays unlabelled and the report's text says the same.
+fn label_sheet(
+    sheet: &mut [u8],
+    (sheet_width, sheet_height): (u32, u32),
+    (width, height): (u32, u32),
+    labels: &SheetLabels,
+) {
+    use plotters::prelude::*;
+    if !crate::plots::font_available() {
+        return;
+    }
+    let root = BitMapBackend::with_buffer(sheet, (sheet_width, sheet_height)).into_drawing_area();
+    let style = ("sans-serif", 15).into_font().color(&BLACK);
+    let mut drawn: std::result::Result<(), _> = Ok(());
+    for (index, name) in labels.views.iter().enumerate() {
+        let (column, row) = (index as u32 % 4, index as u32 / 4);
+        let at = ((column * width + 6) as i32, (row * height + 4) as i32);
+        drawn = drawn.and(root.draw(&Text::new(name.to_string(), at, style.clone())));
+    }
+    let text_y = (height * 2 + 8 + BAR_STRIP) as i32;
+    let right = style.clone().pos(plotters::style::text_anchor::Pos::new(
+        plotters::style::text_anchor::HPos::Right,
+        plotters::style::text_anchor::VPos::Top,
+    ));
+    let centre = style.clone().pos(plotters::style::text_anchor::Pos::new(
+        plotters::style::text_anchor::HPos::Center,
+        plotters::style::text_anchor::VPos::Top,
+    ));
+    let bar_start = (16 + labels.never_seen_width) as i32;
+    drawn = drawn
+        .and(root.draw(&Text::new(labels.left.clone(), (8, text_y), style.clone())))
+        .and(root.draw(&Text::new(labels.low.clone(), (bar_start, text_y), style.clone())))
+        .and(root.draw(&Text::new(labels.high.clone(), (sheet_width as i32 - 8, text_y), right)))
+        .and(root.draw(&Text::new(labels.caption.clone(), (sheet_width as i32 / 2, text_y), centre)))
+        .and(root.present());
+    // Labels are a courtesy: a drawing error leaves the colours as they are.
+    let _ = drawn;
 }

@@ -32,7 +32,7 @@ const FONT_CANDIDATES: [&str; 3] = [
 ];
 
 /// Registers a sans-serif font with plotters once; false when none is found.
-fn font_available() -> bool {
+pub(crate) fn font_available() -> bool {
     static FOUND: OnceLock<bool> = OnceLock::new();
     *FOUND.get_or_init(|| {
         let mut candidates: Vec<PathBuf> =
