@@ -962,9 +962,24 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
     let staging = crate::output::Staging::new(out_dir)?;
     // Plot paths are relative to the output folder: the same after the move.
     files.plots = write_results_into(analysis, staging.path())?;
-    staging.commit(out_dir)?;
+    staging.commit(out_dir, &RESULT_SET)?;
     Ok(files)
 }
+
+/// Every name a result set can have in its folder: a run that writes fewer
+/// (no vehicle model, `--frames-csv off`) removes the rest of an earlier run.
+const RESULT_SET: [&str; 10] = [
+    "result.json",
+    "parts.csv",
+    "heatmap.png",
+    "timings.json",
+    "heatmap.glb",
+    "report.html",
+    "views.png",
+    "views",
+    crate::frames::FRAMES_FILE,
+    crate::plots::PLOTS_DIR,
+];
 
 /// The files [`write_results`] writes into `out_dir`.
 fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {

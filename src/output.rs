@@ -78,49 +78,95 @@ impl Staging {
         &self.dir
     }
 
-    /// Moves every entry of the staging folder into `out_dir`, replacing what
-    /// is there. If a move fails, the entries already moved are taken back and
-    /// the replaced ones restored, so `out_dir` holds the old set or the new.
-    pub fn commit(self, out_dir: &Path) -> Result<()> {
+    /// Moves every file of the staging folder into `out_dir`, replacing
+    /// same-named files (folders such as `views/` are merged file by file, so
+    /// nothing else in them is lost). When `out_dir` held an earlier result
+    /// set (its `result.json`), the top-level files of `set` (every name a
+    /// set can have) that the new set lacks are taken away, so no stale
+    /// `frames.csv` or `heatmap.glb` sits beside results it does not belong
+    /// to. If a move fails, everything is put back: `out_dir` holds the old
+    /// set or the new.
+    pub fn commit(self, out_dir: &Path, set: &[&str]) -> Result<()> {
         let backups = self.dir.join(".replaced");
-        let mut entries: Vec<PathBuf> = fs::read_dir(&self.dir)
-            .map_err(|e| Error::io(&self.dir, e))?
-            .map(|entry| entry.map(|e| e.path()).map_err(|e| Error::io(&self.dir, e)))
-            .collect::<Result<_>>()?;
-        entries.sort();
-        let mut moved: Vec<(PathBuf, Option<PathBuf>)> = Vec::new();
+        let earlier_set = out_dir.join("result.json").is_file();
+        // (target, its backup): a move to undo on failure.
+        let mut done: Vec<(PathBuf, Option<PathBuf>)> = Vec::new();
         let outcome = (|| -> Result<()> {
             fs::create_dir_all(&backups).map_err(|e| Error::io(&backups, e))?;
-            for entry in &entries {
-                let Some(name) = entry.file_name() else { continue };
-                let target = out_dir.join(name);
-                let backup = match fs::symlink_metadata(&target) {
-                    Ok(_) => {
-                        let backup = backups.join(name);
+            let mut counter = 0usize;
+            move_tree(&self.dir, out_dir, &backups, &mut counter, &mut done, true)?;
+            if earlier_set {
+                for name in set {
+                    let target = out_dir.join(name);
+                    let staged = done.iter().any(|(t, _)| t.starts_with(&target));
+                    if !staged && target.is_file() {
+                        counter += 1;
+                        let backup = backups.join(counter.to_string());
                         fs::rename(&target, &backup).map_err(|e| Error::io(&target, e))?;
-                        Some(backup)
+                        done.push((target, Some(backup)));
                     }
-                    Err(_) => None,
-                };
-                let renamed = fs::rename(entry, &target).map_err(|e| Error::io(&target, e));
-                moved.push((target, backup));
-                renamed?;
+                }
             }
             Ok(())
         })();
         if outcome.is_err() {
-            for (target, backup) in moved.iter().rev() {
+            for (target, backup) in done.iter().rev() {
                 if let Some(backup) = backup {
-                    let _ = fs::remove_dir_all(target).or_else(|_| fs::remove_file(target));
+                    let _ = fs::remove_file(target);
                     let _ = fs::rename(backup, target);
                 } else {
-                    let _ = fs::remove_dir_all(target).or_else(|_| fs::remove_file(target));
+                    let _ = fs::remove_file(target);
                 }
             }
         }
         outcome
         // Drop removes the staging folder with the replaced files in it.
     }
+}
+
+/// Moves the files under `from` into `to` (folders created or merged),
+/// backing up each replaced file into `backups` and recording every move in
+/// `done`. `top` skips the staging folder's own backup folder.
+fn move_tree(
+    from: &Path,
+    to: &Path,
+    backups: &Path,
+    counter: &mut usize,
+    done: &mut Vec<(PathBuf, Option<PathBuf>)>,
+    top: bool,
+) -> Result<()> {
+    let mut entries: Vec<PathBuf> = fs::read_dir(from)
+        .map_err(|e| Error::io(from, e))?
+        .map(|entry| entry.map(|e| e.path()).map_err(|e| Error::io(from, e)))
+        .collect::<Result<_>>()?;
+    entries.sort();
+    for entry in entries {
+        let Some(name) = entry.file_name() else { continue };
+        if top && entry == backups {
+            continue;
+        }
+        let target = to.join(name);
+        if entry.is_dir() {
+            if !target.is_dir() {
+                fs::create_dir_all(&target).map_err(|e| Error::io(&target, e))?;
+            }
+            move_tree(&entry, &target, backups, counter, done, false)?;
+            continue;
+        }
+        let backup = match fs::symlink_metadata(&target) {
+            Ok(_) => {
+                *counter += 1;
+                let backup = backups.join(counter.to_string());
+                fs::rename(&target, &backup).map_err(|e| Error::io(&target, e))?;
+                Some(backup)
+            }
+            Err(_) => None,
+        };
+        let renamed = fs::rename(&entry, &target).map_err(|e| Error::io(&target, e));
+        done.push((target, backup));
+        renamed?;
+    }
+    Ok(())
 }
 
 impl Drop for Staging {

@@ -95,3 +95,25 @@ fn an_interrupted_capture_leaves_no_temporary_files() {
     assert!(leftovers(&out).is_empty(), "left behind: {:?}", leftovers(&out));
     assert!(!out.join("manifest.json").exists(), "an interrupted capture wrote a manifest");
 }
+
+#[test]
+fn a_smaller_result_set_takes_away_stale_files_and_keeps_the_users_own() {
+    let dir = tempfile::tempdir().unwrap();
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let out = dir.path().join("out");
+    let run = |extra: &[&str]| {
+        let status = common::analyzer().arg(&example).arg("--out").arg(&out).arg("-q").args(extra).status();
+        assert!(status.unwrap().success());
+    };
+    run(&[]);
+    assert!(out.join("frames.csv").is_file());
+    // A note of the user's inside views/, and a file of theirs beside the results.
+    std::fs::write(out.join("views/my-notes.txt"), b"mine").unwrap();
+    std::fs::write(out.join("paper-draft.txt"), b"mine too").unwrap();
+    run(&["--frames-csv", "off"]);
+    assert!(!out.join("frames.csv").exists(), "a stale frames.csv of the earlier run is left");
+    assert_eq!(std::fs::read(out.join("views/my-notes.txt")).unwrap(), b"mine");
+    assert_eq!(std::fs::read(out.join("paper-draft.txt")).unwrap(), b"mine too");
+    assert!(out.join("views/front.png").is_file() && out.join("result.json").is_file());
+    assert!(leftovers(&out).is_empty(), "left behind: {:?}", leftovers(&out));
+}
