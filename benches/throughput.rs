@@ -19,11 +19,11 @@ use std::sync::Mutex;
 use std::time::Instant;
 
 use rayon::prelude::*;
-use ufcsr::bitset::{AtomicColorSet, SeenSet};
-use ufcsr::decode::{RowReader, map_file};
-use ufcsr::scan::{Kernel, RowScan};
 use ufcsr::synthetic::{ArchiveSpec, write_archive};
 use ufcsr::{AnalyzeOptions, Classifier, Counts, Fcsp, analyze, scan_image};
+use ufcsr::{AtomicColorSet, SeenSet};
+use ufcsr::{Kernel, RowScan};
+use ufcsr::{RowReader, map_file};
 
 struct Args {
     frames: u32,
@@ -108,7 +108,7 @@ fn ours(files: &[PathBuf], classifier: &Classifier) -> Counts {
 fn kernels_alone(files: &[PathBuf], classifier: &Classifier) {
     // 12 tiles spread over the archive (an approach changes from frame to
     // frame), kept decoded in memory (1284×1620×3 bytes each).
-    let tiles: Vec<(ufcsr::decode::PixelLayout, Vec<Vec<u8>>)> = files
+    let tiles: Vec<(ufcsr::PixelLayout, Vec<Vec<u8>>)> = files
         .iter()
         .step_by(files.len().div_ceil(12).max(1))
         .map(|path| {
@@ -276,7 +276,7 @@ fn main() {
         && sparse.values().map(|&n| u64::from(n)).sum::<u64>()
             == dense.iter().map(|&c| u64::from(c)).sum::<u64>();
 
-    let kernel = ufcsr::scan::Kernel::selected().name();
+    let kernel = ufcsr::Kernel::selected().name();
     println!("{} object tiles, {:.1} Mpixel, {} threads, {kernel} kernels", files.len(), megapixels, threads);
     println!("  decode only (ceiling)      {:8.1} Mpixel/s", megapixels / decode);
     println!("  ufcsr decode + count       {:8.1} Mpixel/s", megapixels / count);

@@ -197,11 +197,11 @@ struct HeatmapArgs {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     ufcsr::remove_temporaries_on_interrupt();
-    if let Some(value) = ufcsr::scan::Kernel::unknown_request() {
+    if let Some(value) = ufcsr::Kernel::unknown_request() {
         eprintln!(
             "warning: {}={value:?} names no kernel (portable, avx2, avx512); using {}",
-            ufcsr::scan::KERNEL_ENV,
-            ufcsr::scan::Kernel::selected().name()
+            ufcsr::KERNEL_ENV,
+            ufcsr::Kernel::selected().name()
         );
     }
     let outcome = match cli.command {
@@ -235,14 +235,14 @@ fn heatmap_options(args: &HeatmapScaleArgs, stored: Option<(Scale, Option<u32>)>
 fn run_heatmap(args: HeatmapArgs) -> Result<ExitCode> {
     let stored = read_texel_counts(&args.result)?;
     let options = heatmap_options(&args.heatmap, Some((stored.scale, stored.max)))?;
-    ufcsr::heatmap::write_heatmap(&args.out, &stored.texel_counts, stored.width, stored.height, options)?;
+    ufcsr::write_heatmap(&args.out, &stored.texel_counts, stored.width, stored.height, options)?;
     eprintln!("wrote {}", args.out.display());
     Ok(ExitCode::SUCCESS)
 }
 
 fn run_palette(args: PaletteArgs) -> Result<ExitCode> {
-    let (width, height) = ufcsr::palette::parse_size(&args.size)?;
-    ufcsr::palette::write_canonical_png(&args.out, width, height)?;
+    let (width, height) = ufcsr::parse_palette_size(&args.size)?;
+    ufcsr::write_canonical_png(&args.out, width, height)?;
     eprintln!("wrote {} ({width}×{height} canonical palette)", args.out.display());
     Ok(ExitCode::SUCCESS)
 }
@@ -295,7 +295,7 @@ fn analyze_options(args: &AnalyzeArgs) -> Result<(AnalyzeOptions, PathBuf)> {
     let palette = match (&args.fcsp, &args.palette_size) {
         (Some(path), _) => Some(PaletteChoice::Image(path.clone())),
         (None, Some(size)) => {
-            let (width, height) = ufcsr::palette::parse_size(size)?;
+            let (width, height) = ufcsr::parse_palette_size(size)?;
             Some(PaletteChoice::Canonical { width, height })
         }
         (None, None) => None,

@@ -3,8 +3,8 @@
 mod common;
 
 use common::*;
-use ufcsr::heatmap::{HeatmapOptions, Scale, plasma};
 use ufcsr::{AnalyzeOptions, Dedupe, PaletteChoice, TrimMode, analyze};
+use ufcsr::{HeatmapOptions, Scale, plasma};
 
 #[test]
 fn counts_once_per_image_and_joins_parts() {
@@ -71,13 +71,13 @@ fn a_json_legend_gives_the_same_table_as_the_csv() {
 #[test]
 fn heatmap_pixels_follow_plasma() {
     let counts = [0, 2, 2, 1, 0, 1];
-    let linear = ufcsr::heatmap::render(&counts, 3, HeatmapOptions::default());
+    let linear = ufcsr::render_heatmap(&counts, 3, HeatmapOptions::default());
     assert_eq!(&linear[0..3], &plasma(0.0));
     assert_eq!(&linear[3..6], &plasma(1.0));
     assert_eq!(&linear[9..12], &plasma(0.5));
-    let log = ufcsr::heatmap::render(&counts, 3, HeatmapOptions { scale: Scale::Log, max: None });
+    let log = ufcsr::render_heatmap(&counts, 3, HeatmapOptions { scale: Scale::Log, max: None });
     assert_eq!(&log[9..12], &plasma(2f64.ln() / 3f64.ln()));
-    let shared = ufcsr::heatmap::render(&counts, 3, HeatmapOptions { scale: Scale::Linear, max: Some(4) });
+    let shared = ufcsr::render_heatmap(&counts, 3, HeatmapOptions { scale: Scale::Linear, max: Some(4) });
     assert_eq!(&shared[3..6], &plasma(0.5));
 }
 

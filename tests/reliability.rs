@@ -158,10 +158,10 @@ fn a_huge_heatmap_maximum_builds_no_huge_table() {
     // --max 4000000000 used to allocate a colour per possible count (12 GB).
     let counts = [0u32, 1, 5, 2];
     let options = ufcsr::HeatmapOptions { scale: ufcsr::Scale::Linear, max: Some(4_000_000_000) };
-    let rgb = ufcsr::heatmap::render(&counts, 2, options);
+    let rgb = ufcsr::render_heatmap(&counts, 2, options);
     assert_eq!(rgb.len(), 12);
     // Every count is far below the maximum: all at the bottom of the scale.
-    assert_eq!(&rgb[0..3], &ufcsr::heatmap::plasma(0.0));
+    assert_eq!(&rgb[0..3], &ufcsr::plasma(0.0));
 }
 
 #[test]

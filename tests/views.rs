@@ -16,7 +16,7 @@ fn coloured_pixels(path: &Path) -> (usize, usize) {
         let rgb = [p[0], p[1], p[2]];
         if rgb != [255, 255, 255] {
             vehicle += 1;
-            if rgb != ufcsr::heatmap_views::NEVER_SEEN {
+            if rgb != ufcsr::NEVER_SEEN {
                 seen += 1;
             }
         }

@@ -571,7 +571,7 @@ pub fn verify(dir: &Path) -> Result<(u64, u64)> {
 /// Reads a PNG (any 8-bit format; alpha dropped) as RGB bytes, with the
 /// analyzer's texture reader so both crates accept and reject the same files.
 pub fn read_rgb_png(path: &Path) -> Result<([u32; 2], Vec<u8>)> {
-    let image = ufcsr::decode::read_color_image(path, |_, _| Ok(()))?;
+    let image = ufcsr::read_color_image(path, |_, _| Ok(()))?;
     let rgb = image.colors.iter().flat_map(|&color| Color::from_packed(color).rgb()).collect();
     Ok(([image.width, image.height], rgb))
 }

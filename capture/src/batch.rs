@@ -83,7 +83,7 @@ fn shell_quote(text: &str) -> String {
 
 /// Reads and checks a batch file.
 pub fn load(path: &Path) -> Result<Batch> {
-    let bytes = ufcsr::input_file::read_limited(path, 16 << 20)?;
+    let bytes = ufcsr::read_limited(path, 16 << 20)?;
     let batch: Batch = serde_json::from_slice(&bytes)
         .map_err(|e| CaptureError::bad_input(path, format!("invalid batch file: {e}")))?;
     if batch.scenes.is_empty() || batch.ppd.is_empty() || batch.frame_step.is_empty() {

@@ -74,7 +74,7 @@ pub fn assemble(archive: &Path) -> Result<Assembled> {
                 "is not a shard manifest (manifest-I-of-N.json): remove it or move it out of shards/",
             ));
         };
-        let bytes = ufcsr::input_file::read_limited(&path, ufcsr::input_file::SMALL_INPUT_LIMIT)?;
+        let bytes = ufcsr::read_limited(&path, ufcsr::SMALL_INPUT_LIMIT)?;
         let manifest = Manifest::parse(&path, &bytes)?;
         let recorded = manifest.extra.get("capture").and_then(|c| c.get("shard"));
         if recorded != Some(&serde_json::json!({"index": shard.index, "count": shard.count})) {

@@ -175,7 +175,7 @@ fn remove_old_tiles_where(dir: &Path, remove: impl Fn(u32) -> bool) -> Result<()
 /// tile size: a header alone is not enough, since an interrupted write
 /// leaves a valid header over missing image data.
 fn is_complete_tile(path: &Path, tile_size: [u32; 2]) -> bool {
-    ufcsr::decode::read_color_image(path, |width, height| {
+    ufcsr::read_color_image(path, |width, height| {
         if [width, height] == tile_size {
             Ok(())
         } else {

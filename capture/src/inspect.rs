@@ -209,7 +209,7 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
             writeln!(
                 w,
                 "{},{},{},{:.6}",
-                ufcsr::report::csv_field(&part.name),
+                ufcsr::csv_field(&part.name),
                 part.color,
                 part.triangles,
                 part.area_m2

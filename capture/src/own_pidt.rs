@@ -44,7 +44,7 @@ pub fn load(labels: &OwnLabels, unwrapped: &Unwrapped) -> Result<LoadedLabels> {
     }
     let legend = Legend::load(&labels.parts)?;
     let [w, h] = unwrapped.palette;
-    let image = ufcsr::decode::read_color_image(&labels.pidt, |found_w, found_h| {
+    let image = ufcsr::read_color_image(&labels.pidt, |found_w, found_h| {
         if [found_w, found_h] == [w, h] {
             Ok(())
         } else {
@@ -114,7 +114,7 @@ pub fn write_legend(legend: &Legend, path: &Path) -> Result<()> {
     ufcsr::write_atomically(path, |w| {
         writeln!(w, "name,color")?;
         for part in &legend.parts {
-            writeln!(w, "{},{}", ufcsr::report::csv_field(&part.name), part.color)?;
+            writeln!(w, "{},{}", ufcsr::csv_field(&part.name), part.color)?;
         }
         Ok(())
     })?;

@@ -113,7 +113,7 @@ pub fn write_legend(mesh: &Mesh, pidt: &PaintedPidt, path: &Path) -> Result<()> 
     ufcsr::write_atomically(path, |w| {
         writeln!(w, "name,color")?;
         for (name, color) in mesh.parts.iter().zip(&pidt.part_colors) {
-            writeln!(w, "{},{color}", ufcsr::report::csv_field(name))?;
+            writeln!(w, "{},{color}", ufcsr::csv_field(name))?;
         }
         Ok(())
     })?;

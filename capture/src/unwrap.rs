@@ -55,7 +55,7 @@ pub fn background_texel(palette: [u32; 2]) -> Option<(u32, u32)> {
 /// Parses `W` or `WxH`.
 pub fn parse_palette_size(text: &str) -> Result<[u32; 2]> {
     // One parser for both crates; the capture adds the palette's limits.
-    let (w, h) = ufcsr::palette::parse_size(text)?;
+    let (w, h) = ufcsr::parse_palette_size(text)?;
     if w == 0 || h == 0 || u64::from(w) * u64::from(h) > 1 << 24 {
         return Err(CaptureError::BadOptions(format!(
             "palette size {w}x{h}: needs 1 to 2^24 texels (e.g. 4096, 512x256), from {text:?}"
