@@ -11,15 +11,26 @@ use crate::manifest::Manifest;
 use crate::palette::Fcsp;
 use crate::parts::Legend;
 
-/// A tile: decoded and counted against the canonical 4096² palette.
+/// A tile: decoded and counted against the canonical 4096² palette. The
+/// palette and the seen-set are built once per thread (a fuzzer calls this
+/// millions of times); the set is emptied after each input.
 pub fn tile(bytes: &[u8]) {
-    let Ok(palette) = Fcsp::canonical(4096, 4096) else { return };
-    let Ok(classifier) = crate::scan::Classifier::new(&palette, &[Color::DEFAULT_BACKGROUND.packed()]) else {
+    static PALETTE: std::sync::OnceLock<Option<Fcsp>> = std::sync::OnceLock::new();
+    thread_local! {
+        static SEEN: std::cell::RefCell<crate::bitset::SeenSet> = std::cell::RefCell::new(crate::bitset::SeenSet::new());
+    }
+    let Some(palette) = PALETTE.get_or_init(|| Fcsp::canonical(4096, 4096).ok()) else { return };
+    let Ok(classifier) = crate::scan::Classifier::new(palette, &[Color::DEFAULT_BACKGROUND.packed()]) else {
         return;
     };
-    let mut seen = crate::bitset::SeenSet::new();
-    let strays = crate::bitset::AtomicColorSet::new();
-    let _ = crate::scan::scan_image(Path::new("fuzz.png"), bytes, &classifier, &mut seen, &strays);
+    // Stray colours only accumulate across inputs: nothing reads them here.
+    static STRAYS: std::sync::OnceLock<crate::bitset::AtomicColorSet> = std::sync::OnceLock::new();
+    let strays = STRAYS.get_or_init(crate::bitset::AtomicColorSet::new);
+    SEEN.with(|seen| {
+        let mut seen = seen.borrow_mut();
+        let _ = crate::scan::scan_image(Path::new("fuzz.png"), bytes, &classifier, &mut seen, strays);
+        seen.clear();
+    });
 }
 
 /// A `manifest.json`.
