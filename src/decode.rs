@@ -223,30 +223,29 @@ fn check_palette_indices(path: &Path, bytes: &[u8]) -> Result<()> {
     if entries >= 1usize << depth {
         return Ok(());
     }
-    let too_large =
-        || Error::Png { path: path.to_path_buf(), message: "image too large to decode".to_string() };
+    // Row by row: a header may claim billions of rows that the data does not hold.
     let width = info.width as usize;
-    let line = reader.output_line_size(info.width).ok_or_else(too_large)?;
-    let size = reader.output_buffer_size().ok_or_else(too_large)?;
-    let mut raw = vec![0u8; size];
-    reader.next_frame(&mut raw).map_err(|e| png_error(path, e))?;
     let per_byte = 8 / usize::from(depth);
     let mask = ((1u16 << depth) - 1) as u8;
-    for (y, row) in raw.chunks(line.max(1)).enumerate() {
-        for x in 0..width {
-            let byte = row.get(x / per_byte).copied().unwrap_or(0);
+    let mut y = 0usize;
+    while let Some(row) = reader.next_row().map_err(|e| png_error(path, e))? {
+        // Interlaced passes have shorter rows; bits past the last pixel are
+        // zero padding, index 0, which a PLTE of at least one entry has.
+        let data = row.data();
+        for x in 0..(data.len() * per_byte).min(width) {
             let shift = 8 - usize::from(depth) * (x % per_byte + 1);
-            let index = usize::from((byte >> shift) & mask);
+            let index = usize::from((data[x / per_byte] >> shift) & mask);
             if index >= entries {
                 return Err(Error::Png {
                     path: path.to_path_buf(),
                     message: format!(
-                        "pixel ({x}, {y}) has palette index {index}, but the PLTE has {entries} entries \
+                        "a pixel of row {y} has palette index {index}, but the PLTE has {entries} entries \
                          (corrupt data; it would decode as black)"
                     ),
                 });
             }
         }
+        y += 1;
     }
     Ok(())
 }
