@@ -62,6 +62,7 @@ pub use output::remove_temporaries_on_interrupt;
 pub use output::{remove_temporaries, write_atomically, write_bytes_atomically, write_rgb_png};
 pub use palette::{Fcsp, PaletteDescription, parse_size as parse_palette_size, write_canonical_png};
 pub use parts::{Legend, Part, PartStats, PartTable, Pidt, UNLABELLED, join_parts};
+pub use plots::font_available as plot_font_available;
 pub use report::{
     AnalysisResult, RESULT_SCHEMA, csv_field, format_table, read_result_summary, read_texel_counts,
     write_parts_csv, write_result_json, write_timings_json,

@@ -31,8 +31,9 @@ const FONT_CANDIDATES: [&str; 3] = [
     "/usr/share/fonts/dejavu/DejaVuSans.ttf",
 ];
 
-/// Registers a sans-serif font with plotters once; false when none is found.
-pub(crate) fn font_available() -> bool {
+/// Registers a sans-serif font with plotters once; false when none is found
+/// (`ufcsr-capture`'s study plot uses it too).
+pub fn font_available() -> bool {
     static FOUND: OnceLock<bool> = OnceLock::new();
     *FOUND.get_or_init(|| {
         let mut candidates: Vec<PathBuf> =

@@ -7,8 +7,7 @@
 //! put it) so that building needs no fontconfig; without one the SVG is drawn
 //! without text and no PNG is written.
 
-use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
+use std::path::Path;
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -16,30 +15,9 @@ use plotters::prelude::*;
 use crate::error::{CaptureError, Result};
 use crate::study::Study;
 
-const FONT_CANDIDATES: [&str; 3] = [
-    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/TTF/DejaVuSans.ttf",
-    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
-];
-
-/// Registers a sans-serif font with plotters once; false when none is found.
+/// The font lookup the analyzer's plots use (`UFCSR_FONT`, else DejaVu Sans).
 fn font_available() -> bool {
-    static FOUND: OnceLock<bool> = OnceLock::new();
-    *FOUND.get_or_init(|| {
-        let mut candidates: Vec<PathBuf> =
-            std::env::var_os("UFCSR_FONT").map(PathBuf::from).into_iter().collect();
-        candidates.extend(FONT_CANDIDATES.iter().map(PathBuf::from));
-        for path in candidates {
-            if let Ok(bytes) = std::fs::read(&path) {
-                // plotters keeps fonts for the life of the process.
-                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-                if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
-                    return true;
-                }
-            }
-        }
-        false
-    })
+    ufcsr::plot_font_available()
 }
 
 /// Writes the plot as SVG.
