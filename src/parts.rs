@@ -5,10 +5,9 @@
 //! Texels whose PIdT colour no legend entry names are *unlabelled*: they are
 //! counted and reported, never silently dropped.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
-use hashbrown::HashMap;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -158,8 +157,11 @@ impl Pidt {
 
     /// Resolves packed PIdT colours (row-major) against a legend.
     pub fn from_colors(width: u32, height: u32, colors: &[u32], legend: &Legend) -> Pidt {
-        let index: HashMap<u32, u16> =
+        // A legend holds tens of parts: a sorted list searched only when the
+        // colour changes is as fast as a hash map here, with std alone.
+        let mut index: Vec<(u32, u16)> =
             legend.parts.iter().enumerate().map(|(i, part)| (part.color.packed(), i as u16)).collect();
+        index.sort_unstable();
         let row = width as usize;
         let part_of_texel: Vec<u16> = colors
             .par_chunks(row.max(1))
@@ -169,7 +171,10 @@ impl Pidt {
                 let mut last = (u32::MAX, UNLABELLED);
                 row_colors.iter().map(move |&color| {
                     if color != last.0 {
-                        last = (color, index.get(&color).copied().unwrap_or(UNLABELLED));
+                        let part = index
+                            .binary_search_by_key(&color, |&(key, _)| key)
+                            .map_or(UNLABELLED, |i| index[i].1);
+                        last = (color, part);
                     }
                     last.1
                 })
