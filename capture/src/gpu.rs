@@ -1,4 +1,4 @@
-//! GPU device creation, and nothing else.
+//! GPU device creation, and waiting for a buffer to be read back.
 //!
 //! Kept apart from the renderer (which takes `&Device, &Queue`) so that tests
 //! and callers can bring their own device. There is no GPU on the development
@@ -7,6 +7,20 @@
 //! `--backend` option forces one.
 
 use crate::error::{CaptureError, Result};
+
+/// Maps `slice` for reading and waits until it is mapped (the one way every
+/// readback in this crate waits on the GPU). `what` names the data in errors.
+pub fn map_for_reading(device: &wgpu::Device, slice: &wgpu::BufferSlice<'_>, what: &str) -> Result<()> {
+    let (sender, receiver) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |result| {
+        let _ = sender.send(result);
+    });
+    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| CaptureError::Gpu(e.to_string()))?;
+    receiver
+        .recv()
+        .map_err(|_| CaptureError::Gpu(format!("{what} was never mapped")))?
+        .map_err(|e| CaptureError::Gpu(format!("{what} readback failed: {e}")))
+}
 
 /// A created device with a description of its adapter.
 pub struct Gpu {

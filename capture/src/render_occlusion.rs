@@ -75,15 +75,7 @@ impl OcclusionTest {
     /// Waits for the submitted query and returns its sample count.
     pub fn samples(&self, device: &wgpu::Device) -> Result<u64> {
         let slice = self.readback.slice(..);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |result| {
-            let _ = sender.send(result);
-        });
-        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| CaptureError::Gpu(e.to_string()))?;
-        receiver
-            .recv()
-            .map_err(|_| CaptureError::Gpu("occlusion result was never mapped".into()))?
-            .map_err(|e| CaptureError::Gpu(format!("occlusion readback failed: {e}")))?;
+        crate::gpu::map_for_reading(device, &slice, "occlusion result")?;
         let samples = {
             let mapped =
                 slice.get_mapped_range().map_err(|e| CaptureError::Gpu(format!("occlusion mapping: {e}")))?;

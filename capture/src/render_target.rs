@@ -110,15 +110,7 @@ impl TileTarget {
     pub fn read_back(&self, device: &wgpu::Device, region: PixelRect) -> Result<Vec<u8>> {
         let used = u64::from(self.padded_row) * u64::from(region.height);
         let slice = self.readback.slice(..used);
-        let (sender, receiver) = std::sync::mpsc::channel();
-        slice.map_async(wgpu::MapMode::Read, move |result| {
-            let _ = sender.send(result);
-        });
-        device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| CaptureError::Gpu(e.to_string()))?;
-        receiver
-            .recv()
-            .map_err(|_| CaptureError::Gpu("readback was never mapped".into()))?
-            .map_err(|e| CaptureError::Gpu(format!("readback failed: {e}")))?;
+        crate::gpu::map_for_reading(device, &slice, "tile")?;
         let row = (region.width * 4) as usize;
         let mut pixels = Vec::with_capacity(row * region.height as usize);
         {

@@ -209,15 +209,7 @@ pub fn count_unobstructed_gpu(
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
     encoder.copy_buffer_to_buffer(&counts_buffer, 0, &readback, 0, counts_size);
     queue.submit([encoder.finish()]);
-    let (sender, receiver) = std::sync::mpsc::channel();
-    readback.slice(..).map_async(wgpu::MapMode::Read, move |result| {
-        let _ = sender.send(result);
-    });
-    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| CaptureError::Gpu(e.to_string()))?;
-    receiver
-        .recv()
-        .map_err(|_| CaptureError::Gpu("counts were never mapped".into()))?
-        .map_err(|e| CaptureError::Gpu(format!("counts readback failed: {e}")))?;
+    crate::gpu::map_for_reading(device, &readback.slice(..), "counts")?;
     let counts = {
         let mapped = readback
             .slice(..)
