@@ -23,7 +23,7 @@ use ufcsr::synthetic::{ArchiveSpec, write_archive};
 use ufcsr::{AnalyzeOptions, Classifier, Counts, Fcsp, analyze, scan_image};
 use ufcsr::{AtomicColorSet, SeenSet};
 use ufcsr::{Kernel, RowScan};
-use ufcsr::{RowReader, map_file};
+use ufcsr::{RowReader, read_file};
 
 struct Args {
     frames: u32,
@@ -76,7 +76,7 @@ fn decode_only(files: &[PathBuf]) -> u64 {
     files
         .par_iter()
         .map(|path| {
-            let bytes = map_file(path).unwrap();
+            let bytes = read_file(path).unwrap();
             let mut reader = RowReader::new(path, &bytes).unwrap();
             let mut sum = 0u64;
             while let Some(row) = reader.next_row().unwrap() {
@@ -109,15 +109,35 @@ fn png_crate_decode(files: &[PathBuf], check_adler32: bool) -> u64 {
         .sum()
 }
 
-/// ufcsr's counting: decode + dense once-per-image counting.
+/// ufcsr's counting: decode + dense once-per-image counting, tiles read
+/// whole as `analyze()` reads them.
 fn ours(files: &[PathBuf], classifier: &Classifier) -> Counts {
+    count_loaded(files, classifier, |path| read_file(path).unwrap())
+}
+
+/// The same counting on memory-mapped tiles (what ufcsr did before it read
+/// tiles whole, to turn a file truncated while mapped from a SIGBUS into a
+/// reported failure): the cost of that choice.
+fn ours_mapped(files: &[PathBuf], classifier: &Classifier) -> Counts {
+    count_loaded(files, classifier, |path| {
+        let file = std::fs::File::open(path).unwrap();
+        // SAFETY: the bench's own files, not modified while it runs.
+        unsafe { memmap2::Mmap::map(&file) }.unwrap()
+    })
+}
+
+fn count_loaded<B: std::ops::Deref<Target = [u8]>>(
+    files: &[PathBuf],
+    classifier: &Classifier,
+    load: impl Fn(&Path) -> B + Sync,
+) -> Counts {
     let counts = Counts::new();
     let strays = AtomicColorSet::new();
     let sets: Vec<Mutex<SeenSet>> =
         (0..rayon::current_num_threads()).map(|_| Mutex::new(SeenSet::new())).collect();
     files.par_iter().for_each(|path| {
         let mut seen = sets[rayon::current_thread_index().unwrap_or(0) % sets.len()].lock().unwrap();
-        let bytes = map_file(path).unwrap();
+        let bytes = load(path);
         scan_image(path, &bytes, classifier, &mut seen, &strays).unwrap();
         counts.add_set(&mut seen);
     });
@@ -134,7 +154,7 @@ fn kernels_alone(files: &[PathBuf], classifier: &Classifier) {
         .iter()
         .step_by(files.len().div_ceil(12).max(1))
         .map(|path| {
-            let bytes = map_file(path).unwrap();
+            let bytes = read_file(path).unwrap();
             let mut reader = RowReader::new(path, &bytes).unwrap();
             let mut rows = Vec::new();
             while let Some(row) = reader.next_row().unwrap() {
@@ -186,7 +206,7 @@ fn hash_map_baseline(files: &[PathBuf]) -> HashMap<u32, u32> {
     files
         .par_iter()
         .fold(HashMap::new, |mut counts: HashMap<u32, u32>, path| {
-            let bytes = map_file(path).unwrap();
+            let bytes = read_file(path).unwrap();
             let reader = RowReader::new(path, &bytes).unwrap();
             let colors = reader.into_colors().unwrap();
             let distinct: HashSet<u32> = colors.into_iter().collect();
@@ -300,6 +320,22 @@ fn main() {
     let count = best_of(3, || {
         black_box(ours(&files, &classifier));
     });
+    // Reading whole files against mapping them, alternated.
+    let (mut read, mut mapped) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..3 {
+        let start = Instant::now();
+        black_box(ours(&files, &classifier));
+        read = read.min(start.elapsed().as_secs_f64());
+        let start = Instant::now();
+        black_box(ours_mapped(&files, &classifier));
+        mapped = mapped.min(start.elapsed().as_secs_f64());
+    }
+    println!(
+        "decode + count, tiles read whole / memory-mapped: {:.3} ({:.3} s vs {:.3} s, best of 3)",
+        read / mapped,
+        read,
+        mapped
+    );
     let baseline = best_of(1, || {
         black_box(hash_map_baseline(&files));
     });
@@ -325,14 +361,14 @@ fn main() {
 }
 
 fn pixels_of(path: &Path) -> u64 {
-    let bytes = map_file(path).unwrap();
+    let bytes = read_file(path).unwrap();
     let reader = RowReader::new(path, &bytes).unwrap();
     u64::from(reader.width()) * u64::from(reader.height())
 }
 
 /// True for an all-background tile (decoded once here, outside the timings).
 fn is_empty_tile(path: &Path) -> bool {
-    let bytes = map_file(path).unwrap();
+    let bytes = read_file(path).unwrap();
     let mut reader = RowReader::new(path, &bytes).unwrap();
     let layout = reader.layout();
     while let Some(row) = reader.next_row().unwrap() {

@@ -18,7 +18,7 @@ use crate::archive::Archive;
 use crate::bitset::{AtomicColorSet, SeenSet};
 use crate::color::Color;
 use crate::count::Counts;
-use crate::decode::map_file;
+use crate::decode::read_file;
 use crate::error::{Error, Result};
 use crate::frames::{EyeFrame, FrameClock, FrameLabel, FrameRecord, FrameTable, PartLookup};
 use crate::heatmap::HeatmapOptions;
@@ -736,7 +736,7 @@ fn count_one(
     parts: Option<(&PartLookup, &mut [u64])>,
 ) -> Outcome {
     let image = &archive.images[index];
-    let bytes = match map_file(&image.path) {
+    let bytes = match read_file(&image.path) {
         Ok(bytes) => bytes,
         Err(error) => return Outcome::Failed(error),
     };

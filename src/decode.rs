@@ -16,9 +16,9 @@ use std::path::Path;
 use crate::error::{Error, Result};
 
 /// The bytes of an input file, read whole.
-pub struct MappedFile(Vec<u8>);
+pub struct FileBytes(Vec<u8>);
 
-impl Deref for MappedFile {
+impl Deref for FileBytes {
     type Target = [u8];
     fn deref(&self) -> &[u8] {
         &self.0
@@ -26,8 +26,8 @@ impl Deref for MappedFile {
 }
 
 /// Reads `path` (a regular file; see [`crate::input_file`]).
-pub fn map_file(path: &Path) -> Result<MappedFile> {
-    crate::input_file::read_limited(path, crate::input_file::IMAGE_LIMIT).map(MappedFile)
+pub fn read_file(path: &Path) -> Result<FileBytes> {
+    crate::input_file::read_limited(path, crate::input_file::IMAGE_LIMIT).map(FileBytes)
 }
 
 /// What the IHDR chunk says, read without decoding anything.
@@ -271,7 +271,7 @@ pub struct ColorImage {
 /// width and height from the header first, so a wrong or absurd size is
 /// rejected before anything is allocated.
 pub fn read_color_image(path: &Path, check_size: impl FnOnce(u32, u32) -> Result<()>) -> Result<ColorImage> {
-    let bytes = map_file(path)?;
+    let bytes = read_file(path)?;
     let header = parse_header(path, &bytes)?;
     check_size(header.width, header.height)?;
     let reader = RowReader::new(path, &bytes)?;

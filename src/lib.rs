@@ -48,7 +48,7 @@ pub use color::{COLOR_COUNT, Color, ParseColorError};
 pub use compare::{Comparison, compare_parts, kendall_tau_b};
 pub use compare_report::write_comparison;
 pub use count::Counts;
-pub use decode::{PixelLayout, RowReader, map_file, read_color_image};
+pub use decode::{PixelLayout, RowReader, read_color_image, read_file};
 pub use error::{Error, Result};
 pub use frames::{FrameTable, PartLookup};
 pub use heatmap::{HeatmapOptions, Scale, plasma, render as render_heatmap, write_heatmap};

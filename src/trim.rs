@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::archive::ImageSource;
 use crate::bitset::{AtomicColorSet, SeenSet};
-use crate::decode::{HEADER_BYTES, MappedFile, map_file, parse_header};
+use crate::decode::{FileBytes, HEADER_BYTES, parse_header, read_file};
 use crate::error::Error;
 use crate::scan::{Classifier, scan_image};
 
@@ -76,7 +76,7 @@ pub struct TrimPlan {
     /// The candidates, in (width, height, bytes) order.
     pub empty_tiles: Vec<EmptyTile>,
     /// Bytes of verified references, parallel to `empty_tiles`.
-    verified_bytes: Vec<Option<MappedFile>>,
+    verified_bytes: Vec<Option<FileBytes>>,
 }
 
 impl TrimPlan {
@@ -111,7 +111,7 @@ impl TrimPlan {
         // collects colours of candidates that fail verification; it is not
         // reported (those files are decoded again, and counted, later).
         let strays = AtomicColorSet::new();
-        let verified_bytes: Vec<Option<MappedFile>> = chosen
+        let verified_bytes: Vec<Option<FileBytes>> = chosen
             .par_iter()
             .map(|(_, files)| verify_empty(&images[files[0]], classifier, &strays))
             .collect();
@@ -155,8 +155,8 @@ fn file_facts(image: &ImageSource) -> Option<(u32, u32, u64)> {
 }
 
 /// Decodes `image`; returns its bytes when every pixel is background.
-fn verify_empty(image: &ImageSource, classifier: &Classifier, strays: &AtomicColorSet) -> Option<MappedFile> {
-    let bytes = map_file(&image.path).ok()?;
+fn verify_empty(image: &ImageSource, classifier: &Classifier, strays: &AtomicColorSet) -> Option<FileBytes> {
+    let bytes = read_file(&image.path).ok()?;
     let mut seen = SeenSet::new();
     let tally = scan_image(&image.path, &bytes, classifier, &mut seen, strays).ok()?;
     tally.is_pure_background().then_some(bytes)
