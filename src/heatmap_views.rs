@@ -7,7 +7,10 @@
 //! heatmap's plasma scale; texels never seen are grey, so they are told
 //! apart from the darkest colour, and everything off the vehicle is white.
 //! A small CPU rasterizer with a z-buffer: the analyzer needs no GPU, so
-//! views render wherever analyses run (and in CI).
+//! views render wherever analyses run (and in CI). The cameras are public
+//! ([`view_cameras`]) and [`write_views_with`] takes any renderer of them:
+//! `ufcsr-capture views` draws the same views with the capture's wgpu
+//! renderer, and a test holds the two to the same pictures.
 //!
 //! `views/NAME.png` for each direction and `views.png`, a contact sheet
 //! (four by two) with a colour bar underneath: grey (never seen), then the
@@ -45,19 +48,33 @@ pub const DIRECTIONS: [(&str, f64); 8] = [
     ("front-right", 315.0),
 ];
 
-/// A camera basis: `right` and `up` span the picture, `back` points to the viewer.
-struct Basis {
-    right: [f64; 3],
-    up: [f64; 3],
-    back: [f64; 3],
+/// One of the eight views: an orthographic camera looking at the vehicle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ViewCamera {
+    /// The direction's name (file name of its picture).
+    pub name: &'static str,
+    /// Unit vectors in the vehicle frame: `right` and `up` span the picture,
+    /// `back` points from the vehicle to the viewer.
+    pub right: [f64; 3],
+    pub up: [f64; 3],
+    pub back: [f64; 3],
+    /// Picture pixels per metre (the same in all eight views).
+    pub pixels_per_metre: f64,
+    /// The point (along `right`, `up`, in metres) at the picture's centre.
+    pub centre: [f64; 2],
+    /// Picture size in pixels.
+    pub size: [u32; 2],
+    /// Nearest and farthest depth of the vehicle (metres along −`back`).
+    pub depth_range: [f64; 2],
 }
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
-impl Basis {
-    fn looking_from(azimuth_deg: f64) -> Basis {
+impl ViewCamera {
+    /// The camera looking from `azimuth_deg`, before it is fitted to a model.
+    fn looking_from(name: &'static str, azimuth_deg: f64) -> ViewCamera {
         let (a, e) = (azimuth_deg.to_radians(), ELEVATION_DEG.to_radians());
         let back = [a.cos() * e.cos(), a.sin() * e.cos(), e.sin()];
         // right = normalize(Z × back); up = back × right.
@@ -69,14 +86,61 @@ impl Basis {
             back[2] * right[0] - back[0] * right[2],
             back[0] * right[1] - back[1] * right[0],
         ];
-        Basis { right, up, back }
+        ViewCamera {
+            name,
+            right,
+            up,
+            back,
+            pixels_per_metre: 1.0,
+            centre: [0.0, 0.0],
+            size: [VIEW.0, VIEW.1],
+            depth_range: [0.0, 1.0],
+        }
     }
 
-    /// Picture coordinates (right, up) and depth (smaller is nearer).
-    fn project(&self, p: [f32; 3]) -> (f64, f64, f64) {
+    /// Metres along `right` and `up`, and depth (smaller is nearer).
+    fn project(&self, p: [f32; 3]) -> [f64; 3] {
         let p = [f64::from(p[0]), f64::from(p[1]), f64::from(p[2])];
-        (dot(p, self.right), dot(p, self.up), -dot(p, self.back))
+        [dot(p, self.right), dot(p, self.up), -dot(p, self.back)]
     }
+
+    /// Picture position in pixels (x to the right, y down from the top-left
+    /// corner; pixel centres at +0.5) and depth in metres (smaller is nearer).
+    pub fn to_picture(&self, p: [f32; 3]) -> [f64; 3] {
+        let [x, y, depth] = self.project(p);
+        [
+            f64::from(self.size[0]) / 2.0 + (x - self.centre[0]) * self.pixels_per_metre,
+            f64::from(self.size[1]) / 2.0 - (y - self.centre[1]) * self.pixels_per_metre,
+            depth,
+        ]
+    }
+}
+
+/// The eight cameras, fitted to `model`: one scale for all eight (the
+/// largest extent in any of them fits), each centred on the vehicle.
+pub fn view_cameras(model: &VehicleModel) -> Vec<ViewCamera> {
+    let mut cameras: Vec<ViewCamera> =
+        DIRECTIONS.iter().map(|&(name, azimuth)| ViewCamera::looking_from(name, azimuth)).collect();
+    let mut scale = f64::INFINITY;
+    for camera in &mut cameras {
+        let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+        for p in model.parts.iter().flat_map(|part| part.positions.iter()) {
+            let q = camera.project(*p);
+            for k in 0..3 {
+                lo[k] = lo[k].min(q[k]);
+                hi[k] = hi[k].max(q[k]);
+            }
+        }
+        let fit = (f64::from(VIEW.0) * 0.9 / (hi[0] - lo[0]).max(1e-6))
+            .min(f64::from(VIEW.1) * 0.9 / (hi[1] - lo[1]).max(1e-6));
+        scale = scale.min(fit);
+        camera.centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+        camera.depth_range = [lo[2], hi[2]];
+    }
+    for camera in &mut cameras {
+        camera.pixels_per_metre = scale;
+    }
+    cameras
 }
 
 /// Per-texel colours for the views: plasma for seen texels, grey for the rest.
@@ -90,40 +154,49 @@ pub struct ViewTexture<'a> {
 }
 
 impl ViewTexture<'_> {
-    fn max(&self) -> u32 {
+    /// The scale's top: `options.max`, else the largest count.
+    pub fn max(&self) -> u32 {
         self.options.max.unwrap_or_else(|| self.counts.iter().copied().max().unwrap_or(0))
     }
 
     fn color(&self, uv: [f64; 2], max: u32) -> [u8; 3] {
         let x = ((uv[0] * f64::from(self.width)).floor().max(0.0) as u32).min(self.width - 1);
         let y = ((uv[1] * f64::from(self.height)).floor().max(0.0) as u32).min(self.height - 1);
-        match self.counts.get(y as usize * self.width as usize + x as usize) {
-            Some(&count) if count > 0 => plasma(position(count, max, self.options.scale)),
+        self.count_color(self.counts.get(y as usize * self.width as usize + x as usize).copied(), max)
+    }
+
+    fn count_color(&self, count: Option<u32>, max: u32) -> [u8; 3] {
+        match count {
+            Some(count) if count > 0 => plasma(position(count, max, self.options.scale)),
             _ => NEVER_SEEN,
         }
     }
+
+    /// Every texel's colour in the views, RGBA8, row 0 at the top: the
+    /// texture a GPU renderer draws the views with.
+    pub fn texel_rgba(&self) -> Vec<u8> {
+        let max = self.max();
+        let mut rgba = Vec::with_capacity(self.width as usize * self.height as usize * 4);
+        for index in 0..self.width as usize * self.height as usize {
+            let [r, g, b] = self.count_color(self.counts.get(index).copied(), max);
+            rgba.extend_from_slice(&[r, g, b, 255]);
+        }
+        rgba
+    }
 }
 
-/// Renders one direction into an RGB picture of [`VIEW`] size, at `scale`
-/// pixels per metre around `centre` (picture coordinates).
-fn render_view(
-    model: &VehicleModel,
-    texture: &ViewTexture,
-    basis: &Basis,
-    scale: f64,
-    centre: (f64, f64),
-) -> Vec<u8> {
-    let (width, height) = VIEW;
+/// Renders one camera's picture, RGB, rows top to bottom: the CPU renderer
+/// [`write_views`] uses.
+pub fn render_view(model: &VehicleModel, texture: &ViewTexture, camera: &ViewCamera) -> Vec<u8> {
+    let [width, height] = camera.size;
     let mut rgb = PAPER.repeat((width * height) as usize);
     let mut depth = vec![f64::INFINITY; (width * height) as usize];
     let max = texture.max();
-    let to_pixel = |(x, y, _): (f64, f64, f64)| {
-        (f64::from(width) / 2.0 + (x - centre.0) * scale, f64::from(height) / 2.0 - (y - centre.1) * scale)
-    };
     for part in &model.parts {
         for (corners, uvs) in part.positions.chunks_exact(3).zip(part.uvs.chunks_exact(3)) {
-            let projected = [basis.project(corners[0]), basis.project(corners[1]), basis.project(corners[2])];
-            let p = projected.map(to_pixel);
+            let projected =
+                [camera.to_picture(corners[0]), camera.to_picture(corners[1]), camera.to_picture(corners[2])];
+            let p = projected.map(|[x, y, _]| (x, y));
             let area = (p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[1].1 - p[0].1) * (p[2].0 - p[0].0);
             if area.abs() < 1e-12 {
                 continue;
@@ -148,7 +221,7 @@ fn render_view(
                     if w.iter().any(|&w| w < 0.0) {
                         continue;
                     }
-                    let z = w[0] * projected[0].2 + w[1] * projected[1].2 + w[2] * projected[2].2;
+                    let z = w[0] * projected[0][2] + w[1] * projected[1][2] + w[2] * projected[2][2];
                     let i = (y * width + x) as usize;
                     if z < depth[i] {
                         depth[i] = z;
@@ -176,34 +249,37 @@ pub struct WrittenViews {
     pub views: Vec<PathBuf>,
 }
 
-/// Writes `dir/views/NAME.png` for the eight directions and `dir/views.png`.
+/// Writes `dir/views/NAME.png` for the eight directions and `dir/views.png`,
+/// drawn with the CPU renderer ([`render_view`]).
 pub fn write_views(model: &VehicleModel, texture: &ViewTexture, dir: &Path) -> Result<WrittenViews> {
-    let bases: Vec<Basis> = DIRECTIONS.iter().map(|&(_, azimuth)| Basis::looking_from(azimuth)).collect();
-    // One scale for all eight views: the largest extent in any of them fits.
-    let mut scale = f64::INFINITY;
-    let mut centres = Vec::with_capacity(bases.len());
-    for basis in &bases {
-        let (mut lo, mut hi) = ((f64::MAX, f64::MAX), (f64::MIN, f64::MIN));
-        for p in model.parts.iter().flat_map(|part| part.positions.iter()) {
-            let (x, y, _) = basis.project(*p);
-            lo = (lo.0.min(x), lo.1.min(y));
-            hi = (hi.0.max(x), hi.1.max(y));
-        }
-        let fit = (f64::from(VIEW.0) * 0.9 / (hi.0 - lo.0).max(1e-6))
-            .min(f64::from(VIEW.1) * 0.9 / (hi.1 - lo.1).max(1e-6));
-        scale = scale.min(fit);
-        centres.push(((lo.0 + hi.0) / 2.0, (lo.1 + hi.1) / 2.0));
-    }
+    write_views_with(model, texture, dir, |camera| Ok(render_view(model, texture, camera)))
+}
+
+/// [`write_views`] with another renderer: `render` draws one camera's
+/// picture (RGB, `camera.size`, rows top to bottom).
+pub fn write_views_with(
+    model: &VehicleModel,
+    texture: &ViewTexture,
+    dir: &Path,
+    mut render: impl FnMut(&ViewCamera) -> Result<Vec<u8>>,
+) -> Result<WrittenViews> {
+    let cameras = view_cameras(model);
     let views_dir = dir.join("views");
     std::fs::create_dir_all(&views_dir).map_err(|e| crate::error::Error::io(&views_dir, e))?;
     let (width, height) = VIEW;
     let sheet_width = width * 4;
     let sheet_height = height * 2 + BAR;
     let mut sheet = PAPER.repeat((sheet_width * sheet_height) as usize);
-    let mut views = Vec::with_capacity(bases.len());
-    for (index, ((name, _), basis)) in DIRECTIONS.iter().zip(&bases).enumerate() {
-        let rgb = render_view(model, texture, basis, scale, centres[index]);
-        let path = views_dir.join(format!("{name}.png"));
+    let mut views = Vec::with_capacity(cameras.len());
+    for (index, camera) in cameras.iter().enumerate() {
+        let rgb = render(camera)?;
+        if rgb.len() != (width * height * 3) as usize {
+            return Err(crate::error::Error::bad_file(
+                &views_dir,
+                format!("the {} view has {} bytes, not {width}×{height} RGB", camera.name, rgb.len()),
+            ));
+        }
+        let path = views_dir.join(format!("{}.png", camera.name));
         crate::output::write_rgb_png(&path, width, height, &rgb, png::Compression::Fast)?;
         views.push(path);
         let (column, row) = (index as u32 % 4, index as u32 / 4);

@@ -52,7 +52,10 @@ pub use decode::{PixelLayout, RowReader, read_color_image, read_file};
 pub use error::{Error, Result};
 pub use frames::{FrameTable, PartLookup};
 pub use heatmap::{HeatmapOptions, Scale, plasma, render as render_heatmap, write_heatmap};
-pub use heatmap_views::{DIRECTIONS, NEVER_SEEN, ViewTexture, WrittenViews, write_views};
+pub use heatmap_views::{
+    DIRECTIONS, NEVER_SEEN, ViewCamera, ViewTexture, WrittenViews, render_view, view_cameras, write_views,
+    write_views_with,
+};
 pub use input_file::{SMALL_INPUT_LIMIT, read_limited};
 pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
 pub use measures::Measures;

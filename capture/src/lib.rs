@@ -34,6 +34,7 @@ pub mod encoder_pool;
 pub mod error;
 pub mod frame_capture;
 pub mod gpu;
+pub mod heatmap_views_gpu;
 pub mod inspect;
 pub mod manifest_builder;
 pub mod mesh;

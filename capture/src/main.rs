@@ -61,6 +61,21 @@ enum Command {
         #[arg(long)]
         pixels_per_metre: Option<f64>,
     },
+    /// Draw a result's eight heatmap views with the GPU renderer (the analyzer draws them on
+    /// the CPU): views/*.png and views.png, from RESULTS/result.json and heatmap.glb.
+    Views {
+        /// A result folder written by ufcsr-analyze (or --count).
+        results: PathBuf,
+        /// The vehicle model with its palette UVs (default RESULTS/heatmap.glb).
+        #[arg(long)]
+        model: Option<PathBuf>,
+        /// Where views/ and views.png go (default: the result folder).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// GPU backend.
+        #[arg(long, value_enum, default_value_t = Backend::Auto)]
+        backend: Backend,
+    },
     /// Plan a batch (batch.json: scenes × scenarios × ppd × frame steps): prints one
     /// `ufcsr-capture ... --count` command per task, task i on line i (for job arrays, xargs -P).
     Batch {
@@ -253,6 +268,17 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             return Ok(());
         }
         Command::Study(args) => return run_study(args),
+        Command::Views { results, model, out, backend } => {
+            let gpu = Gpu::create(backend)?;
+            let options = ufcsr_capture::heatmap_views_gpu::ViewsOptions { results, model, out };
+            let written =
+                ufcsr_capture::heatmap_views_gpu::views_from_results(&gpu.device, &gpu.queue, &options)?;
+            println!("views ({}): {}", gpu.describe(), written.contact_sheet.display());
+            for view in &written.views {
+                println!("  {}", view.display());
+            }
+            return Ok(());
+        }
         Command::Batch { action: BatchAction::Plan { batch, program } } => {
             let plan = ufcsr_capture::batch::load(&batch)?;
             let program = match program {

@@ -1,0 +1,71 @@
+//! `ufcsr-capture views`: the analyzer's eight heatmap views drawn with the
+//! capture's wgpu renderer must be the analyzer's CPU pictures, up to a
+//! few pixels on triangle edges and texel boundaries (the two rasterisers
+//! round differently there).
+
+use std::path::Path;
+use std::process::Command;
+
+use ufcsr::{AnalyzeOptions, DIRECTIONS};
+
+/// The bundled example analysed into `out` (CPU views, heatmap.glb).
+fn analyse_example(out: &Path) {
+    let archive = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
+    let options = AnalyzeOptions { archive, ..AnalyzeOptions::default() };
+    let mut analysis = ufcsr::analyze(&options, None).expect("analyse the example");
+    ufcsr::write_results(&mut analysis, out).expect("write the example's results");
+}
+
+fn colors(path: &Path) -> Vec<u32> {
+    ufcsr::read_color_image(path, |_, _| Ok(())).unwrap_or_else(|e| panic!("{e}")).colors
+}
+
+#[test]
+fn gpu_views_are_the_cpu_views() {
+    let dir = tempfile::tempdir().unwrap();
+    let results = dir.path().join("results");
+    analyse_example(&results);
+    let gpu_out = dir.path().join("gpu");
+    let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .arg("views")
+        .arg(&results)
+        .arg("--out")
+        .arg(&gpu_out)
+        .output()
+        .expect("run ufcsr-capture views");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let printed = String::from_utf8_lossy(&output.stdout);
+    assert!(printed.contains("views.png"), "{printed}");
+    let white = 0xFF_FFFF;
+    let mut coloured = 0;
+    for (name, _) in DIRECTIONS {
+        let cpu = colors(&results.join("views").join(format!("{name}.png")));
+        let gpu = colors(&gpu_out.join("views").join(format!("{name}.png")));
+        assert_eq!(cpu.len(), gpu.len(), "{name}");
+        let differ = cpu.iter().zip(&gpu).filter(|(a, b)| a != b).count();
+        let outline = cpu.iter().zip(&gpu).filter(|&(&a, &b)| (a == white) != (b == white)).count();
+        eprintln!("{name}: {differ} of {} pixels differ, {outline} on the outline", cpu.len());
+        // Measured: 0 to 68 pixels of 120,000 (front-right, texel boundaries).
+        assert!(differ * 200 <= cpu.len(), "{name}: {differ} pixels differ");
+        assert!(outline * 1000 <= cpu.len(), "{name}: {outline} pixels differ in coverage");
+        coloured += gpu.iter().filter(|&&c| c != white && c != 0xA0A0A0).count();
+    }
+    assert!(coloured > 10_000, "the GPU views show almost no heatmap ({coloured} pixels)");
+    assert!(gpu_out.join("views.png").is_file());
+}
+
+#[test]
+fn views_without_a_model_name_the_missing_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let results = dir.path().join("results");
+    analyse_example(&results);
+    std::fs::remove_file(results.join("heatmap.glb")).unwrap();
+    let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .arg("views")
+        .arg(&results)
+        .output()
+        .expect("run ufcsr-capture views");
+    assert!(!output.status.success());
+    let message = String::from_utf8_lossy(&output.stderr);
+    assert!(message.contains("heatmap.glb") && message.contains("--model"), "{message}");
+}
