@@ -416,13 +416,7 @@ pub fn summarize(
         scenario: scenario.name.clone(),
         frames: captured.frames,
         tiles: captured.tiles,
-        rendered: tally.rendered,
-        written: tally.written,
-        resumed: tally.resumed,
-        culled: tally.culled,
-        background: tally.background,
-        pixels_scissored: tally.pixels_scissored,
-        hidden: tally.hidden,
+        tally,
         pixels: (captured.tiles - tally.culled)
             * u64::from(scene.rig.tile_pixels()[0])
             * u64::from(scene.rig.tile_pixels()[1]),

@@ -444,15 +444,15 @@ fn report(s: &Summary) {
     );
     println!(
         "  tiles: {} total, {} rendered, {} written, {} culled (outside the vehicle's bounds), {} background only, {} resumed",
-        s.tiles, s.rendered, s.written, s.culled, s.background, s.resumed
+        s.tiles, s.tally.rendered, s.tally.written, s.tally.culled, s.tally.background, s.tally.resumed
     );
     // On stderr: how the run was done, not what it found.
     eprintln!(
         "  left out: {} of the {} pixels of tiles the vehicle's bounds touch ({:.1}%, scissor), {} tiles hidden by occluders (not rendered)",
-        s.pixels_scissored,
+        s.tally.pixels_scissored,
         s.pixels,
-        if s.pixels > 0 { s.pixels_scissored as f64 * 100.0 / s.pixels as f64 } else { 0.0 },
-        s.hidden
+        if s.pixels > 0 { s.tally.pixels_scissored as f64 * 100.0 / s.pixels as f64 } else { 0.0 },
+        s.tally.hidden
     );
     println!(
         "  unwrap: {} triangles, {} parts, {:.1} texels/m² ({:.1} mm texels), {:.1}% of the palette used",

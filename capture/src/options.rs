@@ -186,20 +186,8 @@ pub struct Summary {
     pub scenario: String,
     pub frames: u32,
     pub tiles: u64,
-    /// Rendered by the GPU.
-    pub rendered: u64,
-    /// PNGs written.
-    pub written: u64,
-    /// Already on disk (`--resume`).
-    pub resumed: u64,
-    /// Not rendered: outside the vehicle's projected bounds.
-    pub culled: u64,
-    /// Rendered but pure background.
-    pub background: u64,
-    /// Pixels of rendered tiles left out by the scissor.
-    pub pixels_scissored: u64,
-    /// Tiles hidden by occluders, not rendered.
-    pub hidden: u64,
+    /// What the frame loop did with them.
+    pub tally: TileTally,
     /// Pixels of the tiles the vehicle's bounds touch (not culled): the
     /// share the scissor left out is against this.
     pub pixels: u64,

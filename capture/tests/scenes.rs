@@ -92,7 +92,10 @@ fn fixture_scenes_capture_without_stray_pixels() {
         let scenario = scene.scenarios[0].clone();
         let summary = capture(&gpu.device, &gpu.queue, &scene, &scenario, &options).unwrap();
         let (vehicle, stray) = verify(&out).unwrap();
-        eprintln!("{file} keep_uvs={keep_uvs}: {} tiles written, {vehicle} vehicle pixels", summary.written);
+        eprintln!(
+            "{file} keep_uvs={keep_uvs}: {} tiles written, {vehicle} vehicle pixels",
+            summary.tally.written
+        );
         assert_eq!(stray, 0, "{file}");
         assert!(vehicle > 100, "{file}: {vehicle}");
     }

@@ -90,16 +90,19 @@ fn check_backend(gpu: &Gpu) {
         let full = capture_with(gpu, scene, scenario, &whole, true);
         eprintln!(
             "{name}: scissor left out {} of {} pixels, {} tiles hidden; rendered {} vs {} tiles",
-            cut.pixels_scissored, cut.pixels, cut.hidden, cut.rendered, full.rendered
+            cut.tally.pixels_scissored, cut.pixels, cut.tally.hidden, cut.tally.rendered, full.tally.rendered
         );
-        assert_eq!((full.pixels_scissored, full.hidden), (0, 0));
-        assert!(cut.pixels_scissored > 0, "{name}: the scissor left nothing out");
+        assert_eq!((full.tally.pixels_scissored, full.tally.hidden), (0, 0));
+        assert!(cut.tally.pixels_scissored > 0, "{name}: the scissor left nothing out");
         // Frame 0: a corner building hides the truck from tiles its bounds touch.
-        assert!(cut.hidden > 0 && cut.rendered + cut.hidden == full.rendered, "{name}");
-        assert_eq!(cut.written, full.written, "{name}");
+        assert!(
+            cut.tally.hidden > 0 && cut.tally.rendered + cut.tally.hidden == full.tally.rendered,
+            "{name}"
+        );
+        assert_eq!(cut.tally.written, full.tally.written, "{name}");
         same_archives(&scissored, &whole);
         let manifest = Manifest::load_from_dir(&scissored).unwrap().unwrap();
-        assert_eq!(manifest.extra["capture"]["pixels_scissored"], cut.pixels_scissored, "{name}");
-        assert_eq!(manifest.extra["capture"]["tiles_hidden"], cut.hidden, "{name}");
+        assert_eq!(manifest.extra["capture"]["pixels_scissored"], cut.tally.pixels_scissored, "{name}");
+        assert_eq!(manifest.extra["capture"]["tiles_hidden"], cut.tally.hidden, "{name}");
     }
 }

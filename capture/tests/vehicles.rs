@@ -108,7 +108,7 @@ fn milk_truck_keep_uvs_names_the_primitives_without_uvs_and_a_tiny_capture_verif
     };
     let summary = capture(&gpu.device, &gpu.queue, &scene, &scene.scenarios[0], &options).unwrap();
     assert_eq!(summary.parts, 8);
-    assert!(summary.written > 0);
+    assert!(summary.tally.written > 0);
     let (vehicle, stray) = verify(&options.out).unwrap();
     assert!(vehicle > 0);
     assert_eq!(stray, 0);
