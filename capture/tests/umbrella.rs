@@ -38,6 +38,15 @@ fn ufcsr_analyze_runs_the_analyzer_and_passes_its_exit_code() {
     let status = ufcsr().arg("analyze").arg(&example).arg("--out").arg(&out).arg("--quiet").status().unwrap();
     assert!(status.success());
     assert!(out.join("result.json").is_file());
+    // Subcommands of either program route the same way.
+    let compared = dir.path().join("compared");
+    let status = ufcsr().arg("report").arg(&out).arg(&out).arg("--out").arg(&compared).status().unwrap();
+    assert!(status.success());
+    assert!(compared.join("report.html").is_file());
+    let gpu_views = dir.path().join("gpu-views");
+    let views = ufcsr().arg("views").arg(&out).arg("--out").arg(&gpu_views).output().unwrap();
+    assert!(views.status.success(), "{}", String::from_utf8_lossy(&views.stderr));
+    assert!(gpu_views.join("views.png").is_file());
     // The analyzer's own failure comes through (exit 2: nothing could be analysed).
     let missing = ufcsr().arg("analyze").arg(dir.path().join("missing")).output().unwrap();
     assert!(!missing.status.success());
