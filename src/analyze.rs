@@ -1030,13 +1030,9 @@ fn write_results_into(analysis: &mut Analysis, out_dir: &Path) -> Result<Vec<cra
             width,
             height,
             options: heatmap,
-            caption: format!(
-                "measure: {} · {}",
-                analysis.result.measure,
-                Path::new(&analysis.result.settings.archive).file_name().map_or_else(
-                    || analysis.result.settings.archive.clone(),
-                    |n| n.to_string_lossy().into_owned()
-                )
+            caption: crate::heatmap_views::views_caption(
+                &analysis.result.measure,
+                &analysis.result.settings.archive,
             ),
         };
         crate::heatmap_views::write_views(&model, &texture, out_dir)?;

@@ -162,27 +162,33 @@ impl ViewTexture<'_> {
     fn color(&self, uv: [f64; 2], max: u32) -> [u8; 3] {
         let x = ((uv[0] * f64::from(self.width)).floor().max(0.0) as u32).min(self.width - 1);
         let y = ((uv[1] * f64::from(self.height)).floor().max(0.0) as u32).min(self.height - 1);
-        self.count_color(self.counts.get(y as usize * self.width as usize + x as usize).copied(), max)
-    }
-
-    fn count_color(&self, count: Option<u32>, max: u32) -> [u8; 3] {
-        match count {
-            Some(count) if count > 0 => plasma(position(count, max, self.options.scale)),
+        match self.counts.get(y as usize * self.width as usize + x as usize) {
+            Some(&count) if count > 0 => plasma(position(count, max, self.options.scale)),
             _ => NEVER_SEEN,
         }
     }
 
     /// Every texel's colour in the views, RGBA8, row 0 at the top: the
-    /// texture a GPU renderer draws the views with.
+    /// heatmap's colours (its per-count table) with never-seen texels grey,
+    /// the texture a GPU renderer draws the views with.
     pub fn texel_rgba(&self) -> Vec<u8> {
-        let max = self.max();
-        let mut rgba = Vec::with_capacity(self.width as usize * self.height as usize * 4);
-        for index in 0..self.width as usize * self.height as usize {
-            let [r, g, b] = self.count_color(self.counts.get(index).copied(), max);
-            rgba.extend_from_slice(&[r, g, b, 255]);
-        }
-        rgba
+        let rgb = crate::heatmap::render(self.counts, self.width, self.options);
+        rgb.chunks_exact(3)
+            .zip(self.counts)
+            .flat_map(|(color, &count)| {
+                let [r, g, b] = if count > 0 { [color[0], color[1], color[2]] } else { NEVER_SEEN };
+                [r, g, b, 255]
+            })
+            .collect()
     }
+}
+
+/// The contact sheet's caption: the measure and the archive's folder name.
+pub fn views_caption(measure: &str, archive: &str) -> String {
+    let name = Path::new(archive)
+        .file_name()
+        .map_or_else(|| archive.to_string(), |n| n.to_string_lossy().into_owned());
+    format!("measure: {measure} · {name}")
 }
 
 /// Renders one camera's picture, RGB, rows top to bottom: the CPU renderer

@@ -53,8 +53,8 @@ pub use error::{Error, Result};
 pub use frames::{FrameTable, PartLookup};
 pub use heatmap::{HeatmapOptions, Scale, plasma, render as render_heatmap, write_heatmap};
 pub use heatmap_views::{
-    DIRECTIONS, NEVER_SEEN, ViewCamera, ViewTexture, WrittenViews, render_view, view_cameras, write_views,
-    write_views_with,
+    DIRECTIONS, NEVER_SEEN, ViewCamera, ViewTexture, WrittenViews, render_view, view_cameras, views_caption,
+    write_views, write_views_with,
 };
 pub use input_file::{SMALL_INPUT_LIMIT, read_limited};
 pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};

@@ -306,12 +306,15 @@ pub fn write_result_json(path: &Path, result: &AnalysisResult, texel_counts: &[u
 #[derive(Deserialize)]
 struct HeatmapSource {
     schema: String,
+    #[serde(default = "default_measure")]
+    measure: String,
     settings: HeatmapSettings,
     texel_counts: TexelCountsJson,
 }
 
 #[derive(Deserialize)]
 struct HeatmapSettings {
+    archive: String,
     palette: PaletteDescription,
     heatmap_scale: Scale,
     heatmap_max: Option<u32>,
@@ -324,6 +327,9 @@ pub struct StoredCounts {
     pub texel_counts: Vec<u32>,
     pub scale: Scale,
     pub max: Option<u32>,
+    /// What the counts are (`result.json`'s `measure`) and of which archive.
+    pub measure: String,
+    pub archive: String,
 }
 
 /// Reads the per-texel counts of a `result.json` (without the summary).
@@ -366,6 +372,8 @@ fn stored_counts(path: &Path, source: HeatmapSource) -> Result<StoredCounts> {
         texel_counts,
         scale: source.settings.heatmap_scale,
         max: source.settings.heatmap_max,
+        measure: source.measure,
+        archive: source.settings.archive,
     })
 }
 

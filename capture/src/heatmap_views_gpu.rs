@@ -57,28 +57,27 @@ pub fn write_views_gpu(
         origin: DVec3::ZERO,
     };
     let renderer = Renderer::new(device, queue, &setup)?;
-    let mut failure = None;
-    let written = ufcsr::write_views_with(model, texture, dir, |camera| {
+    // Draw all eight first, so a GPU error is reported as one; then the
+    // analyzer writes them, with its sheet, each under its camera's name.
+    let mut pictures = Vec::with_capacity(cameras.len());
+    for camera in &cameras {
         let draw = TileDraw {
             clip_from_vehicle: clip_from_vehicle(camera),
             clip_from_world: DMat4::IDENTITY,
             occluders: &[],
         };
-        match renderer.render_tile(device, queue, &draw) {
-            Ok(rgba) => Ok(rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect()),
-            Err(error) => {
-                // The analyzer's error type cannot carry a GPU error: keep it
-                // and report it after the views were abandoned.
-                let message = error.to_string();
-                failure = Some(error);
-                Err(ufcsr::Error::bad_file(dir, format!("the GPU could not draw a view: {message}")))
-            }
-        }
-    });
-    match (written, failure) {
-        (_, Some(error)) => Err(error),
-        (written, None) => Ok(written?),
+        let rgba = renderer.render_tile(device, queue, &draw)?;
+        pictures
+            .push((camera.name, rgba.chunks_exact(4).flat_map(|p| [p[0], p[1], p[2]]).collect::<Vec<u8>>()));
     }
+    Ok(ufcsr::write_views_with(model, texture, dir, |camera| {
+        // A missing picture is an empty one, which write_views_with refuses by name.
+        Ok(pictures
+            .iter()
+            .find(|(name, _)| *name == camera.name)
+            .map(|(_, rgb)| rgb.clone())
+            .unwrap_or_default())
+    })?)
 }
 
 /// Reads `result.json` and the model, and writes the views with the GPU:
@@ -88,9 +87,7 @@ pub fn views_from_results(
     queue: &wgpu::Queue,
     options: &ViewsOptions,
 ) -> Result<WrittenViews> {
-    let result_json = options.results.join("result.json");
-    let counts = ufcsr::read_texel_counts(&result_json)?;
-    let summary = ufcsr::read_result_summary(&result_json)?;
+    let counts = ufcsr::read_texel_counts(&options.results.join("result.json"))?;
     let model_path = options.model.clone().unwrap_or_else(|| options.results.join("heatmap.glb"));
     if !model_path.is_file() {
         return Err(CaptureError::BadInput {
@@ -100,15 +97,12 @@ pub fn views_from_results(
         });
     }
     let model = VehicleModel::read(&model_path)?;
-    let archive = Path::new(&summary.settings.archive)
-        .file_name()
-        .map_or_else(|| summary.settings.archive.clone(), |name| name.to_string_lossy().into_owned());
     let texture = ViewTexture {
         counts: &counts.texel_counts,
         width: counts.width,
         height: counts.height,
         options: ufcsr::HeatmapOptions { scale: counts.scale, max: counts.max },
-        caption: format!("measure: {} · {archive} · wgpu", summary.measure),
+        caption: format!("{} · wgpu", ufcsr::views_caption(&counts.measure, &counts.archive)),
     };
     let out = options.out.clone().unwrap_or_else(|| options.results.clone());
     write_views_gpu(device, queue, &model, &texture, &out)
