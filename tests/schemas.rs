@@ -63,6 +63,9 @@ impl Schema {
     }
 }
 
+/// A change made to a valid document.
+type Edit = fn(&mut Value);
+
 /// Analyses the example with `options` into `out` and reads back result.json.
 fn analyse_example(options: AnalyzeOptions, out: &Path) -> Value {
     let mut analysis = analyze(&options, None).expect("analysis of the example");
@@ -133,7 +136,7 @@ fn result_schema_refuses_unknown_fields_other_versions_and_zero_counts() {
     let valid =
         analyse_example(AnalyzeOptions { archive: example(), ..AnalyzeOptions::default() }, dir.path());
     schema.assert_valid(&valid, "the example's result.json");
-    let edits: [(&str, fn(&mut Value)); 5] = [
+    let edits: [(&str, Edit); 5] = [
         ("an unknown top-level field", |r| r["elapsed_seconds"] = json!(1.5)),
         ("an unknown field in a part", |r| r["parts"][0]["rank"] = json!(1)),
         ("another schema version", |r| r["schema"] = json!("ufcsr-result/2")),
@@ -172,7 +175,7 @@ fn hand_written_manifest() -> Value {
 #[test]
 fn manifest_schema_agrees_with_the_analyzer_on_hand_written_manifests() {
     let schema = Schema::manifest();
-    let variants: [(&str, fn(&mut Value), bool); 9] = [
+    let variants: [(&str, Edit, bool); 9] = [
         ("as documented", |_| {}, true),
         ("only tiles", |m| *m = json!({"tiles": m["tiles"].clone()}), true),
         (
