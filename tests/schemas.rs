@@ -19,48 +19,17 @@ fn example() -> PathBuf {
     workspace_file("fixtures/example")
 }
 
-fn read_json(path: &Path) -> Value {
-    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    serde_json::from_slice(&bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+#[path = "../docs/schemas/validator.rs"]
+mod validator;
+
+use validator::{Schema, read_json};
+
+fn result_schema() -> Schema {
+    Schema::load(&workspace_file("docs/schemas/result.schema.json"))
 }
 
-/// A compiled schema from `docs/schemas/` (checked against draft 2020-12's
-/// meta-schema while compiling).
-struct Schema {
-    schemas: boon::Schemas,
-    index: boon::SchemaIndex,
-}
-
-impl Schema {
-    fn load(name: &str) -> Schema {
-        let path = workspace_file(&format!("docs/schemas/{name}"));
-        let mut compiler = boon::Compiler::new();
-        compiler.add_resource(&format!("file:///{name}"), read_json(&path)).expect("add schema");
-        let mut schemas = boon::Schemas::new();
-        let index = compiler
-            .compile(&format!("file:///{name}"), &mut schemas)
-            .unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
-        Schema { schemas, index }
-    }
-
-    fn result() -> Schema {
-        Schema::load("result.schema.json")
-    }
-
-    fn manifest() -> Schema {
-        Schema::load("manifest.schema.json")
-    }
-
-    /// `Err` with every violation, each with its location.
-    fn check(&self, document: &Value) -> Result<(), String> {
-        self.schemas.validate(document, self.index).map_err(|error| format!("{error:#}"))
-    }
-
-    fn assert_valid(&self, document: &Value, what: &str) {
-        if let Err(error) = self.check(document) {
-            panic!("{what} does not match its schema:\n{error}");
-        }
-    }
+fn manifest_schema() -> Schema {
+    Schema::load(&workspace_file("docs/schemas/manifest.schema.json"))
 }
 
 /// A change made to a valid document.
@@ -82,12 +51,12 @@ fn example_result_json_matches_the_result_schema() {
     let result = analyse_example(options, dir.path());
     assert!(result.get("measures").is_some() && result.get("resolution").is_some());
     assert!(result["parts"].as_array().is_some_and(|parts| !parts.is_empty()));
-    Schema::result().assert_valid(&result, "the example's result.json");
+    result_schema().assert_valid(&result, "the example's result.json");
 }
 
 #[test]
 fn result_json_of_every_shape_matches_the_result_schema() {
-    let schema = Schema::result();
+    let schema = result_schema();
     let dir = tempfile::tempdir().unwrap();
     // Deduplicated per eye-frame, a shard, a byte threshold (empty-tile
     // candidates listed), a log scale with a fixed top: `dedupe`,
@@ -131,7 +100,7 @@ fn result_json_of_every_shape_matches_the_result_schema() {
 
 #[test]
 fn result_schema_refuses_unknown_fields_other_versions_and_zero_counts() {
-    let schema = Schema::result();
+    let schema = result_schema();
     let dir = tempfile::tempdir().unwrap();
     let valid =
         analyse_example(AnalyzeOptions { archive: example(), ..AnalyzeOptions::default() }, dir.path());
@@ -153,7 +122,7 @@ fn result_schema_refuses_unknown_fields_other_versions_and_zero_counts() {
 #[test]
 fn example_manifest_matches_the_manifest_schema() {
     let manifest = read_json(&example().join("manifest.json"));
-    Schema::manifest().assert_valid(&manifest, "fixtures/example/manifest.json");
+    manifest_schema().assert_valid(&manifest, "fixtures/example/manifest.json");
 }
 
 /// A hand-written manifest as docs/archive-format.md shows it.
@@ -174,7 +143,7 @@ fn hand_written_manifest() -> Value {
 
 #[test]
 fn manifest_schema_agrees_with_the_analyzer_on_hand_written_manifests() {
-    let schema = Schema::manifest();
+    let schema = manifest_schema();
     let variants: [(&str, Edit, bool); 9] = [
         ("as documented", |_| {}, true),
         ("only tiles", |m| *m = json!({"tiles": m["tiles"].clone()}), true),

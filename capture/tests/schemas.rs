@@ -11,34 +11,19 @@ use std::process::Command;
 
 use serde_json::Value;
 
-fn read_json(path: &Path) -> Value {
-    let bytes = std::fs::read(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    serde_json::from_slice(&bytes).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+#[path = "../../docs/schemas/validator.rs"]
+mod validator;
+
+use validator::{Schema, read_json};
+
+/// A schema of the workspace's `docs/schemas/`.
+fn schema(name: &str) -> Schema {
+    Schema::load(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../docs/schemas").join(name))
 }
 
-/// A compiled schema from the workspace's `docs/schemas/`.
-struct Schema {
-    schemas: boon::Schemas,
-    index: boon::SchemaIndex,
-}
-
-impl Schema {
-    fn load(name: &str) -> Schema {
-        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../docs/schemas").join(name);
-        let mut compiler = boon::Compiler::new();
-        compiler.add_resource(&format!("file:///{name}"), read_json(&path)).expect("add schema");
-        let mut schemas = boon::Schemas::new();
-        let index = compiler
-            .compile(&format!("file:///{name}"), &mut schemas)
-            .unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
-        Schema { schemas, index }
-    }
-
-    fn assert_valid(&self, file: &Path) {
-        if let Err(error) = self.schemas.validate(&read_json(file), self.index) {
-            panic!("{} does not match its schema:\n{error:#}", file.display());
-        }
-    }
+/// Panics unless the JSON file matches `schema`.
+fn assert_file_valid(schema: &Schema, file: &Path) {
+    schema.assert_valid(&read_json(file), &file.display().to_string());
 }
 
 /// A small, quick capture of demo scenario A with `extra` options.
@@ -56,23 +41,23 @@ fn capture(out: &Path, extra: &[&str]) {
 
 #[test]
 fn captured_manifests_and_results_match_the_schemas() {
-    let manifest_schema = Schema::load("manifest.schema.json");
-    let result_schema = Schema::load("result.schema.json");
+    let manifest_schema = schema("manifest.schema.json");
+    let result_schema = schema("result.schema.json");
     let dir = tempfile::tempdir().unwrap();
 
     // PNG tiles, then the analyzer as the CLI runs it (frames.csv on).
     let png = dir.path().join("png");
     capture(&png, &[]);
-    manifest_schema.assert_valid(&png.join("manifest.json"));
+    assert_file_valid(&manifest_schema, &png.join("manifest.json"));
     let options = ufcsr::AnalyzeOptions { archive: png.clone(), frames: true, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).expect("analyse the capture");
     let written = ufcsr::write_results(&mut analysis, &png.join("results")).expect("write results");
-    result_schema.assert_valid(&written.result_json);
+    assert_file_valid(&result_schema, &written.result_json);
 
     // One shard of a split capture: its manifest carries `capture.shard`.
     let shard = dir.path().join("shard");
     capture(&shard, &["--shard", "0/2"]);
-    manifest_schema.assert_valid(&shard.join("shards/manifest-0-of-2.json"));
+    assert_file_valid(&manifest_schema, &shard.join("shards/manifest-0-of-2.json"));
 
     // Counted while rendering, and the exact measure: no tiles written.
     for (name, extra) in [
@@ -83,7 +68,7 @@ fn captured_manifests_and_results_match_the_schemas() {
         capture(&archive, extra);
         let manifest = read_json(&archive.join("manifest.json"));
         assert_eq!(manifest["capture"]["tiles_written"], Value::Bool(false), "{name}");
-        manifest_schema.assert_valid(&archive.join("manifest.json"));
-        result_schema.assert_valid(&archive.join("results/result.json"));
+        assert_file_valid(&manifest_schema, &archive.join("manifest.json"));
+        assert_file_valid(&result_schema, &archive.join("results/result.json"));
     }
 }
