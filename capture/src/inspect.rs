@@ -143,7 +143,7 @@ fn vehicle_spec(input: &Path) -> Result<(VehicleSpec, PathBuf)> {
     let base = input.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
     let is_scene = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if is_scene {
-        let bytes = std::fs::read(input).map_err(|e| CaptureError::io(input, e))?;
+        let bytes = ufcsr::read_limited(input, ufcsr::SMALL_INPUT_LIMIT)?;
         let file: SceneFile = serde_json::from_slice(&bytes)
             .map_err(|e| CaptureError::bad_input(input, format!("invalid scene file: {e}")))?;
         return Ok((file.vehicle, base));

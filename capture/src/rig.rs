@@ -146,7 +146,7 @@ impl Rig {
         if !(self.fps > 0.0 && self.fps.is_finite()) {
             return Err(CaptureError::BadOptions("fps must be positive".into()));
         }
-        Ok(())
+        crate::scene_checks::check_rig(self)
     }
 
     /// Tile size in pixels.

@@ -159,7 +159,7 @@ impl Scene {
 
     /// Loads a scene file.
     pub fn load(path: &Path) -> Result<Scene> {
-        let bytes = std::fs::read(path).map_err(|e| CaptureError::io(path, e))?;
+        let bytes = ufcsr::read_limited(path, ufcsr::SMALL_INPUT_LIMIT)?;
         let file: SceneFile = serde_json::from_slice(&bytes)
             .map_err(|e| CaptureError::bad_input(path, format!("invalid scene file: {e}")))?;
         let base = path.parent().unwrap_or(Path::new("."));
