@@ -249,7 +249,9 @@ pub fn load_vehicle(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh
         _ => return Err(CaptureError::bad_input(path, "vehicle mesh must be .glb, .gltf or .obj")),
     };
     mesh.check(&path.display().to_string())?;
-    crate::scene_checks::check_mesh_coordinates(&mesh, path)?;
+    for position in &mesh.positions {
+        ufcsr::check_coordinates(path, "the mesh", position.to_array())?;
+    }
     Ok(mesh)
 }
 

@@ -1,11 +1,9 @@
 //! Scenes that cannot give a meaningful capture: refused, or warned about by
 //! name, before any frame is rendered.
 //!
-//! Bounds (each an error naming the value): rig positions within the tracks'
-//! street scale ([`MAX_TRACK_MAGNITUDE`]), an interpupillary distance of at
-//! most [`MAX_IPD_M`], at most [`MAX_FPS`] frames per second, [`MAX_FRAMES`]
-//! frames and [`MAX_TILES`] tiles in one capture, mesh vertices within
-//! [`ufcsr::MAX_COORDINATE_M`].
+//! Bounds (each an error naming the value): at most [`MAX_FRAMES`] frames
+//! and [`MAX_TILES`] tiles in one capture (the rig's own bounds are in
+//! [`Rig::check`], a mesh's in [`ufcsr::check_coordinates`]).
 //!
 //! Impossible scenes, checked over the selected frames with the vehicle's
 //! own triangles (warnings go to stderr, the summary and the manifest's
@@ -21,7 +19,6 @@
 //!   warning naming the position keys.
 
 use std::collections::BTreeMap;
-use std::path::Path;
 
 use glam::{DMat4, DVec3, DVec4, dvec3};
 
@@ -31,13 +28,8 @@ use crate::options::CaptureOptions;
 use crate::rig::{Eye, Rig, vehicle_to_world};
 use crate::scenario::Scenario;
 use crate::scene::Scene;
-use crate::track::{MAX_TRACK_MAGNITUDE, Track};
+use crate::track::Track;
 
-/// Largest interpupillary distance: a human's is 0.054–0.074 m; 1 m leaves
-/// room for a stereo camera rig.
-pub const MAX_IPD_M: f64 = 1.0;
-/// Most frames per second: 1000 (high-speed video); beyond is a unit mistake.
-pub const MAX_FPS: f64 = 1000.0;
 /// Most frames in a scenario: 1,000,000 (4.6 h at 60 fps).
 pub const MAX_FRAMES: f64 = 1.0e6;
 /// Most tiles in one capture: 10 million (the paper's 50 a frame for 55 min at 60 fps).
@@ -46,45 +38,6 @@ pub const MAX_TILES: u64 = 10_000_000;
 pub const MAX_SPEED_M_S: f64 = 100.0;
 /// Hardest plausible acceleration or braking: 3 g.
 pub const MAX_ACCELERATION_M_S2: f64 = 3.0 * 9.80665;
-
-/// Checks the rig's values against physical bounds (called by [`Rig::check`]).
-pub fn check_rig(rig: &Rig) -> Result<()> {
-    let bad = |message: String| Err(CaptureError::BadOptions(message));
-    let huge = |v: f64| !(v.is_finite() && v.abs() <= MAX_TRACK_MAGNITUDE);
-    for (field, values) in [("pedestrian", rig.pedestrian), ("look_at_vehicle", rig.look_at_vehicle)] {
-        if values.into_iter().any(huge) {
-            return bad(format!(
-                "{field} {values:?} is beyond ±{MAX_TRACK_MAGNITUDE:e} m: not a street scene"
-            ));
-        }
-    }
-    for (field, value) in [("eye_height_m", rig.eye_height_m), ("far_m", rig.far_m)] {
-        if huge(value) {
-            return bad(format!(
-                "{field} {value:e} is beyond ±{MAX_TRACK_MAGNITUDE:e} m: not a street scene"
-            ));
-        }
-    }
-    if !(0.0..=MAX_IPD_M).contains(&rig.ipd_m) {
-        return bad(format!(
-            "ipd_m {} must be between 0 and {MAX_IPD_M} m (a human's is 0.054–0.074 m)",
-            rig.ipd_m
-        ));
-    }
-    if !(rig.fps > 0.0 && rig.fps <= MAX_FPS) {
-        return bad(format!("fps {} must be in (0, {MAX_FPS}] frames per second", rig.fps));
-    }
-    Ok(())
-}
-
-/// Checks every vertex of a loaded mesh (metres, after node transforms and
-/// `axes`): finite and within [`ufcsr::MAX_COORDINATE_M`].
-pub fn check_mesh_coordinates(mesh: &Mesh, path: &Path) -> Result<()> {
-    for position in &mesh.positions {
-        ufcsr::check_coordinates(path, "the mesh", position.to_array())?;
-    }
-    Ok(())
-}
 
 /// The frames of `scenario` the options select, after checking that the
 /// scenario's frame count and the capture's tile count are bounded.
