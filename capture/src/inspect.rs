@@ -29,6 +29,8 @@ pub const DEGENERATE_AREA_M2: f64 = 1e-12;
 pub const SLIVER_AREA_M2: f64 = 1e-6;
 /// ... or is thinner than 0.1 mm (its smallest altitude).
 pub const SLIVER_ALTITUDE_M: f64 = 1e-4;
+/// Longest side of an inspect picture, pixels.
+pub const MAX_PICTURE_PIXELS: f64 = 16384.0;
 /// How many slivers the report lists by number.
 const EXAMPLES: usize = 5;
 
@@ -201,6 +203,17 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
         }
         None => views::default_pixels_per_metre(mesh),
     };
+    // The pictures span the vehicle and its origin: bounded, or a 10 km mesh at 2000 px/m never finishes.
+    let (min, max) = mesh.bounds();
+    let extent = (max - min).max_element().max(min.abs().max_element()).max(max.abs().max_element());
+    if extent * pixels_per_metre > MAX_PICTURE_PIXELS {
+        return Err(CaptureError::BadOptions(format!(
+            "pictures of {extent:.1} m at {pixels_per_metre} pixels per metre would be {:.0} pixels wide, more than \
+             {MAX_PICTURE_PIXELS}: lower --pixels-per-metre (at most {:.3} here)",
+            extent * pixels_per_metre,
+            MAX_PICTURE_PIXELS / extent
+        )));
+    }
     let mut files = views::write_views(mesh, &colors, out, pixels_per_metre)?;
     let legend = out.join("inspect-parts.csv");
     ufcsr::write_atomically(&legend, |w| {

@@ -277,6 +277,14 @@ fn inspect_refuses_huge_coordinates_and_node_scales_naming_the_file() {
             &name,
         );
     }
+    // Within bounds, but 10 km at 2000 px/m would be a 20-million-pixel-wide picture.
+    let wide = d.join("wide.obj");
+    std::fs::write(&wide, "o wide\nv 0 0 0\nv 1e4 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    refused(
+        &capture(&["inspect", wide.to_str().unwrap(), "--out", out, "--pixels-per-metre", "2000"]),
+        &["20000000 pixels wide, more than 16384", "at most 1.638"],
+        "a huge picture",
+    );
     // The same triangle at scale 1 inspects fine.
     let gltf = d.join("unit.gltf");
     std::fs::write(&gltf, gltf_triangle(TRIANGLE, None, 4, 1.0)).unwrap();
