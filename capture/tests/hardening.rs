@@ -310,6 +310,13 @@ fn rig_values_beyond_physical_bounds_are_errors_like_track_keys() {
         refused(&tiny_capture(&["demo"], &out, &["--rig", rig]), &[expect], rig);
         assert!(!out.join("manifest.json").exists(), "{rig}: wrote a manifest");
     }
+    // Occluders too.
+    let scene = dir.path().join("boxed.json");
+    let text = std::fs::read_to_string(static_scene(dir.path(), r#"{"mesh": "demo"}"#, "")).unwrap();
+    let boxed = r#""occluders": [{"box": {"min": [0, 0, 0], "max": [1e308, 1, 1]}}]"#;
+    std::fs::write(&scene, text.replace(r#""occluders": [{"ground": {"z": 0}}]"#, boxed)).unwrap();
+    let ran = tiny_capture(&["scene", scene.to_str().unwrap()], &out, &[]);
+    refused(&ran, &["boxed.json", "occluder: 1e308 is beyond ±1e6: not a street scene"], "occluder box");
     // The same bounds hold in a scene file.
     let scene = static_scene(dir.path(), r#"{"mesh": "demo"}"#, r#""rig": {"ipd_m": -1},"#);
     refused(
