@@ -164,6 +164,22 @@ fn vehicle_spec(input: &Path) -> Result<(VehicleSpec, PathBuf)> {
     Ok((spec, base))
 }
 
+/// The pictures span the vehicle and its origin: bounded, or a 10 km mesh
+/// at 2000 px/m never finishes (it aborted on its allocation).
+fn check_picture_size(mesh: &Mesh, pixels_per_metre: f64) -> Result<()> {
+    let (min, max) = mesh.bounds();
+    let extent = (max - min).max_element().max(min.abs().max_element()).max(max.abs().max_element());
+    if extent * pixels_per_metre > MAX_PICTURE_PIXELS {
+        return Err(CaptureError::BadOptions(format!(
+            "pictures of {extent:.1} m at {pixels_per_metre} pixels per metre would be {:.0} pixels wide, more than \
+             {MAX_PICTURE_PIXELS}: lower --pixels-per-metre (at most {:.3} here)",
+            extent * pixels_per_metre,
+            MAX_PICTURE_PIXELS / extent
+        )));
+    }
+    Ok(())
+}
+
 /// Inspects the vehicle of a scene file or mesh and writes its pictures.
 pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
     let (spec, base) = vehicle_spec(&options.input)?;
@@ -203,17 +219,7 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
         }
         None => views::default_pixels_per_metre(mesh),
     };
-    // The pictures span the vehicle and its origin: bounded, or a 10 km mesh at 2000 px/m never finishes.
-    let (min, max) = mesh.bounds();
-    let extent = (max - min).max_element().max(min.abs().max_element()).max(max.abs().max_element());
-    if extent * pixels_per_metre > MAX_PICTURE_PIXELS {
-        return Err(CaptureError::BadOptions(format!(
-            "pictures of {extent:.1} m at {pixels_per_metre} pixels per metre would be {:.0} pixels wide, more than \
-             {MAX_PICTURE_PIXELS}: lower --pixels-per-metre (at most {:.3} here)",
-            extent * pixels_per_metre,
-            MAX_PICTURE_PIXELS / extent
-        )));
-    }
+    check_picture_size(mesh, pixels_per_metre)?;
     let mut files = views::write_views(mesh, &colors, out, pixels_per_metre)?;
     let legend = out.join("inspect-parts.csv");
     ufcsr::write_atomically(&legend, |w| {
