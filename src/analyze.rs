@@ -407,9 +407,28 @@ const SKIPPED_FILES_WARNING: &str = "were left out as not frames";
 const MISSING_VEHICLE_WARNING: &str =
     "the vehicle the manifest names is missing, so there is no heatmap.glb and no views";
 
+const UNREADABLE_VEHICLE_WARNING: &str =
+    "the vehicle the manifest names cannot be read, so there is no heatmap.glb and no views";
+
+/// What the capture warned about (the manifest's `warnings`), carried into the result.
+const CAPTURE_WARNING: &str = "the capture warned: ";
+
+fn capture_warnings(manifest: Option<&Manifest>) -> Vec<String> {
+    let listed = manifest.and_then(|m| m.extra.get("warnings")).and_then(serde_json::Value::as_array);
+    listed
+        .into_iter()
+        .flatten()
+        .filter_map(serde_json::Value::as_str)
+        .map(|warning| format!("{CAPTURE_WARNING}{warning}"))
+        .collect()
+}
+
 /// True for a warning about the inputs rather than the counts (see above).
 pub(crate) fn is_input_warning(warning: &str) -> bool {
-    warning.contains(SKIPPED_FILES_WARNING) || warning.contains(MISSING_VEHICLE_WARNING)
+    warning.contains(SKIPPED_FILES_WARNING)
+        || warning.contains(MISSING_VEHICLE_WARNING)
+        || warning.contains(UNREADABLE_VEHICLE_WARNING)
+        || warning.starts_with(CAPTURE_WARNING)
 }
 
 /// The warning for texels whose count reached the most a `u32` holds
@@ -865,7 +884,7 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
         PaletteChoice::Image(path) => Some(path),
         PaletteChoice::Canonical { .. } => None,
     };
-    let mut warnings = Vec::new();
+    let mut warnings = capture_warnings(manifest.as_ref());
     if !archive.skipped.is_empty() {
         warnings.push(format!(
             "{} PNGs in {} {SKIPPED_FILES_WARNING}: palette- or PIdT-sized textures, or the palette/PIdT a \
@@ -887,15 +906,21 @@ fn resolve_inputs_allowing_no_images(options: &AnalyzeOptions, allow_no_images: 
             .as_ref()
             .and_then(|m| m.extra.get("vehicle")?.as_str())
             .map(|file| root.join(file))
-            .and_then(|path| {
-                if path.is_file() {
-                    return Some(path);
+            .and_then(|path| match crate::input_file::open_regular(&path) {
+                Ok(_) => Some(path),
+                Err(Error::Io { cause, .. }) if cause.kind() == std::io::ErrorKind::NotFound => {
+                    warnings.push(format!(
+                        "{}: {MISSING_VEHICLE_WARNING} (give the mesh with --mesh)",
+                        path.display()
+                    ));
+                    None
                 }
-                warnings.push(format!(
-                    "{}: {MISSING_VEHICLE_WARNING} (give the mesh with --mesh)",
-                    path.display()
-                ));
-                None
+                // Say what it is (a FIFO, a folder, ...), not that it is missing.
+                Err(error) => {
+                    warnings
+                        .push(format!("{error}: {UNREADABLE_VEHICLE_WARNING} (give the mesh with --mesh)"));
+                    None
+                }
             }),
     };
     Ok(Inputs {

@@ -23,6 +23,7 @@ mod input_file;
 mod manifest;
 mod measures;
 mod merge;
+mod model_input;
 mod options;
 mod output;
 mod palette;
@@ -60,6 +61,9 @@ pub use input_file::{SMALL_INPUT_LIMIT, read_limited};
 pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
 pub use measures::Measures;
 pub use merge::merge_results;
+pub use model_input::{
+    GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, check_coordinates, read_gltf, resolve_inside,
+};
 #[cfg(feature = "cli")]
 pub use output::remove_temporaries_on_interrupt;
 pub use output::{remove_temporaries, write_atomically, write_bytes_atomically, write_rgb_png};

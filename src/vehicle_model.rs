@@ -33,9 +33,6 @@ pub struct VehicleModel {
     pub parts: Vec<ModelPart>,
 }
 
-/// Cap for a model file read into memory.
-const MODEL_LIMIT: u64 = 1 << 30;
-
 impl VehicleModel {
     /// Writes the model as binary glTF; with `texture` (PNG bytes) every part
     /// gets it as an unlit, nearest-filtered base-colour texture.
@@ -171,50 +168,20 @@ impl VehicleModel {
 
     /// Reads a glTF/GLB model: every node with a mesh is a part (named after
     /// the node, else its mesh), its triangles in world space of the file
-    /// with the UVs of set 0. A primitive without UVs is an error naming it.
+    /// with the UVs of set 0. Buffers may be the GLB's chunk, `data:` URIs or
+    /// files beside the model (see [`crate::read_gltf`]). A primitive without
+    /// UVs or triangles, or with a vertex that is not finite or beyond
+    /// [`crate::MAX_COORDINATE_M`], is an error naming it and the file.
     pub fn read(path: &Path) -> Result<VehicleModel> {
-        let bytes = crate::input_file::read_limited(path, MODEL_LIMIT)?;
-        let gltf = gltf::Gltf::from_slice(&bytes)
-            .map_err(|e| Error::bad_file(path, format!("not a glTF model: {e}")))?;
-        let blob = gltf.blob.as_deref();
+        let model = crate::model_input::read_gltf(path, crate::model_input::MODEL_LIMIT)?;
         let mut parts = Vec::new();
-        for node in gltf.document.nodes() {
+        for node in model.document.nodes() {
             let Some(mesh) = node.mesh() else { continue };
             let name =
                 node.name().or(mesh.name()).map_or_else(|| format!("node{}", node.index()), str::to_string);
             let mut part = ModelPart { name, ..ModelPart::default() };
             for primitive in mesh.primitives() {
-                let reader = primitive.reader(|buffer| match buffer.source() {
-                    gltf::buffer::Source::Bin => blob,
-                    gltf::buffer::Source::Uri(_) => None,
-                });
-                let describe =
-                    || format!("primitive {} of mesh {:?}", primitive.index(), mesh.name().unwrap_or(""));
-                let positions: Vec<[f32; 3]> = reader
-                    .read_positions()
-                    .ok_or_else(|| {
-                        Error::bad_file(path, format!("{} has no positions in the GLB", describe()))
-                    })?
-                    .collect();
-                let uvs: Vec<[f32; 2]> = reader
-                    .read_tex_coords(0)
-                    .ok_or_else(|| Error::bad_file(path, format!("{} has no UVs (TEXCOORD_0)", describe())))?
-                    .into_f32()
-                    .collect();
-                let order: Vec<usize> = match reader.read_indices() {
-                    Some(indices) => indices.into_u32().map(|i| i as usize).collect(),
-                    None => (0..positions.len()).collect(),
-                };
-                for index in order {
-                    let (Some(&p), Some(&uv)) = (positions.get(index), uvs.get(index)) else {
-                        return Err(Error::bad_file(
-                            path,
-                            format!("{} has an index out of range", describe()),
-                        ));
-                    };
-                    part.positions.push(p);
-                    part.uvs.push(uv);
-                }
+                read_primitive(path, &model, &mesh, &primitive, &mut part)?;
             }
             parts.push(part);
         }
@@ -223,6 +190,61 @@ impl VehicleModel {
         }
         Ok(VehicleModel { parts })
     }
+}
+
+/// Appends one primitive's triangles (a triangle list, vertex by vertex) to `part`.
+fn read_primitive(
+    path: &Path,
+    model: &crate::model_input::GltfModel,
+    mesh: &gltf::Mesh,
+    primitive: &gltf::Primitive,
+    part: &mut ModelPart,
+) -> Result<()> {
+    let describe = || format!("primitive {} of mesh {:?}", primitive.index(), mesh.name().unwrap_or(""));
+    if primitive.mode() != gltf::mesh::Mode::Triangles {
+        return Err(Error::bad_file(
+            path,
+            format!(
+                "{} is {:?}, not triangles: a vehicle model is a triangle list",
+                describe(),
+                primitive.mode()
+            ),
+        ));
+    }
+    let reader = primitive.reader(|buffer| model.buffer(buffer));
+    let positions: Vec<[f32; 3]> = reader
+        .read_positions()
+        .ok_or_else(|| Error::bad_file(path, format!("{} has no positions", describe())))?
+        .collect();
+    for &position in &positions {
+        crate::model_input::check_coordinates(path, &describe(), position)?;
+    }
+    let uvs: Vec<[f32; 2]> = reader
+        .read_tex_coords(0)
+        .ok_or_else(|| Error::bad_file(path, format!("{} has no UVs (TEXCOORD_0)", describe())))?
+        .into_f32()
+        .collect();
+    let order: Vec<usize> = match reader.read_indices() {
+        Some(indices) => indices.into_u32().map(|i| i as usize).collect(),
+        None => (0..positions.len()).collect(),
+    };
+    if order.is_empty() || !order.len().is_multiple_of(3) {
+        return Err(Error::bad_file(
+            path,
+            format!("{} has {} vertices: not a list of whole triangles", describe(), order.len()),
+        ));
+    }
+    for index in order {
+        let (Some(&p), Some(&uv)) = (positions.get(index), uvs.get(index)) else {
+            return Err(Error::bad_file(path, format!("{} has an index out of range", describe())));
+        };
+        if !uv.iter().all(|v| v.is_finite()) {
+            return Err(Error::bad_file(path, format!("{} has a UV of {uv:?}: not finite", describe())));
+        }
+        part.positions.push(p);
+        part.uvs.push(uv);
+    }
+    Ok(())
 }
 
 fn bounds(positions: &[[f32; 3]]) -> (Vec<f32>, Vec<f32>) {

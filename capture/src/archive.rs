@@ -208,6 +208,8 @@ pub struct CapturedTiles {
     pub tally: TileTally,
     pub frames: u32,
     pub tiles: u64,
+    /// What the impossible-scene checks found (see [`crate::scene_checks`]).
+    pub warnings: Vec<String>,
 }
 
 /// Stage two: renders the selected frames of `scenario` into `sink`.
@@ -223,6 +225,9 @@ pub fn capture_frames(
     let rig = &scene.rig;
     check_capturable(scene, scenario)?;
     let frames = frames_to_capture(scene, scenario, options)?;
+    // Over the whole selection, so that every shard warns alike.
+    let selected = crate::scene_checks::selected_frames(scene, scenario, options)?;
+    let warnings = crate::scene_checks::scene_warnings(scene, scenario, &selected)?;
     let tiles_per_eye = u64::from(rig.tiles[0]) * u64::from(rig.tiles[1]);
     let total = frames.len() as u64 * 2 * tiles_per_eye;
     let progress = progress_bar(options.progress, total, &scenario.name);
@@ -244,6 +249,7 @@ pub fn capture_frames(
         tally: TileTally::default(),
         frames: frames.len() as u32,
         tiles: total,
+        warnings,
     };
     let result = frames.iter().try_for_each(|&(position, frame)| {
         // A tile's index is its place in the whole capture, shards or not.
@@ -269,15 +275,7 @@ pub fn frames_to_capture(
     scenario: &Scenario,
     options: &CaptureOptions,
 ) -> Result<Vec<(usize, u32)>> {
-    let frame_count = scene.rig.frame_count(scenario.duration_s);
-    let selected = options.frames.frames(frame_count);
-    if selected.is_empty() {
-        return Err(CaptureError::BadOptions(format!(
-            "no frame selected: scenario {} has frames 0-{}, and the frame selection names none of them",
-            scenario.name,
-            frame_count.saturating_sub(1)
-        )));
-    }
+    let selected = crate::scene_checks::selected_frames(scene, scenario, options)?;
     let frames = capture_shard::frames_of_shard(&selected, options.shard);
     if frames.is_empty()
         && let Some(shard) = options.shard
@@ -426,7 +424,7 @@ pub fn summarize(
         palette_share: prepared.pidt.share(),
         parts: prepared.part_count,
         triangles: scene.vehicle.triangles.len(),
-        warnings: prepared.warnings.clone(),
+        warnings: prepared.warnings.iter().chain(&captured.warnings).cloned().collect(),
     }
 }
 
@@ -462,6 +460,7 @@ pub fn write_manifest(
         frame_records: captured.frame_records,
         tally: captured.tally,
         tiles_written,
+        warnings: prepared.warnings.iter().chain(&captured.warnings).cloned().collect(),
     });
     match options.shard {
         None => manifest.write_to_dir(&options.out)?,

@@ -29,6 +29,8 @@ pub const DEGENERATE_AREA_M2: f64 = 1e-12;
 pub const SLIVER_AREA_M2: f64 = 1e-6;
 /// ... or is thinner than 0.1 mm (its smallest altitude).
 pub const SLIVER_ALTITUDE_M: f64 = 1e-4;
+/// Longest side of an inspect picture, pixels.
+pub const MAX_PICTURE_PIXELS: f64 = 16384.0;
 /// How many slivers the report lists by number.
 const EXAMPLES: usize = 5;
 
@@ -143,7 +145,7 @@ fn vehicle_spec(input: &Path) -> Result<(VehicleSpec, PathBuf)> {
     let base = input.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
     let is_scene = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if is_scene {
-        let bytes = std::fs::read(input).map_err(|e| CaptureError::io(input, e))?;
+        let bytes = ufcsr::read_limited(input, ufcsr::SMALL_INPUT_LIMIT)?;
         let file: SceneFile = serde_json::from_slice(&bytes)
             .map_err(|e| CaptureError::bad_input(input, format!("invalid scene file: {e}")))?;
         return Ok((file.vehicle, base));
@@ -160,6 +162,22 @@ fn vehicle_spec(input: &Path) -> Result<(VehicleSpec, PathBuf)> {
         expect_length_m: None,
     };
     Ok((spec, base))
+}
+
+/// The pictures span the vehicle and its origin: bounded, or a 10 km mesh
+/// at 2000 px/m never finishes (it aborted on its allocation).
+fn check_picture_size(mesh: &Mesh, pixels_per_metre: f64) -> Result<()> {
+    let (min, max) = mesh.bounds();
+    let extent = (max - min).max_element().max(min.abs().max_element()).max(max.abs().max_element());
+    if extent * pixels_per_metre > MAX_PICTURE_PIXELS {
+        return Err(CaptureError::BadOptions(format!(
+            "pictures of {extent:.1} m at {pixels_per_metre} pixels per metre would be {:.0} pixels wide, more than \
+             {MAX_PICTURE_PIXELS}: lower --pixels-per-metre (at most {:.3} here)",
+            extent * pixels_per_metre,
+            MAX_PICTURE_PIXELS / extent
+        )));
+    }
+    Ok(())
 }
 
 /// Inspects the vehicle of a scene file or mesh and writes its pictures.
@@ -201,6 +219,7 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
         }
         None => views::default_pixels_per_metre(mesh),
     };
+    check_picture_size(mesh, pixels_per_metre)?;
     let mut files = views::write_views(mesh, &colors, out, pixels_per_metre)?;
     let legend = out.join("inspect-parts.csv");
     ufcsr::write_atomically(&legend, |w| {

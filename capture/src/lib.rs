@@ -7,7 +7,9 @@
 //! pixels name the texel they show. The archive is what `ufcsr-analyze` reads.
 //!
 //! Module map: [`track`] keyframes, [`scenario`] a timed vehicle motion,
-//! [`unity`] import of Unity scenarios, [`mesh`] geometry and loaders,
+//! [`unity`] import of Unity scenarios, [`mesh`] geometry and loaders
+//! ([`model_files`] reads OBJ/MTL safely; every input goes through the
+//! analyzer's bounded, non-blocking readers),
 //! [`vehicle`] and [`regions`] vehicle checks and parts by region,
 //! [`demo`] the built-in truck and intersection, [`degenerate_mesh`] a
 //! generated vehicle of zero-area, needle and sliver triangles, [`scene`] the JSON scene
@@ -17,7 +19,8 @@
 //! pipeline and [`render_target`] targets and readback); the capture job:
 //! [`options`] what to do, [`archive`] its stages, [`frame_capture`] one
 //! frame, [`scissor`] the part of a tile the vehicle can cover, [`tile_sink`]
-//! where tiles go, [`encoder_pool`] the PNG sink, [`manifest_builder`] the
+//! where tiles go, [`scene_checks`] bounds and impossible scenes (near and
+//! far plane, eye inside the vehicle, implausible motion), [`encoder_pool`] the PNG sink, [`manifest_builder`] the
 //! manifest, [`count_sink`] counting without PNGs, [`capture_shard`] one
 //! capture as several jobs;
 //! [`study`] and [`study_plot`] the resolution study; [`unobstructed`] and
@@ -38,6 +41,7 @@ pub mod heatmap_views_gpu;
 pub mod inspect;
 pub mod manifest_builder;
 pub mod mesh;
+pub mod model_files;
 pub mod options;
 pub mod own_pidt;
 pub mod palette;
@@ -51,6 +55,7 @@ pub mod render_target;
 pub mod rig;
 pub mod scenario;
 pub mod scene;
+pub mod scene_checks;
 pub mod scissor;
 pub mod study;
 pub mod study_plot;

@@ -401,6 +401,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 measured.seconds
             );
             print!("{}", ufcsr::format_table(&measured.analysis.result));
+            for warning in &measured.analysis.result.warnings {
+                eprintln!("  warning: {warning}");
+            }
             println!("  results: {}", measured.written.result_json.display());
             println!("           {} (per-part estimates, standard errors)", measured.estimates_csv.display());
             Ok(())
@@ -463,7 +466,7 @@ fn report(s: &Summary) {
         s.palette_share * 100.0
     );
     for warning in &s.warnings {
-        println!("  warning: {warning}");
+        eprintln!("  warning: {warning}");
     }
 }
 

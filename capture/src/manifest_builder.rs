@@ -38,6 +38,8 @@ pub struct ManifestParts<'a> {
     pub tally: TileTally,
     /// False when the tiles were counted while rendering (`--count`) and never written.
     pub tiles_written: bool,
+    /// What the capture warned about; written as `warnings` only when there is any.
+    pub warnings: Vec<String>,
 }
 
 /// Builds the manifest of a capture.
@@ -105,6 +107,10 @@ pub fn build_manifest(parts: ManifestParts) -> Manifest {
         capture["tiles_written"] = json!(false);
     }
     extra.insert("capture".into(), capture);
+    if !parts.warnings.is_empty() {
+        // Impossible-scene and label warnings, for the analyzer and for readers of the archive.
+        extra.insert("warnings".into(), json!(parts.warnings));
+    }
     Manifest {
         schema: Some(MANIFEST_SCHEMA.into()),
         palette: Some(parts.palette),

@@ -249,14 +249,16 @@ pub fn load_vehicle(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh
         _ => return Err(CaptureError::bad_input(path, "vehicle mesh must be .glb, .gltf or .obj")),
     };
     mesh.check(&path.display().to_string())?;
+    for position in &mesh.positions {
+        ufcsr::check_coordinates(path, "the mesh", position.to_array())?;
+    }
     Ok(mesh)
 }
 
 fn load_gltf(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
     let convert = axes.converter()?;
-    let bad = |e: gltf::Error| CaptureError::bad_input(path, format!("glTF: {e}"));
-    let gltf = gltf::Gltf::open(path).map_err(bad)?;
-    let buffers = gltf::import_buffers(&gltf.document, path.parent(), gltf.blob.clone()).map_err(bad)?;
+    // The model and its buffers through the analyzer's safe reader (see ufcsr::read_gltf).
+    let gltf = ufcsr::read_gltf(path, ufcsr::MODEL_LIMIT)?;
     let scene = gltf.document.default_scene().or_else(|| gltf.document.scenes().next());
     let Some(scene) = scene else {
         return Err(CaptureError::bad_input(path, "glTF has no scene"));
@@ -285,7 +287,7 @@ fn load_gltf(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
             if primitive.mode() != gltf::mesh::Mode::Triangles {
                 continue;
             }
-            let reader = primitive.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+            let reader = primitive.reader(|b| gltf.buffer(b));
             let Some(positions) = reader.read_positions() else { continue };
             let positions: Vec<Vec3> =
                 positions.map(|p| convert(transform.transform_point3(Vec3::from(p)).to_array())).collect();
@@ -345,9 +347,7 @@ fn describe_primitive(
 fn load_obj(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
     let convert = axes.converter()?;
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
-    let (models, materials) =
-        tobj::load_obj(path, &options).map_err(|e| CaptureError::bad_input(path, format!("OBJ: {e}")))?;
-    let materials = materials.unwrap_or_default();
+    let (models, materials) = crate::model_files::load_obj(path, &options)?;
     let mut mesh = Mesh { uvs: Some(Vec::new()), ..Mesh::default() };
     for model in models {
         let m = &model.mesh;

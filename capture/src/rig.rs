@@ -14,7 +14,13 @@ use glam::{DMat4, DVec3, DVec4, dvec3, dvec4};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{CaptureError, Result};
-use crate::track::Pose;
+use crate::track::{MAX_TRACK_MAGNITUDE, Pose};
+
+/// Largest interpupillary distance: a human's is 0.054–0.074 m; 1 m leaves
+/// room for a stereo camera rig.
+pub const MAX_IPD_M: f64 = 1.0;
+/// Most frames per second: 1000 (high-speed video); beyond is a unit mistake.
+pub const MAX_FPS: f64 = 1000.0;
 
 /// Rig settings (the paper's defaults); every field can be overridden.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -146,7 +152,7 @@ impl Rig {
         if !(self.fps > 0.0 && self.fps.is_finite()) {
             return Err(CaptureError::BadOptions("fps must be positive".into()));
         }
-        Ok(())
+        check_bounds(self)
     }
 
     /// Tile size in pixels.
@@ -258,6 +264,37 @@ impl Rig {
         let [nx, ny] = self.tiles;
         (0..ny).flat_map(|row| (0..nx).map(move |col| TileId { row, col })).collect()
     }
+}
+
+/// The rig's values within physical bounds, with the tracks' street scale
+/// ([`MAX_TRACK_MAGNITUDE`]) for positions and distances.
+fn check_bounds(rig: &Rig) -> Result<()> {
+    let bad = |message: String| Err(CaptureError::BadOptions(message));
+    let huge = |v: f64| !(v.is_finite() && v.abs() <= MAX_TRACK_MAGNITUDE);
+    for (field, values) in [("pedestrian", rig.pedestrian), ("look_at_vehicle", rig.look_at_vehicle)] {
+        if values.into_iter().any(huge) {
+            return bad(format!(
+                "{field} {values:?} is beyond ±{MAX_TRACK_MAGNITUDE:e} m: not a street scene"
+            ));
+        }
+    }
+    for (field, value) in [("eye_height_m", rig.eye_height_m), ("far_m", rig.far_m)] {
+        if huge(value) {
+            return bad(format!(
+                "{field} {value:e} is beyond ±{MAX_TRACK_MAGNITUDE:e} m: not a street scene"
+            ));
+        }
+    }
+    if !(0.0..=MAX_IPD_M).contains(&rig.ipd_m) {
+        return bad(format!(
+            "ipd_m {} must be between 0 and {MAX_IPD_M} m (a human's is 0.054–0.074 m)",
+            rig.ipd_m
+        ));
+    }
+    if !(rig.fps > 0.0 && rig.fps <= MAX_FPS) {
+        return bad(format!("fps {} must be in (0, {MAX_FPS}] frames per second", rig.fps));
+    }
+    Ok(())
 }
 
 /// Right-handed perspective (camera looks down −Z) with reversed depth:

@@ -89,6 +89,25 @@ pub enum OccluderSpec {
     Ground { z: f64 },
 }
 
+impl OccluderSpec {
+    /// Positions and yaw within the tracks' street scale (as the rig's).
+    fn check(&self) -> std::result::Result<(), String> {
+        let limit = crate::track::MAX_TRACK_MAGNITUDE;
+        let values: Vec<f64> = match self {
+            OccluderSpec::Box { min, max } => min.iter().chain(max).copied().collect(),
+            OccluderSpec::Mesh { position, yaw_deg, .. } | OccluderSpec::Vehicle { position, yaw_deg } => {
+                position.iter().copied().chain([*yaw_deg]).collect()
+            }
+            OccluderSpec::Ground { z } => vec![*z],
+            OccluderSpec::DemoIntersection => Vec::new(),
+        };
+        match values.iter().find(|v| !(v.is_finite() && v.abs() <= limit)) {
+            Some(value) => Err(format!("{value:e} is beyond ±{limit:e}: not a street scene")),
+            None => Ok(()),
+        }
+    }
+}
+
 /// A scenario in a scene file.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -159,7 +178,7 @@ impl Scene {
 
     /// Loads a scene file.
     pub fn load(path: &Path) -> Result<Scene> {
-        let bytes = std::fs::read(path).map_err(|e| CaptureError::io(path, e))?;
+        let bytes = ufcsr::read_limited(path, ufcsr::SMALL_INPUT_LIMIT)?;
         let file: SceneFile = serde_json::from_slice(&bytes)
             .map_err(|e| CaptureError::bad_input(path, format!("invalid scene file: {e}")))?;
         let base = path.parent().unwrap_or(Path::new("."));
@@ -194,6 +213,7 @@ impl Scene {
 
         let mut occluders = Occluders::default();
         for spec in &file.occluders {
+            spec.check().map_err(|message| CaptureError::bad_input(path, format!("occluder: {message}")))?;
             match spec {
                 OccluderSpec::Box { min, max } => occluders.add_box(DVec3::from(*min), DVec3::from(*max)),
                 OccluderSpec::Mesh { path: mesh_path, axes, position, yaw_deg } => {

@@ -69,7 +69,7 @@ pub fn yaw_from_unity(theta_deg: f64) -> f64 {
 
 /// Reads the Unity export: the rig (in our frame) and the scenarios.
 pub fn load(path: &Path) -> Result<(Rig, Vec<Scenario>)> {
-    let bytes = std::fs::read(path).map_err(|e| CaptureError::io(path, e))?;
+    let bytes = ufcsr::read_limited(path, ufcsr::SMALL_INPUT_LIMIT)?;
     let file: File = serde_json::from_slice(&bytes)
         .map_err(|e| CaptureError::bad_input(path, format!("not a Unity scenario export: {e}")))?;
     let ped = &file.pedestrian;

@@ -295,10 +295,8 @@ pub fn measure_unobstructed(
     }
     scene.rig.check()?;
     let prepared = prepare_archive(device, queue, scene, options)?;
-    let frames = options.frames.frames(scene.rig.frame_count(scenario.duration_s));
-    if frames.is_empty() {
-        return Err(CaptureError::BadOptions("no frame selected".into()));
-    }
+    let frames = crate::scene_checks::selected_frames(scene, scenario, options)?;
+    let warnings = crate::scene_checks::scene_warnings(scene, scenario, &frames)?;
     let (points, per_part) = surface_points(scene, &prepared.unwrapped, sample, seed);
     let (eye_frames, records) = eye_frames(scene, scenario, &frames);
     let obstacles = Obstacles::new(scene);
@@ -351,6 +349,7 @@ pub fn measure_unobstructed(
         tally: TileTally::default(),
         frames: frames.len() as u32,
         tiles: 0,
+        warnings,
     };
     let _ = summarize(scene, scenario, options, &prepared, &captured, 0.0);
     write_manifest(scene, scenario, options, &prepared, captured, false)?;
