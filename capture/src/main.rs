@@ -406,6 +406,12 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 measured.eye_frames,
                 measured.seconds
             );
+            println!(
+                "  ray casts: {:.2} s, {:.3e} sample-eye-frame tests per second (each up to two segment queries)",
+                measured.visibility_seconds,
+                (measured.surface_samples * measured.eye_frames) as f64
+                    / measured.visibility_seconds.max(1e-9)
+            );
             print!("{}", ufcsr::format_table(&measured.analysis.result));
             println!("  results: {}", measured.written.result_json.display());
             println!("           {} (per-part estimates, standard errors)", measured.estimates_csv.display());

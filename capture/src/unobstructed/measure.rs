@@ -39,6 +39,8 @@ pub struct UnobstructedCapture {
     pub surface_samples: u64,
     pub eye_frames: u64,
     pub seconds: f64,
+    /// Seconds of the ray casts alone (samples × eye-frames tests).
+    pub visibility_seconds: f64,
     /// Per part: texels, sampled texels, sampled total, estimates and errors.
     pub estimates: Vec<PartEstimate>,
     pub estimates_csv: PathBuf,
@@ -50,6 +52,7 @@ struct Measured {
     visibility: TexelVisibility,
     eye_frames: usize,
     seconds_per_frame: f64,
+    visibility_seconds: f64,
 }
 
 fn check_options(measure: &MeasureOptions) -> Result<()> {
@@ -92,6 +95,7 @@ pub fn measure_unobstructed(
     let obstacles = Obstacles::new(scene);
     let (eye_frames, frame_records) = eye_frames(scene, scenario, &frames, &obstacles);
     let parts = scene.vehicle.parts.len();
+    let casting = Instant::now();
     let visibility = match measure.on {
         MeasureDevice::Cpu => texel_visibility(&samples, &eye_frames, &obstacles, parts, Tracer::Hierarchy),
         MeasureDevice::Gpu => texel_visibility_gpu(device, queue, &samples, &eye_frames, &obstacles, parts)?,
@@ -110,6 +114,7 @@ pub fn measure_unobstructed(
         visibility,
         eye_frames: eye_frames.len(),
         seconds_per_frame: seconds_per_frame(scene, &frames),
+        visibility_seconds: casting.elapsed().as_secs_f64(),
     };
     write_results(scene, options, measure, &measured, prepared.palette_size, start)
 }
@@ -148,6 +153,7 @@ fn write_results(
         surface_samples: samples.samples.len() as u64,
         eye_frames: measured.eye_frames as u64,
         seconds: start.elapsed().as_secs_f64(),
+        visibility_seconds: measured.visibility_seconds,
         estimates,
         estimates_csv,
     })
