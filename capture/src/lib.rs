@@ -23,8 +23,8 @@
 //! far plane, eye inside the vehicle, implausible motion), [`encoder_pool`] the PNG sink, [`manifest_builder`] the
 //! manifest, [`count_sink`] counting without PNGs, [`capture_shard`] one
 //! capture as several jobs;
-//! [`study`] and [`study_plot`] the resolution study; [`unobstructed`] and
-//! [`ray_bvh`] the exact per-point reference measure ([`unobstructed_gpu`] on the GPU); [`inspect`] and [`views`] look at a
+//! [`study`] and [`study_plot`] the resolution study; [`unobstructed`] the
+//! exact ray-traced reference measure (CPU and GPU); [`inspect`] and [`views`] look at a
 //! vehicle before capturing.
 
 pub mod archive;
@@ -46,7 +46,6 @@ pub mod options;
 pub mod own_pidt;
 pub mod palette;
 pub mod pidt;
-pub mod ray_bvh;
 pub mod regions;
 pub mod render;
 mod render_occlusion;
@@ -63,7 +62,6 @@ pub mod tile_sink;
 pub mod track;
 pub mod unity;
 pub mod unobstructed;
-pub mod unobstructed_gpu;
 pub mod unwrap;
 pub mod vehicle;
 pub mod views;

@@ -220,6 +220,10 @@ struct Common {
     /// Seed of the texel sample.
     #[arg(long, default_value_t = 1, requires = "measure")]
     seed: u64,
+    /// With --measure unobstructed: K, each texel's footprint is sampled on K×K sub-cells (a texel
+    /// counts when any sample is visible; the solid angle sums them). 1: one sample per texel piece.
+    #[arg(long, default_value_t = ufcsr_capture::unobstructed::DEFAULT_TEXEL_SAMPLES, requires = "measure")]
+    texel_samples: u32,
     /// Where the unobstructed measure runs: cpu (every core; the reference) or gpu (wgpu compute
     /// in f64; needs SHADER_F64, which Mesa's lavapipe and data-centre GPUs have).
     #[arg(long, value_enum, default_value_t = MeasureDevice::Cpu, requires = "measure")]
@@ -389,16 +393,24 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                 &ufcsr_capture::unobstructed::MeasureOptions {
                     sample,
                     seed: common.seed,
+                    texel_samples: common.texel_samples,
                     on: common.measure_on,
                 },
             )?;
             println!(
-                "scenario {}: unobstructed measure of {} of {} labelled texels over {} eye-frames in {:.2} s",
+                "scenario {}: unobstructed measure of {} of {} texels ({} surface samples) over {} eye-frames in {:.2} s",
                 scenario.name,
                 measured.sampled_texels,
                 measured.labelled_texels,
+                measured.surface_samples,
                 measured.eye_frames,
                 measured.seconds
+            );
+            println!(
+                "  ray casts: {:.2} s, {:.3e} sample-eye-frame tests per second (each up to two segment queries)",
+                measured.visibility_seconds,
+                (measured.surface_samples * measured.eye_frames) as f64
+                    / measured.visibility_seconds.max(1e-9)
             );
             print!("{}", ufcsr::format_table(&measured.analysis.result));
             for warning in &measured.analysis.result.warnings {

@@ -197,7 +197,7 @@ fn the_full_palette_of_2_to_the_24_texels_names_only_labelled_texels() {
 
 #[test]
 fn a_surface_seen_edge_on_is_not_counted_by_pixels_or_by_the_exact_measure() {
-    use ufcsr_capture::unobstructed::{Obstacles, count_unobstructed, eye_frames, surface_points};
+    use ufcsr_capture::unobstructed::{Obstacles, Tracer, eye_frames, surface_samples, texel_visibility};
     let gpu = gpu();
     // A horizontal 4 m square at exactly eye height (1.75 m): both eyes lie
     // in its plane, so it is seen exactly edge-on in every frame.
@@ -229,9 +229,11 @@ fn a_surface_seen_edge_on_is_not_counted_by_pixels_or_by_the_exact_measure() {
         ufcsr_capture::unwrap::background_texel(palette),
     )
     .unwrap();
-    let (points, _) = surface_points(&scene, &unwrapped, 1.0, 1);
-    assert!(points.len() > 1000);
-    let (frames, _) = eye_frames(&scene, &scene.scenarios[0], &[0, 1, 2]);
-    let counts = count_unobstructed(&points, &frames, &Obstacles::new(&scene));
-    assert_eq!(counts.iter().sum::<u32>(), 0);
+    let samples = surface_samples(&scene.vehicle, &unwrapped, 1.0, 1, 2);
+    assert!(samples.texels.len() > 1000);
+    let obstacles = Obstacles::new(&scene);
+    let (frames, _) = eye_frames(&scene, &scene.scenarios[0], &[0, 1, 2], &obstacles);
+    let visibility =
+        texel_visibility(&samples, &frames, &obstacles, scene.vehicle.parts.len(), Tracer::Hierarchy);
+    assert_eq!(visibility.counts.iter().sum::<u32>(), 0);
 }

@@ -1,102 +1,305 @@
-//! The exact "unobstructed" measure: the BVH answers exactly as brute force
-//! on every sampled point and eye-frame, a scene 10 km from the origin gives
-//! the same counts as at the origin, a vehicle hidden behind a building is
-//! never counted, the CLI writes a result with `measure: "unobstructed"`, and
-//! the GPU version (f64 compute) counts exactly as the CPU on every point.
+//! The exact "unobstructed" measure, with known answers: the BVH answers
+//! exactly as brute force; every sample lies in its triangle; the solid angle
+//! of a square plate converges to the closed form as K grows and is 0 behind
+//! a box; edge-on (eye in the hood's f32 plane), the near plane, a scene
+//! 10 km from the origin and a vehicle ×0.01 / ×100 give the known answers;
+//! the count converges in K; the CLI writes the measures block; and the GPU
+//! (f64 compute) equals the CPU on every sampled texel.
 
 use std::process::Command;
 
+use glam::{DMat4, DVec3, Vec3, dvec3};
+use ufcsr_capture::mesh::{Mesh, Occluders};
+use ufcsr_capture::rig::{look_to, reversed_z_perspective};
 use ufcsr_capture::scene::Scene;
-use ufcsr_capture::unobstructed::{Obstacles, count_unobstructed, eye_frames, surface_points, unobstructed};
+use ufcsr_capture::unobstructed::{
+    EyeFrame, Obstacles, SurfaceSamples, TexelVisibility, Tracer, eye_frame, eye_frames, surface_samples,
+    texel_visibility, visible_solid_angle,
+};
 use ufcsr_capture::unwrap::{background_texel, unwrap_islands_avoiding};
 
 const PALETTE: [u32; 2] = [256, 256];
 
-fn demo_points(scene: &Scene, fraction: f64) -> Vec<ufcsr_capture::unobstructed::SurfacePoint> {
-    let unwrapped = unwrap_islands_avoiding(&scene.vehicle, PALETTE, background_texel(PALETTE)).unwrap();
-    surface_points(scene, &unwrapped, fraction, 7).0
+fn samples_of(mesh: &Mesh, palette: [u32; 2], fraction: f64, k: u32) -> SurfaceSamples {
+    let unwrapped = unwrap_islands_avoiding(mesh, palette, background_texel(palette)).unwrap();
+    surface_samples(mesh, &unwrapped, fraction, 7, k)
+}
+
+fn measure(scene: &Scene, scenario: &str, frames: &[u32], samples: &SurfaceSamples) -> TexelVisibility {
+    let obstacles = Obstacles::new(scene);
+    let (eye_frames, _) = eye_frames(scene, scene.scenario(scenario).unwrap(), frames, &obstacles);
+    texel_visibility(samples, &eye_frames, &obstacles, scene.vehicle.parts.len(), Tracer::Hierarchy)
+}
+
+/// Per part: the count summed over the sampled texels, as shares in percent.
+fn shares(scene: &Scene, samples: &SurfaceSamples, visibility: &TexelVisibility) -> Vec<f64> {
+    let mut totals = vec![0.0; scene.vehicle.parts.len()];
+    for (texel, &count) in samples.texels.iter().zip(&visibility.counts) {
+        totals[texel.part as usize] += f64::from(count);
+    }
+    let sum: f64 = totals.iter().sum();
+    totals.iter().map(|t| 100.0 * t / sum.max(1.0)).collect()
+}
+
+fn l1(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| (x - y).abs()).sum()
 }
 
 #[test]
 fn the_hierarchy_answers_exactly_as_brute_force_on_sampled_points() {
     let scene = Scene::demo();
     let scenario = scene.scenario("A").unwrap();
-    let points = demo_points(&scene, 0.1);
-    assert!(points.len() > 500, "{}", points.len());
-    let (frames, _) = eye_frames(&scene, scenario, &[60, 120, 180]);
+    let samples = samples_of(&scene.vehicle, PALETTE, 0.05, 2);
+    assert!(samples.samples.len() > 500, "{}", samples.samples.len());
     let obstacles = Obstacles::new(&scene);
+    let (frames, _) = eye_frames(&scene, scenario, &[60, 120, 180], &obstacles);
     let mut seen = 0;
     for frame in &frames {
-        for point in &points {
-            let fast = unobstructed(point, frame, &obstacles, false);
-            assert_eq!(fast, unobstructed(point, frame, &obstacles, true), "texel {}", point.texel);
-            seen += usize::from(fast);
+        for sample in &samples.samples {
+            let fast = visible_solid_angle(sample, frame, &obstacles, Tracer::Hierarchy);
+            assert_eq!(fast, visible_solid_angle(sample, frame, &obstacles, Tracer::BruteForce));
+            seen += usize::from(fast.is_some());
         }
     }
-    assert!(seen > 100, "only {seen} point-frames unobstructed");
+    assert!(seen > 100, "only {seen} sample-frames visible");
 }
 
 #[test]
-fn every_point_lies_inside_its_own_triangle() {
+fn every_sample_lies_inside_its_own_triangle_and_the_areas_add_up() {
     let scene = Scene::demo();
-    let points = demo_points(&scene, 0.2);
-    for point in &points {
-        let [a, b, c] = scene.vehicle.corners(point.triangle).map(|v| v.as_dvec3());
-        let p = point.position;
-        let n = (b - a).cross(c - a);
-        assert!((p - a).dot(n.normalize()).abs() < 1e-6, "texel {} is off its plane", point.texel);
-        // Barycentric weights from sub-triangle areas: all positive inside.
-        let w = [(b - p).cross(c - p).dot(n), (c - p).cross(a - p).dot(n), (a - p).cross(b - p).dot(n)];
-        assert!(w.iter().all(|&w| w > 0.0), "texel {} lies outside its triangle: {w:?}", point.texel);
+    for k in [1, 3] {
+        let samples = samples_of(&scene.vehicle, PALETTE, 1.0, k);
+        for sample in &samples.samples {
+            let [a, b, c] = scene.vehicle.corners(sample.triangle as usize).map(|v| v.as_dvec3());
+            let p = sample.position;
+            let n = (b - a).cross(c - a);
+            assert!((p - a).dot(n.normalize()).abs() < 1e-6, "a sample is off its plane");
+            let w = [(b - p).cross(c - p).dot(n), (c - p).cross(a - p).dot(n), (a - p).cross(b - p).dot(n)];
+            assert!(w.iter().all(|&w| w >= 0.0), "a sample lies outside its triangle: {w:?}");
+        }
+        // The pieces tile every triangle: their areas add up to the mesh's.
+        let area: f64 = samples.area_per_part_m2.iter().sum();
+        assert!(
+            (area - scene.vehicle.area()).abs() < 1e-6 * area,
+            "K = {k}: {area} against {}",
+            scene.vehicle.area()
+        );
     }
 }
 
+/// A square plate of side `side` in the plane x = 0 (part "plate"), centred on (0, 0, `height`).
+fn plate(side: f32, height: f32) -> Mesh {
+    let h = side / 2.0;
+    let mut mesh = Mesh::default();
+    let corner = |y: f32, z: f32| Vec3::new(0.0, y, height + z);
+    mesh.add_quad("plate", corner(-h, -h), corner(h, -h), corner(h, h), corner(-h, h));
+    mesh
+}
+
+/// The demo scene with `vehicle` at the origin, no occluders unless given.
+fn scene_with(vehicle: Mesh, occluders: Occluders) -> Scene {
+    let mut scene = Scene::demo();
+    scene.vehicle = vehicle;
+    scene.occluders = occluders;
+    scene.rig.pedestrian = [0.0, 0.0, 0.0];
+    scene
+}
+
+/// An eye at `eye` looking along `direction` (the vehicle at the origin, unrotated).
+fn eye_looking(obstacles: &Obstacles, eye: DVec3, direction: DVec3) -> EyeFrame {
+    let view_proj =
+        reversed_z_perspective(60f64.to_radians(), 1.0, 0.3, 1000.0) * look_to(eye, direction, DVec3::Z);
+    eye_frame(obstacles, &DMat4::IDENTITY, eye, &view_proj)
+}
+
+fn solid_angle(samples: &SurfaceSamples, frame: &EyeFrame, obstacles: &Obstacles) -> f64 {
+    samples.samples.iter().filter_map(|s| visible_solid_angle(s, frame, obstacles, Tracer::Hierarchy)).sum()
+}
+
 #[test]
-fn a_scene_far_from_the_origin_counts_the_same() {
-    let scene = Scene::demo();
-    let scenario = scene.scenario("A").unwrap().clone();
-    let points = demo_points(&scene, 0.05);
-    let frames: Vec<u32> = (0..181).step_by(30).collect();
-    let near = {
-        let (eye_frames, _) = eye_frames(&scene, &scenario, &frames);
-        count_unobstructed(&points, &eye_frames, &Obstacles::new(&scene))
+fn a_square_plates_solid_angle_converges_to_the_closed_form_and_is_zero_behind_a_box() {
+    let (side, distance) = (1.0f64, 1.5f64);
+    let exact = 4.0 * (side * side / (4.0 * distance * distance + side * side)).asin();
+    let scene = scene_with(plate(side as f32, 2.0), Occluders::default());
+    let obstacles = Obstacles::new(&scene);
+    let frame = eye_looking(&obstacles, dvec3(distance, 0.0, 2.0), -DVec3::X);
+    // A coarse palette (the plate is ~10 texels across), so K matters.
+    let errors: Vec<f64> = [1, 2, 4, 8]
+        .iter()
+        .map(|&k| {
+            (solid_angle(&samples_of(&scene.vehicle, [16, 16], 1.0, k), &frame, &obstacles) - exact).abs()
+                / exact
+        })
+        .collect();
+    assert!(errors.windows(2).all(|pair| pair[1] < pair[0]), "errors do not shrink with K: {errors:?}");
+    assert!(errors[3] < 1e-4, "{errors:?}");
+    // A box between the eye and the plate hides all of it.
+    let mut occluders = Occluders::default();
+    occluders.add_box(dvec3(0.5, -1.0, 1.0), dvec3(0.7, 1.0, 3.0));
+    let hidden = scene_with(plate(side as f32, 2.0), occluders);
+    let obstacles = Obstacles::new(&hidden);
+    let frame = eye_looking(&obstacles, dvec3(distance, 0.0, 2.0), -DVec3::X);
+    assert_eq!(solid_angle(&samples_of(&hidden.vehicle, [16, 16], 1.0, 2), &frame, &obstacles), 0.0);
+}
+
+#[test]
+fn the_near_plane_clips_points_and_the_geometry_in_front_of_it() {
+    let scene = scene_with(plate(0.1, 2.0), Occluders::default());
+    let samples = samples_of(&scene.vehicle, [32, 32], 1.0, 1);
+    let seen_from = |scene: &Scene, distance: f64| {
+        let obstacles = Obstacles::new(scene);
+        solid_angle(&samples, &eye_looking(&obstacles, dvec3(distance, 0.0, 2.0), -DVec3::X), &obstacles)
     };
-    // Everything 10 km along x: pedestrian, vehicle track and occluders.
-    let mut far_scene = scene.clone();
-    far_scene.rig.pedestrian[0] += 10_000.0;
-    for position in &mut far_scene.occluders.positions {
+    // Nearer than the 0.3 m near plane: not visible; beyond it: visible.
+    assert_eq!(seen_from(&scene, 0.25), 0.0);
+    assert!(seen_from(&scene, 0.35) > 0.0);
+    // A wall 0.2 m in front of the eye is clipped by the renderer: it hides nothing.
+    let wall = |at: f64| {
+        let mut occluders = Occluders::default();
+        occluders.add_box(dvec3(at - 0.01, -1.0, 1.0), dvec3(at + 0.01, 1.0, 3.0));
+        scene_with(plate(0.1, 2.0), occluders)
+    };
+    assert!(seen_from(&wall(0.8), 1.0) > 0.0);
+    assert_eq!(seen_from(&wall(0.5), 1.0), 0.0);
+}
+
+#[test]
+fn the_eye_in_the_hoods_f32_plane_sees_it_edge_on() {
+    // The demo hood's top is at 1.15 m, which f32 cannot hold exactly.
+    let mut scene = Scene::demo();
+    let hood = scene.vehicle.parts.iter().position(|p| p == "hood").unwrap() as u32;
+    let samples = samples_of(&scene.vehicle, PALETTE, 1.0, 1);
+    let frames: Vec<u32> = (0..=180).step_by(30).collect();
+    for eye_height in [1.15, 1.15 + 1e-6] {
+        scene.rig.eye_height_m = eye_height;
+        for scenario in ["A", "B"] {
+            let visibility = measure(&scene, scenario, &frames, &samples);
+            let hood_count: u32 = samples
+                .texels
+                .iter()
+                .zip(&visibility.counts)
+                .filter(|(t, _)| t.part == hood)
+                .map(|(_, &c)| c)
+                .sum();
+            assert_eq!(hood_count, 0, "eye at {eye_height} m, scenario {scenario}");
+            assert!(visibility.counts.iter().sum::<u32>() > 1000);
+        }
+    }
+}
+
+#[test]
+fn a_scene_far_from_the_origin_measures_the_same_texel_for_texel() {
+    let scene = Scene::demo();
+    let samples = samples_of(&scene.vehicle, PALETTE, 1.0, 1);
+    let frames: Vec<u32> = (0..181).step_by(15).collect();
+    let near = measure(&scene, "A", &frames, &samples);
+    // Everything 10 km along x and y: pedestrian, vehicle track and occluders.
+    let mut far = scene.clone();
+    far.rig.pedestrian[0] += 10_000.0;
+    far.rig.pedestrian[1] += 10_000.0;
+    for position in &mut far.occluders.positions {
         position.x += 10_000.0;
+        position.y += 10_000.0;
     }
-    let mut far_scenario = scenario.clone();
-    for key in &mut far_scenario.motion.position.keys {
-        key.value[0] += 10_000.0;
+    for scenario in &mut far.scenarios {
+        for key in &mut scenario.motion.position.keys {
+            key.value[0] += 10_000.0;
+            key.value[1] += 10_000.0;
+        }
     }
-    let (eye_frames, _) = eye_frames(&far_scene, &far_scenario, &frames);
-    let far = count_unobstructed(&points, &eye_frames, &Obstacles::new(&far_scene));
-    let differing = near.iter().zip(&far).filter(|(a, b)| a != b).count();
-    // Occluders are f64 in the world frame: nothing moves, nothing flips.
-    assert_eq!(differing, 0, "{differing} of {} points differ", points.len());
-    assert!(near.iter().sum::<u32>() > 0);
+    let far = measure(&far, "A", &frames, &samples);
+    let differing = near.counts.iter().zip(&far.counts).filter(|(a, b)| a != b).count();
+    assert_eq!(differing, 0, "{differing} of {} texels differ", samples.texels.len());
+    assert_eq!(near.part_seen, far.part_seen);
+    let solid = |v: &TexelVisibility| v.solid_angle_sr.iter().sum::<f64>();
+    assert!((solid(&near) - solid(&far)).abs() < 1e-9 * solid(&near));
+    assert!(near.counts.iter().sum::<u32>() > 1000);
+}
+
+/// `scene` scaled by `factor` about the pedestrian's feet (vehicle, occluders, eyes, tracks).
+fn scaled(scene: &Scene, factor: f64) -> Scene {
+    let mut out = scene.clone();
+    let anchor = dvec3(scene.rig.pedestrian[0], scene.rig.pedestrian[1], 0.0);
+    for position in &mut out.vehicle.positions {
+        *position *= factor as f32;
+    }
+    for position in &mut out.occluders.positions {
+        *position = anchor + (*position - anchor) * factor;
+    }
+    out.rig.eye_height_m *= factor;
+    out.rig.ipd_m *= factor;
+    out.rig.near_m *= factor;
+    out.rig.far_m *= factor;
+    for value in &mut out.rig.look_at_vehicle {
+        *value *= factor;
+    }
+    for scenario in &mut out.scenarios {
+        for key in &mut scenario.motion.position.keys {
+            for axis in 0..2 {
+                key.value[axis] = anchor[axis] + (key.value[axis] - anchor[axis]) * factor;
+            }
+            key.value[2] *= factor;
+            for slope in [&mut key.in_slope, &mut key.out_slope].into_iter().flatten() {
+                *slope = slope.map(|v| v * factor);
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn a_vehicle_scaled_by_a_hundredth_or_a_hundred_gives_the_same_shares() {
+    let scene = Scene::demo();
+    let frames: Vec<u32> = (0..181).step_by(30).collect();
+    // One unwrap for all three, so that the same texels are sampled.
+    let unwrapped = unwrap_islands_avoiding(&scene.vehicle, PALETTE, background_texel(PALETTE)).unwrap();
+    let reference = {
+        let samples = surface_samples(&scene.vehicle, &unwrapped, 1.0, 7, 1);
+        shares(&scene, &samples, &measure(&scene, "B", &frames, &samples))
+    };
+    for factor in [0.01, 100.0] {
+        let scene = scaled(&Scene::demo(), factor);
+        let samples = surface_samples(&scene.vehicle, &unwrapped, 1.0, 7, 1);
+        let shares = shares(&scene, &samples, &measure(&scene, "B", &frames, &samples));
+        let difference = l1(&shares, &reference);
+        assert!(difference < 0.01, "×{factor}: shares differ by {difference} pp (L1)");
+    }
+}
+
+#[test]
+fn the_any_part_count_converges_in_k() {
+    // Shares at K = 1, 2, 4 against K = 8: the L1 difference shrinks.
+    let scene = Scene::demo();
+    // Scenario A: the truck comes out from behind the corner building, so
+    // texels are partly hidden in many frames.
+    let frames: Vec<u32> = (30..121).step_by(10).collect();
+    let shares_at = |k: u32| {
+        let samples = samples_of(&scene.vehicle, PALETTE, 1.0, k);
+        shares(&scene, &samples, &measure(&scene, "A", &frames, &samples))
+    };
+    let finest = shares_at(8);
+    let differences: Vec<f64> = [1, 2, 4].iter().map(|&k| l1(&shares_at(k), &finest)).collect();
+    eprintln!("share L1 against K = 8 at K = 1, 2, 4: {differences:?} pp");
+    assert!(differences.windows(2).all(|pair| pair[1] < pair[0]), "{differences:?}");
 }
 
 #[test]
 fn a_vehicle_hidden_behind_a_building_is_never_counted() {
     // Scenario A starts with the truck behind the corner building (frame 0).
     let scene = Scene::demo();
-    let scenario = scene.scenario("A").unwrap();
-    let points = demo_points(&scene, 0.2);
-    let (frames, _) = eye_frames(&scene, scenario, &[0]);
-    let counts = count_unobstructed(&points, &frames, &Obstacles::new(&scene));
-    assert_eq!(counts.iter().sum::<u32>(), 0);
+    let samples = samples_of(&scene.vehicle, PALETTE, 0.2, 2);
+    let visibility = measure(&scene, "A", &[0], &samples);
+    assert_eq!(visibility.counts.iter().sum::<u32>(), 0);
+    assert_eq!(visibility.solid_angle_sr.iter().sum::<f64>(), 0.0);
 }
 
 #[test]
-fn the_cli_writes_an_unobstructed_result() {
+fn the_cli_writes_an_unobstructed_result_with_the_measures_block() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("archive");
     let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
         .args(["demo", "--scenario", "A", "--palette-size", "256", "--frames", "120-180/20"])
-        .args(["--measure", "unobstructed", "--sample", "1/4", "-q", "--out"])
+        .args(["--measure", "unobstructed", "--sample", "1/4", "--texel-samples", "2", "-q", "--out"])
         .arg(&out)
         .stdout(std::process::Stdio::null())
         .status()
@@ -106,47 +309,60 @@ fn the_cli_writes_an_unobstructed_result() {
         serde_json::from_slice(&std::fs::read(out.join("results/result.json")).unwrap()).unwrap();
     assert_eq!(result["measure"], "unobstructed");
     assert!(result["grand_total"].as_u64().unwrap() > 0);
+    let measures = &result["measures"];
+    // 20 frames at 60 fps: each eye-frame stands for 1/3 s.
+    assert!((measures["seconds_per_frame"].as_f64().unwrap() - 1.0 / 3.0).abs() < 1e-12);
+    let parts = measures["parts"].as_array().unwrap();
+    let area: f64 = parts.iter().map(|p| p["angular_area_deg2_s"].as_f64().unwrap()).sum();
+    let exposure = parts.iter().map(|p| p["exposure_s"].as_f64().unwrap()).fold(0.0, f64::max);
+    assert!(area > 0.0);
+    // Four frames of 1/3 s: no part is seen for longer than 4/3 s.
+    assert!(exposure > 0.0 && exposure <= 4.0 / 3.0 + 1e-12, "{exposure}");
     let csv = std::fs::read_to_string(out.join("results/unobstructed-parts.csv")).unwrap();
-    assert!(csv.starts_with("part,texels,sampled,sampled_total,estimated_total,standard_error"), "{csv}");
+    assert!(csv.starts_with("part,texels,sampled,sampled_total,estimated_total,standard_error,"), "{csv}");
     assert!(!out.join("tiles").read_dir().is_ok_and(|mut d| d.next().is_some()), "no tiles are written");
 }
 
-#[test]
-fn the_gpu_measure_equals_the_cpu_measure_on_every_sampled_point() {
+fn gpu_with_f64() -> Option<ufcsr_capture::gpu::Gpu> {
     let gpu = ufcsr_capture::gpu::Gpu::create(ufcsr_capture::gpu::Backend::Auto).expect("a GPU or lavapipe");
     if !gpu.device.features().contains(wgpu::Features::SHADER_F64) {
         assert!(std::env::var_os("CI").is_none(), "CI: lavapipe has SHADER_F64; this adapter does not");
         eprintln!("SKIPPED: {} has no SHADER_F64", gpu.describe());
-        return;
+        return None;
     }
+    Some(gpu)
+}
+
+#[test]
+fn the_gpu_measure_equals_the_cpu_measure_on_every_sampled_texel() {
+    let Some(gpu) = gpu_with_f64() else { return };
     let scene = Scene::demo();
     let obstacles = Obstacles::new(&scene);
-    let points = demo_points(&scene, 0.1);
+    let samples = samples_of(&scene.vehicle, PALETTE, 0.1, 2);
     // Scenario A: the truck comes out from behind the corner building, so
     // the scene's occluders decide many of these.
     let scenario = scene.scenario("A").unwrap();
-    let (frames, _) = eye_frames(&scene, scenario, &[0, 30, 60, 90, 120, 150, 180]);
-    let cpu = count_unobstructed(&points, &frames, &obstacles);
-    let on_gpu = ufcsr_capture::unobstructed_gpu::count_unobstructed_gpu(
+    let (frames, _) = eye_frames(&scene, scenario, &[0, 30, 60, 90, 120, 150, 180], &obstacles);
+    let parts = scene.vehicle.parts.len();
+    let cpu = texel_visibility(&samples, &frames, &obstacles, parts, Tracer::Hierarchy);
+    let on_gpu = ufcsr_capture::unobstructed::texel_visibility_gpu(
         &gpu.device,
         &gpu.queue,
-        &points,
+        &samples,
         &frames,
         &obstacles,
+        parts,
     )
     .unwrap();
-    let differing: Vec<usize> = (0..points.len()).filter(|&i| cpu[i] != on_gpu[i]).collect();
-    assert!(
-        differing.is_empty(),
-        "{} of {} points differ, e.g. texel {}: cpu {} gpu {}",
-        differing.len(),
-        points.len(),
-        points[differing[0]].texel,
-        cpu[differing[0]],
-        on_gpu[differing[0]]
-    );
-    let total: u32 = cpu.iter().sum();
-    assert!(total > 1000 && total < points.len() as u32 * frames.len() as u32, "{total}");
+    let differing: Vec<usize> =
+        (0..samples.texels.len()).filter(|&i| cpu.counts[i] != on_gpu.counts[i]).collect();
+    assert!(differing.is_empty(), "{} of {} texels differ", differing.len(), samples.texels.len());
+    assert_eq!(cpu.part_seen, on_gpu.part_seen);
+    for (a, b) in cpu.solid_angle_sr.iter().zip(&on_gpu.solid_angle_sr) {
+        assert!((a - b).abs() <= 1e-12 * a.abs(), "solid angle {a} on the CPU, {b} on the GPU");
+    }
+    let total: u32 = cpu.counts.iter().sum();
+    assert!(total > 1000 && total < samples.texels.len() as u32 * frames.len() as u32, "{total}");
 }
 
 #[test]
@@ -167,28 +383,30 @@ fn measuring_on_the_gpu_writes_the_cpu_result() {
         for field in ["archive", "pidt", "parts"] {
             result["settings"][field] = serde_json::Value::Null;
         }
-        let notes = result["notes"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|n| n.as_str().unwrap().to_owned())
-            .collect::<Vec<_>>();
-        assert!(notes.iter().any(|n| n.contains(if on == "gpu" {
-            "computed on the GPU"
-        } else {
-            "computed on the CPU"
-        })));
+        let notes: Vec<String> =
+            result["notes"].as_array().unwrap().iter().map(|n| n.as_str().unwrap().to_owned()).collect();
+        let device = if on == "gpu" { "computed on the GPU" } else { "computed on the CPU" };
+        assert!(notes.iter().any(|n| n.contains(device)));
         result["notes"] = serde_json::Value::Null;
         result
     };
     let cpu = run("cpu");
-    if !ufcsr_capture::gpu::Gpu::create(ufcsr_capture::gpu::Backend::Auto)
-        .is_ok_and(|g| g.device.features().contains(wgpu::Features::SHADER_F64))
-    {
-        assert!(std::env::var_os("CI").is_none(), "CI: lavapipe has SHADER_F64; this adapter does not");
-        eprintln!("SKIPPED: no SHADER_F64 on this adapter");
+    if gpu_with_f64().is_none() {
         return;
     }
-    assert_eq!(cpu, run("gpu"));
+    let mut gpu = run("gpu");
+    // The solid angles may differ in the last bits (summation is the same,
+    // the GPU's division and square root round alike but may fuse).
+    for (c, g) in cpu["measures"]["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip(gpu["measures"]["parts"].as_array_mut().unwrap())
+    {
+        let (a, b) = (c["angular_area_deg2_s"].as_f64().unwrap(), g["angular_area_deg2_s"].as_f64().unwrap());
+        assert!((a - b).abs() <= 1e-12 * a.abs(), "{a} against {b}");
+        g["angular_area_deg2_s"] = c["angular_area_deg2_s"].clone();
+    }
+    assert_eq!(cpu, gpu);
     assert!(cpu["grand_total"].as_u64().unwrap() > 0);
 }

@@ -1,0 +1,104 @@
+//! The scene as the rays see it: the vehicle's triangles in its own frame,
+//! the occluders in a local frame centred on the pedestrian, and one
+//! [`EyeFrame`] per eye and frame.
+//!
+//! Why a local frame: a scene 10 km from the origin must measure exactly as
+//! at the origin. Occluders, eyes and the vehicle pose are taken relative to
+//! the pedestrian's feet (the scene's anchor) in f64 before any ray is cast,
+//! so the coordinates a ray meets are metres, not ten thousands of them.
+
+use glam::{DMat4, DVec3, dvec2};
+use serde_json::json;
+
+use super::bvh::TriangleBvh;
+use super::types::{EyeFrame, SURFACE_LIFT_RELATIVE, transform_point};
+use crate::frame_capture::round6;
+use crate::rig::vehicle_to_world;
+use crate::scenario::Scenario;
+use crate::scene::Scene;
+
+/// The scene's geometry for ray casts.
+pub struct Obstacles {
+    /// The vehicle, in its own frame.
+    pub vehicle: TriangleBvh,
+    /// Everything else, in the local frame (world minus [`Obstacles::anchor`]).
+    pub world: TriangleBvh,
+    /// The world point the local frame is centred on (the pedestrian's feet).
+    pub anchor: DVec3,
+    /// How far a point is lifted off its surface ([`SURFACE_LIFT_RELATIVE`]
+    /// of the vehicle's bounding-box diagonal), metres.
+    pub lift_m: f64,
+}
+
+impl Obstacles {
+    pub fn new(scene: &Scene) -> Obstacles {
+        let mesh = &scene.vehicle;
+        let anchor = DVec3::new(scene.rig.pedestrian[0], scene.rig.pedestrian[1], 0.0);
+        let vehicle = (0..mesh.triangles.len()).map(|t| mesh.corners(t).map(|c| c.as_dvec3())).collect();
+        let world = scene
+            .occluders
+            .positions
+            .chunks_exact(3)
+            .map(|t| [t[0] - anchor, t[1] - anchor, t[2] - anchor])
+            .collect();
+        let (min, max) = mesh.bounds();
+        Obstacles {
+            vehicle: TriangleBvh::new(vehicle),
+            world: TriangleBvh::new(world),
+            anchor,
+            lift_m: SURFACE_LIFT_RELATIVE * (max - min).length(),
+        }
+    }
+}
+
+/// One eye-frame from the eye's world position and clip transform and the
+/// vehicle's placement in the world.
+pub fn eye_frame(obstacles: &Obstacles, to_world: &DMat4, eye: DVec3, view_proj: &DMat4) -> EyeFrame {
+    let vehicle_to_local = DMat4::from_translation(-obstacles.anchor) * *to_world;
+    let eye_local = eye - obstacles.anchor;
+    // Inverted in the local frame: metres, not the world's 10 km offsets.
+    let eye_in_vehicle = vehicle_to_local.inverse().transform_point3(eye_local);
+    let vehicle_to_clip = *view_proj * *to_world;
+    let eye_clip = transform_point(&vehicle_to_clip, eye_in_vehicle);
+    EyeFrame {
+        eye_in_vehicle,
+        eye_local,
+        vehicle_to_local,
+        vehicle_to_clip,
+        eye_near_margin: eye_clip.w - eye_clip.z,
+        lift_m: obstacles.lift_m,
+    }
+}
+
+/// The eye-frames of a scenario's selected frames (both eyes per frame, in
+/// frame order), with each frame's record for the manifest.
+pub fn eye_frames(
+    scene: &Scene,
+    scenario: &Scenario,
+    frames: &[u32],
+    obstacles: &Obstacles,
+) -> (Vec<EyeFrame>, Vec<serde_json::Value>) {
+    let rig = &scene.rig;
+    let pedestrian = dvec2(rig.pedestrian[0], rig.pedestrian[1]);
+    let mut eye_frames = Vec::with_capacity(frames.len() * 2);
+    let mut records = Vec::with_capacity(frames.len());
+    for &frame in frames {
+        let time_s = (f64::from(frame) / rig.fps).min(scenario.duration_s);
+        let pose = scenario.motion.pose(time_s);
+        let to_world = vehicle_to_world(&pose);
+        for camera in rig.cameras(&pose) {
+            eye_frames.push(eye_frame(obstacles, &to_world, camera.position, &camera.view_proj));
+        }
+        let distance_m = (pose.position.truncate() - pedestrian).length();
+        records.push(json!({"frame": frame, "time_s": round6(time_s), "distance_m": round6(distance_m)}));
+    }
+    (eye_frames, records)
+}
+
+/// Seconds one eye-frame stands for: the smallest step between the selected
+/// frame numbers over the rig's fps, as the analyzer's `FrameClock` reads it
+/// from a rendered capture, so both measures integrate time alike.
+pub fn seconds_per_frame(scene: &Scene, frames: &[u32]) -> f64 {
+    let step = frames.windows(2).map(|pair| pair[1].abs_diff(pair[0])).filter(|&s| s > 0).min().unwrap_or(1);
+    f64::from(step) / scene.rig.fps
+}
