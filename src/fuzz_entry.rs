@@ -1,7 +1,7 @@
 //! Entry points for fuzzing: each takes arbitrary bytes as one kind of input
 //! file and must return, with an error if the bytes are bad, never panic,
 //! hang or allocate without bound. The cargo-fuzz targets in `fuzz/` call
-//! them, and `tests/fuzz_regressions.rs` feeds them the saved corpus and every
+//! them, and `tests/it/fuzz_regressions.rs` feeds them the saved corpus and every
 //! input that once failed, so CI re-checks those without nightly.
 
 use std::path::Path;

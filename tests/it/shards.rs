@@ -2,7 +2,7 @@
 //! results gives the same files, byte for byte, as analysing it whole; bad
 //! merges (missing, repeated or mismatched shards) are clear errors.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

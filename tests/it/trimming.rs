@@ -1,7 +1,7 @@
 //! Trimming safety: only files byte-identical to a verified all-background
 //! tile are skipped; everything else is decoded, whatever its size.
 
-mod common;
+use crate::common;
 
 use common::*;
 use ufcsr::{AnalyzeOptions, PaletteChoice, TrimMode, analyze};

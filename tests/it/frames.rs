@@ -2,7 +2,7 @@
 //! counts they sit beside, and no change to any existing field of
 //! result.json or column of parts.csv.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

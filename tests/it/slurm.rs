@@ -5,7 +5,7 @@
 //! single-process one byte for byte. Skipped with a message where Slurm is
 //! not installed or we are not root; a failure when `CI` is set.
 
-mod slurm_support;
+use crate::slurm_support;
 
 use std::path::PathBuf;
 use std::process::Command;

@@ -1,7 +1,7 @@
 //! The `ufcsr-analyze` binary: exit codes, outputs, determinism across
 //! thread counts, and heatmap regeneration from result.json.
 
-mod common;
+use crate::common;
 
 use common::*;
 

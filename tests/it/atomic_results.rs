@@ -2,7 +2,7 @@
 //! (here a vehicle model that turns out to be corrupt) leaves the previous
 //! result set byte for byte and no staging folder or temporary file.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

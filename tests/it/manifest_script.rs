@@ -2,7 +2,7 @@
 //! manifest the analyzer accepts, with eye-frame grouping from the names.
 //! Skips with a message when `python3` is not installed.
 
-mod common;
+use crate::common;
 
 use std::process::Command;
 

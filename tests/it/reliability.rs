@@ -3,7 +3,7 @@
 //! zlib checksum, results never overwrite inputs, and trimming skips only
 //! files byte-identical to a verified empty tile.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 use std::sync::mpsc;

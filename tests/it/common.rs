@@ -2,7 +2,7 @@
 //! flavour (RGB, RGBA, grey, indexed, 16-bit, interlaced) and building
 //! hand-computable archives.
 
-#![allow(dead_code)]
+#![allow(dead_code)] // each test module uses its own part
 
 use std::io::Write;
 use std::path::{Path, PathBuf};

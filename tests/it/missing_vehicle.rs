@@ -2,7 +2,7 @@
 //! is missing, the analysis still writes its results and says why there is
 //! no heatmap.glb; a `--mesh` that is not there is an error before counting.
 
-mod common;
+use crate::common;
 
 use std::path::PathBuf;
 

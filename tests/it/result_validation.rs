@@ -3,7 +3,7 @@
 //! disagrees, a zero count, an unknown palette kind) is a clear error naming
 //! the file, not a silently different heatmap.
 
-mod common;
+use crate::common;
 
 use std::path::{Path, PathBuf};
 

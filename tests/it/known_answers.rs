@@ -1,6 +1,6 @@
 //! Known-answer tests: hand-computed counts, part statistics and heatmap pixels.
 
-mod common;
+use crate::common;
 
 use common::*;
 use ufcsr::{AnalyzeOptions, Dedupe, PaletteChoice, TrimMode, analyze};

@@ -2,7 +2,7 @@
 //! PLTE's entries is corrupt data and fails the file (reported, the batch
 //! goes on), instead of decoding as black and counting texel 0.
 
-mod common;
+use crate::common;
 
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! Bad input: every kind gets a clear message naming the file, is counted,
 //! and never stops the batch (unless `--strict`) or panics.
 
-mod common;
+use crate::common;
 
 use common::*;
 use ufcsr::{AnalyzeOptions, PaletteChoice, TrimMode, analyze};

@@ -3,7 +3,7 @@
 //! in sub-folders) are left out, counted and named in a warning, instead of
 //! being counted as frames.
 
-mod common;
+use crate::common;
 
 use ufcsr::{Shard, analyze, merge_results, write_results};
 
