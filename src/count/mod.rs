@@ -1,0 +1,21 @@
+//! Stage 2, count: the hot path. Work units counted in parallel
+//! ([`work`]), the row kernels that classify pixels and collect texels
+//! ([`scan`], with AVX2 and AVX-512 versions held to the portable one's
+//! answers), per-colour counts, trimming of empty tiles, tallies by part
+//! ([`part_lookup`]) and the counter for tiles held in memory
+//! ([`TileCounter`], the capture's `--count`).
+
+pub(crate) mod counts;
+pub(crate) mod part_lookup;
+pub(crate) mod scan;
+pub(crate) mod tile_counter;
+pub(crate) mod trim;
+pub(crate) mod work;
+
+pub use counts::Counts;
+pub use part_lookup::PartLookup;
+pub use scan::{
+    Classifier, ImageTally, KERNEL_ENV, Kernel, PixelClass, RowScan, scan_image, scan_image_by_part,
+};
+pub use tile_counter::TileCounter;
+pub use trim::EmptyTile;

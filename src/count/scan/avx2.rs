@@ -1,0 +1,121 @@
+//! The AVX2 row kernel (x86-64 only, chosen at run time on CPUs without
+//! AVX-512, such as most Intel desktop parts since Alder Lake): the AVX-512
+//! kernel's method on 8 pixels per instruction. AVX2 has neither masked
+//! loads of bytes nor a compress instruction, so whole 32-byte loads cover
+//! the row up to its last full block, the portable kernel finishes the row,
+//! and new texels are picked from a bit mask.
+
+use std::arch::x86_64::*;
+
+use super::{ClassCounts, WordAccumulator, unpack_table};
+use crate::color::{AtomicColorSet, SeenSet, color_key};
+use crate::count::scan::{Classifier, PixelClass};
+
+/// The AVX2 kernel for rows of `BYTES`-byte pixels (3: RGB, 4: RGBA)
+/// against a canonical palette with one background colour or (when
+/// `SINGLE_BACKGROUND` is false) several; for CPUs where
+/// [`super::Kernel::supported`] is at least [`super::Kernel::Avx2`].
+#[target_feature(enable = "avx2,popcnt,bmi1,bmi2")]
+pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
+    row: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+    by_class: &mut ClassCounts,
+) {
+    let pixels = row.len() / BYTES;
+    let texels = classifier.palette().texel_count() as u32;
+    let backgrounds = classifier.backgrounds();
+    // Every colour and the limit are below 2^31, so signed comparison works.
+    let texel_limit = _mm256_set1_epi32(texels as i32);
+    let first_background = _mm256_set1_epi32(backgrounds[0] as i32);
+    // In-lane shuffle: each 128-bit half unpacks 4 pixels.
+    // SAFETY: a 32-byte array.
+    let shuffle = unsafe { _mm256_loadu_si256(unpack_table::<BYTES, 32>(4).as_ptr().cast()) };
+    // RGB: move bytes 12..24 (pixels 4..8) to the upper 128-bit half.
+    let spread = _mm256_setr_epi32(0, 1, 2, 0, 3, 4, 5, 0);
+    let rotate = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);
+    // Blocks of 8 pixels whose 32-byte load stays inside the row.
+    let blocks = if row.len() >= 32 { ((row.len() - 32) / (8 * BYTES) + 1).min(pixels / 8) } else { 0 };
+    // An impossible colour (above 2^24), so the first pixel always differs.
+    let mut previous = _mm256_set1_epi32(-1);
+    let mut word = WordAccumulator::new();
+    let (mut background, mut stray) = (0u64, 0u64);
+    let mut lane_values = [0u32; 8];
+    // The bytes of 8 pixels within a 32-byte load.
+    let block_bytes_mask = if BYTES == 4 { u32::MAX } else { (1u32 << (8 * BYTES)) - 1 };
+    let mut last_class = PixelClass::Background as usize;
+    for block in 0..blocks {
+        let at = block * 8 * BYTES;
+        // SAFETY: `blocks` keeps the 32 bytes from `at` inside `row`.
+        let raw = unsafe { _mm256_loadu_si256(row.as_ptr().add(at).cast()) };
+        if block > 0 {
+            // SAFETY: `at - BYTES` is at least 0 for every block after the
+            // first, and ends before `at + 32`.
+            let before = unsafe { _mm256_loadu_si256(row.as_ptr().add(at - BYTES).cast()) };
+            let equal = _mm256_movemask_epi8(_mm256_cmpeq_epi8(raw, before)) as u32;
+            if equal & block_bytes_mask == block_bytes_mask {
+                // Each pixel repeats the one before it: see the AVX-512 kernel.
+                background += 8 * u64::from(last_class == PixelClass::Background as usize);
+                stray += 8 * u64::from(last_class == PixelClass::Stray as usize);
+                continue;
+            }
+        }
+        let raw = if BYTES == 3 { _mm256_permutevar8x32_epi32(raw, spread) } else { raw };
+        let colors = _mm256_shuffle_epi8(raw, shuffle);
+        let mut is_background = _mm256_cmpeq_epi32(colors, first_background);
+        if !SINGLE_BACKGROUND {
+            for &color in &backgrounds[1..] {
+                is_background = _mm256_or_si256(
+                    is_background,
+                    _mm256_cmpeq_epi32(colors, _mm256_set1_epi32(color as i32)),
+                );
+            }
+        }
+        let member = _mm256_cmpgt_epi32(texel_limit, colors);
+        let is_background = _mm256_movemask_ps(_mm256_castsi256_ps(is_background)) as u32;
+        let member = _mm256_movemask_ps(_mm256_castsi256_ps(member)) as u32;
+        let is_texel = member & !is_background;
+        let is_stray = !member & !is_background & 0xFF;
+        background += u64::from(is_background.count_ones());
+        stray += u64::from(is_stray.count_ones());
+        // Lane 0 of `left` is the last pixel of the previous block.
+        let left = _mm256_blend_epi32::<1>(
+            _mm256_permutevar8x32_epi32(colors, rotate),
+            _mm256_permutevar8x32_epi32(previous, rotate),
+        );
+        let same = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(colors, left))) as u32;
+        let fresh = is_texel & !same;
+        previous = colors;
+        // Background 0, texel 1, stray 2 (the two flags never both hold).
+        last_class = (1 - (is_background >> 7) as usize) * (1 + (is_stray >> 7) as usize);
+        if fresh | is_stray != 0 {
+            // SAFETY: a 32-byte array.
+            unsafe { _mm256_storeu_si256(lane_values.as_mut_ptr().cast(), colors) };
+            let mut remaining = fresh;
+            while remaining != 0 {
+                let key = color_key(lane_values[remaining.trailing_zeros() as usize]);
+                word.add(seen, (key >> 6) as usize, 1u64 << (key & 63));
+                remaining &= remaining - 1;
+            }
+            // Rare: damaged or filtered pixels.
+            let mut remaining = is_stray;
+            while remaining != 0 {
+                strays.insert(lane_values[remaining.trailing_zeros() as usize]);
+                remaining &= remaining - 1;
+            }
+        }
+    }
+    word.flush(seen);
+    super::add_row_classes(by_class, blocks * 8, background, stray);
+    // The rest of the row (a few pixels): the portable kernel. It does
+    // not know the last block's colours, so it may set a bit that is already
+    // set, which changes nothing.
+    super::scan_row::<BYTES, false, true, SINGLE_BACKGROUND>(
+        &row[blocks * 8 * BYTES..],
+        classifier,
+        seen,
+        strays,
+        by_class,
+    );
+}

@@ -1,0 +1,29 @@
+//! Stage 1, input: everything an analysis reads, checked and loaded once
+//! before anything is counted — the options ([`AnalyzeOptions`]), the
+//! archive's manifest and shard, the archive reader (which files are the
+//! images), PNG rows, the palette, the labels (legend and PIdT), what the
+//! manifest says about the capture, and [`resolve`] that puts them together.
+//!
+//! Words: a *tile* is a file of an archive (the manifest lists tiles); an
+//! *image* is what is counted — a tile that was decoded or trimmed.
+
+pub(crate) mod archive_reader;
+pub(crate) mod capture_facts;
+pub(crate) mod labels;
+pub(crate) mod manifest;
+pub(crate) mod options;
+pub(crate) mod palette;
+pub(crate) mod png_rows;
+pub(crate) mod resolve;
+pub(crate) mod shard;
+
+pub use archive_reader::{Archive, ImageSource};
+pub use capture_facts::CaptureGeometry;
+pub use labels::{Legend, Part, Pidt, UNLABELLED};
+pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
+pub use options::{
+    AnalyzeOptions, Dedupe, HeatmapOptions, MEASURE_PIXELS, PaletteChoice, Progress, Scale, Timings, TrimMode,
+};
+pub use palette::{Fcsp, PaletteDescription, parse_size as parse_palette_size, write_canonical_png};
+pub use png_rows::{PixelLayout, RowReader, read_color_image, read_file};
+pub use shard::Shard;

@@ -1,0 +1,228 @@
+//! Resolving the inputs: the options against the archive's manifest, and
+//! every input loaded once (palette, backgrounds, labels, the archive's
+//! images, the vehicle model) into [`Inputs`], before anything is counted.
+
+use std::path::PathBuf;
+
+use crate::color::Color;
+use crate::error::{Error, Result};
+use crate::input::archive_reader::Archive;
+use crate::input::capture_facts::{CaptureGeometry, EyeFrame, FrameClock, eye_frames};
+use crate::input::labels::{Legend, Pidt};
+use crate::input::manifest::{Manifest, PaletteSpec};
+use crate::input::options::{AnalyzeOptions, Dedupe, PaletteChoice};
+use crate::input::palette::{DEFAULT_PALETTE_SIDE, Fcsp};
+
+/// The legend and the PIdT, each with the file it was read from.
+pub(crate) struct LabelFiles {
+    pub legend_path: PathBuf,
+    pub legend: Legend,
+    pub pidt_path: PathBuf,
+    pub pidt: Pidt,
+}
+
+/// Options resolved against the manifest: the fully built inputs.
+pub(crate) struct Inputs {
+    pub palette: Fcsp,
+    pub backgrounds: Vec<Color>,
+    /// The legend and PIdT, when the analysis has them.
+    pub parts: Option<LabelFiles>,
+    pub archive: Archive,
+    pub dedupe: Dedupe,
+    /// The palette image, when the palette is not the canonical one.
+    pub palette_file: Option<PathBuf>,
+    /// `--mesh`, or the manifest's `vehicle` when it is there.
+    pub vehicle_model: Option<PathBuf>,
+    /// What resolving found wrong but not fatal (a missing vehicle model).
+    pub warnings: Vec<String>,
+    /// Resolution and texel size from the capture's manifest.
+    pub geometry: CaptureGeometry,
+    /// False for a capture counted while rendering (`--count`): its manifest
+    /// names tiles that were never written.
+    pub tiles_written: bool,
+    /// The manifest's eye-frames, by eye-frame group (empty without one).
+    pub eye_frames: Vec<EyeFrame>,
+    /// Seconds per captured frame, eyes and pixels per degree.
+    pub clock: FrameClock,
+}
+
+/// Resolves options against the manifest and loads every input once.
+pub(crate) fn resolve_inputs(options: &AnalyzeOptions) -> Result<Inputs> {
+    resolve_inputs_allowing_no_images(options, false)
+}
+
+pub(crate) fn resolve_inputs_allowing_no_images(
+    options: &AnalyzeOptions,
+    allow_no_images: bool,
+) -> Result<Inputs> {
+    let root = &options.archive;
+    if !root.is_dir() {
+        return Err(Error::bad_file(root, "not a folder (expected an archive folder of PNG tiles)"));
+    }
+    let manifest = if options.ignore_manifest { None } else { Manifest::load_from_dir(root)? };
+    let from_manifest = |path: &Option<PathBuf>| path.as_ref().map(|p| root.join(p));
+
+    let palette_choice = match (&options.palette, manifest.as_ref().and_then(|m| m.palette.as_ref())) {
+        (Some(choice), _) => choice.clone(),
+        (None, Some(PaletteSpec::Canonical { canonical: [width, height] })) => {
+            PaletteChoice::Canonical { width: *width, height: *height }
+        }
+        (None, Some(PaletteSpec::File(file))) => PaletteChoice::Image(root.join(file)),
+        (None, None) => {
+            PaletteChoice::Canonical { width: DEFAULT_PALETTE_SIDE, height: DEFAULT_PALETTE_SIDE }
+        }
+    };
+    let palette = match &palette_choice {
+        PaletteChoice::Canonical { width, height } => Fcsp::canonical(*width, *height)?,
+        PaletteChoice::Image(path) => Fcsp::from_png(path)?,
+    };
+
+    let backgrounds = options
+        .background
+        .clone()
+        .or_else(|| manifest.as_ref().and_then(|m| m.background.clone()))
+        .unwrap_or_else(|| vec![Color::DEFAULT_BACKGROUND]);
+
+    let pidt_path = options.pidt.clone().or_else(|| manifest.as_ref().and_then(|m| from_manifest(&m.pidt)));
+    let legend_path =
+        options.legend.clone().or_else(|| manifest.as_ref().and_then(|m| from_manifest(&m.parts)));
+    let parts = match (pidt_path, legend_path) {
+        (Some(pidt_path), Some(legend_path)) => {
+            let legend = Legend::load(&legend_path)?;
+            let pidt = Pidt::load(&pidt_path, &legend, palette.width(), palette.height())?;
+            Some(LabelFiles { legend_path, legend, pidt_path, pidt })
+        }
+        (Some(pidt_path), None) => {
+            return Err(Error::BadOptions(format!(
+                "the PIdT {} needs its legend: add --parts parts.csv",
+                pidt_path.display()
+            )));
+        }
+        (None, Some(legend_path)) => {
+            return Err(Error::BadOptions(format!(
+                "the legend {} needs its PIdT: add --pidt pidt.png",
+                legend_path.display()
+            )));
+        }
+        (None, None) => None,
+    };
+
+    let archive = match &manifest {
+        Some(manifest) => Archive::from_manifest(root, manifest),
+        None => {
+            let mut exclude = options.exclude.clone();
+            exclude.extend(options.pidt.iter().cloned());
+            if let PaletteChoice::Image(path) = &palette_choice {
+                exclude.push(path.clone());
+            }
+            Archive::scan_folder(root, &exclude, [palette.width(), palette.height()])?
+        }
+    };
+    if archive.found() == 0 && !allow_no_images {
+        return Err(Error::NoImages { path: root.to_path_buf() });
+    }
+    if options.dedupe.per_frame() && archive.frame_groups == 0 {
+        return Err(Error::BadOptions(format!(
+            "--dedupe {} needs {}/manifest.json to know which tiles form one eye-frame",
+            options.dedupe.name(),
+            root.display()
+        )));
+    }
+    if options.dedupe == Dedupe::EyePair && options.shard.is_some() {
+        // Shards hold whole eye-frames, and the two eyes of a frame may fall
+        // in different shards, where a texel would count once in each.
+        return Err(Error::BadOptions(
+            "--dedupe eye-pair cannot be sharded yet (a frame's two eyes may fall in different shards)"
+                .into(),
+        ));
+    }
+    let tiles_written = manifest
+        .as_ref()
+        .and_then(|m| m.extra.get("capture"))
+        .and_then(|capture| capture.get("tiles_written"))
+        .and_then(serde_json::Value::as_bool)
+        .unwrap_or(true);
+    let geometry = manifest.as_ref().map(CaptureGeometry::from_manifest).unwrap_or_default();
+    let eye_frames = manifest.as_ref().map(eye_frames).unwrap_or_default();
+    let clock = manifest.as_ref().map(FrameClock::from_manifest).unwrap_or_default();
+    let palette_file = match palette_choice {
+        PaletteChoice::Image(path) => Some(path),
+        PaletteChoice::Canonical { .. } => None,
+    };
+    let mut warnings = capture_warnings(manifest.as_ref());
+    if !archive.skipped.is_empty() {
+        warnings.push(format!(
+            "{} PNGs in {} {SKIPPED_FILES_WARNING}: palette- or PIdT-sized textures, or the palette/PIdT a \
+             manifest below names ({}{}); without a manifest every other PNG is counted",
+            archive.skipped.len(),
+            root.display(),
+            archive.skipped.iter().take(5).cloned().collect::<Vec<_>>().join(", "),
+            if archive.skipped.len() > 5 { ", …" } else { "" }
+        ));
+    }
+    let vehicle_model = match &options.mesh {
+        // Asked for: missing is an error now, not after counting.
+        Some(mesh) => {
+            crate::files::open_regular(mesh)?;
+            Some(mesh.clone())
+        }
+        // Named by the manifest: only the pictures need it, so counting goes on without.
+        None => manifest
+            .as_ref()
+            .and_then(|m| m.extra.get("vehicle")?.as_str())
+            .map(|file| root.join(file))
+            .and_then(|path| match crate::files::open_regular(&path) {
+                Ok(_) => Some(path),
+                Err(Error::Io { cause, .. }) if cause.kind() == std::io::ErrorKind::NotFound => {
+                    warnings.push(format!(
+                        "{}: {MISSING_VEHICLE_WARNING} (give the mesh with --mesh)",
+                        path.display()
+                    ));
+                    None
+                }
+                // Say what it is (a FIFO, a folder, ...), not that it is missing.
+                Err(error) => {
+                    warnings
+                        .push(format!("{error}: {UNREADABLE_VEHICLE_WARNING} (give the mesh with --mesh)"));
+                    None
+                }
+            }),
+    };
+    Ok(Inputs {
+        palette,
+        backgrounds,
+        parts,
+        archive,
+        dedupe: options.dedupe,
+        tiles_written,
+        geometry,
+        palette_file,
+        vehicle_model,
+        warnings,
+        eye_frames,
+        clock,
+    })
+}
+
+/// Warnings about the inputs (found while resolving them, the same for every
+/// shard of an archive): merge carries them over from the first shard.
+pub(crate) const SKIPPED_FILES_WARNING: &str = "were left out as not frames";
+
+pub(crate) const MISSING_VEHICLE_WARNING: &str =
+    "the vehicle the manifest names is missing, so there is no heatmap.glb and no views";
+
+pub(crate) const UNREADABLE_VEHICLE_WARNING: &str =
+    "the vehicle the manifest names cannot be read, so there is no heatmap.glb and no views";
+
+/// What the capture warned about (the manifest's `warnings`), carried into the result.
+pub(crate) const CAPTURE_WARNING: &str = "the capture warned: ";
+
+fn capture_warnings(manifest: Option<&Manifest>) -> Vec<String> {
+    let listed = manifest.and_then(|m| m.extra.get("warnings")).and_then(serde_json::Value::as_array);
+    listed
+        .into_iter()
+        .flatten()
+        .filter_map(serde_json::Value::as_str)
+        .map(|warning| format!("{CAPTURE_WARNING}{warning}"))
+        .collect()
+}

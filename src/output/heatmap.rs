@@ -1,0 +1,82 @@
+//! The heatmap texture: per-texel counts painted with the plasma colormap.
+//!
+//! The image has the palette's size and layout, so it can replace the FCSP on
+//! the unwrapped mesh. Texel `p` gets `plasma(count(p) / max)` (or the log
+//! scale); unseen texels get `plasma(0)`. Counts are integers, so the colour of
+//! every possible count is computed once into a table and texels only look it
+//! up — exact, and fast enough to paint 2^24 texels in a blink.
+
+use std::path::Path;
+
+use rayon::prelude::*;
+
+use crate::error::Result;
+use crate::files::write_rgb_png;
+use crate::input::options::{HeatmapOptions, Scale};
+
+/// The colormap position in `[0, 1]` of `count` given `max`.
+pub fn position(count: u32, max: u32, scale: Scale) -> f64 {
+    if max == 0 {
+        return 0.0;
+    }
+    let count = count.min(max);
+    match scale {
+        Scale::Linear => f64::from(count) / f64::from(max),
+        Scale::Log => (f64::from(count)).ln_1p() / (f64::from(max)).ln_1p(),
+    }
+}
+
+/// The plasma colour at position `t` in `[0, 1]`.
+pub fn plasma(t: f64) -> [u8; 3] {
+    let color = colorous::PLASMA.eval_continuous(t.clamp(0.0, 1.0));
+    [color.r, color.g, color.b]
+}
+
+/// Paints the heatmap: `texel_counts` is row-major, `width` texels per row.
+/// Returns RGB bytes.
+pub fn render(texel_counts: &[u32], width: u32, options: HeatmapOptions) -> Vec<u8> {
+    let largest = texel_counts.par_iter().copied().max().unwrap_or(0);
+    let max = options.max.unwrap_or(largest);
+    // One entry per count that occurs (clamped): exact colours, no per-texel
+    // math. Up to the largest count present, not to `max`: `--max 4000000000`
+    // must not build a 12 GB table.
+    let top = max.min(largest);
+    let table: Vec<[u8; 3]> = (0..=top).map(|count| plasma(position(count, max, options.scale))).collect();
+    let mut rgb = vec![0u8; texel_counts.len() * 3];
+    let row = width.max(1) as usize;
+    rgb.par_chunks_mut(row * 3).zip(texel_counts.par_chunks(row)).for_each(|(out, counts)| {
+        for (pixel, &count) in out.chunks_exact_mut(3).zip(counts) {
+            pixel.copy_from_slice(&table[count.min(top) as usize]);
+        }
+    });
+    rgb
+}
+
+/// Paints and writes the heatmap PNG atomically.
+pub fn write_heatmap(
+    path: &Path,
+    texel_counts: &[u32],
+    width: u32,
+    height: u32,
+    options: HeatmapOptions,
+) -> Result<()> {
+    let rgb = render(texel_counts, width, options);
+    write_rgb_png(path, width, height, &rgb, png::Compression::Fast)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn endpoints_are_plasma_ends_and_scale_clamps() {
+        let rgb = render(&[0, 2, 4, 9], 4, HeatmapOptions { scale: Scale::Linear, max: Some(4) });
+        assert_eq!(&rgb[0..3], &plasma(0.0));
+        assert_eq!(&rgb[3..6], &plasma(0.5));
+        assert_eq!(&rgb[6..9], &plasma(1.0));
+        assert_eq!(&rgb[9..12], &plasma(1.0), "counts above --max clamp");
+        // Plasma runs from dark blue-violet to yellow.
+        assert!(plasma(0.0)[2] > plasma(0.0)[0] && plasma(1.0)[0] > 200 && plasma(1.0)[1] > 200);
+        assert!((position(3, 15, Scale::Log) - 0.5).abs() < 1e-12);
+    }
+}

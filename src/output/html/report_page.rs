@@ -1,0 +1,264 @@
+//! `report.html`: one self-contained page per result, for people.
+//!
+//! What a researcher checks first — warnings (stray pixels, unlabelled
+//! texels, resolution dependence, failed files) — then the summary, the
+//! parts table with the paper's top-5 union marked, the heatmap texture and
+//! links to the vehicle with the heatmap on it (`heatmap.glb`) and the
+//! machine-readable files, and the settings. No script, no network: the page
+//! links only files beside it, so the results folder can be zipped and sent.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use crate::error::Result;
+use crate::result::part_stats::top_five_union;
+use crate::{output::result_set::WrittenFiles, result::model::AnalysisResult};
+
+/// Writes the report page for `result` into `path` (beside the other files).
+pub fn write_report(path: &Path, result: &AnalysisResult, files: &WrittenFiles) -> Result<()> {
+    crate::files::write_bytes_atomically(path, render(result, files).as_bytes())
+}
+
+/// Escapes text for HTML.
+pub(crate) fn escape(text: &str) -> String {
+    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+}
+
+fn file_name(path: &Path) -> String {
+    escape(&path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default())
+}
+
+/// The resolution-independent measures of the parts with the largest
+/// angular area (see [`crate::result::measures`]).
+fn render_measures(page: &mut String, result: &AnalysisResult, measures: &crate::result::measures::Measures) {
+    let optional = |value: Option<f64>| value.map_or("–".to_string(), |v| format!("{v:.3}"));
+    let _ = writeln!(
+        page,
+        "<h2>Resolution-independent measures</h2>\n<p>Per eye, averaged over {} eyes: visible angular area summed \
+         over time (deg²·s) and seconds seen; {} eye-frames, {} s per captured frame, {} pixels per degree. \
+         Definition: <code>{}</code>.</p>",
+        measures.eyes,
+        measures.eye_frames,
+        optional(measures.seconds_per_frame),
+        optional(measures.pixels_per_degree),
+        escape(&measures.definition)
+    );
+    for note in &measures.notes {
+        let _ = writeln!(page, "<div class=\"warn\">{}</div>", escape(note));
+    }
+    let mut order: Vec<&crate::result::measures::PartMeasure> = measures
+        .parts
+        .iter()
+        .filter(|p| p.pixels > 0 || result.parts.iter().any(|q| q.name == p.name))
+        .collect();
+    order.sort_by(|a, b| b.pixels.cmp(&a.pixels).then(a.name.cmp(&b.name)));
+    let _ = writeln!(
+        page,
+        "<table><tr><th>part</th><th>pixels (all eye-frames)</th><th>eye-frames seen</th><th>deg²·s</th>\
+         <th>exposure s</th></tr>"
+    );
+    for part in order {
+        let _ = writeln!(
+            page,
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            escape(&part.name),
+            part.pixels,
+            part.eye_frames_seen,
+            optional(part.angular_area_deg2_s),
+            optional(part.exposure_s)
+        );
+    }
+    let _ = writeln!(page, "</table>");
+}
+
+fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
+    let settings = &result.settings;
+    let mut page = String::new();
+    let title = format!("UFCSR result: {}", escape(&settings.archive));
+    let _ = write!(
+        page,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title>\n<style>\
+         body{{font-family:sans-serif;margin:2em;max-width:1100px;color:#222}}\
+         table{{border-collapse:collapse;margin:0.5em 0}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}\
+         td:first-child,th:first-child{{text-align:left}}tr.top{{background:#fff4d6}}\
+         .swatch{{display:inline-block;width:0.9em;height:0.9em;border:1px solid #555;vertical-align:middle;margin-right:0.4em}}\
+         .warn{{background:#fde8e8;border-left:4px solid #c00;padding:0.4em 0.8em;margin:0.3em 0}}\
+         img{{max-width:100%;image-rendering:pixelated;border:1px solid #ccc}}img.plot{{image-rendering:auto}}</style></head><body>\n<h1>{title}</h1>\n"
+    );
+
+    // Warnings first: what needs looking at before trusting the numbers.
+    let _ = writeln!(page, "<h2>Warnings</h2>");
+    let mut warnings: Vec<String> = result.warnings.iter().map(|w| escape(w)).collect();
+    if result.images.failed > 0 {
+        warnings.push(format!(
+            "{} images could not be read and were not counted (see <code>failures</code> in result.json)",
+            result.images.failed
+        ));
+    }
+    if result.stray_pixels > 0 {
+        warnings.push(format!(
+            "{} stray pixels (neither background nor palette) in {} images",
+            result.stray_pixels,
+            result.images_with_stray_pixels.len()
+        ));
+    }
+    if let Some(unlabelled) = &result.unlabelled
+        && unlabelled.total > 0
+    {
+        warnings.push(format!(
+            "{} counts fell on {} texels the PIdT does not label (not in the grand total)",
+            unlabelled.total, unlabelled.texels_seen
+        ));
+    }
+    if warnings.is_empty() {
+        let _ = writeln!(page, "<p>None.</p>");
+    }
+    for warning in warnings {
+        let _ = writeln!(page, "<div class=\"warn\">{warning}</div>");
+    }
+
+    let images = &result.images;
+    let _ = writeln!(
+        page,
+        "<h2>Summary</h2>\n<table><tr><th>tiles found</th><td>{}</td></tr><tr><th>decoded</th><td>{}</td></tr>\
+         <tr><th>trimmed (all background)</th><td>{}</td></tr><tr><th>failed</th><td>{}</td></tr>\
+         <tr><th>texels seen</th><td>{}</td></tr><tr><th>grand total</th><td>{}</td></tr>\
+         <tr><th>largest count of a texel</th><td>{}</td></tr></table>",
+        images.found,
+        images.decoded,
+        images.trimmed,
+        images.failed,
+        result.texels_seen,
+        result.grand_total,
+        result.max_count
+    );
+    if let Some(resolution) = &result.resolution {
+        let optional =
+            |value: Option<f64>, digits: usize| value.map_or("–".to_string(), |v| format!("{v:.digits$}"));
+        let _ = writeln!(
+            page,
+            "<h3>Does the count depend on resolution?</h3>\n<table><tr><th>pixels per degree</th><td>{}</td></tr>\
+             <tr><th>texel size (mm)</th><td>{}</td></tr><tr><th>pixels per count</th><td>{:.2}</td></tr>\
+             <tr><th>texels smaller than a pixel beyond (m)</th><td>{}</td></tr>\
+             <tr><th>share of frames beyond that</th><td>{}</td></tr></table>",
+            optional(resolution.pixels_per_degree, 2),
+            optional(resolution.texel_size_mm, 2),
+            resolution.pixels_per_count,
+            optional(resolution.sub_pixel_distance_m, 1),
+            resolution.sub_pixel_frame_share.map_or("–".to_string(), |s| format!("{:.0} %", 100.0 * s)),
+        );
+    }
+
+    if !result.parts.is_empty() {
+        let marked = top_five_union(&result.parts);
+        let mut order: Vec<usize> = (0..result.parts.len()).collect();
+        order.sort_by(|&a, &b| result.parts[b].total.cmp(&result.parts[a].total).then(a.cmp(&b)));
+        let _ = writeln!(
+            page,
+            "<h2>Parts</h2>\n<p>Highlighted: the paper's table, the union of the five parts with the highest total, \
+             peak and average.</p>\n<table><tr><th>part</th><th>texels</th><th>total</th><th>peak</th><th>average</th>\
+             <th>share %</th><th>coverage %</th></tr>"
+        );
+        for index in order {
+            let part = &result.parts[index];
+            let swatch = part
+                .color
+                .map(|c| format!("<span class=\"swatch\" style=\"background:{c}\"></span>"))
+                .unwrap_or_default();
+            let _ = writeln!(
+                page,
+                "<tr{}><td>{swatch}{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.2}</td><td>{:.1}</td></tr>",
+                if marked[index] { " class=\"top\"" } else { "" },
+                escape(&part.name),
+                part.texels,
+                part.total,
+                part.peak,
+                part.average,
+                part.share,
+                part.coverage
+            );
+        }
+        let _ = writeln!(page, "</table>");
+    }
+
+    let _ = writeln!(
+        page,
+        "<h2>Heatmap</h2>\n<p>Per-texel counts on the plasma scale ({:?}{}), laid out like the palette.{}</p>\n\
+         <img src=\"{}\" alt=\"heatmap texture\" width=\"512\">",
+        settings.heatmap_scale,
+        settings.heatmap_max.map(|m| format!(", top of scale {m}")).unwrap_or_default(),
+        match &files.heatmap_glb {
+            Some(glb) => format!(
+                " The vehicle with this heatmap on it: <a href=\"{}\">{}</a> (glTF; opens in Blender, three.js or any glTF viewer).",
+                file_name(glb),
+                file_name(glb)
+            ),
+            None => " (No vehicle model: give <code>--mesh</code> for heatmap.glb.)".to_string(),
+        },
+        file_name(&files.heatmap_png)
+    );
+    if let Some(views) = &files.views_png {
+        let _ = writeln!(
+            page,
+            "<h2>The heatmap on the vehicle</h2>\n<p>Front, front-left, left, rear-left (top row); rear, rear-right, \
+             right, front-right (bottom row); seen from 15° above, one scale for all. Colour bar: grey = never seen, \
+             then plasma from 0 to {} ({:?} scale). Each view is also in <code>views/</code>.</p>\n\
+             <img src=\"{}\" alt=\"the heatmap on the vehicle from eight directions\">",
+            settings.heatmap_max.unwrap_or(result.max_count),
+            settings.heatmap_scale,
+            file_name(views)
+        );
+    }
+    if !files.plots.is_empty() {
+        let _ = writeln!(
+            page,
+            "<h2>Plots</h2>\n<p>Pixels showing each of the {} most visible parts per eye (from <code>frames.csv</code>), \
+             and the per-part bar chart. Each plot is also in <code>plots/</code> as SVG.</p>",
+            crate::output::plots::TOP_PARTS
+        );
+        for plot in &files.plots {
+            let _ = writeln!(
+                page,
+                "<p><a href=\"{svg}\"><img src=\"{shown}\" alt=\"{title}\" class=\"plot\"></a></p>",
+                svg = escape(&plot.svg),
+                shown = escape(&plot.shown),
+                title = escape(&plot.title)
+            );
+        }
+    }
+    if let Some(measures) = &result.measures {
+        render_measures(&mut page, result, measures);
+    }
+    let _ = writeln!(page, "<h2>Files</h2>\n<ul>");
+    let listed = [
+        Some(&files.result_json),
+        files.parts_csv.as_ref(),
+        Some(&files.heatmap_png),
+        files.heatmap_glb.as_ref(),
+        Some(&files.timings_json),
+        files.frames_csv.as_ref(),
+    ];
+    for file in listed.into_iter().flatten() {
+        let _ = writeln!(page, "<li><a href=\"{0}\">{0}</a></li>", file_name(file));
+    }
+    let _ = writeln!(page, "</ul>");
+
+    let _ = writeln!(
+        page,
+        "<h2>Settings</h2>\n<table><tr><th>archive</th><td>{}</td></tr><tr><th>palette</th><td>{} {}×{}</td></tr>\
+         <tr><th>background</th><td>{}</td></tr><tr><th>PIdT</th><td>{}</td></tr><tr><th>legend</th><td>{}</td></tr>\
+         <tr><th>one count means</th><td>{:?}</td></tr><tr><th>trimming</th><td>{}</td></tr><tr><th>shard</th><td>{}</td></tr></table>",
+        escape(&settings.archive),
+        escape(&settings.palette.kind),
+        settings.palette.width,
+        settings.palette.height,
+        settings.background.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(", "),
+        escape(settings.pidt.as_deref().unwrap_or("–")),
+        escape(settings.parts.as_deref().unwrap_or("–")),
+        settings.dedupe,
+        escape(&settings.trim.mode),
+        settings.shard.map_or("whole archive".to_string(), |s| s.to_string()),
+    );
+    let _ = writeln!(page, "<p><small>ufcsr {}</small></p>\n</body></html>", env!("CARGO_PKG_VERSION"));
+    page
+}

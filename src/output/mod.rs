@@ -1,0 +1,26 @@
+//! Stage 4, output: a result for people and other programs — the result
+//! set written atomically into its folder ([`write_results`]), `parts.csv`
+//! and `frames.csv` ([`csv`]), the console table, the heatmap texture, the
+//! vehicle model with it (`heatmap.glb`), the eight views, the plots and the
+//! HTML pages ([`html`]).
+
+pub(crate) mod console_table;
+pub(crate) mod csv;
+pub(crate) mod heatmap;
+pub(crate) mod heatmap_views;
+pub(crate) mod html;
+pub(crate) mod plots;
+pub(crate) mod result_set;
+pub(crate) mod vehicle_model;
+
+pub use console_table::format_table;
+pub use csv::{csv_field, write_parts_csv};
+pub use heatmap::{plasma, render as render_heatmap, write_heatmap};
+pub use heatmap_views::{
+    DIRECTIONS, NEVER_SEEN, ViewCamera, ViewTexture, WrittenViews, render_view, view_cameras, views_caption,
+    write_views, write_views_with,
+};
+pub use html::write_comparison;
+pub use plots::font_available as plot_font_available;
+pub use result_set::{WrittenFiles, default_output_dir, write_results};
+pub use vehicle_model::{ModelPart, VehicleModel};

@@ -1,0 +1,369 @@
+//! Plots for people, under `--out/plots/` (PNG and SVG each): the
+//! visibility of the most visible parts against time and against the
+//! vehicle's distance (from `frames.csv`), and the paper's per-part bar
+//! chart — total, average and peak count, the paper's top-5 union marked.
+//!
+//! Labels need a TrueType font, looked up at run time (`UFCSR_FONT`, else
+//! DejaVu Sans where Debian and most distributions put it) so that building
+//! needs no fontconfig; without one the SVGs are drawn without text and no
+//! PNG is written (the report then shows the SVGs).
+
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+use plotters::coord::Shift;
+use plotters::coord::ranged1d::SegmentValue;
+use plotters::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::result::part_stats::PartStats;
+use crate::{count::part_lookup::FrameLabel, result::frames::FrameTable};
+
+/// Folder of the plots inside the output folder.
+pub const PLOTS_DIR: &str = "plots";
+
+/// Parts drawn in the time and distance plots.
+pub const TOP_PARTS: usize = 8;
+
+const FONT_CANDIDATES: [&str; 3] = [
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+];
+
+/// Registers a sans-serif font with plotters once; false when none is found
+/// (`ufcsr-capture`'s study plot uses it too).
+pub fn font_available() -> bool {
+    static FOUND: OnceLock<bool> = OnceLock::new();
+    *FOUND.get_or_init(|| {
+        let mut candidates: Vec<PathBuf> =
+            std::env::var_os("UFCSR_FONT").map(PathBuf::from).into_iter().collect();
+        candidates.extend(FONT_CANDIDATES.iter().map(PathBuf::from));
+        for path in candidates {
+            if let Ok(bytes) = std::fs::read(&path) {
+                // plotters keeps fonts for the life of the process.
+                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+                if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
+                    return true;
+                }
+            }
+        }
+        false
+    })
+}
+
+/// One plot as written: its name and the image to show (PNG when a font
+/// was found, else SVG).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plot {
+    /// What it shows, for the report's alt text.
+    pub title: String,
+    /// The image to show, relative to the output folder (`plots/NAME.png`).
+    pub shown: String,
+    /// The SVG, relative to the output folder.
+    pub svg: String,
+}
+
+type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
+
+/// A plot drawn on any backend (`text`: whether labels can be drawn).
+trait Drawing {
+    fn size(&self) -> (u32, u32);
+    fn draw_svg(&self, root: &DrawingArea<SVGBackend, Shift>, text: bool) -> DrawResult;
+    fn draw_png(&self, root: &DrawingArea<BitMapBackend, Shift>) -> DrawResult;
+}
+
+/// Writes `drawing` as `plots/NAME.svg` and, with a font, `plots/NAME.png`.
+fn write_plot(out_dir: &Path, name: &str, title: &str, drawing: &dyn Drawing) -> Result<Plot> {
+    let dir = out_dir.join(PLOTS_DIR);
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    let text = font_available();
+    let svg = dir.join(format!("{name}.svg"));
+    {
+        let root = SVGBackend::new(&svg, drawing.size()).into_drawing_area();
+        drawing.draw_svg(&root, text).map_err(|e| Error::bad_file(&svg, format!("drawing the plot: {e}")))?;
+    }
+    let mut shown = format!("{PLOTS_DIR}/{name}.svg");
+    if text {
+        let png = dir.join(format!("{name}.png"));
+        let root = BitMapBackend::new(&png, drawing.size()).into_drawing_area();
+        drawing.draw_png(&root).map_err(|e| Error::bad_file(&png, format!("drawing the plot: {e}")))?;
+        shown = format!("{PLOTS_DIR}/{name}.png");
+    }
+    Ok(Plot { title: title.to_string(), shown, svg: format!("{PLOTS_DIR}/{name}.svg") })
+}
+
+/// Writes every plot the data allows into `out_dir/plots/`: the time and
+/// distance plots need `frames` with eye-frames (a manifest), the bar chart
+/// needs parts.
+pub fn write_plots(out_dir: &Path, parts: &[PartStats], frames: Option<&FrameTable>) -> Result<Vec<Plot>> {
+    let mut plots = Vec::new();
+    if let Some(series) = frames.and_then(VisibilitySeries::new) {
+        let by_time = Visibility { series: &series, against_distance: false };
+        plots.push(write_plot(
+            out_dir,
+            "visibility-time",
+            "pixels per eye of the top parts against time",
+            &by_time,
+        )?);
+        if series.has_distance {
+            let by_distance = Visibility { series: &series, against_distance: true };
+            plots.push(write_plot(
+                out_dir,
+                "visibility-distance",
+                "pixels per eye of the top parts against the vehicle's distance",
+                &by_distance,
+            )?);
+        }
+    }
+    if !parts.is_empty() {
+        let bars = PartBars { parts };
+        plots.push(write_plot(
+            out_dir,
+            "parts",
+            "total, average and peak count per part, the paper's top-5 union marked",
+            &bars,
+        )?);
+    }
+    Ok(plots)
+}
+
+/// Pixels per eye of the top parts at each captured frame.
+struct VisibilitySeries {
+    /// (time s, distance m) per frame, in frame order.
+    frames: Vec<(f64, Option<f64>)>,
+    /// (part name, pixels per eye at each frame).
+    parts: Vec<(String, Vec<f64>)>,
+    has_distance: bool,
+}
+
+impl VisibilitySeries {
+    /// The series of a table with eye-frames and times; `None` otherwise.
+    fn new(table: &FrameTable) -> Option<VisibilitySeries> {
+        // Frame number → (time, distance, eyes, pixels per part).
+        let mut by_frame: std::collections::BTreeMap<u32, (f64, Option<f64>, f64, Vec<f64>)> =
+            std::collections::BTreeMap::new();
+        for record in &table.records {
+            let FrameLabel::EyeFrame(eye_frame) = &record.label else { return None };
+            let time = eye_frame.time_s?;
+            let entry = by_frame
+                .entry(eye_frame.frame)
+                .or_insert_with(|| (time, eye_frame.distance_m, 0.0, vec![0.0; table.parts.len()]));
+            entry.2 += 1.0;
+            for (sum, &pixels) in entry.3.iter_mut().zip(&record.pixels) {
+                *sum += pixels as f64;
+            }
+        }
+        if by_frame.is_empty() {
+            return None;
+        }
+        let mut totals: Vec<(usize, f64)> = (0..table.parts.len())
+            .map(|part| (part, by_frame.values().map(|f| f.3[part]).sum::<f64>()))
+            .filter(|(_, total)| *total > 0.0)
+            .collect();
+        totals.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+        totals.truncate(TOP_PARTS);
+        let parts = totals
+            .iter()
+            .map(|&(part, _)| {
+                (table.parts[part].clone(), by_frame.values().map(|f| f.3[part] / f.2.max(1.0)).collect())
+            })
+            .collect();
+        let has_distance = by_frame.values().all(|f| f.1.is_some());
+        Some(VisibilitySeries {
+            frames: by_frame.values().map(|f| (f.0, f.1)).collect(),
+            parts,
+            has_distance,
+        })
+    }
+}
+
+/// Line colours of the top parts.
+fn series_colour(index: usize) -> RGBColor {
+    const COLOURS: [RGBColor; TOP_PARTS] = [
+        RGBColor(31, 119, 180),
+        RGBColor(255, 127, 14),
+        RGBColor(44, 160, 44),
+        RGBColor(214, 39, 40),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+        RGBColor(227, 119, 194),
+        RGBColor(127, 127, 127),
+    ];
+    COLOURS[index % TOP_PARTS]
+}
+
+struct Visibility<'a> {
+    series: &'a VisibilitySeries,
+    against_distance: bool,
+}
+
+impl Visibility<'_> {
+    fn draw<B: DrawingBackend>(&self, root: &DrawingArea<B, Shift>, text: bool) -> DrawResult
+    where
+        B::ErrorType: 'static,
+    {
+        root.fill(&WHITE)?;
+        let xs: Vec<f64> = self
+            .series
+            .frames
+            .iter()
+            .map(|&(time, distance)| if self.against_distance { distance.unwrap_or(0.0) } else { time })
+            .collect();
+        let (x_min, x_max) = xs.iter().fold((f64::MAX, f64::MIN), |(lo, hi), &x| (lo.min(x), hi.max(x)));
+        let x_max = if x_max > x_min { x_max } else { x_min + 1.0 };
+        let y_max =
+            self.series.parts.iter().flat_map(|(_, ys)| ys.iter().copied()).fold(1.0, f64::max) * 1.08;
+        let mut builder = ChartBuilder::on(root);
+        builder.margin(20);
+        if text {
+            let caption = if self.against_distance {
+                "Visibility of the top parts against distance"
+            } else {
+                "Visibility of the top parts over time"
+            };
+            builder.caption(caption, ("sans-serif", 20)).x_label_area_size(45).y_label_area_size(70);
+        }
+        let mut chart = builder.build_cartesian_2d(x_min..x_max, 0.0..y_max)?;
+        let mut mesh = chart.configure_mesh();
+        if text {
+            mesh.x_desc(if self.against_distance { "vehicle distance, m" } else { "time, s" })
+                .y_desc("pixels showing the part (per eye)");
+        } else {
+            mesh.x_labels(0).y_labels(0);
+        }
+        mesh.draw()?;
+        for (index, (name, ys)) in self.series.parts.iter().enumerate() {
+            let colour = series_colour(index);
+            let mut points: Vec<(f64, f64)> = xs.iter().copied().zip(ys.iter().copied()).collect();
+            if self.against_distance {
+                // Distance need not change monotonically: points, joined in distance order.
+                points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            }
+            let line = chart.draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))?;
+            if text {
+                line.label(name.clone()).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
+                });
+            }
+            chart.draw_series(points.into_iter().map(|p| Circle::new(p, 3, colour.filled())))?;
+        }
+        if text {
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::UpperRight)
+                .label_font(("sans-serif", 12))
+                .draw()?;
+        }
+        root.present()?;
+        Ok(())
+    }
+}
+
+impl Drawing for Visibility<'_> {
+    fn size(&self) -> (u32, u32) {
+        (900, 520)
+    }
+    fn draw_svg(&self, root: &DrawingArea<SVGBackend, Shift>, text: bool) -> DrawResult {
+        self.draw(root, text)
+    }
+    fn draw_png(&self, root: &DrawingArea<BitMapBackend, Shift>) -> DrawResult {
+        self.draw(root, true)
+    }
+}
+
+/// One measure of a part, as a bar length.
+type PartValue = fn(&PartStats) -> f64;
+
+/// Horizontal bars per part (sorted by total): total, average, peak.
+struct PartBars<'a> {
+    parts: &'a [PartStats],
+}
+
+impl PartBars<'_> {
+    fn draw<B: DrawingBackend>(&self, root: &DrawingArea<B, Shift>, text: bool) -> DrawResult
+    where
+        B::ErrorType: 'static,
+    {
+        root.fill(&WHITE)?;
+        let parts = self.parts;
+        let marked = crate::result::part_stats::top_five_union(parts);
+        let mut order: Vec<usize> = (0..parts.len()).collect();
+        // Bottom up: the part with the highest total ends up on top.
+        order.sort_by(|&a, &b| parts[a].total.cmp(&parts[b].total).then(b.cmp(&a)));
+        let names: Vec<String> = order
+            .iter()
+            .map(|&i| if marked[i] { format!("* {}", parts[i].name) } else { parts[i].name.clone() })
+            .collect();
+        let root = if text {
+            let (top, rest) = root.split_vertically(40);
+            top.titled(
+                "Per part: total, average and peak count (orange, *: the paper's top-5 union)",
+                ("sans-serif", 18),
+            )?;
+            rest
+        } else {
+            root.clone()
+        };
+        let panels = root.split_evenly((1, 3));
+        let measures: [(&str, PartValue); 3] =
+            [("total", |p| p.total as f64), ("average", |p| p.average), ("peak", |p| f64::from(p.peak))];
+        for (panel_index, (panel, (label, value))) in panels.iter().zip(measures.iter()).enumerate() {
+            let max = order.iter().map(|&i| value(&parts[i])).fold(0.0, f64::max).max(1e-9) * 1.05;
+            let mut builder = ChartBuilder::on(panel);
+            builder.margin(8);
+            if text {
+                builder
+                    .caption(*label, ("sans-serif", 15))
+                    .x_label_area_size(30)
+                    .y_label_area_size(if panel_index == 0 { 170 } else { 8 });
+            }
+            let mut chart = builder.build_cartesian_2d(0.0..max, (0..order.len()).into_segmented())?;
+            let label = |v: &SegmentValue<usize>| match v {
+                SegmentValue::CenterOf(i) | SegmentValue::Exact(i) => {
+                    names.get(*i).cloned().unwrap_or_default()
+                }
+                SegmentValue::Last => String::new(),
+            };
+            let mut mesh = chart.configure_mesh();
+            mesh.disable_y_mesh().x_labels(4);
+            let no_label = |_: &SegmentValue<usize>| String::new();
+            // plotters overflows on zero labels of a segmented axis: empty ones instead.
+            mesh.y_labels(order.len());
+            if text && panel_index == 0 {
+                mesh.y_label_style(("sans-serif", 11)).y_label_formatter(&label);
+            } else {
+                mesh.y_label_formatter(&no_label);
+            }
+            if !text {
+                mesh.x_labels(0);
+            }
+            mesh.draw()?;
+            chart.draw_series(order.iter().enumerate().map(|(row, &part)| {
+                let colour = if marked[part] { RGBColor(245, 140, 20) } else { RGBColor(70, 110, 180) };
+                let mut bar = Rectangle::new(
+                    [(0.0, SegmentValue::Exact(row)), (value(&parts[part]), SegmentValue::Exact(row + 1))],
+                    colour.filled(),
+                );
+                bar.set_margin(2, 2, 0, 0);
+                bar
+            }))?;
+        }
+        root.present()?;
+        Ok(())
+    }
+}
+
+impl Drawing for PartBars<'_> {
+    fn size(&self) -> (u32, u32) {
+        (1100, 120 + 16 * self.parts.len().max(1) as u32)
+    }
+    fn draw_svg(&self, root: &DrawingArea<SVGBackend, Shift>, text: bool) -> DrawResult {
+        self.draw(root, text)
+    }
+    fn draw_png(&self, root: &DrawingArea<BitMapBackend, Shift>) -> DrawResult {
+        self.draw(root, true)
+    }
+}

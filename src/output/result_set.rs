@@ -1,0 +1,164 @@
+//! The result set: every file of one analysis written into its folder at
+//! once (staged, then moved into place), never over one of its inputs.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::error::{Error, Result};
+use crate::files::{IMAGE_LIMIT, Staging, read_limited};
+use crate::input::options::HeatmapOptions;
+use crate::output::csv::{write_frames_csv, write_parts_table};
+use crate::output::heatmap_views::{ViewTexture, views_caption, write_views};
+use crate::output::plots::{PLOTS_DIR, Plot, write_plots};
+use crate::output::vehicle_model::VehicleModel;
+use crate::result::frames::FRAMES_FILE;
+use crate::result::model::Analysis;
+use crate::result::result_json::{write_result_json, write_timings_json};
+
+/// The files [`crate::write_results`] wrote.
+#[derive(Debug, Clone)]
+pub struct WrittenFiles {
+    pub result_json: PathBuf,
+    pub parts_csv: Option<PathBuf>,
+    pub heatmap_png: PathBuf,
+    pub timings_json: PathBuf,
+    /// The vehicle with the heatmap on it, when the analysis had a vehicle model.
+    pub heatmap_glb: Option<PathBuf>,
+    /// The page that shows it all.
+    pub report_html: PathBuf,
+    /// `views.png`, the contact sheet of the eight views (with a vehicle model).
+    pub views_png: Option<PathBuf>,
+    /// `frames.csv`, when frames were tallied.
+    pub frames_csv: Option<PathBuf>,
+    /// The plots written under `plots/`.
+    pub plots: Vec<Plot>,
+}
+
+/// The default output folder for an archive: `<archive>/results` (excluded
+/// from the images when the archive has no manifest).
+pub fn default_output_dir(archive: &Path) -> PathBuf {
+    archive.join("results")
+}
+
+/// Errors when writing `files` would replace one of the analysis's inputs
+/// (e.g. `--out` pointing at the archive, whose legend is `parts.csv`).
+fn refuse_to_overwrite_inputs(inputs: &[PathBuf], files: &WrittenFiles) -> Result<()> {
+    let outputs = [
+        Some(&files.result_json),
+        files.parts_csv.as_ref(),
+        Some(&files.heatmap_png),
+        Some(&files.timings_json),
+        files.heatmap_glb.as_ref(),
+        Some(&files.report_html),
+        files.views_png.as_ref(),
+        files.frames_csv.as_ref(),
+    ];
+    for output in outputs.into_iter().flatten() {
+        let Ok(output_real) = output.canonicalize() else { continue };
+        for input in inputs.iter().filter(|input| input.file_name() == output.file_name()) {
+            if input.canonicalize().is_ok_and(|input_real| input_real == output_real) {
+                return Err(Error::BadOptions(format!(
+                    "writing {} would overwrite the input {}: choose another --out folder",
+                    output.display(),
+                    input.display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Writes `result.json`, `parts.csv` (with a PIdT), `heatmap.png` and
+/// `timings.json` into `out_dir` (created if needed), each atomically. The
+/// heatmap uses the scale recorded in the result's settings.
+///
+/// The set is written into a staging folder inside `out_dir` and moved into
+/// place only when every file was written: a failure (a full disk, a bad
+/// vehicle model) or an interruption leaves the previous result set whole.
+pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenFiles> {
+    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    let mut files = planned_files(analysis, out_dir);
+    refuse_to_overwrite_inputs(&analysis.input_files, &files)?;
+    let staging = Staging::new(out_dir)?;
+    // Plot paths are relative to the output folder: the same after the move.
+    files.plots = write_results_into(analysis, staging.path())?;
+    staging.commit(out_dir, &RESULT_SET)?;
+    Ok(files)
+}
+
+/// Every name a result set can have in its folder: a run that writes fewer
+/// (no vehicle model, `--frames-csv off`) removes the rest of an earlier run.
+const RESULT_SET: [&str; 10] = [
+    "result.json",
+    "parts.csv",
+    "heatmap.png",
+    "timings.json",
+    "heatmap.glb",
+    "report.html",
+    "views.png",
+    "views",
+    FRAMES_FILE,
+    PLOTS_DIR,
+];
+
+/// The files [`write_results`] writes into `out_dir`.
+fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
+    WrittenFiles {
+        result_json: out_dir.join("result.json"),
+        parts_csv: (!analysis.result.parts.is_empty()).then(|| out_dir.join("parts.csv")),
+        heatmap_png: out_dir.join("heatmap.png"),
+        timings_json: out_dir.join("timings.json"),
+        heatmap_glb: analysis.vehicle_model.as_ref().map(|_| out_dir.join("heatmap.glb")),
+        report_html: out_dir.join("report.html"),
+        views_png: analysis.vehicle_model.as_ref().map(|_| out_dir.join("views.png")),
+        frames_csv: analysis.frames.as_ref().map(|_| out_dir.join(FRAMES_FILE)),
+        plots: Vec::new(),
+    }
+}
+
+/// Writes the whole result set into `out_dir` (a staging folder); returns
+/// the plots written there.
+fn write_results_into(analysis: &mut Analysis, out_dir: &Path) -> Result<Vec<Plot>> {
+    let files = planned_files(analysis, out_dir);
+    let palette = &analysis.result.settings.palette;
+    let (width, height) = (palette.width, palette.height);
+    let settings = &analysis.result.settings;
+    let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
+    let stage = Instant::now();
+    crate::output::heatmap::write_heatmap(
+        &files.heatmap_png,
+        &analysis.texel_counts,
+        width,
+        height,
+        heatmap,
+    )?;
+    analysis.timings.heatmap_seconds = stage.elapsed().as_secs_f64();
+    let stage = Instant::now();
+    write_result_json(&files.result_json, &analysis.result, &analysis.texel_counts)?;
+    if let Some(path) = &files.parts_csv {
+        write_parts_table(path, &analysis.result.parts, analysis.result.measures.as_ref())?;
+    }
+    if let (Some(frames), Some(path)) = (&analysis.frames, &files.frames_csv) {
+        write_frames_csv(path, frames)?;
+    }
+    analysis.timings.write_seconds = stage.elapsed().as_secs_f64();
+    analysis.timings.total_seconds += analysis.timings.heatmap_seconds + analysis.timings.write_seconds;
+    write_timings_json(&files.timings_json, &analysis.timings)?;
+    if let (Some(model), Some(glb)) = (&analysis.vehicle_model, &files.heatmap_glb) {
+        let png = read_limited(&files.heatmap_png, IMAGE_LIMIT)?;
+        let model = VehicleModel::read(model)?;
+        model.write_glb(glb, Some(&png))?;
+        let texture = ViewTexture {
+            counts: &analysis.texel_counts,
+            width,
+            height,
+            options: heatmap,
+            caption: views_caption(&analysis.result.measure, &analysis.result.settings.archive),
+        };
+        write_views(&model, &texture, out_dir)?;
+    }
+    let mut files = files;
+    files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref())?;
+    crate::output::html::report_page::write_report(&files.report_html, &analysis.result, &files)?;
+    Ok(files.plots)
+}

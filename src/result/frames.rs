@@ -1,0 +1,118 @@
+//! Per-eye-frame visibility: for every eye-frame (or, without a manifest,
+//! every image) and every part, the pixels showing the part and the distinct
+//! texels of the part seen in it — the table behind `frames.csv`, read back
+//! for merging shards. Counting fills it through
+//! [`crate::count::part_lookup`]; [`crate::output::csv`] writes it; the
+//! resolution-independent measures ([`crate::result::measures`]) are sums
+//! over its rows.
+
+use std::path::Path;
+
+use crate::count::part_lookup::{FrameLabel, FrameRecord};
+use crate::error::{Error, Result};
+use crate::input::capture_facts::EyeFrame;
+
+/// Name of the per-eye-frame table beside `result.json`.
+pub const FRAMES_FILE: &str = "frames.csv";
+
+/// Header of [`FRAMES_FILE`].
+pub const FRAMES_HEADER: &str = "frame,time_s,eye,distance_m,part,pixels,texels";
+
+/// The part name used for texels whose PIdT colour is in no legend entry.
+pub const UNLABELLED_NAME: &str = "(unlabelled)";
+
+/// The part name used for every texel when there is no PIdT.
+pub const ALL_TEXELS_NAME: &str = "(all texels)";
+
+/// Every eye-frame's tallies, in eye-frame order: the content of [`FRAMES_FILE`].
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FrameTable {
+    /// Part names, one column block per part.
+    pub parts: Vec<String>,
+    pub records: Vec<FrameRecord>,
+}
+
+impl FrameTable {
+    /// Reads a [`FRAMES_FILE`] back (for merging shards).
+    pub fn read_csv(path: &Path) -> Result<FrameTable> {
+        let bad = |message: String| Error::bad_file(path, message);
+        let bytes = crate::files::read_limited(path, crate::files::IMAGE_LIMIT)?;
+        let mut reader = csv::ReaderBuilder::new().has_headers(true).from_reader(bytes.as_slice());
+        let header = reader.headers().map_err(|e| bad(e.to_string()))?.iter().collect::<Vec<_>>().join(",");
+        if header != FRAMES_HEADER {
+            return Err(bad(format!(
+                "not a {FRAMES_FILE}: the header is {header:?}, expected {FRAMES_HEADER:?}"
+            )));
+        }
+        let mut table = FrameTable::default();
+        let mut part = 0;
+        for (line, row) in reader.records().enumerate() {
+            let row = row.map_err(|e| bad(e.to_string()))?;
+            let field = |index: usize| row.get(index).unwrap_or_default();
+            let number = |index: usize| -> Result<Option<f64>> {
+                let text = field(index);
+                if text.is_empty() {
+                    return Ok(None);
+                }
+                text.parse().map(Some).map_err(|_| bad(format!("row {}: {text:?} is not a number", line + 2)))
+            };
+            let count = |index: usize| -> Result<u64> {
+                field(index)
+                    .parse()
+                    .map_err(|_| bad(format!("row {}: {:?} is not a count", line + 2, field(index))))
+            };
+            let frame: u64 =
+                field(0).parse().map_err(|_| bad(format!("row {}: no frame number", line + 2)))?;
+            let label = if field(2).is_empty() && field(1).is_empty() && field(3).is_empty() {
+                FrameLabel::Image(frame as usize)
+            } else {
+                let frame =
+                    u32::try_from(frame).map_err(|_| bad(format!("row {}: frame too large", line + 2)))?;
+                FrameLabel::EyeFrame(EyeFrame {
+                    frame,
+                    eye: field(2).to_string(),
+                    time_s: number(1)?,
+                    distance_m: number(3)?,
+                })
+            };
+            let name = field(4);
+            let fresh = table.records.last().is_none_or(|last: &FrameRecord| last.label != label);
+            if fresh {
+                part = 0;
+                table.records.push(FrameRecord { label, pixels: Vec::new(), texels: Vec::new() });
+            }
+            if table.records.len() == 1 {
+                table.parts.push(name.to_string());
+            } else if table.parts.get(part).map(String::as_str) != Some(name) {
+                return Err(bad(format!(
+                    "row {}: part {name:?} out of the order of the first eye-frame",
+                    line + 2
+                )));
+            }
+            let record = table.records.last_mut().expect("pushed above");
+            record.pixels.push(count(5)?);
+            record.texels.push(count(6)?);
+            part += 1;
+        }
+        if table.records.iter().any(|record| record.pixels.len() != table.parts.len()) {
+            return Err(bad("an eye-frame lacks some parts' rows".into()));
+        }
+        Ok(table)
+    }
+
+    /// The tables of shards that together hold every eye-frame once, as one
+    /// table in eye-frame order: what the whole archive's analysis gives.
+    pub fn merged(shards: Vec<FrameTable>) -> Option<FrameTable> {
+        let mut shards = shards.into_iter();
+        let mut merged = shards.next()?;
+        for shard in shards {
+            merged.records.extend(shard.records);
+        }
+        let key = |label: &FrameLabel| match label {
+            FrameLabel::EyeFrame(e) => (u64::from(e.frame), e.eye.clone()),
+            FrameLabel::Image(position) => (*position as u64, String::new()),
+        };
+        merged.records.sort_by_key(|record| key(&record.label));
+        Some(merged)
+    }
+}

@@ -1,0 +1,159 @@
+//! Resolution-independent measures per part, beside the paper's counts
+//! (`result.json` → `measures`, and two columns of `parts.csv`).
+//!
+//! The paper's count (once per image or eye-frame per texel) changes meaning
+//! with resolution and distance (issue 8). Two measures that do not:
+//!
+//! * **visible angular area over time**, deg²·s: per eye, the solid angle the
+//!   part covers, integrated over the capture — the sum over eye-frames of
+//!   `pixels / ppd²` (deg²) × the seconds one captured frame stands for,
+//!   averaged over the eyes (divided by their number);
+//! * **exposure**, s: how long the part is seen — eye-frames in which at
+//!   least one pixel shows it × seconds per frame, averaged over the eyes
+//!   (`eye-frames / eyes × frame step / fps`).
+//!
+//! Both are kept as integer sums (pixels, eye-frames) and derived at the
+//! end, so shard results add up exactly ([`Measures::merged`]).
+
+use serde::{Deserialize, Serialize};
+
+use crate::{input::capture_facts::FrameClock, result::frames::FrameTable};
+
+/// How the measures are defined, recorded in every result.
+pub const DEFINITION: &str = "angular_area_deg2_s = sum over eye-frames of pixels / pixels_per_degree^2 \
+     * seconds_per_frame / eyes; exposure_s = eye_frames_seen * seconds_per_frame / eyes; seconds_per_frame = \
+     smallest step between captured frame numbers / fps; pixels_per_degree holds at the image centre";
+
+/// The measures of one part.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PartMeasure {
+    pub name: String,
+    /// Pixels showing the part, summed over all eye-frames (both eyes).
+    pub pixels: u64,
+    /// Eye-frames with at least one pixel of the part (both eyes).
+    pub eye_frames_seen: u64,
+    /// Visible angular area summed over time, deg²·s (per eye).
+    pub angular_area_deg2_s: Option<f64>,
+    /// Seconds the part is seen (per eye).
+    pub exposure_s: Option<f64>,
+}
+
+/// The measures of every part (see the module documentation).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Measures {
+    pub definition: String,
+    pub pixels_per_degree: Option<f64>,
+    pub seconds_per_frame: Option<f64>,
+    pub eyes: usize,
+    /// Eye-frames (or images) tallied.
+    pub eye_frames: u64,
+    pub parts: Vec<PartMeasure>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
+}
+
+impl Measures {
+    /// Sums the per-eye-frame tallies of `frames` and derives the measures.
+    pub fn from_frames(frames: &FrameTable, clock: &FrameClock) -> Measures {
+        let parts = frames
+            .parts
+            .iter()
+            .enumerate()
+            .map(|(part, name)| PartMeasure {
+                name: name.clone(),
+                pixels: frames.records.iter().map(|r| r.pixels[part]).sum(),
+                eye_frames_seen: frames.records.iter().filter(|r| r.pixels[part] > 0).count() as u64,
+                angular_area_deg2_s: None,
+                exposure_s: None,
+            })
+            .collect();
+        let mut measures = Measures {
+            definition: DEFINITION.to_string(),
+            pixels_per_degree: clock.pixels_per_degree,
+            seconds_per_frame: clock.seconds_per_frame,
+            eyes: clock.eyes,
+            eye_frames: frames.records.len() as u64,
+            parts,
+            notes: Vec::new(),
+        };
+        measures.derive();
+        measures
+    }
+
+    /// Fills the derived fields (and notes) from the integer sums.
+    fn derive(&mut self) {
+        self.notes.clear();
+        let eyes = self.eyes.max(1) as f64;
+        let seconds = self.seconds_per_frame;
+        if seconds.is_none() {
+            self.notes.push(
+                "no fps in the manifest (rig.settings.fps): angular_area_deg2_s and exposure_s are omitted"
+                    .into(),
+            );
+        }
+        if self.pixels_per_degree.is_none() {
+            self.notes.push(
+                "no pixels per degree in the manifest (rig.pixels_per_degree): angular_area_deg2_s is omitted"
+                    .into(),
+            );
+        }
+        for part in &mut self.parts {
+            part.exposure_s = seconds.map(|s| part.eye_frames_seen as f64 * s / eyes);
+            part.angular_area_deg2_s = match (seconds, self.pixels_per_degree) {
+                (Some(s), Some(ppd)) => Some(part.pixels as f64 / (ppd * ppd) * s / eyes),
+                _ => None,
+            };
+        }
+    }
+
+    /// The measures of shards that together hold every eye-frame once: sums
+    /// added, measures derived again (so equal to the whole's).
+    pub fn merged(shards: &[&Measures]) -> Option<Measures> {
+        let (first, rest) = shards.split_first()?;
+        let mut merged = (*first).clone();
+        for shard in rest {
+            merged.eye_frames += shard.eye_frames;
+            for (sum, part) in merged.parts.iter_mut().zip(&shard.parts) {
+                sum.pixels += part.pixels;
+                sum.eye_frames_seen += part.eye_frames_seen;
+            }
+        }
+        merged.derive();
+        Some(merged)
+    }
+
+    /// The measure of the part called `name`.
+    pub fn part(&self, name: &str) -> Option<&PartMeasure> {
+        self.parts.iter().find(|part| part.name == name)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::count::part_lookup::{FrameLabel, FrameRecord};
+
+    #[test]
+    fn measures_follow_their_definition_and_merge_exactly() {
+        let record = |position, pixels: [u64; 2]| FrameRecord {
+            label: FrameLabel::Image(position),
+            pixels: pixels.to_vec(),
+            texels: vec![0, 0],
+        };
+        let table = |records| FrameTable { parts: vec!["a".into(), "b".into()], records };
+        let clock = FrameClock { seconds_per_frame: Some(0.5), eyes: 2, pixels_per_degree: Some(10.0) };
+        let whole = Measures::from_frames(&table(vec![record(0, [100, 0]), record(1, [300, 4])]), &clock);
+        let a = whole.part("a").unwrap();
+        assert_eq!((a.pixels, a.eye_frames_seen), (400, 2));
+        // 400 px / 100 px per deg² × 0.5 s / 2 eyes.
+        assert_eq!(a.angular_area_deg2_s, Some(1.0));
+        assert_eq!(a.exposure_s, Some(0.5));
+        assert_eq!(whole.part("b").unwrap().exposure_s, Some(0.25));
+        let first = Measures::from_frames(&table(vec![record(0, [100, 0])]), &clock);
+        let second = Measures::from_frames(&table(vec![record(1, [300, 4])]), &clock);
+        assert_eq!(Measures::merged(&[&first, &second]), Some(whole));
+        let no_clock = Measures::from_frames(&table(vec![record(0, [1, 1])]), &FrameClock::default());
+        assert_eq!(no_clock.parts[0].angular_area_deg2_s, None);
+        assert_eq!(no_clock.notes.len(), 2);
+    }
+}

@@ -1,0 +1,269 @@
+//! Merging the results of shards: `ufcsr-analyze merge RESULT... --out DIR`.
+//!
+//! Shards of one archive ([`crate::input::shard`]) count disjoint sets of
+//! eye-frames with the same settings, and every shard builds the same
+//! trimming plan over the whole archive. So their per-texel counts add (with
+//! saturation, like counting does), their image and pixel bookkeeping adds,
+//! and everything else is recomputed from the summed counts with the same
+//! PIdT and legend: the merged `result.json` is byte-identical to analysing
+//! the archive whole (tested). Results whose settings disagree (palette,
+//! background, PIdT, legend, dedupe, trimming, heatmap scale) are refused,
+//! naming the file.
+
+use std::path::{Path, PathBuf};
+
+use crate::color::Color;
+use crate::error::{Error, Result};
+use crate::input::labels::{Legend, Pidt};
+use crate::input::options::Timings;
+use crate::input::resolve::LabelFiles;
+use crate::input::shard::Shard;
+use crate::result::model::Analysis;
+use crate::result::resolution::ResolutionReport;
+use crate::result::summarize::{is_input_warning, join_with_legend, saturation_warning, stray_warning};
+use crate::{
+    result::model::{AnalysisResult, DedupeReport, ImageCounts, PixelCounts, RESULT_SCHEMA},
+    result::result_json::{read_result_summary, read_texel_counts},
+};
+
+/// Stray colour examples kept in a result.
+const EXAMPLES: usize = crate::result::model::STRAY_EXAMPLES;
+
+/// Merges shard results into one analysis (write it with [`crate::write_results`]).
+pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
+    let first_path =
+        paths.first().ok_or_else(|| Error::BadOptions("merge needs at least one result.json".into()))?;
+    let mut summaries = Vec::with_capacity(paths.len());
+    let mut counts: Option<(Vec<u32>, u32, u32)> = None;
+    for path in paths {
+        let summary = read_result_summary(path)?;
+        let stored = read_texel_counts(path)?;
+        match &mut counts {
+            None => counts = Some((stored.texel_counts, stored.width, stored.height)),
+            Some((sum, width, height)) => {
+                if (stored.width, stored.height) != (*width, *height) {
+                    return Err(Error::bad_file(path, "its palette size differs from the other results'"));
+                }
+                for (total, count) in sum.iter_mut().zip(stored.texel_counts) {
+                    *total = total.saturating_add(count);
+                }
+            }
+        }
+        summaries.push(summary);
+    }
+    let Some((texel_counts, _, _)) = counts else {
+        return Err(Error::bad_file(first_path, "no per-texel counts were read"));
+    };
+    check_agreement(paths, &summaries)?;
+    let first = &summaries[0];
+    let mut settings = first.settings.clone();
+    settings.shard = None;
+
+    let parts = match (&settings.parts, &settings.pidt) {
+        (Some(legend_path), Some(pidt_path)) => {
+            let (legend_path, pidt_path) = (PathBuf::from(legend_path), PathBuf::from(pidt_path));
+            let legend = Legend::load(&legend_path).map_err(|e| named_in(first_path, e))?;
+            let pidt = Pidt::load(&pidt_path, &legend, settings.palette.width, settings.palette.height)
+                .map_err(|e| named_in(first_path, e))?;
+            Some(LabelFiles { legend_path, legend, pidt_path, pidt })
+        }
+        _ => None,
+    };
+    let all_texels_total: u64 = texel_counts.iter().map(|&c| u64::from(c)).sum();
+    // Warnings about the inputs are the same in every shard; the rest are recomputed.
+    let mut warnings: Vec<String> = first.warnings.iter().filter(|w| is_input_warning(w)).cloned().collect();
+    let (table, unlabelled) = match &parts {
+        Some(labels) => {
+            let (table, unlabelled) = join_with_legend(&texel_counts, labels, &mut warnings);
+            (Some(table), Some(unlabelled))
+        }
+        None => (None, None),
+    };
+    let dedupe = first.dedupe.as_ref().map(|_| {
+        let per_image =
+            summaries.iter().filter_map(|s| s.dedupe.as_ref()).map(|d| d.grand_total_per_image).sum();
+        let per_frame = table.as_ref().map_or(all_texels_total, |t| t.grand_total);
+        DedupeReport::new(per_image, per_frame)
+    });
+    let stray_pixels = summaries.iter().map(|s| s.stray_pixels).sum::<u64>();
+    let stray_images = summaries.iter().map(|s| s.images_with_stray_pixels.len()).sum::<usize>();
+    warnings.extend(stray_warning(stray_pixels, stray_images));
+    warnings.extend(saturation_warning(&texel_counts));
+    let resolution =
+        ResolutionReport::merged(&summaries.iter().filter_map(|s| s.resolution.as_ref()).collect::<Vec<_>>());
+    if let Some(resolution) = &resolution {
+        warnings.extend(resolution.warnings());
+    }
+    let sum = |field: fn(&AnalysisResult) -> u64| summaries.iter().map(field).sum::<u64>();
+    let images = ImageCounts {
+        found: sum(|s| s.images.found),
+        trimmed: sum(|s| s.images.trimmed),
+        decoded: sum(|s| s.images.decoded),
+        failed: sum(|s| s.images.failed),
+        listed_empty: sum(|s| s.images.listed_empty),
+        skipped: sum(|s| s.images.skipped),
+    };
+    let pixels = PixelCounts {
+        decoded: sum(|s| s.pixels.decoded),
+        texel: sum(|s| s.pixels.texel),
+        background: sum(|s| s.pixels.background),
+        stray: sum(|s| s.pixels.stray),
+    };
+    let mut notes = first.notes.clone();
+    let shards_with_strays = summaries.iter().filter(|s| s.stray_colors > 0).count();
+    if shards_with_strays > 1 {
+        notes.push(format!(
+            "stray_colors adds the distinct stray colours of {shards_with_strays} shards: a colour seen in several \
+             counts once per shard, so it is an upper bound"
+        ));
+    }
+    let mut examples: Vec<Color> =
+        summaries.iter().flat_map(|s| s.stray_color_examples.iter().copied()).collect();
+    examples.sort_by_key(|c| c.packed());
+    examples.dedup();
+    examples.truncate(EXAMPLES);
+    let mut failures: Vec<_> = summaries.iter().flat_map(|s| s.failures.iter().cloned()).collect();
+    failures.sort_by(|a, b| a.file.cmp(&b.file));
+    let mut strays: Vec<_> =
+        summaries.iter().flat_map(|s| s.images_with_stray_pixels.iter().cloned()).collect();
+    strays.sort_by(|a, b| a.file.cmp(&b.file));
+    let result = AnalysisResult {
+        schema: RESULT_SCHEMA.to_string(),
+        measure: first.measure.clone(),
+        images,
+        texels_seen: texel_counts.iter().filter(|&&c| c > 0).count() as u64,
+        pixels,
+        stray_pixels: sum(|s| s.stray_pixels),
+        stray_colors: sum(|s| s.stray_colors),
+        stray_color_examples: examples,
+        background_pixels: sum(|s| s.background_pixels),
+        grand_total: table.as_ref().map_or(all_texels_total, |t| t.grand_total),
+        max_count: texel_counts.iter().copied().max().unwrap_or(0),
+        parts: table.map(|t| t.parts).unwrap_or_default(),
+        unlabelled,
+        dedupe,
+        settings,
+        failures,
+        images_with_stray_pixels: strays,
+        warnings,
+        notes,
+        resolution,
+        measures: merged_measures(&summaries),
+    };
+    let frames = merged_frames(paths)?;
+    let mut input_files = paths.to_vec();
+    input_files
+        .extend(parts.iter().flat_map(|labels| [labels.legend_path.clone(), labels.pidt_path.clone()]));
+    Ok(Analysis {
+        result,
+        texel_counts,
+        timings: Timings::default(),
+        input_files,
+        vehicle_model: None,
+        frames,
+    })
+}
+
+/// The shards' measures added up, when every shard has them.
+fn merged_measures(summaries: &[AnalysisResult]) -> Option<crate::result::measures::Measures> {
+    let measures: Option<Vec<_>> = summaries.iter().map(|s| s.measures.as_ref()).collect();
+    crate::result::measures::Measures::merged(&measures?)
+}
+
+/// The shards' `frames.csv` (beside each `result.json`) as one table, when
+/// every shard wrote one.
+fn merged_frames(paths: &[PathBuf]) -> Result<Option<crate::result::frames::FrameTable>> {
+    let files: Vec<PathBuf> =
+        paths.iter().map(|path| path.with_file_name(crate::result::frames::FRAMES_FILE)).collect();
+    if !files.iter().all(|file| file.is_file()) {
+        return Ok(None);
+    }
+    let tables = files
+        .iter()
+        .map(|file| crate::result::frames::FrameTable::read_csv(file))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(crate::result::frames::FrameTable::merged(tables))
+}
+
+/// Prefixes an error with the result that named the file.
+fn named_in(result: &Path, error: Error) -> Error {
+    Error::BadOptions(format!("{} (named in {})", error, result.display()))
+}
+
+/// Every result must come from the same analysis settings, and shards must
+/// be of one split, each once.
+fn check_agreement(paths: &[PathBuf], summaries: &[AnalysisResult]) -> Result<()> {
+    let first = &summaries[0];
+    let mut reference = first.settings.clone();
+    reference.shard = None;
+    for (path, summary) in paths.iter().zip(summaries).skip(1) {
+        let mut settings = summary.settings.clone();
+        settings.shard = None;
+        if summary.schema != first.schema {
+            return Err(Error::bad_file(
+                path,
+                format!("schema {} differs from {}", summary.schema, first.schema),
+            ));
+        }
+        if summary.measure != first.measure {
+            return Err(Error::bad_file(
+                path,
+                format!(
+                    "its measure {:?} differs from {:?}: counts of different measures do not add",
+                    summary.measure, first.measure
+                ),
+            ));
+        }
+        if settings != reference {
+            let field = [
+                ("archive", settings.archive != reference.archive),
+                ("palette", settings.palette != reference.palette),
+                ("background", settings.background != reference.background),
+                ("pidt", settings.pidt != reference.pidt),
+                ("parts (legend)", settings.parts != reference.parts),
+                ("dedupe", settings.dedupe != reference.dedupe),
+                ("trim", settings.trim != reference.trim),
+                (
+                    "heatmap scale",
+                    settings.heatmap_scale != reference.heatmap_scale
+                        || settings.heatmap_max != reference.heatmap_max,
+                ),
+            ]
+            .into_iter()
+            .find(|(_, differs)| *differs)
+            .map_or("settings", |(name, _)| name);
+            return Err(Error::bad_file(
+                path,
+                format!("its {field} differs from {}: only shards of one analysis merge", paths[0].display()),
+            ));
+        }
+    }
+    let shards: Vec<Option<Shard>> = summaries.iter().map(|s| s.settings.shard).collect();
+    if shards.iter().all(Option::is_some) {
+        let count = shards[0].map_or(0, |s| s.count);
+        let mut seen = vec![false; count as usize];
+        for (path, shard) in paths.iter().zip(shards.iter().flatten()) {
+            if shard.count != count {
+                return Err(Error::bad_file(
+                    path,
+                    format!("is shard {shard}, but the first result is of {count} shards"),
+                ));
+            }
+            if std::mem::replace(&mut seen[shard.index as usize], true) {
+                return Err(Error::bad_file(path, format!("shard {shard} is given twice")));
+            }
+        }
+        if let Some(missing) = seen.iter().position(|&s| !s) {
+            return Err(Error::BadOptions(format!("shard {missing}/{count} is missing from the merge")));
+        }
+    } else if shards.iter().any(Option::is_some) || summaries.len() > 1 {
+        let whole = paths.iter().zip(&shards).find(|(_, s)| s.is_none()).map(|(p, _)| p);
+        if let Some(path) = whole {
+            return Err(Error::bad_file(
+                path,
+                "is the result of a whole archive, not a shard: nothing to merge it with",
+            ));
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,53 @@
+//! Entry points for fuzzing: each takes arbitrary bytes as one kind of input
+//! file and must return, with an error if the bytes are bad, never panic,
+//! hang or allocate without bound. The cargo-fuzz targets in `fuzz/` call
+//! them, and `tests/it/fuzz_regressions.rs` feeds them the saved corpus and every
+//! input that once failed, so CI re-checks those without nightly.
+
+use std::path::Path;
+
+use crate::color::Color;
+use crate::input::labels::Legend;
+use crate::input::manifest::Manifest;
+use crate::input::palette::Fcsp;
+
+/// A tile: decoded and counted against the canonical 4096² palette. The
+/// palette and the seen-set are built once per thread (a fuzzer calls this
+/// millions of times); the set is emptied after each input.
+pub fn tile(bytes: &[u8]) {
+    static PALETTE: std::sync::OnceLock<Option<Fcsp>> = std::sync::OnceLock::new();
+    thread_local! {
+        static SEEN: std::cell::RefCell<crate::color::SeenSet> = std::cell::RefCell::new(crate::color::SeenSet::new());
+    }
+    let Some(palette) = PALETTE.get_or_init(|| Fcsp::canonical(4096, 4096).ok()) else { return };
+    let Ok(classifier) = crate::count::scan::Classifier::new(palette, &[Color::DEFAULT_BACKGROUND.packed()])
+    else {
+        return;
+    };
+    // Stray colours only accumulate across inputs: nothing reads them here.
+    static STRAYS: std::sync::OnceLock<crate::color::AtomicColorSet> = std::sync::OnceLock::new();
+    let strays = STRAYS.get_or_init(crate::color::AtomicColorSet::new);
+    SEEN.with(|seen| {
+        let mut seen = seen.borrow_mut();
+        let _ = crate::count::scan::scan_image(Path::new("fuzz.png"), bytes, &classifier, &mut seen, strays);
+        seen.clear();
+    });
+}
+
+/// A `manifest.json`.
+pub fn manifest(bytes: &[u8]) {
+    let _ = Manifest::parse(Path::new("manifest.json"), bytes);
+}
+
+/// A `result.json`, as `heatmap` and `merge` read it.
+pub fn result_json(bytes: &[u8]) {
+    let path = Path::new("result.json");
+    let _ = crate::result::result_json::parse_texel_counts(path, bytes);
+    let _ = serde_json::from_slice::<crate::result::model::AnalysisResult>(bytes);
+}
+
+/// A legend, as CSV and as JSON.
+pub fn legend(bytes: &[u8]) {
+    let _ = Legend::parse(Path::new("parts.csv"), bytes.to_vec());
+    let _ = Legend::parse(Path::new("parts.json"), bytes.to_vec());
+}

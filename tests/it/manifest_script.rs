@@ -1,0 +1,51 @@
+//! `scripts/manifest-from-tiles.py`: a Unity-style folder of tiles gets a
+//! manifest the analyzer accepts, with eye-frame grouping from the names.
+//! Skips with a message when `python3` is not installed.
+
+use crate::common;
+
+use std::process::Command;
+
+use common::*;
+use ufcsr::{AnalyzeOptions, Dedupe, analyze};
+
+#[test]
+fn unity_named_tiles_get_a_working_manifest() {
+    if Command::new("python3").arg("--version").output().is_err() {
+        // A skip must not hide a missing tool where the suite is meant to be complete.
+        assert!(std::env::var_os("CI").is_none(), "CI: python3 is not installed");
+        eprintln!("SKIPPED: python3 is not installed");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let archive = dir.path();
+    rgb_png(&archive.join("Left_0001_0_0.png"), 2, 1, &[1, 2]);
+    rgb_png(&archive.join("Left_0001_0_1.png"), 2, 1, &[1, BG]);
+    rgb_png(&archive.join("Right_0001_0_0.png"), 2, 1, &[1, BG]);
+    rgb_png(&archive.join("pidt.png"), 4, 4, &[0xFF0000; 16]);
+    std::fs::write(archive.join("parts.csv"), "name,color\nBody,#FF0000\n").unwrap();
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/scripts/manifest-from-tiles.py");
+    let run = |pattern: &str| {
+        Command::new("python3")
+            .arg(script)
+            .arg(archive)
+            .args(["--pattern", pattern, "--palette", "4x4", "--pidt", "pidt.png", "--parts", "parts.csv"])
+            .output()
+            .unwrap()
+    };
+    let wrong = run(r"f(?P<frame>\d+)_(?P<eye>\w+)_r(?P<row>\d+)_c(?P<col>\d+)\.png$");
+    assert_eq!(wrong.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&wrong.stderr).contains("do not match"));
+    assert!(!archive.join("manifest.json").exists(), "nothing written on error");
+
+    let ok = run(r"(?P<eye>Left|Right)_(?P<frame>\d+)_(?P<row>\d+)_(?P<col>\d+)\.png$");
+    assert!(ok.status.success(), "{}", String::from_utf8_lossy(&ok.stderr));
+    let per_frame = analyze(
+        &AnalyzeOptions { archive: archive.to_path_buf(), dedupe: Dedupe::Frame, ..Default::default() },
+        None,
+    )
+    .unwrap();
+    assert_eq!(per_frame.result.images.found, 3, "the PIdT is not a tile");
+    assert_eq!(per_frame.texel_counts[1..3], [2, 1], "texel 1: once per eye-frame, two eye-frames");
+    assert_eq!(per_frame.result.parts[0].total, 3);
+}
