@@ -1,0 +1,127 @@
+//! The Python package (`python/`, pyo3 + maturin) built, installed and tested
+//! with its pytest suite, so that the README's one test command covers it.
+//!
+//! The package is not a member of this workspace (an `extension-module`
+//! cdylib does not link as a test binary), so this test builds it the way a
+//! user does: a venv under the target folder, `pip install ./python`, then
+//! pytest, with `ufcsr-analyze` as the reference the suite compares against.
+//! The venv (under the target folder) is kept between runs, and the extension
+//! builds in `python/target` as a plain `pip install ./python` does, so a warm
+//! run — or one after a manual install — rebuilds only what changed.
+//!
+//! Without python3, a working venv/pip or the registries (PyPI, crates.io) it
+//! prints `SKIPPED:` and passes — and fails instead when `CI` is set.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::Instant;
+
+/// Python packages the build and the suite need beside `./python`'s own.
+const TOOLS: [&str; 4] = ["maturin>=1.5,<2", "numpy", "pandas", "pytest"];
+
+/// Writes to the real stderr, past the test harness's capture (which would
+/// hide an `eprintln!` of a passing test).
+fn say(line: &str) {
+    let _ = writeln!(std::io::stderr(), "python_package: {line}");
+}
+
+/// A missing tool or registry: a visible skip, or a failure under CI.
+fn unavailable(what: &str, output: Option<&Output>) {
+    let detail =
+        output.map(|output| String::from_utf8_lossy(&output.stderr).into_owned()).unwrap_or_default();
+    assert!(std::env::var_os("CI").is_none(), "CI: {what}\n{detail}");
+    say(&format!("SKIPPED: {what} (set CI to make this a failure)"));
+}
+
+/// Runs `command`, `None` when it could not start at all.
+fn run(command: &mut Command) -> Option<Output> {
+    command.output().ok()
+}
+
+fn succeeded(output: &Option<Output>) -> bool {
+    output.as_ref().is_some_and(|output| output.status.success())
+}
+
+/// Both streams of `output`, for a failure message.
+fn both_streams(output: &Output) -> String {
+    format!("{}\n{}", String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr))
+}
+
+/// The venv's interpreter, creating the venv (and its tools) on first use;
+/// `None` after reporting what is unavailable.
+fn prepared_venv(venv: &Path) -> Option<PathBuf> {
+    let python = venv.join("bin").join("python");
+    if !python.exists() {
+        let python3 = std::env::var("UFCSR_PYTHON").unwrap_or_else(|_| "python3".to_string());
+        if !succeeded(&run(Command::new(&python3).arg("--version"))) {
+            unavailable(&format!("{python3} is not installed"), None);
+            return None;
+        }
+        let created = run(Command::new(&python3).args(["-m", "venv"]).arg(venv));
+        if !succeeded(&created) {
+            let _ = std::fs::remove_dir_all(venv);
+            unavailable("python3 -m venv failed (install python3-venv)", created.as_ref());
+            return None;
+        }
+    }
+    let imports = "import maturin, numpy, pandas, pytest";
+    if !succeeded(&run(Command::new(&python).args(["-c", imports]))) {
+        let installed = run(Command::new(&python)
+            .args(["-m", "pip", "install", "--quiet", "--retries", "1", "--timeout", "60"])
+            .args(TOOLS));
+        if !succeeded(&installed) {
+            unavailable(
+                "pip could not install maturin, numpy, pandas, pytest (no pip or no PyPI)",
+                installed.as_ref(),
+            );
+            return None;
+        }
+    }
+    Some(python)
+}
+
+#[test]
+fn python_package_builds_installs_and_passes_its_pytest_suite() {
+    let repository = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("python-package");
+    let Some(python) = prepared_venv(&work.join("venv")) else { return };
+
+    // The extension's crates: a fetch that fails is the registry, not the package.
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+    let fetched = run(Command::new(&cargo)
+        .args(["fetch", "--locked", "--manifest-path"])
+        .arg(repository.join("python/Cargo.toml")));
+    if !succeeded(&fetched) {
+        unavailable("cargo could not fetch the Python package's crates (no crates.io?)", fetched.as_ref());
+        return;
+    }
+
+    let started = Instant::now();
+    let installed = Command::new(&python)
+        .args(["-m", "pip", "install", "--quiet", "--no-build-isolation", "--no-deps", "--force-reinstall"])
+        .arg(repository.join("python"))
+        // maturin's own default (python/target), not an outer cargo's folder.
+        .env_remove("CARGO_TARGET_DIR")
+        .current_dir(repository)
+        .output()
+        .expect("run pip");
+    assert!(installed.status.success(), "pip install ./python failed:\n{}", both_streams(&installed));
+    let built = started.elapsed().as_secs_f64();
+
+    let started = Instant::now();
+    let tested = Command::new(&python)
+        .args(["-m", "pytest", "-q", "-p", "no:cacheprovider", "python/tests"])
+        .env("UFCSR_ANALYZE_BIN", env!("CARGO_BIN_EXE_ufcsr-analyze"))
+        .current_dir(repository)
+        .output()
+        .expect("run pytest");
+    let report = both_streams(&tested);
+    assert!(tested.status.success(), "pytest python/tests failed:\n{report}");
+    let summary = report.lines().rev().find(|line| line.contains("passed")).unwrap_or("no summary line");
+    say(&format!(
+        "pip install ./python {built:.1} s (wall clock, incl. the extension's build), pytest {:.1} s: {}",
+        started.elapsed().as_secs_f64(),
+        summary.trim()
+    ));
+}
