@@ -18,6 +18,7 @@ mod known_answers;
 mod manifest_script;
 mod missing_vehicle;
 mod order_and_saturation;
+mod python_package;
 mod reference_pidt;
 mod reliability;
 mod report_browser;
