@@ -81,6 +81,13 @@ fn prepared_venv(venv: &Path) -> Option<PathBuf> {
     Some(python)
 }
 
+/// `PATH` with the venv's `bin` first, as an activated venv has it.
+fn venv_path(python: &Path) -> std::ffi::OsString {
+    let bin = python.parent().expect("the venv's bin folder").to_path_buf();
+    let rest = std::env::var_os("PATH").unwrap_or_default();
+    std::env::join_paths(std::iter::once(bin).chain(std::env::split_paths(&rest))).expect("a valid PATH")
+}
+
 #[test]
 fn python_package_builds_installs_and_passes_its_pytest_suite() {
     let repository = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -103,6 +110,8 @@ fn python_package_builds_installs_and_passes_its_pytest_suite() {
         .arg(repository.join("python"))
         // maturin's own default (python/target), not an outer cargo's folder.
         .env_remove("CARGO_TARGET_DIR")
+        // The build backend runs the venv's `maturin` binary by name.
+        .env("PATH", venv_path(&python))
         .current_dir(repository)
         .output()
         .expect("run pip");
