@@ -14,7 +14,12 @@ use crate::input::capture_facts::EyeFrame;
 use crate::input::labels::{Legend, Pidt, UNLABELLED};
 use crate::input::palette::Fcsp;
 use crate::input::png_rows::PixelLayout;
-use crate::result::frames::{ALL_TEXELS_NAME, UNLABELLED_NAME};
+
+/// The part name used for texels whose PIdT colour is in no legend entry.
+pub const UNLABELLED_NAME: &str = "(unlabelled)";
+
+/// The part name used for every texel when there is no PIdT.
+pub const ALL_TEXELS_NAME: &str = "(all texels)";
 
 /// Slot value of colours that are no texel (or background).
 const NO_PART: u16 = u16::MAX;

@@ -209,10 +209,9 @@ mod tests {
         assert_eq!(parts[1].color, Color::from_packed(0xFF0000));
         let error = parse_csv_legend(Path::new("p.csv"), "name,color\nHood,red\n").unwrap_err();
         assert!(error.to_string().contains("line 2"), "{error}");
-        // Names with CR, LF and quotes round-trip through the writer.
-        let odd = "Door\r\n\"front\", left";
-        let written = format!("name,color\n{},#010203\n", crate::output::csv::csv_field(odd));
-        assert_eq!(parse_csv_legend(Path::new("p.csv"), &written).unwrap()[0].name, odd);
+        // Names with CR, LF and quotes, quoted (as output::csv writes them).
+        let written = "name,color\n\"Door\r\n\"\"front\"\", left\",#010203\n";
+        assert_eq!(parse_csv_legend(Path::new("p.csv"), written).unwrap()[0].name, "Door\r\n\"front\", left");
     }
 
     #[test]

@@ -51,6 +51,7 @@ pub(crate) fn resolve_inputs(options: &AnalyzeOptions) -> Result<Inputs> {
     resolve_inputs_allowing_no_images(options, false)
 }
 
+#[allow(clippy::too_many_lines)] // issue 16: still to split below 80 lines
 pub(crate) fn resolve_inputs_allowing_no_images(
     options: &AnalyzeOptions,
     allow_no_images: bool,

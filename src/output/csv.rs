@@ -94,3 +94,18 @@ pub fn write_frames_csv(path: &Path, table: &FrameTable) -> Result<()> {
 fn optional(value: Option<f64>) -> String {
     value.map(|v| v.to_string()).unwrap_or_default()
 }
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+
+    #[test]
+    fn names_with_newlines_and_quotes_round_trip_through_the_legend_reader() {
+        let odd = "Door\r\n\"front\", left";
+        let written = format!("name,color\n{},#010203\n", csv_field(odd));
+        let legend = crate::input::labels::Legend::parse(Path::new("p.csv"), written.into_bytes()).unwrap();
+        assert_eq!(legend.parts[0].name, odd);
+    }
+}

@@ -12,6 +12,7 @@ pub(crate) mod html;
 pub(crate) mod plots;
 pub(crate) mod result_set;
 pub(crate) mod vehicle_model;
+pub(crate) mod written_files;
 
 pub use console_table::format_table;
 pub use csv::{csv_field, write_parts_csv};
@@ -22,5 +23,6 @@ pub use heatmap_views::{
 };
 pub use html::write_comparison;
 pub use plots::font_available as plot_font_available;
-pub use result_set::{WrittenFiles, default_output_dir, write_results};
+pub use result_set::{default_output_dir, write_results};
 pub use vehicle_model::{ModelPart, VehicleModel};
+pub use written_files::WrittenFiles;

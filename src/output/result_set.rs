@@ -11,28 +11,10 @@ use crate::output::csv::{write_frames_csv, write_parts_table};
 use crate::output::heatmap_views::{ViewTexture, views_caption, write_views};
 use crate::output::plots::{PLOTS_DIR, Plot, write_plots};
 use crate::output::vehicle_model::VehicleModel;
+use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
 use crate::result::model::Analysis;
 use crate::result::result_json::{write_result_json, write_timings_json};
-
-/// The files [`crate::write_results`] wrote.
-#[derive(Debug, Clone)]
-pub struct WrittenFiles {
-    pub result_json: PathBuf,
-    pub parts_csv: Option<PathBuf>,
-    pub heatmap_png: PathBuf,
-    pub timings_json: PathBuf,
-    /// The vehicle with the heatmap on it, when the analysis had a vehicle model.
-    pub heatmap_glb: Option<PathBuf>,
-    /// The page that shows it all.
-    pub report_html: PathBuf,
-    /// `views.png`, the contact sheet of the eight views (with a vehicle model).
-    pub views_png: Option<PathBuf>,
-    /// `frames.csv`, when frames were tallied.
-    pub frames_csv: Option<PathBuf>,
-    /// The plots written under `plots/`.
-    pub plots: Vec<Plot>,
-}
 
 /// The default output folder for an archive: `<archive>/results` (excluded
 /// from the images when the archive has no manifest).

@@ -18,12 +18,6 @@ pub const FRAMES_FILE: &str = "frames.csv";
 /// Header of [`FRAMES_FILE`].
 pub const FRAMES_HEADER: &str = "frame,time_s,eye,distance_m,part,pixels,texels";
 
-/// The part name used for texels whose PIdT colour is in no legend entry.
-pub const UNLABELLED_NAME: &str = "(unlabelled)";
-
-/// The part name used for every texel when there is no PIdT.
-pub const ALL_TEXELS_NAME: &str = "(all texels)";
-
 /// Every eye-frame's tallies, in eye-frame order: the content of [`FRAMES_FILE`].
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct FrameTable {

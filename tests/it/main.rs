@@ -17,6 +17,7 @@ mod indexed_png;
 mod known_answers;
 mod manifest_script;
 mod missing_vehicle;
+mod module_graph;
 mod order_and_saturation;
 mod python_package;
 mod reference_pidt;

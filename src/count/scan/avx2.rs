@@ -16,6 +16,7 @@ use crate::count::scan::{Classifier, PixelClass};
 /// `SINGLE_BACKGROUND` is false) several; for CPUs where
 /// [`super::Kernel::supported`] is at least [`super::Kernel::Avx2`].
 #[target_feature(enable = "avx2,popcnt,bmi1,bmi2")]
+#[allow(clippy::too_many_lines)] // issue 16: still to split below 80 lines
 pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
     row: &[u8],
     classifier: &Classifier,
