@@ -24,8 +24,8 @@ pub use error::{Error, Result};
 #[cfg(feature = "cli")]
 pub use files::remove_temporaries_on_interrupt;
 pub use files::{
-    GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, SMALL_INPUT_LIMIT, check_coordinates, read_gltf, resolve_inside, read_limited, remove_temporaries, write_atomically, write_bytes_atomically,
-    write_rgb_png,
+    GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, SMALL_INPUT_LIMIT, check_coordinates, read_gltf, read_limited,
+    remove_temporaries, resolve_inside, write_atomically, write_bytes_atomically, write_rgb_png,
 };
 pub use input::{
     AnalyzeOptions, Archive, CaptureGeometry, Dedupe, Fcsp, HeatmapOptions, ImageSource, Legend,

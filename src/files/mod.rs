@@ -15,4 +15,6 @@ pub use atomic_write::{
     Staging, remove_temporaries, write_atomically, write_bytes_atomically, write_rgb_png,
 };
 pub use limited_read::{IMAGE_LIMIT, SMALL_INPUT_LIMIT, open_regular, read_limited};
-pub use model_input::{GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, check_coordinates, read_gltf, resolve_inside};
+pub use model_input::{
+    GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, check_coordinates, read_gltf, resolve_inside,
+};

@@ -19,7 +19,8 @@ use crate::input::manifest::MANIFEST_FILE;
 use crate::input::options::{AnalyzeOptions, MEASURE_PIXELS, Timings};
 use crate::input::palette::Fcsp;
 use crate::input::resolve::{
-    CAPTURE_WARNING, Inputs, LabelFiles, MISSING_VEHICLE_WARNING, SKIPPED_FILES_WARNING, UNREADABLE_VEHICLE_WARNING,
+    CAPTURE_WARNING, Inputs, LabelFiles, MISSING_VEHICLE_WARNING, SKIPPED_FILES_WARNING,
+    UNREADABLE_VEHICLE_WARNING,
 };
 use crate::input::shard::Shard;
 use crate::result::frames::FrameTable;
