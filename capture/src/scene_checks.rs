@@ -235,26 +235,12 @@ pub fn inside_mesh(mesh: &Mesh, point: DVec3) -> bool {
     })
 }
 
-/// Möller–Trumbore: does the ray from `origin` along `direction` cross the triangle?
-fn ray_hits(origin: DVec3, direction: DVec3, [a, b, c]: [DVec3; 3]) -> bool {
-    let (edge1, edge2) = (b - a, c - a);
-    let p = direction.cross(edge2);
-    let determinant = edge1.dot(p);
-    if determinant.abs() < 1e-15 {
-        return false;
-    }
-    let inverse = 1.0 / determinant;
-    let s = origin - a;
-    let u = s.dot(p) * inverse;
-    if !(0.0..=1.0).contains(&u) {
-        return false;
-    }
-    let q = s.cross(edge1);
-    let v = direction.dot(q) * inverse;
-    if v < 0.0 || u + v > 1.0 {
-        return false;
-    }
-    edge2.dot(q) * inverse > 0.0
+/// Does the ray from `origin` along `direction` cross the triangle (ahead of `origin`)?
+/// The exact measure's Möller–Trumbore test, so both agree on what a crossing is.
+fn ray_hits(origin: DVec3, direction: DVec3, corners: [DVec3; 3]) -> bool {
+    let triangle = crate::unobstructed::bvh::StoredTriangle::from_corners(&corners);
+    crate::unobstructed::bvh::ray_triangle_parameter(origin, direction, &triangle)
+        .is_some_and(|along| along > 0.0)
 }
 
 /// Where on a position track a bound was broken.

@@ -33,7 +33,7 @@ pub struct StoredTriangle {
 }
 
 impl StoredTriangle {
-    fn from_corners(t: &[DVec3; 3]) -> StoredTriangle {
+    pub(crate) fn from_corners(t: &[DVec3; 3]) -> StoredTriangle {
         StoredTriangle { corner: t[0], edge1: t[1] - t[0], edge2: t[2] - t[0] }
     }
 }
@@ -281,24 +281,29 @@ fn segment_hits_box(from: DVec3, inverse: DVec3, node: &Node) -> bool {
 /// Möller–Trumbore, segment parameter strictly inside (1e-9, 1 − 1e-9).
 /// `visibility.wgsl` does the same steps.
 fn segment_hits_triangle(from: DVec3, direction: DVec3, t: &StoredTriangle) -> bool {
+    ray_triangle_parameter(from, direction, t).is_some_and(|along| along > 1e-9 && along < 1.0 - 1e-9)
+}
+
+/// Möller–Trumbore: where along `direction` (in its own length) the ray from
+/// `from` crosses the triangle, or `None` when it misses it or runs parallel.
+pub(crate) fn ray_triangle_parameter(from: DVec3, direction: DVec3, t: &StoredTriangle) -> Option<f64> {
     let p = direction.cross(t.edge2);
     let determinant = t.edge1.dot(p);
     if determinant.abs() < 1e-15 {
-        return false;
+        return None;
     }
     let inverse = 1.0 / determinant;
     let s = from - t.corner;
     let u = s.dot(p) * inverse;
     if !(0.0..=1.0).contains(&u) {
-        return false;
+        return None;
     }
     let q = s.cross(t.edge1);
     let v = direction.dot(q) * inverse;
     if v < 0.0 || u + v > 1.0 {
-        return false;
+        return None;
     }
-    let along = t.edge2.dot(q) * inverse;
-    along > 1e-9 && along < 1.0 - 1e-9
+    Some(t.edge2.dot(q) * inverse)
 }
 
 #[cfg(test)]
