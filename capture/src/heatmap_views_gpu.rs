@@ -7,7 +7,7 @@
 //! external palette, white as background and no occluders. Everything else
 //! (files, contact sheet, colour bar, labels) is the analyzer's
 //! [`ufcsr::write_views_with`], so the two renderers differ only in how
-//! they fill pixels, and `tests/views_gpu.rs` holds them to the same
+//! they fill pixels, and `tests/it/views_gpu.rs` holds them to the same
 //! pictures.
 
 use std::path::{Path, PathBuf};

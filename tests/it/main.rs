@@ -3,7 +3,7 @@
 //! was, so `cargo test -p ufcsr --test it known_answers::` runs one of them.
 
 mod common;
-// Shared with capture/tests/slurm_batch.rs, which includes it by this path.
+// Shared with capture/tests/it/slurm_batch.rs, which includes it by this path.
 #[path = "../slurm_support/mod.rs"]
 mod slurm_support;
 

@@ -6,7 +6,7 @@
 //! archive and the merged result must equal one process's). Skipped without
 //! Slurm or root; a failure when `CI` is set.
 
-#[path = "../../tests/slurm_support/mod.rs"]
+#[path = "../../../tests/slurm_support/mod.rs"]
 mod slurm_support;
 
 use std::path::{Path, PathBuf};

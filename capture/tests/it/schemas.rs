@@ -11,7 +11,7 @@ use std::process::Command;
 
 use serde_json::Value;
 
-#[path = "../../docs/schemas/validator.rs"]
+#[path = "../../../docs/schemas/validator.rs"]
 mod validator;
 
 use validator::{Schema, read_json};
