@@ -14,10 +14,11 @@ mod output_guard;
 #[cfg(feature = "cli")]
 pub use atomic_write::remove_temporaries_on_interrupt;
 pub use atomic_write::{
-    Staging, remove_stale_staging, remove_temporaries, write_atomically, write_bytes_atomically, write_rgb_png,
+    Staging, remove_stale_staging, remove_temporaries, write_atomically, write_bytes_atomically,
+    write_rgb_png,
 };
 pub use limited_read::{IMAGE_LIMIT, SMALL_INPUT_LIMIT, open_regular, read_limited};
-pub use output_guard::{crosses_link, real_dir, refuse_overwriting_inputs, resolved, same_path};
 pub use model_input::{
     GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, check_coordinates, read_gltf, resolve_inside,
 };
+pub use output_guard::{crosses_link, real_dir, refuse_overwriting_inputs, resolved, same_path};

@@ -125,7 +125,11 @@ impl Archive {
         let mut seen = std::collections::BTreeSet::new();
         let walker = WalkDir::new(root).follow_links(true).sort_by_file_name().into_iter();
         for entry in walker.filter_entry(|entry| {
-            let kept = entry.path().canonicalize().map(|p| !excluded.iter().any(|x| p.starts_with(x))).unwrap_or(true);
+            let kept = entry
+                .path()
+                .canonicalize()
+                .map(|p| !excluded.iter().any(|x| p.starts_with(x)))
+                .unwrap_or(true);
             if kept && entry.depth() > 0 && is_output_folder(entry.path()) {
                 result_folders.push(slash_path(entry.path().strip_prefix(root).unwrap_or(entry.path())));
                 return false;
@@ -149,7 +153,11 @@ impl Archive {
                         continue;
                     }
                 }
-                images.push(ImageSource { path: entry.path().to_path_buf(), name: relative, frame_group: None });
+                images.push(ImageSource {
+                    path: entry.path().to_path_buf(),
+                    name: relative,
+                    frame_group: None,
+                });
             }
         }
         images.sort_by(|a, b| a.name.cmp(&b.name));
@@ -192,7 +200,9 @@ fn count_pngs(dir: &Path) -> usize {
     WalkDir::new(dir)
         .into_iter()
         .flatten()
-        .filter(|e| !e.file_type().is_dir() && e.path().extension().is_some_and(|x| x.eq_ignore_ascii_case("png")))
+        .filter(|e| {
+            !e.file_type().is_dir() && e.path().extension().is_some_and(|x| x.eq_ignore_ascii_case("png"))
+        })
         .count()
 }
 

@@ -267,9 +267,12 @@ fn decoded_rows(width: u32, height: u32, interlaced: bool) -> Box<dyn Iterator<I
     }
     const PASSES: [(u32, u32, u32, u32); 7] =
         [(0, 0, 8, 8), (4, 0, 8, 8), (0, 4, 4, 8), (2, 0, 4, 4), (0, 2, 2, 4), (1, 0, 2, 2), (0, 1, 1, 2)];
-    Box::new(PASSES.into_iter().filter(move |&(x0, y0, _, _)| x0 < width && y0 < height).flat_map(
-        move |(x0, y0, dx, dy)| (y0..height).step_by(dy as usize).map(move |y| (y, x0, dx)),
-    ))
+    Box::new(
+        PASSES
+            .into_iter()
+            .filter(move |&(x0, y0, _, _)| x0 < width && y0 < height)
+            .flat_map(move |(x0, y0, dx, dy)| (y0..height).step_by(dy as usize).map(move |y| (y, x0, dx))),
+    )
 }
 
 fn png_error(path: &Path, error: png::DecodingError) -> Error {

@@ -95,10 +95,7 @@ impl SlurmArray {
     /// and no MIN/MAX) cannot be mapped to shards and is refused.
     fn shard(&self) -> Result<Shard> {
         let refuse = |why: String| {
-            Error::BadOptions(format!(
-                "SLURM_ARRAY_TASK_ID={}: {why}; give --shard I/N instead",
-                self.id
-            ))
+            Error::BadOptions(format!("SLURM_ARRAY_TASK_ID={}: {why}; give --shard I/N instead", self.id))
         };
         let step = self.step.unwrap_or(1);
         if step == 0 {
@@ -107,7 +104,9 @@ impl SlurmArray {
         let (min, count) = match (self.min, self.max) {
             (Some(min), Some(max)) => {
                 if max < min {
-                    return Err(refuse(format!("SLURM_ARRAY_TASK_MAX {max} is below SLURM_ARRAY_TASK_MIN {min}")));
+                    return Err(refuse(format!(
+                        "SLURM_ARRAY_TASK_MAX {max} is below SLURM_ARRAY_TASK_MIN {min}"
+                    )));
                 }
                 let count = (max - min) / step + 1;
                 if self.count.is_some_and(|given| given != count) {

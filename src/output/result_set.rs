@@ -63,11 +63,18 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
 /// `--frames-csv off`) removes the rest of an earlier run, so the folder
 /// never holds a mixed set.
 pub fn result_set_members() -> Vec<String> {
-    let mut members: Vec<String> =
-        ["result.json", "parts.csv", "heatmap.png", "timings.json", "heatmap.glb", "report.html", "views.png"]
-            .iter()
-            .map(|name| (*name).to_string())
-            .collect();
+    let mut members: Vec<String> = [
+        "result.json",
+        "parts.csv",
+        "heatmap.png",
+        "timings.json",
+        "heatmap.glb",
+        "report.html",
+        "views.png",
+    ]
+    .iter()
+    .map(|name| (*name).to_string())
+    .collect();
     members.push(FRAMES_FILE.to_string());
     for plot in PLOT_NAMES {
         members.extend(["svg", "png"].iter().map(|ext| format!("{PLOTS_DIR}/{plot}.{ext}")));

@@ -188,7 +188,10 @@ fn checked_sum(
     let mut total = 0u64;
     for (path, summary) in paths.iter().zip(summaries) {
         total = total.checked_add(field(summary)).ok_or_else(|| {
-            Error::bad_file(path, format!("{what} overflows when added to the other shards': a damaged result"))
+            Error::bad_file(
+                path,
+                format!("{what} overflows when added to the other shards': a damaged result"),
+            )
         })?;
     }
     Ok(total)
@@ -253,6 +256,10 @@ fn check_agreement(paths: &[PathBuf], summaries: &[AnalysisResult]) -> Result<()
                 ("parts (legend)", settings.parts != reference.parts),
                 ("dedupe", settings.dedupe != reference.dedupe),
                 ("trim", settings.trim != reference.trim),
+                (
+                    "archive identity (its manifest, tiles, palette, PIdT or legend)",
+                    settings.archive_identity != reference.archive_identity,
+                ),
                 (
                     "heatmap scale",
                     settings.heatmap_scale != reference.heatmap_scale

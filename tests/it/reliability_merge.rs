@@ -70,7 +70,9 @@ fn impossible_shard_numbers_and_overflowing_sums_are_errors_not_panics() {
     let shards: Vec<PathBuf> =
         (0..2).map(|i| shard_result(&example(), i, 2, &dir.path().join(format!("s{i}")))).collect();
     for (index, count) in [(5, 2), (0, 0), (2, 2)] {
-        edit_result(&shards[1], |r| r["settings"]["shard"] = serde_json::json!({"index": index, "count": count}));
+        edit_result(&shards[1], |r| {
+            r["settings"]["shard"] = serde_json::json!({"index": index, "count": count})
+        });
         let error = merge_results(&shards).err().expect("a bad shard merged").to_string();
         assert!(error.contains(&shards[1].display().to_string()), "{error}");
     }

@@ -14,7 +14,8 @@ fn example() -> PathBuf {
 
 /// Runs the analyzer on the example archive into `out`; returns its stderr.
 fn analyze_example(out: &Path, extra: &[&str]) -> String {
-    let output = common::analyzer().arg(example()).arg("--out").arg(out).arg("-q").args(extra).output().unwrap();
+    let output =
+        common::analyzer().arg(example()).arg("--out").arg(out).arg("-q").args(extra).output().unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
     assert!(output.status.success(), "{stderr}");
     stderr
@@ -72,7 +73,8 @@ fn heatmap_refuses_to_replace_its_own_result() {
     let result = out.join("result.json");
     let before = std::fs::read(&result).unwrap();
     for target in [result.clone(), out.join(".").join("result.json"), dir.path().join("R/../R/result.json")] {
-        let output = common::analyzer().arg("heatmap").arg(&result).arg("--out").arg(&target).output().unwrap();
+        let output =
+            common::analyzer().arg("heatmap").arg(&result).arg("--out").arg(&target).output().unwrap();
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert_eq!(output.status.code(), Some(2), "{stderr}");
         assert!(stderr.contains("would overwrite the input"), "{stderr}");
@@ -88,15 +90,22 @@ fn report_refuses_to_write_into_a_compared_results_folder() {
     analyze_example(&b, &["--scale", "log"]);
     let before = snapshot(&a);
     for out in [a.clone(), a.join(".")] {
-        let output = common::analyzer().arg("report").arg(&a).arg(&b).arg("--out").arg(&out).output().unwrap();
+        let output =
+            common::analyzer().arg("report").arg(&a).arg(&b).arg("--out").arg(&out).output().unwrap();
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert_eq!(output.status.code(), Some(2), "{stderr}");
         assert!(stderr.contains("folder of the compared result"), "{stderr}");
     }
     assert_eq!(snapshot(&a), before, "report changed a compared result set");
     // Elsewhere is fine.
-    let output =
-        common::analyzer().arg("report").arg(&a).arg(&b).arg("--out").arg(dir.path().join("cmp")).output().unwrap();
+    let output = common::analyzer()
+        .arg("report")
+        .arg(&a)
+        .arg(&b)
+        .arg("--out")
+        .arg(dir.path().join("cmp"))
+        .output()
+        .unwrap();
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
 }
 
