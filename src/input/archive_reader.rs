@@ -70,17 +70,17 @@ impl Archive {
             let group = groups[&(tile.frame, tile.eye.clone())];
             if let Some(file) = &tile.file {
                 // A tile that cannot be resolved (missing) fails when it is read.
-                if let Some(real) = crate::files::resolved(&root.join(file)) {
-                    if let Some(first) = resolved.insert(real, file) {
-                        return Err(Error::bad_file(
-                            &root.join(crate::input::manifest::MANIFEST_FILE),
-                            format!(
-                                "tiles {} and {} are the same file: it would be counted twice",
-                                first.display(),
-                                file.display()
-                            ),
-                        ));
-                    }
+                if let Some(real) = crate::files::resolved(&root.join(file))
+                    && let Some(first) = resolved.insert(real, file)
+                {
+                    return Err(Error::bad_file(
+                        &root.join(crate::input::manifest::MANIFEST_FILE),
+                        format!(
+                            "tiles {} and {} are the same file: it would be counted twice",
+                            first.display(),
+                            file.display()
+                        ),
+                    ));
                 }
             }
             match &tile.file {
@@ -147,11 +147,11 @@ impl Archive {
             if !entry.file_type().is_dir() && is_png {
                 let relative = slash_path(entry.path().strip_prefix(root).unwrap_or(entry.path()));
                 // One file reached twice (through a folder link) is one image.
-                if let Some(real) = crate::files::resolved(entry.path()) {
-                    if !seen.insert(real) {
-                        aliases.push(relative);
-                        continue;
-                    }
+                if let Some(real) = crate::files::resolved(entry.path())
+                    && !seen.insert(real)
+                {
+                    aliases.push(relative);
+                    continue;
                 }
                 images.push(ImageSource {
                     path: entry.path().to_path_buf(),

@@ -223,6 +223,18 @@ fn named_in(result: &Path, error: Error) -> Error {
     Error::BadOptions(format!("{} (named in {})", error, result.display()))
 }
 
+/// Each result's shard, checked (a hand-edited `index >= count` or `count`
+/// 0 is an error naming the file, not a panic).
+fn valid_shards(paths: &[PathBuf], summaries: &[AnalysisResult]) -> Result<Vec<Option<Shard>>> {
+    let shards: Vec<Option<Shard>> = summaries.iter().map(|s| s.settings.shard).collect();
+    for (path, shard) in paths.iter().zip(&shards) {
+        if let Some(shard) = shard {
+            Shard::new(shard.index, shard.count).map_err(|e| Error::bad_file(path, e.to_string()))?;
+        }
+    }
+    Ok(shards)
+}
+
 /// Every result must come from the same analysis settings, and shards must
 /// be of one split, each once.
 fn check_agreement(paths: &[PathBuf], summaries: &[AnalysisResult]) -> Result<()> {
@@ -275,12 +287,7 @@ fn check_agreement(paths: &[PathBuf], summaries: &[AnalysisResult]) -> Result<()
             ));
         }
     }
-    let shards: Vec<Option<Shard>> = summaries.iter().map(|s| s.settings.shard).collect();
-    for (path, shard) in paths.iter().zip(&shards) {
-        if let Some(shard) = shard {
-            Shard::new(shard.index, shard.count).map_err(|e| Error::bad_file(path, e.to_string()))?;
-        }
-    }
+    let shards = valid_shards(paths, summaries)?;
     if shards.iter().all(Option::is_some) {
         let count = shards[0].map_or(0, |s| s.count);
         let mut seen = vec![false; count as usize];

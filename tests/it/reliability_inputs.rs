@@ -211,7 +211,7 @@ fn a_json_legend_refuses_empty_and_blank_part_names() {
 fn an_interlaced_indexed_tile_reports_the_image_row_of_a_bad_index() {
     // 8×8, 8-bit indexed, Adam7; all index 0 but pixel (2, 2), index 5 of 3.
     let (width, height) = (8u32, 8u32);
-    let mut indices = vec![0u8; 64];
+    let mut indices = [0u8; 64];
     indices[2 * 8 + 2] = 5;
     const PASSES: [(u32, u32, u32, u32); 7] =
         [(0, 0, 8, 8), (4, 0, 8, 8), (0, 4, 4, 8), (2, 0, 4, 4), (0, 2, 2, 4), (1, 0, 2, 2), (0, 1, 1, 2)];
