@@ -252,7 +252,7 @@ fn main() {
     // Same tiles for the three contenders: the non-empty ones.
     // The archive's own images (the manifest's tiles; never the PIdT).
     let listed = match ufcsr::Manifest::load_from_dir(&archive).unwrap() {
-        Some(manifest) => ufcsr::Archive::from_manifest(&archive, &manifest),
+        Some(manifest) => ufcsr::Archive::from_manifest(&archive, &manifest).unwrap(),
         None => ufcsr::Archive::scan_folder(&archive, &[], [4096, 4096]).unwrap(),
     };
     let files: Vec<PathBuf> =

@@ -25,13 +25,14 @@ pub use error::{Error, Result};
 pub use files::remove_temporaries_on_interrupt;
 pub use files::{
     GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, SMALL_INPUT_LIMIT, check_coordinates, read_gltf, read_limited,
-    remove_temporaries, resolve_inside, write_atomically, write_bytes_atomically, write_rgb_png,
+    real_dir, refuse_overwriting_inputs, remove_stale_staging, remove_temporaries, resolve_inside, same_path,
+    write_atomically, write_bytes_atomically, write_rgb_png,
 };
 pub use input::{
     AnalyzeOptions, Archive, CaptureGeometry, Dedupe, Fcsp, HeatmapOptions, ImageSource, Legend,
     MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice, PaletteDescription, PaletteSpec,
     Part, Pidt, PixelLayout, Progress, RowReader, Scale, Shard, TileEntry, Timings, TrimMode, UNLABELLED,
-    parse_palette_size, read_color_image, read_file, write_canonical_png,
+    parse_palette_size, read_color_image, read_file, verify_image_data, write_canonical_png,
 };
 pub use output::{
     DIRECTIONS, ModelPart, NEVER_SEEN, VehicleModel, ViewCamera, ViewTexture, WrittenFiles, WrittenViews,

@@ -233,6 +233,7 @@ fn heatmap_options(args: &HeatmapScaleArgs, stored: Option<(Scale, Option<u32>)>
 }
 
 fn run_heatmap(args: HeatmapArgs) -> Result<ExitCode> {
+    ufcsr::refuse_overwriting_inputs(std::slice::from_ref(&args.out), std::slice::from_ref(&args.result))?;
     let stored = read_texel_counts(&args.result)?;
     let options = heatmap_options(&args.heatmap, Some((stored.scale, stored.max)))?;
     ufcsr::write_heatmap(&args.out, &stored.texel_counts, stored.width, stored.height, options)?;

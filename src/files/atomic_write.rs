@@ -29,17 +29,44 @@ fn unregister(path: &Path) {
     }
 }
 
+/// Held while a result set is moved into place ([`Staging::commit`]): an
+/// interrupt waits for it, so `--out` never holds half an old and half a new set.
+static COMMITTING: Mutex<()> = Mutex::new(());
+
 /// Removes every temporary file and staging folder this process has open
 /// (for a SIGINT/SIGTERM handler, which then exits): an interrupted run
-/// leaves the previous outputs and nothing else. Returns how many were removed.
+/// leaves the previous outputs and nothing else. A commit in progress is
+/// finished first (a few renames), never cut in half. Returns how many were
+/// removed.
 pub fn remove_temporaries() -> usize {
-    let registered = std::mem::take(&mut *TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner));
+    remove_registered(&TEMPORARIES)
+}
+
+/// [`remove_temporaries`] of a registry (tests use their own).
+fn remove_registered(registry: &Mutex<Vec<PathBuf>>) -> usize {
+    let _commit = COMMITTING.lock().unwrap_or_else(PoisonError::into_inner);
+    let registered = std::mem::take(&mut *registry.lock().unwrap_or_else(PoisonError::into_inner));
     let mut removed = 0;
     for path in registered {
-        let gone = if path.is_dir() { fs::remove_dir_all(&path) } else { fs::remove_file(&path) };
-        removed += usize::from(gone.is_ok());
+        removed += usize::from(remove_path(&path));
     }
     removed
+}
+
+/// Removes a file or a folder tree; folders are retried, because worker
+/// threads may still be writing into them when an interrupt arrives.
+fn remove_path(path: &Path) -> bool {
+    let is_dir = fs::symlink_metadata(path).is_ok_and(|m| m.is_dir());
+    if !is_dir {
+        return fs::remove_file(path).is_ok();
+    }
+    for _ in 0..20 {
+        if fs::remove_dir_all(path).is_ok() || !path.exists() {
+            return true;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    false
 }
 
 /// For the binaries: on SIGINT/SIGTERM, remove this process's temporary files
@@ -56,6 +83,13 @@ pub fn remove_temporaries_on_interrupt() {
     }
 }
 
+/// Staging folders are named `.ufcsr-staging-<pid>-<n>`.
+const STAGING_PREFIX: &str = ".ufcsr-staging-";
+
+/// A staging folder older than this is stale even if a process of its id
+/// runs (ids are reused): no result set takes a day to write.
+const STALE_AFTER: std::time::Duration = std::time::Duration::from_secs(24 * 3600);
+
 /// A folder inside the output folder that a result set is written into, then
 /// moved into place by [`Staging::commit`]; removed if dropped uncommitted.
 pub struct Staging {
@@ -63,15 +97,24 @@ pub struct Staging {
 }
 
 impl Staging {
-    /// A fresh staging folder inside `out_dir` (same file system: moves are renames).
+    /// A fresh staging folder inside `out_dir` (same file system: moves are
+    /// renames). It is registered before it exists, so an interrupt at any
+    /// moment removes it.
     pub fn new(out_dir: &Path) -> Result<Staging> {
-        let dir = tempfile::Builder::new()
-            .prefix(".ufcsr-staging-")
-            .tempdir_in(out_dir)
-            .map_err(|e| Error::io(out_dir, e))?
-            .keep();
-        register(&dir);
-        Ok(Staging { dir })
+        static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+        loop {
+            let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let dir = out_dir.join(format!("{STAGING_PREFIX}{}-{n}", std::process::id()));
+            register(&dir);
+            match fs::create_dir(&dir) {
+                Ok(()) => return Ok(Staging { dir }),
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => unregister(&dir),
+                Err(e) => {
+                    unregister(&dir);
+                    return Err(Error::io(out_dir, e));
+                }
+            }
+        }
     }
 
     pub fn path(&self) -> &Path {
@@ -80,61 +123,107 @@ impl Staging {
 
     /// Moves every file of the staging folder into `out_dir`, replacing
     /// same-named files (folders such as `views/` are merged file by file, so
-    /// nothing else in them is lost). When `out_dir` held an earlier result
-    /// set (its `result.json`), the top-level files of `set` (every name a
-    /// set can have) that the new set lacks are taken away, so no stale
-    /// `frames.csv` or `heatmap.glb` sits beside results it does not belong
-    /// to. If a move fails, everything is put back: `out_dir` holds the old
-    /// set or the new.
+    /// nothing else in them is lost; a link where a folder goes is replaced
+    /// by a real folder, never written through). When `out_dir` held an
+    /// earlier result set (its `result.json`), the files of `set` (every
+    /// path, relative to `out_dir`, a set can have, `plots/parts.svg`
+    /// included) that the new set lacks are taken away, so no stale
+    /// `frames.csv` or plot sits beside results it does not belong to. If a
+    /// move fails, everything is put back: `out_dir` holds the old set or
+    /// the new. An interrupt waits for the commit to end. Afterwards stale
+    /// staging folders of killed runs are removed ([`remove_stale_staging`]).
     pub fn commit(self, out_dir: &Path, set: &[&str]) -> Result<()> {
+        let guard = COMMITTING.lock().unwrap_or_else(PoisonError::into_inner);
         let backups = self.dir.join(".replaced");
-        let earlier_set = out_dir.join("result.json").is_file();
-        // (target, its backup): a move to undo on failure.
-        let mut done: Vec<(PathBuf, Option<PathBuf>)> = Vec::new();
+        let earlier_set = fs::symlink_metadata(out_dir.join("result.json")).is_ok_and(|m| m.is_file());
+        let mut moves = Moves { backups: backups.clone(), counter: 0, done: Vec::new() };
         let outcome = (|| -> Result<()> {
             fs::create_dir_all(&backups).map_err(|e| Error::io(&backups, e))?;
-            let mut counter = 0usize;
-            move_tree(&self.dir, out_dir, &backups, &mut counter, &mut done, true)?;
+            move_tree(&self.dir, out_dir, &mut moves, true)?;
             if earlier_set {
-                for name in set {
-                    let target = out_dir.join(name);
-                    let staged = done.iter().any(|(t, _)| t.starts_with(&target));
-                    if !staged && target.is_file() {
-                        counter += 1;
-                        let backup = backups.join(counter.to_string());
-                        fs::rename(&target, &backup).map_err(|e| Error::io(&target, e))?;
-                        done.push((target, Some(backup)));
-                    }
-                }
+                remove_stale_members(out_dir, set, &mut moves)?;
             }
             Ok(())
         })();
         if outcome.is_err() {
-            for (target, backup) in done.iter().rev() {
-                if let Some(backup) = backup {
-                    let _ = fs::remove_file(target);
-                    let _ = fs::rename(backup, target);
-                } else {
-                    let _ = fs::remove_file(target);
-                }
-            }
+            moves.undo();
+        }
+        drop(self);
+        drop(guard);
+        if outcome.is_ok() {
+            remove_stale_staging(out_dir);
         }
         outcome
-        // Drop removes the staging folder with the replaced files in it.
     }
 }
 
-/// Moves the files under `from` into `to` (folders created or merged),
-/// backing up each replaced file into `backups` and recording every move in
-/// `done`. `top` skips the staging folder's own backup folder.
-fn move_tree(
-    from: &Path,
-    to: &Path,
-    backups: &Path,
-    counter: &mut usize,
-    done: &mut Vec<(PathBuf, Option<PathBuf>)>,
-    top: bool,
-) -> Result<()> {
+/// The moves of one commit, to undo on failure.
+struct Moves {
+    backups: PathBuf,
+    counter: usize,
+    done: Vec<Move>,
+}
+
+enum Move {
+    /// A file moved to `target`, the file it replaced (if any) in the backup.
+    File { target: PathBuf, backup: Option<PathBuf> },
+    /// A link replaced by a new folder: the link saved in `backup`.
+    Link { target: PathBuf, backup: PathBuf },
+}
+
+impl Moves {
+    /// Moves whatever is at `target` (a file or a link, never followed) into
+    /// the backups; returns where it went.
+    fn back_up(&mut self, target: &Path) -> Result<Option<PathBuf>> {
+        if fs::symlink_metadata(target).is_err() {
+            return Ok(None);
+        }
+        self.counter += 1;
+        let backup = self.backups.join(self.counter.to_string());
+        fs::rename(target, &backup).map_err(|e| Error::io(target, e))?;
+        Ok(Some(backup))
+    }
+
+    fn undo(&self) {
+        for change in self.done.iter().rev() {
+            match change {
+                Move::File { target, backup } => {
+                    let _ = fs::remove_file(target);
+                    if let Some(backup) = backup {
+                        let _ = fs::rename(backup, target);
+                    }
+                }
+                Move::Link { target, backup } => {
+                    let _ = fs::remove_dir_all(target);
+                    let _ = fs::rename(backup, target);
+                }
+            }
+        }
+    }
+}
+
+/// Takes away the members of `set` that this commit did not write (only
+/// files, and never through a link: a linked folder is not ours to empty).
+fn remove_stale_members(out_dir: &Path, set: &[&str], moves: &mut Moves) -> Result<()> {
+    for name in set {
+        let target = out_dir.join(name);
+        let written = moves.done.iter().any(|m| matches!(m, Move::File { target: t, .. } if *t == target));
+        let is_file = fs::symlink_metadata(&target).is_ok_and(|m| m.is_file() || m.file_type().is_symlink());
+        if written || !is_file || crate::files::crosses_link(out_dir, Path::new(name)) {
+            continue;
+        }
+        // Undo puts the backup back (nothing was moved in).
+        let backup = moves.back_up(&target)?;
+        moves.done.push(Move::File { target, backup });
+    }
+    Ok(())
+}
+
+/// Moves the files under `from` into `to` (folders created or merged; a link
+/// where a folder goes replaced by a real folder), backing up each replaced
+/// file and recording every move. `top` skips the staging folder's own
+/// backup folder.
+fn move_tree(from: &Path, to: &Path, moves: &mut Moves, top: bool) -> Result<()> {
     let mut entries: Vec<PathBuf> = fs::read_dir(from)
         .map_err(|e| Error::io(from, e))?
         .map(|entry| entry.map(|e| e.path()).map_err(|e| Error::io(from, e)))
@@ -142,31 +231,71 @@ fn move_tree(
     entries.sort();
     for entry in entries {
         let Some(name) = entry.file_name() else { continue };
-        if top && entry == backups {
+        if top && entry == moves.backups {
             continue;
         }
         let target = to.join(name);
-        if entry.is_dir() {
-            if !target.is_dir() {
-                fs::create_dir_all(&target).map_err(|e| Error::io(&target, e))?;
+        if fs::symlink_metadata(&entry).is_ok_and(|m| m.is_dir()) {
+            match fs::symlink_metadata(&target) {
+                // A real folder (links are not followed here): merge into it.
+                Ok(metadata) if metadata.is_dir() => {}
+                // A link (or a file) where a folder goes: never write through
+                // it; set the link itself aside and make a real folder.
+                Ok(_) => {
+                    if let Some(backup) = moves.back_up(&target)? {
+                        moves.done.push(Move::Link { target: target.clone(), backup });
+                    }
+                    fs::create_dir(&target).map_err(|e| Error::io(&target, e))?;
+                }
+                Err(_) => fs::create_dir_all(&target).map_err(|e| Error::io(&target, e))?,
             }
-            move_tree(&entry, &target, backups, counter, done, false)?;
+            move_tree(&entry, &target, moves, false)?;
             continue;
         }
-        let backup = match fs::symlink_metadata(&target) {
-            Ok(_) => {
-                *counter += 1;
-                let backup = backups.join(counter.to_string());
-                fs::rename(&target, &backup).map_err(|e| Error::io(&target, e))?;
-                Some(backup)
-            }
-            Err(_) => None,
-        };
+        let backup = moves.back_up(&target)?;
         let renamed = fs::rename(&entry, &target).map_err(|e| Error::io(&target, e));
-        done.push((target, backup));
+        moves.done.push(Move::File { target, backup });
         renamed?;
     }
     Ok(())
+}
+
+/// Removes staging folders in `out_dir` that no running process owns: the
+/// leftovers of a run killed with SIGKILL (which no handler sees). A folder
+/// is stale when the process whose id its name carries is gone (on Linux,
+/// no `/proc/<pid>`), when its name carries no id (an older version's
+/// name), or when it is older than a day. Returns how many were removed.
+pub fn remove_stale_staging(out_dir: &Path) -> usize {
+    let Ok(entries) = fs::read_dir(out_dir) else { return 0 };
+    let own: Vec<PathBuf> = TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner).clone();
+    let mut removed = 0;
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let Some(rest) = name.strip_prefix(STAGING_PREFIX) else { continue };
+        let path = entry.path();
+        let is_dir = fs::symlink_metadata(&path).is_ok_and(|m| m.is_dir());
+        if !is_dir || own.contains(&path) {
+            continue;
+        }
+        let pid = rest.split('-').next().and_then(|id| id.parse::<u32>().ok());
+        let alive = pid.is_some_and(|pid| pid != std::process::id() && process_alive(pid));
+        let old = entry
+            .metadata()
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| t.elapsed().ok())
+            .is_some_and(|age| age > STALE_AFTER);
+        if (!alive || old) && fs::remove_dir_all(&path).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
+}
+
+/// Whether process `pid` runs (Linux: `/proc/<pid>` exists; elsewhere
+/// assumed running, so only the age rule applies).
+fn process_alive(pid: u32) -> bool {
+    if cfg!(target_os = "linux") { Path::new(&format!("/proc/{pid}")).exists() } else { true }
 }
 
 impl Drop for Staging {
@@ -186,7 +315,7 @@ where
     let temporary = temporary_path(path);
     register(&temporary);
     let outcome = (|| {
-        let file = File::create(&temporary)?;
+        let file = create_new(&temporary)?;
         let mut writer = BufWriter::with_capacity(1 << 20, file);
         fill(&mut writer)?;
         writer.flush()?;
@@ -200,6 +329,21 @@ where
         let _ = fs::remove_file(&temporary);
         Error::io(path, source)
     })
+}
+
+/// Creates `path` new (`O_EXCL`): whatever sits there already, a link
+/// planted there included, is removed (the link itself, never what it points
+/// to) and the file made afresh, so a write never follows a link.
+fn create_new(path: &Path) -> std::io::Result<File> {
+    let mut options = fs::OpenOptions::new();
+    options.write(true).create_new(true);
+    match options.open(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+            fs::remove_file(path)?;
+            options.open(path)
+        }
+        other => other,
+    }
 }
 
 /// Writes bytes to `path` atomically.
@@ -248,5 +392,33 @@ mod tests {
         assert!(failed.is_err());
         assert_eq!(fs::read(&path).unwrap(), b"old");
         assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_link_planted_as_the_temporary_file_is_not_written_through() {
+        let dir = tempfile::tempdir().unwrap();
+        let precious = dir.path().join("precious.txt");
+        fs::write(&precious, b"mine").unwrap();
+        let path = dir.path().join("result.json");
+        std::os::unix::fs::symlink(&precious, temporary_path(&path)).unwrap();
+        write_bytes_atomically(&path, b"new").unwrap();
+        assert_eq!(fs::read(&precious).unwrap(), b"mine");
+        assert_eq!(fs::read(&path).unwrap(), b"new");
+    }
+
+    #[test]
+    fn an_interrupt_waits_for_a_commit_in_progress() {
+        let commit = COMMITTING.lock().unwrap_or_else(PoisonError::into_inner);
+        let (sender, receiver) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            static NONE: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+            remove_registered(&NONE);
+            let _ = sender.send(());
+        });
+        let waited = receiver.recv_timeout(std::time::Duration::from_millis(200));
+        assert!(waited.is_err(), "the interrupt did not wait for the commit");
+        drop(commit);
+        receiver.recv_timeout(std::time::Duration::from_secs(5)).expect("the interrupt never ran");
     }
 }

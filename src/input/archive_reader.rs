@@ -39,11 +39,20 @@ pub struct Archive {
     /// frames: textures of the palette's size, and files a manifest further
     /// down names as its palette or PIdT (relative names, for the warning).
     pub skipped: Vec<String>,
+    /// Folders left out of a folder without a manifest because they hold
+    /// outputs ([`is_output_folder`]): an earlier run's results are not frames.
+    pub result_folders: Vec<String>,
+    /// PNGs in those folders (not frames, counted in `images.skipped`).
+    pub result_folder_pngs: usize,
+    /// PNGs reached a second time through a folder link (counted once).
+    pub aliases: Vec<String>,
 }
 
 impl Archive {
-    /// The images a manifest lists.
-    pub fn from_manifest(root: &Path, manifest: &Manifest) -> Archive {
+    /// The images a manifest lists. Two entries that are one file (an alias
+    /// such as `./tiles/./x.png`, or a path through a folder link) are
+    /// refused: the file would be counted twice.
+    pub fn from_manifest(root: &Path, manifest: &Manifest) -> Result<Archive> {
         let mut groups = BTreeMap::new();
         for tile in &manifest.tiles {
             let next = groups.len();
@@ -56,8 +65,24 @@ impl Archive {
         let mut listed_empty = 0;
         let mut listed_empty_groups = Vec::new();
         let mut images = Vec::new();
+        let mut resolved: BTreeMap<PathBuf, &Path> = BTreeMap::new();
         for tile in &manifest.tiles {
             let group = groups[&(tile.frame, tile.eye.clone())];
+            if let Some(file) = &tile.file {
+                // A tile that cannot be resolved (missing) fails when it is read.
+                if let Some(real) = crate::files::resolved(&root.join(file))
+                    && let Some(first) = resolved.insert(real, file)
+                {
+                    return Err(Error::bad_file(
+                        &root.join(crate::input::manifest::MANIFEST_FILE),
+                        format!(
+                            "tiles {} and {} are the same file: it would be counted twice",
+                            first.display(),
+                            file.display()
+                        ),
+                    ));
+                }
+            }
             match &tile.file {
                 Some(file) => images.push(ImageSource {
                     path: root.join(file),
@@ -71,14 +96,17 @@ impl Archive {
             }
         }
         images.sort_by(|a, b| a.name.cmp(&b.name));
-        Archive {
+        Ok(Archive {
             root: root.to_path_buf(),
             images,
             listed_empty,
             frame_groups: groups.len(),
             listed_empty_groups,
             skipped: Vec::new(),
-        }
+            result_folders: Vec::new(),
+            result_folder_pngs: 0,
+            aliases: Vec::new(),
+        })
     }
 
     /// Every `*.png` below `root` except those in `exclude` (files or folders,
@@ -92,9 +120,21 @@ impl Archive {
         }
         let excluded: Vec<PathBuf> = exclude.iter().filter_map(|p| p.canonicalize().ok()).collect();
         let mut images = Vec::new();
+        let mut result_folders = Vec::new();
+        let mut aliases = Vec::new();
+        let mut seen = std::collections::BTreeSet::new();
         let walker = WalkDir::new(root).follow_links(true).sort_by_file_name().into_iter();
         for entry in walker.filter_entry(|entry| {
-            entry.path().canonicalize().map(|p| !excluded.iter().any(|x| p.starts_with(x))).unwrap_or(true)
+            let kept = entry
+                .path()
+                .canonicalize()
+                .map(|p| !excluded.iter().any(|x| p.starts_with(x)))
+                .unwrap_or(true);
+            if kept && entry.depth() > 0 && is_output_folder(entry.path()) {
+                result_folders.push(slash_path(entry.path().strip_prefix(root).unwrap_or(entry.path())));
+                return false;
+            }
+            kept
         }) {
             let entry = entry.map_err(|e| {
                 let path = e.path().unwrap_or(root).to_path_buf();
@@ -105,10 +145,17 @@ impl Archive {
             // socket or device then fails to open and is reported and counted
             // as failed, never silently skipped (nor opened and waited on).
             if !entry.file_type().is_dir() && is_png {
-                let relative = entry.path().strip_prefix(root).unwrap_or(entry.path());
+                let relative = slash_path(entry.path().strip_prefix(root).unwrap_or(entry.path()));
+                // One file reached twice (through a folder link) is one image.
+                if let Some(real) = crate::files::resolved(entry.path())
+                    && !seen.insert(real)
+                {
+                    aliases.push(relative);
+                    continue;
+                }
                 images.push(ImageSource {
                     path: entry.path().to_path_buf(),
-                    name: slash_path(relative),
+                    name: relative,
                     frame_group: None,
                 });
             }
@@ -128,6 +175,9 @@ impl Archive {
             frame_groups: 0,
             listed_empty_groups: Vec::new(),
             skipped: textures.into_iter().map(|t| t.name).collect(),
+            result_folder_pngs: result_folders.iter().map(|folder| count_pngs(&root.join(folder))).sum(),
+            result_folders,
+            aliases,
         })
     }
 
@@ -135,6 +185,25 @@ impl Archive {
     pub fn found(&self) -> u64 {
         self.images.len() as u64 + self.listed_empty
     }
+}
+
+/// A folder of outputs, never frames: one holding a `result.json` (an
+/// earlier run's result set, with its `plots/` and `views/`), or a staging
+/// folder (`.ufcsr-staging-*`) a killed run left.
+pub fn is_output_folder(dir: &Path) -> bool {
+    let staging = dir.file_name().is_some_and(|n| n.to_string_lossy().starts_with(".ufcsr-staging-"));
+    staging || std::fs::symlink_metadata(dir.join("result.json")).is_ok_and(|m| m.is_file())
+}
+
+/// The `*.png` files below `dir` (links not followed).
+fn count_pngs(dir: &Path) -> usize {
+    WalkDir::new(dir)
+        .into_iter()
+        .flatten()
+        .filter(|e| {
+            !e.file_type().is_dir() && e.path().extension().is_some_and(|x| x.eq_ignore_ascii_case("png"))
+        })
+        .count()
 }
 
 /// Width and height from a PNG's header, if it is a readable regular file.

@@ -52,7 +52,8 @@ impl Legend {
         Legend::new(path, parts)
     }
 
-    /// Checks that names and colours are unique and the legend is not empty.
+    /// Checks that names are not blank, names and colours are unique and the
+    /// legend is not empty.
     pub fn new(path: &Path, parts: Vec<Part>) -> Result<Legend> {
         if parts.is_empty() {
             return Err(Error::bad_file(path, "the legend lists no parts"));
@@ -63,6 +64,13 @@ impl Legend {
         let mut colors = HashMap::new();
         let mut names = HashMap::new();
         for (index, part) in parts.iter().enumerate() {
+            // The CSV reader trims names; a JSON legend must not sneak in "" or "  " either.
+            if part.name.trim().is_empty() {
+                return Err(Error::bad_file(
+                    path,
+                    format!("part {} (colour {}): empty or blank part name", index + 1, part.color),
+                ));
+            }
             if let Some(other) = colors.insert(part.color, index) {
                 return Err(Error::bad_file(
                     path,

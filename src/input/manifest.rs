@@ -185,7 +185,10 @@ impl Manifest {
                         format!("{place}: file {} must be a path inside the archive folder", file.display()),
                     ));
                 }
-                if !files.insert(file.clone()) {
+                // `./tiles/./x.png` is `tiles/x.png` (links are resolved by the archive reader).
+                let lexical: std::path::PathBuf =
+                    file.components().filter(|c| !matches!(c, std::path::Component::CurDir)).collect();
+                if !files.insert(lexical) {
                     return Err(Error::bad_file(
                         path,
                         format!("{place}: file {} is listed twice", file.display()),

@@ -9,11 +9,13 @@
 
 pub(crate) mod archive_reader;
 pub(crate) mod capture_facts;
+pub(crate) mod identity;
 pub(crate) mod labels;
 pub(crate) mod manifest;
 pub(crate) mod options;
 pub(crate) mod palette;
 pub(crate) mod png_rows;
+pub(crate) mod png_zlib;
 pub(crate) mod resolve;
 pub(crate) mod shard;
 
@@ -26,4 +28,5 @@ pub use options::{
 };
 pub use palette::{Fcsp, PaletteDescription, parse_size as parse_palette_size, write_canonical_png};
 pub use png_rows::{PixelLayout, RowReader, read_color_image, read_file};
+pub use png_zlib::verify_image_data;
 pub use shard::Shard;

@@ -3,9 +3,10 @@
 //! Tiles are read whole (compressed) and decoded row by row, so a worker
 //! holds the compressed bytes and one row. (They used to be memory-mapped; a
 //! tile truncated by another process while mapped kills the process with
-//! SIGBUS, while a read just sees a short, reported file.) The zlib Adler-32
-//! of the image data is verified: a corrupted IDAT with valid chunk CRCs must
-//! fail, not count wrong texels. Every accepted PNG is turned into 8-bit
+//! SIGBUS, while a read just sees a short, reported file.) The zlib stream
+//! of the image data must be whole and end with a matching Adler-32
+//! ([`crate::input::png_zlib`]): a corrupted IDAT with valid chunk CRCs, or
+//! one without its trailer, must fail, not count wrong texels. Every accepted PNG is turned into 8-bit
 //! samples (palette and low-bit grey expanded); 16-bit images are rejected,
 //! because their colours cannot name 8-bit palette texels exactly.
 
@@ -14,6 +15,7 @@ use std::ops::Deref;
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::input::png_zlib::verify_image_data;
 
 /// The bytes of an input file, read whole.
 pub struct FileBytes(Vec<u8>);
@@ -111,6 +113,7 @@ pub struct RowReader<'a> {
     reader: png::Reader<Cursor<&'a [u8]>>,
     layout: PixelLayout,
     path: &'a Path,
+    bytes: &'a [u8],
 }
 
 impl<'a> RowReader<'a> {
@@ -121,10 +124,10 @@ impl<'a> RowReader<'a> {
         if header.color_type == INDEXED {
             check_palette_indices(path, bytes)?;
         }
-        let mut options = png::DecodeOptions::default();
-        // The png crate skips the zlib checksum by default, for speed.
-        options.set_ignore_adler32(false);
-        let mut decoder = png::Decoder::new_with_options(Cursor::new(bytes), options);
+        // The png crate skips the zlib checksum by default, and checks it only
+        // when its inflater reaches the trailer: [`RowReader::finish`]
+        // verifies the whole stream instead ([`verify_image_data`]).
+        let mut decoder = png::Decoder::new(Cursor::new(bytes));
         decoder.set_transformations(png::Transformations::EXPAND);
         let reader = decoder.read_info().map_err(|e| png_error(path, e))?;
         let info = reader.info();
@@ -154,7 +157,7 @@ impl<'a> RowReader<'a> {
                 });
             }
         };
-        Ok(RowReader { reader, layout, path })
+        Ok(RowReader { reader, layout, path, bytes })
     }
 
     /// Sample layout of the rows this reader returns.
@@ -184,10 +187,13 @@ impl<'a> RowReader<'a> {
         }
     }
 
-    /// Reads to the end of the image data after the last row, so the zlib
-    /// checksum that follows it is verified (call once `next_row` is done).
+    /// Reads to the end of the file after the last row and verifies that
+    /// the image data's zlib stream is whole and ends with a matching
+    /// Adler-32 (call once `next_row` is done; a file that fails here must
+    /// not be counted).
     pub fn finish(&mut self) -> Result<()> {
-        self.reader.finish().map_err(|e| png_error(self.path, e))
+        self.reader.finish().map_err(|e| png_error(self.path, e))?;
+        verify_image_data(self.path, self.bytes)
     }
 
     /// Decodes the whole image in raster order into packed `0xRRGGBB` colours.
@@ -224,30 +230,49 @@ fn check_palette_indices(path: &Path, bytes: &[u8]) -> Result<()> {
         return Ok(());
     }
     // Row by row: a header may claim billions of rows that the data does not hold.
-    let width = info.width as usize;
+    let (width, height) = (info.width, info.height);
+    let mut rows = decoded_rows(width, height, info.interlaced);
     let per_byte = 8 / usize::from(depth);
     let mask = ((1u16 << depth) - 1) as u8;
-    let mut y = 0usize;
     while let Some(row) = reader.next_row().map_err(|e| png_error(path, e))? {
+        let (y, x0, dx) = rows.next().unwrap_or((0, 0, 1));
         // Interlaced passes have shorter rows; bits past the last pixel are
         // zero padding, index 0, which a PLTE of at least one entry has.
         let data = row.data();
-        for x in 0..(data.len() * per_byte).min(width) {
-            let shift = 8 - usize::from(depth) * (x % per_byte + 1);
-            let index = usize::from((data[x / per_byte] >> shift) & mask);
+        let pixels = (u64::from(width).saturating_sub(u64::from(x0))).div_ceil(u64::from(dx)) as usize;
+        for i in 0..(data.len() * per_byte).min(pixels) {
+            let shift = 8 - usize::from(depth) * (i % per_byte + 1);
+            let index = usize::from((data[i / per_byte] >> shift) & mask);
             if index >= entries {
+                let x = u64::from(x0) + i as u64 * u64::from(dx);
                 return Err(Error::Png {
                     path: path.to_path_buf(),
                     message: format!(
-                        "a pixel of row {y} has palette index {index}, but the PLTE has {entries} entries \
+                        "pixel ({x}, {y}) has palette index {index}, but the PLTE has {entries} entries \
                          (corrupt data; it would decode as black)"
                     ),
                 });
             }
         }
-        y += 1;
     }
     Ok(())
+}
+
+/// The image row, first column and column step of each row the decoder
+/// returns, in order: raster order, or the rows of the seven Adam7 passes
+/// in turn (passes without pixels have no rows).
+fn decoded_rows(width: u32, height: u32, interlaced: bool) -> Box<dyn Iterator<Item = (u32, u32, u32)>> {
+    if !interlaced {
+        return Box::new((0..height).map(|y| (y, 0, 1)));
+    }
+    const PASSES: [(u32, u32, u32, u32); 7] =
+        [(0, 0, 8, 8), (4, 0, 8, 8), (0, 4, 4, 8), (2, 0, 4, 4), (0, 2, 2, 4), (1, 0, 2, 2), (0, 1, 1, 2)];
+    Box::new(
+        PASSES
+            .into_iter()
+            .filter(move |&(x0, y0, _, _)| x0 < width && y0 < height)
+            .flat_map(move |(x0, y0, dx, dy)| (y0..height).step_by(dy as usize).map(move |y| (y, x0, dx))),
+    )
 }
 
 fn png_error(path: &Path, error: png::DecodingError) -> Error {

@@ -8,6 +8,7 @@ use crate::color::Color;
 use crate::error::{Error, Result};
 use crate::input::archive_reader::Archive;
 use crate::input::capture_facts::{CaptureGeometry, EyeFrame, FrameClock, eye_frames};
+use crate::input::identity::archive_identity;
 use crate::input::labels::{Legend, Pidt};
 use crate::input::manifest::{Manifest, PaletteSpec};
 use crate::input::options::{AnalyzeOptions, Dedupe, PaletteChoice};
@@ -44,6 +45,8 @@ pub(crate) struct Inputs {
     pub eye_frames: Vec<EyeFrame>,
     /// Seconds per captured frame, eyes and pixels per degree.
     pub clock: FrameClock,
+    /// What the counts depend on, digested ([`crate::input::identity`]).
+    pub identity: String,
 }
 
 /// Resolves options against the manifest and loads every input once.
@@ -109,7 +112,7 @@ pub(crate) fn resolve_inputs_allowing_no_images(
     };
 
     let archive = match &manifest {
-        Some(manifest) => Archive::from_manifest(root, manifest),
+        Some(manifest) => Archive::from_manifest(root, manifest)?,
         None => {
             let mut exclude = options.exclude.clone();
             exclude.extend(options.pidt.iter().cloned());
@@ -161,6 +164,27 @@ pub(crate) fn resolve_inputs_allowing_no_images(
             if archive.skipped.len() > 5 { ", …" } else { "" }
         ));
     }
+    if !archive.result_folders.is_empty() {
+        warnings.push(format!(
+            "{} folders in {} ({} PNGs) {SKIPPED_FILES_WARNING}: they hold an earlier run's results (a \
+             result.json) or are a staging folder ({}{})",
+            archive.result_folders.len(),
+            root.display(),
+            archive.result_folder_pngs,
+            archive.result_folders.iter().take(5).cloned().collect::<Vec<_>>().join(", "),
+            if archive.result_folders.len() > 5 { ", …" } else { "" }
+        ));
+    }
+    if !archive.aliases.is_empty() {
+        warnings.push(format!(
+            "{} PNGs in {} {SKIPPED_FILES_WARNING}: they are files already counted, reached again through a \
+             folder link ({}{})",
+            archive.aliases.len(),
+            root.display(),
+            archive.aliases.iter().take(5).cloned().collect::<Vec<_>>().join(", "),
+            if archive.aliases.len() > 5 { ", …" } else { "" }
+        ));
+    }
     let vehicle_model = match &options.mesh {
         // Asked for: missing is an error now, not after counting.
         Some(mesh) => {
@@ -189,7 +213,14 @@ pub(crate) fn resolve_inputs_allowing_no_images(
                 }
             }),
     };
+    let mut files: Vec<&std::path::Path> = palette_file.iter().map(PathBuf::as_path).collect();
+    if let Some(labels) = &parts {
+        files.extend([labels.pidt_path.as_path(), labels.legend_path.as_path()]);
+    }
+    let manifest_path = root.join(crate::input::manifest::MANIFEST_FILE);
+    let identity = archive_identity(manifest.as_ref().map(|_| manifest_path.as_path()), &archive, &files);
     Ok(Inputs {
+        identity,
         palette,
         backgrounds,
         parts,

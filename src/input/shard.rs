@@ -4,9 +4,9 @@
 //! modulo N (all tiles of an eye-frame stay together, so `--dedupe frame`
 //! counts the same), or, without a manifest, the images whose position in
 //! sorted path order is I modulo N. The index can come from the command line
-//! or from the job array that started the process: Slurm
-//! (`SLURM_ARRAY_TASK_ID` − `SLURM_ARRAY_TASK_MIN` of
-//! `SLURM_ARRAY_TASK_COUNT`), Kubernetes Indexed Jobs (`JOB_COMPLETION_INDEX`
+//! or from the job array that started the process: Slurm (task
+//! `MIN + I·STEP` of `MIN-MAX:STEP` is shard I, from `SLURM_ARRAY_TASK_ID`,
+//! `_MIN`, `_MAX`, `_STEP` and `_COUNT`; what cannot be mapped is refused), Kubernetes Indexed Jobs (`JOB_COMPLETION_INDEX`
 //! of `UFCSR_SHARD_COUNT`) and AWS Batch array jobs
 //! (`AWS_BATCH_JOB_ARRAY_INDEX` of `UFCSR_SHARD_COUNT`). `ufcsr-analyze merge`
 //! adds the shards' results back together.
@@ -54,12 +54,15 @@ impl Shard {
                     .map_err(|_| Error::BadOptions(format!("{name}={text:?} is not a whole number"))),
             }
         };
-        if let (Some(id), Some(count)) = (number("SLURM_ARRAY_TASK_ID")?, number("SLURM_ARRAY_TASK_COUNT")?) {
-            let min = number("SLURM_ARRAY_TASK_MIN")?.unwrap_or(0);
-            let index = id.checked_sub(min).ok_or_else(|| {
-                Error::BadOptions(format!("SLURM_ARRAY_TASK_ID {id} is below SLURM_ARRAY_TASK_MIN {min}"))
-            })?;
-            return Shard::new(index, count).map(Some);
+        if let Some(id) = number("SLURM_ARRAY_TASK_ID")? {
+            let array = SlurmArray {
+                id,
+                count: number("SLURM_ARRAY_TASK_COUNT")?,
+                min: number("SLURM_ARRAY_TASK_MIN")?,
+                max: number("SLURM_ARRAY_TASK_MAX")?,
+                step: number("SLURM_ARRAY_TASK_STEP")?,
+            };
+            return array.shard().map(Some);
         }
         for variable in ["JOB_COMPLETION_INDEX", "AWS_BATCH_JOB_ARRAY_INDEX"] {
             if let Some(index) = number(variable)? {
@@ -72,6 +75,71 @@ impl Shard {
             }
         }
         Ok(None)
+    }
+}
+
+/// What Slurm says about a job array task.
+struct SlurmArray {
+    id: u32,
+    count: Option<u32>,
+    min: Option<u32>,
+    max: Option<u32>,
+    step: Option<u32>,
+}
+
+impl SlurmArray {
+    /// The shard of this task: tasks `MIN, MIN+STEP, …, MAX` are shards
+    /// `0, 1, …` of `(MAX−MIN)/STEP + 1`. Without MIN and MAX, tasks
+    /// `0 … COUNT−1` (step 1). Anything else (a list such as `--array=1,3,8`,
+    /// whose COUNT disagrees with MIN/MAX/STEP, an id off the step, no COUNT
+    /// and no MIN/MAX) cannot be mapped to shards and is refused.
+    fn shard(&self) -> Result<Shard> {
+        let refuse = |why: String| {
+            Error::BadOptions(format!("SLURM_ARRAY_TASK_ID={}: {why}; give --shard I/N instead", self.id))
+        };
+        let step = self.step.unwrap_or(1);
+        if step == 0 {
+            return Err(refuse("SLURM_ARRAY_TASK_STEP is 0".into()));
+        }
+        let (min, count) = match (self.min, self.max) {
+            (Some(min), Some(max)) => {
+                if max < min {
+                    return Err(refuse(format!(
+                        "SLURM_ARRAY_TASK_MAX {max} is below SLURM_ARRAY_TASK_MIN {min}"
+                    )));
+                }
+                let count = (max - min) / step + 1;
+                if self.count.is_some_and(|given| given != count) {
+                    return Err(refuse(format!(
+                        "SLURM_ARRAY_TASK_COUNT {} disagrees with {min}-{max}:{step} ({count} tasks): an array \
+                         given as a list cannot be mapped to shards",
+                        self.count.unwrap_or_default()
+                    )));
+                }
+                (min, count)
+            }
+            (min, None) if step == 1 && self.count.is_some() => (min.unwrap_or(0), self.count.unwrap_or(1)),
+            (_, None) if step == 1 => {
+                return Err(refuse(
+                    "SLURM_ARRAY_TASK_COUNT (or SLURM_ARRAY_TASK_MIN and _MAX) is not set, so the number of \
+                     shards is unknown"
+                        .into(),
+                ));
+            }
+            _ => {
+                return Err(refuse(
+                    "SLURM_ARRAY_TASK_STEP needs SLURM_ARRAY_TASK_MIN and SLURM_ARRAY_TASK_MAX".into(),
+                ));
+            }
+        };
+        let offset = self
+            .id
+            .checked_sub(min)
+            .ok_or_else(|| refuse(format!("the id is below SLURM_ARRAY_TASK_MIN {min}")))?;
+        if offset % step != 0 {
+            return Err(refuse(format!("the id is not MIN {min} plus a multiple of STEP {step}")));
+        }
+        Shard::new(offset / step, count).map_err(|e| refuse(e.to_string()))
     }
 }
 
@@ -107,6 +175,14 @@ mod tests {
         let slurm =
             [("SLURM_ARRAY_TASK_ID", "3"), ("SLURM_ARRAY_TASK_COUNT", "4"), ("SLURM_ARRAY_TASK_MIN", "1")];
         assert_eq!(Shard::from_job_array(env(&slurm)).unwrap(), Some(Shard { index: 2, count: 4 }));
+        let stepped = [
+            ("SLURM_ARRAY_TASK_ID", "4"),
+            ("SLURM_ARRAY_TASK_COUNT", "4"),
+            ("SLURM_ARRAY_TASK_MIN", "0"),
+            ("SLURM_ARRAY_TASK_MAX", "6"),
+            ("SLURM_ARRAY_TASK_STEP", "2"),
+        ];
+        assert_eq!(Shard::from_job_array(env(&stepped)).unwrap(), Some(Shard { index: 2, count: 4 }));
         let k8s = [("JOB_COMPLETION_INDEX", "0"), ("UFCSR_SHARD_COUNT", "2")];
         assert_eq!(Shard::from_job_array(env(&k8s)).unwrap(), Some(Shard { index: 0, count: 2 }));
         assert!(Shard::from_job_array(env(&[("AWS_BATCH_JOB_ARRAY_INDEX", "1")])).is_err());

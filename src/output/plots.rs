@@ -22,6 +22,9 @@ use crate::{count::part_lookup::FrameLabel, result::frames::FrameTable};
 /// Folder of the plots inside the output folder.
 pub const PLOTS_DIR: &str = "plots";
 
+/// Every plot a result set can have (`plots/NAME.svg`, `.png`).
+pub const PLOT_NAMES: [&str; 3] = ["visibility-time", "visibility-distance", "parts"];
+
 /// Parts drawn in the time and distance plots.
 pub const TOP_PARTS: usize = 8;
 

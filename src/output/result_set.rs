@@ -5,11 +5,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use crate::error::{Error, Result};
-use crate::files::{IMAGE_LIMIT, Staging, read_limited};
+use crate::files::{IMAGE_LIMIT, Staging, read_limited, refuse_overwriting_inputs};
 use crate::input::options::HeatmapOptions;
 use crate::output::csv::{write_frames_csv, write_parts_table};
-use crate::output::heatmap_views::{ViewTexture, views_caption, write_views};
-use crate::output::plots::{PLOTS_DIR, Plot, write_plots};
+use crate::output::heatmap_views::{DIRECTIONS, ViewTexture, views_caption, write_views};
+use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, write_plots};
 use crate::output::vehicle_model::VehicleModel;
 use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
@@ -22,9 +22,8 @@ pub fn default_output_dir(archive: &Path) -> PathBuf {
     archive.join("results")
 }
 
-/// Errors when writing `files` would replace one of the analysis's inputs
-/// (e.g. `--out` pointing at the archive, whose legend is `parts.csv`).
-fn refuse_to_overwrite_inputs(inputs: &[PathBuf], files: &WrittenFiles) -> Result<()> {
+/// Every file `files` names, for [`crate::files::refuse_overwriting_inputs`].
+fn output_paths(files: &WrittenFiles) -> Vec<PathBuf> {
     let outputs = [
         Some(&files.result_json),
         files.parts_csv.as_ref(),
@@ -35,19 +34,7 @@ fn refuse_to_overwrite_inputs(inputs: &[PathBuf], files: &WrittenFiles) -> Resul
         files.views_png.as_ref(),
         files.frames_csv.as_ref(),
     ];
-    for output in outputs.into_iter().flatten() {
-        let Ok(output_real) = output.canonicalize() else { continue };
-        for input in inputs.iter().filter(|input| input.file_name() == output.file_name()) {
-            if input.canonicalize().is_ok_and(|input_real| input_real == output_real) {
-                return Err(Error::BadOptions(format!(
-                    "writing {} would overwrite the input {}: choose another --out folder",
-                    output.display(),
-                    input.display()
-                )));
-            }
-        }
-    }
-    Ok(())
+    outputs.into_iter().flatten().cloned().collect()
 }
 
 /// Writes `result.json`, `parts.csv` (with a PIdT), `heatmap.png` and
@@ -60,28 +47,41 @@ fn refuse_to_overwrite_inputs(inputs: &[PathBuf], files: &WrittenFiles) -> Resul
 pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenFiles> {
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let mut files = planned_files(analysis, out_dir);
-    refuse_to_overwrite_inputs(&analysis.input_files, &files)?;
+    let mut outputs = output_paths(&files);
+    outputs.extend(result_set_members().iter().map(|name| out_dir.join(name)));
+    refuse_overwriting_inputs(&outputs, &analysis.input_files)?;
     let staging = Staging::new(out_dir)?;
     // Plot paths are relative to the output folder: the same after the move.
     files.plots = write_results_into(analysis, staging.path())?;
-    staging.commit(out_dir, &RESULT_SET)?;
+    let members = result_set_members();
+    staging.commit(out_dir, &members.iter().map(String::as_str).collect::<Vec<_>>())?;
     Ok(files)
 }
 
-/// Every name a result set can have in its folder: a run that writes fewer
-/// (no vehicle model, `--frames-csv off`) removes the rest of an earlier run.
-const RESULT_SET: [&str; 10] = [
-    "result.json",
-    "parts.csv",
-    "heatmap.png",
-    "timings.json",
-    "heatmap.glb",
-    "report.html",
-    "views.png",
-    "views",
-    FRAMES_FILE,
-    PLOTS_DIR,
-];
+/// Every file a result set can have, relative to its folder (plots and
+/// views included): a run that writes fewer (no vehicle model,
+/// `--frames-csv off`) removes the rest of an earlier run, so the folder
+/// never holds a mixed set.
+pub fn result_set_members() -> Vec<String> {
+    let mut members: Vec<String> = [
+        "result.json",
+        "parts.csv",
+        "heatmap.png",
+        "timings.json",
+        "heatmap.glb",
+        "report.html",
+        "views.png",
+    ]
+    .iter()
+    .map(|name| (*name).to_string())
+    .collect();
+    members.push(FRAMES_FILE.to_string());
+    for plot in PLOT_NAMES {
+        members.extend(["svg", "png"].iter().map(|ext| format!("{PLOTS_DIR}/{plot}.{ext}")));
+    }
+    members.extend(DIRECTIONS.iter().map(|(name, _)| format!("views/{name}.png")));
+    members
+}
 
 /// The files [`write_results`] writes into `out_dir`.
 fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {

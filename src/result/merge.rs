@@ -80,13 +80,17 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         }
         None => (None, None),
     };
-    let dedupe = first.dedupe.as_ref().map(|_| {
-        let per_image =
-            summaries.iter().filter_map(|s| s.dedupe.as_ref()).map(|d| d.grand_total_per_image).sum();
-        let per_frame = table.as_ref().map_or(all_texels_total, |t| t.grand_total);
-        DedupeReport::new(per_image, per_frame)
-    });
-    let stray_pixels = summaries.iter().map(|s| s.stray_pixels).sum::<u64>();
+    let dedupe = match first.dedupe {
+        Some(_) => {
+            let per_image = checked_sum(paths, &summaries, "dedupe.grand_total_per_image", |s| {
+                s.dedupe.as_ref().map_or(0, |d| d.grand_total_per_image)
+            })?;
+            let per_frame = table.as_ref().map_or(all_texels_total, |t| t.grand_total);
+            Some(DedupeReport::new(per_image, per_frame))
+        }
+        None => None,
+    };
+    let stray_pixels = checked_sum(paths, &summaries, "stray_pixels", |s| s.stray_pixels)?;
     let stray_images = summaries.iter().map(|s| s.images_with_stray_pixels.len()).sum::<usize>();
     warnings.extend(stray_warning(stray_pixels, stray_images));
     warnings.extend(saturation_warning(&texel_counts));
@@ -95,20 +99,20 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
     if let Some(resolution) = &resolution {
         warnings.extend(resolution.warnings());
     }
-    let sum = |field: fn(&AnalysisResult) -> u64| summaries.iter().map(field).sum::<u64>();
+    let sum = |what: &str, field: fn(&AnalysisResult) -> u64| checked_sum(paths, &summaries, what, field);
     let images = ImageCounts {
-        found: sum(|s| s.images.found),
-        trimmed: sum(|s| s.images.trimmed),
-        decoded: sum(|s| s.images.decoded),
-        failed: sum(|s| s.images.failed),
-        listed_empty: sum(|s| s.images.listed_empty),
-        skipped: sum(|s| s.images.skipped),
+        found: sum("images.found", |s| s.images.found)?,
+        trimmed: sum("images.trimmed", |s| s.images.trimmed)?,
+        decoded: sum("images.decoded", |s| s.images.decoded)?,
+        failed: sum("images.failed", |s| s.images.failed)?,
+        listed_empty: sum("images.listed_empty", |s| s.images.listed_empty)?,
+        skipped: sum("images.skipped", |s| s.images.skipped)?,
     };
     let pixels = PixelCounts {
-        decoded: sum(|s| s.pixels.decoded),
-        texel: sum(|s| s.pixels.texel),
-        background: sum(|s| s.pixels.background),
-        stray: sum(|s| s.pixels.stray),
+        decoded: sum("pixels.decoded", |s| s.pixels.decoded)?,
+        texel: sum("pixels.texel", |s| s.pixels.texel)?,
+        background: sum("pixels.background", |s| s.pixels.background)?,
+        stray: sum("pixels.stray", |s| s.pixels.stray)?,
     };
     let mut notes = first.notes.clone();
     let shards_with_strays = summaries.iter().filter(|s| s.stray_colors > 0).count();
@@ -134,10 +138,10 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         images,
         texels_seen: texel_counts.iter().filter(|&&c| c > 0).count() as u64,
         pixels,
-        stray_pixels: sum(|s| s.stray_pixels),
-        stray_colors: sum(|s| s.stray_colors),
+        stray_pixels,
+        stray_colors: sum("stray_colors", |s| s.stray_colors)?,
         stray_color_examples: examples,
-        background_pixels: sum(|s| s.background_pixels),
+        background_pixels: sum("background_pixels", |s| s.background_pixels)?,
         grand_total: table.as_ref().map_or(all_texels_total, |t| t.grand_total),
         max_count: texel_counts.iter().copied().max().unwrap_or(0),
         parts: table.map(|t| t.parts).unwrap_or_default(),
@@ -152,17 +156,45 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         measures: merged_measures(&summaries),
     };
     let frames = merged_frames(paths)?;
+    let vehicle_model = archive_vehicle(&result.settings);
     let mut input_files = paths.to_vec();
+    input_files.extend(paths.iter().map(|p| p.with_file_name(crate::result::frames::FRAMES_FILE)));
     input_files
         .extend(parts.iter().flat_map(|labels| [labels.legend_path.clone(), labels.pidt_path.clone()]));
-    Ok(Analysis {
-        result,
-        texel_counts,
-        timings: Timings::default(),
-        input_files,
-        vehicle_model: None,
-        frames,
-    })
+    input_files.extend(vehicle_model.iter().cloned());
+    Ok(Analysis { result, texel_counts, timings: Timings::default(), input_files, vehicle_model, frames })
+}
+
+/// The vehicle model the archive's manifest names (as the whole analysis
+/// found it), so the merged result has `heatmap.glb` and the views too.
+fn archive_vehicle(settings: &crate::result::model::Settings) -> Option<PathBuf> {
+    if !settings.manifest {
+        return None;
+    }
+    let root = PathBuf::from(&settings.archive);
+    let manifest = crate::input::manifest::Manifest::load_from_dir(&root).ok()??;
+    let path = root.join(manifest.extra.get("vehicle")?.as_str()?);
+    crate::files::open_regular(&path).ok().map(|_| path)
+}
+
+/// `field` added over every shard, or an error naming the shard where the
+/// sum overflows (a hand-edited or damaged result).
+fn checked_sum(
+    paths: &[PathBuf],
+    summaries: &[AnalysisResult],
+    what: &str,
+    field: fn(&AnalysisResult) -> u64,
+) -> Result<u64> {
+    let mut total = 0u64;
+    for (path, summary) in paths.iter().zip(summaries) {
+        total = total.checked_add(field(summary)).ok_or_else(|| {
+            Error::bad_file(
+                path,
+                format!("{what} overflows when added to the other shards': a damaged result"),
+            )
+        })?;
+    }
+    Ok(total)
 }
 
 /// The shards' measures added up, when every shard has them.
@@ -189,6 +221,18 @@ fn merged_frames(paths: &[PathBuf]) -> Result<Option<crate::result::frames::Fram
 /// Prefixes an error with the result that named the file.
 fn named_in(result: &Path, error: Error) -> Error {
     Error::BadOptions(format!("{} (named in {})", error, result.display()))
+}
+
+/// Each result's shard, checked (a hand-edited `index >= count` or `count`
+/// 0 is an error naming the file, not a panic).
+fn valid_shards(paths: &[PathBuf], summaries: &[AnalysisResult]) -> Result<Vec<Option<Shard>>> {
+    let shards: Vec<Option<Shard>> = summaries.iter().map(|s| s.settings.shard).collect();
+    for (path, shard) in paths.iter().zip(&shards) {
+        if let Some(shard) = shard {
+            Shard::new(shard.index, shard.count).map_err(|e| Error::bad_file(path, e.to_string()))?;
+        }
+    }
+    Ok(shards)
 }
 
 /// Every result must come from the same analysis settings, and shards must
@@ -225,6 +269,10 @@ fn check_agreement(paths: &[PathBuf], summaries: &[AnalysisResult]) -> Result<()
                 ("dedupe", settings.dedupe != reference.dedupe),
                 ("trim", settings.trim != reference.trim),
                 (
+                    "archive identity (its manifest, tiles, palette, PIdT or legend)",
+                    settings.archive_identity != reference.archive_identity,
+                ),
+                (
                     "heatmap scale",
                     settings.heatmap_scale != reference.heatmap_scale
                         || settings.heatmap_max != reference.heatmap_max,
@@ -239,7 +287,7 @@ fn check_agreement(paths: &[PathBuf], summaries: &[AnalysisResult]) -> Result<()
             ));
         }
     }
-    let shards: Vec<Option<Shard>> = summaries.iter().map(|s| s.settings.shard).collect();
+    let shards = valid_shards(paths, summaries)?;
     if shards.iter().all(Option::is_some) {
         let count = shards[0].map_or(0, |s| s.count);
         let mut seen = vec![false; count as usize];

@@ -96,6 +96,10 @@ pub struct Settings {
     /// The shard counted (`ufcsr-analyze --shard`); absent for a whole archive.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shard: Option<crate::input::shard::Shard>,
+    /// What the counts depend on (manifest or tile list, palette, PIdT,
+    /// legend), digested: `merge` refuses shards whose identities differ.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub archive_identity: Option<String>,
 }
 
 /// Unlabelled texels: PIdT colours that no legend entry names.

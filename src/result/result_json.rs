@@ -157,9 +157,7 @@ pub fn parse_texel_counts(path: &Path, bytes: &[u8]) -> Result<StoredCounts> {
 }
 
 fn stored_counts(path: &Path, source: HeatmapSource) -> Result<StoredCounts> {
-    if !source.schema.starts_with("ufcsr-result/") {
-        return Err(Error::bad_file(path, format!("unknown result schema {:?}", source.schema)));
-    }
+    check_result_schema(path, &source.schema)?;
     let palette = source.settings.palette;
     if palette.kind != "canonical" && palette.kind != "image" {
         return Err(Error::bad_file(
@@ -186,11 +184,30 @@ fn stored_counts(path: &Path, source: HeatmapSource) -> Result<StoredCounts> {
     })
 }
 
+/// Only the current schema is read: a newer version (or a foreign file)
+/// could mean something else by the same fields, as for manifests.
+fn check_result_schema(path: &Path, schema: &str) -> Result<()> {
+    if schema == crate::result::model::RESULT_SCHEMA {
+        return Ok(());
+    }
+    let hint = if schema.starts_with("ufcsr-result/") {
+        format!(
+            "a version this ufcsr does not know (it reads {}); update ufcsr",
+            crate::result::model::RESULT_SCHEMA
+        )
+    } else {
+        format!("not a ufcsr result (expected {})", crate::result::model::RESULT_SCHEMA)
+    };
+    Err(Error::bad_file(path, format!("schema {schema:?}: {hint}")))
+}
+
 /// Reads the summary of a `result.json` (the per-texel arrays are skipped).
 pub fn read_result_summary(path: &Path) -> Result<AnalysisResult> {
     let file = crate::files::open_regular(path)?;
-    serde_json::from_reader(std::io::BufReader::new(file))
-        .map_err(|e| Error::bad_file(path, format!("not a ufcsr result.json: {e}")))
+    let result: AnalysisResult = serde_json::from_reader(std::io::BufReader::new(file))
+        .map_err(|e| Error::bad_file(path, format!("not a ufcsr result.json: {e}")))?;
+    check_result_schema(path, &result.schema)?;
+    Ok(result)
 }
 
 /// Writes `timings.json`.

@@ -123,6 +123,7 @@ fn settings(summary: &Summary, empty_tiles: Vec<EmptyTile>) -> Settings {
         heatmap_scale: options.heatmap.scale,
         heatmap_max: options.heatmap.max,
         shard: options.shard,
+        archive_identity: Some(inputs.identity.clone()),
     }
 }
 
@@ -361,7 +362,8 @@ fn tally(options: &AnalyzeOptions, archive: &Archive, outcomes: Vec<Outcome>) ->
     tally.images.listed_empty = listed_empty;
     // Shards of one folder all see the same skipped files: the first reports them.
     if options.shard.is_none_or(|s| s.index == 0) {
-        tally.images.skipped = archive.skipped.len() as u64;
+        tally.images.skipped =
+            (archive.skipped.len() + archive.aliases.len() + archive.result_folder_pngs) as u64;
     }
     tally.images.trimmed = listed_empty;
     for (image, outcome) in archive.images.iter().zip(outcomes) {

@@ -54,8 +54,10 @@ pub fn write_comparison(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
     if paths.len() < 2 {
         return Err(Error::BadOptions("report needs at least two results to compare".into()));
     }
+    refuse_result_folders(paths, out_dir)?;
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let mut entries = Vec::with_capacity(paths.len());
+    let mut inputs: Vec<PathBuf> = paths.iter().map(|path| result_json(path)).collect();
     for (index, path) in paths.iter().enumerate() {
         let json = result_json(path);
         let result = read_result_summary(&json)?;
@@ -75,7 +77,10 @@ pub fn write_comparison(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
                     source.file_name().unwrap_or_default().to_string_lossy()
                 );
                 let target = out_dir.join(&name);
-                std::fs::copy(&source, &target).map_err(|e| Error::io(&target, e))?;
+                inputs.push(source.clone());
+                crate::files::refuse_overwriting_inputs(std::slice::from_ref(&target), &inputs)?;
+                let bytes = crate::files::read_limited(&source, crate::files::IMAGE_LIMIT)?;
+                crate::files::write_bytes_atomically(&target, &bytes)?;
                 Some(name)
             }
             None => None,
@@ -83,8 +88,27 @@ pub fn write_comparison(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
         entries.push(Entry { label, result, image });
     }
     let page = out_dir.join("report.html");
+    crate::files::refuse_overwriting_inputs(std::slice::from_ref(&page), &inputs)?;
     crate::files::write_bytes_atomically(&page, render(&entries).as_bytes())?;
     Ok(page)
+}
+
+/// The page may not go into the folder of a result it compares: it would
+/// replace that result's own `report.html` (and sit in its result set).
+fn refuse_result_folders(paths: &[PathBuf], out_dir: &Path) -> Result<()> {
+    for path in paths {
+        let json = result_json(path);
+        let dir = json.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
+        if crate::files::same_path(dir, out_dir) {
+            return Err(Error::BadOptions(format!(
+                "--out {} is the folder of the compared result {}: writing report.html there would \
+                 replace that result's own report; choose another --out folder",
+                out_dir.display(),
+                json.display()
+            )));
+        }
+    }
+    Ok(())
 }
 
 fn render(entries: &[Entry]) -> String {
