@@ -17,8 +17,9 @@ mod testing;
 pub use analyze::{analyze, analyze_counted, analyze_texel_counts};
 pub use color::{AtomicColorSet, COLOR_COUNT, Color, ParseColorError, SeenSet};
 pub use count::{
-    Classifier, Counts, EmptyTile, ImageTally, KERNEL_ENV, Kernel, PartLookup, PixelClass, RowScan,
-    TileCounter, scan_image, scan_image_by_part,
+    Classifier, Counts, EmptyTile, FrameLabel, FrameRecord, ImageTally, KERNEL_ENV, Kernel, PartLookup, PartPixels,
+    PixelClass, RowScan,
+    CountedTile, TileCounter, scan_image, scan_image_by_part,
 };
 pub use error::{Error, Result};
 #[cfg(feature = "cli")]
@@ -28,9 +29,9 @@ pub use files::{
     remove_temporaries, resolve_inside, write_atomically, write_bytes_atomically, write_rgb_png,
 };
 pub use input::{
-    AnalyzeOptions, Archive, CaptureGeometry, Dedupe, Fcsp, HeatmapOptions, ImageSource, Legend,
+    AnalyzeOptions, Archive, CaptureGeometry, Dedupe, EyeProjection, Fcsp, HeatmapOptions, ImageSource, Legend,
     MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice, PaletteDescription, PaletteSpec,
-    Part, Pidt, PixelLayout, Progress, RowReader, Scale, Shard, TileEntry, Timings, TrimMode, UNLABELLED,
+    Part, Pidt, PixelLayout, Progress, RowReader, Scale, Shard, TileEntry, TileView, Timings, TrimMode, UNLABELLED,
     parse_palette_size, read_color_image, read_file, write_canonical_png,
 };
 pub use output::{

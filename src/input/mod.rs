@@ -16,6 +16,7 @@ pub(crate) mod palette;
 pub(crate) mod png_rows;
 pub(crate) mod resolve;
 pub(crate) mod shard;
+pub mod solid_angle;
 
 pub use archive_reader::{Archive, ImageSource};
 pub use capture_facts::CaptureGeometry;
@@ -27,3 +28,4 @@ pub use options::{
 pub use palette::{Fcsp, PaletteDescription, parse_size as parse_palette_size, write_canonical_png};
 pub use png_rows::{PixelLayout, RowReader, read_color_image, read_file};
 pub use shard::Shard;
+pub use solid_angle::{EyeProjection, TileView};
