@@ -144,12 +144,12 @@ mod tests {
     /// weighted by their solid angle, against its exact solid angle. The
     /// error is the plate's outline band: O(perimeter × pixel), so it falls
     /// like 1/ppd (with cancellation often faster).
-    fn plate_error(ppd: f64) -> f64 {
+    fn plate_error(ppd: f64) -> (f64, f64) {
         let e = eye(ppd);
         let (d, a, b, cx, cy) = (4.0, 0.9, 0.6, 2.0, -1.1);
         let (u0, u1, v0, v1) = ((cx - a) / d, (cx + a) / d, (cy - b) / d, (cy + b) / d);
         let exact = EyeProjection::rectangle_sr(u0, u1, v0, v1);
-        let mut rendered = 0.0;
+        let (mut rendered, mut pixels) = (0.0, 0u64);
         for y in 0..e.height {
             let v = e.v(f64::from(y) + 0.5);
             if v < v0 || v > v1 {
@@ -159,24 +159,27 @@ mod tests {
                 let u = e.u(f64::from(x) + 0.5);
                 if u >= u0 && u <= u1 {
                     rendered += e.pixel_sr(x, y);
+                    pixels += 1;
                 }
             }
         }
-        (rendered - exact).abs() / exact
+        // What `pixels / ppd²` made of it (ppd = pixels / field of view).
+        let old = pixels as f64 / (ppd * ppd) * (std::f64::consts::PI / 180.0).powi(2);
+        ((rendered - exact).abs() / exact, old / exact)
     }
 
     #[test]
     fn a_plate_facing_the_eye_converges_to_its_exact_solid_angle_like_one_over_ppd() {
-        let errors: Vec<f64> = [2.0, 4.0, 8.0, 16.0].iter().map(|&ppd| plate_error(ppd)).collect();
-        // Relative error below 3 % / ppd at every step, and 1e-2 by 16 px/°.
-        for (error, ppd) in errors.iter().zip([2.0, 4.0, 8.0, 16.0]) {
-            assert!(*error < 0.03 / ppd * 4.0, "{ppd} px/°: {error}");
+        let ppds = [2.0, 4.0, 8.0, 16.0];
+        let results: Vec<(f64, f64)> = ppds.iter().map(|&ppd| plate_error(ppd)).collect();
+        // Measured: 8.1e-3, 1.6e-2, 2.0e-3, 2.9e-4 — at most 0.065 / ppd.
+        for ((error, _), ppd) in results.iter().zip(ppds) {
+            assert!(*error < 0.1 / ppd, "{ppd} px/°: {error}");
         }
-        assert!(errors[3] < 1e-2, "{errors:?}");
-        // Counting pixels / pitch² instead overstates the off-axis plate.
-        let e = eye(8.0);
-        let (u, v) = (2.0 / 4.0, -1.1 / 4.0);
-        assert!((1.0 + u * u + v * v).powf(1.5) > 1.3);
-        let _ = e;
+        assert!(results[3].0 < 1e-3, "{results:?}");
+        // `pixels / ppd²` was 27 % short for this plate at every ppd.
+        for (_, old) in &results {
+            assert!((old - 0.73).abs() < 0.02, "{old}");
+        }
     }
 }
