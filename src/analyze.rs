@@ -8,18 +8,18 @@
 
 use std::time::Instant;
 
-use crate::count::scan::{Classifier, Kernel};
 use crate::count::part_lookup::{FrameLabel, FrameRecord};
+use crate::count::scan::{Classifier, Kernel};
 use crate::count::tile_counter::{PartTallies, TileCounter};
-use crate::count::work::{FrameTallies, eye_frame_label};
-use crate::input::capture_facts::EyeFrame;
-use crate::result::frames::FrameTable;
 use crate::count::trim::TrimPlan;
 use crate::count::work::{CountJob, CountedImages, Outcome, count_images};
+use crate::count::work::{FrameTallies, eye_frame_label};
 use crate::error::{Error, Result};
+use crate::input::capture_facts::EyeFrame;
 use crate::input::manifest::MANIFEST_FILE;
 use crate::input::options::{AnalyzeOptions, Progress, Timings};
 use crate::input::resolve::{resolve_inputs, resolve_inputs_allowing_no_images};
+use crate::result::frames::FrameTable;
 use crate::result::measures::Measures;
 use crate::result::model::Analysis;
 use crate::result::summarize::{Summary, frame_table, summarize, summarize_texel_counts};

@@ -538,7 +538,17 @@ fn print_study(study: &ufcsr_capture::study::Study) {
     }
     println!(
         "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12} {:>6}",
-        "ppd", "step", "frames", "seconds", "error pp", "95 % pp", "tau", "top5", "step pp", "precision pp", "pareto"
+        "ppd",
+        "step",
+        "frames",
+        "seconds",
+        "error pp",
+        "95 % pp",
+        "tau",
+        "top5",
+        "step pp",
+        "precision pp",
+        "pareto"
     );
     for row in &study.rows {
         let exact = row.error_vs_exact.as_ref();

@@ -13,12 +13,12 @@ use serde_json::{Map, Value, json};
 use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
 
 use crate::frame_capture::round6;
-use crate::rig::{Eye, Rig, reversed_z_perspective};
-use crate::track::Pose;
 use crate::options::{CaptureOptions, TileTally};
 use crate::pidt::PaintedPidt;
+use crate::rig::{Eye, Rig, reversed_z_perspective};
 use crate::scenario::Scenario;
 use crate::scene::Scene;
+use crate::track::Pose;
 use crate::unwrap::{self, Unwrapped};
 
 /// The counters in the manifest's `capture` object that add up over the
@@ -70,7 +70,8 @@ pub fn eye_projection(rig: &Rig) -> Value {
 /// exact measure use.
 pub fn frame_pose(rig: &Rig, pose: &Pose) -> (Value, Value) {
     let aspect = f64::from(rig.eye_pixels[0]) / f64::from(rig.eye_pixels[1]);
-    let projection = reversed_z_perspective(rig.vertical_fov_deg().to_radians(), aspect, rig.near_m, rig.far_m);
+    let projection =
+        reversed_z_perspective(rig.vertical_fov_deg().to_radians(), aspect, rig.near_m, rig.far_m);
     let to_view = projection.inverse();
     let mut eyes = Map::new();
     for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(pose)) {

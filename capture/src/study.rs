@@ -331,12 +331,19 @@ fn capture_setting(
 
 /// The rendered measure per eye-frame and legend part (the `(unlabelled)`
 /// slot left out): texels seen (count) or the pixels' solid angle, sr.
-fn rendered_per_eye_frame(table: &ufcsr::FrameTable, measure: StudyMeasure, out: &Path) -> Result<PerEyeFrame> {
+fn rendered_per_eye_frame(
+    table: &ufcsr::FrameTable,
+    measure: StudyMeasure,
+    out: &Path,
+) -> Result<PerEyeFrame> {
     let keep: Vec<usize> = (0..table.parts.len()).filter(|&p| !table.parts[p].starts_with('(')).collect();
     let mut rows = Vec::with_capacity(table.records.len());
     for record in &table.records {
         let ufcsr::FrameLabel::EyeFrame(eye_frame) = &record.label else {
-            return Err(CaptureError::bad_input(out, "the study's capture has eye-frames without a manifest"));
+            return Err(CaptureError::bad_input(
+                out,
+                "the study's capture has eye-frames without a manifest",
+            ));
         };
         let values = match measure {
             StudyMeasure::Count => keep.iter().map(|&p| record.texels[p] as f64).collect(),
@@ -384,9 +391,15 @@ fn measure_exact(
 
 /// The exact measure per eye-frame, by the rendered table's parts (by
 /// name), each part scaled by its texels / sampled texels.
-fn exact_per_eye_frame(exact: &UnobstructedCapture, measure: StudyMeasure, parts: &[String]) -> Result<PerEyeFrame> {
+fn exact_per_eye_frame(
+    exact: &UnobstructedCapture,
+    measure: StudyMeasure,
+    parts: &[String],
+) -> Result<PerEyeFrame> {
     let sums = exact.per_eye_frame.as_ref().ok_or_else(|| {
-        CaptureError::BadOptions("the exact reference kept no per-eye-frame sums (measure it on the CPU)".into())
+        CaptureError::BadOptions(
+            "the exact reference kept no per-eye-frame sums (measure it on the CPU)".into(),
+        )
     })?;
     let eye_frames = exact.eye_frames as usize;
     let index: Vec<usize> = parts
@@ -449,7 +462,9 @@ fn compare_with_exact(
             let e = exact.estimates.iter().find(|e| &e.part == name);
             e.map_or(0.0, |e| match measure {
                 StudyMeasure::Count => ratio(e.standard_error, e.estimated_total),
-                StudyMeasure::AngularArea => ratio(e.solid_angle_standard_error_sr, e.estimated_solid_angle_sr),
+                StudyMeasure::AngularArea => {
+                    ratio(e.solid_angle_standard_error_sr, e.estimated_solid_angle_sr)
+                }
             })
         })
         .collect();
@@ -503,7 +518,8 @@ fn pick(row: &StudyRow) -> Pick {
 /// interval against the exact measure, or its precision without one).
 fn recommend(study: &mut Study) {
     let tolerance = study.tolerance_pp;
-    let upper = |row: &StudyRow| row.error_vs_exact.as_ref().map_or(row.precision.share_l1_pp, |e| e.ci95_pp[1]);
+    let upper =
+        |row: &StudyRow| row.error_vs_exact.as_ref().map_or(row.precision.share_l1_pp, |e| e.ci95_pp[1]);
     study.recommended = study
         .rows
         .iter()
@@ -514,7 +530,8 @@ fn recommend(study: &mut Study) {
         return;
     }
     let closest = study.rows.iter().min_by(|a, b| a.ranking_error().total_cmp(&b.ranking_error())).map(pick);
-    let against = if study.exact.is_some() { "of the exact measure at 95 %" } else { "of the finest setting" };
+    let against =
+        if study.exact.is_some() { "of the exact measure at 95 %" } else { "of the finest setting" };
     study.reason = Some(match &closest {
         Some(c) => format!(
             "no setting is within {tolerance} pp {against}: the closest is {} at {:.3} pp{}",
@@ -688,7 +705,10 @@ mod tests {
     #[test]
     fn with_no_setting_within_tolerance_the_study_says_so_and_names_the_closest() {
         let s = study(
-            vec![row(60.0, 10.0, 0.0, Some((12.5, [11.0, 14.0]))), row(30.0, 4.0, 3.0, Some((15.0, [13.0, 17.0])))],
+            vec![
+                row(60.0, 10.0, 0.0, Some((12.5, [11.0, 14.0]))),
+                row(30.0, 4.0, 3.0, Some((15.0, [13.0, 17.0]))),
+            ],
             true,
         );
         assert!(s.recommended.is_none());

@@ -56,7 +56,8 @@ where
     let highs = study.rows.iter().map(|r| r.error_vs_exact.as_ref().map_or(0.0, |e| e.ci95_pp[1]));
     let precisions = study.rows.iter().map(|r| r.precision.share_l1_pp);
     let (t_min, t_max) = times.iter().fold((f64::MAX, f64::MIN), |(lo, hi), &t| (lo.min(t), hi.max(t)));
-    let e_max = errors.iter().copied().chain(highs).chain(precisions).fold(study.tolerance_pp, f64::max) * 1.1 + 0.1;
+    let e_max =
+        errors.iter().copied().chain(highs).chain(precisions).fold(study.tolerance_pp, f64::max) * 1.1 + 0.1;
     let exact = study.exact.is_some();
     let mut builder = ChartBuilder::on(root);
     builder.margin(20);
@@ -64,7 +65,10 @@ where
         let against = if exact { "the exact measure" } else { "the finest setting" };
         builder
             .caption(
-                format!("Scenario {}, {}: share error against {against} vs run time", study.scenario, study.measure),
+                format!(
+                    "Scenario {}, {}: share error against {against} vs run time",
+                    study.scenario, study.measure
+                ),
                 ("sans-serif", 20),
             )
             .x_label_area_size(50)
@@ -74,7 +78,8 @@ where
     let mut chart = builder.build_cartesian_2d((x0..x1).log_scale(), 0.0..e_max)?;
     let mut mesh = chart.configure_mesh();
     if text {
-        let y = if exact { "share L1 error vs exact, pp (bars: 95 %)" } else { "share L1 vs finest setting, pp" };
+        let y =
+            if exact { "share L1 error vs exact, pp (bars: 95 %)" } else { "share L1 vs finest setting, pp" };
         mesh.x_desc("capture + count, seconds (log scale)")
             .y_desc(y)
             .label_style(("sans-serif", 14))
@@ -85,7 +90,12 @@ where
     mesh.draw()?;
     let grey = RGBColor(150, 150, 150);
     chart
-        .draw_series(DashedLineSeries::new([(x0, study.tolerance_pp), (x1, study.tolerance_pp)], 6, 4, grey.stroke_width(1)))?
+        .draw_series(DashedLineSeries::new(
+            [(x0, study.tolerance_pp), (x1, study.tolerance_pp)],
+            6,
+            4,
+            grey.stroke_width(1),
+        ))?
         .label(format!("tolerance {} pp", study.tolerance_pp))
         .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], grey));
     if exact {
@@ -118,7 +128,8 @@ where
     B::ErrorType: 'static,
 {
     let grey = RGBColor(150, 150, 150);
-    let points = study.rows.iter().zip(times).map(|(r, &t)| Circle::new((t, r.precision.share_l1_pp), 3, grey));
+    let points =
+        study.rows.iter().zip(times).map(|(r, &t)| Circle::new((t, r.precision.share_l1_pp), 3, grey));
     chart
         .draw_series(points)?
         .label("precision: vs finest setting")
@@ -142,8 +153,13 @@ fn draw_front_and_points<B: DrawingBackend>(
 where
     B::ErrorType: 'static,
 {
-    let mut front: Vec<(f64, f64)> =
-        study.rows.iter().zip(times).filter(|(r, _)| r.pareto).map(|(r, &t)| (t, r.ranking_error())).collect();
+    let mut front: Vec<(f64, f64)> = study
+        .rows
+        .iter()
+        .zip(times)
+        .filter(|(r, _)| r.pareto)
+        .map(|(r, &t)| (t, r.ranking_error()))
+        .collect();
     front.sort_by(|a, b| a.0.total_cmp(&b.0));
     chart
         .draw_series(LineSeries::new(front, RED.stroke_width(2)))?

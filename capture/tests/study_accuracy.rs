@@ -88,10 +88,17 @@ fn rendered_sr(gpu: &Gpu, scene: &Scene, ppd: f64) -> Vec<f64> {
     let dir = tempfile::tempdir().unwrap();
     let mut scene = scene.clone();
     scene.rig.set_pixels_per_degree(ppd).unwrap();
-    let options = CaptureOptions { out: dir.path().join("a"), palette: [256, 256], ..CaptureOptions::default() };
-    let counted =
-        archive::capture_counted(&gpu.device, &gpu.queue, &scene, &scene.scenarios[0], &options, Dedupe::Frame)
-            .unwrap();
+    let options =
+        CaptureOptions { out: dir.path().join("a"), palette: [256, 256], ..CaptureOptions::default() };
+    let counted = archive::capture_counted(
+        &gpu.device,
+        &gpu.queue,
+        &scene,
+        &scene.scenarios[0],
+        &options,
+        Dedupe::Frame,
+    )
+    .unwrap();
     let measures = counted.analysis.result.measures.expect("--count keeps the measures");
     let frames = counted.summary.frames as f64;
     PLATES.iter().map(|(name, ..)| measures.part(name).unwrap().solid_angle_sr.unwrap() / frames).collect()
@@ -125,7 +132,8 @@ fn the_exact_measure_gives_a_plates_analytic_solid_angle() {
     let gpu = gpu();
     let scene = plates_scene();
     let dir = tempfile::tempdir().unwrap();
-    let options = CaptureOptions { out: dir.path().join("exact"), palette: [256, 256], ..CaptureOptions::default() };
+    let options =
+        CaptureOptions { out: dir.path().join("exact"), palette: [256, 256], ..CaptureOptions::default() };
     let measured = measure_unobstructed(
         &gpu.device,
         &gpu.queue,
@@ -156,7 +164,11 @@ fn the_study_of_the_plates_recommends_by_the_error_against_the_exact_solid_angle
         tolerance_pp: 0.5,
         dedupe: Dedupe::Frame,
         measure: StudyMeasure::AngularArea,
-        capture: CaptureOptions { out: dir.path().to_path_buf(), palette: [256, 256], ..CaptureOptions::default() },
+        capture: CaptureOptions {
+            out: dir.path().to_path_buf(),
+            palette: [256, 256],
+            ..CaptureOptions::default()
+        },
         exact_sample: Some(1.0),
     };
     let study = run_study(&gpu.device, &gpu.queue, &scene, &options).unwrap();

@@ -10,11 +10,11 @@
 
 use crate::color::COLOR_COUNT;
 use crate::color::sets::{SeenSet, key_color};
-use crate::input::solid_angle::{RowWeights, TileView};
 use crate::input::capture_facts::EyeFrame;
 use crate::input::labels::{Legend, Pidt, UNLABELLED};
 use crate::input::palette::Fcsp;
 use crate::input::png_rows::PixelLayout;
+use crate::input::solid_angle::{RowWeights, TileView};
 
 /// The part name used for texels whose PIdT colour is in no legend entry.
 pub const UNLABELLED_NAME: &str = "(unlabelled)";

@@ -114,7 +114,10 @@ impl EyeOptics {
 
     /// Where the tile `[row, col]` lies in its eye.
     pub fn view(&self, [row, col]: [u32; 2]) -> TileView {
-        TileView { projection: self.projection, origin: [col * self.tile_pixels[0], row * self.tile_pixels[1]] }
+        TileView {
+            projection: self.projection,
+            origin: [col * self.tile_pixels[0], row * self.tile_pixels[1]],
+        }
     }
 }
 

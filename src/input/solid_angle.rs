@@ -41,7 +41,11 @@ impl EyeProjection {
     /// The eye of a horizontal field of view (degrees) and image size.
     pub fn new(horizontal_fov_deg: f64, [width, height]: [u32; 2]) -> Option<EyeProjection> {
         let valid = horizontal_fov_deg > 0.0 && horizontal_fov_deg < 180.0 && width > 0 && height > 0;
-        valid.then(|| EyeProjection { width, height, tan_half_x: (horizontal_fov_deg.to_radians() / 2.0).tan() })
+        valid.then(|| EyeProjection {
+            width,
+            height,
+            tan_half_x: (horizontal_fov_deg.to_radians() / 2.0).tan(),
+        })
     }
 
     /// Image-plane size of one pixel.
@@ -115,8 +119,10 @@ mod tests {
     #[test]
     fn the_pixels_of_an_eye_add_up_to_its_frustum_and_shrink_off_axis() {
         let e = eye(2.0);
-        let sum: f64 =
-            (0..e.height).flat_map(|y| (0..e.width).map(move |x| (x, y))).map(|(x, y)| e.pixel_sr(x, y)).sum();
+        let sum: f64 = (0..e.height)
+            .flat_map(|y| (0..e.width).map(move |x| (x, y)))
+            .map(|(x, y)| e.pixel_sr(x, y))
+            .sum();
         assert!((sum - e.image_sr()).abs() < 1e-9 * e.image_sr(), "{sum} vs {}", e.image_sr());
         // A 107° × 135°-tall eye covers well under the 2π sr of a hemisphere.
         assert!(e.image_sr() < 2.0 * std::f64::consts::PI);

@@ -151,7 +151,10 @@ mod tests {
         assert_eq!(table.records[0].solid_angle_sr, Some(vec![sr, 0.0]));
         let old = format!("{FRAMES_HEADER_V1}\n0,0,left,5,a,4,2\n0,0,left,5,b,0,0\n");
         let table = read(&old).unwrap();
-        assert_eq!((table.records[0].pixels.clone(), table.records[0].solid_angle_sr.clone()), (vec![4, 0], None));
+        assert_eq!(
+            (table.records[0].pixels.clone(), table.records[0].solid_angle_sr.clone()),
+            (vec![4, 0], None)
+        );
         let wrong = read("frame,eye,pixels\n0,left,3\n").unwrap_err().to_string();
         assert!(wrong.contains("frames.csv") && wrong.contains("expected"), "{wrong}");
         let negative = read(&format!("{FRAMES_HEADER}\n0,0,left,5,a,4,2,-1\n")).unwrap_err().to_string();

@@ -92,7 +92,8 @@ impl Measures {
                 exposure_s: None,
             })
             .collect();
-        let weighted = !frames.records.is_empty() && frames.records.iter().all(|r| r.solid_angle_sr.is_some());
+        let weighted =
+            !frames.records.is_empty() && frames.records.iter().all(|r| r.solid_angle_sr.is_some());
         let mut measures = Measures {
             definition: if weighted { DEFINITION } else { DEFINITION_CENTRE_PPD }.to_string(),
             pixels_per_degree: clock.pixels_per_degree,
@@ -171,7 +172,10 @@ mod tests {
         };
         let table = |records| FrameTable { parts: vec!["a".into(), "b".into()], records };
         let clock = FrameClock { seconds_per_frame: Some(0.5), eyes: 2, pixels_per_degree: Some(10.0) };
-        assert_eq!(Measures::from_frames(&table(vec![record(0, [1, 1])]), &clock).definition, DEFINITION_CENTRE_PPD);
+        assert_eq!(
+            Measures::from_frames(&table(vec![record(0, [1, 1])]), &clock).definition,
+            DEFINITION_CENTRE_PPD
+        );
         let whole = Measures::from_frames(&table(vec![record(0, [100, 0]), record(1, [300, 4])]), &clock);
         let a = whole.part("a").unwrap();
         assert_eq!((a.pixels, a.eye_frames_seen), (400, 2));
@@ -195,7 +199,10 @@ mod tests {
             texels: vec![1, 1],
             solid_angle_sr: Some(sr.to_vec()),
         };
-        let table = FrameTable { parts: vec!["a".into(), "b".into()], records: vec![record(0, [1e-3, 0.0]), record(1, [3e-3, 2e-3])] };
+        let table = FrameTable {
+            parts: vec!["a".into(), "b".into()],
+            records: vec![record(0, [1e-3, 0.0]), record(1, [3e-3, 2e-3])],
+        };
         // No pixels per degree needed: the solid angles are what counts.
         let clock = FrameClock { seconds_per_frame: Some(0.5), eyes: 2, pixels_per_degree: None };
         let measures = Measures::from_frames(&table, &clock);

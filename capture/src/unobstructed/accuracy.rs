@@ -148,7 +148,11 @@ impl SplitMix {
 /// The 95 % interval `[low, high]` of the share L1 between `candidate` and
 /// `reference` rows (paired eye-frames), and the replicates drawn (0 when
 /// nothing varies: then the interval is the point value).
-pub fn share_l1_interval(reference: &[&[f64]], candidate: &[&[f64]], resampling: &Resampling) -> ([f64; 2], u32) {
+pub fn share_l1_interval(
+    reference: &[&[f64]],
+    candidate: &[&[f64]],
+    resampling: &Resampling,
+) -> ([f64; 2], u32) {
     let parts = reference.first().map_or(0, |row| row.len());
     let point = share_l1_pp(&totals(reference, parts), &totals(candidate, parts));
     let texels_vary = resampling.relative_error.iter().any(|e| *e > 0.0);
