@@ -8,14 +8,18 @@
 
 use std::time::Instant;
 
+use crate::count::part_lookup::{FrameLabel, FrameRecord};
 use crate::count::scan::{Classifier, Kernel};
-use crate::count::tile_counter::TileCounter;
+use crate::count::tile_counter::{PartTallies, TileCounter};
 use crate::count::trim::TrimPlan;
 use crate::count::work::{CountJob, CountedImages, Outcome, count_images};
+use crate::count::work::{FrameTallies, eye_frame_label};
 use crate::error::{Error, Result};
+use crate::input::capture_facts::EyeFrame;
 use crate::input::manifest::MANIFEST_FILE;
 use crate::input::options::{AnalyzeOptions, Progress, Timings};
 use crate::input::resolve::{resolve_inputs, resolve_inputs_allowing_no_images};
+use crate::result::frames::FrameTable;
 use crate::result::measures::Measures;
 use crate::result::model::Analysis;
 use crate::result::summarize::{Summary, frame_table, summarize, summarize_texel_counts};
@@ -69,7 +73,9 @@ pub fn analyze_counted(options: &AnalyzeOptions, mut counter: TileCounter) -> Re
     let started = Instant::now();
     let timings = Timings { threads: 1, kernel: Kernel::selected().name().to_string(), ..Timings::default() };
     counter.commit_eye_frame();
+    counter.finish_parts();
     let inputs = resolve_inputs(options)?;
+    let part_tallies = counter.parts.take();
     let mut outcomes = Vec::with_capacity(inputs.archive.images.len());
     for image in &inputs.archive.images {
         outcomes.push(match counter.tallies.remove(&image.name) {
@@ -89,7 +95,34 @@ pub fn analyze_counted(options: &AnalyzeOptions, mut counter: TileCounter) -> Re
         frame_counts: counter.frame_counts,
         strays: counter.strays,
     };
-    summarize(Summary { options, inputs: &inputs, empty_tiles: Vec::new(), timings, started }, counted)
+    let frames = part_tallies.map(|tallies| counted_frame_table(tallies, &inputs));
+    let mut analysis =
+        summarize(Summary { options, inputs: &inputs, empty_tiles: Vec::new(), timings, started }, counted)?;
+    if let Some(frames) = &frames {
+        analysis.result.measures = Some(Measures::from_frames(frames, &inputs.clock));
+    }
+    analysis.frames = frames;
+    Ok(analysis)
+}
+
+/// The `frames.csv` table of a [`TileCounter`]'s part tallies, labelled by
+/// the manifest's eye-frames as the PNG path labels them.
+fn counted_frame_table(tallies: PartTallies, inputs: &crate::input::resolve::Inputs) -> FrameTable {
+    let weighted = tallies.projection.is_some();
+    let records = tallies
+        .records
+        .into_iter()
+        .map(|(frame, eye, pixels, mut texels)| {
+            let group = inputs.eye_frames.iter().position(|e| e.frame == frame && e.eye == eye);
+            let label = match group {
+                Some(group) => eye_frame_label(&inputs.eye_frames, group),
+                None => FrameLabel::EyeFrame(EyeFrame { frame, eye, time_s: None, distance_m: None }),
+            };
+            texels.pop();
+            FrameRecord::from_parts(label, pixels, texels, weighted)
+        })
+        .collect();
+    frame_table(FrameTallies { parts: tallies.lookup.names, records }, inputs, None)
 }
 
 /// A result for per-texel counts measured some other way than by counting

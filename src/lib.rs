@@ -17,8 +17,8 @@ mod testing;
 pub use analyze::{analyze, analyze_counted, analyze_texel_counts};
 pub use color::{AtomicColorSet, COLOR_COUNT, Color, ParseColorError, SeenSet};
 pub use count::{
-    Classifier, Counts, EmptyTile, ImageTally, KERNEL_ENV, Kernel, PartLookup, PixelClass, RowScan,
-    TileCounter, scan_image, scan_image_by_part,
+    Classifier, CountedTile, Counts, EmptyTile, FrameLabel, FrameRecord, ImageTally, KERNEL_ENV, Kernel,
+    PartLookup, PartPixels, PixelClass, RowScan, TileCounter, scan_image, scan_image_by_part,
 };
 pub use error::{Error, Result};
 #[cfg(feature = "cli")]
@@ -29,10 +29,10 @@ pub use files::{
     write_atomically, write_bytes_atomically, write_rgb_png,
 };
 pub use input::{
-    AnalyzeOptions, Archive, CaptureGeometry, Dedupe, Fcsp, HeatmapOptions, ImageSource, Legend,
-    MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice, PaletteDescription, PaletteSpec,
-    Part, Pidt, PixelLayout, Progress, RowReader, Scale, Shard, TileEntry, Timings, TrimMode, UNLABELLED,
-    parse_palette_size, read_color_image, read_file, verify_image_data, write_canonical_png,
+    AnalyzeOptions, Archive, CaptureGeometry, Dedupe, EyeProjection, Fcsp, HeatmapOptions, ImageSource,
+    Legend, MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice, PaletteDescription,
+    PaletteSpec, Part, Pidt, PixelLayout, Progress, RowReader, Scale, Shard, TileEntry, TileView, Timings,
+    TrimMode, UNLABELLED, parse_palette_size, read_color_image, read_file, verify_image_data, write_canonical_png,
 };
 pub use output::{
     DIRECTIONS, ModelPart, NEVER_SEEN, VehicleModel, ViewCamera, ViewTexture, WrittenFiles, WrittenViews,

@@ -379,7 +379,8 @@ pub fn capture_counted(
         PaletteSpec::File(file) => ufcsr::Fcsp::from_png(&options.out.join(file))?,
     };
     let setup_seconds = start.elapsed().as_secs_f64();
-    let counter = ufcsr::TileCounter::new(&palette, &[prepared.background], dedupe)?;
+    let mut counter = ufcsr::TileCounter::new(&palette, &[prepared.background], dedupe)?;
+    crate::count_sink::tally_parts(&mut counter, &options.out, &palette, prepared.background, &scene.rig)?;
     let (captured, counted) = count_while(counter, |sink| {
         capture_frames(device, queue, scene, scenario, options, &prepared, sink)
     })?;

@@ -7,6 +7,7 @@
 //! GPU renders the next tile while the last one is counted (as the PNG
 //! encoder pool overlaps encoding with rendering).
 
+use std::path::Path;
 use std::sync::mpsc::{SyncSender, sync_channel};
 
 use ufcsr::TileCounter;
@@ -34,6 +35,24 @@ impl TileSink for CountSink {
     }
 }
 
+/// Makes `counter` tally pixels, their solid angles and texels by part per
+/// eye-frame (`frames.csv` and the measures, as the analyzer does for PNG
+/// tiles): the legend and PIdT the capture wrote into `out`, the rig's eyes.
+pub fn tally_parts(
+    counter: &mut TileCounter,
+    out: &Path,
+    palette: &ufcsr::Fcsp,
+    background: ufcsr::Color,
+    rig: &crate::rig::Rig,
+) -> Result<()> {
+    let legend = ufcsr::Legend::load(&out.join("parts.csv"))?;
+    let (width, height) = (palette.width(), palette.height());
+    let pidt = ufcsr::Pidt::load(&out.join("pidt.png"), &legend, width, height)?;
+    let lookup = ufcsr::PartLookup::new(palette, Some((&legend, &pidt)), &[background.packed()]);
+    counter.tally_parts(lookup, ufcsr::EyeProjection::new(rig.horizontal_fov_deg, rig.eye_pixels));
+    Ok(())
+}
+
 /// What the counting thread did.
 pub struct Counted<'a> {
     pub counter: TileCounter<'a>,
@@ -56,14 +75,16 @@ pub fn count_while<'a, T>(
             for tile in receiver {
                 let name = tile.address.file().to_string_lossy().replace('\\', "/");
                 let [width, height] = tile.size;
-                counted.counter.count_rgba(
-                    &name,
-                    tile.address.frame,
-                    tile.address.eye.name(),
-                    width,
-                    height,
-                    &tile.rgba,
-                )?;
+                // Every tile of an eye has the same size, so its origin is its place × its size.
+                let origin = [tile.address.col * width, tile.address.row * height];
+                let counted_tile = ufcsr::CountedTile {
+                    name: &name,
+                    frame: tile.address.frame,
+                    eye: tile.address.eye.name(),
+                    size: tile.size,
+                    origin,
+                };
+                counted.counter.count_tile(&counted_tile, &tile.rgba)?;
                 counted.pixels += u64::from(width) * u64::from(height);
             }
             Ok(counted)

@@ -124,13 +124,12 @@ impl<'a> FrameCapture<'a> {
             }
             tiles_with_vehicle.insert(eye.name().into(), json!(with_vehicle));
         }
+        let (vehicle, eyes) = crate::manifest_builder::frame_pose(rig, &pose);
         captured.record = json!({
             "frame": frame,
             "time_s": round6(time_s),
-            "vehicle": {
-                "position": pose.position.to_array().map(round6),
-                "yaw_deg": round6(pose.yaw_deg),
-            },
+            "vehicle": vehicle,
+            "eyes": eyes,
             "distance_m": round6(distance_m),
             "tiles_with_vehicle": tiles_with_vehicle,
         });

@@ -107,18 +107,23 @@ struct StudyArgs {
     /// Scenario name (default: the first, A for the demo).
     #[arg(long)]
     scenario: Option<String>,
-    /// Pixels per degree to try; the highest is the reference.
+    /// Pixels per degree to try; the highest is the precision reference.
     #[arg(long, value_delimiter = ',', default_value = "60,40,30,20,15,10,6")]
     ppd: Vec<f64>,
-    /// Every n-th frame to try; the smallest is the reference.
+    /// Every n-th frame to try; the smallest is the precision reference.
     #[arg(long, value_delimiter = ',', default_value = "1,2,4,6,10")]
     frame_step: Vec<u32>,
-    /// Largest acceptable share L1 error against the reference, percentage points.
+    /// Largest acceptable share L1 error against the exact measure (its 95 % interval's upper
+    /// end), percentage points.
     #[arg(long, default_value_t = 1.0)]
     tolerance: f64,
-    /// What one count means: image (once per tile), frame (once per eye-frame) or eye-pair
-    /// (once per frame over both eyes).
-    #[arg(long, value_enum, default_value_t = ufcsr::Dedupe::Image)]
+    /// What is studied: angular-area (solid angle of the pixels ↔ ray-traced solid angle) or
+    /// count (texels seen per eye-frame ↔ any-part visibility).
+    #[arg(long, value_enum, default_value_t = ufcsr_capture::study::StudyMeasure::AngularArea)]
+    measure: ufcsr_capture::study::StudyMeasure,
+    /// What one count of the settings' results means: image (once per tile), frame (once per
+    /// eye-frame, as the exact count) or eye-pair (once per frame over both eyes).
+    #[arg(long, value_enum, default_value_t = ufcsr::Dedupe::Frame)]
     dedupe: ufcsr::Dedupe,
     /// Canonical palette size, W or WxH.
     #[arg(long, default_value = "4096")]
@@ -129,10 +134,12 @@ struct StudyArgs {
     /// GPU backend.
     #[arg(long, value_enum, default_value_t = Backend::Auto)]
     backend: Backend,
-    /// Also compare every setting with the exact unobstructed measure of this share of the
-    /// texels, e.g. 1/64 (see --measure unobstructed).
-    #[arg(long, value_name = "FRACTION")]
-    unobstructed_sample: Option<String>,
+    /// Measure the exact reference on this share of the texels, e.g. 1/16 (default: all).
+    #[arg(long, value_name = "FRACTION", conflicts_with = "no_exact")]
+    exact_sample: Option<String>,
+    /// Skip the exact reference: compare with the finest setting only (precision).
+    #[arg(long)]
+    no_exact: bool,
 }
 
 #[derive(Subcommand)]
@@ -495,66 +502,84 @@ fn run_study(args: StudyArgs) -> anyhow::Result<()> {
         frame_steps: args.frame_step,
         tolerance_pp: args.tolerance,
         dedupe: args.dedupe,
+        measure: args.measure,
         capture: CaptureOptions {
             out: args.out.clone(),
             palette: parse_palette_size(&args.palette_size)?,
             ..CaptureOptions::default()
         },
-        unobstructed_sample: args.unobstructed_sample.as_deref().map(parse_fraction).transpose()?,
+        exact_sample: match (args.no_exact, args.exact_sample.as_deref()) {
+            (true, _) => None,
+            (false, None) => Some(1.0),
+            (false, Some(text)) => Some(parse_fraction(text)?),
+        },
     };
     let gpu = Gpu::create(args.backend).context("creating the GPU device")?;
     eprintln!("adapter: {}", gpu.describe());
     let study = ufcsr_capture::study::run_study(&gpu.device, &gpu.queue, &scene, &options)?;
-    println!("scenario {}: reference {}", study.scenario, study.reference);
-    println!(
-        "{:>6} {:>5} {:>6} {:>9} {:>9} {:>9} {:>7} {:>5} {:>6} {:>12} {:>9}",
-        "ppd",
-        "step",
-        "frames",
-        "seconds",
-        "L1 pp",
-        "max pp",
-        "tau",
-        "top5",
-        "pareto",
-        "L1 vs exact",
-        "tau exact"
-    );
-    for row in &study.rows {
-        let e = &row.error;
-        let exact = row.error_vs_unobstructed.as_ref();
-        println!(
-            "{:>6} {:>5} {:>6} {:>9.2} {:>9.3} {:>9.3} {:>7.3} {:>5} {:>6} {:>12} {:>9}",
-            row.ppd,
-            row.frame_step,
-            row.frames,
-            row.seconds,
-            e.share_l1_pp,
-            e.share_max_pp,
-            e.kendall_tau_total,
-            e.top_k_overlap,
-            if row.pareto { "*" } else { "" },
-            exact.map_or("-".into(), |u| format!("{:.3}", u.share_l1_pp)),
-            exact.map_or("-".into(), |u| format!("{:.3}", u.kendall_tau_total)),
-        );
-    }
-    match study.cheapest_within_tolerance {
-        Some(index) => {
-            let row = &study.rows[index];
-            println!(
-                "cheapest within {} pp: {} ({:.2} s, share L1 {:.3} pp)",
-                study.tolerance_pp,
-                row.label(),
-                row.seconds,
-                row.error.share_l1_pp
-            );
-        }
-        None => println!("no setting is within {} pp of the reference", study.tolerance_pp),
-    }
+    print_study(&study);
     for file in ufcsr_capture::study::write_study(&study, &args.out)? {
         println!("wrote {}", file.display());
     }
     Ok(())
+}
+
+fn print_study(study: &ufcsr_capture::study::Study) {
+    println!(
+        "scenario {}, measure {}: error = share L1 (pp) against the exact measure on the same eye-frames, \
+         95 % interval; precision = against the finest setting ({})",
+        study.scenario, study.measure, study.reference
+    );
+    if let Some(exact) = &study.exact {
+        println!(
+            "exact reference: {} of {} texels (sample {}), {} eye-frames, {:.1} s",
+            exact.sampled_texels, exact.labelled_texels, exact.sample, exact.eye_frames, exact.seconds
+        );
+    }
+    println!(
+        "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12} {:>6}",
+        "ppd",
+        "step",
+        "frames",
+        "seconds",
+        "error pp",
+        "95 % pp",
+        "tau",
+        "top5",
+        "step pp",
+        "precision pp",
+        "pareto"
+    );
+    for row in &study.rows {
+        let exact = row.error_vs_exact.as_ref();
+        println!(
+            "{:>6} {:>5} {:>6} {:>9.2} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12.3} {:>6}",
+            row.ppd,
+            row.frame_step,
+            row.frames,
+            row.seconds,
+            exact.map_or("-".into(), |e| format!("{:.3}", e.error.share_l1_pp)),
+            exact.map_or("-".into(), |e| format!("{:.3}–{:.3}", e.ci95_pp[0], e.ci95_pp[1])),
+            exact.map_or("-".into(), |e| format!("{:.3}", e.error.kendall_tau_b)),
+            exact.map_or("-".into(), |e| e.error.top5_overlap.to_string()),
+            exact.map_or("-".into(), |e| format!("{:.3}", e.frame_step_pp)),
+            row.precision.share_l1_pp,
+            if row.pareto { "*" } else { "" },
+        );
+    }
+    match (&study.recommended, &study.reason) {
+        (Some(pick), _) => println!(
+            "recommended (cheapest within {} pp of the {}): {} ({:.2} s, share L1 {:.3} pp{})",
+            study.tolerance_pp,
+            if pick.against == "exact" { "exact measure at 95 %" } else { "finest setting" },
+            pick.setting,
+            pick.seconds,
+            pick.share_l1_pp,
+            pick.ci95_pp.map_or(String::new(), |[lo, hi]| format!(", 95 % {lo:.3}–{hi:.3}"))
+        ),
+        (None, Some(reason)) => println!("{reason}"),
+        (None, None) => println!("no recommendation"),
+    }
 }
 
 fn report_counted(counted: &archive::CountedCapture) {

@@ -2,7 +2,10 @@
 //!
 //! Built from what the capture knows (rig, scenario, unwrap, per-frame
 //! records) and holding no timings, so the same capture always writes the
-//! same manifest.
+//! same manifest. Every frame record carries the vehicle's pose and each
+//! eye's position and orientation ([`frame_pose`]), and the rig its
+//! projection (`rig.eye_projection`), so that a third party can rebuild
+//! every camera without the rig code.
 
 use std::path::PathBuf;
 
@@ -12,8 +15,10 @@ use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
 use crate::frame_capture::round6;
 use crate::options::{CaptureOptions, TileTally};
 use crate::pidt::PaintedPidt;
+use crate::rig::{Eye, Rig, reversed_z_perspective};
 use crate::scenario::Scenario;
 use crate::scene::Scene;
+use crate::track::Pose;
 use crate::unwrap::{self, Unwrapped};
 
 /// The counters in the manifest's `capture` object that add up over the
@@ -42,6 +47,50 @@ pub struct ManifestParts<'a> {
     pub warnings: Vec<String>,
 }
 
+/// The eyes' projection, everything a camera needs beside its pose: a
+/// symmetric rectilinear (pinhole) eye, principal point at the image centre,
+/// square pixels.
+pub fn eye_projection(rig: &Rig) -> Value {
+    json!({
+        "model": "rectilinear",
+        "horizontal_fov_deg": rig.horizontal_fov_deg,
+        "vertical_fov_deg": rig.vertical_fov_deg(),
+        "eye_pixels": rig.eye_pixels,
+        "principal_point_px": [f64::from(rig.eye_pixels[0]) / 2.0, f64::from(rig.eye_pixels[1]) / 2.0],
+        "near_m": rig.near_m,
+        "far_m": rig.far_m,
+        "depth": "reversed Z: clip z = w at the near plane, 0 at the far plane",
+    })
+}
+
+/// One frame's vehicle pose and each eye's position (world metres) and
+/// orientation (unit `right`, `up`, `forward` in world coordinates: the
+/// camera looks along `forward`, image x runs along `right`, image y up
+/// along `up`), read back from the very view matrices the renderer and the
+/// exact measure use.
+pub fn frame_pose(rig: &Rig, pose: &Pose) -> (Value, Value) {
+    let aspect = f64::from(rig.eye_pixels[0]) / f64::from(rig.eye_pixels[1]);
+    let projection =
+        reversed_z_perspective(rig.vertical_fov_deg().to_radians(), aspect, rig.near_m, rig.far_m);
+    let to_view = projection.inverse();
+    let mut eyes = Map::new();
+    for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(pose)) {
+        let view = to_view * camera.view_proj;
+        let axis = |row: usize, sign: f64| (view.row(row).truncate() * sign).normalize().to_array();
+        eyes.insert(
+            eye.name().into(),
+            json!({
+                "position": camera.position.to_array().map(round6),
+                "right": axis(0, 1.0),
+                "up": axis(1, 1.0),
+                "forward": axis(2, -1.0),
+            }),
+        );
+    }
+    let vehicle = json!({"position": pose.position.to_array().map(round6), "yaw_deg": round6(pose.yaw_deg)});
+    (vehicle, Value::Object(eyes))
+}
+
 /// Builds the manifest of a capture.
 pub fn build_manifest(parts: ManifestParts) -> Manifest {
     let ManifestParts { scene, scenario, options, unwrapped, pidt, tally, .. } = parts;
@@ -59,6 +108,7 @@ pub fn build_manifest(parts: ManifestParts) -> Manifest {
             "frame_count": rig.frame_count(scenario.duration_s),
             "eye_offset": "eyes at the head ± ipd/2 along the head's right; both look along the head's direction",
             "projection": "perspective, square pixels, reversed Z (Depth32Float)",
+            "eye_projection": eye_projection(rig),
         }),
     );
     extra.insert("scene".into(), scene.info.clone());

@@ -2,7 +2,7 @@
 //! ([`work`]), the row kernels that classify pixels and collect texels
 //! ([`scan`], with AVX2 and AVX-512 versions held to the portable one's
 //! answers), per-colour counts, trimming of empty tiles, tallies by part
-//! ([`part_lookup`]) and the counter for tiles held in memory
+//! ([`part_lookup`], pixels weighted by their solid angle) and the counter for tiles held in memory
 //! ([`TileCounter`], the capture's `--count`).
 
 pub(crate) mod counts;
@@ -13,9 +13,9 @@ pub(crate) mod trim;
 pub(crate) mod work;
 
 pub use counts::Counts;
-pub use part_lookup::PartLookup;
+pub use part_lookup::{FrameLabel, FrameRecord, PartLookup, PartPixels};
 pub use scan::{
     Classifier, ImageTally, KERNEL_ENV, Kernel, PixelClass, RowScan, scan_image, scan_image_by_part,
 };
-pub use tile_counter::TileCounter;
+pub use tile_counter::{CountedTile, TileCounter};
 pub use trim::EmptyTile;

@@ -14,6 +14,7 @@ use crate::input::capture_facts::EyeFrame;
 use crate::input::labels::{Legend, Pidt, UNLABELLED};
 use crate::input::palette::Fcsp;
 use crate::input::png_rows::PixelLayout;
+use crate::input::solid_angle::{RowWeights, TileView};
 
 /// The part name used for texels whose PIdT colour is in no legend entry.
 pub const UNLABELLED_NAME: &str = "(unlabelled)";
@@ -126,12 +127,107 @@ impl PartLookup {
         pixels[slot] += run;
     }
 
+    /// Adds the pixels of row `y` of an image to `tally` by part, and, when
+    /// the tally knows where the image lies in its eye ([`PartPixels::view`]),
+    /// their solid angle (one pair of `atan` per run of equal pixels).
+    pub fn add_row_at(&self, row: &[u8], layout: PixelLayout, y: u32, tally: &mut PartPixels) {
+        let Some(view) = tally.view else {
+            return self.add_row(row, layout, &mut tally.pixels);
+        };
+        let weights = RowWeights::new(&view, y);
+        let (pixels, solid) = (&mut tally.pixels, &mut tally.solid_angle_units);
+        match layout {
+            PixelLayout::Rgb => self.add_weighted_of::<3, false>(row, pixels, solid, &weights),
+            PixelLayout::Rgba => self.add_weighted_of::<4, false>(row, pixels, solid, &weights),
+            PixelLayout::Gray => self.add_weighted_of::<1, true>(row, pixels, solid, &weights),
+            PixelLayout::GrayAlpha => self.add_weighted_of::<2, true>(row, pixels, solid, &weights),
+        }
+    }
+
+    fn add_weighted_of<const BYTES: usize, const GRAY: bool>(
+        &self,
+        row: &[u8],
+        pixels: &mut [u64],
+        solid: &mut [u128],
+        weights: &RowWeights,
+    ) {
+        let mut previous = u32::MAX;
+        let mut slot = self.parts();
+        let (mut start, mut start_edge) = (0usize, weights.edge(0));
+        for (x, pixel) in row.chunks_exact(BYTES).enumerate() {
+            let color = if GRAY {
+                u32::from(pixel[0]) * 0x01_0101
+            } else {
+                (u32::from(pixel[0]) << 16) | (u32::from(pixel[1]) << 8) | u32::from(pixel[2])
+            };
+            if color != previous {
+                if x > start {
+                    let edge = weights.edge(x);
+                    pixels[slot] += (x - start) as u64;
+                    solid[slot] += solid_angle_units(edge - start_edge);
+                    (start, start_edge) = (x, edge);
+                }
+                previous = color;
+                slot = self.slot(color);
+            }
+        }
+        let end = row.len() / BYTES;
+        if end > start {
+            pixels[slot] += (end - start) as u64;
+            solid[slot] += solid_angle_units(weights.edge(end) - start_edge);
+        }
+    }
+
     /// Adds the distinct texels of `seen` (keys from [`crate::color::color_key`])
     /// to `texels` (a [`PartLookup::tally`]) by part.
     pub fn add_texels(&self, seen: &SeenSet, texels: &mut [u64]) {
         for key in seen.keys() {
             texels[self.slot(key_color(key))] += 1;
         }
+    }
+}
+
+/// Units of [`PartPixels::solid_angle_units`]: 2⁻⁸⁰ sr. Runs' solid angles
+/// are added as integers, so an eye-frame's sum does not depend on the order
+/// its tiles are counted in (the PNG path and the capture's `--count` give
+/// the same bits); a pixel at 480 px/° (≈ 1.3e-9 sr) is ≈ 1.6e15 units, and
+/// 2¹²⁸ units are 2⁴⁸ sr.
+pub const SOLID_ANGLE_UNITS_PER_SR: f64 = (1u128 << 80) as f64;
+
+/// `sr` (≥ 0, or a rounding error below 0) in [`SOLID_ANGLE_UNITS_PER_SR`].
+fn solid_angle_units(sr: f64) -> u128 {
+    (sr.abs() * SOLID_ANGLE_UNITS_PER_SR) as u128
+}
+
+/// One image's (or eye-frame's) tally by part: pixels and, when the eye's
+/// projection is known, the solid angle they subtend. Both have one slot per
+/// part plus one for non-texels, as [`PartLookup::tally`].
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PartPixels {
+    pub pixels: Vec<u64>,
+    /// Solid angle in units of 2⁻⁸⁰ sr ([`SOLID_ANGLE_UNITS_PER_SR`]); zero
+    /// where no image of the tally had a [`PartPixels::view`].
+    pub solid_angle_units: Vec<u128>,
+    /// Where the image being scanned lies in its eye (`None`: unknown).
+    pub view: Option<TileView>,
+}
+
+impl PartPixels {
+    /// A zeroed tally for `lookup`'s parts.
+    pub fn new(lookup: &PartLookup) -> PartPixels {
+        PartPixels { pixels: lookup.tally(), solid_angle_units: vec![0; lookup.parts() + 1], view: None }
+    }
+
+    /// Adds `other`'s pixels and solid angles.
+    pub fn add(&mut self, other: &PartPixels) {
+        self.pixels.iter_mut().zip(&other.pixels).for_each(|(sum, pixels)| *sum += pixels);
+        self.solid_angle_units.iter_mut().zip(&other.solid_angle_units).for_each(|(sum, u)| *sum += u);
+    }
+
+    /// Back to zero (the view stays).
+    pub fn clear(&mut self) {
+        self.pixels.fill(0);
+        self.solid_angle_units.fill(0);
     }
 }
 
@@ -153,6 +249,37 @@ pub struct FrameRecord {
     pub pixels: Vec<u64>,
     /// Distinct texels of each part seen.
     pub texels: Vec<u64>,
+    /// Solid angle each part subtends, sr (the sum of its pixels' solid
+    /// angles in the eye's projection); `None` when the projection is unknown.
+    pub solid_angle_sr: Option<Vec<f64>>,
+}
+
+impl FrameRecord {
+    /// The record of one eye-frame: its pixels (and solid angles, when
+    /// `weighted`) and the distinct texels of `seen`, by part, without the
+    /// non-texel slot.
+    pub fn from_tally(
+        label: FrameLabel,
+        lookup: &PartLookup,
+        tally: PartPixels,
+        seen: &SeenSet,
+        weighted: bool,
+    ) -> FrameRecord {
+        let mut texels = lookup.tally();
+        lookup.add_texels(seen, &mut texels);
+        texels.pop();
+        FrameRecord::from_parts(label, tally, texels, weighted)
+    }
+
+    /// The record of a tally and its texels (the non-texel slots dropped
+    /// from the tally; `texels` already without it).
+    pub fn from_parts(label: FrameLabel, tally: PartPixels, texels: Vec<u64>, weighted: bool) -> FrameRecord {
+        let PartPixels { mut pixels, mut solid_angle_units, .. } = tally;
+        pixels.pop();
+        solid_angle_units.pop();
+        let solid_angle_sr = solid_angle_units.iter().map(|&u| u as f64 / SOLID_ANGLE_UNITS_PER_SR).collect();
+        FrameRecord { label, pixels, texels, solid_angle_sr: weighted.then_some(solid_angle_sr) }
+    }
 }
 
 #[cfg(test)]
@@ -190,6 +317,18 @@ mod tests {
         lookup.add_row(&row, PixelLayout::Rgba, &mut pixels);
         // a: 1,1,2; b: 9,9,9; unlabelled: 15; none: background 3 and stray.
         assert_eq!(pixels, [3, 3, 1, 2]);
+        // Weighted: the same pixels, and each part's solid angle is the sum
+        // of its pixels' (row 5 of a tile at [10, 20] of a 4 px/° eye).
+        let projection = crate::input::solid_angle::EyeProjection::new(107.0, [428, 540]).unwrap();
+        let mut tally = PartPixels::new(&lookup);
+        tally.view = Some(TileView { projection, origin: [10, 20] });
+        lookup.add_row_at(&row, PixelLayout::Rgba, 5, &mut tally);
+        assert_eq!(tally.pixels, pixels);
+        let sr = |xs: &[u32]| xs.iter().map(|&x| projection.pixel_sr(10 + x, 25)).sum::<f64>();
+        for (part, xs) in [&[0u32, 1, 8][..], &[3, 4, 5], &[6], &[2, 7]].iter().enumerate() {
+            let units = tally.solid_angle_units[part] as f64 / SOLID_ANGLE_UNITS_PER_SR;
+            assert!((units - sr(xs)).abs() < 1e-15, "part {part}");
+        }
         let mut seen = SeenSet::new();
         for color in [1u32, 2, 9, 15] {
             seen.insert(crate::color::color_key(color));

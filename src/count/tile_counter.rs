@@ -6,19 +6,61 @@
 //! into the same tables as [`crate::analyze()`] does for a decoded PNG, with
 //! the same once-per-image (and, with `--dedupe frame`, once-per-eye-frame)
 //! rule; [`crate::analyze_counted`] then joins the counts exactly as the PNG
-//! path would, so both give the same `result.json`.
+//! path would, so both give the same `result.json`. With
+//! [`TileCounter::tally_parts`] it also tallies pixels, their solid angles and
+//! texels by part per eye-frame, as the PNG path does for `frames.csv` and
+//! the measures.
 
 use std::collections::BTreeMap;
 
 use crate::color::Color;
 use crate::color::{AtomicColorSet, SeenSet};
 use crate::count::counts::Counts;
+use crate::count::part_lookup::{PartLookup, PartPixels};
 use crate::count::scan::row_scan;
 use crate::count::scan::{Classifier, ImageTally, PixelClass};
 use crate::error::{Error, Result};
 use crate::input::options::Dedupe;
 use crate::input::palette::Fcsp;
 use crate::input::png_rows::PixelLayout;
+use crate::input::solid_angle::{EyeProjection, TileView};
+
+/// One tile handed to [`TileCounter::count_tile`].
+#[derive(Debug, Clone, Copy)]
+pub struct CountedTile<'n> {
+    /// The file the tile would have been (`tiles/fNNNN_EYE_rR_cC.png`).
+    pub name: &'n str,
+    pub frame: u32,
+    pub eye: &'n str,
+    /// `[width, height]` in pixels.
+    pub size: [u32; 2],
+    /// Its top-left pixel in the eye image (for the pixels' solid angles).
+    pub origin: [u32; 2],
+}
+
+/// The per-part tallies of [`TileCounter::tally_parts`].
+pub(crate) struct PartTallies {
+    pub lookup: PartLookup,
+    pub projection: Option<EyeProjection>,
+    /// The eye-frame being tallied, its pixels and its texels.
+    current: Option<(u32, String)>,
+    pixels: PartPixels,
+    seen: SeenSet,
+    /// Finished eye-frames: `(frame, eye, pixels, texels per part)`.
+    pub records: Vec<(u32, String, PartPixels, Vec<u64>)>,
+}
+
+impl PartTallies {
+    fn finish_eye_frame(&mut self) {
+        if let Some((frame, eye)) = self.current.take() {
+            let mut texels = self.lookup.tally();
+            self.lookup.add_texels(&self.seen, &mut texels);
+            self.seen.clear();
+            let pixels = std::mem::replace(&mut self.pixels, PartPixels::new(&self.lookup));
+            self.records.push((frame, eye, pixels, texels));
+        }
+    }
+}
 
 /// Counts RGBA8 tiles handed over one at a time, in capture order (all tiles
 /// of one eye-frame together).
@@ -35,6 +77,8 @@ pub struct TileCounter<'a> {
     dedupe: Dedupe,
     /// Per tile name (`tiles/fNNNN_EYE_rR_cC.png`): its pixel tally.
     pub(crate) tallies: BTreeMap<String, ImageTally>,
+    /// Per eye-frame and part, when asked for ([`TileCounter::tally_parts`]).
+    pub(crate) parts: Option<PartTallies>,
 }
 
 impl<'a> TileCounter<'a> {
@@ -51,7 +95,23 @@ impl<'a> TileCounter<'a> {
             dedupe,
             current_eye_frame: None,
             tallies: BTreeMap::new(),
+            parts: None,
         })
+    }
+
+    /// Also tallies pixels and texels by `lookup`'s parts per eye-frame and,
+    /// with the eyes' `projection`, the solid angle of those pixels — what
+    /// `frames.csv` and the measures of [`crate::analyze_counted`] need.
+    pub fn tally_parts(&mut self, lookup: PartLookup, projection: Option<EyeProjection>) {
+        let pixels = PartPixels::new(&lookup);
+        self.parts = Some(PartTallies {
+            lookup,
+            projection,
+            current: None,
+            pixels,
+            seen: SeenSet::new(),
+            records: Vec::new(),
+        });
     }
 
     /// Counts one tile: `rgba` holds `width × height` pixels, row 0 at the
@@ -65,6 +125,12 @@ impl<'a> TileCounter<'a> {
         height: u32,
         rgba: &[u8],
     ) -> Result<ImageTally> {
+        self.count_tile(&CountedTile { name, frame, eye, size: [width, height], origin: [0, 0] }, rgba)
+    }
+
+    /// Counts one tile (see [`TileCounter::count_rgba`]), placed in its eye.
+    pub fn count_tile(&mut self, tile: &CountedTile, rgba: &[u8]) -> Result<ImageTally> {
+        let CountedTile { name, frame, eye, size: [width, height], origin } = *tile;
         let row_bytes = width as usize * 4;
         if rgba.len() != row_bytes * height as usize {
             return Err(Error::BadOptions(format!(
@@ -84,8 +150,27 @@ impl<'a> TileCounter<'a> {
         }
         let scan = row_scan(PixelLayout::Rgba, &self.classifier);
         let mut by_class = [0u64; 3];
-        for row in rgba.chunks_exact(row_bytes.max(1)) {
-            scan.scan(row, &self.classifier, &mut self.seen, &self.strays, &mut by_class);
+        let parts = self.parts.as_mut().map(|parts| {
+            if parts.current.as_ref().is_none_or(|(f, e)| *f != frame || e != eye) {
+                parts.finish_eye_frame();
+                parts.current = Some((frame, eye.to_string()));
+            }
+            parts.pixels.view = parts.projection.map(|projection| TileView { projection, origin });
+            parts
+        });
+        match parts {
+            Some(parts) => {
+                for (y, row) in rgba.chunks_exact(row_bytes.max(1)).enumerate() {
+                    scan.scan(row, &self.classifier, &mut self.seen, &self.strays, &mut by_class);
+                    parts.lookup.add_row_at(row, PixelLayout::Rgba, y as u32, &mut parts.pixels);
+                }
+                self.seen.merge_into(&mut parts.seen);
+            }
+            None => {
+                for row in rgba.chunks_exact(row_bytes.max(1)) {
+                    scan.scan(row, &self.classifier, &mut self.seen, &self.strays, &mut by_class);
+                }
+            }
         }
         let tally = ImageTally {
             width,
@@ -106,6 +191,13 @@ impl<'a> TileCounter<'a> {
     pub(crate) fn commit_eye_frame(&mut self) {
         if let (Some(counts), Some(frame_seen)) = (&self.frame_counts, self.frame_seen.as_mut()) {
             counts.add_set(frame_seen);
+        }
+    }
+
+    /// Ends the last eye-frame's part tallies (once every tile is in).
+    pub(crate) fn finish_parts(&mut self) {
+        if let Some(parts) = self.parts.as_mut() {
+            parts.finish_eye_frame();
         }
     }
 

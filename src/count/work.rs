@@ -12,7 +12,7 @@ use rayon::prelude::*;
 
 use crate::color::sets::{AtomicColorSet, SeenSet};
 use crate::count::counts::Counts;
-use crate::count::part_lookup::{FrameLabel, FrameRecord, PartLookup};
+use crate::count::part_lookup::{FrameLabel, FrameRecord, PartLookup, PartPixels};
 use crate::count::scan::{Classifier, ImageTally, scan_image_by_part};
 use crate::count::trim::TrimPlan;
 use crate::error::Error;
@@ -173,22 +173,26 @@ impl Workers<'_> {
     ) -> Option<FrameRecord> {
         let (job, lookup) = (self.job, self.lookup.as_ref());
         let WorkerSets { image: seen, eye_frame: frame_seen, .. } = sets;
-        let mut image_pixels = lookup.map(PartLookup::tally);
-        let mut frame_pixels = lookup.map(PartLookup::tally);
+        let optics = job.inputs.optics;
+        let mut image_pixels = lookup.map(PartPixels::new);
+        let mut frame_pixels = lookup.map(PartPixels::new);
         for &index in eye_frame {
             if job.options.strict && self.stop.load(Ordering::Relaxed) {
                 outcomes.push((index, Outcome::Skipped));
                 continue;
             }
-            let parts = lookup.zip(image_pixels.as_deref_mut());
+            if let Some(image) = image_pixels.as_mut() {
+                image.view = optics.zip(job.inputs.archive.images[index].tile).map(|(o, tile)| o.view(tile));
+            }
+            let parts = lookup.zip(image_pixels.as_mut());
             let outcome =
                 count_one(index, &job.inputs.archive, job.plan, job.classifier, seen, &self.strays, parts);
             if let (Some(image), Some(sum)) = (image_pixels.as_mut(), frame_pixels.as_mut()) {
                 // A failed image's partial tally is dropped with it.
                 if let Outcome::Decoded(_) = outcome {
-                    sum.iter_mut().zip(image.iter()).for_each(|(sum, pixels)| *sum += pixels);
+                    sum.add(image);
                 }
-                image.fill(0);
+                image.clear();
             }
             if let Outcome::Decoded(_) = outcome {
                 if let Some(frame_seen) = frame_seen.as_mut() {
@@ -206,18 +210,13 @@ impl Workers<'_> {
                 progress.advance(1);
             }
         }
-        let (lookup, mut pixels, frame_seen, &first) =
+        let (lookup, tally, frame_seen, &first) =
             (lookup?, frame_pixels?, frame_seen.as_mut()?, eye_frame.first()?);
-        let mut texels = lookup.tally();
-        lookup.add_texels(frame_seen, &mut texels);
-        // Drop the non-texel slot.
-        pixels.pop();
-        texels.pop();
         let label = match job.inputs.archive.images[first].frame_group {
             Some(group) if self.by_eye_frame => eye_frame_label(&job.inputs.eye_frames, group),
             _ => FrameLabel::Image(first),
         };
-        Some(FrameRecord { label, pixels, texels })
+        Some(FrameRecord::from_tally(label, lookup, tally, frame_seen, optics.is_some()))
     }
 }
 
@@ -279,7 +278,7 @@ fn count_one(
     classifier: &Classifier,
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
-    parts: Option<(&PartLookup, &mut [u64])>,
+    parts: Option<(&PartLookup, &mut PartPixels)>,
 ) -> Outcome {
     let image = &archive.images[index];
     let bytes = match read_file(&image.path) {

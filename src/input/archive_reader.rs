@@ -22,6 +22,8 @@ pub struct ImageSource {
     pub name: String,
     /// Eye-frame group (index into the sorted `(frame, eye)` pairs), when known.
     pub frame_group: Option<usize>,
+    /// The tile's `[row, col]` in its eye image, when a manifest says.
+    pub tile: Option<[u32; 2]>,
 }
 
 /// The images of an archive.
@@ -88,6 +90,7 @@ impl Archive {
                     path: root.join(file),
                     name: slash_path(file),
                     frame_group: Some(group),
+                    tile: Some([tile.row, tile.col]),
                 }),
                 None => {
                     listed_empty += 1;
@@ -157,6 +160,7 @@ impl Archive {
                     path: entry.path().to_path_buf(),
                     name: relative,
                     frame_group: None,
+                    tile: None,
                 });
             }
         }

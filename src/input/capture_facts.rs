@@ -1,10 +1,12 @@
 //! What a capture's manifest says about how it was taken: its eye-frames
 //! ([`EyeFrame`], [`eye_frames`]), how long one stands for ([`FrameClock`]),
-//! and its resolution and texel size ([`CaptureGeometry`]).
+//! its resolution and texel size ([`CaptureGeometry`]) and the eyes'
+//! projection ([`EyeOptics`]).
 
 use std::collections::BTreeMap;
 
 use crate::input::manifest::Manifest;
+use crate::input::solid_angle::{EyeProjection, TileView};
 
 /// One eye-frame of a manifest (group ids as [`crate::Archive`] numbers them).
 #[derive(Debug, Clone, PartialEq)]
@@ -76,6 +78,45 @@ impl FrameClock {
             seconds_per_frame: fps.map(|fps| f64::from(step) / fps),
             eyes: eyes.len().max(1),
             pixels_per_degree,
+        }
+    }
+}
+
+/// The eyes' projection and tiling, from the manifest's `rig.settings`
+/// (`horizontal_fov_deg`, `eye_pixels`, `tiles`): what the solid angle of
+/// each pixel needs ([`crate::count::solid_angle`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EyeOptics {
+    pub projection: EyeProjection,
+    /// Pixels of one tile, `[width, height]`.
+    pub tile_pixels: [u32; 2],
+}
+
+impl EyeOptics {
+    /// `None` for a manifest without these settings (hand-written ones).
+    pub fn from_manifest(manifest: &Manifest) -> Option<EyeOptics> {
+        let settings = manifest.extra.get("rig")?.get("settings")?;
+        let pair = |key: &str| -> Option<[u32; 2]> {
+            let values = settings.get(key)?.as_array()?;
+            let number = |i: usize| u32::try_from(values.get(i)?.as_u64()?).ok();
+            Some([number(0)?, number(1)?])
+        };
+        let fov = settings.get("horizontal_fov_deg")?.as_f64()?;
+        let (eye, tiles) = (pair("eye_pixels")?, pair("tiles")?);
+        if tiles[0] == 0 || tiles[1] == 0 || eye[0] % tiles[0] != 0 || eye[1] % tiles[1] != 0 {
+            return None;
+        }
+        Some(EyeOptics {
+            projection: EyeProjection::new(fov, eye)?,
+            tile_pixels: [eye[0] / tiles[0], eye[1] / tiles[1]],
+        })
+    }
+
+    /// Where the tile `[row, col]` lies in its eye.
+    pub fn view(&self, [row, col]: [u32; 2]) -> TileView {
+        TileView {
+            projection: self.projection,
+            origin: [col * self.tile_pixels[0], row * self.tile_pixels[1]],
         }
     }
 }

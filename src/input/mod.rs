@@ -18,6 +18,7 @@ pub(crate) mod png_rows;
 pub(crate) mod png_zlib;
 pub(crate) mod resolve;
 pub(crate) mod shard;
+pub mod solid_angle;
 
 pub use archive_reader::{Archive, ImageSource};
 pub use capture_facts::CaptureGeometry;
@@ -30,3 +31,4 @@ pub use palette::{Fcsp, PaletteDescription, parse_size as parse_palette_size, wr
 pub use png_rows::{PixelLayout, RowReader, read_color_image, read_file};
 pub use png_zlib::verify_image_data;
 pub use shard::Shard;
+pub use solid_angle::{EyeProjection, TileView};

@@ -104,8 +104,9 @@ pub struct AnalyzeOptions {
     pub mesh: Option<PathBuf>,
     /// Tally pixels and texels per eye-frame and part (`frames.csv`) and the
     /// resolution-independent measures (`measures` in `result.json`). Off by
-    /// default in the library (the capture's `--count` path has no per-part
-    /// tally); the binary turns it on unless `--frames-csv off`.
+    /// default in the library; the binary turns it on unless `--frames-csv
+    /// off`. The capture's `--count` tallies them itself
+    /// ([`crate::TileCounter::tally_parts`]).
     pub frames: bool,
 }
 

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use crate::color::Color;
 use crate::error::{Error, Result};
 use crate::input::archive_reader::Archive;
-use crate::input::capture_facts::{CaptureGeometry, EyeFrame, FrameClock, eye_frames};
+use crate::input::capture_facts::{CaptureGeometry, EyeFrame, EyeOptics, FrameClock, eye_frames};
 use crate::input::identity::archive_identity;
 use crate::input::labels::{Legend, Pidt};
 use crate::input::manifest::{Manifest, PaletteSpec};
@@ -47,6 +47,8 @@ pub(crate) struct Inputs {
     pub clock: FrameClock,
     /// What the counts depend on, digested ([`crate::input::identity`]).
     pub identity: String,
+    /// The eyes' projection and tiling (for each pixel's solid angle).
+    pub optics: Option<EyeOptics>,
 }
 
 /// Resolves options against the manifest and loads every input once.
@@ -149,6 +151,7 @@ pub(crate) fn resolve_inputs_allowing_no_images(
     let geometry = manifest.as_ref().map(CaptureGeometry::from_manifest).unwrap_or_default();
     let eye_frames = manifest.as_ref().map(eye_frames).unwrap_or_default();
     let clock = manifest.as_ref().map(FrameClock::from_manifest).unwrap_or_default();
+    let optics = manifest.as_ref().and_then(EyeOptics::from_manifest);
     let palette_file = match palette_choice {
         PaletteChoice::Image(path) => Some(path),
         PaletteChoice::Canonical { .. } => None,
@@ -233,6 +236,7 @@ pub(crate) fn resolve_inputs_allowing_no_images(
         warnings,
         eye_frames,
         clock,
+        optics,
     })
 }
 

@@ -84,7 +84,8 @@ pub fn write_frames_csv(path: &Path, table: &FrameTable) -> Result<()> {
                 FrameLabel::Image(position) => format!("{position},,,"),
             };
             for (part, name) in parts.iter().enumerate() {
-                writeln!(writer, "{prefix},{name},{},{}", record.pixels[part], record.texels[part])?;
+                let solid = record.solid_angle_sr.as_ref().map(|sr| sr[part].to_string()).unwrap_or_default();
+                writeln!(writer, "{prefix},{name},{},{},{solid}", record.pixels[part], record.texels[part])?;
             }
         }
         Ok(())

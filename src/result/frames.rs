@@ -15,8 +15,13 @@ use crate::input::capture_facts::EyeFrame;
 /// Name of the per-eye-frame table beside `result.json`.
 pub const FRAMES_FILE: &str = "frames.csv";
 
-/// Header of [`FRAMES_FILE`].
-pub const FRAMES_HEADER: &str = "frame,time_s,eye,distance_m,part,pixels,texels";
+/// Header of [`FRAMES_FILE`]. `solid_angle_sr` is the solid angle the
+/// part's pixels subtend in the eye's projection (empty when the manifest
+/// gives no projection), written to round-trip exactly.
+pub const FRAMES_HEADER: &str = "frame,time_s,eye,distance_m,part,pixels,texels,solid_angle_sr";
+
+/// The header before `solid_angle_sr` (read back, without solid angles).
+pub const FRAMES_HEADER_V1: &str = "frame,time_s,eye,distance_m,part,pixels,texels";
 
 /// Every eye-frame's tallies, in eye-frame order: the content of [`FRAMES_FILE`].
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -33,9 +38,10 @@ impl FrameTable {
         let bytes = crate::files::read_limited(path, crate::files::IMAGE_LIMIT)?;
         let mut reader = csv::ReaderBuilder::new().has_headers(true).from_reader(bytes.as_slice());
         let header = reader.headers().map_err(|e| bad(e.to_string()))?.iter().collect::<Vec<_>>().join(",");
-        if header != FRAMES_HEADER {
+        if header != FRAMES_HEADER && header != FRAMES_HEADER_V1 {
             return Err(bad(format!(
-                "not a {FRAMES_FILE}: the header is {header:?}, expected {FRAMES_HEADER:?}"
+                "not a {FRAMES_FILE}: the header is {header:?}, expected {FRAMES_HEADER:?} (or, from older \
+                 versions, {FRAMES_HEADER_V1:?})"
             )));
         }
         let mut table = FrameTable::default();
@@ -73,7 +79,12 @@ impl FrameTable {
             let fresh = table.records.last().is_none_or(|last: &FrameRecord| last.label != label);
             if fresh {
                 part = 0;
-                table.records.push(FrameRecord { label, pixels: Vec::new(), texels: Vec::new() });
+                table.records.push(FrameRecord {
+                    label,
+                    pixels: Vec::new(),
+                    texels: Vec::new(),
+                    solid_angle_sr: Some(Vec::new()),
+                });
             }
             if table.records.len() == 1 {
                 table.parts.push(name.to_string());
@@ -86,6 +97,16 @@ impl FrameTable {
             let record = table.records.last_mut().expect("pushed above");
             record.pixels.push(count(5)?);
             record.texels.push(count(6)?);
+            match (number(7)?, record.solid_angle_sr.as_mut()) {
+                (Some(sr), Some(solid)) if sr.is_finite() && sr >= 0.0 => solid.push(sr),
+                (Some(sr), Some(_)) => {
+                    return Err(bad(format!("row {}: solid angle {sr} is not a solid angle", line + 2)));
+                }
+                (Some(_), None) => {
+                    return Err(bad(format!("row {}: a solid angle where the eye-frame has none", line + 2)));
+                }
+                (None, _) => record.solid_angle_sr = None,
+            }
             part += 1;
         }
         if table.records.iter().any(|record| record.pixels.len() != table.parts.len()) {
@@ -108,5 +129,35 @@ impl FrameTable {
         };
         merged.records.sort_by_key(|record| key(&record.label));
         Some(merged)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn read(text: &str) -> Result<FrameTable> {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(FRAMES_FILE);
+        std::fs::write(&path, text).unwrap();
+        FrameTable::read_csv(&path)
+    }
+
+    #[test]
+    fn solid_angles_round_trip_and_older_tables_read_without_them() {
+        let sr = 1.0f64 / 3.0 * 1e-4;
+        let new = format!("{FRAMES_HEADER}\n0,0,left,5,a,4,2,{sr}\n0,0,left,5,b,0,0,0\n");
+        let table = read(&new).unwrap();
+        assert_eq!(table.records[0].solid_angle_sr, Some(vec![sr, 0.0]));
+        let old = format!("{FRAMES_HEADER_V1}\n0,0,left,5,a,4,2\n0,0,left,5,b,0,0\n");
+        let table = read(&old).unwrap();
+        assert_eq!(
+            (table.records[0].pixels.clone(), table.records[0].solid_angle_sr.clone()),
+            (vec![4, 0], None)
+        );
+        let wrong = read("frame,eye,pixels\n0,left,3\n").unwrap_err().to_string();
+        assert!(wrong.contains("frames.csv") && wrong.contains("expected"), "{wrong}");
+        let negative = read(&format!("{FRAMES_HEADER}\n0,0,left,5,a,4,2,-1\n")).unwrap_err().to_string();
+        assert!(negative.contains("row 2") && negative.contains("not a solid angle"), "{negative}");
     }
 }

@@ -6,23 +6,39 @@
 //!
 //! * **visible angular area over time**, deg²·s: per eye, the solid angle the
 //!   part covers, integrated over the capture — the sum over eye-frames of
-//!   `pixels / ppd²` (deg²) × the seconds one captured frame stands for,
-//!   averaged over the eyes (divided by their number);
+//!   the solid angle of its pixels (each pixel weighted by the solid angle
+//!   it subtends in the eye's rectilinear projection, `frames.csv`'s
+//!   `solid_angle_sr`, in deg²) × the seconds one captured frame stands for,
+//!   averaged over the eyes (divided by their number). It converges to the
+//!   ray-traced solid angle of the exact measure as pixels per degree grow
+//!   (`docs/science.md`). Without the projection in the manifest, `pixels /
+//!   ppd²` stands in (exact only at the image centre, with a note);
 //! * **exposure**, s: how long the part is seen — eye-frames in which at
 //!   least one pixel shows it × seconds per frame, averaged over the eyes
 //!   (`eye-frames / eyes × frame step / fps`).
 //!
-//! Both are kept as integer sums (pixels, eye-frames) and derived at the
-//! end, so shard results add up exactly ([`Measures::merged`]).
+//! Both are kept as sums (pixels, eye-frames, steradians) and derived at the
+//! end, so shard results add up ([`Measures::merged`]; the integer sums
+//! exactly, the steradians to rounding).
 
 use serde::{Deserialize, Serialize};
 
 use crate::{input::capture_facts::FrameClock, result::frames::FrameTable};
 
 /// How the measures are defined, recorded in every result.
-pub const DEFINITION: &str = "angular_area_deg2_s = sum over eye-frames of pixels / pixels_per_degree^2 \
-     * seconds_per_frame / eyes; exposure_s = eye_frames_seen * seconds_per_frame / eyes; seconds_per_frame = \
-     smallest step between captured frame numbers / fps; pixels_per_degree holds at the image centre";
+pub const DEFINITION: &str = "angular_area_deg2_s = sum over eye-frames of solid_angle_sr (the sum over the \
+     part's pixels of the solid angle each subtends in the eye's rectilinear projection) * (180/pi)^2 * \
+     seconds_per_frame / eyes; exposure_s = eye_frames_seen * seconds_per_frame / eyes; seconds_per_frame = \
+     smallest step between captured frame numbers / fps";
+
+/// The definition when the manifest gives no projection (older captures).
+pub const DEFINITION_CENTRE_PPD: &str = "angular_area_deg2_s = sum over eye-frames of pixels / \
+     pixels_per_degree^2 * seconds_per_frame / eyes (no projection in the manifest: pixels_per_degree holds \
+     at the image centre, off-axis pixels are overweighted); exposure_s = eye_frames_seen * seconds_per_frame \
+     / eyes; seconds_per_frame = smallest step between captured frame numbers / fps";
+
+/// Square degrees per steradian.
+const DEG2_PER_SR: f64 = (180.0 / std::f64::consts::PI) * (180.0 / std::f64::consts::PI);
 
 /// The measures of one part.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -32,6 +48,10 @@ pub struct PartMeasure {
     pub pixels: u64,
     /// Eye-frames with at least one pixel of the part (both eyes).
     pub eye_frames_seen: u64,
+    /// The solid angle of its pixels summed over all eye-frames (both
+    /// eyes), sr; absent without the eyes' projection.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub solid_angle_sr: Option<f64>,
     /// Visible angular area summed over time, deg²·s (per eye).
     pub angular_area_deg2_s: Option<f64>,
     /// Seconds the part is seen (per eye).
@@ -63,12 +83,19 @@ impl Measures {
                 name: name.clone(),
                 pixels: frames.records.iter().map(|r| r.pixels[part]).sum(),
                 eye_frames_seen: frames.records.iter().filter(|r| r.pixels[part] > 0).count() as u64,
+                solid_angle_sr: frames
+                    .records
+                    .iter()
+                    .map(|r| r.solid_angle_sr.as_ref().map(|sr| sr[part]))
+                    .sum::<Option<f64>>(),
                 angular_area_deg2_s: None,
                 exposure_s: None,
             })
             .collect();
+        let weighted =
+            !frames.records.is_empty() && frames.records.iter().all(|r| r.solid_angle_sr.is_some());
         let mut measures = Measures {
-            definition: DEFINITION.to_string(),
+            definition: if weighted { DEFINITION } else { DEFINITION_CENTRE_PPD }.to_string(),
             pixels_per_degree: clock.pixels_per_degree,
             seconds_per_frame: clock.seconds_per_frame,
             eyes: clock.eyes,
@@ -91,7 +118,7 @@ impl Measures {
                     .into(),
             );
         }
-        if self.pixels_per_degree.is_none() {
+        if self.pixels_per_degree.is_none() && self.parts.iter().any(|p| p.solid_angle_sr.is_none()) {
             self.notes.push(
                 "no pixels per degree in the manifest (rig.pixels_per_degree): angular_area_deg2_s is omitted"
                     .into(),
@@ -99,8 +126,9 @@ impl Measures {
         }
         for part in &mut self.parts {
             part.exposure_s = seconds.map(|s| part.eye_frames_seen as f64 * s / eyes);
-            part.angular_area_deg2_s = match (seconds, self.pixels_per_degree) {
-                (Some(s), Some(ppd)) => Some(part.pixels as f64 / (ppd * ppd) * s / eyes),
+            part.angular_area_deg2_s = match (seconds, part.solid_angle_sr, self.pixels_per_degree) {
+                (Some(s), Some(sr), _) => Some(sr * DEG2_PER_SR * s / eyes),
+                (Some(s), None, Some(ppd)) => Some(part.pixels as f64 / (ppd * ppd) * s / eyes),
                 _ => None,
             };
         }
@@ -116,6 +144,7 @@ impl Measures {
             for (sum, part) in merged.parts.iter_mut().zip(&shard.parts) {
                 sum.pixels += part.pixels;
                 sum.eye_frames_seen += part.eye_frames_seen;
+                sum.solid_angle_sr = sum.solid_angle_sr.zip(part.solid_angle_sr).map(|(a, b)| a + b);
             }
         }
         merged.derive();
@@ -139,9 +168,14 @@ mod tests {
             label: FrameLabel::Image(position),
             pixels: pixels.to_vec(),
             texels: vec![0, 0],
+            solid_angle_sr: None,
         };
         let table = |records| FrameTable { parts: vec!["a".into(), "b".into()], records };
         let clock = FrameClock { seconds_per_frame: Some(0.5), eyes: 2, pixels_per_degree: Some(10.0) };
+        assert_eq!(
+            Measures::from_frames(&table(vec![record(0, [1, 1])]), &clock).definition,
+            DEFINITION_CENTRE_PPD
+        );
         let whole = Measures::from_frames(&table(vec![record(0, [100, 0]), record(1, [300, 4])]), &clock);
         let a = whole.part("a").unwrap();
         assert_eq!((a.pixels, a.eye_frames_seen), (400, 2));
@@ -155,5 +189,28 @@ mod tests {
         let no_clock = Measures::from_frames(&table(vec![record(0, [1, 1])]), &FrameClock::default());
         assert_eq!(no_clock.parts[0].angular_area_deg2_s, None);
         assert_eq!(no_clock.notes.len(), 2);
+    }
+
+    #[test]
+    fn angular_area_is_the_solid_angle_of_the_pixels_when_the_projection_is_known() {
+        let record = |position, sr: [f64; 2]| FrameRecord {
+            label: FrameLabel::Image(position),
+            pixels: vec![10, 10],
+            texels: vec![1, 1],
+            solid_angle_sr: Some(sr.to_vec()),
+        };
+        let table = FrameTable {
+            parts: vec!["a".into(), "b".into()],
+            records: vec![record(0, [1e-3, 0.0]), record(1, [3e-3, 2e-3])],
+        };
+        // No pixels per degree needed: the solid angles are what counts.
+        let clock = FrameClock { seconds_per_frame: Some(0.5), eyes: 2, pixels_per_degree: None };
+        let measures = Measures::from_frames(&table, &clock);
+        assert_eq!(measures.definition, DEFINITION);
+        assert!(measures.notes.is_empty(), "{:?}", measures.notes);
+        let a = measures.part("a").unwrap();
+        assert_eq!(a.solid_angle_sr, Some(4e-3));
+        // 4e-3 sr · (180/π)² deg²/sr · 0.5 s / 2 eyes.
+        assert!((a.angular_area_deg2_s.unwrap() - 4e-3 * DEG2_PER_SR * 0.25).abs() < 1e-12);
     }
 }

@@ -132,7 +132,7 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
     let mut strays: Vec<_> =
         summaries.iter().flat_map(|s| s.images_with_stray_pixels.iter().cloned()).collect();
     strays.sort_by(|a, b| a.file.cmp(&b.file));
-    let result = AnalysisResult {
+    let mut result = AnalysisResult {
         schema: RESULT_SCHEMA.to_string(),
         measure: first.measure.clone(),
         images,
@@ -153,10 +153,11 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         warnings,
         notes,
         resolution,
-        measures: merged_measures(&summaries),
+        measures: None,
     };
     let frames = merged_frames(paths)?;
     let vehicle_model = archive_vehicle(&result.settings);
+    result.measures = merged_measures(&summaries, frames.as_ref());
     let mut input_files = paths.to_vec();
     input_files.extend(paths.iter().map(|p| p.with_file_name(crate::result::frames::FRAMES_FILE)));
     input_files
@@ -197,10 +198,26 @@ fn checked_sum(
     Ok(total)
 }
 
-/// The shards' measures added up, when every shard has them.
-fn merged_measures(summaries: &[AnalysisResult]) -> Option<crate::result::measures::Measures> {
+/// The shards' measures, when every shard has them: from their merged
+/// `frames.csv` when there is one (the same rows, summed in the same order,
+/// as the whole archive's: the same bits), else their sums added.
+fn merged_measures(
+    summaries: &[AnalysisResult],
+    frames: Option<&crate::result::frames::FrameTable>,
+) -> Option<crate::result::measures::Measures> {
     let measures: Option<Vec<_>> = summaries.iter().map(|s| s.measures.as_ref()).collect();
-    crate::result::measures::Measures::merged(&measures?)
+    let measures = measures?;
+    match (frames, measures.first()) {
+        (Some(frames), Some(first)) => {
+            let clock = crate::input::capture_facts::FrameClock {
+                seconds_per_frame: first.seconds_per_frame,
+                eyes: first.eyes,
+                pixels_per_degree: first.pixels_per_degree,
+            };
+            Some(crate::result::measures::Measures::from_frames(frames, &clock))
+        }
+        _ => crate::result::measures::Measures::merged(&measures),
+    }
 }
 
 /// The shards' `frames.csv` (beside each `result.json`) as one table, when

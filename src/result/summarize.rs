@@ -257,6 +257,7 @@ pub(crate) fn frame_table(tallies: FrameTallies, inputs: &Inputs, shard: Option<
                 label: eye_frame_label(&inputs.eye_frames, group),
                 pixels: vec![0; parts.len()],
                 texels: vec![0; parts.len()],
+                solid_angle_sr: inputs.optics.map(|_| vec![0.0; parts.len()]),
             })
         })
         .collect();

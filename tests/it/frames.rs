@@ -20,9 +20,14 @@ fn run(options: &AnalyzeOptions, out: &Path) -> ufcsr::Analysis {
 
 /// `frames.csv` rows as (frame, eye, part, pixels, texels).
 fn frame_rows(path: &Path) -> Vec<(u64, String, String, u64, u64)> {
+    solid_angle_rows(path).into_iter().map(|(f, e, p, px, t, _)| (f, e, p, px, t)).collect()
+}
+
+/// `frames.csv` rows as (frame, eye, part, pixels, texels, solid angle in sr if known).
+fn solid_angle_rows(path: &Path) -> Vec<(u64, String, String, u64, u64, Option<f64>)> {
     let mut reader = csv::Reader::from_path(path).expect("frames.csv");
     let header = reader.headers().unwrap().iter().collect::<Vec<_>>().join(",");
-    assert_eq!(header, "frame,time_s,eye,distance_m,part,pixels,texels");
+    assert_eq!(header, "frame,time_s,eye,distance_m,part,pixels,texels,solid_angle_sr");
     reader
         .records()
         .map(|row| {
@@ -33,6 +38,7 @@ fn frame_rows(path: &Path) -> Vec<(u64, String, String, u64, u64)> {
                 row[4].to_string(),
                 row[5].parse().unwrap(),
                 row[6].parse().unwrap(),
+                (!row[7].is_empty()).then(|| row[7].parse().unwrap()),
             )
         })
         .collect()
@@ -50,6 +56,7 @@ fn frame_rows_add_up_to_the_counts() {
     let analysis = run(&options, dir.path());
     let result = &analysis.result;
     let rows = frame_rows(&dir.path().join("frames.csv"));
+    let solid = solid_angle_rows(&dir.path().join("frames.csv"));
     // Every eye-frame of the manifest (10 frames × 2 eyes), every part (+ unlabelled).
     let parts = result.parts.len() + 1;
     assert_eq!(rows.len(), 20 * parts);
@@ -65,13 +72,19 @@ fn frame_rows_add_up_to_the_counts() {
     assert_eq!((measures.eyes, measures.eye_frames), (2, 20));
     let seconds = measures.seconds_per_frame.expect("fps in the manifest");
     assert!((seconds - 20.0 / 60.0).abs() < 1e-12, "every 20th frame at 60 fps: {seconds}");
-    let ppd = measures.pixels_per_degree.unwrap();
+    // The manifest gives the eyes' projection: every row has the solid angle of its pixels.
+    assert!(solid.iter().all(|r| r.5.is_some_and(|sr| sr >= 0.0) && (r.3 == 0) == (r.5 == Some(0.0))));
+    let deg2_per_sr = (180.0 / std::f64::consts::PI).powi(2);
     for part in &measures.parts {
         let pixels: u64 = rows.iter().filter(|r| r.2 == part.name).map(|r| r.3).sum();
         let seen = rows.iter().filter(|r| r.2 == part.name && r.3 > 0).count() as u64;
         assert_eq!((part.pixels, part.eye_frames_seen), (pixels, seen), "{}", part.name);
-        let area = pixels as f64 / (ppd * ppd) * seconds / 2.0;
+        let sr: f64 = solid.iter().filter(|r| r.2 == part.name).map(|r| r.5.unwrap()).sum();
+        let area = sr * deg2_per_sr * seconds / 2.0;
         assert!((part.angular_area_deg2_s.unwrap() - area).abs() <= 1e-9 * area.max(1.0));
+        // A pixel of this 107°, 640 px wide eye subtends at most the central pixel's solid angle.
+        let pitch = 2.0 * (53.5f64).to_radians().tan() / 640.0;
+        assert!(sr <= pixels as f64 * pitch * pitch * (1.0 + 1e-9), "{}", part.name);
         assert!((part.exposure_s.unwrap() - seen as f64 * seconds / 2.0).abs() < 1e-12);
         // Exposure cannot exceed the capture's length.
         assert!(part.exposure_s.unwrap() <= 10.0 * seconds + 1e-9);

@@ -12,13 +12,14 @@ use rayon::prelude::*;
 
 use super::geometry::Obstacles;
 use super::rules::{Tracer, visible_solid_angle};
-use super::types::{EyeFrame, SampledTexel, SurfaceSamples, TexelVisibility};
+use super::types::{EyeFrame, PartEyeFrames, SampledTexel, SurfaceSamples, TexelVisibility};
 
 /// Texels per unit of parallel work.
 const CHUNK_TEXELS: usize = 256;
 
 /// Per sampled texel, the eye-frames that see any of its samples and the
-/// solid angle they cover; per part and eye-frame, whether it is seen.
+/// solid angle they cover; per part and eye-frame, whether it is seen, the
+/// texels seen and their solid angle (summed chunk by chunk in texel order).
 pub fn texel_visibility(
     samples: &SurfaceSamples,
     eye_frames: &[EyeFrame],
@@ -31,16 +32,22 @@ pub fn texel_visibility(
         .par_chunks(CHUNK_TEXELS)
         .map(|texels| chunk_visibility(samples, texels, eye_frames, obstacles, parts, tracer))
         .collect();
+    let slots = parts * eye_frames.len();
     let mut whole = TexelVisibility {
         counts: Vec::with_capacity(samples.texels.len()),
         solid_angle_sr: Vec::with_capacity(samples.texels.len()),
-        part_seen: vec![false; parts * eye_frames.len()],
+        part_seen: vec![false; slots],
+        per_eye_frame: Some(PartEyeFrames { texels: vec![0; slots], solid_angle_sr: vec![0.0; slots] }),
     };
     for chunk in chunks {
         whole.counts.extend(chunk.counts);
         whole.solid_angle_sr.extend(chunk.solid_angle_sr);
         for (seen, chunk_seen) in whole.part_seen.iter_mut().zip(chunk.part_seen) {
             *seen |= chunk_seen;
+        }
+        if let (Some(sum), Some(part)) = (whole.per_eye_frame.as_mut(), chunk.per_eye_frame) {
+            sum.texels.iter_mut().zip(part.texels).for_each(|(a, b)| *a += b);
+            sum.solid_angle_sr.iter_mut().zip(part.solid_angle_sr).for_each(|(a, b)| *a += b);
         }
     }
     whole
@@ -54,25 +61,35 @@ fn chunk_visibility(
     parts: usize,
     tracer: Tracer,
 ) -> TexelVisibility {
+    let slots = parts * eye_frames.len();
     let mut out = TexelVisibility {
         counts: vec![0; texels.len()],
         solid_angle_sr: vec![0.0; texels.len()],
-        part_seen: vec![false; parts * eye_frames.len()],
+        part_seen: vec![false; slots],
+        per_eye_frame: None,
     };
+    let mut per_eye_frame = PartEyeFrames { texels: vec![0; slots], solid_angle_sr: vec![0.0; slots] };
     for (index, eye_frame) in eye_frames.iter().enumerate() {
         for (slot, texel) in texels.iter().enumerate() {
             let mut seen = false;
+            let mut texel_sr = 0.0;
             for sample in samples.of(texel) {
                 if let Some(solid_angle) = visible_solid_angle(sample, eye_frame, obstacles, tracer) {
                     seen = true;
+                    // Added sample by sample, in the order visibility.wgsl adds them.
                     out.solid_angle_sr[slot] += solid_angle;
+                    texel_sr += solid_angle;
                 }
             }
             if seen {
+                let part_slot = texel.part as usize * eye_frames.len() + index;
                 out.counts[slot] += 1;
-                out.part_seen[texel.part as usize * eye_frames.len() + index] = true;
+                out.part_seen[part_slot] = true;
+                per_eye_frame.texels[part_slot] += 1;
+                per_eye_frame.solid_angle_sr[part_slot] += texel_sr;
             }
         }
     }
+    out.per_eye_frame = Some(per_eye_frame);
     out
 }

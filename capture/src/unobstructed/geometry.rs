@@ -90,7 +90,14 @@ pub fn eye_frames(
             eye_frames.push(eye_frame(obstacles, &to_world, camera.position, &camera.view_proj));
         }
         let distance_m = (pose.position.truncate() - pedestrian).length();
-        records.push(json!({"frame": frame, "time_s": round6(time_s), "distance_m": round6(distance_m)}));
+        let (vehicle, eyes) = crate::manifest_builder::frame_pose(rig, &pose);
+        records.push(json!({
+            "frame": frame,
+            "time_s": round6(time_s),
+            "vehicle": vehicle,
+            "eyes": eyes,
+            "distance_m": round6(distance_m),
+        }));
     }
     (eye_frames, records)
 }

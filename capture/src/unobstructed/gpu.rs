@@ -268,6 +268,7 @@ pub fn texel_visibility_gpu(
             counts: vec![0; texels],
             solid_angle_sr: vec![0.0; texels],
             part_seen: vec![false; parts * eye_frames.len()],
+            per_eye_frame: None,
         });
     }
     // The build bounds the depth (bvh::MAX_DEPTH), so the stack always holds it.
@@ -291,5 +292,7 @@ pub fn texel_visibility_gpu(
             .map(|w| f64::from_le_bytes(w.try_into().unwrap_or_default()))
             .collect(),
         part_seen: (0..parts * eye_frames.len()).map(|bit| seen[bit / 32] >> (bit % 32) & 1 == 1).collect(),
+        // Per-texel sums only: the study's per-eye-frame tallies come from the CPU.
+        per_eye_frame: None,
     })
 }

@@ -18,7 +18,8 @@ use super::gpu::texel_visibility_gpu;
 use super::points::surface_samples;
 use super::rules::Tracer;
 use super::types::{
-    DEG2_PER_SR, MEASURE_UNOBSTRUCTED, MeasureDevice, MeasureOptions, SurfaceSamples, TexelVisibility,
+    DEG2_PER_SR, MEASURE_UNOBSTRUCTED, MeasureDevice, MeasureOptions, PartEyeFrames, SurfaceSamples,
+    TexelVisibility,
 };
 use crate::archive::{CaptureOptions, CapturedTiles, TileTally, prepare_archive, summarize, write_manifest};
 use crate::error::{CaptureError, Result};
@@ -44,10 +45,18 @@ pub struct UnobstructedCapture {
     /// Per part: texels, sampled texels, sampled total, estimates and errors.
     pub estimates: Vec<PartEstimate>,
     pub estimates_csv: PathBuf,
+    /// The frames measured, in order; eye-frame `i` is frame `frames[i / 2]`,
+    /// left eye for even `i`, right for odd.
+    pub frames: Vec<u32>,
+    /// Seconds one eye-frame stands for.
+    pub seconds_per_frame: f64,
+    /// Per part and eye-frame, the sampled texels' sums (CPU only).
+    pub per_eye_frame: Option<PartEyeFrames>,
 }
 
 /// The exact measure's result before it is written.
 struct Measured {
+    frames: Vec<u32>,
     samples: SurfaceSamples,
     visibility: TexelVisibility,
     eye_frames: usize,
@@ -109,6 +118,7 @@ pub fn measure_unobstructed(
     let _ = summarize(scene, scenario, options, &prepared, &captured, 0.0);
     write_manifest(scene, scenario, options, &prepared, captured, false)?;
     let measured = Measured {
+        frames: frames.clone(),
         samples,
         visibility,
         eye_frames: eye_frames.len(),
@@ -155,6 +165,9 @@ fn write_results(
         visibility_seconds: measured.visibility_seconds,
         estimates,
         estimates_csv,
+        frames: measured.frames.clone(),
+        seconds_per_frame: measured.seconds_per_frame,
+        per_eye_frame: visibility.per_eye_frame.clone(),
     })
 }
 

@@ -19,8 +19,10 @@
 //! means for one sample (edge-on, frustum and near plane, lift, occlusion),
 //! [`cpu`] the reference loop, [`gpu`] with `visibility.wgsl` the same on the
 //! GPU, [`estimator`] the `--sample` estimates, [`measure`] the command
-//! (archive skeleton and results), [`types`] what they share.
+//! (archive skeleton and results), [`types`] what they share, [`accuracy`]
+//! how far a rendered setting is from it (what `study` recommends by).
 
+pub mod accuracy;
 pub mod bvh;
 pub mod cpu;
 pub mod estimator;
@@ -41,6 +43,6 @@ pub use points::{is_sampled, surface_samples};
 pub use rules::{Tracer, visible_solid_angle};
 pub use types::{
     DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE, EyeFrame, MEASURE_UNOBSTRUCTED,
-    MeasureDevice, MeasureOptions, SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample, SurfaceSamples,
-    TexelVisibility,
+    MeasureDevice, MeasureOptions, PartEyeFrames, SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample,
+    SurfaceSamples, TexelVisibility,
 };

@@ -140,4 +140,15 @@ pub struct TexelVisibility {
     pub solid_angle_sr: Vec<f64>,
     /// Per part, per eye-frame (`part * eye_frames + eye_frame`): seen at all.
     pub part_seen: Vec<bool>,
+    /// Per part and eye-frame, what its sampled texels add up to (the CPU
+    /// fills it; the study compares settings eye-frame by eye-frame with it).
+    pub per_eye_frame: Option<PartEyeFrames>,
+}
+
+/// Per part and eye-frame (`part * eye_frames + eye_frame`): sampled texels
+/// visible (any sample) and the solid angle of their visible samples, sr.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct PartEyeFrames {
+    pub texels: Vec<u32>,
+    pub solid_angle_sr: Vec<f64>,
 }

@@ -21,8 +21,14 @@ fn capture(out: &Path, extra: &[&str]) {
 }
 
 fn analyse_png_archive(archive: &Path, dedupe: Dedupe, trim: TrimMode) -> Vec<u8> {
-    let options =
-        AnalyzeOptions { archive: archive.to_path_buf(), dedupe, trim, ..AnalyzeOptions::default() };
+    // frames.csv and the measures on, as the CLI runs it and as --count tallies them.
+    let options = AnalyzeOptions {
+        archive: archive.to_path_buf(),
+        dedupe,
+        trim,
+        frames: true,
+        ..AnalyzeOptions::default()
+    };
     let mut analysis = ufcsr::analyze(&options, None).expect("analyse the PNG archive");
     let out = archive.join("png-results");
     let written = ufcsr::write_results(&mut analysis, &out).unwrap();
@@ -41,6 +47,9 @@ fn counting_from_the_renderer_equals_the_png_round_trip() {
 
         capture(&archive, &["--frames", "0-180/3", "--count", "--dedupe", flag]);
         let fused = std::fs::read(archive.join("results/result.json")).unwrap();
+        // Per eye-frame and part: the same pixels, texels and solid angles, to the bit.
+        let frames = |dir: &str| std::fs::read_to_string(archive.join(dir).join("frames.csv")).unwrap();
+        assert_eq!(frames("png-results"), frames("results"), "--dedupe {flag}: frames.csv differs");
         assert!(
             png == fused,
             "--count --dedupe {flag} differs from the PNG path:\n{}\n---\n{}",

@@ -14,6 +14,7 @@ mod scenes;
 mod schemas;
 mod scissor;
 mod slurm_batch;
+mod study_accuracy;
 mod umbrella;
 mod unobstructed;
 mod vehicles;

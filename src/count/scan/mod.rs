@@ -28,7 +28,7 @@
 use std::path::Path;
 
 use crate::color::{AtomicColorSet, SeenSet, color_key};
-use crate::count::part_lookup::PartLookup;
+use crate::count::part_lookup::{PartLookup, PartPixels};
 use crate::error::{Error, Result};
 use crate::input::palette::Fcsp;
 use crate::input::png_rows::{PixelLayout, RowReader};
@@ -588,7 +588,7 @@ pub fn scan_image_by_part(
     classifier: &Classifier,
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
-    parts: Option<(&PartLookup, &mut [u64])>,
+    parts: Option<(&PartLookup, &mut PartPixels)>,
 ) -> Result<ImageTally> {
     debug_assert!(seen.is_empty());
     let outcome = scan_rows(path, bytes, classifier, seen, strays, parts);
@@ -604,17 +604,19 @@ fn scan_rows(
     classifier: &Classifier,
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
-    mut parts: Option<(&PartLookup, &mut [u64])>,
+    mut parts: Option<(&PartLookup, &mut PartPixels)>,
 ) -> Result<ImageTally> {
     let mut reader = RowReader::new(path, bytes)?;
     let layout = reader.layout();
     let scan = row_scan(layout, classifier);
     let mut by_class = [0u64; 3];
+    let mut y = 0;
     while let Some(row) = reader.next_row()? {
         scan.scan(row, classifier, seen, strays, &mut by_class);
-        if let Some((lookup, pixels)) = parts.as_mut() {
-            lookup.add_row(row, layout, pixels);
+        if let Some((lookup, tally)) = parts.as_mut() {
+            lookup.add_row_at(row, layout, y, tally);
         }
+        y += 1;
     }
     reader.finish()?;
     Ok(ImageTally {
