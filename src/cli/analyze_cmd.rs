@@ -16,7 +16,7 @@ use ufcsr::{
 
 use crate::cli::args::{AnalyzeArgs, Switch};
 use crate::cli::intent::{archives_below, misread_archive};
-use crate::cli::run::{Done, finish, heatmap_options, start_threads};
+use crate::cli::run::{Done, finish, heatmap_options, start_threads, written_list};
 
 /// A progress bar on stderr (drawn only on a terminal).
 struct Bar(ProgressBar);
@@ -73,23 +73,6 @@ fn analyze_options(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Re
             None => Shard::from_job_array(|name| std::env::var(name).ok())?,
         },
     })
-}
-
-/// Every file of a result set, in the order the summary lists them.
-pub fn written_list(written: &WrittenFiles, out_dir: &Path) -> Vec<PathBuf> {
-    let mut files = vec![written.result_json.clone()];
-    files.extend(written.parts_csv.clone());
-    files.push(written.heatmap_png.clone());
-    files.push(written.timings_json.clone());
-    files.extend(written.frames_csv.clone());
-    files.extend(written.heatmap_glb.clone());
-    files.extend(written.views_png.clone());
-    files.push(written.report_html.clone());
-    for plot in &written.plots {
-        files.push(out_dir.join(&plot.shown));
-        files.push(out_dir.join(&plot.svg));
-    }
-    files
 }
 
 /// The table and where every output went, for people.

@@ -1,6 +1,6 @@
 //! What a test of this binary needs from outside the repository, and the one
 //! rule for when it is missing: the test is reported *ignored* with the
-//! reason (`test slurm::… ... ignored, needs Slurm …`), so the summary line
+//! reason (`test slurm::… ... ignored (needs Slurm …)`), so the summary line
 //! counts it as skipped, never as passed; and where `CI` is set (`.ci/run`
 //! sets `CI=1`) the same test fails instead, so a missing install step
 //! cannot hide behind a skip.

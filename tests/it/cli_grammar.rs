@@ -132,9 +132,10 @@ fn every_working_subcommand_exits_2_with_nothing_written_on_bad_input() {
     let dir = tempfile::tempdir().unwrap();
     let missing = dir.path().join("missing");
     let out = dir.path().join("out");
+    let (heat, palette) = (out.join("h.png"), out.join("p.png"));
     let runs: [Vec<&OsStr>; 5] = [
         vec![missing.as_os_str(), "--out".as_ref(), out.as_os_str()],
-        vec!["heatmap".as_ref(), missing.as_os_str(), "--out".as_ref(), out.join("h.png").as_os_str()],
+        vec!["heatmap".as_ref(), missing.as_os_str(), "--out".as_ref(), heat.as_os_str()],
         vec!["merge".as_ref(), missing.as_os_str(), "--out".as_ref(), out.as_os_str()],
         vec!["report".as_ref(), missing.as_os_str(), missing.as_os_str(), "--out".as_ref(), out.as_os_str()],
         vec![
@@ -142,7 +143,7 @@ fn every_working_subcommand_exits_2_with_nothing_written_on_bad_input() {
             "--size".as_ref(),
             "5000x5000".as_ref(),
             "--out".as_ref(),
-            out.join("p.png").as_os_str(),
+            palette.as_os_str(),
         ],
     ];
     for args in runs {
@@ -198,7 +199,15 @@ fn the_tiles_folder_of_an_archive_is_refused_naming_the_manifest_above() {
 fn a_folder_of_several_archives_is_refused_or_analysed_each_with_each() {
     let dir = tempfile::tempdir().unwrap();
     let parent = dir.path().join("all");
-    let spec = ufcsr::synthetic::ArchiveSpec { frames: 2, palette: (64, 64), ..Default::default() };
+    let spec = ufcsr::synthetic::ArchiveSpec {
+        frames: 2,
+        rows: 1,
+        cols: 2,
+        tile_width: 16,
+        tile_height: 16,
+        palette: (64, 64),
+        ..Default::default()
+    };
     for name in ["A", "B"] {
         ufcsr::synthetic::write_archive(&parent.join(name), &spec).unwrap();
     }

@@ -203,13 +203,13 @@ fn parts_csv_in_the_papers_style_keeps_the_old_columns_precision_and_legend_orde
     let out = dir.path().join("out");
     let written = ufcsr::write_results_with(&mut analysis, &out, ufcsr::CsvStyle::Paper).unwrap();
     let csv = std::fs::read_to_string(written.parts_csv.unwrap()).unwrap();
-    let share_b = 100.0 / 6.0;
+    // As the library computes them: 100 × (total / grand total), unrounded.
+    let (share_a, share_b) = (100.0 * (5.0_f64 / 6.0), 100.0 * (1.0_f64 / 6.0));
     assert_eq!(
         csv,
         format!(
             "part_name,pixel_count,part_total_value,highest_value,average_value,total_percentage,coverage\n\
-             C,0,0,0,0,0,0\nA,4,5,2,1.25,{},75\nB,4,1,1,0.25,{share_b},25\n",
-            100.0 * 5.0 / 6.0
+             C,0,0,0,0,0,0\nA,4,5,2,1.25,{share_a},75\nB,4,1,1,0.25,{share_b},25\n"
         )
     );
     let report = ufcsr::write_results(&mut analysis, &out).unwrap();
