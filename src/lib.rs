@@ -35,10 +35,10 @@ pub use input::{
     TrimMode, UNLABELLED, parse_palette_size, read_color_image, read_file, verify_image_data, write_canonical_png,
 };
 pub use output::{
-    DIRECTIONS, ModelPart, NEVER_SEEN, VehicleModel, ViewCamera, ViewTexture, WrittenFiles, WrittenViews,
-    csv_field, default_output_dir, format_table, plasma, plot_font_available, render_heatmap, render_view,
-    view_cameras, views_caption, write_comparison, write_heatmap, write_parts_csv, write_results,
-    write_views, write_views_with,
+    CsvStyle, DIRECTIONS, ModelPart, NEVER_SEEN, VehicleModel, ViewCamera, ViewTexture, WrittenFiles,
+    WrittenViews, csv_field, default_output_dir, format_table, plasma, plot_font_available, render_heatmap,
+    render_view, view_cameras, views_caption, write_comparison, write_heatmap, write_parts_csv,
+    write_results, write_results_with, write_views, write_views_with,
 };
 pub use result::{
     Analysis, AnalysisResult, Comparison, FrameTable, Measures, PartStats, PartTable, RESULT_SCHEMA,

@@ -1,5 +1,6 @@
 //! The CSV files of a result set: `parts.csv` (one row per legend part, two
-//! more columns when the result has measures) and `frames.csv` (one row per
+//! more columns when the result has measures; in the report's words and
+//! order, or the paper's for old scripts) and `frames.csv` (one row per
 //! eye-frame and part), and the field quoting both use.
 
 use std::io::Write;
@@ -12,49 +13,108 @@ use crate::result::frames::{FRAMES_HEADER, FrameTable};
 use crate::result::measures::Measures;
 use crate::result::part_stats::PartStats;
 
-/// Writes `parts.csv` with the original tool's columns plus `coverage`.
-pub fn write_parts_csv(path: &Path, parts: &[PartStats]) -> Result<()> {
-    write_parts_table(path, parts, None)
+/// The columns of `parts.csv`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum CsvStyle {
+    /// The report's words (`part,texels,total,peak,average,share_percent,
+    /// coverage_percent,texels_seen`), the report's precision (3 decimals, 2
+    /// for coverage) and its order: by total, highest first, ties in legend order.
+    #[default]
+    Report,
+    /// The paper's (and earlier versions') columns (`part_name,pixel_count,
+    /// part_total_value,highest_value,average_value,total_percentage,coverage`),
+    /// full precision, legend order: for scripts written against them.
+    Paper,
 }
 
-/// Writes `parts.csv`; with `measures`, two more columns,
+impl std::str::FromStr for CsvStyle {
+    type Err = crate::error::Error;
+
+    fn from_str(text: &str) -> Result<Self> {
+        match text {
+            "report" => Ok(Self::Report),
+            "paper" => Ok(Self::Paper),
+            other => Err(crate::error::Error::BadOptions(format!(
+                "--csv-style {other:?}: expected `report` or `paper`"
+            ))),
+        }
+    }
+}
+
+/// Writes `parts.csv` in the report's vocabulary ([`CsvStyle::Report`]).
+pub fn write_parts_csv(path: &Path, parts: &[PartStats]) -> Result<()> {
+    write_parts_table(path, parts, None, CsvStyle::Report)
+}
+
+/// Writes `parts.csv` in `style`; with `measures`, two more columns,
 /// `angular_area_deg2_s` and `exposure_s` (empty where the manifest lacks fps
 /// or pixels per degree).
-pub(crate) fn write_parts_table(path: &Path, parts: &[PartStats], measures: Option<&Measures>) -> Result<()> {
+pub(crate) fn write_parts_table(
+    path: &Path,
+    parts: &[PartStats],
+    measures: Option<&Measures>,
+    style: CsvStyle,
+) -> Result<()> {
+    let order = row_order(parts, style);
     write_atomically(path, |writer| {
-        write!(
-            writer,
-            "part_name,pixel_count,part_total_value,highest_value,average_value,total_percentage,coverage"
-        )?;
+        match style {
+            CsvStyle::Report => {
+                write!(writer, "part,texels,total,peak,average,share_percent,coverage_percent,texels_seen")?
+            }
+            CsvStyle::Paper => write!(
+                writer,
+                "part_name,pixel_count,part_total_value,highest_value,average_value,total_percentage,coverage"
+            )?,
+        }
         if measures.is_some() {
             write!(writer, ",angular_area_deg2_s,exposure_s")?;
         }
         writeln!(writer)?;
-        for part in parts {
-            write!(
-                writer,
-                "{},{},{},{},{},{},{}",
-                csv_field(&part.name),
-                part.texels,
-                part.total,
-                part.peak,
-                part.average,
-                part.share,
-                part.coverage
-            )?;
+        for &index in &order {
+            let part = &parts[index];
+            write!(writer, "{}", part_row(part, style))?;
             if let Some(measures) = measures {
                 let measure = measures.part(&part.name);
+                let value = |v: Option<f64>| match style {
+                    CsvStyle::Report => v.map(|v| format!("{v:.3}")).unwrap_or_default(),
+                    CsvStyle::Paper => optional(v),
+                };
                 write!(
                     writer,
                     ",{},{}",
-                    optional(measure.and_then(|m| m.angular_area_deg2_s)),
-                    optional(measure.and_then(|m| m.exposure_s)),
+                    value(measure.and_then(|m| m.angular_area_deg2_s)),
+                    value(measure.and_then(|m| m.exposure_s)),
                 )?;
             }
             writeln!(writer)?;
         }
         Ok(())
     })
+}
+
+/// The rows' order: the report's (total, highest first; ties in legend
+/// order) or, for the paper's style, the legend's.
+fn row_order(parts: &[PartStats], style: CsvStyle) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..parts.len()).collect();
+    if style == CsvStyle::Report {
+        order.sort_by(|&a, &b| parts[b].total.cmp(&parts[a].total).then(a.cmp(&b)));
+    }
+    order
+}
+
+/// One part's statistics as CSV fields (without the measures).
+fn part_row(part: &PartStats, style: CsvStyle) -> String {
+    let name = csv_field(&part.name);
+    match style {
+        CsvStyle::Report => format!(
+            "{name},{},{},{},{:.3},{:.3},{:.2},{}",
+            part.texels, part.total, part.peak, part.average, part.share, part.coverage, part.texels_seen
+        ),
+        CsvStyle::Paper => format!(
+            "{name},{},{},{},{},{},{}",
+            part.texels, part.total, part.peak, part.average, part.share, part.coverage
+        ),
+    }
 }
 
 /// `text` as one CSV field, quoted when it holds a comma, quote or newline.

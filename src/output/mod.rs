@@ -9,13 +9,14 @@ pub(crate) mod csv;
 pub(crate) mod heatmap;
 pub(crate) mod heatmap_views;
 pub(crate) mod html;
+pub(crate) mod numbers;
 pub(crate) mod plots;
 pub(crate) mod result_set;
 pub(crate) mod vehicle_model;
 pub(crate) mod written_files;
 
 pub use console_table::format_table;
-pub use csv::{csv_field, write_parts_csv};
+pub use csv::{CsvStyle, csv_field, write_parts_csv};
 pub use heatmap::{plasma, render as render_heatmap, write_heatmap};
 pub use heatmap_views::{
     DIRECTIONS, NEVER_SEEN, ViewCamera, ViewTexture, WrittenViews, render_view, view_cameras, views_caption,
@@ -23,6 +24,6 @@ pub use heatmap_views::{
 };
 pub use html::write_comparison;
 pub use plots::font_available as plot_font_available;
-pub use result_set::{default_output_dir, write_results};
+pub use result_set::{default_output_dir, write_results, write_results_with};
 pub use vehicle_model::{ModelPart, VehicleModel};
 pub use written_files::WrittenFiles;

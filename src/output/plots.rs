@@ -2,6 +2,9 @@
 //! visibility of the most visible parts against time and against the
 //! vehicle's distance (from `frames.csv`), and the paper's per-part bar
 //! chart — total, average and peak count, the paper's top-5 union marked.
+//! Each title names the archive (the scenario); ticks of counts are whole
+//! numbers with thousands separators, lines carry no per-frame markers, and
+//! the legend sits beside the plot, never over a curve.
 //!
 //! Labels need a TrueType font, looked up at run time (`UFCSR_FONT`, else
 //! DejaVu Sans where Debian and most distributions put it) so that building
@@ -16,6 +19,7 @@ use plotters::coord::ranged1d::SegmentValue;
 use plotters::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::output::numbers::tick;
 use crate::result::part_stats::PartStats;
 use crate::{count::part_lookup::FrameLabel, result::frames::FrameTable};
 
@@ -99,10 +103,16 @@ fn write_plot(out_dir: &Path, name: &str, title: &str, drawing: &dyn Drawing) ->
 /// Writes every plot the data allows into `out_dir/plots/`: the time and
 /// distance plots need `frames` with eye-frames (a manifest), the bar chart
 /// needs parts.
-pub fn write_plots(out_dir: &Path, parts: &[PartStats], frames: Option<&FrameTable>) -> Result<Vec<Plot>> {
+/// `scenario` (the archive's name) goes into every title.
+pub fn write_plots(
+    out_dir: &Path,
+    parts: &[PartStats],
+    frames: Option<&FrameTable>,
+    scenario: &str,
+) -> Result<Vec<Plot>> {
     let mut plots = Vec::new();
     if let Some(series) = frames.and_then(VisibilitySeries::new) {
-        let by_time = Visibility { series: &series, against_distance: false };
+        let by_time = Visibility { series: &series, against_distance: false, scenario };
         plots.push(write_plot(
             out_dir,
             "visibility-time",
@@ -110,7 +120,7 @@ pub fn write_plots(out_dir: &Path, parts: &[PartStats], frames: Option<&FrameTab
             &by_time,
         )?);
         if series.has_distance {
-            let by_distance = Visibility { series: &series, against_distance: true };
+            let by_distance = Visibility { series: &series, against_distance: true, scenario };
             plots.push(write_plot(
                 out_dir,
                 "visibility-distance",
@@ -120,7 +130,7 @@ pub fn write_plots(out_dir: &Path, parts: &[PartStats], frames: Option<&FrameTab
         }
     }
     if !parts.is_empty() {
-        let bars = PartBars { parts };
+        let bars = PartBars { parts, scenario };
         plots.push(write_plot(
             out_dir,
             "parts",
@@ -199,6 +209,26 @@ fn series_colour(index: usize) -> RGBColor {
 struct Visibility<'a> {
     series: &'a VisibilitySeries,
     against_distance: bool,
+    /// The archive's name, for the title.
+    scenario: &'a str,
+}
+
+/// Width of the legend panel right of the time and distance plots.
+const LEGEND_WIDTH: u32 = 230;
+
+/// The legend of the top parts in its own panel (beside the data, so it
+/// never hides a curve): a coloured line and the part's name per row.
+fn draw_legend<B: DrawingBackend>(panel: &DrawingArea<B, Shift>, names: &[&str]) -> DrawResult
+where
+    B::ErrorType: 'static,
+{
+    for (index, name) in names.iter().enumerate() {
+        let y = 60 + 22 * index as i32;
+        let colour = series_colour(index);
+        panel.draw(&PathElement::new(vec![(8, y), (32, y)], colour.stroke_width(3)))?;
+        panel.draw(&Text::new(name.to_string(), (40, y - 7), ("sans-serif", 13)))?;
+    }
+    Ok(())
 }
 
 impl Visibility<'_> {
@@ -207,6 +237,12 @@ impl Visibility<'_> {
         B::ErrorType: 'static,
     {
         root.fill(&WHITE)?;
+        let (plot_area, legend_area) = if text {
+            let width = root.dim_in_pixel().0;
+            root.split_horizontally(width.saturating_sub(LEGEND_WIDTH))
+        } else {
+            (root.clone(), root.clone())
+        };
         let xs: Vec<f64> = self
             .series
             .frames
@@ -217,48 +253,43 @@ impl Visibility<'_> {
         let x_max = if x_max > x_min { x_max } else { x_min + 1.0 };
         let y_max =
             self.series.parts.iter().flat_map(|(_, ys)| ys.iter().copied()).fold(1.0, f64::max) * 1.08;
-        let mut builder = ChartBuilder::on(root);
+        let mut builder = ChartBuilder::on(&plot_area);
         builder.margin(20);
         if text {
             let caption = if self.against_distance {
-                "Visibility of the top parts against distance"
+                format!("{}: visibility of the top parts against distance", self.scenario)
             } else {
-                "Visibility of the top parts over time"
+                format!("{}: visibility of the top parts over time", self.scenario)
             };
-            builder.caption(caption, ("sans-serif", 20)).x_label_area_size(45).y_label_area_size(70);
+            builder.caption(caption, ("sans-serif", 20)).x_label_area_size(45).y_label_area_size(80);
         }
         let mut chart = builder.build_cartesian_2d(x_min..x_max, 0.0..y_max)?;
         let mut mesh = chart.configure_mesh();
+        let x_span = x_max - x_min;
+        let x_tick = move |v: &f64| tick(*v, x_span);
+        let y_tick = move |v: &f64| tick(*v, y_max);
         if text {
             mesh.x_desc(if self.against_distance { "vehicle distance, m" } else { "time, s" })
-                .y_desc("pixels showing the part (per eye)");
+                .y_desc("pixels showing the part (per eye)")
+                .x_label_formatter(&x_tick)
+                .y_label_formatter(&y_tick);
         } else {
             mesh.x_labels(0).y_labels(0);
         }
         mesh.draw()?;
-        for (index, (name, ys)) in self.series.parts.iter().enumerate() {
+        for (index, (_, ys)) in self.series.parts.iter().enumerate() {
             let colour = series_colour(index);
             let mut points: Vec<(f64, f64)> = xs.iter().copied().zip(ys.iter().copied()).collect();
             if self.against_distance {
                 // Distance need not change monotonically: points, joined in distance order.
                 points.sort_by(|a, b| a.0.total_cmp(&b.0));
             }
-            let line = chart.draw_series(LineSeries::new(points.clone(), colour.stroke_width(2)))?;
-            if text {
-                line.label(name.clone()).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], colour.stroke_width(2))
-                });
-            }
-            chart.draw_series(points.into_iter().map(|p| Circle::new(p, 3, colour.filled())))?;
+            // A plain line: per-frame markers thicken it into a band at 181 frames.
+            chart.draw_series(LineSeries::new(points, colour.stroke_width(2)))?;
         }
         if text {
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::UpperRight)
-                .label_font(("sans-serif", 12))
-                .draw()?;
+            let names: Vec<&str> = self.series.parts.iter().map(|(name, _)| name.as_str()).collect();
+            draw_legend(&legend_area, &names)?;
         }
         root.present()?;
         Ok(())
@@ -267,7 +298,7 @@ impl Visibility<'_> {
 
 impl Drawing for Visibility<'_> {
     fn size(&self) -> (u32, u32) {
-        (900, 520)
+        (900 + LEGEND_WIDTH, 520)
     }
     fn draw_svg(&self, root: &DrawingArea<SVGBackend, Shift>, text: bool) -> DrawResult {
         self.draw(root, text)
@@ -283,6 +314,8 @@ type PartValue = fn(&PartStats) -> f64;
 /// Horizontal bars per part (sorted by total): total, average, peak.
 struct PartBars<'a> {
     parts: &'a [PartStats],
+    /// The archive's name, for the title.
+    scenario: &'a str,
 }
 
 impl PartBars<'_> {
@@ -303,7 +336,10 @@ impl PartBars<'_> {
         let root = if text {
             let (top, rest) = root.split_vertically(40);
             top.titled(
-                "Per part: total, average and peak count (orange, *: the paper's top-5 union)",
+                &format!(
+                    "{}: total, average and peak count per part (orange, *: the paper's top-5 union)",
+                    self.scenario
+                ),
                 ("sans-serif", 18),
             )?;
             rest
@@ -331,7 +367,8 @@ impl PartBars<'_> {
                 SegmentValue::Last => String::new(),
             };
             let mut mesh = chart.configure_mesh();
-            mesh.disable_y_mesh().x_labels(4);
+            let x_tick = move |v: &f64| tick(*v, max);
+            mesh.disable_y_mesh().x_labels(4).x_label_formatter(&x_tick);
             let no_label = |_: &SegmentValue<usize>| String::new();
             // plotters overflows on zero labels of a segmented axis: empty ones instead.
             mesh.y_labels(order.len());

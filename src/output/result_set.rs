@@ -7,7 +7,7 @@ use std::time::Instant;
 use crate::error::{Error, Result};
 use crate::files::{IMAGE_LIMIT, Staging, read_limited, refuse_overwriting_inputs};
 use crate::input::options::HeatmapOptions;
-use crate::output::csv::{write_frames_csv, write_parts_table};
+use crate::output::csv::{CsvStyle, write_frames_csv, write_parts_table};
 use crate::output::heatmap_views::{DIRECTIONS, ViewTexture, views_caption, write_views};
 use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, write_plots};
 use crate::output::vehicle_model::VehicleModel;
@@ -45,6 +45,11 @@ fn output_paths(files: &WrittenFiles) -> Vec<PathBuf> {
 /// place only when every file was written: a failure (a full disk, a bad
 /// vehicle model) or an interruption leaves the previous result set whole.
 pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenFiles> {
+    write_results_with(analysis, out_dir, CsvStyle::Report)
+}
+
+/// [`write_results`] with `parts.csv` in `csv` style (`--csv-style`).
+pub fn write_results_with(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) -> Result<WrittenFiles> {
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let mut files = planned_files(analysis, out_dir);
     let mut outputs = output_paths(&files);
@@ -52,7 +57,7 @@ pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenF
     refuse_overwriting_inputs(&outputs, &analysis.input_files)?;
     let staging = Staging::new(out_dir)?;
     // Plot paths are relative to the output folder: the same after the move.
-    files.plots = write_results_into(analysis, staging.path())?;
+    files.plots = write_results_into(analysis, staging.path(), csv)?;
     let members = result_set_members();
     staging.commit(out_dir, &members.iter().map(String::as_str).collect::<Vec<_>>())?;
     Ok(files)
@@ -100,7 +105,7 @@ fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
 
 /// Writes the whole result set into `out_dir` (a staging folder); returns
 /// the plots written there.
-fn write_results_into(analysis: &mut Analysis, out_dir: &Path) -> Result<Vec<Plot>> {
+fn write_results_into(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) -> Result<Vec<Plot>> {
     let files = planned_files(analysis, out_dir);
     let palette = &analysis.result.settings.palette;
     let (width, height) = (palette.width, palette.height);
@@ -118,7 +123,7 @@ fn write_results_into(analysis: &mut Analysis, out_dir: &Path) -> Result<Vec<Plo
     let stage = Instant::now();
     write_result_json(&files.result_json, &analysis.result, &analysis.texel_counts)?;
     if let Some(path) = &files.parts_csv {
-        write_parts_table(path, &analysis.result.parts, analysis.result.measures.as_ref())?;
+        write_parts_table(path, &analysis.result.parts, analysis.result.measures.as_ref(), csv)?;
     }
     if let (Some(frames), Some(path)) = (&analysis.frames, &files.frames_csv) {
         write_frames_csv(path, frames)?;
@@ -140,7 +145,15 @@ fn write_results_into(analysis: &mut Analysis, out_dir: &Path) -> Result<Vec<Plo
         write_views(&model, &texture, out_dir)?;
     }
     let mut files = files;
-    files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref())?;
+    let scenario = archive_name(&analysis.result.settings.archive);
+    files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref(), &scenario)?;
     crate::output::html::report_page::write_report(&files.report_html, &analysis.result, &files)?;
     Ok(files.plots)
+}
+
+/// The archive's folder name (the scenario's, for a capture of one), for titles.
+fn archive_name(archive: &str) -> String {
+    Path::new(archive)
+        .file_name()
+        .map_or_else(|| archive.to_string(), |name| name.to_string_lossy().into_owned())
 }

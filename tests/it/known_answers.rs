@@ -184,8 +184,36 @@ fn result_json_round_trips_and_regenerates_the_heatmap() {
     assert_eq!((stored.width, stored.height, stored.scale, stored.max), (4, 4, Scale::Log, Some(5)));
     let summary = ufcsr::read_result_summary(&written.result_json).unwrap();
     assert_eq!(summary, analysis.result);
+    // parts.csv in the report's words, precision and order (A 5, B 1, C 0).
     let csv = std::fs::read_to_string(written.parts_csv.unwrap()).unwrap();
-    assert!(csv.starts_with(
-        "part_name,pixel_count,part_total_value,highest_value,average_value,total_percentage,coverage\nA,4,5,2,1.25,"
-    ));
+    assert_eq!(
+        csv,
+        "part,texels,total,peak,average,share_percent,coverage_percent,texels_seen\n\
+         A,4,5,2,1.250,83.333,75.00,3\nB,4,1,1,0.250,16.667,25.00,1\nC,0,0,0,0.000,0.000,0.00,0\n"
+    );
+}
+
+#[test]
+fn parts_csv_in_the_papers_style_keeps_the_old_columns_precision_and_legend_order() {
+    let dir = tempfile::tempdir().unwrap();
+    known_archive(dir.path());
+    // Legend C, A, B: the paper's style keeps it; the report's sorts by total.
+    std::fs::write(dir.path().join("parts.csv"), "name,color\nC,#0000FF\nA,#FF0000\nB,#00FF00\n").unwrap();
+    let mut analysis = analyze(&known_options(dir.path()), None).unwrap();
+    let out = dir.path().join("out");
+    let written = ufcsr::write_results_with(&mut analysis, &out, ufcsr::CsvStyle::Paper).unwrap();
+    let csv = std::fs::read_to_string(written.parts_csv.unwrap()).unwrap();
+    // As the library computes them: 100 × (total / grand total), unrounded.
+    let (share_a, share_b) = (100.0 * (5.0_f64 / 6.0), 100.0 * (1.0_f64 / 6.0));
+    assert_eq!(
+        csv,
+        format!(
+            "part_name,pixel_count,part_total_value,highest_value,average_value,total_percentage,coverage\n\
+             C,0,0,0,0,0,0\nA,4,5,2,1.25,{share_a},75\nB,4,1,1,0.25,{share_b},25\n"
+        )
+    );
+    let report = ufcsr::write_results(&mut analysis, &out).unwrap();
+    let csv = std::fs::read_to_string(report.parts_csv.unwrap()).unwrap();
+    let rows: Vec<&str> = csv.lines().skip(1).map(|row| row.split(',').next().unwrap()).collect();
+    assert_eq!(rows, ["A", "B", "C"]);
 }

@@ -1,35 +1,31 @@
 //! The analyzer's integration tests, one binary (one link step instead of
 //! one per file): each module is one former `tests/*.rs` file, named as it
 //! was, so `cargo test -p ufcsr --test it known_answers::` runs one of them.
+//! The tests that need outside tools (Slurm, Chromium, Python, `../shared`)
+//! are in `tests/external`, whose harness reports a missing tool as ignored.
 
 mod common;
-// Shared with capture/tests/it/slurm_batch.rs, which includes it by this path.
-#[path = "../slurm_support/mod.rs"]
-mod slurm_support;
 
 mod atomic_results;
 mod bad_input;
 mod cli;
+mod cli_grammar;
+mod comparison_page;
 mod doc_links;
 mod frames;
 mod fuzz_regressions;
 mod indexed_png;
 mod known_answers;
-mod manifest_script;
 mod missing_vehicle;
 mod module_graph;
 mod order_and_saturation;
-mod python_package;
-mod reference_pidt;
 mod reliability;
 mod reliability_inputs;
 mod reliability_merge;
 mod reliability_outputs;
-mod report_browser;
 mod result_validation;
 mod schemas;
 mod shards;
-mod slurm;
 mod texture_skipping;
 mod trimming;
 mod views;

@@ -3,6 +3,7 @@
 //! per function.
 
 pub(crate) mod compare_page;
+pub(crate) mod provenance;
 pub(crate) mod report_page;
 
 pub use compare_page::write_comparison;

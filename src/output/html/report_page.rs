@@ -11,6 +11,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::Result;
+use crate::output::numbers::grouped;
 use crate::result::part_stats::top_five_union;
 use crate::{output::written_files::WrittenFiles, result::model::AnalysisResult};
 
@@ -62,8 +63,8 @@ fn render_measures(page: &mut String, result: &AnalysisResult, measures: &crate:
             page,
             "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
             escape(&part.name),
-            part.pixels,
-            part.eye_frames_seen,
+            grouped(part.pixels),
+            grouped(part.eye_frames_seen),
             optional(part.angular_area_deg2_s),
             optional(part.exposure_s)
         );
@@ -84,8 +85,10 @@ fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
          td:first-child,th:first-child{{text-align:left}}tr.top{{background:#fff4d6}}\
          .swatch{{display:inline-block;width:0.9em;height:0.9em;border:1px solid #555;vertical-align:middle;margin-right:0.4em}}\
          .warn{{background:#fde8e8;border-left:4px solid #c00;padding:0.4em 0.8em;margin:0.3em 0}}\
-         img{{max-width:100%;image-rendering:pixelated;border:1px solid #ccc}}img.plot{{image-rendering:auto}}</style></head><body>\n<h1>{title}</h1>\n"
+         img{{max-width:100%;image-rendering:pixelated;border:1px solid #ccc}}img.plot{{image-rendering:auto}}\
+         .provenance{{color:#555;font-size:0.9em}}</style></head><body>\n<h1>{title}</h1>\n"
     );
+    let _ = writeln!(page, "{}", crate::output::html::provenance::paragraph());
 
     // Warnings first: what needs looking at before trusting the numbers.
     let _ = writeln!(page, "<h2>Warnings</h2>");
@@ -125,13 +128,13 @@ fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
          <tr><th>trimmed (all background)</th><td>{}</td></tr><tr><th>failed</th><td>{}</td></tr>\
          <tr><th>texels seen</th><td>{}</td></tr><tr><th>grand total</th><td>{}</td></tr>\
          <tr><th>largest count of a texel</th><td>{}</td></tr></table>",
-        images.found,
-        images.decoded,
-        images.trimmed,
-        images.failed,
-        result.texels_seen,
-        result.grand_total,
-        result.max_count
+        grouped(images.found),
+        grouped(images.decoded),
+        grouped(images.trimmed),
+        grouped(images.failed),
+        grouped(result.texels_seen),
+        grouped(result.grand_total),
+        grouped(u64::from(result.max_count))
     );
     if let Some(resolution) = &result.resolution {
         let optional =
@@ -171,9 +174,9 @@ fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
                 "<tr{}><td>{swatch}{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.2}</td><td>{:.1}</td></tr>",
                 if marked[index] { " class=\"top\"" } else { "" },
                 escape(&part.name),
-                part.texels,
-                part.total,
-                part.peak,
+                grouped(part.texels),
+                grouped(part.total),
+                grouped(u64::from(part.peak)),
                 part.average,
                 part.share,
                 part.coverage

@@ -2,24 +2,25 @@
 //! (`scripts/slurm/local-cluster`) runs a 4-shard analysis of the bundled
 //! example through `sbatch --array` and an `afterok` merge job
 //! (`scripts/slurm/submit`); the merged result.json must equal the
-//! single-process one byte for byte. Skipped with a message where Slurm is
-//! not installed or we are not root; a failure when `CI` is set.
+//! single-process one byte for byte. Ignored (with the reason) where Slurm
+//! is not installed or we are not root; a failure when `CI` is set.
 
+use crate::need::{Outcome, missing};
 use crate::slurm_support;
+use libtest_mimic::Completion;
 
 use std::path::PathBuf;
 use std::process::Command;
 use std::time::Duration;
 
-use slurm_support::{logs, script, start_cluster, wait_for};
+use slurm_support::{logs, script, slurm_available, start_cluster, wait_for};
 
-#[test]
-fn a_slurm_array_of_shards_and_an_afterok_merge_equal_the_whole_analysis() {
-    let Some((_one, dir, cluster)) =
-        start_cluster(true, "Slurm (apt-get install slurmctld slurmd slurm-client munge) or root")
-    else {
-        return;
-    };
+pub fn a_slurm_array_of_shards_and_an_afterok_merge_equal_the_whole_analysis() -> Outcome {
+    const NEED: &str = "Slurm and root (apt-get install slurmctld slurmd slurm-client munge)";
+    if !slurm_available() {
+        return missing(NEED);
+    }
+    let (_one, dir, cluster) = start_cluster(true, NEED).expect("Slurm was found just now");
     let conf = cluster.conf();
 
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example").canonicalize().unwrap();
@@ -50,4 +51,5 @@ fn a_slurm_array_of_shards_and_an_afterok_merge_equal_the_whole_analysis() {
         "the merged result differs from the single-process one"
     );
     drop(cluster);
+    Ok(Completion::Completed)
 }

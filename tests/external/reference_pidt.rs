@@ -1,31 +1,20 @@
 //! The real F-150 PIdT and legend from `../shared/ref/f150/` (the published
 //! Unity project): per-part texel counts from our PIdT reader must equal an
 //! independent count made here with the png crate and a plain HashMap.
-//! Skips with a message when `../shared` is not beside the checkout.
+//! Ignored (with the reason) when `../shared` is not beside the checkout
+//! (or `UFCSR_SHARED` names a folder without it).
 
 use std::collections::HashMap;
-use std::path::PathBuf;
 
+use crate::need::{Outcome, missing, shared_dir};
+use libtest_mimic::Completion;
 use ufcsr::{Legend, Pidt};
 
-fn reference_dir() -> Option<PathBuf> {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/ref/f150");
-    if dir.join("pidt.png").is_file() && dir.join("parts.csv").is_file() {
-        Some(dir)
-    } else {
-        // A skip must not hide missing reference data where the suite is meant to be complete.
-        assert!(std::env::var_os("CI").is_none(), "CI: {} is missing", dir.display());
-        eprintln!(
-            "SKIPPED: {} is absent (reference data lives in ../shared/ref beside the checkout)",
-            dir.display()
-        );
-        None
+pub fn f150_part_texel_counts_match_an_independent_count() -> Outcome {
+    let dir = shared_dir().join("ref/f150");
+    if !(dir.join("pidt.png").is_file() && dir.join("parts.csv").is_file()) {
+        return missing(&format!("{} (reference data in shared/ref beside the checkout)", dir.display()));
     }
-}
-
-#[test]
-fn f150_part_texel_counts_match_an_independent_count() {
-    let Some(dir) = reference_dir() else { return };
     let legend = Legend::load(&dir.join("parts.csv")).unwrap();
     assert_eq!(legend.parts.len(), 68);
     let pidt = Pidt::load(&dir.join("pidt.png"), &legend, 4096, 4096).unwrap();
@@ -58,4 +47,5 @@ fn f150_part_texel_counts_match_an_independent_count() {
         unlabelled,
         pidt.unlabelled_colors.len()
     );
+    Ok(Completion::Completed)
 }

@@ -10,28 +10,35 @@
 //! run — or one after a manual install — rebuilds only what changed.
 //!
 //! Without python3, a working venv/pip or the registries (PyPI, crates.io) it
-//! prints `SKIPPED:` and passes — and fails instead when `CI` is set.
+//! is reported ignored with the reason — and fails instead when `CI` is set.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::Instant;
 
+use crate::need::{Outcome, missing, strict};
+use libtest_mimic::Completion;
+
 /// Python packages the build and the suite need beside `./python`'s own.
 const TOOLS: [&str; 4] = ["maturin>=1.5,<2", "numpy", "pandas", "pytest"];
 
-/// Writes to the real stderr, past the test harness's capture (which would
-/// hide an `eprintln!` of a passing test).
+/// Writes a timing line to stderr (this harness does not capture it).
 fn say(line: &str) {
     let _ = writeln!(std::io::stderr(), "python_package: {line}");
 }
 
-/// A missing tool or registry: a visible skip, or a failure under CI.
-fn unavailable(what: &str, output: Option<&Output>) {
+/// A missing tool or registry: ignored with the reason, or a failure under CI
+/// (with the tool's own error).
+fn unavailable(what: &str, output: Option<&Output>) -> Outcome {
+    // The tool's own error only where it fails the run: a skip's reason stays one line.
     let detail =
         output.map(|output| String::from_utf8_lossy(&output.stderr).into_owned()).unwrap_or_default();
-    assert!(std::env::var_os("CI").is_none(), "CI: {what}\n{detail}");
-    say(&format!("SKIPPED: {what} (set CI to make this a failure)"));
+    if strict() && !detail.trim().is_empty() {
+        missing(&format!("{what}\n{}", detail.trim()))
+    } else {
+        missing(what)
+    }
 }
 
 /// Runs `command`, `None` when it could not start at all.
@@ -49,20 +56,18 @@ fn both_streams(output: &Output) -> String {
 }
 
 /// The venv's interpreter, creating the venv (and its tools) on first use;
-/// `None` after reporting what is unavailable.
-fn prepared_venv(venv: &Path) -> Option<PathBuf> {
+/// `Err` with the outcome that reports what is unavailable.
+fn prepared_venv(venv: &Path) -> Result<PathBuf, Outcome> {
     let python = venv.join("bin").join("python");
     if !python.exists() {
         let python3 = std::env::var("UFCSR_PYTHON").unwrap_or_else(|_| "python3".to_string());
         if !succeeded(&run(Command::new(&python3).arg("--version"))) {
-            unavailable(&format!("{python3} is not installed"), None);
-            return None;
+            return Err(unavailable(&format!("{python3} (not installed)"), None));
         }
         let created = run(Command::new(&python3).args(["-m", "venv"]).arg(venv));
         if !succeeded(&created) {
             let _ = std::fs::remove_dir_all(venv);
-            unavailable("python3 -m venv failed (install python3-venv)", created.as_ref());
-            return None;
+            return Err(unavailable("python3 -m venv (install python3-venv)", created.as_ref()));
         }
     }
     let imports = "import maturin, numpy, pandas, pytest";
@@ -71,14 +76,13 @@ fn prepared_venv(venv: &Path) -> Option<PathBuf> {
             .args(["-m", "pip", "install", "--quiet", "--retries", "1", "--timeout", "60"])
             .args(TOOLS));
         if !succeeded(&installed) {
-            unavailable(
-                "pip could not install maturin, numpy, pandas, pytest (no pip or no PyPI)",
+            return Err(unavailable(
+                "pip to install maturin, numpy, pandas, pytest (no pip or no PyPI)",
                 installed.as_ref(),
-            );
-            return None;
+            ));
         }
     }
-    Some(python)
+    Ok(python)
 }
 
 /// `PATH` with the venv's `bin` first, as an activated venv has it.
@@ -88,11 +92,13 @@ fn venv_path(python: &Path) -> std::ffi::OsString {
     std::env::join_paths(std::iter::once(bin).chain(std::env::split_paths(&rest))).expect("a valid PATH")
 }
 
-#[test]
-fn python_package_builds_installs_and_passes_its_pytest_suite() {
+pub fn python_package_builds_installs_and_passes_its_pytest_suite() -> Outcome {
     let repository = Path::new(env!("CARGO_MANIFEST_DIR"));
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("python-package");
-    let Some(python) = prepared_venv(&work.join("venv")) else { return };
+    let python = match prepared_venv(&work.join("venv")) {
+        Ok(python) => python,
+        Err(outcome) => return outcome,
+    };
 
     // The extension's crates: a fetch that fails is the registry, not the package.
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
@@ -100,8 +106,7 @@ fn python_package_builds_installs_and_passes_its_pytest_suite() {
         .args(["fetch", "--locked", "--manifest-path"])
         .arg(repository.join("python/Cargo.toml")));
     if !succeeded(&fetched) {
-        unavailable("cargo could not fetch the Python package's crates (no crates.io?)", fetched.as_ref());
-        return;
+        return unavailable("cargo to fetch the Python package's crates (no crates.io?)", fetched.as_ref());
     }
 
     let started = Instant::now();
@@ -133,4 +138,5 @@ fn python_package_builds_installs_and_passes_its_pytest_suite() {
         started.elapsed().as_secs_f64(),
         summary.trim()
     ));
+    Ok(Completion::Completed)
 }

@@ -1,0 +1,239 @@
+//! The main command, `ufcsr-analyze ARCHIVE`: options validated once, the
+//! archive checked for what the user meant ([`crate::cli::intent`]), the
+//! analysis with a progress bar, the result set written, and the summary
+//! (table or JSON) with every file written; `--each` does it per archive.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use anyhow::{Context, Result};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde_json::json;
+use ufcsr::{
+    AnalyzeOptions, Color, PaletteChoice, Progress, Shard, TrimMode, WrittenFiles, analyze,
+    default_output_dir, format_table,
+};
+
+use crate::cli::args::{AnalyzeArgs, Switch};
+use crate::cli::intent::{archives_below, misread_archive};
+use crate::cli::run::{Done, finish, heatmap_options, start_threads, written_list};
+
+/// A progress bar on stderr (drawn only on a terminal).
+struct Bar(ProgressBar);
+
+impl Progress for Bar {
+    fn start(&self, total: u64) {
+        self.0.set_length(total);
+    }
+    fn advance(&self, done: u64) {
+        self.0.inc(done);
+    }
+    fn finish(&self) {
+        self.0.finish_and_clear();
+    }
+}
+
+/// The analysis options from the command line for `archive` (validated
+/// once, here), and the output folder.
+fn analyze_options(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Result<AnalyzeOptions> {
+    let palette = match (&args.fcsp, &args.palette_size) {
+        (Some(path), _) => Some(PaletteChoice::Image(path.clone())),
+        (None, Some(size)) => {
+            let (width, height) = ufcsr::parse_palette_size(size)?;
+            Some(PaletteChoice::Canonical { width, height })
+        }
+        (None, None) => None,
+    };
+    let background = if args.background.is_empty() {
+        None
+    } else {
+        Some(
+            args.background
+                .iter()
+                .map(|text| text.parse::<Color>().with_context(|| "invalid --background".to_string()))
+                .collect::<Result<Vec<_>>>()?,
+        )
+    };
+    Ok(AnalyzeOptions {
+        archive,
+        palette,
+        pidt: args.pidt.clone(),
+        legend: args.parts.clone(),
+        background,
+        dedupe: args.dedupe,
+        trim: args.trim.parse::<TrimMode>()?,
+        heatmap: heatmap_options(&args.heatmap, None)?,
+        strict: args.strict,
+        exclude: vec![out_dir],
+        ignore_manifest: args.no_manifest,
+        mesh: args.mesh.clone(),
+        frames: args.frames_csv == Switch::On,
+        shard: match &args.shard {
+            Some(text) => Some(text.parse::<Shard>()?),
+            None => Shard::from_job_array(|name| std::env::var(name).ok())?,
+        },
+    })
+}
+
+/// The table and where every output went, for people.
+fn summary_text(analysis: &ufcsr::Analysis, written: &WrittenFiles, out_dir: &Path) -> String {
+    let mut text = format_table(&analysis.result);
+    text.push_str(&format!(
+        "\n{:.2} s ({:.0} Mpixel/s decoded); wrote {}\n",
+        analysis.timings.total_seconds,
+        analysis.timings.decoded_megapixels_per_second,
+        out_dir.display()
+    ));
+    text.push_str(&format!("  report:  {}\n", written.report_html.display()));
+    if let Some(glb) = &written.heatmap_glb {
+        text.push_str(&format!("  vehicle: {} (the heatmap on the vehicle, glTF)\n", glb.display()));
+    }
+    let mut data = vec![written.result_json.display().to_string()];
+    data.extend(written.parts_csv.iter().map(|p| p.display().to_string()));
+    data.push(written.heatmap_png.display().to_string());
+    data.push(written.timings_json.display().to_string());
+    text.push_str(&format!("  data:    {}\n", data.join(", ")));
+    if let Some(frames) = &written.frames_csv {
+        text.push_str(&format!(
+            "  frames:  {} (pixels and texels per eye-frame and part)\n",
+            frames.display()
+        ));
+    }
+    if let Some(views) = &written.views_png {
+        text.push_str(&format!(
+            "  views:   {} (the heatmap on the vehicle from eight sides)\n",
+            views.display()
+        ));
+    }
+    if !written.plots.is_empty() {
+        let plots: Vec<&str> = written.plots.iter().map(|plot| plot.shown.as_str()).collect();
+        text.push_str(&format!("  plots:   {} (in {})\n", plots.join(", "), out_dir.display()));
+    }
+    text.trim_end().to_string()
+}
+
+/// Warnings, stray pixels and failures of a finished analysis, on stderr.
+fn report_problems(result: &ufcsr::AnalysisResult) {
+    for warning in &result.warnings {
+        eprintln!("warning: {warning}");
+    }
+    for stray in result.images_with_stray_pixels.iter().take(10) {
+        eprintln!(
+            "warning: {}: {} stray pixels (neither background nor palette)",
+            stray.file, stray.stray_pixels
+        );
+    }
+    if result.images_with_stray_pixels.len() > 10 {
+        eprintln!(
+            "warning: {} more images have stray pixels (see result.json)",
+            result.images_with_stray_pixels.len() - 10
+        );
+    }
+    for failure in &result.failures {
+        eprintln!("error: {}", failure.error);
+    }
+    if result.images.failed > 0 {
+        eprintln!(
+            "{} of {} images failed and were not counted; results cover the rest",
+            result.images.failed, result.images.found
+        );
+    }
+}
+
+/// One archive analysed and written: what was done.
+fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Result<Done> {
+    let options = analyze_options(args, archive, out_dir.clone())?;
+    let hidden = args.common.quiet || args.common.json;
+    let bar = ProgressBar::with_draw_target(
+        Some(0),
+        if hidden { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() },
+    );
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} counting {pos}/{len} images [{bar:40}] {per_sec} eta {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar())
+            .progress_chars("=> "),
+    );
+    let mut analysis = analyze(&options, Some(&Bar(bar)))?;
+    let written = ufcsr::write_results_with(&mut analysis, &out_dir, args.csv_style.into())?;
+    report_problems(&analysis.result);
+    Ok(Done {
+        command: "analyze",
+        exit_code: if analysis.is_complete() { 0 } else { 1 },
+        written: written_list(&written, &out_dir),
+        text: summary_text(&analysis, &written, &out_dir),
+        facts: json!({
+            "archive": options.archive,
+            "out": out_dir,
+            "result": analysis.result,
+            "timings": analysis.timings,
+            "files": {
+                "result_json": written.result_json,
+                "parts_csv": written.parts_csv,
+                "heatmap_png": written.heatmap_png,
+                "timings_json": written.timings_json,
+                "frames_csv": written.frames_csv,
+                "heatmap_glb": written.heatmap_glb,
+                "views_png": written.views_png,
+                "report_html": written.report_html,
+            },
+        }),
+    })
+}
+
+pub fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
+    let archive = args.archive.clone().context("ARCHIVE is required")?;
+    start_threads(&args.common)?;
+    if args.each {
+        return run_each(&args, &archive);
+    }
+    if !args.no_manifest
+        && let Some(problem) = misread_archive(&archive)
+    {
+        anyhow::bail!(problem);
+    }
+    let out_dir = args.out.clone().unwrap_or_else(|| default_output_dir(&archive));
+    let done = analyse_one(&args, archive, out_dir)?;
+    finish(&args.common, done)
+}
+
+/// `--each`: every archive below ARCHIVE analysed into its own results
+/// folder; exit 1 when any had failures or could not be analysed, 2 when
+/// none could.
+fn run_each(args: &AnalyzeArgs, parent: &Path) -> Result<ExitCode> {
+    let archives = archives_below(parent);
+    anyhow::ensure!(
+        !archives.is_empty(),
+        "--each: no archive (a folder with a manifest.json) below {}",
+        parent.display()
+    );
+    let mut done =
+        Done { command: "analyze", exit_code: 0, written: Vec::new(), text: String::new(), facts: json!({}) };
+    let mut each = Vec::new();
+    let mut analysed = 0;
+    for archive in archives {
+        let out_dir = match &args.out {
+            Some(out) => out.join(archive.strip_prefix(parent).unwrap_or(&archive)),
+            None => default_output_dir(&archive),
+        };
+        match analyse_one(args, archive.clone(), out_dir) {
+            Ok(one) => {
+                analysed += 1;
+                done.exit_code = done.exit_code.max(one.exit_code);
+                done.written.extend(one.written.iter().cloned());
+                done.text.push_str(&format!("== {}\n{}\n\n", archive.display(), one.text));
+                each.push(one.facts);
+            }
+            Err(error) => {
+                eprintln!("error: {}: {error:#}", archive.display());
+                done.exit_code = 1;
+                each.push(json!({ "archive": archive, "error": format!("{error:#}") }));
+            }
+        }
+    }
+    if analysed == 0 {
+        anyhow::bail!("--each: none of the archives below {} could be analysed", parent.display());
+    }
+    done.text = done.text.trim_end().to_string();
+    done.facts = json!({ "archives": each });
+    finish(&args.common, done)
+}

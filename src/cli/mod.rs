@@ -1,0 +1,8 @@
+//! The command line of `ufcsr-analyze` (the binary's own modules; the
+//! library knows nothing of them): the grammar ([`args`]), what ARCHIVE
+//! means ([`intent`]), the main command ([`analyze_cmd`]) and the others ([`run`]).
+
+pub mod analyze_cmd;
+pub mod args;
+pub mod intent;
+pub mod run;
