@@ -8,6 +8,8 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+mod placement_cli;
+
 use ufcsr::{
     AnalyzeOptions, Color, Dedupe, HeatmapOptions, PaletteChoice, Progress, Scale, Shard, TrimMode, analyze,
     default_output_dir, format_table, read_texel_counts, write_results,
@@ -49,6 +51,9 @@ enum Command {
     Report(ReportArgs),
     /// Write the canonical Full Color Space Palette as a PNG (to texture a mesh in Unity/Blender).
     Palette(PaletteArgs),
+    /// Where to put an eHMI: legible exposure per candidate placement and the best 1..k placements
+    /// from the exact measure's placement-frames.csv (docs/placement.md).
+    Placement(placement_cli::PlacementArgs),
 }
 
 #[derive(Args)]
@@ -209,6 +214,7 @@ fn main() -> ExitCode {
         Some(Command::Palette(args)) => run_palette(args),
         Some(Command::Merge(args)) => run_merge(args),
         Some(Command::Report(args)) => run_report(args),
+        Some(Command::Placement(args)) => placement_cli::run_placement(args),
         None => run_analyze(cli.analyze),
     };
     match outcome {

@@ -24,7 +24,8 @@
 //! manifest, [`count_sink`] counting without PNGs, [`capture_shard`] one
 //! capture as several jobs;
 //! [`study`] and [`study_plot`] the resolution study; [`unobstructed`] the
-//! exact ray-traced reference measure (CPU and GPU); [`inspect`] and [`views`] look at a
+//! exact ray-traced reference measure (CPU and GPU), [`placement`] eHMI
+//! candidate placements measured by it; [`inspect`] and [`views`] look at a
 //! vehicle before capturing.
 
 pub mod archive;
@@ -46,6 +47,7 @@ pub mod options;
 pub mod own_pidt;
 pub mod palette;
 pub mod pidt;
+pub mod placement;
 pub mod regions;
 pub mod render;
 mod render_occlusion;

@@ -228,6 +228,17 @@ struct Common {
     /// in f64; needs SHADER_F64, which Mesa's lavapipe and data-centre GPUs have).
     #[arg(long, value_enum, default_value_t = MeasureDevice::Cpu, requires = "measure")]
     measure_on: MeasureDevice,
+    /// With --measure unobstructed: also write results/placement-frames.csv, per candidate eHMI
+    /// placement (every part, and with --display patches) and eye-frame: visible solid angle,
+    /// visible share, viewing angle and angular height, for `ufcsr-analyze placement`.
+    #[arg(long, requires = "measure")]
+    placement: bool,
+    /// With --placement: display patches of WxH metres (e.g. 0.40x0.15) over the outward-facing surface.
+    #[arg(long, value_name = "WxH", requires = "placement")]
+    display: Option<String>,
+    /// With --display: spacing of the patch centres, metres.
+    #[arg(long, default_value_t = ufcsr_capture::placement::DEFAULT_PATCH_SPACING_M, requires = "display")]
+    patch_spacing: f64,
     /// Render only shard I of N (0 ≤ I < N) of the selected frames into --out, with the other
     /// shards; then `ufcsr-capture assemble OUT`. `auto`: from the job array (SLURM_ARRAY_TASK_ID
     /// and _COUNT, or JOB_COMPLETION_INDEX / AWS_BATCH_JOB_ARRAY_INDEX with UFCSR_SHARD_COUNT).
@@ -383,8 +394,15 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             "--measure unobstructed with --shard is not supported: sample fewer texels (--sample) instead"
         );
         let sample = parse_fraction(&common.sample)?;
+        let placement = match (common.placement, &common.display) {
+            (false, _) => None,
+            (true, display) => Some(ufcsr_capture::placement::PlacementOptions {
+                display_m: display.as_deref().map(ufcsr_capture::placement::parse_display).transpose()?,
+                spacing_m: common.patch_spacing,
+            }),
+        };
         archive::for_each_scenario(&scene, &names, all, &options, |scenario, options| {
-            let measured = ufcsr_capture::unobstructed::measure_unobstructed(
+            let measured = ufcsr_capture::unobstructed::measure_unobstructed_with(
                 &gpu.device,
                 &gpu.queue,
                 &scene,
@@ -396,6 +414,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
                     texel_samples: common.texel_samples,
                     on: common.measure_on,
                 },
+                placement.as_ref(),
             )?;
             println!(
                 "scenario {}: unobstructed measure of {} of {} texels ({} surface samples) over {} eye-frames in {:.2} s",
@@ -418,6 +437,16 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             }
             println!("  results: {}", measured.written.result_json.display());
             println!("           {} (per-part estimates, standard errors)", measured.estimates_csv.display());
+            if let Some(placed) = &measured.placement {
+                println!(
+                    "           {} ({} parts and {} display patches as candidates, {} rows, {:.2} s)",
+                    placed.csv.display(),
+                    placed.parts,
+                    placed.patches,
+                    placed.rows,
+                    placed.seconds
+                );
+            }
             Ok(())
         })?;
         return Ok(());

@@ -19,6 +19,7 @@ mod manifest_script;
 mod missing_vehicle;
 mod module_graph;
 mod order_and_saturation;
+mod placement;
 mod python_package;
 mod reference_pidt;
 mod reliability;

@@ -44,6 +44,8 @@ pub struct UnobstructedCapture {
     /// Per part: texels, sampled texels, sampled total, estimates and errors.
     pub estimates: Vec<PartEstimate>,
     pub estimates_csv: PathBuf,
+    /// `placement-frames.csv`, when asked for (`--placement`).
+    pub placement: Option<crate::placement::PlacementWritten>,
 }
 
 /// The exact measure's result before it is written.
@@ -77,6 +79,20 @@ pub fn measure_unobstructed(
     options: &CaptureOptions,
     measure: &MeasureOptions,
 ) -> Result<UnobstructedCapture> {
+    measure_unobstructed_with(device, queue, scene, scenario, options, measure, None)
+}
+
+/// [`measure_unobstructed`], and with `placement` the candidate placements'
+/// `placement-frames.csv` from the same samples and eye-frames.
+pub fn measure_unobstructed_with(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    scenario: &Scenario,
+    options: &CaptureOptions,
+    measure: &MeasureOptions,
+    placement: Option<&crate::placement::PlacementOptions>,
+) -> Result<UnobstructedCapture> {
     let start = Instant::now();
     check_options(measure)?;
     scene.rig.check()?;
@@ -98,6 +114,7 @@ pub fn measure_unobstructed(
         MeasureDevice::Cpu => texel_visibility(&samples, &eye_frames, &obstacles, parts, Tracer::Hierarchy),
         MeasureDevice::Gpu => texel_visibility_gpu(device, queue, &samples, &eye_frames, &obstacles, parts)?,
     };
+    let records = placement.map(|_| frame_records.clone());
     let captured = CapturedTiles {
         entries: Vec::new(),
         frame_records,
@@ -115,7 +132,21 @@ pub fn measure_unobstructed(
         seconds_per_frame: seconds_per_frame(scene, &frames),
         visibility_seconds: casting.elapsed().as_secs_f64(),
     };
-    write_results(scene, options, measure, &measured, prepared.palette_size, start)
+    let mut capture = write_results(scene, options, measure, &measured, prepared.palette_size, start)?;
+    if let (Some(placement), Some(records)) = (placement, records) {
+        let inputs = crate::placement::ExactInputs {
+            scene,
+            samples: &measured.samples,
+            eye_frames: &eye_frames,
+            frame_records: &records,
+            obstacles: &obstacles,
+            sample_fraction: measure.sample,
+            frame_s: measured.seconds_per_frame,
+        };
+        let results = ufcsr::default_output_dir(&options.out);
+        capture.placement = Some(crate::placement::write_placement_frames(&inputs, placement, &results)?);
+    }
+    Ok(capture)
 }
 
 /// The analyzer's results for the counts, the measures block and the CSV.
@@ -155,6 +186,7 @@ fn write_results(
         visibility_seconds: measured.visibility_seconds,
         estimates,
         estimates_csv,
+        placement: None,
     })
 }
 

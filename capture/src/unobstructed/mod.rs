@@ -36,7 +36,7 @@ pub use cpu::texel_visibility;
 pub use estimator::{PartEstimate, estimate_parts};
 pub use geometry::{Obstacles, eye_frame, eye_frames, seconds_per_frame};
 pub use gpu::texel_visibility_gpu;
-pub use measure::{MAX_TEXEL_SAMPLES, UnobstructedCapture, measure_unobstructed};
+pub use measure::{MAX_TEXEL_SAMPLES, UnobstructedCapture, measure_unobstructed, measure_unobstructed_with};
 pub use points::{is_sampled, surface_samples};
 pub use rules::{Tracer, visible_solid_angle};
 pub use types::{
