@@ -42,9 +42,10 @@ pub use output::{
 };
 pub use placement::report::{WrittenPlacement, format_placement};
 pub use placement::{
-    CandidateKind, CandidateSummary, Combination, EXHAUSTIVE_LIMIT, EyeRule, Exposure, MAX_K, Method, Objective,
-    PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE, PLACEMENT_SCHEMA, Placement, PlacementOptions,
-    PlacementTable, Thresholds, brute_force_best, placement, read_table, resolve_table, write_placement,
+    CandidateKind, CandidateSummary, Combination, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Method,
+    Objective, PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE, PLACEMENT_SCHEMA, Placement,
+    PlacementOptions, PlacementTable, Thresholds, brute_force_best, placement, read_table, resolve_table,
+    write_placement,
 };
 pub use result::{
     Analysis, AnalysisResult, Comparison, FrameTable, Measures, PartStats, PartTable, RESULT_SCHEMA,

@@ -210,6 +210,7 @@ pub fn timelines(table: PlacementTable, thresholds: &Thresholds) -> ArchiveTimel
     let closest = table.frames.iter().min_by(|a, b| a.distance_m.total_cmp(&b.distance_m)).copied();
     let arrival_s = closest.map_or(0.0, |f| f.time_s);
     let start = arrival_s - thresholds.decision_window_s;
-    let in_window = table.frames.iter().map(|f| f.time_s > start + 1e-9 && f.time_s <= arrival_s + 1e-9).collect();
+    let in_window =
+        table.frames.iter().map(|f| f.time_s > start + 1e-9 && f.time_s <= arrival_s + 1e-9).collect();
     ArchiveTimelines { table, timelines, in_window, arrival_s }
 }

@@ -22,7 +22,7 @@ pub mod table;
 use std::path::PathBuf;
 
 use crate::error::{Error, Result};
-pub use legibility::{ArchiveTimelines, EyeRule, Exposure, Thresholds, Timeline, timelines};
+pub use legibility::{Exposure, EyeRule, Thresholds, timelines};
 pub use report::{CandidateSummary, PLACEMENT_SCHEMA, Placement, write_placement};
 pub use search::{Combination, EXHAUSTIVE_LIMIT, Method, Objective, brute_force_best};
 pub use table::{
@@ -83,7 +83,13 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
                 if objective == Objective::WorstCase && archives.len() == 1 {
                     continue;
                 }
-                combinations.extend(search::best_set(&universe, &choices, k, objective, options.exhaustive_limit));
+                combinations.extend(search::best_set(
+                    &universe,
+                    &choices,
+                    k,
+                    objective,
+                    options.exhaustive_limit,
+                ));
             }
         }
     }

@@ -211,7 +211,10 @@ fn write_candidates(w: &mut impl Write, candidates: &[CandidateSummary]) -> std:
 }
 
 fn write_combinations(w: &mut impl Write, combinations: &[Combination]) -> std::io::Result<()> {
-    writeln!(w, "k,kind,objective,method,candidates,legible_s,share_of_time,worst_case_s,upper_bound_s,gap_s")?;
+    writeln!(
+        w,
+        "k,kind,objective,method,candidates,legible_s,share_of_time,worst_case_s,upper_bound_s,gap_s"
+    )?;
     for c in combinations {
         writeln!(
             w,
@@ -245,7 +248,10 @@ pub fn format_placement(placement: &Placement, top: usize) -> String {
     );
     for c in placement.candidates.iter().take(top) {
         let first = c.first_legible_s.map_or("never".to_string(), |s| format!("{s:.3}"));
-        out += &format!("{:<42} {:<6} {:>9.3}  {:>9.3}  {:>15}\n", c.name, c.kind, c.legible_s, c.visible_s, first);
+        out += &format!(
+            "{:<42} {:<6} {:>9.3}  {:>9.3}  {:>15}\n",
+            c.name, c.kind, c.legible_s, c.visible_s, first
+        );
     }
     out += "\nbest sets (seconds at least one is legible; share of the archive's time; bound on any k-set)\n";
     for c in &placement.combinations {

@@ -187,11 +187,8 @@ fn combination(
 ) -> Combination {
     let bits = picked.iter().fold(vec![0u64; universe.words], |acc, &c| union(&acc, &choices[c].bits));
     let seconds = universe.seconds(&bits);
-    let shares: Vec<f64> = seconds
-        .iter()
-        .zip(&universe.duration_s)
-        .map(|(&s, &d)| if d > 0.0 { s / d } else { 0.0 })
-        .collect();
+    let shares: Vec<f64> =
+        seconds.iter().zip(&universe.duration_s).map(|(&s, &d)| if d > 0.0 { s / d } else { 0.0 }).collect();
     let achieved = value(objective, &seconds).0;
     let upper = bound.unwrap_or(achieved).max(achieved);
     Combination {
@@ -290,7 +287,12 @@ fn top_k_sum(values: impl Iterator<Item = f64>, k: usize) -> f64 {
 /// The definition, without bitsets or pruning (for tests): every k-subset of
 /// `choices` scored frame by frame from the timelines' flags; the best
 /// value of the objective.
-pub fn brute_force_best(per_archive_flags: &[Vec<Vec<bool>>], frame_s: &[f64], k: usize, objective: Objective) -> f64 {
+pub fn brute_force_best(
+    per_archive_flags: &[Vec<Vec<bool>>],
+    frame_s: &[f64],
+    k: usize,
+    objective: Objective,
+) -> f64 {
     let n = per_archive_flags.first().map_or(0, Vec::len);
     let mut best = f64::NEG_INFINITY;
     for mask in 0u64..(1u64 << n) {

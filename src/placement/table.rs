@@ -150,13 +150,16 @@ impl Columns {
 pub fn read_table(path: &Path) -> Result<PlacementTable> {
     let bytes = read_limited(path, SMALL_INPUT_LIMIT)?;
     let mut reader = csv::ReaderBuilder::new().has_headers(true).from_reader(&bytes[..]);
-    let header = reader.headers().map_err(|e| Error::bad_file(path, format!("line 1: not CSV: {e}")))?.clone();
+    let header =
+        reader.headers().map_err(|e| Error::bad_file(path, format!("line 1: not CSV: {e}")))?.clone();
     let columns = Columns::of(path, &header)?;
     let mut rows = Vec::new();
     for (index, record) in reader.records().enumerate() {
         let line = index + 2;
         let record = record.map_err(|e| Error::bad_file(path, format!("line {line}: not CSV: {e}")))?;
-        rows.push(parse_row(&record, &columns).map_err(|m| Error::bad_file(path, format!("line {line}: {m}")))?);
+        rows.push(
+            parse_row(&record, &columns).map_err(|m| Error::bad_file(path, format!("line {line}: {m}")))?,
+        );
     }
     if rows.is_empty() {
         return Err(Error::bad_file(path, "has no rows: no candidate was measured in any eye-frame"));
@@ -199,7 +202,11 @@ fn parse_row(record: &csv::StringRecord, columns: &Columns) -> std::result::Resu
         None => None,
     };
     Ok(Row {
-        frame: FrameInfo { frame, time_s: number("time_s", time)?, distance_m: number("distance_m", distance)? },
+        frame: FrameInfo {
+            frame,
+            time_s: number("time_s", time)?,
+            distance_m: number("distance_m", distance)?,
+        },
         eye: eye.to_string(),
         candidate: candidate.to_string(),
         kind,
@@ -235,7 +242,10 @@ fn assemble(path: &Path, rows: Vec<Row>) -> Result<PlacementTable> {
         if known != row.frame {
             return Err(Error::bad_file(
                 path,
-                format!("frame {} has two times or distances ({:?} and {:?})", row.frame.frame, known, row.frame),
+                format!(
+                    "frame {} has two times or distances ({:?} and {:?})",
+                    row.frame.frame, known, row.frame
+                ),
             ));
         }
         if !eyes.contains(&row.eye) {
@@ -287,7 +297,10 @@ fn candidates_of(
             sightings: BTreeMap::new(),
         });
         if entry.kind != row.kind {
-            return Err(Error::bad_file(path, format!("candidate {:?} is both a part and a patch", row.candidate)));
+            return Err(Error::bad_file(
+                path,
+                format!("candidate {:?} is both a part and a patch", row.candidate),
+            ));
         }
         if entry.mirror.is_none() {
             entry.mirror = row.mirror.clone();
@@ -296,7 +309,10 @@ fn candidates_of(
         if entry.sightings.insert(key, row.sighting).is_some() {
             return Err(Error::bad_file(
                 path,
-                format!("candidate {:?} has two rows for frame {} eye {}", row.candidate, row.frame.frame, row.eye),
+                format!(
+                    "candidate {:?} has two rows for frame {} eye {}",
+                    row.candidate, row.frame.frame, row.eye
+                ),
             ));
         }
     }

@@ -110,7 +110,13 @@ fn a_frame_is_legible_only_when_height_share_and_angle_all_pass_and_the_eye_rule
         [(0, 1.0, 1.0, 10.0), (1, 0.2, 1.0, 10.0), (2, 1.0, 0.5, 10.0), (3, 1.0, 1.0, 70.0)]
     {
         for eye in ["left", "right"] {
-            rows.push(Row { height_deg: height, fraction, angle_deg: angle, eye, ..row(frame, "door", true) });
+            rows.push(Row {
+                height_deg: height,
+                fraction,
+                angle_deg: angle,
+                eye,
+                ..row(frame, "door", true)
+            });
         }
     }
     rows.push(Row { eye: "left", ..row(4, "door", true) });
@@ -170,7 +176,13 @@ fn a_symmetric_pair_is_one_choice_and_covers_both_sides() {
 
 /// A deterministic pseudo-random instance: `archives` tables of `frames`
 /// frames, `n` candidates each legible with a candidate-dependent chance.
-fn random_instance(dir: &Path, seed: u64, archives: usize, n: usize, frames: u32) -> (Vec<PathBuf>, Vec<Vec<Vec<bool>>>) {
+fn random_instance(
+    dir: &Path,
+    seed: u64,
+    archives: usize,
+    n: usize,
+    frames: u32,
+) -> (Vec<PathBuf>, Vec<Vec<Vec<bool>>>) {
     let mut state = seed;
     let mut next = move || {
         state = state.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
@@ -208,7 +220,12 @@ fn the_exhaustive_search_equals_brute_force_for_one_two_and_three() {
                 Objective::WorstCase => c.worst_case_s,
             };
             let brute = brute_force_best(&flags, &[0.1, 0.1, 0.1], c.k, c.objective);
-            assert!((objective_value - brute).abs() < 1e-9, "seed {seed} k {} {:?}: {objective_value} vs {brute}", c.k, c.objective);
+            assert!(
+                (objective_value - brute).abs() < 1e-9,
+                "seed {seed} k {} {:?}: {objective_value} vs {brute}",
+                c.k,
+                c.objective
+            );
             assert_eq!(c.gap_s, 0.0);
         }
     }
@@ -229,7 +246,12 @@ fn the_greedy_bound_holds_and_greedy_is_within_one_minus_one_over_e() {
             };
             let optimum = brute_force_best(&flags, &[0.1, 0.1], c.k, c.objective);
             assert!(value <= optimum + 1e-9, "greedy above the optimum");
-            assert!(optimum <= c.upper_bound_s + 1e-9, "seed {seed} k {}: optimum {optimum} above the bound {}", c.k, c.upper_bound_s);
+            assert!(
+                optimum <= c.upper_bound_s + 1e-9,
+                "seed {seed} k {}: optimum {optimum} above the bound {}",
+                c.k,
+                c.upper_bound_s
+            );
             assert!((c.gap_s - (c.upper_bound_s - value)).abs() < 1e-9);
             if c.objective == Objective::Mean {
                 assert!(value >= (1.0 - (-1.0f64).exp()) * optimum - 1e-9);
@@ -245,7 +267,9 @@ fn placement_json_matches_its_schema() {
     let found = placement(&PlacementOptions { symmetric: true, ..PlacementOptions::new(paths) }).unwrap();
     let out = dir.path().join("out");
     let written = ufcsr::write_placement(&found, &out).unwrap();
-    let schema = validator::Schema::load(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/schemas/placement.schema.json"));
+    let schema = validator::Schema::load(
+        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/schemas/placement.schema.json"),
+    );
     let document = validator::read_json(&written.json);
     schema.assert_valid(&document, "placement.json");
     assert_eq!(document["schema"], "ufcsr-placement/1");
@@ -278,7 +302,8 @@ fn bad_tables_are_errors_naming_the_file_line_and_problem() {
         let error = placement(&PlacementOptions::new(vec![path.clone()])).unwrap_err().to_string();
         assert!(error.contains(name) && error.contains(expected), "{name}: {error}");
     }
-    let missing = placement(&PlacementOptions::new(vec![dir.path().join("nowhere")])).unwrap_err().to_string();
+    let missing =
+        placement(&PlacementOptions::new(vec![dir.path().join("nowhere")])).unwrap_err().to_string();
     assert!(missing.contains("no placement-frames.csv"), "{missing}");
     let options = PlacementOptions { k: 0, ..PlacementOptions::new(vec![good]) };
     assert!(placement(&options).unwrap_err().to_string().contains("--k 0"));

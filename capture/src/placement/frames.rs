@@ -39,7 +39,13 @@ struct Sums {
 
 impl Default for Sums {
     fn default() -> Sums {
-        Sums { area_m2: 0.0, solid_angle_sr: 0.0, angle_area: 0.0, lowest: f64::INFINITY, highest: f64::NEG_INFINITY }
+        Sums {
+            area_m2: 0.0,
+            solid_angle_sr: 0.0,
+            angle_area: 0.0,
+            lowest: f64::INFINITY,
+            highest: f64::NEG_INFINITY,
+        }
     }
 }
 
@@ -79,7 +85,8 @@ pub fn measure_eye_frame(inputs: &ExactInputs, labels: &LabelSet, eye_frame: &Ey
     let mut sums = vec![Sums::default(); labels.len()];
     let local_to_vehicle = eye_frame.vehicle_to_local.inverse();
     for (index, sample) in inputs.samples.samples.iter().enumerate() {
-        let Some(solid_angle) = visible_solid_angle(sample, eye_frame, inputs.obstacles, Tracer::Hierarchy) else {
+        let Some(solid_angle) = visible_solid_angle(sample, eye_frame, inputs.obstacles, Tracer::Hierarchy)
+        else {
             continue;
         };
         let (theta, low, high) = sample_view(sample, eye_frame, &local_to_vehicle);
@@ -143,7 +150,8 @@ pub fn write_table(inputs: &ExactInputs, labels: &LabelSet, path: &Path) -> Resu
                 eye_frames.par_iter().map(|eye_frame| measure_eye_frame(inputs, labels, eye_frame)).collect();
             for (offset, per_label) in seen.iter().enumerate() {
                 let index = batch * EYE_FRAMES_PER_BATCH + offset;
-                rows += write_rows(&mut table, inputs, labels, index, per_label).map_err(std::io::Error::other)?;
+                rows += write_rows(&mut table, inputs, labels, index, per_label)
+                    .map_err(std::io::Error::other)?;
             }
         }
         table.flush()
@@ -161,7 +169,8 @@ fn write_rows<W: std::io::Write>(
 ) -> std::result::Result<u64, csv::Error> {
     let record = &inputs.frame_records[index / 2];
     let number = |key: &str| record[key].as_f64().unwrap_or(0.0);
-    let none = Seen { solid_angle_sr: 0.0, visible_fraction: 0.0, view_angle_deg: 0.0, angular_height_deg: 0.0 };
+    let none =
+        Seen { solid_angle_sr: 0.0, visible_fraction: 0.0, view_angle_deg: 0.0, angular_height_deg: 0.0 };
     let mut rows = 0;
     for (label, seen) in per_label.iter().enumerate() {
         let kind = labels.kinds[label];

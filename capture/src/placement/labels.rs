@@ -86,10 +86,10 @@ impl LabelSet {
         }
         let mut labels = vec![0u32; offsets[per_sample.len()] as usize];
         let mut fill: Vec<u32> = offsets[..per_sample.len()].to_vec();
-        for s in 0..per_sample.len() {
+        for (s, slot) in fill.iter_mut().enumerate() {
             for &label in &old_labels[old_offsets[s] as usize..old_offsets[s + 1] as usize] {
-                labels[fill[s] as usize] = label;
-                fill[s] += 1;
+                labels[*slot as usize] = label;
+                *slot += 1;
             }
         }
         for (index, patch) in patches.iter().enumerate() {

@@ -50,7 +50,8 @@ impl Default for PlacementOptions {
 
 /// `WxH` in metres, e.g. `0.40x0.15`.
 pub fn parse_display(text: &str) -> Result<[f64; 2]> {
-    let bad = || CaptureError::BadOptions(format!("--display {text:?}: expected WxH in metres, e.g. 0.40x0.15"));
+    let bad =
+        || CaptureError::BadOptions(format!("--display {text:?}: expected WxH in metres, e.g. 0.40x0.15"));
     let (w, h) = text.split_once(['x', 'X', '×']).ok_or_else(bad)?;
     let [w, h]: [f64; 2] = [w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?];
     if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0 && w <= 20.0 && h <= 20.0) {

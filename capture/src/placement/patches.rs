@@ -144,8 +144,10 @@ fn footprint(
         })
         .collect();
     members.sort_unstable();
-    let projected: f64 =
-        members.iter().map(|&i| samples[i as usize].area_m2 * samples[i as usize].normal.dot(normal).abs()).sum();
+    let projected: f64 = members
+        .iter()
+        .map(|&i| samples[i as usize].area_m2 * samples[i as usize].normal.dot(normal).abs())
+        .sum();
     (members, projected / (w * h))
 }
 

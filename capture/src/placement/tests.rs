@@ -76,7 +76,8 @@ fn a_facing_plate_reaches_sixteen_arcmin_exactly_at_the_distance_it_implies() {
         measure_eye_frame(&inputs, &labels, &frame)[0].expect("the plate is visible")
     };
     // Sample points stand for texels: the extent is exact to about one texel.
-    let texel_m = (samples.samples.iter().map(|s| s.area_m2).sum::<f64>() / samples.samples.len() as f64).sqrt();
+    let texel_m =
+        (samples.samples.iter().map(|s| s.area_m2).sum::<f64>() / samples.samples.len() as f64).sqrt();
     assert!(texel_m < 1e-3, "{texel_m}");
     for d in [2.0, 10.0, 40.0] {
         let seen = seen_from(d);
@@ -109,12 +110,16 @@ fn a_patch_behind_a_box_is_hidden_exactly_while_the_box_covers_it() {
     let inputs = inputs(&scene, &samples, &obstacles);
     let patches = place_patches(&inputs, [0.40, 0.15], 0.10);
     labels.add_patches(&patches, &samples);
-    let low = 1 + patches.iter().position(|p| p.centre.z < 1.7 && p.centre.y.abs() < 0.1).expect("a low patch");
-    let high = 1 + patches.iter().position(|p| p.centre.z > 2.3 && p.centre.y.abs() < 0.1).expect("a high patch");
-    let behind = measure_eye_frame(&inputs, &labels, &eye_at(&obstacles, dvec3(3.0, 0.0, 2.2), dvec3(0.0, 0.0, 2.0)));
+    let low =
+        1 + patches.iter().position(|p| p.centre.z < 1.7 && p.centre.y.abs() < 0.1).expect("a low patch");
+    let high =
+        1 + patches.iter().position(|p| p.centre.z > 2.3 && p.centre.y.abs() < 0.1).expect("a high patch");
+    let behind =
+        measure_eye_frame(&inputs, &labels, &eye_at(&obstacles, dvec3(3.0, 0.0, 2.2), dvec3(0.0, 0.0, 2.0)));
     assert_eq!(behind[low], None, "the box covers the low patch");
     assert!(behind[high].is_some_and(|s| s.visible_fraction == 1.0));
-    let above = measure_eye_frame(&inputs, &labels, &eye_at(&obstacles, dvec3(3.0, 0.0, 12.0), dvec3(0.0, 0.0, 2.0)));
+    let above =
+        measure_eye_frame(&inputs, &labels, &eye_at(&obstacles, dvec3(3.0, 0.0, 12.0), dvec3(0.0, 0.0, 2.0)));
     assert!(above[low].is_some_and(|s| s.visible_fraction == 1.0), "{:?}", above[low]);
 }
 
@@ -126,7 +131,8 @@ fn patches_fit_inside_the_surface_hold_their_area_and_pair_with_their_mirrors() 
     let inputs = inputs(&scene, &samples, &obstacles);
     let [w, h] = parse_display("0.40x0.15").unwrap();
     let patches = place_patches(&inputs, [w, h], 0.10);
-    let texel_m = (samples.samples.iter().map(|s| s.area_m2).sum::<f64>() / samples.samples.len() as f64).sqrt();
+    let texel_m =
+        (samples.samples.iter().map(|s| s.area_m2).sum::<f64>() / samples.samples.len() as f64).sqrt();
     assert!(patches.len() >= 20, "{} patches", patches.len());
     for patch in &patches {
         assert!(patch.centre.y.abs() <= 0.5 - w / 2.0 + 0.01, "{} overhangs", patch.name);
@@ -138,7 +144,10 @@ fn patches_fit_inside_the_surface_hold_their_area_and_pair_with_their_mirrors() 
         if patch.centre.y.abs() > 0.06 {
             let mirror = patch.mirror.as_ref().expect("an off-centre patch has a mirror");
             let other = patches.iter().find(|p| &p.name == mirror).unwrap();
-            assert!((other.centre.y + patch.centre.y).abs() <= 0.05 && (other.centre.z - patch.centre.z).abs() <= 0.05);
+            assert!(
+                (other.centre.y + patch.centre.y).abs() <= 0.05
+                    && (other.centre.z - patch.centre.z).abs() <= 0.05
+            );
         }
     }
     assert!(parse_display("0.4").is_err() && parse_display("0x1").is_err() && parse_display("ax1").is_err());
