@@ -11,6 +11,7 @@ mod error;
 mod files;
 mod input;
 mod output;
+mod placement;
 mod result;
 mod testing;
 
@@ -39,6 +40,13 @@ pub use output::{
     WrittenViews, csv_field, default_output_dir, format_table, plasma, plot_font_available, render_heatmap,
     render_view, view_cameras, views_caption, write_comparison, write_heatmap, write_parts_csv,
     write_results, write_results_with, write_views, write_views_with,
+};
+pub use placement::report::{WrittenPlacement, format_placement};
+pub use placement::{
+    CandidateKind, CandidateSummary, Combination, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Method,
+    Objective, PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE, PLACEMENT_SCHEMA, Placement,
+    PlacementOptions, PlacementTable, Thresholds, brute_force_best, placement, read_table, resolve_table,
+    write_placement,
 };
 pub use result::{
     Analysis, AnalysisResult, Comparison, FrameTable, Measures, PartStats, PartTable, RESULT_SCHEMA,

@@ -52,6 +52,10 @@ pub enum Command {
     /// Write the canonical Full Color Space Palette as a PNG (to texture a mesh in Unity/Blender).
     #[command(after_help = EXIT_STATUS)]
     Palette(PaletteArgs),
+    /// Where to put an eHMI: legible exposure per candidate placement and the best 1..k placements
+    /// from the exact measure's placement-frames.csv (docs/placement.md).
+    #[command(after_help = EXIT_STATUS)]
+    Placement(super::placement::PlacementArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell) on stdout.
     Completions(CompletionsArgs),
     /// Print the man page (roff) on stdout, or write one page per subcommand into --out.

@@ -1,8 +1,9 @@
 //! The command line of `ufcsr-analyze` (the binary's own modules; the
 //! library knows nothing of them): the grammar ([`args`]), what ARCHIVE
-//! means ([`intent`]), the main command ([`analyze_cmd`]) and the others ([`run`]).
+//! means ([`intent`]), the main command ([`analyze_cmd`]) and the others ([`run`]), the placement search ([`placement`]).
 
 pub mod analyze_cmd;
 pub mod args;
 pub mod intent;
+pub mod placement;
 pub mod run;

@@ -19,6 +19,7 @@ mod known_answers;
 mod missing_vehicle;
 mod module_graph;
 mod order_and_saturation;
+mod placement;
 mod reliability;
 mod reliability_inputs;
 mod reliability_merge;

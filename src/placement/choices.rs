@@ -1,0 +1,105 @@
+//! What the search chooses among: every candidate of one kind seen in any
+//! archive, or with `--symmetric` every left/right pair as one choice (a
+//! display on the left fender comes with one on the right).
+//!
+//! A candidate's mirror is the table's `mirror` column when the capture
+//! wrote one (patches: the patch nearest the centre mirrored in the
+//! vehicle's centre plane), else its name with the words `left` and `right`
+//! swapped (`front_fender_left` ↔ `front_fender_right`), when that names a
+//! candidate. Candidates without a mirror stay single choices.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use crate::placement::legibility::ArchiveTimelines;
+use crate::placement::search::{Choice, Universe};
+use crate::placement::table::CandidateKind;
+
+/// `name` with the words `left` and `right` swapped (words split by `_`,
+/// `-`, space or `.`); `None` when it has neither.
+pub fn mirrored_name(name: &str) -> Option<String> {
+    let mut out = String::with_capacity(name.len());
+    let mut swapped = false;
+    let mut word = String::new();
+    let mut flush = |word: &mut String, out: &mut String| {
+        match word.as_str() {
+            "left" => {
+                out.push_str("right");
+                swapped = true;
+            }
+            "right" => {
+                out.push_str("left");
+                swapped = true;
+            }
+            other => out.push_str(other),
+        }
+        word.clear();
+    };
+    for c in name.chars() {
+        if "_- .".contains(c) {
+            flush(&mut word, &mut out);
+            out.push(c);
+        } else {
+            word.push(c);
+        }
+    }
+    flush(&mut word, &mut out);
+    swapped.then_some(out)
+}
+
+/// Every candidate name of `kind` in the archives, with its mirror.
+fn names_of(archives: &[ArchiveTimelines], kind: CandidateKind) -> BTreeMap<String, Option<String>> {
+    let mut names = BTreeMap::new();
+    for archive in archives {
+        for timeline in archive.timelines.iter().filter(|t| t.kind == kind) {
+            let entry = names.entry(timeline.name.clone()).or_insert(None);
+            if entry.is_none() {
+                *entry = timeline.mirror.clone();
+            }
+        }
+    }
+    let known: BTreeSet<String> = names.keys().cloned().collect();
+    for (name, mirror) in names.iter_mut() {
+        if mirror.is_none() {
+            *mirror = mirrored_name(name).filter(|m| known.contains(m));
+        }
+        if mirror.as_deref() == Some(name.as_str()) || mirror.as_ref().is_some_and(|m| !known.contains(m)) {
+            *mirror = None;
+        }
+    }
+    names
+}
+
+/// The choices of `kind`, in name order (pairs named by their first member).
+pub fn choices(
+    archives: &[ArchiveTimelines],
+    universe: &Universe,
+    kind: CandidateKind,
+    symmetric: bool,
+) -> Vec<Choice> {
+    let names = names_of(archives, kind);
+    let by_name: Vec<BTreeMap<&str, &[bool]>> = archives
+        .iter()
+        .map(|a| a.timelines.iter().map(|t| (t.name.as_str(), t.legible.as_slice())).collect())
+        .collect();
+    let mut taken: BTreeSet<String> = BTreeSet::new();
+    let mut out = Vec::new();
+    for (name, mirror) in &names {
+        if taken.contains(name) {
+            continue;
+        }
+        let mut members = vec![name.clone()];
+        if symmetric && let Some(mirror) = mirror {
+            members.push(mirror.clone());
+        }
+        taken.extend(members.iter().cloned());
+        let mut bits = vec![0u64; universe.words];
+        for member in &members {
+            let flags = by_name.iter().map(|timelines| timelines.get(member.as_str()).copied());
+            for (word, add) in bits.iter_mut().zip(universe.bits(flags)) {
+                *word |= add;
+            }
+        }
+        out.push(Choice { names: members, kind, bits });
+    }
+    out
+}

@@ -1,0 +1,97 @@
+//! Where should the eHMI go (issue 18): from each archive's
+//! `placement-frames.csv` (per candidate placement and eye-frame: visible
+//! solid angle, visible fraction, viewing angle, visible angular height;
+//! written by the capture's exact measure), which candidates are *legible*
+//! for how long, and the best one, two, three … placements across
+//! scenarios. `ufcsr-analyze placement RESULTS… --out DIR` writes
+//! `placement.json` (schema `ufcsr-placement/1`), `placement.csv` and
+//! `placement-combinations.csv`; `docs/placement.md` says what every number
+//! means and where the default thresholds come from.
+//!
+//! The folder: [`table`] reads and checks a table, [`legibility`] the
+//! thresholds and per-candidate timelines, [`choices`] what is chosen among
+//! (pairs with `--symmetric`), [`search`] exhaustive and greedy search with
+//! its bound, [`report`] the files written.
+
+pub mod choices;
+pub mod legibility;
+pub mod report;
+pub mod search;
+pub mod table;
+
+use std::path::PathBuf;
+
+use crate::error::{Error, Result};
+pub use legibility::{Exposure, EyeRule, Thresholds, timelines};
+pub use report::{CandidateSummary, PLACEMENT_SCHEMA, Placement, write_placement};
+pub use search::{Combination, EXHAUSTIVE_LIMIT, Method, Objective, brute_force_best};
+pub use table::{
+    CandidateKind, PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE, PlacementTable, read_table, resolve_table,
+};
+
+/// The most placements in one set (`--k`).
+pub const MAX_K: usize = 8;
+
+/// What `ufcsr-analyze placement` is asked.
+#[derive(Debug, Clone)]
+pub struct PlacementOptions {
+    /// Tables, or folders holding `placement-frames.csv` (or `results/` of one).
+    pub inputs: Vec<PathBuf>,
+    pub thresholds: Thresholds,
+    /// Sets of 1 to k placements are searched.
+    pub k: usize,
+    /// A left/right pair counts as one choice.
+    pub symmetric: bool,
+    /// At most this many k-sets are searched exhaustively, beyond it greedy
+    /// with a bound ([`EXHAUSTIVE_LIMIT`]; 0 forces greedy).
+    pub exhaustive_limit: u128,
+}
+
+impl PlacementOptions {
+    /// `inputs` with the default thresholds, k = 3, no symmetry.
+    pub fn new(inputs: Vec<PathBuf>) -> PlacementOptions {
+        PlacementOptions {
+            inputs,
+            thresholds: Thresholds::default(),
+            k: 3,
+            symmetric: false,
+            exhaustive_limit: EXHAUSTIVE_LIMIT,
+        }
+    }
+}
+
+/// Reads every table, scores every candidate and searches the best sets.
+pub fn placement(options: &PlacementOptions) -> Result<Placement> {
+    options.thresholds.check()?;
+    if !(1..=MAX_K).contains(&options.k) {
+        return Err(Error::BadOptions(format!("--k {}: must be 1 to {MAX_K}", options.k)));
+    }
+    if options.inputs.is_empty() {
+        return Err(Error::BadOptions("placement needs at least one result folder or table".into()));
+    }
+    let mut archives = Vec::with_capacity(options.inputs.len());
+    for input in &options.inputs {
+        let path = resolve_table(input)?;
+        archives.push(timelines(read_table(&path)?, &options.thresholds));
+    }
+    let universe = search::Universe::of(&archives);
+    let mut combinations = Vec::new();
+    for kind in [CandidateKind::Part, CandidateKind::Patch] {
+        let choices = choices::choices(&archives, &universe, kind, options.symmetric);
+        for k in 1..=options.k.min(choices.len()) {
+            for objective in [Objective::Mean, Objective::WorstCase] {
+                if objective == Objective::WorstCase && archives.len() == 1 {
+                    continue;
+                }
+                combinations.extend(search::best_set(
+                    &universe,
+                    &choices,
+                    k,
+                    objective,
+                    options.exhaustive_limit,
+                ));
+            }
+        }
+    }
+    Ok(report::assemble(options, archives, combinations))
+}

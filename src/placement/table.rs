@@ -1,0 +1,320 @@
+//! Reading one archive's `placement-frames.csv` (written by `ufcsr-capture
+//! … --measure unobstructed --placement`) into per-candidate, per-eye-frame
+//! numbers, checked so that a bad table is an error naming the file, the
+//! line and the problem, never a silent wrong placement.
+//!
+//! Columns (`docs/placement.md`): `frame,time_s,eye,distance_m,candidate,
+//! kind,solid_angle_sr,visible_fraction,view_angle_deg,angular_height_deg`,
+//! optionally `frame_s` (seconds one frame stands for) and `mirror` (the
+//! candidate's left/right mirror image). A row may be left out where the
+//! candidate is not visible at all; the frames are those any row names.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use crate::error::{Error, Result};
+use crate::files::{SMALL_INPUT_LIMIT, read_limited};
+
+/// The file name the capture writes into an archive's results folder.
+pub const PLACEMENT_FRAMES_FILE: &str = "placement-frames.csv";
+
+/// The columns every table must have, in the capture's order.
+pub const PLACEMENT_FRAMES_COLUMNS: [&str; 10] = [
+    "frame",
+    "time_s",
+    "eye",
+    "distance_m",
+    "candidate",
+    "kind",
+    "solid_angle_sr",
+    "visible_fraction",
+    "view_angle_deg",
+    "angular_height_deg",
+];
+
+/// Whether a candidate is a whole part of the vehicle or a display patch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum CandidateKind {
+    Part,
+    Patch,
+}
+
+impl CandidateKind {
+    /// `"part"` or `"patch"`, as the tables spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            CandidateKind::Part => "part",
+            CandidateKind::Patch => "patch",
+        }
+    }
+}
+
+/// What one eye saw of one candidate in one frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sighting {
+    pub solid_angle_sr: f64,
+    pub visible_fraction: f64,
+    pub view_angle_deg: f64,
+    pub angular_height_deg: f64,
+}
+
+/// One frame of the scenario.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameInfo {
+    pub frame: u64,
+    pub time_s: f64,
+    pub distance_m: f64,
+}
+
+/// One candidate and what it was seen as, per (frame index, eye index).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CandidateRows {
+    pub name: String,
+    pub kind: CandidateKind,
+    pub mirror: Option<String>,
+    pub sightings: BTreeMap<(usize, usize), Sighting>,
+}
+
+/// One archive's table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlacementTable {
+    pub path: PathBuf,
+    /// In frame order.
+    pub frames: Vec<FrameInfo>,
+    /// Eye names, in order of first appearance.
+    pub eyes: Vec<String>,
+    /// Seconds one frame stands for.
+    pub frame_s: f64,
+    /// By name.
+    pub candidates: BTreeMap<String, CandidateRows>,
+}
+
+/// The table of `input`: the file itself, or `placement-frames.csv` in the
+/// folder or in its `results/`.
+pub fn resolve_table(input: &Path) -> Result<PathBuf> {
+    if input.is_file() {
+        return Ok(input.to_path_buf());
+    }
+    for candidate in [input.join(PLACEMENT_FRAMES_FILE), input.join("results").join(PLACEMENT_FRAMES_FILE)] {
+        if candidate.is_file() {
+            return Ok(candidate);
+        }
+    }
+    Err(Error::bad_file(
+        input,
+        format!(
+            "no {PLACEMENT_FRAMES_FILE} here nor in its results/: capture with `ufcsr-capture … --measure \
+             unobstructed --placement` (docs/placement.md)"
+        ),
+    ))
+}
+
+/// One parsed row.
+struct Row {
+    frame: FrameInfo,
+    eye: String,
+    candidate: String,
+    kind: CandidateKind,
+    sighting: Sighting,
+    frame_s: Option<f64>,
+    mirror: Option<String>,
+}
+
+/// Column positions of a table's header.
+struct Columns {
+    required: [usize; 10],
+    frame_s: Option<usize>,
+    mirror: Option<usize>,
+}
+
+impl Columns {
+    fn of(path: &Path, header: &csv::StringRecord) -> Result<Columns> {
+        let find = |name: &str| header.iter().position(|h| h.trim() == name);
+        let mut required = [0; 10];
+        for (slot, name) in required.iter_mut().zip(PLACEMENT_FRAMES_COLUMNS) {
+            *slot = find(name).ok_or_else(|| {
+                Error::bad_file(
+                    path,
+                    format!(
+                        "line 1: the header lacks column {name:?} (needs {})",
+                        PLACEMENT_FRAMES_COLUMNS.join(",")
+                    ),
+                )
+            })?;
+        }
+        Ok(Columns { required, frame_s: find("frame_s"), mirror: find("mirror") })
+    }
+}
+
+/// Reads and checks one table (see the module documentation).
+pub fn read_table(path: &Path) -> Result<PlacementTable> {
+    let bytes = read_limited(path, SMALL_INPUT_LIMIT)?;
+    let mut reader = csv::ReaderBuilder::new().has_headers(true).from_reader(&bytes[..]);
+    let header =
+        reader.headers().map_err(|e| Error::bad_file(path, format!("line 1: not CSV: {e}")))?.clone();
+    let columns = Columns::of(path, &header)?;
+    let mut rows = Vec::new();
+    for (index, record) in reader.records().enumerate() {
+        let line = index + 2;
+        let record = record.map_err(|e| Error::bad_file(path, format!("line {line}: not CSV: {e}")))?;
+        rows.push(
+            parse_row(&record, &columns).map_err(|m| Error::bad_file(path, format!("line {line}: {m}")))?,
+        );
+    }
+    if rows.is_empty() {
+        return Err(Error::bad_file(path, "has no rows: no candidate was measured in any eye-frame"));
+    }
+    assemble(path, rows)
+}
+
+fn parse_row(record: &csv::StringRecord, columns: &Columns) -> std::result::Result<Row, String> {
+    let field = |at: usize| record.get(at).map(str::trim).unwrap_or("");
+    let [frame, time, eye, distance, candidate, kind, solid, fraction, angle, height] =
+        columns.required.map(field);
+    let number = |name: &str, text: &str| -> std::result::Result<f64, String> {
+        let value: f64 = text.parse().map_err(|_| format!("{name} {text:?} is not a number"))?;
+        if value.is_finite() { Ok(value) } else { Err(format!("{name} {text:?} is not finite")) }
+    };
+    let frame: u64 = frame.parse().map_err(|_| format!("frame {frame:?} is not a whole number ≥ 0"))?;
+    let kind = match kind {
+        "part" => CandidateKind::Part,
+        "patch" => CandidateKind::Patch,
+        other => return Err(format!("kind {other:?} is neither part nor patch")),
+    };
+    if eye.is_empty() || candidate.is_empty() {
+        return Err("eye and candidate must not be empty".into());
+    }
+    let sighting = Sighting {
+        solid_angle_sr: number("solid_angle_sr", solid)?,
+        visible_fraction: number("visible_fraction", fraction)?,
+        view_angle_deg: number("view_angle_deg", angle)?,
+        angular_height_deg: number("angular_height_deg", height)?,
+    };
+    check_sighting(&sighting)?;
+    let frame_s = match columns.frame_s.map(field).filter(|t| !t.is_empty()) {
+        Some(text) => {
+            let seconds = number("frame_s", text)?;
+            if seconds <= 0.0 {
+                return Err(format!("frame_s {text:?} must be more than 0 seconds"));
+            }
+            Some(seconds)
+        }
+        None => None,
+    };
+    Ok(Row {
+        frame: FrameInfo {
+            frame,
+            time_s: number("time_s", time)?,
+            distance_m: number("distance_m", distance)?,
+        },
+        eye: eye.to_string(),
+        candidate: candidate.to_string(),
+        kind,
+        sighting,
+        frame_s,
+        mirror: columns.mirror.map(field).filter(|t| !t.is_empty()).map(str::to_string),
+    })
+}
+
+fn check_sighting(s: &Sighting) -> std::result::Result<(), String> {
+    if s.solid_angle_sr < 0.0 {
+        return Err(format!("solid_angle_sr {} is negative", s.solid_angle_sr));
+    }
+    if !(0.0..=1.0 + 1e-9).contains(&s.visible_fraction) {
+        return Err(format!("visible_fraction {} is outside 0 to 1", s.visible_fraction));
+    }
+    if !(0.0..=90.0 + 1e-9).contains(&s.view_angle_deg) {
+        return Err(format!("view_angle_deg {} is outside 0 to 90", s.view_angle_deg));
+    }
+    if !(0.0..=180.0).contains(&s.angular_height_deg) {
+        return Err(format!("angular_height_deg {} is outside 0 to 180", s.angular_height_deg));
+    }
+    Ok(())
+}
+
+/// Frames, eyes and candidates from the rows, with the consistency checks.
+fn assemble(path: &Path, rows: Vec<Row>) -> Result<PlacementTable> {
+    let mut frames: BTreeMap<u64, FrameInfo> = BTreeMap::new();
+    let mut eyes: Vec<String> = Vec::new();
+    let mut frame_s: Option<f64> = None;
+    for row in &rows {
+        let known = *frames.entry(row.frame.frame).or_insert(row.frame);
+        if known != row.frame {
+            return Err(Error::bad_file(
+                path,
+                format!(
+                    "frame {} has two times or distances ({:?} and {:?})",
+                    row.frame.frame, known, row.frame
+                ),
+            ));
+        }
+        if !eyes.contains(&row.eye) {
+            eyes.push(row.eye.clone());
+        }
+        if let Some(seconds) = row.frame_s {
+            match frame_s {
+                Some(known) if (known - seconds).abs() > 1e-9 * known.max(seconds) => {
+                    return Err(Error::bad_file(path, format!("frame_s is both {known} and {seconds}")));
+                }
+                _ => frame_s = Some(seconds),
+            }
+        }
+    }
+    let frame_list: Vec<FrameInfo> = frames.values().copied().collect();
+    let frame_s = match frame_s {
+        Some(seconds) => seconds,
+        None => smallest_time_step(path, &frame_list)?,
+    };
+    let index: BTreeMap<u64, usize> = frame_list.iter().enumerate().map(|(i, f)| (f.frame, i)).collect();
+    let candidates = candidates_of(path, rows, &index, &eyes)?;
+    Ok(PlacementTable { path: path.to_path_buf(), frames: frame_list, eyes, frame_s, candidates })
+}
+
+/// Without `frame_s`: the smallest positive step between the frames' times.
+fn smallest_time_step(path: &Path, frames: &[FrameInfo]) -> Result<f64> {
+    frames
+        .windows(2)
+        .map(|pair| pair[1].time_s - pair[0].time_s)
+        .filter(|&step| step > 0.0)
+        .min_by(f64::total_cmp)
+        .ok_or_else(|| {
+            Error::bad_file(path, "one frame only and no frame_s column: cannot tell how long a frame lasts")
+        })
+}
+
+fn candidates_of(
+    path: &Path,
+    rows: Vec<Row>,
+    index: &BTreeMap<u64, usize>,
+    eyes: &[String],
+) -> Result<BTreeMap<String, CandidateRows>> {
+    let mut candidates: BTreeMap<String, CandidateRows> = BTreeMap::new();
+    for row in rows {
+        let entry = candidates.entry(row.candidate.clone()).or_insert_with(|| CandidateRows {
+            name: row.candidate.clone(),
+            kind: row.kind,
+            mirror: row.mirror.clone(),
+            sightings: BTreeMap::new(),
+        });
+        if entry.kind != row.kind {
+            return Err(Error::bad_file(
+                path,
+                format!("candidate {:?} is both a part and a patch", row.candidate),
+            ));
+        }
+        if entry.mirror.is_none() {
+            entry.mirror = row.mirror.clone();
+        }
+        let key = (index[&row.frame.frame], eyes.iter().position(|e| *e == row.eye).unwrap_or(0));
+        if entry.sightings.insert(key, row.sighting).is_some() {
+            return Err(Error::bad_file(
+                path,
+                format!(
+                    "candidate {:?} has two rows for frame {} eye {}",
+                    row.candidate, row.frame.frame, row.eye
+                ),
+            ));
+        }
+    }
+    Ok(candidates)
+}
