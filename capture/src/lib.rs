@@ -28,42 +28,12 @@
 //! vehicle before capturing.
 
 pub mod archive;
-pub mod batch;
-pub mod capture_shard;
-pub mod count_sink;
-pub mod degenerate_mesh;
-pub mod demo;
-pub mod encoder_pool;
 pub mod error;
-pub mod frame_capture;
-pub mod gpu;
-pub mod heatmap_views_gpu;
 pub mod inspect;
-pub mod manifest_builder;
-pub mod mesh;
-pub mod model_files;
-pub mod options;
-pub mod own_pidt;
-pub mod palette;
-pub mod pidt;
-pub mod regions;
 pub mod render;
-mod render_occlusion;
-mod render_pipeline;
-pub mod render_target;
-pub mod rig;
-pub mod scenario;
 pub mod scene;
-pub mod scene_checks;
-pub mod scissor;
 pub mod study;
-pub mod study_plot;
-pub mod tile_sink;
-pub mod track;
-pub mod unity;
+pub mod texture;
 pub mod unobstructed;
-pub mod unwrap;
-pub mod vehicle;
-pub mod views;
 
 pub use error::{CaptureError, Result};

@@ -10,12 +10,12 @@ use std::process::ExitCode;
 use anyhow::Context;
 use clap::{Args, Parser, Subcommand};
 use ufcsr_capture::archive::{self, CaptureOptions, Compression, FrameSelection, Summary};
-use ufcsr_capture::gpu::{Backend, Gpu};
+use ufcsr_capture::render::gpu::{Backend, Gpu};
 use ufcsr_capture::inspect::{self, InspectOptions};
-use ufcsr_capture::own_pidt::OwnLabels;
+use ufcsr_capture::texture::pidt::own::OwnLabels;
 use ufcsr_capture::scene::Scene;
 use ufcsr_capture::unobstructed::MeasureDevice;
-use ufcsr_capture::unwrap::parse_palette_size;
+use ufcsr_capture::texture::uv_islands::parse_palette_size;
 
 #[derive(Parser)]
 #[command(
@@ -274,9 +274,9 @@ fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Study(args) => return run_study(args),
         Command::Views { results, model, out, backend } => {
             let gpu = Gpu::create(backend)?;
-            let options = ufcsr_capture::heatmap_views_gpu::ViewsOptions { results, model, out };
+            let options = ufcsr_capture::inspect::heatmap_views_gpu::ViewsOptions { results, model, out };
             let written =
-                ufcsr_capture::heatmap_views_gpu::views_from_results(&gpu.device, &gpu.queue, &options)?;
+                ufcsr_capture::inspect::heatmap_views_gpu::views_from_results(&gpu.device, &gpu.queue, &options)?;
             println!("views ({}): {}", gpu.describe(), written.contact_sheet.display());
             for view in &written.views {
                 println!("  {}", view.display());
@@ -284,14 +284,14 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             return Ok(());
         }
         Command::Batch { action: BatchAction::Plan { batch, program } } => {
-            let plan = ufcsr_capture::batch::load(&batch)?;
+            let plan = ufcsr_capture::archive::batch::load(&batch)?;
             let program = match program {
                 Some(program) => program,
                 None => std::env::current_exe()?.display().to_string(),
             };
             let base = batch.parent().unwrap_or(std::path::Path::new("."));
             let mut stdout = std::io::stdout().lock();
-            for task in ufcsr_capture::batch::plan(&plan, base, &program)? {
+            for task in ufcsr_capture::archive::batch::plan(&plan, base, &program)? {
                 // The plan is made to be piped (`| head`, `| sed -n 5p`): a
                 // reader that stops early is not an error.
                 match writeln!(stdout, "{}", task.shell_line()) {
@@ -302,7 +302,7 @@ fn run(cli: Cli) -> anyhow::Result<()> {
             return Ok(());
         }
         Command::Assemble { archive } => {
-            let assembled = ufcsr_capture::capture_shard::assemble(&archive)?;
+            let assembled = ufcsr_capture::archive::capture_shard::assemble(&archive)?;
             println!(
                 "{}: {} shards, {} frames, {} tiles → {}",
                 archive.display(),

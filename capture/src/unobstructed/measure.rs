@@ -22,7 +22,7 @@ use super::types::{
 };
 use crate::archive::{CaptureOptions, CapturedTiles, TileTally, prepare_archive, summarize, write_manifest};
 use crate::error::{CaptureError, Result};
-use crate::scenario::Scenario;
+use crate::scene::scenario::Scenario;
 use crate::scene::Scene;
 
 /// The most samples per texel side (`--texel-samples`).
@@ -81,8 +81,8 @@ pub fn measure_unobstructed(
     check_options(measure)?;
     scene.rig.check()?;
     let prepared = prepare_archive(device, queue, scene, options)?;
-    let frames = crate::scene_checks::selected_frames(scene, scenario, options)?;
-    let warnings = crate::scene_checks::scene_warnings(scene, scenario, &frames)?;
+    let frames = crate::archive::scene_checks::selected_frames(scene, scenario, options)?;
+    let warnings = crate::archive::scene_checks::scene_warnings(scene, scenario, &frames)?;
     let samples = surface_samples(
         &scene.vehicle,
         &prepared.unwrapped,

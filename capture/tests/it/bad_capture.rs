@@ -92,7 +92,7 @@ fn a_gltf_whose_nodes_form_a_cycle_is_an_error() {
     std::fs::write(&path, r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"children": [0]}]}"#)
         .unwrap();
     let loaded =
-        ufcsr_capture::mesh::load_vehicle(&path, ufcsr_capture::mesh::PartSource::Node, &Default::default());
+        ufcsr_capture::scene::mesh::load_vehicle(&path, ufcsr_capture::scene::mesh::PartSource::Node, &Default::default());
     let Err(error) = loaded else { panic!("a cycle must be refused") };
     let error = error.to_string();
     assert!(error.contains("appears twice"), "{error}");

@@ -7,15 +7,15 @@
 use glam::dvec3;
 use ufcsr::Color;
 use ufcsr_capture::archive::{capture, verify};
-use ufcsr_capture::degenerate_mesh::degenerate_vehicle;
-use ufcsr_capture::gpu::{Backend, Gpu};
-use ufcsr_capture::mesh::{Mesh, Occluders};
-use ufcsr_capture::options::CaptureOptions;
-use ufcsr_capture::pidt::{UNLABELLED_COLOR, paint};
+use ufcsr_capture::scene::degenerate_mesh::degenerate_vehicle;
+use ufcsr_capture::render::gpu::{Backend, Gpu};
+use ufcsr_capture::scene::mesh::{Mesh, Occluders};
+use ufcsr_capture::archive::options::CaptureOptions;
+use ufcsr_capture::texture::pidt::{UNLABELLED_COLOR, paint};
 use ufcsr_capture::render::{Palette, RenderSetup, Renderer, TileDraw, vehicle_vertices};
-use ufcsr_capture::rig::{Rig, vehicle_to_world};
-use ufcsr_capture::track::Pose;
-use ufcsr_capture::unwrap::unwrap_islands;
+use ufcsr_capture::scene::rig::{Rig, vehicle_to_world};
+use ufcsr_capture::scene::track::Pose;
+use ufcsr_capture::texture::uv_islands::unwrap_islands;
 
 const PALETTE: [u32; 2] = [1024, 1024];
 

@@ -5,12 +5,12 @@
 
 use glam::{DVec2, DVec3, dvec2, dvec3, dvec4, vec3};
 use ufcsr::Color;
-use ufcsr_capture::gpu::{Backend, Gpu};
-use ufcsr_capture::mesh::{Mesh, Occluders};
+use ufcsr_capture::render::gpu::{Backend, Gpu};
+use ufcsr_capture::scene::mesh::{Mesh, Occluders};
 use ufcsr_capture::render::{Palette, RenderSetup, Renderer, TileDraw, vehicle_vertices};
-use ufcsr_capture::rig::{Rig, box_outside, vehicle_to_world};
-use ufcsr_capture::track::Pose;
-use ufcsr_capture::unwrap::{footprint, unwrap_islands};
+use ufcsr_capture::scene::rig::{Rig, box_outside, vehicle_to_world};
+use ufcsr_capture::scene::track::Pose;
+use ufcsr_capture::texture::uv_islands::{footprint, unwrap_islands};
 
 const PALETTE: [u32; 2] = [256, 256];
 
@@ -67,7 +67,7 @@ fn render_eye(gpu: &Gpu, mesh: &Mesh, occluders: &Occluders, rig: &Rig, pose: &P
             .objects
             .iter()
             .enumerate()
-            .filter(|(_, o)| !box_outside(&clip_from_world, &ufcsr_capture::rig::box_corners(o.min, o.max)))
+            .filter(|(_, o)| !box_outside(&clip_from_world, &ufcsr_capture::scene::rig::box_corners(o.min, o.max)))
             .map(|(i, _)| i)
             .collect();
         let draw = TileDraw {

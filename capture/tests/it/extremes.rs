@@ -8,12 +8,12 @@
 use glam::{DVec3, dvec3, vec3};
 use ufcsr::{AnalysisResult, Dedupe};
 use ufcsr_capture::archive::{self, CaptureOptions};
-use ufcsr_capture::gpu::{Backend, Gpu};
-use ufcsr_capture::mesh::{Mesh, Occluders};
-use ufcsr_capture::rig::Rig;
-use ufcsr_capture::scenario::Scenario;
+use ufcsr_capture::render::gpu::{Backend, Gpu};
+use ufcsr_capture::scene::mesh::{Mesh, Occluders};
+use ufcsr_capture::scene::rig::Rig;
+use ufcsr_capture::scene::scenario::Scenario;
 use ufcsr_capture::scene::Scene;
-use ufcsr_capture::track::{Key, Motion, Track};
+use ufcsr_capture::scene::track::{Key, Motion, Track};
 
 fn gpu() -> Gpu {
     Gpu::create(Backend::Auto).expect("a Vulkan or GL driver (Mesa's lavapipe or llvmpipe will do)")
@@ -95,10 +95,10 @@ fn a_wall_at_the_near_plane_fills_the_view_and_counts_its_visible_area() {
 }
 
 fn texels_per_m2(scene: &Scene, palette: [u32; 2]) -> f64 {
-    ufcsr_capture::unwrap::unwrap_islands_avoiding(
+    ufcsr_capture::texture::uv_islands::unwrap_islands_avoiding(
         &scene.vehicle,
         palette,
-        ufcsr_capture::unwrap::background_texel(palette),
+        ufcsr_capture::texture::uv_islands::background_texel(palette),
     )
     .unwrap()
     .texels_per_m2
@@ -223,10 +223,10 @@ fn a_surface_seen_edge_on_is_not_counted_by_pixels_or_by_the_exact_measure() {
     assert!(result.pixels.texel <= 6 * 200, "{} pixels show an edge-on plate", result.pixels.texel);
     // The exact measure: the eye is in the plane, so no point faces it.
     let palette = [256, 256];
-    let unwrapped = ufcsr_capture::unwrap::unwrap_islands_avoiding(
+    let unwrapped = ufcsr_capture::texture::uv_islands::unwrap_islands_avoiding(
         &scene.vehicle,
         palette,
-        ufcsr_capture::unwrap::background_texel(palette),
+        ufcsr_capture::texture::uv_islands::background_texel(palette),
     )
     .unwrap();
     let samples = surface_samples(&scene.vehicle, &unwrapped, 1.0, 1, 2);

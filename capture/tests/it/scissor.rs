@@ -7,9 +7,9 @@ use std::path::Path;
 
 use ufcsr::{AnalyzeOptions, Dedupe, Manifest};
 use ufcsr_capture::archive::{capture, verify};
-use ufcsr_capture::degenerate_mesh::degenerate_vehicle;
-use ufcsr_capture::gpu::{Backend, Gpu};
-use ufcsr_capture::options::{CaptureOptions, Summary};
+use ufcsr_capture::scene::degenerate_mesh::degenerate_vehicle;
+use ufcsr_capture::render::gpu::{Backend, Gpu};
+use ufcsr_capture::archive::options::{CaptureOptions, Summary};
 use ufcsr_capture::scene::Scene;
 
 fn capture_with(gpu: &Gpu, scene: &Scene, scenario: &str, out: &Path, no_scissor: bool) -> Summary {

@@ -9,14 +9,14 @@
 use std::process::Command;
 
 use glam::{DMat4, DVec3, Vec3, dvec3};
-use ufcsr_capture::mesh::{Mesh, Occluders};
-use ufcsr_capture::rig::{look_to, reversed_z_perspective};
+use ufcsr_capture::scene::mesh::{Mesh, Occluders};
+use ufcsr_capture::scene::rig::{look_to, reversed_z_perspective};
 use ufcsr_capture::scene::Scene;
 use ufcsr_capture::unobstructed::{
     EyeFrame, Obstacles, SurfaceSamples, TexelVisibility, Tracer, eye_frame, eye_frames, surface_samples,
     texel_visibility, visible_solid_angle,
 };
-use ufcsr_capture::unwrap::{background_texel, unwrap_islands_avoiding};
+use ufcsr_capture::texture::uv_islands::{background_texel, unwrap_islands_avoiding};
 
 const PALETTE: [u32; 2] = [256, 256];
 
@@ -323,8 +323,8 @@ fn the_cli_writes_an_unobstructed_result_with_the_measures_block() {
     assert!(!out.join("tiles").read_dir().is_ok_and(|mut d| d.next().is_some()), "no tiles are written");
 }
 
-fn gpu_with_f64() -> Option<ufcsr_capture::gpu::Gpu> {
-    let gpu = ufcsr_capture::gpu::Gpu::create(ufcsr_capture::gpu::Backend::Auto).expect("a GPU or lavapipe");
+fn gpu_with_f64() -> Option<ufcsr_capture::render::gpu::Gpu> {
+    let gpu = ufcsr_capture::render::gpu::Gpu::create(ufcsr_capture::render::gpu::Backend::Auto).expect("a GPU or lavapipe");
     if !gpu.device.features().contains(wgpu::Features::SHADER_F64) {
         assert!(std::env::var_os("CI").is_none(), "CI: lavapipe has SHADER_F64; this adapter does not");
         eprintln!("SKIPPED: {} has no SHADER_F64", gpu.describe());
