@@ -13,21 +13,21 @@ use std::time::Instant;
 
 use ufcsr::{Color, Manifest, PaletteSpec};
 
+use crate::archive::VEHICLE_FILE;
 use crate::archive::capture_shard;
 use crate::archive::count_sink::{Counted, count_while};
 use crate::archive::encoder_pool::{EncoderPool, OldTiles};
-use crate::error::{CaptureError, Result};
 use crate::archive::frame_capture::FrameCapture;
 use crate::archive::manifest_builder::{ManifestParts, build_manifest};
-pub use crate::archive::options::{CaptureOptions, Compression, FrameSelection, Summary, TileTally};
-use crate::texture::pidt::own;
-use crate::texture::external_palette::ExternalPalette;
-use crate::texture::pidt::{self, PaintedPidt};
-use crate::render::{Palette, RenderSetup, Renderer, vehicle_vertices};
-use crate::scene::scenario::Scenario;
-use crate::scene::Scene;
+use crate::archive::options::{CaptureOptions, Summary, TileTally};
 use crate::archive::tile_sink::TileSink;
-pub use crate::archive::tile_sink::tile_file;
+use crate::error::{CaptureError, Result};
+use crate::render::{Palette, RenderSetup, Renderer, vehicle_vertices};
+use crate::scene::Scene;
+use crate::scene::scenario::Scenario;
+use crate::texture::external_palette::ExternalPalette;
+use crate::texture::pidt::own as own_pidt;
+use crate::texture::pidt::painted::{self as pidt, PaintedPidt};
 use crate::texture::uv_islands::{self, Unwrapped};
 
 /// The palette of a capture.
@@ -46,7 +46,7 @@ pub fn load_palette(options: &CaptureOptions) -> Result<LoadedPalette> {
         None => Ok(LoadedPalette {
             palette: Palette::Canonical(options.palette),
             external: None,
-            background_texel: unwrap::background_texel(options.palette),
+            background_texel: uv_islands::background_texel(options.palette),
         }),
         Some(path) => {
             let external = ExternalPalette::load(path)?;
@@ -68,9 +68,9 @@ pub fn prepare(
     keep_uvs: bool,
 ) -> Result<(Unwrapped, PaintedPidt)> {
     let unwrapped = if keep_uvs {
-        unwrap::keep_uvs_avoiding(&scene.vehicle, size, background)?
+        uv_islands::keep_uvs_avoiding(&scene.vehicle, size, background)?
     } else {
-        unwrap::unwrap_islands_avoiding(&scene.vehicle, size, background)?
+        uv_islands::unwrap_islands_avoiding(&scene.vehicle, size, background)?
     };
     let pidt = pidt::paint(&scene.vehicle, &unwrapped);
     Ok((unwrapped, pidt))
@@ -180,9 +180,6 @@ fn check_capturable(scene: &Scene, scenario: &Scenario) -> Result<()> {
     Ok(())
 }
 
-/// The archive's copy of the vehicle as unwrapped (named in the manifest).
-pub const VEHICLE_FILE: &str = "vehicle.glb";
-
 /// The vehicle's triangles by part, with their palette UVs.
 fn vehicle_model(scene: &Scene, vertices: &[crate::render::Vertex]) -> ufcsr::VehicleModel {
     let mesh = &scene.vehicle;
@@ -230,7 +227,8 @@ pub fn capture_frames(
     let warnings = crate::archive::scene_checks::scene_warnings(scene, scenario, &selected)?;
     let tiles_per_eye = u64::from(rig.tiles[0]) * u64::from(rig.tiles[1]);
     let total = frames.len() as u64 * 2 * tiles_per_eye;
-    let progress = progress_bar(options.progress, total, &scenario.name);
+    let progress = &options.progress;
+    progress.start(total);
     let frame_capture = FrameCapture {
         device,
         queue,
@@ -254,13 +252,13 @@ pub fn capture_frames(
     let result = frames.iter().try_for_each(|&(position, frame)| {
         // A tile's index is its place in the whole capture, shards or not.
         let first_index = position * 2 * tiles_per_eye as usize;
-        let frame = frame_capture.capture(frame, first_index, sink, &|| progress.inc(1))?;
+        let frame = frame_capture.capture(frame, first_index, sink, &|| progress.advance(1))?;
         captured.entries.extend(frame.entries);
         captured.frame_records.push(frame.record);
         captured.tally.add(frame.tally);
         Ok(())
     });
-    progress.finish_and_clear();
+    progress.finish();
     // Finish the sink even after an error, so no worker outlives the capture;
     // the first error wins.
     let finished = sink.finish();
@@ -287,20 +285,6 @@ pub fn frames_to_capture(
         )));
     }
     Ok(frames)
-}
-
-fn progress_bar(show: bool, total: u64, scenario: &str) -> indicatif::ProgressBar {
-    if !show {
-        return indicatif::ProgressBar::hidden();
-    }
-    let bar = indicatif::ProgressBar::new(total);
-    if let Ok(style) = indicatif::ProgressStyle::with_template(
-        "{prefix} [{elapsed_precise}] {wide_bar} {pos}/{len} tiles ({per_sec}, eta {eta})",
-    ) {
-        bar.set_style(style);
-    }
-    bar.set_prefix(format!("scenario {scenario}"));
-    bar
 }
 
 /// Captures one scenario of `scene` into `options.out` as PNG tiles, with a
@@ -572,8 +556,9 @@ pub fn read_rgb_png(path: &Path) -> Result<([u32; 2], Vec<u8>)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::archive::options::FrameSelection;
+    use crate::archive::tile_sink::{is_tile_name, tile_file};
     use crate::scene::rig::Eye;
-    use crate::archive::tile_sink::is_tile_name;
 
     #[test]
     fn frame_lists_parse() {

@@ -19,8 +19,8 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 use ufcsr::{MANIFEST_FILE, Manifest, Shard};
 
-use crate::error::{CaptureError, Result};
 use crate::archive::manifest_builder::CAPTURE_TALLIES;
+use crate::error::{CaptureError, Result};
 
 /// Folder of the shards' partial manifests, inside the archive.
 pub const SHARDS_DIR: &str = "shards";
@@ -50,6 +50,13 @@ pub struct Assembled {
     pub tiles: usize,
 }
 
+/// One shard's part of the manifest, as [`assemble`] read it.
+struct ShardPart {
+    path: PathBuf,
+    manifest: Manifest,
+    shard: Shard,
+}
+
 /// Joins the partial manifests in `archive/shards/` into `archive/manifest.json`,
 /// after checking that they are all there, each once, of one split, and
 /// agree on everything but their tiles, frames and tile tallies. The partial
@@ -57,12 +64,44 @@ pub struct Assembled {
 /// a single process); on any error nothing is written or removed.
 pub fn assemble(archive: &Path) -> Result<Assembled> {
     let dir = archive.join(SHARDS_DIR);
-    let mut parts: Vec<(PathBuf, Manifest, Shard)> = Vec::new();
-    let entries = std::fs::read_dir(&dir).map_err(|e| {
-        CaptureError::bad_input(&dir, format!("no shard manifests to assemble ({e}); run the shards first"))
+    let parts = read_parts(&dir)?;
+    let count = check_complete(&dir, &parts)?;
+    check_agreement(&parts)?;
+    let first = &parts[0].manifest;
+    let mut manifest = first.clone();
+    manifest.tiles = parts.iter().flat_map(|part| part.manifest.tiles.iter().cloned()).collect();
+    // Archive order: frame, then left before right, then row, then column.
+    manifest.tiles.sort_by(|a, b| {
+        (a.frame, a.eye != "left", a.row, a.col).cmp(&(b.frame, b.eye != "left", b.row, b.col))
+    });
+    let frames = joined_frames(&dir, &parts)?;
+    let frame_count = frames.len();
+    manifest.extra.insert("frames".into(), Value::Array(frames));
+    manifest.extra.insert("capture".into(), joined_capture(first, &parts));
+    // The joined manifest must pass the same checks as any other (no tile twice).
+    let manifest_path = archive.join(MANIFEST_FILE);
+    let tiles = manifest.tiles.len();
+    let text =
+        serde_json::to_vec(&manifest).map_err(|e| CaptureError::bad_input(&manifest_path, e.to_string()))?;
+    Manifest::parse(&manifest_path, &text)?;
+    manifest.write_to_dir(archive)?;
+    for part in &parts {
+        std::fs::remove_file(&part.path).map_err(|e| CaptureError::io(&part.path, e))?;
+    }
+    let _ = std::fs::remove_dir(&dir);
+    Ok(Assembled { manifest_path, shards: count, frames: frame_count, tiles })
+}
+
+/// The partial manifests in `dir`, by shard index; an error for any other
+/// file there (atomic writes' temporary files aside), for a manifest whose
+/// `capture.shard` does not match its name, and for none at all.
+fn read_parts(dir: &Path) -> Result<Vec<ShardPart>> {
+    let mut parts = Vec::new();
+    let entries = std::fs::read_dir(dir).map_err(|e| {
+        CaptureError::bad_input(dir, format!("no shard manifests to assemble ({e}); run the shards first"))
     })?;
     for entry in entries {
-        let entry = entry.map_err(|e| CaptureError::io(&dir, e))?;
+        let entry = entry.map_err(|e| CaptureError::io(dir, e))?;
         let path = entry.path();
         let name = entry.file_name().to_string_lossy().into_owned();
         let Some(shard) = shard_of_file_name(&name) else {
@@ -83,58 +122,70 @@ pub fn assemble(archive: &Path) -> Result<Assembled> {
                 format!("its capture.shard does not say {shard}, as its name does"),
             ));
         }
-        parts.push((path, manifest, shard));
+        parts.push(ShardPart { path, manifest, shard });
     }
-    parts.sort_by_key(|(_, _, shard)| shard.index);
-    let Some((first_path, first, first_shard)) = parts.first() else {
-        return Err(CaptureError::bad_input(&dir, "holds no shard manifest (manifest-I-of-N.json)"));
-    };
-    let count = first_shard.count;
+    parts.sort_by_key(|part| part.shard.index);
+    if parts.is_empty() {
+        return Err(CaptureError::bad_input(dir, "holds no shard manifest (manifest-I-of-N.json)"));
+    }
+    Ok(parts)
+}
+
+/// The number of shards, once every part is of the first part's split and
+/// none is missing.
+fn check_complete(dir: &Path, parts: &[ShardPart]) -> Result<u32> {
+    let first = &parts[0];
+    let count = first.shard.count;
     let mut seen = vec![false; count as usize];
-    for (path, _, shard) in &parts {
-        if shard.count != count {
+    for part in parts {
+        if part.shard.count != count {
             return Err(CaptureError::bad_input(
-                path,
-                format!("is shard {shard}, but {} is of {count} shards", first_path.display()),
+                &part.path,
+                format!("is shard {}, but {} is of {count} shards", part.shard, first.path.display()),
             ));
         }
-        seen[shard.index as usize] = true;
+        seen[part.shard.index as usize] = true;
     }
     if let Some(missing) = seen.iter().position(|&s| !s) {
         return Err(CaptureError::bad_input(
-            &dir,
+            dir,
             format!(
                 "shard {missing}/{count} is missing (no manifest-{missing}-of-{count}.json): it has not \
                  finished, or failed; run it again (--resume keeps its finished tiles)"
             ),
         ));
     }
-    let reference = without_shard_fields(first);
-    for (path, manifest, _) in &parts[1..] {
-        let other = without_shard_fields(manifest);
+    Ok(count)
+}
+
+/// An error naming the first field where a part differs from the first part
+/// in anything but its tiles, frames and tallies.
+fn check_agreement(parts: &[ShardPart]) -> Result<()> {
+    let reference = without_shard_fields(&parts[0].manifest);
+    for part in &parts[1..] {
+        let other = without_shard_fields(&part.manifest);
         if other != reference {
             let field = differing_field(&reference, &other);
             return Err(CaptureError::bad_input(
-                path,
+                &part.path,
                 format!(
                     "its {field} differs from {}'s: only shards of one capture (same scene, scenario, rig, \
                      palette and options) assemble",
-                    first_path.display()
+                    parts[0].path.display()
                 ),
             ));
         }
     }
-    let mut manifest = first.clone();
-    manifest.tiles = parts.iter().flat_map(|(_, m, _)| m.tiles.iter().cloned()).collect();
-    // Archive order: frame, then left before right, then row, then column.
-    manifest.tiles.sort_by(|a, b| {
-        (a.frame, a.eye != "left", a.row, a.col).cmp(&(b.frame, b.eye != "left", b.row, b.col))
-    });
+    Ok(())
+}
+
+/// The parts' frame records in frame order; an error if a frame is in two.
+fn joined_frames(dir: &Path, parts: &[ShardPart]) -> Result<Vec<Value>> {
     let mut frames: Vec<Value> = Vec::new();
-    for (path, part, _) in &parts {
-        match part.extra.get("frames") {
+    for part in parts {
+        match part.manifest.extra.get("frames") {
             Some(Value::Array(records)) => frames.extend(records.iter().cloned()),
-            _ => return Err(CaptureError::bad_input(path, "has no frames list")),
+            _ => return Err(CaptureError::bad_input(&part.path, "has no frames list")),
         }
     }
     frames.sort_by_key(|record| record.get("frame").and_then(Value::as_u64).unwrap_or(u64::MAX));
@@ -142,38 +193,30 @@ pub fn assemble(archive: &Path) -> Result<Assembled> {
         frames.iter().filter_map(|r| r.get("frame").and_then(Value::as_u64)).collect();
     if numbers.len() != frames.len() {
         return Err(CaptureError::bad_input(
-            &dir,
+            dir,
             "two shards captured the same frame: they are not of one split",
         ));
     }
-    let frame_count = frames.len();
-    manifest.extra.insert("frames".into(), Value::Array(frames));
+    Ok(frames)
+}
+
+/// The first part's `capture` record without its shard, with the tile
+/// tallies summed over the parts.
+fn joined_capture(first: &Manifest, parts: &[ShardPart]) -> Value {
     let mut capture = first.extra.get("capture").cloned().unwrap_or(Value::Null);
     if let Value::Object(fields) = &mut capture {
         fields.remove("shard");
         for tally in CAPTURE_TALLIES {
             let sum: u64 = parts
                 .iter()
-                .filter_map(|(_, m, _)| {
-                    m.extra.get("capture").and_then(|c| c.get(tally)).and_then(Value::as_u64)
+                .filter_map(|part| {
+                    part.manifest.extra.get("capture").and_then(|c| c.get(tally)).and_then(Value::as_u64)
                 })
                 .sum();
             fields.insert(tally.into(), Value::from(sum));
         }
     }
-    manifest.extra.insert("capture".into(), capture);
-    // The joined manifest must pass the same checks as any other (no tile twice).
-    let manifest_path = archive.join(MANIFEST_FILE);
-    let tiles = manifest.tiles.len();
-    let text =
-        serde_json::to_vec(&manifest).map_err(|e| CaptureError::bad_input(&manifest_path, e.to_string()))?;
-    Manifest::parse(&manifest_path, &text)?;
-    manifest.write_to_dir(archive)?;
-    for (path, _, _) in &parts {
-        std::fs::remove_file(path).map_err(|e| CaptureError::io(path, e))?;
-    }
-    let _ = std::fs::remove_dir(&dir);
-    Ok(Assembled { manifest_path, shards: count, frames: frame_count, tiles })
+    capture
 }
 
 /// `manifest-I-of-N.json` → shard I/N.

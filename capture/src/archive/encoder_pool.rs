@@ -9,9 +9,9 @@ use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::JoinHandle;
 
-use crate::error::{CaptureError, Result};
 use crate::archive::options::Compression;
 use crate::archive::tile_sink::{RenderedTile, TileAddress, TileSink, is_tile_name};
+use crate::error::{CaptureError, Result};
 
 /// What to do with tiles an earlier capture left in the archive.
 #[derive(Debug, Clone)]

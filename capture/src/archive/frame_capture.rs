@@ -14,14 +14,14 @@ use glam::{DMat4, DVec3};
 use serde_json::{Map, Value, json};
 use ufcsr::{Color, TileEntry};
 
-use crate::error::Result;
 use crate::archive::options::TileTally;
+use crate::archive::tile_sink::{RenderedTile, TileAddress, TileSink};
+use crate::error::Result;
+use crate::render::scissor::{EyeBounds, background_tile, fill_tile};
 use crate::render::{PixelRect, Renderer, TileDraw};
+use crate::scene::Scene;
 use crate::scene::rig::{Eye, EyeCamera, Rig, box_corners, box_outside, vehicle_to_world};
 use crate::scene::scenario::Scenario;
-use crate::scene::Scene;
-use crate::render::scissor::{EyeBounds, background_tile, fill_tile};
-use crate::archive::tile_sink::{RenderedTile, TileAddress, TileSink};
 
 /// Everything a frame needs that does not change from frame to frame.
 pub struct FrameCapture<'a> {

@@ -11,10 +11,10 @@ use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
 
 use crate::archive::frame_capture::round6;
 use crate::archive::options::{CaptureOptions, TileTally};
-use crate::texture::pidt::PaintedPidt;
-use crate::scene::scenario::Scenario;
 use crate::scene::Scene;
-use crate::texture::uv_islands::{self, Unwrapped};
+use crate::scene::scenario::Scenario;
+use crate::texture::pidt::PaintedPidt;
+use crate::texture::uv_islands::{self as unwrap, Unwrapped};
 
 /// The counters in the manifest's `capture` object that add up over the
 /// shards of one capture (see [`crate::archive::capture_shard`]); everything else in

@@ -2,6 +2,7 @@
 //! ([`Summary`]). Validated once by the binary, then handed to the capture.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use crate::error::{CaptureError, Result};
 use crate::texture::pidt::own::OwnLabels;
@@ -119,7 +120,8 @@ pub struct CaptureOptions {
     /// no skipping of tiles where occluders hide the vehicle (for benchmarks
     /// and checks that both give the same tiles).
     pub no_scissor: bool,
-    pub progress: bool,
+    /// Told of every rendered tile (the binary draws a bar); none by default.
+    pub progress: CaptureProgress,
     /// PNG encoder threads (0: as many as cores).
     pub encoder_threads: usize,
     /// Render only this shard of the selected frames (see [`crate::archive::capture_shard`]).
@@ -140,10 +142,47 @@ impl Default for CaptureOptions {
             keep_background_tiles: false,
             no_cull: false,
             no_scissor: false,
-            progress: false,
+            progress: CaptureProgress::default(),
             encoder_threads: 0,
             shard: None,
         }
+    }
+}
+
+/// Where a capture reports its progress: each scenario `start`s with its
+/// number of tiles, `advance`s by one per tile rendered (or culled, hidden,
+/// resumed) and `finish`es. The library draws nothing itself.
+#[derive(Clone, Default)]
+pub struct CaptureProgress(Option<Arc<dyn ufcsr::Progress + Send>>);
+
+impl CaptureProgress {
+    /// Progress reported to `progress`.
+    pub fn to(progress: Arc<dyn ufcsr::Progress + Send>) -> CaptureProgress {
+        CaptureProgress(Some(progress))
+    }
+
+    pub(crate) fn start(&self, total: u64) {
+        if let Some(progress) = &self.0 {
+            progress.start(total);
+        }
+    }
+
+    pub(crate) fn advance(&self, done: u64) {
+        if let Some(progress) = &self.0 {
+            progress.advance(done);
+        }
+    }
+
+    pub(crate) fn finish(&self) {
+        if let Some(progress) = &self.0 {
+            progress.finish();
+        }
+    }
+}
+
+impl std::fmt::Debug for CaptureProgress {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.0.is_some() { "CaptureProgress(reported)" } else { "CaptureProgress(none)" })
     }
 }
 

@@ -22,12 +22,12 @@ use std::collections::BTreeMap;
 
 use glam::{DMat4, DVec3, DVec4, dvec3};
 
-use crate::error::{CaptureError, Result};
-use crate::scene::mesh::Mesh;
 use crate::archive::options::CaptureOptions;
+use crate::error::{CaptureError, Result};
+use crate::scene::Scene;
+use crate::scene::mesh::Mesh;
 use crate::scene::rig::{Eye, Rig, vehicle_to_world};
 use crate::scene::scenario::Scenario;
-use crate::scene::Scene;
 use crate::scene::track::Track;
 
 /// Most frames in a scenario: 1,000,000 (4.6 h at 60 fps).

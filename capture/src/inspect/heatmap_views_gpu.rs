@@ -16,8 +16,8 @@ use glam::{DMat4, DVec3, DVec4};
 use ufcsr::{Color, VehicleModel, ViewCamera, ViewTexture, WrittenViews};
 
 use crate::error::{CaptureError, Result};
-use crate::scene::mesh::Occluders;
 use crate::render::{Palette, RenderSetup, Renderer, TileDraw, Vertex};
+use crate::scene::mesh::Occluders;
 
 /// White, as the CPU views' paper.
 const PAPER: u32 = 0xFF_FFFF;

@@ -16,12 +16,12 @@ use glam::DVec3;
 use ufcsr::Color;
 
 use crate::error::{CaptureError, Result};
-use crate::scene::mesh::{Axes, Mesh, triangle_area};
-use crate::texture::pidt::part_colors;
-use crate::scene::regions::RegionReport;
-use crate::scene::{SceneFile, VehicleSpec};
-use crate::scene::vehicle::{self, LENGTH_TOLERANCE};
 use crate::inspect::pictures;
+use crate::scene::mesh::{Axes, Mesh, triangle_area};
+use crate::scene::regions::RegionReport;
+use crate::scene::vehicle::{self, LENGTH_TOLERANCE};
+use crate::scene::{SceneFile, VehicleSpec};
+use crate::texture::pidt::painted::part_colors;
 
 /// Below this area (m²) a triangle has no area at all (f32 rounding).
 pub const DEGENERATE_AREA_M2: f64 = 1e-12;
@@ -217,10 +217,10 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
                 "pixels per metre must be in (0, 2000], not {ppm}"
             )));
         }
-        None => views::default_pixels_per_metre(mesh),
+        None => pictures::default_pixels_per_metre(mesh),
     };
     check_picture_size(mesh, pixels_per_metre)?;
-    let mut files = views::write_views(mesh, &colors, out, pixels_per_metre)?;
+    let mut files = pictures::write_views(mesh, &colors, out, pixels_per_metre)?;
     let legend = out.join("inspect-parts.csv");
     ufcsr::write_atomically(&legend, |w| {
         writeln!(w, "name,color,triangles,area_m2")?;
@@ -257,6 +257,22 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
 
 impl fmt::Display for Inspection {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.fmt_geometry(f)?;
+        self.fmt_triangles(f)?;
+        self.fmt_parts(f)?;
+        for file in &self.files {
+            writeln!(f, "wrote {}", file.display())?;
+        }
+        for warning in &self.warnings {
+            writeln!(f, "warning: {warning}")?;
+        }
+        Ok(())
+    }
+}
+
+impl Inspection {
+    /// Axes, size against `expect_length_m`, bounds and origin.
+    fn fmt_geometry(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let (min, max) = self.bounds;
         let size = max - min;
         let a = &self.axes;
@@ -285,7 +301,11 @@ impl fmt::Display for Inspection {
             f,
             "origin: the ground under the vehicle's centre is at x {:+.3}, y {:+.3}, z {:+.3} m from it (poses place and turn the vehicle about its origin)",
             g.x, g.y, g.z
-        )?;
+        )
+    }
+
+    /// Triangle quality, the worst slivers, and the state of the mesh's UVs.
+    fn fmt_triangles(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let q = &self.quality;
         writeln!(
             f,
@@ -312,6 +332,11 @@ impl fmt::Display for Inspection {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// The part rules' matches, and the parts with their colours and areas.
+    fn fmt_parts(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if !self.regions.rules.is_empty() {
             writeln!(f, "part rules (first match wins):")?;
             for rule in &self.regions.rules {
@@ -332,14 +357,7 @@ impl fmt::Display for Inspection {
             )?;
         }
         let total: f64 = self.parts.iter().map(|p| p.area_m2).sum();
-        writeln!(f, "  surface: {total:.4} m²")?;
-        for file in &self.files {
-            writeln!(f, "wrote {}", file.display())?;
-        }
-        for warning in &self.warnings {
-            writeln!(f, "warning: {warning}")?;
-        }
-        Ok(())
+        writeln!(f, "  surface: {total:.4} m²")
     }
 }
 
@@ -362,5 +380,14 @@ mod tests {
         assert_eq!((quality.degenerate, quality.slivers), (1, 2));
         assert_eq!(quality.examples[0].part, "thin");
         assert!((quality.examples[0].altitude_m - 0.00005).abs() < 1e-8);
+    }
+
+    #[test]
+    fn the_degenerate_vehicle_has_every_kind_of_bad_triangle() {
+        let mesh = crate::scene::degenerate_mesh::degenerate_vehicle();
+        let quality = triangle_quality(&mesh);
+        assert!(quality.degenerate >= 200, "{} zero-area triangles", quality.degenerate);
+        assert!(quality.slivers >= 500, "{} slivers", quality.slivers);
+        assert_eq!(mesh, crate::scene::degenerate_mesh::degenerate_vehicle());
     }
 }

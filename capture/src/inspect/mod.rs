@@ -3,8 +3,11 @@
 //! vehicle drawn on the CPU, and [`heatmap_views_gpu`] a result's heatmap
 //! views drawn with the GPU renderer (the `views` command).
 
-pub mod heatmap_views_gpu;
-pub mod inspection;
-pub mod pictures;
+pub(crate) mod heatmap_views_gpu;
+pub(crate) mod inspection;
+pub(crate) mod pictures;
 
-pub use inspection::*;
+pub use heatmap_views_gpu::{ViewsOptions, views_from_results, write_views_gpu};
+pub use inspection::{
+    InspectOptions, Inspection, PartInfo, Sliver, TriangleQuality, UvState, inspect, triangle_quality,
+};

@@ -122,18 +122,3 @@ fn add_bad_strips(mesh: &mut Mesh, part: &str, corner: Vec3, along: Vec3, up: Ve
         }
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::inspect::triangle_quality;
-
-    #[test]
-    fn the_mesh_has_every_kind_of_bad_triangle() {
-        let mesh = degenerate_vehicle();
-        let quality = triangle_quality(&mesh);
-        assert!(quality.degenerate >= 200, "{} zero-area triangles", quality.degenerate);
-        assert!(quality.slivers >= 500, "{} slivers", quality.slivers);
-        assert_eq!(mesh, degenerate_vehicle());
-    }
-}

@@ -27,6 +27,7 @@ pub const TRUCK_SIZE: [f64; 3] = [5.9, 2.0, 1.9];
 pub const PEDESTRIAN: [f64; 3] = [-5.5, -5.5, 0.0];
 
 /// The procedural pickup truck in its own frame (x forward, y left, z up).
+#[allow(clippy::too_many_lines)] // data as code: the truck's boxes, one line each
 pub fn truck() -> Mesh {
     let mut m = Mesh::default();
     let v = vec3;
@@ -321,6 +322,7 @@ pub fn scenario(name: &str) -> Option<Scenario> {
 }
 
 /// Bounds of the truck in its frame.
+#[cfg(test)]
 pub fn truck_bounds() -> (DVec3, DVec3) {
     truck().bounds()
 }

@@ -199,69 +199,83 @@ fn compile(rules: &[PartRule], parts: &[String]) -> Result<Vec<Rule>, String> {
             (None, Some(split)) => format!("parts[{index}] (split {split})"),
             (None, None) => format!("parts[{index}]"),
         };
-        match (&rule.name, &rule.split) {
+        compiled.push(match (&rule.name, &rule.split) {
             (Some(_), Some(_)) | (None, None) => {
                 return Err(format!(
                     "{what}: give either \"name\" (a region) or \"split\" (a plane cut), not both or neither"
                 ));
             }
-            (Some(name), None) => {
-                if rule.plane.is_some() || rule.names.is_some() {
-                    return Err(format!("{what}: \"plane\" and \"names\" belong to a split rule"));
-                }
-                if name.trim().is_empty() {
-                    return Err(format!("{what}: empty part name"));
-                }
-                let from: Vec<String> = rule.from.as_ref().map_or(Vec::new(), |f| f.as_slice().to_vec());
-                for part in &from {
-                    known(&format!("{what}: \"from\""), part)?;
-                }
-                let region_box = match &rule.region_box {
-                    Some(b) => {
-                        let (min, max) = (DVec3::from(b.min), DVec3::from(b.max));
-                        if !(min.is_finite() && max.is_finite() && min.cmple(max).all()) {
-                            return Err(format!("{what}: the box needs finite min ≤ max on every axis"));
-                        }
-                        Some((min, max))
-                    }
-                    None => None,
-                };
-                let half_spaces = match &rule.half_spaces {
-                    Some(list) => list
-                        .as_slice()
-                        .iter()
-                        .map(|h| half_space(&format!("{what}: \"where\""), h))
-                        .collect::<Result<Vec<_>, _>>()?,
-                    None => Vec::new(),
-                };
-                compiled.push(Rule::Region { name: name.clone(), from, region_box, half_spaces });
-            }
-            (None, Some(part)) => {
-                if rule.from.is_some() || rule.region_box.is_some() || rule.half_spaces.is_some() {
-                    return Err(format!(
-                        "{what}: a split takes \"plane\" and \"names\", not \"from\", \"box\" or \"where\""
-                    ));
-                }
-                known(&what, part)?;
-                let Some(plane) = &rule.plane else {
-                    return Err(format!(
-                        "{what}: a split needs a \"plane\" {{\"normal\": [x, y, z], \"offset\": d}}"
-                    ));
-                };
-                let plane = half_space(&format!("{what}: \"plane\""), plane)?;
-                let names = match rule.names.as_deref() {
-                    Some([a, b]) if !a.trim().is_empty() && !b.trim().is_empty() => [a.clone(), b.clone()],
-                    _ => {
-                        return Err(format!(
-                            "{what}: a split needs \"names\": two part names, the normal's side first"
-                        ));
-                    }
-                };
-                compiled.push(Rule::Split { part: part.clone(), plane, names });
-            }
-        }
+            (Some(name), None) => compile_region(&what, rule, name, &known)?,
+            (None, Some(part)) => compile_split(&what, rule, part, &known)?,
+        });
     }
     Ok(compiled)
+}
+
+/// A region rule (`"name"`), checked; `what` names it in errors, `known`
+/// checks that a part name is the vehicle's.
+fn compile_region(
+    what: &str,
+    rule: &PartRule,
+    name: &str,
+    known: &dyn Fn(&str, &str) -> Result<(), String>,
+) -> Result<Rule, String> {
+    if rule.plane.is_some() || rule.names.is_some() {
+        return Err(format!("{what}: \"plane\" and \"names\" belong to a split rule"));
+    }
+    if name.trim().is_empty() {
+        return Err(format!("{what}: empty part name"));
+    }
+    let from: Vec<String> = rule.from.as_ref().map_or(Vec::new(), |f| f.as_slice().to_vec());
+    for part in &from {
+        known(&format!("{what}: \"from\""), part)?;
+    }
+    let region_box = match &rule.region_box {
+        Some(b) => {
+            let (min, max) = (DVec3::from(b.min), DVec3::from(b.max));
+            if !(min.is_finite() && max.is_finite() && min.cmple(max).all()) {
+                return Err(format!("{what}: the box needs finite min ≤ max on every axis"));
+            }
+            Some((min, max))
+        }
+        None => None,
+    };
+    let half_spaces = match &rule.half_spaces {
+        Some(list) => list
+            .as_slice()
+            .iter()
+            .map(|h| half_space(&format!("{what}: \"where\""), h))
+            .collect::<Result<Vec<_>, _>>()?,
+        None => Vec::new(),
+    };
+    Ok(Rule::Region { name: name.to_string(), from, region_box, half_spaces })
+}
+
+/// A split rule (`"split"`), checked; `what` names it in errors, `known`
+/// checks that a part name is the vehicle's.
+fn compile_split(
+    what: &str,
+    rule: &PartRule,
+    part: &str,
+    known: &dyn Fn(&str, &str) -> Result<(), String>,
+) -> Result<Rule, String> {
+    if rule.from.is_some() || rule.region_box.is_some() || rule.half_spaces.is_some() {
+        return Err(format!(
+            "{what}: a split takes \"plane\" and \"names\", not \"from\", \"box\" or \"where\""
+        ));
+    }
+    known(what, part)?;
+    let Some(plane) = &rule.plane else {
+        return Err(format!("{what}: a split needs a \"plane\" {{\"normal\": [x, y, z], \"offset\": d}}"));
+    };
+    let plane = half_space(&format!("{what}: \"plane\""), plane)?;
+    let names = match rule.names.as_deref() {
+        Some([a, b]) if !a.trim().is_empty() && !b.trim().is_empty() => [a.clone(), b.clone()],
+        _ => {
+            return Err(format!("{what}: a split needs \"names\": two part names, the normal's side first"));
+        }
+    };
+    Ok(Rule::Split { part: part.to_string(), plane, names })
 }
 
 /// Relabels `mesh`'s triangles by the rules; an error names the bad rule.

@@ -11,14 +11,14 @@ use glam::{DMat4, DVec3};
 use serde::{Deserialize, Serialize};
 use serde_json::json;
 
-use crate::scene::demo;
 use crate::error::{CaptureError, Result};
+use crate::scene::demo;
 use crate::scene::mesh::{Axes, Mesh, Occluders, PartSource, load_vehicle};
-use crate::scene::regions::PartRule;
 use crate::scene::rig::Rig;
 use crate::scene::scenario::Scenario;
 use crate::scene::track::{Motion, Pose};
 use crate::scene::unity;
+use crate::scene::vehicle::VehicleSpec;
 
 /// A scene file.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -40,29 +40,6 @@ pub struct SceneFile {
     /// used when the file gives none of its own.
     #[serde(default)]
     pub unity: Option<PathBuf>,
-}
-
-/// The vehicle: a mesh file, or the demo truck.
-#[derive(Debug, Clone, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct VehicleSpec {
-    /// `.glb`, `.gltf` or `.obj`, or `"demo"` for the built-in truck.
-    pub mesh: String,
-    /// What names the parts: `node` (default), `mesh` or `material`.
-    #[serde(default)]
-    pub parts_from: PartSource,
-    /// Renames parts (`from → to`); several names may map to one part.
-    #[serde(default)]
-    pub rename: BTreeMap<String, String>,
-    /// Which file axes are forward and up, the scale to metres and the origin.
-    #[serde(default)]
-    pub axes: Axes,
-    /// Parts by region, applied after `rename` (see [`crate::scene::regions`]).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub parts: Vec<PartRule>,
-    /// The vehicle's real length: warn when it is off by more than 20 %.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub expect_length_m: Option<f64>,
 }
 
 /// Something that hides the vehicle but is never counted.

@@ -7,15 +7,39 @@
 //! small, lies on its side or pivots at its front bumper is wasted, but the
 //! scene may mean it (a toy car, a trailer hitched at its front).
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use glam::{DVec3, dvec3};
+use serde::{Deserialize, Serialize};
 
-use crate::scene::demo;
 use crate::error::{CaptureError, Result};
-use crate::scene::mesh::{Axes, Mesh, load_vehicle};
-use crate::scene::regions::{self, RegionReport};
-use crate::scene::VehicleSpec;
+use crate::scene::demo;
+use crate::scene::mesh::{Axes, Mesh, PartSource, load_vehicle};
+use crate::scene::regions::{self, PartRule, RegionReport};
+
+/// The vehicle: a mesh file, or the demo truck.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleSpec {
+    /// `.glb`, `.gltf` or `.obj`, or `"demo"` for the built-in truck.
+    pub mesh: String,
+    /// What names the parts: `node` (default), `mesh` or `material`.
+    #[serde(default)]
+    pub parts_from: PartSource,
+    /// Renames parts (`from → to`); several names may map to one part.
+    #[serde(default)]
+    pub rename: BTreeMap<String, String>,
+    /// Which file axes are forward and up, the scale to metres and the origin.
+    #[serde(default)]
+    pub axes: Axes,
+    /// Parts by region, applied after `rename` (see [`crate::scene::regions`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub parts: Vec<PartRule>,
+    /// The vehicle's real length: warn when it is off by more than 20 %.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub expect_length_m: Option<f64>,
+}
 
 /// How far the vehicle's length may be from `expect_length_m` before a warning.
 pub const LENGTH_TOLERANCE: f64 = 0.2;
@@ -52,12 +76,6 @@ pub fn build(spec: &VehicleSpec, base: &Path, scene: &Path) -> Result<Vehicle> {
     let mut warnings = regions.warnings();
     warnings.extend(checks(&mesh, &spec.axes, spec.expect_length_m)?);
     Ok(Vehicle { mesh, regions, warnings })
-}
-
-/// The vehicle's length along x (its forward axis), m.
-pub fn length(mesh: &Mesh) -> f64 {
-    let (min, max) = mesh.bounds();
-    max.x - min.x
 }
 
 /// The point the vehicle's origin should be at: on the ground (lowest

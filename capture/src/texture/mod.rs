@@ -4,6 +4,13 @@
 //! Identification Texture that labels the texels ([`pidt`]: painted from the
 //! parts, or the user's own).
 
-pub mod external_palette;
-pub mod pidt;
-pub mod uv_islands;
+pub(crate) mod external_palette;
+pub(crate) mod pidt;
+pub(crate) mod uv_islands;
+
+pub use external_palette::ExternalPalette;
+pub use pidt::{OwnLabels, PaintedPidt, UNLABELLED_COLOR, paint_pidt};
+pub use uv_islands::{
+    Unwrapped, background_texel, footprint, keep_uvs, parse_palette_size, unwrap_islands,
+    unwrap_islands_avoiding,
+};

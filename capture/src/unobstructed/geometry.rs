@@ -13,9 +13,9 @@ use serde_json::json;
 use super::bvh::TriangleBvh;
 use super::types::{EyeFrame, SURFACE_LIFT_RELATIVE, transform_point};
 use crate::archive::frame_capture::round6;
+use crate::scene::Scene;
 use crate::scene::rig::vehicle_to_world;
 use crate::scene::scenario::Scenario;
-use crate::scene::Scene;
 
 /// The scene's geometry for ray casts.
 pub struct Obstacles {

@@ -22,8 +22,8 @@ use super::types::{
 };
 use crate::archive::{CaptureOptions, CapturedTiles, TileTally, prepare_archive, summarize, write_manifest};
 use crate::error::{CaptureError, Result};
-use crate::scene::scenario::Scenario;
 use crate::scene::Scene;
+use crate::scene::scenario::Scenario;
 
 /// The most samples per texel side (`--texel-samples`).
 pub const MAX_TEXEL_SAMPLES: u32 = 16;

@@ -2,7 +2,8 @@
 //! unwrap ([`painted`]), or a user's own PIdT and legend for the mesh's own
 //! UVs, checked against them ([`own`]).
 
-pub mod own;
-pub mod painted;
+pub(crate) mod own;
+pub(crate) mod painted;
 
-pub use painted::*;
+pub use own::OwnLabels;
+pub use painted::{PaintedPidt, UNLABELLED_COLOR, paint as paint_pidt};

@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use ufcsr::{Color, Legend};
 
 use crate::error::{CaptureError, Result};
-use crate::texture::pidt::{PaintedPidt, UNLABELLED_COLOR};
+use crate::texture::pidt::painted::{PaintedPidt, UNLABELLED_COLOR};
 use crate::texture::uv_islands::{Unwrapped, for_texel_centres};
 
 /// The user's PIdT and legend files.
