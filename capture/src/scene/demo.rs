@@ -13,7 +13,7 @@
 //! intersection, so the truck arrives from the west (A), east (B), north (C)
 //! or south (D).
 
-use glam::{DMat4, DVec2, DVec3, Vec3, dvec2, dvec3, vec3};
+use glam::{DMat4, DVec2, Vec3, dvec2, dvec3, vec3};
 
 use crate::scene::mesh::{Mesh, Occluders};
 use crate::scene::rig::Rig;
@@ -323,7 +323,7 @@ pub fn scenario(name: &str) -> Option<Scenario> {
 
 /// Bounds of the truck in its frame.
 #[cfg(test)]
-pub fn truck_bounds() -> (DVec3, DVec3) {
+pub fn truck_bounds() -> (glam::DVec3, glam::DVec3) {
     truck().bounds()
 }
 
@@ -331,6 +331,7 @@ pub fn truck_bounds() -> (DVec3, DVec3) {
 mod tests {
     use super::*;
     use crate::scene::rig::{box_corners, vehicle_to_world};
+    use glam::DVec3;
 
     #[test]
     fn truck_has_f150_size_and_named_parts() {
