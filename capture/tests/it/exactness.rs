@@ -169,6 +169,7 @@ fn first_hit(
     best
 }
 
+#[allow(clippy::too_many_lines)] // still to split: one pixel loop with its checks
 fn check_exactness(gpu: &Gpu) -> Vec<u8> {
     let (mesh, occluders, rig, pose) = scene();
     let image = render_eye(gpu, &mesh, &occluders, &rig, &pose);

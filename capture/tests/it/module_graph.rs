@@ -16,6 +16,9 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
+/// Modules and the modules each one uses.
+type Edges = BTreeMap<String, BTreeSet<String>>;
+
 /// Every `.rs` file under `dir`, except the binary's.
 fn library_files(dir: &Path, top: bool, files: &mut Vec<PathBuf>) {
     for entry in std::fs::read_dir(dir).unwrap() {
@@ -191,7 +194,7 @@ const KNOWN_BACKWARD: &[(&str, &str, &str)] = &[(
 
 /// The sibling edges of the library under `src`, as `a::b → a::c`, and the
 /// known backward references that were found (left out of the edges).
-fn library_edges(src: &Path) -> (BTreeMap<String, BTreeSet<String>>, BTreeSet<(String, String)>) {
+fn library_edges(src: &Path) -> (Edges, BTreeSet<(String, String)>) {
     let mut files = Vec::new();
     library_files(src, true, &mut files);
     // Comments (docs linking to other modules) are no dependency.
