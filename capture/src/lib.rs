@@ -6,64 +6,54 @@
 //! scenario is rendered unlit from both eyes of a pedestrian into tiles whose
 //! pixels name the texel they show. The archive is what `ufcsr-analyze` reads.
 //!
-//! Module map: [`track`] keyframes, [`scenario`] a timed vehicle motion,
-//! [`unity`] import of Unity scenarios, [`mesh`] geometry and loaders
-//! ([`model_files`] reads OBJ/MTL safely; every input goes through the
-//! analyzer's bounded, non-blocking readers),
-//! [`vehicle`] and [`regions`] vehicle checks and parts by region,
-//! [`demo`] the built-in truck and intersection, [`degenerate_mesh`] a
-//! generated vehicle of zero-area, needle and sliver triangles, [`scene`] the JSON scene
-//! file, [`unwrap`] island packing, [`palette`] external palettes, [`pidt`]
-//! label painting, [`own_pidt`] a user's own PIdT, [`rig`] cameras and tiles,
-//! [`gpu`] device creation, [`render`] the renderer (with its
-//! pipeline and [`render_target`] targets and readback); the capture job:
-//! [`options`] what to do, [`archive`] its stages, [`frame_capture`] one
-//! frame, [`scissor`] the part of a tile the vehicle can cover, [`tile_sink`]
-//! where tiles go, [`scene_checks`] bounds and impossible scenes (near and
-//! far plane, eye inside the vehicle, implausible motion), [`encoder_pool`] the PNG sink, [`manifest_builder`] the
-//! manifest, [`count_sink`] counting without PNGs, [`capture_shard`] one
-//! capture as several jobs;
-//! [`study`] and [`study_plot`] the resolution study; [`unobstructed`] the
-//! exact ray-traced reference measure (CPU and GPU); [`inspect`] and [`views`] look at a
-//! vehicle before capturing.
+//! The modules are private, one folder per stage (each folder's `mod.rs`
+//! says what it holds): `scene` what is captured (scene file, meshes,
+//! vehicle, rig, motion, the demo), `texture` the unwrap, palettes and PIdT,
+//! `render` the GPU device and renderer, `archive` the capture job (options,
+//! frames, tile sinks, manifest, shards, batches), `unobstructed` the exact
+//! ray-traced measure, `study` the resolution study, `inspect` looking at a
+//! vehicle or a result. The API is the flat list below: [`capture`],
+//! [`capture_counted`] and [`measure_unobstructed`] are the entry points,
+//! with a [`Scene`], [`CaptureOptions`] and a [`Gpu`]. The library draws no
+//! progress bar: it reports to a [`ufcsr::Progress`] ([`CaptureProgress`]).
 
-pub mod archive;
-pub mod batch;
-pub mod capture_shard;
-pub mod count_sink;
-pub mod degenerate_mesh;
-pub mod demo;
-pub mod encoder_pool;
-pub mod error;
-pub mod frame_capture;
-pub mod gpu;
-pub mod heatmap_views_gpu;
-pub mod inspect;
-pub mod manifest_builder;
-pub mod mesh;
-pub mod model_files;
-pub mod options;
-pub mod own_pidt;
-pub mod palette;
-pub mod pidt;
-pub mod regions;
-pub mod render;
-mod render_occlusion;
-mod render_pipeline;
-pub mod render_target;
-pub mod rig;
-pub mod scenario;
-pub mod scene;
-pub mod scene_checks;
-pub mod scissor;
-pub mod study;
-pub mod study_plot;
-pub mod tile_sink;
-pub mod track;
-pub mod unity;
-pub mod unobstructed;
-pub mod unwrap;
-pub mod vehicle;
-pub mod views;
+mod archive;
+mod error;
+mod inspect;
+mod render;
+mod scene;
+mod study;
+mod texture;
+mod unobstructed;
 
+pub use archive::{
+    Assembled, Batch, CaptureOptions, CaptureProgress, CapturedTiles, Compression, CountedCapture,
+    FrameSelection, MAX_FRAMES, MAX_SCENARIO_SECONDS, MAX_SELECTED_FRAMES, MAX_TILES, PreparedCapture,
+    Summary, Task, TileTally, assemble, capture, capture_all, capture_counted, capture_frames,
+    for_each_scenario, load_batch, plan_batch, prepare, read_rgb_png, verify,
+};
 pub use error::{CaptureError, Result};
+pub use inspect::{
+    InspectOptions, Inspection, PartInfo, Sliver, TriangleQuality, UvState, ViewsOptions, inspect,
+    triangle_quality, views_from_results, write_views_gpu,
+};
+pub use render::{
+    Backend, Gpu, Palette, PixelRect, RenderSetup, Renderer, TileDraw, Vertex, vehicle_vertices,
+};
+pub use scene::{
+    Axes, Eye, EyeCamera, Key, Mesh, Motion, OccluderObject, Occluders, PartRule, PartSource, Pose,
+    RegionReport, Rig, Scenario, Scene, SceneFile, TileId, Track, VehicleSpec, box_corners, box_outside,
+    degenerate_vehicle, load_vehicle, look_to, reversed_z_perspective, triangle_area, vehicle_to_world,
+};
+pub use study::{Study, StudyMeasure, StudyOptions, StudyRow, run_study, write_study};
+pub use texture::{
+    ExternalPalette, OwnLabels, PaintedPidt, UNLABELLED_COLOR, Unwrapped, background_texel, footprint,
+    keep_uvs, paint_pidt, parse_palette_size, unwrap_islands, unwrap_islands_avoiding,
+};
+pub use unobstructed::{
+    DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE, EyeFrame, MAX_TEXEL_SAMPLES,
+    MEASURE_UNOBSTRUCTED, MeasureDevice, MeasureOptions, Obstacles, PartEstimate, SURFACE_LIFT_RELATIVE,
+    SampledTexel, SurfaceSample, SurfaceSamples, TexelVisibility, Tracer, TriangleBvh, UnobstructedCapture,
+    estimate_parts, eye_frame, eye_frames, is_sampled, measure_unobstructed, seconds_per_frame,
+    surface_samples, texel_visibility, texel_visibility_gpu, visible_solid_angle,
+};

@@ -12,10 +12,10 @@ use serde_json::json;
 
 use super::bvh::TriangleBvh;
 use super::types::{EyeFrame, SURFACE_LIFT_RELATIVE, transform_point};
-use crate::frame_capture::round6;
-use crate::rig::vehicle_to_world;
-use crate::scenario::Scenario;
+use crate::archive::frame_capture::round6;
 use crate::scene::Scene;
+use crate::scene::rig::vehicle_to_world;
+use crate::scene::scenario::Scenario;
 
 /// The scene's geometry for ray casts.
 pub struct Obstacles {
@@ -90,7 +90,7 @@ pub fn eye_frames(
             eye_frames.push(eye_frame(obstacles, &to_world, camera.position, &camera.view_proj));
         }
         let distance_m = (pose.position.truncate() - pedestrian).length();
-        let (vehicle, eyes) = crate::manifest_builder::frame_pose(rig, &pose);
+        let (vehicle, eyes) = crate::archive::manifest_builder::frame_pose(rig, &pose);
         records.push(json!({
             "frame": frame,
             "time_s": round6(time_s),

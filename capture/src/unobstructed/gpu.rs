@@ -238,7 +238,7 @@ fn read_back(
     let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: None });
     encoder.copy_buffer_to_buffer(buffer, 0, &readback, 0, buffer.size());
     queue.submit([encoder.finish()]);
-    crate::gpu::map_for_reading(device, &readback.slice(..), label)?;
+    crate::render::gpu::map_for_reading(device, &readback.slice(..), label)?;
     let bytes = readback
         .slice(..)
         .get_mapped_range()

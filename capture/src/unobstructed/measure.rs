@@ -23,8 +23,8 @@ use super::types::{
 };
 use crate::archive::{CaptureOptions, CapturedTiles, TileTally, prepare_archive, summarize, write_manifest};
 use crate::error::{CaptureError, Result};
-use crate::scenario::Scenario;
 use crate::scene::Scene;
+use crate::scene::scenario::Scenario;
 
 /// The most samples per texel side (`--texel-samples`).
 pub const MAX_TEXEL_SAMPLES: u32 = 16;
@@ -90,8 +90,8 @@ pub fn measure_unobstructed(
     check_options(measure)?;
     scene.rig.check()?;
     let prepared = prepare_archive(device, queue, scene, options)?;
-    let frames = crate::scene_checks::selected_frames(scene, scenario, options)?;
-    let warnings = crate::scene_checks::scene_warnings(scene, scenario, &frames)?;
+    let frames = crate::archive::scene_checks::selected_frames(scene, scenario, options)?;
+    let warnings = crate::archive::scene_checks::scene_warnings(scene, scenario, &frames)?;
     let samples = surface_samples(
         &scene.vehicle,
         &prepared.unwrapped,

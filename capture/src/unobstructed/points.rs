@@ -14,8 +14,8 @@
 use glam::{DVec2, DVec3};
 
 use super::types::{EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE, SampledTexel, SurfaceSample, SurfaceSamples};
-use crate::mesh::Mesh;
-use crate::unwrap::{Unwrapped, footprint};
+use crate::scene::mesh::Mesh;
+use crate::texture::uv_islands::{Unwrapped, footprint};
 
 /// Below this area (texel² units) a piece is a touching edge, not a footprint.
 const EMPTY_PIECE: f64 = 1e-12;

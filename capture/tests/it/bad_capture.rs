@@ -79,9 +79,9 @@ fn resume_redoes_a_truncated_tile() {
 
 #[test]
 fn a_frame_list_of_billions_is_refused_before_it_is_built() {
-    let error = "0-4294967295".parse::<ufcsr_capture::archive::FrameSelection>().unwrap_err().to_string();
+    let error = "0-4294967295".parse::<ufcsr_capture::FrameSelection>().unwrap_err().to_string();
     assert!(error.contains("more than"), "{error}");
-    assert!("0-180/10".parse::<ufcsr_capture::archive::FrameSelection>().is_ok());
+    assert!("0-180/10".parse::<ufcsr_capture::FrameSelection>().is_ok());
 }
 
 #[test]
@@ -91,8 +91,7 @@ fn a_gltf_whose_nodes_form_a_cycle_is_an_error() {
     // Node 0 is its own child: the loader must not grow forever.
     std::fs::write(&path, r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"children": [0]}]}"#)
         .unwrap();
-    let loaded =
-        ufcsr_capture::mesh::load_vehicle(&path, ufcsr_capture::mesh::PartSource::Node, &Default::default());
+    let loaded = ufcsr_capture::load_vehicle(&path, ufcsr_capture::PartSource::Node, &Default::default());
     let Err(error) = loaded else { panic!("a cycle must be refused") };
     let error = error.to_string();
     assert!(error.contains("appears twice"), "{error}");

@@ -6,16 +6,11 @@
 
 use glam::dvec3;
 use ufcsr::Color;
-use ufcsr_capture::archive::{capture, verify};
-use ufcsr_capture::degenerate_mesh::degenerate_vehicle;
-use ufcsr_capture::gpu::{Backend, Gpu};
-use ufcsr_capture::mesh::{Mesh, Occluders};
-use ufcsr_capture::options::CaptureOptions;
-use ufcsr_capture::pidt::{UNLABELLED_COLOR, paint};
-use ufcsr_capture::render::{Palette, RenderSetup, Renderer, TileDraw, vehicle_vertices};
-use ufcsr_capture::rig::{Rig, vehicle_to_world};
-use ufcsr_capture::track::Pose;
-use ufcsr_capture::unwrap::unwrap_islands;
+use ufcsr_capture::{
+    Backend, CaptureOptions, Gpu, Mesh, Occluders, Palette, Pose, RenderSetup, Renderer, Rig, TileDraw,
+    UNLABELLED_COLOR, capture, degenerate_vehicle, paint_pidt, unwrap_islands, vehicle_to_world,
+    vehicle_vertices, verify,
+};
 
 const PALETTE: [u32; 2] = [1024, 1024];
 
@@ -30,7 +25,7 @@ fn devices() -> Vec<Gpu> {
 /// (vehicle pixels, stray pixels) over both eyes of every pose.
 fn render_and_check(gpu: &Gpu, mesh: &Mesh) -> (u64, u64) {
     let unwrapped = unwrap_islands(mesh, PALETTE).unwrap();
-    let pidt = paint(mesh, &unwrapped);
+    let pidt = paint_pidt(mesh, &unwrapped);
     let vertices = vehicle_vertices(mesh, &unwrapped);
     let rig = Rig {
         pedestrian: [0.0, 0.0, 0.0],
@@ -115,7 +110,7 @@ fn every_pixel_of_a_degenerate_mesh_names_a_labelled_texel() {
 #[test]
 fn a_degenerate_vehicle_archive_verifies_with_no_stray_pixel() {
     // The demo intersection and its scenario A, with the degenerate vehicle.
-    let mut scene = ufcsr_capture::scene::Scene::demo();
+    let mut scene = ufcsr_capture::Scene::demo();
     scene.vehicle = degenerate_vehicle();
     scene.rig.set_pixels_per_degree(4.0).unwrap();
     let scenario = scene.scenario("A").unwrap().clone();
@@ -145,7 +140,7 @@ fn every_pixel_of_the_milk_truck_names_a_labelled_texel() {
         eprintln!("skipped: ../shared/ref/vehicles/cesium-milk-truck.glb is absent");
         return;
     }
-    let scene = ufcsr_capture::scene::Scene::load(&dir.join("milk-truck.json")).unwrap();
+    let scene = ufcsr_capture::Scene::load(&dir.join("milk-truck.json")).unwrap();
     let gpu = Gpu::create(Backend::Auto).unwrap();
     let (vehicle, stray) = render_and_check(&gpu, &scene.vehicle);
     eprintln!("milk truck: {vehicle} vehicle pixels, {stray} stray");

@@ -5,12 +5,10 @@
 
 use glam::{DVec2, DVec3, dvec2, dvec3, dvec4, vec3};
 use ufcsr::Color;
-use ufcsr_capture::gpu::{Backend, Gpu};
-use ufcsr_capture::mesh::{Mesh, Occluders};
-use ufcsr_capture::render::{Palette, RenderSetup, Renderer, TileDraw, vehicle_vertices};
-use ufcsr_capture::rig::{Rig, box_outside, vehicle_to_world};
-use ufcsr_capture::track::Pose;
-use ufcsr_capture::unwrap::{footprint, unwrap_islands};
+use ufcsr_capture::{
+    Backend, Gpu, Mesh, Occluders, Palette, Pose, RenderSetup, Renderer, Rig, TileDraw, box_outside,
+    footprint, unwrap_islands, vehicle_to_world, vehicle_vertices,
+};
 
 const PALETTE: [u32; 2] = [256, 256];
 
@@ -67,7 +65,7 @@ fn render_eye(gpu: &Gpu, mesh: &Mesh, occluders: &Occluders, rig: &Rig, pose: &P
             .objects
             .iter()
             .enumerate()
-            .filter(|(_, o)| !box_outside(&clip_from_world, &ufcsr_capture::rig::box_corners(o.min, o.max)))
+            .filter(|(_, o)| !box_outside(&clip_from_world, &ufcsr_capture::box_corners(o.min, o.max)))
             .map(|(i, _)| i)
             .collect();
         let draw = TileDraw {
@@ -135,6 +133,43 @@ fn pixels_name_texels_of_the_triangle_they_show_and_runs_agree() {
     }
 }
 
+/// For each palette texel, the triangle whose island covers it (`u32::MAX`: none).
+fn texel_owners(unwrapped: &ufcsr_capture::Unwrapped) -> Vec<u32> {
+    let [pw, ph] = PALETTE;
+    let mut owner = vec![u32::MAX; (pw * ph) as usize];
+    for (t, tri) in unwrapped.texel_uvs.iter().enumerate() {
+        footprint(tri, PALETTE, 1, |x, y| owner[(y * pw + x) as usize] = t as u32);
+    }
+    owner
+}
+
+/// What a ray hits first: a vehicle triangle (its index and barycentrics),
+/// an occluder (`None`), or nothing.
+fn first_hit(
+    origin: DVec3,
+    dir: DVec3,
+    world_tris: &[[DVec3; 3]],
+    occluder_tris: &[[DVec3; 3]],
+) -> Option<(f64, Option<Hit>)> {
+    let mut best: Option<(f64, Option<Hit>)> = None;
+    for (t, tri) in world_tris.iter().enumerate() {
+        if let Some((d, u, v)) = ray_triangle(origin, dir, *tri)
+            && best.is_none_or(|b| d < b.0)
+        {
+            best = Some((d, Some((t, u, v))));
+        }
+    }
+    for tri in occluder_tris {
+        if let Some((d, _, _)) = ray_triangle(origin, dir, *tri)
+            && best.is_none_or(|b| d < b.0)
+        {
+            best = Some((d, None));
+        }
+    }
+    best
+}
+
+#[allow(clippy::too_many_lines)] // still to split: one pixel loop with its checks
 fn check_exactness(gpu: &Gpu) -> Vec<u8> {
     let (mesh, occluders, rig, pose) = scene();
     let image = render_eye(gpu, &mesh, &occluders, &rig, &pose);
@@ -143,10 +178,7 @@ fn check_exactness(gpu: &Gpu) -> Vec<u8> {
 
     let unwrapped = unwrap_islands(&mesh, PALETTE).unwrap();
     let [pw, ph] = PALETTE;
-    let mut owner = vec![u32::MAX; (pw * ph) as usize];
-    for (t, tri) in unwrapped.texel_uvs.iter().enumerate() {
-        footprint(tri, PALETTE, 1, |x, y| owner[(y * pw + x) as usize] = t as u32);
-    }
+    let owner = texel_owners(&unwrapped);
     let camera = rig.cameras(&pose)[0];
     let inverse = camera.view_proj.inverse();
     let to_world = vehicle_to_world(&pose);
@@ -178,22 +210,7 @@ fn check_exactness(gpu: &Gpu) -> Vec<u8> {
             let far = inverse * dvec4(ndc.x, ndc.y, 0.5, 1.0);
             let (origin, target) = (near.truncate() / near.w, far.truncate() / far.w);
             let dir = (target - origin).normalize();
-            // What a ray through the pixel centre hits first.
-            let mut best: Option<(f64, Option<Hit>)> = None;
-            for (t, tri) in world_tris.iter().enumerate() {
-                if let Some((d, u, v)) = ray_triangle(origin, dir, *tri)
-                    && best.is_none_or(|b| d < b.0)
-                {
-                    best = Some((d, Some((t, u, v))));
-                }
-            }
-            for tri in &occluder_tris {
-                if let Some((d, _, _)) = ray_triangle(origin, dir, *tri)
-                    && best.is_none_or(|b| d < b.0)
-                {
-                    best = Some((d, None));
-                }
-            }
+            let best = first_hit(origin, dir, &world_tris, &occluder_tris);
             let ambiguous = near_edge(centre, &world_tris) || near_edge(centre, &occluder_tris);
             if color != Color::DEFAULT_BACKGROUND {
                 vehicle_pixels += 1;

@@ -7,13 +7,9 @@
 
 use glam::{DVec3, dvec3, vec3};
 use ufcsr::{AnalysisResult, Dedupe};
-use ufcsr_capture::archive::{self, CaptureOptions};
-use ufcsr_capture::gpu::{Backend, Gpu};
-use ufcsr_capture::mesh::{Mesh, Occluders};
-use ufcsr_capture::rig::Rig;
-use ufcsr_capture::scenario::Scenario;
-use ufcsr_capture::scene::Scene;
-use ufcsr_capture::track::{Key, Motion, Track};
+use ufcsr_capture::{
+    Backend, CaptureOptions, Gpu, Key, Mesh, Motion, Occluders, Rig, Scenario, Scene, Track,
+};
 
 fn gpu() -> Gpu {
     Gpu::create(Backend::Auto).expect("a Vulkan or GL driver (Mesa's lavapipe or llvmpipe will do)")
@@ -49,7 +45,7 @@ fn count(gpu: &Gpu, scene: &Scene, palette: [u32; 2], dedupe: Dedupe) -> (Analys
     let dir = tempfile::tempdir().unwrap();
     let options = CaptureOptions { out: dir.path().join("a"), palette, ..CaptureOptions::default() };
     let counted =
-        archive::capture_counted(&gpu.device, &gpu.queue, scene, &scene.scenarios[0], &options, dedupe)
+        ufcsr_capture::capture_counted(&gpu.device, &gpu.queue, scene, &scene.scenarios[0], &options, dedupe)
             .unwrap();
     (counted.analysis.result, counted.analysis.texel_counts)
 }
@@ -95,13 +91,9 @@ fn a_wall_at_the_near_plane_fills_the_view_and_counts_its_visible_area() {
 }
 
 fn texels_per_m2(scene: &Scene, palette: [u32; 2]) -> f64 {
-    ufcsr_capture::unwrap::unwrap_islands_avoiding(
-        &scene.vehicle,
-        palette,
-        ufcsr_capture::unwrap::background_texel(palette),
-    )
-    .unwrap()
-    .texels_per_m2
+    ufcsr_capture::unwrap_islands_avoiding(&scene.vehicle, palette, ufcsr_capture::background_texel(palette))
+        .unwrap()
+        .texels_per_m2
 }
 
 #[test]
@@ -197,7 +189,7 @@ fn the_full_palette_of_2_to_the_24_texels_names_only_labelled_texels() {
 
 #[test]
 fn a_surface_seen_edge_on_is_not_counted_by_pixels_or_by_the_exact_measure() {
-    use ufcsr_capture::unobstructed::{Obstacles, Tracer, eye_frames, surface_samples, texel_visibility};
+    use ufcsr_capture::{Obstacles, Tracer, eye_frames, surface_samples, texel_visibility};
     let gpu = gpu();
     // A horizontal 4 m square at exactly eye height (1.75 m): both eyes lie
     // in its plane, so it is seen exactly edge-on in every frame.
@@ -223,10 +215,10 @@ fn a_surface_seen_edge_on_is_not_counted_by_pixels_or_by_the_exact_measure() {
     assert!(result.pixels.texel <= 6 * 200, "{} pixels show an edge-on plate", result.pixels.texel);
     // The exact measure: the eye is in the plane, so no point faces it.
     let palette = [256, 256];
-    let unwrapped = ufcsr_capture::unwrap::unwrap_islands_avoiding(
+    let unwrapped = ufcsr_capture::unwrap_islands_avoiding(
         &scene.vehicle,
         palette,
-        ufcsr_capture::unwrap::background_texel(palette),
+        ufcsr_capture::background_texel(palette),
     )
     .unwrap();
     let samples = surface_samples(&scene.vehicle, &unwrapped, 1.0, 1, 2);

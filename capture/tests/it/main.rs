@@ -8,6 +8,7 @@ mod exactness;
 mod extremes;
 mod fused_count;
 mod hardening;
+mod module_graph;
 mod palette;
 mod round_trip;
 mod scenes;

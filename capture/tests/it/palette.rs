@@ -6,10 +6,9 @@ use std::path::Path;
 
 use ufcsr::write_rgb_png;
 use ufcsr::{Color, Manifest, PaletteSpec};
-use ufcsr_capture::archive::{CaptureOptions, FrameSelection, capture, read_rgb_png, verify};
-use ufcsr_capture::gpu::{Backend, Gpu};
-use ufcsr_capture::palette::ExternalPalette;
-use ufcsr_capture::scene::Scene;
+use ufcsr_capture::{
+    Backend, CaptureOptions, ExternalPalette, FrameSelection, Gpu, Scene, capture, read_rgb_png, verify,
+};
 
 fn demo_capture(gpu: &Gpu, out: &Path, palette_file: Option<&Path>) {
     let mut scene = Scene::demo();

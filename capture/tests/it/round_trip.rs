@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use ufcsr::{AnalyzeOptions, Color, Dedupe, Manifest};
-use ufcsr_capture::archive::{read_rgb_png, verify};
+use ufcsr_capture::{read_rgb_png, verify};
 
 const FRONT: [&str; 3] = ["front_bumper", "grill", "hood"];
 const REAR: [&str; 2] = ["tailgate", "rear_bumper"];

@@ -4,9 +4,7 @@
 
 use std::path::PathBuf;
 
-use ufcsr_capture::archive::{CaptureOptions, FrameSelection, capture, verify};
-use ufcsr_capture::gpu::{Backend, Gpu};
-use ufcsr_capture::scene::Scene;
+use ufcsr_capture::{Backend, CaptureOptions, FrameSelection, Gpu, Scene, capture, verify};
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes").join(name)
@@ -29,10 +27,10 @@ fn own_vehicles_load_with_their_parts() {
     assert!((max.z - 3.2).abs() < 1e-6 && (min.z - 0.4).abs() < 1e-6, "{min} {max}");
 
     // The same truck as binary glTF, parts from materials.
-    let glb = ufcsr_capture::mesh::load_vehicle(
+    let glb = ufcsr_capture::load_vehicle(
         &fixture("box-truck.glb"),
-        ufcsr_capture::mesh::PartSource::Material,
-        &ufcsr_capture::mesh::Axes::default(),
+        ufcsr_capture::PartSource::Material,
+        &ufcsr_capture::Axes::default(),
     )
     .unwrap();
     assert_eq!(glb.triangles.len(), 18);
@@ -49,7 +47,7 @@ fn own_vehicles_load_with_their_parts() {
     );
     // Ground, box, parked vehicle, and an environment mesh in one 20 m chunk.
     assert_eq!(obj.occluders.objects.len(), 4);
-    let ufcsr_capture::mesh::OccluderObject { min, max, .. } = obj.occluders.objects[3];
+    let ufcsr_capture::OccluderObject { min, max, .. } = obj.occluders.objects[3];
     // The glTF truck turned by 90°: its 6 m length now runs north-south.
     assert!((max.y - min.y - 6.0).abs() < 1e-5 && (max.x - min.x - 2.2).abs() < 1e-5, "{min} {max}");
 }

@@ -6,11 +6,7 @@
 use std::path::Path;
 
 use ufcsr::{AnalyzeOptions, Dedupe, Manifest};
-use ufcsr_capture::archive::{capture, verify};
-use ufcsr_capture::degenerate_mesh::degenerate_vehicle;
-use ufcsr_capture::gpu::{Backend, Gpu};
-use ufcsr_capture::options::{CaptureOptions, Summary};
-use ufcsr_capture::scene::Scene;
+use ufcsr_capture::{Backend, CaptureOptions, Gpu, Scene, Summary, capture, degenerate_vehicle, verify};
 
 fn capture_with(gpu: &Gpu, scene: &Scene, scenario: &str, out: &Path, no_scissor: bool) -> Summary {
     let scenario = scene.scenario(scenario).unwrap().clone();

@@ -7,15 +7,10 @@
 
 use glam::{DVec3, dvec3, vec3};
 use ufcsr::Dedupe;
-use ufcsr_capture::archive::{self, CaptureOptions};
-use ufcsr_capture::gpu::{Backend, Gpu};
-use ufcsr_capture::mesh::{Mesh, Occluders};
-use ufcsr_capture::rig::Rig;
-use ufcsr_capture::scenario::Scenario;
-use ufcsr_capture::scene::Scene;
-use ufcsr_capture::study::{StudyMeasure, StudyOptions, run_study};
-use ufcsr_capture::track::{Key, Motion, Track};
-use ufcsr_capture::unobstructed::{MeasureOptions, measure_unobstructed};
+use ufcsr_capture::{
+    Backend, CaptureOptions, Gpu, Key, MeasureOptions, Mesh, Motion, Occluders, Rig, Scenario, Scene,
+    StudyMeasure, StudyOptions, Track, capture_counted, measure_unobstructed, run_study,
+};
 
 fn gpu() -> Gpu {
     Gpu::create(Backend::Auto).expect("a Vulkan or GL driver (Mesa's lavapipe or llvmpipe will do)")
@@ -90,7 +85,7 @@ fn rendered_sr(gpu: &Gpu, scene: &Scene, ppd: f64) -> Vec<f64> {
     scene.rig.set_pixels_per_degree(ppd).unwrap();
     let options =
         CaptureOptions { out: dir.path().join("a"), palette: [256, 256], ..CaptureOptions::default() };
-    let counted = archive::capture_counted(
+    let counted = capture_counted(
         &gpu.device,
         &gpu.queue,
         &scene,

@@ -9,14 +9,11 @@
 use std::process::Command;
 
 use glam::{DMat4, DVec3, Vec3, dvec3};
-use ufcsr_capture::mesh::{Mesh, Occluders};
-use ufcsr_capture::rig::{look_to, reversed_z_perspective};
-use ufcsr_capture::scene::Scene;
-use ufcsr_capture::unobstructed::{
-    EyeFrame, Obstacles, SurfaceSamples, TexelVisibility, Tracer, eye_frame, eye_frames, surface_samples,
-    texel_visibility, visible_solid_angle,
+use ufcsr_capture::{
+    EyeFrame, Mesh, Obstacles, Occluders, Scene, SurfaceSamples, TexelVisibility, Tracer, background_texel,
+    eye_frame, eye_frames, look_to, reversed_z_perspective, surface_samples, texel_visibility,
+    unwrap_islands_avoiding, visible_solid_angle,
 };
-use ufcsr_capture::unwrap::{background_texel, unwrap_islands_avoiding};
 
 const PALETTE: [u32; 2] = [256, 256];
 
@@ -323,8 +320,8 @@ fn the_cli_writes_an_unobstructed_result_with_the_measures_block() {
     assert!(!out.join("tiles").read_dir().is_ok_and(|mut d| d.next().is_some()), "no tiles are written");
 }
 
-fn gpu_with_f64() -> Option<ufcsr_capture::gpu::Gpu> {
-    let gpu = ufcsr_capture::gpu::Gpu::create(ufcsr_capture::gpu::Backend::Auto).expect("a GPU or lavapipe");
+fn gpu_with_f64() -> Option<ufcsr_capture::Gpu> {
+    let gpu = ufcsr_capture::Gpu::create(ufcsr_capture::Backend::Auto).expect("a GPU or lavapipe");
     if !gpu.device.features().contains(wgpu::Features::SHADER_F64) {
         assert!(std::env::var_os("CI").is_none(), "CI: lavapipe has SHADER_F64; this adapter does not");
         eprintln!("SKIPPED: {} has no SHADER_F64", gpu.describe());
@@ -345,15 +342,9 @@ fn the_gpu_measure_equals_the_cpu_measure_on_every_sampled_texel() {
     let (frames, _) = eye_frames(&scene, scenario, &[0, 30, 60, 90, 120, 150, 180], &obstacles);
     let parts = scene.vehicle.parts.len();
     let cpu = texel_visibility(&samples, &frames, &obstacles, parts, Tracer::Hierarchy);
-    let on_gpu = ufcsr_capture::unobstructed::texel_visibility_gpu(
-        &gpu.device,
-        &gpu.queue,
-        &samples,
-        &frames,
-        &obstacles,
-        parts,
-    )
-    .unwrap();
+    let on_gpu =
+        ufcsr_capture::texel_visibility_gpu(&gpu.device, &gpu.queue, &samples, &frames, &obstacles, parts)
+            .unwrap();
     let differing: Vec<usize> =
         (0..samples.texels.len()).filter(|&i| cpu.counts[i] != on_gpu.counts[i]).collect();
     assert!(differing.is_empty(), "{} of {} texels differ", differing.len(), samples.texels.len());

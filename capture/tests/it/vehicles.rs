@@ -5,11 +5,10 @@
 
 use std::path::{Path, PathBuf};
 
-use ufcsr_capture::archive::{CaptureOptions, FrameSelection, capture, verify};
-use ufcsr_capture::gpu::{Backend, Gpu};
-use ufcsr_capture::inspect::{InspectOptions, UvState, inspect};
-use ufcsr_capture::own_pidt::OwnLabels;
-use ufcsr_capture::scene::Scene;
+use ufcsr_capture::{
+    Backend, CaptureOptions, FrameSelection, Gpu, InspectOptions, OwnLabels, Scene, UvState, capture,
+    inspect, verify,
+};
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes").join(name)
@@ -94,7 +93,7 @@ fn absolute(path: &Path) -> String {
 fn milk_truck_keep_uvs_names_the_primitives_without_uvs_and_a_tiny_capture_verifies() {
     let Some(scene_path) = milk_truck_scene() else { return };
     let mut scene = Scene::load(&scene_path).unwrap();
-    let error = ufcsr_capture::unwrap::keep_uvs(&scene.vehicle, [1024, 1024]).unwrap_err().to_string();
+    let error = ufcsr_capture::keep_uvs(&scene.vehicle, [1024, 1024]).unwrap_err().to_string();
     assert!(error.contains("primitive 1 of mesh 1") && error.contains("\"glass\""), "{error}");
 
     let gpu = Gpu::create(Backend::Auto).unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));

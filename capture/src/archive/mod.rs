@@ -1,0 +1,33 @@
+//! The capture job, writing an archive: what to do ([`options`]), the job's
+//! stages ([`capture_job`]: prepare the unwrap, PIdT and renderer, capture the
+//! frames, write the manifest), the checks of a scene before capturing
+//! ([`scene_checks`]), one frame's tiles ([`frame_capture`]), where tiles go
+//! ([`tile_sink`]: PNGs through the [`encoder_pool`], or counted in memory by
+//! [`count_sink`]), the manifest ([`manifest_builder`]), one capture as
+//! several jobs ([`capture_shard`]) and a batch of captures ([`batch`]).
+
+pub(crate) mod batch;
+pub(crate) mod capture_job;
+pub(crate) mod capture_shard;
+pub(crate) mod count_sink;
+pub(crate) mod encoder_pool;
+pub(crate) mod frame_capture;
+pub(crate) mod manifest_builder;
+pub(crate) mod options;
+pub(crate) mod scene_checks;
+pub(crate) mod tile_sink;
+
+pub use batch::{Batch, Task, load as load_batch, plan as plan_batch};
+pub use capture_job::{
+    CapturedTiles, CountedCapture, MAX_SCENARIO_SECONDS, PreparedCapture, capture, capture_all,
+    capture_counted, capture_frames, for_each_scenario, prepare, prepare_archive, read_rgb_png, summarize,
+    verify, write_manifest,
+};
+pub use capture_shard::{Assembled, assemble};
+pub use options::{
+    CaptureOptions, CaptureProgress, Compression, FrameSelection, MAX_SELECTED_FRAMES, Summary, TileTally,
+};
+pub use scene_checks::{MAX_FRAMES, MAX_TILES};
+
+/// The archive's copy of the vehicle as unwrapped (named in the manifest).
+pub const VEHICLE_FILE: &str = "vehicle.glb";

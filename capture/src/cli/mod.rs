@@ -1,0 +1,132 @@
+//! The command line of `ufcsr-capture`: the subcommands and one `run_*` for
+//! each ([`capture`] the captures of `demo`, `scene` and `unity` with their
+//! `--count` and `--measure` variants, [`study`] the resolution study,
+//! [`tools`] inspect, views, batch, assemble and verify), and the progress
+//! bar the library reports to ([`progress`]). Only the binary draws on the
+//! terminal; the library returns what it did.
+
+mod capture;
+mod progress;
+mod study;
+mod tools;
+
+use std::path::PathBuf;
+
+use clap::{Parser, Subcommand};
+use ufcsr_capture::Backend;
+
+use capture::Common;
+use study::StudyArgs;
+
+#[derive(Parser)]
+#[command(
+    name = "ufcsr-capture",
+    version,
+    about = "Record UFCSR archives with a headless, exact wgpu renderer"
+)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// The built-in demo: pickup truck, intersection, scenarios A–D.
+    Demo {
+        #[command(flatten)]
+        common: Common,
+    },
+    /// A scene file (see capture/README.md).
+    Scene {
+        /// The scene JSON file.
+        scene: PathBuf,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Replay a Unity export (unity-intersection.json) with the demo truck.
+    Unity {
+        /// The Unity scenario export.
+        file: PathBuf,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Look at a vehicle before capturing: size and origin after `axes`,
+    /// triangle quality, UVs, parts and their areas, and pictures of it.
+    Inspect {
+        /// A scene file (.json) or a mesh (.glb, .gltf, .obj; default axes).
+        input: PathBuf,
+        /// Folder for inspect-side/top/front.png and inspect-parts.csv.
+        #[arg(long, default_value = "inspect")]
+        out: PathBuf,
+        /// Picture scale (default: the longest picture about 1200 pixels).
+        #[arg(long)]
+        pixels_per_metre: Option<f64>,
+    },
+    /// Draw a result's eight heatmap views with the GPU renderer (the analyzer draws them on
+    /// the CPU): views/*.png and views.png, from RESULTS/result.json and heatmap.glb.
+    Views {
+        /// A result folder written by ufcsr-analyze (or --count).
+        results: PathBuf,
+        /// The vehicle model with its palette UVs (default RESULTS/heatmap.glb).
+        #[arg(long)]
+        model: Option<PathBuf>,
+        /// Where views/ and views.png go (default: the result folder).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// GPU backend.
+        #[arg(long, value_enum, default_value_t = Backend::Auto)]
+        backend: Backend,
+    },
+    /// Plan a batch (batch.json: scenes × scenarios × ppd × frame steps): prints one
+    /// `ufcsr-capture ... --count` command per task, task i on line i (for job arrays, xargs -P).
+    Batch {
+        #[command(subcommand)]
+        action: BatchAction,
+    },
+    /// Capture and count one scenario at several ppd and frame steps, compare each with the
+    /// finest, and plot error against run time (writes study.csv, study.json, study.svg/.png).
+    Study(StudyArgs),
+    /// Join the parts the shards of a capture (`--shard I/N`) wrote into the archive's
+    /// manifest.json, once all have finished (checks that every shard is there, once).
+    Assemble {
+        /// The archive folder the shards wrote into (their --out).
+        archive: PathBuf,
+    },
+    /// Check an archive without the analyzer: tile pixels are background or
+    /// palette colours the PIdT labels.
+    Verify {
+        /// The archive folder.
+        archive: PathBuf,
+    },
+}
+
+#[derive(Subcommand)]
+enum BatchAction {
+    /// Print the tasks' commands, one per line.
+    Plan {
+        /// The batch file.
+        batch: PathBuf,
+        /// The ufcsr-capture the commands call (default: this one).
+        #[arg(long)]
+        program: Option<String>,
+    },
+}
+
+/// Runs one subcommand.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Demo { common } => capture::run_capture(ufcsr_capture::Scene::demo(), &common),
+        Command::Scene { scene, common } => {
+            capture::run_capture(ufcsr_capture::Scene::load(&scene)?, &common)
+        }
+        Command::Unity { file, common } => capture::run_capture(ufcsr_capture::Scene::unity(&file)?, &common),
+        Command::Inspect { input, out, pixels_per_metre } => tools::run_inspect(input, out, pixels_per_metre),
+        Command::Study(args) => study::run_study(args),
+        Command::Views { results, model, out, backend } => tools::run_views(results, model, out, backend),
+        Command::Batch { action: BatchAction::Plan { batch, program } } => {
+            tools::run_batch_plan(&batch, program)
+        }
+        Command::Assemble { archive } => tools::run_assemble(&archive),
+        Command::Verify { archive } => tools::run_verify(&archive),
+    }
+}

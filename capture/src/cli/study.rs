@@ -1,0 +1,146 @@
+//! `ufcsr-capture study`: its arguments and [`run_study`], which runs the
+//! library's resolution study and prints its table.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use clap::Args;
+use ufcsr_capture::{Backend, CaptureOptions, Gpu, Scene, parse_palette_size};
+
+use super::capture::parse_fraction;
+
+/// A resolution study (see `ufcsr_capture::run_study`).
+#[derive(Args)]
+pub struct StudyArgs {
+    /// `demo`, or a scene JSON file.
+    scene: String,
+    /// Scenario name (default: the first, A for the demo).
+    #[arg(long)]
+    scenario: Option<String>,
+    /// Pixels per degree to try; the highest is the precision reference.
+    #[arg(long, value_delimiter = ',', default_value = "60,40,30,20,15,10,6")]
+    ppd: Vec<f64>,
+    /// Every n-th frame to try; the smallest is the precision reference.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,4,6,10")]
+    frame_step: Vec<u32>,
+    /// Largest acceptable share L1 error against the exact measure (its 95 % interval's upper
+    /// end), percentage points.
+    #[arg(long, default_value_t = 1.0)]
+    tolerance: f64,
+    /// What is studied: angular-area (solid angle of the pixels ↔ ray-traced solid angle) or
+    /// count (texels seen per eye-frame ↔ any-part visibility).
+    #[arg(long, value_enum, default_value_t = ufcsr_capture::StudyMeasure::AngularArea)]
+    measure: ufcsr_capture::StudyMeasure,
+    /// What one count of the settings' results means: image (once per tile), frame (once per
+    /// eye-frame, as the exact count) or eye-pair (once per frame over both eyes).
+    #[arg(long, value_enum, default_value_t = ufcsr::Dedupe::Frame)]
+    dedupe: ufcsr::Dedupe,
+    /// Canonical palette size, W or WxH.
+    #[arg(long, default_value = "4096")]
+    palette_size: String,
+    /// Study folder: study.csv, study.json, study.svg/.png and one folder per setting.
+    #[arg(long, default_value = "study")]
+    out: PathBuf,
+    /// GPU backend.
+    #[arg(long, value_enum, default_value_t = Backend::Auto)]
+    backend: Backend,
+    /// Measure the exact reference on this share of the texels, e.g. 1/16 (default: all).
+    #[arg(long, value_name = "FRACTION", conflicts_with = "no_exact")]
+    exact_sample: Option<String>,
+    /// Skip the exact reference: compare with the finest setting only (precision).
+    #[arg(long)]
+    no_exact: bool,
+}
+
+pub fn run_study(args: StudyArgs) -> anyhow::Result<()> {
+    let scene =
+        if args.scene == "demo" { Scene::demo() } else { Scene::load(std::path::Path::new(&args.scene))? };
+    let scenario = match &args.scenario {
+        Some(name) => scene.scenario(name)?.name.clone(),
+        None => scene.scenarios.first().map(|s| s.name.clone()).context("the scene has no scenario")?,
+    };
+    let options = ufcsr_capture::StudyOptions {
+        scenario,
+        ppds: args.ppd,
+        frame_steps: args.frame_step,
+        tolerance_pp: args.tolerance,
+        dedupe: args.dedupe,
+        measure: args.measure,
+        capture: CaptureOptions {
+            out: args.out.clone(),
+            palette: parse_palette_size(&args.palette_size)?,
+            ..CaptureOptions::default()
+        },
+        exact_sample: match (args.no_exact, args.exact_sample.as_deref()) {
+            (true, _) => None,
+            (false, None) => Some(1.0),
+            (false, Some(text)) => Some(parse_fraction(text)?),
+        },
+    };
+    let gpu = Gpu::create(args.backend).context("creating the GPU device")?;
+    eprintln!("adapter: {}", gpu.describe());
+    let study = ufcsr_capture::run_study(&gpu.device, &gpu.queue, &scene, &options)?;
+    print_study(&study);
+    for file in ufcsr_capture::write_study(&study, &args.out)? {
+        println!("wrote {}", file.display());
+    }
+    Ok(())
+}
+
+fn print_study(study: &ufcsr_capture::Study) {
+    println!(
+        "scenario {}, measure {}: error = share L1 (pp) against the exact measure on the same eye-frames, \
+         95 % interval; precision = against the finest setting ({})",
+        study.scenario, study.measure, study.reference
+    );
+    if let Some(exact) = &study.exact {
+        println!(
+            "exact reference: {} of {} texels (sample {}), {} eye-frames, {:.1} s",
+            exact.sampled_texels, exact.labelled_texels, exact.sample, exact.eye_frames, exact.seconds
+        );
+    }
+    println!(
+        "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12} {:>6}",
+        "ppd",
+        "step",
+        "frames",
+        "seconds",
+        "error pp",
+        "95 % pp",
+        "tau",
+        "top5",
+        "step pp",
+        "precision pp",
+        "pareto"
+    );
+    for row in &study.rows {
+        let exact = row.error_vs_exact.as_ref();
+        println!(
+            "{:>6} {:>5} {:>6} {:>9.2} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12.3} {:>6}",
+            row.ppd,
+            row.frame_step,
+            row.frames,
+            row.seconds,
+            exact.map_or("-".into(), |e| format!("{:.3}", e.error.share_l1_pp)),
+            exact.map_or("-".into(), |e| format!("{:.3}–{:.3}", e.ci95_pp[0], e.ci95_pp[1])),
+            exact.map_or("-".into(), |e| format!("{:.3}", e.error.kendall_tau_b)),
+            exact.map_or("-".into(), |e| e.error.top5_overlap.to_string()),
+            exact.map_or("-".into(), |e| format!("{:.3}", e.frame_step_pp)),
+            row.precision.share_l1_pp,
+            if row.pareto { "*" } else { "" },
+        );
+    }
+    match (&study.recommended, &study.reason) {
+        (Some(pick), _) => println!(
+            "recommended (cheapest within {} pp of the {}): {} ({:.2} s, share L1 {:.3} pp{})",
+            study.tolerance_pp,
+            if pick.against == "exact" { "exact measure at 95 %" } else { "finest setting" },
+            pick.setting,
+            pick.seconds,
+            pick.share_l1_pp,
+            pick.ci95_pp.map_or(String::new(), |[lo, hi]| format!(", 95 % {lo:.3}–{hi:.3}"))
+        ),
+        (None, Some(reason)) => println!("{reason}"),
+        (None, None) => println!("no recommendation"),
+    }
+}

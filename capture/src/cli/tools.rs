@@ -1,0 +1,74 @@
+//! The subcommands around a capture: `inspect` a vehicle before capturing,
+//! draw a result's heatmap `views` on the GPU, `batch plan` the commands of a
+//! batch, `assemble` the shards of a capture and `verify` an archive.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use ufcsr_capture::{Backend, Gpu, InspectOptions, ViewsOptions};
+
+/// `inspect`: the vehicle's report on stdout, its pictures in `out`.
+pub fn run_inspect(input: PathBuf, out: PathBuf, pixels_per_metre: Option<f64>) -> anyhow::Result<()> {
+    let inspection = ufcsr_capture::inspect(&InspectOptions { input, out, pixels_per_metre })?;
+    print!("{inspection}");
+    Ok(())
+}
+
+/// `views`: a result's eight heatmap views, drawn by the GPU renderer.
+pub fn run_views(
+    results: PathBuf,
+    model: Option<PathBuf>,
+    out: Option<PathBuf>,
+    backend: Backend,
+) -> anyhow::Result<()> {
+    let gpu = Gpu::create(backend)?;
+    let options = ViewsOptions { results, model, out };
+    let written = ufcsr_capture::views_from_results(&gpu.device, &gpu.queue, &options)?;
+    println!("views ({}): {}", gpu.describe(), written.contact_sheet.display());
+    for view in &written.views {
+        println!("  {}", view.display());
+    }
+    Ok(())
+}
+
+/// `batch plan`: one command per task of the batch file, task i on line i.
+pub fn run_batch_plan(batch: &Path, program: Option<String>) -> anyhow::Result<()> {
+    let plan = ufcsr_capture::load_batch(batch)?;
+    let program = match program {
+        Some(program) => program,
+        None => std::env::current_exe()?.display().to_string(),
+    };
+    let base = batch.parent().unwrap_or(Path::new("."));
+    let mut stdout = std::io::stdout().lock();
+    for task in ufcsr_capture::plan_batch(&plan, base, &program)? {
+        // The plan is made to be piped (`| head`, `| sed -n 5p`): a
+        // reader that stops early is not an error.
+        match writeln!(stdout, "{}", task.shell_line()) {
+            Err(error) if error.kind() == std::io::ErrorKind::BrokenPipe => return Ok(()),
+            other => other?,
+        }
+    }
+    Ok(())
+}
+
+/// `assemble`: the shards' partial manifests joined into manifest.json.
+pub fn run_assemble(archive: &Path) -> anyhow::Result<()> {
+    let assembled = ufcsr_capture::assemble(archive)?;
+    println!(
+        "{}: {} shards, {} frames, {} tiles → {}",
+        archive.display(),
+        assembled.shards,
+        assembled.frames,
+        assembled.tiles,
+        assembled.manifest_path.display()
+    );
+    Ok(())
+}
+
+/// `verify`: every tile pixel is background or a labelled palette texel.
+pub fn run_verify(archive: &Path) -> anyhow::Result<()> {
+    let (vehicle, stray) = ufcsr_capture::verify(archive)?;
+    println!("{}: {vehicle} vehicle pixels, {stray} stray pixels", archive.display());
+    anyhow::ensure!(stray == 0, "{stray} pixels are neither background nor labelled palette texels");
+    Ok(())
+}

@@ -1,0 +1,321 @@
+//! The renderer: one tile at a time, unlit, exact by construction.
+//!
+//! Every fragment's colour is the palette colour of the texel its UV falls in
+//! (see `shader.wgsl`). The target is `Rgba8Unorm` (never sRGB, which would
+//! re-encode the colours), one sample per pixel, no blending, no mipmaps,
+//! cleared to the background colour. Depth is `Depth32Float` with reversed Z
+//! (cleared to 0, `Greater` wins), so a 0.3 m near plane and a 1000 m far
+//! plane keep sub-millimetre depth resolution at street distances.
+//! Readback rows are padded to 256 bytes as wgpu requires and unpadded
+//! ([`crate::render::target`]); the pipeline and palette are built once
+//! ([`crate::render::pipeline`]). Getting a device is [`crate::render::gpu`]'s job:
+//! the renderer only ever takes a device and queue it is given.
+
+use glam::{DMat4, DVec3};
+use ufcsr::Color;
+
+use crate::error::{CaptureError, Result};
+use crate::render::occlusion::OcclusionTest;
+use crate::render::pipeline::{PalettePipeline, UNIFORM_STRIDE, Uniforms, draw_mode};
+use crate::render::target::{PixelRect, TileTarget};
+use crate::render::vertex::{Palette, Vertex};
+use crate::scene::mesh::Occluders;
+
+/// Everything the renderer needs once.
+pub struct RenderSetup<'a> {
+    pub tile_size: [u32; 2],
+    pub palette: &'a Palette,
+    pub background: Color,
+    /// Vehicle triangles (three vertices each), in the vehicle frame.
+    pub vehicle: &'a [Vertex],
+    /// Occluders in world coordinates.
+    pub occluders: &'a Occluders,
+    /// Where the occluders are uploaded relative to (in f32): the
+    /// pedestrian's head, so that precision is kept where the eyes are,
+    /// however far the scene is from the world's origin.
+    pub origin: DVec3,
+}
+
+/// What to draw in one tile.
+pub struct TileDraw<'a> {
+    /// Vehicle frame → tile clip space.
+    pub clip_from_vehicle: DMat4,
+    /// World → tile clip space (the renderer moves it to its origin).
+    pub clip_from_world: DMat4,
+    /// Indices into `Occluders::objects` that may be visible in the tile.
+    pub occluders: &'a [usize],
+}
+
+/// A GPU renderer of tiles: built once for a device and a setup, then
+/// [`Renderer::render_tile`] per tile with the same device and queue.
+pub struct Renderer {
+    pipeline: PalettePipeline,
+    geometry: Geometry,
+    occlusion: OcclusionTest,
+    target: TileTarget,
+    palette: [u32; 2],
+    background: Color,
+    /// The occluders' origin (see [`RenderSetup::origin`]).
+    origin: DVec3,
+}
+
+/// The uploaded vertices: the vehicle's, and the occluders' with each
+/// object's vertex range.
+struct Geometry {
+    vehicle: Option<(wgpu::Buffer, u32)>,
+    occluders: Option<wgpu::Buffer>,
+    /// `(first vertex, vertex count)` per occluder object.
+    objects: Vec<(u32, u32)>,
+}
+
+impl Geometry {
+    fn upload(device: &wgpu::Device, queue: &wgpu::Queue, setup: &RenderSetup) -> Geometry {
+        let vehicle = vertex_buffer(device, queue, "vehicle", bytemuck::cast_slice(setup.vehicle))
+            .map(|b| (b, setup.vehicle.len() as u32));
+        // Occluders carry a UV and chart but the background mode never reads them.
+        let occluder_vertices: Vec<Vertex> = setup
+            .occluders
+            .positions
+            .iter()
+            .map(|p| Vertex {
+                position: (*p - setup.origin).as_vec3().to_array(),
+                uv: [0.0, 0.0],
+                chart: [[0.0; 2]; 3],
+            })
+            .collect();
+        let occluders = vertex_buffer(device, queue, "occluders", bytemuck::cast_slice(&occluder_vertices));
+        let objects = setup.occluders.objects.iter().map(|o| (o.first_vertex, o.vertex_count)).collect();
+        Geometry { vehicle, occluders, objects }
+    }
+}
+
+fn to_f32(m: &DMat4) -> [[f32; 4]; 4] {
+    m.as_mat4().to_cols_array_2d()
+}
+
+fn vertex_buffer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    label: &str,
+    bytes: &[u8],
+) -> Option<wgpu::Buffer> {
+    if bytes.is_empty() {
+        return None;
+    }
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: bytes.len() as u64,
+        usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    queue.write_buffer(&buffer, 0, bytes);
+    Some(buffer)
+}
+
+/// The tile and palette must fit the device's textures.
+fn check_sizes(device: &wgpu::Device, setup: &RenderSetup) -> Result<()> {
+    let [tw, th] = setup.tile_size;
+    let limit = device.limits().max_texture_dimension_2d;
+    let [pw, ph] = setup.palette.size();
+    if tw == 0 || th == 0 || tw > limit || th > limit || pw > limit || ph > limit {
+        return Err(CaptureError::Gpu(format!(
+            "tile {tw}×{th} or palette {pw}×{ph} exceeds the device's texture limit {limit}"
+        )));
+    }
+    Ok(())
+}
+
+impl Renderer {
+    /// Builds the pipeline, uploads the palette and the geometry, and
+    /// creates the tile's targets.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, setup: &RenderSetup) -> Result<Renderer> {
+        check_sizes(device, setup)?;
+        Ok(Renderer {
+            pipeline: PalettePipeline::new(device, queue, setup.palette)?,
+            geometry: Geometry::upload(device, queue, setup),
+            occlusion: OcclusionTest::new(device, queue, setup.vehicle),
+            target: TileTarget::new(device, setup.tile_size),
+            palette: setup.palette.size(),
+            background: setup.background,
+            origin: setup.origin,
+        })
+    }
+
+    /// Tile size in pixels.
+    pub fn tile_size(&self) -> [u32; 2] {
+        self.target.size()
+    }
+
+    /// Renders one tile and returns its pixels, RGBA8, rows top to bottom.
+    pub fn render_tile(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        draw: &TileDraw,
+    ) -> Result<Vec<u8>> {
+        self.render_region(device, queue, draw, PixelRect::whole(self.tile_size()))
+    }
+
+    /// Renders only `region` of a tile (a scissor rectangle; see
+    /// [`crate::render::scissor`]) and returns that region's pixels, RGBA8, tightly
+    /// packed rows top to bottom.
+    pub fn render_region(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        draw: &TileDraw,
+        region: PixelRect,
+    ) -> Result<Vec<u8>> {
+        self.check_region(region)?;
+        self.write_uniforms(queue, draw);
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tile") });
+        {
+            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Clear(()), false);
+            self.draw_occluders(&mut pass, draw);
+            self.draw_vehicle(&mut pass);
+        }
+        self.target.copy_to_readback(&mut encoder, region);
+        queue.submit([encoder.finish()]);
+        self.target.read_back(device, region)
+    }
+
+    /// [`Renderer::render_region`], unless the occluders hide the vehicle's
+    /// bounding box in `region`: then `None`, and the vehicle is neither drawn
+    /// nor read back (see `render_occlusion.rs`). The caller must know
+    /// the box to be wholly in front of the near plane. The pixels are the
+    /// same as `render_region`'s: the occluders are drawn first either way.
+    pub fn render_region_unless_hidden(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        draw: &TileDraw,
+        region: PixelRect,
+    ) -> Result<Option<Vec<u8>>> {
+        let Some(box_vertices) = &self.occlusion.box_vertices else {
+            return self.render_region(device, queue, draw, region).map(Some);
+        };
+        self.check_region(region)?;
+        self.write_uniforms(queue, draw);
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("occluders") });
+        {
+            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Clear(()), true);
+            self.draw_occluders(&mut pass, draw);
+            pass.set_pipeline(&self.pipeline.bounds_test);
+            pass.set_bind_group(0, &self.pipeline.vehicle_group, &[]);
+            pass.set_vertex_buffer(0, box_vertices.slice(..));
+            pass.begin_occlusion_query(0);
+            pass.draw(0..36, 0..1);
+            pass.end_occlusion_query();
+        }
+        self.occlusion.resolve(&mut encoder);
+        queue.submit([encoder.finish()]);
+        if self.occlusion.samples(device)? == 0 {
+            return Ok(None);
+        }
+        // Visible: draw the vehicle over the occluders already there.
+        let mut encoder =
+            device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("vehicle") });
+        {
+            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Load, false);
+            self.draw_vehicle(&mut pass);
+        }
+        self.target.copy_to_readback(&mut encoder, region);
+        queue.submit([encoder.finish()]);
+        self.target.read_back(device, region).map(Some)
+    }
+
+    fn check_region(&self, region: PixelRect) -> Result<()> {
+        let [tw, th] = self.tile_size();
+        if region.width == 0
+            || region.height == 0
+            || region.x + region.width > tw
+            || region.y + region.height > th
+        {
+            return Err(CaptureError::Gpu(format!("region {region:?} is not inside the {tw}×{th} tile")));
+        }
+        Ok(())
+    }
+
+    /// The vehicle's and the world's transforms for this tile.
+    fn write_uniforms(&self, queue: &wgpu::Queue, draw: &TileDraw) {
+        let vehicle = Uniforms {
+            clip_from_model: to_f32(&draw.clip_from_vehicle),
+            palette: self.palette,
+            mode: self.pipeline.mode,
+            background: self.background.packed(),
+        };
+        // The occluders were uploaded relative to the origin: move it back in f64.
+        let world = Uniforms {
+            clip_from_model: to_f32(&(draw.clip_from_world * DMat4::from_translation(self.origin))),
+            mode: draw_mode::BACKGROUND,
+            ..vehicle
+        };
+        queue.write_buffer(&self.pipeline.uniforms, 0, bytemuck::bytes_of(&vehicle));
+        queue.write_buffer(&self.pipeline.uniforms, UNIFORM_STRIDE, bytemuck::bytes_of(&world));
+    }
+
+    /// Begins the tile's render pass, scissored to `region`: colour and
+    /// depth cleared (to the background and to "infinitely far") or loaded
+    /// from the previous pass, with the occlusion query set when `query`.
+    fn begin_pass<'e>(
+        &'e self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        region: PixelRect,
+        load: wgpu::LoadOp<()>,
+        query: bool,
+    ) -> wgpu::RenderPass<'e> {
+        let [r, g, b] = self.background.rgb().map(|c| f64::from(c) / 255.0);
+        let (color_load, depth_load) = match load {
+            wgpu::LoadOp::Clear(()) => {
+                (wgpu::LoadOp::Clear(wgpu::Color { r, g, b, a: 1.0 }), wgpu::LoadOp::Clear(0.0))
+            }
+            _ => (wgpu::LoadOp::Load, wgpu::LoadOp::Load),
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("tile"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &self.target.color_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: color_load, store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.target.depth_view,
+                depth_ops: Some(wgpu::Operations { load: depth_load, store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: query.then_some(&self.occlusion.query_set),
+            multiview_mask: None,
+        });
+        pass.set_scissor_rect(region.x, region.y, region.width, region.height);
+        pass
+    }
+
+    /// The occluders visible in the tile, in the background colour.
+    fn draw_occluders(&self, pass: &mut wgpu::RenderPass, draw: &TileDraw) {
+        let geometry = &self.geometry;
+        if let Some(buffer) = &geometry.occluders {
+            pass.set_pipeline(&self.pipeline.pipeline);
+            pass.set_bind_group(0, &self.pipeline.world_group, &[]);
+            pass.set_vertex_buffer(0, buffer.slice(..));
+            for &object in draw.occluders {
+                if let Some(&(first, count)) = geometry.objects.get(object) {
+                    pass.draw(first..first + count, 0..1);
+                }
+            }
+        }
+    }
+
+    /// The vehicle, in its palette.
+    fn draw_vehicle(&self, pass: &mut wgpu::RenderPass) {
+        if let Some((buffer, count)) = &self.geometry.vehicle {
+            pass.set_pipeline(&self.pipeline.pipeline);
+            pass.set_bind_group(0, &self.pipeline.vehicle_group, &[]);
+            pass.set_vertex_buffer(0, buffer.slice(..));
+            pass.draw(0..*count, 0..1);
+        }
+    }
+}

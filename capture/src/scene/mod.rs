@@ -1,0 +1,31 @@
+//! What is captured: the scene file ([`scene_file`]: vehicle, occluders, rig,
+//! scenarios), the meshes and their loaders ([`mesh`], with [`model_files`]
+//! reading OBJ/MTL safely), the vehicle's spec and checks ([`vehicle`]) and
+//! parts by region ([`regions`]), the pedestrian's eyes and tiles ([`rig`]),
+//! the vehicle's motion ([`track`] keyframes, [`scenario`] a timed motion,
+//! [`unity`] Unity exports), and the built-in scenes ([`demo`] the truck and
+//! intersection, [`degenerate_mesh`] a vehicle of bad triangles). Nothing
+//! here renders or writes an archive.
+
+pub(crate) mod degenerate_mesh;
+pub(crate) mod demo;
+pub(crate) mod mesh;
+pub(crate) mod model_files;
+pub(crate) mod regions;
+pub(crate) mod rig;
+pub(crate) mod scenario;
+pub(crate) mod scene_file;
+pub(crate) mod track;
+pub(crate) mod unity;
+pub(crate) mod vehicle;
+
+pub use degenerate_mesh::degenerate_vehicle;
+pub use mesh::{Axes, Mesh, OccluderObject, Occluders, PartSource, load_vehicle, triangle_area};
+pub use regions::{PartRule, RegionReport};
+pub use rig::{
+    Eye, EyeCamera, Rig, TileId, box_corners, box_outside, look_to, reversed_z_perspective, vehicle_to_world,
+};
+pub use scenario::Scenario;
+pub use scene_file::{Scene, SceneFile};
+pub use track::{Key, Motion, Pose, Track};
+pub use vehicle::VehicleSpec;

@@ -1,0 +1,195 @@
+//! Import of the Unity scenarios and rig (`unity-intersection.json`).
+//!
+//! Unity's world is left-handed with +Y up; ours is right-handed with +Z up
+//! (+X east, +Y north). Swapping Unity's Y and Z is a reflection, so it turns
+//! the left-handed frame into a right-handed one: `(x, y, z)_unity → (x, z, y)`.
+//! Unity's yaw θ (Euler Y, degrees) turns +Z towards +X, i.e. clockwise seen
+//! from above. The F-150 of the Unity project points along its local −X (the
+//! keyed motion shows it: at θ = 180° the truck drives towards +X), so the
+//! heading in our frame is `ψ = 180° − θ` and its slope is `−dθ/dt`. The
+//! small pitch and roll keys of the clips (at most a few degrees, the truck
+//! settling on its suspension) are not replayed: the rig and archive only use
+//! position and yaw.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use serde::Deserialize;
+
+use crate::error::{CaptureError, Result};
+use crate::scene::rig::Rig;
+use crate::scene::scenario::Scenario;
+use crate::scene::track::{Key, Motion, Track};
+
+#[derive(Deserialize)]
+struct File {
+    pedestrian: Pedestrian,
+    capture: Capture,
+    scenarios: BTreeMap<String, UnityScenario>,
+}
+
+#[derive(Deserialize)]
+struct Pedestrian {
+    eyes_position: [f64; 3],
+    eye_offsets_x: [f64; 2],
+    vertical_fov_degrees: f64,
+    near: f64,
+    far: f64,
+    ground_y: f64,
+}
+
+#[derive(Deserialize)]
+struct Capture {
+    fps: f64,
+    tiles: [u32; 2],
+    eye_resolution: [u32; 2],
+}
+
+#[derive(Deserialize)]
+struct UnityScenario {
+    duration_s: f64,
+    vehicle: Vec<UnityTrack>,
+}
+
+#[derive(Deserialize)]
+struct UnityTrack {
+    property: String,
+    keys: Vec<Key<3>>,
+}
+
+/// Unity position → our world.
+pub fn position_from_unity(p: [f64; 3]) -> [f64; 3] {
+    [p[0], p[2], p[1]]
+}
+
+/// Unity yaw (Euler Y, degrees) of the F-150 → our heading (degrees CCW from +X).
+pub fn yaw_from_unity(theta_deg: f64) -> f64 {
+    180.0 - theta_deg
+}
+
+/// Reads the Unity export: the rig (in our frame) and the scenarios.
+pub fn load(path: &Path) -> Result<(Rig, Vec<Scenario>)> {
+    let bytes = ufcsr::read_limited(path, ufcsr::SMALL_INPUT_LIMIT)?;
+    let file: File = serde_json::from_slice(&bytes)
+        .map_err(|e| CaptureError::bad_input(path, format!("not a Unity scenario export: {e}")))?;
+    let ped = &file.pedestrian;
+    let eye = position_from_unity(ped.eyes_position);
+    let [w, h] = file.capture.eye_resolution;
+    let half_v = (ped.vertical_fov_degrees.to_radians() / 2.0).tan();
+    let rig = Rig {
+        pedestrian: [eye[0], eye[1], ped.ground_y],
+        eye_height_m: ped.eyes_position[1] - ped.ground_y,
+        ipd_m: (ped.eye_offsets_x[1] - ped.eye_offsets_x[0]).abs(),
+        horizontal_fov_deg: 2.0 * (half_v * f64::from(w) / f64::from(h)).atan().to_degrees(),
+        eye_pixels: [w, h],
+        tiles: file.capture.tiles,
+        fps: file.capture.fps,
+        near_m: ped.near,
+        far_m: ped.far,
+        look_at_vehicle: [0.0, 0.0, 0.0],
+    };
+    rig.check()?;
+    let mut scenarios = Vec::new();
+    for (name, scenario) in file.scenarios {
+        let track = |property: &str| {
+            scenario.vehicle.iter().find(|t| t.property == property).ok_or_else(|| {
+                CaptureError::bad_input(path, format!("scenario {name} has no {property:?} track"))
+            })
+        };
+        let position = Track::new(
+            track("position")?
+                .keys
+                .iter()
+                .map(|k| Key {
+                    t: k.t,
+                    value: position_from_unity(k.value),
+                    in_slope: k.in_slope.map(position_from_unity),
+                    out_slope: k.out_slope.map(position_from_unity),
+                })
+                .collect(),
+        )?;
+        let yaw_deg = Track::new(
+            track("euler_degrees")?
+                .keys
+                .iter()
+                .map(|k| Key {
+                    t: k.t,
+                    value: [yaw_from_unity(k.value[1])],
+                    in_slope: k.in_slope.map(|s| [-s[1]]),
+                    out_slope: k.out_slope.map(|s| [-s[1]]),
+                })
+                .collect(),
+        )?;
+        scenarios.push(Scenario {
+            name,
+            duration_s: scenario.duration_s,
+            motion: Motion { position, yaw_deg },
+        });
+    }
+    Ok((rig, scenarios))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    /// `../shared/ref`'s Unity scenarios beside the checkout; `None` (skip)
+    /// when absent, a failure when `CI` is set.
+    fn reference() -> Option<PathBuf> {
+        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../../shared/ref/scenarios/unity-intersection.json");
+        if path.is_file() {
+            return Some(path);
+        }
+        assert!(std::env::var_os("CI").is_none(), "CI: {} is missing", path.display());
+        None
+    }
+
+    #[test]
+    fn conversion_is_a_handedness_flip_with_z_up() {
+        // Unity +Y (up) becomes +Z, Unity +Z (forward/north) becomes +Y.
+        assert_eq!(position_from_unity([1.0, 2.0, 3.0]), [1.0, 3.0, 2.0]);
+        // θ = 180° drives towards +X (east): heading 0°. θ = 90° → north.
+        assert_eq!(yaw_from_unity(180.0), 0.0);
+        assert_eq!(yaw_from_unity(90.0), 90.0);
+    }
+
+    #[test]
+    fn unity_scenarios_put_the_vehicle_where_unity_would() {
+        let Some(path) = reference() else {
+            eprintln!("SKIP: shared/ref/scenarios/unity-intersection.json not found");
+            return;
+        };
+        let (rig, scenarios) = load(&path).unwrap();
+        assert_eq!(scenarios.len(), 4);
+        assert_eq!(rig.eye_pixels, [6420, 8100]);
+        assert!((rig.horizontal_fov_deg - 107.0).abs() < 1e-3, "{}", rig.horizontal_fov_deg);
+        assert!((rig.ipd_m - 0.1103594).abs() < 1e-9);
+        assert!((rig.eye_height_m - (272.699 - 271.54)).abs() < 1e-9);
+        let a = &scenarios[0];
+        assert_eq!(a.name, "A");
+        // End of A in Unity: (-65.5, 271.59, 21.16) → x east -65.5, y north 21.16, z up 271.59.
+        let end = a.motion.pose(3.0);
+        assert_eq!(end.position.to_array(), [-65.5, 21.16, 271.59]);
+        for scenario in &scenarios {
+            // During the straight approach the truck must point where it drives:
+            // this checks the yaw convention and the model's −X forward axis.
+            let (t0, t1) = (2.0, 2.2);
+            let p0 = scenario.motion.pose(t0).position;
+            let p1 = scenario.motion.pose(t1).position;
+            let motion = (p1 - p0).truncate();
+            if motion.length() < 0.5 {
+                continue;
+            }
+            let yaw = scenario.motion.pose(t0).yaw_deg.to_radians();
+            let heading = glam::dvec2(yaw.cos(), yaw.sin());
+            let cos = heading.dot(motion.normalize());
+            assert!(cos > 0.95, "scenario {}: heading {heading:?} vs motion {motion:?}", scenario.name);
+            // And it ends within a few metres of the pedestrian, who is in front of it.
+            let end = scenario.motion.pose(scenario.duration_s);
+            let to_ped = glam::dvec2(rig.pedestrian[0] - end.position.x, rig.pedestrian[1] - end.position.y);
+            assert!(to_ped.length() < 40.0, "scenario {} ends {} m away", scenario.name, to_ped.length());
+        }
+    }
+}

@@ -1,0 +1,742 @@
+//! The resolution study: which resolution and frame rate give numbers close
+//! to the truth, and at what cost.
+//!
+//! [`run_study`] captures and counts one scenario at every combination of
+//! `ppd` and frame step with the fused path (no PNGs), times each, and
+//! compares each with the exact counterpart of the studied measure
+//! ([`StudyMeasure`]: the count ↔ any-part visibility, the angular area ↔
+//! the ray-traced solid angle), computed once by the ray tracer on every
+//! frame any setting uses: each setting on its own eye-frames, with a 95 %
+//! interval ([`crate::unobstructed::accuracy`]). The Pareto front of error
+//! against run time and the recommendation (the cheapest setting whose
+//! interval lies within the tolerance) use that error; when no setting is
+//! within it the study says so and names the closest. The comparison with
+//! the finest setting stays, as *precision* (self-consistency, not
+//! accuracy), and is what the front uses only with `--no-exact`.
+
+pub mod plot;
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+use ufcsr::Dedupe;
+
+use crate::archive::{CaptureOptions, CaptureProgress, FrameSelection, capture_counted};
+use crate::error::{CaptureError, Result};
+use crate::scene::Scene;
+use crate::unobstructed::accuracy::{
+    PerEyeFrame, Resampling, ShareError, share_error, share_l1_interval, totals,
+};
+use crate::unobstructed::{MeasureOptions, UnobstructedCapture, measure_unobstructed};
+
+/// What a study compares.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "kebab-case")]
+pub enum StudyMeasure {
+    /// The paper's count, once per eye-frame (texels seen per eye-frame) ↔
+    /// any-part visibility.
+    Count,
+    /// Visible angular area (solid angle of the pixels) ↔ the ray-traced
+    /// solid angle.
+    AngularArea,
+}
+
+impl StudyMeasure {
+    pub fn name(self) -> &'static str {
+        match self {
+            StudyMeasure::Count => "count",
+            StudyMeasure::AngularArea => "angular-area",
+        }
+    }
+}
+
+/// Bootstrap replicates for the 95 % intervals.
+pub const BOOTSTRAP_REPLICATES: u32 = 1000;
+
+/// What to study.
+#[derive(Debug, Clone)]
+pub struct StudyOptions {
+    pub scenario: String,
+    /// Pixels per degree to try (the highest is the precision reference).
+    pub ppds: Vec<f64>,
+    /// Every n-th frame (the smallest is the precision reference).
+    pub frame_steps: Vec<u32>,
+    /// Largest acceptable share L1 error, percentage points.
+    pub tolerance_pp: f64,
+    pub dedupe: Dedupe,
+    pub measure: StudyMeasure,
+    /// Capture settings; `out` is the study folder (one sub-folder per setting).
+    pub capture: CaptureOptions,
+    /// The exact counterpart on this share of the texels (1 = all, the
+    /// default), in `out/exact`; `None` skips it (`--no-exact`).
+    pub exact_sample: Option<f64>,
+}
+
+/// One setting against the exact counterpart of the studied measure.
+#[derive(Debug, Clone, Serialize)]
+pub struct ErrorVsExact {
+    /// `count` or `angular-area`.
+    pub measure: String,
+    #[serde(flatten)]
+    pub error: ShareError,
+    /// 95 % interval of `share_l1_pp`, `[low, high]` (the point when nothing is resampled).
+    pub ci95_pp: [f64; 2],
+    /// Bootstrap replicates behind `ci95_pp` (0: nothing varies).
+    pub replicates: u32,
+    /// Share L1 of the exact measure on this setting's frames against it on
+    /// every frame measured: what the frame step alone costs.
+    pub frame_step_pp: f64,
+}
+
+/// One setting of a study.
+#[derive(Debug, Clone, Serialize)]
+pub struct StudyRow {
+    pub ppd: f64,
+    pub frame_step: u32,
+    pub frames: u32,
+    /// Wall seconds to capture and count (setup included).
+    pub seconds: f64,
+    pub grand_total: u64,
+    pub texels_seen: u64,
+    /// Against the finest setting (highest ppd, smallest step), same measure:
+    /// precision, not accuracy.
+    pub precision: ShareError,
+    /// Against the exact counterpart, when the study computed it.
+    pub error_vs_exact: Option<ErrorVsExact>,
+    /// No other setting is both faster and closer (by the error the study
+    /// recommends by).
+    pub pareto: bool,
+    /// The setting's results folder.
+    pub results: PathBuf,
+}
+
+impl StudyRow {
+    pub fn label(&self) -> String {
+        format!("{} px/° every {}", self.ppd, self.frame_step)
+    }
+
+    /// The error the study ranks by: against the exact measure when computed.
+    pub fn ranking_error(&self) -> f64 {
+        self.error_vs_exact.as_ref().map_or(self.precision.share_l1_pp, |e| e.error.share_l1_pp)
+    }
+}
+
+/// The setting recommended, or the closest when none is within tolerance.
+#[derive(Debug, Clone, Serialize)]
+pub struct Pick {
+    pub setting: String,
+    pub ppd: f64,
+    pub frame_step: u32,
+    pub seconds: f64,
+    /// `exact` (against the exact measure) or `precision` (against the finest setting).
+    pub against: String,
+    pub share_l1_pp: f64,
+    pub ci95_pp: Option<[f64; 2]>,
+}
+
+/// What the exact reference cost and covered.
+#[derive(Debug, Clone, Serialize)]
+pub struct ExactReference {
+    pub sample: f64,
+    pub sampled_texels: u64,
+    pub labelled_texels: u64,
+    pub eye_frames: u64,
+    pub seconds: f64,
+    pub results: PathBuf,
+}
+
+/// A finished study.
+#[derive(Debug, Clone, Serialize)]
+pub struct Study {
+    pub scenario: String,
+    pub measure: String,
+    /// The precision reference (finest setting).
+    pub reference: String,
+    pub exact: Option<ExactReference>,
+    pub tolerance_pp: f64,
+    pub rows: Vec<StudyRow>,
+    /// The cheapest setting whose error (its 95 % interval's upper end,
+    /// against the exact measure when computed) is within the tolerance.
+    pub recommended: Option<Pick>,
+    /// Why nothing is recommended.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+    /// The closest setting, when none is within the tolerance.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub closest: Option<Pick>,
+}
+
+/// One captured setting, before comparison.
+struct Run {
+    ppd: f64,
+    step: u32,
+    frames: Vec<u32>,
+    seconds: f64,
+    grand_total: u64,
+    texels_seen: u64,
+    values: PerEyeFrame,
+    results: PathBuf,
+}
+
+fn check(options: &StudyOptions) -> Result<()> {
+    if options.ppds.is_empty() || options.frame_steps.is_empty() {
+        return Err(CaptureError::BadOptions("a study needs at least one --ppd and one --frame-step".into()));
+    }
+    if options.frame_steps.contains(&0) || options.ppds.iter().any(|p| !p.is_finite() || *p <= 0.0) {
+        return Err(CaptureError::BadOptions(
+            "--ppd values must be positive and --frame-step at least 1".into(),
+        ));
+    }
+    if let Some(sample) = options.exact_sample
+        && !(sample > 0.0 && sample <= 1.0)
+    {
+        return Err(CaptureError::BadOptions(format!("--exact-sample must be in (0, 1], not {sample}")));
+    }
+    if !(options.tolerance_pp.is_finite() && options.tolerance_pp >= 0.0) {
+        return Err(CaptureError::BadOptions("--tolerance must be a share error ≥ 0 pp".into()));
+    }
+    Ok(())
+}
+
+fn frames_every(step: u32, frame_count: u32) -> Vec<u32> {
+    (0..frame_count).step_by(step as usize).collect()
+}
+
+fn gcd(a: u32, b: u32) -> u32 {
+    if b == 0 { a } else { gcd(b, a % b) }
+}
+
+/// Captures every setting and compares it with the exact measure and the finest setting.
+pub fn run_study(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    options: &StudyOptions,
+) -> Result<Study> {
+    check(options)?;
+    let scenario = scene.scenario(&options.scenario)?;
+    let mut ppds = options.ppds.clone();
+    ppds.sort_by(|a, b| b.total_cmp(a));
+    ppds.dedup();
+    let mut steps = options.frame_steps.clone();
+    steps.sort_unstable();
+    steps.dedup();
+    let mut runs = Vec::new();
+    for &ppd in &ppds {
+        for &step in &steps {
+            runs.push(capture_setting(device, queue, scene, options, ppd, step)?);
+        }
+    }
+    let exact = match options.exact_sample {
+        None => None,
+        Some(sample) => {
+            let step = steps.iter().copied().fold(0, gcd);
+            Some(measure_exact(device, queue, scene, options, sample, step)?)
+        }
+    };
+    let parts = runs[0].values.parts.clone();
+    if parts.is_empty() {
+        return Err(CaptureError::BadOptions("the study needs a PIdT and legend to compare parts".into()));
+    }
+    let mut rows = compare_runs(runs, &parts, exact.as_ref(), options.measure)?;
+    mark_pareto_front(&mut rows);
+    let mut study = Study {
+        scenario: scenario.name.clone(),
+        measure: options.measure.name().into(),
+        reference: rows[0].label(),
+        exact: exact.map(|e| ExactReference {
+            sample: options.exact_sample.unwrap_or(1.0),
+            sampled_texels: e.sampled_texels,
+            labelled_texels: e.labelled_texels,
+            eye_frames: e.eye_frames,
+            seconds: e.seconds,
+            results: e.written.result_json.clone(),
+        }),
+        tolerance_pp: options.tolerance_pp,
+        rows,
+        recommended: None,
+        reason: None,
+        closest: None,
+    };
+    recommend(&mut study);
+    Ok(study)
+}
+
+/// Every run against the exact measure (when there is one) and the finest run.
+fn compare_runs(
+    runs: Vec<Run>,
+    parts: &[String],
+    exact: Option<&UnobstructedCapture>,
+    measure: StudyMeasure,
+) -> Result<Vec<StudyRow>> {
+    let exact_values = exact.map(|e| exact_per_eye_frame(e, measure, parts)).transpose()?;
+    let reference = totals(&runs[0].values.select(&runs[0].frames).unwrap_or_default(), parts.len());
+    let mut rows = Vec::with_capacity(runs.len());
+    for run in runs {
+        let candidate = totals(&run.values.select(&run.frames).unwrap_or_default(), parts.len());
+        let error_vs_exact = match (exact, &exact_values) {
+            (Some(exact), Some(values)) => Some(compare_with_exact(&run, exact, values, measure)?),
+            _ => None,
+        };
+        rows.push(StudyRow {
+            ppd: run.ppd,
+            frame_step: run.step,
+            frames: run.frames.len() as u32,
+            seconds: run.seconds,
+            grand_total: run.grand_total,
+            texels_seen: run.texels_seen,
+            precision: share_error(parts, &reference, &candidate),
+            error_vs_exact,
+            pareto: false,
+            results: run.results,
+        });
+    }
+    Ok(rows)
+}
+
+/// Captures and counts one setting with the fused path.
+fn capture_setting(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    options: &StudyOptions,
+    ppd: f64,
+    step: u32,
+) -> Result<Run> {
+    let scenario = scene.scenario(&options.scenario)?;
+    let mut scene = scene.clone();
+    scene.rig.set_pixels_per_degree(ppd)?;
+    let frame_count = scene.rig.frame_count(scenario.duration_s);
+    let out = options.capture.out.join(format!("ppd{ppd}-step{step}"));
+    let frames: FrameSelection = format!("0-{}/{step}", frame_count.saturating_sub(1)).parse()?;
+    let capture = CaptureOptions { out: out.clone(), frames, progress: CaptureProgress::default(), ..options.capture.clone() };
+    let counted = capture_counted(device, queue, &scene, scenario, &capture, options.dedupe)?;
+    eprintln!(
+        "study: {ppd} px/°, every {step} frame(s): {} frames in {:.2} s",
+        counted.summary.frames, counted.summary.seconds
+    );
+    let table = counted.analysis.frames.as_ref().ok_or_else(|| {
+        CaptureError::BadOptions(format!("{}: the fused count kept no per-eye-frame tallies", out.display()))
+    })?;
+    Ok(Run {
+        ppd,
+        step,
+        frames: frames_every(step, frame_count),
+        seconds: counted.summary.seconds,
+        grand_total: counted.analysis.result.grand_total,
+        texels_seen: counted.analysis.result.texels_seen,
+        values: rendered_per_eye_frame(table, options.measure, &out)?,
+        results: counted.written.result_json,
+    })
+}
+
+/// The rendered measure per eye-frame and legend part (the `(unlabelled)`
+/// slot left out): texels seen (count) or the pixels' solid angle, sr.
+fn rendered_per_eye_frame(
+    table: &ufcsr::FrameTable,
+    measure: StudyMeasure,
+    out: &Path,
+) -> Result<PerEyeFrame> {
+    let keep: Vec<usize> = (0..table.parts.len()).filter(|&p| !table.parts[p].starts_with('(')).collect();
+    let mut rows = Vec::with_capacity(table.records.len());
+    for record in &table.records {
+        let ufcsr::FrameLabel::EyeFrame(eye_frame) = &record.label else {
+            return Err(CaptureError::bad_input(
+                out,
+                "the study's capture has eye-frames without a manifest",
+            ));
+        };
+        let values = match measure {
+            StudyMeasure::Count => keep.iter().map(|&p| record.texels[p] as f64).collect(),
+            StudyMeasure::AngularArea => {
+                let solid = record.solid_angle_sr.as_ref().ok_or_else(|| {
+                    CaptureError::bad_input(out, "no solid angles per pixel (the manifest has no projection)")
+                })?;
+                keep.iter().map(|&p| solid[p]).collect()
+            }
+        };
+        rows.push((eye_frame.frame, eye_frame.eye.clone(), values));
+    }
+    Ok(PerEyeFrame { parts: keep.iter().map(|&p| table.parts[p].clone()).collect(), rows })
+}
+
+/// The exact measure on every `step`-th frame (all frames any setting uses).
+fn measure_exact(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    options: &StudyOptions,
+    sample: f64,
+    step: u32,
+) -> Result<UnobstructedCapture> {
+    let scenario = scene.scenario(&options.scenario)?;
+    let frame_count = scene.rig.frame_count(scenario.duration_s);
+    let capture = CaptureOptions {
+        out: options.capture.out.join("exact"),
+        frames: format!("0-{}/{step}", frame_count.saturating_sub(1)).parse()?,
+        progress: CaptureProgress::default(),
+        ..options.capture.clone()
+    };
+    let measure = MeasureOptions { sample, ..MeasureOptions::default() };
+    let measured = measure_unobstructed(device, queue, scene, scenario, &capture, &measure)?;
+    eprintln!(
+        "study: exact reference of {} of {} texels over {} eye-frames in {:.2} s ({:.2} s of ray casts)",
+        measured.sampled_texels,
+        measured.labelled_texels,
+        measured.eye_frames,
+        measured.seconds,
+        measured.visibility_seconds
+    );
+    Ok(measured)
+}
+
+/// The exact measure per eye-frame, by the rendered table's parts (by
+/// name), each part scaled by its texels / sampled texels.
+fn exact_per_eye_frame(
+    exact: &UnobstructedCapture,
+    measure: StudyMeasure,
+    parts: &[String],
+) -> Result<PerEyeFrame> {
+    let sums = exact.per_eye_frame.as_ref().ok_or_else(|| {
+        CaptureError::BadOptions(
+            "the exact reference kept no per-eye-frame sums (measure it on the CPU)".into(),
+        )
+    })?;
+    let eye_frames = exact.eye_frames as usize;
+    let index: Vec<usize> = parts
+        .iter()
+        .map(|name| {
+            exact.estimates.iter().position(|e| &e.part == name).ok_or_else(|| {
+                CaptureError::BadOptions(format!("part {name:?} is not in the exact reference"))
+            })
+        })
+        .collect::<Result<_>>()?;
+    let scale: Vec<f64> = index
+        .iter()
+        .map(|&p| {
+            let e = &exact.estimates[p];
+            if e.sampled == 0 { 0.0 } else { e.texels as f64 / e.sampled as f64 }
+        })
+        .collect();
+    let rows = (0..eye_frames)
+        .map(|i| {
+            let values = index
+                .iter()
+                .zip(&scale)
+                .map(|(&p, &s)| match measure {
+                    StudyMeasure::Count => f64::from(sums.texels[p * eye_frames + i]) * s,
+                    StudyMeasure::AngularArea => sums.solid_angle_sr[p * eye_frames + i] * s,
+                })
+                .collect();
+            let eye = if i % 2 == 0 { "left" } else { "right" };
+            (exact.frames[i / 2], eye.to_string(), values)
+        })
+        .collect();
+    Ok(PerEyeFrame { parts: parts.to_vec(), rows })
+}
+
+/// One setting against the exact measure on its own eye-frames.
+fn compare_with_exact(
+    run: &Run,
+    exact: &UnobstructedCapture,
+    values: &PerEyeFrame,
+    measure: StudyMeasure,
+) -> Result<ErrorVsExact> {
+    let parts = values.parts.len();
+    let mut reference = Vec::new();
+    let mut candidate = Vec::new();
+    for &frame in &run.frames {
+        for eye in ["left", "right"] {
+            let missing = |what: &str| {
+                CaptureError::BadOptions(format!("frame {frame} ({eye} eye) is missing from the {what}"))
+            };
+            reference.push(values.row(frame, eye).ok_or_else(|| missing("exact reference"))?);
+            candidate.push(run.values.row(frame, eye).ok_or_else(|| missing("setting's frames.csv"))?);
+        }
+    }
+    let (exact_totals, rendered_totals) = (totals(&reference, parts), totals(&candidate, parts));
+    let all = totals(&values.rows.iter().map(|(_, _, v)| v.as_slice()).collect::<Vec<_>>(), parts);
+    let relative_error: Vec<f64> = values
+        .parts
+        .iter()
+        .map(|name| {
+            let e = exact.estimates.iter().find(|e| &e.part == name);
+            e.map_or(0.0, |e| match measure {
+                StudyMeasure::Count => ratio(e.standard_error, e.estimated_total),
+                StudyMeasure::AngularArea => {
+                    ratio(e.solid_angle_standard_error_sr, e.estimated_solid_angle_sr)
+                }
+            })
+        })
+        .collect();
+    let resampling = Resampling {
+        eye_frames: run.step > 1,
+        relative_error: &relative_error,
+        replicates: BOOTSTRAP_REPLICATES,
+        seed: 1,
+    };
+    let (ci95_pp, replicates) = share_l1_interval(&reference, &candidate, &resampling);
+    Ok(ErrorVsExact {
+        measure: measure.name().into(),
+        error: share_error(&values.parts, &exact_totals, &rendered_totals),
+        ci95_pp,
+        replicates,
+        frame_step_pp: crate::unobstructed::accuracy::share_l1_pp(&all, &exact_totals),
+    })
+}
+
+fn ratio(error: f64, total: f64) -> f64 {
+    if total > 0.0 { error / total } else { 0.0 }
+}
+
+/// A row is on the front when no other row is at least as fast and at least
+/// as close, and strictly better in one of the two.
+fn mark_pareto_front(rows: &mut [StudyRow]) {
+    let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.seconds, r.ranking_error())).collect();
+    for (i, row) in rows.iter_mut().enumerate() {
+        let (time, error) = points[i];
+        row.pareto = !points
+            .iter()
+            .enumerate()
+            .any(|(j, &(t, e))| j != i && t <= time && e <= error && (t < time || e < error));
+    }
+}
+
+fn pick(row: &StudyRow) -> Pick {
+    let exact = row.error_vs_exact.as_ref();
+    Pick {
+        setting: row.label(),
+        ppd: row.ppd,
+        frame_step: row.frame_step,
+        seconds: row.seconds,
+        against: if exact.is_some() { "exact" } else { "precision" }.into(),
+        share_l1_pp: row.ranking_error(),
+        ci95_pp: exact.map(|e| e.ci95_pp),
+    }
+}
+
+/// The cheapest setting within the tolerance (by the upper end of its 95 %
+/// interval against the exact measure, or its precision without one).
+fn recommend(study: &mut Study) {
+    let tolerance = study.tolerance_pp;
+    let upper =
+        |row: &StudyRow| row.error_vs_exact.as_ref().map_or(row.precision.share_l1_pp, |e| e.ci95_pp[1]);
+    study.recommended = study
+        .rows
+        .iter()
+        .filter(|row| upper(row) <= tolerance)
+        .min_by(|a, b| a.seconds.total_cmp(&b.seconds))
+        .map(pick);
+    if study.recommended.is_some() {
+        return;
+    }
+    let closest = study.rows.iter().min_by(|a, b| a.ranking_error().total_cmp(&b.ranking_error())).map(pick);
+    let against =
+        if study.exact.is_some() { "of the exact measure at 95 %" } else { "of the finest setting" };
+    study.reason = Some(match &closest {
+        Some(c) => format!(
+            "no setting is within {tolerance} pp {against}: the closest is {} at {:.3} pp{}",
+            c.setting,
+            c.share_l1_pp,
+            c.ci95_pp.map_or(String::new(), |[lo, hi]| format!(" (95 % {lo:.3}–{hi:.3} pp)"))
+        ),
+        None => "no settings".into(),
+    });
+    study.closest = closest;
+}
+
+/// Writes `study.csv`, `study.json`, `study.svg` and, when a TrueType font
+/// is found for its labels, `study.png` into `dir`. Returns the files written.
+pub fn write_study(study: &Study, dir: &Path) -> Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).map_err(|e| CaptureError::io(dir, e))?;
+    let csv_path = dir.join("study.csv");
+    write_csv(study, &csv_path)?;
+    let json_path = dir.join("study.json");
+    let json =
+        serde_json::to_vec_pretty(study).map_err(|e| CaptureError::bad_input(&json_path, e.to_string()))?;
+    ufcsr::write_bytes_atomically(&json_path, &json)?;
+    let svg_path = dir.join("study.svg");
+    crate::study::plot::plot_svg(study, &svg_path)?;
+    let mut written = vec![csv_path, json_path, svg_path];
+    let png_path = dir.join("study.png");
+    if crate::study::plot::plot_png(study, &png_path)? {
+        written.push(png_path);
+    }
+    Ok(written)
+}
+
+const CSV_HEADER: [&str; 19] = [
+    "measure",
+    "ppd",
+    "frame_step",
+    "frames",
+    "seconds",
+    "share_l1_vs_exact_pp",
+    "ci95_low_pp",
+    "ci95_high_pp",
+    "share_max_vs_exact_pp",
+    "kendall_tau_b_vs_exact",
+    "top5_overlap_vs_exact",
+    "frame_step_pp",
+    "precision_share_l1_pp",
+    "precision_share_max_pp",
+    "precision_kendall_tau_b",
+    "precision_top5_overlap",
+    "grand_total",
+    "texels_seen",
+    "pareto",
+];
+
+fn write_csv(study: &Study, path: &Path) -> Result<()> {
+    let mut table = csv::Writer::from_path(path).map_err(|e| csv_error(path, e))?;
+    table.write_record(CSV_HEADER).map_err(|e| csv_error(path, e))?;
+    for row in &study.rows {
+        let exact = row.error_vs_exact.as_ref();
+        let field = |f: &dyn Fn(&ErrorVsExact) -> String| exact.map_or(String::new(), f);
+        let p = &row.precision;
+        table
+            .write_record([
+                study.measure.clone(),
+                row.ppd.to_string(),
+                row.frame_step.to_string(),
+                row.frames.to_string(),
+                format!("{:.3}", row.seconds),
+                field(&|e| format!("{:.4}", e.error.share_l1_pp)),
+                field(&|e| format!("{:.4}", e.ci95_pp[0])),
+                field(&|e| format!("{:.4}", e.ci95_pp[1])),
+                field(&|e| format!("{:.4}", e.error.share_max_pp)),
+                field(&|e| format!("{:.4}", e.error.kendall_tau_b)),
+                field(&|e| e.error.top5_overlap.to_string()),
+                field(&|e| format!("{:.4}", e.frame_step_pp)),
+                format!("{:.4}", p.share_l1_pp),
+                format!("{:.4}", p.share_max_pp),
+                format!("{:.4}", p.kendall_tau_b),
+                p.top5_overlap.to_string(),
+                row.grand_total.to_string(),
+                row.texels_seen.to_string(),
+                row.pareto.to_string(),
+            ])
+            .map_err(|e| csv_error(path, e))?;
+    }
+    table.flush().map_err(|e| CaptureError::io(path, e))
+}
+
+fn csv_error(path: &Path, error: csv::Error) -> CaptureError {
+    CaptureError::bad_input(path, format!("writing CSV: {error}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn row(ppd: f64, seconds: f64, precision: f64, exact: Option<(f64, [f64; 2])>) -> StudyRow {
+        let error = |l1: f64| ShareError {
+            share_l1_pp: l1,
+            share_max_pp: l1 / 2.0,
+            share_max_part: "hood".into(),
+            kendall_tau_b: 1.0,
+            top5_overlap: 5,
+        };
+        StudyRow {
+            ppd,
+            frame_step: 1,
+            frames: 10,
+            seconds,
+            grand_total: 0,
+            texels_seen: 0,
+            precision: error(precision),
+            error_vs_exact: exact.map(|(l1, ci95_pp)| ErrorVsExact {
+                measure: "angular-area".into(),
+                error: error(l1),
+                ci95_pp,
+                replicates: 0,
+                frame_step_pp: 0.0,
+            }),
+            pareto: false,
+            results: PathBuf::new(),
+        }
+    }
+
+    fn study(rows: Vec<StudyRow>, exact: bool) -> Study {
+        let exact = exact.then(|| ExactReference {
+            sample: 1.0,
+            sampled_texels: 1,
+            labelled_texels: 1,
+            eye_frames: 2,
+            seconds: 1.0,
+            results: PathBuf::new(),
+        });
+        let reference = rows[0].label();
+        let mut study = Study {
+            scenario: "A".into(),
+            measure: "angular-area".into(),
+            reference,
+            exact,
+            tolerance_pp: 1.0,
+            rows,
+            recommended: None,
+            reason: None,
+            closest: None,
+        };
+        mark_pareto_front(&mut study.rows);
+        recommend(&mut study);
+        study
+    }
+
+    #[test]
+    fn the_study_recommends_by_the_exact_error_not_by_self_consistency() {
+        // The finest setting agrees with itself (precision 0) but is 5 pp
+        // from the truth; a coarser one is within 1 pp at 95 %.
+        let s = study(
+            vec![
+                row(60.0, 10.0, 0.0, Some((5.0, [4.5, 5.5]))),
+                row(30.0, 4.0, 3.0, Some((0.6, [0.4, 0.9]))),
+                row(10.0, 1.0, 6.0, Some((0.8, [0.5, 1.4]))),
+            ],
+            true,
+        );
+        let recommended = s.recommended.as_ref().unwrap();
+        // 10 px/° is cheaper, but its interval reaches past 1 pp.
+        assert_eq!((recommended.ppd, recommended.against.as_str()), (30.0, "exact"));
+        assert_eq!(recommended.ci95_pp, Some([0.4, 0.9]));
+        // Front by the exact error: 60 px/° is dominated.
+        assert_eq!(s.rows.iter().map(|r| r.pareto).collect::<Vec<_>>(), [false, true, true]);
+    }
+
+    #[test]
+    fn with_no_setting_within_tolerance_the_study_says_so_and_names_the_closest() {
+        let s = study(
+            vec![
+                row(60.0, 10.0, 0.0, Some((12.5, [11.0, 14.0]))),
+                row(30.0, 4.0, 3.0, Some((15.0, [13.0, 17.0]))),
+            ],
+            true,
+        );
+        assert!(s.recommended.is_none());
+        let reason = s.reason.as_deref().unwrap();
+        assert!(reason.contains("no setting is within 1 pp of the exact measure"), "{reason}");
+        assert!(reason.contains("60 px/° every 1 at 12.500 pp (95 % 11.000–14.000 pp)"), "{reason}");
+        assert_eq!(s.closest.as_ref().unwrap().ppd, 60.0);
+        let json = serde_json::to_value(&s).unwrap();
+        assert!(json["recommended"].is_null());
+        assert_eq!(json["rows"][0]["error_vs_exact"]["share_l1_pp"], 12.5);
+        assert_eq!(json["rows"][0]["error_vs_exact"]["ci95_pp"][1], 14.0);
+        assert_eq!(json["rows"][0]["error_vs_exact"]["measure"], "angular-area");
+        assert_eq!(json["tolerance_pp"], 1.0);
+    }
+
+    #[test]
+    fn without_the_exact_measure_the_study_falls_back_to_precision() {
+        let s = study(vec![row(60.0, 10.0, 0.0, None), row(30.0, 4.0, 0.7, None)], false);
+        let recommended = s.recommended.unwrap();
+        assert_eq!((recommended.ppd, recommended.against.as_str()), (30.0, "precision"));
+    }
+
+    #[test]
+    fn the_exact_reference_covers_every_frame_of_every_step() {
+        assert_eq!([2, 4, 6].into_iter().fold(0, gcd), 2);
+        assert_eq!([1, 3].into_iter().fold(0, gcd), 1);
+        assert_eq!(frames_every(3, 10), [0, 3, 6, 9]);
+    }
+}
