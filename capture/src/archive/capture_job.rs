@@ -364,7 +364,13 @@ pub fn capture_counted(
     };
     let setup_seconds = start.elapsed().as_secs_f64();
     let mut counter = ufcsr::TileCounter::new(&palette, &[prepared.background], dedupe)?;
-    crate::archive::count_sink::tally_parts(&mut counter, &options.out, &palette, prepared.background, &scene.rig)?;
+    crate::archive::count_sink::tally_parts(
+        &mut counter,
+        &options.out,
+        &palette,
+        prepared.background,
+        &scene.rig,
+    )?;
     let (captured, counted) = count_while(counter, |sink| {
         capture_frames(device, queue, scene, scenario, options, &prepared, sink)
     })?;

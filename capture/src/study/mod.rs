@@ -310,7 +310,12 @@ fn capture_setting(
     let frame_count = scene.rig.frame_count(scenario.duration_s);
     let out = options.capture.out.join(format!("ppd{ppd}-step{step}"));
     let frames: FrameSelection = format!("0-{}/{step}", frame_count.saturating_sub(1)).parse()?;
-    let capture = CaptureOptions { out: out.clone(), frames, progress: CaptureProgress::default(), ..options.capture.clone() };
+    let capture = CaptureOptions {
+        out: out.clone(),
+        frames,
+        progress: CaptureProgress::default(),
+        ..options.capture.clone()
+    };
     let counted = capture_counted(device, queue, &scene, scenario, &capture, options.dedupe)?;
     eprintln!(
         "study: {ppd} px/°, every {step} frame(s): {} frames in {:.2} s",

@@ -43,6 +43,6 @@ pub use points::{is_sampled, surface_samples};
 pub use rules::{Tracer, visible_solid_angle};
 pub use types::{
     DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE, EyeFrame, MEASURE_UNOBSTRUCTED,
-    MeasureDevice, MeasureOptions, SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample,
-    SurfaceSamples, TexelVisibility,
+    MeasureDevice, MeasureOptions, SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample, SurfaceSamples,
+    TexelVisibility,
 };

@@ -85,15 +85,9 @@ fn rendered_sr(gpu: &Gpu, scene: &Scene, ppd: f64) -> Vec<f64> {
     scene.rig.set_pixels_per_degree(ppd).unwrap();
     let options =
         CaptureOptions { out: dir.path().join("a"), palette: [256, 256], ..CaptureOptions::default() };
-    let counted = capture_counted(
-        &gpu.device,
-        &gpu.queue,
-        &scene,
-        &scene.scenarios[0],
-        &options,
-        Dedupe::Frame,
-    )
-    .unwrap();
+    let counted =
+        capture_counted(&gpu.device, &gpu.queue, &scene, &scene.scenarios[0], &options, Dedupe::Frame)
+            .unwrap();
     let measures = counted.analysis.result.measures.expect("--count keeps the measures");
     let frames = counted.summary.frames as f64;
     PLATES.iter().map(|(name, ..)| measures.part(name).unwrap().solid_angle_sr.unwrap() / frames).collect()
