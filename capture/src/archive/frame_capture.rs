@@ -14,6 +14,7 @@ use glam::{DMat4, DVec3};
 use serde_json::{Map, Value, json};
 use ufcsr::{Color, TileEntry};
 
+use crate::archive::manifest_builder::round6;
 use crate::archive::options::TileTally;
 use crate::archive::tile_sink::{RenderedTile, TileAddress, TileSink};
 use crate::error::Result;
@@ -248,9 +249,4 @@ fn tile_entry(address: &TileAddress, time_s: f64, distance_m: f64) -> TileEntry 
         empty: true,
         extra,
     }
-}
-
-/// Six decimals keep the manifest readable and stable across platforms.
-pub fn round6(value: f64) -> f64 {
-    (value * 1e6).round() / 1e6
 }

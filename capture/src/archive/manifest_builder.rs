@@ -12,7 +12,6 @@ use std::path::PathBuf;
 use serde_json::{Map, Value, json};
 use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
 
-use crate::archive::frame_capture::round6;
 use crate::archive::options::{CaptureOptions, TileTally};
 use crate::scene::Scene;
 use crate::scene::rig::{Eye, Rig, reversed_z_perspective};
@@ -170,4 +169,9 @@ pub fn build_manifest(parts: ManifestParts) -> Manifest {
         tiles: parts.tiles,
         extra,
     }
+}
+
+/// Six decimals keep the manifest readable and stable across platforms.
+pub fn round6(value: f64) -> f64 {
+    (value * 1e6).round() / 1e6
 }

@@ -12,7 +12,7 @@ use serde_json::json;
 
 use super::bvh::TriangleBvh;
 use super::types::{EyeFrame, SURFACE_LIFT_RELATIVE, transform_point};
-use crate::archive::frame_capture::round6;
+use crate::archive::manifest_builder::round6;
 use crate::scene::Scene;
 use crate::scene::rig::vehicle_to_world;
 use crate::scene::scenario::Scenario;
