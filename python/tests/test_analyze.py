@@ -72,7 +72,7 @@ def test_texel_counts_are_the_decoded_delta_encoding(example_result):
 
 def test_frames_is_frames_csv_as_a_dataframe(example_result):
     frames = example_result.frames
-    assert list(frames.columns) == ["frame", "time_s", "eye", "distance_m", "part", "pixels", "texels"]
+    assert list(frames.columns) == ["frame", "time_s", "eye", "distance_m", "part", "pixels", "texels", "solid_angle_sr"]
     pixels_by_part = frames.groupby("part")["pixels"].sum()
     parts = example_result.parts.set_index("name")
     assert (pixels_by_part[parts.index] == parts["pixels"]).all()

@@ -11,12 +11,30 @@
 use std::fs::{self, File};
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Mutex, PoisonError};
 
 use crate::error::{Error, Result};
 
 /// Temporary files and folders that exist right now.
 static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Set by [`remove_temporaries`]: from then on no temporary file is created,
+/// so a worker thread cannot make one after the handler has swept them.
+static CLOSED: AtomicBool = AtomicBool::new(false);
+
+/// Creates the temporary file `path` and registers it in one step, under the
+/// registry's lock: either the sweep of [`remove_temporaries`] sees the file,
+/// or the file is never made (the write fails as interrupted).
+fn create_registered(path: &Path) -> std::io::Result<File> {
+    let mut registered = TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner);
+    if CLOSED.load(Ordering::SeqCst) {
+        return Err(std::io::Error::new(std::io::ErrorKind::Interrupted, "the run is being interrupted"));
+    }
+    let file = create_new(path)?;
+    registered.push(path.to_path_buf());
+    Ok(file)
+}
 
 fn register(path: &Path) {
     TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner).push(path.to_path_buf());
@@ -36,9 +54,11 @@ static COMMITTING: Mutex<()> = Mutex::new(());
 /// Removes every temporary file and staging folder this process has open
 /// (for a SIGINT/SIGTERM handler, which then exits): an interrupted run
 /// leaves the previous outputs and nothing else. A commit in progress is
-/// finished first (a few renames), never cut in half. Returns how many were
+/// finished first (a few renames), never cut in half; after it no new temporary file is created (a write
+/// then fails as interrupted). Returns how many were
 /// removed.
 pub fn remove_temporaries() -> usize {
+    CLOSED.store(true, Ordering::SeqCst);
     remove_registered(&TEMPORARIES)
 }
 
@@ -313,9 +333,8 @@ where
     F: FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
 {
     let temporary = temporary_path(path);
-    register(&temporary);
     let outcome = (|| {
-        let file = create_new(&temporary)?;
+        let file = create_registered(&temporary)?;
         let mut writer = BufWriter::with_capacity(1 << 20, file);
         fill(&mut writer)?;
         writer.flush()?;
