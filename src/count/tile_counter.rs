@@ -150,13 +150,14 @@ impl<'a> TileCounter<'a> {
         }
         let scan = row_scan(PixelLayout::Rgba, &self.classifier);
         let mut by_class = [0u64; 3];
-        let parts = self.parts.as_mut().inspect(|parts| {
+        if let Some(parts) = self.parts.as_mut() {
             if parts.current.as_ref().is_none_or(|(f, e)| *f != frame || e != eye) {
                 parts.finish_eye_frame();
                 parts.current = Some((frame, eye.to_string()));
             }
             parts.pixels.view = parts.projection.map(|projection| TileView { projection, origin });
-        });
+        }
+        let parts = self.parts.as_mut();
         match parts {
             Some(parts) => {
                 for (y, row) in rgba.chunks_exact(row_bytes.max(1)).enumerate() {
