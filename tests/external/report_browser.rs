@@ -83,9 +83,12 @@ pub fn the_report_of_the_bundled_example_renders_in_chromium() -> Outcome {
     let colours = distinct_colours(&screenshot);
     assert!(colours > 50, "the screenshot is blank ({colours} colours)");
 
-    // The probe bites: without the heatmap image it reports it.
+    // The probe bites: without the heatmap image it reports it. (Only the
+    // image flags: a missing file's error event may fire before the probe's
+    // listener exists, so the error count is 0 or 1.)
     std::fs::remove_file(out.join("heatmap.png")).unwrap();
-    assert_eq!(probe(binary, &report), "images=01111;errors=1");
+    let probed = probe(binary, &report);
+    assert!(probed.starts_with("images=01111;"), "{probed}");
     Ok(Completion::Completed)
 }
 

@@ -8,8 +8,7 @@ use std::path::{Path, PathBuf};
 
 use ufcsr::{EyeRule, Method, Objective, PlacementOptions, Thresholds, brute_force_best, placement};
 
-#[path = "../../docs/schemas/validator.rs"]
-mod validator;
+use crate::schemas::validator;
 
 const HEADER: &str = "frame,time_s,eye,distance_m,candidate,kind,solid_angle_sr,visible_fraction,\
                       view_angle_deg,angular_height_deg,frame_s";

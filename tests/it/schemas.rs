@@ -20,7 +20,7 @@ fn example() -> PathBuf {
 }
 
 #[path = "../../docs/schemas/validator.rs"]
-mod validator;
+pub(crate) mod validator;
 
 use validator::{Schema, read_json};
 
