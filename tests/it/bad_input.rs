@@ -7,12 +7,7 @@ use common::*;
 use ufcsr::{AnalyzeOptions, PaletteChoice, TrimMode, analyze};
 
 fn options(archive: &std::path::Path) -> AnalyzeOptions {
-    AnalyzeOptions {
-        archive: archive.to_path_buf(),
-        palette: Some(PaletteChoice::Canonical { width: 4, height: 4 }),
-        trim: TrimMode::Off,
-        ..Default::default()
-    }
+    small_palette_options(archive)
 }
 
 #[test]

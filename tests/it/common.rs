@@ -81,24 +81,39 @@ pub fn png_from_filtered_rows(
     let mut zlib = flate2::write::ZlibEncoder::new(Vec::new(), level);
     zlib.write_all(raw).unwrap();
     let compressed = zlib.finish().unwrap();
-    let mut png = vec![0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
-    let mut chunk = |kind: &[u8; 4], body: &[u8]| {
-        png.extend((body.len() as u32).to_be_bytes());
-        let mut crc = crc32fast::Hasher::new();
-        crc.update(kind);
-        crc.update(body);
-        png.extend(kind);
-        png.extend(body);
-        png.extend(crc.finalize().to_be_bytes());
-    };
     let mut header = Vec::new();
     header.extend(width.to_be_bytes());
     header.extend(height.to_be_bytes());
     header.extend([8, 2, 0, 0, interlace]); // 8-bit RGB, deflate, adaptive filtering
-    chunk(b"IHDR", &header);
-    chunk(b"IDAT", &compressed);
-    chunk(b"IEND", &[]);
+    let png = png_from_chunks(&[(b"IHDR", &header), (b"IDAT", &compressed), (b"IEND", &[])]);
     std::fs::write(path, png).unwrap();
+}
+
+/// A PNG file's bytes: the signature, then each `(type, body)` chunk with its
+/// length and CRC (for tests that build damaged or unusual PNGs by hand).
+pub fn png_from_chunks(chunks: &[(&[u8; 4], &[u8])]) -> Vec<u8> {
+    let mut png = vec![0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
+    for (kind, body) in chunks {
+        png.extend((body.len() as u32).to_be_bytes());
+        let mut crc = crc32fast::Hasher::new();
+        crc.update(*kind);
+        crc.update(body);
+        png.extend(*kind);
+        png.extend(*body);
+        png.extend(crc.finalize().to_be_bytes());
+    }
+    png
+}
+
+/// Analysis options for the hand-made 4×4-palette archives of the
+/// bad-input tests: canonical palette, no trimming.
+pub fn small_palette_options(archive: &Path) -> ufcsr::AnalyzeOptions {
+    ufcsr::AnalyzeOptions {
+        archive: archive.to_path_buf(),
+        palette: Some(ufcsr::PaletteChoice::Canonical { width: 4, height: 4 }),
+        trim: ufcsr::TrimMode::Off,
+        ..Default::default()
+    }
 }
 
 /// The hand-computable archive used by the known-answer tests.

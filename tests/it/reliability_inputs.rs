@@ -11,34 +11,20 @@ use std::io::Write;
 use std::path::Path;
 
 use common::*;
-use ufcsr::{AnalyzeOptions, PaletteChoice, TrimMode, analyze};
+use ufcsr::{AnalyzeOptions, analyze};
 
 /// A PNG built by hand: IHDR fields, an optional PLTE, and the IDAT data
 /// split into the given chunks.
 fn png_bytes(width: u32, height: u32, color: [u8; 5], plte: Option<&[u8]>, idats: &[&[u8]]) -> Vec<u8> {
-    let mut png = vec![0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
-    let mut chunk = |kind: &[u8; 4], body: &[u8]| {
-        png.extend((body.len() as u32).to_be_bytes());
-        let mut crc = crc32fast::Hasher::new();
-        crc.update(kind);
-        crc.update(body);
-        png.extend(kind);
-        png.extend(body);
-        png.extend(crc.finalize().to_be_bytes());
-    };
     let mut header = Vec::new();
     header.extend(width.to_be_bytes());
     header.extend(height.to_be_bytes());
     header.extend(color);
-    chunk(b"IHDR", &header);
-    if let Some(plte) = plte {
-        chunk(b"PLTE", plte);
-    }
-    for idat in idats {
-        chunk(b"IDAT", idat);
-    }
-    chunk(b"IEND", &[]);
-    png
+    let mut chunks: Vec<(&[u8; 4], &[u8])> = vec![(b"IHDR", &header)];
+    chunks.extend(plte.map(|plte| (b"PLTE", plte)));
+    chunks.extend(idats.iter().map(|idat| (b"IDAT", *idat)));
+    chunks.push((b"IEND", &[]));
+    png_from_chunks(&chunks)
 }
 
 const RGB8: [u8; 5] = [8, 2, 0, 0, 0];
@@ -56,12 +42,7 @@ fn zlib_rows(width: u32, colors: &[u32]) -> Vec<u8> {
 }
 
 fn options(archive: &Path) -> AnalyzeOptions {
-    AnalyzeOptions {
-        archive: archive.to_path_buf(),
-        palette: Some(PaletteChoice::Canonical { width: 4, height: 4 }),
-        trim: TrimMode::Off,
-        ..Default::default()
-    }
+    small_palette_options(archive)
 }
 
 #[test]
