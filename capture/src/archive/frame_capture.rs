@@ -125,15 +125,10 @@ impl<'a> FrameCapture<'a> {
             }
             tiles_with_vehicle.insert(eye.name().into(), json!(with_vehicle));
         }
-        let (vehicle, eyes) = crate::archive::manifest_builder::frame_pose(rig, &pose);
-        captured.record = json!({
-            "frame": frame,
-            "time_s": round6(time_s),
-            "vehicle": vehicle,
-            "eyes": eyes,
-            "distance_m": round6(distance_m),
-            "tiles_with_vehicle": tiles_with_vehicle,
-        });
+        let mut record =
+            crate::archive::manifest_builder::frame_record(frame, time_s, distance_m, rig, &pose);
+        record.insert("tiles_with_vehicle".into(), Value::Object(tiles_with_vehicle));
+        captured.record = Value::Object(record);
         Ok(captured)
     }
 

@@ -90,6 +90,24 @@ pub fn frame_pose(rig: &Rig, pose: &Pose) -> (Value, Value) {
     (vehicle, Value::Object(eyes))
 }
 
+/// A frame's manifest record — frame number, time, vehicle pose, each eye's
+/// camera ([`frame_pose`]) and distance — shared by the rendered captures and
+/// the exact measure, so both describe a frame alike.
+pub fn frame_record(frame: u32, time_s: f64, distance_m: f64, rig: &Rig, pose: &Pose) -> Map<String, Value> {
+    let (vehicle, eyes) = frame_pose(rig, pose);
+    let record = json!({
+        "frame": frame,
+        "time_s": round6(time_s),
+        "vehicle": vehicle,
+        "eyes": eyes,
+        "distance_m": round6(distance_m),
+    });
+    match record {
+        Value::Object(map) => map,
+        _ => unreachable!("json! of an object literal is an object"),
+    }
+}
+
 /// Builds the manifest of a capture.
 pub fn build_manifest(parts: ManifestParts) -> Manifest {
     let ManifestParts { scene, scenario, options, unwrapped, pidt, tally, .. } = parts;

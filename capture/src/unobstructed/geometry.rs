@@ -8,11 +8,10 @@
 //! so the coordinates a ray meets are metres, not ten thousands of them.
 
 use glam::{DMat4, DVec3, dvec2};
-use serde_json::json;
+use serde_json::Value;
 
 use super::bvh::TriangleBvh;
 use super::types::{EyeFrame, SURFACE_LIFT_RELATIVE, transform_point};
-use crate::archive::manifest_builder::round6;
 use crate::scene::Scene;
 use crate::scene::rig::vehicle_to_world;
 use crate::scene::scenario::Scenario;
@@ -90,14 +89,8 @@ pub fn eye_frames(
             eye_frames.push(eye_frame(obstacles, &to_world, camera.position, &camera.view_proj));
         }
         let distance_m = (pose.position.truncate() - pedestrian).length();
-        let (vehicle, eyes) = crate::archive::manifest_builder::frame_pose(rig, &pose);
-        records.push(json!({
-            "frame": frame,
-            "time_s": round6(time_s),
-            "vehicle": vehicle,
-            "eyes": eyes,
-            "distance_m": round6(distance_m),
-        }));
+        let record = crate::archive::manifest_builder::frame_record(frame, time_s, distance_m, rig, &pose);
+        records.push(Value::Object(record));
     }
     (eye_frames, records)
 }
