@@ -54,9 +54,11 @@ impl FileAxes {
             .as_ref()
             .and_then(|raw| serde_json::from_str::<serde_json::Value>(raw.get()).ok())
             .is_some_and(|extras| extras.get(AXES_MARK).is_some());
-        let old_ufcsr = asset.generator.as_deref().and_then(|g| g.strip_prefix("ufcsr ")).is_some_and(
-            |version| version.starts_with(|c: char| c.is_ascii_digit()),
-        );
+        let old_ufcsr = asset
+            .generator
+            .as_deref()
+            .and_then(|g| g.strip_prefix("ufcsr "))
+            .is_some_and(|version| version.starts_with(|c: char| c.is_ascii_digit()));
         if old_ufcsr && !marked { FileAxes::OldUfcsrFrame } else { FileAxes::Gltf }
     }
 
@@ -235,7 +237,12 @@ impl GlbBuilder {
             primitives: vec![primitive],
             weights: None,
         });
-        self.root.push(json::Node { mesh: Some(mesh), name: Some(name.into()), translation, ..Default::default() })
+        self.root.push(json::Node {
+            mesh: Some(mesh),
+            name: Some(name.into()),
+            translation,
+            ..Default::default()
+        })
     }
 
     /// The GLB bytes of a document whose scene holds `nodes`.

@@ -127,7 +127,8 @@ fn scene_nodes<'a>(
     let roots: Vec<gltf::Node> = match document.default_scene().or_else(|| document.scenes().next()) {
         Some(scene) => scene.nodes().collect(),
         None => {
-            let children: Vec<usize> = document.nodes().flat_map(|n| n.children()).map(|c| c.index()).collect();
+            let children: Vec<usize> =
+                document.nodes().flat_map(|n| n.children()).map(|c| c.index()).collect();
             document.nodes().filter(|n| !children.contains(&n.index())).collect()
         }
     };
@@ -138,7 +139,10 @@ fn scene_nodes<'a>(
         if std::mem::replace(&mut visited[node.index()], true) {
             return Err(Error::bad_file(
                 path,
-                format!("glTF node {} appears twice in the node tree (a cycle or a shared child)", node.index()),
+                format!(
+                    "glTF node {} appears twice in the node tree (a cycle or a shared child)",
+                    node.index()
+                ),
             ));
         }
         let transform = multiply(&parent, &node.transform().matrix());
