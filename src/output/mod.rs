@@ -6,12 +6,14 @@
 
 pub(crate) mod console_table;
 pub(crate) mod csv;
+pub(crate) mod glb;
 pub(crate) mod heatmap;
 pub(crate) mod heatmap_views;
 pub(crate) mod html;
 pub(crate) mod numbers;
 pub(crate) mod plots;
 pub(crate) mod result_set;
+pub(crate) mod scene_model;
 pub(crate) mod vehicle_model;
 pub(crate) mod written_files;
 
@@ -25,5 +27,6 @@ pub use heatmap_views::{
 pub use html::write_comparison;
 pub use plots::font_available as plot_font_available;
 pub use result_set::{default_output_dir, write_results, write_results_with};
+pub use scene_model::{SceneObject, write_scene_glb};
 pub use vehicle_model::{ModelPart, VehicleModel};
 pub use written_files::WrittenFiles;

@@ -134,7 +134,7 @@ fn write_results_into(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) ->
     if let (Some(model), Some(glb)) = (&analysis.vehicle_model, &files.heatmap_glb) {
         let png = read_limited(&files.heatmap_png, IMAGE_LIMIT)?;
         let model = VehicleModel::read(model)?;
-        model.write_glb(glb, Some(&png))?;
+        model.write_glb(glb, Some(("heatmap", &png)))?;
         let texture = ViewTexture {
             counts: &analysis.texel_counts,
             width,

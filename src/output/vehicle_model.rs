@@ -3,25 +3,26 @@
 //! A capture keeps the vehicle mesh exactly as it was unwrapped onto the
 //! palette (positions and the UVs that address palette texels, one glTF
 //! node and mesh per part, named after it), so that per-texel results go back
-//! onto the vehicle: `heatmap.glb` is that mesh with the heatmap as its
-//! base-colour texture, nearest filtering, unlit — it opens in Blender,
-//! three.js and any glTF viewer. Written with `gltf-json`, read back with
-//! `gltf`.
+//! onto the vehicle: `vehicle.glb` carries the palette and `heatmap.glb` the
+//! heatmap as the base-colour texture, nearest filtering, unlit — they open
+//! upright in Blender, three.js and any glTF viewer, because positions are
+//! stored in glTF's axes and read back into the vehicle frame by the rule of
+//! [`crate::output::glb`] (old z-up files included). Written with
+//! `gltf-json`, read back with `gltf`.
 
-use std::borrow::Cow;
 use std::path::Path;
 
 use gltf_json as json;
-use json::validation::Checked::Valid;
-use json::validation::USize64;
 
 use crate::error::{Error, Result};
+use crate::output::glb::{FileAxes, GlbBuilder, IDENTITY, multiply, to_gltf_axes, transform_point};
 
 /// One part: a triangle list (three vertices per triangle).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct ModelPart {
     pub name: String,
-    /// Vehicle frame, metres (glTF's axes are the caller's business).
+    /// Vehicle frame (x forward, y left, z up), metres; files hold them in
+    /// glTF's axes.
     pub positions: Vec<[f32; 3]>,
     /// Palette UVs, 0..1 with v = 0 at the top row (as glTF).
     pub uvs: Vec<[f32; 2]>,
@@ -34,155 +35,64 @@ pub struct VehicleModel {
 }
 
 impl VehicleModel {
-    /// Writes the model as binary glTF; with `texture` (PNG bytes) every part
-    /// gets it as an unlit, nearest-filtered base-colour texture.
-    pub fn write_glb(&self, path: &Path, texture: Option<&[u8]>) -> Result<()> {
+    /// Writes the model as binary glTF; with `texture` (its name and PNG
+    /// bytes) every part gets it as an unlit, nearest-filtered base-colour
+    /// texture.
+    pub fn write_glb(&self, path: &Path, texture: Option<(&str, &[u8])>) -> Result<()> {
         let bytes = self.to_glb(texture).map_err(|message| Error::bad_file(path, message))?;
         crate::files::write_bytes_atomically(path, &bytes)
     }
 
-    #[allow(clippy::too_many_lines)] // issue 16: still to split below 80 lines
-    fn to_glb(&self, texture: Option<&[u8]>) -> std::result::Result<Vec<u8>, String> {
-        let mut root = json::Root::default();
-        let mut bin: Vec<u8> = Vec::new();
-        let buffer = root.push(json::Buffer {
-            byte_length: USize64(0), // set below, once the data is all in
-            extensions: None,
-            extras: Default::default(),
-            name: None,
-            uri: None,
-        });
-        let material = texture.map(|png| {
-            let view = push_view(&mut root, &mut bin, buffer, png, None);
-            let image = root.push(json::Image {
-                buffer_view: Some(view),
-                mime_type: Some(json::image::MimeType("image/png".into())),
-                name: Some("heatmap".into()),
-                uri: None,
-                extensions: None,
-                extras: Default::default(),
-            });
-            let sampler = root.push(json::texture::Sampler {
-                // Nearest: a texel is one point of the vehicle, never a blend.
-                mag_filter: Some(Valid(json::texture::MagFilter::Nearest)),
-                min_filter: Some(Valid(json::texture::MinFilter::Nearest)),
-                name: None,
-                wrap_s: Valid(json::texture::WrappingMode::ClampToEdge),
-                wrap_t: Valid(json::texture::WrappingMode::ClampToEdge),
-                extensions: None,
-                extras: Default::default(),
-            });
-            let texture = root.push(json::Texture {
-                name: None,
-                sampler: Some(sampler),
-                source: image,
-                extensions: None,
-                extras: Default::default(),
-            });
-            root.extensions_used.push("KHR_materials_unlit".into());
-            root.push(json::Material {
-                name: Some("heatmap".into()),
-                double_sided: true,
-                pbr_metallic_roughness: json::material::PbrMetallicRoughness {
-                    base_color_texture: Some(json::texture::Info {
-                        index: texture,
-                        tex_coord: 0,
-                        extensions: None,
-                        extras: Default::default(),
-                    }),
-                    metallic_factor: json::material::StrengthFactor(0.0),
-                    roughness_factor: json::material::StrengthFactor(1.0),
-                    ..Default::default()
-                },
-                // Other material extensions exist when other crates enable
-                // their gltf-json features, hence the struct update.
-                #[allow(clippy::needless_update)]
-                extensions: Some(json::extensions::material::Material {
-                    unlit: Some(json::extensions::material::Unlit {}),
-                    ..Default::default()
-                }),
-                ..Default::default()
-            })
-        });
+    /// The GLB: one node and mesh per part in glTF's axes (see
+    /// [`crate::output::glb`]), every primitive with the one unlit material
+    /// (textured when `texture` is given).
+    fn to_glb(&self, texture: Option<(&str, &[u8])>) -> std::result::Result<Vec<u8>, String> {
+        let mut glb = GlbBuilder::new();
+        let material = match texture {
+            Some((name, png)) => {
+                let texture = glb.png_texture(png, name);
+                glb.unlit_material(name, Some(texture), [1.0; 4])
+            }
+            None => glb.unlit_material("vehicle", None, [1.0; 4]),
+        };
         let mut nodes = Vec::with_capacity(self.parts.len());
         for part in &self.parts {
-            if part.positions.is_empty()
-                || part.positions.len() != part.uvs.len()
-                || part.positions.len() % 3 != 0
-            {
-                return Err(format!(
-                    "part {:?} has {} positions and {} UVs: not a triangle list",
-                    part.name,
-                    part.positions.len(),
-                    part.uvs.len()
-                ));
-            }
-            let positions: Vec<u8> = part.positions.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
-            let uvs: Vec<u8> = part.uvs.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
-            let (min, max) = bounds(&part.positions);
-            let count = part.positions.len();
-            let position_view = push_view(&mut root, &mut bin, buffer, &positions, Some(12));
-            let uv_view = push_view(&mut root, &mut bin, buffer, &uvs, Some(8));
-            let position =
-                root.push(accessor(position_view, count, json::accessor::Type::Vec3, Some((min, max))));
-            let uv = root.push(accessor(uv_view, count, json::accessor::Type::Vec2, None));
-            let primitive = json::mesh::Primitive {
-                attributes: [
-                    (Valid(json::mesh::Semantic::Positions), position),
-                    (Valid(json::mesh::Semantic::TexCoords(0)), uv),
-                ]
-                .into_iter()
-                .collect(),
-                extensions: None,
-                extras: Default::default(),
-                indices: None,
-                material,
-                mode: Valid(json::mesh::Mode::Triangles),
-                targets: None,
-            };
-            let mesh = root.push(json::Mesh {
-                extensions: None,
-                extras: Default::default(),
-                name: Some(part.name.clone()),
-                primitives: vec![primitive],
-                weights: None,
-            });
-            nodes.push(root.push(json::Node {
-                mesh: Some(mesh),
-                name: Some(part.name.clone()),
-                ..Default::default()
-            }));
+            check_triangle_list(part)?;
+            let positions: Vec<[f32; 3]> = part.positions.iter().map(|&p| to_gltf_axes(p)).collect();
+            let position = glb.attribute(&positions, true);
+            let uv = glb.attribute(&part.uvs, false);
+            let attributes =
+                vec![(json::mesh::Semantic::Positions, position), (json::mesh::Semantic::TexCoords(0), uv)];
+            nodes.push(glb.mesh_node(&part.name, attributes, material, None));
         }
-        root.buffers[0].byte_length = USize64::from(bin.len());
-        let scene =
-            root.push(json::Scene { extensions: None, extras: Default::default(), name: None, nodes });
-        root.scene = Some(scene);
-        root.asset.generator = Some(concat!("ufcsr ", env!("CARGO_PKG_VERSION")).into());
-        let json = json::serialize::to_vec(&root).map_err(|e| format!("glTF JSON: {e}"))?;
-        let glb = gltf::binary::Glb {
-            header: gltf::binary::Header { magic: *b"glTF", version: 2, length: 0 },
-            json: Cow::Owned(json),
-            bin: Some(Cow::Owned(bin)),
-        };
-        glb.to_vec().map_err(|e| format!("GLB: {e}"))
+        glb.finish(nodes)
     }
 
-    /// Reads a glTF/GLB model: every node with a mesh is a part (named after
-    /// the node, else its mesh), its triangles in world space of the file
-    /// with the UVs of set 0. Buffers may be the GLB's chunk, `data:` URIs or
-    /// files beside the model (see [`crate::read_gltf`]). A primitive without
-    /// UVs or triangles, or with a vertex that is not finite or beyond
+    /// Reads a glTF/GLB model: every node of the scene with a mesh is a part
+    /// (named after the node, else its mesh), its triangles in world space of
+    /// the file (node transforms applied) taken into the vehicle frame by
+    /// [`FileAxes::of`] (glTF's axes, or an old ufcsr file's z-up frame), with
+    /// the UVs of set 0. Buffers may be the GLB's chunk, `data:` URIs or files
+    /// beside the model (see [`crate::read_gltf`]). A primitive without UVs or
+    /// triangles, or with a vertex that is not finite or beyond
     /// [`crate::MAX_COORDINATE_M`], is an error naming it and the file.
     pub fn read(path: &Path) -> Result<VehicleModel> {
         let model = crate::files::read_gltf(path, crate::files::MODEL_LIMIT)?;
+        let axes = FileAxes::of(&model.document);
         let mut parts = Vec::new();
-        for node in model.document.nodes() {
+        for (node, transform) in scene_nodes(path, &model.document)? {
             let Some(mesh) = node.mesh() else { continue };
             let name =
                 node.name().or(mesh.name()).map_or_else(|| format!("node{}", node.index()), str::to_string);
             let mut part = ModelPart { name, ..ModelPart::default() };
             for primitive in mesh.primitives() {
                 read_primitive(path, &model, &mesh, &primitive, &mut part)?;
+            }
+            for p in &mut part.positions {
+                *p = axes.to_frame(transform_point(&transform, *p));
+            }
+            for &position in &part.positions {
+                crate::files::check_coordinates(path, &format!("part {:?}", part.name), position)?;
             }
             parts.push(part);
         }
@@ -191,6 +101,56 @@ impl VehicleModel {
         }
         Ok(VehicleModel { parts })
     }
+}
+
+/// Checks that a part is a list of whole triangles with a UV per vertex.
+fn check_triangle_list(part: &ModelPart) -> std::result::Result<(), String> {
+    let count = part.positions.len();
+    if count == 0 || count != part.uvs.len() || !count.is_multiple_of(3) {
+        return Err(format!(
+            "part {:?} has {} positions and {} UVs: not a triangle list",
+            part.name,
+            count,
+            part.uvs.len()
+        ));
+    }
+    Ok(())
+}
+
+/// The nodes of the document's scene (the default, else the first; every
+/// node when it has none), each with its world transform. A node met twice
+/// (a cycle or a shared child) is an error: glTF's nodes form a forest.
+fn scene_nodes<'a>(
+    path: &Path,
+    document: &'a gltf::Document,
+) -> Result<Vec<(gltf::Node<'a>, [[f32; 4]; 4])>> {
+    let roots: Vec<gltf::Node> = match document.default_scene().or_else(|| document.scenes().next()) {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            let children: Vec<usize> =
+                document.nodes().flat_map(|n| n.children()).map(|c| c.index()).collect();
+            document.nodes().filter(|n| !children.contains(&n.index())).collect()
+        }
+    };
+    let mut stack: Vec<(gltf::Node, [[f32; 4]; 4])> = roots.into_iter().map(|n| (n, IDENTITY)).collect();
+    let mut visited = vec![false; document.nodes().len()];
+    let mut out = Vec::new();
+    while let Some((node, parent)) = stack.pop() {
+        if std::mem::replace(&mut visited[node.index()], true) {
+            return Err(Error::bad_file(
+                path,
+                format!(
+                    "glTF node {} appears twice in the node tree (a cycle or a shared child)",
+                    node.index()
+                ),
+            ));
+        }
+        let transform = multiply(&parent, &node.transform().matrix());
+        stack.extend(node.children().map(|child| (child, transform)));
+        out.push((node, transform));
+    }
+    out.sort_by_key(|(node, _)| node.index());
+    Ok(out)
 }
 
 /// Appends one primitive's triangles (a triangle list, vertex by vertex) to `part`.
@@ -248,64 +208,6 @@ fn read_primitive(
     Ok(())
 }
 
-fn bounds(positions: &[[f32; 3]]) -> (Vec<f32>, Vec<f32>) {
-    let mut min = [f32::MAX; 3];
-    let mut max = [f32::MIN; 3];
-    for p in positions {
-        for axis in 0..3 {
-            min[axis] = min[axis].min(p[axis]);
-            max[axis] = max[axis].max(p[axis]);
-        }
-    }
-    (min.to_vec(), max.to_vec())
-}
-
-fn push_view(
-    root: &mut json::Root,
-    bin: &mut Vec<u8>,
-    buffer: json::Index<json::Buffer>,
-    bytes: &[u8],
-    stride: Option<usize>,
-) -> json::Index<json::buffer::View> {
-    while !bin.len().is_multiple_of(4) {
-        bin.push(0);
-    }
-    let offset = bin.len();
-    bin.extend_from_slice(bytes);
-    root.push(json::buffer::View {
-        buffer,
-        byte_length: USize64::from(bytes.len()),
-        byte_offset: Some(USize64::from(offset)),
-        byte_stride: stride.map(json::buffer::Stride),
-        name: None,
-        target: stride.map(|_| Valid(json::buffer::Target::ArrayBuffer)),
-        extensions: None,
-        extras: Default::default(),
-    })
-}
-
-fn accessor(
-    view: json::Index<json::buffer::View>,
-    count: usize,
-    kind: json::accessor::Type,
-    bounds: Option<(Vec<f32>, Vec<f32>)>,
-) -> json::Accessor {
-    json::Accessor {
-        buffer_view: Some(view),
-        byte_offset: Some(USize64(0)),
-        count: USize64::from(count),
-        component_type: Valid(json::accessor::GenericComponentType(json::accessor::ComponentType::F32)),
-        extensions: None,
-        extras: Default::default(),
-        type_: Valid(kind),
-        min: bounds.as_ref().map(|(min, _)| json::Value::from(min.clone())),
-        max: bounds.map(|(_, max)| json::Value::from(max)),
-        name: None,
-        normalized: false,
-        sparse: None,
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -333,7 +235,7 @@ mod tests {
         let path = dir.path().join("heatmap.glb");
         let png = std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/example/pidt.png")).unwrap();
         let model = triangle_model();
-        model.write_glb(&path, Some(&png)).unwrap();
+        model.write_glb(&path, Some(("heatmap", &png))).unwrap();
         assert_eq!(VehicleModel::read(&path).unwrap(), model);
         let gltf = gltf::Gltf::open(&path).unwrap();
         let material = gltf.document.materials().next().unwrap();
@@ -347,5 +249,62 @@ mod tests {
         assert_eq!(mime_type, "image/png");
         let blob = gltf.blob.as_ref().unwrap();
         assert_eq!(&blob[view.offset()..view.offset() + view.length()], &png[..]);
+    }
+
+    /// Bounds of every POSITION accessor's min/max as the file stores them.
+    fn accessor_bounds(path: &Path) -> ([f64; 3], [f64; 3]) {
+        let gltf = gltf::Gltf::open(path).unwrap();
+        let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+        for node in gltf.document.nodes() {
+            assert!(node.transform().matrix() == IDENTITY, "ufcsr writes no node transforms");
+            for primitive in node.mesh().unwrap().primitives() {
+                let bounds = primitive.bounding_box();
+                for k in 0..3 {
+                    lo[k] = lo[k].min(f64::from(bounds.min[k]));
+                    hi[k] = hi[k].max(f64::from(bounds.max[k]));
+                }
+            }
+        }
+        (lo, hi)
+    }
+
+    #[test]
+    fn a_written_model_stands_upright_in_gltf_axes_and_reads_back_in_the_vehicle_frame() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("vehicle.glb");
+        let model = triangle_model();
+        model.write_glb(&path, None).unwrap();
+        // Vehicle x (forward) 0..3 is glTF z, y (left) 0..1 is glTF x, z (up) 0..0.5 is glTF y.
+        assert_eq!(accessor_bounds(&path), ([0.0, 0.0, 0.0], [1.0, 0.5, 3.0]));
+        assert_eq!(VehicleModel::read(&path).unwrap(), model);
+        let gltf = gltf::Gltf::open(&path).unwrap();
+        assert_eq!(FileAxes::of(&gltf.document), FileAxes::Gltf);
+        // Every primitive has a material, even without a texture.
+        assert!(gltf.document.meshes().flat_map(|m| m.primitives()).all(|p| p.material().index() == Some(0)));
+    }
+
+    #[test]
+    fn an_old_z_up_vehicle_glb_still_reads_in_the_vehicle_frame() {
+        // The bundled example archive's vehicle.glb predates the axis rule:
+        // generator "ufcsr 0.1.0", no mark, positions in the vehicle frame.
+        let old = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/example/vehicle.glb"));
+        let gltf = gltf::Gltf::open(old).unwrap();
+        assert_eq!(FileAxes::of(&gltf.document), FileAxes::OldUfcsrFrame);
+        let model = VehicleModel::read(old).unwrap();
+        let (lo, hi) = accessor_bounds(old);
+        let all: Vec<[f32; 3]> = model.parts.iter().flat_map(|p| p.positions.iter().copied()).collect();
+        for k in 0..3 {
+            assert_eq!(all.iter().map(|p| f64::from(p[k])).fold(f64::MAX, f64::min), lo[k]);
+            assert_eq!(all.iter().map(|p| f64::from(p[k])).fold(f64::MIN, f64::max), hi[k]);
+        }
+        // Upright in the vehicle frame: z (up) from the ground to the roof.
+        assert_eq!((lo[2], hi[2] > 1.0), (0.0, true));
+        // Rewritten, it is in glTF axes and reads back the same.
+        let dir = tempfile::tempdir().unwrap();
+        let new = dir.path().join("vehicle.glb");
+        model.write_glb(&new, None).unwrap();
+        assert_eq!(VehicleModel::read(&new).unwrap(), model);
+        let (new_lo, new_hi) = accessor_bounds(&new);
+        assert_eq!((new_lo, new_hi), ([lo[1], lo[2], lo[0]], [hi[1], hi[2], hi[0]]));
     }
 }

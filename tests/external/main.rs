@@ -1,5 +1,5 @@
 //! The tests that need something from outside the repository — Slurm,
-//! Chromium, Python with pip, the reference data in `../shared`, the capture
+//! Chromium, Python with pip, Node with the glTF validator, the reference data in `../shared`, the capture
 //! binary — in their own binary with its own harness (`libtest-mimic`,
 //! `harness = false`): a test whose tool is missing is reported *ignored*
 //! with the reason, so `cargo test` counts it among the ignored, never among
@@ -14,6 +14,7 @@ mod common;
 mod slurm_support;
 
 mod atomic_results;
+mod gltf_validator;
 mod manifest_script;
 mod need;
 mod python_package;
@@ -30,6 +31,10 @@ fn trials() -> Vec<Trial> {
         trial(
             "atomic_results::an_interrupted_capture_leaves_no_temporary_files",
             atomic_results::an_interrupted_capture_leaves_no_temporary_files,
+        ),
+        trial(
+            "gltf_validator::vehicle_heatmap_and_scene_glb_validate_with_no_error_or_warning",
+            gltf_validator::vehicle_heatmap_and_scene_glb_validate_with_no_error_or_warning,
         ),
         trial(
             "manifest_script::unity_named_tiles_get_a_working_manifest",

@@ -13,7 +13,6 @@ use std::time::Instant;
 
 use ufcsr::{Color, Manifest, PaletteSpec};
 
-use crate::archive::VEHICLE_FILE;
 use crate::archive::capture_shard;
 use crate::archive::count_sink::{Counted, count_while};
 use crate::archive::encoder_pool::{EncoderPool, OldTiles};
@@ -21,6 +20,7 @@ use crate::archive::frame_capture::FrameCapture;
 use crate::archive::manifest_builder::{ManifestParts, build_manifest};
 use crate::archive::options::{CaptureOptions, Summary, TileTally};
 use crate::archive::tile_sink::TileSink;
+use crate::archive::{SCENE_FILE, VEHICLE_FILE};
 use crate::error::{CaptureError, Result};
 use crate::render::{Palette, RenderSetup, Renderer, vehicle_vertices};
 use crate::scene::Scene;
@@ -132,9 +132,8 @@ pub fn prepare_archive(
         }
     };
     let vertices = vehicle_vertices(&scene.vehicle, &unwrapped);
-    // The mesh exactly as unwrapped, so results can go back onto the vehicle.
-    vehicle_model(scene, &vertices).write_glb(&out.join(VEHICLE_FILE), None)?;
     let background = Color::DEFAULT_BACKGROUND;
+    write_models(scene, &vertices, &palette_png(&external, palette_size)?, background, out)?;
     let setup = RenderSetup {
         tile_size: scene.rig.tile_pixels(),
         palette: &palette,
@@ -155,6 +154,60 @@ pub fn prepare_archive(
         part_count,
         warnings,
     })
+}
+
+/// Writes `vehicle.glb` (the mesh exactly as unwrapped, with the palette
+/// as its texture, so results go back onto the vehicle and the capture can
+/// be rendered again) and `scene.glb` (the occluders, world coordinates, in
+/// the background colour they are drawn in).
+fn write_models(
+    scene: &Scene,
+    vertices: &[crate::render::Vertex],
+    palette_png: &[u8],
+    background: Color,
+    out: &Path,
+) -> Result<()> {
+    vehicle_model(scene, vertices).write_glb(&out.join(VEHICLE_FILE), Some(("palette", palette_png)))?;
+    // glTF colour factors are linear: the background's sRGB value decoded.
+    let linear = |v: u8| {
+        let c = f64::from(v) / 255.0;
+        (if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }) as f32
+    };
+    let [r, g, b] = background.rgb();
+    let color = [linear(r), linear(g), linear(b), 1.0];
+    ufcsr::write_scene_glb(&out.join(SCENE_FILE), &scene.occluders.scene_objects(), color)?;
+    Ok(())
+}
+
+/// The palette as PNG bytes for `vehicle.glb`: the external palette or the
+/// canonical one (its rows step by one colour, so it compresses to a few
+/// hundred kB even at 4096²).
+fn palette_png(external: &Option<ExternalPalette>, size: [u32; 2]) -> Result<Vec<u8>> {
+    let canonical;
+    let palette = match external {
+        Some(external) => external,
+        None => {
+            // Row by row in parallel: 2^24 texels at the default size.
+            use rayon::prelude::*;
+            let row_bytes = size[0] as usize * 3;
+            let mut rgb = vec![0u8; row_bytes * size[1] as usize];
+            rgb.par_chunks_mut(row_bytes).enumerate().for_each(|(y, row)| {
+                for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
+                    pixel.copy_from_slice(&Color::from_packed((y * size[0] as usize + x) as u32).rgb());
+                }
+            });
+            canonical = ExternalPalette { size, rgb };
+            &canonical
+        }
+    };
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, palette.size[0], palette.size[1]);
+    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_depth(png::BitDepth::Eight);
+    encoder.set_compression(png::Compression::Fast);
+    let encoded = encoder.write_header().and_then(|mut writer| writer.write_image_data(&palette.rgb));
+    encoded.map_err(|e| CaptureError::BadOptions(format!("encoding the palette for vehicle.glb: {e}")))?;
+    Ok(bytes)
 }
 
 /// Longest scenario a capture accepts: a day (longer is a unit mistake, and

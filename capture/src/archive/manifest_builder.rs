@@ -130,6 +130,7 @@ pub fn build_manifest(parts: ManifestParts) -> Manifest {
     );
     extra.insert("scene".into(), scene.info.clone());
     extra.insert("vehicle".into(), json!(crate::archive::VEHICLE_FILE));
+    extra.insert("occluders".into(), json!(crate::archive::SCENE_FILE));
     extra.insert(
         "unwrap".into(),
         json!({

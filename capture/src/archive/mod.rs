@@ -31,3 +31,5 @@ pub use scene_checks::{MAX_FRAMES, MAX_TILES};
 
 /// The archive's copy of the vehicle as unwrapped (named in the manifest).
 pub const VEHICLE_FILE: &str = "vehicle.glb";
+/// The occluders, in world coordinates (glTF axes), beside it.
+pub const SCENE_FILE: &str = "scene.glb";

@@ -255,6 +255,7 @@ pub fn intersection() -> Occluders {
     let mut ground = Mesh::default();
     let g = 200.0_f32;
     ground.add_quad("ground", vec3(-g, -g, 0.0), vec3(g, -g, 0.0), vec3(g, g, 0.0), vec3(-g, g, 0.0));
+    occluders.begin_named("ground");
     occluders.add_mesh(&ground, DMat4::IDENTITY);
     // Blocks between the main streets (|x|, |y| < 4 m, sidewalks to 7 m) and the
     // cross streets 31.35 m out, and beyond those; heights vary per block.
@@ -266,6 +267,7 @@ pub fn intersection() -> Occluders {
                 for (y0, y1) in spans {
                     let height = 10.0 + f64::from(number % 4) * 4.0;
                     number += 1;
+                    occluders.begin_named(format!("building {number}"));
                     let (ax, bx) = (sx * x0, sx * x1);
                     let (ay, by) = (sy * y0, sy * y1);
                     occluders

@@ -385,10 +385,18 @@ fn load_obj(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
 /// objects with bounds so that objects outside a tile's view are skipped.
 /// Positions are f64: a scene 10 km from the origin would lose a millimetre
 /// in f32 (the renderer converts them relative to the pedestrian instead).
+/// Occluders are static: a scene has no moving occluder, only the vehicle
+/// moves. `names` groups objects into the occluders a scene named (an
+/// environment mesh is many culling objects but one occluder), for
+/// `scene.glb`.
 #[derive(Debug, Clone, Default)]
 pub struct Occluders {
     pub positions: Vec<DVec3>,
     pub objects: Vec<OccluderObject>,
+    /// `(first object, name)`: the objects from there to the next entry
+    /// form one named occluder; objects before the first entry are
+    /// unnamed (one occluder each).
+    pub names: Vec<(usize, String)>,
 }
 
 /// One occluder object: a run of triangle vertices in [`Occluders::positions`]
@@ -455,8 +463,67 @@ impl Occluders {
         }
     }
 
-    /// Appends another set of occluders, object by object.
+    /// Names the objects added from now on (until the next name) as one occluder.
+    pub fn begin_named(&mut self, name: impl Into<String>) {
+        self.names.push((self.objects.len(), name.into()));
+    }
+
+    /// The occluders by name, each with its objects; an unnamed object is
+    /// an occluder of its own, `occluder N` after its object number.
+    pub fn named_groups(&self) -> Vec<(String, std::ops::Range<usize>)> {
+        let mut groups = Vec::new();
+        let first_named = self.names.first().map_or(self.objects.len(), |(first, _)| *first);
+        for object in 0..first_named.min(self.objects.len()) {
+            groups.push((format!("occluder {object}"), object..object + 1));
+        }
+        for (k, (first, name)) in self.names.iter().enumerate() {
+            let end = self.names.get(k + 1).map_or(self.objects.len(), |(next, _)| *next);
+            if *first < end {
+                groups.push((name.clone(), *first..end));
+            }
+        }
+        groups
+    }
+
+    /// The occluders for `scene.glb`: one object per named occluder, its
+    /// origin on the ground under the middle of its bounds and its
+    /// triangles relative to it (f32 stays exact to a millimetre then).
+    pub fn scene_objects(&self) -> Vec<ufcsr::SceneObject> {
+        let mut used = std::collections::BTreeSet::new();
+        self.named_groups()
+            .into_iter()
+            .map(|(name, objects)| {
+                let objects = &self.objects[objects];
+                let min = objects.iter().fold(DVec3::INFINITY, |m, o| m.min(o.min));
+                let max = objects.iter().fold(DVec3::NEG_INFINITY, |m, o| m.max(o.max));
+                let origin = DVec3::new((min.x + max.x) / 2.0, (min.y + max.y) / 2.0, min.z);
+                let triangles = objects
+                    .iter()
+                    .flat_map(|o| {
+                        &self.positions[o.first_vertex as usize..(o.first_vertex + o.vertex_count) as usize]
+                    })
+                    .map(|p| (*p - origin).as_vec3().to_array())
+                    .collect();
+                // Node names are unique, as Blender and Unity want them.
+                let mut unique = name.clone();
+                let mut copy = 1;
+                while !used.insert(unique.clone()) {
+                    copy += 1;
+                    unique = format!("{name} ({copy})");
+                }
+                ufcsr::SceneObject { name: unique, origin: origin.to_array(), triangles }
+            })
+            .collect()
+    }
+
+    /// Appends another set of occluders, object by object, names and all.
     pub fn append(&mut self, other: &Occluders) {
+        let first_object = self.objects.len();
+        // The other's groups, its unnamed objects named so that they do not
+        // join a named occluder of ours.
+        self.names.extend(
+            other.named_groups().into_iter().map(|(name, objects)| (objects.start + first_object, name)),
+        );
         let base = self.positions.len() as u32;
         self.positions.extend(&other.positions);
         self.objects.extend(
@@ -520,5 +587,34 @@ mod tests {
         rename.insert("a".to_string(), "c".to_string());
         mesh.rename_parts(&rename);
         assert_eq!(mesh.parts, ["c", "b"]);
+    }
+
+    #[test]
+    fn occluders_are_grouped_by_the_name_they_were_added_under_and_keep_it_when_appended() {
+        let mut wall = Mesh::default();
+        wall.add_quad(
+            "w",
+            vec3(0.0, 0.0, 0.0),
+            vec3(30.0, 0.0, 0.0),
+            vec3(30.0, 0.0, 3.0),
+            vec3(0.0, 0.0, 3.0),
+        );
+        let mut occluders = Occluders::default();
+        occluders.add_box(DVec3::ZERO, DVec3::ONE); // unnamed
+        occluders.begin_named("city");
+        occluders.add_mesh_chunked(&wall, glam::DMat4::IDENTITY, 10.0); // two culling objects
+        let mut other = Occluders::default();
+        other.begin_named("city");
+        other.add_box(DVec3::ZERO, DVec3::ONE);
+        occluders.append(&other);
+        let groups: Vec<(String, std::ops::Range<usize>)> = occluders.named_groups();
+        assert_eq!(groups, [("occluder 0".into(), 0..1), ("city".into(), 1..3), ("city".into(), 3..4)]);
+        let objects = occluders.scene_objects();
+        let names: Vec<&str> = objects.iter().map(|o| o.name.as_str()).collect();
+        assert_eq!(names, ["occluder 0", "city", "city (2)"]);
+        // The wall's origin: the ground under the middle of its bounds; corners relative to it.
+        assert_eq!(objects[1].origin, [15.0, 0.0, 0.0]);
+        assert_eq!(objects[1].triangles.len(), 6);
+        assert!(objects[1].triangles.iter().all(|p| p[0].abs() <= 15.0 && p[2] >= 0.0));
     }
 }

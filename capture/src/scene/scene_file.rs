@@ -67,6 +67,19 @@ pub enum OccluderSpec {
 }
 
 impl OccluderSpec {
+    /// The occluder's node name in `scene.glb`: its kind and number in the
+    /// scene file; `None` for the demo intersection, which names its own.
+    fn name(&self, number: usize) -> Option<String> {
+        let name = match self {
+            OccluderSpec::Box { .. } => format!("box #{number}"),
+            OccluderSpec::Mesh { path, .. } => format!("mesh #{number} {}", path.display()),
+            OccluderSpec::Vehicle { .. } => format!("vehicle #{number}"),
+            OccluderSpec::Ground { .. } => format!("ground #{number}"),
+            OccluderSpec::DemoIntersection => return None,
+        };
+        Some(name)
+    }
+
     /// Positions and yaw within the tracks' street scale (as the rig's).
     fn check(&self) -> std::result::Result<(), String> {
         let limit = crate::scene::track::MAX_TRACK_MAGNITUDE;
@@ -136,6 +149,7 @@ impl Scene {
     pub fn unity(path: &Path) -> Result<Scene> {
         let (rig, scenarios) = unity::load(path)?;
         let mut occluders = Occluders::default();
+        occluders.begin_named("ground");
         add_ground(&mut occluders, rig.pedestrian[2], DVec3::from(rig.pedestrian));
         Ok(Scene {
             name: "unity".into(),
@@ -189,8 +203,11 @@ impl Scene {
         }
 
         let mut occluders = Occluders::default();
-        for spec in &file.occluders {
+        for (number, spec) in file.occluders.iter().enumerate() {
             spec.check().map_err(|message| CaptureError::bad_input(path, format!("occluder: {message}")))?;
+            if let Some(name) = spec.name(number) {
+                occluders.begin_named(name);
+            }
             match spec {
                 OccluderSpec::Box { min, max } => occluders.add_box(DVec3::from(*min), DVec3::from(*max)),
                 OccluderSpec::Mesh { path: mesh_path, axes, position, yaw_deg } => {

@@ -361,7 +361,9 @@ fn a_gltf_heatmap_mesh_may_keep_its_buffer_in_a_data_uri_or_beside_it() {
     std::fs::write(&inline, gltf_triangle(TRIANGLE, None, 4, 1.0)).unwrap();
     let model = ufcsr::VehicleModel::read(&inline).unwrap();
     assert_eq!(model.parts.len(), 1);
-    assert_eq!(model.parts[0].positions, TRIANGLE.to_vec());
+    // Another program's glTF is in glTF's axes (+Y up, front +Z): glTF (x, y, z) is the vehicle's (z, x, y).
+    let vehicle_frame: Vec<[f32; 3]> = TRIANGLE.iter().map(|&[x, y, z]| [z, x, y]).collect();
+    assert_eq!(model.parts[0].positions, vehicle_frame);
     assert_eq!(model.parts[0].uvs, vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]]);
     let mut bytes: Vec<u8> = TRIANGLE.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
     bytes.extend([0.0f32, 0.0, 1.0, 0.0, 0.0, 1.0].iter().flat_map(|v| v.to_le_bytes()));

@@ -1,6 +1,7 @@
 //! The capture's integration tests in one binary (one link step of wgpu instead of one per
 //! file): one module per behaviour area, named as the files were.
 
+mod archive_models;
 mod bad_capture;
 mod capture_shards;
 mod degenerate;
