@@ -1,5 +1,6 @@
-//! `scripts/manifest-from-tiles.py`: a Unity-style folder of tiles gets a
-//! manifest the analyzer accepts, with eye-frame grouping from the names.
+//! `scripts/manifest-from-tiles.py` (deprecated: a wrapper of `ufcsr-analyze
+//! manifest`): a Unity-style folder of tiles gets a manifest the analyzer
+//! accepts, with eye-frame grouping from the names; its old options still work.
 //! Ignored (with the reason) when `python3` is not installed.
 
 use crate::common;
@@ -25,8 +26,10 @@ pub fn unity_named_tiles_get_a_working_manifest() -> Outcome {
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/scripts/manifest-from-tiles.py");
     let run = |pattern: &str| {
         Command::new("python3")
+            .env("UFCSR_ANALYZE", env!("CARGO_BIN_EXE_ufcsr-analyze"))
+            .current_dir(archive)
             .arg(script)
-            .arg(archive)
+            .arg(".")
             .args(["--pattern", pattern, "--palette", "4x4", "--pidt", "pidt.png", "--parts", "parts.csv"])
             .output()
             .unwrap()
