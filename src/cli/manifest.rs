@@ -67,6 +67,11 @@ pub struct ManifestArgs {
     #[arg(long, value_name = "FILE.csv")]
     pub frame_times: Option<PathBuf>,
 
+    /// A tile missing from an eye-frame's grid showed only background and was not written (as
+    /// ufcsr-capture leaves such tiles out): list it as empty instead of refusing the folder.
+    #[arg(long)]
+    pub missing_tiles_empty: bool,
+
     /// The manifest to write (default DIR/manifest.json; a folder: FOLDER/manifest.json). It must lie
     /// in DIR or above it; the analyzer reads ARCHIVE/manifest.json.
     #[arg(long, short, value_name = "FILE")]
@@ -105,6 +110,7 @@ pub fn run_manifest(args: ManifestArgs) -> Result<ExitCode> {
         fov: args.fov.as_deref().map(ufcsr::parse_fov).transpose()?,
         rig: args.rig.clone(),
         frame_times: args.frame_times.clone(),
+        missing_tiles_empty: args.missing_tiles_empty,
     };
     let described = ufcsr::describe(&options)?;
     for note in &described.notes {
@@ -126,11 +132,13 @@ fn summary(d: &ufcsr::Described) -> String {
     let optional =
         |value: Option<f64>, unit: &str| value.map_or("unknown".to_string(), |v| format!("{v}{unit}"));
     format!(
-        "wrote {}: {} tiles in {} eye-frames ({} frames, eyes {}); {} × {} tiles (columns × rows) of {}×{} px, \
+        "wrote {}: {} tiles ({} listed empty) in {} eye-frames ({} frames, eyes {}); {} × {} tiles (columns × rows) \
+         of {}×{} px, \
          eye images {}×{} px\nframes per second: {}; horizontal field of view: {}; pixels per degree: {}; \
          frame times from: {}; distances: {}",
         d.manifest_path.display(),
         d.manifest.tiles.len(),
+        d.manifest.tiles.iter().filter(|t| t.empty).count(),
         d.eye_frames,
         d.frames,
         d.eyes.join(", "),
@@ -152,6 +160,7 @@ fn facts(d: &ufcsr::Described) -> serde_json::Value {
     json!({
         "manifest": d.manifest_path,
         "tiles": d.manifest.tiles.len(),
+        "empty_tiles": d.manifest.tiles.iter().filter(|t| t.empty).count(),
         "eye_frames": d.eye_frames,
         "frames": d.frames,
         "eyes": d.eyes,

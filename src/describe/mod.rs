@@ -47,6 +47,8 @@ pub struct DescribeOptions {
     pub rig: Option<PathBuf>,
     /// A CSV `frame,time_s[,distance_m]`.
     pub frame_times: Option<PathBuf>,
+    /// List grid positions no file fills as empty tiles (all background, not written) instead of refusing.
+    pub missing_tiles_empty: bool,
 }
 
 /// What was written.
@@ -90,9 +92,15 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
         }
         None => None,
     };
-    let capture = find_capture(&options.dir, &pattern, &excluded)?;
+    let capture = find_capture(&options.dir, &pattern, &excluded, options.missing_tiles_empty)?;
     let dir = canonical(&options.dir)?;
     let mut notes = Vec::new();
+    if manifest_path.file_name().is_some_and(|name| name != MANIFEST_FILE) {
+        notes.push(format!(
+            "the analyzer reads only {MANIFEST_FILE}: rename {} before analysing",
+            manifest_path.display()
+        ));
+    }
     let settings = settings(options, &capture, &mut notes)?;
     let times = match &options.frame_times {
         Some(path) => Some(times_of_frames(path, &capture.frames)?),
@@ -100,22 +108,9 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
     };
     let fps = settings.get("fps").and_then(Value::as_f64);
     let tiles = tile_entries(&capture, [&options.dir, &dir], &base, times.as_ref(), fps)?;
-    let mut extra = Map::new();
-    extra.insert("generator".into(), json!(format!("ufcsr-analyze manifest {}", env!("CARGO_PKG_VERSION"))));
-    let mut rig = metadata::rig_record(&settings, capture.tile_pixels);
-    if let (Some(ppd), Some(object)) = (options.pixels_per_degree, rig.as_object_mut()) {
-        object.entry("pixels_per_degree").or_insert(json!(ppd));
-    }
-    let pixels_per_degree = rig.get("pixels_per_degree").and_then(Value::as_f64);
-    extra.insert("rig".into(), rig);
-    let distances = times.as_ref().is_some_and(|t| t.values().all(|t| t.distance_m.is_some()));
-    if let Some(times) = times.as_ref().filter(|_| distances) {
-        let records: Vec<Value> = times
-            .iter()
-            .map(|(frame, t)| json!({"frame": frame, "time_s": t.time_s, "distance_m": t.distance_m}))
-            .collect();
-        extra.insert("frames".into(), Value::Array(records));
-    }
+    let extra = extra_fields(&settings, capture.tile_pixels, options.pixels_per_degree, times.as_ref());
+    let pixels_per_degree = extra["rig"].get("pixels_per_degree").and_then(Value::as_f64);
+    let distances = extra.contains_key("frames");
     let manifest = Manifest {
         schema: Some(MANIFEST_SCHEMA.to_string()),
         palette,
@@ -130,7 +125,7 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
     write_checked(&manifest, &manifest_path)?;
     Ok(Described {
         manifest_path,
-        eye_frames: capture.tiles.len() / (capture.grid[0] * capture.grid[1]) as usize,
+        eye_frames: manifest.tiles.len() / (capture.grid[0] * capture.grid[1]) as usize,
         frames: capture.frames.len(),
         eyes: capture.eyes.clone(),
         grid: capture.grid,
@@ -146,6 +141,30 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
     })
 }
 
+/// `generator`, `rig` and, when every frame has its distance, the `frames` records.
+fn extra_fields(
+    settings: &Map<String, Value>,
+    tile_pixels: [u32; 2],
+    pixels_per_degree: Option<f64>,
+    times: Option<&BTreeMap<u32, FrameTime>>,
+) -> Map<String, Value> {
+    let mut extra = Map::new();
+    extra.insert("generator".into(), json!(format!("ufcsr-analyze manifest {}", env!("CARGO_PKG_VERSION"))));
+    let mut rig = metadata::rig_record(settings, tile_pixels);
+    if let (Some(ppd), Some(object)) = (pixels_per_degree, rig.as_object_mut()) {
+        object.entry("pixels_per_degree").or_insert(json!(ppd));
+    }
+    extra.insert("rig".into(), rig);
+    if let Some(times) = times.filter(|t| t.values().all(|t| t.distance_m.is_some())) {
+        let records: Vec<Value> = times
+            .iter()
+            .map(|(frame, t)| json!({"frame": frame, "time_s": t.time_s, "distance_m": t.distance_m}))
+            .collect();
+        extra.insert("frames".into(), Value::Array(records));
+    }
+    extra
+}
+
 /// The manifest's path and its folder with links resolved; the folder of
 /// frames must lie in it, since the manifest's paths may not leave it.
 fn manifest_place(options: &DescribeOptions) -> Result<(PathBuf, PathBuf)> {
@@ -153,7 +172,9 @@ fn manifest_place(options: &DescribeOptions) -> Result<(PathBuf, PathBuf)> {
         return Err(Error::bad_file(&options.dir, "not a folder (give the folder of rendered frames)"));
     }
     let path = match &options.out {
-        Some(out) if out.is_dir() => out.join(MANIFEST_FILE),
+        Some(out) if out.is_dir() || out.as_os_str().to_string_lossy().ends_with(['/', '\\']) => {
+            out.join(MANIFEST_FILE)
+        }
         Some(out) => out.clone(),
         None => options.dir.join(MANIFEST_FILE),
     };
@@ -231,6 +252,9 @@ fn settings(
         }
         settings.insert(key.into(), json!(given));
     }
+    if let Some(ppd) = options.pixels_per_degree.filter(|ppd| !(ppd.is_finite() && *ppd > 0.0)) {
+        return Err(Error::BadOptions(format!("--pixels-per-degree {ppd}: must be a number above 0")));
+    }
     check_optics(options, &settings, eye)?;
     Ok(settings)
 }
@@ -284,12 +308,18 @@ fn tile_entries(
     times: Option<&BTreeMap<u32, FrameTime>>,
     fps: Option<f64>,
 ) -> Result<Vec<TileEntry>> {
-    let mut tiles = Vec::with_capacity(capture.tiles.len());
-    for tile in &capture.tiles {
-        let below = tile.path.strip_prefix(given).unwrap_or(&tile.path);
-        let file = relative_to(&dir.join(below), base, &tile.path, "a frame")?;
+    let mut tiles = Vec::with_capacity(capture.tiles.len() + capture.missing.len());
+    let found = capture.tiles.iter().map(|tile| (&tile.name, Some(tile.path.as_path())));
+    for (name, path) in found.chain(capture.missing.iter().map(|name| (name, None))) {
+        let file = match path {
+            Some(path) => {
+                let below = path.strip_prefix(given).unwrap_or(path);
+                Some(relative_to(&dir.join(below), base, path, "a frame")?)
+            }
+            None => None,
+        };
         let mut extra = Map::new();
-        let frame = tile.name.frame;
+        let frame = name.frame;
         match times.and_then(|times| times.get(&frame)) {
             Some(time) => {
                 extra.insert("time_s".into(), json!(time.time_s));
@@ -303,16 +333,18 @@ fn tile_entries(
                 }
             }
         }
+        let empty = file.is_none();
         tiles.push(TileEntry {
-            file: Some(file),
+            file,
             frame,
-            eye: tile.name.eye.clone(),
-            row: tile.name.row,
-            col: tile.name.col,
-            empty: false,
+            eye: name.eye.clone(),
+            row: name.row,
+            col: name.col,
+            empty,
             extra,
         });
     }
+    tiles.sort_by(|a, b| (a.frame, &a.eye, a.row, a.col).cmp(&(b.frame, &b.eye, b.row, b.col)));
     Ok(tiles)
 }
 

@@ -34,6 +34,8 @@ pub struct Capture {
     pub frames: Vec<u32>,
     /// Distinct eye names, sorted.
     pub eyes: Vec<String>,
+    /// Grid positions no file fills, when they may be empty: listed as empty tiles.
+    pub missing: Vec<TileName>,
 }
 
 impl Capture {
@@ -44,13 +46,20 @@ impl Capture {
 }
 
 /// The PNGs below `dir` (by name, `excluded` and result folders — those
-/// holding a `result.json` — left out), read by `pattern` and checked.
-pub fn find_capture(dir: &Path, pattern: &NamePattern, excluded: &BTreeSet<PathBuf>) -> Result<Capture> {
+/// holding a `result.json` — left out), read by `pattern` and checked; a
+/// tile missing from a grid is an error unless `missing_empty`.
+pub fn find_capture(
+    dir: &Path,
+    pattern: &NamePattern,
+    excluded: &BTreeSet<PathBuf>,
+    missing_empty: bool,
+) -> Result<Capture> {
     let mut tiles = Vec::new();
     let mut unmatched = Vec::new();
-    let walk = walkdir::WalkDir::new(dir).sort_by_file_name().into_iter().filter_entry(|entry| {
-        !(entry.depth() > 0 && entry.file_type().is_dir() && entry.path().join("result.json").is_file())
-    });
+    let walk =
+        walkdir::WalkDir::new(dir).follow_links(true).sort_by_file_name().into_iter().filter_entry(|entry| {
+            !(entry.depth() > 0 && entry.file_type().is_dir() && entry.path().join("result.json").is_file())
+        });
     for entry in walk {
         let entry = entry.map_err(|error| {
             let path = error.path().unwrap_or(dir).to_path_buf();
@@ -85,7 +94,7 @@ pub fn find_capture(dir: &Path, pattern: &NamePattern, excluded: &BTreeSet<PathB
         return Err(Error::NoImages { path: dir.to_path_buf() });
     }
     tiles.sort_by(|a, b| key(&a.name).cmp(&key(&b.name)));
-    check_capture(tiles)
+    check_capture(tiles, missing_empty)
 }
 
 fn key(name: &TileName) -> (u32, &str, u32, u32) {
@@ -103,7 +112,7 @@ pub fn canonical(path: &Path) -> Result<PathBuf> {
 }
 
 /// Each tile once, one size, at most two eyes, every grid position in every eye-frame.
-fn check_capture(tiles: Vec<FoundTile>) -> Result<Capture> {
+fn check_capture(tiles: Vec<FoundTile>, missing_empty: bool) -> Result<Capture> {
     let first = &tiles[0];
     for pair in tiles.windows(2) {
         if key(&pair[0].name) == key(&pair[1].name) {
@@ -142,7 +151,7 @@ fn check_capture(tiles: Vec<FoundTile>) -> Result<Capture> {
         tiles.iter().map(|t| t.name.col).max().unwrap_or(0) + 1,
         tiles.iter().map(|t| t.name.row).max().unwrap_or(0) + 1,
     ];
-    check_grid(&tiles, grid)?;
+    let missing = check_grid(&tiles, grid, missing_empty)?;
     let frames: BTreeSet<u32> = tiles.iter().map(|t| t.name.frame).collect();
     Ok(Capture {
         grid,
@@ -150,37 +159,45 @@ fn check_capture(tiles: Vec<FoundTile>) -> Result<Capture> {
         frames: frames.into_iter().collect(),
         eyes: eyes.into_iter().map(str::to_string).collect(),
         tiles,
+        missing,
     })
 }
 
-/// Every eye-frame has all `grid` positions (tiles are sorted and unique).
-fn check_grid(tiles: &[FoundTile], [columns, rows]: [u32; 2]) -> Result<()> {
+/// Every eye-frame has all `grid` positions (tiles are sorted and unique),
+/// or with `missing_empty` the positions it lacks.
+fn check_grid(tiles: &[FoundTile], [columns, rows]: [u32; 2], missing_empty: bool) -> Result<Vec<TileName>> {
     let mut per_eye_frame: BTreeMap<(u32, &str), Vec<&FoundTile>> = BTreeMap::new();
     for tile in tiles {
         per_eye_frame.entry((tile.name.frame, tile.name.eye.as_str())).or_default().push(tile);
     }
+    let mut missing = Vec::new();
     for ((frame, eye), found) in per_eye_frame {
         if found.len() == (columns * rows) as usize {
             continue;
         }
         let have: BTreeSet<(u32, u32)> = found.iter().map(|t| (t.name.row, t.name.col)).collect();
-        let (row, col) = (0..rows)
+        let mut lacking = (0..rows)
             .flat_map(|row| (0..columns).map(move |col| (row, col)))
-            .find(|position| !have.contains(position))
-            .unwrap_or_default();
+            .filter(|position| !have.contains(position));
+        if missing_empty {
+            missing.extend(lacking.map(|(row, col)| TileName { frame, eye: eye.to_string(), row, col }));
+            continue;
+        }
+        let (row, col) = lacking.next().unwrap_or_default();
         let folder = found[0].path.parent().unwrap_or(Path::new("."));
         return Err(Error::bad_file(
             folder,
             format!(
                 "frame {frame}, eye {eye} has no tile at row {row}, col {col} ({} of {} tiles; \
-                 the other tiles make a grid of {rows} rows × {columns} columns, e.g. {})",
+                 the other tiles make a grid of {rows} rows × {columns} columns, e.g. {}); if missing \
+                 tiles showed only background and were not written, give --missing-tiles-empty",
                 found.len(),
                 columns * rows,
                 found[0].path.display()
             ),
         ));
     }
-    Ok(())
+    Ok(missing)
 }
 
 /// `[width, height]` from the PNG signature and IHDR chunk (its CRC checked).

@@ -31,6 +31,7 @@ pub fn unity_named_tiles_get_a_working_manifest() -> Outcome {
             .arg(script)
             .arg(".")
             .args(["--pattern", pattern, "--palette", "4x4", "--pidt", "pidt.png", "--parts", "parts.csv"])
+            .arg("--missing-tiles-empty")
             .output()
             .unwrap()
     };
@@ -46,7 +47,9 @@ pub fn unity_named_tiles_get_a_working_manifest() -> Outcome {
         None,
     )
     .unwrap();
-    assert_eq!(per_frame.result.images.found, 3, "the PIdT is not a tile");
+    // Right_0001_0_1 was never written: --missing-tiles-empty lists it as empty (counted as trimmed).
+    assert_eq!(per_frame.result.images.found, 4, "three files and one listed empty; the PIdT is not a tile");
+    assert_eq!(per_frame.result.images.listed_empty, 1);
     assert_eq!(per_frame.texel_counts[1..3], [2, 1], "texel 1: once per eye-frame, two eye-frames");
     assert_eq!(per_frame.result.parts[0].total, 3);
     Ok(Completion::Completed)

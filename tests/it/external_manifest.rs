@@ -41,9 +41,12 @@ fn analysis(archive: &Path, dedupe: Dedupe, out: &Path) -> ufcsr::Analysis {
 
 /// Every eye-frame of the bundled capture: (frame, eye) → its 5×5 tiles'
 /// colours by (row, col), background where the capture wrote no file.
-fn example_eye_frames() -> BTreeMap<(u32, String), BTreeMap<(u32, u32), Vec<u32>>> {
+/// An eye-frame's tiles: (row, col) → packed colours.
+type Tiles = BTreeMap<(u32, u32), Vec<u32>>;
+
+fn example_eye_frames() -> BTreeMap<(u32, String), Tiles> {
     let manifest = ufcsr::Manifest::load_from_dir(&example()).unwrap().unwrap();
-    let mut eye_frames: BTreeMap<(u32, String), BTreeMap<(u32, u32), Vec<u32>>> = BTreeMap::new();
+    let mut eye_frames: BTreeMap<(u32, String), Tiles> = BTreeMap::new();
     for tile in &manifest.tiles {
         let colors = match &tile.file {
             Some(file) => ufcsr::read_color_image(&example().join(file), |_, _| Ok(())).unwrap().colors,
@@ -109,6 +112,31 @@ fn unity_named_tiles_renamed_from_a_capture_give_the_captures_totals() {
     let by_frame = analysis(&unity, Dedupe::Frame, &ours);
     assert_same_counts(&by_frame, &analysis(&example(), Dedupe::Frame, &capture));
     assert_same_measures(&ours, &capture, 1e-9);
+}
+
+#[test]
+fn a_renamed_capture_without_its_empty_tiles_needs_missing_tiles_empty() {
+    let dir = tempfile::tempdir().unwrap();
+    let unity = dir.path().join("unity");
+    let capture = ufcsr::Manifest::load_from_dir(&example()).unwrap().unwrap();
+    for tile in capture.tiles.iter().filter(|t| !t.empty) {
+        let eye = if tile.eye == "left" { "Left" } else { "Right" };
+        let name = format!("{eye}_{:04}_{}_{}.png", tile.frame, tile.row, tile.col);
+        std::fs::create_dir_all(&unity).unwrap();
+        std::fs::copy(example().join(tile.file.as_ref().unwrap()), unity.join(name)).unwrap();
+    }
+    copy_labels(&unity);
+    let args = ["unity", "--pattern", UNITY, "--pidt", "unity/pidt.png", "--legend", "unity/parts.csv"];
+    let refused = manifest(dir.path(), &[&args[..], &["--palette-size", "512"]].concat());
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(
+        stderr(&refused).contains("has no tile at row") && stderr(&refused).contains("--missing-tiles-empty")
+    );
+    let output =
+        manifest(dir.path(), &[&args[..], &["--palette-size", "512", "--missing-tiles-empty"]].concat());
+    assert!(output.status.success(), "{}", stderr(&output));
+    let ours = analysis(&unity, Dedupe::Frame, &dir.path().join("ours"));
+    assert_same_counts(&ours, &analysis(&example(), Dedupe::Frame, &dir.path().join("capture")));
 }
 
 #[test]
