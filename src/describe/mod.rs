@@ -24,7 +24,7 @@ use crate::input::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteChoice, Pale
 
 pub use metadata::{FrameTime, parse_fov};
 pub use names::{DEFAULT_PATTERN, NamePattern};
-use scan::{Capture, canonical, find_capture, slash_path};
+use scan::{Capture, Grid, canonical, find_capture, slash_path};
 
 /// What to describe and what is known about it.
 #[derive(Debug, Clone, Default)]
@@ -92,7 +92,17 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
         }
         None => None,
     };
-    let capture = find_capture(&options.dir, &pattern, &excluded, options.missing_tiles_empty)?;
+    let rig = match &options.rig {
+        Some(path) => metadata::read_rig(path)?,
+        None => Map::new(),
+    };
+    // With empty tiles left out, the largest row and column seen may fall short of the grid.
+    let given =
+        rig.get("tiles").filter(|_| options.missing_tiles_empty).and_then(Value::as_array).and_then(|pair| {
+            Some([u32::try_from(pair.first()?.as_u64()?).ok()?, u32::try_from(pair.get(1)?.as_u64()?).ok()?])
+        });
+    let grid = Grid { given, missing_empty: options.missing_tiles_empty };
+    let capture = find_capture(&options.dir, &pattern, &excluded, grid)?;
     let dir = canonical(&options.dir)?;
     let mut notes = Vec::new();
     if manifest_path.file_name().is_some_and(|name| name != MANIFEST_FILE) {
@@ -101,7 +111,14 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
             manifest_path.display()
         ));
     }
-    let settings = settings(options, &capture, &mut notes)?;
+    if options.missing_tiles_empty && given.is_none() {
+        notes.push(format!(
+            "the grid, {} columns × {} rows, is the largest column and row seen: if whole border columns or rows \
+             were left out, give the rig's tiles (--rig with \"tiles\": [columns, rows])",
+            capture.grid[0], capture.grid[1]
+        ));
+    }
+    let settings = settings(options, rig, &capture, &mut notes)?;
     let times = match &options.frame_times {
         Some(path) => Some(times_of_frames(path, &capture.frames)?),
         None => None,
@@ -214,13 +231,10 @@ fn relative_to(full: &Path, base: &Path, given: &Path, what: &str) -> Result<Pat
 /// then the image size and tiling found, checked against each other.
 fn settings(
     options: &DescribeOptions,
+    mut settings: Map<String, Value>,
     capture: &Capture,
     notes: &mut Vec<String>,
 ) -> Result<Map<String, Value>> {
-    let mut settings = match &options.rig {
-        Some(path) => metadata::read_rig(path)?,
-        None => Map::new(),
-    };
     let rig_name = options.rig.as_deref().unwrap_or(Path::new("--rig"));
     let eye = capture.eye_pixels();
     if let Some(given) = settings.get("eye_pixels").filter(|given| **given != json!(eye)) {

@@ -52,7 +52,7 @@ pub fn find_capture(
     dir: &Path,
     pattern: &NamePattern,
     excluded: &BTreeSet<PathBuf>,
-    missing_empty: bool,
+    grid: Grid,
 ) -> Result<Capture> {
     let mut tiles = Vec::new();
     let mut unmatched = Vec::new();
@@ -94,7 +94,16 @@ pub fn find_capture(
         return Err(Error::NoImages { path: dir.to_path_buf() });
     }
     tiles.sort_by(|a, b| key(&a.name).cmp(&key(&b.name)));
-    check_capture(tiles, missing_empty)
+    check_capture(tiles, grid)
+}
+
+/// How the grid of each eye image is known.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Grid {
+    /// `[columns, rows]` as the rig says; else the largest column and row seen.
+    pub given: Option<[u32; 2]>,
+    /// Positions no file fills are empty tiles, not an error.
+    pub missing_empty: bool,
 }
 
 fn key(name: &TileName) -> (u32, &str, u32, u32) {
@@ -112,7 +121,7 @@ pub fn canonical(path: &Path) -> Result<PathBuf> {
 }
 
 /// Each tile once, one size, at most two eyes, every grid position in every eye-frame.
-fn check_capture(tiles: Vec<FoundTile>, missing_empty: bool) -> Result<Capture> {
+fn check_capture(tiles: Vec<FoundTile>, layout: Grid) -> Result<Capture> {
     let first = &tiles[0];
     for pair in tiles.windows(2) {
         if key(&pair[0].name) == key(&pair[1].name) {
@@ -147,11 +156,21 @@ fn check_capture(tiles: Vec<FoundTile>, missing_empty: bool) -> Result<Capture> 
             eyes.into_iter().collect::<Vec<_>>().join(", ")
         )));
     }
-    let grid = [
+    let seen = [
         tiles.iter().map(|t| t.name.col).max().unwrap_or(0) + 1,
         tiles.iter().map(|t| t.name.row).max().unwrap_or(0) + 1,
     ];
-    let missing = check_grid(&tiles, grid, missing_empty)?;
+    let grid = layout.given.unwrap_or(seen);
+    if let Some(outside) = tiles.iter().find(|t| t.name.col >= grid[0] || t.name.row >= grid[1]) {
+        return Err(Error::bad_file(
+            &outside.path,
+            format!(
+                "row {}, col {} lies outside the rig's tiles [{}, {}] ([columns, rows])",
+                outside.name.row, outside.name.col, grid[0], grid[1]
+            ),
+        ));
+    }
+    let missing = check_grid(&tiles, grid, layout.missing_empty)?;
     let frames: BTreeSet<u32> = tiles.iter().map(|t| t.name.frame).collect();
     Ok(Capture {
         grid,

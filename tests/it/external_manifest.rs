@@ -132,11 +132,19 @@ fn a_renamed_capture_without_its_empty_tiles_needs_missing_tiles_empty() {
     assert!(
         stderr(&refused).contains("has no tile at row") && stderr(&refused).contains("--missing-tiles-empty")
     );
-    let output =
-        manifest(dir.path(), &[&args[..], &["--palette-size", "512", "--missing-tiles-empty"]].concat());
+    // The written tiles alone span 4 × 3 of the 5 × 5 grid: the rig's tiles give the rest.
+    std::fs::write(dir.path().join("rig.json"), r#"{"tiles": [5, 5], "fps": 60, "horizontal_fov_deg": 107}"#)
+        .unwrap();
+    let empty = ["--palette-size", "512", "--missing-tiles-empty", "--rig", "rig.json", "--json"];
+    let output = manifest(dir.path(), &[&args[..], &empty[..]].concat());
     assert!(output.status.success(), "{}", stderr(&output));
-    let ours = analysis(&unity, Dedupe::Frame, &dir.path().join("ours"));
-    assert_same_counts(&ours, &analysis(&example(), Dedupe::Frame, &dir.path().join("capture")));
+    let summary: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(summary["eye_pixels"], serde_json::json!([640, 810]));
+    let (ours, capture) = (dir.path().join("ours"), dir.path().join("capture"));
+    let by_frame = analysis(&unity, Dedupe::Frame, &ours);
+    assert_same_counts(&by_frame, &analysis(&example(), Dedupe::Frame, &capture));
+    // Frame 0 (no tile written) is no eye-frame here, but every part's measures agree.
+    assert_same_measures(&ours, &capture, 1e-9);
 }
 
 #[test]
