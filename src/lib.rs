@@ -7,6 +7,7 @@
 mod analyze;
 mod color;
 mod count;
+mod describe;
 mod error;
 mod files;
 mod input;
@@ -21,6 +22,7 @@ pub use count::{
     Classifier, CountedTile, Counts, EmptyTile, FrameLabel, FrameRecord, ImageTally, KERNEL_ENV, Kernel,
     PartLookup, PartPixels, PixelClass, RowScan, TileCounter, scan_image, scan_image_by_part,
 };
+pub use describe::{DEFAULT_PATTERN, DescribeOptions, Described, describe, parse_fov};
 pub use error::{Error, Result};
 #[cfg(feature = "cli")]
 pub use files::remove_temporaries_on_interrupt;

@@ -56,6 +56,11 @@ pub enum Command {
     /// from the exact measure's placement-frames.csv (docs/placement.md).
     #[command(after_help = EXIT_STATUS)]
     Placement(super::placement::PlacementArgs),
+    /// Describe a folder of frames rendered elsewhere (Unity, Blender) as an archive: write its
+    /// manifest.json with tiles, palette, PIdT, legend and what fps, field of view, rig and frame
+    /// times are known, so `ufcsr-analyze DIR` needs no options (docs/archive-format.md).
+    #[command(after_help = EXIT_STATUS)]
+    Manifest(super::manifest::ManifestArgs),
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell) on stdout.
     Completions(CompletionsArgs),
     /// Print the man page (roff) on stdout, or write one page per subcommand into --out.

@@ -1,5 +1,6 @@
-//! `scripts/manifest-from-tiles.py`: a Unity-style folder of tiles gets a
-//! manifest the analyzer accepts, with eye-frame grouping from the names.
+//! `scripts/manifest-from-tiles.py` (deprecated: a wrapper of `ufcsr-analyze
+//! manifest`): a Unity-style folder of tiles gets a manifest the analyzer
+//! accepts, with eye-frame grouping from the names; its old options still work.
 //! Ignored (with the reason) when `python3` is not installed.
 
 use crate::common;
@@ -25,9 +26,12 @@ pub fn unity_named_tiles_get_a_working_manifest() -> Outcome {
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/scripts/manifest-from-tiles.py");
     let run = |pattern: &str| {
         Command::new("python3")
+            .env("UFCSR_ANALYZE", env!("CARGO_BIN_EXE_ufcsr-analyze"))
+            .current_dir(archive)
             .arg(script)
-            .arg(archive)
+            .arg(".")
             .args(["--pattern", pattern, "--palette", "4x4", "--pidt", "pidt.png", "--parts", "parts.csv"])
+            .arg("--missing-tiles-empty")
             .output()
             .unwrap()
     };
@@ -43,7 +47,9 @@ pub fn unity_named_tiles_get_a_working_manifest() -> Outcome {
         None,
     )
     .unwrap();
-    assert_eq!(per_frame.result.images.found, 3, "the PIdT is not a tile");
+    // Right_0001_0_1 was never written: --missing-tiles-empty lists it as empty (counted as trimmed).
+    assert_eq!(per_frame.result.images.found, 4, "three files and one listed empty; the PIdT is not a tile");
+    assert_eq!(per_frame.result.images.listed_empty, 1);
     assert_eq!(per_frame.texel_counts[1..3], [2, 1], "texel 1: once per eye-frame, two eye-frames");
     assert_eq!(per_frame.result.parts[0].total, 3);
     Ok(Completion::Completed)

@@ -12,6 +12,7 @@ mod cli;
 mod cli_grammar;
 mod comparison_page;
 mod doc_links;
+mod external_manifest;
 mod frames;
 mod fuzz_regressions;
 mod indexed_png;

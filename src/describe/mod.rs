@@ -1,0 +1,404 @@
+//! `ufcsr-analyze manifest`: describes a folder of frames rendered outside
+//! ufcsr (Unity, Blender, a third party) as an archive manifest, so that
+//! `ufcsr-analyze DIR` reads it alone — eye-frames for `--dedupe frame`, the
+//! palette, PIdT, legend and background, and the metadata a capture would
+//! have written (fps, field of view or pixels per degree, rig, frame times
+//! and distances) so exposure, deg²·s and the resolution diagnostics work.
+//!
+//! Paths given here are relative to the working directory; paths written
+//! into the manifest are relative to the manifest's folder, which must hold
+//! every file it names (the analyzer refuses paths that leave it).
+
+pub mod metadata;
+pub mod names;
+pub mod scan;
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+use serde_json::{Map, Value, json};
+
+use crate::color::Color;
+use crate::error::{Error, Result};
+use crate::input::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteChoice, PaletteSpec, TileEntry};
+
+pub use metadata::{FrameTime, parse_fov};
+pub use names::{DEFAULT_PATTERN, NamePattern};
+use scan::{Capture, Grid, canonical, find_capture, slash_path};
+
+/// What to describe and what is known about it.
+#[derive(Debug, Clone, Default)]
+pub struct DescribeOptions {
+    /// The folder of frames (searched recursively).
+    pub dir: PathBuf,
+    /// A regex with named groups or a `{frame}` template; default [`DEFAULT_PATTERN`].
+    pub pattern: Option<String>,
+    /// The manifest to write (default `DIR/manifest.json`; a folder: `FOLDER/manifest.json`).
+    pub out: Option<PathBuf>,
+    pub palette: Option<PaletteChoice>,
+    pub pidt: Option<PathBuf>,
+    pub legend: Option<PathBuf>,
+    pub background: Vec<Color>,
+    pub fps: Option<f64>,
+    pub pixels_per_degree: Option<f64>,
+    /// Horizontal and, to check it, vertical field of view in degrees.
+    pub fov: Option<(f64, Option<f64>)>,
+    /// A JSON file of rig fields ([`metadata::RIG_FIELDS`]).
+    pub rig: Option<PathBuf>,
+    /// A CSV `frame,time_s[,distance_m]`.
+    pub frame_times: Option<PathBuf>,
+    /// List grid positions no file fills as empty tiles (all background, not written) instead of refusing.
+    pub missing_tiles_empty: bool,
+}
+
+/// What was written.
+#[derive(Debug, Clone)]
+pub struct Described {
+    pub manifest_path: PathBuf,
+    pub manifest: Manifest,
+    pub eye_frames: usize,
+    pub frames: usize,
+    pub eyes: Vec<String>,
+    /// Tiles per eye image, `[columns, rows]`.
+    pub grid: [u32; 2],
+    pub tile_pixels: [u32; 2],
+    pub eye_pixels: [u32; 2],
+    pub fps: Option<f64>,
+    pub horizontal_fov_deg: Option<f64>,
+    pub pixels_per_degree: Option<f64>,
+    /// Where the frames' times came from: `--frame-times`, `--fps` (frame / fps), or nowhere.
+    pub times_from: Option<&'static str>,
+    pub distances: bool,
+    /// What the manifest still lacks and what stays empty because of it.
+    pub notes: Vec<String>,
+}
+
+/// Reads the folder, checks it and writes the manifest (atomically; nothing on error).
+pub fn describe(options: &DescribeOptions) -> Result<Described> {
+    let (manifest_path, base) = manifest_place(options)?;
+    let pattern = NamePattern::new(options.pattern.as_deref().unwrap_or(DEFAULT_PATTERN))?;
+    let mut excluded = BTreeSet::new();
+    let mut inside = |path: &Path, what: &str| -> Result<PathBuf> {
+        let full = canonical(path)?;
+        excluded.insert(full.clone());
+        relative_to(&full, &base, path, what)
+    };
+    let pidt = options.pidt.as_deref().map(|p| inside(p, "--pidt")).transpose()?;
+    let legend = options.legend.as_deref().map(|p| inside(p, "--legend")).transpose()?;
+    let palette = match &options.palette {
+        Some(PaletteChoice::Image(path)) => Some(PaletteSpec::File(inside(path, "--fcsp")?)),
+        Some(PaletteChoice::Canonical { width, height }) => {
+            Some(PaletteSpec::Canonical { canonical: [*width, *height] })
+        }
+        None => None,
+    };
+    let rig = match &options.rig {
+        Some(path) => metadata::read_rig(path)?,
+        None => Map::new(),
+    };
+    // With empty tiles left out, the largest row and column seen may fall short of the grid.
+    let given =
+        rig.get("tiles").filter(|_| options.missing_tiles_empty).and_then(Value::as_array).and_then(|pair| {
+            Some([u32::try_from(pair.first()?.as_u64()?).ok()?, u32::try_from(pair.get(1)?.as_u64()?).ok()?])
+        });
+    let grid = Grid { given, missing_empty: options.missing_tiles_empty };
+    let capture = find_capture(&options.dir, &pattern, &excluded, grid)?;
+    let dir = canonical(&options.dir)?;
+    let mut notes = Vec::new();
+    if manifest_path.file_name().is_some_and(|name| name != MANIFEST_FILE) {
+        notes.push(format!(
+            "the analyzer reads only {MANIFEST_FILE}: rename {} before analysing",
+            manifest_path.display()
+        ));
+    }
+    if options.missing_tiles_empty && given.is_none() {
+        notes.push(format!(
+            "the grid, {} columns × {} rows, is the largest column and row seen: if whole border columns or rows \
+             were left out, give the rig's tiles (--rig with \"tiles\": [columns, rows])",
+            capture.grid[0], capture.grid[1]
+        ));
+    }
+    let settings = settings(options, rig, &capture, &mut notes)?;
+    let times = match &options.frame_times {
+        Some(path) => Some(times_of_frames(path, &capture.frames)?),
+        None => None,
+    };
+    let fps = settings.get("fps").and_then(Value::as_f64);
+    let tiles = tile_entries(&capture, [&options.dir, &dir], &base, times.as_ref(), fps)?;
+    let extra = extra_fields(&settings, capture.tile_pixels, options.pixels_per_degree, times.as_ref());
+    let pixels_per_degree = extra["rig"].get("pixels_per_degree").and_then(Value::as_f64);
+    let distances = extra.contains_key("frames");
+    let manifest = Manifest {
+        schema: Some(MANIFEST_SCHEMA.to_string()),
+        palette,
+        pidt,
+        parts: legend,
+        background: (!options.background.is_empty()).then(|| options.background.clone()),
+        tiles,
+        extra,
+    };
+    let times_from = if times.is_some() { Some("--frame-times") } else { fps.map(|_| "--fps") };
+    lacking(&manifest, fps, pixels_per_degree, distances, &mut notes);
+    write_checked(&manifest, &manifest_path)?;
+    Ok(Described {
+        manifest_path,
+        eye_frames: manifest.tiles.len() / (capture.grid[0] * capture.grid[1]) as usize,
+        frames: capture.frames.len(),
+        eyes: capture.eyes.clone(),
+        grid: capture.grid,
+        tile_pixels: capture.tile_pixels,
+        eye_pixels: capture.eye_pixels(),
+        fps,
+        horizontal_fov_deg: settings.get("horizontal_fov_deg").and_then(Value::as_f64),
+        pixels_per_degree,
+        times_from,
+        distances,
+        notes,
+        manifest,
+    })
+}
+
+/// `generator`, `rig` and, when every frame has its distance, the `frames` records.
+fn extra_fields(
+    settings: &Map<String, Value>,
+    tile_pixels: [u32; 2],
+    pixels_per_degree: Option<f64>,
+    times: Option<&BTreeMap<u32, FrameTime>>,
+) -> Map<String, Value> {
+    let mut extra = Map::new();
+    extra.insert("generator".into(), json!(format!("ufcsr-analyze manifest {}", env!("CARGO_PKG_VERSION"))));
+    let mut rig = metadata::rig_record(settings, tile_pixels);
+    if let (Some(ppd), Some(object)) = (pixels_per_degree, rig.as_object_mut()) {
+        object.entry("pixels_per_degree").or_insert(json!(ppd));
+    }
+    extra.insert("rig".into(), rig);
+    if let Some(times) = times.filter(|t| t.values().all(|t| t.distance_m.is_some())) {
+        let records: Vec<Value> = times
+            .iter()
+            .map(|(frame, t)| json!({"frame": frame, "time_s": t.time_s, "distance_m": t.distance_m}))
+            .collect();
+        extra.insert("frames".into(), Value::Array(records));
+    }
+    extra
+}
+
+/// The manifest's path and its folder with links resolved; the folder of
+/// frames must lie in it, since the manifest's paths may not leave it.
+fn manifest_place(options: &DescribeOptions) -> Result<(PathBuf, PathBuf)> {
+    if !options.dir.is_dir() {
+        return Err(Error::bad_file(&options.dir, "not a folder (give the folder of rendered frames)"));
+    }
+    let path = match &options.out {
+        Some(out) if out.is_dir() || out.as_os_str().to_string_lossy().ends_with(['/', '\\']) => {
+            out.join(MANIFEST_FILE)
+        }
+        Some(out) => out.clone(),
+        None => options.dir.join(MANIFEST_FILE),
+    };
+    let parent = match path.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent,
+        _ => Path::new("."),
+    };
+    let base = canonical(parent)?;
+    let dir = canonical(&options.dir)?;
+    if !dir.starts_with(&base) {
+        return Err(Error::BadOptions(format!(
+            "--out {}: the manifest must lie in {} or a folder above it (its paths are relative to its \
+             folder and may not leave it)",
+            path.display(),
+            options.dir.display()
+        )));
+    }
+    Ok((path, base))
+}
+
+/// `full` (canonical) relative to `base`, or an error naming `given`.
+fn relative_to(full: &Path, base: &Path, given: &Path, what: &str) -> Result<PathBuf> {
+    match full.strip_prefix(base) {
+        Ok(relative) => Ok(PathBuf::from(slash_path(relative))),
+        Err(_) => Err(Error::bad_file(
+            given,
+            format!(
+                "{what}: lies outside the manifest's folder {}; the manifest can only name files inside it \
+                 (copy the file there)",
+                base.display()
+            ),
+        )),
+    }
+}
+
+/// The rig settings: the rig file's, then the command line's (which win),
+/// then the image size and tiling found, checked against each other.
+fn settings(
+    options: &DescribeOptions,
+    mut settings: Map<String, Value>,
+    capture: &Capture,
+    notes: &mut Vec<String>,
+) -> Result<Map<String, Value>> {
+    let rig_name = options.rig.as_deref().unwrap_or(Path::new("--rig"));
+    let eye = capture.eye_pixels();
+    if let Some(given) = settings.get("eye_pixels").filter(|given| **given != json!(eye)) {
+        return Err(Error::bad_file(
+            rig_name,
+            format!(
+                "eye_pixels {given} disagrees with the frames: their eye images are {}×{} pixels",
+                eye[0], eye[1]
+            ),
+        ));
+    }
+    if let Some(given) = settings.get("tiles").filter(|given| **given != json!(capture.grid)) {
+        notes.push(format!(
+            "the rig's tiles {given} replaced by the frames' grid [{}, {}] ([columns, rows])",
+            capture.grid[0], capture.grid[1]
+        ));
+    }
+    settings.insert("eye_pixels".into(), json!(eye));
+    settings.insert("tiles".into(), json!(capture.grid));
+    for (key, given, flag) in
+        [("fps", options.fps, "--fps"), ("horizontal_fov_deg", options.fov.map(|f| f.0), "--fov")]
+    {
+        let Some(given) = given else { continue };
+        if !(given.is_finite() && given > 0.0) {
+            return Err(Error::BadOptions(format!("{flag} {given}: must be a number above 0")));
+        }
+        if let Some(old) = settings.get(key).and_then(Value::as_f64).filter(|old| *old != given) {
+            notes.push(format!("{flag} {given} replaces the rig file's {key} {old}"));
+        }
+        settings.insert(key.into(), json!(given));
+    }
+    if let Some(ppd) = options.pixels_per_degree.filter(|ppd| !(ppd.is_finite() && *ppd > 0.0)) {
+        return Err(Error::BadOptions(format!("--pixels-per-degree {ppd}: must be a number above 0")));
+    }
+    check_optics(options, &settings, eye)?;
+    Ok(settings)
+}
+
+/// `--fov HxV` and `--pixels-per-degree` must agree with square pixels over the eye image.
+fn check_optics(options: &DescribeOptions, settings: &Map<String, Value>, eye: [u32; 2]) -> Result<()> {
+    let Some(fov) = settings.get("horizontal_fov_deg").and_then(Value::as_f64) else { return Ok(()) };
+    let vertical = metadata::vertical_fov_deg(fov, eye);
+    if let Some((_, Some(given))) = options.fov
+        && (given - vertical).abs() > 0.1
+    {
+        return Err(Error::BadOptions(format!(
+            "--fov {fov}x{given}: eye images of {}×{} pixels with square pixels and {fov}° across have a \
+             vertical field of view of {vertical:.3}°, not {given}° (ufcsr's eye is a centred pinhole with \
+             square pixels)",
+            eye[0], eye[1]
+        )));
+    }
+    let derived = f64::from(eye[0]) / fov;
+    if let Some(ppd) = options.pixels_per_degree
+        && (ppd - derived).abs() > 1e-3 * derived
+    {
+        return Err(Error::BadOptions(format!(
+            "--pixels-per-degree {ppd} disagrees with the rig's field of view: {} pixels over {fov}° is {derived:.6}",
+            eye[0]
+        )));
+    }
+    Ok(())
+}
+
+/// `--frame-times` for the captured frames: each must be listed.
+fn times_of_frames(path: &Path, frames: &[u32]) -> Result<BTreeMap<u32, FrameTime>> {
+    let mut all = metadata::read_frame_times(path)?;
+    if let Some(missing) = frames.iter().find(|frame| !all.contains_key(frame)) {
+        return Err(Error::bad_file(
+            path,
+            format!(
+                "has no row for frame {missing}, which the file names give (every captured frame needs its time)"
+            ),
+        ));
+    }
+    all.retain(|frame, _| frames.binary_search(frame).is_ok());
+    Ok(all)
+}
+
+/// The manifest's tiles (found below `given`, which is `dir` with links resolved), their files relative to `base`, each with its frame's time and distance.
+fn tile_entries(
+    capture: &Capture,
+    [given, dir]: [&Path; 2],
+    base: &Path,
+    times: Option<&BTreeMap<u32, FrameTime>>,
+    fps: Option<f64>,
+) -> Result<Vec<TileEntry>> {
+    let mut tiles = Vec::with_capacity(capture.tiles.len() + capture.missing.len());
+    let found = capture.tiles.iter().map(|tile| (&tile.name, Some(tile.path.as_path())));
+    for (name, path) in found.chain(capture.missing.iter().map(|name| (name, None))) {
+        let file = match path {
+            Some(path) => {
+                let below = path.strip_prefix(given).unwrap_or(path);
+                Some(relative_to(&dir.join(below), base, path, "a frame")?)
+            }
+            None => None,
+        };
+        let mut extra = Map::new();
+        let frame = name.frame;
+        match times.and_then(|times| times.get(&frame)) {
+            Some(time) => {
+                extra.insert("time_s".into(), json!(time.time_s));
+                if let Some(distance) = time.distance_m {
+                    extra.insert("distance_m".into(), json!(distance));
+                }
+            }
+            None => {
+                if let Some(fps) = fps {
+                    extra.insert("time_s".into(), json!(f64::from(frame) / fps));
+                }
+            }
+        }
+        let empty = file.is_none();
+        tiles.push(TileEntry {
+            file,
+            frame,
+            eye: name.eye.clone(),
+            row: name.row,
+            col: name.col,
+            empty,
+            extra,
+        });
+    }
+    tiles.sort_by(|a, b| (a.frame, &a.eye, a.row, a.col).cmp(&(b.frame, &b.eye, b.row, b.col)));
+    Ok(tiles)
+}
+
+/// Notes on what stays empty because the manifest lacks it.
+fn lacking(
+    manifest: &Manifest,
+    fps: Option<f64>,
+    ppd: Option<f64>,
+    distances: bool,
+    notes: &mut Vec<String>,
+) {
+    if fps.is_none() {
+        notes.push("no fps (--fps or the rig's fps): exposure_s and angular_area_deg2_s stay empty".into());
+    }
+    if ppd.is_none() {
+        notes.push(
+            "no field of view (--fov, or --pixels-per-degree): angular_area_deg2_s, frames.csv's solid_angle_sr \
+             and the resolution diagnostics stay empty"
+                .into(),
+        );
+    } else if !manifest.extra["rig"]["settings"].get("horizontal_fov_deg").is_some_and(Value::is_number) {
+        notes.push("no field of view (--fov): frames.csv's solid_angle_sr stays empty".into());
+    }
+    if !distances {
+        notes.push(
+            "no distances (--frame-times with a distance_m column): the distance plots stay empty".into(),
+        );
+    }
+    if manifest.pidt.is_none() {
+        notes.push("no --pidt/--legend: counts per texel only, no parts".into());
+    }
+}
+
+/// Checks the manifest as the analyzer will read it, then writes it atomically.
+fn write_checked(manifest: &Manifest, path: &Path) -> Result<()> {
+    let bytes = serde_json::to_vec_pretty(manifest)
+        .map_err(|error| Error::bad_file(path, format!("could not write the manifest: {error}")))?;
+    Manifest::parse(path, &bytes)?;
+    crate::files::write_atomically(path, |writer| {
+        std::io::Write::write_all(writer, &bytes)?;
+        std::io::Write::write_all(writer, b"\n")
+    })
+}
