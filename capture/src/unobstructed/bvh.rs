@@ -1,7 +1,6 @@
 //! Segment-against-triangles queries for the exact measure: a bounding-volume
 //! hierarchy built with the surface-area heuristic over binned centroids, its
-//! any-hit traversal with a fixed stack (no allocation per ray, nearer child
-//! first, both children's boxes tested at the parent), and the same
+//! any-hit traversal with a fixed stack (no allocation per ray), and the same
 //! question answered by brute force so tests can check one against the other.
 //!
 //! Nodes are 64 bytes (one cache line): bounds in f64 and `(first, count)`;
@@ -18,12 +17,9 @@ use crate::scene::ray_triangle::ray_triangle_parameter;
 /// The deepest the build goes; a node at this depth is a leaf whatever its
 /// size, so the traversal stack (`TRAVERSAL_STACK`) can never overflow.
 pub const MAX_DEPTH: usize = 48;
-/// Entries of the traversal stack (CPU and `visibility.wgsl`): more than
-/// the depth of a push-two-pop-one walk of a `MAX_DEPTH` tree (the GPU's),
-/// and the CPU's walk pushes at most one entry per level.
+/// Entries of the traversal stack (CPU and `visibility.wgsl`): one more than
+/// the depth of a push-two-pop-one walk of a `MAX_DEPTH` tree.
 pub const TRAVERSAL_STACK: usize = 64;
-// Checked when the crate is built: the deepest walk fits the stack.
-const _: () = assert!(MAX_DEPTH + 2 <= TRAVERSAL_STACK);
 /// Triangles at or under which a node is not split.
 const LEAF_SIZE: usize = 2;
 /// Centroid bins per axis of the SAH sweep.
@@ -95,56 +91,36 @@ impl TriangleBvh {
     }
 
     /// True when the open segment `from → to` (ends excluded) crosses a
-    /// triangle: any hit ends the walk. Both children's boxes are tested at
-    /// their parent; the walk goes on into the nearer one hit and keeps the
-    /// other on the stack (at most one entry per level, so `MAX_DEPTH` bounds
-    /// it), so missed children are never fetched again. Which triangles can
-    /// be reached is the same as testing each node's box when it is popped
-    /// (the GPU's order), so the answer is too.
+    /// triangle: any hit ends the walk.
     pub fn blocks(&self, from: DVec3, to: DVec3) -> bool {
-        let Some(root) = self.nodes.first() else { return false };
-        let direction = to - from;
-        let inverse = direction.recip();
-        if segment_enters_box(from, inverse, root).is_none() {
+        if self.nodes.is_empty() {
             return false;
         }
+        let direction = to - from;
+        let inverse = direction.recip();
         let mut stack = [0u32; TRAVERSAL_STACK];
-        let mut top = 0usize;
-        let mut node = root;
-        loop {
-            let first = node.first as usize;
-            if node.count > 0 {
-                let leaf = &self.triangles[first..first + node.count as usize];
-                if leaf.iter().any(|t| segment_hits_triangle(from, direction, t)) {
+        let mut top = 1usize;
+        while top > 0 {
+            top -= 1;
+            let node = &self.nodes[stack[top] as usize];
+            if !segment_hits_box(from, inverse, node) {
+                continue;
+            }
+            let (first, count) = (node.first as usize, node.count as usize);
+            if count > 0 {
+                if self.triangles[first..first + count]
+                    .iter()
+                    .any(|t| segment_hits_triangle(from, direction, t))
+                {
                     return true;
                 }
             } else {
-                let (left, right) = (&self.nodes[first], &self.nodes[first + 1]);
-                match (segment_enters_box(from, inverse, left), segment_enters_box(from, inverse, right)) {
-                    (Some(a), Some(b)) => {
-                        let (next, later) = if a <= b { (first, first + 1) } else { (first + 1, first) };
-                        stack[top] = later as u32;
-                        top += 1;
-                        node = &self.nodes[next];
-                        continue;
-                    }
-                    (Some(_), None) => {
-                        node = left;
-                        continue;
-                    }
-                    (None, Some(_)) => {
-                        node = right;
-                        continue;
-                    }
-                    (None, None) => {}
-                }
+                stack[top] = node.first;
+                stack[top + 1] = node.first + 1;
+                top += 2;
             }
-            if top == 0 {
-                return false;
-            }
-            top -= 1;
-            node = &self.nodes[stack[top] as usize];
         }
+        false
     }
 
     /// The same question by testing every triangle (for tests).
@@ -268,16 +244,15 @@ fn sah_partition(items: &mut [Item], min: DVec3, max: DVec3) -> Option<usize> {
     Some(left)
 }
 
-/// Slab test of the segment `from + s·direction`, s ∈ [0, 1], against a
-/// box: where (in s) the segment enters it, or `None` when it misses it.
-fn segment_enters_box(from: DVec3, inverse: DVec3, node: &Node) -> Option<f64> {
+/// Slab test of the segment `from + s·direction`, s ∈ [0, 1], against a box.
+fn segment_hits_box(from: DVec3, inverse: DVec3, node: &Node) -> bool {
     let (mut low, mut high) = (0.0f64, 1.0f64);
     for axis in 0..3 {
         let (min, max) = (node.min[axis], node.max[axis]);
         if inverse[axis].is_infinite() {
             // Parallel to this slab: inside it or never.
             if from[axis] < min || from[axis] > max {
-                return None;
+                return false;
             }
             continue;
         }
@@ -286,10 +261,10 @@ fn segment_enters_box(from: DVec3, inverse: DVec3, node: &Node) -> Option<f64> {
         low = low.max(a.min(b));
         high = high.min(a.max(b));
         if low > high {
-            return None;
+            return false;
         }
     }
-    Some(low)
+    true
 }
 
 /// Möller–Trumbore, segment parameter strictly inside (1e-9, 1 − 1e-9).
