@@ -367,6 +367,7 @@ pub fn capture(
         &options.out,
         scene.rig.tile_pixels(),
         options.compression,
+        options.tile_filter,
         options.encoder_threads,
         if options.resume { OldTiles::Keep } else { old_tiles },
     )?;

@@ -25,7 +25,8 @@ pub use capture_job::{
 };
 pub use capture_shard::{Assembled, assemble};
 pub use options::{
-    CaptureOptions, CaptureProgress, Compression, FrameSelection, MAX_SELECTED_FRAMES, Summary, TileTally,
+    CaptureOptions, CaptureProgress, Compression, FrameSelection, MAX_SELECTED_FRAMES, Summary, TileFilter,
+    TileTally,
 };
 pub use scene_checks::{MAX_FRAMES, MAX_TILES};
 

@@ -32,6 +32,28 @@ impl Compression {
     }
 }
 
+/// The PNG row filter of tiles. The analyzer unfilters Up rows in about half
+/// the time of the Paeth rows an adaptive encoder picks (issue 22; figures in
+/// `docs/performance.md`), so tiles are Up-filtered unless asked otherwise.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+pub enum TileFilter {
+    /// Every row Up-filtered: fast to decode, a little larger.
+    #[default]
+    Up,
+    /// The png crate's per-row choice (mostly Paeth): smaller, slower to decode.
+    Adaptive,
+}
+
+impl TileFilter {
+    pub(crate) fn png(self) -> png::Filter {
+        match self {
+            TileFilter::Up => png::Filter::Up,
+            TileFilter::Adaptive => png::Filter::Adaptive,
+        }
+    }
+}
+
 /// Most frames a `--frames` list may name (a day at 100 frames/s is 8.6 million).
 pub const MAX_SELECTED_FRAMES: u64 = 10_000_000;
 
@@ -111,6 +133,8 @@ pub struct CaptureOptions {
     pub own_labels: Option<OwnLabels>,
     pub frames: FrameSelection,
     pub compression: Compression,
+    /// The tiles' PNG row filter.
+    pub tile_filter: TileFilter,
     pub resume: bool,
     pub keep_background_tiles: bool,
     /// Render every tile, even those the vehicle's bounds do not touch
@@ -138,6 +162,7 @@ impl Default for CaptureOptions {
             own_labels: None,
             frames: FrameSelection::all(),
             compression: Compression::Fast,
+            tile_filter: TileFilter::Up,
             resume: false,
             keep_background_tiles: false,
             no_cull: false,

@@ -238,8 +238,8 @@ pub fn inside_mesh(mesh: &Mesh, point: DVec3) -> bool {
 /// Does the ray from `origin` along `direction` cross the triangle (ahead of `origin`)?
 /// The exact measure's Möller–Trumbore test, so both agree on what a crossing is.
 fn ray_hits(origin: DVec3, direction: DVec3, corners: [DVec3; 3]) -> bool {
-    let triangle = crate::unobstructed::bvh::StoredTriangle::from_corners(&corners);
-    crate::unobstructed::bvh::ray_triangle_parameter(origin, direction, &triangle)
+    let triangle = crate::scene::ray_triangle::StoredTriangle::from_corners(&corners);
+    crate::scene::ray_triangle::ray_triangle_parameter(origin, direction, &triangle)
         .is_some_and(|along| along > 0.0)
 }
 

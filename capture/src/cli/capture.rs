@@ -10,7 +10,7 @@ use anyhow::Context;
 use clap::{Args, ValueEnum};
 use ufcsr_capture::{
     Backend, CaptureOptions, CaptureProgress, Compression, CountedCapture, FrameSelection, Gpu,
-    MeasureDevice, OwnLabels, Scene, Summary, parse_palette_size,
+    MeasureDevice, OwnLabels, Scene, Summary, TileFilter, parse_palette_size,
 };
 
 /// What `--measure` counts instead of rendered pixels.
@@ -56,6 +56,9 @@ pub struct Common {
     /// Tile PNG compression.
     #[arg(long, value_enum, default_value_t = Compression::Fast)]
     png_compression: Compression,
+    /// Tile PNG row filter: `up` decodes about twice as fast as `adaptive` (mostly Paeth).
+    #[arg(long, value_enum, default_value_t = TileFilter::Up)]
+    tile_filter: TileFilter,
     /// Skip tiles already on disk (readable PNGs of the tile size; others are rendered again).
     #[arg(long)]
     resume: bool,
@@ -194,6 +197,7 @@ fn capture_options(common: &Common) -> anyhow::Result<CaptureOptions> {
         },
         frames: common.frames.parse::<FrameSelection>()?,
         compression: common.png_compression,
+        tile_filter: common.tile_filter,
         resume: common.resume,
         keep_background_tiles: common.keep_background_tiles,
         no_cull: common.no_cull,

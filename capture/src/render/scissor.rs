@@ -68,10 +68,24 @@ impl EyeBounds {
     }
 }
 
-/// A tile of `size` pixels all in the `background` colour (RGBA).
+/// A tile of `size` pixels all in the `background` colour (RGBA): one pixel
+/// written, then the filled part copied onto the rest, doubling each time
+/// (memcpy speed, not a byte at a time).
 pub fn background_tile(size: [u32; 2], background: [u8; 4]) -> Vec<u8> {
     let [tw, th] = size.map(|v| v as usize);
-    background.iter().copied().cycle().take(tw * th * 4).collect()
+    let total = tw * th * 4;
+    let mut tile = vec![0u8; total];
+    if total == 0 {
+        return tile;
+    }
+    tile[..4].copy_from_slice(&background);
+    let mut filled = 4;
+    while filled < total {
+        let step = filled.min(total - filled);
+        tile.copy_within(..step, filled);
+        filled += step;
+    }
+    tile
 }
 
 /// A full tile of `size` pixels in the background colour `rgba` with the
@@ -127,6 +141,16 @@ mod tests {
             side.region(&rig, TileId { row: 0, col: 0 }),
             Some(PixelRect { x: 0, y: 0, width: 10, height: 10 })
         );
+    }
+
+    #[test]
+    fn a_background_tile_is_the_colour_repeated_for_any_size() {
+        for size in [[0, 0], [1, 1], [3, 2], [7, 5], [512, 3]] {
+            let colour = [10, 20, 30, 255];
+            let expected: Vec<u8> =
+                colour.iter().copied().cycle().take((size[0] * size[1] * 4) as usize).collect();
+            assert_eq!(background_tile(size, colour), expected, "{size:?}");
+        }
     }
 
     #[test]

@@ -3,14 +3,16 @@
 //! reading OBJ/MTL safely), the vehicle's spec and checks ([`vehicle`]) and
 //! parts by region ([`regions`]), the pedestrian's eyes and tiles ([`rig`]),
 //! the vehicle's motion ([`track`] keyframes, [`scenario`] a timed motion,
-//! [`unity`] Unity exports), and the built-in scenes ([`demo`] the truck and
-//! intersection, [`degenerate_mesh`] a vehicle of bad triangles). Nothing
-//! here renders or writes an archive.
+//! [`unity`] Unity exports), the one ray–triangle test ([`ray_triangle`],
+//! shared by the exact measure and the scene checks), and the built-in scenes
+//! ([`demo`] the truck and intersection, [`degenerate_mesh`] a vehicle of bad
+//! triangles). Nothing here renders or writes an archive.
 
 pub(crate) mod degenerate_mesh;
 pub(crate) mod demo;
 pub(crate) mod mesh;
 pub(crate) mod model_files;
+pub(crate) mod ray_triangle;
 pub(crate) mod regions;
 pub(crate) mod rig;
 pub(crate) mod scenario;

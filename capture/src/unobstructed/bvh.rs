@@ -11,6 +11,9 @@
 
 use glam::DVec3;
 
+pub use crate::scene::ray_triangle::StoredTriangle;
+use crate::scene::ray_triangle::ray_triangle_parameter;
+
 /// The deepest the build goes; a node at this depth is a leaf whatever its
 /// size, so the traversal stack (`TRAVERSAL_STACK`) can never overflow.
 pub const MAX_DEPTH: usize = 48;
@@ -23,20 +26,6 @@ const LEAF_SIZE: usize = 2;
 const BINS: usize = 12;
 /// Cost of visiting a node against testing one triangle, for the SAH.
 const TRAVERSAL_COST: f64 = 1.0;
-
-/// A triangle as Möller–Trumbore reads it: a corner and the two edges from it.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StoredTriangle {
-    pub corner: DVec3,
-    pub edge1: DVec3,
-    pub edge2: DVec3,
-}
-
-impl StoredTriangle {
-    pub(crate) fn from_corners(t: &[DVec3; 3]) -> StoredTriangle {
-        StoredTriangle { corner: t[0], edge1: t[1] - t[0], edge2: t[2] - t[0] }
-    }
-}
 
 /// One node: 48 bytes of bounds and two u32 (padded to a cache line).
 #[derive(Debug, Clone, Copy)]
@@ -282,28 +271,6 @@ fn segment_hits_box(from: DVec3, inverse: DVec3, node: &Node) -> bool {
 /// `visibility.wgsl` does the same steps.
 fn segment_hits_triangle(from: DVec3, direction: DVec3, t: &StoredTriangle) -> bool {
     ray_triangle_parameter(from, direction, t).is_some_and(|along| along > 1e-9 && along < 1.0 - 1e-9)
-}
-
-/// Möller–Trumbore: where along `direction` (in its own length) the ray from
-/// `from` crosses the triangle, or `None` when it misses it or runs parallel.
-pub(crate) fn ray_triangle_parameter(from: DVec3, direction: DVec3, t: &StoredTriangle) -> Option<f64> {
-    let p = direction.cross(t.edge2);
-    let determinant = t.edge1.dot(p);
-    if determinant.abs() < 1e-15 {
-        return None;
-    }
-    let inverse = 1.0 / determinant;
-    let s = from - t.corner;
-    let u = s.dot(p) * inverse;
-    if !(0.0..=1.0).contains(&u) {
-        return None;
-    }
-    let q = s.cross(t.edge1);
-    let v = direction.dot(q) * inverse;
-    if v < 0.0 || u + v > 1.0 {
-        return None;
-    }
-    Some(t.edge2.dot(q) * inverse)
 }
 
 #[cfg(test)]

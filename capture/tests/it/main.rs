@@ -17,6 +17,7 @@ mod schemas;
 mod scissor;
 mod slurm_batch;
 mod study_accuracy;
+mod tile_filter;
 mod umbrella;
 mod unobstructed;
 mod vehicles;
