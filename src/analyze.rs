@@ -94,6 +94,7 @@ pub fn analyze_counted(options: &AnalyzeOptions, mut counter: TileCounter) -> Re
         image_counts: counter.image_counts,
         frame_counts: counter.frame_counts,
         strays: counter.strays,
+        neighbours: counter.neighbours.map(|sampler| sampler.sample),
     };
     let frames = part_tallies.map(|tallies| counted_frame_table(tallies, &inputs));
     let mut analysis =

@@ -5,6 +5,7 @@
 //! per-part statistics, and renders a heatmap texture.
 
 mod analyze;
+mod checks;
 mod color;
 mod count;
 mod describe;
@@ -17,6 +18,7 @@ mod result;
 mod testing;
 
 pub use analyze::{analyze, analyze_counted, analyze_texel_counts};
+pub use checks::{ColourChecks, ColourWarning, NeighbourSample};
 pub use color::{AtomicColorSet, COLOR_COUNT, Color, ParseColorError, SeenSet};
 pub use count::{
     Classifier, CountedTile, Counts, EmptyTile, FrameLabel, FrameRecord, ImageTally, KERNEL_ENV, Kernel,

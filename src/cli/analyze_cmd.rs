@@ -140,6 +140,20 @@ fn report_problems(result: &ufcsr::AnalysisResult) {
     }
 }
 
+/// `--strict-colors`: the colour-damage warnings as the error, before
+/// anything is written.
+fn refuse_colour_damage(archive: &Path, result: &ufcsr::AnalysisResult) -> Result<()> {
+    let damage: Vec<String> =
+        result.colour_checks.iter().flat_map(|c| c.warnings.iter().map(|w| w.line())).collect();
+    anyhow::ensure!(
+        damage.is_empty(),
+        "{}: the capture shows colour damage (--strict-colors; nothing written):\n  {}",
+        archive.display(),
+        damage.join("\n  ")
+    );
+    Ok(())
+}
+
 /// One archive analysed and written: what was done.
 fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Result<Done> {
     let options = analyze_options(args, archive, out_dir.clone())?;
@@ -154,6 +168,9 @@ fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Result
             .progress_chars("=> "),
     );
     let mut analysis = analyze(&options, Some(&Bar(bar)))?;
+    if args.strict_colors {
+        refuse_colour_damage(&options.archive, &analysis.result)?;
+    }
     let written = ufcsr::write_results_with(&mut analysis, &out_dir, args.csv_style.into())?;
     report_problems(&analysis.result);
     Ok(Done {

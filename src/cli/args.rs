@@ -165,6 +165,11 @@ pub struct AnalyzeArgs {
     #[arg(long)]
     pub strict: bool,
 
+    /// Fail (exit 2, nothing written) when the capture shows colour-management or filtering
+    /// damage: the `colour damage` warnings (docs/guide.md#colour-damage).
+    #[arg(long)]
+    pub strict_colors: bool,
+
     /// Ignore ARCHIVE/manifest.json (and count ARCHIVE's PNGs even where a manifest lies above
     /// or below it).
     #[arg(long)]

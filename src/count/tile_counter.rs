@@ -13,6 +13,7 @@
 
 use std::collections::BTreeMap;
 
+use crate::checks::neighbours::{NeighbourSampler, TexelGrid};
 use crate::color::Color;
 use crate::color::{AtomicColorSet, SeenSet};
 use crate::count::counts::Counts;
@@ -79,12 +80,15 @@ pub struct TileCounter<'a> {
     pub(crate) tallies: BTreeMap<String, ImageTally>,
     /// Per eye-frame and part, when asked for ([`TileCounter::tally_parts`]).
     pub(crate) parts: Option<PartTallies>,
+    /// The colour checks' neighbour sample (canonical palettes).
+    pub(crate) neighbours: Option<NeighbourSampler>,
 }
 
 impl<'a> TileCounter<'a> {
     /// A counter for tiles drawn with `palette` over `backgrounds`.
     pub fn new(palette: &'a Fcsp, backgrounds: &[Color], dedupe: Dedupe) -> Result<TileCounter<'a>> {
         let backgrounds: Vec<u32> = backgrounds.iter().map(|c| c.packed()).collect();
+        let neighbours = TexelGrid::new(palette, &backgrounds).map(NeighbourSampler::new);
         Ok(TileCounter {
             classifier: Classifier::new(palette, &backgrounds)?,
             image_counts: Counts::new(),
@@ -96,6 +100,7 @@ impl<'a> TileCounter<'a> {
             current_eye_frame: None,
             tallies: BTreeMap::new(),
             parts: None,
+            neighbours,
         })
     }
 
@@ -157,20 +162,21 @@ impl<'a> TileCounter<'a> {
             }
             parts.pixels.view = parts.projection.map(|projection| TileView { projection, origin });
         }
-        let parts = self.parts.as_mut();
-        match parts {
-            Some(parts) => {
-                for (y, row) in rgba.chunks_exact(row_bytes.max(1)).enumerate() {
-                    scan.scan(row, &self.classifier, &mut self.seen, &self.strays, &mut by_class);
-                    parts.lookup.add_row_at(row, PixelLayout::Rgba, y as u32, &mut parts.pixels);
-                }
-                self.seen.merge_into(&mut parts.seen);
+        let (mut parts, mut neighbours) = (self.parts.as_mut(), self.neighbours.as_mut());
+        if let Some(sampler) = neighbours.as_mut() {
+            sampler.start_image();
+        }
+        for (y, row) in rgba.chunks_exact(row_bytes.max(1)).enumerate() {
+            scan.scan(row, &self.classifier, &mut self.seen, &self.strays, &mut by_class);
+            if let Some(parts) = parts.as_mut() {
+                parts.lookup.add_row_at(row, PixelLayout::Rgba, y as u32, &mut parts.pixels);
             }
-            None => {
-                for row in rgba.chunks_exact(row_bytes.max(1)) {
-                    scan.scan(row, &self.classifier, &mut self.seen, &self.strays, &mut by_class);
-                }
+            if let Some(sampler) = neighbours.as_mut() {
+                sampler.row(y as u32, row, PixelLayout::Rgba);
             }
+        }
+        if let Some(parts) = parts {
+            self.seen.merge_into(&mut parts.seen);
         }
         let tally = ImageTally {
             width,

@@ -10,10 +10,11 @@ use std::sync::{Mutex, PoisonError};
 
 use rayon::prelude::*;
 
+use crate::checks::neighbours::{NeighbourSample, NeighbourSampler, TexelGrid};
 use crate::color::sets::{AtomicColorSet, SeenSet};
 use crate::count::counts::Counts;
 use crate::count::part_lookup::{FrameLabel, FrameRecord, PartLookup, PartPixels};
-use crate::count::scan::{Classifier, ImageTally, scan_image_by_part};
+use crate::count::scan::{Classifier, ImageTally, RowPasses, scan_image_with};
 use crate::count::trim::TrimPlan;
 use crate::error::Error;
 use crate::input::archive_reader::{Archive, ImageSource};
@@ -86,12 +87,14 @@ pub(crate) fn count_images(job: &CountJob) -> (CountedImages, Option<FrameTallie
     // (frame dedupe or frames.csv) and one for the frame (eye-pair dedupe),
     // reused for every unit: fresh sets per rayon split would pay their page
     // faults again and again.
+    let grid = TexelGrid::new(&inputs.palette, job.classifier.backgrounds());
     let worker_sets: Vec<Mutex<WorkerSets>> = (0..rayon::current_num_threads())
         .map(|_| {
             Mutex::new(WorkerSets {
                 image: SeenSet::new(),
                 eye_frame: (workers.frame_counts.is_some() || workers.lookup.is_some()).then(SeenSet::new),
                 pair: (inputs.dedupe == Dedupe::EyePair).then(SeenSet::new),
+                neighbours: grid.clone().map(NeighbourSampler::new),
             })
         })
         .collect();
@@ -119,9 +122,17 @@ pub(crate) fn count_images(job: &CountJob) -> (CountedImages, Option<FrameTallie
     for (index, outcome) in outcomes.drain(..) {
         by_image[index] = outcome;
     }
+    let neighbours = grid.map(|_| {
+        let mut sum = NeighbourSample::default();
+        for sets in worker_sets {
+            let sets = sets.into_inner().unwrap_or_else(PoisonError::into_inner);
+            sum.add(&sets.neighbours.map(|n| n.sample).unwrap_or_default());
+        }
+        sum
+    });
     let Workers { lookup, image_counts, frame_counts, strays, .. } = workers;
     let frames = lookup.map(|lookup| FrameTallies { parts: lookup.names, records });
-    (CountedImages { outcomes: by_image, image_counts, frame_counts, strays }, frames)
+    (CountedImages { outcomes: by_image, image_counts, frame_counts, strays, neighbours }, frames)
 }
 
 /// Work units, each a list of eye-frames (lists of images), so that what
@@ -172,7 +183,7 @@ impl Workers<'_> {
         outcomes: &mut Vec<(usize, Outcome)>,
     ) -> Option<FrameRecord> {
         let (job, lookup) = (self.job, self.lookup.as_ref());
-        let WorkerSets { image: seen, eye_frame: frame_seen, .. } = sets;
+        let WorkerSets { image: seen, eye_frame: frame_seen, neighbours, .. } = sets;
         let optics = job.inputs.optics;
         let mut image_pixels = lookup.map(PartPixels::new);
         let mut frame_pixels = lookup.map(PartPixels::new);
@@ -185,8 +196,16 @@ impl Workers<'_> {
                 image.view = optics.zip(job.inputs.archive.images[index].tile).map(|(o, tile)| o.view(tile));
             }
             let parts = lookup.zip(image_pixels.as_mut());
+            let sampled = neighbours.as_ref().map(|n| n.sample);
+            let passes = RowPasses { parts, neighbours: neighbours.as_mut() };
             let outcome =
-                count_one(index, &job.inputs.archive, job.plan, job.classifier, seen, &self.strays, parts);
+                count_one(index, &job.inputs.archive, job.plan, job.classifier, seen, &self.strays, passes);
+            if let (Some(sampler), Some(sampled), Outcome::Failed(_)) =
+                (neighbours.as_mut(), sampled, &outcome)
+            {
+                // A failed image's partial sample is dropped with it.
+                sampler.sample = sampled;
+            }
             if let (Some(image), Some(sum)) = (image_pixels.as_mut(), frame_pixels.as_mut()) {
                 // A failed image's partial tally is dropped with it.
                 if let Outcome::Decoded(_) = outcome {
@@ -238,6 +257,8 @@ struct WorkerSets {
     image: SeenSet,
     eye_frame: Option<SeenSet>,
     pair: Option<SeenSet>,
+    /// The neighbour sample of the colour checks (canonical palettes).
+    neighbours: Option<NeighbourSampler>,
 }
 
 /// Work units of whole frames: per frame number, its eye-frames (both
@@ -278,7 +299,7 @@ fn count_one(
     classifier: &Classifier,
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
-    parts: Option<(&PartLookup, &mut PartPixels)>,
+    passes: RowPasses,
 ) -> Outcome {
     let image = &archive.images[index];
     let bytes = match read_file(&image.path) {
@@ -288,7 +309,7 @@ fn count_one(
     if plan.is_trimmable(index, &bytes) {
         return Outcome::Trimmed;
     }
-    match scan_image_by_part(&image.path, &bytes, classifier, seen, strays, parts) {
+    match scan_image_with(&image.path, &bytes, classifier, seen, strays, passes) {
         Ok(tally) => Outcome::Decoded(tally),
         Err(error) => Outcome::Failed(error),
     }
@@ -310,4 +331,6 @@ pub(crate) struct CountedImages {
     /// Per-colour counts, one per eye-frame (`--dedupe frame`).
     pub frame_counts: Option<Counts>,
     pub strays: AtomicColorSet,
+    /// The colour checks' neighbour sample (canonical palettes only).
+    pub neighbours: Option<NeighbourSample>,
 }

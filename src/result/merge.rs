@@ -20,7 +20,9 @@ use crate::input::resolve::LabelFiles;
 use crate::input::shard::Shard;
 use crate::result::model::Analysis;
 use crate::result::resolution::ResolutionReport;
-use crate::result::summarize::{is_input_warning, join_with_legend, saturation_warning, stray_warning};
+use crate::result::summarize::{
+    colour_checks, is_input_warning, join_with_legend, saturation_warning, stray_warning,
+};
 use crate::{
     result::model::{AnalysisResult, DedupeReport, ImageCounts, PixelCounts, RESULT_SCHEMA},
     result::result_json::{read_result_summary, read_texel_counts},
@@ -114,6 +116,8 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         background: sum("pixels.background", |s| s.pixels.background)?,
         stray: sum("pixels.stray", |s| s.pixels.stray)?,
     };
+    let colour_checks =
+        merged_colour_checks(&summaries, &images, &pixels, &table, &unlabelled, &mut warnings);
     let mut notes = first.notes.clone();
     let shards_with_strays = summaries.iter().filter(|s| s.stray_colors > 0).count();
     if shards_with_strays > 1 {
@@ -154,6 +158,7 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         notes,
         resolution,
         measures: None,
+        colour_checks,
     };
     let frames = merged_frames(paths)?;
     let vehicle_model = archive_vehicle(&result.settings);
@@ -164,6 +169,34 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         .extend(parts.iter().flat_map(|labels| [labels.legend_path.clone(), labels.pidt_path.clone()]));
     input_files.extend(vehicle_model.iter().cloned());
     Ok(Analysis { result, texel_counts, timings: Timings::default(), input_files, vehicle_model, frames })
+}
+
+/// The colour checks of the shards together: judged again from their summed
+/// pixels, trimmed tiles and neighbour samples and the merged counts (absent
+/// when a shard has none, e.g. an older result or an exact measure).
+fn merged_colour_checks(
+    summaries: &[AnalysisResult],
+    images: &ImageCounts,
+    pixels: &PixelCounts,
+    table: &Option<crate::result::part_stats::PartTable>,
+    unlabelled: &Option<crate::result::model::UnlabelledReport>,
+    warnings: &mut Vec<String>,
+) -> Option<crate::checks::ColourChecks> {
+    let shards: Vec<&crate::checks::ColourChecks> =
+        summaries.iter().map(|s| s.colour_checks.as_ref()).collect::<Option<_>>()?;
+    let neighbours = shards.iter().try_fold(crate::checks::NeighbourSample::default(), |mut sum, c| {
+        sum.add(c.neighbours.as_ref()?);
+        Some(sum)
+    });
+    let facts = crate::checks::colour_damage::ColourFacts {
+        unlabelled_counts: unlabelled.as_ref().map(|u| u.total),
+        labelled_counts: table.as_ref().map_or(0, |t| t.grand_total),
+        decoded_pixels: pixels.decoded,
+        background_pixels: pixels.background,
+        background_tiles: images.trimmed,
+        neighbours,
+    };
+    Some(colour_checks(&facts, warnings))
 }
 
 /// The vehicle model the archive's manifest names (as the whole analysis

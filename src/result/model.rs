@@ -203,6 +203,10 @@ pub struct AnalysisResult {
     /// Resolution-independent measures per part (with frames tallied).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub measures: Option<crate::result::measures::Measures>,
+    /// Signs of colour-management and filtering damage (pixel counts only;
+    /// absent in older results). Its warnings are in `warnings` too.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub colour_checks: Option<crate::checks::ColourChecks>,
 }
 
 pub(crate) fn default_measure() -> String {

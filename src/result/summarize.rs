@@ -7,6 +7,8 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use crate::checks::colour_damage::{ColourFacts, UNLABELLED_CHECK};
+use crate::checks::{ColourChecks, ColourWarning, NeighbourSample};
 use crate::color::Color;
 use crate::color::sets::AtomicColorSet;
 use crate::count::counts::Counts;
@@ -45,9 +47,10 @@ pub(crate) struct Summary<'a> {
 /// Stages "tally" and "summarize": counted images → per-texel counts, the
 /// parts table and everything `result.json` reports.
 pub(crate) fn summarize(summary: Summary, counted: CountedImages) -> Result<Analysis> {
-    let CountedImages { outcomes, image_counts, frame_counts, strays } = counted;
+    let CountedImages { outcomes, image_counts, frame_counts, strays, neighbours } = counted;
     let mut summary = summary;
-    let tally = tally(summary.options, &summary.inputs.archive, outcomes)?;
+    let mut tally = tally(summary.options, &summary.inputs.archive, outcomes)?;
+    tally.neighbours = neighbours;
     let decoded_pixels = tally.background_pixels + tally.stray_pixels + tally.texel_pixels;
     summary.timings.decoded_megapixels_per_second =
         decoded_pixels as f64 / 1e6 / summary.timings.count_seconds.max(1e-9);
@@ -187,6 +190,15 @@ fn finish(
         .resolution_report
         .then(|| ResolutionReport::new(tally.texel_pixels, per_image_total, &inputs.geometry));
     warnings.extend(resolution.iter().flat_map(ResolutionReport::warnings));
+    let colour_facts = ColourFacts {
+        unlabelled_counts: unlabelled.as_ref().map(|u| u.total),
+        labelled_counts: table.as_ref().map_or(grand_total, |t| t.grand_total),
+        decoded_pixels,
+        background_pixels: tally.background_pixels,
+        background_tiles: tally.images.trimmed,
+        neighbours: tally.neighbours,
+    };
+    let colour_checks = per_texel.resolution_report.then(|| colour_checks(&colour_facts, &mut warnings));
     let result = AnalysisResult {
         schema: RESULT_SCHEMA.to_string(),
         measure: per_texel.measure.to_string(),
@@ -214,6 +226,7 @@ fn finish(
         notes,
         resolution,
         measures: None,
+        colour_checks,
     };
     Ok(Analysis {
         result,
@@ -305,6 +318,26 @@ pub(crate) fn saturation_warning(texel_counts: &[u32]) -> Option<String> {
     })
 }
 
+/// Judges the colour checks and adds their warnings to `warnings`, with,
+/// when no check warned about them, the plain fact of counts on unlabelled
+/// texels (a PIdT that misses a part, perhaps).
+pub(crate) fn colour_checks(facts: &ColourFacts, warnings: &mut Vec<String>) -> ColourChecks {
+    let checks = ColourChecks::judge(facts);
+    warnings.extend(checks.warnings.iter().map(ColourWarning::line));
+    let unlabelled_warned = checks.warnings.iter().any(|w| w.check == UNLABELLED_CHECK);
+    if let (Some(total), Some(share)) = (facts.unlabelled_counts, checks.unlabelled_count_share)
+        && total > 0
+        && !unlabelled_warned
+    {
+        warnings.push(format!(
+            "{total} counts ({:.2} % of all counts) fell on texels the PIdT does not label (not in the grand \
+             total; see unlabelled)",
+            100.0 * share
+        ));
+    }
+    checks
+}
+
 /// The warning for stray pixels, in result.json as well as on stderr (on
 /// stderr alone it was lost to anyone reading only the results).
 pub(crate) fn stray_warning(stray_pixels: u64, images: usize) -> Option<String> {
@@ -345,6 +378,8 @@ struct Tally {
     background_pixels: u64,
     stray_pixels: u64,
     texel_pixels: u64,
+    /// The colour checks' neighbour sample.
+    neighbours: Option<NeighbourSample>,
 }
 
 /// Stage "tally": outcomes → image and pixel bookkeeping (failures reported

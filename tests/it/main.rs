@@ -10,6 +10,7 @@ mod atomic_results;
 mod bad_input;
 mod cli;
 mod cli_grammar;
+mod colour_damage;
 mod comparison_page;
 mod doc_links;
 mod external_manifest;

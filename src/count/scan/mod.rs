@@ -27,6 +27,7 @@
 
 use std::path::Path;
 
+use crate::checks::neighbours::NeighbourSampler;
 use crate::color::{AtomicColorSet, SeenSet, color_key};
 use crate::count::part_lookup::{PartLookup, PartPixels};
 use crate::error::{Error, Result};
@@ -590,8 +591,28 @@ pub fn scan_image_by_part(
     strays: &AtomicColorSet,
     parts: Option<(&PartLookup, &mut PartPixels)>,
 ) -> Result<ImageTally> {
+    scan_image_with(path, bytes, classifier, seen, strays, RowPasses { parts, neighbours: None })
+}
+
+/// The optional passes over each decoded row beside the counting kernel:
+/// pixels by part, and the neighbour sample of the colour checks.
+pub(crate) struct RowPasses<'p, 'l> {
+    pub parts: Option<(&'l PartLookup, &'p mut PartPixels)>,
+    pub neighbours: Option<&'p mut NeighbourSampler>,
+}
+
+/// [`scan_image_by_part`] with every optional row pass (on error the
+/// passes hold part of the image: the caller discards it).
+pub(crate) fn scan_image_with(
+    path: &Path,
+    bytes: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+    passes: RowPasses,
+) -> Result<ImageTally> {
     debug_assert!(seen.is_empty());
-    let outcome = scan_rows(path, bytes, classifier, seen, strays, parts);
+    let outcome = scan_rows(path, bytes, classifier, seen, strays, passes);
     if outcome.is_err() {
         seen.clear();
     }
@@ -604,8 +625,12 @@ fn scan_rows(
     classifier: &Classifier,
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
-    mut parts: Option<(&PartLookup, &mut PartPixels)>,
+    passes: RowPasses,
 ) -> Result<ImageTally> {
+    let RowPasses { mut parts, mut neighbours } = passes;
+    if let Some(sampler) = neighbours.as_mut() {
+        sampler.start_image();
+    }
     let mut reader = RowReader::new(path, bytes)?;
     let layout = reader.layout();
     let scan = row_scan(layout, classifier);
@@ -615,6 +640,9 @@ fn scan_rows(
         scan.scan(row, classifier, seen, strays, &mut by_class);
         if let Some((lookup, tally)) = parts.as_mut() {
             lookup.add_row_at(row, layout, y, tally);
+        }
+        if let Some(sampler) = neighbours.as_mut() {
+            sampler.row(y, row, layout);
         }
         y += 1;
     }

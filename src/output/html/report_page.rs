@@ -1,7 +1,8 @@
 //! `report.html`: one self-contained page per result, for people.
 //!
-//! What a researcher checks first — warnings (stray pixels, unlabelled
-//! texels, resolution dependence, failed files) — then the summary, the
+//! What a researcher checks first — the result's warnings (stray pixels,
+//! unlabelled texels, colour damage, resolution dependence) and failed
+//! files — then the summary, the
 //! parts table with the paper's top-5 union marked, the heatmap texture and
 //! links to the vehicle with the heatmap on it (`heatmap.glb`) and the
 //! machine-readable files, and the settings. No script, no network: the page
@@ -99,21 +100,8 @@ fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
             result.images.failed
         ));
     }
-    if result.stray_pixels > 0 {
-        warnings.push(format!(
-            "{} stray pixels (neither background nor palette) in {} images",
-            result.stray_pixels,
-            result.images_with_stray_pixels.len()
-        ));
-    }
-    if let Some(unlabelled) = &result.unlabelled
-        && unlabelled.total > 0
-    {
-        warnings.push(format!(
-            "{} counts fell on {} texels the PIdT does not label (not in the grand total)",
-            unlabelled.total, unlabelled.texels_seen
-        ));
-    }
+    // Stray pixels, unlabelled counts and colour damage are in the result's
+    // own warnings, as on stderr.
     if warnings.is_empty() {
         let _ = writeln!(page, "<p>None.</p>");
     }

@@ -1,0 +1,19 @@
+//! Checks on how a capture was rendered, beside the counts: colour
+//! management and texture filtering damage.
+//!
+//! On the full 4096² palette almost every 24-bit colour names a texel, so a
+//! pixel whose colour a tone curve, a blend or a dither changed is simply
+//! another texel: no stray pixel betrays it, and the counts go silently
+//! wrong. Three signatures still do, and this stage measures them:
+//! [`neighbours`] samples adjacent pixels while counting (texels that are
+//! far apart on the palette but side by side on screen), and
+//! [`colour_damage`] judges those samples, the share of counts on
+//! unlabelled texels and the share of background pixels into named warnings
+//! with their causes and fixes. It depends on the inputs only, so counting
+//! can feed it and the result can report it.
+
+pub(crate) mod colour_damage;
+pub(crate) mod neighbours;
+
+pub use colour_damage::{ColourChecks, ColourWarning};
+pub use neighbours::NeighbourSample;
