@@ -105,6 +105,18 @@ pub struct Common {
     /// in f64; needs SHADER_F64, which Mesa's lavapipe and data-centre GPUs have).
     #[arg(long, value_enum, default_value_t = MeasureDevice::Cpu, requires = "measure")]
     measure_on: MeasureDevice,
+    /// With --measure unobstructed: also measure every part as a candidate eHMI placement (and,
+    /// with --display, display patches): writes results/placement-frames.csv for
+    /// `ufcsr-analyze placement` (docs/placement.md). Runs on the CPU; about doubles the ray casts.
+    #[arg(long, requires = "measure")]
+    placement: bool,
+    /// With --placement: candidate display patches of this size, width x height in metres (e.g.
+    /// 0.40x0.15), centred every --patch-spacing over the outward-facing surface.
+    #[arg(long, value_name = "WxH", requires = "placement")]
+    display: Option<String>,
+    /// With --display: how far apart candidate patch centres are, metres.
+    #[arg(long, value_name = "M", default_value_t = ufcsr_capture::DEFAULT_PATCH_SPACING_M, requires = "display")]
+    patch_spacing: f64,
     /// Render only shard I of N (0 ≤ I < N) of the selected frames into --out, with the other
     /// shards; then `ufcsr-capture assemble OUT`. `auto`: from the job array (SLURM_ARRAY_TASK_ID
     /// and _COUNT, or JOB_COMPLETION_INDEX / AWS_BATCH_JOB_ARRAY_INDEX with UFCSR_SHARD_COUNT).
@@ -256,6 +268,7 @@ fn run_unobstructed(
         "--measure unobstructed with --shard is not supported: sample fewer texels (--sample) instead"
     );
     let sample = parse_fraction(&common.sample)?;
+    let placement = placement_options(common)?;
     ufcsr_capture::for_each_scenario(scene, names, all, options, |scenario, options| {
         let measured = ufcsr_capture::measure_unobstructed(
             &gpu.device,
@@ -268,6 +281,7 @@ fn run_unobstructed(
                 seed: common.seed,
                 texel_samples: common.texel_samples,
                 on: common.measure_on,
+                placement,
             },
         )?;
         println!(
@@ -290,9 +304,28 @@ fn run_unobstructed(
         }
         println!("  results: {}", measured.written.result_json.display());
         println!("           {} (per-part estimates, standard errors)", measured.estimates_csv.display());
+        if let Some(placed) = &measured.placement {
+            println!(
+                "           {} (placement: {} parts and {} display patches, {} rows, {:.2} s)",
+                placed.csv.display(),
+                placed.parts,
+                placed.patches,
+                placed.rows,
+                placed.seconds
+            );
+        }
         Ok(())
     })?;
     Ok(())
+}
+
+/// `--placement`, `--display`, `--patch-spacing` as the measure's options.
+fn placement_options(common: &Common) -> anyhow::Result<Option<ufcsr_capture::PlacementCandidates>> {
+    if !common.placement {
+        return Ok(None);
+    }
+    let display_m = common.display.as_deref().map(ufcsr_capture::parse_display).transpose()?;
+    Ok(Some(ufcsr_capture::PlacementCandidates { display_m, spacing_m: common.patch_spacing }))
 }
 
 fn report(s: &Summary) {

@@ -101,7 +101,13 @@ fn shelf_pack(
         }
         loop {
             if x + rw > w {
-                y += shelf;
+                // A shelf still empty here is blocked by the background texel
+                // (the only thing that moves `x` without placing anything):
+                // start the next one below that texel, or this loops forever.
+                y = match background {
+                    Some((_, by)) if shelf == 0 && by >= y => by + 1,
+                    _ => y + shelf,
+                };
                 x = 0;
                 shelf = 0;
             }
@@ -367,6 +373,19 @@ mod tests {
                 assert_eq!(owner[(by * w + bx) as usize], u32::MAX);
             }
         }
+    }
+
+    #[test]
+    fn a_rectangle_too_wide_to_pass_the_background_texel_goes_below_it_instead_of_looping() {
+        // A single wide quad (two triangles, each nearly the palette's width
+        // at the fitting density) used to loop forever here.
+        let mut plate = Mesh::default();
+        let corner = |y: f32, z: f32| glam::Vec3::new(0.0, y, z);
+        plate.add_quad("plate", corner(-0.2, 1.5), corner(0.2, 1.5), corner(0.2, 1.7), corner(-0.2, 1.7));
+        let unwrapped = unwrap_islands(&plate, [128, 128]).unwrap();
+        assert!(unwrapped.texels_per_m2 > 0.0);
+        let blocked = shelf_pack(&[(128, 10)], &[0], [128, 64], Some((5, 3)));
+        assert_eq!(blocked, Some(vec![(0, 4)]));
     }
 
     #[test]

@@ -15,6 +15,7 @@ use super::cpu::texel_visibility;
 use super::estimator::{PartEstimate, estimate_parts};
 use super::geometry::{Obstacles, eye_frames, seconds_per_frame};
 use super::gpu::texel_visibility_gpu;
+use super::placement::{ExactInputs, PlacementWritten, write_placement_frames};
 use super::points::surface_samples;
 use super::rules::Tracer;
 use super::types::{
@@ -52,6 +53,8 @@ pub struct UnobstructedCapture {
     pub seconds_per_frame: f64,
     /// Per part and eye-frame, the sampled texels' sums (CPU only).
     pub per_eye_frame: Option<PartEyeFrames>,
+    /// With `--placement`: the candidates' table (`placement-frames.csv`).
+    pub placement: Option<PlacementWritten>,
 }
 
 /// The exact measure's result before it is written.
@@ -73,6 +76,9 @@ fn check_options(measure: &MeasureOptions) -> Result<()> {
             "--texel-samples must be 1 to {MAX_TEXEL_SAMPLES}, not {}",
             measure.texel_samples
         )));
+    }
+    if let Some(placement) = &measure.placement {
+        placement.check()?;
     }
     Ok(())
 }
@@ -107,6 +113,7 @@ pub fn measure_unobstructed(
         MeasureDevice::Cpu => texel_visibility(&samples, &eye_frames, &obstacles, parts, Tracer::Hierarchy),
         MeasureDevice::Gpu => texel_visibility_gpu(device, queue, &samples, &eye_frames, &obstacles, parts)?,
     };
+    let placement_records = measure.placement.map(|_| frame_records.clone());
     let captured = CapturedTiles {
         entries: Vec::new(),
         frame_records,
@@ -125,7 +132,21 @@ pub fn measure_unobstructed(
         seconds_per_frame: seconds_per_frame(scene, &frames),
         visibility_seconds: casting.elapsed().as_secs_f64(),
     };
-    write_results(scene, options, measure, &measured, prepared.palette_size, start)
+    let mut capture = write_results(scene, options, measure, &measured, prepared.palette_size, start)?;
+    if let (Some(placement), Some(frame_records)) = (&measure.placement, placement_records) {
+        let inputs = ExactInputs {
+            scene,
+            samples: &measured.samples,
+            eye_frames: &eye_frames,
+            frame_records: &frame_records,
+            obstacles: &obstacles,
+            sample_fraction: measure.sample,
+            frame_s: measured.seconds_per_frame,
+        };
+        capture.placement =
+            Some(write_placement_frames(&inputs, placement, &ufcsr::default_output_dir(&options.out))?);
+    }
+    Ok(capture)
 }
 
 /// The analyzer's results for the counts, the measures block and the CSV.
@@ -168,12 +189,13 @@ fn write_results(
         frames: measured.frames.clone(),
         seconds_per_frame: measured.seconds_per_frame,
         per_eye_frame: visibility.per_eye_frame.clone(),
+        placement: None,
     })
 }
 
 /// The result's note on what the counts mean.
 fn describe(measure: &MeasureOptions, measured: &Measured, labelled: u64) -> String {
-    let MeasureOptions { sample, seed, texel_samples, on } = *measure;
+    let MeasureOptions { sample, seed, texel_samples, on, .. } = *measure;
     format!(
         "measure \"unobstructed\": a count is the number of eye-frames ({}) in which any part of the texel's \
          footprint on the vehicle is visible: in view, beyond the near plane, not edge-on, nothing in between \

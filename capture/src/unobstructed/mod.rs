@@ -20,7 +20,9 @@
 //! [`cpu`] the reference loop, [`gpu`] with `visibility.wgsl` the same on the
 //! GPU, [`estimator`] the `--sample` estimates, [`measure`] the command
 //! (archive skeleton and results), [`types`] what they share, [`accuracy`]
-//! how far a rendered setting is from it (what `study` recommends by).
+//! how far a rendered setting is from it (what `study` recommends by),
+//! [`placement`] candidate eHMI placements measured with the same rules
+//! (`--placement`, `docs/placement.md`).
 
 pub mod accuracy;
 pub mod bvh;
@@ -29,6 +31,7 @@ pub mod estimator;
 pub mod geometry;
 pub mod gpu;
 pub mod measure;
+pub mod placement;
 pub mod points;
 pub mod rules;
 pub mod types;
@@ -39,10 +42,11 @@ pub use estimator::{PartEstimate, estimate_parts};
 pub use geometry::{Obstacles, eye_frame, eye_frames, seconds_per_frame};
 pub use gpu::texel_visibility_gpu;
 pub use measure::{MAX_TEXEL_SAMPLES, UnobstructedCapture, measure_unobstructed};
+pub use placement::{PLACEMENT_FRAMES_FILE, PlacementWritten, parse_display};
 pub use points::{is_sampled, surface_samples};
 pub use rules::{Tracer, visible_solid_angle};
 pub use types::{
-    DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE, EyeFrame, MEASURE_UNOBSTRUCTED,
-    MeasureDevice, MeasureOptions, SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample, SurfaceSamples,
-    TexelVisibility,
+    DEFAULT_PATCH_SPACING_M, DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE,
+    EyeFrame, MEASURE_UNOBSTRUCTED, MeasureDevice, MeasureOptions, PlacementCandidates,
+    SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample, SurfaceSamples, TexelVisibility,
 };

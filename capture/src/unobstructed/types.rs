@@ -116,6 +116,42 @@ pub struct MeasureOptions {
     /// K: each texel's footprint is sampled on K × K sub-cells (1 ≤ K ≤ 16).
     pub texel_samples: u32,
     pub on: MeasureDevice,
+    /// `--placement`: also measure candidate eHMI placements
+    /// (`placement-frames.csv`, `docs/placement.md`).
+    pub placement: Option<PlacementCandidates>,
+}
+
+/// Candidate patch centres are this far apart by default, metres.
+pub const DEFAULT_PATCH_SPACING_M: f64 = 0.10;
+
+/// What `--placement` measures.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlacementCandidates {
+    /// Display patches of width × height, metres (`--display WxH`); none:
+    /// the parts only.
+    pub display_m: Option<[f64; 2]>,
+    /// Spacing of the patch centres, metres (`--patch-spacing`).
+    pub spacing_m: f64,
+}
+
+impl PlacementCandidates {
+    /// The spacing is at least 1 cm (a finer grid only multiplies the
+    /// patches); the display size was checked when it was parsed.
+    pub fn check(&self) -> crate::error::Result<()> {
+        if !(self.spacing_m.is_finite() && self.spacing_m >= 0.01) {
+            return Err(crate::error::CaptureError::BadOptions(format!(
+                "--patch-spacing {}: must be at least 0.01 m",
+                self.spacing_m
+            )));
+        }
+        Ok(())
+    }
+}
+
+impl Default for PlacementCandidates {
+    fn default() -> PlacementCandidates {
+        PlacementCandidates { display_m: None, spacing_m: DEFAULT_PATCH_SPACING_M }
+    }
 }
 
 /// The default K (`docs/science-exact.md`): on demo scenario A at the
@@ -126,7 +162,13 @@ pub const DEFAULT_TEXEL_SAMPLES: u32 = 1;
 
 impl Default for MeasureOptions {
     fn default() -> MeasureOptions {
-        MeasureOptions { sample: 1.0, seed: 1, texel_samples: DEFAULT_TEXEL_SAMPLES, on: MeasureDevice::Cpu }
+        MeasureOptions {
+            sample: 1.0,
+            seed: 1,
+            texel_samples: DEFAULT_TEXEL_SAMPLES,
+            on: MeasureDevice::Cpu,
+            placement: None,
+        }
     }
 }
 

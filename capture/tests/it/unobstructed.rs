@@ -401,3 +401,58 @@ fn measuring_on_the_gpu_writes_the_cpu_result() {
     assert_eq!(cpu, gpu);
     assert!(cpu["grand_total"].as_u64().unwrap() > 0);
 }
+
+#[test]
+fn the_cli_measures_placements_that_the_analyzer_ranks() {
+    // Scenario A, every part and 0.40 m × 0.15 m display patches (spaced 0.5 m so the test is
+    // small); the table must be what `ufcsr-analyze placement` reads.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("archive");
+    let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .args(["demo", "--scenario", "A", "--palette-size", "256", "--frames", "120-180/20"])
+        .args(["--measure", "unobstructed", "--sample", "1/2", "--placement", "--display", "0.40x0.15"])
+        .args(["--patch-spacing", "0.5", "-q", "--out"])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let table =
+        std::fs::read_to_string(out.join("results").join(ufcsr_capture::PLACEMENT_FRAMES_FILE)).unwrap();
+    let header = table.lines().next().unwrap();
+    assert_eq!(
+        header,
+        "frame,time_s,eye,distance_m,candidate,kind,solid_angle_sr,visible_fraction,view_angle_deg,\
+         angular_height_deg,frame_s,mirror"
+    );
+    let parts = Scene::demo().vehicle.parts.len();
+    let part_rows = table.lines().filter(|line| line.contains(",part,")).count();
+    // Every part in every eye-frame: 4 frames × 2 eyes.
+    assert_eq!(part_rows, parts * 8);
+    assert!(table.lines().any(|line| line.contains(",patch,")), "some patch is visible");
+    let placement = ufcsr::placement(&ufcsr::PlacementOptions::new(vec![out.clone()])).unwrap();
+    assert!(placement.candidates.len() > parts, "parts and patches are candidates");
+    assert!(placement.combinations.iter().any(|c| c.kind == "part" && c.k == 1));
+    assert!(placement.combinations.iter().any(|c| c.kind == "patch" && c.k == 1));
+}
+
+#[test]
+fn placement_options_are_checked_before_any_ray_is_cast() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, message) in [
+        (&["--placement", "--display", "0.4"][..], "expected WxH"),
+        (&["--placement", "--display", "0x0.15"][..], "more than 0"),
+        (&["--placement", "--display", "0.4x0.15", "--patch-spacing", "0.001"][..], "at least 0.01"),
+    ] {
+        let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+            .args(["demo", "--scenario", "A", "--palette-size", "256", "--frames", "120"])
+            .args(["--measure", "unobstructed", "--sample", "1/4", "-q"])
+            .args(args)
+            .arg("--out")
+            .arg(dir.path().join("archive"))
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(!output.status.success() && stderr.contains(message), "{args:?}: {stderr}");
+    }
+}

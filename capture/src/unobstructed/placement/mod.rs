@@ -1,0 +1,93 @@
+//! Candidate eHMI placements measured by the exact ray tracer (issue 18):
+//! per candidate and eye-frame, the visible solid angle, the visible share
+//! of its area, the mean angle between line of sight and surface normal and
+//! the visible angular height, written as `results/placement-frames.csv`
+//! for `ufcsr-analyze placement` (`docs/placement.md`).
+//!
+//! Candidates are a [`labels::LabelSet`] over the exact measure's surface
+//! samples: the parts (each sample in its texel's part) and, with
+//! `--display WxH`, display patches of that size ([`patches`]), where a
+//! sample may belong to several overlapping patches. The same per-label
+//! loop ([`frames`]) measures both.
+//!
+//! The folder: [`labels`] the label set, [`patches`] where patches go and
+//! which samples they hold, [`frames`] the per-eye-frame numbers and the
+//! CSV.
+
+mod frames;
+mod labels;
+mod patches;
+#[cfg(test)]
+mod tests;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use super::geometry::Obstacles;
+use super::types::{EyeFrame, PlacementCandidates, SurfaceSamples};
+use crate::error::{CaptureError, Result};
+use crate::scene::Scene;
+
+/// The file written into the results folder.
+pub const PLACEMENT_FRAMES_FILE: &str = "placement-frames.csv";
+
+/// `WxH` in metres, e.g. `0.40x0.15`.
+pub fn parse_display(text: &str) -> Result<[f64; 2]> {
+    let bad =
+        || CaptureError::BadOptions(format!("--display {text:?}: expected WxH in metres, e.g. 0.40x0.15"));
+    let (w, h) = text.split_once(['x', 'X', '×']).ok_or_else(bad)?;
+    let [w, h]: [f64; 2] = [w.trim().parse().map_err(|_| bad())?, h.trim().parse().map_err(|_| bad())?];
+    if !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0 && w <= 20.0 && h <= 20.0) {
+        return Err(CaptureError::BadOptions(format!(
+            "--display {text:?}: width and height must be more than 0 and at most 20 m"
+        )));
+    }
+    Ok([w, h])
+}
+
+/// What the exact measure hands over: its samples and eye-frames.
+pub struct ExactInputs<'a> {
+    pub scene: &'a Scene,
+    pub samples: &'a SurfaceSamples,
+    /// Both eyes per frame, in frame order (left, right).
+    pub eye_frames: &'a [EyeFrame],
+    /// Per frame: `{"frame", "time_s", "distance_m"}` as in the manifest.
+    pub frame_records: &'a [serde_json::Value],
+    pub obstacles: &'a Obstacles,
+    /// `--sample`: the share of texels measured.
+    pub sample_fraction: f64,
+    /// Seconds one frame stands for.
+    pub frame_s: f64,
+}
+
+/// What [`write_placement_frames`] did.
+#[derive(Debug, Clone)]
+pub struct PlacementWritten {
+    pub csv: PathBuf,
+    pub parts: usize,
+    pub patches: usize,
+    pub rows: u64,
+    pub seconds: f64,
+}
+
+/// Measures every candidate in every eye-frame and writes the table into
+/// `results_dir`.
+pub fn write_placement_frames(
+    inputs: &ExactInputs,
+    options: &PlacementCandidates,
+    results_dir: &Path,
+) -> Result<PlacementWritten> {
+    let start = Instant::now();
+    options.check()?;
+    let mut labels = labels::LabelSet::parts(&inputs.scene.vehicle.parts, inputs.samples);
+    let parts = labels.count();
+    if let Some(display) = options.display_m {
+        let placed = patches::place_patches(inputs, display, options.spacing_m);
+        labels.add_patches(&placed, inputs.samples);
+    }
+    let patches = labels.count() - parts;
+    std::fs::create_dir_all(results_dir).map_err(|e| CaptureError::io(results_dir, e))?;
+    let csv = results_dir.join(PLACEMENT_FRAMES_FILE);
+    let rows = frames::write_table(inputs, &labels, &csv)?;
+    Ok(PlacementWritten { csv, parts, patches, rows, seconds: start.elapsed().as_secs_f64() })
+}

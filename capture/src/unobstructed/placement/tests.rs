@@ -1,0 +1,155 @@
+//! Known answers of the placement measure: a facing plate's angular height
+//! is 2·atan(h / 2d), so it reaches the legibility threshold exactly at the
+//! distance the threshold implies; a display patch behind a box is not
+//! visible in the eye-frames the box covers it and legible in those it does
+//! not; patches fit inside the surface, hold W × H of it and pair with their
+//! mirror images.
+
+use glam::{DMat4, DVec3, Vec3, dvec3};
+
+use super::frames::{Seen, measure_eye_frame};
+use super::labels::LabelSet;
+use super::patches::place_patches;
+use super::{ExactInputs, parse_display};
+use crate::scene::{Mesh, Occluders, Scene, look_to, reversed_z_perspective};
+use crate::texture::{background_texel, unwrap_islands_avoiding};
+use crate::unobstructed::geometry::{Obstacles, eye_frame};
+use crate::unobstructed::points::surface_samples;
+use crate::unobstructed::types::{EyeFrame, PlacementCandidates, SurfaceSamples};
+
+/// A plate `w` wide (along y) and `h` high in the plane x = 0, centred on (0, 0, `z`).
+fn plate(w: f32, h: f32, z: f32) -> Mesh {
+    let mut mesh = Mesh::default();
+    let corner = |y: f32, dz: f32| Vec3::new(0.0, y, z + dz);
+    mesh.add_quad(
+        "plate",
+        corner(-w / 2.0, -h / 2.0),
+        corner(w / 2.0, -h / 2.0),
+        corner(w / 2.0, h / 2.0),
+        corner(-w / 2.0, h / 2.0),
+    );
+    mesh
+}
+
+fn scene_with(vehicle: Mesh, occluders: Occluders) -> Scene {
+    let mut scene = Scene::demo();
+    scene.vehicle = vehicle;
+    scene.occluders = occluders;
+    scene.rig.pedestrian = [0.0, 0.0, 0.0];
+    scene
+}
+
+fn samples_of(mesh: &Mesh, palette: [u32; 2]) -> SurfaceSamples {
+    let unwrapped = unwrap_islands_avoiding(mesh, palette, background_texel(palette)).unwrap();
+    surface_samples(mesh, &unwrapped, 1.0, 1, 1)
+}
+
+/// An eye at `eye` looking at `target`.
+fn eye_at(obstacles: &Obstacles, eye: DVec3, target: DVec3) -> EyeFrame {
+    let view_proj = reversed_z_perspective(60f64.to_radians(), 1.0, 0.3, 1000.0)
+        * look_to(eye, (target - eye).normalize(), DVec3::Z);
+    eye_frame(obstacles, &DMat4::IDENTITY, eye, &view_proj)
+}
+
+fn inputs<'a>(scene: &'a Scene, samples: &'a SurfaceSamples, obstacles: &'a Obstacles) -> ExactInputs<'a> {
+    ExactInputs {
+        scene,
+        samples,
+        eye_frames: &[],
+        frame_records: &[],
+        obstacles,
+        sample_fraction: 1.0,
+        frame_s: 0.1,
+    }
+}
+
+#[test]
+fn a_facing_plate_reaches_sixteen_arcmin_exactly_at_the_distance_it_implies() {
+    let (w, h, z) = (0.40, 0.15, 1.6);
+    let scene = scene_with(plate(w as f32, h as f32, z as f32), Occluders::default());
+    let samples = samples_of(&scene.vehicle, [512, 512]);
+    let obstacles = Obstacles::new(&scene);
+    let labels = LabelSet::parts(&scene.vehicle.parts, &samples);
+    let inputs = inputs(&scene, &samples, &obstacles);
+    let seen_from = |d: f64| -> Seen {
+        let frame = eye_at(&obstacles, dvec3(d, 0.0, z), dvec3(0.0, 0.0, z));
+        measure_eye_frame(&inputs, &labels, &frame)[0].expect("the plate is visible")
+    };
+    // Sample points stand for texels: the extent is exact to about one texel.
+    let texel_m =
+        (samples.samples.iter().map(|s| s.area_m2).sum::<f64>() / samples.samples.len() as f64).sqrt();
+    assert!(texel_m < 1e-3, "{texel_m}");
+    for d in [2.0, 10.0, 40.0] {
+        let seen = seen_from(d);
+        let exact = (2.0 * (h / (2.0 * d)).atan()).to_degrees();
+        let tolerance = (texel_m / d).to_degrees();
+        assert!((seen.angular_height_deg - exact).abs() <= tolerance, "{d} m: {seen:?} vs {exact}");
+        assert!((seen.visible_fraction - 1.0).abs() < 1e-9);
+        assert!(seen.view_angle_deg < (w / 2.0 / d).atan().to_degrees() + 1e-9);
+    }
+    // 16 arcmin: d* = h / (2 tan 8') = 32.228 m; one texel of height moves it
+    // by d* · texel / h. Legible just inside that band, not just outside.
+    let implied = h / (2.0 * (8.0f64 / 60.0).to_radians().tan());
+    assert!((implied - 32.228).abs() < 1e-3, "{implied}");
+    let band = implied * texel_m / h;
+    assert!(seen_from(implied - band).angular_height_deg * 60.0 >= 16.0);
+    assert!(seen_from(implied + band).angular_height_deg * 60.0 < 16.0);
+}
+
+#[test]
+fn a_patch_behind_a_box_is_hidden_exactly_while_the_box_covers_it() {
+    // A 1 m plate at x = 0 (z 1.5 to 2.5), a box in front of its lower half
+    // (x 0.5 to 0.7, z up to 1.95). From straight ahead at eye height 2.2 the
+    // box hides the lower patches; from 1 m higher up it hides none of them.
+    let mut occluders = Occluders::default();
+    occluders.add_box(dvec3(0.5, -1.0, 0.0), dvec3(0.7, 1.0, 1.95));
+    let scene = scene_with(plate(1.0, 1.0, 2.0), occluders);
+    let samples = samples_of(&scene.vehicle, [512, 512]);
+    let obstacles = Obstacles::new(&scene);
+    let mut labels = LabelSet::parts(&scene.vehicle.parts, &samples);
+    let inputs = inputs(&scene, &samples, &obstacles);
+    let patches = place_patches(&inputs, [0.40, 0.15], 0.10);
+    labels.add_patches(&patches, &samples);
+    let low =
+        1 + patches.iter().position(|p| p.centre.z < 1.7 && p.centre.y.abs() < 0.1).expect("a low patch");
+    let high =
+        1 + patches.iter().position(|p| p.centre.z > 2.3 && p.centre.y.abs() < 0.1).expect("a high patch");
+    let behind =
+        measure_eye_frame(&inputs, &labels, &eye_at(&obstacles, dvec3(3.0, 0.0, 2.2), dvec3(0.0, 0.0, 2.0)));
+    assert_eq!(behind[low], None, "the box covers the low patch");
+    assert!(behind[high].is_some_and(|s| s.visible_fraction == 1.0));
+    let above =
+        measure_eye_frame(&inputs, &labels, &eye_at(&obstacles, dvec3(3.0, 0.0, 12.0), dvec3(0.0, 0.0, 2.0)));
+    assert!(above[low].is_some_and(|s| s.visible_fraction == 1.0), "{:?}", above[low]);
+}
+
+#[test]
+fn patches_fit_inside_the_surface_hold_their_area_and_pair_with_their_mirrors() {
+    let scene = scene_with(plate(1.0, 1.0, 2.0), Occluders::default());
+    let samples = samples_of(&scene.vehicle, [512, 512]);
+    let obstacles = Obstacles::new(&scene);
+    let inputs = inputs(&scene, &samples, &obstacles);
+    let [w, h] = parse_display("0.40x0.15").unwrap();
+    let patches = place_patches(&inputs, [w, h], 0.10);
+    let texel_m =
+        (samples.samples.iter().map(|s| s.area_m2).sum::<f64>() / samples.samples.len() as f64).sqrt();
+    assert!(patches.len() >= 20, "{} patches", patches.len());
+    for patch in &patches {
+        assert!(patch.centre.y.abs() <= 0.5 - w / 2.0 + 0.01, "{} overhangs", patch.name);
+        assert!((patch.centre.z - 2.0).abs() <= 0.5 - h / 2.0 + 0.01, "{} overhangs", patch.name);
+        assert!(patch.normal.x.abs() > 0.999 && patch.up.z > 0.999, "{patch:?}");
+        // Samples whose centre lies inside: W × H to about half a texel along the rim.
+        let area: f64 = patch.members.iter().map(|&s| samples.samples[s as usize].area_m2).sum();
+        assert!((area - w * h).abs() <= (w + h) * texel_m, "{}: {area} m²", patch.name);
+        if patch.centre.y.abs() > 0.06 {
+            let mirror = patch.mirror.as_ref().expect("an off-centre patch has a mirror");
+            let other = patches.iter().find(|p| &p.name == mirror).unwrap();
+            assert!(
+                (other.centre.y + patch.centre.y).abs() <= 0.05
+                    && (other.centre.z - patch.centre.z).abs() <= 0.05
+            );
+        }
+    }
+    assert!(parse_display("0.4").is_err() && parse_display("0x1").is_err() && parse_display("ax1").is_err());
+    assert_eq!(PlacementCandidates::default().spacing_m, 0.10);
+}
