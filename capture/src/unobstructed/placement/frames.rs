@@ -181,7 +181,7 @@ fn write_rows<W: std::io::Write>(
         table.serialize(Row {
             frame: record["frame"].as_u64().unwrap_or(0),
             time_s: number("time_s"),
-            eye: if index % 2 == 0 { "left" } else { "right" },
+            eye: if index.is_multiple_of(2) { "left" } else { "right" },
             distance_m: number("distance_m"),
             candidate: &labels.names[label],
             kind: kind.name(),
