@@ -104,20 +104,7 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
     let grid = Grid { given, missing_empty: options.missing_tiles_empty };
     let capture = find_capture(&options.dir, &pattern, &excluded, grid)?;
     let dir = canonical(&options.dir)?;
-    let mut notes = Vec::new();
-    if manifest_path.file_name().is_some_and(|name| name != MANIFEST_FILE) {
-        notes.push(format!(
-            "the analyzer reads only {MANIFEST_FILE}: rename {} before analysing",
-            manifest_path.display()
-        ));
-    }
-    if options.missing_tiles_empty && given.is_none() {
-        notes.push(format!(
-            "the grid, {} columns × {} rows, is the largest column and row seen: if whole border columns or rows \
-             were left out, give the rig's tiles (--rig with \"tiles\": [columns, rows])",
-            capture.grid[0], capture.grid[1]
-        ));
-    }
+    let mut notes = layout_notes(options, &manifest_path, given.is_some(), capture.grid);
     let settings = settings(options, rig, &capture, &mut notes)?;
     let times = match &options.frame_times {
         Some(path) => Some(times_of_frames(path, &capture.frames)?),
@@ -156,6 +143,30 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
         notes,
         manifest,
     })
+}
+
+/// What the reader should know about the manifest's name and the tile grid.
+fn layout_notes(
+    options: &DescribeOptions,
+    manifest_path: &Path,
+    grid_given: bool,
+    grid: [u32; 2],
+) -> Vec<String> {
+    let mut notes = Vec::new();
+    if manifest_path.file_name().is_some_and(|name| name != MANIFEST_FILE) {
+        notes.push(format!(
+            "the analyzer reads only {MANIFEST_FILE}: rename {} before analysing",
+            manifest_path.display()
+        ));
+    }
+    if options.missing_tiles_empty && !grid_given {
+        notes.push(format!(
+            "the grid, {} columns × {} rows, is the largest column and row seen: if whole border columns or rows \
+             were left out, give the rig's tiles (--rig with \"tiles\": [columns, rows])",
+            grid[0], grid[1]
+        ));
+    }
+    notes
 }
 
 /// `generator`, `rig` and, when every frame has its distance, the `frames` records.
