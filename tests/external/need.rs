@@ -34,12 +34,20 @@ pub fn trial(name: &str, body: fn() -> Outcome) -> Trial {
 }
 
 /// The `shared/` folder beside the checkout (reference data), or the folder
-/// named by `UFCSR_SHARED` (the skip test points it at an empty folder).
+/// named by `UFCSR_SHARED` (the skip tests point it at an empty folder).
+/// The same from either crate (this file is also the capture's rule).
 pub fn shared_dir() -> PathBuf {
     match std::env::var_os("UFCSR_SHARED") {
         Some(dir) => PathBuf::from(dir),
-        None => PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared"),
+        None => repository().join("../shared"),
     }
+}
+
+/// The repository's root: the folder above this crate that holds `Cargo.lock`.
+pub fn repository() -> PathBuf {
+    let crate_dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = crate_dir.ancestors().find(|dir| dir.join("Cargo.lock").is_file());
+    root.unwrap_or(crate_dir).to_path_buf()
 }
 
 /// True when `program --version` runs and succeeds.

@@ -1,21 +1,21 @@
-//! The skip rule of this binary, checked on itself: run with `UFCSR_SHARED`
-//! pointing at an empty folder, the reference-data test shows as ignored in
+//! The skip rule, checked on the binary itself: run with `UFCSR_SHARED`
+//! pointing at an empty folder, a reference-data test shows as ignored in
 //! the summary line (`0 passed; 0 failed; 1 ignored`) with its reason; with
-//! `CI=1` the same run fails and names what is missing.
+//! `CI=1` the same run fails and names what is missing. Both crates' external
+//! binaries include this file (the capture's by path) and check one of their
+//! own reference-data tests with it.
 
 use std::process::{Command, Output};
 
 use crate::need::Outcome;
 use libtest_mimic::Completion;
 
-const TEST: &str = "reference_pidt::f150_part_texel_counts_match_an_independent_count";
-
-/// This binary, running only [`TEST`], with the reference data hidden.
-fn run_hidden(ci: Option<&str>) -> Output {
+/// This binary, running only `test`, with the reference data hidden.
+fn run_hidden(test: &str, ci: Option<&str>) -> Output {
     let empty = tempfile::tempdir().unwrap();
     let mut command = Command::new(std::env::current_exe().unwrap());
     command
-        .args(["--exact", TEST, "--test-threads", "1", "--color", "never"])
+        .args(["--exact", test, "--test-threads", "1", "--color", "never"])
         .env("UFCSR_SHARED", empty.path())
         .env_remove("CI");
     if let Some(value) = ci {
@@ -24,16 +24,18 @@ fn run_hidden(ci: Option<&str>) -> Output {
     command.output().unwrap()
 }
 
-pub fn a_missing_input_is_counted_ignored_and_fails_under_ci() -> Outcome {
-    let skipped = run_hidden(None);
+/// `test`, with `../shared` hidden, is ignored with a reason naming
+/// `missing_path`, and fails under `CI=1`.
+pub fn a_hidden_reference_is_ignored_and_fails_under_ci(test: &str, missing_path: &str) -> Outcome {
+    let skipped = run_hidden(test, None);
     let stdout = String::from_utf8_lossy(&skipped.stdout);
     assert!(skipped.status.success(), "{stdout}");
-    let line = stdout.lines().find(|line| line.contains(TEST)).unwrap_or_default();
+    let line = stdout.lines().find(|line| line.contains(test)).unwrap_or_default();
     assert!(line.contains("... ignored (needs "), "{stdout}");
     assert!(stdout.contains("0 passed; 0 failed; 1 ignored"), "{stdout}");
-    assert!(stdout.contains("ref/f150"), "the reason names the missing folder: {stdout}");
+    assert!(stdout.contains(missing_path), "the reason names the missing file: {stdout}");
 
-    let strict = run_hidden(Some("1"));
+    let strict = run_hidden(test, Some("1"));
     let stdout = String::from_utf8_lossy(&strict.stdout);
     assert!(!strict.status.success(), "{stdout}");
     assert!(stdout.contains("0 passed; 1 failed; 0 ignored"), "{stdout}");

@@ -1,5 +1,7 @@
 //! The capture's integration tests in one binary (one link step of wgpu instead of one per
-//! file): one module per behaviour area, named as the files were.
+//! file): one module per behaviour area, named as the files were. Tests that need something
+//! from outside the repository (reference data in `../shared`, Slurm, the analyzer's binary)
+//! are in `tests/external/`, whose harness reports them *ignored* when it is missing.
 
 mod archive_models;
 mod bad_capture;
@@ -11,11 +13,11 @@ mod fused_count;
 mod hardening;
 mod module_graph;
 mod palette;
+pub mod render_check;
 mod round_trip;
 mod scenes;
 mod schemas;
 mod scissor;
-mod slurm_batch;
 mod study_accuracy;
 mod tile_filter;
 mod umbrella;

@@ -164,33 +164,6 @@ fn captures_are_deterministic_and_resume_skips_written_tiles() {
 }
 
 #[test]
-fn unity_scenarios_replay_with_the_demo_truck() {
-    let reference =
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/ref/scenarios/unity-intersection.json");
-    if !reference.exists() {
-        assert!(std::env::var_os("CI").is_none(), "CI: {} is missing", reference.display());
-        eprintln!("SKIP: {} not found", reference.display());
-        return;
-    }
-    let dir = tempfile::tempdir().unwrap();
-    let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
-        .arg("unity")
-        .arg(&reference)
-        .arg("--out")
-        .arg(dir.path())
-        .args(["--scenario", "all", "--ppd", "3", "--palette-size", "256", "--frames", "0,90,180", "-q"])
-        .status()
-        .unwrap();
-    assert!(status.success());
-    for scenario in ["A", "B", "C", "D"] {
-        let (vehicle, stray) = verify(&dir.path().join(scenario)).unwrap();
-        assert_eq!(stray, 0);
-        // The head turns to the truck, and no building stands in between.
-        assert!(vehicle > 100, "scenario {scenario}: {vehicle}");
-    }
-}
-
-#[test]
 fn committed_demo_archive_fixture_is_clean() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let (vehicle, stray) = verify(&dir).unwrap();

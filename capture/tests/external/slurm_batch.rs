@@ -3,25 +3,25 @@
 //! as one array task; each result.json must equal running the command
 //! directly), and a sharded capture (`scripts/slurm/submit-capture`: a capture
 //! array, an afterok assemble, an analysis array and an afterok merge; the
-//! archive and the merged result must equal one process's). Skipped without
-//! Slurm or root; a failure when `CI` is set.
-
-#[path = "../../../tests/slurm_support/mod.rs"]
-mod slurm_support;
+//! archive and the merged result must equal one process's). Ignored with the
+//! reason without Slurm or root; a failure when `CI` is set.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 use std::time::Duration;
 
-use slurm_support::{logs, script, start_cluster, wait_for};
+use libtest_mimic::Completion;
 
-#[test]
-fn a_batch_runs_as_a_slurm_array_one_task_per_setting() {
-    let Some((_one, dir, cluster)) =
-        start_cluster(true, "Slurm (slurmctld, slurmd, slurm-client, munge) or root")
-    else {
-        return;
-    };
+use crate::need::{Outcome, missing};
+use crate::slurm_support::{logs, script, slurm_available, start_cluster, wait_for};
+
+const NEED_SLURM: &str = "Slurm and root (apt-get install slurmctld slurmd slurm-client munge)";
+
+pub fn a_batch_runs_as_a_slurm_array_one_task_per_setting() -> Outcome {
+    if !slurm_available() {
+        return missing(NEED_SLURM);
+    }
+    let (_one, dir, cluster) = start_cluster(true, NEED_SLURM).expect("Slurm was found just now");
     let runs = dir.path().join("runs");
     let batch = dir.path().join("batch.json");
     std::fs::write(
@@ -64,6 +64,7 @@ fn a_batch_runs_as_a_slurm_array_one_task_per_setting() {
     };
     assert_eq!(strip(&results[0]), strip(&direct.join("results/result.json")));
     drop(cluster);
+    Ok(Completion::Completed)
 }
 
 /// The analyzer built beside this crate's binary (by `cargo test --workspace`).
@@ -72,15 +73,14 @@ fn analyzer() -> Option<PathBuf> {
     path.is_file().then_some(path)
 }
 
-#[test]
-fn a_sharded_capture_assembles_and_analyses_through_slurm_equal_to_one_process() {
-    let analyzer = analyzer();
-    let Some((_one, dir, cluster)) =
-        start_cluster(analyzer.is_some(), "Slurm, root or ufcsr-analyze (cargo test --workspace builds it)")
-    else {
-        return;
+pub fn a_sharded_capture_assembles_and_analyses_through_slurm_equal_to_one_process() -> Outcome {
+    if !slurm_available() {
+        return missing(NEED_SLURM);
+    }
+    let Some(analyzer) = analyzer() else {
+        return missing("ufcsr-analyze beside ufcsr-capture (cargo test --workspace builds it)");
     };
-    let analyzer = analyzer.unwrap_or_default();
+    let (_one, dir, cluster) = start_cluster(true, NEED_SLURM).expect("Slurm was found just now");
     let capture = env!("CARGO_BIN_EXE_ufcsr-capture");
     let setting = ["demo", "--scenario", "B", "--ppd", "3", "--frames", "0-180/4", "--palette-size", "256"];
     let run = dir.path().join("run");
@@ -135,4 +135,5 @@ fn a_sharded_capture_assembles_and_analyses_through_slurm_equal_to_one_process()
         "the merged result differs from the single-process analysis"
     );
     drop(cluster);
+    Ok(Completion::Completed)
 }
