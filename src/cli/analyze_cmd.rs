@@ -10,8 +10,7 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::json;
 use ufcsr::{
-    AnalyzeOptions, Color, PaletteChoice, Progress, Shard, TrimMode, WrittenFiles, analyze,
-    default_output_dir, format_table,
+    AnalyzeOptions, Progress, Shard, TrimMode, WrittenFiles, analyze, default_output_dir, format_table,
 };
 
 use crate::cli::args::{AnalyzeArgs, Switch};
@@ -36,29 +35,14 @@ impl Progress for Bar {
 /// The analysis options from the command line for `archive` (validated
 /// once, here), and the output folder.
 fn analyze_options(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Result<AnalyzeOptions> {
-    let palette = match (&args.fcsp, &args.palette_size) {
-        (Some(path), _) => Some(PaletteChoice::Image(path.clone())),
-        (None, Some(size)) => {
-            let (width, height) = ufcsr::parse_palette_size(size)?;
-            Some(PaletteChoice::Canonical { width, height })
-        }
-        (None, None) => None,
-    };
-    let background = if args.background.is_empty() {
-        None
-    } else {
-        Some(
-            args.background
-                .iter()
-                .map(|text| text.parse::<Color>().with_context(|| "invalid --background".to_string()))
-                .collect::<Result<Vec<_>>>()?,
-        )
-    };
+    let palette = args.labels.palette()?;
+    let background = args.labels.background_colors()?;
+    let background = (!background.is_empty()).then_some(background);
     Ok(AnalyzeOptions {
         archive,
         palette,
-        pidt: args.pidt.clone(),
-        legend: args.parts.clone(),
+        pidt: args.labels.pidt.clone(),
+        legend: args.labels.legend.clone(),
         background,
         dedupe: args.dedupe,
         trim: args.trim.parse::<TrimMode>()?,

@@ -104,25 +104,8 @@ pub struct AnalyzeArgs {
     #[arg(required = true)]
     pub archive: Option<PathBuf>,
 
-    /// Part Identification Texture: palette-sized PNG, each texel in its part's colour.
-    #[arg(long, value_name = "PNG")]
-    pub pidt: Option<PathBuf>,
-
-    /// Legend of the PIdT: CSV `name,color` (#RRGGBB) or JSON [{"name","color"}].
-    #[arg(long, value_name = "CSV|JSON")]
-    pub parts: Option<PathBuf>,
-
-    /// Palette image with unique colours, in any layout (default: the canonical palette).
-    #[arg(long, value_name = "PNG", conflicts_with = "palette_size")]
-    pub fcsp: Option<PathBuf>,
-
-    /// Size of the canonical palette, W or WxH (default 4096x4096).
-    #[arg(long, value_name = "W|WxH")]
-    pub palette_size: Option<String>,
-
-    /// Background colour to ignore, #RRGGBB; repeat for several (default #000FFF).
-    #[arg(long, value_name = "HEX")]
-    pub background: Vec<String>,
+    #[command(flatten)]
+    pub labels: LabelArgs,
 
     /// What one count means: `image` (once per PNG), `frame` (once per eye-frame) or `eye-pair`
     /// (once per frame over both eyes); the last two need a manifest.
@@ -279,4 +262,56 @@ pub struct ManArgs {
     /// (default: print the main page on stdout).
     #[arg(long, short, value_name = "DIR")]
     pub out: Option<PathBuf>,
+}
+
+/// How the frames name texels and parts: the palette they were rendered with,
+/// the PIdT and its legend, and the background. One set of options for every
+/// command that reads frames (`ufcsr-analyze ARCHIVE` and `manifest`), parsed
+/// once by [`LabelArgs::palette`] and [`LabelArgs::background_colors`].
+/// Relative paths are from the working directory.
+#[derive(Args)]
+pub struct LabelArgs {
+    /// Part Identification Texture: palette-sized PNG, each texel in its part's colour.
+    #[arg(long, value_name = "PNG")]
+    pub pidt: Option<PathBuf>,
+
+    /// Legend of the PIdT: CSV `name,color` (#RRGGBB) or JSON [{"name","color"}].
+    #[arg(long, visible_alias = "parts", value_name = "CSV|JSON")]
+    pub legend: Option<PathBuf>,
+
+    /// Palette image the frames were rendered with: unique colours in any layout (default: the
+    /// canonical palette).
+    #[arg(long, value_name = "PNG", conflicts_with = "palette_size")]
+    pub fcsp: Option<PathBuf>,
+
+    /// Size of the canonical palette the frames were rendered with, W or WxH (default 4096x4096).
+    #[arg(long, value_name = "W|WxH")]
+    pub palette_size: Option<String>,
+
+    /// Background colour to ignore, #RRGGBB; repeat for several (default #000FFF).
+    #[arg(long, value_name = "HEX")]
+    pub background: Vec<String>,
+}
+
+impl LabelArgs {
+    /// `--fcsp` or `--palette-size`, if either is given.
+    pub fn palette(&self) -> anyhow::Result<Option<ufcsr::PaletteChoice>> {
+        Ok(match (&self.fcsp, &self.palette_size) {
+            (Some(png), _) => Some(ufcsr::PaletteChoice::Image(png.clone())),
+            (None, Some(size)) => {
+                let (width, height) = ufcsr::parse_palette_size(size)?;
+                Some(ufcsr::PaletteChoice::Canonical { width, height })
+            }
+            (None, None) => None,
+        })
+    }
+
+    /// Every `--background`, parsed (empty when none is given).
+    pub fn background_colors(&self) -> anyhow::Result<Vec<ufcsr::Color>> {
+        use anyhow::Context;
+        self.background
+            .iter()
+            .map(|text| text.parse::<ufcsr::Color>().with_context(|| format!("--background {text:?}")))
+            .collect()
+    }
 }

@@ -7,7 +7,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use serde_json::json;
 
@@ -24,25 +24,10 @@ pub struct ManifestArgs {
     #[arg(long, value_name = "REGEX|TEMPLATE")]
     pub pattern: Option<String>,
 
-    /// Part Identification Texture (inside the manifest's folder).
-    #[arg(long, value_name = "PNG")]
-    pub pidt: Option<PathBuf>,
-
-    /// Legend of the PIdT, CSV `name,color` or JSON (inside the manifest's folder).
-    #[arg(long, visible_alias = "parts", value_name = "CSV|JSON")]
-    pub legend: Option<PathBuf>,
-
-    /// Palette image the frames were rendered with (inside the manifest's folder).
-    #[arg(long, value_name = "PNG", conflicts_with = "palette_size")]
-    pub fcsp: Option<PathBuf>,
-
-    /// Size of the canonical palette the frames were rendered with, W or WxH (default 4096x4096).
-    #[arg(long, value_name = "W|WxH")]
-    pub palette_size: Option<String>,
-
-    /// Background colour, #RRGGBB; repeat for several (default #000FFF).
-    #[arg(long, value_name = "HEX")]
-    pub background: Vec<String>,
+    /// Palette, PIdT, legend and background the frames were rendered with (each file inside the
+    /// manifest's folder).
+    #[command(flatten)]
+    pub labels: super::args::LabelArgs,
 
     /// Frames per second of the rendered sequence (frame N is at N / F seconds).
     #[arg(long, value_name = "F")]
@@ -84,26 +69,15 @@ pub struct ManifestArgs {
 /// Writes the manifest and says what it holds and what it lacks.
 pub fn run_manifest(args: ManifestArgs) -> Result<ExitCode> {
     super::run::start_threads(&args.common)?;
-    let palette = match (&args.fcsp, &args.palette_size) {
-        (Some(png), _) => Some(ufcsr::PaletteChoice::Image(png.clone())),
-        (None, Some(size)) => {
-            let (width, height) = ufcsr::parse_palette_size(size)?;
-            Some(ufcsr::PaletteChoice::Canonical { width, height })
-        }
-        (None, None) => None,
-    };
-    let background = args
-        .background
-        .iter()
-        .map(|text| text.parse::<ufcsr::Color>().with_context(|| format!("--background {text:?}")))
-        .collect::<Result<Vec<_>>>()?;
+    let palette = args.labels.palette()?;
+    let background = args.labels.background_colors()?;
     let options = ufcsr::DescribeOptions {
         dir: args.dir.clone(),
         pattern: args.pattern.clone(),
         out: args.out.clone(),
         palette,
-        pidt: args.pidt.clone(),
-        legend: args.legend.clone(),
+        pidt: args.labels.pidt.clone(),
+        legend: args.labels.legend.clone(),
         background,
         fps: args.fps,
         pixels_per_degree: args.pixels_per_degree,
