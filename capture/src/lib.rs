@@ -45,6 +45,10 @@ pub use scene::{
     RegionReport, Rig, Scenario, Scene, SceneFile, TileId, Track, VehicleSpec, box_corners, box_outside,
     degenerate_vehicle, load_vehicle, look_to, reversed_z_perspective, triangle_area, vehicle_to_world,
 };
+pub use study::observers::{
+    MAX_OBSERVERS, Observer, ObserverOptions, ObserverStudy, PartSpread, Spread, run_observer_study,
+    write_observer_study,
+};
 pub use study::{Study, StudyMeasure, StudyOptions, StudyRow, run_study, write_study};
 pub use texture::{
     ExternalPalette, OwnLabels, PaintedPidt, UNLABELLED_COLOR, Unwrapped, background_texel, footprint,

@@ -1,7 +1,7 @@
 //! `ufcsr`: one entry point for the toolkit's commands, like `git`.
 //!
-//! `ufcsr analyze|merge|report|heatmap|palette ...` runs `ufcsr-analyze`,
-//! `ufcsr capture|batch|study|assemble|verify|inspect|views ...` runs `ufcsr-capture` (the program found beside
+//! `ufcsr analyze|merge|report|heatmap|palette|manifest|placement ...` runs `ufcsr-analyze`,
+//! `ufcsr capture|batch|study|observers|assemble|verify|inspect|views ...` runs `ufcsr-capture` (the program found beside
 //! this one, or else on `PATH`), with the rest of the arguments. It holds no
 //! logic of its own, so each command behaves and is documented exactly as in
 //! the tool it belongs to.
@@ -17,10 +17,13 @@ const USAGE: &str = "usage: ufcsr COMMAND [ARGS...]
   report A B ... --out DIR     ufcsr-analyze report ...        compare several results
   heatmap RESULT.json ...      ufcsr-analyze heatmap ...       re-render the heatmap
   palette --out PNG            ufcsr-analyze palette ...       write the canonical palette
+  manifest DIR ...             ufcsr-analyze manifest ...      describe Unity/Blender frames
+  placement RESULTS... ...     ufcsr-analyze placement ...     the best eHMI placements
   capture demo|scene|unity ... ufcsr-capture demo|scene|unity  record an archive
   assemble ARCHIVE             ufcsr-capture assemble          join a sharded capture
   batch plan BATCH.json        ufcsr-capture batch plan        one command per task
   study SCENE ...              ufcsr-capture study             error against run time
+  observers SCENE ...          ufcsr-capture observers         spread over pedestrians
   verify ARCHIVE               ufcsr-capture verify            check an archive
   inspect MESH                 ufcsr-capture inspect           look at a vehicle
   views RESULTS                ufcsr-capture views             the eight views on the GPU
@@ -35,10 +38,13 @@ fn route(command: &str) -> Option<(&'static str, Option<&'static str>)> {
         "report" => ("ufcsr-analyze", Some("report")),
         "heatmap" => ("ufcsr-analyze", Some("heatmap")),
         "palette" => ("ufcsr-analyze", Some("palette")),
+        "manifest" => ("ufcsr-analyze", Some("manifest")),
+        "placement" => ("ufcsr-analyze", Some("placement")),
         "capture" => ("ufcsr-capture", None),
         "assemble" => ("ufcsr-capture", Some("assemble")),
         "batch" => ("ufcsr-capture", Some("batch")),
         "study" => ("ufcsr-capture", Some("study")),
+        "observers" => ("ufcsr-capture", Some("observers")),
         "verify" => ("ufcsr-capture", Some("verify")),
         "inspect" => ("ufcsr-capture", Some("inspect")),
         "views" => ("ufcsr-capture", Some("views")),

@@ -1,11 +1,13 @@
 //! The command line of `ufcsr-capture`: the subcommands and one `run_*` for
 //! each ([`capture`] the captures of `demo`, `scene` and `unity` with their
-//! `--count` and `--measure` variants, [`study`] the resolution study,
+//! `--count` and `--measure` variants, [`study`] the resolution study, [`observers`] the
+//! observer study,
 //! [`tools`] inspect, views, batch, assemble and verify), and the progress
 //! bar the library reports to ([`progress`]). Only the binary draws on the
 //! terminal; the library returns what it did.
 
 mod capture;
+mod observers;
 mod progress;
 mod study;
 mod tools;
@@ -16,6 +18,7 @@ use clap::{Parser, Subcommand};
 use ufcsr_capture::Backend;
 
 use capture::Common;
+use observers::ObserversArgs;
 use study::StudyArgs;
 
 #[derive(Parser)]
@@ -86,6 +89,10 @@ enum Command {
     /// Capture and count one scenario at several ppd and frame steps, compare each with the
     /// finest, and plot error against run time (writes study.csv, study.json, study.svg/.png).
     Study(StudyArgs),
+    /// Capture one scenario from a grid of pedestrians (positions along a kerb × eye heights)
+    /// and report per part the mean, its 95 % interval and the spread over them
+    /// (writes observers.json, observers.csv, observer-parts.csv).
+    Observers(ObserversArgs),
     /// Join the parts the shards of a capture (`--shard I/N`) wrote into the archive's
     /// manifest.json, once all have finished (checks that every shard is there, once).
     Assemble {
@@ -122,6 +129,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Unity { file, common } => capture::run_capture(ufcsr_capture::Scene::unity(&file)?, &common),
         Command::Inspect { input, out, pixels_per_metre } => tools::run_inspect(input, out, pixels_per_metre),
         Command::Study(args) => study::run_study(args),
+        Command::Observers(args) => observers::run_observers(args),
         Command::Views { results, model, out, backend } => tools::run_views(results, model, out, backend),
         Command::Batch { action: BatchAction::Plan { batch, program } } => {
             tools::run_batch_plan(&batch, program)

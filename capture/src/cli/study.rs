@@ -52,15 +52,23 @@ pub struct StudyArgs {
     no_exact: bool,
 }
 
-pub fn run_study(args: StudyArgs) -> anyhow::Result<()> {
-    let scene =
-        if args.scene == "demo" { Scene::demo() } else { Scene::load(std::path::Path::new(&args.scene))? };
-    let scenario = match &args.scenario {
+/// `demo`, or a scene file.
+pub fn load_scene(name: &str) -> anyhow::Result<Scene> {
+    Ok(if name == "demo" { Scene::demo() } else { Scene::load(std::path::Path::new(name))? })
+}
+
+/// The scenario asked for, or the scene's first.
+pub fn scenario_name(scene: &Scene, asked: Option<&str>) -> anyhow::Result<String> {
+    Ok(match asked {
         Some(name) => scene.scenario(name)?.name.clone(),
         None => scene.scenarios.first().map(|s| s.name.clone()).context("the scene has no scenario")?,
-    };
+    })
+}
+
+pub fn run_study(args: StudyArgs) -> anyhow::Result<()> {
+    let scene = load_scene(&args.scene)?;
     let options = ufcsr_capture::StudyOptions {
-        scenario,
+        scenario: scenario_name(&scene, args.scenario.as_deref())?,
         ppds: args.ppd,
         frame_steps: args.frame_step,
         tolerance_pp: args.tolerance,

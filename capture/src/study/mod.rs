@@ -14,6 +14,7 @@
 //! the finest setting stays, as *precision* (self-consistency, not
 //! accuracy), and is what the front uses only with `--no-exact`.
 
+pub mod observers;
 pub mod plot;
 
 use std::path::{Path, PathBuf};

@@ -12,6 +12,7 @@ mod extremes;
 mod fused_count;
 mod hardening;
 mod module_graph;
+mod observers;
 mod palette;
 pub mod render_check;
 mod round_trip;

@@ -12,20 +12,20 @@ use ufcsr_capture::{
     StudyMeasure, StudyOptions, Track, capture_counted, measure_unobstructed, run_study,
 };
 
-fn gpu() -> Gpu {
+pub(crate) fn gpu() -> Gpu {
     Gpu::create(Backend::Auto).expect("a Vulkan or GL driver (Mesa's lavapipe or llvmpipe will do)")
 }
 
 /// Distance of the plates' plane from the eyes, metres.
 const DISTANCE: f64 = 4.0;
 /// The plates, `(name, y0, y1, z0, z1)` in the plane x = DISTANCE (world).
-const PLATES: [(&str, f64, f64, f64, f64); 2] =
+pub(crate) const PLATES: [(&str, f64, f64, f64, f64); 2] =
     [("near-axis", -0.6, 0.3, 1.0, 2.2), ("off-axis", 0.6, 1.3, 0.4, 1.2)];
 
 /// Two plates facing the pedestrian 4 m away; the head turns 32° to the
 /// right of them (towards y = −2.5 m), so they lie 20°–50° off the axis,
 /// where a pixel subtends markedly less than a central one.
-fn plates_scene() -> Scene {
+pub(crate) fn plates_scene() -> Scene {
     let mut mesh = Mesh::default();
     for (name, y0, y1, z0, z1) in PLATES {
         let (y0, y1, z0, z1) = (y0 as f32, y1 as f32, z0 as f32, z1 as f32);
@@ -63,7 +63,7 @@ fn corner(u: f64, v: f64) -> f64 {
 }
 
 /// The plate's solid angle summed over both eyes, sr (per frame).
-fn analytic_sr(scene: &Scene, (_, y0, y1, z0, z1): (&str, f64, f64, f64, f64)) -> f64 {
+pub(crate) fn analytic_sr(scene: &Scene, (_, y0, y1, z0, z1): (&str, f64, f64, f64, f64)) -> f64 {
     let rig = &scene.rig;
     let pose = scene.scenarios[0].motion.pose(0.0);
     rig.cameras(&pose)

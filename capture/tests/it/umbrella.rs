@@ -32,3 +32,18 @@ fn an_unknown_command_is_a_usage_error() {
     assert!(message.contains("unknown command") && message.contains("usage: ufcsr"), "{message}");
     assert!(ufcsr().arg("--help").output().unwrap().status.success());
 }
+
+#[test]
+fn every_capture_command_in_the_usage_routes_to_its_help() {
+    // The analyzer's commands need its binary beside this one (tests/external covers them).
+    for command in ["capture", "assemble", "batch", "study", "observers", "verify", "inspect", "views"] {
+        let output = ufcsr().args([command, "--help"]).output().unwrap();
+        assert!(
+            output.status.success(),
+            "ufcsr {command} --help: {}",
+            String::from_utf8_lossy(&output.stderr)
+        );
+        let usage = String::from_utf8_lossy(&output.stdout);
+        assert!(usage.contains("Usage: ufcsr-capture"), "ufcsr {command} --help: {usage}");
+    }
+}
