@@ -13,6 +13,9 @@
 //! within it the study says so and names the closest. The comparison with
 //! the finest setting stays, as *precision* (self-consistency, not
 //! accuracy), and is what the front uses only with `--no-exact`.
+//!
+//! [`observers`] is the other question a study answers: how much the answer
+//! depends on the pedestrian (kerb position, eye height).
 
 pub mod observers;
 pub mod plot;
