@@ -1,7 +1,11 @@
 //! `ufcsr-capture`: record UFCSR archives of a vehicle approaching a pedestrian.
 //!
 //! Thin edge: parse the command line and hand it to [`cli::run`] (one
-//! `run_*` per subcommand), then turn errors into an exit code.
+//! `run_*` per subcommand), then turn errors into an exit code, the same
+//! codes as `ufcsr-analyze`: 0 done; 1 done, but with failures
+//! ([`cli::DoneWithFailures`], e.g. `verify` finding stray pixels); 2 nothing
+//! done (bad options — clap's usage errors too —, unreadable inputs, a failed
+//! capture, which writes no manifest); 130 interrupted.
 
 mod cli;
 
@@ -24,7 +28,11 @@ fn main() -> ExitCode {
                 }
             }
             eprintln!("error: {message}");
-            ExitCode::FAILURE
+            if error.downcast_ref::<cli::DoneWithFailures>().is_some() {
+                ExitCode::from(1)
+            } else {
+                ExitCode::from(2)
+            }
         }
     }
 }

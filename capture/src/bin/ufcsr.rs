@@ -28,7 +28,7 @@ const USAGE: &str = "usage: ufcsr COMMAND [ARGS...]
   inspect MESH                 ufcsr-capture inspect           look at a vehicle
   views RESULTS                ufcsr-capture views             the eight views on the GPU
 
-`ufcsr COMMAND --help` shows the command's options.";
+`ufcsr COMMAND --help` shows the command's options; `ufcsr --version` the version.";
 
 /// The program and the arguments that replace `ufcsr COMMAND`.
 fn route(command: &str) -> Option<(&'static str, Option<&'static str>)> {
@@ -70,6 +70,10 @@ fn main() -> ExitCode {
     let command_text = command.to_string_lossy();
     if matches!(command_text.as_ref(), "-h" | "--help" | "help") {
         println!("{USAGE}");
+        return ExitCode::SUCCESS;
+    }
+    if matches!(command_text.as_ref(), "-V" | "--version" | "version") {
+        println!("ufcsr {}", env!("CARGO_PKG_VERSION"));
         return ExitCode::SUCCESS;
     }
     let Some((name, first)) = route(&command_text) else {

@@ -119,6 +119,19 @@ enum BatchAction {
     },
 }
 
+/// A command that did its work but found failures (exit code 1), as opposed
+/// to one that could do nothing (exit code 2).
+#[derive(Debug)]
+pub struct DoneWithFailures(pub String);
+
+impl std::fmt::Display for DoneWithFailures {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for DoneWithFailures {}
+
 /// Runs one subcommand.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {

@@ -69,6 +69,12 @@ pub fn run_assemble(archive: &Path) -> anyhow::Result<()> {
 pub fn run_verify(archive: &Path) -> anyhow::Result<()> {
     let (vehicle, stray) = ufcsr_capture::verify(archive)?;
     println!("{}: {vehicle} vehicle pixels, {stray} stray pixels", archive.display());
-    anyhow::ensure!(stray == 0, "{stray} pixels are neither background nor labelled palette texels");
+    if stray > 0 {
+        return Err(super::DoneWithFailures(format!(
+            "{}: {stray} pixels are neither background nor labelled palette texels",
+            archive.display()
+        ))
+        .into());
+    }
     Ok(())
 }

@@ -8,6 +8,7 @@ mod bad_capture;
 mod capture_shards;
 mod degenerate;
 mod exactness;
+mod exit_codes;
 mod extremes;
 mod fused_count;
 mod hardening;

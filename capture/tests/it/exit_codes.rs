@@ -1,0 +1,51 @@
+//! `ufcsr-capture` ends with the analyzer's exit codes: 0 done, 1 done but
+//! with failures, 2 nothing done; `ufcsr --version` answers.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use ufcsr_capture::read_rgb_png;
+
+fn capture(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ufcsr-capture")).args(args).env("XDG_RUNTIME_DIR", dir).output().unwrap()
+}
+
+#[test]
+fn the_capture_exits_0_when_done_1_with_failures_and_2_when_nothing_was_done() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = dir.path().join("archive");
+    let archive_text = archive.to_str().unwrap();
+    let small = ["--ppd", "2", "--palette-size", "128", "--frames", "180", "--out", archive_text];
+    let done = capture(dir.path(), &[&["demo", "--scenario", "A"][..], &small].concat());
+    assert_eq!(done.status.code(), Some(0), "{}", String::from_utf8_lossy(&done.stderr));
+    assert_eq!(capture(dir.path(), &["verify", archive_text]).status.code(), Some(0));
+
+    // One pixel of one tile turned to a colour outside the 128² palette: verify finishes, with failures.
+    let tile = std::fs::read_dir(archive.join("tiles")).unwrap().next().unwrap().unwrap().path();
+    let ([width, height], mut rgb) = read_rgb_png(&tile).unwrap();
+    rgb[..3].copy_from_slice(&[255, 255, 255]);
+    ufcsr::write_rgb_png(&tile, width, height, &rgb, png::Compression::Fast).unwrap();
+    let failed = capture(dir.path(), &["verify", archive_text]);
+    assert_eq!(failed.status.code(), Some(1), "{}", String::from_utf8_lossy(&failed.stderr));
+    assert!(String::from_utf8_lossy(&failed.stderr).contains("1 pixels are neither background"));
+
+    // Nothing done: a bad value, a missing scene file, a usage error.
+    let bad_value = capture(dir.path(), &[&["demo", "--scenario", "Z"][..], &small].concat());
+    assert_eq!(bad_value.status.code(), Some(2), "{}", String::from_utf8_lossy(&bad_value.stderr));
+    let missing = capture(dir.path(), &["scene", "no-such-scene.json", "--out", archive_text]);
+    assert_eq!(missing.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&missing.stderr).contains("no-such-scene.json"));
+    assert_eq!(capture(dir.path(), &["demo", "--no-such-option"]).status.code(), Some(2));
+}
+
+#[test]
+fn ufcsr_and_ufcsr_capture_print_their_version() {
+    for (program, name) in
+        [(env!("CARGO_BIN_EXE_ufcsr"), "ufcsr"), (env!("CARGO_BIN_EXE_ufcsr-capture"), "ufcsr-capture")]
+    {
+        let output = Command::new(program).arg("--version").output().unwrap();
+        assert!(output.status.success(), "{name} --version");
+        let text = String::from_utf8_lossy(&output.stdout);
+        assert_eq!(text.trim(), format!("{name} {}", env!("CARGO_PKG_VERSION")));
+    }
+}
