@@ -87,10 +87,20 @@ def figure(found, path):
                           label=f"scenario {scenario} (∝ ppd^{rate:.2f})")
         axis.set_xscale("log")
         axis.set_yscale("log")
+        # Plain numbers at the measured ppds and at 1-2-3-5 steps of the error, not 10^x labels.
+        from matplotlib.ticker import FixedLocator, FuncFormatter, NullFormatter
+        ppds = sorted({p for (m, _), (points, _) in found.items() if m == measure for p, *_ in points})
+        axis.xaxis.set_major_locator(FixedLocator(ppds))
+        axis.xaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        axis.xaxis.set_minor_formatter(NullFormatter())
+        decades = [d * 10.0 ** k for k in range(-3, 4) for d in (1, 2, 3, 5)]
+        axis.yaxis.set_major_locator(FixedLocator(decades))
+        axis.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        axis.yaxis.set_minor_formatter(NullFormatter())
         axis.set_xlabel("pixels per degree")
         axis.set_ylabel("share L1 against the exact counterpart (pp)")
         axis.set_title(titles.get(measure, measure), fontsize=10)
-        axis.grid(True, which="both", alpha=0.3)
+        axis.grid(True, which="major", alpha=0.3)
         axis.legend(fontsize=8, loc="best")
     fig.tight_layout()
     fig.savefig(path, dpi=130)
