@@ -107,24 +107,9 @@ impl PartLookup {
 
     #[inline(always)]
     fn add_row_of<const BYTES: usize, const GRAY: bool>(&self, row: &[u8], pixels: &mut [u64]) {
-        let mut previous = u32::MAX; // no pixel packs to this
-        let mut slot = self.parts();
-        let mut run = 0u64;
-        for pixel in row.chunks_exact(BYTES) {
-            let color = if GRAY {
-                u32::from(pixel[0]) * 0x01_0101
-            } else {
-                (u32::from(pixel[0]) << 16) | (u32::from(pixel[1]) << 8) | u32::from(pixel[2])
-            };
-            if color != previous {
-                pixels[slot] += run;
-                run = 0;
-                previous = color;
-                slot = self.slot(color);
-            }
-            run += 1;
+        for (start, end, color) in Runs::<BYTES, GRAY>::new(row) {
+            pixels[self.slot(color)] += (end - start) as u64;
         }
-        pixels[slot] += run;
     }
 
     /// Adds the pixels of row `y` of an image to `tally` by part, and, when
@@ -151,30 +136,13 @@ impl PartLookup {
         solid: &mut [u128],
         weights: &RowWeights,
     ) {
-        let mut previous = u32::MAX;
-        let mut slot = self.parts();
-        let (mut start, mut start_edge) = (0usize, weights.edge(0));
-        for (x, pixel) in row.chunks_exact(BYTES).enumerate() {
-            let color = if GRAY {
-                u32::from(pixel[0]) * 0x01_0101
-            } else {
-                (u32::from(pixel[0]) << 16) | (u32::from(pixel[1]) << 8) | u32::from(pixel[2])
-            };
-            if color != previous {
-                if x > start {
-                    let edge = weights.edge(x);
-                    pixels[slot] += (x - start) as u64;
-                    solid[slot] += solid_angle_units(edge - start_edge);
-                    (start, start_edge) = (x, edge);
-                }
-                previous = color;
-                slot = self.slot(color);
-            }
-        }
-        let end = row.len() / BYTES;
-        if end > start {
+        let mut start_edge = weights.edge(0);
+        for (start, end, color) in Runs::<BYTES, GRAY>::new(row) {
+            let slot = self.slot(color);
+            let edge = weights.edge(end);
             pixels[slot] += (end - start) as u64;
-            solid[slot] += solid_angle_units(weights.edge(end) - start_edge);
+            solid[slot] += solid_angle_units(edge - start_edge);
+            start_edge = edge;
         }
     }
 
@@ -184,6 +152,86 @@ impl PartLookup {
         for key in seen.keys() {
             texels[self.slot(key_color(key))] += 1;
         }
+    }
+}
+
+/// The maximal runs of equal colour in a decoded row, `(first pixel, end,
+/// colour)`: the colour is `0xRRGGBB` (grey `g` as `0xgggggg`); alpha is
+/// ignored, as by the counting kernels. A run's end is found 16 bytes at a
+/// time (each byte against the byte one pixel earlier, alpha masked out), so
+/// a run of background or of a magnified texel costs a few word compares, not
+/// one per pixel, and the runs are exactly those a pixel-by-pixel comparison
+/// gives (the solid-angle sums depend on where runs end).
+struct Runs<'r, const BYTES: usize, const GRAY: bool> {
+    row: &'r [u8],
+    /// Pixels in the row.
+    pixels: usize,
+    /// The next run's first pixel.
+    next: usize,
+}
+
+impl<'r, const BYTES: usize, const GRAY: bool> Runs<'r, BYTES, GRAY> {
+    /// Bytes of a 16-byte block that carry colour: all but alpha (RGBA's 4th
+    /// and grey-alpha's 2nd byte of each pixel); blocks stay aligned to
+    /// pixels for 1, 2 and 4 bytes per pixel, and RGB has no alpha.
+    const COLOR_BYTES: u128 = match BYTES {
+        2 => 0x00FF_00FF_00FF_00FF_00FF_00FF_00FF_00FF,
+        4 => 0x00FF_FFFF_00FF_FFFF_00FF_FFFF_00FF_FFFF,
+        _ => u128::MAX,
+    };
+
+    fn new(row: &'r [u8]) -> Self {
+        Runs { row, pixels: row.len() / BYTES, next: 0 }
+    }
+
+    #[inline(always)]
+    fn color(&self, pixel: usize) -> u32 {
+        let p = &self.row[pixel * BYTES..];
+        if GRAY {
+            u32::from(p[0]) * 0x01_0101
+        } else {
+            (u32::from(p[0]) << 16) | (u32::from(p[1]) << 8) | u32::from(p[2])
+        }
+    }
+
+    /// The first pixel after `first` whose colour differs from `first`'s.
+    #[inline(always)]
+    fn run_end(&self, first: usize, color: u32) -> usize {
+        let bytes = self.pixels * BYTES;
+        let mut k = (first + 1) * BYTES;
+        while k + 16 <= bytes {
+            let block = |at: usize| {
+                let mut bytes = [0u8; 16];
+                bytes.copy_from_slice(&self.row[at..at + 16]);
+                u128::from_le_bytes(bytes)
+            };
+            if (block(k) ^ block(k - BYTES)) & Self::COLOR_BYTES != 0 {
+                break;
+            }
+            k += 16;
+        }
+        // Every colour byte before k equals the one a pixel earlier: the
+        // pixels before k / BYTES have `color`; check the rest one by one.
+        let mut pixel = (k / BYTES).max(first + 1);
+        while pixel < self.pixels && self.color(pixel) == color {
+            pixel += 1;
+        }
+        pixel
+    }
+}
+
+impl<const BYTES: usize, const GRAY: bool> Iterator for Runs<'_, BYTES, GRAY> {
+    type Item = (usize, usize, u32);
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<(usize, usize, u32)> {
+        let first = self.next;
+        if first >= self.pixels {
+            return None;
+        }
+        let color = self.color(first);
+        self.next = self.run_end(first, color);
+        Some((first, self.next, color))
     }
 }
 
@@ -337,5 +385,59 @@ mod tests {
         lookup.add_texels(&seen, &mut texels);
         // The set holds texels only (the scan never records background).
         assert_eq!(texels, [2, 1, 1, 0]);
+    }
+
+    /// The runs as a pixel-by-pixel comparison finds them (the old loop).
+    fn runs_one_by_one(row: &[u8], bytes: usize, gray: bool) -> Vec<(usize, usize, u32)> {
+        let mut runs: Vec<(usize, usize, u32)> = Vec::new();
+        for (x, p) in row.chunks_exact(bytes).enumerate() {
+            let color = if gray {
+                u32::from(p[0]) * 0x01_0101
+            } else {
+                (u32::from(p[0]) << 16) | (u32::from(p[1]) << 8) | u32::from(p[2])
+            };
+            match runs.last_mut() {
+                Some(run) if run.2 == color => run.1 = x + 1,
+                _ => runs.push((x, x + 1, color)),
+            }
+        }
+        runs
+    }
+
+    #[test]
+    fn runs_found_a_block_at_a_time_are_those_found_pixel_by_pixel() {
+        // Rows of runs 1-70 pixels long over a few colours (so equal
+        // neighbours across a block edge happen), random alpha, odd lengths.
+        let mut state = 0x1234_5678_u64;
+        let mut random = |n: u64| {
+            state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+            (state >> 33) % n
+        };
+        for case in 0..400 {
+            for (bytes, gray) in [(1usize, true), (2, true), (3, false), (4, false)] {
+                let mut row = Vec::new();
+                let pixels = 1 + random(300) as usize;
+                while row.len() < pixels * bytes {
+                    let run = 1 + random(if case % 2 == 0 { 70 } else { 4 }) as usize;
+                    let color = [random(3) as u8, random(2) as u8, random(2) as u8];
+                    for _ in 0..run {
+                        match bytes {
+                            1 => row.push(color[0]),
+                            2 => row.extend([color[0], random(256) as u8]),
+                            3 => row.extend(color),
+                            _ => row.extend([color[0], color[1], color[2], random(256) as u8]),
+                        }
+                    }
+                }
+                row.truncate(pixels * bytes + random(bytes as u64) as usize); // a stray partial pixel
+                let found: Vec<_> = match (bytes, gray) {
+                    (1, _) => Runs::<1, true>::new(&row).collect(),
+                    (2, _) => Runs::<2, true>::new(&row).collect(),
+                    (3, _) => Runs::<3, false>::new(&row).collect(),
+                    _ => Runs::<4, false>::new(&row).collect(),
+                };
+                assert_eq!(found, runs_one_by_one(&row, bytes, gray), "case {case}, {bytes} bytes per pixel");
+            }
+        }
     }
 }
