@@ -13,9 +13,52 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
+/// A private runtime folder for Mesa, removed when the program ends.
+///
+/// Mesa's window-system probe prints `error: XDG_RUNTIME_DIR is invalid or
+/// not set` (twice) while it looks for a display, which a headless capture
+/// never uses; a run without a valid `XDG_RUNTIME_DIR` gets its own 0700
+/// folder, so the message a user sees is only ever about their capture.
+struct PrivateRuntimeDir(Option<std::path::PathBuf>);
+
+impl PrivateRuntimeDir {
+    fn create() -> PrivateRuntimeDir {
+        let valid =
+            std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|dir| std::path::Path::new(&dir).is_dir());
+        if valid || cfg!(not(unix)) {
+            return PrivateRuntimeDir(None);
+        }
+        let dir = std::env::temp_dir().join(format!("ufcsr-runtime-{}", std::process::id()));
+        let mut builder = std::fs::DirBuilder::new();
+        #[cfg(unix)]
+        std::os::unix::fs::DirBuilderExt::mode(&mut builder, 0o700);
+        if builder.create(&dir).is_err() {
+            return PrivateRuntimeDir(None);
+        }
+        // SAFETY: main does this right after parsing the command line, before
+        // any other thread exists (the interrupt handler and the GPU's
+        // threads start later).
+        unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
+        ufcsr::remove_on_interrupt(&dir);
+        PrivateRuntimeDir(Some(dir))
+    }
+}
+
+impl Drop for PrivateRuntimeDir {
+    fn drop(&mut self) {
+        if let Some(dir) = &self.0 {
+            let _ = std::fs::remove_dir_all(dir);
+        }
+    }
+}
+
 fn main() -> ExitCode {
+    // Parsing may exit (--help, usage errors) and so comes first: the
+    // runtime folder is removed when main returns, or by the interrupt handler.
+    let cli = cli::Cli::parse();
+    let _runtime_dir = PrivateRuntimeDir::create();
     ufcsr::remove_temporaries_on_interrupt();
-    match cli::run(cli::Cli::parse()) {
+    match cli::run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(error) => {
             // Library errors already name their cause; only add causes that

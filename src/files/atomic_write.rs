@@ -36,6 +36,13 @@ fn create_registered(path: &Path) -> std::io::Result<File> {
     Ok(file)
 }
 
+/// Registers a file or folder the process made for its own use (e.g. the
+/// capture's private runtime folder) to be removed with the temporaries when
+/// the run is interrupted ([`remove_temporaries`]).
+pub fn remove_on_interrupt(path: &Path) {
+    register(path);
+}
+
 fn register(path: &Path) {
     TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner).push(path.to_path_buf());
 }

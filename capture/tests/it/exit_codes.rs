@@ -49,3 +49,18 @@ fn ufcsr_and_ufcsr_capture_print_their_version() {
         assert_eq!(text.trim(), format!("{name} {}", env!("CARGO_PKG_VERSION")));
     }
 }
+
+#[test]
+fn a_capture_without_a_runtime_folder_prints_no_mesa_noise() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = dir.path().join("archive");
+    let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .args(["demo", "--ppd", "2", "--palette-size", "128", "--frames", "180", "--quiet", "--out"])
+        .arg(&archive)
+        .env_remove("XDG_RUNTIME_DIR")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(output.status.success(), "{stderr}");
+    assert!(!stderr.contains("XDG_RUNTIME_DIR"), "{stderr}");
+}
