@@ -4,7 +4,8 @@
 //! The main counting path knows texels, not parts, and must stay as fast as
 //! it is; so this is a second, optional tally ([`crate::AnalyzeOptions::frames`])
 //! that rides along with the scan of each decoded row ([`PartLookup::add_row`]:
-//! one table look-up per run of equal pixels, not per pixel) and, per
+//! one table look-up per run of equal pixels, not per pixel, and one solid
+//! angle per span of one part) and, per
 //! eye-frame, walks the distinct texels the scan already collected
 //! ([`PartLookup::add_texels`]).
 
@@ -107,9 +108,33 @@ impl PartLookup {
 
     #[inline(always)]
     fn add_row_of<const BYTES: usize, const GRAY: bool>(&self, row: &[u8], pixels: &mut [u64]) {
-        for (start, end, color) in Runs::<BYTES, GRAY>::new(row) {
-            pixels[self.slot(color)] += (end - start) as u64;
+        for (start, end, slot) in self.part_spans::<BYTES, GRAY>(row) {
+            pixels[slot] += (end - start) as u64;
         }
+    }
+
+    /// The row's maximal spans of one part slot, `(first pixel, end, slot)`:
+    /// runs of equal colour, joined while their colours name the same part.
+    #[inline(always)]
+    fn part_spans<'r, const BYTES: usize, const GRAY: bool>(
+        &'r self,
+        row: &'r [u8],
+    ) -> impl Iterator<Item = (usize, usize, usize)> + 'r {
+        let mut runs =
+            Runs::<BYTES, GRAY>::new(row).map(|(start, end, color)| (start, end, self.slot(color)));
+        let mut pending = runs.next();
+        std::iter::from_fn(move || {
+            let (start, mut end, slot) = pending?;
+            pending = None;
+            for (next_start, next_end, next_slot) in runs.by_ref() {
+                if next_slot != slot {
+                    pending = Some((next_start, next_end, next_slot));
+                    break;
+                }
+                end = next_end;
+            }
+            Some((start, end, slot))
+        })
     }
 
     /// Adds the pixels of row `y` of an image to `tally` by part, and, when
@@ -129,6 +154,9 @@ impl PartLookup {
         }
     }
 
+    /// Pixels and solid angles by part: one solid angle per span of one
+    /// part (two `atan` at each end), so a part covered by many texels, each
+    /// a few pixels wide, costs what one run does.
     fn add_weighted_of<const BYTES: usize, const GRAY: bool>(
         &self,
         row: &[u8],
@@ -137,8 +165,7 @@ impl PartLookup {
         weights: &RowWeights,
     ) {
         let mut start_edge = weights.edge(0);
-        for (start, end, color) in Runs::<BYTES, GRAY>::new(row) {
-            let slot = self.slot(color);
+        for (start, end, slot) in self.part_spans::<BYTES, GRAY>(row) {
             let edge = weights.edge(end);
             pixels[slot] += (end - start) as u64;
             solid[slot] += solid_angle_units(edge - start_edge);
@@ -365,6 +392,13 @@ mod tests {
         lookup.add_row(&row, PixelLayout::Rgba, &mut pixels);
         // a: 1,1,2; b: 9,9,9; unlabelled: 15; none: background 3 and stray.
         assert_eq!(pixels, [3, 3, 1, 2]);
+        // Spans of one part join runs of different texels (the stray and the
+        // background texel 3 are both "no part", so they join too).
+        let spans: Vec<_> = lookup.part_spans::<4, false>(&row).collect();
+        assert_eq!(spans, [(0, 2, 0), (2, 3, 3), (3, 6, 1), (6, 7, 2), (7, 8, 3), (8, 9, 0)]);
+        let joined: Vec<_> =
+            lookup.part_spans::<4, false>(&[0, 0, 1, 255, 0, 0, 2, 255, 0, 0, 1, 7]).collect();
+        assert_eq!(joined, [(0, 3, 0)]);
         // Weighted: the same pixels, and each part's solid angle is the sum
         // of its pixels' (row 5 of a tile at [10, 20] of a 4 px/° eye).
         let projection = crate::input::solid_angle::EyeProjection::new(107.0, [428, 540]).unwrap();
