@@ -6,7 +6,8 @@
 //! [`Rig::check`], a mesh's in [`ufcsr::check_coordinates`]).
 //!
 //! Impossible scenes, checked over the selected frames with the vehicle's
-//! own triangles (warnings go to stderr, the summary and the manifest's
+//! own triangles and the eyes where the (possibly walking) pedestrian is at
+//! each frame (warnings go to stderr, the summary and the manifest's
 //! `warnings`):
 //! - the near plane cuts the vehicle inside the view (the renderer then shows
 //!   its inside): a warning naming the frames;
@@ -25,6 +26,7 @@ use glam::{DMat4, DVec3, DVec4, dvec3};
 use crate::archive::options::CaptureOptions;
 use crate::error::{CaptureError, Result};
 use crate::scene::Scene;
+use crate::scene::frame_state::FrameState;
 use crate::scene::mesh::Mesh;
 use crate::scene::rig::{Eye, Rig, vehicle_to_world};
 use crate::scene::scenario::Scenario;
@@ -80,12 +82,12 @@ pub fn scene_warnings(scene: &Scene, scenario: &Scenario, frames: &[u32]) -> Res
     let rig = &scene.rig;
     let mut found = ViewFindings::default();
     for &frame in frames {
-        let time_s = (f64::from(frame) / rig.fps).min(scenario.duration_s);
-        let pose = scenario.motion.pose(time_s);
-        let to_world = vehicle_to_world(&pose);
+        // The eyes where the (possibly walking) pedestrian is at this frame.
+        let state = FrameState::at(scene, scenario, frame)?;
+        let to_world = vehicle_to_world(&state.vehicle);
         let world: Vec<DVec3> =
             scene.vehicle.positions.iter().map(|p| to_world.transform_point3(p.as_dvec3())).collect();
-        for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(&pose)) {
+        for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(state.time_s, &state.vehicle)) {
             found.look(&scene.vehicle, rig, frame, &world, &camera.view_proj);
             let local = to_world.inverse().transform_point3(camera.position);
             if inside_mesh(&scene.vehicle, local) {
@@ -104,11 +106,12 @@ pub fn scene_warnings(scene: &Scene, scenario: &Scenario, frames: &[u32]) -> Res
             format!("the {} eye is", found.inside[0].1.name())
         };
         return Err(CaptureError::BadOptions(format!(
-            "scenario {}: {eyes} inside the vehicle in frames {} (pedestrian {:?}, eye height {} m): every \
-             count would be of the vehicle's inside; move the pedestrian or the vehicle's track",
+            "scenario {}: {eyes} inside the vehicle in frames {} (pedestrian {:?} at frame {}, eye height {} m): \
+             every count would be of the vehicle's inside; move the pedestrian or the vehicle's track",
             scenario.name,
             list_frames(&frames),
-            rig.pedestrian,
+            FrameState::at(scene, scenario, frames[0])?.pedestrian.to_array(),
+            frames[0],
             rig.eye_height_m
         )));
     }

@@ -15,10 +15,11 @@
 
 use glam::{DMat4, DVec2, Vec3, dvec2, dvec3, vec3};
 
-use crate::scene::mesh::{Mesh, Occluders};
+use crate::scene::mesh::Mesh;
+use crate::scene::occluders::Occluders;
 use crate::scene::rig::Rig;
 use crate::scene::scenario::Scenario;
-use crate::scene::track::{Key, Motion, Track};
+use crate::scene::track::{Key, Motion, Track, ValueOrTrack};
 
 /// Truck dimensions: length, width (body), height.
 pub const TRUCK_SIZE: [f64; 3] = [5.9, 2.0, 1.9];
@@ -282,7 +283,7 @@ pub fn intersection() -> Occluders {
 /// The demo rig: the paper's defaults with the pedestrian at the south-west
 /// corner, looking at the middle of the truck.
 pub fn rig() -> Rig {
-    Rig { pedestrian: PEDESTRIAN, look_at_vehicle: [0.0, 0.0, 0.95], ..Rig::default() }
+    Rig { pedestrian: ValueOrTrack::Fixed(PEDESTRIAN), look_at_vehicle: [0.0, 0.0, 0.95], ..Rig::default() }
 }
 
 /// Scenario names and their rotation about the intersection (degrees).
