@@ -115,11 +115,18 @@ impl Occluders {
         groups
     }
 
-    /// The occluders for `scene.glb`: one object per named occluder, its
-    /// origin on the ground under the middle of its bounds and its
-    /// triangles relative to it (f32 stays exact to a millimetre then).
+    /// The occluders for `scene.glb`: one object per named still occluder,
+    /// its origin on the ground under the middle of its bounds and its
+    /// triangles relative to it (f32 stays exact to a millimetre then); then
+    /// one per moving occluder, at the world origin with its triangles in its
+    /// own frame (the manifest poses it per frame).
     pub fn scene_objects(&self) -> Vec<ufcsr::SceneObject> {
         let mut used = std::collections::BTreeSet::new();
+        let moving = self.moving.iter().map(|occluder| {
+            let mesh = &occluder.mesh;
+            let triangles = mesh.triangles.iter().flatten().map(|&i| mesh.positions[i as usize].to_array());
+            (occluder.name.clone(), [0.0; 3], triangles.collect::<Vec<_>>())
+        });
         self.named_groups()
             .into_iter()
             .map(|(name, objects)| {
@@ -134,6 +141,10 @@ impl Occluders {
                     })
                     .map(|p| (*p - origin).as_vec3().to_array())
                     .collect();
+                (name, origin.to_array(), triangles)
+            })
+            .chain(moving)
+            .map(|(name, origin, triangles)| {
                 // Node names are unique, as Blender and Unity want them.
                 let mut unique = name.clone();
                 let mut copy = 1;
@@ -141,7 +152,7 @@ impl Occluders {
                     copy += 1;
                     unique = format!("{name} ({copy})");
                 }
-                ufcsr::SceneObject { name: unique, origin: origin.to_array(), triangles }
+                ufcsr::SceneObject { name: unique, origin, triangles }
             })
             .collect()
     }

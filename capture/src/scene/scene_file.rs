@@ -273,6 +273,22 @@ impl Scene {
         }
     }
 
+    /// The demo with traffic, for one scenario (the adjacent lane's side
+    /// depends on it): the demo scene holding only `scenario`, with the
+    /// truck's twin following it ([`demo::DemoTraffic`]).
+    pub fn demo_with_traffic(traffic: demo::DemoTraffic, scenario: &str) -> Result<Scene> {
+        let mut scene = Scene::demo();
+        let chosen = scene.scenario(scenario)?.clone();
+        scene.occluders.moving.push(traffic.occluder(&chosen));
+        scene.name = format!("demo, {}", traffic.name());
+        if let serde_json::Value::Object(info) = &mut scene.info {
+            let offset = serde_json::to_value(traffic.offset(&chosen)).unwrap_or_default();
+            info.insert("traffic".into(), json!({"name": traffic.name(), "follow": offset}));
+        }
+        scene.scenarios = vec![chosen];
+        Ok(scene)
+    }
+
     /// The Unity scenarios and rig replayed with the demo truck; the MCity
     /// environment is not available, so only a ground plane occludes.
     pub fn unity(path: &Path) -> Result<Scene> {

@@ -4,7 +4,10 @@
 //! and the occlusion query) and the exact measure alike; a `follow`
 //! occluder stands where the vehicle frame says, in the manifest; a walking
 //! pedestrian's eyes in the manifest follow the walk (both manifests hold
-//! to the published schema); bad tracks and offsets are refused with the
+//! to the published schema); `scene.glb` holds the moving box in its own
+//! frame; the placement measure sees no part in the covered frames and the
+//! GPU measure refuses moving occluders; `demo --traffic` captures every
+//! scenario with the twin posed; bad tracks and offsets are refused with the
 //! file and the key named.
 
 use std::path::{Path, PathBuf};
@@ -90,6 +93,14 @@ fn a_moving_box_hides_the_truck_in_exactly_the_frames_it_covers_it_rendered_and_
         manifest["capture"]["tiles_hidden"].as_u64().unwrap() > 0,
         "the occlusion query never skipped a tile"
     );
+    // scene.glb: the moving box at the world origin in its own frame (glTF axes: y, z, x).
+    let glb = gltf::Gltf::open(dir.path().join("fast/scene.glb")).unwrap();
+    let node =
+        glb.document.nodes().find(|n| n.name() == Some("box #0")).expect("the moving box in scene.glb");
+    assert_eq!(node.transform().decomposed().0, [0.0, 0.0, 0.0]);
+    let bounds = node.mesh().unwrap().primitives().next().unwrap().bounding_box();
+    assert_eq!((bounds.min, bounds.max), ([-2.0, 0.0, -0.25], [2.0, 3.0, 0.25]));
+    assert!(glb.document.nodes().any(|n| n.name() == Some("vehicle #1")));
 
     // Exact: no sample of the truck is visible to either eye in exactly those frames.
     let scene = Scene::load(&path).unwrap();
@@ -263,4 +274,32 @@ fn bad_tracks_and_offsets_are_refused_naming_the_file_and_the_key() {
         error.contains("walk.json") && error.contains("pedestrian") && error.contains("not a street scene"),
         "{error}"
     );
+}
+
+#[test]
+fn the_demo_with_traffic_captures_every_scenario_with_the_twin_posed_in_each_frame() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("lead");
+    let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .args(["demo", "--traffic", "lead-car", "--scenario", "all", "--ppd", "2", "--palette-size", "256"])
+        .args(["--frames", "0-180/90", "-q", "--out"])
+        .arg(&out)
+        .output()
+        .expect("run ufcsr-capture");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    for name in ["A", "B", "C", "D"] {
+        let manifest: Value =
+            serde_json::from_slice(&std::fs::read(out.join(name).join("manifest.json")).unwrap()).unwrap();
+        assert_eq!(manifest["scenario"]["name"], name);
+        for record in manifest["frames"].as_array().unwrap() {
+            let lead = &record["occluders"][0];
+            assert_eq!(lead["name"], "lead pickup", "{record}");
+            let yaw = record["vehicle"]["yaw_deg"].as_f64().unwrap();
+            assert!((lead["yaw_deg"].as_f64().unwrap() - yaw).abs() < 1e-9);
+            let (truck, twin) = (&record["vehicle"]["position"], &lead["position"]);
+            let gap =
+                (0..2).map(|i| (twin[i].as_f64().unwrap() - truck[i].as_f64().unwrap()).powi(2)).sum::<f64>();
+            assert!((gap.sqrt() - ufcsr_capture::LEAD_CAR_AHEAD_M).abs() < 1e-5, "{record}");
+        }
+    }
 }
