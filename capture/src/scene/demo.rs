@@ -330,8 +330,9 @@ pub fn scenario(name: &str) -> Option<Scenario> {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum DemoTraffic {
-    /// Alongside the truck, [`ADJACENT_LANE_M`] to the side of the
-    /// pedestrian (the multiple-threat crossing): to its right in A and C,
+    /// Beside the truck, [`ADJACENT_LANE_M`] to the side of the pedestrian
+    /// and [`ADJACENT_LANE_AHEAD_M`] ahead (the multiple-threat crossing:
+    /// it stops nearer the crosswalk): to its right in A and C,
     /// where the pedestrian waits at the near kerb (the twin then runs
     /// along the kerb: the demo's streets have one lane each way), to its
     /// left in B and D, where the pedestrian is across the street (the twin
@@ -344,6 +345,9 @@ pub enum DemoTraffic {
 /// How far the adjacent-lane twin drives to the side of the truck, centre
 /// to centre, metres: about a lane.
 pub const ADJACENT_LANE_M: f64 = 3.5;
+/// How far ahead of the truck the adjacent-lane twin drives, centre to
+/// centre, metres: it stops 2 m nearer the crosswalk.
+pub const ADJACENT_LANE_AHEAD_M: f64 = 2.0;
 /// How far ahead the lead car drives, centre to centre, metres (a 3.1 m gap
 /// between the two 5.9 m pickups).
 pub const LEAD_CAR_AHEAD_M: f64 = 9.0;
@@ -367,7 +371,11 @@ impl DemoTraffic {
                 let to_pedestrian = (glam::DVec3::from(PEDESTRIAN) - end.position).truncate();
                 let left = DVec2::from_angle(end.yaw_deg.to_radians()).perp();
                 let side = if to_pedestrian.dot(left) >= 0.0 { 1.0 } else { -1.0 };
-                FollowOffset { left_m: side * ADJACENT_LANE_M, ..FollowOffset::default() }
+                FollowOffset {
+                    ahead_m: ADJACENT_LANE_AHEAD_M,
+                    left_m: side * ADJACENT_LANE_M,
+                    ..FollowOffset::default()
+                }
             }
         }
     }
@@ -491,7 +499,8 @@ mod tests {
             let pedestrian = dvec2(PEDESTRIAN[0], PEDESTRIAN[1]);
             let gap = |p: glam::DVec3| (p.truncate() - pedestrian).length();
             assert!(gap(twin.position) < gap(end.position), "{name}: the twin is on the far side");
-            assert!(((twin.position - end.position).length() - ADJACENT_LANE_M).abs() < 1e-9);
+            let beside = (ADJACENT_LANE_M.powi(2) + ADJACENT_LANE_AHEAD_M.powi(2)).sqrt();
+            assert!(((twin.position - end.position).length() - beside).abs() < 1e-9);
             let lead = DemoTraffic::LeadCar.occluder(&scenario).pose(3.0, &end);
             let ahead = lead.position - end.position;
             let heading = DVec2::from_angle(end.yaw_deg.to_radians());
