@@ -69,8 +69,9 @@ pub fn visible_solid_angle(
     }
     // Moving occluders: the same segment in each one's own frame.
     for (k, local_to_moving) in eye_frame.local_to_moving.iter().enumerate() {
-        let from = local_to_moving.transform_point3(lifted_local);
-        let to = local_to_moving.transform_point3(end_local);
+        // Summed as `transform` in visibility.wgsl sums, so both round alike.
+        let from = transform_point(local_to_moving, lifted_local).truncate();
+        let to = transform_point(local_to_moving, end_local).truncate();
         if blocks(obstacles, Frame::Moving(k), from, to, tracer) {
             return None;
         }

@@ -319,7 +319,7 @@ fn the_cli_writes_an_unobstructed_result_with_the_measures_block() {
     assert!(!out.join("tiles").read_dir().is_ok_and(|mut d| d.next().is_some()), "no tiles are written");
 }
 
-fn gpu_with_f64() -> Option<ufcsr_capture::Gpu> {
+pub(crate) fn gpu_with_f64() -> Option<ufcsr_capture::Gpu> {
     let gpu = ufcsr_capture::Gpu::create(ufcsr_capture::Backend::Auto).expect("a GPU or lavapipe");
     if !gpu.device.features().contains(wgpu::Features::SHADER_F64) {
         assert!(std::env::var_os("CI").is_none(), "CI: lavapipe has SHADER_F64; this adapter does not");
