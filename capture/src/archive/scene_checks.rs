@@ -15,6 +15,8 @@
 //!   naming the frames;
 //! - an eye inside the vehicle: an **error** naming the frames — every count
 //!   would be of the vehicle's inside, and plausible-looking;
+//! - an eye inside a moving occluder (a car driving through the pedestrian,
+//!   or the pedestrian walking into one): a warning naming it and the frames;
 //! - between frames (at the rig's fps) the vehicle moves faster than
 //!   [`MAX_SPEED_M_S`] or accelerates more than [`MAX_ACCELERATION_M_S2`]: a
 //!   warning naming the position keys.
@@ -93,6 +95,7 @@ pub fn scene_warnings(scene: &Scene, scenario: &Scenario, frames: &[u32]) -> Res
             if inside_mesh(&scene.vehicle, local) {
                 found.inside.push((frame, eye));
             }
+            found.look_out_of_moving(scene, &state, camera.position);
         }
     }
     if !found.inside.is_empty() {
@@ -127,6 +130,8 @@ struct ViewFindings {
     beyond_far: Vec<u32>,
     farthest_m: f64,
     inside: Vec<(u32, Eye)>,
+    /// Per moving occluder (by name): the frames an eye is inside it.
+    inside_moving: BTreeMap<String, Vec<u32>>,
 }
 
 impl ViewFindings {
@@ -152,8 +157,27 @@ impl ViewFindings {
         }
     }
 
+    /// Whether the eye at `eye` (world) is inside a moving occluder this frame.
+    fn look_out_of_moving(&mut self, scene: &Scene, state: &FrameState, eye: DVec3) {
+        for (occluder, to_world) in scene.occluders.moving.iter().zip(state.moving_to_world()) {
+            if inside_mesh(&occluder.mesh, to_world.inverse().transform_point3(eye)) {
+                let frames = self.inside_moving.entry(occluder.name.clone()).or_default();
+                if frames.last() != Some(&state.frame) {
+                    frames.push(state.frame);
+                }
+            }
+        }
+    }
+
     fn warnings(&self, rig: &Rig) -> Vec<String> {
         let mut warnings = Vec::new();
+        for (name, frames) in &self.inside_moving {
+            warnings.push(format!(
+                "an eye is inside the moving occluder {name} in frames {}: it hides the whole vehicle then; \
+                 check its track (or follow offset) and the pedestrian's",
+                list_frames(frames)
+            ));
+        }
         if !self.near_cut.is_empty() {
             warnings.push(format!(
                 "the near plane ({} m) cuts the vehicle open in frames {}: those frames show (and count) its \

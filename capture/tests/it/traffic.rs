@@ -8,7 +8,7 @@
 //! to the published schema); `scene.glb` holds the moving box in its own
 //! frame; the placement measure sees no part in the covered frames;
 //! `demo --traffic` captures every
-//! scenario with the twin posed; bad tracks and offsets are refused with the
+//! scenario with the twin posed; an eye inside a moving occluder is a warning; bad tracks and offsets are refused with the
 //! file and the key named.
 
 use std::path::{Path, PathBuf};
@@ -248,6 +248,29 @@ fn a_walking_pedestrians_eyes_in_the_manifest_follow_the_walk() {
         assert!(forward.dot(to_truck) > 1.0 - 1e-6, "t {t}: {forward} vs {to_truck}");
     }
     assert_eq!(manifest["rig"]["settings"]["pedestrian"].as_array().unwrap().len(), 2, "the walk's keys");
+}
+
+#[test]
+fn an_eye_inside_a_moving_occluder_is_a_warning_naming_it_and_the_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = moving_box_scene();
+    // The box now crosses right over the pedestrian (x = 15): an eye is in
+    // it while |c| < 2 + 0.055, frames 3–7.
+    scene["occluders"][0]["box"]["position"] =
+        json!([{"t": 0.0, "value": [15.0, -5.0, 0.0]}, {"t": 1.0, "value": [15.0, 5.0, 0.0]}]);
+    let path = write_scene(dir.path(), "through.json", &scene);
+    let manifest = capture(&path, &dir.path().join("out"), &[]);
+    let warnings = manifest["warnings"].as_array().expect("warnings in the manifest");
+    let warning =
+        warnings.iter().filter_map(Value::as_str).find(|w| w.contains("inside the moving occluder"));
+    assert_eq!(
+        warning,
+        Some(
+            "an eye is inside the moving occluder box #0 in frames 3-7: it hides the whole vehicle then; check \
+             its track (or follow offset) and the pedestrian's"
+        ),
+        "{warnings:?}"
+    );
 }
 
 #[test]
