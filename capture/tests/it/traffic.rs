@@ -328,7 +328,9 @@ fn the_demo_with_traffic_captures_every_scenario_with_the_twin_posed_in_each_fra
         &["--ppd", "2", "--frames", "0-180/90"],
     );
     assert!(ok, "{stderr}");
+    let manifest_schema = crate::schemas::schema("manifest.schema.json");
     for name in ["A", "B", "C", "D"] {
+        crate::schemas::assert_file_valid(&manifest_schema, &out.join(name).join("manifest.json"));
         let manifest: Value =
             serde_json::from_slice(&std::fs::read(out.join(name).join("manifest.json")).unwrap()).unwrap();
         assert_eq!(manifest["scenario"]["name"], name);
