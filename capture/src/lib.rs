@@ -41,9 +41,11 @@ pub use render::{
     Backend, Gpu, Palette, PixelRect, RenderSetup, Renderer, TileDraw, Vertex, vehicle_vertices,
 };
 pub use scene::{
-    Axes, Eye, EyeCamera, Key, Mesh, Motion, OccluderObject, Occluders, PartRule, PartSource, Pose,
-    RegionReport, Rig, Scenario, Scene, SceneFile, TileId, Track, VehicleSpec, box_corners, box_outside,
-    degenerate_vehicle, load_vehicle, look_to, reversed_z_perspective, triangle_area, vehicle_to_world,
+    ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, Axes, DemoTraffic, Eye, EyeCamera, FollowOffset, FrameState, Key,
+    LEAD_CAR_AHEAD_M, Mesh, Motion, MovingOccluder, OccluderObject, OccluderPath, Occluders,
+    PEDESTRIAN_BODY_M, PartRule, PartSource, Pose, RegionReport, Rig, Scenario, Scene, SceneFile, TileId,
+    Track, ValueOrTrack, VehicleSpec, box_corners, box_outside, degenerate_vehicle, load_vehicle, look_to,
+    pedestrian_body, reversed_z_perspective, triangle_area, vehicle_to_world,
 };
 pub use study::observers::{
     MAX_OBSERVERS, Observer, ObserverOptions, ObserverStudy, PartSpread, Spread, run_observer_study,

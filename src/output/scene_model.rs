@@ -4,9 +4,10 @@
 //! can rebuild it: `vehicle.glb` is the vehicle in its own frame, the
 //! manifest places it and every eye per frame, and `scene.glb` holds what
 //! hid the vehicle — boxes, environment meshes, parked vehicles, the ground
-//! — in world coordinates, one node per occluder named after it. Occluders
-//! are static (a scene has no moving occluder), so one file serves every
-//! frame. Axes follow [`crate::output::glb`]: world `(x, y, z)` (x east,
+//! — in world coordinates, one node per occluder named after it. A moving
+//! occluder is a node at the world origin holding its triangles in its own
+//! frame: the manifest's frames give its pose (position and yaw) in each
+//! frame, as they give the vehicle's for `vehicle.glb`. Axes follow [`crate::output::glb`]: world `(x, y, z)` (x east,
 //! y north, z up) is glTF `(y, z, x)`.
 
 use std::path::Path;

@@ -7,7 +7,8 @@
 //! (an occlusion query after drawing them), the vehicle is not drawn at all. A rendered tile that comes
 //! out pure background (the vehicle is hidden) is listed as empty too unless
 //! background tiles are kept. Occluder objects outside a tile's frustum are
-//! not drawn. The loop knows nothing of files: the sink decides what a tile
+//! not drawn; moving occluders are placed at the frame's poses and culled
+//! by their placed bounding boxes the same way. The loop knows nothing of files: the sink decides what a tile
 //! becomes.
 
 use glam::{DMat4, DVec3};
@@ -21,6 +22,7 @@ use crate::error::Result;
 use crate::render::scissor::{EyeBounds, background_tile, fill_tile};
 use crate::render::{PixelRect, Renderer, TileDraw};
 use crate::scene::Scene;
+use crate::scene::frame_state::FrameState;
 use crate::scene::rig::{Eye, EyeCamera, Rig, box_corners, box_outside, vehicle_to_world};
 use crate::scene::scenario::Scenario;
 
@@ -72,22 +74,15 @@ impl<'a> FrameCapture<'a> {
         on_tile: &dyn Fn(),
     ) -> Result<CapturedFrame> {
         let rig = self.rig();
-        let time_s = (f64::from(frame) / rig.fps).min(self.scenario.duration_s);
-        let pose = self.scenario.motion.pose(time_s);
-        if !(pose.position.is_finite() && pose.yaw_deg.is_finite()) {
-            return Err(crate::error::CaptureError::BadOptions(format!(
-                "scenario {}: the vehicle's pose at {time_s} s is not finite",
-                self.scenario.name
-            )));
-        }
+        let state = FrameState::at(self.scene, self.scenario, frame)?;
+        let (time_s, pose, distance_m) = (state.time_s, state.vehicle, state.distance_m());
         let to_world = vehicle_to_world(&pose);
         let world_box = self.vehicle_box.map(|c| to_world.transform_point3(c));
-        let pedestrian = glam::dvec2(rig.pedestrian[0], rig.pedestrian[1]);
-        let distance_m = (pose.position.truncate() - pedestrian).length();
+        let moving = MovingFrame::new(self.scene, &state);
         let mut captured =
             CapturedFrame { entries: Vec::new(), record: Value::Null, tally: TileTally::default() };
         let mut tiles_with_vehicle = Map::new();
-        for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(&pose)) {
+        for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(time_s, &pose)) {
             let touched = if self.no_cull { rig.all_tiles() } else { rig.tiles_touched(&camera, &world_box) };
             let bounds = if self.no_scissor {
                 EyeBounds::Unbounded
@@ -114,7 +109,8 @@ impl<'a> FrameCapture<'a> {
                 } else {
                     let clip_from_world = rig.tile_matrix(tile) * camera.view_proj;
                     let job = TileJob { address, index, region: bounds.region(rig, tile), test_hidden };
-                    self.render_into(sink, job, clip_from_world, to_world, &mut captured.tally)?
+                    let transforms = TileTransforms { clip_from_world, to_world, moving: &moving };
+                    self.render_into(sink, job, transforms, &mut captured.tally)?
                 };
                 if shows_vehicle {
                     with_vehicle += 1;
@@ -125,8 +121,7 @@ impl<'a> FrameCapture<'a> {
             }
             tiles_with_vehicle.insert(eye.name().into(), json!(with_vehicle));
         }
-        let mut record =
-            crate::archive::manifest_builder::frame_record(frame, time_s, distance_m, rig, &pose);
+        let mut record = crate::archive::manifest_builder::frame_record(self.scene, &state);
         record.insert("tiles_with_vehicle".into(), Value::Object(tiles_with_vehicle));
         captured.record = Value::Object(record);
         Ok(captured)
@@ -140,8 +135,7 @@ impl<'a> FrameCapture<'a> {
         &self,
         sink: &mut dyn TileSink,
         TileJob { address, index, region, test_hidden }: TileJob,
-        clip_from_world: DMat4,
-        to_world: DMat4,
+        TileTransforms { clip_from_world, to_world, moving }: TileTransforms,
         tally: &mut TileTally,
     ) -> Result<bool> {
         let size = self.renderer.tile_size();
@@ -161,13 +155,15 @@ impl<'a> FrameCapture<'a> {
                     })
                     .map(|(i, _)| i)
                     .collect();
+                let moving = moving.visible(&clip_from_world);
                 let draw = TileDraw {
                     clip_from_vehicle: clip_from_world * to_world,
                     clip_from_world,
                     occluders: &visible,
+                    moving: &moving,
                 };
                 // Only a tile with occluders in it can hide the vehicle.
-                let pixels = if test_hidden && !visible.is_empty() {
+                let pixels = if test_hidden && !(visible.is_empty() && moving.is_empty()) {
                     self.renderer.render_region_unless_hidden(self.device, self.queue, &draw, region)?
                 } else {
                     Some(self.renderer.render_region(self.device, self.queue, &draw, region)?)
@@ -202,6 +198,45 @@ impl<'a> FrameCapture<'a> {
         tally.written += 1;
         Ok(true)
     }
+}
+
+/// The moving occluders at one frame: each one's own frame → world and its
+/// bounding box's corners in the world (for per-tile culling).
+struct MovingFrame {
+    placed: Vec<(DMat4, [DVec3; 8])>,
+}
+
+impl MovingFrame {
+    fn new(scene: &Scene, state: &FrameState) -> MovingFrame {
+        let placed = scene
+            .occluders
+            .moving
+            .iter()
+            .zip(state.moving_to_world())
+            .map(|(occluder, to_world)| {
+                let (min, max) = occluder.mesh.bounds();
+                (to_world, box_corners(min, max).map(|c| to_world.transform_point3(c)))
+            })
+            .collect();
+        MovingFrame { placed }
+    }
+
+    /// Those a tile's frustum may see, with their own frame → tile clip space.
+    fn visible(&self, clip_from_world: &DMat4) -> Vec<(usize, DMat4)> {
+        self.placed
+            .iter()
+            .enumerate()
+            .filter(|(_, (_, corners))| !box_outside(clip_from_world, corners))
+            .map(|(k, (to_world, _))| (k, *clip_from_world * *to_world))
+            .collect()
+    }
+}
+
+/// A tile's transforms: world and vehicle to clip, and the moving occluders.
+struct TileTransforms<'m> {
+    clip_from_world: DMat4,
+    to_world: DMat4,
+    moving: &'m MovingFrame,
 }
 
 /// One tile to render: where it goes and what may be left out.

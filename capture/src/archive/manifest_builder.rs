@@ -14,6 +14,7 @@ use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
 
 use crate::archive::options::{CaptureOptions, TileTally};
 use crate::scene::Scene;
+use crate::scene::frame_state::FrameState;
 use crate::scene::rig::{Eye, Rig, reversed_z_perspective};
 use crate::scene::scenario::Scenario;
 use crate::scene::track::Pose;
@@ -67,13 +68,13 @@ pub fn eye_projection(rig: &Rig) -> Value {
 /// camera looks along `forward`, image x runs along `right`, image y up
 /// along `up`), read back from the very view matrices the renderer and the
 /// exact measure use.
-pub fn frame_pose(rig: &Rig, pose: &Pose) -> (Value, Value) {
+pub fn frame_pose(rig: &Rig, time_s: f64, pose: &Pose) -> (Value, Value) {
     let aspect = f64::from(rig.eye_pixels[0]) / f64::from(rig.eye_pixels[1]);
     let projection =
         reversed_z_perspective(rig.vertical_fov_deg().to_radians(), aspect, rig.near_m, rig.far_m);
     let to_view = projection.inverse();
     let mut eyes = Map::new();
-    for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(pose)) {
+    for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(time_s, pose)) {
         let view = to_view * camera.view_proj;
         let axis = |row: usize, sign: f64| (view.row(row).truncate() * sign).normalize().to_array();
         eyes.insert(
@@ -86,26 +87,43 @@ pub fn frame_pose(rig: &Rig, pose: &Pose) -> (Value, Value) {
             }),
         );
     }
-    let vehicle = json!({"position": pose.position.to_array().map(round6), "yaw_deg": round6(pose.yaw_deg)});
-    (vehicle, Value::Object(eyes))
+    (pose_record(pose), Value::Object(eyes))
+}
+
+/// A pose as the manifest writes it: position (world metres) and yaw.
+fn pose_record(pose: &Pose) -> Value {
+    json!({"position": pose.position.to_array().map(round6), "yaw_deg": round6(pose.yaw_deg)})
 }
 
 /// A frame's manifest record — frame number, time, vehicle pose, each eye's
 /// camera ([`frame_pose`]) and distance — shared by the rendered captures and
-/// the exact measure, so both describe a frame alike.
-pub fn frame_record(frame: u32, time_s: f64, distance_m: f64, rig: &Rig, pose: &Pose) -> Map<String, Value> {
-    let (vehicle, eyes) = frame_pose(rig, pose);
-    let record = json!({
-        "frame": frame,
-        "time_s": round6(time_s),
-        "vehicle": vehicle,
-        "eyes": eyes,
-        "distance_m": round6(distance_m),
-    });
-    match record {
-        Value::Object(map) => map,
-        _ => unreachable!("json! of an object literal is an object"),
+/// the exact measure, so both describe a frame alike. A scene with moving
+/// occluders adds `occluders` (each one's name and pose: its own frame, as
+/// in `scene.glb`, placed by `position` and `yaw_deg`); a walking
+/// pedestrian adds `pedestrian` (the ground point, world metres).
+pub fn frame_record(scene: &Scene, state: &FrameState) -> Map<String, Value> {
+    let rig = &scene.rig;
+    let (vehicle, eyes) = frame_pose(rig, state.time_s, &state.vehicle);
+    let mut record = Map::new();
+    record.insert("frame".into(), json!(state.frame));
+    record.insert("time_s".into(), json!(round6(state.time_s)));
+    record.insert("vehicle".into(), vehicle);
+    record.insert("eyes".into(), eyes);
+    record.insert("distance_m".into(), json!(round6(state.distance_m())));
+    if rig.walks() {
+        record.insert("pedestrian".into(), json!(state.pedestrian.to_array().map(round6)));
     }
+    if !state.moving.is_empty() {
+        let occluders = scene.occluders.moving.iter().zip(&state.moving).map(|(occluder, pose)| {
+            let mut entry = json!({"name": occluder.name});
+            if let (Value::Object(entry), Value::Object(pose)) = (&mut entry, pose_record(pose)) {
+                entry.extend(pose);
+            }
+            entry
+        });
+        record.insert("occluders".into(), Value::Array(occluders.collect()));
+    }
+    record
 }
 
 /// Builds the manifest of a capture.

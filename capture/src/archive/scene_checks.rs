@@ -6,7 +6,8 @@
 //! [`Rig::check`], a mesh's in [`ufcsr::check_coordinates`]).
 //!
 //! Impossible scenes, checked over the selected frames with the vehicle's
-//! own triangles (warnings go to stderr, the summary and the manifest's
+//! own triangles and the eyes where the (possibly walking) pedestrian is at
+//! each frame (warnings go to stderr, the summary and the manifest's
 //! `warnings`):
 //! - the near plane cuts the vehicle inside the view (the renderer then shows
 //!   its inside): a warning naming the frames;
@@ -14,6 +15,8 @@
 //!   naming the frames;
 //! - an eye inside the vehicle: an **error** naming the frames — every count
 //!   would be of the vehicle's inside, and plausible-looking;
+//! - an eye inside a moving occluder (a car driving through the pedestrian,
+//!   or the pedestrian walking into one): a warning naming it and the frames;
 //! - between frames (at the rig's fps) the vehicle moves faster than
 //!   [`MAX_SPEED_M_S`] or accelerates more than [`MAX_ACCELERATION_M_S2`]: a
 //!   warning naming the position keys.
@@ -25,6 +28,7 @@ use glam::{DMat4, DVec3, DVec4, dvec3};
 use crate::archive::options::CaptureOptions;
 use crate::error::{CaptureError, Result};
 use crate::scene::Scene;
+use crate::scene::frame_state::FrameState;
 use crate::scene::mesh::Mesh;
 use crate::scene::rig::{Eye, Rig, vehicle_to_world};
 use crate::scene::scenario::Scenario;
@@ -80,17 +84,18 @@ pub fn scene_warnings(scene: &Scene, scenario: &Scenario, frames: &[u32]) -> Res
     let rig = &scene.rig;
     let mut found = ViewFindings::default();
     for &frame in frames {
-        let time_s = (f64::from(frame) / rig.fps).min(scenario.duration_s);
-        let pose = scenario.motion.pose(time_s);
-        let to_world = vehicle_to_world(&pose);
+        // The eyes where the (possibly walking) pedestrian is at this frame.
+        let state = FrameState::at(scene, scenario, frame)?;
+        let to_world = vehicle_to_world(&state.vehicle);
         let world: Vec<DVec3> =
             scene.vehicle.positions.iter().map(|p| to_world.transform_point3(p.as_dvec3())).collect();
-        for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(&pose)) {
+        for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(state.time_s, &state.vehicle)) {
             found.look(&scene.vehicle, rig, frame, &world, &camera.view_proj);
             let local = to_world.inverse().transform_point3(camera.position);
             if inside_mesh(&scene.vehicle, local) {
                 found.inside.push((frame, eye));
             }
+            found.look_out_of_moving(scene, &state, camera.position);
         }
     }
     if !found.inside.is_empty() {
@@ -104,11 +109,12 @@ pub fn scene_warnings(scene: &Scene, scenario: &Scenario, frames: &[u32]) -> Res
             format!("the {} eye is", found.inside[0].1.name())
         };
         return Err(CaptureError::BadOptions(format!(
-            "scenario {}: {eyes} inside the vehicle in frames {} (pedestrian {:?}, eye height {} m): every \
-             count would be of the vehicle's inside; move the pedestrian or the vehicle's track",
+            "scenario {}: {eyes} inside the vehicle in frames {} (pedestrian {:?} at frame {}, eye height {} m): \
+             every count would be of the vehicle's inside; move the pedestrian or the vehicle's track",
             scenario.name,
             list_frames(&frames),
-            rig.pedestrian,
+            FrameState::at(scene, scenario, frames[0])?.pedestrian.to_array(),
+            frames[0],
             rig.eye_height_m
         )));
     }
@@ -124,6 +130,8 @@ struct ViewFindings {
     beyond_far: Vec<u32>,
     farthest_m: f64,
     inside: Vec<(u32, Eye)>,
+    /// Per moving occluder (by name): the frames an eye is inside it.
+    inside_moving: BTreeMap<String, Vec<u32>>,
 }
 
 impl ViewFindings {
@@ -149,8 +157,27 @@ impl ViewFindings {
         }
     }
 
+    /// Whether the eye at `eye` (world) is inside a moving occluder this frame.
+    fn look_out_of_moving(&mut self, scene: &Scene, state: &FrameState, eye: DVec3) {
+        for (occluder, to_world) in scene.occluders.moving.iter().zip(state.moving_to_world()) {
+            if inside_mesh(&occluder.mesh, to_world.inverse().transform_point3(eye)) {
+                let frames = self.inside_moving.entry(occluder.name.clone()).or_default();
+                if frames.last() != Some(&state.frame) {
+                    frames.push(state.frame);
+                }
+            }
+        }
+    }
+
     fn warnings(&self, rig: &Rig) -> Vec<String> {
         let mut warnings = Vec::new();
+        for (name, frames) in &self.inside_moving {
+            warnings.push(format!(
+                "an eye is inside the moving occluder {name} in frames {}: it hides the whole vehicle then; \
+                 check its track (or follow offset) and the pedestrian's",
+                list_frames(frames)
+            ));
+        }
         if !self.near_cut.is_empty() {
             warnings.push(format!(
                 "the near plane ({} m) cuts the vehicle open in frames {}: those frames show (and count) its \

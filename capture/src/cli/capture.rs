@@ -1,5 +1,5 @@
 //! The captures (`demo`, `scene`, `unity`): their common arguments and
-//! [`run_capture`], which builds the options, creates the device and runs the
+//! [`run_capture`] (and [`run_demo_with_traffic`] for `demo --traffic`), which builds the options, creates the device and runs the
 //! capture to PNG tiles, the fused count (`--count`) or the exact measure
 //! (`--measure unobstructed`), then prints what each scenario gave.
 
@@ -9,7 +9,7 @@ use std::sync::Arc;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use ufcsr_capture::{
-    Backend, CaptureOptions, CaptureProgress, Compression, CountedCapture, FrameSelection, Gpu,
+    Backend, CaptureOptions, CaptureProgress, Compression, CountedCapture, DemoTraffic, FrameSelection, Gpu,
     MeasureDevice, OwnLabels, Scene, Summary, TileFilter, parse_palette_size,
 };
 
@@ -21,7 +21,7 @@ pub enum Measure {
     Unobstructed,
 }
 
-#[derive(Args)]
+#[derive(Args, Clone)]
 pub struct Common {
     /// Output folder (one archive; with --scenario all, one sub-folder per scenario).
     #[arg(long, default_value = "archive")]
@@ -192,6 +192,19 @@ pub fn run_capture(mut scene: Scene, common: &Common) -> anyhow::Result<()> {
                 summary.out.display()
             );
         }
+    }
+    Ok(())
+}
+
+/// `demo --traffic`: each selected scenario with the truck's twin in
+/// traffic (its side depends on the scenario), one capture each, into
+/// `--out` or, with `--scenario all`, `--out/NAME`.
+pub fn run_demo_with_traffic(traffic: DemoTraffic, common: &Common) -> anyhow::Result<()> {
+    let all = common.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
+    for name in scenario_names(&Scene::demo(), common.scenario.as_deref())? {
+        let scene = Scene::demo_with_traffic(traffic, &name)?;
+        let out = if all { common.out.join(&name) } else { common.out.clone() };
+        run_capture(scene, &Common { out, scenario: Some(name), ..common.clone() })?;
     }
     Ok(())
 }

@@ -36,6 +36,10 @@ pub struct Cli {
 enum Command {
     /// The built-in demo: pickup truck, intersection, scenarios A–D.
     Demo {
+        /// A second pickup in traffic: alongside the truck in the lane on the pedestrian's side
+        /// (adjacent-lane), or ahead of it in its lane (lead-car); see docs/scene-file.md.
+        #[arg(long, value_enum)]
+        traffic: Option<ufcsr_capture::DemoTraffic>,
         #[command(flatten)]
         common: Common,
     },
@@ -135,7 +139,10 @@ impl std::error::Error for DoneWithFailures {}
 /// Runs one subcommand.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
-        Command::Demo { common } => capture::run_capture(ufcsr_capture::Scene::demo(), &common),
+        Command::Demo { traffic: None, common } => {
+            capture::run_capture(ufcsr_capture::Scene::demo(), &common)
+        }
+        Command::Demo { traffic: Some(traffic), common } => capture::run_demo_with_traffic(traffic, &common),
         Command::Scene { scene, common } => {
             capture::run_capture(ufcsr_capture::Scene::load(&scene)?, &common)
         }

@@ -17,7 +17,7 @@ use ufcsr::{Color, VehicleModel, ViewCamera, ViewTexture, WrittenViews};
 
 use crate::error::{CaptureError, Result};
 use crate::render::{Palette, RenderSetup, Renderer, TileDraw, Vertex};
-use crate::scene::mesh::Occluders;
+use crate::scene::occluders::Occluders;
 
 /// White, as the CPU views' paper.
 const PAPER: u32 = 0xFF_FFFF;
@@ -62,6 +62,7 @@ pub fn write_views_gpu(
     let mut pictures = Vec::with_capacity(cameras.len());
     for camera in &cameras {
         let draw = TileDraw {
+            moving: &[],
             clip_from_vehicle: clip_from_vehicle(camera),
             clip_from_world: DMat4::IDENTITY,
             occluders: &[],

@@ -1,6 +1,6 @@
 //! The renderer's GPU state that never changes during a capture: the palette
-//! shader's pipeline, the palette texture and the uniform buffer with its two
-//! bind groups (vehicle and world).
+//! shader's pipeline, the palette texture and the uniform buffer with its
+//! bind groups (vehicle, world, and one per moving occluder).
 //!
 //! Split from [`crate::render`] so that the renderer reads as "draw a tile":
 //! everything here is built once by [`PalettePipeline::new`].
@@ -41,6 +41,9 @@ pub(crate) struct PalettePipeline {
     pub vehicle_group: wgpu::BindGroup,
     /// Uniforms at [`UNIFORM_STRIDE`]: the occluders, in the background colour.
     pub world_group: wgpu::BindGroup,
+    /// Uniforms at `(2 + k) ×` [`UNIFORM_STRIDE`]: moving occluder `k`, in its
+    /// own frame, in the background colour.
+    pub moving_groups: Vec<wgpu::BindGroup>,
     /// The vehicle's draw mode (`draw_mode::CANONICAL_PALETTE` or `EXTERNAL_PALETTE`).
     pub mode: u32,
     /// The same pipeline writing neither colour nor depth: draws the
@@ -49,22 +52,38 @@ pub(crate) struct PalettePipeline {
 }
 
 impl PalettePipeline {
-    /// Compiles the shader, builds the pipeline and uploads the palette.
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, palette: &Palette) -> Result<PalettePipeline> {
+    /// Compiles the shader, builds the pipeline and uploads the palette,
+    /// with uniforms for the vehicle, the still occluders and `moving`
+    /// moving occluders.
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        palette: &Palette,
+        moving: usize,
+    ) -> Result<PalettePipeline> {
         let layout = bind_group_layout(device);
         let pipeline = render_pipeline(device, &layout, true);
         let bounds_test = render_pipeline(device, &layout, false);
         let (mode, palette_view) = palette_texture(device, queue, palette)?;
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("uniforms"),
-            size: UNIFORM_STRIDE * 2,
+            size: UNIFORM_STRIDE * (2 + moving as u64),
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let group = |offset: u64| bind_group(device, &layout, &uniforms, offset, &palette_view);
         let vehicle_group = group(0);
         let world_group = group(UNIFORM_STRIDE);
-        Ok(PalettePipeline { pipeline, uniforms, vehicle_group, world_group, mode, bounds_test })
+        let moving_groups = (0..moving as u64).map(|k| group(UNIFORM_STRIDE * (2 + k))).collect();
+        Ok(PalettePipeline {
+            pipeline,
+            uniforms,
+            vehicle_group,
+            world_group,
+            moving_groups,
+            mode,
+            bounds_test,
+        })
     }
 }
 

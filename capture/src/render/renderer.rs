@@ -19,7 +19,7 @@ use crate::render::occlusion::OcclusionTest;
 use crate::render::pipeline::{PalettePipeline, UNIFORM_STRIDE, Uniforms, draw_mode};
 use crate::render::target::{PixelRect, TileTarget};
 use crate::render::vertex::{Palette, Vertex};
-use crate::scene::mesh::Occluders;
+use crate::scene::occluders::Occluders;
 
 /// Everything the renderer needs once.
 pub struct RenderSetup<'a> {
@@ -44,6 +44,9 @@ pub struct TileDraw<'a> {
     pub clip_from_world: DMat4,
     /// Indices into `Occluders::objects` that may be visible in the tile.
     pub occluders: &'a [usize],
+    /// The moving occluders that may be visible in the tile: their index in
+    /// `Occluders::moving` and their own frame → tile clip space.
+    pub moving: &'a [(usize, DMat4)],
 }
 
 /// A GPU renderer of tiles: built once for a device and a setup, then
@@ -66,6 +69,8 @@ struct Geometry {
     occluders: Option<wgpu::Buffer>,
     /// `(first vertex, vertex count)` per occluder object.
     objects: Vec<(u32, u32)>,
+    /// Each moving occluder's vertices in its own frame, and their count.
+    moving: Vec<Option<(wgpu::Buffer, u32)>>,
 }
 
 impl Geometry {
@@ -85,7 +90,23 @@ impl Geometry {
             .collect();
         let occluders = vertex_buffer(device, queue, "occluders", bytemuck::cast_slice(&occluder_vertices));
         let objects = setup.occluders.objects.iter().map(|o| (o.first_vertex, o.vertex_count)).collect();
-        Geometry { vehicle, occluders, objects }
+        let moving = setup
+            .occluders
+            .moving
+            .iter()
+            .map(|occluder| {
+                let vertices: Vec<Vertex> = occluder
+                    .mesh
+                    .triangles
+                    .iter()
+                    .flat_map(|t| t.map(|i| occluder.mesh.positions[i as usize]))
+                    .map(|p| Vertex { position: p.to_array(), uv: [0.0, 0.0], chart: [[0.0; 2]; 3] })
+                    .collect();
+                vertex_buffer(device, queue, "moving occluder", bytemuck::cast_slice(&vertices))
+                    .map(|buffer| (buffer, vertices.len() as u32))
+            })
+            .collect();
+        Geometry { vehicle, occluders, objects, moving }
     }
 }
 
@@ -112,6 +133,9 @@ fn vertex_buffer(
     Some(buffer)
 }
 
+/// The most moving occluders a scene may have (a uniform block each: 256 kB).
+pub const MAX_MOVING_OCCLUDERS: usize = 1000;
+
 /// The tile and palette must fit the device's textures.
 fn check_sizes(device: &wgpu::Device, setup: &RenderSetup) -> Result<()> {
     let [tw, th] = setup.tile_size;
@@ -120,6 +144,13 @@ fn check_sizes(device: &wgpu::Device, setup: &RenderSetup) -> Result<()> {
     if tw == 0 || th == 0 || tw > limit || th > limit || pw > limit || ph > limit {
         return Err(CaptureError::Gpu(format!(
             "tile {tw}×{th} or palette {pw}×{ph} exceeds the device's texture limit {limit}"
+        )));
+    }
+    // One uniform block per moving occluder, after the vehicle's and the world's.
+    let moving = setup.occluders.moving.len();
+    if moving > MAX_MOVING_OCCLUDERS {
+        return Err(CaptureError::BadOptions(format!(
+            "{moving} moving occluders: the renderer takes at most {MAX_MOVING_OCCLUDERS}"
         )));
     }
     Ok(())
@@ -131,7 +162,7 @@ impl Renderer {
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, setup: &RenderSetup) -> Result<Renderer> {
         check_sizes(device, setup)?;
         Ok(Renderer {
-            pipeline: PalettePipeline::new(device, queue, setup.palette)?,
+            pipeline: PalettePipeline::new(device, queue, setup.palette, setup.occluders.moving.len())?,
             geometry: Geometry::upload(device, queue, setup),
             occlusion: OcclusionTest::new(device, queue, setup.vehicle),
             target: TileTarget::new(device, setup.tile_size),
@@ -254,6 +285,12 @@ impl Renderer {
         };
         queue.write_buffer(&self.pipeline.uniforms, 0, bytemuck::bytes_of(&vehicle));
         queue.write_buffer(&self.pipeline.uniforms, UNIFORM_STRIDE, bytemuck::bytes_of(&world));
+        // Moving occluders: own frame → clip, computed in f64 like the vehicle's.
+        for &(k, clip_from_moving) in draw.moving {
+            let uniforms = Uniforms { clip_from_model: to_f32(&clip_from_moving), ..world };
+            let offset = UNIFORM_STRIDE * (2 + k as u64);
+            queue.write_buffer(&self.pipeline.uniforms, offset, bytemuck::bytes_of(&uniforms));
+        }
     }
 
     /// Begins the tile's render pass, scissored to `region`: colour and
@@ -306,6 +343,17 @@ impl Renderer {
                     pass.draw(first..first + count, 0..1);
                 }
             }
+        }
+        for &(k, _) in draw.moving {
+            let (Some(Some((buffer, count))), Some(group)) =
+                (geometry.moving.get(k), self.pipeline.moving_groups.get(k))
+            else {
+                continue;
+            };
+            pass.set_pipeline(&self.pipeline.pipeline);
+            pass.set_bind_group(0, group, &[]);
+            pass.set_vertex_buffer(0, buffer.slice(..));
+            pass.draw(0..*count, 0..1);
         }
     }
 

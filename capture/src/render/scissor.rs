@@ -115,7 +115,7 @@ mod tests {
     fn a_box_ahead_bounds_its_tiles_and_one_behind_does_not() {
         let rig = rig();
         let pose = Pose { position: dvec3(10.0, 0.0, 0.0), yaw_deg: 0.0 };
-        let camera = rig.cameras(&pose)[0];
+        let camera = rig.cameras(0.0, &pose)[0];
         let look = rig.look_target(&pose);
         let corners = crate::scene::rig::box_corners(look - DVec3::splat(0.5), look + DVec3::splat(0.5));
         let bounds = EyeBounds::project(&rig, &camera, &corners);

@@ -15,10 +15,12 @@
 
 use glam::{DMat4, DVec2, Vec3, dvec2, dvec3, vec3};
 
-use crate::scene::mesh::{Mesh, Occluders};
+use crate::scene::mesh::Mesh;
+use crate::scene::moving::{FollowOffset, MovingOccluder, OccluderPath};
+use crate::scene::occluders::Occluders;
 use crate::scene::rig::Rig;
 use crate::scene::scenario::Scenario;
-use crate::scene::track::{Key, Motion, Track};
+use crate::scene::track::{Key, Motion, Track, ValueOrTrack};
 
 /// Truck dimensions: length, width (body), height.
 pub const TRUCK_SIZE: [f64; 3] = [5.9, 2.0, 1.9];
@@ -282,7 +284,7 @@ pub fn intersection() -> Occluders {
 /// The demo rig: the paper's defaults with the pedestrian at the south-west
 /// corner, looking at the middle of the truck.
 pub fn rig() -> Rig {
-    Rig { pedestrian: PEDESTRIAN, look_at_vehicle: [0.0, 0.0, 0.95], ..Rig::default() }
+    Rig { pedestrian: ValueOrTrack::Fixed(PEDESTRIAN), look_at_vehicle: [0.0, 0.0, 0.95], ..Rig::default() }
 }
 
 /// Scenario names and their rotation about the intersection (degrees).
@@ -321,6 +323,71 @@ pub fn scenario(name: &str) -> Option<Scenario> {
     let yaw = keys.iter().map(|&(t, _, _, yaw)| Key::smooth(t, [yaw + rotation], [0.0])).collect();
     let motion = Motion { position: Track { keys: position }, yaw_deg: Track { keys: yaw } };
     Some(Scenario { name: name.to_string(), duration_s: 3.0, motion })
+}
+
+/// Traffic for the demo (`ufcsr-capture demo --traffic`): a second pickup,
+/// the truck's twin, driving with the truck.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+pub enum DemoTraffic {
+    /// Beside the truck, [`ADJACENT_LANE_M`] to the side of the pedestrian
+    /// and [`ADJACENT_LANE_AHEAD_M`] ahead (the multiple-threat crossing:
+    /// it stops nearer the crosswalk): to its right in A and C,
+    /// where the pedestrian waits at the near kerb (the twin then runs
+    /// along the kerb: the demo's streets have one lane each way), to its
+    /// left in B and D, where the pedestrian is across the street (the twin
+    /// runs in the oncoming lane).
+    AdjacentLane,
+    /// [`LEAD_CAR_AHEAD_M`] ahead of the truck in its lane.
+    LeadCar,
+}
+
+/// How far the adjacent-lane twin drives to the side of the truck, centre
+/// to centre, metres: about a lane.
+pub const ADJACENT_LANE_M: f64 = 3.5;
+/// How far ahead of the truck the adjacent-lane twin drives, centre to
+/// centre, metres: it stops 2 m nearer the crosswalk.
+pub const ADJACENT_LANE_AHEAD_M: f64 = 2.0;
+/// How far ahead the lead car drives, centre to centre, metres (a 3.1 m gap
+/// between the two 5.9 m pickups).
+pub const LEAD_CAR_AHEAD_M: f64 = 9.0;
+
+impl DemoTraffic {
+    /// The name of the moving occluder (in the manifest and `scene.glb`).
+    pub fn name(self) -> &'static str {
+        match self {
+            DemoTraffic::AdjacentLane => "adjacent-lane pickup",
+            DemoTraffic::LeadCar => "lead pickup",
+        }
+    }
+
+    /// The twin's offset from the truck in `scenario`: for the adjacent
+    /// lane, to the side the pedestrian is on when the truck stops.
+    pub fn offset(self, scenario: &Scenario) -> FollowOffset {
+        match self {
+            DemoTraffic::LeadCar => FollowOffset { ahead_m: LEAD_CAR_AHEAD_M, ..FollowOffset::default() },
+            DemoTraffic::AdjacentLane => {
+                let end = scenario.motion.pose(scenario.duration_s);
+                let to_pedestrian = (glam::DVec3::from(PEDESTRIAN) - end.position).truncate();
+                let left = DVec2::from_angle(end.yaw_deg.to_radians()).perp();
+                let side = if to_pedestrian.dot(left) >= 0.0 { 1.0 } else { -1.0 };
+                FollowOffset {
+                    ahead_m: ADJACENT_LANE_AHEAD_M,
+                    left_m: side * ADJACENT_LANE_M,
+                    ..FollowOffset::default()
+                }
+            }
+        }
+    }
+
+    /// The twin as a moving occluder in `scenario`.
+    pub fn occluder(self, scenario: &Scenario) -> MovingOccluder {
+        MovingOccluder {
+            name: self.name().into(),
+            mesh: truck(),
+            path: OccluderPath::Follow(self.offset(scenario)),
+        }
+    }
 }
 
 /// Bounds of the truck in its frame.
@@ -421,6 +488,24 @@ mod tests {
             overlaps.len(),
             &overlaps[..overlaps.len().min(5)]
         );
+    }
+
+    #[test]
+    fn the_adjacent_lane_twin_drives_on_the_pedestrians_side_and_the_lead_car_ahead() {
+        for (name, _, _) in SCENARIOS {
+            let scenario = scenario(name).unwrap();
+            let end = scenario.motion.pose(scenario.duration_s);
+            let twin = DemoTraffic::AdjacentLane.occluder(&scenario).pose(3.0, &end);
+            let pedestrian = dvec2(PEDESTRIAN[0], PEDESTRIAN[1]);
+            let gap = |p: glam::DVec3| (p.truncate() - pedestrian).length();
+            assert!(gap(twin.position) < gap(end.position), "{name}: the twin is on the far side");
+            let beside = (ADJACENT_LANE_M.powi(2) + ADJACENT_LANE_AHEAD_M.powi(2)).sqrt();
+            assert!(((twin.position - end.position).length() - beside).abs() < 1e-9);
+            let lead = DemoTraffic::LeadCar.occluder(&scenario).pose(3.0, &end);
+            let ahead = lead.position - end.position;
+            let heading = DVec2::from_angle(end.yaw_deg.to_radians());
+            assert!((ahead.truncate().dot(heading) - LEAD_CAR_AHEAD_M).abs() < 1e-9, "{name}: {ahead}");
+        }
     }
 
     #[test]

@@ -1,7 +1,9 @@
 //! What is captured: the scene file ([`scene_file`]: vehicle, occluders, rig,
 //! scenarios), the meshes and their loaders ([`mesh`], with [`model_files`]
-//! reading OBJ/MTL safely), the vehicle's spec and checks ([`vehicle`]) and
+//! reading OBJ/MTL safely), the occluders ([`occluders`] still and
+//! [`moving`] traffic and other pedestrians), the vehicle's spec and checks ([`vehicle`]) and
 //! parts by region ([`regions`]), the pedestrian's eyes and tiles ([`rig`]),
+//! the scene at one frame ([`frame_state`]: everything that moves, once),
 //! the vehicle's motion ([`track`] keyframes, [`scenario`] a timed motion,
 //! [`unity`] Unity exports), the one ray–triangle test ([`ray_triangle`],
 //! shared by the exact measure and the scene checks), and the built-in scenes
@@ -10,8 +12,11 @@
 
 pub(crate) mod degenerate_mesh;
 pub(crate) mod demo;
+pub(crate) mod frame_state;
 pub(crate) mod mesh;
 pub(crate) mod model_files;
+pub(crate) mod moving;
+pub(crate) mod occluders;
 pub(crate) mod ray_triangle;
 pub(crate) mod regions;
 pub(crate) mod rig;
@@ -22,12 +27,16 @@ pub(crate) mod unity;
 pub(crate) mod vehicle;
 
 pub use degenerate_mesh::degenerate_vehicle;
-pub use mesh::{Axes, Mesh, OccluderObject, Occluders, PartSource, load_vehicle, triangle_area};
+pub use demo::{ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, DemoTraffic, LEAD_CAR_AHEAD_M};
+pub use frame_state::FrameState;
+pub use mesh::{Axes, Mesh, PartSource, load_vehicle, triangle_area};
+pub use moving::{FollowOffset, MovingOccluder, OccluderPath, PEDESTRIAN_BODY_M, pedestrian_body};
+pub use occluders::{OccluderObject, Occluders};
 pub use regions::{PartRule, RegionReport};
 pub use rig::{
     Eye, EyeCamera, Rig, TileId, box_corners, box_outside, look_to, reversed_z_perspective, vehicle_to_world,
 };
 pub use scenario::Scenario;
 pub use scene_file::{Scene, SceneFile};
-pub use track::{Key, Motion, Pose, Track};
+pub use track::{Key, Motion, Pose, Track, ValueOrTrack};
 pub use vehicle::VehicleSpec;

@@ -14,7 +14,7 @@ use glam::{DMat4, DVec3, DVec4, dvec3, dvec4};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{CaptureError, Result};
-use crate::scene::track::{MAX_TRACK_MAGNITUDE, Pose};
+use crate::scene::track::{MAX_TRACK_MAGNITUDE, Pose, ValueOrTrack};
 
 /// Largest interpupillary distance: a human's is 0.054–0.074 m; 1 m leaves
 /// room for a stereo camera rig.
@@ -26,8 +26,9 @@ pub const MAX_FPS: f64 = 1000.0;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct Rig {
-    /// The pedestrian's ground point (world metres).
-    pub pedestrian: [f64; 3],
+    /// The pedestrian's ground point (world metres): a point, or a walk
+    /// (track keys, as the vehicle's position).
+    pub pedestrian: ValueOrTrack<3>,
     /// Eye height above the ground point.
     pub eye_height_m: f64,
     /// Distance between the two eyes.
@@ -51,7 +52,7 @@ pub struct Rig {
 impl Default for Rig {
     fn default() -> Rig {
         Rig {
-            pedestrian: [0.0, 0.0, 0.0],
+            pedestrian: ValueOrTrack::Fixed([0.0, 0.0, 0.0]),
             eye_height_m: 1.75,
             ipd_m: 0.1103594,
             horizontal_fov_deg: 107.0,
@@ -172,9 +173,35 @@ impl Rig {
         (duration_s * self.fps + 1e-6).floor() as u32 + 1
     }
 
-    /// The head position.
+    /// Where the pedestrian stands, or where their walk starts (its first
+    /// key): the scene's anchor, relative to which the renderer and the
+    /// exact measure keep their precision.
+    pub fn anchor(&self) -> DVec3 {
+        DVec3::from(match &self.pedestrian {
+            ValueOrTrack::Fixed(point) => *point,
+            ValueOrTrack::Keys(walk) => walk.keys.first().map_or([0.0; 3], |key| key.value),
+        })
+    }
+
+    /// The head position at the anchor ([`Rig::anchor`]).
     pub fn head(&self) -> DVec3 {
-        DVec3::from(self.pedestrian) + dvec3(0.0, 0.0, self.eye_height_m)
+        self.anchor() + dvec3(0.0, 0.0, self.eye_height_m)
+    }
+
+    /// True when the pedestrian walks (their position is a track).
+    pub fn walks(&self) -> bool {
+        self.pedestrian.keys().is_some()
+    }
+
+    /// The pedestrian's ground point at `time_s` (where they stand, or
+    /// where their walk has taken them).
+    pub fn pedestrian_at(&self, time_s: f64) -> DVec3 {
+        DVec3::from(self.pedestrian.eval(time_s))
+    }
+
+    /// The head position at `time_s`.
+    pub fn head_at(&self, time_s: f64) -> DVec3 {
+        self.pedestrian_at(time_s) + dvec3(0.0, 0.0, self.eye_height_m)
     }
 
     /// The world point the head turns to for a vehicle pose.
@@ -182,9 +209,10 @@ impl Rig {
         vehicle_to_world(pose).transform_point3(DVec3::from(self.look_at_vehicle))
     }
 
-    /// Both eye cameras for a vehicle pose.
-    pub fn cameras(&self, pose: &Pose) -> [EyeCamera; 2] {
-        let head = self.head();
+    /// Both eye cameras at `time_s` (the head where the pedestrian is
+    /// then) for a vehicle pose.
+    pub fn cameras(&self, time_s: f64, pose: &Pose) -> [EyeCamera; 2] {
+        let head = self.head_at(time_s);
         let mut forward = (self.look_target(pose) - head).normalize_or_zero();
         if forward.length_squared() == 0.0 || forward.cross(DVec3::Z).length_squared() < 1e-12 {
             // The vehicle is straight above or below the head (never in a
@@ -271,7 +299,15 @@ impl Rig {
 fn check_bounds(rig: &Rig) -> Result<()> {
     let bad = |message: String| Err(CaptureError::BadOptions(message));
     let huge = |v: f64| !(v.is_finite() && v.abs() <= MAX_TRACK_MAGNITUDE);
-    for (field, values) in [("pedestrian", rig.pedestrian), ("look_at_vehicle", rig.look_at_vehicle)] {
+
+    let fixed = match &rig.pedestrian {
+        ValueOrTrack::Keys(walk) => {
+            walk.check().map_err(|e| CaptureError::BadOptions(format!("pedestrian (a walk): {e}")))?;
+            None
+        }
+        ValueOrTrack::Fixed(point) => Some(("pedestrian", *point)),
+    };
+    for (field, values) in fixed.into_iter().chain([("look_at_vehicle", rig.look_at_vehicle)]) {
         if values.into_iter().any(huge) {
             return bad(format!(
                 "{field} {values:?} is beyond ±{MAX_TRACK_MAGNITUDE:e} m: not a street scene"
@@ -383,9 +419,9 @@ mod tests {
 
     #[test]
     fn reversed_z_and_tiles_cover_the_eye_image() {
-        let rig = Rig { pedestrian: [0.0, 0.0, 0.0], ..Rig::default() };
+        let rig = Rig::default();
         let pose = Pose { position: dvec3(10.0, 0.0, 1.75), yaw_deg: 0.0 };
-        let [left, right] = rig.cameras(&pose);
+        let [left, right] = rig.cameras(0.0, &pose);
         assert!(left.position.y > right.position.y, "left eye is to the left (north) when looking east");
         assert!((left.position - right.position).length() - rig.ipd_m < 1e-12);
         let near = left.view_proj * dvec4(left.position.x + rig.near_m, left.position.y, 1.75, 1.0);

@@ -13,10 +13,12 @@ use serde_json::json;
 
 use crate::error::{CaptureError, Result};
 use crate::scene::demo;
-use crate::scene::mesh::{Axes, Mesh, Occluders, PartSource, load_vehicle};
+use crate::scene::mesh::{Axes, Mesh, PartSource, load_vehicle};
+use crate::scene::moving::{FollowOffset, MovingOccluder, OccluderPath, PEDESTRIAN_BODY_M};
+use crate::scene::occluders::Occluders;
 use crate::scene::rig::Rig;
 use crate::scene::scenario::Scenario;
-use crate::scene::track::{Motion, Pose};
+use crate::scene::track::{Motion, Pose, ValueOrTrack};
 use crate::scene::unity;
 use crate::scene::vehicle::VehicleSpec;
 
@@ -42,59 +44,186 @@ pub struct SceneFile {
     pub unity: Option<PathBuf>,
 }
 
-/// Something that hides the vehicle but is never counted.
+/// Something that hides the vehicle but is never counted: its shape, and
+/// for a `box`, `mesh`, `vehicle` or `pedestrian` where it stands or how it
+/// moves (the `position`, `yaw_deg` and `follow` keys of the same object).
+#[derive(Debug, Clone)]
+pub struct OccluderSpec {
+    pub shape: OccluderShape,
+    pub placement: PlacementSpec,
+}
+
+/// What an occluder is.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", deny_unknown_fields)]
-pub enum OccluderSpec {
-    /// An axis-aligned box in world coordinates.
+pub enum OccluderShape {
+    /// An axis-aligned box: world coordinates, or, once placed by
+    /// `position`, `yaw_deg` or `follow`, its own frame.
     Box { min: [f64; 3], max: [f64; 3] },
-    /// An environment mesh, placed by position and yaw.
+    /// A mesh (an environment, or a car of your own), in its own frame.
     Mesh {
         path: PathBuf,
         #[serde(default)]
         axes: Axes,
-        #[serde(default)]
-        position: [f64; 3],
-        #[serde(default)]
-        yaw_deg: f64,
     },
-    /// Another copy of the vehicle, parked.
-    Vehicle { position: [f64; 3], yaw_deg: f64 },
+    /// Another copy of the vehicle.
+    Vehicle {},
+    /// Another pedestrian: a body-sized box ([`PEDESTRIAN_BODY_M`], or
+    /// `size_m`: length, width, height).
+    Pedestrian {
+        #[serde(default = "default_body")]
+        size_m: [f64; 3],
+    },
     /// The demo's ground and corner buildings.
     DemoIntersection,
     /// A ground plane at height `z` (hides the underside of the vehicle).
     Ground { z: f64 },
 }
 
+fn default_body() -> [f64; 3] {
+    PEDESTRIAN_BODY_M
+}
+
+/// Where an occluder stands or how it moves. It moves when its `position`
+/// or `yaw_deg` is a list of track keys, or with a `follow` offset; it
+/// stands still otherwise.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlacementSpec {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position: Option<ValueOrTrack<3>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub yaw_deg: Option<ValueOrTrack<1>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub follow: Option<FollowOffset>,
+}
+
+/// The keys of a [`PlacementSpec`], and the kinds that take them.
+const PLACEMENT_KEYS: [&str; 3] = ["position", "yaw_deg", "follow"];
+const PLACED_KINDS: [&str; 4] = ["box", "mesh", "vehicle", "pedestrian"];
+
+impl<'de> Deserialize<'de> for OccluderSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde::de::Error;
+        let mut value = serde_json::Value::deserialize(d)?;
+        let mut placement = serde_json::Map::new();
+        if let Some(outer) = value.as_object_mut()
+            && outer.len() == 1
+            && let Some((kind, serde_json::Value::Object(inner))) = outer.iter_mut().next()
+            && PLACED_KINDS.contains(&kind.as_str())
+        {
+            for key in PLACEMENT_KEYS {
+                if let Some(v) = inner.remove(key) {
+                    placement.insert(key.into(), v);
+                }
+            }
+        }
+        let shape = OccluderShape::deserialize(value).map_err(D::Error::custom)?;
+        let placement =
+            PlacementSpec::deserialize(serde_json::Value::Object(placement)).map_err(D::Error::custom)?;
+        Ok(OccluderSpec { shape, placement })
+    }
+}
+
+impl Serialize for OccluderSpec {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::Error;
+        let mut value = serde_json::to_value(&self.shape).map_err(S::Error::custom)?;
+        let placement = serde_json::to_value(&self.placement).map_err(S::Error::custom)?;
+        if let (Some(outer), serde_json::Value::Object(placement)) = (value.as_object_mut(), placement)
+            && let Some(serde_json::Value::Object(inner)) = outer.values_mut().next()
+        {
+            inner.extend(placement);
+        }
+        value.serialize(s)
+    }
+}
+
+impl PlacementSpec {
+    /// Checks the values (the vehicle's track bounds), naming the key.
+    fn check(&self) -> std::result::Result<(), String> {
+        if self.follow.is_some() && (self.position.is_some() || self.yaw_deg.is_some()) {
+            return Err("give either follow or position/yaw_deg, not both".into());
+        }
+        if let Some(follow) = &self.follow {
+            follow.check()?;
+        }
+        if let Some(position) = &self.position {
+            position.check().map_err(|e| format!("position: {e}"))?;
+        }
+        if let Some(yaw) = &self.yaw_deg {
+            yaw.check().map_err(|e| format!("yaw_deg: {e}"))?;
+        }
+        Ok(())
+    }
+
+    /// True when nothing places the occluder (a box in world coordinates).
+    fn is_empty(&self) -> bool {
+        self.position.is_none() && self.yaw_deg.is_none() && self.follow.is_none()
+    }
+
+    /// How it moves, or `None` when it stands still.
+    fn path(&self) -> Option<OccluderPath> {
+        if let Some(follow) = self.follow {
+            return Some(OccluderPath::Follow(follow));
+        }
+        let keyed = self.position.as_ref().is_some_and(|p| p.keys().is_some())
+            || self.yaw_deg.as_ref().is_some_and(|y| y.keys().is_some());
+        keyed.then(|| OccluderPath::Tracks {
+            position: self.position.clone().unwrap_or(ValueOrTrack::Fixed([0.0; 3])),
+            yaw_deg: self.yaw_deg.clone().unwrap_or(ValueOrTrack::Fixed([0.0])),
+        })
+    }
+
+    /// Where a still occluder stands (its fixed values).
+    fn fixed_pose(&self) -> Pose {
+        Pose {
+            position: DVec3::from(self.position.as_ref().map_or([0.0; 3], |p| p.eval(0.0))),
+            yaw_deg: self.yaw_deg.as_ref().map_or(0.0, |y| y.eval(0.0)[0]),
+        }
+    }
+}
+
 impl OccluderSpec {
-    /// The occluder's node name in `scene.glb`: its kind and number in the
-    /// scene file; `None` for the demo intersection, which names its own.
+    /// The occluder's node name in `scene.glb` and the manifest: its kind
+    /// and number in the scene file; `None` for the demo intersection, which
+    /// names its own.
     fn name(&self, number: usize) -> Option<String> {
-        let name = match self {
-            OccluderSpec::Box { .. } => format!("box #{number}"),
-            OccluderSpec::Mesh { path, .. } => format!("mesh #{number} {}", path.display()),
-            OccluderSpec::Vehicle { .. } => format!("vehicle #{number}"),
-            OccluderSpec::Ground { .. } => format!("ground #{number}"),
-            OccluderSpec::DemoIntersection => return None,
+        let name = match &self.shape {
+            OccluderShape::Box { .. } => format!("box #{number}"),
+            OccluderShape::Mesh { path, .. } => format!("mesh #{number} {}", path.display()),
+            OccluderShape::Vehicle {} => format!("vehicle #{number}"),
+            OccluderShape::Pedestrian { .. } => format!("pedestrian #{number}"),
+            OccluderShape::Ground { .. } => format!("ground #{number}"),
+            OccluderShape::DemoIntersection => return None,
         };
         Some(name)
     }
 
-    /// Positions and yaw within the tracks' street scale (as the rig's).
+    /// Positions, yaw, tracks and offsets within the tracks' street scale
+    /// (as the rig's and the vehicle's).
     fn check(&self) -> std::result::Result<(), String> {
         let limit = crate::scene::track::MAX_TRACK_MAGNITUDE;
-        let values: Vec<f64> = match self {
-            OccluderSpec::Box { min, max } => min.iter().chain(max).copied().collect(),
-            OccluderSpec::Mesh { position, yaw_deg, .. } | OccluderSpec::Vehicle { position, yaw_deg } => {
-                position.iter().copied().chain([*yaw_deg]).collect()
+        let values: Vec<f64> = match &self.shape {
+            OccluderShape::Box { min, max } => min.iter().chain(max).copied().collect(),
+            OccluderShape::Pedestrian { size_m } => {
+                if !size_m.iter().all(|v| v.is_finite() && *v > 0.0 && *v <= 100.0) {
+                    return Err(format!("size_m {size_m:?} must be three lengths in (0, 100] m"));
+                }
+                Vec::new()
             }
-            OccluderSpec::Ground { z } => vec![*z],
-            OccluderSpec::DemoIntersection => Vec::new(),
+            OccluderShape::Ground { z } => vec![*z],
+            OccluderShape::Mesh { .. } | OccluderShape::Vehicle {} | OccluderShape::DemoIntersection => {
+                Vec::new()
+            }
         };
-        match values.iter().find(|v| !(v.is_finite() && v.abs() <= limit)) {
-            Some(value) => Err(format!("{value:e} is beyond ±{limit:e}: not a street scene")),
-            None => Ok(()),
+        if let Some(value) = values.iter().find(|v| !(v.is_finite() && v.abs() <= limit)) {
+            return Err(format!("{value:e} is beyond ±{limit:e}: not a street scene"));
         }
+        if matches!(self.shape, OccluderShape::Vehicle {}) && self.placement.is_empty() {
+            return Err("a vehicle needs a position (fixed or a track) or a follow offset".into());
+        }
+        self.placement.check()
     }
 }
 
@@ -144,13 +273,29 @@ impl Scene {
         }
     }
 
+    /// The demo with traffic, for one scenario (the adjacent lane's side
+    /// depends on it): the demo scene holding only `scenario`, with the
+    /// truck's twin following it ([`demo::DemoTraffic`]).
+    pub fn demo_with_traffic(traffic: demo::DemoTraffic, scenario: &str) -> Result<Scene> {
+        let mut scene = Scene::demo();
+        let chosen = scene.scenario(scenario)?.clone();
+        scene.occluders.moving.push(traffic.occluder(&chosen));
+        scene.name = format!("demo, {}", traffic.name());
+        if let serde_json::Value::Object(info) = &mut scene.info {
+            let offset = serde_json::to_value(traffic.offset(&chosen)).unwrap_or_default();
+            info.insert("traffic".into(), json!({"name": traffic.name(), "follow": offset}));
+        }
+        scene.scenarios = vec![chosen];
+        Ok(scene)
+    }
+
     /// The Unity scenarios and rig replayed with the demo truck; the MCity
     /// environment is not available, so only a ground plane occludes.
     pub fn unity(path: &Path) -> Result<Scene> {
         let (rig, scenarios) = unity::load(path)?;
         let mut occluders = Occluders::default();
         occluders.begin_named("ground");
-        add_ground(&mut occluders, rig.pedestrian[2], DVec3::from(rig.pedestrian));
+        add_ground(&mut occluders, rig.anchor().z, rig.anchor());
         Ok(Scene {
             name: "unity".into(),
             info: json!({
@@ -202,31 +347,7 @@ impl Scene {
             ));
         }
 
-        let mut occluders = Occluders::default();
-        for (number, spec) in file.occluders.iter().enumerate() {
-            spec.check().map_err(|message| CaptureError::bad_input(path, format!("occluder: {message}")))?;
-            if let Some(name) = spec.name(number) {
-                occluders.begin_named(name);
-            }
-            match spec {
-                OccluderSpec::Box { min, max } => occluders.add_box(DVec3::from(*min), DVec3::from(*max)),
-                OccluderSpec::Mesh { path: mesh_path, axes, position, yaw_deg } => {
-                    let mesh = load_vehicle(&base.join(mesh_path), PartSource::Node, axes)?;
-                    let pose = Pose { position: DVec3::from(*position), yaw_deg: *yaw_deg };
-                    occluders.add_mesh_chunked(
-                        &mesh,
-                        crate::scene::rig::vehicle_to_world(&pose),
-                        ENVIRONMENT_CELL_M,
-                    );
-                }
-                OccluderSpec::Vehicle { position, yaw_deg } => {
-                    let pose = Pose { position: DVec3::from(*position), yaw_deg: *yaw_deg };
-                    occluders.add_mesh(&vehicle, crate::scene::rig::vehicle_to_world(&pose));
-                }
-                OccluderSpec::DemoIntersection => occluders.append(&demo::intersection()),
-                OccluderSpec::Ground { z } => add_ground(&mut occluders, *z, DVec3::from(rig.pedestrian)),
-            }
-        }
+        let occluders = build_occluders(&file.occluders, path, &vehicle, &rig)?;
         let name = file.name.clone().unwrap_or_else(|| {
             path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into())
         });
@@ -236,6 +357,7 @@ impl Scene {
                 "file": path.display().to_string(),
                 "vehicle": file.vehicle.mesh,
                 "occluder_objects": occluders.objects.len(),
+                "moving_occluders": occluders.moving.iter().map(|m| m.name.as_str()).collect::<Vec<_>>(),
             }),
             name,
             vehicle,
@@ -253,6 +375,57 @@ impl Scene {
             CaptureError::BadOptions(format!("no scenario {name:?}; the scene has {}", names.join(", ")))
         })
     }
+}
+
+/// The scene file's occluders: the still ones in world coordinates, the
+/// moving ones in their own frames (see [`crate::scene::moving`]).
+fn build_occluders(specs: &[OccluderSpec], path: &Path, vehicle: &Mesh, rig: &Rig) -> Result<Occluders> {
+    let base = path.parent().unwrap_or(Path::new("."));
+    let mut occluders = Occluders::default();
+    for (number, spec) in specs.iter().enumerate() {
+        let name = spec.name(number);
+        spec.check().map_err(|message| {
+            let which = name.clone().unwrap_or_else(|| format!("#{number}"));
+            CaptureError::bad_input(path, format!("occluders[{number}] ({which}): {message}"))
+        })?;
+        let own: Mesh = match &spec.shape {
+            OccluderShape::Box { min, max } => {
+                let mut mesh = Mesh::default();
+                let (min, max) = (DVec3::from(*min).as_vec3(), DVec3::from(*max).as_vec3());
+                mesh.add_box(min, max, [Some("box"); 6]);
+                mesh
+            }
+            OccluderShape::Mesh { path: mesh_path, axes } => {
+                load_vehicle(&base.join(mesh_path), PartSource::Node, axes)?
+            }
+            OccluderShape::Vehicle {} => vehicle.clone(),
+            OccluderShape::Pedestrian { size_m } => crate::scene::moving::pedestrian_body(*size_m),
+            OccluderShape::DemoIntersection => {
+                occluders.append(&demo::intersection());
+                continue;
+            }
+            OccluderShape::Ground { z } => {
+                occluders.begin_named(name.unwrap_or_default());
+                add_ground(&mut occluders, *z, rig.anchor());
+                continue;
+            }
+        };
+        let name = name.unwrap_or_default();
+        match spec.placement.path() {
+            Some(path) => occluders.moving.push(MovingOccluder { name, mesh: own, path }),
+            None => {
+                occluders.begin_named(name);
+                let to_world = crate::scene::rig::vehicle_to_world(&spec.placement.fixed_pose());
+                match spec.shape {
+                    OccluderShape::Mesh { .. } => {
+                        occluders.add_mesh_chunked(&own, to_world, ENVIRONMENT_CELL_M)
+                    }
+                    _ => occluders.add_mesh(&own, to_world),
+                }
+            }
+        }
+    }
+    Ok(occluders)
 }
 
 /// Environment meshes are split into squares of this size for culling.

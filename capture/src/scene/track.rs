@@ -167,6 +167,74 @@ impl Motion {
     }
 }
 
+/// A value that either stays put or follows a track, as a scene file
+/// writes it: a fixed value (`[x, y, z]`, or a bare number for one
+/// dimension) or a list of keys (`[{"t": 0, "value": …}, …]`).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ValueOrTrack<const N: usize> {
+    Fixed([f64; N]),
+    Keys(Track<N>),
+}
+
+impl<const N: usize> ValueOrTrack<N> {
+    /// The value at time `t`.
+    pub fn eval(&self, t: f64) -> [f64; N] {
+        match self {
+            ValueOrTrack::Fixed(value) => *value,
+            ValueOrTrack::Keys(track) => track.eval(t),
+        }
+    }
+
+    /// Checks a track as [`Track::check`] does, and a fixed value against
+    /// the same street-scale bound.
+    pub fn check(&self) -> Result<()> {
+        match self {
+            ValueOrTrack::Keys(track) => track.check(),
+            ValueOrTrack::Fixed(value) => {
+                match value.iter().find(|v| !(v.is_finite() && v.abs() <= MAX_TRACK_MAGNITUDE)) {
+                    Some(v) => Err(CaptureError::BadOptions(format!(
+                        "{v:e} is beyond ±{MAX_TRACK_MAGNITUDE:e}: not a street scene"
+                    ))),
+                    None => Ok(()),
+                }
+            }
+        }
+    }
+
+    /// The keyed track, if the value moves.
+    pub fn keys(&self) -> Option<&Track<N>> {
+        match self {
+            ValueOrTrack::Keys(track) => Some(track),
+            ValueOrTrack::Fixed(_) => None,
+        }
+    }
+}
+
+impl<const N: usize> Serialize for ValueOrTrack<N> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match self {
+            ValueOrTrack::Fixed(value) => array_or_scalar::serialize(value, s),
+            ValueOrTrack::Keys(track) => track.serialize(s),
+        }
+    }
+}
+
+impl<'de, const N: usize> Deserialize<'de> for ValueOrTrack<N> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde::de::Error;
+        let value = serde_json::Value::deserialize(d)?;
+        let is_keys =
+            value.as_array().is_some_and(|items| items.first().is_some_and(|item| item.is_object()));
+        if is_keys {
+            let track: Track<N> = serde_json::from_value(value).map_err(D::Error::custom)?;
+            return Ok(ValueOrTrack::Keys(track));
+        }
+        array_or_scalar::to_array(value)
+            .map(ValueOrTrack::Fixed)
+            .map_err(|e: D::Error| D::Error::custom(format!("a value or a list of track keys: {e}")))
+    }
+}
+
 /// Reads `[a, b, c]` or, for one-dimensional tracks, a bare number.
 mod array_or_scalar {
     use serde::{Deserialize, Deserializer, Serializer};

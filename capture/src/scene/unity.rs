@@ -19,7 +19,7 @@ use serde::Deserialize;
 use crate::error::{CaptureError, Result};
 use crate::scene::rig::Rig;
 use crate::scene::scenario::Scenario;
-use crate::scene::track::{Key, Motion, Track};
+use crate::scene::track::{Key, Motion, Track, ValueOrTrack};
 
 #[derive(Deserialize)]
 struct File {
@@ -77,7 +77,7 @@ pub fn load(path: &Path) -> Result<(Rig, Vec<Scenario>)> {
     let [w, h] = file.capture.eye_resolution;
     let half_v = (ped.vertical_fov_degrees.to_radians() / 2.0).tan();
     let rig = Rig {
-        pedestrian: [eye[0], eye[1], ped.ground_y],
+        pedestrian: ValueOrTrack::Fixed([eye[0], eye[1], ped.ground_y]),
         eye_height_m: ped.eyes_position[1] - ped.ground_y,
         ipd_m: (ped.eye_offsets_x[1] - ped.eye_offsets_x[0]).abs(),
         horizontal_fov_deg: 2.0 * (half_v * f64::from(w) / f64::from(h)).atan().to_degrees(),
@@ -188,7 +188,7 @@ mod tests {
             assert!(cos > 0.95, "scenario {}: heading {heading:?} vs motion {motion:?}", scenario.name);
             // And it ends within a few metres of the pedestrian, who is in front of it.
             let end = scenario.motion.pose(scenario.duration_s);
-            let to_ped = glam::dvec2(rig.pedestrian[0] - end.position.x, rig.pedestrian[1] - end.position.y);
+            let to_ped = (rig.anchor() - end.position).truncate();
             assert!(to_ped.length() < 40.0, "scenario {} ends {} m away", scenario.name, to_ped.length());
         }
     }

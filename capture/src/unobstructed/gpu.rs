@@ -7,7 +7,9 @@
 //! samples with the same arithmetic, and the tests compare them on every
 //! sampled texel. The GPU needs `SHADER_F64` (Mesa's lavapipe and
 //! data-centre GPUs have it; many consumer and mobile GPUs do not): without
-//! it [`texel_visibility_gpu`] is an error that says to use the CPU. f64
+//! it [`texel_visibility_gpu`] is an error that says to use the CPU. Moving
+//! occluders are in it as on the CPU: one hierarchy each in its own frame,
+//! and per eye-frame the transform into it. f64
 //! matters here: a point lifted 0.1 mm off its surface and rays of tens of
 //! metres leave f32 no digits to spare.
 
@@ -22,8 +24,11 @@ use crate::error::{CaptureError, Result};
 /// driver's patience, large enough to fill a GPU.
 const TEXELS_PER_DISPATCH: u32 = 1 << 14;
 const WORKGROUP: u32 = 64;
-/// f64s per eye-frame and per sample in the shader's layout.
+/// f64s per eye-frame in the shader's layout, before the moving occluders'
+/// transforms (16 each).
 const EYE_FRAME_WORDS: usize = 40;
+/// f64s of one moving occluder's transform in an eye-frame.
+const MOVING_WORDS: usize = 16;
 
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
@@ -38,7 +43,8 @@ struct Params {
     world_node_base: u32,
     vehicle_node_count: u32,
     world_node_count: u32,
-    _pad: [u32; 2],
+    moving_count: u32,
+    eye_frame_words: u32,
 }
 
 /// The measure's inputs in the shader's layout.
@@ -49,6 +55,8 @@ struct Packed {
     eye_frames: Vec<f64>,
     geometry: Vec<f64>,
     links: Vec<u32>,
+    /// Per moving occluder: node base, node count, bounds and triangles offsets.
+    moving: Vec<u32>,
     seen_words: usize,
 }
 
@@ -71,19 +79,6 @@ fn pack(
             s.position.to_array().into_iter().chain(s.normal.to_array()).chain([s.area_m2, s.edge_on_m])
         })
         .collect();
-    let eye_words = eye_frames
-        .iter()
-        .flat_map(|e| {
-            let mut words = [0.0f64; EYE_FRAME_WORDS];
-            words[0..3].copy_from_slice(&e.eye_in_vehicle.to_array());
-            words[3..6].copy_from_slice(&e.eye_local.to_array());
-            words[6..22].copy_from_slice(&e.vehicle_to_local.to_cols_array());
-            words[22..38].copy_from_slice(&e.vehicle_to_clip.to_cols_array());
-            words[38] = e.eye_near_margin;
-            words[39] = e.lift_m;
-            words
-        })
-        .collect();
     let (vehicle_bounds, vehicle_links, vehicle_triangles) = obstacles.vehicle.flatten();
     let (world_bounds, world_links, world_triangles) = obstacles.world.flatten();
     let bounds_words = vehicle_bounds.len() + world_bounds.len();
@@ -98,23 +93,67 @@ fn pack(
         world_node_base: word(vehicle_links.len() / 2, "the vehicle")?,
         vehicle_node_count: word(vehicle_links.len() / 2, "the vehicle")?,
         world_node_count: word(world_links.len() / 2, "the scene")?,
-        _pad: [0; 2],
+        moving_count: word(obstacles.moving.len(), "moving occluders")?,
+        eye_frame_words: word(EYE_FRAME_WORDS + MOVING_WORDS * obstacles.moving.len(), "moving occluders")?,
     };
+    let mut geometry = [vehicle_bounds, world_bounds, vehicle_triangles, world_triangles].concat();
+    let mut links = [vehicle_links, world_links].concat();
+    let moving = pack_moving(obstacles, &mut geometry, &mut links)?;
     Ok(Packed {
         params,
         texels,
         samples: sample_words,
-        eye_frames: eye_words,
-        geometry: [vehicle_bounds, world_bounds, vehicle_triangles, world_triangles].concat(),
-        links: [vehicle_links, world_links].concat(),
+        eye_frames: eye_frame_words(eye_frames),
+        geometry,
+        links,
+        moving,
         seen_words: (parts * eye_frames.len()).div_ceil(32),
     })
+}
+
+/// Each eye-frame's f64s: its 40, then local → each moving occluder's frame.
+fn eye_frame_words(eye_frames: &[EyeFrame]) -> Vec<f64> {
+    eye_frames
+        .iter()
+        .flat_map(|e| {
+            let mut words = [0.0f64; EYE_FRAME_WORDS];
+            words[0..3].copy_from_slice(&e.eye_in_vehicle.to_array());
+            words[3..6].copy_from_slice(&e.eye_local.to_array());
+            words[6..22].copy_from_slice(&e.vehicle_to_local.to_cols_array());
+            words[22..38].copy_from_slice(&e.vehicle_to_clip.to_cols_array());
+            words[38] = e.eye_near_margin;
+            words[39] = e.lift_m;
+            words.into_iter().chain(e.local_to_moving.iter().flat_map(|m| m.to_cols_array()))
+        })
+        .collect()
+}
+
+/// Appends each moving occluder's hierarchy (bounds and triangles to
+/// `geometry`, nodes to `links`) and returns where each one starts.
+fn pack_moving(obstacles: &Obstacles, geometry: &mut Vec<f64>, links: &mut Vec<u32>) -> Result<Vec<u32>> {
+    let word = |n: usize| u32::try_from(n).map_err(|_| too_large("moving occluders"));
+    let mut table = Vec::with_capacity(obstacles.moving.len() * 4);
+    for bvh in &obstacles.moving {
+        let (bounds, own_links, triangles) = bvh.flatten();
+        table.extend([
+            word(links.len() / 2)?,
+            word(own_links.len() / 2)?,
+            word(geometry.len())?,
+            word(geometry.len() + bounds.len())?,
+        ]);
+        geometry.extend(bounds);
+        geometry.extend(triangles);
+        links.extend(own_links);
+    }
+    Ok(table)
 }
 
 /// The GPU buffers of one measure.
 struct Buffers {
     params: wgpu::Buffer,
     inputs: [wgpu::Buffer; 5],
+    /// The moving occluders' table (binding 9, after the outputs).
+    moving: wgpu::Buffer,
     counts: wgpu::Buffer,
     solid_angles: wgpu::Buffer,
     part_seen: wgpu::Buffer,
@@ -157,6 +196,7 @@ fn upload(device: &wgpu::Device, queue: &wgpu::Queue, packed: &Packed) -> Result
             storage(device, queue, "geometry", bytemuck::cast_slice(&packed.geometry))?,
             storage(device, queue, "nodes", bytemuck::cast_slice(&packed.links))?,
         ],
+        moving: storage(device, queue, "moving occluders", bytemuck::cast_slice(&packed.moving))?,
         counts: storage(device, queue, "counts", &vec![0u8; texels * 4])?,
         solid_angles: storage(device, queue, "solid angles", &vec![0u8; texels * 8])?,
         part_seen: storage(device, queue, "parts seen", &vec![0u8; packed.seen_words * 4])?,
@@ -197,6 +237,7 @@ fn dispatch(device: &wgpu::Device, queue: &wgpu::Queue, packed: &Packed, buffers
         entries
             .push(wgpu::BindGroupEntry { binding: binding as u32 + 1, resource: buffer.as_entire_binding() });
     }
+    entries.push(wgpu::BindGroupEntry { binding: 9, resource: buffers.moving.as_entire_binding() });
     let bind_group = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("exact visibility"),
         layout: &pipeline.get_bind_group_layout(0),

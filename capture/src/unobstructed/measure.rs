@@ -106,7 +106,7 @@ pub fn measure_unobstructed(
         measure.texel_samples,
     );
     let obstacles = Obstacles::new(scene);
-    let (eye_frames, frame_records) = eye_frames(scene, scenario, &frames, &obstacles);
+    let (eye_frames, frame_records) = eye_frames(scene, scenario, &frames, &obstacles)?;
     let parts = scene.vehicle.parts.len();
     let casting = Instant::now();
     let visibility = match measure.on {

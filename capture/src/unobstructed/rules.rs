@@ -10,7 +10,8 @@
 //! 2. it is inside the eye's view frustum, between the near and the far
 //!    plane (a point nearer than the near plane is clipped, as rendered);
 //! 3. the segment from it (lifted off its surface towards the eye) to the
-//!    near plane crosses no triangle of the vehicle or the scene. Geometry
+//!    near plane crosses no triangle of the vehicle or the scene (a moving
+//!    occluder: the segment taken into its own frame). Geometry
 //!    nearer to the eye than the near plane hides nothing, because the
 //!    renderer clips it away too.
 //!
@@ -66,6 +67,15 @@ pub fn visible_solid_angle(
     if blocks(obstacles, Frame::Local, lifted_local, end_local, tracer) {
         return None;
     }
+    // Moving occluders: the same segment in each one's own frame.
+    for (k, local_to_moving) in eye_frame.local_to_moving.iter().enumerate() {
+        // Summed as `transform` in visibility.wgsl sums, so both round alike.
+        let from = transform_point(local_to_moving, lifted_local).truncate();
+        let to = transform_point(local_to_moving, end_local).truncate();
+        if blocks(obstacles, Frame::Moving(k), from, to, tracer) {
+            return None;
+        }
+    }
     Some(sample.area_m2 * side.abs() / (distance_squared * distance))
 }
 
@@ -73,12 +83,15 @@ pub fn visible_solid_angle(
 enum Frame {
     Vehicle,
     Local,
+    /// Moving occluder `k`'s own frame.
+    Moving(usize),
 }
 
 fn blocks(obstacles: &Obstacles, frame: Frame, from: DVec3, to: DVec3, tracer: Tracer) -> bool {
     let bvh = match frame {
         Frame::Vehicle => &obstacles.vehicle,
         Frame::Local => &obstacles.world,
+        Frame::Moving(k) => &obstacles.moving[k],
     };
     match tracer {
         Tracer::Hierarchy => bvh.blocks(from, to),

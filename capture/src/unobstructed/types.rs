@@ -73,7 +73,7 @@ impl SurfaceSamples {
 }
 
 /// One eye at one frame, with everything a ray needs precomputed in f64.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct EyeFrame {
     /// The eye in the vehicle frame.
     pub eye_in_vehicle: DVec3,
@@ -88,6 +88,9 @@ pub struct EyeFrame {
     pub eye_near_margin: f64,
     /// How far a point is lifted off its surface, metres.
     pub lift_m: f64,
+    /// Local frame → each moving occluder's own frame at this frame (in
+    /// `Obstacles::moving` order).
+    pub local_to_moving: Vec<DMat4>,
 }
 
 /// `m · (p, 1)` summed column by column in a fixed order (the same order as

@@ -19,8 +19,9 @@ struct Params {
     world_node_base: u32,
     vehicle_node_count: u32,
     world_node_count: u32,
-    _pad0: u32,
-    _pad1: u32,
+    // Moving occluders, and f64s per eye-frame (40 + 16 per moving occluder).
+    moving_count: u32,
+    eye_frame_words: u32,
 };
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -28,8 +29,10 @@ struct Params {
 @group(0) @binding(1) var<storage, read> texels: array<u32>;
 // Per sample (8): position xyz, normal xyz, area m², edge-on tolerance m.
 @group(0) @binding(2) var<storage, read> samples: array<f64>;
-// Per eye-frame (40): eye in vehicle xyz, eye local xyz, vehicle → local (16,
-// column-major), vehicle → clip (16, column-major), the eye's w − z, the lift.
+// Per eye-frame (40 + 16 per moving occluder): eye in vehicle xyz, eye local
+// xyz, vehicle → local (16, column-major), vehicle → clip (16, column-major),
+// the eye's w − z, the lift, then local → each moving occluder's own frame
+// (16 each, column-major).
 @group(0) @binding(3) var<storage, read> eye_frames: array<f64>;
 // Node bounds (6 per node: min xyz, max xyz) of both hierarchies, then their
 // triangles (9 per triangle: corner, edge 1, edge 2).
@@ -40,6 +43,9 @@ struct Params {
 @group(0) @binding(7) var<storage, read_write> solid_angles: array<f64>;
 // One bit per (part, eye-frame): part * eye_frame_count + eye-frame.
 @group(0) @binding(8) var<storage, read_write> part_seen: array<atomic<u32>>;
+// Per moving occluder (4): its hierarchy's node base and node count in
+// `nodes`, and where its bounds and triangles start in `geometry`.
+@group(0) @binding(9) var<storage, read> moving: array<u32>;
 
 // TRAVERSAL_STACK in bvh.rs.
 const STACK: u32 = 64u;
@@ -153,7 +159,7 @@ fn blocks(origin: vec3<f64>, to: vec3<f64>, node_base: u32, node_count: u32, bou
 // The solid angle (sr) of sample `s` in eye-frame `e`, or a negative number
 // when it is not visible: `visible_solid_angle` in rules.rs.
 fn visible_solid_angle(s: u32, e: u32) -> f64 {
-    let base = e * 40u;
+    let base = e * params.eye_frame_words;
     let position = sample_vec(s * 8u);
     let normal = sample_vec(s * 8u + 3u);
     let eye_in_vehicle = eye_vec(base);
@@ -181,6 +187,15 @@ fn visible_solid_angle(s: u32, e: u32) -> f64 {
     let end_local = lifted_local + (eye_vec(base + 3u) - lifted_local) * to_near;
     if (blocks(lifted_local, end_local, params.world_node_base, params.world_node_count, params.world_nodes, params.world_triangles)) {
         return -1.0lf;
+    }
+    // Moving occluders: the same segment in each one's own frame.
+    for (var k = 0u; k < params.moving_count; k++) {
+        let to_own = base + 40u + k * 16u;
+        let start = transform(to_own, lifted_local).xyz;
+        let stop = transform(to_own, end_local).xyz;
+        if (blocks(start, stop, moving[k * 4u], moving[k * 4u + 1u], moving[k * 4u + 2u], moving[k * 4u + 3u])) {
+            return -1.0lf;
+        }
     }
     return samples[s * 8u + 6u] * abs(side) / (distance_squared * distance);
 }

@@ -29,7 +29,7 @@ fn scene() -> (Mesh, Occluders, Rig, Pose) {
     // A post in front of the right part of the vehicle.
     occluders.add_box(dvec3(3.0, -0.55, 0.0), dvec3(3.2, -0.35, 3.0));
     let rig = Rig {
-        pedestrian: [0.0, 0.0, 0.0],
+        pedestrian: ufcsr_capture::ValueOrTrack::Fixed([0.0, 0.0, 0.0]),
         eye_height_m: 1.2,
         horizontal_fov_deg: 50.0,
         eye_pixels: [120, 150],
@@ -55,7 +55,7 @@ fn render_eye(gpu: &Gpu, mesh: &Mesh, occluders: &Occluders, rig: &Rig, pose: &P
         origin: rig.head(),
     };
     let renderer = Renderer::new(&gpu.device, &gpu.queue, &setup).unwrap();
-    let camera = rig.cameras(pose)[0];
+    let camera = rig.cameras(0.0, pose)[0];
     let [w, h] = rig.eye_pixels;
     let [tw, th] = rig.tile_pixels();
     let mut image = vec![0u8; (w * h * 4) as usize];
@@ -69,6 +69,7 @@ fn render_eye(gpu: &Gpu, mesh: &Mesh, occluders: &Occluders, rig: &Rig, pose: &P
             .map(|(i, _)| i)
             .collect();
         let draw = TileDraw {
+            moving: &[],
             clip_from_vehicle: clip_from_world * vehicle_to_world(pose),
             clip_from_world,
             occluders: &visible,
@@ -179,7 +180,7 @@ fn check_exactness(gpu: &Gpu) -> Vec<u8> {
     let unwrapped = unwrap_islands(&mesh, PALETTE).unwrap();
     let [pw, ph] = PALETTE;
     let owner = texel_owners(&unwrapped);
-    let camera = rig.cameras(&pose)[0];
+    let camera = rig.cameras(0.0, &pose)[0];
     let inverse = camera.view_proj.inverse();
     let to_world = vehicle_to_world(&pose);
     let world_tris: Vec<[DVec3; 3]> = (0..mesh.triangles.len())
@@ -302,7 +303,7 @@ fn check_front_quad_wins(distance: f64, separation: f32) {
     let x = distance - f64::from(separation);
     for gpu in devices() {
         let image = render_eye(&gpu, &mesh, &Occluders::default(), &rig, &pose);
-        let camera = rig.cameras(&pose)[0];
+        let camera = rig.cameras(0.0, &pose)[0];
         let [w, h] = rig.eye_pixels;
         let project = |p: DVec3| {
             let c = camera.view_proj * p.extend(1.0);

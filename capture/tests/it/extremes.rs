@@ -8,7 +8,7 @@
 use glam::{DVec3, dvec3, vec3};
 use ufcsr::{AnalysisResult, Dedupe};
 use ufcsr_capture::{
-    Backend, CaptureOptions, Gpu, Key, Mesh, Motion, Occluders, Rig, Scenario, Scene, Track,
+    Backend, CaptureOptions, Gpu, Key, Mesh, Motion, Occluders, Rig, Scenario, Scene, Track, ValueOrTrack,
 };
 
 fn gpu() -> Gpu {
@@ -64,7 +64,7 @@ fn a_wall_at_the_near_plane_fills_the_view_and_counts_its_visible_area() {
         vec3(0.0, 2.0, 4.0),
     );
     let mut rig = Rig {
-        pedestrian: [0.0, 0.0, 0.0],
+        pedestrian: ValueOrTrack::Fixed([0.0, 0.0, 0.0]),
         look_at_vehicle: [0.0, 0.0, 1.75],
         eye_pixels: [200, 250],
         tiles: [2, 2],
@@ -100,7 +100,7 @@ fn texels_per_m2(scene: &Scene, palette: [u32; 2]) -> f64 {
 fn the_truck_900_m_away_counts_one_texel_per_pixel_and_warns() {
     let gpu = gpu();
     let demo = Scene::demo();
-    let mut rig = Rig { pedestrian: [0.0, 0.0, 0.0], ..demo.rig.clone() };
+    let mut rig = Rig { pedestrian: ValueOrTrack::Fixed([0.0, 0.0, 0.0]), ..demo.rig.clone() };
     rig.set_pixels_per_degree(20.0).unwrap();
     let scene = scene(demo.vehicle.clone(), Occluders::default(), rig, standing(dvec3(900.0, 0.0, 0.0), 3));
     let (result, _) = count(&gpu, &scene, [256, 256], Dedupe::Image);
@@ -138,9 +138,7 @@ fn a_scene_10_km_from_the_origin_counts_as_at_the_origin() {
 /// `scene` with the pedestrian, the vehicle's track and every occluder moved by `offset`.
 fn moved_scene(scene: &Scene, offset: DVec3) -> Scene {
     let mut moved = scene.clone();
-    for axis in 0..3 {
-        moved.rig.pedestrian[axis] += offset[axis];
-    }
+    moved.rig.pedestrian = ValueOrTrack::Fixed((moved.rig.anchor() + offset).to_array());
     for scenario in &mut moved.scenarios {
         let keys = scenario
             .motion
@@ -174,7 +172,7 @@ fn the_full_palette_of_2_to_the_24_texels_names_only_labelled_texels() {
     // labelled chart, including in the top rows of the palette.
     let gpu = gpu();
     let demo = Scene::demo();
-    let mut rig = Rig { pedestrian: [0.0, 0.0, 0.0], ..demo.rig.clone() };
+    let mut rig = Rig { pedestrian: ValueOrTrack::Fixed([0.0, 0.0, 0.0]), ..demo.rig.clone() };
     rig.set_pixels_per_degree(20.0).unwrap();
     // The truck 7 m away, side on: 2.7 mm texels under many pixels.
     let scene = scene(demo.vehicle.clone(), Occluders::default(), rig, standing(dvec3(7.0, 0.0, 0.0), 2));
@@ -202,7 +200,7 @@ fn a_surface_seen_edge_on_is_not_counted_by_pixels_or_by_the_exact_measure() {
         vec3(-2.0, 2.0, 1.75),
     );
     let rig = Rig {
-        pedestrian: [0.0, 0.0, 0.0],
+        pedestrian: ValueOrTrack::Fixed([0.0, 0.0, 0.0]),
         look_at_vehicle: [0.0, 0.0, 1.75],
         eye_pixels: [200, 250],
         tiles: [2, 2],
@@ -224,7 +222,7 @@ fn a_surface_seen_edge_on_is_not_counted_by_pixels_or_by_the_exact_measure() {
     let samples = surface_samples(&scene.vehicle, &unwrapped, 1.0, 1, 2);
     assert!(samples.texels.len() > 1000);
     let obstacles = Obstacles::new(&scene);
-    let (frames, _) = eye_frames(&scene, &scene.scenarios[0], &[0, 1, 2], &obstacles);
+    let (frames, _) = eye_frames(&scene, &scene.scenarios[0], &[0, 1, 2], &obstacles).unwrap();
     let visibility =
         texel_visibility(&samples, &frames, &obstacles, scene.vehicle.parts.len(), Tracer::Hierarchy);
     assert_eq!(visibility.counts.iter().sum::<u32>(), 0);

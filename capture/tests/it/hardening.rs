@@ -316,7 +316,11 @@ fn rig_values_beyond_physical_bounds_are_errors_like_track_keys() {
     let boxed = r#""occluders": [{"box": {"min": [0, 0, 0], "max": [1e308, 1, 1]}}]"#;
     std::fs::write(&scene, text.replace(r#""occluders": [{"ground": {"z": 0}}]"#, boxed)).unwrap();
     let ran = tiny_capture(&["scene", scene.to_str().unwrap()], &out, &[]);
-    refused(&ran, &["boxed.json", "occluder: 1e308 is beyond ±1e6: not a street scene"], "occluder box");
+    refused(
+        &ran,
+        &["boxed.json", "occluders[0] (box #0): 1e308 is beyond ±1e6: not a street scene"],
+        "occluder box",
+    );
     // The same bounds hold in a scene file.
     let scene = static_scene(dir.path(), r#"{"mesh": "demo"}"#, r#""rig": {"ipd_m": -1},"#);
     refused(

@@ -22,6 +22,7 @@ mod schemas;
 mod scissor;
 mod study_accuracy;
 mod tile_filter;
+mod traffic;
 mod umbrella;
 mod unobstructed;
 mod vehicles;

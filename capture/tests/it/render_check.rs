@@ -20,7 +20,7 @@ pub fn render_and_check(gpu: &Gpu, mesh: &Mesh) -> (u64, u64) {
     let pidt = paint_pidt(mesh, &unwrapped);
     let vertices = vehicle_vertices(mesh, &unwrapped);
     let rig = Rig {
-        pedestrian: [0.0, 0.0, 0.0],
+        pedestrian: ufcsr_capture::ValueOrTrack::Fixed([0.0, 0.0, 0.0]),
         eye_height_m: 1.5,
         horizontal_fov_deg: 60.0,
         eye_pixels: [320, 240],
@@ -54,10 +54,11 @@ pub fn render_and_check(gpu: &Gpu, mesh: &Mesh) -> (u64, u64) {
     let (mut vehicle, mut stray) = (0u64, 0u64);
     for (x, y, yaw_deg) in poses {
         let pose = Pose { position: dvec3(x, y, 0.0), yaw_deg };
-        for camera in rig.cameras(&pose) {
+        for camera in rig.cameras(0.0, &pose) {
             for tile in rig.all_tiles() {
                 let clip_from_world = rig.tile_matrix(tile) * camera.view_proj;
                 let draw = TileDraw {
+                    moving: &[],
                     clip_from_vehicle: clip_from_world * vehicle_to_world(&pose),
                     clip_from_world,
                     occluders: &[],

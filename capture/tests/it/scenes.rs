@@ -1,6 +1,7 @@
 //! Scene files under `fixtures/scenes/`: own glTF and OBJ vehicles (parts from
 //! nodes or materials, renames, kept UVs), occluders of every kind, and the
-//! demo expressed as a scene file.
+//! demo expressed as a scene file, and traffic (moving occluders, a walking
+//! pedestrian).
 
 use std::path::PathBuf;
 
@@ -76,6 +77,7 @@ fn fixture_scenes_capture_without_stray_pixels() {
         ("obj-vehicle.json", false),
         ("obj-vehicle.json", true),
         ("gltf-vehicle.json", true),
+        ("traffic.json", false),
     ] {
         let mut scene = Scene::load(&fixture(file)).unwrap();
         low_res(&mut scene);

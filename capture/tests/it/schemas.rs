@@ -17,12 +17,12 @@ mod validator;
 use validator::{Schema, read_json};
 
 /// A schema of the workspace's `docs/schemas/`.
-fn schema(name: &str) -> Schema {
+pub(crate) fn schema(name: &str) -> Schema {
     Schema::load(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../docs/schemas").join(name))
 }
 
 /// Panics unless the JSON file matches `schema`.
-fn assert_file_valid(schema: &Schema, file: &Path) {
+pub(crate) fn assert_file_valid(schema: &Schema, file: &Path) {
     schema.assert_valid(&read_json(file), &file.display().to_string());
 }
 

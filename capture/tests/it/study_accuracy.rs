@@ -32,7 +32,7 @@ pub(crate) fn plates_scene() -> Scene {
         mesh.add_quad(name, vec3(0.0, y0, z0), vec3(0.0, y1, z0), vec3(0.0, y1, z1), vec3(0.0, y0, z1));
     }
     let rig = Rig {
-        pedestrian: [0.0, 0.0, 0.0],
+        pedestrian: ufcsr_capture::ValueOrTrack::Fixed([0.0, 0.0, 0.0]),
         look_at_vehicle: [0.0, -2.5, 1.75],
         tiles: [2, 2],
         ..Rig::default()
@@ -66,7 +66,7 @@ fn corner(u: f64, v: f64) -> f64 {
 pub(crate) fn analytic_sr(scene: &Scene, (_, y0, y1, z0, z1): (&str, f64, f64, f64, f64)) -> f64 {
     let rig = &scene.rig;
     let pose = scene.scenarios[0].motion.pose(0.0);
-    rig.cameras(&pose)
+    rig.cameras(0.0, &pose)
         .iter()
         .map(|camera| {
             let eye: DVec3 = camera.position;

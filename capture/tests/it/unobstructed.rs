@@ -10,9 +10,9 @@ use std::process::Command;
 
 use glam::{DMat4, DVec3, Vec3, dvec3};
 use ufcsr_capture::{
-    EyeFrame, Mesh, Obstacles, Occluders, Scene, SurfaceSamples, TexelVisibility, Tracer, background_texel,
-    eye_frame, eye_frames, look_to, reversed_z_perspective, surface_samples, texel_visibility,
-    unwrap_islands_avoiding, visible_solid_angle,
+    EyeFrame, Mesh, Obstacles, Occluders, Scene, SurfaceSamples, TexelVisibility, Tracer, ValueOrTrack,
+    background_texel, eye_frame, eye_frames, look_to, reversed_z_perspective, surface_samples,
+    texel_visibility, unwrap_islands_avoiding, visible_solid_angle,
 };
 
 const PALETTE: [u32; 2] = [256, 256];
@@ -24,7 +24,7 @@ fn samples_of(mesh: &Mesh, palette: [u32; 2], fraction: f64, k: u32) -> SurfaceS
 
 fn measure(scene: &Scene, scenario: &str, frames: &[u32], samples: &SurfaceSamples) -> TexelVisibility {
     let obstacles = Obstacles::new(scene);
-    let (eye_frames, _) = eye_frames(scene, scene.scenario(scenario).unwrap(), frames, &obstacles);
+    let (eye_frames, _) = eye_frames(scene, scene.scenario(scenario).unwrap(), frames, &obstacles).unwrap();
     texel_visibility(samples, &eye_frames, &obstacles, scene.vehicle.parts.len(), Tracer::Hierarchy)
 }
 
@@ -49,7 +49,7 @@ fn the_hierarchy_answers_exactly_as_brute_force_on_sampled_points() {
     let samples = samples_of(&scene.vehicle, PALETTE, 0.05, 2);
     assert!(samples.samples.len() > 500, "{}", samples.samples.len());
     let obstacles = Obstacles::new(&scene);
-    let (frames, _) = eye_frames(&scene, scenario, &[60, 120, 180], &obstacles);
+    let (frames, _) = eye_frames(&scene, scenario, &[60, 120, 180], &obstacles).unwrap();
     let mut seen = 0;
     for frame in &frames {
         for sample in &samples.samples {
@@ -98,7 +98,7 @@ fn scene_with(vehicle: Mesh, occluders: Occluders) -> Scene {
     let mut scene = Scene::demo();
     scene.vehicle = vehicle;
     scene.occluders = occluders;
-    scene.rig.pedestrian = [0.0, 0.0, 0.0];
+    scene.rig.pedestrian = ValueOrTrack::Fixed([0.0, 0.0, 0.0]);
     scene
 }
 
@@ -106,7 +106,7 @@ fn scene_with(vehicle: Mesh, occluders: Occluders) -> Scene {
 fn eye_looking(obstacles: &Obstacles, eye: DVec3, direction: DVec3) -> EyeFrame {
     let view_proj =
         reversed_z_perspective(60f64.to_radians(), 1.0, 0.3, 1000.0) * look_to(eye, direction, DVec3::Z);
-    eye_frame(obstacles, &DMat4::IDENTITY, eye, &view_proj)
+    eye_frame(obstacles, &DMat4::IDENTITY, &[], eye, &view_proj)
 }
 
 fn solid_angle(samples: &SurfaceSamples, frame: &EyeFrame, obstacles: &Obstacles) -> f64 {
@@ -192,8 +192,7 @@ fn a_scene_far_from_the_origin_measures_the_same_texel_for_texel() {
     let near = measure(&scene, "A", &frames, &samples);
     // Everything 10 km along x and y: pedestrian, vehicle track and occluders.
     let mut far = scene.clone();
-    far.rig.pedestrian[0] += 10_000.0;
-    far.rig.pedestrian[1] += 10_000.0;
+    far.rig.pedestrian = ValueOrTrack::Fixed((far.rig.anchor() + dvec3(10_000.0, 10_000.0, 0.0)).to_array());
     for position in &mut far.occluders.positions {
         position.x += 10_000.0;
         position.y += 10_000.0;
@@ -216,7 +215,7 @@ fn a_scene_far_from_the_origin_measures_the_same_texel_for_texel() {
 /// `scene` scaled by `factor` about the pedestrian's feet (vehicle, occluders, eyes, tracks).
 fn scaled(scene: &Scene, factor: f64) -> Scene {
     let mut out = scene.clone();
-    let anchor = dvec3(scene.rig.pedestrian[0], scene.rig.pedestrian[1], 0.0);
+    let anchor = scene.rig.anchor() * dvec3(1.0, 1.0, 0.0);
     for position in &mut out.vehicle.positions {
         *position *= factor as f32;
     }
@@ -320,7 +319,7 @@ fn the_cli_writes_an_unobstructed_result_with_the_measures_block() {
     assert!(!out.join("tiles").read_dir().is_ok_and(|mut d| d.next().is_some()), "no tiles are written");
 }
 
-fn gpu_with_f64() -> Option<ufcsr_capture::Gpu> {
+pub(crate) fn gpu_with_f64() -> Option<ufcsr_capture::Gpu> {
     let gpu = ufcsr_capture::Gpu::create(ufcsr_capture::Backend::Auto).expect("a GPU or lavapipe");
     if !gpu.device.features().contains(wgpu::Features::SHADER_F64) {
         assert!(std::env::var_os("CI").is_none(), "CI: lavapipe has SHADER_F64; this adapter does not");
@@ -339,7 +338,7 @@ fn the_gpu_measure_equals_the_cpu_measure_on_every_sampled_texel() {
     // Scenario A: the truck comes out from behind the corner building, so
     // the scene's occluders decide many of these.
     let scenario = scene.scenario("A").unwrap();
-    let (frames, _) = eye_frames(&scene, scenario, &[0, 30, 60, 90, 120, 150, 180], &obstacles);
+    let (frames, _) = eye_frames(&scene, scenario, &[0, 30, 60, 90, 120, 150, 180], &obstacles).unwrap();
     let parts = scene.vehicle.parts.len();
     let cpu = texel_visibility(&samples, &frames, &obstacles, parts, Tracer::Hierarchy);
     let on_gpu =

@@ -2,7 +2,8 @@
 //! is 2·atan(h / 2d), so it reaches the legibility threshold exactly at the
 //! distance the threshold implies; a display patch behind a box is not
 //! visible in the eye-frames the box covers it and legible in those it does
-//! not; patches fit inside the surface, hold W × H of it and pair with their
+//! not, and one behind a box driving past is hidden in exactly the frames
+//! the box covers it; patches fit inside the surface, hold W × H of it and pair with their
 //! mirror images.
 
 use glam::{DMat4, DVec3, Vec3, dvec3};
@@ -11,7 +12,7 @@ use super::frames::{Seen, measure_eye_frame};
 use super::labels::LabelSet;
 use super::patches::place_patches;
 use super::{ExactInputs, parse_display};
-use crate::scene::{Mesh, Occluders, Scene, look_to, reversed_z_perspective};
+use crate::scene::{Mesh, Occluders, Scene, ValueOrTrack, look_to, reversed_z_perspective};
 use crate::texture::{background_texel, unwrap_islands_avoiding};
 use crate::unobstructed::geometry::{Obstacles, eye_frame};
 use crate::unobstructed::points::surface_samples;
@@ -35,7 +36,7 @@ fn scene_with(vehicle: Mesh, occluders: Occluders) -> Scene {
     let mut scene = Scene::demo();
     scene.vehicle = vehicle;
     scene.occluders = occluders;
-    scene.rig.pedestrian = [0.0, 0.0, 0.0];
+    scene.rig.pedestrian = ValueOrTrack::Fixed([0.0, 0.0, 0.0]);
     scene
 }
 
@@ -48,7 +49,7 @@ fn samples_of(mesh: &Mesh, palette: [u32; 2]) -> SurfaceSamples {
 fn eye_at(obstacles: &Obstacles, eye: DVec3, target: DVec3) -> EyeFrame {
     let view_proj = reversed_z_perspective(60f64.to_radians(), 1.0, 0.3, 1000.0)
         * look_to(eye, (target - eye).normalize(), DVec3::Z);
-    eye_frame(obstacles, &DMat4::IDENTITY, eye, &view_proj)
+    eye_frame(obstacles, &DMat4::IDENTITY, &[], eye, &view_proj)
 }
 
 fn inputs<'a>(scene: &'a Scene, samples: &'a SurfaceSamples, obstacles: &'a Obstacles) -> ExactInputs<'a> {
@@ -61,6 +62,19 @@ fn inputs<'a>(scene: &'a Scene, samples: &'a SurfaceSamples, obstacles: &'a Obst
         sample_fraction: 1.0,
         frame_s: 0.1,
     }
+}
+
+/// The parts and 0.40 m × 0.15 m display patches every 10 cm as labels.
+fn display_patches(inputs: &ExactInputs) -> (LabelSet, Vec<super::patches::PlacedPatch>) {
+    let mut labels = LabelSet::parts(&inputs.scene.vehicle.parts, inputs.samples);
+    let patches = place_patches(inputs, [0.40, 0.15], 0.10);
+    labels.add_patches(&patches, inputs.samples);
+    (labels, patches)
+}
+
+/// The label of the first patch centred near y = 0 at a height `at_z` accepts.
+fn centred_patch(patches: &[super::patches::PlacedPatch], at_z: impl Fn(f64) -> bool) -> usize {
+    1 + patches.iter().position(|p| at_z(p.centre.z) && p.centre.y.abs() < 0.1).expect("a centred patch")
 }
 
 #[test]
@@ -106,14 +120,10 @@ fn a_patch_behind_a_box_is_hidden_exactly_while_the_box_covers_it() {
     let scene = scene_with(plate(1.0, 1.0, 2.0), occluders);
     let samples = samples_of(&scene.vehicle, [512, 512]);
     let obstacles = Obstacles::new(&scene);
-    let mut labels = LabelSet::parts(&scene.vehicle.parts, &samples);
     let inputs = inputs(&scene, &samples, &obstacles);
-    let patches = place_patches(&inputs, [0.40, 0.15], 0.10);
-    labels.add_patches(&patches, &samples);
-    let low =
-        1 + patches.iter().position(|p| p.centre.z < 1.7 && p.centre.y.abs() < 0.1).expect("a low patch");
-    let high =
-        1 + patches.iter().position(|p| p.centre.z > 2.3 && p.centre.y.abs() < 0.1).expect("a high patch");
+    let (labels, patches) = display_patches(&inputs);
+    let low = centred_patch(&patches, |z| z < 1.7);
+    let high = centred_patch(&patches, |z| z > 2.3);
     let behind =
         measure_eye_frame(&inputs, &labels, &eye_at(&obstacles, dvec3(3.0, 0.0, 2.2), dvec3(0.0, 0.0, 2.0)));
     assert_eq!(behind[low], None, "the box covers the low patch");
@@ -121,6 +131,63 @@ fn a_patch_behind_a_box_is_hidden_exactly_while_the_box_covers_it() {
     let above =
         measure_eye_frame(&inputs, &labels, &eye_at(&obstacles, dvec3(3.0, 0.0, 12.0), dvec3(0.0, 0.0, 2.0)));
     assert!(above[low].is_some_and(|s| s.visible_fraction == 1.0), "{:?}", above[low]);
+}
+
+/// A box 0.2 m thick, 2 m wide and 1.95 m tall driving across in front of
+/// the plate of the test above (x = 0.6, y from −2.5 to +2.5 in 1 s), seen
+/// from 3 m ahead at eye height 2.2 m at 10 fps (centre y = −2.5 + 0.5 ·
+/// frame). The low patch's rays reach |y| ≤ 0.26 m in the box, so the box
+/// (|y − c| ≤ 1) hides the patch wholly for |c| ≤ 0.74 (frames 4–6), partly
+/// for |c| = 1 (frames 3 and 7) and not at all for |c| ≥ 1.26.
+fn crossing_box() -> crate::scene::MovingOccluder {
+    use crate::scene::track::{Key, Track};
+    let mut mesh = Mesh::default();
+    mesh.add_box(Vec3::new(-0.1, -1.0, 0.0), Vec3::new(0.1, 1.0, 1.95), [Some("box"); 6]);
+    let keys = vec![Key::linear(0.0, [0.6, -2.5, 0.0]), Key::linear(1.0, [0.6, 2.5, 0.0])];
+    crate::scene::MovingOccluder {
+        name: "crossing box".into(),
+        mesh,
+        path: crate::scene::OccluderPath::Tracks {
+            position: ValueOrTrack::Keys(Track { keys }),
+            yaw_deg: ValueOrTrack::Fixed([0.0]),
+        },
+    }
+}
+
+#[test]
+fn a_patch_behind_a_moving_box_is_hidden_in_exactly_the_frames_the_box_covers_it() {
+    use crate::scene::track::{Key, Motion, Track};
+    let occluders = Occluders { moving: vec![crossing_box()], ..Occluders::default() };
+    let mut scene = scene_with(plate(1.0, 1.0, 2.0), occluders);
+    scene.rig.pedestrian = ValueOrTrack::Fixed([3.0, 0.0, 0.0]);
+    scene.rig.eye_height_m = 2.2;
+    scene.rig.look_at_vehicle = [0.0, 0.0, 2.0];
+    scene.rig.fps = 10.0;
+    let still = Motion {
+        position: Track { keys: vec![Key::linear(0.0, [0.0; 3])] },
+        yaw_deg: Track { keys: vec![Key::linear(0.0, [0.0])] },
+    };
+    let scenario = crate::scene::Scenario { name: "S".into(), duration_s: 1.0, motion: still };
+    let samples = samples_of(&scene.vehicle, [512, 512]);
+    let obstacles = Obstacles::new(&scene);
+    let frames: Vec<u32> = (0..=10).collect();
+    let (eye_frames, _) =
+        crate::unobstructed::geometry::eye_frames(&scene, &scenario, &frames, &obstacles).unwrap();
+    let inputs = inputs(&scene, &samples, &obstacles);
+    let (labels, patches) = display_patches(&inputs);
+    let low = centred_patch(&patches, |z| z < 1.7);
+    for (index, eye_frame) in eye_frames.iter().enumerate() {
+        let frame = index / 2;
+        let seen = measure_eye_frame(&inputs, &labels, eye_frame)[low];
+        match frame {
+            4..=6 => assert_eq!(seen, None, "frame {frame}: the box covers the low patch"),
+            3 | 7 => assert!(
+                seen.is_some_and(|s| s.visible_fraction > 0.05 && s.visible_fraction < 0.95),
+                "frame {frame}: {seen:?}"
+            ),
+            _ => assert!(seen.is_some_and(|s| s.visible_fraction > 1.0 - 1e-9), "frame {frame}: {seen:?}"),
+        }
+    }
 }
 
 #[test]
