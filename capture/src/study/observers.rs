@@ -22,6 +22,7 @@ use ufcsr::Dedupe;
 use crate::archive::{CaptureOptions, CaptureProgress, FrameSelection, capture_counted};
 use crate::error::{CaptureError, Result};
 use crate::scene::Scene;
+use crate::scene::track::ValueOrTrack;
 use crate::study::{StudyMeasure, rendered_per_eye_frame};
 use crate::unobstructed::accuracy::SplitMix;
 
@@ -36,7 +37,8 @@ const REPLICATES: u32 = 1000;
 pub struct ObserverOptions {
     pub scenario: String,
     /// The kerb segment's ends on the ground, world `[x, y]` metres; `None`
-    /// keeps the rig's pedestrian position (then `positions` must be 1).
+    /// keeps the rig's pedestrian, standing or walking (then `positions`
+    /// must be 1). A walking pedestrian cannot be put on a kerb.
     pub kerb: Option<[[f64; 2]; 2]>,
     /// Positions along the segment, each at the middle of an equal piece.
     pub positions: u32,
@@ -53,7 +55,7 @@ pub struct ObserverOptions {
 /// One observer's capture, per legend part.
 #[derive(Debug, Clone, Serialize)]
 pub struct Observer {
-    /// Ground point, world metres.
+    /// Ground point, world metres (for a walking pedestrian, where the walk starts).
     pub position: [f64; 3],
     pub eye_height_m: f64,
     /// Wall seconds of this observer's capture (setup included).
@@ -168,7 +170,14 @@ pub fn run_observer_study(
     check(options)?;
     let scenario = scene.scenario(&options.scenario)?;
     let start = Instant::now();
-    let grid = observer_grid(options, scene.rig.pedestrian);
+    if options.kerb.is_some() && matches!(scene.rig.pedestrian, ValueOrTrack::Keys(_)) {
+        return Err(CaptureError::BadOptions(
+            "--kerb places standing observers, but the scene's pedestrian walks: leave out --kerb to keep the walk \
+             and vary the eye height"
+                .into(),
+        ));
+    }
+    let grid = observer_grid(options, scene.rig.anchor().to_array());
     let mut parts = Vec::new();
     let mut observers = Vec::with_capacity(grid.len());
     for (index, &(position, eye_height_m)) in grid.iter().enumerate() {
@@ -221,7 +230,9 @@ fn capture_observer(
 ) -> Result<(Observer, Vec<String>)> {
     let scenario = scene.scenario(&options.scenario)?;
     let mut scene = scene.clone();
-    scene.rig.pedestrian = position;
+    if options.kerb.is_some() {
+        scene.rig.pedestrian = ValueOrTrack::Fixed(position);
+    }
     scene.rig.eye_height_m = eye_height_m;
     scene.rig.set_pixels_per_degree(options.ppd)?;
     scene.rig.check().map_err(|e| CaptureError::BadOptions(format!("observer {index}: {e}")))?;

@@ -4,7 +4,9 @@
 
 use std::process::Command;
 
-use ufcsr_capture::{CaptureOptions, ObserverOptions, run_observer_study, write_observer_study};
+use ufcsr_capture::{
+    CaptureOptions, ObserverOptions, ValueOrTrack, run_observer_study, write_observer_study,
+};
 
 use crate::study_accuracy::{PLATES, analytic_sr, gpu, plates_scene};
 
@@ -35,7 +37,7 @@ fn each_observer_sees_the_plates_analytic_solid_angle_from_where_it_stands() {
     let to_deg2_s = (180.0 / std::f64::consts::PI).powi(2) / scene.rig.fps / 2.0;
     for observer in &study.observers {
         let mut seen_from = scene.clone();
-        seen_from.rig.pedestrian = observer.position;
+        seen_from.rig.pedestrian = ValueOrTrack::Fixed(observer.position);
         seen_from.rig.eye_height_m = observer.eye_height_m;
         for plate in PLATES {
             let p = study.parts.iter().position(|name| name == plate.0).unwrap();
