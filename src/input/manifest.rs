@@ -30,7 +30,7 @@ pub struct Manifest {
     pub schema: Option<String>,
     /// The palette the vehicle was rendered with.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub palette: Option<PaletteSpec>,
+    pub palette: Option<PaletteRecord>,
     /// The Part Identification Texture (relative path).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pidt: Option<PathBuf>,
@@ -47,10 +47,12 @@ pub struct Manifest {
     pub extra: Map<String, Value>,
 }
 
-/// Which palette a capture used.
+/// Which palette a capture used, as `manifest.json` records it (the
+/// palette itself, loaded, is [`crate::Fcsp`]; what an analysis is asked
+/// for is [`crate::PaletteChoice`]).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(untagged)]
-pub enum PaletteSpec {
+pub enum PaletteRecord {
     /// The canonical palette of the given `[width, height]`.
     Canonical { canonical: [u32; 2] },
     /// A palette image, relative to the archive folder.
@@ -254,7 +256,7 @@ mod tests {
     #[test]
     fn parses_example_and_keeps_extra_fields() {
         let manifest = Manifest::parse(Path::new("m.json"), EXAMPLE.as_bytes()).unwrap();
-        assert_eq!(manifest.palette, Some(PaletteSpec::Canonical { canonical: [64, 64] }));
+        assert_eq!(manifest.palette, Some(PaletteRecord::Canonical { canonical: [64, 64] }));
         assert_eq!(manifest.tiles[1].eye, "1");
         assert!(manifest.tiles[1].empty);
         assert!(manifest.extra.contains_key("rig"));

@@ -10,7 +10,7 @@ use crate::input::archive_reader::Archive;
 use crate::input::capture_facts::{CaptureGeometry, EyeFrame, EyeOptics, FrameClock, eye_frames};
 use crate::input::identity::archive_identity;
 use crate::input::labels::{Legend, Pidt};
-use crate::input::manifest::{Manifest, PaletteSpec};
+use crate::input::manifest::{Manifest, PaletteRecord};
 use crate::input::options::{AnalyzeOptions, Dedupe, PaletteChoice};
 use crate::input::palette::{DEFAULT_PALETTE_SIDE, Fcsp};
 
@@ -119,10 +119,10 @@ pub(crate) fn resolve_inputs_allowing_no_images(
 fn palette_choice(options: &AnalyzeOptions, manifest: Option<&Manifest>) -> PaletteChoice {
     match (&options.palette, manifest.and_then(|m| m.palette.as_ref())) {
         (Some(choice), _) => choice.clone(),
-        (None, Some(PaletteSpec::Canonical { canonical: [width, height] })) => {
+        (None, Some(PaletteRecord::Canonical { canonical: [width, height] })) => {
             PaletteChoice::Canonical { width: *width, height: *height }
         }
-        (None, Some(PaletteSpec::File(file))) => PaletteChoice::Image(options.archive.join(file)),
+        (None, Some(PaletteRecord::File(file))) => PaletteChoice::Image(options.archive.join(file)),
         (None, None) => {
             PaletteChoice::Canonical { width: DEFAULT_PALETTE_SIDE, height: DEFAULT_PALETTE_SIDE }
         }

@@ -10,7 +10,7 @@
 use std::path::PathBuf;
 
 use serde_json::{Map, Value, json};
-use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
+use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry};
 
 use crate::archive::options::{CaptureOptions, TileTally};
 use crate::scene::Scene;
@@ -31,7 +31,7 @@ pub struct ManifestParts<'a> {
     pub scene: &'a Scene,
     pub scenario: &'a Scenario,
     pub options: &'a CaptureOptions,
-    pub palette: PaletteSpec,
+    pub palette: PaletteRecord,
     pub palette_size: [u32; 2],
     pub background_texel: Option<(u32, u32)>,
     pub background: Color,

@@ -6,7 +6,7 @@
 use glam::{DVec2, DVec3, dvec2, dvec3, dvec4, vec3};
 use ufcsr::Color;
 use ufcsr_capture::{
-    Backend, Gpu, Mesh, Occluders, Palette, Pose, RenderSetup, Renderer, Rig, TileDraw, box_outside,
+    Backend, Gpu, GpuPalette, Mesh, Occluders, Pose, RenderSetup, Renderer, Rig, TileDraw, box_outside,
     footprint, unwrap_islands, vehicle_to_world, vehicle_vertices,
 };
 
@@ -45,7 +45,7 @@ fn scene() -> (Mesh, Occluders, Rig, Pose) {
 fn render_eye(gpu: &Gpu, mesh: &Mesh, occluders: &Occluders, rig: &Rig, pose: &Pose) -> Vec<u8> {
     let unwrapped = unwrap_islands(mesh, PALETTE).unwrap();
     let vertices = vehicle_vertices(mesh, &unwrapped);
-    let palette = Palette::Canonical(PALETTE);
+    let palette = GpuPalette::Canonical(PALETTE);
     let setup = RenderSetup {
         tile_size: rig.tile_pixels(),
         palette: &palette,
