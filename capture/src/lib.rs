@@ -47,7 +47,7 @@ pub use scene::{
 };
 pub use study::{Study, StudyMeasure, StudyOptions, StudyRow, run_study, write_study};
 pub use texture::{
-    OwnLabels, PaintedPidt, UNLABELLED_COLOR, Unwrapped, background_texel, footprint, keep_uvs, paint_pidt,
+    OwnLabelFiles, PidtImage, UNLABELLED_COLOR, Unwrapped, background_texel, footprint, keep_uvs, paint_pidt,
     parse_palette_size, unwrap_islands, unwrap_islands_avoiding,
 };
 pub use unobstructed::{

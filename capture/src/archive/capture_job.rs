@@ -27,7 +27,7 @@ use crate::render::{GpuPalette, RenderSetup, Renderer, vehicle_vertices};
 use crate::scene::Scene;
 use crate::scene::scenario::Scenario;
 use crate::texture::pidt::own as own_pidt;
-use crate::texture::pidt::painted::{self as pidt, PaintedPidt};
+use crate::texture::pidt::painted::{self as pidt, PidtImage};
 use crate::texture::uv_islands::{self, Unwrapped};
 
 /// Loads the palette the options ask for: the canonical palette of
@@ -56,7 +56,7 @@ pub fn prepare(
     size: [u32; 2],
     background: Option<(u32, u32)>,
     keep_uvs: bool,
-) -> Result<(Unwrapped, PaintedPidt)> {
+) -> Result<(Unwrapped, PidtImage)> {
     let unwrapped = if keep_uvs {
         uv_islands::keep_uvs_avoiding(&scene.vehicle, size, background)?
     } else {
@@ -70,7 +70,7 @@ pub fn prepare(
 pub struct PreparedCapture {
     pub renderer: Renderer,
     pub unwrapped: Unwrapped,
-    pub pidt: PaintedPidt,
+    pub pidt: PidtImage,
     pub palette: PaletteRecord,
     pub palette_size: [u32; 2],
     pub background_texel: Option<(u32, u32)>,

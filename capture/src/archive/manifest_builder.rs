@@ -17,7 +17,7 @@ use crate::scene::Scene;
 use crate::scene::rig::{Eye, Rig, reversed_z_perspective};
 use crate::scene::scenario::Scenario;
 use crate::scene::track::Pose;
-use crate::texture::pidt::PaintedPidt;
+use crate::texture::pidt::PidtImage;
 use crate::texture::uv_islands::{self as unwrap, Unwrapped};
 
 /// The counters in the manifest's `capture` object that add up over the
@@ -36,7 +36,7 @@ pub struct ManifestParts<'a> {
     pub background_texel: Option<(u32, u32)>,
     pub background: Color,
     pub unwrapped: &'a Unwrapped,
-    pub pidt: &'a PaintedPidt,
+    pub pidt: &'a PidtImage,
     pub tiles: Vec<TileEntry>,
     pub frame_records: Vec<Value>,
     pub tally: TileTally,

@@ -8,7 +8,7 @@
 pub(crate) mod pidt;
 pub(crate) mod uv_islands;
 
-pub use pidt::{OwnLabels, PaintedPidt, UNLABELLED_COLOR, paint_pidt};
+pub use pidt::{OwnLabelFiles, PidtImage, UNLABELLED_COLOR, paint_pidt};
 pub use uv_islands::{
     Unwrapped, background_texel, footprint, keep_uvs, parse_palette_size, unwrap_islands,
     unwrap_islands_avoiding,
