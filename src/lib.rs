@@ -42,9 +42,10 @@ pub use input::{
 };
 pub use output::{
     CsvStyle, DIRECTIONS, ModelPart, NEVER_SEEN, SceneObject, VehicleModel, ViewCamera, ViewTexture,
-    WrittenFiles, WrittenViews, csv_field, default_output_dir, format_table, plasma, plot_font_available,
-    render_heatmap, render_view, view_cameras, views_caption, write_comparison, write_heatmap,
-    write_parts_csv, write_results, write_results_with, write_scene_glb, write_views, write_views_with,
+    WrittenFiles, WrittenViews, ZBuffer, csv_field, default_output_dir, format_table, plasma,
+    plot_font_available, render_heatmap, render_view, view_cameras, views_caption, write_comparison,
+    write_heatmap, write_parts_csv, write_results, write_results_with, write_scene_glb, write_views,
+    write_views_with,
 };
 pub use placement::report::{WrittenPlacement, format_placement};
 pub use placement::{
