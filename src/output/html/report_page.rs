@@ -41,8 +41,8 @@ struct PageInputs<'a> {
 type Section = fn(&mut String, &PageInputs);
 
 /// The page's sections, top to bottom: adding a section is adding its
-/// function here.
-const SECTIONS: [Section; 12] = [
+/// function here (one line).
+const SECTIONS: &[Section] = &[
     head,
     warnings,
     summary,
