@@ -225,40 +225,17 @@ fn hash_map_baseline(files: &[PathBuf]) -> HashMap<u32, u32> {
         })
 }
 
-#[allow(clippy::too_many_lines)] // issue 16: still to split below 80 lines
 fn main() {
     let args = parse_args();
     let temporary = tempfile::tempdir().unwrap();
     let archive = match &args.archive {
         Some(dir) => dir.clone(),
         None => {
-            let dir = args.keep.clone().unwrap_or_else(|| temporary.path().join("archive"));
-            let spec =
-                ArchiveSpec { frames: args.frames, object_block: args.block, ..ArchiveSpec::default() };
-            let start = Instant::now();
-            let summary = write_archive(&dir, &spec).unwrap();
-            println!(
-                "generated {} tiles ({} with the vehicle, 1284×1620), {:.1} MiB, in {:.1} s",
-                summary.tiles,
-                summary.object_tiles,
-                summary.bytes as f64 / (1 << 20) as f64,
-                start.elapsed().as_secs_f64()
-            );
-            dir
+            generate_archive(&args, &args.keep.clone().unwrap_or_else(|| temporary.path().join("archive")))
         }
     };
-    let threads = rayon::current_num_threads();
-
-    // Same tiles for the three contenders: the non-empty ones.
-    // The archive's own images (the manifest's tiles; never the PIdT).
-    let listed = match ufcsr::Manifest::load_from_dir(&archive).unwrap() {
-        Some(manifest) => ufcsr::Archive::from_manifest(&archive, &manifest).unwrap(),
-        None => ufcsr::Archive::scan_folder(&archive, &[], [4096, 4096]).unwrap(),
-    };
-    let files: Vec<PathBuf> =
-        listed.images.into_iter().map(|image| image.path).filter(|path| !is_empty_tile(path)).collect();
+    let files = object_tiles(&archive);
     let pixels: u64 = files.iter().map(|p| pixels_of(p)).sum();
-    let megapixels = pixels as f64 / 1e6;
     let palette = Fcsp::canonical(4096, 4096).unwrap();
     let classifier = Classifier::new(&palette, &[0x000FFF]).unwrap();
     if args.kernels_only {
@@ -266,12 +243,51 @@ fn main() {
         one_thread.install(|| kernels_alone(&files, &classifier));
         return;
     }
-
     // The whole job first (so peak memory is ours alone; the listing above
     // only read headers and decoded rows one at a time).
     let options = AnalyzeOptions { archive: archive.clone(), ..Default::default() };
+    whole_job(&options);
+    frames_csv_cost(&options);
+    let decode = best_of(3, || {
+        black_box(decode_only(&files));
+    });
+    adler_check_cost(&files);
+    let count = reading_against_mapping(&files, &classifier);
+    let agree = against_decode_and_hash_map(&files, &classifier, pixels, [decode, count]);
+    let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
+    one_thread.install(|| kernels_alone(&files, &classifier));
+    assert!(agree, "dense and hash-map counts differ");
+}
+
+/// Writes the generated realistic archive into `dir`.
+fn generate_archive(args: &Args, dir: &Path) -> PathBuf {
+    let spec = ArchiveSpec { frames: args.frames, object_block: args.block, ..ArchiveSpec::default() };
     let start = Instant::now();
-    let analysis = analyze(&options, None).unwrap();
+    let summary = write_archive(dir, &spec).unwrap();
+    println!(
+        "generated {} tiles ({} with the vehicle, 1284×1620), {:.1} MiB, in {:.1} s",
+        summary.tiles,
+        summary.object_tiles,
+        summary.bytes as f64 / (1 << 20) as f64,
+        start.elapsed().as_secs_f64()
+    );
+    dir.to_path_buf()
+}
+
+/// The same tiles for every contender: the archive's own images (the
+/// manifest's tiles; never the PIdT) that are not all background.
+fn object_tiles(archive: &Path) -> Vec<PathBuf> {
+    let listed = match ufcsr::Manifest::load_from_dir(archive).unwrap() {
+        Some(manifest) => ufcsr::Archive::from_manifest(archive, &manifest).unwrap(),
+        None => ufcsr::Archive::scan_folder(archive, &[], [4096, 4096]).unwrap(),
+    };
+    listed.images.into_iter().map(|image| image.path).filter(|path| !is_empty_tile(path)).collect()
+}
+
+/// `analyze()` on the whole archive: images per second and peak memory.
+fn whole_job(options: &AnalyzeOptions) {
+    let start = Instant::now();
+    let analysis = analyze(options, None).unwrap();
     let whole = start.elapsed().as_secs_f64();
     let rss = peak_rss_mib();
     let images = &analysis.result.images;
@@ -284,13 +300,15 @@ fn main() {
         images.found as f64 / whole,
         rss
     );
+}
 
-    // frames.csv (per-eye-frame tallies by part) against the plain count,
-    // alternating so both see the same cache and machine load.
+/// frames.csv (per-eye-frame tallies by part) against the plain count,
+/// alternating so both see the same cache and machine load.
+fn frames_csv_cost(options: &AnalyzeOptions) {
     let with_frames = AnalyzeOptions { frames: true, ..options.clone() };
     let (mut plain, mut framed) = (f64::INFINITY, f64::INFINITY);
     for _ in 0..3 {
-        for (options, best) in [(&options, &mut plain), (&with_frames, &mut framed)] {
+        for (options, best) in [(options, &mut plain), (&with_frames, &mut framed)] {
             let start = Instant::now();
             black_box(analyze(options, None).unwrap());
             *best = best.min(start.elapsed().as_secs_f64());
@@ -302,15 +320,15 @@ fn main() {
         framed,
         plain
     );
+}
 
-    let decode = best_of(3, || {
-        black_box(decode_only(&files));
-    });
+/// Decoding with the Adler-32 check against without.
+fn adler_check_cost(files: &[PathBuf]) {
     let unchecked = best_of(3, || {
-        black_box(png_crate_decode(&files, false));
+        black_box(png_crate_decode(files, false));
     });
     let checked = best_of(3, || {
-        black_box(png_crate_decode(&files, true));
+        black_box(png_crate_decode(files, true));
     });
     println!(
         "decode with the Adler-32 check / without: {:.3} ({:.3} s vs {:.3} s, best of 3)",
@@ -318,15 +336,19 @@ fn main() {
         checked,
         unchecked
     );
-    // ufcsr's counting (tiles read whole), alternated with the same counting
-    // on memory-mapped tiles: the cost of reading instead of mapping.
+}
+
+/// ufcsr's counting (tiles read whole), alternated with the same counting
+/// on memory-mapped tiles: the cost of reading instead of mapping. Returns
+/// the best time of counting tiles read whole.
+fn reading_against_mapping(files: &[PathBuf], classifier: &Classifier) -> f64 {
     let (mut count, mut mapped) = (f64::INFINITY, f64::INFINITY);
     for _ in 0..3 {
         let start = Instant::now();
-        black_box(ours(&files, &classifier));
+        black_box(ours(files, classifier));
         count = count.min(start.elapsed().as_secs_f64());
         let start = Instant::now();
-        black_box(ours_mapped(&files, &classifier));
+        black_box(ours_mapped(files, classifier));
         mapped = mapped.min(start.elapsed().as_secs_f64());
     }
     println!(
@@ -335,16 +357,29 @@ fn main() {
         count,
         mapped
     );
+    count
+}
+
+/// ufcsr's decode + count against the decode-only ceiling (best times
+/// `[decode, count]` of `files`, `pixels` in all) and the per-pixel hash
+/// map. Returns whether the hash map's counts are identical to ufcsr's.
+fn against_decode_and_hash_map(
+    files: &[PathBuf],
+    classifier: &Classifier,
+    pixels: u64,
+    [decode, count]: [f64; 2],
+) -> bool {
+    let megapixels = pixels as f64 / 1e6;
+    let threads = rayon::current_num_threads();
     let baseline = best_of(1, || {
-        black_box(hash_map_baseline(&files));
+        black_box(hash_map_baseline(files));
     });
     // The two counters must agree exactly.
-    let dense = ours(&files, &classifier).into_vec();
-    let sparse = hash_map_baseline(&files);
+    let dense = ours(files, classifier).into_vec();
+    let sparse = hash_map_baseline(files);
     let agree = sparse.iter().all(|(&color, &n)| dense[color as usize] == n)
         && sparse.values().map(|&n| u64::from(n)).sum::<u64>()
             == dense.iter().map(|&c| u64::from(c)).sum::<u64>();
-
     let kernel = ufcsr::Kernel::selected().name();
     println!("{} object tiles, {:.1} Mpixel, {} threads, {kernel} kernels", files.len(), megapixels, threads);
     println!("  decode only (ceiling)      {:8.1} Mpixel/s", megapixels / decode);
@@ -354,9 +389,7 @@ fn main() {
     println!("  decode only, per thread      {:5.2} ns/pixel", decode * threads as f64 * 1e9 / pixels as f64);
     println!("  ratio ufcsr / hash map      {:6.1}x", baseline / count);
     println!("  counts identical to the hash map: {agree}");
-    let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-    one_thread.install(|| kernels_alone(&files, &classifier));
-    assert!(agree, "dense and hash-map counts differ");
+    agree
 }
 
 fn pixels_of(path: &Path) -> u64 {

@@ -38,7 +38,7 @@ pub use inspect::{
     triangle_quality, views_from_results, write_views_gpu,
 };
 pub use render::{
-    Backend, Gpu, Palette, PixelRect, RenderSetup, Renderer, TileDraw, Vertex, vehicle_vertices,
+    Backend, Gpu, GpuPalette, PixelRect, RenderSetup, Renderer, TileDraw, Vertex, vehicle_vertices,
 };
 pub use scene::{
     ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, Axes, DemoTraffic, Eye, EyeCamera, FollowOffset, FrameState, Key,
@@ -53,8 +53,8 @@ pub use study::observers::{
 };
 pub use study::{Study, StudyMeasure, StudyOptions, StudyRow, run_study, write_study};
 pub use texture::{
-    ExternalPalette, OwnLabels, PaintedPidt, UNLABELLED_COLOR, Unwrapped, background_texel, footprint,
-    keep_uvs, paint_pidt, parse_palette_size, unwrap_islands, unwrap_islands_avoiding,
+    OwnLabelFiles, PidtImage, UNLABELLED_COLOR, Unwrapped, background_texel, footprint, keep_uvs, paint_pidt,
+    parse_palette_size, unwrap_islands, unwrap_islands_avoiding,
 };
 pub use unobstructed::{
     DEFAULT_PATCH_SPACING_M, DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE,

@@ -20,7 +20,7 @@ use serde_json::{Map, Value, json};
 
 use crate::color::Color;
 use crate::error::{Error, Result};
-use crate::input::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteChoice, PaletteSpec, TileEntry};
+use crate::input::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteChoice, PaletteRecord, TileEntry};
 
 pub use metadata::{FrameTime, parse_fov};
 pub use names::{DEFAULT_PATTERN, NamePattern};
@@ -86,9 +86,9 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
     let pidt = options.pidt.as_deref().map(|p| inside(p, "--pidt")).transpose()?;
     let legend = options.legend.as_deref().map(|p| inside(p, "--legend")).transpose()?;
     let palette = match &options.palette {
-        Some(PaletteChoice::Image(path)) => Some(PaletteSpec::File(inside(path, "--fcsp")?)),
+        Some(PaletteChoice::Image(path)) => Some(PaletteRecord::File(inside(path, "--fcsp")?)),
         Some(PaletteChoice::Canonical { width, height }) => {
-            Some(PaletteSpec::Canonical { canonical: [*width, *height] })
+            Some(PaletteRecord::Canonical { canonical: [*width, *height] })
         }
         None => None,
     };

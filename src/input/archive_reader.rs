@@ -238,7 +238,7 @@ fn textures_named_by_manifests(root: &Path) -> Vec<PathBuf> {
         // An unreadable manifest names nothing; the frames are still counted.
         let Ok(Some(manifest)) = Manifest::load_from_dir(folder) else { continue };
         named.extend(manifest.pidt.iter().map(|p| folder.join(p)));
-        if let Some(crate::input::manifest::PaletteSpec::File(file)) = &manifest.palette {
+        if let Some(crate::input::manifest::PaletteRecord::File(file)) = &manifest.palette {
             named.push(folder.join(file));
         }
     }

@@ -132,7 +132,8 @@ fn parse_csv_legend(path: &Path, text: &str) -> Result<Vec<Part>> {
 /// Marker for texels whose PIdT colour is in no legend entry.
 pub const UNLABELLED: u16 = u16::MAX;
 
-/// The PIdT resolved against a legend: a part number per texel.
+/// The PIdT resolved against a legend: a part number per texel (the
+/// capture holds the same texture as the image it writes, `PidtImage`).
 pub struct Pidt {
     pub width: u32,
     pub height: u32,

@@ -30,7 +30,7 @@ pub struct Manifest {
     pub schema: Option<String>,
     /// The palette the vehicle was rendered with.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub palette: Option<PaletteSpec>,
+    pub palette: Option<PaletteRecord>,
     /// The Part Identification Texture (relative path).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pidt: Option<PathBuf>,
@@ -47,10 +47,12 @@ pub struct Manifest {
     pub extra: Map<String, Value>,
 }
 
-/// Which palette a capture used.
+/// Which palette a capture used, as `manifest.json` records it (the
+/// palette itself, loaded, is [`crate::Fcsp`]; what an analysis is asked
+/// for is [`crate::PaletteChoice`]).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(untagged)]
-pub enum PaletteSpec {
+pub enum PaletteRecord {
     /// The canonical palette of the given `[width, height]`.
     Canonical { canonical: [u32; 2] },
     /// A palette image, relative to the archive folder.
@@ -118,6 +120,13 @@ impl Manifest {
 
     /// Rejects manifests that would make the analysis ambiguous.
     fn check(&self, path: &Path) -> Result<()> {
+        self.check_schema(path)?;
+        self.check_eyes(path)?;
+        self.check_tile_places(path)
+    }
+
+    /// A schema this version reads (or none).
+    fn check_schema(&self, path: &Path) -> Result<()> {
         if let Some(schema) = &self.schema
             && schema != MANIFEST_SCHEMA
         {
@@ -128,7 +137,11 @@ impl Manifest {
             };
             return Err(Error::bad_file(path, format!("schema {schema:?}: {hint}")));
         }
-        // Two eyes: numbered 0 and 1, or two names (left/right, L/R...).
+        Ok(())
+    }
+
+    /// Two eyes: numbered 0 and 1, or two names (left/right, L/R...).
+    fn check_eyes(&self, path: &Path) -> Result<()> {
         let mut eyes = BTreeSet::new();
         for (number, tile) in self.tiles.iter().enumerate() {
             let numeric = !tile.eye.is_empty()
@@ -154,6 +167,13 @@ impl Manifest {
                 ));
             }
         }
+        Ok(())
+    }
+
+    /// Every tile has a file or is marked empty (not both), no place
+    /// (frame, eye, row, col) or file is listed twice, and files stay inside
+    /// the archive folder.
+    fn check_tile_places(&self, path: &Path) -> Result<()> {
         let mut positions = BTreeSet::new();
         let mut files = BTreeSet::new();
         for (number, tile) in self.tiles.iter().enumerate() {
@@ -177,24 +197,31 @@ impl Manifest {
                 return Err(Error::bad_file(path, format!("{place} is listed twice")));
             }
             if let Some(file) = &tile.file {
-                if file.is_absolute()
-                    || file.components().any(|c| matches!(c, std::path::Component::ParentDir))
-                {
-                    return Err(Error::bad_file(
-                        path,
-                        format!("{place}: file {} must be a path inside the archive folder", file.display()),
-                    ));
-                }
-                // `./tiles/./x.png` is `tiles/x.png` (links are resolved by the archive reader).
-                let lexical: std::path::PathBuf =
-                    file.components().filter(|c| !matches!(c, std::path::Component::CurDir)).collect();
-                if !files.insert(lexical) {
-                    return Err(Error::bad_file(
-                        path,
-                        format!("{place}: file {} is listed twice", file.display()),
-                    ));
-                }
+                Self::check_tile_file(path, &place, file, &mut files)?;
             }
+        }
+        Ok(())
+    }
+
+    /// A tile's file is a relative path inside the archive folder, listed once
+    /// (`./tiles/./x.png` is `tiles/x.png`; links are resolved by the archive
+    /// reader). `place` names the tile in messages.
+    fn check_tile_file(
+        path: &Path,
+        place: &str,
+        file: &Path,
+        files: &mut BTreeSet<std::path::PathBuf>,
+    ) -> Result<()> {
+        if file.is_absolute() || file.components().any(|c| matches!(c, std::path::Component::ParentDir)) {
+            return Err(Error::bad_file(
+                path,
+                format!("{place}: file {} must be a path inside the archive folder", file.display()),
+            ));
+        }
+        let lexical: std::path::PathBuf =
+            file.components().filter(|c| !matches!(c, std::path::Component::CurDir)).collect();
+        if !files.insert(lexical) {
+            return Err(Error::bad_file(path, format!("{place}: file {} is listed twice", file.display())));
         }
         Ok(())
     }
@@ -229,7 +256,7 @@ mod tests {
     #[test]
     fn parses_example_and_keeps_extra_fields() {
         let manifest = Manifest::parse(Path::new("m.json"), EXAMPLE.as_bytes()).unwrap();
-        assert_eq!(manifest.palette, Some(PaletteSpec::Canonical { canonical: [64, 64] }));
+        assert_eq!(manifest.palette, Some(PaletteRecord::Canonical { canonical: [64, 64] }));
         assert_eq!(manifest.tiles[1].eye, "1");
         assert!(manifest.tiles[1].empty);
         assert!(manifest.extra.contains_key("rig"));

@@ -23,11 +23,11 @@ pub mod solid_angle;
 pub use archive_reader::{Archive, ImageSource};
 pub use capture_facts::CaptureGeometry;
 pub use labels::{Legend, Part, Pidt, UNLABELLED};
-pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
+pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry};
 pub use options::{
     AnalyzeOptions, Dedupe, HeatmapOptions, MEASURE_PIXELS, PaletteChoice, Progress, Scale, Timings, TrimMode,
 };
-pub use palette::{Fcsp, PaletteDescription, parse_size as parse_palette_size, write_canonical_png};
+pub use palette::{Fcsp, PaletteSetting, parse_size as parse_palette_size, write_canonical_png};
 pub use png_rows::{PixelLayout, RowReader, read_color_image, read_file};
 pub use png_zlib::verify_image_data;
 pub use shard::Shard;

@@ -17,7 +17,12 @@ use crate::input::png_rows::read_color_image;
 /// Default canonical palette side (4096 × 4096 = 2^24 texels).
 pub const DEFAULT_PALETTE_SIDE: u32 = 4096;
 
-/// A palette: the mapping between texels and the colours that name them.
+/// A palette, loaded: the mapping between texels and the colours that name
+/// them. The one palette type of both crates: the analyzer counts with it,
+/// the capture renders with it (`GpuPalette::of` there), and its relatives
+/// say what they are — [`crate::PaletteChoice`] the palette an analysis is
+/// asked for, [`crate::PaletteRecord`] the one `manifest.json` names,
+/// [`PaletteSetting`] the one `result.json`'s settings name.
 pub enum Fcsp {
     /// `colour == texel index`, for a W×H texture.
     Canonical { width: u32, height: u32 },
@@ -25,9 +30,10 @@ pub enum Fcsp {
     Image { width: u32, height: u32, path: PathBuf, colors: Vec<u32>, members: ColorSet },
 }
 
-/// How a palette is described in `result.json`.
+/// The palette as `result.json`'s `settings.palette` records it
+/// ([`Fcsp::describe`]).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, serde::Deserialize)]
-pub struct PaletteDescription {
+pub struct PaletteSetting {
     /// `"canonical"` or `"image"`.
     pub kind: String,
     pub width: u32,
@@ -133,13 +139,37 @@ impl Fcsp {
         }
     }
 
-    /// The description stored in results.
-    pub fn describe(&self) -> PaletteDescription {
+    /// The texel that `color` names, if any (`y * width + x`). A palette
+    /// image is searched texel by texel: for one colour, not per pixel.
+    pub fn texel_of(&self, color: u32) -> Option<usize> {
+        match self {
+            Fcsp::Canonical { .. } => self.contains(color).then_some(color as usize),
+            Fcsp::Image { colors, .. } => colors.iter().position(|&c| c == color),
+        }
+    }
+
+    /// Every texel's colour as RGB bytes, row 0 at the top: the palette as an
+    /// image (2^24 texels at the canonical default, so rows in parallel).
+    pub fn texel_rgb(&self) -> Vec<u8> {
+        use rayon::prelude::*;
+        let row_bytes = self.width() as usize * 3;
+        let mut rgb = vec![0u8; row_bytes * self.height() as usize];
+        rgb.par_chunks_mut(row_bytes).enumerate().for_each(|(y, row)| {
+            for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
+                let texel = y * self.width() as usize + x;
+                pixel.copy_from_slice(&Color::from_packed(self.color_of(texel)).rgb());
+            }
+        });
+        rgb
+    }
+
+    /// The setting stored in results.
+    pub fn describe(&self) -> PaletteSetting {
         match self {
             Fcsp::Canonical { width, height } => {
-                PaletteDescription { kind: "canonical".into(), width: *width, height: *height, file: None }
+                PaletteSetting { kind: "canonical".into(), width: *width, height: *height, file: None }
             }
-            Fcsp::Image { width, height, path, .. } => PaletteDescription {
+            Fcsp::Image { width, height, path, .. } => PaletteSetting {
                 kind: "image".into(),
                 width: *width,
                 height: *height,
@@ -152,15 +182,7 @@ impl Fcsp {
 /// Writes the canonical W×H palette as an 8-bit RGB PNG, for putting on a
 /// mesh in Unity or Blender (texel `(x, y)` has colour `y * W + x`).
 pub fn write_canonical_png(path: &Path, width: u32, height: u32) -> Result<()> {
-    use rayon::prelude::*;
-    Fcsp::canonical(width, height)?;
-    let row_bytes = width as usize * 3;
-    let mut rgb = vec![0u8; row_bytes * height as usize];
-    rgb.par_chunks_mut(row_bytes).enumerate().for_each(|(y, row)| {
-        for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
-            pixel.copy_from_slice(&Color::from_packed((y * width as usize + x) as u32).rgb());
-        }
-    });
+    let rgb = Fcsp::canonical(width, height)?.texel_rgb();
     crate::files::write_rgb_png(path, width, height, &rgb, png::Compression::Fast)
 }
 

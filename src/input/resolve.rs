@@ -10,7 +10,7 @@ use crate::input::archive_reader::Archive;
 use crate::input::capture_facts::{CaptureGeometry, EyeFrame, EyeOptics, FrameClock, eye_frames};
 use crate::input::identity::archive_identity;
 use crate::input::labels::{Legend, Pidt};
-use crate::input::manifest::{Manifest, PaletteSpec};
+use crate::input::manifest::{Manifest, PaletteRecord};
 use crate::input::options::{AnalyzeOptions, Dedupe, PaletteChoice};
 use crate::input::palette::{DEFAULT_PALETTE_SIDE, Fcsp};
 
@@ -56,7 +56,8 @@ pub(crate) fn resolve_inputs(options: &AnalyzeOptions) -> Result<Inputs> {
     resolve_inputs_allowing_no_images(options, false)
 }
 
-#[allow(clippy::too_many_lines)] // issue 16: still to split below 80 lines
+/// [`resolve_inputs`], where an archive without images is not an error when
+/// `allow_no_images` (counts measured another way, [`crate::analyze_texel_counts`]).
 pub(crate) fn resolve_inputs_allowing_no_images(
     options: &AnalyzeOptions,
     allow_no_images: bool,
@@ -66,156 +67,29 @@ pub(crate) fn resolve_inputs_allowing_no_images(
         return Err(Error::bad_file(root, "not a folder (expected an archive folder of PNG tiles)"));
     }
     let manifest = if options.ignore_manifest { None } else { Manifest::load_from_dir(root)? };
-    let from_manifest = |path: &Option<PathBuf>| path.as_ref().map(|p| root.join(p));
-
-    let palette_choice = match (&options.palette, manifest.as_ref().and_then(|m| m.palette.as_ref())) {
-        (Some(choice), _) => choice.clone(),
-        (None, Some(PaletteSpec::Canonical { canonical: [width, height] })) => {
-            PaletteChoice::Canonical { width: *width, height: *height }
-        }
-        (None, Some(PaletteSpec::File(file))) => PaletteChoice::Image(root.join(file)),
-        (None, None) => {
-            PaletteChoice::Canonical { width: DEFAULT_PALETTE_SIDE, height: DEFAULT_PALETTE_SIDE }
-        }
-    };
+    let palette_choice = palette_choice(options, manifest.as_ref());
     let palette = match &palette_choice {
         PaletteChoice::Canonical { width, height } => Fcsp::canonical(*width, *height)?,
         PaletteChoice::Image(path) => Fcsp::from_png(path)?,
     };
-
     let backgrounds = options
         .background
         .clone()
         .or_else(|| manifest.as_ref().and_then(|m| m.background.clone()))
         .unwrap_or_else(|| vec![Color::DEFAULT_BACKGROUND]);
-
-    let pidt_path = options.pidt.clone().or_else(|| manifest.as_ref().and_then(|m| from_manifest(&m.pidt)));
-    let legend_path =
-        options.legend.clone().or_else(|| manifest.as_ref().and_then(|m| from_manifest(&m.parts)));
-    let parts = match (pidt_path, legend_path) {
-        (Some(pidt_path), Some(legend_path)) => {
-            let legend = Legend::load(&legend_path)?;
-            let pidt = Pidt::load(&pidt_path, &legend, palette.width(), palette.height())?;
-            Some(LabelFiles { legend_path, legend, pidt_path, pidt })
-        }
-        (Some(pidt_path), None) => {
-            return Err(Error::BadOptions(format!(
-                "the PIdT {} needs its legend: add --parts parts.csv",
-                pidt_path.display()
-            )));
-        }
-        (None, Some(legend_path)) => {
-            return Err(Error::BadOptions(format!(
-                "the legend {} needs its PIdT: add --pidt pidt.png",
-                legend_path.display()
-            )));
-        }
-        (None, None) => None,
-    };
-
-    let archive = match &manifest {
-        Some(manifest) => Archive::from_manifest(root, manifest)?,
-        None => {
-            let mut exclude = options.exclude.clone();
-            exclude.extend(options.pidt.iter().cloned());
-            if let PaletteChoice::Image(path) = &palette_choice {
-                exclude.push(path.clone());
-            }
-            Archive::scan_folder(root, &exclude, [palette.width(), palette.height()])?
-        }
-    };
+    let parts = load_labels(options, manifest.as_ref(), &palette)?;
+    let archive = read_archive(options, manifest.as_ref(), &palette_choice, &palette)?;
     if archive.found() == 0 && !allow_no_images {
         return Err(Error::NoImages { path: root.to_path_buf() });
     }
-    if options.dedupe.per_frame() && archive.frame_groups == 0 {
-        return Err(Error::BadOptions(format!(
-            "--dedupe {} needs {}/manifest.json to know which tiles form one eye-frame",
-            options.dedupe.name(),
-            root.display()
-        )));
-    }
-    if options.dedupe == Dedupe::EyePair && options.shard.is_some() {
-        // Shards hold whole eye-frames, and the two eyes of a frame may fall
-        // in different shards, where a texel would count once in each.
-        return Err(Error::BadOptions(
-            "--dedupe eye-pair cannot be sharded yet (a frame's two eyes may fall in different shards)"
-                .into(),
-        ));
-    }
-    let tiles_written = manifest
-        .as_ref()
-        .and_then(|m| m.extra.get("capture"))
-        .and_then(|capture| capture.get("tiles_written"))
-        .and_then(serde_json::Value::as_bool)
-        .unwrap_or(true);
-    let geometry = manifest.as_ref().map(CaptureGeometry::from_manifest).unwrap_or_default();
-    let eye_frames = manifest.as_ref().map(eye_frames).unwrap_or_default();
-    let clock = manifest.as_ref().map(FrameClock::from_manifest).unwrap_or_default();
-    let optics = manifest.as_ref().and_then(EyeOptics::from_manifest);
+    check_dedupe(options, &archive)?;
     let palette_file = match palette_choice {
         PaletteChoice::Image(path) => Some(path),
         PaletteChoice::Canonical { .. } => None,
     };
     let mut warnings = capture_warnings(manifest.as_ref());
-    if !archive.skipped.is_empty() {
-        warnings.push(format!(
-            "{} PNGs in {} {SKIPPED_FILES_WARNING}: palette- or PIdT-sized textures, or the palette/PIdT a \
-             manifest below names ({}{}); without a manifest every other PNG is counted",
-            archive.skipped.len(),
-            root.display(),
-            archive.skipped.iter().take(5).cloned().collect::<Vec<_>>().join(", "),
-            if archive.skipped.len() > 5 { ", …" } else { "" }
-        ));
-    }
-    if !archive.result_folders.is_empty() {
-        warnings.push(format!(
-            "{} folders in {} ({} PNGs) {SKIPPED_FILES_WARNING}: they hold an earlier run's results (a \
-             result.json) or are a staging folder ({}{})",
-            archive.result_folders.len(),
-            root.display(),
-            archive.result_folder_pngs,
-            archive.result_folders.iter().take(5).cloned().collect::<Vec<_>>().join(", "),
-            if archive.result_folders.len() > 5 { ", …" } else { "" }
-        ));
-    }
-    if !archive.aliases.is_empty() {
-        warnings.push(format!(
-            "{} PNGs in {} {SKIPPED_FILES_WARNING}: they are files already counted, reached again through a \
-             folder link ({}{})",
-            archive.aliases.len(),
-            root.display(),
-            archive.aliases.iter().take(5).cloned().collect::<Vec<_>>().join(", "),
-            if archive.aliases.len() > 5 { ", …" } else { "" }
-        ));
-    }
-    let vehicle_model = match &options.mesh {
-        // Asked for: missing is an error now, not after counting.
-        Some(mesh) => {
-            crate::files::open_regular(mesh)?;
-            Some(mesh.clone())
-        }
-        // Named by the manifest: only the pictures need it, so counting goes on without.
-        None => manifest
-            .as_ref()
-            .and_then(|m| m.extra.get("vehicle")?.as_str())
-            .map(|file| root.join(file))
-            .and_then(|path| match crate::files::open_regular(&path) {
-                Ok(_) => Some(path),
-                Err(Error::Io { cause, .. }) if cause.kind() == std::io::ErrorKind::NotFound => {
-                    warnings.push(format!(
-                        "{}: {MISSING_VEHICLE_WARNING} (give the mesh with --mesh)",
-                        path.display()
-                    ));
-                    None
-                }
-                // Say what it is (a FIFO, a folder, ...), not that it is missing.
-                Err(error) => {
-                    warnings
-                        .push(format!("{error}: {UNREADABLE_VEHICLE_WARNING} (give the mesh with --mesh)"));
-                    None
-                }
-            }),
-    };
+    warnings.extend(left_out_file_warnings(&archive, root));
+    let vehicle_model = vehicle_model(options, manifest.as_ref(), &mut warnings)?;
     let mut files: Vec<&std::path::Path> = palette_file.iter().map(PathBuf::as_path).collect();
     if let Some(labels) = &parts {
         files.extend([labels.pidt_path.as_path(), labels.legend_path.as_path()]);
@@ -229,15 +103,180 @@ pub(crate) fn resolve_inputs_allowing_no_images(
         parts,
         archive,
         dedupe: options.dedupe,
-        tiles_written,
-        geometry,
+        tiles_written: tiles_written(manifest.as_ref()),
+        geometry: manifest.as_ref().map(CaptureGeometry::from_manifest).unwrap_or_default(),
         palette_file,
         vehicle_model,
         warnings,
-        eye_frames,
-        clock,
-        optics,
+        eye_frames: manifest.as_ref().map(eye_frames).unwrap_or_default(),
+        clock: manifest.as_ref().map(FrameClock::from_manifest).unwrap_or_default(),
+        optics: manifest.as_ref().and_then(EyeOptics::from_manifest),
     })
+}
+
+/// The palette asked for: the option, else the manifest's, else the
+/// canonical palette of the default size.
+fn palette_choice(options: &AnalyzeOptions, manifest: Option<&Manifest>) -> PaletteChoice {
+    match (&options.palette, manifest.and_then(|m| m.palette.as_ref())) {
+        (Some(choice), _) => choice.clone(),
+        (None, Some(PaletteRecord::Canonical { canonical: [width, height] })) => {
+            PaletteChoice::Canonical { width: *width, height: *height }
+        }
+        (None, Some(PaletteRecord::File(file))) => PaletteChoice::Image(options.archive.join(file)),
+        (None, None) => {
+            PaletteChoice::Canonical { width: DEFAULT_PALETTE_SIDE, height: DEFAULT_PALETTE_SIDE }
+        }
+    }
+}
+
+/// The legend and PIdT (options first, then the manifest's), loaded against
+/// the palette's size; one without the other is an error.
+fn load_labels(
+    options: &AnalyzeOptions,
+    manifest: Option<&Manifest>,
+    palette: &Fcsp,
+) -> Result<Option<LabelFiles>> {
+    let from_manifest = |path: &Option<PathBuf>| path.as_ref().map(|p| options.archive.join(p));
+    let pidt_path = options.pidt.clone().or_else(|| manifest.and_then(|m| from_manifest(&m.pidt)));
+    let legend_path = options.legend.clone().or_else(|| manifest.and_then(|m| from_manifest(&m.parts)));
+    match (pidt_path, legend_path) {
+        (Some(pidt_path), Some(legend_path)) => {
+            let legend = Legend::load(&legend_path)?;
+            let pidt = Pidt::load(&pidt_path, &legend, palette.width(), palette.height())?;
+            Ok(Some(LabelFiles { legend_path, legend, pidt_path, pidt }))
+        }
+        (Some(pidt_path), None) => Err(Error::BadOptions(format!(
+            "the PIdT {} needs its legend: add --parts parts.csv",
+            pidt_path.display()
+        ))),
+        (None, Some(legend_path)) => Err(Error::BadOptions(format!(
+            "the legend {} needs its PIdT: add --pidt pidt.png",
+            legend_path.display()
+        ))),
+        (None, None) => Ok(None),
+    }
+}
+
+/// The archive's images: those the manifest lists, or without one every PNG
+/// in the folder except the outputs, the PIdT and the palette image.
+fn read_archive(
+    options: &AnalyzeOptions,
+    manifest: Option<&Manifest>,
+    palette_choice: &PaletteChoice,
+    palette: &Fcsp,
+) -> Result<Archive> {
+    let root = &options.archive;
+    match manifest {
+        Some(manifest) => Archive::from_manifest(root, manifest),
+        None => {
+            let mut exclude = options.exclude.clone();
+            exclude.extend(options.pidt.iter().cloned());
+            if let PaletteChoice::Image(path) = palette_choice {
+                exclude.push(path.clone());
+            }
+            Archive::scan_folder(root, &exclude, [palette.width(), palette.height()])
+        }
+    }
+}
+
+/// Refuses a per-frame dedupe rule the archive cannot follow.
+fn check_dedupe(options: &AnalyzeOptions, archive: &Archive) -> Result<()> {
+    if options.dedupe.per_frame() && archive.frame_groups == 0 {
+        return Err(Error::BadOptions(format!(
+            "--dedupe {} needs {}/manifest.json to know which tiles form one eye-frame",
+            options.dedupe.name(),
+            options.archive.display()
+        )));
+    }
+    if options.dedupe == Dedupe::EyePair && options.shard.is_some() {
+        // Shards hold whole eye-frames, and the two eyes of a frame may fall
+        // in different shards, where a texel would count once in each.
+        return Err(Error::BadOptions(
+            "--dedupe eye-pair cannot be sharded yet (a frame's two eyes may fall in different shards)"
+                .into(),
+        ));
+    }
+    Ok(())
+}
+
+/// False for a capture counted while rendering (`--count`), whose manifest
+/// says its tiles were never written.
+fn tiles_written(manifest: Option<&Manifest>) -> bool {
+    manifest
+        .and_then(|m| m.extra.get("capture"))
+        .and_then(|capture| capture.get("tiles_written"))
+        .and_then(serde_json::Value::as_bool)
+        .unwrap_or(true)
+}
+
+/// The first five names, comma-separated, with "…" when there are more.
+fn first_five(names: &[String]) -> String {
+    let listed = names.iter().take(5).cloned().collect::<Vec<_>>().join(", ");
+    if names.len() > 5 { format!("{listed}, …") } else { listed }
+}
+
+/// One warning per kind of PNG the archive reader left out: textures,
+/// earlier results or staging folders, and files reached twice through links.
+fn left_out_file_warnings(archive: &Archive, root: &std::path::Path) -> Vec<String> {
+    let mut warnings = Vec::new();
+    if !archive.skipped.is_empty() {
+        warnings.push(format!(
+            "{} PNGs in {} {SKIPPED_FILES_WARNING}: palette- or PIdT-sized textures, or the palette/PIdT a \
+             manifest below names ({}); without a manifest every other PNG is counted",
+            archive.skipped.len(),
+            root.display(),
+            first_five(&archive.skipped)
+        ));
+    }
+    if !archive.result_folders.is_empty() {
+        warnings.push(format!(
+            "{} folders in {} ({} PNGs) {SKIPPED_FILES_WARNING}: they hold an earlier run's results (a \
+             result.json) or are a staging folder ({})",
+            archive.result_folders.len(),
+            root.display(),
+            archive.result_folder_pngs,
+            first_five(&archive.result_folders)
+        ));
+    }
+    if !archive.aliases.is_empty() {
+        warnings.push(format!(
+            "{} PNGs in {} {SKIPPED_FILES_WARNING}: they are files already counted, reached again through a \
+             folder link ({})",
+            archive.aliases.len(),
+            root.display(),
+            first_five(&archive.aliases)
+        ));
+    }
+    warnings
+}
+
+/// The vehicle model: `--mesh` (missing is an error now, not after
+/// counting), else the manifest's `vehicle` (only the pictures need it, so a
+/// missing or unreadable one is a warning and counting goes on without).
+fn vehicle_model(
+    options: &AnalyzeOptions,
+    manifest: Option<&Manifest>,
+    warnings: &mut Vec<String>,
+) -> Result<Option<PathBuf>> {
+    if let Some(mesh) = &options.mesh {
+        crate::files::open_regular(mesh)?;
+        return Ok(Some(mesh.clone()));
+    }
+    let named =
+        manifest.and_then(|m| m.extra.get("vehicle")?.as_str()).map(|file| options.archive.join(file));
+    Ok(named.and_then(|path| match crate::files::open_regular(&path) {
+        Ok(_) => Some(path),
+        Err(Error::Io { cause, .. }) if cause.kind() == std::io::ErrorKind::NotFound => {
+            warnings
+                .push(format!("{}: {MISSING_VEHICLE_WARNING} (give the mesh with --mesh)", path.display()));
+            None
+        }
+        // Say what it is (a FIFO, a folder, ...), not that it is missing.
+        Err(error) => {
+            warnings.push(format!("{error}: {UNREADABLE_VEHICLE_WARNING} (give the mesh with --mesh)"));
+            None
+        }
+    }))
 }
 
 /// Warnings about the inputs (found while resolving them, the same for every

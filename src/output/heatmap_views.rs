@@ -6,7 +6,8 @@
 //! surface point maps to (nearest, through the vehicle's palette UVs) on the
 //! heatmap's plasma scale; texels never seen are grey, so they are told
 //! apart from the darkest colour, and everything off the vehicle is white.
-//! A small CPU rasterizer with a z-buffer: the analyzer needs no GPU, so
+//! Drawn with the CPU rasterizer ([`crate::output::raster`], which
+//! inspect's pictures share): the analyzer needs no GPU, so
 //! views render wherever analyses run (and in CI). The cameras are public
 //! ([`view_cameras`]) and [`write_views_with`] takes any renderer of them:
 //! `ufcsr-capture views` draws the same views with the capture's wgpu
@@ -20,6 +21,7 @@
 use std::path::{Path, PathBuf};
 
 use crate::error::Result;
+use crate::output::raster::ZBuffer;
 use crate::output::vehicle_model::VehicleModel;
 use crate::{
     input::options::HeatmapOptions,
@@ -199,53 +201,19 @@ pub fn views_caption(measure: &str, archive: &str) -> String {
 pub fn render_view(model: &VehicleModel, texture: &ViewTexture, camera: &ViewCamera) -> Vec<u8> {
     let [width, height] = camera.size;
     let mut rgb = PAPER.repeat((width * height) as usize);
-    let mut depth = vec![f64::INFINITY; (width * height) as usize];
+    let mut buffer = ZBuffer::new(width, height);
     let max = texture.max();
     for part in &model.parts {
         for (corners, uvs) in part.positions.chunks_exact(3).zip(part.uvs.chunks_exact(3)) {
             let projected =
                 [camera.to_picture(corners[0]), camera.to_picture(corners[1]), camera.to_picture(corners[2])];
-            let p = projected.map(|[x, y, _]| (x, y));
-            let area = (p[1].0 - p[0].0) * (p[2].1 - p[0].1) - (p[1].1 - p[0].1) * (p[2].0 - p[0].0);
-            if area.abs() < 1e-12 {
-                continue;
-            }
-            let (x0, x1) = (
-                p.iter().map(|q| q.0).fold(f64::MAX, f64::min),
-                p.iter().map(|q| q.0).fold(f64::MIN, f64::max),
-            );
-            let (y0, y1) = (
-                p.iter().map(|q| q.1).fold(f64::MAX, f64::min),
-                p.iter().map(|q| q.1).fold(f64::MIN, f64::max),
-            );
-            let xs = (x0.floor().max(0.0) as u32)..(x1.ceil().min(f64::from(width)).max(0.0) as u32);
-            let ys = (y0.floor().max(0.0) as u32)..(y1.ceil().min(f64::from(height)).max(0.0) as u32);
-            for y in ys {
-                for x in xs.clone() {
-                    let q = (f64::from(x) + 0.5, f64::from(y) + 0.5);
-                    let edge = |a: (f64, f64), b: (f64, f64)| {
-                        ((b.0 - a.0) * (q.1 - a.1) - (b.1 - a.1) * (q.0 - a.0)) / area
-                    };
-                    let w = [edge(p[1], p[2]), edge(p[2], p[0]), edge(p[0], p[1])];
-                    if w.iter().any(|&w| w < 0.0) {
-                        continue;
-                    }
-                    let z = w[0] * projected[0][2] + w[1] * projected[1][2] + w[2] * projected[2][2];
-                    let i = (y * width + x) as usize;
-                    if z < depth[i] {
-                        depth[i] = z;
-                        let uv = [
-                            w[0] * f64::from(uvs[0][0])
-                                + w[1] * f64::from(uvs[1][0])
-                                + w[2] * f64::from(uvs[2][0]),
-                            w[0] * f64::from(uvs[0][1])
-                                + w[1] * f64::from(uvs[1][1])
-                                + w[2] * f64::from(uvs[2][1]),
-                        ];
-                        rgb[i * 3..i * 3 + 3].copy_from_slice(&texture.color(uv, max));
-                    }
-                }
-            }
+            buffer.triangle(projected, |pixel, w| {
+                let uv = [
+                    w[0] * f64::from(uvs[0][0]) + w[1] * f64::from(uvs[1][0]) + w[2] * f64::from(uvs[2][0]),
+                    w[0] * f64::from(uvs[0][1]) + w[1] * f64::from(uvs[1][1]) + w[2] * f64::from(uvs[2][1]),
+                ];
+                rgb[pixel * 3..pixel * 3 + 3].copy_from_slice(&texture.color(uv, max));
+            });
         }
     }
     rgb

@@ -1,8 +1,9 @@
 //! Stage 4, output: a result for people and other programs — the result
 //! set written atomically into its folder ([`write_results`]), `parts.csv`
 //! and `frames.csv` ([`csv`]), the console table, the heatmap texture, the
-//! vehicle model with it (`heatmap.glb`), the eight views, the plots and the
-//! HTML pages ([`html`]).
+//! vehicle model with it (`heatmap.glb`), the eight views (drawn with the
+//! CPU rasterizer [`raster`], which the capture's inspect pictures share),
+//! the plots and the HTML pages ([`html`]).
 
 pub(crate) mod console_table;
 pub(crate) mod csv;
@@ -12,6 +13,7 @@ pub(crate) mod heatmap_views;
 pub(crate) mod html;
 pub(crate) mod numbers;
 pub(crate) mod plots;
+pub(crate) mod raster;
 pub(crate) mod result_set;
 pub(crate) mod scene_model;
 pub(crate) mod vehicle_model;
@@ -26,6 +28,7 @@ pub use heatmap_views::{
 };
 pub use html::write_comparison;
 pub use plots::font_available as plot_font_available;
+pub use raster::ZBuffer;
 pub use result_set::{default_output_dir, write_results, write_results_with};
 pub use scene_model::{SceneObject, write_scene_glb};
 pub use vehicle_model::{ModelPart, VehicleModel};

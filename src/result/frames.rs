@@ -31,6 +31,54 @@ pub struct FrameTable {
     pub records: Vec<FrameRecord>,
 }
 
+/// One row of a [`FRAMES_FILE`] being read, with its row number (the
+/// header is row 1) for messages.
+struct FramesRow<'a> {
+    path: &'a Path,
+    fields: csv::StringRecord,
+    number: usize,
+}
+
+impl FramesRow<'_> {
+    /// An error naming the file and this row.
+    fn bad(&self, message: String) -> Error {
+        Error::bad_file(self.path, format!("row {}: {message}", self.number))
+    }
+
+    fn field(&self, index: usize) -> &str {
+        self.fields.get(index).unwrap_or_default()
+    }
+
+    /// A number, or `None` for an empty field.
+    fn number(&self, index: usize) -> Result<Option<f64>> {
+        let text = self.field(index);
+        if text.is_empty() {
+            return Ok(None);
+        }
+        text.parse().map(Some).map_err(|_| self.bad(format!("{text:?} is not a number")))
+    }
+
+    fn count(&self, index: usize) -> Result<u64> {
+        self.field(index).parse().map_err(|_| self.bad(format!("{:?} is not a count", self.field(index))))
+    }
+
+    /// The eye-frame the row belongs to, or without time, eye and distance
+    /// the image at the position in the frame column.
+    fn label(&self) -> Result<FrameLabel> {
+        let frame: u64 = self.field(0).parse().map_err(|_| self.bad("no frame number".into()))?;
+        if self.field(2).is_empty() && self.field(1).is_empty() && self.field(3).is_empty() {
+            return Ok(FrameLabel::Image(frame as usize));
+        }
+        let frame = u32::try_from(frame).map_err(|_| self.bad("frame too large".into()))?;
+        Ok(FrameLabel::EyeFrame(EyeFrame {
+            frame,
+            eye: self.field(2).to_string(),
+            time_s: self.number(1)?,
+            distance_m: self.number(3)?,
+        }))
+    }
+}
+
 impl FrameTable {
     /// Reads a [`FRAMES_FILE`] back (for merging shards).
     pub fn read_csv(path: &Path) -> Result<FrameTable> {
@@ -46,73 +94,47 @@ impl FrameTable {
         }
         let mut table = FrameTable::default();
         let mut part = 0;
-        for (line, row) in reader.records().enumerate() {
-            let row = row.map_err(|e| bad(e.to_string()))?;
-            let field = |index: usize| row.get(index).unwrap_or_default();
-            let number = |index: usize| -> Result<Option<f64>> {
-                let text = field(index);
-                if text.is_empty() {
-                    return Ok(None);
-                }
-                text.parse().map(Some).map_err(|_| bad(format!("row {}: {text:?} is not a number", line + 2)))
-            };
-            let count = |index: usize| -> Result<u64> {
-                field(index)
-                    .parse()
-                    .map_err(|_| bad(format!("row {}: {:?} is not a count", line + 2, field(index))))
-            };
-            let frame: u64 =
-                field(0).parse().map_err(|_| bad(format!("row {}: no frame number", line + 2)))?;
-            let label = if field(2).is_empty() && field(1).is_empty() && field(3).is_empty() {
-                FrameLabel::Image(frame as usize)
-            } else {
-                let frame =
-                    u32::try_from(frame).map_err(|_| bad(format!("row {}: frame too large", line + 2)))?;
-                FrameLabel::EyeFrame(EyeFrame {
-                    frame,
-                    eye: field(2).to_string(),
-                    time_s: number(1)?,
-                    distance_m: number(3)?,
-                })
-            };
-            let name = field(4);
-            let fresh = table.records.last().is_none_or(|last: &FrameRecord| last.label != label);
-            if fresh {
-                part = 0;
-                table.records.push(FrameRecord {
-                    label,
-                    pixels: Vec::new(),
-                    texels: Vec::new(),
-                    solid_angle_sr: Some(Vec::new()),
-                });
-            }
-            if table.records.len() == 1 {
-                table.parts.push(name.to_string());
-            } else if table.parts.get(part).map(String::as_str) != Some(name) {
-                return Err(bad(format!(
-                    "row {}: part {name:?} out of the order of the first eye-frame",
-                    line + 2
-                )));
-            }
-            let record = table.records.last_mut().expect("pushed above");
-            record.pixels.push(count(5)?);
-            record.texels.push(count(6)?);
-            match (number(7)?, record.solid_angle_sr.as_mut()) {
-                (Some(sr), Some(solid)) if sr.is_finite() && sr >= 0.0 => solid.push(sr),
-                (Some(sr), Some(_)) => {
-                    return Err(bad(format!("row {}: solid angle {sr} is not a solid angle", line + 2)));
-                }
-                (Some(_), None) => {
-                    return Err(bad(format!("row {}: a solid angle where the eye-frame has none", line + 2)));
-                }
-                (None, _) => record.solid_angle_sr = None,
-            }
-            part += 1;
+        for (line, record) in reader.records().enumerate() {
+            let row = FramesRow { path, fields: record.map_err(|e| bad(e.to_string()))?, number: line + 2 };
+            table.push_row(&row, &mut part)?;
         }
         if table.records.iter().any(|record| record.pixels.len() != table.parts.len()) {
             return Err(bad("an eye-frame lacks some parts' rows".into()));
         }
         Ok(table)
+    }
+
+    /// Adds one row: a new eye-frame when its label differs from the last
+    /// row's, then the `part`-th part's pixels, texels and solid angle (the
+    /// parts in the first eye-frame's order).
+    fn push_row(&mut self, row: &FramesRow, part: &mut usize) -> Result<()> {
+        let label = row.label()?;
+        let name = row.field(4);
+        if self.records.last().is_none_or(|last: &FrameRecord| last.label != label) {
+            *part = 0;
+            self.records.push(FrameRecord {
+                label,
+                pixels: Vec::new(),
+                texels: Vec::new(),
+                solid_angle_sr: Some(Vec::new()),
+            });
+        }
+        if self.records.len() == 1 {
+            self.parts.push(name.to_string());
+        } else if self.parts.get(*part).map(String::as_str) != Some(name) {
+            return Err(row.bad(format!("part {name:?} out of the order of the first eye-frame")));
+        }
+        let record = self.records.last_mut().expect("pushed above");
+        record.pixels.push(row.count(5)?);
+        record.texels.push(row.count(6)?);
+        match (row.number(7)?, record.solid_angle_sr.as_mut()) {
+            (Some(sr), Some(solid)) if sr.is_finite() && sr >= 0.0 => solid.push(sr),
+            (Some(sr), Some(_)) => return Err(row.bad(format!("solid angle {sr} is not a solid angle"))),
+            (Some(_), None) => return Err(row.bad("a solid angle where the eye-frame has none".into())),
+            (None, _) => record.solid_angle_sr = None,
+        }
+        *part += 1;
+        Ok(())
     }
 
     /// The tables of shards that together hold every eye-frame once, as one

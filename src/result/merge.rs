@@ -32,10 +32,79 @@ use crate::{
 const EXAMPLES: usize = crate::result::model::STRAY_EXAMPLES;
 
 /// Merges shard results into one analysis (write it with [`crate::write_results`]).
-#[allow(clippy::too_many_lines)] // issue 16: still to split below 80 lines
 pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
     let first_path =
         paths.first().ok_or_else(|| Error::BadOptions("merge needs at least one result.json".into()))?;
+    let (summaries, texel_counts) = read_and_sum(paths)?;
+    check_agreement(paths, &summaries)?;
+    let first = &summaries[0];
+    let mut settings = first.settings.clone();
+    settings.shard = None;
+    let parts = load_labels(first_path, &settings)?;
+    let all_texels_total: u64 = texel_counts.iter().map(|&c| u64::from(c)).sum();
+    // Warnings about the inputs are the same in every shard; the rest are recomputed.
+    let mut warnings: Vec<String> = first.warnings.iter().filter(|w| is_input_warning(w)).cloned().collect();
+    let (table, unlabelled) = match &parts {
+        Some(labels) => {
+            let (table, unlabelled) = join_with_legend(&texel_counts, labels, &mut warnings);
+            (Some(table), Some(unlabelled))
+        }
+        None => (None, None),
+    };
+    let grand_total = table.as_ref().map_or(all_texels_total, |t| t.grand_total);
+    let dedupe = merged_dedupe(paths, &summaries, grand_total)?;
+    let stray_pixels = checked_sum(paths, &summaries, "stray_pixels", |s| s.stray_pixels)?;
+    let stray_images = summaries.iter().map(|s| s.images_with_stray_pixels.len()).sum::<usize>();
+    warnings.extend(stray_warning(stray_pixels, stray_images));
+    warnings.extend(saturation_warning(&texel_counts));
+    let resolution =
+        ResolutionReport::merged(&summaries.iter().filter_map(|s| s.resolution.as_ref()).collect::<Vec<_>>());
+    if let Some(resolution) = &resolution {
+        warnings.extend(resolution.warnings());
+    }
+    let (images, pixels) = summed_images_and_pixels(paths, &summaries)?;
+    let colour_checks =
+        merged_colour_checks(&summaries, &images, &pixels, &table, &unlabelled, &mut warnings);
+    let mut notes = first.notes.clone();
+    notes.extend(stray_colours_note(&summaries));
+    let sum = |what: &str, field: fn(&AnalysisResult) -> u64| checked_sum(paths, &summaries, what, field);
+    let mut result = AnalysisResult {
+        schema: RESULT_SCHEMA.to_string(),
+        measure: first.measure.clone(),
+        images,
+        texels_seen: texel_counts.iter().filter(|&&c| c > 0).count() as u64,
+        pixels,
+        stray_pixels,
+        stray_colors: sum("stray_colors", |s| s.stray_colors)?,
+        stray_color_examples: stray_colour_examples(&summaries),
+        background_pixels: sum("background_pixels", |s| s.background_pixels)?,
+        grand_total,
+        max_count: texel_counts.iter().copied().max().unwrap_or(0),
+        parts: table.map(|t| t.parts).unwrap_or_default(),
+        unlabelled,
+        dedupe,
+        settings,
+        failures: sorted_by_file(summaries.iter().flat_map(|s| s.failures.iter().cloned()), |f| &f.file),
+        images_with_stray_pixels: sorted_by_file(
+            summaries.iter().flat_map(|s| s.images_with_stray_pixels.iter().cloned()),
+            |s| &s.file,
+        ),
+        warnings,
+        notes,
+        resolution,
+        measures: None,
+        colour_checks,
+    };
+    let frames = merged_frames(paths)?;
+    let vehicle_model = archive_vehicle(&result.settings);
+    result.measures = merged_measures(&summaries, frames.as_ref());
+    let input_files = merge_input_files(paths, parts.as_ref(), vehicle_model.as_ref());
+    Ok(Analysis { result, texel_counts, timings: Timings::default(), input_files, vehicle_model, frames })
+}
+
+/// Every result's summary, and their per-texel counts added (saturating, as
+/// counting does); results of different palette sizes are refused.
+fn read_and_sum(paths: &[PathBuf]) -> Result<(Vec<AnalysisResult>, Vec<u32>)> {
     let mut summaries = Vec::with_capacity(paths.len());
     let mut counts: Option<(Vec<u32>, u32, u32)> = None;
     for path in paths {
@@ -54,54 +123,45 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         }
         summaries.push(summary);
     }
-    let Some((texel_counts, _, _)) = counts else {
-        return Err(Error::bad_file(first_path, "no per-texel counts were read"));
-    };
-    check_agreement(paths, &summaries)?;
-    let first = &summaries[0];
-    let mut settings = first.settings.clone();
-    settings.shard = None;
-
-    let parts = match (&settings.parts, &settings.pidt) {
-        (Some(legend_path), Some(pidt_path)) => {
-            let (legend_path, pidt_path) = (PathBuf::from(legend_path), PathBuf::from(pidt_path));
-            let legend = Legend::load(&legend_path).map_err(|e| named_in(first_path, e))?;
-            let pidt = Pidt::load(&pidt_path, &legend, settings.palette.width, settings.palette.height)
-                .map_err(|e| named_in(first_path, e))?;
-            Some(LabelFiles { legend_path, legend, pidt_path, pidt })
-        }
-        _ => None,
-    };
-    let all_texels_total: u64 = texel_counts.iter().map(|&c| u64::from(c)).sum();
-    // Warnings about the inputs are the same in every shard; the rest are recomputed.
-    let mut warnings: Vec<String> = first.warnings.iter().filter(|w| is_input_warning(w)).cloned().collect();
-    let (table, unlabelled) = match &parts {
-        Some(labels) => {
-            let (table, unlabelled) = join_with_legend(&texel_counts, labels, &mut warnings);
-            (Some(table), Some(unlabelled))
-        }
-        None => (None, None),
-    };
-    let dedupe = match first.dedupe {
-        Some(_) => {
-            let per_image = checked_sum(paths, &summaries, "dedupe.grand_total_per_image", |s| {
-                s.dedupe.as_ref().map_or(0, |d| d.grand_total_per_image)
-            })?;
-            let per_frame = table.as_ref().map_or(all_texels_total, |t| t.grand_total);
-            Some(DedupeReport::new(per_image, per_frame))
-        }
-        None => None,
-    };
-    let stray_pixels = checked_sum(paths, &summaries, "stray_pixels", |s| s.stray_pixels)?;
-    let stray_images = summaries.iter().map(|s| s.images_with_stray_pixels.len()).sum::<usize>();
-    warnings.extend(stray_warning(stray_pixels, stray_images));
-    warnings.extend(saturation_warning(&texel_counts));
-    let resolution =
-        ResolutionReport::merged(&summaries.iter().filter_map(|s| s.resolution.as_ref()).collect::<Vec<_>>());
-    if let Some(resolution) = &resolution {
-        warnings.extend(resolution.warnings());
+    match counts {
+        Some((texel_counts, _, _)) => Ok((summaries, texel_counts)),
+        None => Err(Error::bad_file(&paths[0], "no per-texel counts were read")),
     }
-    let sum = |what: &str, field: fn(&AnalysisResult) -> u64| checked_sum(paths, &summaries, what, field);
+}
+
+/// The legend and PIdT the results name, loaded again (errors name the
+/// first result); none when the results have no labels.
+fn load_labels(first_path: &Path, settings: &crate::result::model::Settings) -> Result<Option<LabelFiles>> {
+    let (Some(legend_path), Some(pidt_path)) = (&settings.parts, &settings.pidt) else { return Ok(None) };
+    let (legend_path, pidt_path) = (PathBuf::from(legend_path), PathBuf::from(pidt_path));
+    let legend = Legend::load(&legend_path).map_err(|e| named_in(first_path, e))?;
+    let pidt = Pidt::load(&pidt_path, &legend, settings.palette.width, settings.palette.height)
+        .map_err(|e| named_in(first_path, e))?;
+    Ok(Some(LabelFiles { legend_path, legend, pidt_path, pidt }))
+}
+
+/// The dedupe report of the whole: the shards' per-image totals added, and
+/// the merged grand total (none when the results were not deduplicated).
+fn merged_dedupe(
+    paths: &[PathBuf],
+    summaries: &[AnalysisResult],
+    grand_total: u64,
+) -> Result<Option<DedupeReport>> {
+    if summaries[0].dedupe.is_none() {
+        return Ok(None);
+    }
+    let per_image = checked_sum(paths, summaries, "dedupe.grand_total_per_image", |s| {
+        s.dedupe.as_ref().map_or(0, |d| d.grand_total_per_image)
+    })?;
+    Ok(Some(DedupeReport::new(per_image, grand_total)))
+}
+
+/// The shards' image and pixel counts added.
+fn summed_images_and_pixels(
+    paths: &[PathBuf],
+    summaries: &[AnalysisResult],
+) -> Result<(ImageCounts, PixelCounts)> {
+    let sum = |what: &str, field: fn(&AnalysisResult) -> u64| checked_sum(paths, summaries, what, field);
     let images = ImageCounts {
         found: sum("images.found", |s| s.images.found)?,
         trimmed: sum("images.trimmed", |s| s.images.trimmed)?,
@@ -116,59 +176,51 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         background: sum("pixels.background", |s| s.pixels.background)?,
         stray: sum("pixels.stray", |s| s.pixels.stray)?,
     };
-    let colour_checks =
-        merged_colour_checks(&summaries, &images, &pixels, &table, &unlabelled, &mut warnings);
-    let mut notes = first.notes.clone();
+    Ok((images, pixels))
+}
+
+/// Why `stray_colors` is an upper bound, when more than one shard saw strays.
+fn stray_colours_note(summaries: &[AnalysisResult]) -> Option<String> {
     let shards_with_strays = summaries.iter().filter(|s| s.stray_colors > 0).count();
-    if shards_with_strays > 1 {
-        notes.push(format!(
+    (shards_with_strays > 1).then(|| {
+        format!(
             "stray_colors adds the distinct stray colours of {shards_with_strays} shards: a colour seen in several \
              counts once per shard, so it is an upper bound"
-        ));
-    }
+        )
+    })
+}
+
+/// The shards' stray colour examples, sorted, without repeats, at most
+/// [`EXAMPLES`].
+fn stray_colour_examples(summaries: &[AnalysisResult]) -> Vec<Color> {
     let mut examples: Vec<Color> =
         summaries.iter().flat_map(|s| s.stray_color_examples.iter().copied()).collect();
     examples.sort_by_key(|c| c.packed());
     examples.dedup();
     examples.truncate(EXAMPLES);
-    let mut failures: Vec<_> = summaries.iter().flat_map(|s| s.failures.iter().cloned()).collect();
-    failures.sort_by(|a, b| a.file.cmp(&b.file));
-    let mut strays: Vec<_> =
-        summaries.iter().flat_map(|s| s.images_with_stray_pixels.iter().cloned()).collect();
-    strays.sort_by(|a, b| a.file.cmp(&b.file));
-    let mut result = AnalysisResult {
-        schema: RESULT_SCHEMA.to_string(),
-        measure: first.measure.clone(),
-        images,
-        texels_seen: texel_counts.iter().filter(|&&c| c > 0).count() as u64,
-        pixels,
-        stray_pixels,
-        stray_colors: sum("stray_colors", |s| s.stray_colors)?,
-        stray_color_examples: examples,
-        background_pixels: sum("background_pixels", |s| s.background_pixels)?,
-        grand_total: table.as_ref().map_or(all_texels_total, |t| t.grand_total),
-        max_count: texel_counts.iter().copied().max().unwrap_or(0),
-        parts: table.map(|t| t.parts).unwrap_or_default(),
-        unlabelled,
-        dedupe,
-        settings,
-        failures,
-        images_with_stray_pixels: strays,
-        warnings,
-        notes,
-        resolution,
-        measures: None,
-        colour_checks,
-    };
-    let frames = merged_frames(paths)?;
-    let vehicle_model = archive_vehicle(&result.settings);
-    result.measures = merged_measures(&summaries, frames.as_ref());
+    examples
+}
+
+/// The shards' entries together, sorted by file (a stable sort, as before).
+fn sorted_by_file<T>(entries: impl Iterator<Item = T>, file: impl Fn(&T) -> &String) -> Vec<T> {
+    let mut entries: Vec<T> = entries.collect();
+    entries.sort_by(|a, b| file(a).cmp(file(b)));
+    entries
+}
+
+/// The files the merge read: the results, their frames.csv, the labels and
+/// the vehicle model (writing the results refuses to overwrite any of them).
+fn merge_input_files(
+    paths: &[PathBuf],
+    labels: Option<&LabelFiles>,
+    vehicle_model: Option<&PathBuf>,
+) -> Vec<PathBuf> {
     let mut input_files = paths.to_vec();
     input_files.extend(paths.iter().map(|p| p.with_file_name(crate::result::frames::FRAMES_FILE)));
     input_files
-        .extend(parts.iter().flat_map(|labels| [labels.legend_path.clone(), labels.pidt_path.clone()]));
-    input_files.extend(vehicle_model.iter().cloned());
-    Ok(Analysis { result, texel_counts, timings: Timings::default(), input_files, vehicle_model, frames })
+        .extend(labels.iter().flat_map(|labels| [labels.legend_path.clone(), labels.pidt_path.clone()]));
+    input_files.extend(vehicle_model.cloned());
+    input_files
 }
 
 /// The colour checks of the shards together: judged again from their summed

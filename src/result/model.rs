@@ -10,7 +10,7 @@ use crate::color::Color;
 use crate::count::trim::EmptyTile;
 use crate::input::options::Scale;
 use crate::input::options::{Dedupe, Timings};
-use crate::input::palette::PaletteDescription;
+use crate::input::palette::PaletteSetting;
 use crate::result::frames::FrameTable;
 use crate::{
     input::labels::Pidt,
@@ -85,7 +85,7 @@ pub struct Settings {
     pub archive: String,
     /// True when the archive's manifest was used.
     pub manifest: bool,
-    pub palette: PaletteDescription,
+    pub palette: PaletteSetting,
     pub background: Vec<Color>,
     pub pidt: Option<String>,
     pub parts: Option<String>,

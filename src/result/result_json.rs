@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{Error, Result};
 use crate::files::write_atomically;
 use crate::input::options::{Scale, Timings};
-use crate::input::palette::PaletteDescription;
+use crate::input::palette::PaletteSetting;
 use crate::result::model::{AnalysisResult, default_measure};
 
 /// Per-texel counts as stored in `result.json`: only seen texels, texel
@@ -124,7 +124,7 @@ struct HeatmapSource {
 #[derive(Deserialize)]
 struct HeatmapSettings {
     archive: String,
-    palette: PaletteDescription,
+    palette: PaletteSetting,
     heatmap_scale: Scale,
     heatmap_max: Option<u32>,
 }

@@ -14,7 +14,7 @@ use std::path::Path;
 use crate::color::Color;
 use crate::error::{Error, Result};
 use crate::files::{write_bytes_atomically, write_rgb_png};
-use crate::input::manifest::{MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
+use crate::input::manifest::{MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry};
 
 /// A small deterministic random generator (SplitMix64): no dependency, same
 /// sequence on every platform.
@@ -222,7 +222,7 @@ pub fn write_archive(dir: &Path, spec: &ArchiveSpec) -> Result<ArchiveSummary> {
     write_parts(dir, spec)?;
     let manifest = Manifest {
         schema: Some(MANIFEST_SCHEMA.to_string()),
-        palette: Some(PaletteSpec::Canonical { canonical: [spec.palette.0, spec.palette.1] }),
+        palette: Some(PaletteRecord::Canonical { canonical: [spec.palette.0, spec.palette.1] }),
         pidt: Some("pidt.png".into()),
         parts: Some("parts.csv".into()),
         background: Some(vec![background]),

@@ -16,6 +16,7 @@ mod doc_links;
 mod external_manifest;
 mod frames;
 mod fuzz_regressions;
+mod golden_example;
 mod indexed_png;
 mod known_answers;
 mod missing_vehicle;

@@ -8,10 +8,11 @@
 //! ([`build_manifest`]). [`verify`] checks a written archive without the
 //! analyzer.
 
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use ufcsr::{Color, Manifest, PaletteSpec};
+use ufcsr::{Color, Fcsp, Manifest, PaletteRecord};
 
 use crate::archive::capture_shard;
 use crate::archive::count_sink::{Counted, count_while};
@@ -22,41 +23,30 @@ use crate::archive::options::{CaptureOptions, Summary, TileTally};
 use crate::archive::tile_sink::TileSink;
 use crate::archive::{SCENE_FILE, VEHICLE_FILE};
 use crate::error::{CaptureError, Result};
-use crate::render::{Palette, RenderSetup, Renderer, vehicle_vertices};
+use crate::render::{GpuPalette, RenderSetup, Renderer, vehicle_vertices};
 use crate::scene::Scene;
 use crate::scene::scenario::Scenario;
-use crate::texture::external_palette::ExternalPalette;
 use crate::texture::pidt::own as own_pidt;
-use crate::texture::pidt::painted::{self as pidt, PaintedPidt};
+use crate::texture::pidt::painted::{self as pidt, PidtImage};
 use crate::texture::uv_islands::{self, Unwrapped};
 
-/// The palette of a capture.
-pub struct LoadedPalette {
-    /// What the renderer gets.
-    pub palette: Palette,
-    /// The external palette, if one was given.
-    pub external: Option<ExternalPalette>,
-    /// The texel holding the background colour (left out of the unwrap).
-    pub background_texel: Option<(u32, u32)>,
+/// Loads the palette the options ask for: the canonical palette of
+/// `options.palette`, or the palette image `options.palette_file` (its
+/// colours checked unique by the analyzer's loader, which names a repeated
+/// colour and both places).
+pub fn load_palette(options: &CaptureOptions) -> Result<Fcsp> {
+    Ok(match &options.palette_file {
+        None => Fcsp::canonical(options.palette[0], options.palette[1])?,
+        Some(path) => Fcsp::from_png(path)?,
+    })
 }
 
-/// Loads the palette the options ask for.
-pub fn load_palette(options: &CaptureOptions) -> Result<LoadedPalette> {
-    match &options.palette_file {
-        None => Ok(LoadedPalette {
-            palette: Palette::Canonical(options.palette),
-            external: None,
-            background_texel: uv_islands::background_texel(options.palette),
-        }),
-        Some(path) => {
-            let external = ExternalPalette::load(path)?;
-            Ok(LoadedPalette {
-                palette: Palette::External { size: external.size, rgba: external.rgba() },
-                background_texel: external.texel_of(Color::DEFAULT_BACKGROUND),
-                external: Some(external),
-            })
-        }
-    }
+/// The texel holding the background colour, if the palette has it (left
+/// out of the unwrap, so no surface is ever drawn in the background colour).
+pub fn palette_background_texel(palette: &Fcsp) -> Option<(u32, u32)> {
+    let width = palette.width() as usize;
+    let texel = palette.texel_of(Color::DEFAULT_BACKGROUND.packed())?;
+    Some(((texel % width) as u32, (texel / width) as u32))
 }
 
 /// The unwrap and PIdT of a vehicle for a palette size, avoiding the texel
@@ -66,7 +56,7 @@ pub fn prepare(
     size: [u32; 2],
     background: Option<(u32, u32)>,
     keep_uvs: bool,
-) -> Result<(Unwrapped, PaintedPidt)> {
+) -> Result<(Unwrapped, PidtImage)> {
     let unwrapped = if keep_uvs {
         uv_islands::keep_uvs_avoiding(&scene.vehicle, size, background)?
     } else {
@@ -80,8 +70,8 @@ pub fn prepare(
 pub struct PreparedCapture {
     pub renderer: Renderer,
     pub unwrapped: Unwrapped,
-    pub pidt: PaintedPidt,
-    pub palette: PaletteSpec,
+    pub pidt: PidtImage,
+    pub palette: PaletteRecord,
     pub palette_size: [u32; 2],
     pub background_texel: Option<(u32, u32)>,
     pub background: Color,
@@ -102,8 +92,9 @@ pub fn prepare_archive(
 ) -> Result<PreparedCapture> {
     let out = &options.out;
     std::fs::create_dir_all(out).map_err(|e| CaptureError::io(out, e))?;
-    let LoadedPalette { palette, external, background_texel } = load_palette(options)?;
-    let palette_size = palette.size();
+    let palette = load_palette(options)?;
+    let palette_size = [palette.width(), palette.height()];
+    let background_texel = palette_background_texel(&palette);
     let (unwrapped, painted) = prepare(scene, palette_size, background_texel, options.keep_uvs)?;
     let (pidt, part_count, warnings) = match &options.own_labels {
         None => {
@@ -117,26 +108,29 @@ pub fn prepare_archive(
         }
     };
     pidt::write_png(&pidt, &out.join("pidt.png"))?;
-    let palette_spec = match &external {
-        None => PaletteSpec::Canonical { canonical: palette_size },
-        Some(external) => {
+    let texel_rgb = palette.texel_rgb();
+    let palette_record = match &palette {
+        Fcsp::Canonical { .. } => PaletteRecord::Canonical { canonical: palette_size },
+        Fcsp::Image { .. } => {
             // The archive carries its palette so that it stands alone.
+            let path = out.join("palette.png");
             ufcsr::write_rgb_png(
-                &out.join("palette.png"),
-                external.size[0],
-                external.size[1],
-                &external.rgb,
+                &path,
+                palette_size[0],
+                palette_size[1],
+                &texel_rgb,
                 png::Compression::Fast,
             )?;
-            PaletteSpec::File(PathBuf::from("palette.png"))
+            PaletteRecord::File(PathBuf::from("palette.png"))
         }
     };
     let vertices = vehicle_vertices(&scene.vehicle, &unwrapped);
     let background = Color::DEFAULT_BACKGROUND;
-    write_models(scene, &vertices, &palette_png(&external, palette_size)?, background, out)?;
+    write_models(scene, &vertices, &palette_png(&texel_rgb, palette_size)?, background, out)?;
+    let gpu_palette = GpuPalette::of(&palette, &texel_rgb);
     let setup = RenderSetup {
         tile_size: scene.rig.tile_pixels(),
-        palette: &palette,
+        palette: &gpu_palette,
         background,
         vehicle: &vertices,
         occluders: &scene.occluders,
@@ -147,7 +141,7 @@ pub fn prepare_archive(
         renderer,
         unwrapped,
         pidt,
-        palette: palette_spec,
+        palette: palette_record,
         palette_size,
         background_texel,
         background,
@@ -179,33 +173,16 @@ fn write_models(
     Ok(())
 }
 
-/// The palette as PNG bytes for `vehicle.glb`: the external palette or the
-/// canonical one (its rows step by one colour, so it compresses to a few
-/// hundred kB even at 4096²).
-fn palette_png(external: &Option<ExternalPalette>, size: [u32; 2]) -> Result<Vec<u8>> {
-    let canonical;
-    let palette = match external {
-        Some(external) => external,
-        None => {
-            // Row by row in parallel: 2^24 texels at the default size.
-            use rayon::prelude::*;
-            let row_bytes = size[0] as usize * 3;
-            let mut rgb = vec![0u8; row_bytes * size[1] as usize];
-            rgb.par_chunks_mut(row_bytes).enumerate().for_each(|(y, row)| {
-                for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
-                    pixel.copy_from_slice(&Color::from_packed((y * size[0] as usize + x) as u32).rgb());
-                }
-            });
-            canonical = ExternalPalette { size, rgb };
-            &canonical
-        }
-    };
+/// The palette's texels `texel_rgb` (of a palette of `size`) as PNG bytes
+/// for `vehicle.glb` (the canonical palette's rows step by one colour, so
+/// it compresses to a few hundred kB even at 4096²).
+fn palette_png(texel_rgb: &[u8], size: [u32; 2]) -> Result<Vec<u8>> {
     let mut bytes = Vec::new();
-    let mut encoder = png::Encoder::new(&mut bytes, palette.size[0], palette.size[1]);
+    let mut encoder = png::Encoder::new(&mut bytes, size[0], size[1]);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
     encoder.set_compression(png::Compression::Fast);
-    let encoded = encoder.write_header().and_then(|mut writer| writer.write_image_data(&palette.rgb));
+    let encoded = encoder.write_header().and_then(|mut writer| writer.write_image_data(texel_rgb));
     encoded.map_err(|e| CaptureError::BadOptions(format!("encoding the palette for vehicle.glb: {e}")))?;
     Ok(bytes)
 }
@@ -413,8 +390,8 @@ pub fn capture_counted(
     // Tiles of an earlier capture would contradict a manifest that says none were written.
     crate::archive::encoder_pool::remove_old_tiles(&options.out.join("tiles"))?;
     let palette = match &prepared.palette {
-        PaletteSpec::Canonical { canonical: [width, height] } => ufcsr::Fcsp::canonical(*width, *height)?,
-        PaletteSpec::File(file) => ufcsr::Fcsp::from_png(&options.out.join(file))?,
+        PaletteRecord::Canonical { canonical: [width, height] } => ufcsr::Fcsp::canonical(*width, *height)?,
+        PaletteRecord::File(file) => ufcsr::Fcsp::from_png(&options.out.join(file))?,
     };
     let setup_seconds = start.elapsed().as_secs_f64();
     let mut counter = ufcsr::TileCounter::new(&palette, &[prepared.background], dedupe)?;
@@ -569,10 +546,13 @@ pub fn verify(dir: &Path) -> Result<(u64, u64)> {
         Manifest::load_from_dir(dir)?.ok_or_else(|| CaptureError::bad_input(dir, "no manifest.json"))?;
     // Colour → texel index: computed for the canonical palette, looked up otherwise.
     let (w, h, lookup) = match &manifest.palette {
-        Some(PaletteSpec::Canonical { canonical: [w, h] }) => (*w, *h, None),
-        Some(PaletteSpec::File(file)) => {
-            let external = ExternalPalette::load(&dir.join(file))?;
-            (external.size[0], external.size[1], Some(external.index()))
+        Some(PaletteRecord::Canonical { canonical: [w, h] }) => (*w, *h, None),
+        Some(PaletteRecord::File(file)) => {
+            let palette = Fcsp::from_png(&dir.join(file))?;
+            let index: HashMap<Color, u32> = (0..palette.texel_count())
+                .map(|t| (Color::from_packed(palette.color_of(t)), t as u32))
+                .collect();
+            (palette.width(), palette.height(), Some(index))
         }
         None => (4096, 4096, None),
     };

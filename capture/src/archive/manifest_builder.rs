@@ -10,7 +10,7 @@
 use std::path::PathBuf;
 
 use serde_json::{Map, Value, json};
-use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteSpec, TileEntry};
+use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry};
 
 use crate::archive::options::{CaptureOptions, TileTally};
 use crate::scene::Scene;
@@ -18,7 +18,7 @@ use crate::scene::frame_state::FrameState;
 use crate::scene::rig::{Eye, Rig, reversed_z_perspective};
 use crate::scene::scenario::Scenario;
 use crate::scene::track::Pose;
-use crate::texture::pidt::PaintedPidt;
+use crate::texture::pidt::PidtImage;
 use crate::texture::uv_islands::{self as unwrap, Unwrapped};
 
 /// The counters in the manifest's `capture` object that add up over the
@@ -32,12 +32,12 @@ pub struct ManifestParts<'a> {
     pub scene: &'a Scene,
     pub scenario: &'a Scenario,
     pub options: &'a CaptureOptions,
-    pub palette: PaletteSpec,
+    pub palette: PaletteRecord,
     pub palette_size: [u32; 2],
     pub background_texel: Option<(u32, u32)>,
     pub background: Color,
     pub unwrapped: &'a Unwrapped,
-    pub pidt: &'a PaintedPidt,
+    pub pidt: &'a PidtImage,
     pub tiles: Vec<TileEntry>,
     pub frame_records: Vec<Value>,
     pub tally: TileTally,

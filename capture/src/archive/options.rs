@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use crate::error::{CaptureError, Result};
-use crate::texture::pidt::own::OwnLabels;
+use crate::texture::pidt::own::OwnLabelFiles;
 
 /// PNG compression of tiles.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -130,7 +130,7 @@ pub struct CaptureOptions {
     pub palette_file: Option<PathBuf>,
     pub keep_uvs: bool,
     /// A PIdT and legend painted for the kept UVs, used as is (see [`crate::texture::pidt::own`]).
-    pub own_labels: Option<OwnLabels>,
+    pub own_labels: Option<OwnLabelFiles>,
     pub frames: FrameSelection,
     pub compression: Compression,
     /// The tiles' PNG row filter.

@@ -10,7 +10,7 @@ use anyhow::Context;
 use clap::{Args, ValueEnum};
 use ufcsr_capture::{
     Backend, CaptureOptions, CaptureProgress, Compression, CountedCapture, DemoTraffic, FrameSelection, Gpu,
-    MeasureDevice, OwnLabels, Scene, Summary, TileFilter, parse_palette_size,
+    MeasureDevice, OwnLabelFiles, Scene, Summary, TileFilter, parse_palette_size,
 };
 
 /// What `--measure` counts instead of rendered pixels.
@@ -217,7 +217,7 @@ fn capture_options(common: &Common) -> anyhow::Result<CaptureOptions> {
         palette_file: common.palette.clone(),
         keep_uvs: common.keep_uvs,
         own_labels: match (common.pidt.clone(), common.parts.clone()) {
-            (Some(pidt), Some(parts)) => Some(OwnLabels { pidt, parts }),
+            (Some(pidt), Some(parts)) => Some(OwnLabelFiles { pidt, parts }),
             _ => None,
         },
         frames: common.frames.parse::<FrameSelection>()?,

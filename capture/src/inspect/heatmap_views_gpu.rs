@@ -16,7 +16,7 @@ use glam::{DMat4, DVec3, DVec4};
 use ufcsr::{Color, VehicleModel, ViewCamera, ViewTexture, WrittenViews};
 
 use crate::error::{CaptureError, Result};
-use crate::render::{Palette, RenderSetup, Renderer, TileDraw, Vertex};
+use crate::render::{GpuPalette, RenderSetup, Renderer, TileDraw, Vertex};
 use crate::scene::occluders::Occluders;
 
 /// White, as the CPU views' paper.
@@ -43,7 +43,7 @@ pub fn write_views_gpu(
     texture: &ViewTexture,
     dir: &Path,
 ) -> Result<WrittenViews> {
-    let palette = Palette::External { size: [texture.width, texture.height], rgba: texture.texel_rgba() };
+    let palette = GpuPalette::External { size: [texture.width, texture.height], rgba: texture.texel_rgba() };
     let vertices = model_vertices(model, [texture.width, texture.height]);
     let cameras = ufcsr::view_cameras(model);
     let size = cameras.first().map_or([1, 1], |camera| camera.size);

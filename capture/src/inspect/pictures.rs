@@ -1,5 +1,6 @@
 //! Orthographic pictures of the vehicle with its parts coloured, for
-//! `inspect`: a small CPU rasterizer with a z-buffer, written as PNG.
+//! `inspect`, drawn with the analyzer's CPU rasterizer ([`ufcsr::ZBuffer`],
+//! the one its eight heatmap views use) and written as PNG.
 //!
 //! Faces take their part's PIdT colour (the same [`crate::texture::pidt::part_colors`]
 //! a capture paints), shaded a little by how squarely they face the viewer
@@ -9,7 +10,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::{DVec2, DVec3, dvec2};
-use ufcsr::Color;
+use ufcsr::{Color, ZBuffer};
 
 use crate::error::Result;
 use crate::scene::mesh::Mesh;
@@ -59,18 +60,18 @@ const GROUND: [u8; 3] = [150, 150, 150];
 const INK: [u8; 3] = [0, 0, 0];
 const MARGIN: u32 = 24;
 
-/// An RGB picture with a depth buffer.
+/// An RGB picture with a depth buffer (the analyzer's CPU rasterizer).
 struct Canvas {
     width: u32,
     height: u32,
     rgb: Vec<u8>,
-    depth: Vec<f64>,
+    depth: ZBuffer,
 }
 
 impl Canvas {
     fn new(width: u32, height: u32) -> Canvas {
         let n = (width as usize) * (height as usize);
-        Canvas { width, height, rgb: PAPER.repeat(n), depth: vec![f64::INFINITY; n] }
+        Canvas { width, height, rgb: PAPER.repeat(n), depth: ZBuffer::new(width, height) }
     }
 
     fn put(&mut self, x: i64, y: i64, rgb: [u8; 3]) {
@@ -82,31 +83,9 @@ impl Canvas {
 
     /// Fills a triangle (picture pixels) at pixel centres, nearest wins.
     fn triangle(&mut self, p: [DVec2; 3], depth: [f64; 3], rgb: [u8; 3]) {
-        let area = (p[1] - p[0]).perp_dot(p[2] - p[0]);
-        if area.abs() < 1e-12 {
-            return;
-        }
-        let min = p[0].min(p[1]).min(p[2]).floor().max(DVec2::ZERO);
-        let max = p[0].max(p[1]).max(p[2]).ceil().min(dvec2(f64::from(self.width), f64::from(self.height)));
-        for y in min.y as u32..max.y as u32 {
-            for x in min.x as u32..max.x as u32 {
-                let q = dvec2(f64::from(x) + 0.5, f64::from(y) + 0.5);
-                let w = [
-                    (p[2] - p[1]).perp_dot(q - p[1]) / area,
-                    (p[0] - p[2]).perp_dot(q - p[2]) / area,
-                    (p[1] - p[0]).perp_dot(q - p[0]) / area,
-                ];
-                if w.iter().any(|&w| w < 0.0) {
-                    continue;
-                }
-                let z = w[0] * depth[0] + w[1] * depth[1] + w[2] * depth[2];
-                let i = y as usize * self.width as usize + x as usize;
-                if z < self.depth[i] {
-                    self.depth[i] = z;
-                    self.rgb[i * 3..i * 3 + 3].copy_from_slice(&rgb);
-                }
-            }
-        }
+        let corners = [0, 1, 2].map(|k| [p[k].x, p[k].y, depth[k]]);
+        let pixels = &mut self.rgb;
+        self.depth.triangle(corners, |pixel, _| pixels[pixel * 3..pixel * 3 + 3].copy_from_slice(&rgb));
     }
 }
 

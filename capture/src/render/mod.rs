@@ -17,4 +17,4 @@ pub(crate) mod vertex;
 pub use gpu::{Backend, Gpu};
 pub use renderer::{RenderSetup, Renderer, TileDraw};
 pub use target::PixelRect;
-pub use vertex::{Palette, Vertex, vehicle_vertices};
+pub use vertex::{GpuPalette, Vertex, vehicle_vertices};

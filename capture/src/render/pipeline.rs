@@ -6,7 +6,7 @@
 //! everything here is built once by [`PalettePipeline::new`].
 
 use crate::error::{CaptureError, Result};
-use crate::render::{Palette, Vertex};
+use crate::render::{GpuPalette, Vertex};
 
 /// What the fragment shader draws (`Uniforms::mode`); the same numbers are
 /// spelled `MODE_*` in `shader.wgsl` — change both together.
@@ -58,7 +58,7 @@ impl PalettePipeline {
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        palette: &Palette,
+        palette: &GpuPalette,
         moving: usize,
     ) -> Result<PalettePipeline> {
         let layout = bind_group_layout(device);
@@ -187,11 +187,11 @@ fn render_pipeline(
 fn palette_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
-    palette: &Palette,
+    palette: &GpuPalette,
 ) -> Result<(u32, wgpu::TextureView)> {
     let (mode, size, texels): (u32, [u32; 2], &[u8]) = match palette {
-        Palette::Canonical(_) => (draw_mode::CANONICAL_PALETTE, [1, 1], &[0; 4]),
-        Palette::External { size, rgba } => {
+        GpuPalette::Canonical(_) => (draw_mode::CANONICAL_PALETTE, [1, 1], &[0; 4]),
+        GpuPalette::External { size, rgba } => {
             if rgba.len() != (size[0] as usize) * (size[1] as usize) * 4 {
                 return Err(CaptureError::BadOptions("external palette data does not match its size".into()));
             }

@@ -18,13 +18,13 @@ use crate::error::{CaptureError, Result};
 use crate::render::occlusion::OcclusionTest;
 use crate::render::pipeline::{PalettePipeline, UNIFORM_STRIDE, Uniforms, draw_mode};
 use crate::render::target::{PixelRect, TileTarget};
-use crate::render::vertex::{Palette, Vertex};
+use crate::render::vertex::{GpuPalette, Vertex};
 use crate::scene::occluders::Occluders;
 
 /// Everything the renderer needs once.
 pub struct RenderSetup<'a> {
     pub tile_size: [u32; 2],
-    pub palette: &'a Palette,
+    pub palette: &'a GpuPalette,
     pub background: Color,
     /// Vehicle triangles (three vertices each), in the vehicle frame.
     pub vehicle: &'a [Vertex],

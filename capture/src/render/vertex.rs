@@ -20,19 +20,36 @@ pub struct Vertex {
     pub chart: [[f32; 2]; 3],
 }
 
-/// The palette the vehicle is drawn with.
+/// The palette in the form the renderer draws the vehicle with (the loaded
+/// palette is [`ufcsr::Fcsp`]; [`GpuPalette::of`] converts). The canonical
+/// palette is computed in the shader and never stored; an image is uploaded
+/// as a texture and read with `textureLoad`. Either way the texel holding the
+/// background colour is left out of the unwrap.
 #[derive(Debug, Clone)]
-pub enum Palette {
+pub enum GpuPalette {
     /// The canonical palette of this size, computed in the shader.
     Canonical([u32; 2]),
     /// An external palette image: size and RGBA8 texels (row 0 at the top).
     External { size: [u32; 2], rgba: Vec<u8> },
 }
 
-impl Palette {
+impl GpuPalette {
+    /// The renderer's form of `palette`, whose texels' colours are
+    /// `texel_rgb` (RGB, row 0 at the top, [`ufcsr::Fcsp::texel_rgb`]).
+    pub fn of(palette: &ufcsr::Fcsp, texel_rgb: &[u8]) -> GpuPalette {
+        let size = [palette.width(), palette.height()];
+        match palette {
+            ufcsr::Fcsp::Canonical { .. } => GpuPalette::Canonical(size),
+            ufcsr::Fcsp::Image { .. } => GpuPalette::External {
+                size,
+                rgba: texel_rgb.chunks_exact(3).flat_map(|p| [p[0], p[1], p[2], 255]).collect(),
+            },
+        }
+    }
+
     pub fn size(&self) -> [u32; 2] {
         match self {
-            Palette::Canonical(size) | Palette::External { size, .. } => *size,
+            GpuPalette::Canonical(size) | GpuPalette::External { size, .. } => *size,
         }
     }
 }

@@ -6,7 +6,7 @@
 use glam::{DVec2, DVec3, dvec2, dvec3, dvec4, vec3};
 use ufcsr::Color;
 use ufcsr_capture::{
-    Backend, Gpu, Mesh, Occluders, Palette, Pose, RenderSetup, Renderer, Rig, TileDraw, box_outside,
+    Backend, Gpu, GpuPalette, Mesh, Occluders, Pose, RenderSetup, Renderer, Rig, TileDraw, box_outside,
     footprint, unwrap_islands, vehicle_to_world, vehicle_vertices,
 };
 
@@ -45,7 +45,7 @@ fn scene() -> (Mesh, Occluders, Rig, Pose) {
 fn render_eye(gpu: &Gpu, mesh: &Mesh, occluders: &Occluders, rig: &Rig, pose: &Pose) -> Vec<u8> {
     let unwrapped = unwrap_islands(mesh, PALETTE).unwrap();
     let vertices = vehicle_vertices(mesh, &unwrapped);
-    let palette = Palette::Canonical(PALETTE);
+    let palette = GpuPalette::Canonical(PALETTE);
     let setup = RenderSetup {
         tile_size: rig.tile_pixels(),
         palette: &palette,
@@ -170,87 +170,124 @@ fn first_hit(
     best
 }
 
-#[allow(clippy::too_many_lines)] // still to split: one pixel loop with its checks
+/// The known answer for one rendered eye: the scene's triangles in world
+/// space, which triangle owns each texel, and the eye's projection.
+struct KnownAnswer {
+    unwrapped: ufcsr_capture::Unwrapped,
+    owner: Vec<u32>,
+    world_tris: Vec<[DVec3; 3]>,
+    occluder_tris: Vec<[DVec3; 3]>,
+    view_proj: glam::DMat4,
+    pixels: [u32; 2],
+}
+
+/// How many pixels were checked, and how many of them exactly.
+#[derive(Default)]
+struct Tally {
+    vehicle_pixels: usize,
+    checked: usize,
+    checked_vehicle: usize,
+    exact: usize,
+}
+
+impl KnownAnswer {
+    fn new(mesh: &Mesh, occluders: &Occluders, rig: &Rig, pose: &Pose) -> KnownAnswer {
+        let unwrapped = unwrap_islands(mesh, PALETTE).unwrap();
+        let owner = texel_owners(&unwrapped);
+        let to_world = vehicle_to_world(pose);
+        let world_tris = (0..mesh.triangles.len())
+            .map(|t| mesh.corners(t).map(|c| to_world.transform_point3(c.as_dvec3())))
+            .collect();
+        let occluder_tris = occluders.positions.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        let view_proj = rig.cameras(0.0, pose)[0].view_proj;
+        KnownAnswer { unwrapped, owner, world_tris, occluder_tris, view_proj, pixels: rig.eye_pixels }
+    }
+
+    fn to_pixel(&self, p: DVec3) -> DVec2 {
+        let [w, h] = self.pixels;
+        let c = self.view_proj * p.extend(1.0);
+        dvec2((c.x / c.w + 1.0) / 2.0 * f64::from(w), (1.0 - c.y / c.w) / 2.0 * f64::from(h))
+    }
+
+    /// Within a pixel of an edge of one of `tris` (where either side may win).
+    fn near_edge(&self, centre: DVec2, tris: &[[DVec3; 3]]) -> bool {
+        tris.iter().any(|tri| {
+            let p = tri.map(|corner| self.to_pixel(corner));
+            (0..3).any(|k| segment_distance(centre, p[k], p[(k + 1) % 3]) < 1.0)
+        })
+    }
+
+    /// The ray through the pixel's centre: origin and direction.
+    fn ray(&self, centre: DVec2) -> (DVec3, DVec3) {
+        let [w, h] = self.pixels;
+        let inverse = self.view_proj.inverse();
+        let ndc = dvec2(centre.x / f64::from(w) * 2.0 - 1.0, 1.0 - centre.y / f64::from(h) * 2.0);
+        let near = inverse * dvec4(ndc.x, ndc.y, 1.0, 1.0);
+        let far = inverse * dvec4(ndc.x, ndc.y, 0.5, 1.0);
+        let (origin, target) = (near.truncate() / near.w, far.truncate() / far.w);
+        (origin, (target - origin).normalize())
+    }
+
+    /// Checks pixel (px, py) of `color`, counting it in `tally`.
+    fn check_pixel(&self, [px, py]: [u32; 2], color: Color, tally: &mut Tally) {
+        let [pw, ph] = PALETTE;
+        let centre = dvec2(f64::from(px) + 0.5, f64::from(py) + 0.5);
+        let (origin, dir) = self.ray(centre);
+        let best = first_hit(origin, dir, &self.world_tris, &self.occluder_tris);
+        let ambiguous =
+            self.near_edge(centre, &self.world_tris) || self.near_edge(centre, &self.occluder_tris);
+        if color != Color::DEFAULT_BACKGROUND {
+            tally.vehicle_pixels += 1;
+            let index = color.packed();
+            assert!(index < pw * ph, "stray colour {color} at ({px}, {py})");
+            let t = self.owner[index as usize];
+            assert!(t != u32::MAX, "pixel ({px}, {py}) names texel {index}, which no island labels");
+            let projected = self.world_tris[t as usize].map(|corner| self.to_pixel(corner));
+            let inside_or_near = ray_triangle(origin, dir, self.world_tris[t as usize]).is_some()
+                || (0..3).any(|k| segment_distance(centre, projected[k], projected[(k + 1) % 3]) < 1.0);
+            assert!(inside_or_near, "pixel ({px}, {py}) shows triangle {t}, which does not cover it");
+        }
+        if ambiguous {
+            return;
+        }
+        tally.checked += 1;
+        match best {
+            Some((_, Some((t, u, v)))) => {
+                let uv = self.unwrapped.texel_uvs[t];
+                let expected = uv[0] * (1.0 - u - v) + uv[1] * u + uv[2] * v;
+                let index = color.packed();
+                assert!(color != Color::DEFAULT_BACKGROUND, "pixel ({px}, {py}) should show triangle {t}");
+                let got = dvec2(f64::from(index % pw), f64::from(index / pw));
+                let want = dvec2(expected.x.floor(), expected.y.floor());
+                assert!(
+                    (got - want).abs().max_element() <= 1.0,
+                    "pixel ({px}, {py}): texel {got} but triangle {t} has {want} there"
+                );
+                assert_eq!(self.owner[index as usize], t as u32);
+                tally.exact += usize::from(got == want);
+                tally.checked_vehicle += 1;
+            }
+            _ => assert_eq!(color, Color::DEFAULT_BACKGROUND, "pixel ({px}, {py}) should be background"),
+        }
+    }
+}
+
 fn check_exactness(gpu: &Gpu) -> Vec<u8> {
     let (mesh, occluders, rig, pose) = scene();
     let image = render_eye(gpu, &mesh, &occluders, &rig, &pose);
     let again = render_eye(gpu, &mesh, &occluders, &rig, &pose);
     assert!(image == again, "two renders differ");
-
-    let unwrapped = unwrap_islands(&mesh, PALETTE).unwrap();
-    let [pw, ph] = PALETTE;
-    let owner = texel_owners(&unwrapped);
-    let camera = rig.cameras(0.0, &pose)[0];
-    let inverse = camera.view_proj.inverse();
-    let to_world = vehicle_to_world(&pose);
-    let world_tris: Vec<[DVec3; 3]> = (0..mesh.triangles.len())
-        .map(|t| mesh.corners(t).map(|c| to_world.transform_point3(c.as_dvec3())))
-        .collect();
-    let occluder_tris: Vec<[DVec3; 3]> =
-        occluders.positions.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let known = KnownAnswer::new(&mesh, &occluders, &rig, &pose);
     let [w, h] = rig.eye_pixels;
-    let to_pixel = |p: DVec3| {
-        let c = camera.view_proj * p.extend(1.0);
-        dvec2((c.x / c.w + 1.0) / 2.0 * f64::from(w), (1.0 - c.y / c.w) / 2.0 * f64::from(h))
-    };
-    let near_edge = |centre: DVec2, tris: &[[DVec3; 3]]| {
-        tris.iter().any(|tri| {
-            let p = tri.map(to_pixel);
-            (0..3).any(|k| segment_distance(centre, p[k], p[(k + 1) % 3]) < 1.0)
-        })
-    };
-    let (mut vehicle_pixels, mut exact, mut checked, mut checked_vehicle) = (0, 0, 0, 0);
+    let mut tally = Tally::default();
     for py in 0..h {
         for px in 0..w {
             let i = ((py * w + px) * 4) as usize;
-            let color = Color::from_rgb(image[i], image[i + 1], image[i + 2]);
             assert_eq!(image[i + 3], 255);
-            let centre = dvec2(f64::from(px) + 0.5, f64::from(py) + 0.5);
-            let ndc = dvec2(centre.x / f64::from(w) * 2.0 - 1.0, 1.0 - centre.y / f64::from(h) * 2.0);
-            let near = inverse * dvec4(ndc.x, ndc.y, 1.0, 1.0);
-            let far = inverse * dvec4(ndc.x, ndc.y, 0.5, 1.0);
-            let (origin, target) = (near.truncate() / near.w, far.truncate() / far.w);
-            let dir = (target - origin).normalize();
-            let best = first_hit(origin, dir, &world_tris, &occluder_tris);
-            let ambiguous = near_edge(centre, &world_tris) || near_edge(centre, &occluder_tris);
-            if color != Color::DEFAULT_BACKGROUND {
-                vehicle_pixels += 1;
-                let index = color.packed();
-                assert!(index < pw * ph, "stray colour {color} at ({px}, {py})");
-                let t = owner[index as usize];
-                assert!(t != u32::MAX, "pixel ({px}, {py}) names texel {index}, which no island labels");
-                let projected = world_tris[t as usize].map(to_pixel);
-                let inside_or_near = ray_triangle(origin, dir, world_tris[t as usize]).is_some()
-                    || (0..3).any(|k| segment_distance(centre, projected[k], projected[(k + 1) % 3]) < 1.0);
-                assert!(inside_or_near, "pixel ({px}, {py}) shows triangle {t}, which does not cover it");
-            }
-            if ambiguous {
-                continue;
-            }
-            checked += 1;
-            match best {
-                Some((_, Some((t, u, v)))) => {
-                    let uv = unwrapped.texel_uvs[t];
-                    let expected = uv[0] * (1.0 - u - v) + uv[1] * u + uv[2] * v;
-                    let index = color.packed();
-                    assert!(
-                        color != Color::DEFAULT_BACKGROUND,
-                        "pixel ({px}, {py}) should show triangle {t}"
-                    );
-                    let got = dvec2(f64::from(index % pw), f64::from(index / pw));
-                    let want = dvec2(expected.x.floor(), expected.y.floor());
-                    assert!(
-                        (got - want).abs().max_element() <= 1.0,
-                        "pixel ({px}, {py}): texel {got} but triangle {t} has {want} there"
-                    );
-                    assert_eq!(owner[index as usize], t as u32);
-                    exact += usize::from(got == want);
-                    checked_vehicle += 1;
-                }
-                _ => assert_eq!(color, Color::DEFAULT_BACKGROUND, "pixel ({px}, {py}) should be background"),
-            }
+            known.check_pixel([px, py], Color::from_rgb(image[i], image[i + 1], image[i + 2]), &mut tally);
         }
     }
+    let Tally { vehicle_pixels, checked, checked_vehicle, exact } = tally;
     eprintln!(
         "{vehicle_pixels} vehicle pixels; {checked} pixels away from edges checked, \
          {checked_vehicle} of them on the vehicle, {exact} of those texel-exact (the rest ±1)"

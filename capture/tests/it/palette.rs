@@ -5,10 +5,8 @@
 use std::path::Path;
 
 use ufcsr::write_rgb_png;
-use ufcsr::{Color, Manifest, PaletteSpec};
-use ufcsr_capture::{
-    Backend, CaptureOptions, ExternalPalette, FrameSelection, Gpu, Scene, capture, read_rgb_png, verify,
-};
+use ufcsr::{Color, Fcsp, Manifest, PaletteRecord};
+use ufcsr_capture::{Backend, CaptureOptions, FrameSelection, Gpu, Scene, capture, read_rgb_png, verify};
 
 fn demo_capture(gpu: &Gpu, out: &Path, palette_file: Option<&Path>) {
     let mut scene = Scene::demo();
@@ -30,10 +28,9 @@ fn external_palettes_render_through_texture_load() {
     let dir = tempfile::tempdir().unwrap();
 
     // The canonical palette as an image: same tiles, byte for byte.
-    let canonical = ExternalPalette::canonical([256, 256]);
+    let canonical = Fcsp::canonical(256, 256).unwrap();
     let image = dir.path().join("canonical.png");
-    write_rgb_png(&image, canonical.size[0], canonical.size[1], &canonical.rgb, png::Compression::Fast)
-        .unwrap();
+    write_rgb_png(&image, 256, 256, &canonical.texel_rgb(), png::Compression::Fast).unwrap();
     demo_capture(&gpu, &dir.path().join("computed"), None);
     demo_capture(&gpu, &dir.path().join("loaded"), Some(&image));
     let manifest = Manifest::load_from_dir(&dir.path().join("computed")).unwrap().unwrap();
@@ -61,14 +58,13 @@ fn external_palettes_render_through_texture_load() {
     let out = dir.path().join("shuffled");
     demo_capture(&gpu, &out, Some(&shuffled));
     let manifest = Manifest::load_from_dir(&out).unwrap().unwrap();
-    assert_eq!(manifest.palette, Some(PaletteSpec::File("palette.png".into())));
+    assert_eq!(manifest.palette, Some(PaletteRecord::File("palette.png".into())));
     let (vehicle, stray) = verify(&out).unwrap();
     assert_eq!(stray, 0);
     assert!(vehicle > 1000, "{vehicle}");
     // The background colour's texel is never part of an island.
-    let palette = ExternalPalette::load(&out.join("palette.png")).unwrap();
-    let (bx, by) = palette.texel_of(Color::DEFAULT_BACKGROUND).unwrap();
+    let palette = Fcsp::from_png(&out.join("palette.png")).unwrap();
+    let texel = palette.texel_of(Color::DEFAULT_BACKGROUND.packed()).unwrap();
     let (_, pidt) = read_rgb_png(&out.join("pidt.png")).unwrap();
-    let i = ((by * 256 + bx) * 3) as usize;
-    assert_eq!(&pidt[i..i + 3], &[0, 0, 0]);
+    assert_eq!(&pidt[texel * 3..texel * 3 + 3], &[0, 0, 0]);
 }

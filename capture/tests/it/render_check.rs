@@ -7,8 +7,8 @@
 use glam::dvec3;
 use ufcsr::Color;
 use ufcsr_capture::{
-    Gpu, Mesh, Occluders, Palette, Pose, RenderSetup, Renderer, Rig, TileDraw, UNLABELLED_COLOR, paint_pidt,
-    unwrap_islands, vehicle_to_world, vehicle_vertices,
+    Gpu, GpuPalette, Mesh, Occluders, Pose, RenderSetup, Renderer, Rig, TileDraw, UNLABELLED_COLOR,
+    paint_pidt, unwrap_islands, vehicle_to_world, vehicle_vertices,
 };
 
 /// The palette both callers render with.
@@ -28,7 +28,7 @@ pub fn render_and_check(gpu: &Gpu, mesh: &Mesh) -> (u64, u64) {
         look_at_vehicle: [0.0, 0.0, 1.1],
         ..Rig::default()
     };
-    let palette = Palette::Canonical(PALETTE);
+    let palette = GpuPalette::Canonical(PALETTE);
     let occluders = Occluders::default();
     let setup = RenderSetup {
         tile_size: rig.tile_pixels(),

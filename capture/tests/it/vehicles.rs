@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use ufcsr_capture::{Backend, CaptureOptions, FrameSelection, Gpu, OwnLabels, Scene, capture, verify};
+use ufcsr_capture::{Backend, CaptureOptions, FrameSelection, Gpu, OwnLabelFiles, Scene, capture, verify};
 
 fn fixture(name: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes").join(name)
@@ -30,7 +30,7 @@ fn own_pidt_and_legend_are_used_as_is() {
     let legend = dir.path().join("legend.csv");
     std::fs::write(&legend, legend_text.replace("cab,", "front box,").replace("cargo,", "rear box,"))
         .unwrap();
-    let own = OwnLabels { pidt: painted.out.join("pidt.png"), parts: legend.clone() };
+    let own = OwnLabelFiles { pidt: painted.out.join("pidt.png"), parts: legend.clone() };
 
     let options =
         CaptureOptions { out: dir.path().join("own"), own_labels: Some(own.clone()), ..base.clone() };
@@ -47,7 +47,7 @@ fn own_pidt_and_legend_are_used_as_is() {
     std::fs::write(&short, first_two.join("\n")).unwrap();
     let options = CaptureOptions {
         out: dir.path().join("short"),
-        own_labels: Some(OwnLabels { pidt: own.pidt.clone(), parts: short }),
+        own_labels: Some(OwnLabelFiles { pidt: own.pidt.clone(), parts: short }),
         ..base.clone()
     };
     let summary = capture(&gpu.device, &gpu.queue, &scene, &scene.scenarios[0], &options).unwrap();

@@ -11,12 +11,103 @@ use super::{ClassCounts, WordAccumulator, unpack_table};
 use crate::color::{AtomicColorSet, SeenSet, color_key};
 use crate::count::scan::{Classifier, PixelClass};
 
+/// One row in progress: what its blocks need and what they add up to.
+struct RowScanner<'a, const BYTES: usize, const SINGLE_BACKGROUND: bool> {
+    backgrounds: &'a [u32],
+    texel_limit: __m256i,
+    first_background: __m256i,
+    /// In-lane shuffle: each 128-bit half unpacks 4 pixels.
+    shuffle: __m256i,
+    /// RGB: moves bytes 12..24 (pixels 4..8) to the upper 128-bit half.
+    spread: __m256i,
+    /// Lane i takes lane i − 1 (lane 0 takes lane 7).
+    rotate: __m256i,
+    seen: &'a mut SeenSet,
+    strays: &'a AtomicColorSet,
+    word: WordAccumulator,
+    /// The colours of the last block scanned (an impossible colour, above
+    /// 2^24, before the first, so the first pixel always differs).
+    previous: __m256i,
+    /// The [`PixelClass`] of the last pixel scanned, as an index into
+    /// [`ClassCounts`].
+    last_class: usize,
+    background: u64,
+    stray: u64,
+}
+
+impl<const BYTES: usize, const SINGLE_BACKGROUND: bool> RowScanner<'_, BYTES, SINGLE_BACKGROUND> {
+    /// Adds a block of `pixels` that all repeat the last pixel scanned: its
+    /// class, and nothing new.
+    #[inline(always)]
+    fn repeat(&mut self, pixels: u64) {
+        self.background += pixels * u64::from(self.last_class == PixelClass::Background as usize);
+        self.stray += pixels * u64::from(self.last_class == PixelClass::Stray as usize);
+    }
+
+    /// Classifies the 8 pixels of the 32 bytes `raw` and records the texels
+    /// whose colour differs from their left neighbour's.
+    ///
+    /// # Safety
+    /// The CPU must have the features `scan_row` enables (as in the AVX-512
+    /// kernel, a `#[target_feature]` function here would not be inlined).
+    #[inline(always)]
+    unsafe fn block(&mut self, raw: __m256i) {
+        // SAFETY: the caller guarantees the CPU features; the store writes
+        // a 32-byte array.
+        unsafe {
+            let raw = if BYTES == 3 { _mm256_permutevar8x32_epi32(raw, self.spread) } else { raw };
+            let colors = _mm256_shuffle_epi8(raw, self.shuffle);
+            let mut is_background = _mm256_cmpeq_epi32(colors, self.first_background);
+            if !SINGLE_BACKGROUND {
+                for &color in &self.backgrounds[1..] {
+                    is_background = _mm256_or_si256(
+                        is_background,
+                        _mm256_cmpeq_epi32(colors, _mm256_set1_epi32(color as i32)),
+                    );
+                }
+            }
+            let member = _mm256_cmpgt_epi32(self.texel_limit, colors);
+            let is_background = _mm256_movemask_ps(_mm256_castsi256_ps(is_background)) as u32;
+            let member = _mm256_movemask_ps(_mm256_castsi256_ps(member)) as u32;
+            let is_texel = member & !is_background;
+            let is_stray = !member & !is_background & 0xFF;
+            self.background += u64::from(is_background.count_ones());
+            self.stray += u64::from(is_stray.count_ones());
+            // Lane 0 of `left` is the last pixel of the previous block.
+            let left = _mm256_blend_epi32::<1>(
+                _mm256_permutevar8x32_epi32(colors, self.rotate),
+                _mm256_permutevar8x32_epi32(self.previous, self.rotate),
+            );
+            let same = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(colors, left))) as u32;
+            let fresh = is_texel & !same;
+            self.previous = colors;
+            // Background 0, texel 1, stray 2 (the two flags never both hold).
+            self.last_class = (1 - (is_background >> 7) as usize) * (1 + (is_stray >> 7) as usize);
+            if fresh | is_stray != 0 {
+                let mut lane_values = [0u32; 8];
+                _mm256_storeu_si256(lane_values.as_mut_ptr().cast(), colors);
+                let mut remaining = fresh;
+                while remaining != 0 {
+                    let key = color_key(lane_values[remaining.trailing_zeros() as usize]);
+                    self.word.add(self.seen, (key >> 6) as usize, 1u64 << (key & 63));
+                    remaining &= remaining - 1;
+                }
+                // Rare: damaged or filtered pixels.
+                let mut remaining = is_stray;
+                while remaining != 0 {
+                    self.strays.insert(lane_values[remaining.trailing_zeros() as usize]);
+                    remaining &= remaining - 1;
+                }
+            }
+        }
+    }
+}
+
 /// The AVX2 kernel for rows of `BYTES`-byte pixels (3: RGB, 4: RGBA)
 /// against a canonical palette with one background colour or (when
 /// `SINGLE_BACKGROUND` is false) several; for CPUs where
 /// [`super::Kernel::supported`] is at least [`super::Kernel::Avx2`].
 #[target_feature(enable = "avx2,popcnt,bmi1,bmi2")]
-#[allow(clippy::too_many_lines)] // issue 16: still to split below 80 lines
 pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
     row: &[u8],
     classifier: &Classifier,
@@ -25,27 +116,28 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
     by_class: &mut ClassCounts,
 ) {
     let pixels = row.len() / BYTES;
-    let texels = classifier.palette().texel_count() as u32;
     let backgrounds = classifier.backgrounds();
     // Every colour and the limit are below 2^31, so signed comparison works.
-    let texel_limit = _mm256_set1_epi32(texels as i32);
-    let first_background = _mm256_set1_epi32(backgrounds[0] as i32);
-    // In-lane shuffle: each 128-bit half unpacks 4 pixels.
-    // SAFETY: a 32-byte array.
-    let shuffle = unsafe { _mm256_loadu_si256(unpack_table::<BYTES, 32>(4).as_ptr().cast()) };
-    // RGB: move bytes 12..24 (pixels 4..8) to the upper 128-bit half.
-    let spread = _mm256_setr_epi32(0, 1, 2, 0, 3, 4, 5, 0);
-    let rotate = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);
+    let mut scanner = RowScanner::<BYTES, SINGLE_BACKGROUND> {
+        backgrounds,
+        texel_limit: _mm256_set1_epi32(classifier.palette().texel_count() as u32 as i32),
+        first_background: _mm256_set1_epi32(backgrounds[0] as i32),
+        // SAFETY: a 32-byte array.
+        shuffle: unsafe { _mm256_loadu_si256(unpack_table::<BYTES, 32>(4).as_ptr().cast()) },
+        spread: _mm256_setr_epi32(0, 1, 2, 0, 3, 4, 5, 0),
+        rotate: _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6),
+        seen: &mut *seen,
+        strays,
+        word: WordAccumulator::new(),
+        previous: _mm256_set1_epi32(-1),
+        last_class: PixelClass::Background as usize,
+        background: 0,
+        stray: 0,
+    };
     // Blocks of 8 pixels whose 32-byte load stays inside the row.
     let blocks = if row.len() >= 32 { ((row.len() - 32) / (8 * BYTES) + 1).min(pixels / 8) } else { 0 };
-    // An impossible colour (above 2^24), so the first pixel always differs.
-    let mut previous = _mm256_set1_epi32(-1);
-    let mut word = WordAccumulator::new();
-    let (mut background, mut stray) = (0u64, 0u64);
-    let mut lane_values = [0u32; 8];
     // The bytes of 8 pixels within a 32-byte load.
     let block_bytes_mask = if BYTES == 4 { u32::MAX } else { (1u32 << (8 * BYTES)) - 1 };
-    let mut last_class = PixelClass::Background as usize;
     for block in 0..blocks {
         let at = block * 8 * BYTES;
         // SAFETY: `blocks` keeps the 32 bytes from `at` inside `row`.
@@ -57,58 +149,15 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
             let equal = _mm256_movemask_epi8(_mm256_cmpeq_epi8(raw, before)) as u32;
             if equal & block_bytes_mask == block_bytes_mask {
                 // Each pixel repeats the one before it: see the AVX-512 kernel.
-                background += 8 * u64::from(last_class == PixelClass::Background as usize);
-                stray += 8 * u64::from(last_class == PixelClass::Stray as usize);
+                scanner.repeat(8);
                 continue;
             }
         }
-        let raw = if BYTES == 3 { _mm256_permutevar8x32_epi32(raw, spread) } else { raw };
-        let colors = _mm256_shuffle_epi8(raw, shuffle);
-        let mut is_background = _mm256_cmpeq_epi32(colors, first_background);
-        if !SINGLE_BACKGROUND {
-            for &color in &backgrounds[1..] {
-                is_background = _mm256_or_si256(
-                    is_background,
-                    _mm256_cmpeq_epi32(colors, _mm256_set1_epi32(color as i32)),
-                );
-            }
-        }
-        let member = _mm256_cmpgt_epi32(texel_limit, colors);
-        let is_background = _mm256_movemask_ps(_mm256_castsi256_ps(is_background)) as u32;
-        let member = _mm256_movemask_ps(_mm256_castsi256_ps(member)) as u32;
-        let is_texel = member & !is_background;
-        let is_stray = !member & !is_background & 0xFF;
-        background += u64::from(is_background.count_ones());
-        stray += u64::from(is_stray.count_ones());
-        // Lane 0 of `left` is the last pixel of the previous block.
-        let left = _mm256_blend_epi32::<1>(
-            _mm256_permutevar8x32_epi32(colors, rotate),
-            _mm256_permutevar8x32_epi32(previous, rotate),
-        );
-        let same = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(colors, left))) as u32;
-        let fresh = is_texel & !same;
-        previous = colors;
-        // Background 0, texel 1, stray 2 (the two flags never both hold).
-        last_class = (1 - (is_background >> 7) as usize) * (1 + (is_stray >> 7) as usize);
-        if fresh | is_stray != 0 {
-            // SAFETY: a 32-byte array.
-            unsafe { _mm256_storeu_si256(lane_values.as_mut_ptr().cast(), colors) };
-            let mut remaining = fresh;
-            while remaining != 0 {
-                let key = color_key(lane_values[remaining.trailing_zeros() as usize]);
-                word.add(seen, (key >> 6) as usize, 1u64 << (key & 63));
-                remaining &= remaining - 1;
-            }
-            // Rare: damaged or filtered pixels.
-            let mut remaining = is_stray;
-            while remaining != 0 {
-                strays.insert(lane_values[remaining.trailing_zeros() as usize]);
-                remaining &= remaining - 1;
-            }
-        }
+        // SAFETY: this function has the features `block` needs.
+        unsafe { scanner.block(raw) };
     }
-    word.flush(seen);
-    super::add_row_classes(by_class, blocks * 8, background, stray);
+    scanner.word.flush(scanner.seen);
+    super::add_row_classes(by_class, blocks * 8, scanner.background, scanner.stray);
     // The rest of the row (a few pixels): the portable kernel. It does
     // not know the last block's colours, so it may set a bit that is already
     // set, which changes nothing.

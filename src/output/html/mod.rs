@@ -1,6 +1,7 @@
 //! The HTML pages: `report.html` for one result ([`report_page`]) and the
 //! comparison of several ([`compare_page`]), each rendered one page section
-//! per function.
+//! per function (the report's sections are listed in order in
+//! `report_page::SECTIONS`: a new section is its function and one line there).
 
 pub(crate) mod compare_page;
 pub(crate) mod provenance;

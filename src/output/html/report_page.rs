@@ -30,9 +30,221 @@ fn file_name(path: &Path) -> String {
     escape(&path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default())
 }
 
+/// What the page is made from: the result and the files written beside it.
+struct PageInputs<'a> {
+    result: &'a AnalysisResult,
+    files: &'a WrittenFiles,
+}
+
+/// One section of the page: appends its HTML (nothing when it has nothing
+/// to show).
+type Section = fn(&mut String, &PageInputs);
+
+/// The page's sections, top to bottom: adding a section is adding its
+/// function here (one line).
+const SECTIONS: &[Section] = &[
+    head,
+    warnings,
+    summary,
+    resolution,
+    parts,
+    heatmap,
+    vehicle_views,
+    plots,
+    measures,
+    files,
+    settings,
+    foot,
+];
+
+fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
+    let inputs = PageInputs { result, files };
+    let mut page = String::new();
+    for section in SECTIONS {
+        section(&mut page, &inputs);
+    }
+    page
+}
+
+/// The document head with its style sheet, the title and the provenance.
+fn head(page: &mut String, inputs: &PageInputs) {
+    let title = format!("UFCSR result: {}", escape(&inputs.result.settings.archive));
+    let _ = write!(
+        page,
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title>\n<style>\
+         body{{font-family:sans-serif;margin:2em;max-width:1100px;color:#222}}\
+         table{{border-collapse:collapse;margin:0.5em 0}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}\
+         td:first-child,th:first-child{{text-align:left}}tr.top{{background:#fff4d6}}\
+         .swatch{{display:inline-block;width:0.9em;height:0.9em;border:1px solid #555;vertical-align:middle;margin-right:0.4em}}\
+         .warn{{background:#fde8e8;border-left:4px solid #c00;padding:0.4em 0.8em;margin:0.3em 0}}\
+         img{{max-width:100%;image-rendering:pixelated;border:1px solid #ccc}}img.plot{{image-rendering:auto}}\
+         .provenance{{color:#555;font-size:0.9em}}</style></head><body>\n<h1>{title}</h1>\n"
+    );
+    let _ = writeln!(page, "{}", crate::output::html::provenance::paragraph());
+}
+
+/// Warnings first: what needs looking at before trusting the numbers.
+fn warnings(page: &mut String, inputs: &PageInputs) {
+    let result = inputs.result;
+    let _ = writeln!(page, "<h2>Warnings</h2>");
+    let mut warnings: Vec<String> = result.warnings.iter().map(|w| escape(w)).collect();
+    if result.images.failed > 0 {
+        warnings.push(format!(
+            "{} images could not be read and were not counted (see <code>failures</code> in result.json)",
+            result.images.failed
+        ));
+    }
+    // Stray pixels, unlabelled counts and colour damage are in the result's
+    // own warnings, as on stderr.
+    if warnings.is_empty() {
+        let _ = writeln!(page, "<p>None.</p>");
+    }
+    for warning in warnings {
+        let _ = writeln!(page, "<div class=\"warn\">{warning}</div>");
+    }
+}
+
+/// Tiles found, decoded, trimmed and failed; texels seen and the totals.
+fn summary(page: &mut String, inputs: &PageInputs) {
+    let result = inputs.result;
+    let images = &result.images;
+    let _ = writeln!(
+        page,
+        "<h2>Summary</h2>\n<table><tr><th>tiles found</th><td>{}</td></tr><tr><th>decoded</th><td>{}</td></tr>\
+         <tr><th>trimmed (all background)</th><td>{}</td></tr><tr><th>failed</th><td>{}</td></tr>\
+         <tr><th>texels seen</th><td>{}</td></tr><tr><th>grand total</th><td>{}</td></tr>\
+         <tr><th>largest count of a texel</th><td>{}</td></tr></table>",
+        grouped(images.found),
+        grouped(images.decoded),
+        grouped(images.trimmed),
+        grouped(images.failed),
+        grouped(result.texels_seen),
+        grouped(result.grand_total),
+        grouped(u64::from(result.max_count))
+    );
+}
+
+/// The resolution diagnostics: does the count depend on pixels per degree?
+fn resolution(page: &mut String, inputs: &PageInputs) {
+    let Some(resolution) = &inputs.result.resolution else { return };
+    let optional =
+        |value: Option<f64>, digits: usize| value.map_or("–".to_string(), |v| format!("{v:.digits$}"));
+    let _ = writeln!(
+        page,
+        "<h3>Does the count depend on resolution?</h3>\n<table><tr><th>pixels per degree</th><td>{}</td></tr>\
+         <tr><th>texel size (mm)</th><td>{}</td></tr><tr><th>pixels per count</th><td>{:.2}</td></tr>\
+         <tr><th>texels smaller than a pixel beyond (m)</th><td>{}</td></tr>\
+         <tr><th>share of frames beyond that</th><td>{}</td></tr></table>",
+        optional(resolution.pixels_per_degree, 2),
+        optional(resolution.texel_size_mm, 2),
+        resolution.pixels_per_count,
+        optional(resolution.sub_pixel_distance_m, 1),
+        resolution.sub_pixel_frame_share.map_or("–".to_string(), |s| format!("{:.0} %", 100.0 * s)),
+    );
+}
+
+/// The parts table by total, with the paper's top-5 union highlighted.
+fn parts(page: &mut String, inputs: &PageInputs) {
+    let result = inputs.result;
+    if result.parts.is_empty() {
+        return;
+    }
+    let marked = top_five_union(&result.parts);
+    let mut order: Vec<usize> = (0..result.parts.len()).collect();
+    order.sort_by(|&a, &b| result.parts[b].total.cmp(&result.parts[a].total).then(a.cmp(&b)));
+    let _ = writeln!(
+        page,
+        "<h2>Parts</h2>\n<p>Highlighted: the paper's table, the union of the five parts with the highest total, \
+         peak and average.</p>\n<table><tr><th>part</th><th>texels</th><th>total</th><th>peak</th><th>average</th>\
+         <th>share %</th><th>coverage %</th></tr>"
+    );
+    for index in order {
+        let part = &result.parts[index];
+        let swatch = part
+            .color
+            .map(|c| format!("<span class=\"swatch\" style=\"background:{c}\"></span>"))
+            .unwrap_or_default();
+        let _ = writeln!(
+            page,
+            "<tr{}><td>{swatch}{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.2}</td><td>{:.1}</td></tr>",
+            if marked[index] { " class=\"top\"" } else { "" },
+            escape(&part.name),
+            grouped(part.texels),
+            grouped(part.total),
+            grouped(u64::from(part.peak)),
+            part.average,
+            part.share,
+            part.coverage
+        );
+    }
+    let _ = writeln!(page, "</table>");
+}
+
+/// The heatmap texture, and the link to the vehicle with it (`heatmap.glb`).
+fn heatmap(page: &mut String, inputs: &PageInputs) {
+    let (settings, files) = (&inputs.result.settings, inputs.files);
+    let _ = writeln!(
+        page,
+        "<h2>Heatmap</h2>\n<p>Per-texel counts on the plasma scale ({:?}{}), laid out like the palette.{}</p>\n\
+         <img src=\"{}\" alt=\"heatmap texture\" width=\"512\">",
+        settings.heatmap_scale,
+        settings.heatmap_max.map(|m| format!(", top of scale {m}")).unwrap_or_default(),
+        match &files.heatmap_glb {
+            Some(glb) => format!(
+                " The vehicle with this heatmap on it: <a href=\"{}\">{}</a> (glTF; opens in Blender, three.js or any glTF viewer).",
+                file_name(glb),
+                file_name(glb)
+            ),
+            None => " (No vehicle model: give <code>--mesh</code> for heatmap.glb.)".to_string(),
+        },
+        file_name(&files.heatmap_png)
+    );
+}
+
+/// The eight views of the heatmap on the vehicle (`views.png`), when written.
+fn vehicle_views(page: &mut String, inputs: &PageInputs) {
+    let Some(views) = &inputs.files.views_png else { return };
+    let (result, settings) = (inputs.result, &inputs.result.settings);
+    let _ = writeln!(
+        page,
+        "<h2>The heatmap on the vehicle</h2>\n<p>Front, front-left, left, rear-left (top row); rear, rear-right, \
+         right, front-right (bottom row); seen from 15° above, one scale for all. Colour bar: grey = never seen, \
+         then plasma from 0 to {} ({:?} scale). Each view is also in <code>views/</code>.</p>\n\
+         <img src=\"{}\" alt=\"the heatmap on the vehicle from eight directions\">",
+        settings.heatmap_max.unwrap_or(result.max_count),
+        settings.heatmap_scale,
+        file_name(views)
+    );
+}
+
+/// The plots (visibility over time and distance, parts), when written.
+fn plots(page: &mut String, inputs: &PageInputs) {
+    let plots = &inputs.files.plots;
+    if plots.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        page,
+        "<h2>Plots</h2>\n<p>Pixels showing each of the {} most visible parts per eye (from <code>frames.csv</code>), \
+         and the per-part bar chart. Each plot is also in <code>plots/</code> as SVG.</p>",
+        crate::output::plots::TOP_PARTS
+    );
+    for plot in plots {
+        let _ = writeln!(
+            page,
+            "<p><a href=\"{svg}\"><img src=\"{shown}\" alt=\"{title}\" class=\"plot\"></a></p>",
+            svg = escape(&plot.svg),
+            shown = escape(&plot.shown),
+            title = escape(&plot.title)
+        );
+    }
+}
+
 /// The resolution-independent measures of the parts with the largest
-/// angular area (see [`crate::result::measures`]).
-fn render_measures(page: &mut String, result: &AnalysisResult, measures: &crate::result::measures::Measures) {
+/// angular area (see [`crate::result::measures`]), when there are measures.
+fn measures(page: &mut String, inputs: &PageInputs) {
+    let result = inputs.result;
+    let Some(measures) = &result.measures else { return };
     let optional = |value: Option<f64>| value.map_or("–".to_string(), |v| format!("{v:.3}"));
     let _ = writeln!(
         page,
@@ -73,154 +285,9 @@ fn render_measures(page: &mut String, result: &AnalysisResult, measures: &crate:
     let _ = writeln!(page, "</table>");
 }
 
-#[allow(clippy::too_many_lines)] // issue 16: still to split below 80 lines
-fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
-    let settings = &result.settings;
-    let mut page = String::new();
-    let title = format!("UFCSR result: {}", escape(&settings.archive));
-    let _ = write!(
-        page,
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title>\n<style>\
-         body{{font-family:sans-serif;margin:2em;max-width:1100px;color:#222}}\
-         table{{border-collapse:collapse;margin:0.5em 0}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}\
-         td:first-child,th:first-child{{text-align:left}}tr.top{{background:#fff4d6}}\
-         .swatch{{display:inline-block;width:0.9em;height:0.9em;border:1px solid #555;vertical-align:middle;margin-right:0.4em}}\
-         .warn{{background:#fde8e8;border-left:4px solid #c00;padding:0.4em 0.8em;margin:0.3em 0}}\
-         img{{max-width:100%;image-rendering:pixelated;border:1px solid #ccc}}img.plot{{image-rendering:auto}}\
-         .provenance{{color:#555;font-size:0.9em}}</style></head><body>\n<h1>{title}</h1>\n"
-    );
-    let _ = writeln!(page, "{}", crate::output::html::provenance::paragraph());
-
-    // Warnings first: what needs looking at before trusting the numbers.
-    let _ = writeln!(page, "<h2>Warnings</h2>");
-    let mut warnings: Vec<String> = result.warnings.iter().map(|w| escape(w)).collect();
-    if result.images.failed > 0 {
-        warnings.push(format!(
-            "{} images could not be read and were not counted (see <code>failures</code> in result.json)",
-            result.images.failed
-        ));
-    }
-    // Stray pixels, unlabelled counts and colour damage are in the result's
-    // own warnings, as on stderr.
-    if warnings.is_empty() {
-        let _ = writeln!(page, "<p>None.</p>");
-    }
-    for warning in warnings {
-        let _ = writeln!(page, "<div class=\"warn\">{warning}</div>");
-    }
-
-    let images = &result.images;
-    let _ = writeln!(
-        page,
-        "<h2>Summary</h2>\n<table><tr><th>tiles found</th><td>{}</td></tr><tr><th>decoded</th><td>{}</td></tr>\
-         <tr><th>trimmed (all background)</th><td>{}</td></tr><tr><th>failed</th><td>{}</td></tr>\
-         <tr><th>texels seen</th><td>{}</td></tr><tr><th>grand total</th><td>{}</td></tr>\
-         <tr><th>largest count of a texel</th><td>{}</td></tr></table>",
-        grouped(images.found),
-        grouped(images.decoded),
-        grouped(images.trimmed),
-        grouped(images.failed),
-        grouped(result.texels_seen),
-        grouped(result.grand_total),
-        grouped(u64::from(result.max_count))
-    );
-    if let Some(resolution) = &result.resolution {
-        let optional =
-            |value: Option<f64>, digits: usize| value.map_or("–".to_string(), |v| format!("{v:.digits$}"));
-        let _ = writeln!(
-            page,
-            "<h3>Does the count depend on resolution?</h3>\n<table><tr><th>pixels per degree</th><td>{}</td></tr>\
-             <tr><th>texel size (mm)</th><td>{}</td></tr><tr><th>pixels per count</th><td>{:.2}</td></tr>\
-             <tr><th>texels smaller than a pixel beyond (m)</th><td>{}</td></tr>\
-             <tr><th>share of frames beyond that</th><td>{}</td></tr></table>",
-            optional(resolution.pixels_per_degree, 2),
-            optional(resolution.texel_size_mm, 2),
-            resolution.pixels_per_count,
-            optional(resolution.sub_pixel_distance_m, 1),
-            resolution.sub_pixel_frame_share.map_or("–".to_string(), |s| format!("{:.0} %", 100.0 * s)),
-        );
-    }
-
-    if !result.parts.is_empty() {
-        let marked = top_five_union(&result.parts);
-        let mut order: Vec<usize> = (0..result.parts.len()).collect();
-        order.sort_by(|&a, &b| result.parts[b].total.cmp(&result.parts[a].total).then(a.cmp(&b)));
-        let _ = writeln!(
-            page,
-            "<h2>Parts</h2>\n<p>Highlighted: the paper's table, the union of the five parts with the highest total, \
-             peak and average.</p>\n<table><tr><th>part</th><th>texels</th><th>total</th><th>peak</th><th>average</th>\
-             <th>share %</th><th>coverage %</th></tr>"
-        );
-        for index in order {
-            let part = &result.parts[index];
-            let swatch = part
-                .color
-                .map(|c| format!("<span class=\"swatch\" style=\"background:{c}\"></span>"))
-                .unwrap_or_default();
-            let _ = writeln!(
-                page,
-                "<tr{}><td>{swatch}{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.2}</td><td>{:.1}</td></tr>",
-                if marked[index] { " class=\"top\"" } else { "" },
-                escape(&part.name),
-                grouped(part.texels),
-                grouped(part.total),
-                grouped(u64::from(part.peak)),
-                part.average,
-                part.share,
-                part.coverage
-            );
-        }
-        let _ = writeln!(page, "</table>");
-    }
-
-    let _ = writeln!(
-        page,
-        "<h2>Heatmap</h2>\n<p>Per-texel counts on the plasma scale ({:?}{}), laid out like the palette.{}</p>\n\
-         <img src=\"{}\" alt=\"heatmap texture\" width=\"512\">",
-        settings.heatmap_scale,
-        settings.heatmap_max.map(|m| format!(", top of scale {m}")).unwrap_or_default(),
-        match &files.heatmap_glb {
-            Some(glb) => format!(
-                " The vehicle with this heatmap on it: <a href=\"{}\">{}</a> (glTF; opens in Blender, three.js or any glTF viewer).",
-                file_name(glb),
-                file_name(glb)
-            ),
-            None => " (No vehicle model: give <code>--mesh</code> for heatmap.glb.)".to_string(),
-        },
-        file_name(&files.heatmap_png)
-    );
-    if let Some(views) = &files.views_png {
-        let _ = writeln!(
-            page,
-            "<h2>The heatmap on the vehicle</h2>\n<p>Front, front-left, left, rear-left (top row); rear, rear-right, \
-             right, front-right (bottom row); seen from 15° above, one scale for all. Colour bar: grey = never seen, \
-             then plasma from 0 to {} ({:?} scale). Each view is also in <code>views/</code>.</p>\n\
-             <img src=\"{}\" alt=\"the heatmap on the vehicle from eight directions\">",
-            settings.heatmap_max.unwrap_or(result.max_count),
-            settings.heatmap_scale,
-            file_name(views)
-        );
-    }
-    if !files.plots.is_empty() {
-        let _ = writeln!(
-            page,
-            "<h2>Plots</h2>\n<p>Pixels showing each of the {} most visible parts per eye (from <code>frames.csv</code>), \
-             and the per-part bar chart. Each plot is also in <code>plots/</code> as SVG.</p>",
-            crate::output::plots::TOP_PARTS
-        );
-        for plot in &files.plots {
-            let _ = writeln!(
-                page,
-                "<p><a href=\"{svg}\"><img src=\"{shown}\" alt=\"{title}\" class=\"plot\"></a></p>",
-                svg = escape(&plot.svg),
-                shown = escape(&plot.shown),
-                title = escape(&plot.title)
-            );
-        }
-    }
-    if let Some(measures) = &result.measures {
-        render_measures(&mut page, result, measures);
-    }
+/// Links to the machine-readable files beside the page.
+fn files(page: &mut String, inputs: &PageInputs) {
+    let files = inputs.files;
     let _ = writeln!(page, "<h2>Files</h2>\n<ul>");
     let listed = [
         Some(&files.result_json),
@@ -234,7 +301,11 @@ fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
         let _ = writeln!(page, "<li><a href=\"{0}\">{0}</a></li>", file_name(file));
     }
     let _ = writeln!(page, "</ul>");
+}
 
+/// The settings the counts were made with.
+fn settings(page: &mut String, inputs: &PageInputs) {
+    let settings = &inputs.result.settings;
     let _ = writeln!(
         page,
         "<h2>Settings</h2>\n<table><tr><th>archive</th><td>{}</td></tr><tr><th>palette</th><td>{} {}×{}</td></tr>\
@@ -251,6 +322,9 @@ fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
         escape(&settings.trim.mode),
         settings.shard.map_or("whole archive".to_string(), |s| s.to_string()),
     );
+}
+
+/// The version line and the end of the document.
+fn foot(page: &mut String, _inputs: &PageInputs) {
     let _ = writeln!(page, "<p><small>ufcsr {}</small></p>\n</body></html>", env!("CARGO_PKG_VERSION"));
-    page
 }

@@ -5,5 +5,5 @@
 pub(crate) mod own;
 pub(crate) mod painted;
 
-pub use own::OwnLabels;
-pub use painted::{PaintedPidt, UNLABELLED_COLOR, paint as paint_pidt};
+pub use own::OwnLabelFiles;
+pub use painted::{PidtImage, UNLABELLED_COLOR, paint as paint_pidt};

@@ -15,28 +15,28 @@ use std::path::{Path, PathBuf};
 use ufcsr::{Color, Legend};
 
 use crate::error::{CaptureError, Result};
-use crate::texture::pidt::painted::{PaintedPidt, UNLABELLED_COLOR};
+use crate::texture::pidt::painted::{PidtImage, UNLABELLED_COLOR};
 use crate::texture::uv_islands::{Unwrapped, for_texel_centres};
 
-/// The user's PIdT and legend files.
+/// The user's PIdT and legend files (`--pidt`, `--parts`).
 #[derive(Debug, Clone, PartialEq)]
-pub struct OwnLabels {
+pub struct OwnLabelFiles {
     pub pidt: PathBuf,
     pub parts: PathBuf,
 }
 
-/// A loaded own PIdT.
+/// The user's PIdT and legend, loaded and checked against the kept UVs.
 #[derive(Debug, Clone)]
-pub struct LoadedLabels {
+pub struct LoadedOwnLabels {
     /// In the form a capture writes (`rgb` as in the file).
-    pub pidt: PaintedPidt,
+    pub pidt: PidtImage,
     pub legend: Legend,
     /// What does not fit, one line each.
     pub warnings: Vec<String>,
 }
 
 /// Loads and checks the user's PIdT for the kept UVs in `unwrapped`.
-pub fn load(labels: &OwnLabels, unwrapped: &Unwrapped) -> Result<LoadedLabels> {
+pub fn load(labels: &OwnLabelFiles, unwrapped: &Unwrapped) -> Result<LoadedOwnLabels> {
     if unwrapped.method != "kept" {
         return Err(CaptureError::BadOptions(
             "--pidt needs --keep-uvs: a PIdT painted for the mesh's own UVs means nothing for the islands a capture unwraps".into(),
@@ -99,14 +99,14 @@ pub fn load(labels: &OwnLabels, unwrapped: &Unwrapped) -> Result<LoadedLabels> {
     }
     let rgb: Vec<u8> = image.colors.iter().flat_map(|&c| Color::from_packed(c).rgb()).collect();
     let labelled = resolved.part_texels.iter().sum();
-    let pidt = PaintedPidt {
+    let pidt = PidtImage {
         size: [w, h],
         rgb,
         part_colors: legend.parts.iter().map(|p| p.color).collect(),
         labelled,
         conflicts: 0,
     };
-    Ok(LoadedLabels { pidt, legend, warnings })
+    Ok(LoadedOwnLabels { pidt, legend, warnings })
 }
 
 /// Writes the legend into the archive as `name,color`.

@@ -19,9 +19,11 @@ use crate::texture::uv_islands::{Unwrapped, footprint};
 /// Colour of texels that belong to no part.
 pub const UNLABELLED_COLOR: Color = Color::from_rgb(0, 0, 0);
 
-/// A painted PIdT.
+/// A PIdT as the image an archive carries (`pidt.png`): painted from the
+/// parts ([`paint`]) or the user's own ([`super::own`]). The analyzer reads
+/// it back resolved against the legend, a part per texel ([`ufcsr::Pidt`]).
 #[derive(Debug, Clone)]
-pub struct PaintedPidt {
+pub struct PidtImage {
     pub size: [u32; 2],
     /// RGB, row 0 at the top.
     pub rgb: Vec<u8>,
@@ -33,7 +35,7 @@ pub struct PaintedPidt {
     pub conflicts: u64,
 }
 
-impl PaintedPidt {
+impl PidtImage {
     /// The colour at texel (x, y).
     pub fn at(&self, x: u32, y: u32) -> Color {
         let i = ((y as usize) * (self.size[0] as usize) + x as usize) * 3;
@@ -81,7 +83,7 @@ fn hsv(h: f64, s: f64, v: f64) -> Color {
 }
 
 /// Paints the PIdT of an unwrapped mesh.
-pub fn paint(mesh: &Mesh, unwrapped: &Unwrapped) -> PaintedPidt {
+pub fn paint(mesh: &Mesh, unwrapped: &Unwrapped) -> PidtImage {
     let [w, h] = unwrapped.palette;
     let part_colors = part_colors(mesh.parts.len());
     let mut rgb = vec![0u8; (w as usize) * (h as usize) * 3];
@@ -99,17 +101,17 @@ pub fn paint(mesh: &Mesh, unwrapped: &Unwrapped) -> PaintedPidt {
             }
         });
     }
-    PaintedPidt { size: [w, h], rgb, part_colors, labelled, conflicts }
+    PidtImage { size: [w, h], rgb, part_colors, labelled, conflicts }
 }
 
 /// Writes the PIdT as an 8-bit RGB PNG.
-pub fn write_png(pidt: &PaintedPidt, path: &Path) -> Result<()> {
+pub fn write_png(pidt: &PidtImage, path: &Path) -> Result<()> {
     ufcsr::write_rgb_png(path, pidt.size[0], pidt.size[1], &pidt.rgb, png::Compression::Fast)?;
     Ok(())
 }
 
 /// Writes the legend `name,color`.
-pub fn write_legend(mesh: &Mesh, pidt: &PaintedPidt, path: &Path) -> Result<()> {
+pub fn write_legend(mesh: &Mesh, pidt: &PidtImage, path: &Path) -> Result<()> {
     ufcsr::write_atomically(path, |w| {
         writeln!(w, "name,color")?;
         for (name, color) in mesh.parts.iter().zip(&pidt.part_colors) {
