@@ -30,6 +30,7 @@ frame, to open in Blender's UI), ``-q``. Bad input is an error naming the file a
 
 import argparse
 import json
+import logging
 import math
 import os
 import shutil
@@ -68,23 +69,24 @@ def parse_arguments(argv):
 
 
 def frame_selection(spec):
-    """The frame numbers of `120,150,0-180/20`."""
-    frames = set()
+    """The items of `120,150,0-180/20` as (first, last, step): a range is tested, never listed."""
+    items = []
     for item in spec.split(","):
         item = item.strip()
         try:
-            if "-" in item:
-                span, _, step = item.partition("/")
-                first, last = (int(part) for part in span.split("-", 1))
-                step = int(step) if step else 1
-                if step < 1 or last < first:
-                    raise ValueError
-                frames.update(range(first, last + 1, step))
-            else:
-                frames.add(int(item))
+            span, _, step = item.partition("/")
+            first, _, last = span.partition("-")
+            first = int(first)
+            last = int(last) if last else first
+            step = int(step) if step else 1
+            if first < 0 or step < 1 or last < first or (step != 1 and first == last and "-" not in span):
+                raise ValueError
         except ValueError:
-            raise InputError(f"--frames {spec}: '{item}' is not a frame, a range FIRST-LAST or FIRST-LAST/STEP")
-    return frames
+            raise InputError(
+                f"--frames {spec}: '{item}' is not a frame, a range FIRST-LAST or FIRST-LAST/STEP"
+            )
+        items.append((first, last, step))
+    return items
 
 
 def read_manifest(archive):
@@ -149,7 +151,8 @@ def check_projection(projection, where):
     if not isinstance(projection, dict) or projection.get("model") != "rectilinear":
         raise InputError(f"{where}: missing or not 'rectilinear' (needed to rebuild the cameras)")
     pixels = projection.get("eye_pixels")
-    if not (isinstance(pixels, list) and len(pixels) == 2 and all(isinstance(n, int) and 0 < n <= 65536 for n in pixels)):
+    sizes_ok = isinstance(pixels, list) and len(pixels) == 2
+    if not (sizes_ok and all(isinstance(n, int) and 0 < n <= 65536 for n in pixels)):
         raise InputError(f"{where}: 'eye_pixels' is not [width, height]")
     fov = projection.get("horizontal_fov_deg")
     if not is_number(fov) or not 0 < fov < 180:
@@ -180,7 +183,9 @@ def tile_grid(manifest, manifest_path):
         raise InputError(f"{manifest_path}: rig.settings.tiles is not [columns, rows]")
     columns, rows = tiles
     if eye_width % columns or eye_height % rows:
-        raise InputError(f"{manifest_path}: {eye_width}x{eye_height} eye pixels do not split into {columns}x{rows} tiles")
+        raise InputError(
+            f"{manifest_path}: {eye_width}x{eye_height} eye pixels do not split into {columns}x{rows} tiles"
+        )
     return columns, rows, eye_width // columns, eye_height // rows, eye_width, eye_height
 
 
@@ -407,11 +412,13 @@ def write_png(path, rgb):
     raw = b"".join(b"\x00" + rgb[row].tobytes() for row in range(height))
 
     def chunk(kind, data):
-        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+        checksum = zlib.crc32(kind + data) & 0xFFFFFFFF
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", checksum)
 
     header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
     with open(path, "wb") as file:
-        file.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
+        file.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header))
+        file.write(chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
 
 
 def tiles_of_eye(rgb, grid, backgrounds, out, record, eye_name):
@@ -422,7 +429,8 @@ def tiles_of_eye(rgb, grid, backgrounds, out, record, eye_name):
     entries = []
     for row in range(rows):
         for column in range(columns):
-            tile = rgb[row * tile_height:(row + 1) * tile_height, column * tile_width:(column + 1) * tile_width]
+            top, left = row * tile_height, column * tile_width
+            tile = rgb[top:top + tile_height, left:left + tile_width]
             is_background = numpy.zeros(tile.shape[:2], dtype=bool)
             for colour in backgrounds:
                 is_background |= numpy.all(tile == numpy.array(colour, dtype=numpy.uint8), axis=2)
@@ -499,15 +507,23 @@ def blender_manifest(manifest, records, tiles, engine):
 
 
 def selected_records(manifest, spec, manifest_path):
+    """The archive's frame records that --frames names; each item must name at least one."""
     records = sorted(manifest["frames"], key=lambda record: record["frame"])
     if spec is None:
         return records
-    wanted = frame_selection(spec)
-    known = {record["frame"] for record in records}
-    absent = sorted(wanted - known)
-    if absent:
-        raise InputError(f"{manifest_path}: frame {absent[0]} of --frames is not in the archive")
-    return [record for record in records if record["frame"] in wanted]
+    items = frame_selection(spec)
+
+    def named(record, item):
+        first, last, step = item
+        return first <= record["frame"] <= last and (record["frame"] - first) % step == 0
+
+    for item in items:
+        if not any(named(record, item) for record in records):
+            first, last, step = item
+            if first == last:
+                raise InputError(f"{manifest_path}: frame {first} of --frames is not in the archive")
+            raise InputError(f"{manifest_path}: --frames {first}-{last}/{step} names no frame of the archive")
+    return [record for record in records if any(named(record, item) for item in items)]
 
 
 def render_archive(arguments):
@@ -550,7 +566,8 @@ def render_archive(arguments):
         file.write("\n")
     if not arguments.quiet:
         written = sum(1 for tile in tiles if "file" in tile)
-        print(f"{TOOL}: {len(records)} frames, {written} tiles written in {time.monotonic() - started:.1f} s -> {out}")
+        seconds = time.monotonic() - started
+        print(f"{TOOL}: {len(records)} frames, {written} tiles written in {seconds:.1f} s -> {out}")
 
 
 def script_arguments():
@@ -570,6 +587,8 @@ def main():
         # Blender's importer and renderer print to the process's stdout, not through sys.stdout.
         sys.stdout.flush()
         os.dup2(os.open(os.devnull, os.O_WRONLY), 1)
+        # The glTF importer logs every node to stderr through this logger.
+        logging.getLogger("glTFImporter").disabled = True
     try:
         render_archive(arguments)
     except InputError as error:

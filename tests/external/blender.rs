@@ -3,8 +3,9 @@
 //! silhouette (pixels that are not background) has an IoU of at least 0.999 and at least 99.8 % of
 //! the pixels either shows the vehicle on are identical; `ufcsr-analyze` reads Blender's archive
 //! alone (fps and pixels per degree from its manifest), finds no stray pixel and the capture's total
-//! for every part. Needs a Python with Blender's `bpy` module (`UFCSR_BPY_PYTHON`, else `python3`;
-//! `pip install bpy==4.2.0` under Python 3.11) and `ufcsr-capture` beside `ufcsr-analyze`; either
+//! for every part. Needs a Python with Blender's `bpy` module (`UFCSR_BPY_PYTHON`, else
+//! `target/bpy-venv/bin/python` where `.ci/run` installs it, else `python3`; `pip install
+//! bpy==4.2.0` under Python 3.11) and `ufcsr-capture` beside `ufcsr-analyze`; either
 //! missing makes the tests ignored (failed under CI).
 
 use std::collections::BTreeMap;
@@ -14,15 +15,19 @@ use std::process::{Command, Output};
 use crate::need::{Outcome, missing};
 use libtest_mimic::Completion;
 
-/// The demo frames rendered: the truck far (130, 12 m) and near (180, 7 m). Of the frames measured
-/// (docs/guide.md, "Blender from a script"), two would fail a bound: at 120 only 99.80 % of the
+/// The demo frames rendered: the truck farther (130, 10.9 m) and near (180, 7.3 m). Of the frames measured
+/// (docs/guide.md, "Blender"), two would fail a bound: at 120 only 99.80 % of the
 /// truck's pixels are identical, and at 150 one pixel on the edge between two parts' triangles
 /// falls to the other part, which moves one count between their totals.
 const FRAMES: &str = "130,180";
 
-/// The interpreter with `bpy`, or the outcome saying what is missing.
+/// The interpreter with `bpy`: `UFCSR_BPY_PYTHON`, else the venv `.ci/run` installs in
+/// `target/bpy-venv`, else `python3`; or the outcome saying what is missing.
 fn bpy_python() -> Result<String, Outcome> {
-    let python = std::env::var("UFCSR_BPY_PYTHON").unwrap_or_else(|_| "python3".to_string());
+    let installed = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bpy-venv/bin/python");
+    let python = std::env::var("UFCSR_BPY_PYTHON").unwrap_or_else(|_| {
+        if installed.is_file() { installed.display().to_string() } else { "python3".to_string() }
+    });
     // os._exit: bpy may crash while Python shuts down.
     let imports = Command::new(&python).args(["-c", "import bpy, os; os._exit(0)"]).output();
     if imports.is_ok_and(|output| output.status.success()) {
