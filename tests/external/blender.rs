@@ -1,9 +1,9 @@
 //! Blender renders a ufcsr-capture archive again (`scripts/blender/ufcsr_blender.py`, EEVEE, the
 //! colour recipe of docs/guide.md) and is held to the capture: per eye-frame the vehicle's
 //! silhouette (pixels that are not background) has an IoU of at least 0.999 and at least 99.8 % of
-//! the pixels either shows the vehicle on are identical; `ufcsr-analyze` reads Blender's archive
-//! alone (fps and pixels per degree from its manifest), finds no stray pixel and the capture's total
-//! for every part. Needs a Python with Blender's `bpy` module (`UFCSR_BPY_PYTHON`, else
+//! the pixels either shows the vehicle on are identical; Blender's manifest matches the manifest
+//! schema, and `ufcsr-analyze` reads the archive alone (fps and pixels per degree from it), finds
+//! no stray pixel and the capture's total for every part. Needs a Python with Blender's `bpy` module (`UFCSR_BPY_PYTHON`, else
 //! `target/bpy-venv/bin/python` where `.ci/run` installs it, else `python3`; `pip install
 //! bpy==4.2.0` under Python 3.11) and `ufcsr-capture` beside `ufcsr-analyze`; either
 //! missing makes the tests ignored (failed under CI).
@@ -159,6 +159,10 @@ pub fn blender_rerenders_a_capture_with_its_silhouettes_pixels_and_part_totals()
             "frame {frame} {eye}: IoU {iou:.5}, identical {identical:.5}"
         );
     }
+    // A complete archive: the manifest matches the capture's schema (rig, frames, poses, capture).
+    let schema = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/schemas/manifest.schema.json");
+    crate::validator::Schema::load(&schema)
+        .assert_valid(&read_json(&blender.join("manifest.json")), "Blender's manifest");
     let expected = read_json(&ours.join("results/result.json"));
     let result = read_json(&blender.join("results/result.json"));
     assert_eq!(result["stray_pixels"], 0, "stray pixels in Blender's frames");

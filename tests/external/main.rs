@@ -13,6 +13,9 @@ mod common;
 // Shared with capture/tests/slurm_batch.rs, which includes it by this path.
 #[path = "../slurm_support/mod.rs"]
 mod slurm_support;
+// The schema tests' validator (the Blender test checks its archive's manifest).
+#[path = "../../docs/schemas/validator.rs"]
+mod validator;
 
 mod atomic_results;
 mod blender;
