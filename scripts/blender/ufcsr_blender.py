@@ -33,6 +33,7 @@ import json
 import logging
 import math
 import os
+import re
 import shutil
 import struct
 import sys
@@ -113,6 +114,8 @@ def read_manifest(archive):
         if not isinstance(manifest.get(name), str):
             raise InputError(f"{path}: no '{name}' file named (needed beside the tiles)")
         inside(archive, manifest[name], path)
+    if isinstance(manifest.get("palette"), str):
+        inside(archive, manifest["palette"], path)
     return manifest
 
 
@@ -139,7 +142,7 @@ def check_frame(record, where):
     if not 1 <= len(eyes) <= 2:
         raise InputError(f"{where}: 'eyes' names {len(eyes)} eyes (one or two)")
     for name, eye in eyes.items():
-        if not name.isidentifier() or not isinstance(eye, dict):
+        if not re.fullmatch(r"[A-Za-z0-9_-]{1,32}", name) or not isinstance(eye, dict):
             raise InputError(f"{where}: eye '{name}' is not a name with a camera")
         for key in ("position", "right", "up", "forward"):
             if not is_vector(eye.get(key)):

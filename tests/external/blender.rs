@@ -3,7 +3,7 @@
 //! silhouette (pixels that are not background) has an IoU of at least 0.999 and at least 99.8 % of
 //! the pixels either shows the vehicle on are identical; Blender's manifest matches the manifest
 //! schema, and `ufcsr-analyze` reads the archive alone (fps and pixels per degree from it), finds
-//! no stray pixel and the capture's total for every part. Needs a Python with Blender's `bpy` module (`UFCSR_BPY_PYTHON`, else
+//! no stray pixel, no colour damage and the capture's total for every part. Needs a Python with Blender's `bpy` module (`UFCSR_BPY_PYTHON`, else
 //! `target/bpy-venv/bin/python` where `.ci/run` installs it, else `python3`; `pip install
 //! bpy==4.2.0` under Python 3.11) and `ufcsr-capture` beside `ufcsr-analyze`; either
 //! missing makes the tests ignored (failed under CI).
@@ -166,6 +166,8 @@ pub fn blender_rerenders_a_capture_with_its_silhouettes_pixels_and_part_totals()
     let expected = read_json(&ours.join("results/result.json"));
     let result = read_json(&blender.join("results/result.json"));
     assert_eq!(result["stray_pixels"], 0, "stray pixels in Blender's frames");
+    let colour_warnings = &result["colour_checks"]["warnings"];
+    assert_eq!(colour_warnings.as_array().map(Vec::len), Some(0), "colour damage: {colour_warnings}");
     assert_eq!(part_totals(&result), part_totals(&expected));
     // The manifest carried fps and pixels per degree: the measures have their units.
     assert_eq!(result["measures"]["pixels_per_degree"], expected["measures"]["pixels_per_degree"]);
