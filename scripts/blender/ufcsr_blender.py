@@ -25,7 +25,11 @@ or inside Blender::
 Options: ``--engine eevee|cycles`` (default eevee), ``--frames 120,150`` or ``0-180/20`` (a subset
 of the archive's frames; default all), ``--save-blend FILE.blend`` (the set-up scene at the first
 frame, to open in Blender's UI), ``-q``. Bad input is an error naming the file and the problem
-(exit 2); nothing is written outside ``--out``.
+(exit 2); nothing is written outside ``--out`` but the ``--save-blend`` file.
+
+Only the tiles the vehicle's bounding boxes touch are rendered (one Render Region per eye and
+frame); the others can only show background and are listed empty, as the capture lists the tiles
+it culls.
 """
 
 import argparse
@@ -388,25 +392,82 @@ def place(vehicle, camera, record, eye):
 # ---------------------------------------------------------------- rendering and the tiles
 
 
-def render_eye(path, width, height):
-    """Renders the active camera to `path` and returns its 8-bit RGB rows, top row first."""
+def vehicle_region(camera, vehicle, grid):
+    """The tiles the vehicle's bounds touch in the camera's image, as (first column, first row,
+    last column, last row); None when a bound lies behind the near plane (render the whole image),
+    () when the vehicle is out of view (render nothing: every tile shows background)."""
+    import bpy
+    from bpy_extras.object_utils import world_to_camera_view
+    from mathutils import Vector
+
+    scene = bpy.context.scene
+    bpy.context.view_layer.update()
+    columns, rows, tile_width, tile_height, width, height = grid
+    xs, ys = [], []
+    for obj in vehicle.children_recursive:
+        if obj.type != "MESH":
+            continue
+        for corner in obj.bound_box:
+            point = world_to_camera_view(scene, camera, obj.matrix_world @ Vector(corner))
+            if point.z <= camera.data.clip_start:
+                return None
+            xs.append(point.x * width)
+            ys.append((1.0 - point.y) * height)
+    # One pixel of margin: a pixel whose centre the bounds' edge passes still belongs to it.
+    left, right = max(0.0, min(xs) - 1.0), min(width - 1.0, max(xs) + 1.0)
+    top, bottom = max(0.0, min(ys) - 1.0), min(height - 1.0, max(ys) + 1.0)
+    if left > right or top > bottom:
+        return ()
+    first = (int(left) // tile_width, int(top) // tile_height)
+    return (*first, int(right) // tile_width, int(bottom) // tile_height)
+
+
+def tiles_in(region, grid):
+    """How many tiles `vehicle_region`'s answer renders."""
+    if region is None:
+        return grid[0] * grid[1]
+    if region == ():
+        return 0
+    first_column, first_row, last_column, last_row = region
+    return (last_column - first_column + 1) * (last_row - first_row + 1)
+
+
+def render_eye(path, grid, region, background):
+    """Renders the active camera's tiles in `region` (all with None) to `path`; returns the eye
+    image's 8-bit RGB rows, top row first, the background outside the region."""
     import bpy
     import numpy
 
-    scene = bpy.context.scene
-    scene.render.filepath = path
+    columns, rows, tile_width, tile_height, width, height = grid
+    image_rows = numpy.empty((height, width, 3), dtype=numpy.uint8)
+    image_rows[:, :] = background
+    if region == ():
+        return image_rows
+    first_column, first_row, last_column, last_row = region or (0, 0, columns - 1, rows - 1)
+    left, right = first_column * tile_width, (last_column + 1) * tile_width
+    top, bottom = first_row * tile_height, (last_row + 1) * tile_height
+    render = bpy.context.scene.render
+    render.use_border = render.use_crop_to_border = True
+    # Blender's border is a fraction of the image from the bottom left; a quarter pixel inside
+    # each edge lands on the same pixel whether Blender truncates or rounds it.
+    render.border_min_x, render.border_max_x = (left + 0.25) / width, (right + 0.25) / width
+    render.border_min_y = (height - bottom + 0.25) / height
+    render.border_max_y = (height - top + 0.25) / height
+    render.filepath = path
     bpy.ops.render.render(write_still=True)
     image = bpy.data.images.load(path)
     # A byte image's `pixels` are its bytes / 255 whatever the colour space; Non-Color keeps it so.
     image.colorspace_settings.name = "Non-Color"
-    if tuple(image.size) != (width, height):
-        raise InputError(f"{path}: Blender rendered {tuple(image.size)}, not {width}x{height}")
-    values = numpy.empty(width * height * image.channels, dtype=numpy.float32)
+    size = tuple(image.size)
+    if size != (right - left, bottom - top):
+        raise InputError(f"{path}: Blender rendered {size}, not the region of {right - left}x{bottom - top}")
+    values = numpy.empty(size[0] * size[1] * image.channels, dtype=numpy.float32)
     image.pixels.foreach_get(values)
     bpy.data.images.remove(image)
     os.remove(path)
-    rows = numpy.rint(values.reshape(height, width, -1)[::-1, :, :3] * 255.0)
-    return rows.astype(numpy.uint8)
+    region_rows = numpy.rint(values.reshape(size[1], size[0], -1)[::-1, :, :3] * 255.0)
+    image_rows[top:bottom, left:right] = region_rows.astype(numpy.uint8)
+    return image_rows
 
 
 def write_png(path, rgb):
@@ -473,10 +534,12 @@ def copy_described_files(source, out, manifest):
         shutil.copyfile(os.path.join(source, name), target)
 
 
-def blender_manifest(manifest, records, tiles, engine):
-    """The source manifest with Blender's tiles, the frames rendered and what rendered them."""
+def blender_manifest(manifest, records, rendering, engine):
+    """The source manifest with Blender's tiles, the frames rendered and what rendered them;
+    `rendering` is (the tile entries, how many of them were rendered)."""
     import bpy
 
+    tiles, rendered = rendering
     result = dict(manifest)
     result["tiles"] = tiles
     result["frames"] = []
@@ -492,9 +555,9 @@ def blender_manifest(manifest, records, tiles, engine):
     engine_name = "Cycles" if engine == "cycles" else "EEVEE"
     result["capture"] = {
         "tool": f"{TOOL} (Blender {bpy.app.version_string}, {engine_name})",
-        "tiles_rendered": len(tiles),
-        "tiles_culled": 0,
-        "tiles_background_only": empty,
+        "tiles_rendered": rendered,
+        "tiles_culled": len(tiles) - rendered,
+        "tiles_background_only": empty - (len(tiles) - rendered),
         "pixels_scissored": 0,
         "tiles_hidden": 0,
     }
@@ -554,18 +617,20 @@ def render_archive(arguments):
         place(vehicle, camera, first, next(iter(first["eyes"].values())))
         bpy.ops.wm.save_as_mainfile(filepath=os.path.abspath(arguments.save_blend))
     scratch = os.path.join(os.path.abspath(out), ".render.png")
-    tiles = []
+    tiles, rendered = [], 0
     started = time.monotonic()
     for record in records:
         for eye_name, eye in record["eyes"].items():
             place(vehicle, camera, record, eye)
-            rgb = render_eye(scratch, grid[4], grid[5])
+            region = vehicle_region(camera, vehicle, grid)
+            rendered += tiles_in(region, grid)
+            rgb = render_eye(scratch, grid, region, backgrounds[0])
             tiles.extend(tiles_of_eye(rgb, grid, backgrounds, out, record, eye_name))
         if not arguments.quiet:
             print(f"{TOOL}: frame {record['frame']} rendered", flush=True)
     copy_described_files(source, out, manifest)
     with open(os.path.join(out, "manifest.json"), "w", encoding="utf-8") as file:
-        json.dump(blender_manifest(manifest, records, tiles, arguments.engine), file, indent=2)
+        json.dump(blender_manifest(manifest, records, (tiles, rendered), arguments.engine), file, indent=2)
         file.write("\n")
     if not arguments.quiet:
         written = sum(1 for tile in tiles if "file" in tile)
