@@ -1,5 +1,6 @@
 //! The tests that need something from outside the repository — Slurm,
-//! Chromium, Python with pip, Node with the glTF validator, the reference data in `../shared`, the capture
+//! Chromium, Python with pip, Node with the glTF validator, Python with
+//! Blender's `bpy`, the reference data in `../shared`, the capture
 //! binary — in their own binary with its own harness (`libtest-mimic`,
 //! `harness = false`): a test whose tool is missing is reported *ignored*
 //! with the reason, so `cargo test` counts it among the ignored, never among
@@ -12,8 +13,12 @@ mod common;
 // Shared with capture/tests/slurm_batch.rs, which includes it by this path.
 #[path = "../slurm_support/mod.rs"]
 mod slurm_support;
+// The schema tests' validator (the Blender test checks its archive's manifest).
+#[path = "../../docs/schemas/validator.rs"]
+mod validator;
 
 mod atomic_results;
+mod blender;
 mod gltf_validator;
 mod manifest_script;
 mod need;
@@ -31,6 +36,14 @@ fn trials() -> Vec<Trial> {
         trial(
             "atomic_results::an_interrupted_capture_leaves_no_temporary_files",
             atomic_results::an_interrupted_capture_leaves_no_temporary_files,
+        ),
+        trial(
+            "blender::blender_rerenders_a_capture_with_its_silhouettes_pixels_and_part_totals",
+            blender::blender_rerenders_a_capture_with_its_silhouettes_pixels_and_part_totals,
+        ),
+        trial(
+            "blender::the_blender_script_refuses_an_archive_without_cameras_naming_its_manifest",
+            blender::the_blender_script_refuses_an_archive_without_cameras_naming_its_manifest,
         ),
         trial(
             "gltf_validator::vehicle_heatmap_and_scene_glb_validate_with_no_error_or_warning",
