@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use ufcsr::Dedupe;
 
-use crate::archive::{CaptureOptions, CaptureProgress, FrameSelection, capture_counted};
+use crate::archive::{CaptureOptions, CaptureProgress, CountedCapture, FrameSelection, capture_counted};
 use crate::error::{CaptureError, Result};
 use crate::scene::Scene;
 use crate::unobstructed::accuracy::{
@@ -308,35 +308,64 @@ fn capture_setting(
     ppd: f64,
     step: u32,
 ) -> Result<Run> {
-    let scenario = scene.scenario(&options.scenario)?;
     let mut scene = scene.clone();
     scene.rig.set_pixels_per_degree(ppd)?;
-    let frame_count = scene.rig.frame_count(scenario.duration_s);
     let out = options.capture.out.join(format!("ppd{ppd}-step{step}"));
-    let frames: FrameSelection = format!("0-{}/{step}", frame_count.saturating_sub(1)).parse()?;
-    let capture = CaptureOptions {
-        out: out.clone(),
-        frames,
-        progress: CaptureProgress::default(),
-        ..options.capture.clone()
-    };
-    let counted = capture_counted(device, queue, &scene, scenario, &capture, options.dedupe)?;
+    let setting = Setting { name: &options.scenario, out: &out, step, dedupe: options.dedupe };
+    let (counted, frames) = count_every_nth_frame(device, queue, &scene, &options.capture, &setting)?;
     eprintln!(
         "study: {ppd} px/°, every {step} frame(s): {} frames in {:.2} s",
         counted.summary.frames, counted.summary.seconds
     );
-    let table = counted.analysis.frames.as_ref().ok_or_else(|| {
-        CaptureError::BadOptions(format!("{}: the fused count kept no per-eye-frame tallies", out.display()))
-    })?;
     Ok(Run {
         ppd,
         step,
-        frames: frames_every(step, frame_count),
+        frames,
         seconds: counted.summary.seconds,
         grand_total: counted.analysis.result.grand_total,
         texels_seen: counted.analysis.result.texels_seen,
-        values: rendered_per_eye_frame(table, options.measure, &out)?,
+        values: rendered_per_eye_frame(frame_table(&counted, &out)?, options.measure, &out)?,
         results: counted.written.result_json,
+    })
+}
+
+/// One capture of a study: the scenario, its folder, the frame step and
+/// what one count means.
+struct Setting<'a> {
+    name: &'a str,
+    out: &'a Path,
+    step: u32,
+    dedupe: Dedupe,
+}
+
+/// The fused count of `scene` (its rig as the setting needs it) at every
+/// `step`-th frame into `out`, with `base`'s other capture settings; and
+/// the frames it covered.
+fn count_every_nth_frame(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    base: &CaptureOptions,
+    setting: &Setting,
+) -> Result<(CountedCapture, Vec<u32>)> {
+    let scenario = scene.scenario(setting.name)?;
+    let frame_count = scene.rig.frame_count(scenario.duration_s);
+    let step = setting.step;
+    let frames: FrameSelection = format!("0-{}/{step}", frame_count.saturating_sub(1)).parse()?;
+    let capture = CaptureOptions {
+        out: setting.out.to_path_buf(),
+        frames,
+        progress: CaptureProgress::default(),
+        ..base.clone()
+    };
+    let counted = capture_counted(device, queue, scene, scenario, &capture, setting.dedupe)?;
+    Ok((counted, frames_every(step, frame_count)))
+}
+
+/// The per-eye-frame tallies a fused count keeps.
+fn frame_table<'c>(counted: &'c CountedCapture, out: &Path) -> Result<&'c ufcsr::FrameTable> {
+    counted.analysis.frames.as_ref().ok_or_else(|| {
+        CaptureError::BadOptions(format!("{}: the fused count kept no per-eye-frame tallies", out.display()))
     })
 }
 

@@ -19,11 +19,11 @@ use std::time::Instant;
 use serde::Serialize;
 use ufcsr::Dedupe;
 
-use crate::archive::{CaptureOptions, CaptureProgress, FrameSelection, capture_counted};
+use crate::archive::CaptureOptions;
 use crate::error::{CaptureError, Result};
 use crate::scene::Scene;
 use crate::scene::track::ValueOrTrack;
-use crate::study::{StudyMeasure, rendered_per_eye_frame};
+use crate::study::{Setting, StudyMeasure, count_every_nth_frame, frame_table, rendered_per_eye_frame};
 use crate::unobstructed::accuracy::SplitMix;
 
 /// The most observers one study captures (each is a full capture).
@@ -228,7 +228,6 @@ fn capture_observer(
     position: [f64; 3],
     eye_height_m: f64,
 ) -> Result<(Observer, Vec<String>)> {
-    let scenario = scene.scenario(&options.scenario)?;
     let mut scene = scene.clone();
     if options.kerb.is_some() {
         scene.rig.pedestrian = ValueOrTrack::Fixed(position);
@@ -236,20 +235,11 @@ fn capture_observer(
     scene.rig.eye_height_m = eye_height_m;
     scene.rig.set_pixels_per_degree(options.ppd)?;
     scene.rig.check().map_err(|e| CaptureError::BadOptions(format!("observer {index}: {e}")))?;
-    let frame_count = scene.rig.frame_count(scenario.duration_s);
     let out = options.capture.out.join(format!("observer-{index:03}"));
     let step = options.frame_step;
-    let frames: FrameSelection = format!("0-{}/{step}", frame_count.saturating_sub(1)).parse()?;
-    let capture = CaptureOptions {
-        out: out.clone(),
-        frames,
-        progress: CaptureProgress::default(),
-        ..options.capture.clone()
-    };
-    let counted = capture_counted(device, queue, &scene, scenario, &capture, Dedupe::Frame)?;
-    let table = counted.analysis.frames.as_ref().ok_or_else(|| {
-        CaptureError::BadOptions(format!("{}: the fused count kept no per-eye-frame tallies", out.display()))
-    })?;
+    let setting = Setting { name: &options.scenario, out: &out, step, dedupe: Dedupe::Frame };
+    let (counted, _) = count_every_nth_frame(device, queue, &scene, &options.capture, &setting)?;
+    let table = frame_table(&counted, &out)?;
     let solid = rendered_per_eye_frame(table, StudyMeasure::AngularArea, &out)?;
     let count = rendered_per_eye_frame(table, StudyMeasure::Count, &out)?;
     // deg²·s per eye: Σ sr × (180/π)² × seconds per frame / 2 eyes.
