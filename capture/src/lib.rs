@@ -20,6 +20,7 @@
 mod archive;
 mod error;
 mod inspect;
+mod overwrite_guard;
 mod render;
 mod scene;
 mod study;

@@ -20,7 +20,7 @@ use crate::archive::frame_capture::FrameCapture;
 use crate::archive::manifest_builder::{ManifestParts, build_manifest};
 use crate::archive::options::{CaptureOptions, Summary, TileTally};
 use crate::archive::tile_sink::TileSink;
-use crate::archive::{SCENE_FILE, VEHICLE_FILE};
+use crate::archive::{ARCHIVE_FILES, ARCHIVE_FOLDERS, SCENE_FILE, VEHICLE_FILE};
 use crate::error::{CaptureError, Result};
 use crate::render::{Palette, RenderSetup, Renderer, vehicle_vertices};
 use crate::scene::Scene;
@@ -101,6 +101,12 @@ pub fn prepare_archive(
     options: &CaptureOptions,
 ) -> Result<PreparedCapture> {
     let out = &options.out;
+    crate::overwrite_guard::refuse_overwriting_inputs(
+        out,
+        &ARCHIVE_FILES,
+        &ARCHIVE_FOLDERS,
+        &capture_inputs(scene, options),
+    )?;
     std::fs::create_dir_all(out).map_err(|e| CaptureError::io(out, e))?;
     let LoadedPalette { palette, external, background_texel } = load_palette(options)?;
     let palette_size = palette.size();
@@ -154,6 +160,17 @@ pub fn prepare_archive(
         part_count,
         warnings,
     })
+}
+
+/// Every file a capture of `scene` with `options` reads: the scene's files,
+/// an external palette, an own PIdT and its legend.
+pub fn capture_inputs(scene: &Scene, options: &CaptureOptions) -> Vec<PathBuf> {
+    let mut inputs = scene.input_files.clone();
+    inputs.extend(options.palette_file.iter().cloned());
+    if let Some(own) = &options.own_labels {
+        inputs.extend([own.pidt.clone(), own.parts.clone()]);
+    }
+    inputs
 }
 
 /// Writes `vehicle.glb` (the mesh exactly as unwrapped, with the palette

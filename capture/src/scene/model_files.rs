@@ -8,30 +8,54 @@
 //! the OBJ's own folder). glTF goes through [`ufcsr::read_gltf`].
 
 use std::cell::RefCell;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use crate::error::{CaptureError, Result};
 
+/// An OBJ as loaded: its models, materials, and every file read (the OBJ
+/// and the MTL files it names).
+pub struct LoadedObj {
+    pub models: Vec<tobj::Model>,
+    pub materials: Vec<tobj::Material>,
+    pub files: Vec<PathBuf>,
+}
+
 /// Loads an OBJ with its materials; a missing MTL leaves the materials out
 /// (as tobj does), an MTL that cannot be read safely is an error naming it.
-pub fn load_obj(path: &Path, options: &tobj::LoadOptions) -> Result<(Vec<tobj::Model>, Vec<tobj::Material>)> {
+pub fn load_obj(path: &Path, options: &tobj::LoadOptions) -> Result<LoadedObj> {
     let bytes = ufcsr::read_limited(path, ufcsr::MODEL_LIMIT)?;
+    let files = RefCell::new(vec![path.to_path_buf()]);
+    let read_material = |reference: &Path| {
+        let file = ufcsr::resolve_inside(path, &reference.to_string_lossy())?;
+        let mtl = ufcsr::read_limited(&file, ufcsr::MODEL_LIMIT)?;
+        files.borrow_mut().push(file);
+        Ok(mtl)
+    };
+    let (models, materials) = obj_from_bytes(path, &bytes, options, read_material)?;
+    Ok(LoadedObj { models, materials, files: files.into_inner() })
+}
+
+/// Parses OBJ `bytes` (`path` names it in messages), reading each `mtllib`
+/// with `read_material`: a missing MTL (not found) leaves the materials
+/// out, as tobj does; any other error stops the load.
+pub fn obj_from_bytes(
+    path: &Path,
+    bytes: &[u8],
+    options: &tobj::LoadOptions,
+    read_material: impl Fn(&Path) -> ufcsr::Result<Vec<u8>>,
+) -> Result<(Vec<tobj::Model>, Vec<tobj::Material>)> {
     let refused: RefCell<Option<ufcsr::Error>> = RefCell::new(None);
-    let load_material = |reference: &Path| {
-        let mtl = ufcsr::resolve_inside(path, &reference.to_string_lossy())
-            .and_then(|file| ufcsr::read_limited(&file, ufcsr::MODEL_LIMIT));
-        match mtl {
-            Ok(mtl) => tobj::load_mtl_buf(&mut mtl.as_slice()),
-            Err(ufcsr::Error::Io { cause, .. }) if cause.kind() == std::io::ErrorKind::NotFound => {
-                Err(tobj::LoadError::OpenFileFailed)
-            }
-            Err(error) => {
-                refused.borrow_mut().get_or_insert(error);
-                Err(tobj::LoadError::OpenFileFailed)
-            }
+    let load_material = |reference: &Path| match read_material(reference) {
+        Ok(mtl) => tobj::load_mtl_buf(&mut mtl.as_slice()),
+        Err(ufcsr::Error::Io { cause, .. }) if cause.kind() == std::io::ErrorKind::NotFound => {
+            Err(tobj::LoadError::OpenFileFailed)
+        }
+        Err(error) => {
+            refused.borrow_mut().get_or_insert(error);
+            Err(tobj::LoadError::OpenFileFailed)
         }
     };
-    let loaded = tobj::load_obj_buf(&mut bytes.as_slice(), options, load_material);
+    let loaded = tobj::load_obj_buf(&mut &bytes[..], options, load_material);
     if let Some(error) = refused.into_inner() {
         return Err(error.into());
     }

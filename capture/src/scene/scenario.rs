@@ -10,3 +10,13 @@ pub struct Scenario {
     pub duration_s: f64,
     pub motion: Motion,
 }
+
+/// A scenario's duration: finite, not negative, within the tracks' bounds.
+pub fn check_duration(duration_s: f64) -> std::result::Result<(), String> {
+    let limit = crate::scene::track::MAX_TRACK_MAGNITUDE;
+    if duration_s.is_finite() && (0.0..=limit).contains(&duration_s) {
+        Ok(())
+    } else {
+        Err(format!("duration_s {duration_s:e} must be between 0 and {limit:e} s"))
+    }
+}

@@ -13,6 +13,7 @@ mod fused_count;
 mod hardening;
 mod module_graph;
 mod palette;
+mod reliability;
 pub mod render_check;
 mod round_trip;
 mod scenes;

@@ -1,0 +1,98 @@
+//! The capture's half of issue 19 beyond items 10–14 (`hardening.rs`): no
+//! command writes over one of its inputs (item 2), `assemble` accounts for
+//! every frame and tile (item 8), `batch plan` validates the plan when
+//! planning (item 17), and a Unity export gets the scene file's bounds and
+//! messages.
+
+use std::path::{Path, PathBuf};
+
+use crate::hardening::{capture, fixture, refused, tiny_capture};
+
+/// `dir/own/`: the fixture's glTF box truck as `vehicle.glb` and a scene
+/// file naming it, as a user keeps a vehicle and its scene in one folder.
+fn own_vehicle_folder(dir: &Path) -> (PathBuf, PathBuf) {
+    let own = dir.join("own");
+    std::fs::create_dir_all(&own).unwrap();
+    std::fs::copy(fixture("box-truck.glb"), own.join("vehicle.glb")).unwrap();
+    let scene = own.join("scene.json");
+    std::fs::write(
+        &scene,
+        r#"{"vehicle": {"mesh": "vehicle.glb"}, "occluders": [{"ground": {"z": 0}}],
+  "scenarios": {"S": {"duration_s": 3.0, "position": [{"t": 0, "value": [10, 0, 0]}], "yaw_deg": [{"t": 0, "value": 0}]}}}"#,
+    )
+    .unwrap();
+    (own, scene)
+}
+
+// ---- item 2: never overwrite an input ----
+
+#[test]
+fn a_capture_into_the_folder_of_its_own_mesh_is_refused_and_leaves_the_mesh_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let (own, scene) = own_vehicle_folder(dir.path());
+    let mesh = std::fs::read(own.join("vehicle.glb")).unwrap();
+    // The folder itself, and the same folder under another spelling.
+    for out in [own.clone(), own.join(".").join("..").join("own")] {
+        let ran = tiny_capture(&["scene", scene.to_str().unwrap()], &out, &[]);
+        refused(&ran, &["vehicle.glb would overwrite the input", "choose another output"], "scene");
+        assert_eq!(std::fs::read(own.join("vehicle.glb")).unwrap(), mesh, "the mesh was replaced");
+        assert!(!own.join("manifest.json").exists() && !own.join("pidt.png").exists(), "wrote outputs");
+    }
+    // --count and --scenario all write the same files.
+    let ran = tiny_capture(&["scene", scene.to_str().unwrap()], &own, &["--count"]);
+    refused(&ran, &["would overwrite the input"], "--count");
+    // Another folder is fine.
+    let ran = tiny_capture(&["scene", scene.to_str().unwrap()], &dir.path().join("archive"), &[]);
+    assert!(ran.success, "{}", ran.stderr);
+}
+
+#[test]
+fn inputs_inside_the_folders_a_capture_owns_or_named_like_its_files_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let (own, _) = own_vehicle_folder(dir.path());
+    // A mesh inside out/tiles, where a capture removes old tiles.
+    let tiles = own.join("tiles");
+    std::fs::create_dir_all(&tiles).unwrap();
+    std::fs::copy(fixture("box-truck.glb"), tiles.join("truck.glb")).unwrap();
+    let scene = dir.path().join("tiles-scene.json");
+    let text = std::fs::read_to_string(own.join("scene.json")).unwrap();
+    std::fs::write(&scene, text.replace("vehicle.glb", "own/tiles/truck.glb")).unwrap();
+    let ran = tiny_capture(&["scene", scene.to_str().unwrap()], &own, &[]);
+    refused(&ran, &["writing into", "tiles would overwrite the input", "truck.glb"], "mesh in tiles/");
+    // The scene file itself as the archive's manifest.json.
+    let manifest = dir.path().join("archive").join("manifest.json");
+    std::fs::create_dir_all(manifest.parent().unwrap()).unwrap();
+    std::fs::write(&manifest, text.replace("vehicle.glb", "../own/vehicle.glb")).unwrap();
+    let ran = tiny_capture(&["scene", manifest.to_str().unwrap()], manifest.parent().unwrap(), &[]);
+    refused(&ran, &["manifest.json would overwrite the input"], "scene file as manifest.json");
+    // An external palette kept as the archive's own palette.png.
+    let palette = dir.path().join("archive").join("palette.png");
+    ufcsr::write_canonical_png(&palette, 256, 256).unwrap();
+    let before = std::fs::read(&palette).unwrap();
+    let ran = tiny_capture(&["demo"], manifest.parent().unwrap(), &["--palette", palette.to_str().unwrap()]);
+    refused(&ran, &["palette.png would overwrite the input"], "--palette");
+    assert_eq!(std::fs::read(&palette).unwrap(), before);
+}
+
+#[test]
+fn inspect_and_views_refuse_to_write_over_their_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("inspect");
+    std::fs::create_dir_all(&out).unwrap();
+    // An OBJ whose MTL is named like inspect's legend.
+    std::fs::copy(fixture("box-truck.mtl"), out.join("inspect-parts.csv")).unwrap();
+    let obj = out.join("truck.obj");
+    let text = std::fs::read_to_string(fixture("box-truck.obj")).unwrap();
+    let text: String = text.lines().filter(|l| !l.starts_with("mtllib")).collect::<Vec<_>>().join("\n");
+    std::fs::write(&obj, format!("mtllib inspect-parts.csv\n{text}\n")).unwrap();
+    let ran = capture(&["inspect", obj.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    refused(&ran, &["inspect-parts.csv would overwrite the input"], "inspect");
+    // views: a model kept where a view goes.
+    let archive = dir.path().join("archive");
+    assert!(tiny_capture(&["demo"], &archive, &["--count"]).success);
+    let results = archive.join("results");
+    std::fs::copy(results.join("heatmap.glb"), results.join("views.png")).unwrap();
+    let model = results.join("views.png");
+    let ran = capture(&["views", results.to_str().unwrap(), "--model", model.to_str().unwrap()]);
+    refused(&ran, &["views.png would overwrite the input"], "views");
+}
