@@ -96,3 +96,64 @@ fn inspect_and_views_refuse_to_write_over_their_inputs() {
     let ran = capture(&["views", results.to_str().unwrap(), "--model", model.to_str().unwrap()]);
     refused(&ran, &["views.png would overwrite the input"], "views");
 }
+
+// ---- item 17: batch plans are validated when planning ----
+
+/// `batch plan` of a batch file with `text` in `dir`.
+fn plan(dir: &Path, text: &str) -> crate::hardening::Ran {
+    let batch = dir.join("batch.json");
+    std::fs::write(&batch, text).unwrap();
+    capture(&["batch", "plan", batch.to_str().unwrap(), "--program", "ufcsr-capture"])
+}
+
+#[test]
+fn batch_plan_refuses_what_every_task_would_fail_on_naming_the_batch_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    for (text, expect) in [
+        (r#"{"out": "runs", "scenes": ["demo"], "dedupe": "bogus"}"#, "unknown variant `bogus`"),
+        (r#"{"out": "runs", "scenes": ["demo"], "palette_size": "big"}"#, "palette_size: "),
+        (r#"{"out": "runs", "scenes": ["demo"], "palette_size": "0x0"}"#, "palette_size: "),
+        (
+            r#"{"out": "runs\nrm -rf x", "scenes": ["demo"]}"#,
+            "out: \"runs\\nrm -rf x\" has a control character",
+        ),
+        (
+            r#"{"out": "runs", "scenes": ["demo"], "extra_args": ["--out", "x"]}"#,
+            "--out is an option the plan sets",
+        ),
+        (r#"{"out": "runs", "scenes": ["demo"], "ppd": [10, 10]}"#, "tasks 0 and 1 would both write into"),
+        (r#"{"out": "runs", "scenes": ["demo"], "scenarios": ["A", "a"]}"#, "would both write into"),
+    ] {
+        let ran = plan(d, text);
+        refused(&ran, &["batch.json", expect], text);
+        assert!(ran.stdout.is_empty(), "{text}: planned {}", ran.stdout);
+    }
+    // A scene without the scenario asked for: the batch file, the scene and the scenario named.
+    let (_, scene) = own_vehicle_folder(d);
+    let text = format!(r#"{{"out": "runs", "scenes": ["demo", "{}"], "scenarios": ["A"]}}"#, scene.display());
+    let ran = plan(d, &text);
+    refused(
+        &ran,
+        &["batch.json", "scenes[1]", "scene.json", "no scenario \"A\"; the scene has S"],
+        "scenario",
+    );
+}
+
+#[test]
+fn a_valid_batch_plans_one_line_per_task() {
+    let dir = tempfile::tempdir().unwrap();
+    let ran = plan(
+        dir.path(),
+        r#"{"out": "my runs", "scenes": ["demo"], "scenarios": ["A", "B"], "ppd": [10, 6], "dedupe": "eye-pair", "palette_size": "512x256"}"#,
+    );
+    assert!(ran.success, "{}", ran.stderr);
+    let lines: Vec<&str> = ran.stdout.lines().collect();
+    assert_eq!(lines.len(), 4, "{}", ran.stdout);
+    assert!(
+        lines[3].contains("--scenario B --ppd 6") && lines[3].contains("--dedupe eye-pair"),
+        "{}",
+        lines[3]
+    );
+    assert!(lines[3].ends_with("--out 'my runs/0-demo/B/ppd6-step1'"), "{}", lines[3]);
+}
