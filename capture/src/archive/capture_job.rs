@@ -528,9 +528,11 @@ pub fn write_manifest(
         None => manifest.write_to_dir(&options.out)?,
         Some(shard) => {
             let mut manifest = manifest.clone();
+            // What assemble accounts for: the whole selection and this shard's tiles.
+            let selected = crate::archive::scene_checks::selected_frames(scene, scenario, options)?;
+            let record = capture_shard::shard_record(shard, &selected, manifest.tiles.len());
             if let Some(serde_json::Value::Object(capture)) = manifest.extra.get_mut("capture") {
-                capture
-                    .insert("shard".into(), serde_json::json!({"index": shard.index, "count": shard.count}));
+                capture.insert("shard".into(), record);
             }
             let path = capture_shard::partial_manifest_path(&options.out, shard);
             let dir = options.out.join(capture_shard::SHARDS_DIR);

@@ -157,3 +157,60 @@ fn a_valid_batch_plans_one_line_per_task() {
     );
     assert!(lines[3].ends_with("--out 'my runs/0-demo/B/ppd6-step1'"), "{}", lines[3]);
 }
+
+// ---- item 8: assemble accounts for every frame and tile ----
+
+/// Edits shard `index` of 2's part manifest in `archive` with `edit`.
+fn edit_part(archive: &Path, index: u32, edit: impl Fn(&mut serde_json::Value)) {
+    let path = archive.join(format!("shards/manifest-{index}-of-2.json"));
+    let mut manifest: serde_json::Value = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+    edit(&mut manifest);
+    std::fs::write(&path, serde_json::to_vec_pretty(&manifest).unwrap()).unwrap();
+}
+
+#[test]
+fn assemble_refuses_a_part_manifest_that_lost_frames_or_tiles() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = dir.path().join("archive");
+    for (edit, expect) in [
+        (
+            (|m: &mut serde_json::Value| {
+                m["tiles"] = serde_json::json!([]);
+                m["frames"] = serde_json::json!([]);
+            }) as fn(&mut serde_json::Value),
+            "has 0 frame records where shard 1/2 takes 2 of the 4 selected frames (missing: 60, 180)",
+        ),
+        (
+            |m| {
+                m["frames"].as_array_mut().unwrap().pop();
+            },
+            "missing: 180",
+        ),
+        (
+            |m| {
+                m["tiles"].as_array_mut().unwrap().pop();
+            },
+            "but the shard wrote",
+        ),
+        (
+            |m| m["capture"]["shard"]["selected_frames"] = serde_json::json!([0, 60, 120]),
+            "its selected frames differ",
+        ),
+    ] {
+        let _ = std::fs::remove_dir_all(&archive);
+        for shard in ["0/2", "1/2"] {
+            assert!(tiny_capture(&["demo"], &archive, &["--shard", shard]).success);
+        }
+        edit_part(&archive, 1, edit);
+        let ran = capture(&["assemble", archive.to_str().unwrap()]);
+        refused(&ran, &["manifest-1-of-2.json", expect], expect);
+        assert!(!archive.join("manifest.json").exists(), "{expect}: assembled");
+    }
+    // Untouched, the same shards assemble, every frame there.
+    let _ = std::fs::remove_dir_all(&archive);
+    for shard in ["0/2", "1/2"] {
+        assert!(tiny_capture(&["demo"], &archive, &["--shard", shard]).success);
+    }
+    let ran = capture(&["assemble", archive.to_str().unwrap()]);
+    assert!(ran.success && ran.stdout.contains("2 shards, 4 frames"), "{}{}", ran.stdout, ran.stderr);
+}
