@@ -41,6 +41,8 @@ pub use inspect::{
 pub use render::{
     Backend, Gpu, Palette, PixelRect, RenderSetup, Renderer, TileDraw, Vertex, vehicle_vertices,
 };
+#[doc(hidden)]
+pub use scene::fuzz_entry;
 pub use scene::{
     Axes, Eye, EyeCamera, Key, Mesh, Motion, OccluderObject, Occluders, PartRule, PartSource, Pose,
     RegionReport, Rig, Scenario, Scene, SceneFile, TileId, Track, VehicleSpec, box_corners, box_outside,

@@ -47,10 +47,16 @@ impl GltfModel {
 /// most `limit` bytes in all, under the containment rule.
 pub fn read_gltf(path: &Path, limit: u64) -> Result<GltfModel> {
     let bytes = read_limited(path, limit)?;
-    let gltf = gltf::Gltf::from_slice(&bytes)
-        .map_err(|e| Error::bad_file(path, format!("not a glTF model: {e}")))?;
+    parse_gltf(path, &bytes, limit)
+}
+
+/// [`read_gltf`] of a model's bytes already read (`path` names it and is
+/// where the files its buffers name are looked for): at most `limit`
+/// bytes with those files. The fuzz targets call this.
+pub fn parse_gltf(path: &Path, bytes: &[u8], limit: u64) -> Result<GltfModel> {
+    let gltf =
+        gltf::Gltf::from_slice(bytes).map_err(|e| Error::bad_file(path, format!("not a glTF model: {e}")))?;
     let mut budget = limit.saturating_sub(bytes.len() as u64);
-    drop(bytes);
     let mut blob = gltf.blob;
     let mut buffers = Vec::new();
     for buffer in gltf.document.buffers() {

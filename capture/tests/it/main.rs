@@ -10,6 +10,7 @@ mod degenerate;
 mod exactness;
 mod extremes;
 mod fused_count;
+mod fuzz_regressions;
 mod hardening;
 mod module_graph;
 mod palette;
