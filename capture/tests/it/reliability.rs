@@ -214,3 +214,27 @@ fn assemble_refuses_a_part_manifest_that_lost_frames_or_tiles() {
     let ran = capture(&["assemble", archive.to_str().unwrap()]);
     assert!(ran.success && ran.stdout.contains("2 shards, 4 frames"), "{}{}", ran.stdout, ran.stderr);
 }
+
+// ---- item 13, variations: resolution and near plane ----
+
+#[test]
+fn a_resolution_beyond_bounds_or_a_vanishing_near_plane_is_an_error_not_a_panic_or_an_empty_archive() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("archive");
+    // --ppd 1e9 overflowed the eye size (a panic; in a release build a wrapped size).
+    let ran = capture(&["demo", "--out", out.to_str().unwrap(), "-q", "--ppd", "1e9"]);
+    refused(&ran, &["--ppd 1000000000 must be in (0, 1000] pixels per degree"], "--ppd 1e9");
+    assert!(!ran.stderr.contains("panicked"), "{}", ran.stderr);
+    // A near plane of 1e-300 m rendered nothing and exited 0.
+    refused(
+        &tiny_capture(&["demo"], &out, &["--rig", r#"{"near_m": 1e-300}"#]),
+        &["near_m 1e-300 and far_m 1e3: need 0.001 m ≤ near < far"],
+        "near 1e-300",
+    );
+    assert!(!out.join("manifest.json").exists());
+    // A batch with such a ppd is refused when planning, naming the batch file.
+    let batch = dir.path().join("batch.json");
+    std::fs::write(&batch, r#"{"out": "runs", "scenes": ["demo"], "ppd": [1e9]}"#).unwrap();
+    let ran = capture(&["batch", "plan", batch.to_str().unwrap()]);
+    refused(&ran, &["batch.json", "--ppd 1000000000 must be in"], "batch ppd");
+}
