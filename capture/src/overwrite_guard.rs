@@ -1,4 +1,5 @@
-//! A capture never writes over one of its inputs (issue 19, item 2).
+//! A capture never writes over one of its inputs (issue 19, item 2), nor
+//! through a link (item 1's rule, which the analyzer follows).
 //!
 //! `ufcsr-capture scene` into the folder that holds the scene's own
 //! `vehicle.glb` used to replace the user's mesh with the unwrapped copy.
@@ -7,7 +8,10 @@
 //! folder, and checks them against every file it read before writing
 //! anything: by resolved path (`./x`, `a/../x` and a link to `x` are all
 //! `x`), with the analyzer's [`ufcsr::refuse_overwriting_inputs`], so the
-//! rule and its message are the same in both programs.
+//! rule and its message are the same in both programs. A link where a
+//! folder the capture owns goes (`tiles/` → another folder) is replaced by
+//! a real folder with the analyzer's [`ufcsr::real_dir`]: writing tiles and
+//! removing old ones through it would change a folder outside `--out`.
 
 use std::path::{Path, PathBuf};
 
@@ -34,6 +38,18 @@ pub(crate) fn refuse_overwriting_inputs(
                     input.display()
                 )));
             }
+        }
+    }
+    Ok(())
+}
+
+/// Replaces a symbolic link at any of `folders` in `out` by a real folder
+/// (the link itself is removed, never what it points to); real folders and
+/// absent ones are left as they are.
+pub(crate) fn unlink_owned_folders(out: &Path, folders: &[&str]) -> Result<()> {
+    for folder in folders.iter().map(|name| out.join(name)) {
+        if std::fs::symlink_metadata(&folder).is_ok_and(|m| m.file_type().is_symlink()) {
+            ufcsr::real_dir(&folder)?;
         }
     }
     Ok(())

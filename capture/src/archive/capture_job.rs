@@ -108,6 +108,7 @@ pub fn prepare_archive(
         &capture_inputs(scene, options),
     )?;
     std::fs::create_dir_all(out).map_err(|e| CaptureError::io(out, e))?;
+    crate::overwrite_guard::unlink_owned_folders(out, &ARCHIVE_FOLDERS)?;
     let LoadedPalette { palette, external, background_texel } = load_palette(options)?;
     let palette_size = palette.size();
     let (unwrapped, painted) = prepare(scene, palette_size, background_texel, options.keep_uvs)?;

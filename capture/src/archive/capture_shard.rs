@@ -75,6 +75,13 @@ struct ShardPart {
 /// a single process); on any error nothing is written or removed.
 pub fn assemble(archive: &Path) -> Result<Assembled> {
     let dir = archive.join(SHARDS_DIR);
+    if std::fs::symlink_metadata(&dir).is_ok_and(|m| m.file_type().is_symlink()) {
+        // Assembling removes the parts: through a link, from another folder.
+        return Err(CaptureError::bad_input(
+            &dir,
+            "is a link: the shards' manifests must be in a real folder inside the archive",
+        ));
+    }
     let parts = read_parts(&dir)?;
     let count = check_complete(&dir, &parts)?;
     check_agreement(&parts)?;

@@ -97,6 +97,35 @@ fn inspect_and_views_refuse_to_write_over_their_inputs() {
     refused(&ran, &["views.png would overwrite the input"], "views");
 }
 
+// ---- item 1's rule in the capture: no write through a link ----
+
+#[cfg(unix)]
+#[test]
+fn a_capture_replaces_a_linked_tiles_folder_and_leaves_the_folder_it_points_to_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let elsewhere = dir.path().join("elsewhere");
+    std::fs::create_dir_all(&elsewhere).unwrap();
+    // Named like a tile the capture writes (and like one it removes).
+    std::fs::write(elsewhere.join("f0060_left_r2_c2.png"), b"precious").unwrap();
+    std::fs::write(elsewhere.join("f0007_left_r0_c0.png"), b"precious too").unwrap();
+    let out = dir.path().join("archive");
+    std::fs::create_dir_all(&out).unwrap();
+    std::os::unix::fs::symlink(&elsewhere, out.join("tiles")).unwrap();
+    let ran = tiny_capture(&["demo"], &out, &[]);
+    assert!(ran.success, "{}", ran.stderr);
+    assert!(!std::fs::symlink_metadata(out.join("tiles")).unwrap().file_type().is_symlink());
+    assert!(out.join("tiles/f0060_left_r2_c2.png").is_file());
+    let left: Vec<_> = std::fs::read_dir(&elsewhere).unwrap().flatten().map(|e| e.file_name()).collect();
+    assert_eq!(left.len(), 2, "{left:?}");
+    assert_eq!(std::fs::read(elsewhere.join("f0060_left_r2_c2.png")).unwrap(), b"precious");
+    // assemble removes the parts it joined: never through a link.
+    let shards = dir.path().join("sharded");
+    std::fs::create_dir_all(&shards).unwrap();
+    std::os::unix::fs::symlink(&elsewhere, shards.join("shards")).unwrap();
+    let ran = capture(&["assemble", shards.to_str().unwrap()]);
+    refused(&ran, &["shards: is a link"], "linked shards/");
+}
+
 // ---- item 17: batch plans are validated when planning ----
 
 /// `batch plan` of a batch file with `text` in `dir`.
