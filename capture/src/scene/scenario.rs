@@ -17,6 +17,7 @@ pub fn check_duration(duration_s: f64) -> std::result::Result<(), String> {
     if duration_s.is_finite() && (0.0..=limit).contains(&duration_s) {
         Ok(())
     } else {
-        Err(format!("duration_s {duration_s:e} must be between 0 and {limit:e} s"))
+        let shown = if duration_s.abs() < 1e9 { duration_s.to_string() } else { format!("{duration_s:e}") };
+        Err(format!("duration_s {shown} must be between 0 and {limit:e} s"))
     }
 }

@@ -137,6 +137,9 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<(Rig, Vec<Scenario>)> {
             motion: Motion { position, yaw_deg },
         });
     }
+    if scenarios.is_empty() {
+        return Err(CaptureError::bad_input(path, "the Unity export has no scenarios"));
+    }
     Ok((rig, scenarios))
 }
 

@@ -267,3 +267,50 @@ fn a_resolution_beyond_bounds_or_a_vanishing_near_plane_is_an_error_not_a_panic_
     let ran = capture(&["batch", "plan", batch.to_str().unwrap()]);
     refused(&ran, &["batch.json", "--ppd 1000000000 must be in"], "batch ppd");
 }
+
+// ---- a Unity export gets the scene file's bounds and messages ----
+
+/// The fuzz seed's two-key Unity export, edited by `edit`, in `dir`.
+fn unity_export(dir: &Path, edit: impl Fn(&mut serde_json::Value)) -> PathBuf {
+    let seed = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fuzz/seeds/unity/two-keys.json");
+    let mut export: serde_json::Value = serde_json::from_slice(&std::fs::read(seed).unwrap()).unwrap();
+    edit(&mut export);
+    let path = dir.join("export.json");
+    std::fs::write(&path, serde_json::to_vec(&export).unwrap()).unwrap();
+    path
+}
+
+#[test]
+fn a_unity_export_beyond_bounds_or_without_scenarios_is_refused_naming_its_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("archive");
+    for (edit, expect) in [
+        (
+            (|u: &mut serde_json::Value| u["scenarios"] = serde_json::json!({}))
+                as fn(&mut serde_json::Value),
+            "the Unity export has no scenarios",
+        ),
+        (
+            |u| u["scenarios"]["A"]["duration_s"] = serde_json::json!(-3),
+            "scenario A: duration_s -3 must be between 0",
+        ),
+        (|u| u["pedestrian"]["far"] = serde_json::json!(1e9), "rig: far_m 1e9 is beyond ±1e6 m"),
+        (|u| u["capture"]["fps"] = serde_json::json!(1e7), "rig: fps 10000000 must be in (0, 1000]"),
+        (
+            |u| u["scenarios"]["A"]["vehicle"][0]["keys"][1]["value"] = serde_json::json!([1e300, 0, 0]),
+            "scenario A: track key at t=3 has a time, value or slope beyond ±1e6",
+        ),
+    ] {
+        let export = unity_export(dir.path(), edit);
+        refused(
+            &tiny_capture(&["unity", export.to_str().unwrap()], &out, &[]),
+            &["export.json", expect],
+            expect,
+        );
+        assert!(!out.join("manifest.json").exists(), "{expect}");
+    }
+    // Unedited, the export captures.
+    let export = unity_export(dir.path(), |_| {});
+    let ran = tiny_capture(&["unity", export.to_str().unwrap()], &out, &[]);
+    assert!(ran.success, "{}", ran.stderr);
+}
