@@ -98,6 +98,83 @@ pub fn parse_gltf(path: &Path, bytes: &[u8], limit: u64) -> Result<GltfModel> {
     Ok(GltfModel { document: gltf.document, buffers })
 }
 
+/// Checks the accessors of `primitive` that the loaders of both crates read
+/// (`POSITION`, `TEXCOORD_0`, the indices) before the gltf crate reads them:
+/// it trusts their types, strides and counts (a `TEXCOORD_0` of VEC4 fails a
+/// debug assertion, an index of type F32 is `unreachable!`, a count of 2^62
+/// overflows) and found by fuzzing. Each must be of the type glTF prescribes,
+/// not sparse, and lie within its buffer view and buffer. `what` names the
+/// primitive in messages.
+pub fn check_accessors(
+    path: &Path,
+    what: &str,
+    model: &GltfModel,
+    primitive: &gltf::Primitive,
+) -> Result<()> {
+    use gltf::Semantic;
+    use gltf::accessor::{DataType, Dimensions};
+    let wanted: [(Option<gltf::Accessor>, &str, Dimensions, &[DataType]); 3] = [
+        (primitive.get(&Semantic::Positions), "POSITION", Dimensions::Vec3, &[DataType::F32]),
+        (
+            primitive.get(&Semantic::TexCoords(0)),
+            "TEXCOORD_0",
+            Dimensions::Vec2,
+            &[DataType::F32, DataType::U8, DataType::U16],
+        ),
+        (primitive.indices(), "indices", Dimensions::Scalar, &[DataType::U8, DataType::U16, DataType::U32]),
+    ];
+    for (accessor, name, dimensions, types) in wanted {
+        let Some(accessor) = accessor else { continue };
+        check_accessor(model, &accessor, dimensions, types)
+            .map_err(|why| Error::bad_file(path, format!("{what}: the {name} accessor {why}")))?;
+    }
+    Ok(())
+}
+
+/// One accessor: its type, no sparse storage, a view, and every element
+/// within the view and the view within its buffer (checked arithmetic).
+fn check_accessor(
+    model: &GltfModel,
+    accessor: &gltf::Accessor,
+    dimensions: gltf::accessor::Dimensions,
+    types: &[gltf::accessor::DataType],
+) -> std::result::Result<(), String> {
+    if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
+        return Err(format!(
+            "is {:?} of {:?}; glTF wants {dimensions:?} of {}",
+            accessor.dimensions(),
+            accessor.data_type(),
+            types.iter().map(|t| format!("{t:?}")).collect::<Vec<_>>().join(" or ")
+        ));
+    }
+    if accessor.sparse().is_some() {
+        return Err("is sparse, which vehicle models may not be".into());
+    }
+    let Some(view) = accessor.view() else { return Err("has no buffer view".into()) };
+    let size = accessor.size();
+    let stride = view.stride().unwrap_or(size);
+    if accessor.count() == 0 || stride < size {
+        return Err(format!("has {} elements of {size} bytes {stride} bytes apart", accessor.count()));
+    }
+    let end = stride
+        .checked_mul(accessor.count() - 1)
+        .and_then(|span| span.checked_add(accessor.offset()))
+        .and_then(|span| span.checked_add(size));
+    if end.is_none_or(|end| end > view.length()) {
+        return Err(format!(
+            "({} elements from byte {}) runs past its buffer view of {} bytes",
+            accessor.count(),
+            accessor.offset(),
+            view.length()
+        ));
+    }
+    let buffer = model.buffers.get(view.buffer().index()).map_or(0, |data| data.0.len());
+    if view.offset().checked_add(view.length()).is_none_or(|end| end > buffer) {
+        return Err(format!("is in a buffer view that runs past its buffer of {buffer} bytes"));
+    }
+    Ok(())
+}
+
 /// The file `reference` (a glTF URI or an OBJ `mtllib`, percent-encoded or
 /// not) names beside `model`, if the containment rule allows it.
 pub fn resolve_inside(model: &Path, reference: &str) -> Result<PathBuf> {

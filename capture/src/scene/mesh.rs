@@ -323,6 +323,12 @@ pub(crate) fn gltf_mesh(
             if primitive.mode() != gltf::mesh::Mode::Triangles {
                 continue;
             }
+            ufcsr::check_accessors(
+                path,
+                &describe_primitive(&node, &node_mesh, &primitive, number),
+                gltf,
+                &primitive,
+            )?;
             let reader = primitive.reader(|b| gltf.buffer(b));
             let Some(positions) = reader.read_positions() else { continue };
             let positions: Vec<Vec3> =
@@ -348,7 +354,10 @@ pub(crate) fn gltf_mesh(
                 (_, uvs) => {
                     mesh.uvs = None;
                     if uvs.is_none_or(|uvs| uvs.len() != count) {
-                        mesh.missing_uvs.push(describe_primitive(&node, &node_mesh, &primitive, number));
+                        mesh.missing_uvs.push(format!(
+                            "{} (no TEXCOORD_0)",
+                            describe_primitive(&node, &node_mesh, &primitive, number)
+                        ));
                     }
                 }
             }
@@ -371,7 +380,7 @@ fn describe_primitive(
 ) -> String {
     let quoted = |name: Option<&str>| name.map_or_else(|| "unnamed".to_string(), |n| format!("{n:?}"));
     format!(
-        "primitive {number} of mesh {} ({}) in node {} ({}), material {} (no TEXCOORD_0)",
+        "primitive {number} of mesh {} ({}) in node {} ({}), material {}",
         mesh.index(),
         quoted(mesh.name()),
         node.index(),

@@ -45,20 +45,40 @@ pub fn obj_from_bytes(
     read_material: impl Fn(&Path) -> ufcsr::Result<Vec<u8>>,
 ) -> Result<(Vec<tobj::Model>, Vec<tobj::Material>)> {
     let refused: RefCell<Option<ufcsr::Error>> = RefCell::new(None);
-    let load_material = |reference: &Path| match read_material(reference) {
-        Ok(mtl) => tobj::load_mtl_buf(&mut mtl.as_slice()),
-        Err(ufcsr::Error::Io { cause, .. }) if cause.kind() == std::io::ErrorKind::NotFound => {
-            Err(tobj::LoadError::OpenFileFailed)
-        }
-        Err(error) => {
-            refused.borrow_mut().get_or_insert(error);
-            Err(tobj::LoadError::OpenFileFailed)
-        }
-    };
+    let load_material =
+        |reference: &Path| match read_material(reference).and_then(|mtl| check_mtl(reference, mtl)) {
+            Ok(mtl) => tobj::load_mtl_buf(&mut mtl.as_slice()),
+            Err(ufcsr::Error::Io { cause, .. }) if cause.kind() == std::io::ErrorKind::NotFound => {
+                Err(tobj::LoadError::OpenFileFailed)
+            }
+            Err(error) => {
+                refused.borrow_mut().get_or_insert(error);
+                Err(tobj::LoadError::OpenFileFailed)
+            }
+        };
     let loaded = tobj::load_obj_buf(&mut &bytes[..], options, load_material);
     if let Some(error) = refused.into_inner() {
         return Err(error.into());
     }
     let (models, materials) = loaded.map_err(|e| CaptureError::bad_input(path, format!("OBJ: {e}")))?;
     Ok((models, materials.unwrap_or_default()))
+}
+
+/// The MTL bytes if tobj can read them without panicking: tobj 4 unwraps
+/// the colour of a `Ka`/`Kd`/`Ks`/`Ke` line with fewer than three numbers
+/// (found by fuzzing), so such a line is an error naming the file and line.
+fn check_mtl(reference: &Path, mtl: Vec<u8>) -> ufcsr::Result<Vec<u8>> {
+    let text = String::from_utf8_lossy(&mtl);
+    for (number, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next()
+            && words.count() < 3
+        {
+            return Err(ufcsr::Error::bad_file(
+                reference,
+                format!("line {}: {key} needs three numbers (r g b)", number + 1),
+            ));
+        }
+    }
+    Ok(mtl)
 }

@@ -314,3 +314,53 @@ fn a_unity_export_beyond_bounds_or_without_scenarios_is_refused_naming_its_file(
     let ran = tiny_capture(&["unity", export.to_str().unwrap()], &out, &[]);
     assert!(ran.success, "{}", ran.stderr);
 }
+
+// ---- found by fuzzing: glTF accessors the gltf crate trusts ----
+
+#[test]
+fn gltf_accessors_of_the_wrong_type_or_beyond_their_buffer_are_refused_by_both_loaders() {
+    let regressions = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fuzz/regressions/gltf");
+    for (name, expect) in [
+        (
+            "texcoord-accessor-of-the-wrong-type.gltf",
+            "the TEXCOORD_0 accessor is Vec4 of F32; glTF wants Vec2",
+        ),
+        (
+            "indices-of-type-float.gltf",
+            "the indices accessor is Scalar of F32; glTF wants Scalar of U8 or U16 or U32",
+        ),
+        (
+            "position-count-2-to-the-62.gltf",
+            "the POSITION accessor (4611686018427387904 elements from byte 0) runs past",
+        ),
+        ("sparse-positions.gltf", "the POSITION accessor is sparse"),
+        (
+            "stride-shorter-than-a-position.gltf",
+            "the POSITION accessor has 3 elements of 12 bytes 4 bytes apart",
+        ),
+        (
+            "view-past-its-buffer.gltf",
+            "the TEXCOORD_0 accessor is in a buffer view that runs past its buffer",
+        ),
+    ] {
+        let path = regressions.join(name);
+        let vehicle =
+            ufcsr_capture::load_vehicle(&path, ufcsr_capture::PartSource::Node, &Default::default());
+        let error = vehicle.unwrap_err().to_string();
+        assert!(error.contains(name) && error.contains(expect), "capture, {name}: {error}");
+        let error = ufcsr::VehicleModel::read(&path).unwrap_err().to_string();
+        assert!(error.contains(name) && error.contains(expect), "analyzer, {name}: {error}");
+    }
+}
+
+#[test]
+fn an_mtl_colour_with_two_numbers_is_an_error_naming_the_line_not_a_panic_in_tobj() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("short.mtl"), "newmtl paint\nKd 0.5 0.5\n").unwrap();
+    let obj = dir.path().join("truck.obj");
+    let text = std::fs::read_to_string(fixture("box-truck.obj")).unwrap();
+    std::fs::write(&obj, text.replace("mtllib box-truck.mtl", "mtllib short.mtl")).unwrap();
+    let ran = capture(&["inspect", obj.to_str().unwrap(), "--out", dir.path().join("out").to_str().unwrap()]);
+    refused(&ran, &["short.mtl: line 2: Kd needs three numbers (r g b)"], "short Kd");
+    assert!(!ran.stderr.contains("panicked"), "{}", ran.stderr);
+}
