@@ -56,6 +56,7 @@ pub fn obj_from_bytes(
                 Err(tobj::LoadError::OpenFileFailed)
             }
         };
+    check_obj_indices(path, bytes)?;
     let loaded = tobj::load_obj_buf(&mut &bytes[..], options, load_material);
     if let Some(error) = refused.into_inner() {
         return Err(error.into());
@@ -81,4 +82,50 @@ fn check_mtl(reference: &Path, mtl: Vec<u8>) -> ufcsr::Result<Vec<u8>> {
         }
     }
     Ok(mtl)
+}
+
+/// Largest face index (in magnitude) an OBJ may use: more vertices than a
+/// model within [`ufcsr::MODEL_LIMIT`] can hold.
+const MAX_OBJ_INDEX: i64 = 1 << 31;
+
+/// An error unless every index of every `f`, `l` and `p` line is a whole
+/// number from 1 to [`MAX_OBJ_INDEX`], or a relative one (-1 the last) that
+/// stays within the vertices, UVs or normals given so far: tobj 4 offsets
+/// them without checking, and an index before the first (`f 1/-129`) or
+/// near 2^63 overflows inside it (a panic in a debug build, an
+/// out-of-bounds index in release; found by fuzzing).
+fn check_obj_indices(path: &Path, bytes: &[u8]) -> Result<()> {
+    let text = String::from_utf8_lossy(bytes);
+    // Positions, UVs and normals so far.
+    let mut counts = [0i64; 3];
+    for (number, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
+            Some("f" | "l" | "p") => {
+                for word in words {
+                    for (kind, index) in word.split('/').enumerate().filter(|(_, i)| !i.is_empty()) {
+                        let known = counts.get(kind).copied().unwrap_or(0);
+                        let fits = index
+                            .parse::<i64>()
+                            .is_ok_and(|i| (1..=MAX_OBJ_INDEX).contains(&i) || (-known..0).contains(&i));
+                        if !fits {
+                            return Err(CaptureError::bad_input(
+                                path,
+                                format!(
+                                    "line {}: index {index:?} is neither from 1 to {MAX_OBJ_INDEX} nor a relative \
+                                     index within the {known} given before it",
+                                    number + 1
+                                ),
+                            ));
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
 }

@@ -342,6 +342,10 @@ fn gltf_accessors_of_the_wrong_type_or_beyond_their_buffer_are_refused_by_both_l
             "view-past-its-buffer.gltf",
             "the TEXCOORD_0 accessor is in a buffer view that runs past its buffer",
         ),
+        (
+            "position-accessor-that-does-not-exist.gltf",
+            "not a glTF model: primitive 0 of mesh 0 has POSITION accessor",
+        ),
     ] {
         let path = regressions.join(name);
         let vehicle =
@@ -351,6 +355,34 @@ fn gltf_accessors_of_the_wrong_type_or_beyond_their_buffer_are_refused_by_both_l
         let error = ufcsr::VehicleModel::read(&path).unwrap_err().to_string();
         assert!(error.contains(name) && error.contains(expect), "analyzer, {name}: {error}");
     }
+}
+
+#[test]
+fn obj_face_indices_beyond_any_model_are_an_error_naming_the_line() {
+    let dir = tempfile::tempdir().unwrap();
+    for (face, expect) in [
+        (
+            "f 1 2 9223372036854775807",
+            "line 5: index \"9223372036854775807\" is neither from 1 to 2147483648",
+        ),
+        ("f 1/0 2/1 3/1", "line 5: index \"0\""),
+        (
+            "f 1/-2 2/1 3/1",
+            "line 5: index \"-2\" is neither from 1 to 2147483648 nor a relative index within the 1",
+        ),
+        ("f 1 2 -9223372036854775808", "line 5: index \"-9223372036854775808\""),
+    ] {
+        let obj = dir.path().join("far.obj");
+        std::fs::write(&obj, format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n{face}\n")).unwrap();
+        let error = ufcsr_capture::load_vehicle(&obj, ufcsr_capture::PartSource::Node, &Default::default())
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains("far.obj") && error.contains(expect), "{face}: {error}");
+    }
+    // Relative indices within what came before are fine.
+    let obj = dir.path().join("relative.obj");
+    std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n").unwrap();
+    assert!(ufcsr_capture::load_vehicle(&obj, ufcsr_capture::PartSource::Node, &Default::default()).is_ok());
 }
 
 #[test]
