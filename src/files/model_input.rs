@@ -54,6 +54,13 @@ pub fn read_gltf(path: &Path, limit: u64) -> Result<GltfModel> {
 /// where the files its buffers name are looked for): at most `limit`
 /// bytes with those files. The fuzz targets call this.
 pub fn parse_gltf(path: &Path, bytes: &[u8], limit: u64) -> Result<GltfModel> {
+    // gltf 1.4 subtracts the header's size from the length a GLB header
+    // gives without checking it (an overflow; found by fuzzing).
+    if let Some(length) = bytes.strip_prefix(b"glTF").and_then(|rest| rest.get(4..8))
+        && u32::from_le_bytes([length[0], length[1], length[2], length[3]]) < 12
+    {
+        return Err(Error::bad_file(path, "not a glTF model: its GLB header gives a length under 12 bytes"));
+    }
     let not_gltf = |e: gltf::Error| Error::bad_file(path, format!("not a glTF model: {e}"));
     let mut gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(not_gltf)?;
     check_position_indices(path, gltf.document.as_json())?;

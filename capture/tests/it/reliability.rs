@@ -346,6 +346,7 @@ fn gltf_accessors_of_the_wrong_type_or_beyond_their_buffer_are_refused_by_both_l
             "position-accessor-that-does-not-exist.gltf",
             "not a glTF model: primitive 0 of mesh 0 has POSITION accessor",
         ),
+        ("glb-length-shorter-than-its-header.glb", "its GLB header gives a length under 12 bytes"),
     ] {
         let path = regressions.join(name);
         let vehicle =
