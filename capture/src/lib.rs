@@ -20,6 +20,7 @@
 mod archive;
 mod error;
 mod inspect;
+mod overwrite_guard;
 mod render;
 mod scene;
 mod study;
@@ -40,6 +41,8 @@ pub use inspect::{
 pub use render::{
     Backend, Gpu, GpuPalette, PixelRect, RenderSetup, Renderer, TileDraw, Vertex, vehicle_vertices,
 };
+#[doc(hidden)]
+pub use scene::fuzz_entry;
 pub use scene::{
     ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, Axes, DemoTraffic, Eye, EyeCamera, FollowOffset, FrameState, Key,
     LEAD_CAR_AHEAD_M, Mesh, Motion, MovingOccluder, OccluderObject, OccluderPath, Occluders,

@@ -19,6 +19,7 @@ pub use atomic_write::{
 };
 pub use limited_read::{IMAGE_LIMIT, SMALL_INPUT_LIMIT, open_regular, read_limited};
 pub use model_input::{
-    GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, check_coordinates, read_gltf, resolve_inside,
+    GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, check_accessors, check_coordinates, parse_gltf, read_gltf,
+    resolve_inside,
 };
 pub use output_guard::{crosses_link, real_dir, refuse_overwriting_inputs, resolved, same_path};

@@ -47,10 +47,27 @@ impl GltfModel {
 /// most `limit` bytes in all, under the containment rule.
 pub fn read_gltf(path: &Path, limit: u64) -> Result<GltfModel> {
     let bytes = read_limited(path, limit)?;
-    let gltf = gltf::Gltf::from_slice(&bytes)
-        .map_err(|e| Error::bad_file(path, format!("not a glTF model: {e}")))?;
+    parse_gltf(path, &bytes, limit)
+}
+
+/// [`read_gltf`] of a model's bytes already read (`path` names it and is
+/// where the files its buffers name are looked for): at most `limit`
+/// bytes with those files. The fuzz targets call this.
+pub fn parse_gltf(path: &Path, bytes: &[u8], limit: u64) -> Result<GltfModel> {
+    // gltf 1.4 subtracts the header's size from the length a GLB header
+    // gives without checking it (an overflow; found by fuzzing).
+    if let Some(length) = bytes.strip_prefix(b"glTF").and_then(|rest| rest.get(4..8))
+        && u32::from_le_bytes([length[0], length[1], length[2], length[3]]) < 12
+    {
+        return Err(Error::bad_file(path, "not a glTF model: its GLB header gives a length under 12 bytes"));
+    }
+    let not_gltf = |e: gltf::Error| Error::bad_file(path, format!("not a glTF model: {e}"));
+    let mut gltf = gltf::Gltf::from_slice_without_validation(bytes).map_err(not_gltf)?;
+    check_position_indices(path, gltf.document.as_json())?;
+    // Validated only now: the gltf-json 1.4 validator indexes a primitive's
+    // POSITION accessor without checking it exists (a panic; found by fuzzing).
+    gltf.document = gltf::Document::from_json(gltf.document.into_json()).map_err(not_gltf)?;
     let mut budget = limit.saturating_sub(bytes.len() as u64);
-    drop(bytes);
     let mut blob = gltf.blob;
     let mut buffers = Vec::new();
     for buffer in gltf.document.buffers() {
@@ -90,6 +107,106 @@ pub fn read_gltf(path: &Path, limit: u64) -> Result<GltfModel> {
         buffers.push(gltf::buffer::Data(data));
     }
     Ok(GltfModel { document: gltf.document, buffers })
+}
+
+/// An error for a primitive whose POSITION names an accessor that does not exist.
+fn check_position_indices(path: &Path, json: &gltf::json::Root) -> Result<()> {
+    let positions = gltf::json::validation::Checked::Valid(gltf::Semantic::Positions);
+    for (number, mesh) in json.meshes.iter().enumerate() {
+        for (primitive, attributes) in mesh.primitives.iter().map(|p| &p.attributes).enumerate() {
+            if let Some(index) = attributes.get(&positions)
+                && index.value() >= json.accessors.len()
+            {
+                return Err(Error::bad_file(
+                    path,
+                    format!(
+                        "not a glTF model: primitive {primitive} of mesh {number} has POSITION accessor {}, \
+                         but there are {} accessors",
+                        index.value(),
+                        json.accessors.len()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Checks the accessors of `primitive` that the loaders of both crates read
+/// (`POSITION`, `TEXCOORD_0`, the indices) before the gltf crate reads them:
+/// it trusts their types, strides and counts (a `TEXCOORD_0` of VEC4 fails a
+/// debug assertion, an index of type F32 is `unreachable!`, a count of 2^62
+/// overflows) and found by fuzzing. Each must be of the type glTF prescribes,
+/// not sparse, and lie within its buffer view and buffer. `what` names the
+/// primitive in messages.
+pub fn check_accessors(
+    path: &Path,
+    what: &str,
+    model: &GltfModel,
+    primitive: &gltf::Primitive,
+) -> Result<()> {
+    use gltf::Semantic;
+    use gltf::accessor::{DataType, Dimensions};
+    let wanted: [(Option<gltf::Accessor>, &str, Dimensions, &[DataType]); 3] = [
+        (primitive.get(&Semantic::Positions), "POSITION", Dimensions::Vec3, &[DataType::F32]),
+        (
+            primitive.get(&Semantic::TexCoords(0)),
+            "TEXCOORD_0",
+            Dimensions::Vec2,
+            &[DataType::F32, DataType::U8, DataType::U16],
+        ),
+        (primitive.indices(), "indices", Dimensions::Scalar, &[DataType::U8, DataType::U16, DataType::U32]),
+    ];
+    for (accessor, name, dimensions, types) in wanted {
+        let Some(accessor) = accessor else { continue };
+        check_accessor(model, &accessor, dimensions, types)
+            .map_err(|why| Error::bad_file(path, format!("{what}: the {name} accessor {why}")))?;
+    }
+    Ok(())
+}
+
+/// One accessor: its type, no sparse storage, a view, and every element
+/// within the view and the view within its buffer (checked arithmetic).
+fn check_accessor(
+    model: &GltfModel,
+    accessor: &gltf::Accessor,
+    dimensions: gltf::accessor::Dimensions,
+    types: &[gltf::accessor::DataType],
+) -> std::result::Result<(), String> {
+    if accessor.dimensions() != dimensions || !types.contains(&accessor.data_type()) {
+        return Err(format!(
+            "is {:?} of {:?}; glTF wants {dimensions:?} of {}",
+            accessor.dimensions(),
+            accessor.data_type(),
+            types.iter().map(|t| format!("{t:?}")).collect::<Vec<_>>().join(" or ")
+        ));
+    }
+    if accessor.sparse().is_some() {
+        return Err("is sparse, which vehicle models may not be".into());
+    }
+    let Some(view) = accessor.view() else { return Err("has no buffer view".into()) };
+    let size = accessor.size();
+    let stride = view.stride().unwrap_or(size);
+    if accessor.count() == 0 || stride < size {
+        return Err(format!("has {} elements of {size} bytes {stride} bytes apart", accessor.count()));
+    }
+    let end = stride
+        .checked_mul(accessor.count() - 1)
+        .and_then(|span| span.checked_add(accessor.offset()))
+        .and_then(|span| span.checked_add(size));
+    if end.is_none_or(|end| end > view.length()) {
+        return Err(format!(
+            "({} elements from byte {}) runs past its buffer view of {} bytes",
+            accessor.count(),
+            accessor.offset(),
+            view.length()
+        ));
+    }
+    let buffer = model.buffers.get(view.buffer().index()).map_or(0, |data| data.0.len());
+    if view.offset().checked_add(view.length()).is_none_or(|end| end > buffer) {
+        return Err(format!("is in a buffer view that runs past its buffer of {buffer} bytes"));
+    }
+    Ok(())
 }
 
 /// The file `reference` (a glTF URI or an OBJ `mtllib`, percent-encoded or

@@ -172,6 +172,7 @@ fn read_primitive(
             ),
         ));
     }
+    crate::files::check_accessors(path, &describe(), model, primitive)?;
     let reader = primitive.reader(|buffer| model.buffer(buffer));
     let positions: Vec<[f32; 3]> = reader
         .read_positions()

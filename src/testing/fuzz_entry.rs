@@ -51,3 +51,29 @@ pub fn legend(bytes: &[u8]) {
     let _ = Legend::parse(Path::new("parts.csv"), bytes.to_vec());
     let _ = Legend::parse(Path::new("parts.json"), bytes.to_vec());
 }
+
+/// A fuzz target's name (its folder under `seeds/` and `regressions/`) and
+/// its entry point.
+pub type Target = (&'static str, fn(&[u8]));
+
+/// Feeds every saved input of `targets` — `fuzz_dir/seeds/TARGET/*` and
+/// `fuzz_dir/regressions/TARGET/*` — to its entry point, as the fuzz
+/// regression tests of both crates do. Returns how many inputs ran, or the
+/// first that panicked, named.
+pub fn replay_saved_inputs(fuzz_dir: &Path, targets: &[Target]) -> std::result::Result<usize, String> {
+    let mut inputs = 0;
+    for (target, entry) in targets {
+        for folder in ["seeds", "regressions"] {
+            let Ok(files) = std::fs::read_dir(fuzz_dir.join(folder).join(target)) else { continue };
+            for file in files.flatten() {
+                let bytes =
+                    std::fs::read(file.path()).map_err(|e| format!("{}: {e}", file.path().display()))?;
+                if std::panic::catch_unwind(|| entry(&bytes)).is_err() {
+                    return Err(format!("fuzz target {target} panics on {}", file.path().display()));
+                }
+                inputs += 1;
+            }
+        }
+    }
+    Ok(inputs)
+}

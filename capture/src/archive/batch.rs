@@ -26,6 +26,9 @@ use crate::scene::Scene;
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Batch {
+    /// The batch file, for messages (set by [`load`]).
+    #[serde(skip)]
+    pub path: PathBuf,
     /// Root folder of all task outputs.
     pub out: PathBuf,
     /// `demo` or scene files (relative to the batch file).
@@ -37,8 +40,8 @@ pub struct Batch {
     pub ppd: Vec<f64>,
     #[serde(default = "default_frame_step")]
     pub frame_step: Vec<u32>,
-    #[serde(default = "default_dedupe")]
-    pub dedupe: String,
+    #[serde(default)]
+    pub dedupe: ufcsr::Dedupe,
     #[serde(default = "default_palette_size")]
     pub palette_size: String,
     /// More `ufcsr-capture` arguments for every task.
@@ -51,9 +54,6 @@ fn default_ppd() -> Vec<f64> {
 }
 fn default_frame_step() -> Vec<u32> {
     vec![1]
-}
-fn default_dedupe() -> String {
-    "image".into()
 }
 fn default_palette_size() -> String {
     "4096".into()
@@ -84,33 +84,82 @@ fn shell_quote(text: &str) -> String {
 /// Reads and checks a batch file.
 pub fn load(path: &Path) -> Result<Batch> {
     let bytes = ufcsr::read_limited(path, 16 << 20)?;
-    let batch: Batch = serde_json::from_slice(&bytes)
+    let mut batch: Batch = serde_json::from_slice(&bytes)
         .map_err(|e| CaptureError::bad_input(path, format!("invalid batch file: {e}")))?;
+    batch.path = path.to_path_buf();
+    check(&batch).map_err(|message| CaptureError::bad_input(path, message))?;
+    Ok(batch)
+}
+
+/// What every task of a batch needs, checked once when planning instead of
+/// failing in every task: values, the palette size, and text that keeps
+/// the plan one task per line.
+fn check(batch: &Batch) -> std::result::Result<(), String> {
     if batch.scenes.is_empty() || batch.ppd.is_empty() || batch.frame_step.is_empty() {
-        return Err(CaptureError::bad_input(path, "scenes, ppd and frame_step must not be empty"));
+        return Err("scenes, ppd and frame_step must not be empty".into());
     }
     if batch.ppd.iter().any(|p| !(p.is_finite() && *p > 0.0)) || batch.frame_step.contains(&0) {
-        return Err(CaptureError::bad_input(path, "ppd values must be positive and frame steps at least 1"));
+        return Err("ppd values must be positive and frame steps at least 1".into());
     }
-    Ok(batch)
+    crate::texture::uv_islands::parse_palette_size(&batch.palette_size)
+        .map_err(|e| format!("palette_size: {e}"))?;
+    let out = batch.out.to_string_lossy();
+    let texts = std::iter::once(("out", out.as_ref()))
+        .chain(batch.scenes.iter().map(|s| ("scenes", s.as_str())))
+        .chain(batch.scenarios.iter().flatten().map(|s| ("scenarios", s.as_str())))
+        .chain(batch.extra_args.iter().map(|s| ("extra_args", s.as_str())));
+    for (field, text) in texts {
+        one_line(field, text)?;
+    }
+    if let Some(set) = batch.extra_args.iter().find(|a| PLANNED_OPTIONS.contains(&option_name(a))) {
+        return Err(format!("extra_args: {set} is an option the plan sets for every task"));
+    }
+    Ok(())
+}
+
+/// The options every task's command line sets (as `extra_args` must not).
+const PLANNED_OPTIONS: [&str; 9] =
+    ["--scenario", "--ppd", "--frames", "--palette-size", "--count", "--dedupe", "--quiet", "-q", "--out"];
+
+/// `--out=x` → `--out`.
+fn option_name(arg: &str) -> &str {
+    arg.split_once('=').map_or(arg, |(name, _)| name)
+}
+
+/// An error when `text` has a control character: a newline would split a
+/// task over two plan lines, and task i must be line i.
+fn one_line(field: &str, text: &str) -> std::result::Result<(), String> {
+    match text.chars().find(|c| c.is_control()) {
+        Some(c) => {
+            Err(format!("{field}: {text:?} has a control character ({c:?}): the plan is one task per line"))
+        }
+        None => Ok(()),
+    }
 }
 
 /// The tasks of a batch, in order: scene, scenario, ppd, frame step.
 /// `program` is the `ufcsr-capture` to call; scene files are resolved
-/// against `base` (the batch file's folder) and their scenarios read.
+/// against `base` (the batch file's folder) and their scenarios read. An
+/// error names the batch file and the scene; two tasks writing into one
+/// folder are an error too.
 pub fn plan(batch: &Batch, base: &Path, program: &str) -> Result<Vec<Task>> {
-    let mut tasks = Vec::new();
+    let in_batch = |message: String| CaptureError::bad_input(&batch.path, message);
+    check(batch).and_then(|()| one_line("program", program)).map_err(in_batch)?;
+    let mut tasks: Vec<Task> = Vec::new();
     for (scene_index, scene_name) in batch.scenes.iter().enumerate() {
+        let in_scene = |e: CaptureError| in_batch(format!("scenes[{scene_index}] {scene_name:?}: {e}"));
         let (scene, scene_args) = if scene_name == "demo" {
             (Scene::demo(), vec!["demo".to_string()])
         } else {
             let path = base.join(scene_name);
-            (Scene::load(&path)?, vec!["scene".to_string(), path.display().to_string()])
+            (Scene::load(&path).map_err(in_scene)?, vec!["scene".to_string(), path.display().to_string()])
         };
         let scenarios: Vec<String> = match &batch.scenarios {
-            Some(names) => {
-                names.iter().map(|n| scene.scenario(n).map(|s| s.name.clone())).collect::<Result<_>>()?
-            }
+            Some(names) => names
+                .iter()
+                .map(|n| scene.scenario(n).map(|s| s.name.clone()))
+                .collect::<Result<_>>()
+                .map_err(in_scene)?,
             None => scene.scenarios.iter().map(|s| s.name.clone()).collect(),
         };
         let scene_label = format!(
@@ -120,36 +169,66 @@ pub fn plan(batch: &Batch, base: &Path, program: &str) -> Result<Vec<Task>> {
         for scenario in &scenarios {
             for &ppd in &batch.ppd {
                 let mut rig = scene.rig.clone();
-                rig.set_pixels_per_degree(ppd)?;
+                rig.set_pixels_per_degree(ppd).map_err(in_scene)?;
                 let last = rig.frame_count(scene.scenario(scenario)?.duration_s).saturating_sub(1);
                 for &step in &batch.frame_step {
                     let out =
                         batch.out.join(&scene_label).join(scenario).join(format!("ppd{ppd}-step{step}"));
-                    let mut args = vec![program.to_string()];
-                    args.extend(scene_args.iter().cloned());
-                    args.extend([
-                        "--scenario".into(),
-                        scenario.clone(),
-                        "--ppd".into(),
-                        ppd.to_string(),
-                        "--frames".into(),
-                        format!("0-{last}/{step}"),
-                        "--palette-size".into(),
-                        batch.palette_size.clone(),
-                        "--count".into(),
-                        "--dedupe".into(),
-                        batch.dedupe.clone(),
-                        "--quiet".into(),
-                        "--out".into(),
-                        out.display().to_string(),
-                    ]);
-                    args.extend(batch.extra_args.iter().cloned());
+                    if let Some(earlier) = tasks.iter().position(|task| task.out == out) {
+                        return Err(in_batch(format!(
+                            "tasks {earlier} and {} would both write into {} (a ppd, frame step or scenario \
+                             given twice)",
+                            tasks.len(),
+                            out.display()
+                        )));
+                    }
+                    let setting = Setting { scenario, ppd, last, step };
+                    let args = task_args(batch, program, &scene_args, &setting, &out);
                     tasks.push(Task { out, args });
                 }
             }
         }
     }
     Ok(tasks)
+}
+
+/// One task's scenario, resolution and frames.
+struct Setting<'a> {
+    scenario: &'a str,
+    ppd: f64,
+    /// The scenario's last frame at this rig.
+    last: u32,
+    step: u32,
+}
+
+/// A task's command line, program first.
+fn task_args(
+    batch: &Batch,
+    program: &str,
+    scene_args: &[String],
+    setting: &Setting,
+    out: &Path,
+) -> Vec<String> {
+    let mut args = vec![program.to_string()];
+    args.extend(scene_args.iter().cloned());
+    args.extend([
+        "--scenario".into(),
+        setting.scenario.to_string(),
+        "--ppd".into(),
+        setting.ppd.to_string(),
+        "--frames".into(),
+        format!("0-{}/{}", setting.last, setting.step),
+        "--palette-size".into(),
+        batch.palette_size.clone(),
+        "--count".into(),
+        "--dedupe".into(),
+        batch.dedupe.name().to_string(),
+        "--quiet".into(),
+        "--out".into(),
+        out.display().to_string(),
+    ]);
+    args.extend(batch.extra_args.iter().cloned());
+    args
 }
 
 #[cfg(test)]

@@ -21,7 +21,7 @@ use crate::archive::frame_capture::FrameCapture;
 use crate::archive::manifest_builder::{ManifestParts, build_manifest};
 use crate::archive::options::{CaptureOptions, Summary, TileTally};
 use crate::archive::tile_sink::TileSink;
-use crate::archive::{SCENE_FILE, VEHICLE_FILE};
+use crate::archive::{ARCHIVE_FILES, ARCHIVE_FOLDERS, SCENE_FILE, VEHICLE_FILE};
 use crate::error::{CaptureError, Result};
 use crate::render::{GpuPalette, RenderSetup, Renderer, vehicle_vertices};
 use crate::scene::Scene;
@@ -91,7 +91,14 @@ pub fn prepare_archive(
     options: &CaptureOptions,
 ) -> Result<PreparedCapture> {
     let out = &options.out;
+    crate::overwrite_guard::refuse_overwriting_inputs(
+        out,
+        &ARCHIVE_FILES,
+        &ARCHIVE_FOLDERS,
+        &capture_inputs(scene, options),
+    )?;
     std::fs::create_dir_all(out).map_err(|e| CaptureError::io(out, e))?;
+    crate::overwrite_guard::unlink_owned_folders(out, &ARCHIVE_FOLDERS)?;
     let palette = load_palette(options)?;
     let palette_size = [palette.width(), palette.height()];
     let background_texel = palette_background_texel(&palette);
@@ -148,6 +155,17 @@ pub fn prepare_archive(
         part_count,
         warnings,
     })
+}
+
+/// Every file a capture of `scene` with `options` reads: the scene's files,
+/// an external palette, an own PIdT and its legend.
+pub fn capture_inputs(scene: &Scene, options: &CaptureOptions) -> Vec<PathBuf> {
+    let mut inputs = scene.input_files.clone();
+    inputs.extend(options.palette_file.iter().cloned());
+    if let Some(own) = &options.own_labels {
+        inputs.extend([own.pidt.clone(), own.parts.clone()]);
+    }
+    inputs
 }
 
 /// Writes `vehicle.glb` (the mesh exactly as unwrapped, with the palette
@@ -488,9 +506,11 @@ pub fn write_manifest(
         None => manifest.write_to_dir(&options.out)?,
         Some(shard) => {
             let mut manifest = manifest.clone();
+            // What assemble accounts for: the whole selection and this shard's tiles.
+            let selected = crate::archive::scene_checks::selected_frames(scene, scenario, options)?;
+            let record = capture_shard::shard_record(shard, &selected, manifest.tiles.len());
             if let Some(serde_json::Value::Object(capture)) = manifest.extra.get_mut("capture") {
-                capture
-                    .insert("shard".into(), serde_json::json!({"index": shard.index, "count": shard.count}));
+                capture.insert("shard".into(), record);
             }
             let path = capture_shard::partial_manifest_path(&options.out, shard);
             let dir = options.out.join(capture_shard::SHARDS_DIR);

@@ -41,6 +41,13 @@ pub fn frames_of_shard(selected: &[u32], shard: Option<Shard>) -> Vec<(usize, u3
         .collect()
 }
 
+/// A shard's `capture.shard` record: which shard it is, the frames the
+/// whole capture selected and how many tiles this shard listed, so that
+/// [`assemble`] can account for every frame and tile.
+pub fn shard_record(shard: Shard, selected: &[u32], tiles: usize) -> Value {
+    serde_json::json!({"index": shard.index, "count": shard.count, "selected_frames": selected, "tiles": tiles})
+}
+
 /// What [`assemble`] did.
 #[derive(Debug)]
 pub struct Assembled {
@@ -55,6 +62,10 @@ struct ShardPart {
     path: PathBuf,
     manifest: Manifest,
     shard: Shard,
+    /// The frames the whole capture selected, as the part records them.
+    selected: Vec<u32>,
+    /// The tiles the shard listed when it wrote its part.
+    tiles: usize,
 }
 
 /// Joins the partial manifests in `archive/shards/` into `archive/manifest.json`,
@@ -64,9 +75,19 @@ struct ShardPart {
 /// a single process); on any error nothing is written or removed.
 pub fn assemble(archive: &Path) -> Result<Assembled> {
     let dir = archive.join(SHARDS_DIR);
+    if std::fs::symlink_metadata(&dir).is_ok_and(|m| m.file_type().is_symlink()) {
+        // Assembling removes the parts: through a link, from another folder.
+        return Err(CaptureError::bad_input(
+            &dir,
+            "is a link: the shards' manifests must be in a real folder inside the archive",
+        ));
+    }
     let parts = read_parts(&dir)?;
     let count = check_complete(&dir, &parts)?;
     check_agreement(&parts)?;
+    for part in &parts {
+        check_accounted(part, &parts[0])?;
+    }
     let first = &parts[0].manifest;
     let mut manifest = first.clone();
     manifest.tiles = parts.iter().flat_map(|part| part.manifest.tiles.iter().cloned()).collect();
@@ -116,13 +137,24 @@ fn read_parts(dir: &Path) -> Result<Vec<ShardPart>> {
         let bytes = ufcsr::read_limited(&path, ufcsr::SMALL_INPUT_LIMIT)?;
         let manifest = Manifest::parse(&path, &bytes)?;
         let recorded = manifest.extra.get("capture").and_then(|c| c.get("shard"));
-        if recorded != Some(&serde_json::json!({"index": shard.index, "count": shard.count})) {
+        let field = |name: &str| recorded.and_then(|r| r.get(name)).and_then(Value::as_u64);
+        if (field("index"), field("count")) != (Some(shard.index.into()), Some(shard.count.into())) {
             return Err(CaptureError::bad_input(
                 &path,
                 format!("its capture.shard does not say {shard}, as its name does"),
             ));
         }
-        parts.push(ShardPart { path, manifest, shard });
+        let selected: Option<Vec<u32>> = recorded
+            .and_then(|r| r.get("selected_frames"))
+            .and_then(|frames| serde_json::from_value(frames.clone()).ok());
+        let (Some(selected), Some(tiles)) = (selected, field("tiles")) else {
+            return Err(CaptureError::bad_input(
+                &path,
+                "its capture.shard lacks selected_frames and tiles (an older ufcsr-capture, or edited): \
+                 capture the shards again",
+            ));
+        };
+        parts.push(ShardPart { path, manifest, shard, selected, tiles: tiles as usize });
     }
     parts.sort_by_key(|part| part.shard.index);
     if parts.is_empty() {
@@ -175,6 +207,52 @@ fn check_agreement(parts: &[ShardPart]) -> Result<()> {
                 ),
             ));
         }
+    }
+    Ok(())
+}
+
+/// An error unless `part` holds exactly the frames its shard takes of the
+/// selection (the one `first` records too) and the tiles it listed, each
+/// of one of its frames: an emptied or edited part manifest would drop
+/// frames from the archive without a word.
+fn check_accounted(part: &ShardPart, first: &ShardPart) -> Result<()> {
+    let refuse = |message: String| Err(CaptureError::bad_input(&part.path, message));
+    if part.selected != first.selected {
+        return refuse(format!("its selected frames differ from {}'s", first.path.display()));
+    }
+    let expected: Vec<u64> =
+        frames_of_shard(&part.selected, Some(part.shard)).into_iter().map(|(_, f)| f.into()).collect();
+    let frames: Vec<u64> = match part.manifest.extra.get("frames") {
+        Some(Value::Array(records)) => {
+            records.iter().map(|r| r.get("frame").and_then(Value::as_u64).unwrap_or(u64::MAX)).collect()
+        }
+        _ => Vec::new(),
+    };
+    if frames != expected {
+        let missing: Vec<String> =
+            expected.iter().filter(|f| !frames.contains(f)).take(8).map(u64::to_string).collect();
+        return refuse(format!(
+            "has {} frame records where shard {} takes {} of the {} selected frames (missing: {}): it \
+             was emptied or edited; run the shard again",
+            frames.len(),
+            part.shard,
+            expected.len(),
+            part.selected.len(),
+            if missing.is_empty() { "none, but others are there".to_string() } else { missing.join(", ") }
+        ));
+    }
+    if part.manifest.tiles.len() != part.tiles {
+        return refuse(format!(
+            "lists {} tiles, but the shard wrote {}: it was emptied or edited; run the shard again",
+            part.manifest.tiles.len(),
+            part.tiles
+        ));
+    }
+    if let Some(tile) = part.manifest.tiles.iter().find(|t| !frames.contains(&u64::from(t.frame))) {
+        return refuse(format!(
+            "lists a tile of frame {} ({} eye, row {}, column {}), not one of its frames",
+            tile.frame, tile.eye, tile.row, tile.col
+        ));
     }
     Ok(())
 }

@@ -20,8 +20,8 @@ pub(crate) mod tile_sink;
 pub use batch::{Batch, Task, load as load_batch, plan as plan_batch};
 pub use capture_job::{
     CapturedTiles, CountedCapture, MAX_SCENARIO_SECONDS, PreparedCapture, capture, capture_all,
-    capture_counted, capture_frames, for_each_scenario, prepare, prepare_archive, read_rgb_png, summarize,
-    verify, write_manifest,
+    capture_counted, capture_frames, capture_inputs, for_each_scenario, prepare, prepare_archive,
+    read_rgb_png, summarize, verify, write_manifest,
 };
 pub use capture_shard::{Assembled, assemble};
 pub use options::{
@@ -34,3 +34,9 @@ pub use scene_checks::{MAX_FRAMES, MAX_TILES};
 pub const VEHICLE_FILE: &str = "vehicle.glb";
 /// The occluders, in world coordinates (glTF axes), beside it.
 pub const SCENE_FILE: &str = "scene.glb";
+/// Every file a capture writes at the top of its archive folder.
+pub const ARCHIVE_FILES: [&str; 6] =
+    [ufcsr::MANIFEST_FILE, "pidt.png", "parts.csv", "palette.png", VEHICLE_FILE, SCENE_FILE];
+/// The folders of an archive a capture owns: it writes and removes files in
+/// them (tiles, the counted or measured results, the shards' manifests).
+pub const ARCHIVE_FOLDERS: [&str; 3] = ["tiles", "results", capture_shard::SHARDS_DIR];

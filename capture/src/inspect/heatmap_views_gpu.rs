@@ -106,6 +106,15 @@ pub fn views_from_results(
         caption: format!("{} · wgpu", ufcsr::views_caption(&counts.measure, &counts.archive)),
     };
     let out = options.out.clone().unwrap_or_else(|| options.results.clone());
+    let mut outputs: Vec<String> =
+        ufcsr::DIRECTIONS.iter().map(|(name, _)| format!("views/{name}.png")).collect();
+    outputs.push("views.png".into());
+    crate::overwrite_guard::refuse_overwriting_inputs(
+        &out,
+        &outputs.iter().map(String::as_str).collect::<Vec<_>>(),
+        &[],
+        &[options.results.join("result.json"), model_path],
+    )?;
     write_views_gpu(device, queue, &model, &texture, &out)
 }
 

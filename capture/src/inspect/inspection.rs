@@ -180,6 +180,10 @@ fn check_picture_size(mesh: &Mesh, pixels_per_metre: f64) -> Result<()> {
     Ok(())
 }
 
+/// The files [`inspect`] writes into its folder.
+const INSPECT_FILES: [&str; 4] =
+    ["inspect-side.png", "inspect-top.png", "inspect-front.png", "inspect-parts.csv"];
+
 /// Inspects the vehicle of a scene file or mesh and writes its pictures.
 pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
     let (spec, base) = vehicle_spec(&options.input)?;
@@ -209,6 +213,9 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
     };
 
     let out = &options.out;
+    let mut inputs = vec![options.input.clone()];
+    inputs.extend(built.files.iter().cloned());
+    crate::overwrite_guard::refuse_overwriting_inputs(out, &INSPECT_FILES, &[], &inputs)?;
     std::fs::create_dir_all(out).map_err(|e| CaptureError::io(out, e))?;
     let pixels_per_metre = match options.pixels_per_metre {
         Some(ppm) if ppm.is_finite() && ppm > 0.0 && ppm <= 2000.0 => ppm,

@@ -7,7 +7,7 @@
 //! name each triangle's part after its node, mesh or material.
 
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::{DVec3, Vec2, Vec3, vec3};
 use serde::{Deserialize, Serialize};
@@ -242,23 +242,59 @@ impl Axes {
 
 /// Loads a glTF 2.0 (`.gltf`/`.glb`) or OBJ vehicle.
 pub fn load_vehicle(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
+    load_model(path, source, axes).map(|(mesh, _)| mesh)
+}
+
+/// [`load_vehicle`], with every file it read: the model and the buffers or
+/// MTL files it names (a capture must never write over one of them).
+pub(crate) fn load_model(path: &Path, source: PartSource, axes: &Axes) -> Result<(Mesh, Vec<PathBuf>)> {
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
-    let mesh = match ext.as_str() {
-        "gltf" | "glb" => load_gltf(path, source, axes)?,
+    let (mesh, files) = match ext.as_str() {
+        "gltf" | "glb" => {
+            // The model and its buffers through the analyzer's safe reader (see ufcsr::read_gltf).
+            let gltf = ufcsr::read_gltf(path, ufcsr::MODEL_LIMIT)?;
+            (gltf_mesh(path, &gltf, source, axes)?, gltf_files(path, &gltf)?)
+        }
         "obj" => load_obj(path, source, axes)?,
         _ => return Err(CaptureError::bad_input(path, "vehicle mesh must be .glb, .gltf or .obj")),
     };
+    check_model(path, &mesh)?;
+    Ok((mesh, files))
+}
+
+/// The checks every loaded model passes: triangles, indices, and finite
+/// coordinates within [`ufcsr::MAX_COORDINATE_M`].
+pub(crate) fn check_model(path: &Path, mesh: &Mesh) -> Result<()> {
     mesh.check(&path.display().to_string())?;
     for position in &mesh.positions {
         ufcsr::check_coordinates(path, "the mesh", position.to_array())?;
     }
-    Ok(mesh)
+    Ok(())
 }
 
-fn load_gltf(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
+/// The model and the files its buffers name (data: URIs and the GLB's own
+/// chunk are inside it).
+fn gltf_files(path: &Path, gltf: &ufcsr::GltfModel) -> Result<Vec<PathBuf>> {
+    let mut files = vec![path.to_path_buf()];
+    for buffer in gltf.document.buffers() {
+        if let gltf::buffer::Source::Uri(uri) = buffer.source()
+            && !uri.starts_with("data:")
+        {
+            files.push(ufcsr::resolve_inside(path, uri)?);
+        }
+    }
+    Ok(files)
+}
+
+/// The mesh of a glTF model read by [`ufcsr::read_gltf`] (or from bytes);
+/// `path` names it in messages.
+pub(crate) fn gltf_mesh(
+    path: &Path,
+    gltf: &ufcsr::GltfModel,
+    source: PartSource,
+    axes: &Axes,
+) -> Result<Mesh> {
     let convert = axes.converter()?;
-    // The model and its buffers through the analyzer's safe reader (see ufcsr::read_gltf).
-    let gltf = ufcsr::read_gltf(path, ufcsr::MODEL_LIMIT)?;
     let scene = gltf.document.default_scene().or_else(|| gltf.document.scenes().next());
     let Some(scene) = scene else {
         return Err(CaptureError::bad_input(path, "glTF has no scene"));
@@ -287,6 +323,12 @@ fn load_gltf(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
             if primitive.mode() != gltf::mesh::Mode::Triangles {
                 continue;
             }
+            ufcsr::check_accessors(
+                path,
+                &describe_primitive(&node, &node_mesh, &primitive, number),
+                gltf,
+                &primitive,
+            )?;
             let reader = primitive.reader(|b| gltf.buffer(b));
             let Some(positions) = reader.read_positions() else { continue };
             let positions: Vec<Vec3> =
@@ -312,13 +354,16 @@ fn load_gltf(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
                 (_, uvs) => {
                     mesh.uvs = None;
                     if uvs.is_none_or(|uvs| uvs.len() != count) {
-                        mesh.missing_uvs.push(describe_primitive(&node, &node_mesh, &primitive, number));
+                        mesh.missing_uvs.push(format!(
+                            "{} (no TEXCOORD_0)",
+                            describe_primitive(&node, &node_mesh, &primitive, number)
+                        ));
                     }
                 }
             }
             // A mirroring transform flips the winding; culling is off, so it does not matter.
             for tri in indices.chunks_exact(3) {
-                mesh.triangles.push([tri[0] + base, tri[1] + base, tri[2] + base]);
+                mesh.triangles.push([tri[0], tri[1], tri[2]].map(|i| i.saturating_add(base)));
                 mesh.triangle_part.push(part);
             }
         }
@@ -335,7 +380,7 @@ fn describe_primitive(
 ) -> String {
     let quoted = |name: Option<&str>| name.map_or_else(|| "unnamed".to_string(), |n| format!("{n:?}"));
     format!(
-        "primitive {number} of mesh {} ({}) in node {} ({}), material {} (no TEXCOORD_0)",
+        "primitive {number} of mesh {} ({}) in node {} ({}), material {}",
         mesh.index(),
         quoted(mesh.name()),
         node.index(),
@@ -344,10 +389,25 @@ fn describe_primitive(
     )
 }
 
-fn load_obj(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
+fn load_obj(path: &Path, source: PartSource, axes: &Axes) -> Result<(Mesh, Vec<PathBuf>)> {
+    let loaded = crate::scene::model_files::load_obj(path, &obj_options())?;
+    let mesh = obj_mesh(loaded.models, &loaded.materials, source, axes)?;
+    Ok((mesh, loaded.files))
+}
+
+/// How OBJ files are read: triangulated, one index per vertex.
+pub(crate) fn obj_options() -> tobj::LoadOptions {
+    tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() }
+}
+
+/// The mesh of OBJ models and their materials.
+pub(crate) fn obj_mesh(
+    models: Vec<tobj::Model>,
+    materials: &[tobj::Material],
+    source: PartSource,
+    axes: &Axes,
+) -> Result<Mesh> {
     let convert = axes.converter()?;
-    let options = tobj::LoadOptions { triangulate: true, single_index: true, ..Default::default() };
-    let (models, materials) = crate::scene::model_files::load_obj(path, &options)?;
     let mut mesh = Mesh { uvs: Some(Vec::new()), ..Mesh::default() };
     for model in models {
         let m = &model.mesh;
@@ -374,7 +434,7 @@ fn load_obj(path: &Path, source: PartSource, axes: &Axes) -> Result<Mesh> {
             }
         }
         for tri in m.indices.chunks_exact(3) {
-            mesh.triangles.push([tri[0] + base, tri[1] + base, tri[2] + base]);
+            mesh.triangles.push([tri[0], tri[1], tri[2]].map(|i| i.saturating_add(base)));
             mesh.triangle_part.push(part);
         }
     }

@@ -8,11 +8,13 @@
 //! [`unity`] Unity exports), the one ray–triangle test ([`ray_triangle`],
 //! shared by the exact measure and the scene checks), and the built-in scenes
 //! ([`demo`] the truck and intersection, [`degenerate_mesh`] a vehicle of bad
-//! triangles). Nothing here renders or writes an archive.
+//! triangles), and the fuzzing entry points ([`fuzz_entry`]). Nothing here
+//! renders or writes an archive.
 
 pub(crate) mod degenerate_mesh;
 pub(crate) mod demo;
 pub(crate) mod frame_state;
+pub mod fuzz_entry;
 pub(crate) mod mesh;
 pub(crate) mod model_files;
 pub(crate) mod moving;

@@ -21,6 +21,12 @@ use crate::scene::track::{MAX_TRACK_MAGNITUDE, Pose, ValueOrTrack};
 pub const MAX_IPD_M: f64 = 1.0;
 /// Most frames per second: 1000 (high-speed video); beyond is a unit mistake.
 pub const MAX_FPS: f64 = 1000.0;
+/// Most pixels per degree: 1000 (an eye of 107,000 pixels, already beyond
+/// any GPU's textures at a few tiles); the paper's is 60.
+pub const MAX_PIXELS_PER_DEGREE: f64 = 1000.0;
+/// Nearest near plane: a millimetre. Nearer, the reversed-Z depth of f32
+/// loses the vehicle (a near plane of 1e-300 m rendered nothing, exit 0).
+pub const MIN_NEAR_M: f64 = 1e-3;
 
 /// Rig settings (the paper's defaults); every field can be overridden.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -122,16 +128,26 @@ impl Rig {
     /// Sets the eye size for `ppd` pixels per degree over 107°×135° (the
     /// paper's 60 → 6420×8100), rounded to whole tiles.
     pub fn set_pixels_per_degree(&mut self, ppd: f64) -> Result<()> {
-        if !(ppd.is_finite() && ppd > 0.0) {
-            return Err(CaptureError::BadOptions(format!("--ppd must be positive, not {ppd}")));
+        if !(ppd.is_finite() && ppd > 0.0 && ppd <= MAX_PIXELS_PER_DEGREE) {
+            return Err(CaptureError::BadOptions(format!(
+                "--ppd {ppd} must be in (0, {MAX_PIXELS_PER_DEGREE}] pixels per degree (the paper's is 60)"
+            )));
         }
         let aspect = 135.0 / 107.0;
-        let round_to = |pixels: f64, tiles: u32| -> u32 {
-            let per_tile = (pixels / f64::from(tiles)).round().max(1.0) as u32;
-            per_tile * tiles
+        let round_to = |pixels: f64, tiles: u32| -> Option<u32> {
+            let per_tile = (pixels / f64::from(tiles)).round().max(1.0) as u64;
+            per_tile.checked_mul(u64::from(tiles)).and_then(|eye| u32::try_from(eye).ok())
         };
         let width = self.horizontal_fov_deg * ppd;
-        self.eye_pixels = [round_to(width, self.tiles[0]), round_to(width * aspect, self.tiles[1])];
+        match (round_to(width, self.tiles[0]), round_to(width * aspect, self.tiles[1])) {
+            (Some(w), Some(h)) => self.eye_pixels = [w, h],
+            _ => {
+                return Err(CaptureError::BadOptions(format!(
+                    "--ppd {ppd} with {:?} tiles: the eye image would have more than 2^32 pixels a side",
+                    self.tiles
+                )));
+            }
+        }
         Ok(())
     }
 
@@ -147,8 +163,11 @@ impl Rig {
         if !(self.horizontal_fov_deg > 1.0 && self.horizontal_fov_deg < 179.0) {
             return Err(CaptureError::BadOptions("horizontal field of view must be in (1°, 179°)".into()));
         }
-        if !(self.near_m > 0.0 && self.far_m > self.near_m) {
-            return Err(CaptureError::BadOptions("need 0 < near < far".into()));
+        if !(self.near_m >= MIN_NEAR_M && self.far_m > self.near_m) {
+            return Err(CaptureError::BadOptions(format!(
+                "near_m {:e} and far_m {:e}: need {MIN_NEAR_M} m ≤ near < far",
+                self.near_m, self.far_m
+            )));
         }
         if !(self.fps > 0.0 && self.fps.is_finite()) {
             return Err(CaptureError::BadOptions("fps must be positive".into()));

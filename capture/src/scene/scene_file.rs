@@ -13,7 +13,7 @@ use serde_json::json;
 
 use crate::error::{CaptureError, Result};
 use crate::scene::demo;
-use crate::scene::mesh::{Axes, Mesh, PartSource, load_vehicle};
+use crate::scene::mesh::{Axes, Mesh, PartSource, load_model};
 use crate::scene::moving::{FollowOffset, MovingOccluder, OccluderPath, PEDESTRIAN_BODY_M};
 use crate::scene::occluders::Occluders;
 use crate::scene::rig::Rig;
@@ -250,6 +250,9 @@ pub struct Scene {
     pub info: serde_json::Value,
     /// Doubts about the vehicle (size, axes, origin, part rules) to show the user.
     pub warnings: Vec<String>,
+    /// Every file the scene was read from (scene file, meshes and the files
+    /// they name, Unity export): a capture refuses to write over any of them.
+    pub input_files: Vec<PathBuf>,
 }
 
 impl Scene {
@@ -270,6 +273,7 @@ impl Scene {
             rig: demo::rig(),
             scenarios,
             warnings: Vec::new(),
+            input_files: Vec::new(),
         }
     }
 
@@ -309,20 +313,31 @@ impl Scene {
             rig,
             scenarios,
             warnings: Vec::new(),
+            input_files: vec![path.to_path_buf()],
         })
     }
 
     /// Loads a scene file.
     pub fn load(path: &Path) -> Result<Scene> {
         let bytes = ufcsr::read_limited(path, ufcsr::SMALL_INPUT_LIMIT)?;
-        let file: SceneFile = serde_json::from_slice(&bytes)
+        Scene::parse(path, &bytes)
+    }
+
+    /// A scene from the bytes of the scene file `path` (which names it in
+    /// messages; meshes and the `unity` file are read relative to its folder).
+    pub fn parse(path: &Path, bytes: &[u8]) -> Result<Scene> {
+        let file: SceneFile = serde_json::from_slice(bytes)
             .map_err(|e| CaptureError::bad_input(path, format!("invalid scene file: {e}")))?;
         let base = path.parent().unwrap_or(Path::new("."));
-        let crate::scene::vehicle::Vehicle { mesh: vehicle, warnings, .. } =
+        let crate::scene::vehicle::Vehicle { mesh: vehicle, warnings, files, .. } =
             crate::scene::vehicle::build(&file.vehicle, base, path)?;
-
+        let mut input_files = vec![path.to_path_buf()];
+        input_files.extend(files);
         let (mut rig, mut scenarios) = match &file.unity {
-            Some(unity_path) => unity::load(&base.join(unity_path))?,
+            Some(unity_path) => {
+                input_files.push(base.join(unity_path));
+                unity::load(&base.join(unity_path))?
+            }
             None => (Rig::default(), Vec::new()),
         };
         if let Some(own) = &file.rig {
@@ -330,15 +345,7 @@ impl Scene {
         }
         rig.check().map_err(|e| CaptureError::bad_input(path, format!("rig: {e}")))?;
         if !file.scenarios.is_empty() {
-            scenarios.clear();
-        }
-        for (name, spec) in &file.scenarios {
-            let motion = Motion { position: spec.position.clone(), yaw_deg: spec.yaw_deg.clone() };
-            motion.check().map_err(|e| CaptureError::bad_input(path, format!("scenario {name}: {e}")))?;
-            if !(spec.duration_s >= 0.0 && spec.duration_s.is_finite()) {
-                return Err(CaptureError::bad_input(path, format!("scenario {name}: bad duration")));
-            }
-            scenarios.push(Scenario { name: name.clone(), duration_s: spec.duration_s, motion });
+            scenarios = own_scenarios(path, &file)?;
         }
         if scenarios.is_empty() {
             return Err(CaptureError::bad_input(
@@ -347,7 +354,8 @@ impl Scene {
             ));
         }
 
-        let occluders = build_occluders(&file.occluders, path, &vehicle, &rig)?;
+        let (occluders, occluder_files) = build_occluders(&file.occluders, path, &vehicle, &rig)?;
+        input_files.extend(occluder_files);
         let name = file.name.clone().unwrap_or_else(|| {
             path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into())
         });
@@ -365,6 +373,7 @@ impl Scene {
             rig,
             scenarios,
             warnings,
+            input_files,
         })
     }
 
@@ -377,11 +386,31 @@ impl Scene {
     }
 }
 
-/// The scene file's occluders: the still ones in world coordinates, the
-/// moving ones in their own frames (see [`crate::scene::moving`]).
-fn build_occluders(specs: &[OccluderSpec], path: &Path, vehicle: &Mesh, rig: &Rig) -> Result<Occluders> {
+/// The scenarios a scene file gives itself, checked.
+fn own_scenarios(path: &Path, file: &SceneFile) -> Result<Vec<Scenario>> {
+    let mut scenarios = Vec::new();
+    for (name, spec) in &file.scenarios {
+        let motion = Motion { position: spec.position.clone(), yaw_deg: spec.yaw_deg.clone() };
+        motion.check().map_err(|e| CaptureError::bad_input(path, format!("scenario {name}: {e}")))?;
+        crate::scene::scenario::check_duration(spec.duration_s)
+            .map_err(|message| CaptureError::bad_input(path, format!("scenario {name}: {message}")))?;
+        scenarios.push(Scenario { name: name.clone(), duration_s: spec.duration_s, motion });
+    }
+    Ok(scenarios)
+}
+
+/// The scene file's occluders (the still ones in world coordinates, the
+/// moving ones in their own frames, see [`crate::scene::moving`]), with
+/// the mesh files they read.
+fn build_occluders(
+    specs: &[OccluderSpec],
+    path: &Path,
+    vehicle: &Mesh,
+    rig: &Rig,
+) -> Result<(Occluders, Vec<PathBuf>)> {
     let base = path.parent().unwrap_or(Path::new("."));
     let mut occluders = Occluders::default();
+    let mut files = Vec::new();
     for (number, spec) in specs.iter().enumerate() {
         let name = spec.name(number);
         spec.check().map_err(|message| {
@@ -396,7 +425,9 @@ fn build_occluders(specs: &[OccluderSpec], path: &Path, vehicle: &Mesh, rig: &Ri
                 mesh
             }
             OccluderShape::Mesh { path: mesh_path, axes } => {
-                load_vehicle(&base.join(mesh_path), PartSource::Node, axes)?
+                let (mesh, mesh_files) = load_model(&base.join(mesh_path), PartSource::Node, axes)?;
+                files.extend(mesh_files);
+                mesh
             }
             OccluderShape::Vehicle {} => vehicle.clone(),
             OccluderShape::Pedestrian { size_m } => crate::scene::moving::pedestrian_body(*size_m),
@@ -425,7 +456,7 @@ fn build_occluders(specs: &[OccluderSpec], path: &Path, vehicle: &Mesh, rig: &Ri
             }
         }
     }
-    Ok(occluders)
+    Ok((occluders, files))
 }
 
 /// Environment meshes are split into squares of this size for culling.

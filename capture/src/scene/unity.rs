@@ -70,7 +70,13 @@ pub fn yaw_from_unity(theta_deg: f64) -> f64 {
 /// Reads the Unity export: the rig (in our frame) and the scenarios.
 pub fn load(path: &Path) -> Result<(Rig, Vec<Scenario>)> {
     let bytes = ufcsr::read_limited(path, ufcsr::SMALL_INPUT_LIMIT)?;
-    let file: File = serde_json::from_slice(&bytes)
+    parse(path, &bytes)
+}
+
+/// The rig and scenarios of a Unity export's bytes; `path` names it in
+/// messages. The rig, tracks and durations get the scene file's bounds.
+pub fn parse(path: &Path, bytes: &[u8]) -> Result<(Rig, Vec<Scenario>)> {
+    let file: File = serde_json::from_slice(bytes)
         .map_err(|e| CaptureError::bad_input(path, format!("not a Unity scenario export: {e}")))?;
     let ped = &file.pedestrian;
     let eye = position_from_unity(ped.eyes_position);
@@ -88,9 +94,12 @@ pub fn load(path: &Path) -> Result<(Rig, Vec<Scenario>)> {
         far_m: ped.far,
         look_at_vehicle: [0.0, 0.0, 0.0],
     };
-    rig.check()?;
+    rig.check().map_err(|e| CaptureError::bad_input(path, format!("rig: {e}")))?;
     let mut scenarios = Vec::new();
     for (name, scenario) in file.scenarios {
+        let in_scenario = |e: CaptureError| CaptureError::bad_input(path, format!("scenario {name}: {e}"));
+        crate::scene::scenario::check_duration(scenario.duration_s)
+            .map_err(|message| CaptureError::bad_input(path, format!("scenario {name}: {message}")))?;
         let track = |property: &str| {
             scenario.vehicle.iter().find(|t| t.property == property).ok_or_else(|| {
                 CaptureError::bad_input(path, format!("scenario {name} has no {property:?} track"))
@@ -107,7 +116,8 @@ pub fn load(path: &Path) -> Result<(Rig, Vec<Scenario>)> {
                     out_slope: k.out_slope.map(position_from_unity),
                 })
                 .collect(),
-        )?;
+        )
+        .map_err(in_scenario)?;
         let yaw_deg = Track::new(
             track("euler_degrees")?
                 .keys
@@ -119,12 +129,16 @@ pub fn load(path: &Path) -> Result<(Rig, Vec<Scenario>)> {
                     out_slope: k.out_slope.map(|s| [-s[1]]),
                 })
                 .collect(),
-        )?;
+        )
+        .map_err(in_scenario)?;
         scenarios.push(Scenario {
             name,
             duration_s: scenario.duration_s,
             motion: Motion { position, yaw_deg },
         });
+    }
+    if scenarios.is_empty() {
+        return Err(CaptureError::bad_input(path, "the Unity export has no scenarios"));
     }
     Ok((rig, scenarios))
 }

@@ -8,14 +8,14 @@
 //! scene may mean it (a toy car, a trailer hitched at its front).
 
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::{DVec3, dvec3};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{CaptureError, Result};
 use crate::scene::demo;
-use crate::scene::mesh::{Axes, Mesh, PartSource, load_vehicle};
+use crate::scene::mesh::{Axes, Mesh, PartSource, load_model};
 use crate::scene::regions::{self, PartRule, RegionReport};
 
 /// The vehicle: a mesh file, or the demo truck.
@@ -52,15 +52,18 @@ pub struct Vehicle {
     pub regions: RegionReport,
     /// Size, axes and origin doubts, rules that matched nothing.
     pub warnings: Vec<String>,
+    /// The files read: the mesh and the buffers or MTL files it names
+    /// (none for the demo truck).
+    pub files: Vec<PathBuf>,
 }
 
 /// Builds the vehicle of `spec`; mesh paths are relative to `base`, and
 /// `scene` names the file in errors.
 pub fn build(spec: &VehicleSpec, base: &Path, scene: &Path) -> Result<Vehicle> {
-    let mut mesh = if spec.mesh == "demo" {
-        demo::truck()
+    let (mut mesh, files) = if spec.mesh == "demo" {
+        (demo::truck(), Vec::new())
     } else {
-        load_vehicle(&base.join(&spec.mesh), spec.parts_from, &spec.axes)?
+        load_model(&base.join(&spec.mesh), spec.parts_from, &spec.axes)?
     };
     mesh.rename_parts(&spec.rename);
     let regions = regions::apply(&mut mesh, &spec.parts)
@@ -75,7 +78,7 @@ pub fn build(spec: &VehicleSpec, base: &Path, scene: &Path) -> Result<Vehicle> {
     }
     let mut warnings = regions.warnings();
     warnings.extend(checks(&mesh, &spec.axes, spec.expect_length_m)?);
-    Ok(Vehicle { mesh, regions, warnings })
+    Ok(Vehicle { mesh, regions, warnings, files })
 }
 
 /// The point the vehicle's origin should be at: on the ground (lowest

@@ -219,6 +219,13 @@ pub fn run_study(
     options: &StudyOptions,
 ) -> Result<Study> {
     check(options)?;
+    // study.* beside the runs' archives (each checks its own files).
+    crate::overwrite_guard::refuse_overwriting_inputs(
+        &options.capture.out,
+        &STUDY_FILES,
+        &[],
+        &crate::archive::capture_inputs(scene, &options.capture),
+    )?;
     let scenario = scene.scenario(&options.scenario)?;
     let mut ppds = options.ppds.clone();
     ppds.sort_by(|a, b| b.total_cmp(a));
@@ -583,6 +590,9 @@ fn recommend(study: &mut Study) {
     });
     study.closest = closest;
 }
+
+/// The files [`write_study`] may write.
+const STUDY_FILES: [&str; 4] = ["study.csv", "study.json", "study.svg", "study.png"];
 
 /// Writes `study.csv`, `study.json`, `study.svg` and, when a TrueType font
 /// is found for its labels, `study.png` into `dir`. Returns the files written.

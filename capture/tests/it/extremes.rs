@@ -37,6 +37,7 @@ fn scene(vehicle: Mesh, occluders: Occluders, rig: Rig, scenario: Scenario) -> S
         scenarios: vec![scenario],
         info: serde_json::json!({"name": "extreme"}),
         warnings: Vec::new(),
+        input_files: Vec::new(),
     }
 }
 

@@ -10,14 +10,14 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// What a finished command said.
-struct Ran {
-    success: bool,
-    stdout: String,
-    stderr: String,
+pub(crate) struct Ran {
+    pub success: bool,
+    pub stdout: String,
+    pub stderr: String,
 }
 
 /// Runs `ufcsr-capture ARGS`, failing the test if it takes over a minute.
-fn capture(args: &[&str]) -> Ran {
+pub(crate) fn capture(args: &[&str]) -> Ran {
     let mut child = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
         .args(args)
         .env("XDG_RUNTIME_DIR", std::env::temp_dir())
@@ -47,7 +47,7 @@ fn capture(args: &[&str]) -> Ran {
 /// A tiny capture: 4 frames, 3 px/°, a 256² palette.
 const TINY: [&str; 7] = ["--ppd", "3", "--palette-size", "256", "--frames", "0-180/60", "-q"];
 
-fn tiny_capture(command: &[&str], out: &Path, extra: &[&str]) -> Ran {
+pub(crate) fn tiny_capture(command: &[&str], out: &Path, extra: &[&str]) -> Ran {
     let mut args: Vec<&str> = command.to_vec();
     args.extend(["--out", out.to_str().unwrap()]);
     args.extend(TINY);
@@ -55,7 +55,7 @@ fn tiny_capture(command: &[&str], out: &Path, extra: &[&str]) -> Ran {
     capture(&args)
 }
 
-fn refused(ran: &Ran, expect: &[&str], what: &str) {
+pub(crate) fn refused(ran: &Ran, expect: &[&str], what: &str) {
     assert!(!ran.success, "{what}: accepted\n{}", ran.stdout);
     for text in expect {
         assert!(ran.stderr.contains(text), "{what}: no {text:?} in: {}", ran.stderr);
@@ -75,7 +75,7 @@ fn link(target: &str, path: &Path) -> PathBuf {
     path.to_path_buf()
 }
 
-fn fixture(name: &str) -> PathBuf {
+pub(crate) fn fixture(name: &str) -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/scenes")).join(name)
 }
 

@@ -54,6 +54,7 @@ pub(crate) fn plates_scene() -> Scene {
         scenarios: vec![scenario],
         info: serde_json::json!({"name": "plates"}),
         warnings: Vec::new(),
+        input_files: Vec::new(),
     }
 }
 

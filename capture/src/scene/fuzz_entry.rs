@@ -1,0 +1,52 @@
+//! Entry points for fuzzing the capture's input files, as
+//! `ufcsr::fuzz_entry` does for the analyzer's: each takes arbitrary bytes as
+//! one kind of file and must return, with an error if the bytes are bad,
+//! never panic, hang or allocate without bound. The cargo-fuzz targets in
+//! `fuzz/` call them, and `capture/tests/it/fuzz_regressions.rs` feeds them
+//! the saved seeds and every input that once failed, on stable Rust.
+//!
+//! The files an input names (meshes, buffers, `mtllib`, a Unity export) are
+//! looked for beside a path in a folder that does not exist, so only the
+//! bytes given are parsed; an OBJ's `mtllib` reads the input itself as MTL.
+
+use std::path::Path;
+
+use crate::scene::mesh::{Axes, PartSource, check_model, gltf_mesh, obj_mesh, obj_options};
+use crate::scene::scene_file::Scene;
+
+/// The folder fuzzed files seem to be in: absent, so nothing beside them is read.
+const NOWHERE: &str = "/nonexistent-ufcsr-fuzz";
+
+/// A scene file (`"mesh": "demo"` builds the demo truck; other meshes do not exist).
+pub fn scene(bytes: &[u8]) {
+    let _ = Scene::parse(&Path::new(NOWHERE).join("scene.json"), bytes);
+}
+
+/// A glTF (`.gltf` with data: URIs) or GLB model, loaded as a vehicle.
+pub fn gltf(bytes: &[u8]) {
+    let path = Path::new(NOWHERE).join("model.glb");
+    let Ok(model) = ufcsr::parse_gltf(&path, bytes, ufcsr::MODEL_LIMIT) else { return };
+    if let Ok(mesh) = gltf_mesh(&path, &model, PartSource::Node, &Axes::default()) {
+        let _ = check_model(&path, &mesh);
+    }
+}
+
+/// An OBJ loaded as a vehicle, parts by material; every `mtllib` it names
+/// reads the same bytes as an MTL file.
+pub fn obj(bytes: &[u8]) {
+    let path = Path::new(NOWHERE).join("model.obj");
+    let read_material = |_: &Path| Ok(bytes.to_vec());
+    let Ok((models, materials)) =
+        crate::scene::model_files::obj_from_bytes(&path, bytes, &obj_options(), read_material)
+    else {
+        return;
+    };
+    if let Ok(mesh) = obj_mesh(models, &materials, PartSource::Material, &Axes::default()) {
+        let _ = check_model(&path, &mesh);
+    }
+}
+
+/// A Unity scenario export (`unity-intersection.json`).
+pub fn unity(bytes: &[u8]) {
+    let _ = crate::scene::unity::parse(&Path::new(NOWHERE).join("unity.json"), bytes);
+}
