@@ -13,6 +13,8 @@ use ufcsr_capture::{
     MeasureDevice, OwnLabelFiles, Scene, Summary, TileFilter, parse_palette_size,
 };
 
+use super::say;
+
 /// What `--measure` counts instead of rendered pixels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum Measure {
@@ -75,9 +77,6 @@ pub struct Common {
     /// GPU backend: auto (Vulkan, then GL; UFCSR_BACKEND overrides auto), vulkan or gl.
     #[arg(long, value_enum, default_value_t = Backend::Auto)]
     backend: Backend,
-    /// PNG encoder threads (0: one per core).
-    #[arg(long, default_value_t = 0)]
-    threads: usize,
     /// Count each rendered tile straight from the GPU readback with the analyzer (no PNGs):
     /// writes the manifest, PIdT, legend and the analyzer's results/ (same result.json as
     /// capturing PNGs and running `ufcsr-analyze --trim off`).
@@ -122,9 +121,6 @@ pub struct Common {
     /// and _COUNT, or JOB_COMPLETION_INDEX / AWS_BATCH_JOB_ARRAY_INDEX with UFCSR_SHARD_COUNT).
     #[arg(long, value_name = "I/N|auto")]
     shard: Option<String>,
-    /// No progress bar.
-    #[arg(long, short)]
-    quiet: bool,
 }
 
 /// `I/N`, or `auto`: the job array's index (an error outside one). Unlike the
@@ -152,7 +148,7 @@ pub fn parse_fraction(text: &str) -> anyhow::Result<f64> {
 
 /// A capture of `scene` as `common` says: to PNG tiles, counted (`--count`)
 /// or measured (`--measure`), one scenario or all.
-pub fn run_capture(mut scene: Scene, common: &Common) -> anyhow::Result<()> {
+pub fn run_capture(mut scene: Scene, common: &Common, threads: usize) -> anyhow::Result<()> {
     for warning in &scene.warnings {
         eprintln!("warning: {warning}");
     }
@@ -162,7 +158,7 @@ pub fn run_capture(mut scene: Scene, common: &Common) -> anyhow::Result<()> {
     if let Some(ppd) = common.ppd {
         scene.rig.set_pixels_per_degree(ppd)?;
     }
-    let options = capture_options(common)?;
+    let options = capture_options(common, threads)?;
     let all = common.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
     let names = scenario_names(&scene, common.scenario.as_deref())?;
     let gpu = Gpu::create(common.backend).context("creating the GPU device")?;
@@ -186,7 +182,7 @@ pub fn run_capture(mut scene: Scene, common: &Common) -> anyhow::Result<()> {
     for summary in &summaries {
         report(summary);
         if let Some(shard) = options.shard {
-            println!(
+            say!(
                 "  shard {shard}: wrote its part of the manifest; once every shard has finished, run \
                  `ufcsr-capture assemble {}`",
                 summary.out.display()
@@ -199,18 +195,19 @@ pub fn run_capture(mut scene: Scene, common: &Common) -> anyhow::Result<()> {
 /// `demo --traffic`: each selected scenario with the truck's twin in
 /// traffic (its side depends on the scenario), one capture each, into
 /// `--out` or, with `--scenario all`, `--out/NAME`.
-pub fn run_demo_with_traffic(traffic: DemoTraffic, common: &Common) -> anyhow::Result<()> {
+pub fn run_demo_with_traffic(traffic: DemoTraffic, common: &Common, threads: usize) -> anyhow::Result<()> {
     let all = common.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
     for name in scenario_names(&Scene::demo(), common.scenario.as_deref())? {
         let scene = Scene::demo_with_traffic(traffic, &name)?;
         let out = if all { common.out.join(&name) } else { common.out.clone() };
-        run_capture(scene, &Common { out, scenario: Some(name), ..common.clone() })?;
+        run_capture(scene, &Common { out, scenario: Some(name), ..common.clone() }, threads)?;
     }
     Ok(())
 }
 
 /// The library's options from the command line's.
-fn capture_options(common: &Common) -> anyhow::Result<CaptureOptions> {
+/// `threads`: PNG encoders (0: one per core).
+fn capture_options(common: &Common, threads: usize) -> anyhow::Result<CaptureOptions> {
     Ok(CaptureOptions {
         out: common.out.clone(),
         palette: parse_palette_size(&common.palette_size)?,
@@ -227,12 +224,12 @@ fn capture_options(common: &Common) -> anyhow::Result<CaptureOptions> {
         keep_background_tiles: common.keep_background_tiles,
         no_cull: common.no_cull,
         no_scissor: common.no_scissor,
-        progress: if common.quiet {
+        progress: if super::quiet() {
             CaptureProgress::default()
         } else {
             CaptureProgress::to(Arc::new(super::progress::TileBar::default()))
         },
-        encoder_threads: common.threads,
+        encoder_threads: threads,
         shard: common.shard.as_deref().map(parse_shard).transpose()?,
     })
 }
@@ -297,7 +294,7 @@ fn run_unobstructed(
                 placement,
             },
         )?;
-        println!(
+        say!(
             "scenario {}: unobstructed measure of {} of {} texels ({} surface samples) over {} eye-frames in {:.2} s",
             scenario.name,
             measured.sampled_texels,
@@ -306,7 +303,7 @@ fn run_unobstructed(
             measured.eye_frames,
             measured.seconds
         );
-        println!(
+        say!(
             "  ray casts: {:.2} s, {:.3e} sample-eye-frame tests per second (each up to two segment queries)",
             measured.visibility_seconds,
             (measured.surface_samples * measured.eye_frames) as f64 / measured.visibility_seconds.max(1e-9)
@@ -315,10 +312,10 @@ fn run_unobstructed(
         for warning in &measured.analysis.result.warnings {
             eprintln!("  warning: {warning}");
         }
-        println!("  results: {}", measured.written.result_json.display());
-        println!("           {} (per-part estimates, standard errors)", measured.estimates_csv.display());
+        say!("  results: {}", measured.written.result_json.display());
+        say!("           {} (per-part estimates, standard errors)", measured.estimates_csv.display());
         if let Some(placed) = &measured.placement {
-            println!(
+            say!(
                 "           {} (placement: {} parts and {} display patches, {} rows, {:.2} s)",
                 placed.csv.display(),
                 placed.parts,
@@ -342,7 +339,7 @@ fn placement_options(common: &Common) -> anyhow::Result<Option<ufcsr_capture::Pl
 }
 
 fn report(s: &Summary) {
-    println!(
+    say!(
         "scenario {}: {} frames in {:.2} s ({:.2} s setup; {:.2} frames/s, both eyes, encoding included) → {}",
         s.scenario,
         s.frames,
@@ -351,9 +348,14 @@ fn report(s: &Summary) {
         s.frames_per_second(),
         s.out.display()
     );
-    println!(
+    say!(
         "  tiles: {} total, {} rendered, {} written, {} culled (outside the vehicle's bounds), {} background only, {} resumed",
-        s.tiles, s.tally.rendered, s.tally.written, s.tally.culled, s.tally.background, s.tally.resumed
+        s.tiles,
+        s.tally.rendered,
+        s.tally.written,
+        s.tally.culled,
+        s.tally.background,
+        s.tally.resumed
     );
     // On stderr: how the run was done, not what it found.
     eprintln!(
@@ -363,7 +365,7 @@ fn report(s: &Summary) {
         if s.pixels > 0 { s.tally.pixels_scissored as f64 * 100.0 / s.pixels as f64 } else { 0.0 },
         s.tally.hidden
     );
-    println!(
+    say!(
         "  unwrap: {} triangles, {} parts, {:.1} texels/m² ({:.1} mm texels), {:.1}% of the palette used",
         s.triangles,
         s.parts,
@@ -378,7 +380,7 @@ fn report(s: &Summary) {
 
 fn report_counted(counted: &CountedCapture) {
     let result = &counted.analysis.result;
-    println!(
+    say!(
         "  counted: {} tiles, {:.1} Mpixels straight from the renderer (no PNGs); {} texels seen, grand total {}",
         result.images.decoded,
         counted.pixels_counted as f64 / 1e6,
@@ -387,9 +389,9 @@ fn report_counted(counted: &CountedCapture) {
     );
     print!("{}", ufcsr::format_table(result));
     let written = &counted.written;
-    println!("  results: {}", written.result_json.display());
+    say!("  results: {}", written.result_json.display());
     if let Some(parts) = &written.parts_csv {
-        println!("           {}", parts.display());
+        say!("           {}", parts.display());
     }
-    println!("           {}", written.heatmap_png.display());
+    say!("           {}", written.heatmap_png.display());
 }

@@ -14,6 +14,7 @@ mod tools;
 
 use std::path::PathBuf;
 
+use anyhow::Context;
 use clap::{Parser, Subcommand};
 use ufcsr_capture::Backend;
 
@@ -30,7 +31,32 @@ use study::StudyArgs;
 pub struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Nothing on stdout and no progress bar; warnings and errors still go to stderr.
+    #[arg(long, short, global = true)]
+    quiet: bool,
+    /// Worker threads: PNG encoders, the exact measure's ray casting and the other parallel
+    /// work (default 0: one per core).
+    #[arg(long, short = 'j', global = true, default_value_t = 0, value_parser = clap::value_parser!(u16).range(0..=1024))]
+    threads: u16,
 }
+
+/// Set once from `--quiet` before a command runs: [`say!`] prints nothing.
+static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// True under `--quiet`.
+pub fn quiet() -> bool {
+    QUIET.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// `println!` unless `--quiet`: what a command did, on stdout.
+macro_rules! say {
+    ($($arg:tt)*) => {
+        if !$crate::cli::quiet() {
+            println!($($arg)*);
+        }
+    };
+}
+pub(crate) use say;
 
 #[derive(Subcommand)]
 enum Command {
@@ -138,15 +164,28 @@ impl std::error::Error for DoneWithFailures {}
 
 /// Runs one subcommand.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
+    QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
+    let threads = usize::from(cli.threads);
+    if threads > 0 {
+        // The first and only pool of the process; the exact measure and the placement pass use it.
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build_global()
+            .context("setting up the worker threads")?;
+    }
     match cli.command {
         Command::Demo { traffic: None, common } => {
-            capture::run_capture(ufcsr_capture::Scene::demo(), &common)
+            capture::run_capture(ufcsr_capture::Scene::demo(), &common, threads)
         }
-        Command::Demo { traffic: Some(traffic), common } => capture::run_demo_with_traffic(traffic, &common),
+        Command::Demo { traffic: Some(traffic), common } => {
+            capture::run_demo_with_traffic(traffic, &common, threads)
+        }
         Command::Scene { scene, common } => {
-            capture::run_capture(ufcsr_capture::Scene::load(&scene)?, &common)
+            capture::run_capture(ufcsr_capture::Scene::load(&scene)?, &common, threads)
         }
-        Command::Unity { file, common } => capture::run_capture(ufcsr_capture::Scene::unity(&file)?, &common),
+        Command::Unity { file, common } => {
+            capture::run_capture(ufcsr_capture::Scene::unity(&file)?, &common, threads)
+        }
         Command::Inspect { input, out, pixels_per_metre } => tools::run_inspect(input, out, pixels_per_metre),
         Command::Study(args) => study::run_study(args),
         Command::Observers(args) => observers::run_observers(args),

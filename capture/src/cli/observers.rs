@@ -10,6 +10,8 @@ use ufcsr_capture::{Backend, CaptureOptions, Gpu, parse_palette_size};
 
 use super::study::{load_scene, scenario_name};
 
+use super::say;
+
 /// Uncertainty over the observer (see `ufcsr_capture::run_observer_study`).
 #[derive(Args)]
 pub struct ObserversArgs {
@@ -86,14 +88,14 @@ pub fn run_observers(args: ObserversArgs) -> anyhow::Result<()> {
     let study = ufcsr_capture::run_observer_study(&gpu.device, &gpu.queue, &scene, &options)?;
     print_observers(&study);
     for file in ufcsr_capture::write_observer_study(&study, &args.out)? {
-        println!("wrote {}", file.display());
+        say!("wrote {}", file.display());
     }
     Ok(())
 }
 
 fn print_observers(study: &ufcsr_capture::ObserverStudy) {
     let n = study.observers.len();
-    println!(
+    say!(
         "scenario {}, {n} observers at {} px/°, every {} frame(s), eye heights {}–{} m, in {:.1} s ({:.2} s per observer)",
         study.scenario,
         study.ppd,
@@ -103,17 +105,14 @@ fn print_observers(study: &ufcsr_capture::ObserverStudy) {
         study.seconds,
         study.seconds / n as f64
     );
-    println!(
+    say!(
         "per part over the observers: mean [95 % interval of the mean] (2.5–97.5 % of observers); top-5 = share of \
          observers with the part among the five largest angular areas"
     );
-    println!(
-        "{:<24} {:>34} {:>34} {:>6}",
-        "part", "angular area, deg²·s", "share of angular area, %", "top-5"
-    );
+    say!("{:<24} {:>34} {:>34} {:>6}", "part", "angular area, deg²·s", "share of angular area, %", "top-5");
     for part in study.summary.iter().take(15) {
         let (a, s) = (&part.angular_area_deg2_s, &part.angular_area_share_percent);
-        println!(
+        say!(
             "{:<24} {:>34} {:>34} {:>6.2}",
             part.part,
             format!(
@@ -128,6 +127,6 @@ fn print_observers(study: &ufcsr_capture::ObserverStudy) {
         );
     }
     if study.summary.len() > 15 {
-        println!("… {} more parts in observer-parts.csv", study.summary.len() - 15);
+        say!("… {} more parts in observer-parts.csv", study.summary.len() - 15);
     }
 }

@@ -9,6 +9,8 @@ use ufcsr_capture::{Backend, CaptureOptions, Gpu, Scene, parse_palette_size};
 
 use super::capture::parse_fraction;
 
+use super::say;
+
 /// A resolution study (see `ufcsr_capture::run_study`).
 #[derive(Args)]
 pub struct StudyArgs {
@@ -90,24 +92,30 @@ pub fn run_study(args: StudyArgs) -> anyhow::Result<()> {
     let study = ufcsr_capture::run_study(&gpu.device, &gpu.queue, &scene, &options)?;
     print_study(&study);
     for file in ufcsr_capture::write_study(&study, &args.out)? {
-        println!("wrote {}", file.display());
+        say!("wrote {}", file.display());
     }
     Ok(())
 }
 
 fn print_study(study: &ufcsr_capture::Study) {
-    println!(
+    say!(
         "scenario {}, measure {}: error = share L1 (pp) against the exact measure on the same eye-frames, \
          95 % interval; precision = against the finest setting ({})",
-        study.scenario, study.measure, study.reference
+        study.scenario,
+        study.measure,
+        study.reference
     );
     if let Some(exact) = &study.exact {
-        println!(
+        say!(
             "exact reference: {} of {} texels (sample {}), {} eye-frames, {:.1} s",
-            exact.sampled_texels, exact.labelled_texels, exact.sample, exact.eye_frames, exact.seconds
+            exact.sampled_texels,
+            exact.labelled_texels,
+            exact.sample,
+            exact.eye_frames,
+            exact.seconds
         );
     }
-    println!(
+    say!(
         "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12} {:>6}",
         "ppd",
         "step",
@@ -123,7 +131,7 @@ fn print_study(study: &ufcsr_capture::Study) {
     );
     for row in &study.rows {
         let exact = row.error_vs_exact.as_ref();
-        println!(
+        say!(
             "{:>6} {:>5} {:>6} {:>9.2} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12.3} {:>6}",
             row.ppd,
             row.frame_step,
@@ -139,7 +147,7 @@ fn print_study(study: &ufcsr_capture::Study) {
         );
     }
     match (&study.recommended, &study.reason) {
-        (Some(pick), _) => println!(
+        (Some(pick), _) => say!(
             "recommended (cheapest within {} pp of the {}): {} ({:.2} s, share L1 {:.3} pp{})",
             study.tolerance_pp,
             if pick.against == "exact" { "exact measure at 95 %" } else { "finest setting" },
@@ -148,7 +156,7 @@ fn print_study(study: &ufcsr_capture::Study) {
             pick.share_l1_pp,
             pick.ci95_pp.map_or(String::new(), |[lo, hi]| format!(", 95 % {lo:.3}–{hi:.3}"))
         ),
-        (None, Some(reason)) => println!("{reason}"),
-        (None, None) => println!("no recommendation"),
+        (None, Some(reason)) => say!("{reason}"),
+        (None, None) => say!("no recommendation"),
     }
 }

@@ -7,10 +7,14 @@ use std::path::{Path, PathBuf};
 
 use ufcsr_capture::{Backend, Gpu, InspectOptions, ViewsOptions};
 
+use super::say;
+
 /// `inspect`: the vehicle's report on stdout, its pictures in `out`.
 pub fn run_inspect(input: PathBuf, out: PathBuf, pixels_per_metre: Option<f64>) -> anyhow::Result<()> {
     let inspection = ufcsr_capture::inspect(&InspectOptions { input, out, pixels_per_metre })?;
-    print!("{inspection}");
+    if !super::quiet() {
+        print!("{inspection}");
+    }
     Ok(())
 }
 
@@ -24,9 +28,9 @@ pub fn run_views(
     let gpu = Gpu::create(backend)?;
     let options = ViewsOptions { results, model, out };
     let written = ufcsr_capture::views_from_results(&gpu.device, &gpu.queue, &options)?;
-    println!("views ({}): {}", gpu.describe(), written.contact_sheet.display());
+    say!("views ({}): {}", gpu.describe(), written.contact_sheet.display());
     for view in &written.views {
-        println!("  {}", view.display());
+        say!("  {}", view.display());
     }
     Ok(())
 }
@@ -54,7 +58,7 @@ pub fn run_batch_plan(batch: &Path, program: Option<String>) -> anyhow::Result<(
 /// `assemble`: the shards' partial manifests joined into manifest.json.
 pub fn run_assemble(archive: &Path) -> anyhow::Result<()> {
     let assembled = ufcsr_capture::assemble(archive)?;
-    println!(
+    say!(
         "{}: {} shards, {} frames, {} tiles → {}",
         archive.display(),
         assembled.shards,
@@ -68,7 +72,7 @@ pub fn run_assemble(archive: &Path) -> anyhow::Result<()> {
 /// `verify`: every tile pixel is background or a labelled palette texel.
 pub fn run_verify(archive: &Path) -> anyhow::Result<()> {
     let (vehicle, stray) = ufcsr_capture::verify(archive)?;
-    println!("{}: {vehicle} vehicle pixels, {stray} stray pixels", archive.display());
+    say!("{}: {vehicle} vehicle pixels, {stray} stray pixels", archive.display());
     if stray > 0 {
         return Err(super::DoneWithFailures(format!(
             "{}: {stray} pixels are neither background nor labelled palette texels",

@@ -64,3 +64,28 @@ fn a_capture_without_a_runtime_folder_prints_no_mesa_noise() {
     assert!(output.status.success(), "{stderr}");
     assert!(!stderr.contains("XDG_RUNTIME_DIR"), "{stderr}");
 }
+
+#[test]
+fn every_capture_command_takes_quiet_and_threads_and_quiet_keeps_stdout_empty() {
+    let dir = tempfile::tempdir().unwrap();
+    for command in
+        ["demo", "scene", "unity", "inspect", "views", "batch", "study", "observers", "assemble", "verify"]
+    {
+        let help = capture(dir.path(), &[command, "--help"]);
+        let text = String::from_utf8_lossy(&help.stdout);
+        for option in ["-q, --quiet", "-j, --threads <THREADS>"] {
+            assert!(text.contains(option), "ufcsr-capture {command} --help lacks {option}:\n{text}");
+        }
+    }
+    let archive = dir.path().join("archive");
+    let archive_text = archive.to_str().unwrap();
+    let small = ["--ppd", "2", "--palette-size", "128", "--frames", "180", "--out", archive_text];
+    let quiet = capture(dir.path(), &[&["demo", "-q", "-j", "1"][..], &small].concat());
+    assert!(quiet.status.success(), "{}", String::from_utf8_lossy(&quiet.stderr));
+    assert!(quiet.stdout.is_empty(), "{}", String::from_utf8_lossy(&quiet.stdout));
+    let verify = capture(dir.path(), &["verify", archive_text, "--quiet"]);
+    assert!(verify.status.success() && verify.stdout.is_empty());
+    assert!(!capture(dir.path(), &["verify", archive_text]).stdout.is_empty());
+    let too_many = capture(dir.path(), &["verify", archive_text, "-j", "5000"]);
+    assert_eq!(too_many.status.code(), Some(2));
+}
