@@ -38,7 +38,7 @@ pub use input::{
     AnalyzeOptions, Archive, CaptureGeometry, Dedupe, EyeProjection, Fcsp, HeatmapOptions, ImageSource,
     Legend, MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice, PaletteRecord,
     PaletteSetting, Part, Pidt, PixelLayout, Progress, RowReader, Scale, Shard, TileEntry, TileView, Timings,
-    TrimMode, UNLABELLED, parse_palette_size, read_color_image, read_file, verify_image_data,
+    TrimMode, UNLABELLED, inside_archive, parse_palette_size, read_color_image, read_file, verify_image_data,
     write_canonical_png,
 };
 pub use output::{

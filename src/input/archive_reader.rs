@@ -71,6 +71,8 @@ impl Archive {
         for tile in &manifest.tiles {
             let group = groups[&(tile.frame, tile.eye.clone())];
             if let Some(file) = &tile.file {
+                let place = format!("tile {}", tile.place());
+                crate::input::manifest::inside_archive(root, &place, file)?;
                 // A tile that cannot be resolved (missing) fails when it is read.
                 if let Some(real) = crate::files::resolved(&root.join(file))
                     && let Some(first) = resolved.insert(real, file)

@@ -59,6 +59,36 @@ pub enum PaletteRecord {
     File(PathBuf),
 }
 
+/// The one containment rule for every path a manifest names — tiles,
+/// `pidt`, `parts`, a palette image, `vehicle`: relative, without `..`, and,
+/// with links followed, inside the archive folder `root`. Returns the path
+/// to read. A file that does not exist passes here and fails where it is
+/// read, naming itself. Paths given on the command line (`--pidt`, `--mesh`,
+/// …) are the user's own choice and are not held to it.
+pub fn inside_archive(root: &Path, field: &str, file: &Path) -> Result<PathBuf> {
+    let manifest = root.join(MANIFEST_FILE);
+    if file.is_absolute() || file.components().any(|c| matches!(c, std::path::Component::ParentDir)) {
+        return Err(Error::bad_file(
+            &manifest,
+            format!("{field} {} must be a path inside the archive folder", file.display()),
+        ));
+    }
+    let path = root.join(file);
+    if let (Some(real_root), Some(real)) = (crate::files::resolved(root), crate::files::resolved(&path))
+        && !real.starts_with(&real_root)
+    {
+        return Err(Error::bad_file(
+            &manifest,
+            format!(
+                "{field} {} leads outside the archive folder (through a link, to {}): an archive names only its own files",
+                file.display(),
+                real.display()
+            ),
+        ));
+    }
+    Ok(path)
+}
+
 /// One tile of one eye of one frame.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct TileEntry {
@@ -81,6 +111,13 @@ pub struct TileEntry {
     /// Anything else (`time_s`, `distance_m`...).
     #[serde(flatten)]
     pub extra: Map<String, Value>,
+}
+
+impl TileEntry {
+    /// Where the tile is, for messages: `(frame 20, eye left, row 2, col 2)`.
+    pub fn place(&self) -> String {
+        format!("(frame {}, eye {}, row {}, col {})", self.frame, self.eye, self.row, self.col)
+    }
 }
 
 fn is_false(value: &bool) -> bool {
@@ -177,10 +214,7 @@ impl Manifest {
         let mut positions = BTreeSet::new();
         let mut files = BTreeSet::new();
         for (number, tile) in self.tiles.iter().enumerate() {
-            let place = format!(
-                "tiles[{number}] (frame {}, eye {}, row {}, col {})",
-                tile.frame, tile.eye, tile.row, tile.col
-            );
+            let place = format!("tiles[{number}] {}", tile.place());
             match (&tile.file, tile.empty) {
                 (None, false) => {
                     return Err(Error::bad_file(

@@ -2,7 +2,7 @@
 //! every input loaded once (palette, backgrounds, labels, the archive's
 //! images, the vehicle model) into [`Inputs`], before anything is counted.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use crate::color::Color;
 use crate::error::{Error, Result};
@@ -10,7 +10,7 @@ use crate::input::archive_reader::Archive;
 use crate::input::capture_facts::{CaptureGeometry, EyeFrame, EyeOptics, FrameClock, eye_frames};
 use crate::input::identity::archive_identity;
 use crate::input::labels::{Legend, Pidt};
-use crate::input::manifest::{Manifest, PaletteRecord};
+use crate::input::manifest::{Manifest, PaletteRecord, inside_archive};
 use crate::input::options::{AnalyzeOptions, Dedupe, PaletteChoice};
 use crate::input::palette::{DEFAULT_PALETTE_SIDE, Fcsp};
 
@@ -67,7 +67,7 @@ pub(crate) fn resolve_inputs_allowing_no_images(
         return Err(Error::bad_file(root, "not a folder (expected an archive folder of PNG tiles)"));
     }
     let manifest = if options.ignore_manifest { None } else { Manifest::load_from_dir(root)? };
-    let palette_choice = palette_choice(options, manifest.as_ref());
+    let palette_choice = palette_choice(options, manifest.as_ref())?;
     let palette = match &palette_choice {
         PaletteChoice::Canonical { width, height } => Fcsp::canonical(*width, *height)?,
         PaletteChoice::Image(path) => Fcsp::from_png(path)?,
@@ -116,17 +116,19 @@ pub(crate) fn resolve_inputs_allowing_no_images(
 
 /// The palette asked for: the option, else the manifest's, else the
 /// canonical palette of the default size.
-fn palette_choice(options: &AnalyzeOptions, manifest: Option<&Manifest>) -> PaletteChoice {
-    match (&options.palette, manifest.and_then(|m| m.palette.as_ref())) {
+fn palette_choice(options: &AnalyzeOptions, manifest: Option<&Manifest>) -> Result<PaletteChoice> {
+    Ok(match (&options.palette, manifest.and_then(|m| m.palette.as_ref())) {
         (Some(choice), _) => choice.clone(),
         (None, Some(PaletteRecord::Canonical { canonical: [width, height] })) => {
             PaletteChoice::Canonical { width: *width, height: *height }
         }
-        (None, Some(PaletteRecord::File(file))) => PaletteChoice::Image(options.archive.join(file)),
+        (None, Some(PaletteRecord::File(file))) => {
+            PaletteChoice::Image(inside_archive(&options.archive, "palette", file)?)
+        }
         (None, None) => {
             PaletteChoice::Canonical { width: DEFAULT_PALETTE_SIDE, height: DEFAULT_PALETTE_SIDE }
         }
-    }
+    })
 }
 
 /// The legend and PIdT (options first, then the manifest's), loaded against
@@ -136,9 +138,17 @@ fn load_labels(
     manifest: Option<&Manifest>,
     palette: &Fcsp,
 ) -> Result<Option<LabelFiles>> {
-    let from_manifest = |path: &Option<PathBuf>| path.as_ref().map(|p| options.archive.join(p));
-    let pidt_path = options.pidt.clone().or_else(|| manifest.and_then(|m| from_manifest(&m.pidt)));
-    let legend_path = options.legend.clone().or_else(|| manifest.and_then(|m| from_manifest(&m.parts)));
+    let from_manifest = |field: &str, path: &Option<PathBuf>| {
+        path.as_ref().map(|p| inside_archive(&options.archive, field, p)).transpose()
+    };
+    let pidt_path = match &options.pidt {
+        Some(path) => Some(path.clone()),
+        None => manifest.map(|m| from_manifest("pidt", &m.pidt)).transpose()?.flatten(),
+    };
+    let legend_path = match &options.legend {
+        Some(path) => Some(path.clone()),
+        None => manifest.map(|m| from_manifest("parts", &m.parts)).transpose()?.flatten(),
+    };
     match (pidt_path, legend_path) {
         (Some(pidt_path), Some(legend_path)) => {
             let legend = Legend::load(&legend_path)?;
@@ -262,8 +272,10 @@ fn vehicle_model(
         crate::files::open_regular(mesh)?;
         return Ok(Some(mesh.clone()));
     }
-    let named =
-        manifest.and_then(|m| m.extra.get("vehicle")?.as_str()).map(|file| options.archive.join(file));
+    let named = manifest
+        .and_then(|m| m.extra.get("vehicle")?.as_str())
+        .map(|file| inside_archive(&options.archive, "vehicle", Path::new(file)))
+        .transpose()?;
     Ok(named.and_then(|path| match crate::files::open_regular(&path) {
         Ok(_) => Some(path),
         Err(Error::Io { cause, .. }) if cause.kind() == std::io::ErrorKind::NotFound => {

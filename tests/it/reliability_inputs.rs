@@ -217,3 +217,64 @@ fn an_interlaced_indexed_tile_reports_the_image_row_of_a_bad_index() {
     let failure = &analysis.result.failures[0];
     assert!(failure.error.contains("pixel (2, 2) has palette index 5"), "{}", failure.error);
 }
+
+/// `manifest_with`'s manifest with `field` set to `value` (a JSON value).
+fn manifest_naming(field: &str, value: &str) -> String {
+    let mut manifest = manifest_with(&["tiles/x.png"]);
+    if field == "palette" {
+        manifest = manifest.replace(r#""palette":{"canonical":[4,4]},"#, "");
+    }
+    format!("{},\"{field}\":{value}}}", manifest.trim_end_matches('}'))
+}
+
+#[test]
+fn every_path_a_manifest_names_stays_inside_the_archive_folder() {
+    let outside = tempfile::tempdir().unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    rgb_png(&dir.path().join("tiles/x.png"), 2, 1, &[1, BG]);
+    rgb_png(&outside.path().join("pidt.png"), 4, 4, &[1; 16]);
+    let absolute = serde_json::to_string(&outside.path().join("pidt.png")).unwrap();
+    let cases = [
+        ("pidt", "\"../pidt.png\"".to_string()),
+        ("pidt", absolute.clone()),
+        ("parts", "\"../parts.csv\"".to_string()),
+        ("palette", absolute),
+        ("vehicle", "\"../vehicle.glb\"".to_string()),
+    ];
+    for (field, value) in cases {
+        std::fs::write(dir.path().join("manifest.json"), manifest_naming(field, &value)).unwrap();
+        let error = failure(&AnalyzeOptions { archive: dir.path().to_path_buf(), ..Default::default() });
+        assert!(
+            error.contains("manifest.json")
+                && error.contains(field)
+                && error.contains("inside the archive folder"),
+            "{field} {value}: {error}"
+        );
+    }
+    #[cfg(unix)]
+    {
+        // A tile or a PIdT that is a link to a file outside: refused, naming what it leads to.
+        std::fs::rename(dir.path().join("tiles/x.png"), outside.path().join("x.png")).unwrap();
+        std::os::unix::fs::symlink(outside.path().join("x.png"), dir.path().join("tiles/x.png")).unwrap();
+        std::fs::write(dir.path().join("manifest.json"), manifest_with(&["tiles/x.png"])).unwrap();
+        let error = failure(&AnalyzeOptions { archive: dir.path().to_path_buf(), ..Default::default() });
+        assert!(
+            error.contains("tiles/x.png") && error.contains("leads outside the archive folder"),
+            "{error}"
+        );
+        std::os::unix::fs::symlink(outside.path().join("pidt.png"), dir.path().join("pidt.png")).unwrap();
+        std::fs::remove_file(dir.path().join("tiles/x.png")).unwrap();
+        rgb_png(&dir.path().join("tiles/x.png"), 2, 1, &[1, BG]);
+        std::fs::write(dir.path().join("manifest.json"), manifest_naming("pidt", "\"pidt.png\"")).unwrap();
+        let error = failure(&AnalyzeOptions { archive: dir.path().to_path_buf(), ..Default::default() });
+        assert!(error.contains("pidt pidt.png leads outside"), "{error}");
+        // A link that stays inside the archive is fine.
+        std::fs::create_dir(dir.path().join("elsewhere")).unwrap();
+        std::fs::rename(dir.path().join("tiles/x.png"), dir.path().join("elsewhere/x.png")).unwrap();
+        std::os::unix::fs::symlink(dir.path().join("elsewhere/x.png"), dir.path().join("tiles/x.png"))
+            .unwrap();
+        std::fs::write(dir.path().join("manifest.json"), manifest_with(&["tiles/x.png"])).unwrap();
+        let analysis = analyze(&options(dir.path()), None).unwrap();
+        assert_eq!(analysis.result.images.decoded, 1);
+    }
+}

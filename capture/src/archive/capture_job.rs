@@ -568,7 +568,7 @@ pub fn verify(dir: &Path) -> Result<(u64, u64)> {
     let (w, h, lookup) = match &manifest.palette {
         Some(PaletteRecord::Canonical { canonical: [w, h] }) => (*w, *h, None),
         Some(PaletteRecord::File(file)) => {
-            let palette = Fcsp::from_png(&dir.join(file))?;
+            let palette = Fcsp::from_png(&ufcsr::inside_archive(dir, "palette", file)?)?;
             let index: HashMap<Color, u32> = (0..palette.texel_count())
                 .map(|t| (Color::from_packed(palette.color_of(t)), t as u32))
                 .collect();
@@ -583,7 +583,8 @@ pub fn verify(dir: &Path) -> Result<(u64, u64)> {
     let (mut vehicle, mut stray) = (0u64, 0u64);
     for tile in &manifest.tiles {
         let Some(file) = &tile.file else { continue };
-        let (_, rgb) = read_rgb_png(&dir.join(file))?;
+        let place = format!("tile {}", tile.place());
+        let (_, rgb) = read_rgb_png(&ufcsr::inside_archive(dir, &place, file)?)?;
         for p in rgb.chunks_exact(3) {
             let color = Color::from_rgb(p[0], p[1], p[2]);
             if color == Color::DEFAULT_BACKGROUND {

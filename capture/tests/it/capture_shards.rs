@@ -8,7 +8,7 @@ use std::process::{Command, Output};
 
 fn capture(out: &Path, extra: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
-        .args(["demo", "--scenario", "B", "--ppd", "3", "--palette-size", "256", "--frames", "0-180/6", "-q"])
+        .args(["demo", "--scenario", "B", "--ppd", "3", "--palette-size", "256", "--frames", "0-180/6"])
         .arg("--out")
         .arg(out)
         .args(extra)
