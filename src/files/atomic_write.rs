@@ -161,11 +161,14 @@ impl Staging {
     /// staging folders of killed runs are removed ([`remove_stale_staging`]).
     pub fn commit(self, out_dir: &Path, set: &[&str]) -> Result<()> {
         let guard = COMMITTING.lock().unwrap_or_else(PoisonError::into_inner);
+        finish_interrupted_commit(out_dir)?;
         let backups = self.dir.join(".replaced");
         let earlier_set = fs::symlink_metadata(out_dir.join("result.json")).is_ok_and(|m| m.is_file());
         let mut moves = Moves { backups: backups.clone(), counter: 0, done: Vec::new() };
+        let journal = Journal::of(&self.dir, if earlier_set { set } else { &[] })?;
         let outcome = (|| -> Result<()> {
             fs::create_dir_all(&backups).map_err(|e| Error::io(&backups, e))?;
+            journal.write(out_dir)?;
             move_tree(&self.dir, out_dir, &mut moves, true)?;
             if earlier_set {
                 remove_stale_members(out_dir, set, &mut moves)?;
@@ -175,6 +178,8 @@ impl Staging {
         if outcome.is_err() {
             moves.undo();
         }
+        // Whole, old or new: the journal has nothing left to finish.
+        let _ = fs::remove_file(out_dir.join(COMMIT_JOURNAL));
         drop(self);
         drop(guard);
         if outcome.is_ok() {
@@ -246,6 +251,102 @@ fn remove_stale_members(out_dir: &Path, set: &[&str], moves: &mut Moves) -> Resu
     Ok(())
 }
 
+/// The commit journal: written into the output folder before a commit's
+/// first move and removed after its last. Only a run killed with SIGKILL in
+/// between (an interrupt waits for the commit) leaves it, beside a result set
+/// that is part old, part new; then readers of the set refuse it
+/// ([`interrupted_commit`]), and the next commit into the folder first
+/// finishes the killed one ([`finish_interrupted_commit`]): the staging
+/// folder still holds every file not yet moved.
+const COMMIT_JOURNAL: &str = ".ufcsr-commit.json";
+
+#[derive(serde::Serialize, serde::Deserialize)]
+struct Journal {
+    /// The staging folder's name (inside the output folder).
+    staging: String,
+    /// Every file of the new set, relative to the output folder.
+    files: Vec<String>,
+    /// The set's members that the commit takes away when the new set lacks them.
+    stale: Vec<String>,
+}
+
+impl Journal {
+    /// The journal of committing `staging`, which replaces an earlier set's `set` members.
+    fn of(staging: &Path, set: &[&str]) -> Result<Journal> {
+        let mut files = Vec::new();
+        let mut pending = vec![PathBuf::new()];
+        while let Some(relative) = pending.pop() {
+            let folder = staging.join(&relative);
+            for entry in fs::read_dir(&folder).map_err(|e| Error::io(&folder, e))?.flatten() {
+                let name = relative.join(entry.file_name());
+                if name == Path::new(".replaced") {
+                    continue;
+                }
+                if entry.file_type().is_ok_and(|t| t.is_dir()) {
+                    pending.push(name);
+                } else {
+                    files.push(name.to_string_lossy().replace('\\', "/"));
+                }
+            }
+        }
+        files.sort();
+        let stale = set.iter().filter(|m| !files.iter().any(|f| f == *m)).map(|m| (*m).to_string()).collect();
+        let staging = staging.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        Ok(Journal { staging, files, stale })
+    }
+
+    fn write(&self, out_dir: &Path) -> Result<()> {
+        let text = serde_json::to_vec(self)
+            .map_err(|e| Error::bad_file(&out_dir.join(COMMIT_JOURNAL), e.to_string()))?;
+        write_bytes_atomically(&out_dir.join(COMMIT_JOURNAL), &text)
+    }
+}
+
+/// The journal of a commit into `dir` that a killed run left unfinished
+/// (`None` when there is none, or its run is still committing).
+pub fn interrupted_commit(dir: &Path) -> Option<PathBuf> {
+    let path = dir.join(COMMIT_JOURNAL);
+    let text = fs::read(&path).ok()?;
+    let journal: Journal = serde_json::from_slice(&text).ok()?;
+    let pid = journal.staging.strip_prefix(STAGING_PREFIX)?.split('-').next()?.parse::<u32>().ok()?;
+    (pid == std::process::id() || !process_alive(pid)).then_some(path)
+}
+
+/// Finishes the commit a killed run left in `out_dir` (see [`COMMIT_JOURNAL`]):
+/// the files still in its staging folder are moved into place, the members
+/// the new set lacks are taken away, and the staging folder and journal are
+/// removed, so the folder holds the new set whole. Returns whether there was one.
+pub fn finish_interrupted_commit(out_dir: &Path) -> Result<bool> {
+    let Some(path) = interrupted_commit(out_dir) else { return Ok(false) };
+    let bad = |why: &str| Error::bad_file(&path, format!("an unfinished commit's journal {why}; remove it"));
+    let text = fs::read(&path).map_err(|e| Error::io(&path, e))?;
+    let journal: Journal = serde_json::from_slice(&text).map_err(|_| bad("cannot be read"))?;
+    let plain =
+        |name: &str| Path::new(name).components().all(|c| matches!(c, std::path::Component::Normal(_)));
+    if !journal.staging.starts_with(STAGING_PREFIX) || !plain(&journal.staging) {
+        return Err(bad("names no staging folder of ours"));
+    }
+    let staging = out_dir.join(&journal.staging);
+    if fs::symlink_metadata(&staging).is_ok_and(|m| m.is_dir()) {
+        let backups = staging.join(".replaced");
+        fs::create_dir_all(&backups).map_err(|e| Error::io(&backups, e))?;
+        // Numbered past what the killed run backed up (its backups go with the folder).
+        let counter = fs::read_dir(&backups).map_or(0, |entries| entries.count()) + 1_000_000;
+        let mut moves = Moves { backups, counter, done: Vec::new() };
+        move_tree(&staging, out_dir, &mut moves, true)?;
+        fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
+    }
+    for member in journal.stale.iter().filter(|m| plain(m)) {
+        let target = out_dir.join(member);
+        let is_file = fs::symlink_metadata(&target).is_ok_and(|m| m.is_file());
+        if is_file && !crate::files::crosses_link(out_dir, Path::new(member)) {
+            fs::remove_file(&target).map_err(|e| Error::io(&target, e))?;
+        }
+    }
+    fs::remove_file(&path).map_err(|e| Error::io(&path, e))?;
+    Ok(true)
+}
+
 /// Moves the files under `from` into `to` (folders created or merged; a link
 /// where a folder goes replaced by a real folder), backing up each replaced
 /// file and recording every move. `top` skips the staging folder's own
@@ -294,7 +395,13 @@ fn move_tree(from: &Path, to: &Path, moves: &mut Moves, top: bool) -> Result<()>
 /// name), or when it is older than a day. Returns how many were removed.
 pub fn remove_stale_staging(out_dir: &Path) -> usize {
     let Ok(entries) = fs::read_dir(out_dir) else { return 0 };
-    let own: Vec<PathBuf> = TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner).clone();
+    let mut own: Vec<PathBuf> = TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner).clone();
+    // A killed commit's staging folder holds the files its journal still needs.
+    if let Some(journal) =
+        fs::read(out_dir.join(COMMIT_JOURNAL)).ok().and_then(|t| serde_json::from_slice::<Journal>(&t).ok())
+    {
+        own.push(out_dir.join(journal.staging));
+    }
     let mut removed = 0;
     for entry in entries.flatten() {
         let name = entry.file_name().to_string_lossy().into_owned();
@@ -446,5 +553,59 @@ mod tests {
         assert!(waited.is_err(), "the interrupt did not wait for the commit");
         drop(commit);
         receiver.recv_timeout(std::time::Duration::from_secs(5)).expect("the interrupt never ran");
+    }
+
+    #[test]
+    fn a_commit_killed_halfway_is_refused_by_readers_and_finished_by_the_next_commit() {
+        let out = tempfile::tempdir().unwrap();
+        let out = out.path();
+        for name in ["result.json", "parts.csv", "frames.csv"] {
+            fs::write(out.join(name), "old").unwrap();
+        }
+        // A run (its process long gone) staged a new set without frames.csv,
+        // wrote its journal and had moved parts.csv when it was killed.
+        let staging = out.join(format!("{STAGING_PREFIX}999999999-0"));
+        fs::create_dir_all(staging.join("plots")).unwrap();
+        for name in ["result.json", "parts.csv", "plots/a.svg"] {
+            fs::write(staging.join(name), "new").unwrap();
+        }
+        let set = ["result.json", "parts.csv", "frames.csv", "plots/a.svg"];
+        let journal = Journal::of(&staging, &set).unwrap();
+        assert_eq!(journal.files, ["parts.csv", "plots/a.svg", "result.json"]);
+        assert_eq!(journal.stale, ["frames.csv"]);
+        journal.write(out).unwrap();
+        fs::rename(staging.join("parts.csv"), out.join("parts.csv")).unwrap();
+        // Half old, half new: named as such, and its staging folder is kept for the finish.
+        assert!(interrupted_commit(out).is_some());
+        assert_eq!(remove_stale_staging(out), 0);
+        assert!(staging.is_dir());
+        // The next commit into the folder finishes the killed one first, then commits its own.
+        let next = Staging::new(out).unwrap();
+        fs::write(next.path().join("result.json"), "newer").unwrap();
+        fs::write(next.path().join("parts.csv"), "newer").unwrap();
+        fs::create_dir(next.path().join("plots")).unwrap();
+        fs::write(next.path().join("plots/a.svg"), "newer").unwrap();
+        next.commit(out, &set).unwrap();
+        for name in ["result.json", "parts.csv", "plots/a.svg"] {
+            assert_eq!(fs::read_to_string(out.join(name)).unwrap(), "newer", "{name}");
+        }
+        assert!(!out.join("frames.csv").exists(), "the killed set lacked frames.csv");
+        assert!(!staging.exists() && !out.join(COMMIT_JOURNAL).exists() && interrupted_commit(out).is_none());
+
+        // Finishing alone (what the next commit does first) gives the killed run's set whole.
+        fs::write(out.join("frames.csv"), "old").unwrap();
+        fs::create_dir(&staging).unwrap();
+        fs::write(staging.join("result.json"), "new").unwrap();
+        Journal {
+            staging: staging.file_name().unwrap().to_string_lossy().into(),
+            files: vec!["result.json".into()],
+            stale: vec!["frames.csv".into()],
+        }
+        .write(out)
+        .unwrap();
+        assert!(finish_interrupted_commit(out).unwrap());
+        assert_eq!(fs::read_to_string(out.join("result.json")).unwrap(), "new");
+        assert!(!out.join("frames.csv").exists() && !staging.exists());
+        assert!(!finish_interrupted_commit(out).unwrap(), "nothing left to finish");
     }
 }

@@ -14,8 +14,8 @@ mod output_guard;
 #[cfg(feature = "cli")]
 pub use atomic_write::remove_temporaries_on_interrupt;
 pub use atomic_write::{
-    Staging, remove_on_interrupt, remove_stale_staging, remove_temporaries, write_atomically,
-    write_bytes_atomically, write_rgb_png,
+    Staging, interrupted_commit, remove_on_interrupt, remove_stale_staging, remove_temporaries,
+    write_atomically, write_bytes_atomically, write_rgb_png,
 };
 pub use limited_read::{IMAGE_LIMIT, SMALL_INPUT_LIMIT, open_regular, read_limited};
 pub use model_input::{

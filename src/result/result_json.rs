@@ -143,6 +143,7 @@ pub struct StoredCounts {
 
 /// Reads the per-texel counts of a `result.json` (without the summary).
 pub fn read_texel_counts(path: &Path) -> Result<StoredCounts> {
+    refuse_half_written(path)?;
     let file = crate::files::open_regular(path)?;
     let source: HeatmapSource = serde_json::from_reader(std::io::BufReader::new(file))
         .map_err(|e| Error::bad_file(path, format!("not a ufcsr result.json: {e}")))?;
@@ -201,8 +202,26 @@ fn check_result_schema(path: &Path, schema: &str) -> Result<()> {
     Err(Error::bad_file(path, format!("schema {schema:?}: {hint}")))
 }
 
+/// A result set whose commit a killed run left unfinished is part old,
+/// part new: refused until a run into its folder finishes it.
+fn refuse_half_written(path: &Path) -> Result<()> {
+    let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
+    match crate::files::interrupted_commit(folder) {
+        Some(journal) => Err(Error::bad_file(
+            path,
+            format!(
+                "its run was killed while it moved a new result set into place ({} is left): the set is \
+                 part old, part new; analyse again into this folder (that finishes the move first)",
+                journal.display()
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// Reads the summary of a `result.json` (the per-texel arrays are skipped).
 pub fn read_result_summary(path: &Path) -> Result<AnalysisResult> {
+    refuse_half_written(path)?;
     let file = crate::files::open_regular(path)?;
     let result: AnalysisResult = serde_json::from_reader(std::io::BufReader::new(file))
         .map_err(|e| Error::bad_file(path, format!("not a ufcsr result.json: {e}")))?;

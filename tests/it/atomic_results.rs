@@ -1,6 +1,9 @@
 //! A result set is written whole or not at all: a failure while writing it
 //! (here a vehicle model that turns out to be corrupt) leaves the previous
-//! result set byte for byte and no staging folder or temporary file.
+//! result set byte for byte and no staging folder or temporary file; runs
+//! killed (SIGKILL) or interrupted (SIGINT) at random moments leave the old
+//! set or the new one (or, killed mid-move, a set readers refuse), and the
+//! next run cleans up and writes its set whole.
 
 use crate::common;
 
@@ -77,4 +80,83 @@ fn a_smaller_result_set_takes_away_stale_files_and_keeps_the_users_own() {
     assert_eq!(std::fs::read(out.join("paper-draft.txt")).unwrap(), b"mine too");
     assert!(out.join("views/front.png").is_file() && out.join("result.json").is_file());
     assert!(leftovers(&out).is_empty(), "left behind: {:?}", leftovers(&out));
+}
+
+/// The files of a result set that come out the same in every run.
+const DETERMINISTIC: [&str; 4] = ["result.json", "parts.csv", "frames.csv", "heatmap.png"];
+
+fn copy_tree(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for entry in std::fs::read_dir(from).unwrap().flatten() {
+        let target = to.join(entry.file_name());
+        if entry.path().is_dir() {
+            copy_tree(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), target).unwrap();
+        }
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn random_interruptions_never_leave_a_mixed_set_and_the_next_run_cleans_up() {
+    use std::process::Command;
+    use std::time::Instant;
+    let dir = tempfile::tempdir().unwrap();
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let analyze = |out: &Path, dedupe: &str| {
+        Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+            .arg(&example)
+            .args(["--dedupe", dedupe, "--quiet", "--out"])
+            .arg(out)
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap()
+    };
+    // Two different sets: the one in place (A) and the one a run replaces it with (B).
+    let (set_a, set_b) = (dir.path().join("a"), dir.path().join("b"));
+    assert!(analyze(&set_a, "image").wait().unwrap().success());
+    let start = Instant::now();
+    assert!(analyze(&set_b, "frame").wait().unwrap().success());
+    let duration = start.elapsed();
+    let read = |set: &Path, name: &str| std::fs::read(set.join(name)).ok();
+    assert_ne!(read(&set_a, "result.json"), read(&set_b, "result.json"));
+    let matches =
+        |out: &Path, set: &Path| DETERMINISTIC.iter().all(|name| read(out, name) == read(set, name));
+
+    let mut state = 0x5EED_u64;
+    for round in 0..8 {
+        state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
+        let delay = duration.mul_f64(((state >> 33) % 1100) as f64 / 1000.0);
+        let signal = if round % 2 == 0 { "-KILL" } else { "-INT" };
+        let out = dir.path().join(format!("out{round}"));
+        copy_tree(&set_a, &out);
+        let mut child = analyze(&out, "frame");
+        std::thread::sleep(delay);
+        let _ = Command::new("kill").args([signal, &child.id().to_string()]).status();
+        let status = child.wait().unwrap();
+        let context = format!("round {round}: {signal} after {delay:?} ({status})");
+        if out.join(".ufcsr-commit.json").exists() {
+            // Killed while moving the new set in: readers refuse the half-old, half-new set.
+            let refused = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+                .args(["heatmap"])
+                .arg(out.join("result.json"))
+                .arg("--out")
+                .arg(dir.path().join("h.png"))
+                .output()
+                .unwrap();
+            assert!(!refused.status.success(), "{context}");
+            assert!(String::from_utf8_lossy(&refused.stderr).contains("killed"), "{context}");
+        } else {
+            assert!(matches(&out, &set_a) || matches(&out, &set_b), "{context}: a mixed result set");
+        }
+        if signal == "-INT" {
+            assert!(leftovers(&out).is_empty(), "{context}: an interrupt left {:?}", leftovers(&out));
+        }
+        // The next run finishes or cleans whatever was left and writes B whole.
+        assert!(analyze(&out, "frame").wait().unwrap().success(), "{context}");
+        assert!(matches(&out, &set_b), "{context}: not the new set after the next run");
+        assert!(leftovers(&out).is_empty(), "{context}: left {:?}", leftovers(&out));
+        assert!(!out.join(".ufcsr-commit.json").exists(), "{context}");
+    }
 }
