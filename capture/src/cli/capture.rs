@@ -172,7 +172,7 @@ pub fn run_capture(mut scene: Scene, common: &Common, threads: usize) -> anyhow:
         ufcsr_capture::for_each_scenario(&scene, &names, all, &options, |scenario, options| {
             let counted =
                 ufcsr_capture::capture_counted(&gpu.device, &gpu.queue, &scene, scenario, options, dedupe)?;
-            report(&counted.summary);
+            report(&counted.summary, Sink::Counted);
             report_counted(&counted);
             Ok(())
         })?;
@@ -180,7 +180,7 @@ pub fn run_capture(mut scene: Scene, common: &Common, threads: usize) -> anyhow:
     }
     let summaries = ufcsr_capture::capture_all(&gpu.device, &gpu.queue, &scene, &names, all, &options)?;
     for summary in &summaries {
-        report(summary);
+        report(summary, Sink::Png);
         if let Some(shard) = options.shard {
             say!(
                 "  shard {shard}: wrote its part of the manifest; once every shard has finished, run \
@@ -338,9 +338,17 @@ fn placement_options(common: &Common) -> anyhow::Result<Option<ufcsr_capture::Pl
     Ok(Some(ufcsr_capture::PlacementCandidates { display_m, spacing_m: common.patch_spacing }))
 }
 
-fn report(s: &Summary) {
+/// Where a capture's tiles went: PNG files, or counted from the readback.
+#[derive(Clone, Copy, PartialEq)]
+enum Sink {
+    Png,
+    Counted,
+}
+
+fn report(s: &Summary, sink: Sink) {
+    let work = if sink == Sink::Counted { "counting included, no PNGs" } else { "encoding included" };
     say!(
-        "scenario {}: {} frames in {:.2} s ({:.2} s setup; {:.2} frames/s, both eyes, encoding included) → {}",
+        "scenario {}: {} frames in {:.2} s ({:.2} s setup; {:.2} frames/s, both eyes, {work}) → {}",
         s.scenario,
         s.frames,
         s.seconds,
@@ -348,11 +356,14 @@ fn report(s: &Summary) {
         s.frames_per_second(),
         s.out.display()
     );
+    let kept = match sink {
+        Sink::Png => format!("{} written", s.tally.written),
+        Sink::Counted => "counted from the readback, none written".to_string(),
+    };
     say!(
-        "  tiles: {} total, {} rendered, {} written, {} culled (outside the vehicle's bounds), {} background only, {} resumed",
+        "  tiles: {} total, {} rendered ({kept}), {} culled (outside the vehicle's bounds), {} background only, {} resumed",
         s.tiles,
         s.tally.rendered,
-        s.tally.written,
         s.tally.culled,
         s.tally.background,
         s.tally.resumed
@@ -387,7 +398,9 @@ fn report_counted(counted: &CountedCapture) {
         result.texels_seen,
         result.grand_total
     );
-    print!("{}", ufcsr::format_table(result));
+    if !super::quiet() {
+        print!("{}", ufcsr::format_table(result));
+    }
     let written = &counted.written;
     say!("  results: {}", written.result_json.display());
     if let Some(parts) = &written.parts_csv {
