@@ -7,10 +7,14 @@ use std::time::Instant;
 use crate::error::{Error, Result};
 use crate::files::{IMAGE_LIMIT, Staging, read_limited, refuse_overwriting_inputs};
 use crate::input::options::HeatmapOptions;
+use crate::input::scenario_track::ScenarioTrack;
 use crate::output::csv::{CsvStyle, write_frames_csv, write_parts_table};
-use crate::output::heatmap_views::{DIRECTIONS, ViewTexture, views_caption, write_views};
+use crate::output::heatmap_views::{
+    DEFAULT_VIEWS_SCALE, DIRECTIONS, ViewTexture, measure_unit, views_caption,
+};
 use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, write_plots};
 use crate::output::vehicle_model::VehicleModel;
+use crate::output::view_sheet::write_views;
 use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
 use crate::result::model::Analysis;
@@ -45,11 +49,30 @@ fn output_paths(files: &WrittenFiles) -> Vec<PathBuf> {
 /// place only when every file was written: a failure (a full disk, a bad
 /// vehicle model) or an interruption leaves the previous result set whole.
 pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenFiles> {
-    write_results_with(analysis, out_dir, CsvStyle::Report)
+    write_results_with(analysis, out_dir, &ResultSetOptions::default())
 }
 
-/// [`write_results`] with `parts.csv` in `csv` style (`--csv-style`).
-pub fn write_results_with(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) -> Result<WrittenFiles> {
+/// How a result set is written, beyond the analysis itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ResultSetOptions {
+    /// Columns of `parts.csv` (`--csv-style`).
+    pub csv_style: CsvStyle,
+    /// Each view is 400×300 pixels times this (`--views-scale`).
+    pub views_scale: u32,
+}
+
+impl Default for ResultSetOptions {
+    fn default() -> Self {
+        ResultSetOptions { csv_style: CsvStyle::Report, views_scale: DEFAULT_VIEWS_SCALE }
+    }
+}
+
+/// [`write_results`] with `options` (`--csv-style`, `--views-scale`).
+pub fn write_results_with(
+    analysis: &mut Analysis,
+    out_dir: &Path,
+    options: &ResultSetOptions,
+) -> Result<WrittenFiles> {
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let mut files = planned_files(analysis, out_dir);
     let mut outputs = output_paths(&files);
@@ -57,7 +80,7 @@ pub fn write_results_with(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle
     refuse_overwriting_inputs(&outputs, &analysis.input_files)?;
     let staging = Staging::new(out_dir)?;
     // Plot paths are relative to the output folder: the same after the move.
-    files.plots = write_results_into(analysis, staging.path(), csv)?;
+    files.plots = write_results_into(analysis, staging.path(), options)?;
     let members = result_set_members();
     staging.commit(out_dir, &members.iter().map(String::as_str).collect::<Vec<_>>())?;
     Ok(files)
@@ -105,12 +128,19 @@ fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
 
 /// Writes the whole result set into `out_dir` (a staging folder); returns
 /// the plots written there.
-fn write_results_into(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) -> Result<Vec<Plot>> {
+fn write_results_into(
+    analysis: &mut Analysis,
+    out_dir: &Path,
+    options: &ResultSetOptions,
+) -> Result<Vec<Plot>> {
     let files = planned_files(analysis, out_dir);
     let palette = &analysis.result.settings.palette;
     let (width, height) = (palette.width, palette.height);
     let settings = &analysis.result.settings;
     let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
+    // What the manifest says about the scenario, for the views and the map.
+    let track =
+        settings.manifest.then(|| ScenarioTrack::from_archive(Path::new(&settings.archive))).flatten();
     let stage = Instant::now();
     crate::output::heatmap::write_heatmap(
         &files.heatmap_png,
@@ -123,7 +153,12 @@ fn write_results_into(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) ->
     let stage = Instant::now();
     write_result_json(&files.result_json, &analysis.result, &analysis.texel_counts)?;
     if let Some(path) = &files.parts_csv {
-        write_parts_table(path, &analysis.result.parts, analysis.result.measures.as_ref(), csv)?;
+        write_parts_table(
+            path,
+            &analysis.result.parts,
+            analysis.result.measures.as_ref(),
+            options.csv_style,
+        )?;
     }
     if let (Some(frames), Some(path)) = (&analysis.frames, &files.frames_csv) {
         write_frames_csv(path, frames)?;
@@ -135,12 +170,20 @@ fn write_results_into(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) ->
         let png = read_limited(&files.heatmap_png, IMAGE_LIMIT)?;
         let model = VehicleModel::read(model)?;
         model.write_glb(glb, Some(("heatmap", &png)))?;
+        let measure = &analysis.result.measure;
         let texture = ViewTexture {
             counts: &analysis.texel_counts,
             width,
             height,
             options: heatmap,
-            caption: views_caption(&analysis.result.measure, &analysis.result.settings.archive),
+            caption: views_caption(
+                measure,
+                &settings.archive,
+                track.as_ref().and_then(|t| t.name.as_deref()),
+            ),
+            unit: measure_unit(measure).to_string(),
+            views_scale: options.views_scale,
+            pedestrian_azimuths_deg: pedestrian_azimuths(track.as_ref()),
         };
         write_views(&model, &texture, out_dir)?;
     }
@@ -149,6 +192,13 @@ fn write_results_into(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) ->
     files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref(), &scenario)?;
     crate::output::html::report_page::write_report(&files.report_html, &analysis.result, &files)?;
     Ok(files.plots)
+}
+
+/// Every frame's direction of the pedestrian seen from the vehicle.
+pub(crate) fn pedestrian_azimuths(track: Option<&ScenarioTrack>) -> Vec<f64> {
+    track.map_or_else(Vec::new, |track| {
+        track.frames.iter().filter_map(|f| f.pedestrian_azimuth_deg()).collect()
+    })
 }
 
 /// The archive's folder name (the scenario's, for a capture of one), for titles.
