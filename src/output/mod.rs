@@ -15,6 +15,7 @@ pub(crate) mod numbers;
 pub(crate) mod plots;
 pub(crate) mod raster;
 pub(crate) mod result_set;
+pub(crate) mod scenario_map;
 pub(crate) mod scene_model;
 pub(crate) mod vehicle_model;
 pub(crate) mod view_sheet;
@@ -30,7 +31,8 @@ pub use heatmap_views::{
 pub use html::write_comparison;
 pub use plots::font_available as plot_font_available;
 pub use raster::ZBuffer;
-pub use result_set::{ResultSetOptions, default_output_dir, write_results, write_results_with};
+pub use result_set::{MAP_FILE, ResultSetOptions, default_output_dir, write_results, write_results_with};
+pub use scenario_map::{MAP_SIZE, MapContent, MapFrame, SceneShapes, time_colour, write_scenario_map};
 pub use scene_model::{SceneObject, write_scene_glb};
 pub use vehicle_model::{ModelPart, VehicleModel};
 pub use view_sheet::{WrittenViews, bar_ticks, write_views, write_views_with};

@@ -12,7 +12,8 @@ use crate::output::csv::{CsvStyle, write_frames_csv, write_parts_table};
 use crate::output::heatmap_views::{
     DEFAULT_VIEWS_SCALE, DIRECTIONS, ViewTexture, measure_unit, views_caption,
 };
-use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, write_plots};
+use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, font_available, write_plots};
+use crate::output::scenario_map::{MapContent, SceneShapes, write_scenario_map};
 use crate::output::vehicle_model::VehicleModel;
 use crate::output::view_sheet::write_views;
 use crate::output::written_files::WrittenFiles;
@@ -37,6 +38,7 @@ fn output_paths(files: &WrittenFiles) -> Vec<PathBuf> {
         Some(&files.report_html),
         files.views_png.as_ref(),
         files.frames_csv.as_ref(),
+        files.map_png.as_ref(),
     ];
     outputs.into_iter().flatten().cloned().collect()
 }
@@ -80,7 +82,9 @@ pub fn write_results_with(
     refuse_overwriting_inputs(&outputs, &analysis.input_files)?;
     let staging = Staging::new(out_dir)?;
     // Plot paths are relative to the output folder: the same after the move.
-    files.plots = write_results_into(analysis, staging.path(), options)?;
+    let figures = write_results_into(analysis, staging.path(), options)?;
+    files.plots = figures.plots;
+    files.map_png = files.map_png.filter(|_| figures.map);
     let members = result_set_members();
     staging.commit(out_dir, &members.iter().map(String::as_str).collect::<Vec<_>>())?;
     Ok(files)
@@ -99,6 +103,7 @@ pub fn result_set_members() -> Vec<String> {
         "heatmap.glb",
         "report.html",
         "views.png",
+        MAP_FILE,
     ]
     .iter()
     .map(|name| (*name).to_string())
@@ -122,18 +127,29 @@ fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
         report_html: out_dir.join("report.html"),
         views_png: analysis.vehicle_model.as_ref().map(|_| out_dir.join("views.png")),
         frames_csv: analysis.frames.as_ref().map(|_| out_dir.join(FRAMES_FILE)),
+        map_png: analysis.result.settings.manifest.then(|| out_dir.join(MAP_FILE)),
         plots: Vec::new(),
     }
 }
 
+/// The figures that depend on what the analysis had.
+struct FiguresWritten {
+    plots: Vec<Plot>,
+    /// Whether `map.png` was written.
+    map: bool,
+}
+
+/// The scenario map's file name in a result set.
+pub const MAP_FILE: &str = "map.png";
+
 /// Writes the whole result set into `out_dir` (a staging folder); returns
-/// the plots written there.
+/// the figures written there.
 fn write_results_into(
     analysis: &mut Analysis,
     out_dir: &Path,
     options: &ResultSetOptions,
-) -> Result<Vec<Plot>> {
-    let files = planned_files(analysis, out_dir);
+) -> Result<FiguresWritten> {
+    let mut files = planned_files(analysis, out_dir);
     let palette = &analysis.result.settings.palette;
     let (width, height) = (palette.width, palette.height);
     let settings = &analysis.result.settings;
@@ -166,9 +182,9 @@ fn write_results_into(
     analysis.timings.write_seconds = stage.elapsed().as_secs_f64();
     analysis.timings.total_seconds += analysis.timings.heatmap_seconds + analysis.timings.write_seconds;
     write_timings_json(&files.timings_json, &analysis.timings)?;
-    if let (Some(model), Some(glb)) = (&analysis.vehicle_model, &files.heatmap_glb) {
+    let model = analysis.vehicle_model.as_deref().map(VehicleModel::read).transpose()?;
+    if let (Some(model), Some(glb)) = (&model, &files.heatmap_glb) {
         let png = read_limited(&files.heatmap_png, IMAGE_LIMIT)?;
-        let model = VehicleModel::read(model)?;
         model.write_glb(glb, Some(("heatmap", &png)))?;
         let measure = &analysis.result.measure;
         let texture = ViewTexture {
@@ -185,13 +201,43 @@ fn write_results_into(
             views_scale: options.views_scale,
             pedestrian_azimuths_deg: pedestrian_azimuths(track.as_ref()),
         };
-        write_views(&model, &texture, out_dir)?;
+        write_views(model, &texture, out_dir)?;
     }
-    let mut files = files;
     let scenario = archive_name(&analysis.result.settings.archive);
+    files.map_png = match (&track, files.map_png) {
+        (Some(track), Some(path)) if font_available() => {
+            write_map(&path, track, model.as_ref(), Path::new(&analysis.result.settings.archive), &scenario)?;
+            Some(path)
+        }
+        _ => None,
+    };
     files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref(), &scenario)?;
     crate::output::html::report_page::write_report(&files.report_html, &analysis.result, &files)?;
-    Ok(files.plots)
+    Ok(FiguresWritten { plots: files.plots, map: files.map_png.is_some() })
+}
+
+/// Writes the scenario map of `track`, with the archive's `scene.glb` when
+/// it has one (a broken one is said on the map, not fatal).
+fn write_map(
+    path: &Path,
+    track: &ScenarioTrack,
+    vehicle: Option<&VehicleModel>,
+    archive: &Path,
+    folder: &str,
+) -> Result<()> {
+    let scene_file = archive.join("scene.glb");
+    let scene = if scene_file.is_file() {
+        SceneShapes::read(&scene_file).map_err(|error| format!("{error}"))
+    } else {
+        Ok(SceneShapes { occluders: Vec::new() })
+    };
+    let title = match &track.name {
+        Some(name) if name != folder => format!("Scenario {name} ({folder}) from above"),
+        Some(name) => format!("Scenario {name} from above"),
+        None => format!("{folder} from above"),
+    };
+    write_scenario_map(path, &MapContent { track, scene, vehicle, title })?;
+    Ok(())
 }
 
 /// Every frame's direction of the pedestrian seen from the vehicle.

@@ -20,6 +20,8 @@ pub struct WrittenFiles {
     pub views_png: Option<PathBuf>,
     /// `frames.csv`, when frames were tallied.
     pub frames_csv: Option<PathBuf>,
+    /// `map.png`, the scenario from above (with a manifest that places the vehicle).
+    pub map_png: Option<PathBuf>,
     /// The plots written under `plots/`.
     pub plots: Vec<Plot>,
 }
