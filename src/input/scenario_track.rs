@@ -54,6 +54,74 @@ pub struct ScenarioTrack {
     /// The scenario's name (`scenario.name`), when the manifest gives one.
     pub name: Option<String>,
     pub frames: Vec<TrackFrame>,
+    /// The scenario and the rig in words, for the report: label and value
+    /// ([`summary_rows`]).
+    pub summary: Vec<(String, String)>,
+}
+
+fn metres(point: [f64; 3]) -> String {
+    format!("({:.1}, {:.1}) m", point[0], point[1])
+}
+
+/// The scenario and the rig in words: what the manifest's `scenario`,
+/// `scene` and `rig.settings` say, and where the pedestrian was.
+pub fn summary_rows(extra: &serde_json::Map<String, Value>, frames: &[TrackFrame]) -> Vec<(String, String)> {
+    let mut rows = Vec::new();
+    let text = |value: Option<&Value>| value.and_then(Value::as_str).map(str::to_string);
+    let number = |value: Option<&Value>| value.and_then(Value::as_f64);
+    let scenario = extra.get("scenario");
+    if let Some(name) = text(scenario.and_then(|s| s.get("name"))) {
+        let duration = number(scenario.and_then(|s| s.get("duration_s")));
+        rows.push(("scenario".into(), duration.map_or(name.clone(), |d| format!("{name}, {d:.1} s"))));
+    }
+    let scene = extra.get("scene");
+    for key in ["environment", "vehicle"] {
+        if let Some(value) = text(scene.and_then(|s| s.get(key))) {
+            rows.push((key.into(), value));
+        }
+    }
+    if let (Some(first), Some(last)) = (frames.first(), frames.last()) {
+        rows.push((
+            "frames in the manifest".into(),
+            format!(
+                "{} (frame {} at {:.2} s to frame {} at {:.2} s)",
+                frames.len(),
+                first.frame,
+                first.time_s,
+                last.frame,
+                last.time_s
+            ),
+        ));
+        let eyes = (first.eye_centre(), last.eye_centre());
+        if let (Some(start), Some(end)) = eyes {
+            let place = if start == end {
+                format!("standing, eyes at {}", metres(start))
+            } else {
+                format!("walking from {} to {}", metres(start), metres(end))
+            };
+            rows.push(("pedestrian".into(), format!("{place}, {:.2} m high", start[2])));
+        }
+        let moving: Vec<&str> = first.occluders.iter().map(|o| o.0.as_str()).collect();
+        if !moving.is_empty() {
+            rows.push(("moving occluders".into(), moving.join(", ")));
+        }
+    }
+    let settings = extra.get("rig").and_then(|rig| rig.get("settings"));
+    let setting = |key: &str| number(settings.and_then(|s| s.get(key)));
+    let pixels = settings.and_then(|s| s.get("eye_pixels")).and_then(Value::as_array).map(|size| {
+        size.iter().filter_map(Value::as_u64).map(|n| n.to_string()).collect::<Vec<_>>().join("×")
+    });
+    if let (Some(fov), Some(pixels)) = (setting("horizontal_fov_deg"), pixels) {
+        rows.push(("eyes".into(), format!("{fov:.0}° wide, {pixels} pixels each")));
+    }
+    let ppd = number(extra.get("rig").and_then(|rig| rig.get("pixels_per_degree")));
+    if let Some(ppd) = ppd {
+        rows.push(("pixels per degree".into(), format!("{ppd:.2}")));
+    }
+    if let Some(ipd) = setting("ipd_m") {
+        rows.push(("eye separation".into(), format!("{:.1} mm", ipd * 1000.0)));
+    }
+    rows
 }
 
 fn point(value: Option<&Value>) -> Option<[f64; 3]> {
@@ -114,7 +182,8 @@ impl ScenarioTrack {
             .collect();
         frames.sort_by_key(|frame| frame.frame);
         let name = manifest.extra.get("scenario").and_then(|s| s.get("name")).and_then(Value::as_str);
-        (!frames.is_empty()).then(|| ScenarioTrack { name: name.map(str::to_string), frames })
+        let summary = summary_rows(&manifest.extra, &frames);
+        (!frames.is_empty()).then(|| ScenarioTrack { name: name.map(str::to_string), frames, summary })
     }
 
     /// The track of the archive at `archive` (its manifest), when it has one
@@ -157,5 +226,15 @@ mod tests {
         assert_eq!(track.name.as_deref(), Some("A"));
         assert_eq!(track.frames.iter().map(|f| f.frame).collect::<Vec<_>>(), [0, 1]);
         assert_eq!(track.frames[0].eyes, [[1.0, 2.0, 1.5]]);
+        let summary: Vec<String> =
+            track.summary.iter().map(|(label, value)| format!("{label}: {value}")).collect();
+        assert_eq!(
+            summary,
+            [
+                "scenario: A",
+                "frames in the manifest: 2 (frame 0 at 0.00 s to frame 1 at 0.50 s)",
+                "pedestrian: standing, eyes at (1.0, 2.0) m, 1.50 m high"
+            ]
+        );
     }
 }

@@ -212,7 +212,12 @@ fn write_results_into(
         _ => None,
     };
     files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref(), &scenario)?;
-    crate::output::html::report_page::write_report(&files.report_html, &analysis.result, &files)?;
+    crate::output::html::report_page::write_report(
+        &files.report_html,
+        &analysis.result,
+        &files,
+        track.as_ref(),
+    )?;
     Ok(FiguresWritten { plots: files.plots, map: files.map_png.is_some() })
 }
 

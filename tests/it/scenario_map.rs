@@ -1,7 +1,7 @@
 //! `map.png`, the scenario from above: the vehicle's trajectory lies where
 //! the manifest puts the vehicle, in the colour of its time; the analysis
 //! writes the map beside the views when the archive has a manifest (and a
-//! font for its words), and none without one.
+//! font for its words), and the report shows it with the scenario and rig.
 
 use std::path::{Path, PathBuf};
 
@@ -58,4 +58,15 @@ fn an_analysis_with_a_manifest_writes_the_map() {
     let map = dir.path().join(ufcsr::MAP_FILE);
     assert_eq!(written.map_png.as_deref(), ufcsr::plot_font_available().then_some(map.as_path()));
     assert_eq!(map.is_file(), ufcsr::plot_font_available());
+    // The report shows the scenario (from the manifest) and the map, and
+    // the views before the heatmap texture.
+    let page = std::fs::read_to_string(dir.path().join("report.html")).unwrap();
+    assert!(page.contains("<tr><th>scenario</th><td>A, 3.0 s</td></tr>"), "{page}");
+    assert!(
+        page.contains("<tr><th>pedestrian</th><td>standing, eyes at (-5.5, -5.5) m, 1.75 m high</td></tr>")
+    );
+    assert_eq!(page.contains("<img src=\"map.png\""), ufcsr::plot_font_available());
+    let position = |text: &str| page.find(text).unwrap_or_else(|| panic!("no {text} in the report"));
+    assert!(position("<h2>The scenario") < position("<h2>Parts"));
+    assert!(position("<h2>The heatmap on the vehicle") < position("<h2>The heatmap texture"));
 }

@@ -2,8 +2,8 @@
 //!
 //! What a researcher checks first — the result's warnings (stray pixels,
 //! unlabelled texels, colour damage, resolution dependence) and failed
-//! files — then the summary, the
-//! parts table with the paper's top-5 union marked, the heatmap texture and
+//! files — then the summary, the scenario and rig with the map, the
+//! parts table with the paper's top-5 union marked, the views, the heatmap texture and
 //! links to the vehicle with the heatmap on it (`heatmap.glb`) and the
 //! machine-readable files, and the settings. No script, no network: the page
 //! links only files beside it, so the results folder can be zipped and sent.
@@ -12,13 +12,21 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::Result;
+use crate::input::scenario_track::ScenarioTrack;
 use crate::output::numbers::grouped;
 use crate::result::part_stats::top_five_union;
 use crate::{output::written_files::WrittenFiles, result::model::AnalysisResult};
 
 /// Writes the report page for `result` into `path` (beside the other files).
-pub fn write_report(path: &Path, result: &AnalysisResult, files: &WrittenFiles) -> Result<()> {
-    crate::files::write_bytes_atomically(path, render(result, files).as_bytes())
+/// `track` is what the archive's manifest says about the scenario (the
+/// scenario section shows it), when there is one.
+pub fn write_report(
+    path: &Path,
+    result: &AnalysisResult,
+    files: &WrittenFiles,
+    track: Option<&ScenarioTrack>,
+) -> Result<()> {
+    crate::files::write_bytes_atomically(path, render(&PageInputs { result, files, track }).as_bytes())
 }
 
 /// Escapes text for HTML.
@@ -34,6 +42,7 @@ fn file_name(path: &Path) -> String {
 struct PageInputs<'a> {
     result: &'a AnalysisResult,
     files: &'a WrittenFiles,
+    track: Option<&'a ScenarioTrack>,
 }
 
 /// One section of the page: appends its HTML (nothing when it has nothing
@@ -47,9 +56,10 @@ const SECTIONS: &[Section] = &[
     warnings,
     summary,
     resolution,
+    scenario,
     parts,
-    heatmap,
     vehicle_views,
+    heatmap,
     plots,
     measures,
     files,
@@ -57,11 +67,10 @@ const SECTIONS: &[Section] = &[
     foot,
 ];
 
-fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
-    let inputs = PageInputs { result, files };
+fn render(inputs: &PageInputs) -> String {
     let mut page = String::new();
     for section in SECTIONS {
-        section(&mut page, &inputs);
+        section(&mut page, inputs);
     }
     page
 }
@@ -101,6 +110,26 @@ fn warnings(page: &mut String, inputs: &PageInputs) {
     }
     for warning in warnings {
         let _ = writeln!(page, "<div class=\"warn\">{warning}</div>");
+    }
+}
+
+/// The scenario and the rig in words, and the map, when the archive's
+/// manifest describes them.
+fn scenario(page: &mut String, inputs: &PageInputs) {
+    let Some(track) = inputs.track else { return };
+    let _ = writeln!(page, "<h2>The scenario</h2>\n<table>");
+    for (label, value) in &track.summary {
+        let _ = writeln!(page, "<tr><th>{}</th><td>{}</td></tr>", escape(label), escape(value));
+    }
+    let _ = writeln!(page, "</table>");
+    if let Some(map) = &inputs.files.map_png {
+        let _ = writeln!(
+            page,
+            "<p>From above, north up: the vehicle's trajectory coloured by time, its footprint and the sightlines \
+             from the eyes at five frames, the pedestrian (green), occluders (grey; moving ones blue).</p>\n\
+             <img src=\"{0}\" alt=\"the scenario from above\" class=\"plot\">",
+            file_name(map)
+        );
     }
 }
 
@@ -185,8 +214,9 @@ fn heatmap(page: &mut String, inputs: &PageInputs) {
     let (settings, files) = (&inputs.result.settings, inputs.files);
     let _ = writeln!(
         page,
-        "<h2>Heatmap</h2>\n<p>Per-texel counts on the plasma scale ({:?}{}), laid out like the palette.{}</p>\n\
-         <img src=\"{}\" alt=\"heatmap texture\" width=\"512\">",
+        "<h2>The heatmap texture</h2>\n<p>The same counts as a texture laid out like the palette, for putting on \
+         the model in other tools: plasma scale ({:?}{}).{}</p>\n\
+         <img src=\"{}\" alt=\"heatmap texture\" width=\"384\">",
         settings.heatmap_scale,
         settings.heatmap_max.map(|m| format!(", top of scale {m}")).unwrap_or_default(),
         match &files.heatmap_glb {
@@ -208,10 +238,12 @@ fn vehicle_views(page: &mut String, inputs: &PageInputs) {
     let _ = writeln!(
         page,
         "<h2>The heatmap on the vehicle</h2>\n<p>Front, front-left, left, rear-left (top row); rear, rear-right, \
-         right, front-right (bottom row); seen from 15° above, one scale for all. Colour bar: grey = never seen, \
-         then plasma from 0 to {} ({:?} scale). Each view is also in <code>views/</code>.</p>\n\
+         right, front-right (bottom row); seen from 15° above, one scale for all, shaded by a light from the upper \
+         left. Colour bar: grey = never seen, then plasma from 0 to {} ({:?} scale). The compass in each view's \
+         corner shows where the pedestrian was (green) and the view's line of sight (black). Each view is also \
+         in <code>views/</code>.</p>\n\
          <img src=\"{}\" alt=\"the heatmap on the vehicle from eight directions\">",
-        settings.heatmap_max.unwrap_or(result.max_count),
+        grouped(u64::from(settings.heatmap_max.unwrap_or(result.max_count))),
         settings.heatmap_scale,
         file_name(views)
     );
@@ -296,6 +328,8 @@ fn files(page: &mut String, inputs: &PageInputs) {
         files.heatmap_glb.as_ref(),
         Some(&files.timings_json),
         files.frames_csv.as_ref(),
+        files.views_png.as_ref(),
+        files.map_png.as_ref(),
     ];
     for file in listed.into_iter().flatten() {
         let _ = writeln!(page, "<li><a href=\"{0}\">{0}</a></li>", file_name(file));
