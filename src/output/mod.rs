@@ -7,6 +7,7 @@
 
 pub(crate) mod console_table;
 pub(crate) mod csv;
+pub(crate) mod frame_strip;
 pub(crate) mod glb;
 pub(crate) mod heatmap;
 pub(crate) mod heatmap_views;
@@ -23,6 +24,7 @@ pub(crate) mod written_files;
 
 pub use console_table::format_table;
 pub use csv::{CsvStyle, csv_field, write_parts_csv};
+pub use frame_strip::{FRAME_STRIP_FILE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED};
 pub use heatmap::{plasma, render as render_heatmap, write_heatmap};
 pub use heatmap_views::{
     DEFAULT_VIEWS_SCALE, DIRECTIONS, NEVER_SEEN, VIEW_BASE, ViewCamera, ViewTexture, measure_unit,

@@ -6,19 +6,22 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::files::{IMAGE_LIMIT, Staging, read_limited, refuse_overwriting_inputs};
+use crate::input::manifest::Manifest;
 use crate::input::options::HeatmapOptions;
 use crate::input::scenario_track::ScenarioTrack;
 use crate::output::csv::{CsvStyle, write_frames_csv, write_parts_table};
+use crate::output::frame_strip::{FRAME_STRIP_FILE, StripInputs, frame_strip_skipped, write_frame_strip};
 use crate::output::heatmap_views::{
     DEFAULT_VIEWS_SCALE, DIRECTIONS, ViewTexture, measure_unit, views_caption,
 };
+use crate::output::html::report_page::ScenarioPage;
 use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, font_available, write_plots};
 use crate::output::scenario_map::{MapContent, SceneShapes, write_scenario_map};
 use crate::output::vehicle_model::VehicleModel;
 use crate::output::view_sheet::write_views;
 use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
-use crate::result::model::Analysis;
+use crate::result::model::{Analysis, AnalysisResult};
 use crate::result::result_json::{write_result_json, write_timings_json};
 
 /// The default output folder for an archive: `<archive>/results` (excluded
@@ -39,6 +42,7 @@ fn output_paths(files: &WrittenFiles) -> Vec<PathBuf> {
         files.views_png.as_ref(),
         files.frames_csv.as_ref(),
         files.map_png.as_ref(),
+        files.frames_strip_png.as_ref(),
     ];
     outputs.into_iter().flatten().cloned().collect()
 }
@@ -85,6 +89,7 @@ pub fn write_results_with(
     let figures = write_results_into(analysis, staging.path(), options)?;
     files.plots = figures.plots;
     files.map_png = files.map_png.filter(|_| figures.map);
+    files.frames_strip_png = files.frames_strip_png.filter(|_| figures.frames_strip);
     let members = result_set_members();
     staging.commit(out_dir, &members.iter().map(String::as_str).collect::<Vec<_>>())?;
     Ok(files)
@@ -104,6 +109,7 @@ pub fn result_set_members() -> Vec<String> {
         "report.html",
         "views.png",
         MAP_FILE,
+        FRAME_STRIP_FILE,
     ]
     .iter()
     .map(|name| (*name).to_string())
@@ -128,6 +134,7 @@ fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
         views_png: analysis.vehicle_model.as_ref().map(|_| out_dir.join("views.png")),
         frames_csv: analysis.frames.as_ref().map(|_| out_dir.join(FRAMES_FILE)),
         map_png: analysis.result.settings.manifest.then(|| out_dir.join(MAP_FILE)),
+        frames_strip_png: analysis.result.settings.manifest.then(|| out_dir.join(FRAME_STRIP_FILE)),
         plots: Vec::new(),
     }
 }
@@ -137,6 +144,8 @@ struct FiguresWritten {
     plots: Vec<Plot>,
     /// Whether `map.png` was written.
     map: bool,
+    /// Whether `frames-strip.png` was written.
+    frames_strip: bool,
 }
 
 /// The scenario map's file name in a result set.
@@ -149,14 +158,11 @@ fn write_results_into(
     out_dir: &Path,
     options: &ResultSetOptions,
 ) -> Result<FiguresWritten> {
-    let mut files = planned_files(analysis, out_dir);
+    let files = planned_files(analysis, out_dir);
     let palette = &analysis.result.settings.palette;
     let (width, height) = (palette.width, palette.height);
     let settings = &analysis.result.settings;
     let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
-    // What the manifest says about the scenario, for the views and the map.
-    let track =
-        settings.manifest.then(|| ScenarioTrack::from_archive(Path::new(&settings.archive))).flatten();
     let stage = Instant::now();
     crate::output::heatmap::write_heatmap(
         &files.heatmap_png,
@@ -182,6 +188,24 @@ fn write_results_into(
     analysis.timings.write_seconds = stage.elapsed().as_secs_f64();
     analysis.timings.total_seconds += analysis.timings.heatmap_seconds + analysis.timings.write_seconds;
     write_timings_json(&files.timings_json, &analysis.timings)?;
+    write_figures(analysis, out_dir, files, options)
+}
+
+/// Writes the figures (`heatmap.glb`, views, map, frame strip, plots) and
+/// the report page that shows them.
+fn write_figures(
+    analysis: &Analysis,
+    out_dir: &Path,
+    mut files: WrittenFiles,
+    options: &ResultSetOptions,
+) -> Result<FiguresWritten> {
+    let settings = &analysis.result.settings;
+    let (width, height) = (settings.palette.width, settings.palette.height);
+    let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
+    // What the manifest says about the scenario, for the views, the map and the strip.
+    let archive = Path::new(&settings.archive);
+    let manifest = settings.manifest.then(|| Manifest::load_from_dir(archive).ok().flatten()).flatten();
+    let track = manifest.as_ref().and_then(ScenarioTrack::from_manifest);
     let model = analysis.vehicle_model.as_deref().map(VehicleModel::read).transpose()?;
     if let (Some(model), Some(glb)) = (&model, &files.heatmap_glb) {
         let png = read_limited(&files.heatmap_png, IMAGE_LIMIT)?;
@@ -206,19 +230,53 @@ fn write_results_into(
     let scenario = archive_name(&analysis.result.settings.archive);
     files.map_png = match (&track, files.map_png) {
         (Some(track), Some(path)) if font_available() => {
-            write_map(&path, track, model.as_ref(), Path::new(&analysis.result.settings.archive), &scenario)?;
+            write_map(&path, track, model.as_ref(), archive, &scenario)?;
             Some(path)
         }
         _ => None,
     };
+    let strip_skipped = match (&manifest, &files.frames_strip_png) {
+        (Some(manifest), Some(path)) => write_strip(path, manifest, &analysis.result)?,
+        _ => None,
+    };
+    if strip_skipped.is_some() || manifest.is_none() {
+        files.frames_strip_png = None;
+    }
     files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref(), &scenario)?;
+    let scenario_page = ScenarioPage { track: track.as_ref(), strip_skipped };
     crate::output::html::report_page::write_report(
         &files.report_html,
         &analysis.result,
         &files,
-        track.as_ref(),
+        &scenario_page,
     )?;
-    Ok(FiguresWritten { plots: files.plots, map: files.map_png.is_some() })
+    Ok(FiguresWritten {
+        plots: files.plots,
+        map: files.map_png.is_some(),
+        frames_strip: files.frames_strip_png.is_some(),
+    })
+}
+
+/// Writes the frame strip, or says why there is none.
+fn write_strip(path: &Path, manifest: &Manifest, result: &AnalysisResult) -> Result<Option<String>> {
+    let settings = &result.settings;
+    let canonical = settings.palette.kind == "canonical";
+    if let Some(why) = frame_strip_skipped(manifest, canonical) {
+        return Ok(Some(why.to_string()));
+    }
+    let Some(pidt) = &settings.pidt else {
+        return Ok(Some("the analysis had no PIdT, so parts have no colours: no frame strip".into()));
+    };
+    let inputs = StripInputs {
+        archive: Path::new(&settings.archive),
+        manifest,
+        pidt: Path::new(pidt),
+        parts: &result.parts,
+        palette: [settings.palette.width, settings.palette.height],
+        background: &settings.background,
+    };
+    write_frame_strip(path, &inputs)?;
+    Ok(None)
 }
 
 /// Writes the scenario map of `track`, with the archive's `scene.glb` when

@@ -9,6 +9,15 @@ fn example() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example")
 }
 
+/// The bundled example analysed into a temporary folder.
+fn example_results() -> (tempfile::TempDir, ufcsr::Analysis, ufcsr::WrittenFiles) {
+    let dir = tempfile::tempdir().unwrap();
+    let options = ufcsr::AnalyzeOptions { archive: example(), ..Default::default() };
+    let mut analysis = ufcsr::analyze(&options, None).unwrap();
+    let written = ufcsr::write_results(&mut analysis, dir.path()).unwrap();
+    (dir, analysis, written)
+}
+
 fn rgb(path: &Path) -> (u32, Vec<u8>) {
     let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
     let mut reader = decoder.read_info().unwrap();
@@ -51,10 +60,7 @@ fn the_trajectory_is_drawn_where_the_manifest_puts_the_vehicle_in_its_times_colo
 
 #[test]
 fn an_analysis_with_a_manifest_writes_the_map() {
-    let dir = tempfile::tempdir().unwrap();
-    let options = ufcsr::AnalyzeOptions { archive: example(), ..Default::default() };
-    let mut analysis = ufcsr::analyze(&options, None).unwrap();
-    let written = ufcsr::write_results(&mut analysis, dir.path()).unwrap();
+    let (dir, _, written) = example_results();
     let map = dir.path().join(ufcsr::MAP_FILE);
     assert_eq!(written.map_png.as_deref(), ufcsr::plot_font_available().then_some(map.as_path()));
     assert_eq!(map.is_file(), ufcsr::plot_font_available());
@@ -69,4 +75,31 @@ fn an_analysis_with_a_manifest_writes_the_map() {
     let position = |text: &str| page.find(text).unwrap_or_else(|| panic!("no {text} in the report"));
     assert!(position("<h2>The scenario") < position("<h2>Parts"));
     assert!(position("<h2>The heatmap on the vehicle") < position("<h2>The heatmap texture"));
+}
+
+#[test]
+fn the_frame_strip_shows_frames_of_one_eye_in_part_colours() {
+    let (dir, analysis, written) = example_results();
+    let strip = dir.path().join(ufcsr::FRAME_STRIP_FILE);
+    assert_eq!(written.frames_strip_png.as_deref(), Some(strip.as_path()));
+    let (width, pixels) = rgb(&strip);
+    let height = (pixels.len() / 3) as u32 / width;
+    // One row of frames, scaled to the strip's height, under a row of labels.
+    assert_eq!(height, ufcsr::STRIP_FRAME_HEIGHT + 34);
+    let mut allowed: Vec<[u8; 3]> =
+        analysis.result.parts.iter().filter_map(|part| part.color).map(|colour| colour.rgb()).collect();
+    allowed.extend([ufcsr::STRIP_BACKGROUND, ufcsr::STRIP_UNLABELLED, [255, 255, 255]]);
+    let below_labels = &pixels[(34 * width * 3) as usize..];
+    let mut parts_shown = std::collections::BTreeSet::new();
+    for pixel in below_labels.chunks(3) {
+        let colour = [pixel[0], pixel[1], pixel[2]];
+        assert!(allowed.contains(&colour), "{colour:?} is no part's colour");
+        if colour != ufcsr::STRIP_BACKGROUND && colour != [255, 255, 255] {
+            parts_shown.insert(colour);
+        }
+    }
+    // Scenario A's frames show the truck's front and right: many parts.
+    assert!(parts_shown.len() >= 8, "only {} part colours in the strip", parts_shown.len());
+    let page = std::fs::read_to_string(dir.path().join("report.html")).unwrap();
+    assert!(page.contains("<img src=\"frames-strip.png\""));
 }

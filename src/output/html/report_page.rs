@@ -18,15 +18,23 @@ use crate::result::part_stats::top_five_union;
 use crate::{output::written_files::WrittenFiles, result::model::AnalysisResult};
 
 /// Writes the report page for `result` into `path` (beside the other files).
-/// `track` is what the archive's manifest says about the scenario (the
-/// scenario section shows it), when there is one.
+/// `scenario` is what the archive's manifest says about the scenario (the
+/// scenario section shows it).
 pub fn write_report(
     path: &Path,
     result: &AnalysisResult,
     files: &WrittenFiles,
-    track: Option<&ScenarioTrack>,
+    scenario: &ScenarioPage,
 ) -> Result<()> {
-    crate::files::write_bytes_atomically(path, render(&PageInputs { result, files, track }).as_bytes())
+    crate::files::write_bytes_atomically(path, render(&PageInputs { result, files, scenario }).as_bytes())
+}
+
+/// The scenario section's content beyond the files: the manifest's track
+/// (none without a manifest) and why there is no frame strip, if so.
+#[derive(Default)]
+pub struct ScenarioPage<'a> {
+    pub track: Option<&'a ScenarioTrack>,
+    pub strip_skipped: Option<String>,
 }
 
 /// Escapes text for HTML.
@@ -42,7 +50,7 @@ fn file_name(path: &Path) -> String {
 struct PageInputs<'a> {
     result: &'a AnalysisResult,
     files: &'a WrittenFiles,
-    track: Option<&'a ScenarioTrack>,
+    scenario: &'a ScenarioPage<'a>,
 }
 
 /// One section of the page: appends its HTML (nothing when it has nothing
@@ -116,7 +124,7 @@ fn warnings(page: &mut String, inputs: &PageInputs) {
 /// The scenario and the rig in words, and the map, when the archive's
 /// manifest describes them.
 fn scenario(page: &mut String, inputs: &PageInputs) {
-    let Some(track) = inputs.track else { return };
+    let Some(track) = inputs.scenario.track else { return };
     let _ = writeln!(page, "<h2>The scenario</h2>\n<table>");
     for (label, value) in &track.summary {
         let _ = writeln!(page, "<tr><th>{}</th><td>{}</td></tr>", escape(label), escape(value));
@@ -130,6 +138,17 @@ fn scenario(page: &mut String, inputs: &PageInputs) {
              <img src=\"{0}\" alt=\"the scenario from above\" class=\"plot\">",
             file_name(map)
         );
+    }
+    if let Some(strip) = &inputs.files.frames_strip_png {
+        let _ = writeln!(
+            page,
+            "<h3>What the pedestrian saw</h3>\n<p>Frames of one eye spread over the scenario, the vehicle in its \
+             parts' colours (as in the parts table), everything else light grey.</p>\n\
+             <img src=\"{0}\" alt=\"frames as the eye saw them, the vehicle coloured by part\" class=\"plot\">",
+            file_name(strip)
+        );
+    } else if let Some(why) = &inputs.scenario.strip_skipped {
+        let _ = writeln!(page, "<p>No frame strip: {}.</p>", escape(why));
     }
 }
 
@@ -330,6 +349,7 @@ fn files(page: &mut String, inputs: &PageInputs) {
         files.frames_csv.as_ref(),
         files.views_png.as_ref(),
         files.map_png.as_ref(),
+        files.frames_strip_png.as_ref(),
     ];
     for file in listed.into_iter().flatten() {
         let _ = writeln!(page, "<li><a href=\"{0}\">{0}</a></li>", file_name(file));
