@@ -276,7 +276,8 @@ fn plots(page: &mut String, inputs: &PageInputs) {
     }
     let _ = writeln!(
         page,
-        "<h2>Plots</h2>\n<p>Pixels showing each of the {} most visible parts per eye (from <code>frames.csv</code>), \
+        "<h2>Plots</h2>\n<p>The angular area (deg², from the eyes' projection; pixels when the manifest gives none) \
+         of each of the {} most visible parts per eye, by frame (both in <code>frames.csv</code>), \
          and the per-part bar chart. Each plot is also in <code>plots/</code> as SVG.</p>",
         crate::output::plots::TOP_PARTS
     );
