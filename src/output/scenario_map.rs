@@ -221,7 +221,7 @@ fn draw_shapes(root: &DrawingArea<BitMapBackend, Shift>, frame: &MapFrame, conte
 fn draw_grid(root: &DrawingArea<BitMapBackend, Shift>, frame: &MapFrame) -> Drawn {
     let [left, top, width, height] = frame.plot;
     let shown = [f64::from(width), f64::from(height)].map(|s| s / frame.pixels_per_metre);
-    let style = ("sans-serif", 16).into_font().color(&BLACK);
+    let style = ("sans-serif", 20).into_font().color(&BLACK);
     let line = RGBColor(225, 225, 225);
     for (axis, (origin, shown)) in frame.origin.into_iter().zip(shown).enumerate() {
         let first = (origin / 10.0).ceil() as i64;
@@ -235,7 +235,7 @@ fn draw_grid(root: &DrawingArea<BitMapBackend, Shift>, frame: &MapFrame) -> Draw
             } else {
                 let (_, y) = frame.pixel([frame.origin[0], value]);
                 root.draw(&PathElement::new(vec![(left, y), (left + width, y)], line))?;
-                root.draw(&Text::new(format!("{value:.0}"), (left - 45, y - 8), style.clone()))?;
+                root.draw(&Text::new(format!("{value:.0}"), (left - 50, y - 10), style.clone()))?;
             }
         }
     }
@@ -341,11 +341,11 @@ fn draw_pedestrian(
 fn draw_words(layer: &Layer<'_, '_>) -> Drawn {
     let Layer { root, frame, content, marked_frames } = *layer;
     let frames = &content.track.frames;
-    let style = ("sans-serif", 18).into_font().color(&BLACK);
+    let style = ("sans-serif", 21).into_font().color(&BLACK);
     root.draw(&Text::new(
         content.title.clone(),
         (frame.plot[0], 18),
-        ("sans-serif", 26).into_font().color(&BLACK),
+        ("sans-serif", 30).into_font().color(&BLACK),
     ))?;
     for &index in marked_frames {
         let here = &frames[index];
@@ -374,7 +374,7 @@ fn draw_words(layer: &Layer<'_, '_>) -> Drawn {
         root.draw(&PathElement::new(vec![(left + k, top), (left + k, top + 14)], RGBColor(r, g, b)))?;
     }
     let (start, end) = (frames[0].time_s, frames[frames.len() - 1].time_s);
-    root.draw(&Text::new(format!("{start:.1} s"), (left - 50, top - 2), style.clone()))?;
+    root.draw(&Text::new(format!("{start:.1} s"), (left - 60, top - 3), style.clone()))?;
     root.draw(&Text::new(format!("{end:.1} s"), (left + 308, top - 2), style))?;
     Ok(())
 }

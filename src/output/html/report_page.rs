@@ -91,7 +91,7 @@ fn head(page: &mut String, inputs: &PageInputs) {
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title>\n<style>\
          body{{font-family:sans-serif;margin:2em;max-width:1100px;color:#222}}\
          table{{border-collapse:collapse;margin:0.5em 0}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}\
-         td:first-child,th:first-child{{text-align:left}}tr.top{{background:#fff4d6}}\
+         td:first-child,th:first-child,table.words td{{text-align:left}}tr.top{{background:#fff4d6}}\
          .swatch{{display:inline-block;width:0.9em;height:0.9em;border:1px solid #555;vertical-align:middle;margin-right:0.4em}}\
          .warn{{background:#fde8e8;border-left:4px solid #c00;padding:0.4em 0.8em;margin:0.3em 0}}\
          img{{max-width:100%;image-rendering:pixelated;border:1px solid #ccc}}img.plot{{image-rendering:auto}}\
@@ -125,7 +125,7 @@ fn warnings(page: &mut String, inputs: &PageInputs) {
 /// manifest describes them.
 fn scenario(page: &mut String, inputs: &PageInputs) {
     let Some(track) = inputs.scenario.track else { return };
-    let _ = writeln!(page, "<h2>The scenario</h2>\n<table>");
+    let _ = writeln!(page, "<h2>The scenario</h2>\n<table class=\"words\">");
     for (label, value) in &track.summary {
         let _ = writeln!(page, "<tr><th>{}</th><td>{}</td></tr>", escape(label), escape(value));
     }
