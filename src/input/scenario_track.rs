@@ -55,7 +55,7 @@ pub struct ScenarioTrack {
     pub name: Option<String>,
     pub frames: Vec<TrackFrame>,
     /// The scenario and the rig in words, for the report: label and value
-    /// ([`summary_rows`]).
+    /// (see `summary_rows`).
     pub summary: Vec<(String, String)>,
 }
 
