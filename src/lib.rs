@@ -37,16 +37,18 @@ pub use files::{
 pub use input::{
     AnalyzeOptions, Archive, CaptureGeometry, Dedupe, EyeProjection, Fcsp, HeatmapOptions, ImageSource,
     Legend, MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice, PaletteRecord,
-    PaletteSetting, Part, Pidt, PixelLayout, Progress, RowReader, Scale, Shard, TileEntry, TileView, Timings,
-    TrimMode, UNLABELLED, inside_archive, parse_palette_size, read_color_image, read_file, verify_image_data,
-    write_canonical_png,
+    PaletteSetting, Part, Pidt, PixelLayout, Progress, RowReader, Scale, ScenarioTrack, Shard, TileEntry,
+    TileView, Timings, TrackFrame, TrimMode, UNLABELLED, inside_archive, parse_palette_size,
+    read_color_image, read_file, verify_image_data, write_canonical_png,
 };
 pub use output::{
-    CsvStyle, DIRECTIONS, ModelPart, NEVER_SEEN, SceneObject, VehicleModel, ViewCamera, ViewTexture,
-    WrittenFiles, WrittenViews, ZBuffer, csv_field, default_output_dir, format_table, plasma,
-    plot_font_available, render_heatmap, render_view, view_cameras, views_caption, write_comparison,
-    write_heatmap, write_parts_csv, write_results, write_results_with, write_scene_glb, write_views,
-    write_views_with,
+    CsvStyle, DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, MAP_FILE, MAP_SIZE, MapContent, MapFrame,
+    ModelPart, NEVER_SEEN, ResultSetOptions, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED,
+    SceneObject, SceneShapes, VIEW_BASE, VehicleModel, ViewCamera, ViewTexture, WrittenFiles, WrittenViews,
+    ZBuffer, bar_ticks, csv_field, default_output_dir, format_table, measure_unit, plasma,
+    plot_font_available, render_heatmap, render_view, time_colour, view_cameras, views_caption,
+    write_comparison, write_heatmap, write_parts_csv, write_results, write_results_with, write_scenario_map,
+    write_scene_glb, write_views, write_views_with,
 };
 pub use placement::report::{WrittenPlacement, format_placement};
 pub use placement::{

@@ -155,7 +155,11 @@ fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Result
     if args.strict_colors {
         refuse_colour_damage(&options.archive, &analysis.result)?;
     }
-    let written = ufcsr::write_results_with(&mut analysis, &out_dir, args.csv_style.into())?;
+    let written = ufcsr::write_results_with(
+        &mut analysis,
+        &out_dir,
+        &ufcsr::ResultSetOptions { csv_style: args.csv_style.into(), views_scale: args.views_scale },
+    )?;
     report_problems(&analysis.result);
     Ok(Done {
         command: "analyze",

@@ -144,6 +144,11 @@ pub struct AnalyzeArgs {
     #[arg(long, value_enum, default_value_t = CsvStyleArg::Report)]
     pub csv_style: CsvStyleArg,
 
+    /// Size of the heatmap views: each is 400×300 pixels times this (1–8).
+    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+          value_parser = clap::value_parser!(u32).range(1..=8))]
+    pub views_scale: u32,
+
     /// Stop at the first image that cannot be read (default: report it, go on, exit 1).
     #[arg(long)]
     pub strict: bool,
@@ -228,6 +233,11 @@ pub struct MergeArgs {
     /// Columns of parts.csv (as for the analysis).
     #[arg(long, value_enum, default_value_t = CsvStyleArg::Report)]
     pub csv_style: CsvStyleArg,
+
+    /// Size of the heatmap views: each is 400×300 pixels times this (1–8).
+    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+          value_parser = clap::value_parser!(u32).range(1..=8))]
+    pub views_scale: u32,
 
     #[command(flatten)]
     pub common: Common,

@@ -158,7 +158,11 @@ pub fn run_merge(args: MergeArgs) -> Result<ExitCode> {
     start_threads(&args.common)?;
     let results: Vec<PathBuf> = args.results.iter().map(|path| result_json(path)).collect();
     let mut analysis = ufcsr::merge_results(&results)?;
-    let written = ufcsr::write_results_with(&mut analysis, &args.out, args.csv_style.into())?;
+    let written = ufcsr::write_results_with(
+        &mut analysis,
+        &args.out,
+        &ufcsr::ResultSetOptions { csv_style: args.csv_style.into(), views_scale: args.views_scale },
+    )?;
     for warning in &analysis.result.warnings {
         eprintln!("warning: {warning}");
     }

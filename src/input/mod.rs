@@ -17,6 +17,7 @@ pub(crate) mod palette;
 pub(crate) mod png_rows;
 pub(crate) mod png_zlib;
 pub(crate) mod resolve;
+pub(crate) mod scenario_track;
 pub(crate) mod shard;
 pub mod solid_angle;
 
@@ -30,5 +31,6 @@ pub use options::{
 pub use palette::{Fcsp, PaletteSetting, parse_size as parse_palette_size, write_canonical_png};
 pub use png_rows::{PixelLayout, RowReader, read_color_image, read_file};
 pub use png_zlib::verify_image_data;
+pub use scenario_track::{ScenarioTrack, TrackFrame};
 pub use shard::Shard;
 pub use solid_angle::{EyeProjection, TileView};

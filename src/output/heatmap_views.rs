@@ -13,14 +13,13 @@
 //! `ufcsr-capture views` draws the same views with the capture's wgpu
 //! renderer, and a test holds the two to the same pictures.
 //!
-//! `views/NAME.png` for each direction and `views.png`, a contact sheet
-//! (four by two) with a colour bar underneath: grey (never seen), then the
-//! plasma scale from 0 to the heatmap's maximum (the page and result.json
-//! state the maximum and the scale).
+//! `views/NAME.png` for each direction (400×300 pixels times
+//! `--views-scale`, default 2) and `views.png`, a contact sheet (four by
+//! two) with a colour bar underneath; the shading, outlines, compass and
+//! the sheet's words are [`crate::output::view_sheet`]'s.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use crate::error::Result;
 use crate::output::raster::ZBuffer;
 use crate::output::vehicle_model::VehicleModel;
 use crate::{
@@ -31,12 +30,10 @@ use crate::{
 /// Colour of texels on the vehicle that were never seen.
 pub const NEVER_SEEN: [u8; 3] = [160, 160, 160];
 const PAPER: [u8; 3] = [255, 255, 255];
-/// Size of one view.
-const VIEW: (u32, u32) = (400, 300);
-/// Height of the colour bar and its labels under the contact sheet.
-const BAR: u32 = 52;
-/// Height of the colour bar itself.
-const BAR_STRIP: u32 = 20;
+/// Size of one view at `--views-scale 1`.
+pub const VIEW_BASE: (u32, u32) = (400, 300);
+/// The default `--views-scale`.
+pub const DEFAULT_VIEWS_SCALE: u32 = 2;
 /// Degrees above the horizon the views look down from.
 const ELEVATION_DEG: f64 = 15.0;
 
@@ -63,6 +60,8 @@ pub struct ViewCamera {
     pub right: [f64; 3],
     pub up: [f64; 3],
     pub back: [f64; 3],
+    /// The direction's azimuth, degrees counter-clockwise from the front.
+    pub azimuth_deg: f64,
     /// Picture pixels per metre (the same in all eight views).
     pub pixels_per_metre: f64,
     /// The point (along `right`, `up`, in metres) at the picture's centre.
@@ -79,7 +78,7 @@ fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
 
 impl ViewCamera {
     /// The camera looking from `azimuth_deg`, before it is fitted to a model.
-    fn looking_from(name: &'static str, azimuth_deg: f64) -> ViewCamera {
+    fn looking_from(name: &'static str, azimuth_deg: f64, size: [u32; 2]) -> ViewCamera {
         let (a, e) = (azimuth_deg.to_radians(), ELEVATION_DEG.to_radians());
         let back = [a.cos() * e.cos(), a.sin() * e.cos(), e.sin()];
         // right = normalize(Z × back); up = back × right.
@@ -93,12 +92,13 @@ impl ViewCamera {
         ];
         ViewCamera {
             name,
+            azimuth_deg,
             right,
             up,
             back,
             pixels_per_metre: 1.0,
             centre: [0.0, 0.0],
-            size: [VIEW.0, VIEW.1],
+            size,
             depth_range: [0.0, 1.0],
         }
     }
@@ -123,9 +123,11 @@ impl ViewCamera {
 
 /// The eight cameras, fitted to `model`: one scale for all eight (the
 /// largest extent in any of them fits), each centred on the vehicle.
-pub fn view_cameras(model: &VehicleModel) -> Vec<ViewCamera> {
+/// `scale` multiplies the 400×300 pixels of a view (0 counts as 1).
+pub fn view_cameras(model: &VehicleModel, scale: u32) -> Vec<ViewCamera> {
+    let size = [VIEW_BASE.0 * scale.max(1), VIEW_BASE.1 * scale.max(1)];
     let mut cameras: Vec<ViewCamera> =
-        DIRECTIONS.iter().map(|&(name, azimuth)| ViewCamera::looking_from(name, azimuth)).collect();
+        DIRECTIONS.iter().map(|&(name, azimuth)| ViewCamera::looking_from(name, azimuth, size)).collect();
     let mut scale = f64::INFINITY;
     for camera in &mut cameras {
         let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
@@ -136,8 +138,8 @@ pub fn view_cameras(model: &VehicleModel) -> Vec<ViewCamera> {
                 hi[k] = hi[k].max(q[k]);
             }
         }
-        let fit = (f64::from(VIEW.0) * 0.9 / (hi[0] - lo[0]).max(1e-6))
-            .min(f64::from(VIEW.1) * 0.9 / (hi[1] - lo[1]).max(1e-6));
+        let fit = (f64::from(size[0]) * 0.9 / (hi[0] - lo[0]).max(1e-6))
+            .min(f64::from(size[1]) * 0.9 / (hi[1] - lo[1]).max(1e-6));
         scale = scale.min(fit);
         camera.centre = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
         camera.depth_range = [lo[2], hi[2]];
@@ -148,14 +150,24 @@ pub fn view_cameras(model: &VehicleModel) -> Vec<ViewCamera> {
     cameras
 }
 
-/// Per-texel colours for the views: plasma for seen texels, grey for the rest.
+/// What the views show: per-texel colours (plasma for seen texels, grey
+/// for the rest), the words on the sheet, the size and the pedestrian's
+/// directions.
 pub struct ViewTexture<'a> {
     pub counts: &'a [u32],
     pub width: u32,
     pub height: u32,
     pub options: HeatmapOptions,
-    /// What the counts are, for the contact sheet (e.g. the measure and the archive).
+    /// What the counts are, for the contact sheet ([`views_caption`]).
     pub caption: String,
+    /// What one count is, for the colour bar ([`measure_unit`]).
+    pub unit: String,
+    /// Pixels per view are 400×300 times this (`--views-scale`, default 2).
+    pub views_scale: u32,
+    /// Where the pedestrian was seen from the vehicle, one azimuth per frame
+    /// (degrees counter-clockwise from its front; [`crate::TrackFrame`]):
+    /// marked in each view's compass. Empty without a manifest.
+    pub pedestrian_azimuths_deg: Vec<f64>,
 }
 
 impl ViewTexture<'_> {
@@ -188,12 +200,32 @@ impl ViewTexture<'_> {
     }
 }
 
-/// The contact sheet's caption: the measure and the archive's folder name.
-pub fn views_caption(measure: &str, archive: &str) -> String {
-    let name = Path::new(archive)
+/// What one count is, in words, for the colour bar: `images` for the
+/// paper's measure, `eye-frames` for the unobstructed one.
+pub fn measure_unit(measure: &str) -> &str {
+    match measure {
+        crate::input::options::MEASURE_PIXELS => "images",
+        "unobstructed" => "eye-frames",
+        other => other,
+    }
+}
+
+/// The contact sheet's caption: the measure in words and the scenario
+/// (its name from the manifest, else the archive's folder name).
+pub fn views_caption(measure: &str, archive: &str, scenario: Option<&str>) -> String {
+    let folder = Path::new(archive)
         .file_name()
         .map_or_else(|| archive.to_string(), |n| n.to_string_lossy().into_owned());
-    format!("measure: {measure} · {name}")
+    let what = match measure {
+        crate::input::options::MEASURE_PIXELS => "Images in which each point of the vehicle was seen",
+        "unobstructed" => "Eye-frames in which each point of the vehicle was in unobstructed view",
+        other => return format!("{other} per texel · {folder}"),
+    };
+    match scenario {
+        Some(name) if name != folder => format!("{what} · scenario {name} ({folder})"),
+        Some(name) => format!("{what} · scenario {name}"),
+        None => format!("{what} · {folder}"),
+    }
 }
 
 /// Renders one camera's picture, RGB, rows top to bottom: the CPU renderer
@@ -217,136 +249,4 @@ pub fn render_view(model: &VehicleModel, texture: &ViewTexture, camera: &ViewCam
         }
     }
     rgb
-}
-
-/// The files [`write_views`] wrote.
-#[derive(Debug, Clone)]
-pub struct WrittenViews {
-    pub contact_sheet: PathBuf,
-    pub views: Vec<PathBuf>,
-}
-
-/// Writes `dir/views/NAME.png` for the eight directions and `dir/views.png`,
-/// drawn with the CPU renderer ([`render_view`]).
-pub fn write_views(model: &VehicleModel, texture: &ViewTexture, dir: &Path) -> Result<WrittenViews> {
-    write_views_with(model, texture, dir, |camera| Ok(render_view(model, texture, camera)))
-}
-
-/// [`write_views`] with another renderer: `render` draws one camera's
-/// picture (RGB, `camera.size`, rows top to bottom).
-pub fn write_views_with(
-    model: &VehicleModel,
-    texture: &ViewTexture,
-    dir: &Path,
-    mut render: impl FnMut(&ViewCamera) -> Result<Vec<u8>>,
-) -> Result<WrittenViews> {
-    let cameras = view_cameras(model);
-    let views_dir = dir.join("views");
-    std::fs::create_dir_all(&views_dir).map_err(|e| crate::error::Error::io(&views_dir, e))?;
-    let (width, height) = VIEW;
-    let sheet_width = width * 4;
-    let sheet_height = height * 2 + BAR;
-    let mut sheet = PAPER.repeat((sheet_width * sheet_height) as usize);
-    let mut views = Vec::with_capacity(cameras.len());
-    for (index, camera) in cameras.iter().enumerate() {
-        let rgb = render(camera)?;
-        if rgb.len() != (width * height * 3) as usize {
-            return Err(crate::error::Error::bad_file(
-                &views_dir,
-                format!("the {} view has {} bytes, not {width}×{height} RGB", camera.name, rgb.len()),
-            ));
-        }
-        let path = views_dir.join(format!("{}.png", camera.name));
-        crate::files::write_rgb_png(&path, width, height, &rgb, png::Compression::Fast)?;
-        views.push(path);
-        let (column, row) = (index as u32 % 4, index as u32 / 4);
-        for y in 0..height {
-            let from = (y * width * 3) as usize;
-            let to = (((row * height + y) * sheet_width + column * width) * 3) as usize;
-            sheet[to..to + (width * 3) as usize].copy_from_slice(&rgb[from..from + (width * 3) as usize]);
-        }
-    }
-    // Colour bar: grey (never seen) on the left, then the plasma scale.
-    let grey_width = sheet_width / 16;
-    for y in height * 2 + 6..height * 2 + 6 + BAR_STRIP {
-        for x in 8..sheet_width - 8 {
-            let color = if x < 8 + grey_width {
-                NEVER_SEEN
-            } else if x < 16 + grey_width {
-                PAPER
-            } else {
-                plasma(f64::from(x - 16 - grey_width) / f64::from(sheet_width - 24 - grey_width))
-            };
-            let i = ((y * sheet_width + x) * 3) as usize;
-            sheet[i..i + 3].copy_from_slice(&color);
-        }
-    }
-    let max = texture.max();
-    let scale = match texture.options.scale {
-        crate::input::options::Scale::Linear => "linear",
-        crate::input::options::Scale::Log => "log",
-    };
-    let labels = SheetLabels {
-        views: DIRECTIONS.iter().map(|(name, _)| *name).collect(),
-        never_seen_width: grey_width,
-        left: "never seen".into(),
-        low: "0".into(),
-        high: format!("{max} ({scale} scale)"),
-        caption: texture.caption.clone(),
-    };
-    label_sheet(&mut sheet, (sheet_width, sheet_height), (width, height), &labels);
-    let contact_sheet = dir.join("views.png");
-    crate::files::write_rgb_png(&contact_sheet, sheet_width, sheet_height, &sheet, png::Compression::Fast)?;
-    Ok(WrittenViews { contact_sheet, views })
-}
-
-/// The words on the contact sheet.
-struct SheetLabels {
-    views: Vec<&'static str>,
-    never_seen_width: u32,
-    left: String,
-    low: String,
-    high: String,
-    caption: String,
-}
-
-/// Writes each view's direction in its corner and the colour bar's ends and
-/// caption under it, when a font is found (see [`crate::output::plots`]); without
-/// one the sheet stays unlabelled and the report's text says the same.
-fn label_sheet(
-    sheet: &mut [u8],
-    (sheet_width, sheet_height): (u32, u32),
-    (width, height): (u32, u32),
-    labels: &SheetLabels,
-) {
-    use plotters::prelude::*;
-    if !crate::output::plots::font_available() {
-        return;
-    }
-    let root = BitMapBackend::with_buffer(sheet, (sheet_width, sheet_height)).into_drawing_area();
-    let style = ("sans-serif", 15).into_font().color(&BLACK);
-    let mut drawn: std::result::Result<(), _> = Ok(());
-    for (index, name) in labels.views.iter().enumerate() {
-        let (column, row) = (index as u32 % 4, index as u32 / 4);
-        let at = ((column * width + 6) as i32, (row * height + 4) as i32);
-        drawn = drawn.and(root.draw(&Text::new(name.to_string(), at, style.clone())));
-    }
-    let text_y = (height * 2 + 8 + BAR_STRIP) as i32;
-    let right = style.clone().pos(plotters::style::text_anchor::Pos::new(
-        plotters::style::text_anchor::HPos::Right,
-        plotters::style::text_anchor::VPos::Top,
-    ));
-    let centre = style.clone().pos(plotters::style::text_anchor::Pos::new(
-        plotters::style::text_anchor::HPos::Center,
-        plotters::style::text_anchor::VPos::Top,
-    ));
-    let bar_start = (16 + labels.never_seen_width) as i32;
-    drawn = drawn
-        .and(root.draw(&Text::new(labels.left.clone(), (8, text_y), style.clone())))
-        .and(root.draw(&Text::new(labels.low.clone(), (bar_start, text_y), style.clone())))
-        .and(root.draw(&Text::new(labels.high.clone(), (sheet_width as i32 - 8, text_y), right)))
-        .and(root.draw(&Text::new(labels.caption.clone(), (sheet_width as i32 / 2, text_y), centre)))
-        .and(root.present());
-    // Labels are a courtesy: a drawing error leaves the colours as they are.
-    let _ = drawn;
 }

@@ -7,6 +7,7 @@
 
 pub(crate) mod console_table;
 pub(crate) mod csv;
+pub(crate) mod frame_strip;
 pub(crate) mod glb;
 pub(crate) mod heatmap;
 pub(crate) mod heatmap_views;
@@ -15,21 +16,26 @@ pub(crate) mod numbers;
 pub(crate) mod plots;
 pub(crate) mod raster;
 pub(crate) mod result_set;
+pub(crate) mod scenario_map;
 pub(crate) mod scene_model;
 pub(crate) mod vehicle_model;
+pub(crate) mod view_sheet;
 pub(crate) mod written_files;
 
 pub use console_table::format_table;
 pub use csv::{CsvStyle, csv_field, write_parts_csv};
+pub use frame_strip::{FRAME_STRIP_FILE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED};
 pub use heatmap::{plasma, render as render_heatmap, write_heatmap};
 pub use heatmap_views::{
-    DIRECTIONS, NEVER_SEEN, ViewCamera, ViewTexture, WrittenViews, render_view, view_cameras, views_caption,
-    write_views, write_views_with,
+    DEFAULT_VIEWS_SCALE, DIRECTIONS, NEVER_SEEN, VIEW_BASE, ViewCamera, ViewTexture, measure_unit,
+    render_view, view_cameras, views_caption,
 };
 pub use html::write_comparison;
 pub use plots::font_available as plot_font_available;
 pub use raster::ZBuffer;
-pub use result_set::{default_output_dir, write_results, write_results_with};
+pub use result_set::{MAP_FILE, ResultSetOptions, default_output_dir, write_results, write_results_with};
+pub use scenario_map::{MAP_SIZE, MapContent, MapFrame, SceneShapes, time_colour, write_scenario_map};
 pub use scene_model::{SceneObject, write_scene_glb};
 pub use vehicle_model::{ModelPart, VehicleModel};
+pub use view_sheet::{WrittenViews, bar_ticks, write_views, write_views_with};
 pub use written_files::WrittenFiles;

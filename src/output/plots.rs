@@ -113,10 +113,11 @@ pub fn write_plots(
     let mut plots = Vec::new();
     if let Some(series) = frames.and_then(VisibilitySeries::new) {
         let by_time = Visibility { series: &series, against_distance: false, scenario };
+        let what = series.quantity();
         plots.push(write_plot(
             out_dir,
             "visibility-time",
-            "pixels per eye of the top parts against time",
+            &format!("{what} per eye of the top parts against time"),
             &by_time,
         )?);
         if series.has_distance {
@@ -124,7 +125,7 @@ pub fn write_plots(
             plots.push(write_plot(
                 out_dir,
                 "visibility-distance",
-                "pixels per eye of the top parts against the vehicle's distance",
+                &format!("{what} per eye of the top parts against the vehicle's distance"),
                 &by_distance,
             )?);
         }
@@ -145,15 +146,23 @@ pub fn write_plots(
 struct VisibilitySeries {
     /// (time s, distance m) per frame, in frame order.
     frames: Vec<(f64, Option<f64>)>,
-    /// (part name, pixels per eye at each frame).
+    /// (part name, per eye at each frame: deg² when `angular`, else pixels).
     parts: Vec<(String, Vec<f64>)>,
     has_distance: bool,
+    /// True when every eye-frame has solid angles (the manifest gave the
+    /// eyes' projection): the series are angular areas in deg², which do
+    /// not depend on resolution; else pixels.
+    angular: bool,
 }
+
+/// Square degrees in a steradian.
+const SQUARE_DEGREES_PER_SR: f64 = (180.0 / std::f64::consts::PI) * (180.0 / std::f64::consts::PI);
 
 impl VisibilitySeries {
     /// The series of a table with eye-frames and times; `None` otherwise.
     fn new(table: &FrameTable) -> Option<VisibilitySeries> {
-        // Frame number → (time, distance, eyes, pixels per part).
+        let angular = table.records.iter().all(|record| record.solid_angle_sr.is_some());
+        // Frame number → (time, distance, eyes, deg² or pixels per part).
         let mut by_frame: std::collections::BTreeMap<u32, (f64, Option<f64>, f64, Vec<f64>)> =
             std::collections::BTreeMap::new();
         for record in &table.records {
@@ -163,8 +172,17 @@ impl VisibilitySeries {
                 .entry(eye_frame.frame)
                 .or_insert_with(|| (time, eye_frame.distance_m, 0.0, vec![0.0; table.parts.len()]));
             entry.2 += 1.0;
-            for (sum, &pixels) in entry.3.iter_mut().zip(&record.pixels) {
-                *sum += pixels as f64;
+            match (&record.solid_angle_sr, angular) {
+                (Some(solid_angles), true) => {
+                    for (sum, &solid_angle) in entry.3.iter_mut().zip(solid_angles) {
+                        *sum += solid_angle * SQUARE_DEGREES_PER_SR;
+                    }
+                }
+                _ => {
+                    for (sum, &pixels) in entry.3.iter_mut().zip(&record.pixels) {
+                        *sum += pixels as f64;
+                    }
+                }
             }
         }
         if by_frame.is_empty() {
@@ -187,7 +205,13 @@ impl VisibilitySeries {
             frames: by_frame.values().map(|f| (f.0, f.1)).collect(),
             parts,
             has_distance,
+            angular,
         })
+    }
+
+    /// What the series measure, in words.
+    fn quantity(&self) -> &'static str {
+        if self.angular { "angular area (deg²)" } else { "pixels" }
     }
 }
 
@@ -270,7 +294,11 @@ impl Visibility<'_> {
         let y_tick = move |v: &f64| tick(*v, y_max);
         if text {
             mesh.x_desc(if self.against_distance { "vehicle distance, m" } else { "time, s" })
-                .y_desc("pixels showing the part (per eye)")
+                .y_desc(if self.series.angular {
+                    "angular area of the part, deg² (per eye)"
+                } else {
+                    "pixels showing the part (per eye)"
+                })
                 .x_label_formatter(&x_tick)
                 .y_label_formatter(&y_tick);
         } else {
@@ -405,5 +433,41 @@ impl Drawing for PartBars<'_> {
     }
     fn draw_png(&self, root: &DrawingArea<BitMapBackend, Shift>) -> DrawResult {
         self.draw(root, true)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::count::part_lookup::FrameRecord;
+    use crate::input::capture_facts::EyeFrame;
+
+    fn record(eye: &str, pixels: u64, solid_angle_sr: Option<f64>) -> FrameRecord {
+        let frame = EyeFrame { frame: 0, eye: eye.into(), time_s: Some(0.0), distance_m: Some(5.0) };
+        FrameRecord {
+            label: FrameLabel::EyeFrame(frame),
+            pixels: vec![pixels],
+            texels: vec![1],
+            solid_angle_sr: solid_angle_sr.map(|sr| vec![sr]),
+        }
+    }
+
+    #[test]
+    fn visibility_is_in_square_degrees_per_eye_when_every_eye_frame_has_solid_angles() {
+        let parts = vec!["door".to_string()];
+        // One steradian over two eyes: half a steradian per eye.
+        let table = FrameTable {
+            parts: parts.clone(),
+            records: vec![record("left", 10, Some(0.25)), record("right", 30, Some(0.75))],
+        };
+        let series = VisibilitySeries::new(&table).unwrap();
+        assert!(series.angular);
+        assert!((series.parts[0].1[0] - 0.5 * SQUARE_DEGREES_PER_SR).abs() < 1e-9);
+        // Without the projection of one eye-frame: pixels per eye.
+        let table =
+            FrameTable { parts, records: vec![record("left", 10, Some(0.25)), record("right", 30, None)] };
+        let series = VisibilitySeries::new(&table).unwrap();
+        assert!(!series.angular);
+        assert_eq!(series.parts[0].1, [20.0]);
     }
 }

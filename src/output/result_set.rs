@@ -6,14 +6,22 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::files::{IMAGE_LIMIT, Staging, read_limited, refuse_overwriting_inputs};
+use crate::input::manifest::Manifest;
 use crate::input::options::HeatmapOptions;
+use crate::input::scenario_track::ScenarioTrack;
 use crate::output::csv::{CsvStyle, write_frames_csv, write_parts_table};
-use crate::output::heatmap_views::{DIRECTIONS, ViewTexture, views_caption, write_views};
-use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, write_plots};
+use crate::output::frame_strip::{FRAME_STRIP_FILE, StripInputs, frame_strip_skipped, write_frame_strip};
+use crate::output::heatmap_views::{
+    DEFAULT_VIEWS_SCALE, DIRECTIONS, ViewTexture, measure_unit, views_caption,
+};
+use crate::output::html::report_page::ScenarioPage;
+use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, font_available, write_plots};
+use crate::output::scenario_map::{MapContent, SceneShapes, write_scenario_map};
 use crate::output::vehicle_model::VehicleModel;
+use crate::output::view_sheet::write_views;
 use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
-use crate::result::model::Analysis;
+use crate::result::model::{Analysis, AnalysisResult};
 use crate::result::result_json::{write_result_json, write_timings_json};
 
 /// The default output folder for an archive: `<archive>/results` (excluded
@@ -33,6 +41,8 @@ fn output_paths(files: &WrittenFiles) -> Vec<PathBuf> {
         Some(&files.report_html),
         files.views_png.as_ref(),
         files.frames_csv.as_ref(),
+        files.map_png.as_ref(),
+        files.frames_strip_png.as_ref(),
     ];
     outputs.into_iter().flatten().cloned().collect()
 }
@@ -45,11 +55,30 @@ fn output_paths(files: &WrittenFiles) -> Vec<PathBuf> {
 /// place only when every file was written: a failure (a full disk, a bad
 /// vehicle model) or an interruption leaves the previous result set whole.
 pub fn write_results(analysis: &mut Analysis, out_dir: &Path) -> Result<WrittenFiles> {
-    write_results_with(analysis, out_dir, CsvStyle::Report)
+    write_results_with(analysis, out_dir, &ResultSetOptions::default())
 }
 
-/// [`write_results`] with `parts.csv` in `csv` style (`--csv-style`).
-pub fn write_results_with(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) -> Result<WrittenFiles> {
+/// How a result set is written, beyond the analysis itself.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ResultSetOptions {
+    /// Columns of `parts.csv` (`--csv-style`).
+    pub csv_style: CsvStyle,
+    /// Each view is 400×300 pixels times this (`--views-scale`).
+    pub views_scale: u32,
+}
+
+impl Default for ResultSetOptions {
+    fn default() -> Self {
+        ResultSetOptions { csv_style: CsvStyle::Report, views_scale: DEFAULT_VIEWS_SCALE }
+    }
+}
+
+/// [`write_results`] with `options` (`--csv-style`, `--views-scale`).
+pub fn write_results_with(
+    analysis: &mut Analysis,
+    out_dir: &Path,
+    options: &ResultSetOptions,
+) -> Result<WrittenFiles> {
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let mut files = planned_files(analysis, out_dir);
     let mut outputs = output_paths(&files);
@@ -57,7 +86,10 @@ pub fn write_results_with(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle
     refuse_overwriting_inputs(&outputs, &analysis.input_files)?;
     let staging = Staging::new(out_dir)?;
     // Plot paths are relative to the output folder: the same after the move.
-    files.plots = write_results_into(analysis, staging.path(), csv)?;
+    let figures = write_results_into(analysis, staging.path(), options)?;
+    files.plots = figures.plots;
+    files.map_png = files.map_png.filter(|_| figures.map);
+    files.frames_strip_png = files.frames_strip_png.filter(|_| figures.frames_strip);
     let members = result_set_members();
     staging.commit(out_dir, &members.iter().map(String::as_str).collect::<Vec<_>>())?;
     Ok(files)
@@ -76,6 +108,8 @@ pub fn result_set_members() -> Vec<String> {
         "heatmap.glb",
         "report.html",
         "views.png",
+        MAP_FILE,
+        FRAME_STRIP_FILE,
     ]
     .iter()
     .map(|name| (*name).to_string())
@@ -99,13 +133,31 @@ fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
         report_html: out_dir.join("report.html"),
         views_png: analysis.vehicle_model.as_ref().map(|_| out_dir.join("views.png")),
         frames_csv: analysis.frames.as_ref().map(|_| out_dir.join(FRAMES_FILE)),
+        map_png: analysis.result.settings.manifest.then(|| out_dir.join(MAP_FILE)),
+        frames_strip_png: analysis.result.settings.manifest.then(|| out_dir.join(FRAME_STRIP_FILE)),
         plots: Vec::new(),
     }
 }
 
+/// The figures that depend on what the analysis had.
+struct FiguresWritten {
+    plots: Vec<Plot>,
+    /// Whether `map.png` was written.
+    map: bool,
+    /// Whether `frames-strip.png` was written.
+    frames_strip: bool,
+}
+
+/// The scenario map's file name in a result set.
+pub const MAP_FILE: &str = "map.png";
+
 /// Writes the whole result set into `out_dir` (a staging folder); returns
-/// the plots written there.
-fn write_results_into(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) -> Result<Vec<Plot>> {
+/// the figures written there.
+fn write_results_into(
+    analysis: &mut Analysis,
+    out_dir: &Path,
+    options: &ResultSetOptions,
+) -> Result<FiguresWritten> {
     let files = planned_files(analysis, out_dir);
     let palette = &analysis.result.settings.palette;
     let (width, height) = (palette.width, palette.height);
@@ -123,7 +175,12 @@ fn write_results_into(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) ->
     let stage = Instant::now();
     write_result_json(&files.result_json, &analysis.result, &analysis.texel_counts)?;
     if let Some(path) = &files.parts_csv {
-        write_parts_table(path, &analysis.result.parts, analysis.result.measures.as_ref(), csv)?;
+        write_parts_table(
+            path,
+            &analysis.result.parts,
+            analysis.result.measures.as_ref(),
+            options.csv_style,
+        )?;
     }
     if let (Some(frames), Some(path)) = (&analysis.frames, &files.frames_csv) {
         write_frames_csv(path, frames)?;
@@ -131,24 +188,126 @@ fn write_results_into(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) ->
     analysis.timings.write_seconds = stage.elapsed().as_secs_f64();
     analysis.timings.total_seconds += analysis.timings.heatmap_seconds + analysis.timings.write_seconds;
     write_timings_json(&files.timings_json, &analysis.timings)?;
-    if let (Some(model), Some(glb)) = (&analysis.vehicle_model, &files.heatmap_glb) {
+    write_figures(analysis, out_dir, files, options)
+}
+
+/// Writes the figures (`heatmap.glb`, views, map, frame strip, plots) and
+/// the report page that shows them.
+fn write_figures(
+    analysis: &Analysis,
+    out_dir: &Path,
+    mut files: WrittenFiles,
+    options: &ResultSetOptions,
+) -> Result<FiguresWritten> {
+    let settings = &analysis.result.settings;
+    let (width, height) = (settings.palette.width, settings.palette.height);
+    let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
+    // What the manifest says about the scenario, for the views, the map and the strip.
+    let archive = Path::new(&settings.archive);
+    let manifest = settings.manifest.then(|| Manifest::load_from_dir(archive).ok().flatten()).flatten();
+    let track = manifest.as_ref().and_then(ScenarioTrack::from_manifest);
+    let model = analysis.vehicle_model.as_deref().map(VehicleModel::read).transpose()?;
+    if let (Some(model), Some(glb)) = (&model, &files.heatmap_glb) {
         let png = read_limited(&files.heatmap_png, IMAGE_LIMIT)?;
-        let model = VehicleModel::read(model)?;
         model.write_glb(glb, Some(("heatmap", &png)))?;
+        let measure = &analysis.result.measure;
         let texture = ViewTexture {
             counts: &analysis.texel_counts,
             width,
             height,
             options: heatmap,
-            caption: views_caption(&analysis.result.measure, &analysis.result.settings.archive),
+            caption: views_caption(
+                measure,
+                &settings.archive,
+                track.as_ref().and_then(|t| t.name.as_deref()),
+            ),
+            unit: measure_unit(measure).to_string(),
+            views_scale: options.views_scale,
+            pedestrian_azimuths_deg: pedestrian_azimuths(track.as_ref()),
         };
-        write_views(&model, &texture, out_dir)?;
+        write_views(model, &texture, out_dir)?;
     }
-    let mut files = files;
     let scenario = archive_name(&analysis.result.settings.archive);
+    files.map_png = match (&track, files.map_png) {
+        (Some(track), Some(path)) if font_available() => {
+            write_map(&path, track, model.as_ref(), archive, &scenario)?;
+            Some(path)
+        }
+        _ => None,
+    };
+    let strip_skipped = match (&manifest, &files.frames_strip_png) {
+        (Some(manifest), Some(path)) => write_strip(path, manifest, &analysis.result)?,
+        _ => None,
+    };
+    if strip_skipped.is_some() || manifest.is_none() {
+        files.frames_strip_png = None;
+    }
     files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref(), &scenario)?;
-    crate::output::html::report_page::write_report(&files.report_html, &analysis.result, &files)?;
-    Ok(files.plots)
+    let scenario_page = ScenarioPage { track: track.as_ref(), strip_skipped };
+    crate::output::html::report_page::write_report(
+        &files.report_html,
+        &analysis.result,
+        &files,
+        &scenario_page,
+    )?;
+    Ok(FiguresWritten {
+        plots: files.plots,
+        map: files.map_png.is_some(),
+        frames_strip: files.frames_strip_png.is_some(),
+    })
+}
+
+/// Writes the frame strip, or says why there is none.
+fn write_strip(path: &Path, manifest: &Manifest, result: &AnalysisResult) -> Result<Option<String>> {
+    let settings = &result.settings;
+    let canonical = settings.palette.kind == "canonical";
+    if let Some(why) = frame_strip_skipped(manifest, canonical) {
+        return Ok(Some(why.to_string()));
+    }
+    let Some(pidt) = &settings.pidt else {
+        return Ok(Some("the analysis had no PIdT, so parts have no colours: no frame strip".into()));
+    };
+    let inputs = StripInputs {
+        archive: Path::new(&settings.archive),
+        manifest,
+        pidt: Path::new(pidt),
+        parts: &result.parts,
+        palette: [settings.palette.width, settings.palette.height],
+        background: &settings.background,
+    };
+    write_frame_strip(path, &inputs)?;
+    Ok(None)
+}
+
+/// Writes the scenario map of `track`, with the archive's `scene.glb` when
+/// it has one (a broken one is said on the map, not fatal).
+fn write_map(
+    path: &Path,
+    track: &ScenarioTrack,
+    vehicle: Option<&VehicleModel>,
+    archive: &Path,
+    folder: &str,
+) -> Result<()> {
+    let scene_file = archive.join("scene.glb");
+    let scene = if scene_file.is_file() {
+        SceneShapes::read(&scene_file).map_err(|error| format!("{error}"))
+    } else {
+        Ok(SceneShapes { occluders: Vec::new() })
+    };
+    let title = match &track.name {
+        Some(name) if name != folder => format!("Scenario {name} ({folder}) from above"),
+        Some(name) => format!("Scenario {name} from above"),
+        None => format!("{folder} from above"),
+    };
+    write_scenario_map(path, &MapContent { track, scene, vehicle, title })?;
+    Ok(())
+}
+
+/// Every frame's direction of the pedestrian seen from the vehicle.
+pub(crate) fn pedestrian_azimuths(track: Option<&ScenarioTrack>) -> Vec<f64> {
+    track.map_or_else(Vec::new, |track| {
+        track.frames.iter().filter_map(|f| f.pedestrian_azimuth_deg()).collect()
+    })
 }
 
 /// The archive's folder name (the scenario's, for a capture of one), for titles.

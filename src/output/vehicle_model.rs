@@ -77,6 +77,16 @@ impl VehicleModel {
     /// triangles, or with a vertex that is not finite or beyond
     /// [`crate::MAX_COORDINATE_M`], is an error naming it and the file.
     pub fn read(path: &Path) -> Result<VehicleModel> {
+        VehicleModel::read_with(path, Uvs::Required)
+    }
+
+    /// The shapes of a glTF file, UVs or not (missing UVs read as 0, 0):
+    /// the occluders of `scene.glb` for the scenario map.
+    pub fn read_shapes(path: &Path) -> Result<VehicleModel> {
+        VehicleModel::read_with(path, Uvs::Optional)
+    }
+
+    fn read_with(path: &Path, uvs: Uvs) -> Result<VehicleModel> {
         let model = crate::files::read_gltf(path, crate::files::MODEL_LIMIT)?;
         let axes = FileAxes::of(&model.document);
         let mut parts = Vec::new();
@@ -86,7 +96,7 @@ impl VehicleModel {
                 node.name().or(mesh.name()).map_or_else(|| format!("node{}", node.index()), str::to_string);
             let mut part = ModelPart { name, ..ModelPart::default() };
             for primitive in mesh.primitives() {
-                read_primitive(path, &model, &mesh, &primitive, &mut part)?;
+                read_primitive(path, (&model, uvs), &mesh, &primitive, &mut part)?;
             }
             for p in &mut part.positions {
                 *p = axes.to_frame(transform_point(&transform, *p));
@@ -101,6 +111,13 @@ impl VehicleModel {
         }
         Ok(VehicleModel { parts })
     }
+}
+
+/// Whether a model's primitives must have UVs (a vehicle's do).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Uvs {
+    Required,
+    Optional,
 }
 
 /// Checks that a part is a list of whole triangles with a UV per vertex.
@@ -156,7 +173,7 @@ fn scene_nodes<'a>(
 /// Appends one primitive's triangles (a triangle list, vertex by vertex) to `part`.
 fn read_primitive(
     path: &Path,
-    model: &crate::files::GltfModel,
+    (model, need): (&crate::files::GltfModel, Uvs),
     mesh: &gltf::Mesh,
     primitive: &gltf::Primitive,
     part: &mut ModelPart,
@@ -181,11 +198,13 @@ fn read_primitive(
     for &position in &positions {
         crate::files::check_coordinates(path, &describe(), position)?;
     }
-    let uvs: Vec<[f32; 2]> = reader
-        .read_tex_coords(0)
-        .ok_or_else(|| Error::bad_file(path, format!("{} has no UVs (TEXCOORD_0)", describe())))?
-        .into_f32()
-        .collect();
+    let uvs: Vec<[f32; 2]> = match (reader.read_tex_coords(0), need) {
+        (Some(uvs), _) => uvs.into_f32().collect(),
+        (None, Uvs::Optional) => vec![[0.0, 0.0]; positions.len()],
+        (None, Uvs::Required) => {
+            return Err(Error::bad_file(path, format!("{} has no UVs (TEXCOORD_0)", describe())));
+        }
+    };
     let order: Vec<usize> = match reader.read_indices() {
         Some(indices) => indices.into_u32().map(|i| i as usize).collect(),
         None => (0..positions.len()).collect(),

@@ -20,6 +20,10 @@ pub struct WrittenFiles {
     pub views_png: Option<PathBuf>,
     /// `frames.csv`, when frames were tallied.
     pub frames_csv: Option<PathBuf>,
+    /// `map.png`, the scenario from above (with a manifest that places the vehicle).
+    pub map_png: Option<PathBuf>,
+    /// `frames-strip.png`, a few frames as the eye saw them (from tile PNGs).
+    pub frames_strip_png: Option<PathBuf>,
     /// The plots written under `plots/`.
     pub plots: Vec<Plot>,
 }

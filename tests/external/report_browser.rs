@@ -65,9 +65,14 @@ pub fn the_report_of_the_bundled_example_renders_in_chromium() -> Outcome {
     let report = out.join("report.html");
     assert!(out.join("heatmap.glb").is_file(), "the example's vehicle.glb should give heatmap.glb");
 
-    // The heatmap texture, the contact sheet of the eight views, and the
-    // three plots (visibility against time and distance, the parts' bars).
-    assert_eq!(probe(binary, &report), "images=11111;errors=0");
+    // In page order: the scenario map, the frame strip, the contact sheet
+    // of the eight views, the heatmap texture and the three plots
+    // (visibility against time and distance, the parts' bars).
+    assert_eq!(probe(binary, &report), "images=1111111;errors=0");
+    for figure in ["map.png", "frames-strip.png", "views.png"] {
+        let colours = distinct_colours(&out.join(figure));
+        assert!(colours > 8, "{figure} is blank ({colours} colours)");
+    }
     for plot in ["visibility-time", "visibility-distance", "parts"] {
         let colours = distinct_colours(&out.join(format!("plots/{plot}.png")));
         assert!(colours > 8, "plots/{plot}.png is blank ({colours} colours)");
@@ -88,7 +93,7 @@ pub fn the_report_of_the_bundled_example_renders_in_chromium() -> Outcome {
     // listener exists, so the error count is 0 or 1.)
     std::fs::remove_file(out.join("heatmap.png")).unwrap();
     let probed = probe(binary, &report);
-    assert!(probed.starts_with("images=01111;"), "{probed}");
+    assert!(probed.starts_with("images=1110111;"), "{probed}");
     Ok(Completion::Completed)
 }
 

@@ -201,7 +201,12 @@ fn parts_csv_in_the_papers_style_keeps_the_old_columns_precision_and_legend_orde
     std::fs::write(dir.path().join("parts.csv"), "name,color\nC,#0000FF\nA,#FF0000\nB,#00FF00\n").unwrap();
     let mut analysis = analyze(&known_options(dir.path()), None).unwrap();
     let out = dir.path().join("out");
-    let written = ufcsr::write_results_with(&mut analysis, &out, ufcsr::CsvStyle::Paper).unwrap();
+    let written = ufcsr::write_results_with(
+        &mut analysis,
+        &out,
+        &ufcsr::ResultSetOptions { csv_style: ufcsr::CsvStyle::Paper, ..Default::default() },
+    )
+    .unwrap();
     let csv = std::fs::read_to_string(written.parts_csv.unwrap()).unwrap();
     // As the library computes them: 100 × (total / grand total), unrounded.
     let (share_a, share_b) = (100.0 * (5.0_f64 / 6.0), 100.0 * (1.0_f64 / 6.0));

@@ -28,6 +28,7 @@ mod reliability_inputs;
 mod reliability_merge;
 mod reliability_outputs;
 mod result_validation;
+mod scenario_map;
 mod schemas;
 mod shards;
 mod texture_skipping;

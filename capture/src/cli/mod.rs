@@ -16,7 +16,7 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use ufcsr_capture::Backend;
+use ufcsr_capture::{Backend, ViewsOptions};
 
 use capture::Common;
 use observers::ObserversArgs;
@@ -106,6 +106,10 @@ enum Command {
         /// Where views/ and views.png go (default: the result folder).
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Size of the views: each is 400×300 pixels times this (1–8), as the analyzer's.
+        #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+              value_parser = clap::value_parser!(u32).range(1..=8))]
+        views_scale: u32,
         /// GPU backend.
         #[arg(long, value_enum, default_value_t = Backend::Auto)]
         backend: Backend,
@@ -189,7 +193,9 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Inspect { input, out, pixels_per_metre } => tools::run_inspect(input, out, pixels_per_metre),
         Command::Study(args) => study::run_study(args),
         Command::Observers(args) => observers::run_observers(args),
-        Command::Views { results, model, out, backend } => tools::run_views(results, model, out, backend),
+        Command::Views { results, model, out, views_scale, backend } => {
+            tools::run_views(ViewsOptions { results, model, out, views_scale }, backend)
+        }
         Command::Batch { action: BatchAction::Plan { batch, program } } => {
             tools::run_batch_plan(&batch, program)
         }

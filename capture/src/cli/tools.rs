@@ -19,14 +19,8 @@ pub fn run_inspect(input: PathBuf, out: PathBuf, pixels_per_metre: Option<f64>) 
 }
 
 /// `views`: a result's eight heatmap views, drawn by the GPU renderer.
-pub fn run_views(
-    results: PathBuf,
-    model: Option<PathBuf>,
-    out: Option<PathBuf>,
-    backend: Backend,
-) -> anyhow::Result<()> {
+pub fn run_views(options: ViewsOptions, backend: Backend) -> anyhow::Result<()> {
     let gpu = Gpu::create(backend)?;
-    let options = ViewsOptions { results, model, out };
     let written = ufcsr_capture::views_from_results(&gpu.device, &gpu.queue, &options)?;
     say!("views ({}): {}", gpu.describe(), written.contact_sheet.display());
     for view in &written.views {

@@ -32,6 +32,8 @@ pub struct ViewsOptions {
     pub model: Option<PathBuf>,
     /// Where `views/` and `views.png` go (default: the result folder).
     pub out: Option<PathBuf>,
+    /// Each view is 400×300 pixels times this (`--views-scale`).
+    pub views_scale: u32,
 }
 
 /// Draws the eight views of `texture` on `model` with the GPU and writes them
@@ -45,7 +47,7 @@ pub fn write_views_gpu(
 ) -> Result<WrittenViews> {
     let palette = GpuPalette::External { size: [texture.width, texture.height], rgba: texture.texel_rgba() };
     let vertices = model_vertices(model, [texture.width, texture.height]);
-    let cameras = ufcsr::view_cameras(model);
+    let cameras = ufcsr::view_cameras(model, texture.views_scale);
     let size = cameras.first().map_or([1, 1], |camera| camera.size);
     let occluders = Occluders::default();
     let setup = RenderSetup {
@@ -98,12 +100,20 @@ pub fn views_from_results(
         });
     }
     let model = VehicleModel::read(&model_path)?;
+    // The scenario as the analysed archive's manifest says, when it is still there.
+    let track = ufcsr::ScenarioTrack::from_archive(Path::new(&counts.archive));
+    let scenario = track.as_ref().and_then(|track| track.name.as_deref());
     let texture = ViewTexture {
         counts: &counts.texel_counts,
         width: counts.width,
         height: counts.height,
         options: ufcsr::HeatmapOptions { scale: counts.scale, max: counts.max },
-        caption: format!("{} · wgpu", ufcsr::views_caption(&counts.measure, &counts.archive)),
+        caption: format!("{} · wgpu", ufcsr::views_caption(&counts.measure, &counts.archive, scenario)),
+        unit: ufcsr::measure_unit(&counts.measure).to_string(),
+        views_scale: options.views_scale,
+        pedestrian_azimuths_deg: track.map_or_else(Vec::new, |track| {
+            track.frames.iter().filter_map(ufcsr::TrackFrame::pedestrian_azimuth_deg).collect()
+        }),
     };
     let out = options.out.clone().unwrap_or_else(|| options.results.clone());
     let mut outputs: Vec<String> =

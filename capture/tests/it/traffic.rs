@@ -7,7 +7,7 @@
 //! pedestrian's eyes in the manifest follow the walk (both manifests hold
 //! to the published schema); `scene.glb` holds the moving box in its own
 //! frame; the placement measure sees no part in the covered frames;
-//! `demo --traffic` captures every
+//! the map draws a moving box on its path; `demo --traffic` captures every
 //! scenario with the twin posed; an eye inside a moving occluder is a warning; bad tracks and offsets are refused with the
 //! file and the key named.
 
@@ -345,4 +345,31 @@ fn the_demo_with_traffic_captures_every_scenario_with_the_twin_posed_in_each_fra
             assert!((gap.sqrt() - ufcsr_capture::LEAD_CAR_AHEAD_M).abs() < 1e-5, "{record}");
         }
     }
+}
+
+#[test]
+fn the_map_draws_the_moving_box_on_its_path_across_the_line_of_sight() {
+    // The box's centre runs along x = 8.5 from y = −5 to y = 5: the map's
+    // path of it passes (8.5, 3) in the moving occluders' blue.
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_scene(dir.path(), "moving-box.json", &moving_box_scene());
+    let out = dir.path().join("counted");
+    capture(&path, &out, &["--count"]);
+    assert_eq!(out.join("results/map.png").is_file(), ufcsr::plot_font_available());
+    if !ufcsr::plot_font_available() {
+        return;
+    }
+    let manifest = ufcsr::Manifest::load_from_dir(&out).unwrap().unwrap();
+    let track = ufcsr::ScenarioTrack::from_manifest(&manifest).unwrap();
+    let scene = Ok(ufcsr::SceneShapes::read(&out.join("scene.glb")).unwrap());
+    let map = dir.path().join("map.png");
+    let content = ufcsr::MapContent { track: &track, scene, vehicle: None, title: "moving box".into() };
+    let frame = ufcsr::write_scenario_map(&map, &content).unwrap();
+    let image = ufcsr::read_color_image(&map, |_, _| Ok(())).unwrap();
+    let (x, y) = frame.pixel([8.5, 3.0]);
+    let drawn = image.colors[y as usize * image.width as usize + x as usize];
+    assert_eq!(drawn, 0x46_6EC8, "the box's path is not blue at (8.5, 3): {drawn:06X}");
+    // A --count capture has no tile images: the report says why there is no strip.
+    let page = std::fs::read_to_string(out.join("results/report.html")).unwrap();
+    assert!(page.contains("No frame strip") && page.contains("--count"), "{page}");
 }

@@ -45,10 +45,12 @@ fn gpu_views_are_the_cpu_views() {
         let differ = cpu.iter().zip(&gpu).filter(|(a, b)| a != b).count();
         let outline = cpu.iter().zip(&gpu).filter(|&(&a, &b)| (a == white) != (b == white)).count();
         eprintln!("{name}: {differ} of {} pixels differ, {outline} on the outline", cpu.len());
-        // Measured: 0 to 68 pixels of 120,000 (front-right, texel boundaries).
+        // Measured: 0 to 121 pixels of 480,000 at the default 800×600 (front-left, texel
+        // boundaries; shading and compass are drawn alike after either renderer).
         assert!(differ * 200 <= cpu.len(), "{name}: {differ} pixels differ");
         assert!(outline * 1000 <= cpu.len(), "{name}: {outline} pixels differ in coverage");
-        coloured += gpu.iter().filter(|&&c| c != white && c != 0xA0A0A0).count();
+        // Shaded never-seen grey stays grey (r = g = b); the plasma scale has none.
+        coloured += gpu.iter().filter(|&&c| !(c >> 16 == c & 0xFF && (c >> 8) & 0xFF == c & 0xFF)).count();
     }
     assert!(coloured > 10_000, "the GPU views show almost no heatmap ({coloured} pixels)");
     assert!(gpu_out.join("views.png").is_file());

@@ -2,8 +2,8 @@
 //!
 //! What a researcher checks first — the result's warnings (stray pixels,
 //! unlabelled texels, colour damage, resolution dependence) and failed
-//! files — then the summary, the
-//! parts table with the paper's top-5 union marked, the heatmap texture and
+//! files — then the summary, the scenario and rig with the map, the
+//! parts table with the paper's top-5 union marked, the views, the heatmap texture and
 //! links to the vehicle with the heatmap on it (`heatmap.glb`) and the
 //! machine-readable files, and the settings. No script, no network: the page
 //! links only files beside it, so the results folder can be zipped and sent.
@@ -12,13 +12,29 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::Result;
+use crate::input::scenario_track::ScenarioTrack;
 use crate::output::numbers::grouped;
 use crate::result::part_stats::top_five_union;
 use crate::{output::written_files::WrittenFiles, result::model::AnalysisResult};
 
 /// Writes the report page for `result` into `path` (beside the other files).
-pub fn write_report(path: &Path, result: &AnalysisResult, files: &WrittenFiles) -> Result<()> {
-    crate::files::write_bytes_atomically(path, render(result, files).as_bytes())
+/// `scenario` is what the archive's manifest says about the scenario (the
+/// scenario section shows it).
+pub fn write_report(
+    path: &Path,
+    result: &AnalysisResult,
+    files: &WrittenFiles,
+    scenario: &ScenarioPage,
+) -> Result<()> {
+    crate::files::write_bytes_atomically(path, render(&PageInputs { result, files, scenario }).as_bytes())
+}
+
+/// The scenario section's content beyond the files: the manifest's track
+/// (none without a manifest) and why there is no frame strip, if so.
+#[derive(Default)]
+pub struct ScenarioPage<'a> {
+    pub track: Option<&'a ScenarioTrack>,
+    pub strip_skipped: Option<String>,
 }
 
 /// Escapes text for HTML.
@@ -34,6 +50,7 @@ fn file_name(path: &Path) -> String {
 struct PageInputs<'a> {
     result: &'a AnalysisResult,
     files: &'a WrittenFiles,
+    scenario: &'a ScenarioPage<'a>,
 }
 
 /// One section of the page: appends its HTML (nothing when it has nothing
@@ -47,9 +64,10 @@ const SECTIONS: &[Section] = &[
     warnings,
     summary,
     resolution,
+    scenario,
     parts,
-    heatmap,
     vehicle_views,
+    heatmap,
     plots,
     measures,
     files,
@@ -57,11 +75,10 @@ const SECTIONS: &[Section] = &[
     foot,
 ];
 
-fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
-    let inputs = PageInputs { result, files };
+fn render(inputs: &PageInputs) -> String {
     let mut page = String::new();
     for section in SECTIONS {
-        section(&mut page, &inputs);
+        section(&mut page, inputs);
     }
     page
 }
@@ -74,7 +91,7 @@ fn head(page: &mut String, inputs: &PageInputs) {
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{title}</title>\n<style>\
          body{{font-family:sans-serif;margin:2em;max-width:1100px;color:#222}}\
          table{{border-collapse:collapse;margin:0.5em 0}}td,th{{border:1px solid #ccc;padding:3px 8px;text-align:right}}\
-         td:first-child,th:first-child{{text-align:left}}tr.top{{background:#fff4d6}}\
+         td:first-child,th:first-child,table.words td{{text-align:left}}tr.top{{background:#fff4d6}}\
          .swatch{{display:inline-block;width:0.9em;height:0.9em;border:1px solid #555;vertical-align:middle;margin-right:0.4em}}\
          .warn{{background:#fde8e8;border-left:4px solid #c00;padding:0.4em 0.8em;margin:0.3em 0}}\
          img{{max-width:100%;image-rendering:pixelated;border:1px solid #ccc}}img.plot{{image-rendering:auto}}\
@@ -101,6 +118,37 @@ fn warnings(page: &mut String, inputs: &PageInputs) {
     }
     for warning in warnings {
         let _ = writeln!(page, "<div class=\"warn\">{warning}</div>");
+    }
+}
+
+/// The scenario and the rig in words, and the map, when the archive's
+/// manifest describes them.
+fn scenario(page: &mut String, inputs: &PageInputs) {
+    let Some(track) = inputs.scenario.track else { return };
+    let _ = writeln!(page, "<h2>The scenario</h2>\n<table class=\"words\">");
+    for (label, value) in &track.summary {
+        let _ = writeln!(page, "<tr><th>{}</th><td>{}</td></tr>", escape(label), escape(value));
+    }
+    let _ = writeln!(page, "</table>");
+    if let Some(map) = &inputs.files.map_png {
+        let _ = writeln!(
+            page,
+            "<p>From above, north up: the vehicle's trajectory coloured by time, its footprint and the sightlines \
+             from the eyes at five frames, the pedestrian (green), occluders (grey; moving ones blue).</p>\n\
+             <img src=\"{0}\" alt=\"the scenario from above\" class=\"plot\">",
+            file_name(map)
+        );
+    }
+    if let Some(strip) = &inputs.files.frames_strip_png {
+        let _ = writeln!(
+            page,
+            "<h3>What the pedestrian saw</h3>\n<p>Frames of one eye spread over the scenario, the vehicle in its \
+             parts' colours (as in the parts table), everything else light grey.</p>\n\
+             <img src=\"{0}\" alt=\"frames as the eye saw them, the vehicle coloured by part\" class=\"plot\">",
+            file_name(strip)
+        );
+    } else if let Some(why) = &inputs.scenario.strip_skipped {
+        let _ = writeln!(page, "<p>No frame strip: {}.</p>", escape(why));
     }
 }
 
@@ -185,8 +233,9 @@ fn heatmap(page: &mut String, inputs: &PageInputs) {
     let (settings, files) = (&inputs.result.settings, inputs.files);
     let _ = writeln!(
         page,
-        "<h2>Heatmap</h2>\n<p>Per-texel counts on the plasma scale ({:?}{}), laid out like the palette.{}</p>\n\
-         <img src=\"{}\" alt=\"heatmap texture\" width=\"512\">",
+        "<h2>The heatmap texture</h2>\n<p>The same counts as a texture laid out like the palette, for putting on \
+         the model in other tools: plasma scale ({:?}{}).{}</p>\n\
+         <img src=\"{}\" alt=\"heatmap texture\" width=\"384\">",
         settings.heatmap_scale,
         settings.heatmap_max.map(|m| format!(", top of scale {m}")).unwrap_or_default(),
         match &files.heatmap_glb {
@@ -208,10 +257,12 @@ fn vehicle_views(page: &mut String, inputs: &PageInputs) {
     let _ = writeln!(
         page,
         "<h2>The heatmap on the vehicle</h2>\n<p>Front, front-left, left, rear-left (top row); rear, rear-right, \
-         right, front-right (bottom row); seen from 15° above, one scale for all. Colour bar: grey = never seen, \
-         then plasma from 0 to {} ({:?} scale). Each view is also in <code>views/</code>.</p>\n\
+         right, front-right (bottom row); seen from 15° above, one scale for all, shaded by a light from the upper \
+         left. Colour bar: grey = never seen, then plasma from 0 to {} ({:?} scale). The compass in each view's \
+         corner shows where the pedestrian was (green) and the view's line of sight (black). Each view is also \
+         in <code>views/</code>.</p>\n\
          <img src=\"{}\" alt=\"the heatmap on the vehicle from eight directions\">",
-        settings.heatmap_max.unwrap_or(result.max_count),
+        grouped(u64::from(settings.heatmap_max.unwrap_or(result.max_count))),
         settings.heatmap_scale,
         file_name(views)
     );
@@ -225,7 +276,8 @@ fn plots(page: &mut String, inputs: &PageInputs) {
     }
     let _ = writeln!(
         page,
-        "<h2>Plots</h2>\n<p>Pixels showing each of the {} most visible parts per eye (from <code>frames.csv</code>), \
+        "<h2>Plots</h2>\n<p>The angular area (deg², from the eyes' projection; pixels when the manifest gives none) \
+         of each of the {} most visible parts per eye, by frame (both in <code>frames.csv</code>), \
          and the per-part bar chart. Each plot is also in <code>plots/</code> as SVG.</p>",
         crate::output::plots::TOP_PARTS
     );
@@ -296,6 +348,9 @@ fn files(page: &mut String, inputs: &PageInputs) {
         files.heatmap_glb.as_ref(),
         Some(&files.timings_json),
         files.frames_csv.as_ref(),
+        files.views_png.as_ref(),
+        files.map_png.as_ref(),
+        files.frames_strip_png.as_ref(),
     ];
     for file in listed.into_iter().flatten() {
         let _ = writeln!(page, "<li><a href=\"{0}\">{0}</a></li>", file_name(file));

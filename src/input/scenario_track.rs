@@ -1,0 +1,240 @@
+//! Where everything was, frame by frame, as a capture's manifest records it:
+//! the vehicle's pose, the eyes (or, in older manifests, the rig's fixed
+//! pedestrian at eye height), a walking pedestrian's ground point and the
+//! moving occluders' poses. The figures that show the scenario read it —
+//! the views' pedestrian marker and the top-down map — so they say what the
+//! manifest says and nothing else.
+
+use serde_json::Value;
+
+/// One frame of the scenario (world metres, z up).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrackFrame {
+    pub frame: u64,
+    pub time_s: f64,
+    pub vehicle_position: [f64; 3],
+    /// The vehicle's heading, degrees counter-clockwise from +x seen from above.
+    pub vehicle_yaw_deg: f64,
+    /// Every eye's position.
+    pub eyes: Vec<[f64; 3]>,
+    /// A walking pedestrian's ground point (absent when the pedestrian stands).
+    pub pedestrian: Option<[f64; 3]>,
+    /// Moving occluders: name, position and yaw in degrees.
+    pub occluders: Vec<(String, [f64; 3], f64)>,
+}
+
+impl TrackFrame {
+    /// `point` (world) in the vehicle's frame (x forward, y left, z up).
+    pub fn in_vehicle_frame(&self, point: [f64; 3]) -> [f64; 3] {
+        let (sin, cos) = self.vehicle_yaw_deg.to_radians().sin_cos();
+        let [dx, dy, dz] = [0, 1, 2].map(|k| point[k] - self.vehicle_position[k]);
+        [cos * dx + sin * dy, -sin * dx + cos * dy, dz]
+    }
+
+    /// The eyes' mean position (world), when there are eyes.
+    pub fn eye_centre(&self) -> Option<[f64; 3]> {
+        if self.eyes.is_empty() {
+            return None;
+        }
+        let count = self.eyes.len() as f64;
+        Some([0, 1, 2].map(|k| self.eyes.iter().map(|eye| eye[k]).sum::<f64>() / count))
+    }
+
+    /// Where the pedestrian's eyes were seen from the vehicle: degrees
+    /// counter-clockwise from its front (0 = ahead, 90 = to its left).
+    pub fn pedestrian_azimuth_deg(&self) -> Option<f64> {
+        let [x, y, _] = self.in_vehicle_frame(self.eye_centre()?);
+        (x != 0.0 || y != 0.0).then(|| y.atan2(x).to_degrees())
+    }
+}
+
+/// The scenario's frames in order, and its name.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ScenarioTrack {
+    /// The scenario's name (`scenario.name`), when the manifest gives one.
+    pub name: Option<String>,
+    pub frames: Vec<TrackFrame>,
+    /// The scenario and the rig in words, for the report: label and value
+    /// (see `summary_rows`).
+    pub summary: Vec<(String, String)>,
+}
+
+fn metres(point: [f64; 3]) -> String {
+    format!("({:.1}, {:.1}) m", point[0], point[1])
+}
+
+/// The scenario and the rig in words: what the manifest's `scenario`,
+/// `scene` and `rig.settings` say, and where the pedestrian was.
+pub fn summary_rows(extra: &serde_json::Map<String, Value>, frames: &[TrackFrame]) -> Vec<(String, String)> {
+    let mut rows = Vec::new();
+    let text = |value: Option<&Value>| value.and_then(Value::as_str).map(str::to_string);
+    let number = |value: Option<&Value>| value.and_then(Value::as_f64);
+    let scenario = extra.get("scenario");
+    if let Some(name) = text(scenario.and_then(|s| s.get("name"))) {
+        let duration = number(scenario.and_then(|s| s.get("duration_s")));
+        rows.push(("scenario".into(), duration.map_or(name.clone(), |d| format!("{name}, {d:.1} s"))));
+    }
+    let scene = extra.get("scene");
+    for key in ["environment", "vehicle"] {
+        if let Some(value) = text(scene.and_then(|s| s.get(key))) {
+            rows.push((key.into(), value));
+        }
+    }
+    if let (Some(first), Some(last)) = (frames.first(), frames.last()) {
+        rows.push((
+            "frames in the manifest".into(),
+            format!(
+                "{} (frame {} at {:.2} s to frame {} at {:.2} s)",
+                frames.len(),
+                first.frame,
+                first.time_s,
+                last.frame,
+                last.time_s
+            ),
+        ));
+        let eyes = (first.eye_centre(), last.eye_centre());
+        if let (Some(start), Some(end)) = eyes {
+            let place = if start == end {
+                format!("standing, eyes at {}", metres(start))
+            } else {
+                format!("walking from {} to {}", metres(start), metres(end))
+            };
+            rows.push(("pedestrian".into(), format!("{place}, {:.2} m high", start[2])));
+        }
+        let moving: Vec<&str> = first.occluders.iter().map(|o| o.0.as_str()).collect();
+        if !moving.is_empty() {
+            rows.push(("moving occluders".into(), moving.join(", ")));
+        }
+    }
+    let settings = extra.get("rig").and_then(|rig| rig.get("settings"));
+    let setting = |key: &str| number(settings.and_then(|s| s.get(key)));
+    let pixels = settings.and_then(|s| s.get("eye_pixels")).and_then(Value::as_array).map(|size| {
+        size.iter().filter_map(Value::as_u64).map(|n| n.to_string()).collect::<Vec<_>>().join("×")
+    });
+    if let (Some(fov), Some(pixels)) = (setting("horizontal_fov_deg"), pixels) {
+        rows.push(("eyes".into(), format!("{fov:.0}° wide, {pixels} pixels each")));
+    }
+    let ppd = number(extra.get("rig").and_then(|rig| rig.get("pixels_per_degree")));
+    if let Some(ppd) = ppd {
+        rows.push(("pixels per degree".into(), format!("{ppd:.2}")));
+    }
+    if let Some(ipd) = setting("ipd_m") {
+        rows.push(("eye separation".into(), format!("{:.1} mm", ipd * 1000.0)));
+    }
+    rows
+}
+
+fn point(value: Option<&Value>) -> Option<[f64; 3]> {
+    let items = value?.as_array()?;
+    let coordinate = |k: usize| items.get(k).and_then(Value::as_f64).filter(|v| v.is_finite());
+    Some([coordinate(0)?, coordinate(1)?, coordinate(2).unwrap_or(0.0)])
+}
+
+/// The rig's standing pedestrian at eye height (`rig.settings`), for
+/// manifests whose frames carry no eyes.
+fn standing_eye(extra: &serde_json::Map<String, Value>) -> Option<[f64; 3]> {
+    let settings = extra.get("rig")?.get("settings")?;
+    let [x, y, z] = point(settings.get("pedestrian"))?;
+    let height = settings.get("eye_height_m").and_then(Value::as_f64).unwrap_or(1.75);
+    Some([x, y, z + height])
+}
+
+fn track_frame(record: &Value, standing: Option<[f64; 3]>) -> Option<TrackFrame> {
+    let vehicle = record.get("vehicle")?;
+    let eyes: Vec<[f64; 3]> = match record.get("eyes").and_then(Value::as_object) {
+        Some(eyes) => eyes.values().filter_map(|eye| point(eye.get("position"))).collect(),
+        None => standing.into_iter().collect(),
+    };
+    let occluders = record.get("occluders").and_then(Value::as_array).map_or_else(Vec::new, |list| {
+        list.iter()
+            .filter_map(|o| {
+                let name = o.get("name").and_then(Value::as_str).unwrap_or("occluder").to_string();
+                Some((
+                    name,
+                    point(o.get("position"))?,
+                    o.get("yaw_deg").and_then(Value::as_f64).unwrap_or(0.0),
+                ))
+            })
+            .collect()
+    });
+    Some(TrackFrame {
+        frame: record.get("frame")?.as_u64()?,
+        time_s: record.get("time_s").and_then(Value::as_f64).filter(|t| t.is_finite())?,
+        vehicle_position: point(vehicle.get("position"))?,
+        vehicle_yaw_deg: vehicle.get("yaw_deg").and_then(Value::as_f64).filter(|y| y.is_finite())?,
+        eyes,
+        pedestrian: point(record.get("pedestrian")),
+        occluders,
+    })
+}
+
+impl ScenarioTrack {
+    /// The track of a manifest's `frames` (records without a vehicle pose or
+    /// time are left out); `None` when no frame has one.
+    pub fn from_manifest(manifest: &crate::Manifest) -> Option<ScenarioTrack> {
+        let standing = standing_eye(&manifest.extra);
+        let mut frames: Vec<TrackFrame> = manifest
+            .extra
+            .get("frames")?
+            .as_array()?
+            .iter()
+            .filter_map(|record| track_frame(record, standing))
+            .collect();
+        frames.sort_by_key(|frame| frame.frame);
+        let name = manifest.extra.get("scenario").and_then(|s| s.get("name")).and_then(Value::as_str);
+        let summary = summary_rows(&manifest.extra, &frames);
+        (!frames.is_empty()).then(|| ScenarioTrack { name: name.map(str::to_string), frames, summary })
+    }
+
+    /// The track of the archive at `archive` (its manifest), when it has one
+    /// that can be read; figures that need it are left out otherwise.
+    pub fn from_archive(archive: &std::path::Path) -> Option<ScenarioTrack> {
+        crate::Manifest::load_from_dir(archive).ok().flatten().as_ref().and_then(ScenarioTrack::from_manifest)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_point_ahead_and_left_of_a_vehicle_heading_north_has_azimuth_45() {
+        let frame = TrackFrame {
+            frame: 0,
+            time_s: 0.0,
+            vehicle_position: [10.0, 0.0, 0.0],
+            vehicle_yaw_deg: 90.0,
+            eyes: vec![[9.0, 1.0, 1.75], [7.0, 3.0, 1.75]],
+            pedestrian: None,
+            occluders: Vec::new(),
+        };
+        // Heading +y; the eyes' centre (8, 2) is 2 m ahead and 2 m to the left.
+        let [x, y, z] = frame.in_vehicle_frame(frame.eye_centre().unwrap());
+        assert!((x - 2.0).abs() < 1e-12 && (y - 2.0).abs() < 1e-12 && z == 1.75);
+        assert!((frame.pedestrian_azimuth_deg().unwrap() - 45.0).abs() < 1e-9);
+    }
+
+    #[test]
+    fn frames_without_eyes_use_the_rigs_standing_pedestrian_at_eye_height() {
+        let text = r#"{"tiles": [], "rig": {"settings": {"pedestrian": [1, 2, 0], "eye_height_m": 1.5}},
+            "scenario": {"name": "A"},
+            "frames": [{"frame": 1, "time_s": 0.5, "vehicle": {"position": [0, 0, 0], "yaw_deg": 0}},
+                       {"frame": 0, "time_s": 0.0, "vehicle": {"position": [0, 0, 0], "yaw_deg": 0}},
+                       {"frame": 2}]}"#;
+        let manifest = crate::Manifest::parse(std::path::Path::new("m.json"), text.as_bytes()).unwrap();
+        let track = ScenarioTrack::from_manifest(&manifest).unwrap();
+        assert_eq!(track.name.as_deref(), Some("A"));
+        assert_eq!(track.frames.iter().map(|f| f.frame).collect::<Vec<_>>(), [0, 1]);
+        assert_eq!(track.frames[0].eyes, [[1.0, 2.0, 1.5]]);
+        let summary: Vec<String> =
+            track.summary.iter().map(|(label, value)| format!("{label}: {value}")).collect();
+        assert_eq!(
+            summary,
+            [
+                "scenario: A",
+                "frames in the manifest: 2 (frame 0 at 0.00 s to frame 1 at 0.50 s)",
+                "pedestrian: standing, eyes at (1.0, 2.0) m, 1.50 m high"
+            ]
+        );
+    }
+}
