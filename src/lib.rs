@@ -45,8 +45,8 @@ pub use output::{
     CsvStyle, DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, MAP_FILE, MAP_SIZE, MapContent, MapFrame,
     ModelPart, NEVER_SEEN, ResultSetOptions, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED,
     SceneObject, SceneShapes, VIEW_BASE, VehicleModel, ViewCamera, ViewTexture, WrittenFiles, WrittenViews,
-    ZBuffer, bar_ticks, csv_field, default_output_dir, format_table, measure_unit, plasma,
-    plot_font_available, render_heatmap, render_view, time_colour, view_cameras, views_caption,
+    ZBuffer, bar_ticks, csv_field, default_output_dir, format_counted_table, format_table, measure_unit,
+    plasma, plot_font_available, render_heatmap, render_view, time_colour, view_cameras, views_caption,
     write_comparison, write_heatmap, write_parts_csv, write_results, write_results_with, write_scenario_map,
     write_scene_glb, write_views, write_views_with,
 };

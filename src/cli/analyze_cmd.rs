@@ -15,7 +15,7 @@ use ufcsr::{
 
 use crate::cli::args::{AnalyzeArgs, Switch};
 use crate::cli::intent::{archives_below, misread_archive};
-use crate::cli::run::{Done, finish, heatmap_options, start_threads, written_list};
+use crate::cli::run::{Done, finish, heatmap_options, start_threads};
 
 /// A progress bar on stderr (drawn only on a terminal).
 struct Bar(ProgressBar);
@@ -164,7 +164,7 @@ fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Result
     Ok(Done {
         command: "analyze",
         exit_code: if analysis.is_complete() { 0 } else { 1 },
-        written: written_list(&written, &out_dir),
+        written: written.all(&out_dir),
         text: summary_text(&analysis, &written, &out_dir),
         facts: json!({
             "archive": options.archive,

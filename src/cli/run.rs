@@ -10,7 +10,7 @@ use std::process::ExitCode;
 use anyhow::{Context, Result};
 use clap::CommandFactory;
 use serde_json::{Value, json};
-use ufcsr::{WrittenFiles, format_table, read_texel_counts};
+use ufcsr::{format_table, read_texel_counts};
 
 use crate::cli::args::{
     Cli, Common, CompletionsArgs, HeatmapArgs, HeatmapScaleArgs, ManArgs, MergeArgs, PaletteArgs, ReportArgs,
@@ -48,23 +48,6 @@ pub fn finish(common: &Common, done: Done) -> Result<ExitCode> {
         println!("{}", done.text);
     }
     Ok(ExitCode::from(done.exit_code))
-}
-
-/// Every file of a result set, in the order the summary lists them.
-pub fn written_list(written: &WrittenFiles, out_dir: &Path) -> Vec<PathBuf> {
-    let mut files = vec![written.result_json.clone()];
-    files.extend(written.parts_csv.clone());
-    files.push(written.heatmap_png.clone());
-    files.push(written.timings_json.clone());
-    files.extend(written.frames_csv.clone());
-    files.extend(written.heatmap_glb.clone());
-    files.extend(written.views_png.clone());
-    files.push(written.report_html.clone());
-    for plot in &written.plots {
-        files.push(out_dir.join(&plot.shown));
-        files.push(out_dir.join(&plot.svg));
-    }
-    files
 }
 
 /// Starts the worker threads `--threads` asks for (default: all cores).
@@ -172,7 +155,7 @@ pub fn run_merge(args: MergeArgs) -> Result<ExitCode> {
         Done {
             command: "merge",
             exit_code: if complete { 0 } else { 1 },
-            written: written_list(&written, &args.out),
+            written: written.all(&args.out),
             text: format!(
                 "{}\nmerged {} results; wrote {}",
                 format_table(&analysis.result).trim_end(),

@@ -22,16 +22,37 @@ pub fn headline_parts(parts: &[PartStats]) -> Vec<usize> {
 
 /// The console report: image bookkeeping and the headline part table.
 pub fn format_table(result: &AnalysisResult) -> String {
-    let mut out = String::new();
     let images = &result.images;
-    out.push_str(&format!(
+    let mut out = format!(
         "images: {} found, {} trimmed (empty), {} decoded, {} failed\n",
         images.found, images.trimmed, images.decoded, images.failed
-    ));
+    );
     out.push_str(&format!(
         "pixels: {} decoded, {} background, {} stray ({} distinct stray colours)\n",
         result.pixels.decoded, result.background_pixels, result.stray_pixels, result.stray_colors
     ));
+    out + &format_parts(result)
+}
+
+/// [`format_table`] of a capture counted straight from the renderer
+/// (`--count`): the same numbers, named for what happened (nothing was
+/// decoded, no image was written).
+pub fn format_counted_table(result: &AnalysisResult) -> String {
+    let images = &result.images;
+    let mut out = format!(
+        "tiles: {} in the capture, {} counted from the renderer, {} empty or not rendered\n",
+        images.found, images.decoded, images.trimmed
+    );
+    out.push_str(&format!(
+        "pixels: {} counted, {} background, {} stray ({} distinct stray colours)\n",
+        result.pixels.decoded, result.background_pixels, result.stray_pixels, result.stray_colors
+    ));
+    out + &format_parts(result)
+}
+
+/// Texels seen, the dedupe note and the headline part table.
+fn format_parts(result: &AnalysisResult) -> String {
+    let mut out = String::new();
     out.push_str(&format!("texels seen: {}, max count: {}\n", result.texels_seen, result.max_count));
     if let Some(dedupe) = &result.dedupe {
         out.push_str(&format!(

@@ -22,7 +22,7 @@ pub(crate) mod vehicle_model;
 pub(crate) mod view_sheet;
 pub(crate) mod written_files;
 
-pub use console_table::format_table;
+pub use console_table::{format_counted_table, format_table};
 pub use csv::{CsvStyle, csv_field, write_parts_csv};
 pub use frame_strip::{FRAME_STRIP_FILE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED};
 pub use heatmap::{plasma, render as render_heatmap, write_heatmap};

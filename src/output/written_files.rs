@@ -1,7 +1,7 @@
 //! The paths of a written result set ([`WrittenFiles`]): what
 //! [`crate::write_results`] returns and what the report page links to.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use crate::output::plots::Plot;
 
@@ -26,4 +26,26 @@ pub struct WrittenFiles {
     pub frames_strip_png: Option<PathBuf>,
     /// The plots written under `plots/`.
     pub plots: Vec<Plot>,
+}
+
+impl WrittenFiles {
+    /// Every file of the set, in the order summaries list them (the plots'
+    /// paths are relative to `out_dir`, the set's folder).
+    pub fn all(&self, out_dir: &Path) -> Vec<PathBuf> {
+        let mut files = vec![self.result_json.clone()];
+        files.extend(self.parts_csv.clone());
+        files.push(self.heatmap_png.clone());
+        files.push(self.timings_json.clone());
+        files.extend(self.frames_csv.clone());
+        files.extend(self.heatmap_glb.clone());
+        files.extend(self.views_png.clone());
+        files.extend(self.map_png.clone());
+        files.extend(self.frames_strip_png.clone());
+        files.push(self.report_html.clone());
+        for plot in &self.plots {
+            files.push(out_dir.join(&plot.shown));
+            files.push(out_dir.join(&plot.svg));
+        }
+        files
+    }
 }

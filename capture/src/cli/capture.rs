@@ -399,12 +399,10 @@ fn report_counted(counted: &CountedCapture) {
         result.grand_total
     );
     if !super::quiet() {
-        print!("{}", ufcsr::format_table(result));
+        print!("{}", ufcsr::format_counted_table(result));
     }
-    let written = &counted.written;
-    say!("  results: {}", written.result_json.display());
-    if let Some(parts) = &written.parts_csv {
-        say!("           {}", parts.display());
+    let out = counted.written.result_json.parent().unwrap_or(std::path::Path::new("."));
+    for (n, file) in counted.written.all(out).iter().enumerate() {
+        say!("  {}{}", if n == 0 { "results: " } else { "         " }, file.display());
     }
-    say!("           {}", written.heatmap_png.display());
 }

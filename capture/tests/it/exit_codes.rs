@@ -89,3 +89,32 @@ fn every_capture_command_takes_quiet_and_threads_and_quiet_keeps_stdout_empty() 
     let too_many = capture(dir.path(), &["verify", archive_text, "-j", "5000"]);
     assert_eq!(too_many.status.code(), Some(2));
 }
+
+#[test]
+fn a_counted_capture_says_it_wrote_no_pngs_and_lists_every_result_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = dir.path().join("archive");
+    let output = capture(
+        dir.path(),
+        &[
+            "demo",
+            "--count",
+            "--ppd",
+            "2",
+            "--palette-size",
+            "128",
+            "--frames",
+            "150,180",
+            "--out",
+            archive.to_str().unwrap(),
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(stdout.contains("counting included, no PNGs") && stdout.contains("none written"), "{stdout}");
+    assert!(!stdout.contains("encoding included") && !stdout.contains("decoded"), "{stdout}");
+    for file in ["result.json", "parts.csv", "frames.csv", "heatmap.png", "timings.json", "report.html"] {
+        assert!(stdout.contains(file), "{file} is not listed:\n{stdout}");
+        assert!(archive.join("results").join(file).is_file(), "{file}");
+    }
+}
