@@ -26,6 +26,10 @@
 //! Names: `PART@xX.XXyY.YYzZ.ZZ` (the centre in the vehicle frame, metres,
 //! x forward, y left, z up); the mirror of a patch is the kept patch
 //! nearest its centre mirrored in the plane y = 0, within half a spacing.
+//!
+//! Each kept patch's footprint (centre, normal, height axis, W and H) is
+//! written as `placement-patches.csv` ([`write_patch_table`]), so the
+//! analyzer can draw the chosen patches on the vehicle.
 
 use std::collections::HashMap;
 
@@ -33,6 +37,26 @@ use glam::DVec3;
 
 use super::ExactInputs;
 use crate::unobstructed::types::{SURFACE_LIFT_RELATIVE, SurfaceSample};
+
+/// The footprint table written beside `placement-frames.csv`.
+pub const PLACEMENT_PATCHES_FILE: &str = "placement-patches.csv";
+
+/// The footprint table's columns.
+pub const PLACEMENT_PATCHES_COLUMNS: [&str; 13] = [
+    "candidate",
+    "centre_x_m",
+    "centre_y_m",
+    "centre_z_m",
+    "normal_x",
+    "normal_y",
+    "normal_z",
+    "up_x",
+    "up_y",
+    "up_z",
+    "width_m",
+    "height_m",
+    "mirror",
+];
 
 /// A kept patch must be covered by at least this share of its W × H.
 pub const MIN_COVER: f64 = 0.9;
@@ -206,4 +230,28 @@ fn pair_mirrors(placed: &mut [PlacedPatch], spacing: f64) {
     for (patch, mirror) in placed.iter_mut().zip(mirrors) {
         patch.mirror = mirror;
     }
+}
+
+/// Writes one row per patch: its name, centre (vehicle frame, m), outward
+/// unit normal, unit height axis, display width and height (m) and mirror,
+/// so the footprint can be drawn where the frames table names the patch.
+pub fn write_patch_table(
+    path: &std::path::Path,
+    placed: &[PlacedPatch],
+    [w, h]: [f64; 2],
+) -> crate::error::Result<()> {
+    ufcsr::write_atomically(path, |writer| {
+        let mut table = csv::Writer::from_writer(writer);
+        table.write_record(PLACEMENT_PATCHES_COLUMNS).map_err(std::io::Error::other)?;
+        for patch in placed {
+            let mut record = vec![patch.name.clone()];
+            for v in [patch.centre, patch.normal, patch.up] {
+                record.extend([v.x, v.y, v.z].map(|c| c.to_string()));
+            }
+            record.extend([w.to_string(), h.to_string(), patch.mirror.clone().unwrap_or_default()]);
+            table.write_record(&record).map_err(std::io::Error::other)?;
+        }
+        table.flush()
+    })?;
+    Ok(())
 }
