@@ -181,6 +181,7 @@ pub fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> V
     let grid = Grid::new(samples, spacing.max(display[0].max(display[1]) / 4.0));
     let part_of = part_of_samples(inputs);
     let mut placed = Vec::new();
+    let mut names = std::collections::HashSet::new();
     for centre in centres(samples, spacing) {
         let sample = &samples[centre as usize];
         let Some(normal) = outward(inputs, sample) else { continue };
@@ -191,14 +192,14 @@ pub fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> V
         }
         let p = sample.position;
         let part = &inputs.scene.vehicle.parts[part_of[centre as usize] as usize];
-        placed.push(PlacedPatch {
-            name: format!("{part}@x{:.2}y{:.2}z{:.2}", p.x, p.y, p.z),
-            mirror: None,
-            centre: p,
-            normal,
-            up,
-            members,
-        });
+        let name = format!("{part}@x{:.2}y{:.2}z{:.2}", p.x, p.y, p.z);
+        // Two centres on either side of a cube's face can round to one name:
+        // they are within a centimetre, so the first stands for both (a name
+        // twice would make the table ambiguous).
+        if !names.insert(name.clone()) {
+            continue;
+        }
+        placed.push(PlacedPatch { name, mirror: None, centre: p, normal, up, members });
     }
     pair_mirrors(&mut placed, spacing);
     placed
