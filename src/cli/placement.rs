@@ -48,6 +48,11 @@ pub struct PlacementArgs {
     #[arg(long)]
     symmetric: bool,
 
+    /// The vehicle model the chosen placements are drawn on (placement.png); default: the first
+    /// archive's vehicle.glb (written by ufcsr-capture).
+    #[arg(long, value_name = "GLB")]
+    mesh: Option<PathBuf>,
+
     /// Output folder for placement.json, placement.csv and placement-combinations.csv.
     #[arg(long, short, value_name = "DIR")]
     out: PathBuf,
@@ -70,23 +75,32 @@ pub fn run_placement(args: PlacementArgs) -> Result<ExitCode> {
         },
         k: args.k,
         symmetric: args.symmetric,
+        mesh: args.mesh,
         ..ufcsr::PlacementOptions::new(args.results)
     };
     let placement = ufcsr::placement(&options)?;
     let written = ufcsr::write_placement(&placement, &args.out)?;
+    let picture = match &written.picture {
+        Some(picture) => format!("\nthe chosen placements on the vehicle: {}", picture.overview.display()),
+        None => "\nno vehicle model (no vehicle.glb in the archive): give --mesh for placement.png".into(),
+    };
     let text = format!(
-        "{}\nwrote {}, {} and {}",
+        "{}\nwrote {}, {} and {}{picture}",
         ufcsr::format_placement(&placement, args.top).trim_end(),
         written.json.display(),
         written.csv.display(),
         written.combinations_csv.display()
+    );
+    let mut files = vec![written.json.clone(), written.csv.clone(), written.combinations_csv.clone()];
+    files.extend(
+        written.picture.iter().flat_map(|p| std::iter::once(p.overview.clone()).chain(p.views.clone())),
     );
     super::run::finish(
         &args.common,
         super::run::Done {
             command: "placement",
             exit_code: 0,
-            written: vec![written.json.clone(), written.csv.clone(), written.combinations_csv.clone()],
+            written: files,
             text,
             facts: serde_json::json!({}),
         },

@@ -9,6 +9,7 @@ use crate::files::{IMAGE_LIMIT, Staging, read_limited, refuse_overwriting_inputs
 use crate::input::options::HeatmapOptions;
 use crate::output::csv::{CsvStyle, write_frames_csv, write_parts_table};
 use crate::output::heatmap_views::{DIRECTIONS, ViewTexture, views_caption, write_views};
+use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, write_plots};
 use crate::output::vehicle_model::VehicleModel;
 use crate::output::written_files::WrittenFiles;
@@ -57,7 +58,12 @@ pub fn write_results_with(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle
     refuse_overwriting_inputs(&outputs, &analysis.input_files)?;
     let staging = Staging::new(out_dir)?;
     // Plot paths are relative to the output folder: the same after the move.
-    files.plots = write_results_into(analysis, staging.path(), csv)?;
+    // A placement result already in the folder shows on the page.
+    let placement = crate::output::html::placement_section::placement_beside(out_dir).map(|folder| {
+        crate::output::html::placement_section::on_page(&folder, out_dir, "beside this result")
+            .map_err(|e| e.to_string())
+    });
+    files.plots = write_results_into(analysis, staging.path(), csv, placement.as_ref())?;
     let members = result_set_members();
     staging.commit(out_dir, &members.iter().map(String::as_str).collect::<Vec<_>>())?;
     Ok(files)
@@ -105,7 +111,12 @@ fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
 
 /// Writes the whole result set into `out_dir` (a staging folder); returns
 /// the plots written there.
-fn write_results_into(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) -> Result<Vec<Plot>> {
+fn write_results_into(
+    analysis: &mut Analysis,
+    out_dir: &Path,
+    csv: CsvStyle,
+    placement: Option<&std::result::Result<PlacementOnPage, String>>,
+) -> Result<Vec<Plot>> {
     let files = planned_files(analysis, out_dir);
     let palette = &analysis.result.settings.palette;
     let (width, height) = (palette.width, palette.height);
@@ -147,7 +158,7 @@ fn write_results_into(analysis: &mut Analysis, out_dir: &Path, csv: CsvStyle) ->
     let mut files = files;
     let scenario = archive_name(&analysis.result.settings.archive);
     files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref(), &scenario)?;
-    crate::output::html::report_page::write_report(&files.report_html, &analysis.result, &files)?;
+    crate::output::html::report_page::write_report(&files.report_html, &analysis.result, &files, placement)?;
     Ok(files.plots)
 }
 

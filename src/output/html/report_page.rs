@@ -12,13 +12,21 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use crate::error::Result;
+use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::numbers::grouped;
 use crate::result::part_stats::top_five_union;
 use crate::{output::written_files::WrittenFiles, result::model::AnalysisResult};
 
-/// Writes the report page for `result` into `path` (beside the other files).
-pub fn write_report(path: &Path, result: &AnalysisResult, files: &WrittenFiles) -> Result<()> {
-    crate::files::write_bytes_atomically(path, render(result, files).as_bytes())
+/// Writes the report page for `result` into `path` (beside the other files);
+/// `placement`: the placement result found beside it (or why it could not
+/// be read).
+pub fn write_report(
+    path: &Path,
+    result: &AnalysisResult,
+    files: &WrittenFiles,
+    placement: Option<&std::result::Result<PlacementOnPage, String>>,
+) -> Result<()> {
+    crate::files::write_bytes_atomically(path, render(result, files, placement).as_bytes())
 }
 
 /// Escapes text for HTML.
@@ -34,6 +42,7 @@ fn file_name(path: &Path) -> String {
 struct PageInputs<'a> {
     result: &'a AnalysisResult,
     files: &'a WrittenFiles,
+    placement: Option<&'a std::result::Result<PlacementOnPage, String>>,
 }
 
 /// One section of the page: appends its HTML (nothing when it has nothing
@@ -52,13 +61,18 @@ const SECTIONS: &[Section] = &[
     vehicle_views,
     plots,
     measures,
+    placement,
     files,
     settings,
     foot,
 ];
 
-fn render(result: &AnalysisResult, files: &WrittenFiles) -> String {
-    let inputs = PageInputs { result, files };
+fn render(
+    result: &AnalysisResult,
+    files: &WrittenFiles,
+    placement: Option<&std::result::Result<PlacementOnPage, String>>,
+) -> String {
+    let inputs = PageInputs { result, files, placement };
     let mut page = String::new();
     for section in SECTIONS {
         section(&mut page, &inputs);
@@ -283,6 +297,22 @@ fn measures(page: &mut String, inputs: &PageInputs) {
         );
     }
     let _ = writeln!(page, "</table>");
+}
+
+/// Where the eHMI should go, when a placement result lies beside the result
+/// ([`crate::output::html::placement_section`]).
+fn placement(page: &mut String, inputs: &PageInputs) {
+    match inputs.placement {
+        Some(Ok(placement)) => crate::output::html::placement_section::section(page, placement),
+        Some(Err(problem)) => {
+            let _ = writeln!(
+                page,
+                "<h2>Where should the eHMI go?</h2>\n<div class=\"warn\">{}</div>",
+                escape(problem)
+            );
+        }
+        None => {}
+    }
 }
 
 /// Links to the machine-readable files beside the page.

@@ -38,25 +38,8 @@ use glam::DVec3;
 use super::ExactInputs;
 use crate::unobstructed::types::{SURFACE_LIFT_RELATIVE, SurfaceSample};
 
-/// The footprint table written beside `placement-frames.csv`.
-pub const PLACEMENT_PATCHES_FILE: &str = "placement-patches.csv";
-
-/// The footprint table's columns.
-pub const PLACEMENT_PATCHES_COLUMNS: [&str; 13] = [
-    "candidate",
-    "centre_x_m",
-    "centre_y_m",
-    "centre_z_m",
-    "normal_x",
-    "normal_y",
-    "normal_z",
-    "up_x",
-    "up_y",
-    "up_z",
-    "width_m",
-    "height_m",
-    "mirror",
-];
+/// The footprint table's name and columns: the analyzer's, which reads it.
+pub use ufcsr::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE};
 
 /// A kept patch must be covered by at least this share of its W × H.
 pub const MIN_COVER: f64 = 0.9;
