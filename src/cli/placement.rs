@@ -44,6 +44,12 @@ pub struct PlacementArgs {
     #[arg(long, value_enum, default_value_t = ufcsr::EyeRule::Any)]
     eyes: ufcsr::EyeRule,
 
+    /// The solid-angle rule instead of the three thresholds: legible when the visible solid angle
+    /// reaches this many steradians; needed to score a rendered frames.csv (solid angles only) and
+    /// to compare it with the exact measure (docs/placement.md §5).
+    #[arg(long, value_name = "SR")]
+    min_solid_angle_sr: Option<f64>,
+
     /// A left/right pair (front_fender_left + front_fender_right, mirrored patches) is one choice.
     #[arg(long)]
     symmetric: bool,
@@ -72,6 +78,7 @@ pub fn run_placement(args: PlacementArgs) -> Result<ExitCode> {
             max_view_angle_deg: args.max_view_angle_deg,
             decision_window_s: args.decision_window_s,
             eyes: args.eyes,
+            min_solid_angle_sr: args.min_solid_angle_sr,
         },
         k: args.k,
         symmetric: args.symmetric,

@@ -88,7 +88,15 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
         let path = resolve_table(input)?;
         footprints.extend(read_footprints(&path)?);
         vehicle_model = vehicle_model.or_else(|| vehicle_beside(&path));
-        archives.push(timelines(read_table(&path)?, &options.thresholds));
+        let table = read_table(&path)?;
+        if table.rendered && options.thresholds.min_solid_angle_sr.is_none() {
+            return Err(Error::bad_file(
+                &path,
+                "a rendered frames.csv holds solid angles only (no visible fraction, view angle or angular \
+                 height): score it with --min-solid-angle-sr (docs/placement.md §5)",
+            ));
+        }
+        archives.push(timelines(table, &options.thresholds));
     }
     let universe = search::Universe::of(&archives);
     let mut combinations = Vec::new();

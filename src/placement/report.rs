@@ -142,6 +142,7 @@ pub fn assemble(
             "max_view_angle_deg": t.max_view_angle_deg,
             "decision_window_s": t.decision_window_s,
             "eyes": t.eyes.name(),
+            "min_solid_angle_sr": t.min_solid_angle_sr,
             "symmetric": options.symmetric,
             "sources": {
                 "min_angular_height_arcmin": ANGULAR_HEIGHT_SOURCE,
