@@ -94,10 +94,13 @@ pub fn pictured_sets(
         .map(|c| PicturedSet {
             name: format!("{}-best-{}", c.kind, c.k),
             caption: format!(
-                "best {} {}{}: {} ({:.2} s legible, {:.0} % of the time)",
+                "best {} {}: {} ({:.2} s legible, {:.0} % of the time)",
                 c.k,
-                c.kind,
-                if c.k == 1 { "" } else { "s" },
+                match (c.kind, c.k) {
+                    (kind, 1) => kind,
+                    ("patch", _) => "patches",
+                    _ => "parts",
+                },
                 c.candidates.join(" + "),
                 c.legible_s,
                 100.0 * c.share_of_time
