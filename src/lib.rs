@@ -52,10 +52,11 @@ pub use output::{
 };
 pub use placement::report::{WrittenPlacement, format_placement};
 pub use placement::{
-    CandidateKind, CandidateSummary, Combination, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Method,
-    Objective, PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE, PLACEMENT_SCHEMA, Placement,
-    PlacementOptions, PlacementTable, Thresholds, brute_force_best, placement, read_table, resolve_table,
-    write_placement,
+    CandidateKind, CandidateSummary, Combination, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Mark, Method,
+    Objective, PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS,
+    PLACEMENT_PATCHES_FILE, PLACEMENT_PICTURE_FILE, PLACEMENT_SCHEMA, PLACEMENT_VIEWS_DIR, PatchFootprint,
+    PicturedSet, Placement, PlacementOptions, PlacementTable, Thresholds, brute_force_best, placement,
+    read_footprints, read_table, render_marked, resolve_table, write_placement,
 };
 pub use result::{
     Analysis, AnalysisResult, Comparison, FrameTable, Measures, PartStats, PartTable, RESULT_SCHEMA,

@@ -62,8 +62,9 @@ pub use texture::{
 pub use unobstructed::{
     DEFAULT_PATCH_SPACING_M, DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE,
     EyeFrame, MAX_TEXEL_SAMPLES, MEASURE_UNOBSTRUCTED, MeasureDevice, MeasureOptions, Obstacles,
-    PLACEMENT_FRAMES_FILE, PartEstimate, PlacementCandidates, PlacementWritten, SURFACE_LIFT_RELATIVE,
-    SampledTexel, SurfaceSample, SurfaceSamples, TexelVisibility, Tracer, TriangleBvh, UnobstructedCapture,
-    estimate_parts, eye_frame, eye_frames, is_sampled, measure_unobstructed, parse_display,
-    seconds_per_frame, surface_samples, texel_visibility, texel_visibility_gpu, visible_solid_angle,
+    PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PartEstimate,
+    PlacementCandidates, PlacementWritten, SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample,
+    SurfaceSamples, TexelVisibility, Tracer, TriangleBvh, UnobstructedCapture, estimate_parts, eye_frame,
+    eye_frames, is_sampled, measure_unobstructed, parse_display, seconds_per_frame, surface_samples,
+    texel_visibility, texel_visibility_gpu, visible_solid_angle,
 };

@@ -208,7 +208,8 @@ pub struct HeatmapScaleArgs {
 
 #[derive(Args)]
 pub struct ReportArgs {
-    /// Result folders (or their result.json), at least two.
+    /// Result folders (or their result.json), at least two; or one and a placement folder (written
+    /// by `ufcsr-analyze placement`, holding placement.json), whose section the page adds.
     #[arg(required = true, num_args = 2..)]
     pub results: Vec<PathBuf>,
 

@@ -44,9 +44,20 @@ pub struct PlacementArgs {
     #[arg(long, value_enum, default_value_t = ufcsr::EyeRule::Any)]
     eyes: ufcsr::EyeRule,
 
+    /// The solid-angle rule instead of the three thresholds: legible when the visible solid angle
+    /// reaches this many steradians; needed to score a rendered frames.csv (solid angles only) and
+    /// to compare it with the exact measure (docs/placement.md §5).
+    #[arg(long, value_name = "SR")]
+    min_solid_angle_sr: Option<f64>,
+
     /// A left/right pair (front_fender_left + front_fender_right, mirrored patches) is one choice.
     #[arg(long)]
     symmetric: bool,
+
+    /// The vehicle model the chosen placements are drawn on (placement.png); default: the first
+    /// archive's vehicle.glb (written by ufcsr-capture).
+    #[arg(long, value_name = "GLB")]
+    mesh: Option<PathBuf>,
 
     /// Output folder for placement.json, placement.csv and placement-combinations.csv.
     #[arg(long, short, value_name = "DIR")]
@@ -67,26 +78,36 @@ pub fn run_placement(args: PlacementArgs) -> Result<ExitCode> {
             max_view_angle_deg: args.max_view_angle_deg,
             decision_window_s: args.decision_window_s,
             eyes: args.eyes,
+            min_solid_angle_sr: args.min_solid_angle_sr,
         },
         k: args.k,
         symmetric: args.symmetric,
+        mesh: args.mesh,
         ..ufcsr::PlacementOptions::new(args.results)
     };
     let placement = ufcsr::placement(&options)?;
     let written = ufcsr::write_placement(&placement, &args.out)?;
+    let picture = match &written.picture {
+        Some(picture) => format!("\nthe chosen placements on the vehicle: {}", picture.overview.display()),
+        None => "\nno vehicle model (no vehicle.glb in the archive): give --mesh for placement.png".into(),
+    };
     let text = format!(
-        "{}\nwrote {}, {} and {}",
+        "{}\nwrote {}, {} and {}{picture}",
         ufcsr::format_placement(&placement, args.top).trim_end(),
         written.json.display(),
         written.csv.display(),
         written.combinations_csv.display()
+    );
+    let mut files = vec![written.json.clone(), written.csv.clone(), written.combinations_csv.clone()];
+    files.extend(
+        written.picture.iter().flat_map(|p| std::iter::once(p.overview.clone()).chain(p.views.clone())),
     );
     super::run::finish(
         &args.common,
         super::run::Done {
             command: "placement",
             exit_code: 0,
-            written: vec![written.json.clone(), written.csv.clone(), written.combinations_csv.clone()],
+            written: files,
             text,
             facts: serde_json::json!({}),
         },

@@ -131,7 +131,7 @@ pub fn run_report(args: ReportArgs) -> Result<ExitCode> {
             command: "report",
             exit_code: 0,
             written: vec![page.clone()],
-            text: format!("compared {} results; wrote {}", args.results.len(), page.display()),
+            text: format!("wrote {} ({} inputs)", page.display(), args.results.len()),
             facts: json!({ "results": args.results, "out": args.out }),
         },
     )

@@ -14,6 +14,7 @@ use crate::output::frame_strip::{FRAME_STRIP_FILE, StripInputs, frame_strip_skip
 use crate::output::heatmap_views::{
     DEFAULT_VIEWS_SCALE, DIRECTIONS, ViewTexture, measure_unit, views_caption,
 };
+use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::html::report_page::ScenarioPage;
 use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, font_available, write_plots};
 use crate::output::scenario_map::{MapContent, SceneShapes, write_scenario_map};
@@ -86,7 +87,12 @@ pub fn write_results_with(
     refuse_overwriting_inputs(&outputs, &analysis.input_files)?;
     let staging = Staging::new(out_dir)?;
     // Plot paths are relative to the output folder: the same after the move.
-    let figures = write_results_into(analysis, staging.path(), options)?;
+    // A placement result already in the folder shows on the page.
+    let placement = crate::output::html::placement_section::placement_beside(out_dir).map(|folder| {
+        crate::output::html::placement_section::on_page(&folder, out_dir, "beside this result")
+            .map_err(|e| e.to_string())
+    });
+    let figures = write_results_into(analysis, staging.path(), options, placement.as_ref())?;
     files.plots = figures.plots;
     files.map_png = files.map_png.filter(|_| figures.map);
     files.frames_strip_png = files.frames_strip_png.filter(|_| figures.frames_strip);
@@ -152,11 +158,13 @@ struct FiguresWritten {
 pub const MAP_FILE: &str = "map.png";
 
 /// Writes the whole result set into `out_dir` (a staging folder); returns
-/// the figures written there.
+/// the figures written there. `placement`: a placement result found beside
+/// the set, for the page.
 fn write_results_into(
     analysis: &mut Analysis,
     out_dir: &Path,
     options: &ResultSetOptions,
+    placement: Option<&std::result::Result<PlacementOnPage, String>>,
 ) -> Result<FiguresWritten> {
     let files = planned_files(analysis, out_dir);
     let palette = &analysis.result.settings.palette;
@@ -188,16 +196,17 @@ fn write_results_into(
     analysis.timings.write_seconds = stage.elapsed().as_secs_f64();
     analysis.timings.total_seconds += analysis.timings.heatmap_seconds + analysis.timings.write_seconds;
     write_timings_json(&files.timings_json, &analysis.timings)?;
-    write_figures(analysis, out_dir, files, options)
+    write_figures(analysis, out_dir, files, options, placement)
 }
 
 /// Writes the figures (`heatmap.glb`, views, map, frame strip, plots) and
-/// the report page that shows them.
+/// the report page that shows them (with `placement`, if found beside).
 fn write_figures(
     analysis: &Analysis,
     out_dir: &Path,
     mut files: WrittenFiles,
     options: &ResultSetOptions,
+    placement: Option<&std::result::Result<PlacementOnPage, String>>,
 ) -> Result<FiguresWritten> {
     let settings = &analysis.result.settings;
     let (width, height) = (settings.palette.width, settings.palette.height);
@@ -249,6 +258,7 @@ fn write_figures(
         &analysis.result,
         &files,
         &scenario_page,
+        placement,
     )?;
     Ok(FiguresWritten {
         plots: files.plots,

@@ -10,6 +10,11 @@
 //! legible when the candidate is legible to either eye (`--eyes any`, the
 //! default: one eye reads a sign as well as two do) or to both
 //! (`--eyes both`). `docs/placement.md` gives the sources.
+//!
+//! The *solid-angle rule* ([`Thresholds::min_solid_angle_sr`]) replaces the
+//! three with one: a visible solid angle of at least so many steradians. It
+//! is the rule a rendered `frames.csv` (solid angles only) can be scored by,
+//! so the rendered and the exact measure can be compared on the same sets.
 
 use crate::error::{Error, Result};
 use crate::placement::table::{CandidateKind, PlacementTable, Sighting};
@@ -73,6 +78,9 @@ pub struct Thresholds {
     pub max_view_angle_deg: f64,
     pub decision_window_s: f64,
     pub eyes: EyeRule,
+    /// The solid-angle rule: legible when the visible solid angle reaches
+    /// this (sr), the other three thresholds not applied; `None`: off.
+    pub min_solid_angle_sr: Option<f64>,
 }
 
 impl Default for Thresholds {
@@ -83,6 +91,7 @@ impl Default for Thresholds {
             max_view_angle_deg: DEFAULT_MAX_VIEW_ANGLE_DEG,
             decision_window_s: DEFAULT_DECISION_WINDOW_S,
             eyes: EyeRule::Any,
+            min_solid_angle_sr: None,
         }
     }
 }
@@ -105,11 +114,17 @@ impl Thresholds {
         if !(self.decision_window_s.is_finite() && self.decision_window_s > 0.0) {
             return bad("decision-window-s", self.decision_window_s, "more than 0 seconds");
         }
-        Ok(())
+        match self.min_solid_angle_sr {
+            Some(sr) if !(sr.is_finite() && sr > 0.0) => bad("min-solid-angle-sr", sr, "more than 0"),
+            _ => Ok(()),
+        }
     }
 
     /// Is one eye's sighting legible?
     pub fn legible(&self, sighting: &Sighting) -> bool {
+        if let Some(min) = self.min_solid_angle_sr {
+            return sighting.solid_angle_sr > 0.0 && sighting.solid_angle_sr >= min;
+        }
         sighting.solid_angle_sr > 0.0
             && sighting.angular_height_deg * 60.0 >= self.min_angular_height_arcmin
             && sighting.visible_fraction >= self.min_visible_fraction

@@ -14,10 +14,12 @@ use serde_json::json;
 use crate::error::{Error, Result};
 use crate::files::write_atomically;
 use crate::placement::PlacementOptions;
+use crate::placement::footprints::PatchFootprint;
 use crate::placement::legibility::{
     ANGULAR_HEIGHT_SOURCE, ArchiveTimelines, DECISION_WINDOW_SOURCE, Exposure, VIEW_ANGLE_SOURCE,
     VISIBLE_FRACTION_SOURCE,
 };
+use crate::placement::picture::{WrittenPicture, pictured_sets, write_placement_picture};
 use crate::placement::search::{Combination, Objective};
 
 /// The `schema` field of placement.json.
@@ -51,6 +53,10 @@ pub struct Placement {
     pub document: serde_json::Value,
     pub candidates: Vec<CandidateSummary>,
     pub combinations: Vec<Combination>,
+    /// The patches' footprints the capture recorded, by name.
+    pub footprints: BTreeMap<String, PatchFootprint>,
+    /// The vehicle model the picture is drawn on, when one is known.
+    pub vehicle_model: Option<PathBuf>,
 }
 
 fn candidate_summaries(archives: &[ArchiveTimelines]) -> Vec<CandidateSummary> {
@@ -136,6 +142,7 @@ pub fn assemble(
             "max_view_angle_deg": t.max_view_angle_deg,
             "decision_window_s": t.decision_window_s,
             "eyes": t.eyes.name(),
+            "min_solid_angle_sr": t.min_solid_angle_sr,
             "symmetric": options.symmetric,
             "sources": {
                 "min_angular_height_arcmin": ANGULAR_HEIGHT_SOURCE,
@@ -155,7 +162,7 @@ pub fn assemble(
              objective (equal to it when exhaustive), gap_s = upper_bound_s - the set's objective",
         ],
     });
-    Placement { document, candidates, combinations }
+    Placement { document, candidates, combinations, footprints: BTreeMap::new(), vehicle_model: None }
 }
 
 /// The files written.
@@ -164,22 +171,34 @@ pub struct WrittenPlacement {
     pub json: PathBuf,
     pub csv: PathBuf,
     pub combinations_csv: PathBuf,
+    /// `placement.png` and `placement-views/`, when a vehicle model is known.
+    pub picture: Option<WrittenPicture>,
 }
 
-/// Writes the three files into `out` (created if missing).
+/// Writes the three files into `out` (created if missing), and the
+/// picture of the chosen sets when a vehicle model is known.
 pub fn write_placement(placement: &Placement, out: &Path) -> Result<WrittenPlacement> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let written = WrittenPlacement {
         json: out.join("placement.json"),
         csv: out.join("placement.csv"),
         combinations_csv: out.join("placement-combinations.csv"),
+        picture: None,
     };
     let text = serde_json::to_string_pretty(&placement.document)
         .map_err(|e| Error::bad_file(&written.json, format!("cannot write JSON: {e}")))?;
     write_atomically(&written.json, |w| writeln!(w, "{text}"))?;
     write_atomically(&written.csv, |w| write_candidates(w, &placement.candidates))?;
     write_atomically(&written.combinations_csv, |w| write_combinations(w, &placement.combinations))?;
-    Ok(written)
+    let picture = match &placement.vehicle_model {
+        Some(path) => {
+            let model = crate::output::VehicleModel::read(path)?;
+            let sets = pictured_sets(&placement.combinations, &placement.footprints);
+            Some(write_placement_picture(&model, &sets, out)?)
+        }
+        None => None,
+    };
+    Ok(WrittenPlacement { picture, ..written })
 }
 
 fn optional(value: Option<f64>) -> String {

@@ -8,6 +8,12 @@
 //! optionally `frame_s` (seconds one frame stands for) and `mirror` (the
 //! candidate's left/right mirror image). A row may be left out where the
 //! candidate is not visible at all; the frames are those any row names.
+//!
+//! A *rendered* `frames.csv` (the analyzer's, or the capture's `--count`:
+//! `frame,time_s,distance_m,eye,part,pixels,texels,solid_angle_sr`) is read
+//! too, as a table of parts with solid angles only ([`PlacementTable::rendered`]);
+//! it can be scored by the solid-angle rule alone (`--min-solid-angle-sr`),
+//! which is how the rendered and the exact measure are compared.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -87,6 +93,9 @@ pub struct PlacementTable {
     pub frame_s: f64,
     /// By name.
     pub candidates: BTreeMap<String, CandidateRows>,
+    /// Read from a rendered `frames.csv`: solid angles only (visible
+    /// fraction, view angle and angular height are not measured there).
+    pub rendered: bool,
 }
 
 /// The table of `input`: the file itself, or `placement-frames.csv` in the
@@ -144,6 +153,19 @@ impl Columns {
         }
         Ok(Columns { required, frame_s: find("frame_s"), mirror: find("mirror") })
     }
+
+    /// A rendered `frames.csv`'s columns in the places [`rendered_row`]
+    /// reads: frame, time, eye, distance, part, (unused), solid angle.
+    fn rendered(header: &csv::StringRecord) -> Columns {
+        let find = |name: &str| header.iter().position(|h| h.trim() == name).unwrap_or(usize::MAX);
+        let mut required = [usize::MAX; 10];
+        for (slot, name) in
+            [(0, "frame"), (1, "time_s"), (2, "eye"), (3, "distance_m"), (4, "part"), (6, "solid_angle_sr")]
+        {
+            required[slot] = find(name);
+        }
+        Columns { required, frame_s: None, mirror: None }
+    }
 }
 
 /// Reads and checks one table (see the module documentation).
@@ -152,19 +174,74 @@ pub fn read_table(path: &Path) -> Result<PlacementTable> {
     let mut reader = csv::ReaderBuilder::new().has_headers(true).from_reader(&bytes[..]);
     let header =
         reader.headers().map_err(|e| Error::bad_file(path, format!("line 1: not CSV: {e}")))?.clone();
-    let columns = Columns::of(path, &header)?;
+    let rendered = RENDERED_COLUMNS.iter().all(|c| header.iter().any(|h| h.trim() == *c))
+        && !header.iter().any(|h| h.trim() == "candidate");
+    let columns = if rendered { Columns::rendered(&header) } else { Columns::of(path, &header)? };
     let mut rows = Vec::new();
     for (index, record) in reader.records().enumerate() {
         let line = index + 2;
         let record = record.map_err(|e| Error::bad_file(path, format!("line {line}: not CSV: {e}")))?;
-        rows.push(
-            parse_row(&record, &columns).map_err(|m| Error::bad_file(path, format!("line {line}: {m}")))?,
-        );
+        let parsed =
+            if rendered { rendered_row(&record, &columns) } else { parse_row(&record, &columns).map(Some) };
+        if let Some(row) = parsed.map_err(|m| Error::bad_file(path, format!("line {line}: {m}")))? {
+            rows.push(row);
+        }
     }
     if rows.is_empty() {
         return Err(Error::bad_file(path, "has no rows: no candidate was measured in any eye-frame"));
     }
-    assemble(path, rows)
+    let mut table = assemble(path, rows)?;
+    table.rendered = rendered;
+    Ok(table)
+}
+
+/// The columns of a rendered `frames.csv` read as a placement table.
+const RENDERED_COLUMNS: [&str; 5] = ["frame", "time_s", "distance_m", "eye", "part"];
+
+/// A rendered `frames.csv` row as a part's sighting with its solid angle
+/// (visible fraction 1 when seen, view angle and angular height 0: not
+/// measured); `None` for the rows of no legend part (`(unlabelled)`,
+/// `(all texels)`).
+fn rendered_row(record: &csv::StringRecord, columns: &Columns) -> std::result::Result<Option<Row>, String> {
+    let field = |at: usize| record.get(at).map(str::trim).unwrap_or("");
+    let [frame, time, eye, distance, part, solid] = [0, 1, 2, 3, 4, 6].map(|i| field(columns.required[i]));
+    if part.starts_with('(') {
+        return Ok(None);
+    }
+    if solid.is_empty() {
+        return Err(
+            "solid_angle_sr is empty: the manifest gives no projection (rig.settings), so a rendered \
+                    table has no solid angles to score"
+                .into(),
+        );
+    }
+    let number = |name: &str, text: &str| -> std::result::Result<f64, String> {
+        text.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("{name} {text:?} is not a finite number"))
+    };
+    let solid_angle_sr = number("solid_angle_sr", solid)?;
+    let sighting = Sighting {
+        solid_angle_sr,
+        visible_fraction: if solid_angle_sr > 0.0 { 1.0 } else { 0.0 },
+        view_angle_deg: 0.0,
+        angular_height_deg: 0.0,
+    };
+    check_sighting(&sighting)?;
+    Ok(Some(Row {
+        frame: FrameInfo {
+            frame: frame.parse().map_err(|_| format!("frame {frame:?} is not a whole number ≥ 0"))?,
+            time_s: number("time_s", time)?,
+            distance_m: number("distance_m", distance)?,
+        },
+        eye: eye.to_string(),
+        candidate: part.to_string(),
+        kind: CandidateKind::Part,
+        sighting,
+        frame_s: None,
+        mirror: None,
+    }))
 }
 
 fn parse_row(record: &csv::StringRecord, columns: &Columns) -> std::result::Result<Row, String> {
@@ -267,7 +344,14 @@ fn assemble(path: &Path, rows: Vec<Row>) -> Result<PlacementTable> {
     };
     let index: BTreeMap<u64, usize> = frame_list.iter().enumerate().map(|(i, f)| (f.frame, i)).collect();
     let candidates = candidates_of(path, rows, &index, &eyes)?;
-    Ok(PlacementTable { path: path.to_path_buf(), frames: frame_list, eyes, frame_s, candidates })
+    Ok(PlacementTable {
+        path: path.to_path_buf(),
+        frames: frame_list,
+        eyes,
+        frame_s,
+        candidates,
+        rendered: false,
+    })
 }
 
 /// Without `frame_s`: the smallest positive step between the frames' times.

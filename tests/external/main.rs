@@ -70,6 +70,10 @@ fn trials() -> Vec<Trial> {
             report_browser::the_comparison_page_of_two_results_renders_in_chromium,
         ),
         trial(
+            "report_browser::the_placement_section_renders_in_chromium",
+            report_browser::the_placement_section_renders_in_chromium,
+        ),
+        trial(
             "skips_are_reported::a_missing_input_is_counted_ignored_and_fails_under_ci",
             a_missing_input_is_counted_ignored_and_fails_under_ci,
         ),

@@ -4,8 +4,8 @@
 //! the screenshot must not be blank. A page with a missing image must fail
 //! the same probe, so the check bites. Ignored (with the reason) where
 //! Chromium is not installed; a failure when `CI` is set (`.ci/run` installs it).
-//! The comparison page of several results (`ufcsr-analyze report`) is
-//! checked the same way.
+//! The comparison page of several results (`ufcsr-analyze report`) and a
+//! page with the placement section and its picture are checked the same way.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -144,5 +144,43 @@ pub fn the_comparison_page_of_two_results_renders_in_chromium() -> Outcome {
     browser(binary, &["--window-size=1000,1400", &format!("--screenshot={}", screenshot.display())], &report);
     let colours = distinct_colours(&screenshot);
     assert!(colours > 50, "the screenshot is blank ({colours} colours)");
+    Ok(Completion::Completed)
+}
+
+/// The placement section (issue 18) on a result's page: a placement of the
+/// example's vehicle (hood legible first, then the grill) beside the result;
+/// its picture must render with the page's other images.
+pub fn the_placement_section_renders_in_chromium() -> Outcome {
+    let Some(binary) = chromium() else { return missing(CHROMIUM) };
+    let dir = tempfile::tempdir().unwrap();
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let archive = dir.path().join("archive");
+    std::fs::create_dir_all(archive.join("results")).unwrap();
+    std::fs::copy(example.join("vehicle.glb"), archive.join("vehicle.glb")).unwrap();
+    let mut table = String::from(
+        "frame,time_s,eye,distance_m,candidate,kind,solid_angle_sr,visible_fraction,view_angle_deg,\
+         angular_height_deg,frame_s\n",
+    );
+    for frame in 0..10 {
+        for (part, legible) in [("hood", frame < 7), ("grill", frame >= 7)] {
+            let fraction = if legible { 1 } else { 0 };
+            table += &format!(
+                "{frame},{},left,{},{part},part,1e-3,{fraction},10,1,0.1\n",
+                f64::from(frame) / 10.0,
+                30 - frame
+            );
+        }
+    }
+    std::fs::write(archive.join("results/placement-frames.csv"), table).unwrap();
+    let out = dir.path().join("results");
+    let run = |args: &[&std::ffi::OsStr]| {
+        let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze")).args(args).status().unwrap();
+        assert!(status.success());
+    };
+    let placement = out.join("placement");
+    run(&["placement".as_ref(), archive.as_os_str(), "-q".as_ref(), "--out".as_ref(), placement.as_os_str()]);
+    run(&[example.as_os_str(), "-q".as_ref(), "--out".as_ref(), out.as_os_str()]);
+    // The heatmap, the views, three plots and the placement picture.
+    assert_eq!(probe(binary, &out.join("report.html")), "images=111111;errors=0");
     Ok(Completion::Completed)
 }

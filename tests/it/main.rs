@@ -23,6 +23,7 @@ mod missing_vehicle;
 mod module_graph;
 mod order_and_saturation;
 mod placement;
+mod placement_pages;
 mod reliability;
 mod reliability_inputs;
 mod reliability_merge;

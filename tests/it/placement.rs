@@ -307,3 +307,90 @@ fn bad_tables_are_errors_naming_the_file_line_and_problem() {
     let options = PlacementOptions { k: 0, ..PlacementOptions::new(vec![good]) };
     assert!(placement(&options).unwrap_err().to_string().contains("--k 0"));
 }
+
+/// A rendered `frames.csv` (the analyzer's or `--count`'s) with per part
+/// and eye-frame the solid angles of `solid_angle_sr(frame, part)`.
+fn rendered_frames_csv(dir: &Path, parts: &[&str], solid_angle_sr: impl Fn(u32, usize) -> f64) -> PathBuf {
+    let mut text = String::from("frame,time_s,eye,distance_m,part,pixels,texels,solid_angle_sr\n");
+    for frame in 0..10 {
+        for eye in ["left", "right"] {
+            for (index, part) in parts.iter().enumerate() {
+                let sr = solid_angle_sr(frame, index);
+                let pixels = if sr > 0.0 { 40 } else { 0 };
+                text += &format!(
+                    "{frame},{},{eye},{},{part},{pixels},{pixels},{sr}\n",
+                    f64::from(frame) / 10.0,
+                    50 - frame
+                );
+            }
+            text += &format!("{frame},{},{eye},{},(unlabelled),0,0,0\n", f64::from(frame) / 10.0, 50 - frame);
+        }
+    }
+    let path = dir.join("frames.csv");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_rendered_frames_table_scored_by_solid_angle_chooses_what_the_exact_table_does() {
+    // hood: 2e-4 sr in frames 0-5, then 1e-5; grill: 1e-5, then 2e-4 from frame 6 on. With
+    // the rule at 5e-5 sr the hood is legible 0.6 s, the grill 0.4 s, the pair all 1.0 s; the
+    // exact table with the same solid angles (and any fraction, angle, height) agrees.
+    let dir = tempfile::tempdir().unwrap();
+    let parts = ["hood", "grill"];
+    let sr = |frame: u32, part: usize| if (frame < 6) == (part == 0) { 2e-4 } else { 1e-5 };
+    let rendered = rendered_frames_csv(dir.path(), &parts, sr);
+    let mut exact_rows = Vec::new();
+    for frame in 0..10 {
+        for (index, part) in parts.iter().enumerate() {
+            exact_rows.push(Row {
+                fraction: 0.5,
+                angle_deg: 80.0,
+                height_deg: 0.01,
+                ..row(frame, part, true)
+            });
+            let _ = sr(frame, index);
+        }
+    }
+    let exact = write_table(dir.path(), "exact.csv", &exact_rows);
+    // write_table gives every row 1e-3 sr: rewrite the solid angles to the rendered ones.
+    let text: String = std::fs::read_to_string(&exact)
+        .unwrap()
+        .lines()
+        .enumerate()
+        .map(|(line, text)| {
+            if line == 0 {
+                return format!("{text}\n");
+            }
+            let (frame, part) = (((line - 1) / 2) as u32, (line - 1) % 2);
+            format!("{}\n", text.replacen(",0.001,", &format!(",{},", sr(frame, part)), 1))
+        })
+        .collect();
+    std::fs::write(&exact, text).unwrap();
+    let rule = Thresholds { min_solid_angle_sr: Some(5e-5), ..Thresholds::default() };
+    let score = |path: &Path| {
+        let options =
+            PlacementOptions { thresholds: rule, k: 2, ..PlacementOptions::new(vec![path.to_path_buf()]) };
+        placement(&options).unwrap()
+    };
+    let (from_rendered, from_exact) = (score(&rendered), score(&exact));
+    for found in [&from_rendered, &from_exact] {
+        let legible: Vec<(&str, f64)> =
+            found.candidates.iter().map(|c| (c.name.as_str(), c.legible_s)).collect();
+        assert_eq!(legible.len(), 2);
+        assert!((legible[0].1 - 0.6).abs() < 1e-9 && legible[0].0 == "hood", "{legible:?}");
+        assert!((legible[1].1 - 0.4).abs() < 1e-9 && legible[1].0 == "grill", "{legible:?}");
+    }
+    let sets = |found: &ufcsr::Placement| -> Vec<(Vec<String>, f64)> {
+        found.combinations.iter().map(|c| (c.candidates.clone(), c.legible_s)).collect()
+    };
+    // The same sets, covering the same seconds (the rendered table's frame length is its time step).
+    for (a, b) in sets(&from_rendered).iter().zip(sets(&from_exact)) {
+        assert!(a.0 == b.0 && (a.1 - b.1).abs() < 1e-9, "{a:?} against {b:?}");
+    }
+    assert_eq!(sets(&from_exact)[1].0, ["grill", "hood"]);
+    assert!((sets(&from_exact)[1].1 - 1.0).abs() < 1e-9);
+    // Without the rule, a rendered table cannot be scored: it has no heights or angles.
+    let error = placement(&PlacementOptions::new(vec![rendered.clone()])).unwrap_err().to_string();
+    assert!(error.contains("frames.csv") && error.contains("--min-solid-angle-sr"), "{error}");
+}

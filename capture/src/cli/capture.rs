@@ -323,6 +323,9 @@ fn run_unobstructed(
                 placed.rows,
                 placed.seconds
             );
+            if let Some(patches) = &placed.patches_csv {
+                println!("           {} (the display patches' footprints)", patches.display());
+            }
         }
         Ok(())
     })?;

@@ -42,7 +42,9 @@ pub use estimator::{PartEstimate, estimate_parts};
 pub use geometry::{Obstacles, eye_frame, eye_frames, seconds_per_frame};
 pub use gpu::texel_visibility_gpu;
 pub use measure::{MAX_TEXEL_SAMPLES, UnobstructedCapture, measure_unobstructed};
-pub use placement::{PLACEMENT_FRAMES_FILE, PlacementWritten, parse_display};
+pub use placement::{
+    PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PlacementWritten, parse_display,
+};
 pub use points::{is_sampled, surface_samples};
 pub use rules::{Tracer, visible_solid_angle};
 pub use types::{

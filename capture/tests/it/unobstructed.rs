@@ -429,6 +429,22 @@ fn the_cli_measures_placements_that_the_analyzer_ranks() {
     // Every part in every eye-frame: 4 frames × 2 eyes.
     assert_eq!(part_rows, parts * 8);
     assert!(table.lines().any(|line| line.contains(",patch,")), "some patch is visible");
+    // Every patch the frames name has its footprint: 0.40 m × 0.15 m, unit normal and height axis.
+    let footprints =
+        std::fs::read_to_string(out.join("results").join(ufcsr_capture::PLACEMENT_PATCHES_FILE)).unwrap();
+    let mut lines = footprints.lines();
+    assert_eq!(lines.next().unwrap(), ufcsr_capture::PLACEMENT_PATCHES_COLUMNS.join(","));
+    let rows: Vec<Vec<&str>> = lines.map(|line| line.split(',').collect()).collect();
+    for row in &rows {
+        let number = |i: usize| row[i].parse::<f64>().unwrap();
+        let length = |i: usize| (number(i).powi(2) + number(i + 1).powi(2) + number(i + 2).powi(2)).sqrt();
+        assert!((length(4) - 1.0).abs() < 1e-9 && (length(7) - 1.0).abs() < 1e-9, "{row:?}");
+        assert_eq!((number(10), number(11)), (0.40, 0.15));
+    }
+    for line in table.lines().filter(|line| line.contains(",patch,")) {
+        let name = line.split(',').nth(4).unwrap();
+        assert!(rows.iter().any(|row| row[0] == name), "{name} has no footprint");
+    }
     let placement = ufcsr::placement(&ufcsr::PlacementOptions::new(vec![out.clone()])).unwrap();
     assert!(placement.candidates.len() > parts, "parts and patches are candidates");
     assert!(placement.combinations.iter().any(|c| c.kind == "part" && c.k == 1));

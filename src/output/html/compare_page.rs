@@ -8,12 +8,14 @@
 //! the resolution-independent measures where the results have them, and the
 //! heatmaps on the vehicle (`views.png`, else the texture) side by side.
 //! The images are copied next to the page, so the folder is self-contained
-//! like a single result's.
+//! like a single result's. Placement folders among the inputs add the
+//! placement section (thresholds, ranking, best sets, picture).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
+use crate::output::html::placement_section::{PLACEMENT_PNG, PlacementOnPage, on_page, placement_folder};
 use crate::{output::html::report_page::escape, result::part_stats::top_five_union};
 use crate::{result::model::AnalysisResult, result::result_json::read_result_summary};
 
@@ -50,14 +52,25 @@ fn label_of(json: &Path) -> String {
 /// Writes `out_dir/report.html` comparing the results at `paths` (result
 /// folders or `result.json` files; the first is the reference of the ranking
 /// comparison). Returns the page's path.
+///
+/// A path that is a placement folder (holding `placement.json`, written by
+/// `ufcsr-analyze placement`) or that file adds the placement section
+/// ([`crate::output::html::placement_section`]) with its picture copied
+/// beside the page; then one result is enough.
 pub fn write_comparison(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
-    if paths.len() < 2 {
-        return Err(Error::BadOptions("report needs at least two results to compare".into()));
+    let (placement_paths, paths): (Vec<PathBuf>, Vec<PathBuf>) =
+        paths.iter().cloned().partition(|path| placement_folder(path).is_some());
+    if paths.len() < 2 && (paths.is_empty() || placement_paths.is_empty()) {
+        return Err(Error::BadOptions(
+            "report needs at least two results to compare, or a result and a placement folder".into(),
+        ));
     }
+    let paths = &paths[..];
     refuse_result_folders(paths, out_dir)?;
     std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
     let mut entries = Vec::with_capacity(paths.len());
     let mut inputs: Vec<PathBuf> = paths.iter().map(|path| result_json(path)).collect();
+    let placements = copy_placements(&placement_paths, out_dir, &mut inputs)?;
     for (index, path) in paths.iter().enumerate() {
         let json = result_json(path);
         let result = read_result_summary(&json)?;
@@ -89,8 +102,38 @@ pub fn write_comparison(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
     }
     let page = out_dir.join("report.html");
     crate::files::refuse_overwriting_inputs(std::slice::from_ref(&page), &inputs)?;
-    crate::files::write_bytes_atomically(&page, render(&entries).as_bytes())?;
+    crate::files::write_bytes_atomically(&page, render(&entries, &placements).as_bytes())?;
     Ok(page)
+}
+
+/// Each placement folder's document, its picture copied beside the page as
+/// `placement-N.png`.
+fn copy_placements(
+    folders: &[PathBuf],
+    out_dir: &Path,
+    inputs: &mut Vec<PathBuf>,
+) -> Result<Vec<PlacementOnPage>> {
+    let mut placements = Vec::with_capacity(folders.len());
+    for (index, path) in folders.iter().enumerate() {
+        let folder = placement_folder(path).unwrap_or_else(|| path.clone());
+        let label = folder
+            .file_name()
+            .map_or_else(|| folder.display().to_string(), |n| n.to_string_lossy().into_owned());
+        let mut placement = on_page(&folder, out_dir, &label)?;
+        let source = folder.join(PLACEMENT_PNG);
+        placement.picture = None;
+        if source.is_file() {
+            let name = format!("placement-{}.png", index + 1);
+            let target = out_dir.join(&name);
+            inputs.push(source.clone());
+            crate::files::refuse_overwriting_inputs(std::slice::from_ref(&target), inputs)?;
+            let bytes = crate::files::read_limited(&source, crate::files::IMAGE_LIMIT)?;
+            crate::files::write_bytes_atomically(&target, &bytes)?;
+            placement.picture = Some(name);
+        }
+        placements.push(placement);
+    }
+    Ok(placements)
 }
 
 /// The page may not go into the folder of a result it compares: it would
@@ -111,7 +154,7 @@ fn refuse_result_folders(paths: &[PathBuf], out_dir: &Path) -> Result<()> {
     Ok(())
 }
 
-fn render(entries: &[Entry]) -> String {
+fn render(entries: &[Entry], placements: &[PlacementOnPage]) -> String {
     let mut page = String::new();
     let title = format!(
         "UFCSR comparison: {}",
@@ -161,6 +204,9 @@ fn render(entries: &[Entry]) -> String {
         }
     }
     let _ = writeln!(page, "</div>");
+    for placement in placements {
+        crate::output::html::placement_section::section(&mut page, placement);
+    }
     let _ = writeln!(page, "<p><small>ufcsr {}</small></p>\n</body></html>", env!("CARGO_PKG_VERSION"));
     page
 }

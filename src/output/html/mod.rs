@@ -1,9 +1,11 @@
 //! The HTML pages: `report.html` for one result ([`report_page`]) and the
-//! comparison of several ([`compare_page`]), each rendered one page section
+//! comparison of several ([`compare_page`]), both with the placement section
+//! ([`placement_section`]) when there is a placement result, each rendered one page section
 //! per function (the report's sections are listed in order in
 //! `report_page::SECTIONS`: a new section is its function and one line there).
 
 pub(crate) mod compare_page;
+pub(crate) mod placement_section;
 pub(crate) mod provenance;
 pub(crate) mod report_page;
 

@@ -13,20 +13,24 @@ use std::path::Path;
 
 use crate::error::Result;
 use crate::input::scenario_track::ScenarioTrack;
+use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::numbers::grouped;
 use crate::result::part_stats::top_five_union;
 use crate::{output::written_files::WrittenFiles, result::model::AnalysisResult};
 
 /// Writes the report page for `result` into `path` (beside the other files).
 /// `scenario` is what the archive's manifest says about the scenario (the
-/// scenario section shows it).
+/// scenario section shows it); `placement`: the placement result found
+/// beside it (or why it could not be read).
 pub fn write_report(
     path: &Path,
     result: &AnalysisResult,
     files: &WrittenFiles,
     scenario: &ScenarioPage,
+    placement: Option<&std::result::Result<PlacementOnPage, String>>,
 ) -> Result<()> {
-    crate::files::write_bytes_atomically(path, render(&PageInputs { result, files, scenario }).as_bytes())
+    let inputs = PageInputs { result, files, scenario, placement };
+    crate::files::write_bytes_atomically(path, render(&inputs).as_bytes())
 }
 
 /// The scenario section's content beyond the files: the manifest's track
@@ -51,6 +55,7 @@ struct PageInputs<'a> {
     result: &'a AnalysisResult,
     files: &'a WrittenFiles,
     scenario: &'a ScenarioPage<'a>,
+    placement: Option<&'a std::result::Result<PlacementOnPage, String>>,
 }
 
 /// One section of the page: appends its HTML (nothing when it has nothing
@@ -70,6 +75,7 @@ const SECTIONS: &[Section] = &[
     heatmap,
     plots,
     measures,
+    placement,
     files,
     settings,
     foot,
@@ -335,6 +341,22 @@ fn measures(page: &mut String, inputs: &PageInputs) {
         );
     }
     let _ = writeln!(page, "</table>");
+}
+
+/// Where the eHMI should go, when a placement result lies beside the result
+/// ([`crate::output::html::placement_section`]).
+fn placement(page: &mut String, inputs: &PageInputs) {
+    match inputs.placement {
+        Some(Ok(placement)) => crate::output::html::placement_section::section(page, placement),
+        Some(Err(problem)) => {
+            let _ = writeln!(
+                page,
+                "<h2>Where should the eHMI go?</h2>\n<div class=\"warn\">{}</div>",
+                escape(problem)
+            );
+        }
+        None => {}
+    }
 }
 
 /// Links to the machine-readable files beside the page.

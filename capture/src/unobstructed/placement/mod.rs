@@ -10,8 +10,8 @@
 //! sample may belong to several overlapping patches. The same per-label
 //! loop ([`frames`]) measures both.
 //!
-//! The folder: [`labels`] the label set, [`patches`] where patches go and
-//! which samples they hold, [`frames`] the per-eye-frame numbers and the
+//! The folder: [`labels`] the label set, [`patches`] where patches go,
+//! which samples they hold and their footprints (`placement-patches.csv`), [`frames`] the per-eye-frame numbers and the
 //! CSV.
 
 mod frames;
@@ -30,6 +30,8 @@ use crate::scene::Scene;
 
 /// The file written into the results folder.
 pub const PLACEMENT_FRAMES_FILE: &str = "placement-frames.csv";
+
+pub use patches::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE};
 
 /// `WxH` in metres, e.g. `0.40x0.15`.
 pub fn parse_display(text: &str) -> Result<[f64; 2]> {
@@ -64,6 +66,8 @@ pub struct ExactInputs<'a> {
 #[derive(Debug, Clone)]
 pub struct PlacementWritten {
     pub csv: PathBuf,
+    /// With `--display`: the patches' footprints (`placement-patches.csv`).
+    pub patches_csv: Option<PathBuf>,
     pub parts: usize,
     pub patches: usize,
     pub rows: u64,
@@ -81,13 +85,17 @@ pub fn write_placement_frames(
     options.check()?;
     let mut labels = labels::LabelSet::parts(&inputs.scene.vehicle.parts, inputs.samples);
     let parts = labels.count();
+    std::fs::create_dir_all(results_dir).map_err(|e| CaptureError::io(results_dir, e))?;
+    let mut patches_csv = None;
     if let Some(display) = options.display_m {
         let placed = patches::place_patches(inputs, display, options.spacing_m);
         labels.add_patches(&placed, inputs.samples);
+        let path = results_dir.join(PLACEMENT_PATCHES_FILE);
+        patches::write_patch_table(&path, &placed, display)?;
+        patches_csv = Some(path);
     }
     let patches = labels.count() - parts;
-    std::fs::create_dir_all(results_dir).map_err(|e| CaptureError::io(results_dir, e))?;
     let csv = results_dir.join(PLACEMENT_FRAMES_FILE);
     let rows = frames::write_table(inputs, &labels, &csv)?;
-    Ok(PlacementWritten { csv, parts, patches, rows, seconds: start.elapsed().as_secs_f64() })
+    Ok(PlacementWritten { csv, patches_csv, parts, patches, rows, seconds: start.elapsed().as_secs_f64() })
 }

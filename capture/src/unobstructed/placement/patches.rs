@@ -26,6 +26,10 @@
 //! Names: `PART@xX.XXyY.YYzZ.ZZ` (the centre in the vehicle frame, metres,
 //! x forward, y left, z up); the mirror of a patch is the kept patch
 //! nearest its centre mirrored in the plane y = 0, within half a spacing.
+//!
+//! Each kept patch's footprint (centre, normal, height axis, W and H) is
+//! written as `placement-patches.csv` ([`write_patch_table`]), so the
+//! analyzer can draw the chosen patches on the vehicle.
 
 use std::collections::HashMap;
 
@@ -33,6 +37,9 @@ use glam::DVec3;
 
 use super::ExactInputs;
 use crate::unobstructed::types::{SURFACE_LIFT_RELATIVE, SurfaceSample};
+
+/// The footprint table's name and columns: the analyzer's, which reads it.
+pub use ufcsr::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE};
 
 /// A kept patch must be covered by at least this share of its W × H.
 pub const MIN_COVER: f64 = 0.9;
@@ -157,6 +164,7 @@ pub fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> V
     let grid = Grid::new(samples, spacing.max(display[0].max(display[1]) / 4.0));
     let part_of = part_of_samples(inputs);
     let mut placed = Vec::new();
+    let mut names = std::collections::HashSet::new();
     for centre in centres(samples, spacing) {
         let sample = &samples[centre as usize];
         let Some(normal) = outward(inputs, sample) else { continue };
@@ -167,14 +175,14 @@ pub fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> V
         }
         let p = sample.position;
         let part = &inputs.scene.vehicle.parts[part_of[centre as usize] as usize];
-        placed.push(PlacedPatch {
-            name: format!("{part}@x{:.2}y{:.2}z{:.2}", p.x, p.y, p.z),
-            mirror: None,
-            centre: p,
-            normal,
-            up,
-            members,
-        });
+        let name = format!("{part}@x{:.2}y{:.2}z{:.2}", p.x, p.y, p.z);
+        // Two centres on either side of a cube's face can round to one name:
+        // they are within a centimetre, so the first stands for both (a name
+        // twice would make the table ambiguous).
+        if !names.insert(name.clone()) {
+            continue;
+        }
+        placed.push(PlacedPatch { name, mirror: None, centre: p, normal, up, members });
     }
     pair_mirrors(&mut placed, spacing);
     placed
@@ -206,4 +214,28 @@ fn pair_mirrors(placed: &mut [PlacedPatch], spacing: f64) {
     for (patch, mirror) in placed.iter_mut().zip(mirrors) {
         patch.mirror = mirror;
     }
+}
+
+/// Writes one row per patch: its name, centre (vehicle frame, m), outward
+/// unit normal, unit height axis, display width and height (m) and mirror,
+/// so the footprint can be drawn where the frames table names the patch.
+pub fn write_patch_table(
+    path: &std::path::Path,
+    placed: &[PlacedPatch],
+    [w, h]: [f64; 2],
+) -> crate::error::Result<()> {
+    ufcsr::write_atomically(path, |writer| {
+        let mut table = csv::Writer::from_writer(writer);
+        table.write_record(PLACEMENT_PATCHES_COLUMNS).map_err(std::io::Error::other)?;
+        for patch in placed {
+            let mut record = vec![patch.name.clone()];
+            for v in [patch.centre, patch.normal, patch.up] {
+                record.extend([v.x, v.y, v.z].map(|c| c.to_string()));
+            }
+            record.extend([w.to_string(), h.to_string(), patch.mirror.clone().unwrap_or_default()]);
+            table.write_record(&record).map_err(std::io::Error::other)?;
+        }
+        table.flush()
+    })?;
+    Ok(())
 }

@@ -220,3 +220,23 @@ fn patches_fit_inside_the_surface_hold_their_area_and_pair_with_their_mirrors() 
     assert!(parse_display("0.4").is_err() && parse_display("0x1").is_err() && parse_display("ax1").is_err());
     assert_eq!(PlacementCandidates::default().spacing_m, 0.10);
 }
+
+#[test]
+fn patch_names_are_unique_where_the_surface_crosses_a_cube_face() {
+    // A plate tilted by about 1° crossing the cube face x = 0.10 at z = 1.95: the cubes
+    // on either side of the face both hold surface, and their centres, a few millimetres
+    // apart, round to one name; the first stands for both.
+    let mut mesh = Mesh::default();
+    let corner = |y: f32, dz: f32| Vec3::new(0.1 + 0.02 * (dz + 0.05), y, 2.0 + dz);
+    mesh.add_quad("plate", corner(-0.5, -0.5), corner(0.5, -0.5), corner(0.5, 0.5), corner(-0.5, 0.5));
+    let scene = scene_with(mesh, Occluders::default());
+    let samples = samples_of(&scene.vehicle, [512, 512]);
+    let obstacles = Obstacles::new(&scene);
+    let patches = place_patches(&inputs(&scene, &samples, &obstacles), [0.40, 0.15], 0.10);
+    let mut names: Vec<&str> = patches.iter().map(|p| p.name.as_str()).collect();
+    assert!(names.iter().any(|name| name.contains("z1.95")), "{names:?}");
+    names.sort_unstable();
+    let count = names.len();
+    names.dedup();
+    assert_eq!(names.len(), count, "a name given twice");
+}

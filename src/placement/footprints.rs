@@ -1,0 +1,183 @@
+//! Where a display patch lies on the vehicle, so the chosen patches can be
+//! drawn: the capture's `placement-patches.csv` (beside
+//! `placement-frames.csv`) gives each patch's centre, outward normal, height
+//! axis, width and height; tables from captures that did not write it fall
+//! back to the centre in the patch's name (`PART@xX.XXyY.YYzZ.ZZ`), drawn
+//! as a disc. A bad table is an error naming the file, the line and the
+//! problem.
+
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::files::{SMALL_INPUT_LIMIT, read_limited};
+
+/// The file the capture writes beside `placement-frames.csv`.
+pub const PLACEMENT_PATCHES_FILE: &str = "placement-patches.csv";
+
+/// The columns of `placement-patches.csv`, in the capture's order; all but
+/// `mirror` (the mirror image's name, may be empty) are read.
+pub const PLACEMENT_PATCHES_COLUMNS: [&str; 13] = [
+    "candidate",
+    "centre_x_m",
+    "centre_y_m",
+    "centre_z_m",
+    "normal_x",
+    "normal_y",
+    "normal_z",
+    "up_x",
+    "up_y",
+    "up_z",
+    "width_m",
+    "height_m",
+    "mirror",
+];
+
+/// The columns read: all but `mirror`.
+const READ_COLUMNS: usize = 12;
+
+/// A display patch's rectangle on the surface (vehicle frame, metres).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PatchFootprint {
+    pub centre: [f64; 3],
+    /// Outward unit normal.
+    pub normal: [f64; 3],
+    /// Unit vector along the display's height.
+    pub up: [f64; 3],
+    /// Width and height, m.
+    pub size_m: [f64; 2],
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+impl PatchFootprint {
+    /// Whether the surface point `p` is on the patch: the capture's rule
+    /// (within W/2 across, H/2 along the height axis and H/2 off the plane).
+    pub fn contains(&self, p: [f64; 3]) -> bool {
+        let d = [p[0] - self.centre[0], p[1] - self.centre[1], p[2] - self.centre[2]];
+        let (n, u) = (self.normal, self.up);
+        let across = [u[1] * n[2] - u[2] * n[1], u[2] * n[0] - u[0] * n[2], u[0] * n[1] - u[1] * n[0]];
+        let [w, h] = self.size_m;
+        dot(d, across).abs() <= w / 2.0 && dot(d, u).abs() <= h / 2.0 && dot(d, n).abs() <= h / 2.0
+    }
+}
+
+/// The centre a patch's name carries (`PART@x1.20y-0.45z0.80`), if any.
+pub fn centre_in_name(name: &str) -> Option<[f64; 3]> {
+    let (_, place) = name.rsplit_once('@')?;
+    let rest = place.strip_prefix('x')?;
+    let (x, rest) = rest.split_once('y')?;
+    let (y, z) = rest.split_once('z')?;
+    let centre = [x.parse().ok()?, y.parse().ok()?, z.parse().ok()?];
+    centre.iter().all(|c: &f64| c.is_finite()).then_some(centre)
+}
+
+/// The footprints in `placement-patches.csv` beside the frames table at
+/// `frames_table`, by name; empty when there is no such file.
+pub fn read_footprints(frames_table: &Path) -> Result<BTreeMap<String, PatchFootprint>> {
+    let path = frames_table.with_file_name(PLACEMENT_PATCHES_FILE);
+    if !path.exists() {
+        return Ok(BTreeMap::new());
+    }
+    let bytes = read_limited(&path, SMALL_INPUT_LIMIT)?;
+    let mut reader = csv::ReaderBuilder::new().has_headers(true).from_reader(&bytes[..]);
+    let header = reader.headers().map_err(|e| Error::bad_file(&path, format!("header: {e}")))?.clone();
+    let mut positions = Vec::with_capacity(READ_COLUMNS);
+    for column in &PLACEMENT_PATCHES_COLUMNS[..READ_COLUMNS] {
+        let found = header.iter().position(|h| h == *column);
+        positions.push(found.ok_or_else(|| Error::bad_file(&path, format!("no column {column:?}")))?);
+    }
+    let mut footprints = BTreeMap::new();
+    for (index, record) in reader.records().enumerate() {
+        let line = index + 2;
+        let record = record.map_err(|e| Error::bad_file(&path, format!("line {line}: {e}")))?;
+        let footprint = parse_footprint(&record, &positions)
+            .map_err(|problem| Error::bad_file(&path, format!("line {line}: {problem}")))?;
+        footprints.insert(record[positions[0]].to_string(), footprint);
+    }
+    Ok(footprints)
+}
+
+fn parse_footprint(
+    record: &csv::StringRecord,
+    positions: &[usize],
+) -> std::result::Result<PatchFootprint, String> {
+    let mut numbers = [0.0f64; 11];
+    for (slot, (&position, column)) in
+        numbers.iter_mut().zip(positions[1..].iter().zip(&PLACEMENT_PATCHES_COLUMNS[1..]))
+    {
+        let text = record.get(position).unwrap_or("");
+        *slot = text
+            .trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite() && v.abs() <= crate::files::MAX_COORDINATE_M)
+            .ok_or_else(|| format!("{column} {text:?} is not a finite number"))?;
+    }
+    let vector = |i: usize| [numbers[i], numbers[i + 1], numbers[i + 2]];
+    let footprint = PatchFootprint {
+        centre: vector(0),
+        normal: vector(3),
+        up: vector(6),
+        size_m: [numbers[9], numbers[10]],
+    };
+    for (name, v) in [("normal", footprint.normal), ("up", footprint.up)] {
+        if (dot(v, v).sqrt() - 1.0).abs() > 1e-3 {
+            return Err(format!("the {name} axis is not a unit vector"));
+        }
+    }
+    if footprint.size_m.iter().any(|&s| s <= 0.0) {
+        return Err("width and height must be more than 0".into());
+    }
+    Ok(footprint)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_patch_name_carries_its_centre() {
+        assert_eq!(centre_in_name("windshield@x1.20y-0.45z0.80"), Some([1.2, -0.45, 0.8]));
+        assert_eq!(centre_in_name("a@b@x0.00y0.00z1.50"), Some([0.0, 0.0, 1.5]));
+        assert_eq!(centre_in_name("windshield"), None);
+        assert_eq!(centre_in_name("w@x1y2"), None);
+    }
+
+    #[test]
+    fn a_footprint_holds_the_points_of_its_rectangle_only() {
+        // A 0.40 × 0.15 display facing +x at the origin, height along z.
+        let patch = PatchFootprint {
+            centre: [0.0; 3],
+            normal: [1.0, 0.0, 0.0],
+            up: [0.0, 0.0, 1.0],
+            size_m: [0.4, 0.15],
+        };
+        assert!(patch.contains([0.0, 0.19, 0.07]));
+        assert!(!patch.contains([0.0, 0.21, 0.0]));
+        assert!(!patch.contains([0.0, 0.0, 0.08]));
+        assert!(!patch.contains([0.1, 0.0, 0.0]), "off the plane by more than H/2");
+    }
+
+    #[test]
+    fn a_bad_footprint_table_names_the_file_line_and_problem() {
+        let dir = tempfile::tempdir().unwrap();
+        let frames = dir.path().join("placement-frames.csv");
+        assert!(read_footprints(&frames).unwrap().is_empty(), "no table: no footprints");
+        let header = PLACEMENT_PATCHES_COLUMNS.join(",") + "\n";
+        let table = dir.path().join(PLACEMENT_PATCHES_FILE);
+        std::fs::write(&table, header.clone() + "p@x0y0z0,0,0,0,1,0,0,0,0,1,0.4,0.15,\n").unwrap();
+        assert_eq!(read_footprints(&frames).unwrap()["p@x0y0z0"].size_m, [0.4, 0.15]);
+        for (row, problem) in [
+            ("p,0,0,0,2,0,0,0,0,1,0.4,0.15,", "line 2: the normal axis is not a unit vector"),
+            ("p,0,0,NaN,1,0,0,0,0,1,0.4,0.15,", "line 2: centre_z_m \"NaN\" is not a finite number"),
+            ("p,0,0,0,1,0,0,0,0,1,0,0.15,", "line 2: width and height must be more than 0"),
+        ] {
+            std::fs::write(&table, header.clone() + row + "\n").unwrap();
+            let message = read_footprints(&frames).unwrap_err().to_string();
+            assert!(message.contains(PLACEMENT_PATCHES_FILE) && message.contains(problem), "{message}");
+        }
+    }
+}

@@ -1,0 +1,372 @@
+//! The chosen placements on the vehicle, as pictures: the analyzer's eight
+//! views ([`crate::output::view_cameras`], drawn with the CPU rasterizer)
+//! of the vehicle in grey, the chosen parts filled in colour and the chosen
+//! display patches filled and outlined where they lie on the surface (their
+//! footprints from `placement-patches.csv`, else a disc of
+//! [`MARKER_RADIUS_M`] at the centre the name carries), for the best 1, 2
+//! and 3 of each kind (by the mean over the archives).
+//!
+//! `placement.png`: one row of eight small views per chosen set, captioned;
+//! `placement-views/KIND-best-K.png` (`part-best-2.png`): each set at full size (four by two).
+//! Marks are tested per pixel on the surface point the pixel shows, so what
+//! is hidden behind the body stays hidden.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use crate::error::Result;
+use crate::output::{VehicleModel, ViewCamera, ZBuffer, view_cameras};
+use crate::placement::footprints::{PatchFootprint, centre_in_name};
+use crate::placement::search::{Combination, Objective};
+
+/// The overview picture written beside placement.json.
+pub const PLACEMENT_PICTURE_FILE: &str = "placement.png";
+/// The folder of full-size pictures, one per chosen set.
+pub const PLACEMENT_VIEWS_DIR: &str = "placement-views";
+/// Radius of the disc drawn for a patch whose footprint is not recorded, m.
+pub const MARKER_RADIUS_M: f64 = 0.10;
+/// Chosen sets drawn per kind: the best 1, 2 and 3.
+pub const PICTURED_SETS: usize = 3;
+
+const PAPER: [u8; 3] = [255, 255, 255];
+const BODY: [u8; 3] = [205, 205, 205];
+const OUTLINE: [u8; 3] = [20, 20, 20];
+/// One colour per member of a set (Okabe–Ito, distinguishable with colour blindness).
+const MEMBER_COLOURS: [[u8; 3]; 6] =
+    [[230, 159, 0], [0, 114, 178], [0, 158, 115], [204, 121, 167], [213, 94, 0], [86, 180, 233]];
+/// Height of a row's caption in `placement.png`.
+const CAPTION: u32 = 22;
+
+/// What one member of a set marks on the vehicle.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Mark {
+    /// A whole part (the model's part of that name).
+    Part(String),
+    /// A patch with its recorded footprint.
+    Patch(PatchFootprint),
+    /// A patch known only by its centre: a disc of [`MARKER_RADIUS_M`].
+    Centre([f64; 3]),
+}
+
+impl Mark {
+    /// The mark of candidate `name` of `kind` (`part` or `patch`).
+    pub fn of(name: &str, kind: &str, footprints: &BTreeMap<String, PatchFootprint>) -> Option<Mark> {
+        if kind == "part" {
+            return Some(Mark::Part(name.to_string()));
+        }
+        match footprints.get(name) {
+            Some(footprint) => Some(Mark::Patch(*footprint)),
+            None => centre_in_name(name).map(Mark::Centre),
+        }
+    }
+
+    fn covers(&self, part: &str, p: [f64; 3]) -> bool {
+        match self {
+            Mark::Part(name) => name == part,
+            Mark::Patch(footprint) => footprint.contains(p),
+            Mark::Centre(c) => {
+                (p[0] - c[0]).powi(2) + (p[1] - c[1]).powi(2) + (p[2] - c[2]).powi(2)
+                    <= MARKER_RADIUS_M * MARKER_RADIUS_M
+            }
+        }
+    }
+}
+
+/// One chosen set to draw: its caption and its members' marks.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PicturedSet {
+    /// `part-best-2`: the file name of its full-size picture.
+    pub name: String,
+    pub caption: String,
+    pub marks: Vec<Mark>,
+    /// Per mark, its colour's index ([`colour_groups`]).
+    pub colours: Vec<usize>,
+}
+
+/// The sets to draw: per kind, the best 1 to [`PICTURED_SETS`] by the mean.
+pub fn pictured_sets(
+    combinations: &[Combination],
+    footprints: &BTreeMap<String, PatchFootprint>,
+) -> Vec<PicturedSet> {
+    combinations
+        .iter()
+        .filter(|c| c.objective == Objective::Mean && c.k <= PICTURED_SETS)
+        .map(|c| PicturedSet {
+            name: format!("{}-best-{}", c.kind, c.k),
+            caption: format!(
+                "best {} {}: {} ({:.2} s legible, {:.0} % of the time)",
+                c.k,
+                match (c.kind, c.k) {
+                    (kind, 1) => kind,
+                    ("patch", _) => "patches",
+                    _ => "parts",
+                },
+                c.candidates.join(" + "),
+                c.legible_s,
+                100.0 * c.share_of_time
+            ),
+            marks: c.candidates.iter().filter_map(|name| Mark::of(name, c.kind, footprints)).collect(),
+            colours: colour_groups(&c.candidates),
+        })
+        .collect()
+}
+
+/// Per member, its colour's index: a left/right mirror image (the name with
+/// `left`/`right` swapped, or a patch centred within 6 cm of the mirrored
+/// centre) shares the colour of its pair, so a symmetric choice is one colour.
+pub fn colour_groups(names: &[String]) -> Vec<usize> {
+    let mirrors = |a: &str, b: &str| {
+        crate::placement::choices::mirrored_name(a).is_some_and(|m| m == b)
+            || matches!((centre_in_name(a), centre_in_name(b)), (Some(p), Some(q))
+                if (p[0] - q[0]).abs() <= 0.06 && (p[1] + q[1]).abs() <= 0.06 && (p[2] - q[2]).abs() <= 0.06)
+    };
+    let mut colours: Vec<usize> = Vec::with_capacity(names.len());
+    let mut next = 0;
+    for (index, name) in names.iter().enumerate() {
+        let pair = (0..index).find(|&earlier| mirrors(&names[earlier], name));
+        colours.push(pair.map_or_else(
+            || {
+                next += 1;
+                next - 1
+            },
+            |earlier| colours[earlier],
+        ));
+    }
+    colours
+}
+
+/// Draws one view: grey body shaded by how squarely it faces the viewer,
+/// marked surface in its member's colour, each mark's rim outlined.
+/// `colours[i]` picks mark i's colour (missing: its own index).
+pub fn render_marked(
+    model: &VehicleModel,
+    camera: &ViewCamera,
+    marks: &[Mark],
+    colours: &[usize],
+) -> Vec<u8> {
+    let [width, height] = camera.size;
+    let mut rgb = PAPER.repeat((width * height) as usize);
+    // 0: background, 1: body, 2 + i: member i.
+    let mut owner = vec![0u8; (width * height) as usize];
+    let mut buffer = ZBuffer::new(width, height);
+    for part in &model.parts {
+        for corners in part.positions.chunks_exact(3) {
+            let shade = facing(corners, camera.back);
+            let projected =
+                [camera.to_picture(corners[0]), camera.to_picture(corners[1]), camera.to_picture(corners[2])];
+            buffer.triangle(projected, |pixel, w| {
+                let p: [f64; 3] = std::array::from_fn(|axis| {
+                    (0..3).map(|corner| w[corner] * f64::from(corners[corner][axis])).sum()
+                });
+                let member = marks.iter().position(|mark| mark.covers(&part.name, p));
+                let colour = member.map(|m| colours.get(m).copied().unwrap_or(m) % MEMBER_COLOURS.len());
+                let base = colour.map_or(BODY, |c| MEMBER_COLOURS[c]);
+                owner[pixel] = member.map_or(1, |m| 2 + m.min(250) as u8);
+                let lit = base.map(|c| (f64::from(c) * (0.55 + 0.45 * shade)).round() as u8);
+                rgb[pixel * 3..pixel * 3 + 3].copy_from_slice(&lit);
+            });
+        }
+    }
+    outline(&mut rgb, &owner, width as usize);
+    rgb
+}
+
+/// |cos| of the angle between a triangle's normal and the view direction.
+fn facing(corners: &[[f32; 3]], back: [f64; 3]) -> f64 {
+    let c = |i: usize| corners[i].map(f64::from);
+    let (a, b, o) = (c(1), c(2), c(0));
+    let (u, v) = ([a[0] - o[0], a[1] - o[1], a[2] - o[2]], [b[0] - o[0], b[1] - o[1], b[2] - o[2]]);
+    let n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]];
+    let length = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+    if length == 0.0 { 0.0 } else { ((n[0] * back[0] + n[1] * back[1] + n[2] * back[2]) / length).abs() }
+}
+
+/// Darkens marked pixels whose right or lower neighbour shows something else.
+fn outline(rgb: &mut [u8], owner: &[u8], width: usize) {
+    for pixel in 0..owner.len() {
+        if owner[pixel] < 2 {
+            continue;
+        }
+        let (x, y) = (pixel % width, pixel / width);
+        let neighbours = [
+            (x > 0).then(|| pixel - 1),
+            (x + 1 < width).then_some(pixel + 1),
+            (y > 0).then(|| pixel - width),
+            (pixel + width < owner.len()).then_some(pixel + width),
+        ];
+        if neighbours.into_iter().flatten().any(|n| owner[n] != owner[pixel]) {
+            rgb[pixel * 3..pixel * 3 + 3].copy_from_slice(&OUTLINE);
+        }
+    }
+}
+
+/// The pictures written.
+#[derive(Debug, Clone)]
+pub struct WrittenPicture {
+    pub overview: PathBuf,
+    pub views: Vec<PathBuf>,
+}
+
+/// Writes `out/placement.png` and `out/placement-views/NAME.png` for `sets`.
+pub fn write_placement_picture(
+    model: &VehicleModel,
+    sets: &[PicturedSet],
+    out: &Path,
+) -> Result<WrittenPicture> {
+    // At scale 1: the overview draws each view at half that size.
+    let cameras = view_cameras(model, 1);
+    let views_dir = out.join(PLACEMENT_VIEWS_DIR);
+    std::fs::create_dir_all(&views_dir).map_err(|e| crate::error::Error::io(&views_dir, e))?;
+    let [view_w, view_h] = cameras[0].size;
+    let small: Vec<ViewCamera> = cameras
+        .iter()
+        .map(|c| ViewCamera {
+            size: [view_w / 2, view_h / 2],
+            pixels_per_metre: c.pixels_per_metre / 2.0,
+            ..*c
+        })
+        .collect();
+    let row_h = view_h / 2 + CAPTION;
+    let overview_size = (view_w / 2 * 8, row_h * sets.len().max(1) as u32);
+    let mut overview = PAPER.repeat((overview_size.0 * overview_size.1) as usize);
+    let mut views = Vec::with_capacity(sets.len());
+    for (row, set) in sets.iter().enumerate() {
+        let full: Vec<Vec<u8>> =
+            cameras.iter().map(|c| render_marked(model, c, &set.marks, &set.colours)).collect();
+        let (sheet_w, sheet_h) = (view_w * 4, view_h * 2);
+        let mut sheet = PAPER.repeat((sheet_w * sheet_h) as usize);
+        for (index, picture) in full.iter().enumerate() {
+            paste(
+                &mut sheet,
+                sheet_w,
+                picture,
+                (view_w, view_h),
+                (index as u32 % 4 * view_w, index as u32 / 4 * view_h),
+            );
+        }
+        let path = views_dir.join(format!("{}.png", set.name));
+        crate::files::write_rgb_png(&path, sheet_w, sheet_h, &sheet, png::Compression::Fast)?;
+        views.push(path);
+        for (index, camera) in small.iter().enumerate() {
+            let picture = render_marked(model, camera, &set.marks, &set.colours);
+            let at = (index as u32 * view_w / 2, row as u32 * row_h + CAPTION);
+            paste(&mut overview, overview_size.0, &picture, (view_w / 2, view_h / 2), at);
+        }
+    }
+    let captions: Vec<(i32, String)> = sets
+        .iter()
+        .enumerate()
+        .map(|(row, set)| ((row as u32 * row_h + 4) as i32, set.caption.clone()))
+        .collect();
+    caption_rows(&mut overview, overview_size, &captions);
+    let path = out.join(PLACEMENT_PICTURE_FILE);
+    crate::files::write_rgb_png(&path, overview_size.0, overview_size.1, &overview, png::Compression::Fast)?;
+    Ok(WrittenPicture { overview: path, views })
+}
+
+/// Copies a `size` picture into `sheet` (`sheet_w` wide) at `at`.
+fn paste(sheet: &mut [u8], sheet_w: u32, picture: &[u8], size: (u32, u32), at: (u32, u32)) {
+    let row_bytes = (size.0 * 3) as usize;
+    for y in 0..size.1 {
+        let from = (y * size.0 * 3) as usize;
+        let to = (((at.1 + y) * sheet_w + at.0) * 3) as usize;
+        sheet[to..to + row_bytes].copy_from_slice(&picture[from..from + row_bytes]);
+    }
+}
+
+/// Writes each row's caption when a font is found (a courtesy: the page and
+/// placement.json say the same).
+fn caption_rows(sheet: &mut [u8], (width, height): (u32, u32), captions: &[(i32, String)]) {
+    use plotters::prelude::*;
+    if !crate::output::plot_font_available() {
+        return;
+    }
+    let root = BitMapBackend::with_buffer(sheet, (width, height)).into_drawing_area();
+    let style = ("sans-serif", 15).into_font().color(&BLACK);
+    let mut drawn: std::result::Result<(), _> = Ok(());
+    for (y, caption) in captions {
+        drawn = drawn.and(root.draw(&Text::new(caption.clone(), (6, *y), style.clone())));
+    }
+    let _ = drawn.and(root.present());
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::ModelPart;
+
+    /// A 2 m cube of two parts: `front` (the +x face) and `body` (the rest).
+    fn cube() -> VehicleModel {
+        let quad = |corners: [[f32; 3]; 4]| {
+            vec![corners[0], corners[1], corners[2], corners[0], corners[2], corners[3]]
+        };
+        let front = quad([[1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [1.0, 1.0, 2.0], [1.0, -1.0, 2.0]]);
+        let mut body = quad([[-1.0, -1.0, 0.0], [-1.0, 1.0, 0.0], [-1.0, 1.0, 2.0], [-1.0, -1.0, 2.0]]);
+        body.extend(quad([[-1.0, 1.0, 0.0], [1.0, 1.0, 0.0], [1.0, 1.0, 2.0], [-1.0, 1.0, 2.0]]));
+        body.extend(quad([[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, -1.0, 2.0], [-1.0, -1.0, 2.0]]));
+        body.extend(quad([[-1.0, -1.0, 2.0], [1.0, -1.0, 2.0], [1.0, 1.0, 2.0], [-1.0, 1.0, 2.0]]));
+        let part = |name: &str, positions: Vec<[f32; 3]>| ModelPart {
+            name: name.into(),
+            uvs: vec![[0.0, 0.0]; positions.len()],
+            positions,
+        };
+        VehicleModel { parts: vec![part("front", front), part("body", body)] }
+    }
+
+    fn count(rgb: &[u8], colour: [u8; 3], shade: f64) -> usize {
+        let lit = colour.map(|c| (f64::from(c) * (0.55 + 0.45 * shade)).round() as u8);
+        rgb.chunks_exact(3).filter(|p| *p == lit).count()
+    }
+
+    #[test]
+    fn a_chosen_part_is_coloured_only_where_it_faces_the_view() {
+        let model = cube();
+        let cameras = view_cameras(&model, 1);
+        let marks = [Mark::Part("front".into())];
+        let front = render_marked(&model, &cameras[0], &marks, &[]);
+        let rear = render_marked(&model, &cameras[4], &marks, &[]);
+        // Seen from the front (15° above), the front face is 2 m × 2 m·cos 15°.
+        let camera = &cameras[0];
+        let expected = 2.0 * 2.0 * 15f64.to_radians().cos() * camera.pixels_per_metre.powi(2);
+        let shade = 15f64.to_radians().cos();
+        let coloured = count(&front, MEMBER_COLOURS[0], shade) as f64;
+        // Interior pixels only: the rim is outlined.
+        assert!(coloured < expected && coloured > 0.9 * expected, "{coloured} of {expected}");
+        assert_eq!(count(&rear, MEMBER_COLOURS[0], shade), 0, "hidden behind the body from the rear");
+    }
+
+    #[test]
+    fn a_patch_is_drawn_its_size_and_a_patch_without_footprint_as_a_disc() {
+        let model = cube();
+        let camera = &view_cameras(&model, 1)[0];
+        let patch = PatchFootprint {
+            centre: [1.0, 0.0, 1.0],
+            normal: [1.0, 0.0, 0.0],
+            up: [0.0, 0.0, 1.0],
+            size_m: [0.8, 0.4],
+        };
+        let shade = 15f64.to_radians().cos();
+        let drawn =
+            count(&render_marked(&model, camera, &[Mark::Patch(patch)], &[]), MEMBER_COLOURS[0], shade)
+                as f64;
+        let expected = 0.8 * 0.4 * shade * camera.pixels_per_metre.powi(2);
+        assert!(drawn < expected && drawn > 0.8 * expected, "{drawn} of {expected}");
+        let disc = count(
+            &render_marked(&model, camera, &[Mark::Centre([1.0, 0.0, 1.0])], &[]),
+            MEMBER_COLOURS[0],
+            shade,
+        ) as f64;
+        let expected =
+            std::f64::consts::PI * MARKER_RADIUS_M.powi(2) * shade * camera.pixels_per_metre.powi(2);
+        assert!(disc < expected && disc > 0.5 * expected, "{disc} of {expected}");
+    }
+
+    #[test]
+    fn a_left_right_pair_shares_one_colour() {
+        let names: Vec<String> =
+            ["b_pillar_left", "b_pillar_right", "grill", "door@x1.00y0.90z1.00", "door@x1.00y-0.88z1.02"]
+                .map(String::from)
+                .to_vec();
+        assert_eq!(colour_groups(&names), vec![0, 0, 1, 2, 2]);
+    }
+}
