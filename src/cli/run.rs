@@ -168,29 +168,12 @@ pub fn run_merge(args: MergeArgs) -> Result<ExitCode> {
 }
 
 pub fn run_completions(args: CompletionsArgs) -> Result<ExitCode> {
-    let mut command = Cli::command();
-    clap_complete::generate(args.shell, &mut command, "ufcsr-analyze", &mut std::io::stdout());
+    ufcsr::print_completions(args.shell, Cli::command(), "ufcsr-analyze");
     Ok(ExitCode::SUCCESS)
 }
 
 pub fn run_man(args: ManArgs) -> Result<ExitCode> {
-    let command = Cli::command();
-    let Some(dir) = args.out else {
-        clap_mangen::Man::new(command).render(&mut std::io::stdout())?;
-        return Ok(ExitCode::SUCCESS);
-    };
-    std::fs::create_dir_all(&dir).with_context(|| format!("could not create {}", dir.display()))?;
-    let mut pages = vec![("ufcsr-analyze.1".to_string(), command.clone())];
-    for sub in command.get_subcommands().filter(|sub| sub.get_name() != "help") {
-        // clap names are 'static; a handful of bytes, once per process.
-        let name: &'static str = Box::leak(format!("ufcsr-analyze-{}", sub.get_name()).into_boxed_str());
-        pages.push((format!("{name}.1"), sub.clone().name(name)));
-    }
-    for (file, page) in pages {
-        let mut roff = Vec::new();
-        clap_mangen::Man::new(page).render(&mut roff)?;
-        let path = dir.join(file);
-        ufcsr::write_bytes_atomically(&path, &roff)?;
+    for path in ufcsr::write_man_pages(Cli::command(), "ufcsr-analyze", args.out.as_deref())? {
         eprintln!("wrote {}", path.display());
     }
     Ok(ExitCode::SUCCESS)

@@ -139,6 +139,18 @@ enum Command {
         /// The archive folder.
         archive: PathBuf,
     },
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell) on stdout.
+    Completions {
+        /// The shell.
+        #[arg(value_enum)]
+        shell: ufcsr::Shell,
+    },
+    /// Print the man page (roff) on stdout, or write one page per subcommand into --out.
+    Man {
+        /// Write ufcsr-capture.1 and one ufcsr-capture-COMMAND.1 per subcommand into this folder.
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
 }
 
 #[derive(Subcommand)]
@@ -201,5 +213,19 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         }
         Command::Assemble { archive } => tools::run_assemble(&archive),
         Command::Verify { archive } => tools::run_verify(&archive),
+        Command::Completions { shell } => {
+            ufcsr::print_completions(shell, <Cli as clap::CommandFactory>::command(), "ufcsr-capture");
+            Ok(())
+        }
+        Command::Man { out } => {
+            for path in ufcsr::write_man_pages(
+                <Cli as clap::CommandFactory>::command(),
+                "ufcsr-capture",
+                out.as_deref(),
+            )? {
+                eprintln!("wrote {}", path.display());
+            }
+            Ok(())
+        }
     }
 }

@@ -68,9 +68,19 @@ fn a_capture_without_a_runtime_folder_prints_no_mesa_noise() {
 #[test]
 fn every_capture_command_takes_quiet_and_threads_and_quiet_keeps_stdout_empty() {
     let dir = tempfile::tempdir().unwrap();
-    for command in
-        ["demo", "scene", "unity", "inspect", "views", "batch", "study", "observers", "assemble", "verify"]
-    {
+    for command in [
+        "demo",
+        "scene",
+        "unity",
+        "inspect",
+        "views",
+        "batch",
+        "study",
+        "observers",
+        "assemble",
+        "verify",
+        "man",
+    ] {
         let help = capture(dir.path(), &[command, "--help"]);
         let text = String::from_utf8_lossy(&help.stdout);
         for option in ["-q, --quiet", "-j, --threads <THREADS>"] {
@@ -117,4 +127,20 @@ fn a_counted_capture_says_it_wrote_no_pngs_and_lists_every_result_file() {
         assert!(stdout.contains(file), "{file} is not listed:\n{stdout}");
         assert!(archive.join("results").join(file).is_file(), "{file}");
     }
+}
+
+#[test]
+fn completions_and_man_pages_are_generated_from_the_command_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let completions = capture(dir.path(), &["completions", "bash"]);
+    let script = String::from_utf8_lossy(&completions.stdout);
+    assert!(completions.status.success() && script.contains("ufcsr-capture") && script.contains("observers"));
+    let pages = dir.path().join("man");
+    let man = capture(dir.path(), &["man", "--out", pages.to_str().unwrap()]);
+    assert!(man.status.success(), "{}", String::from_utf8_lossy(&man.stderr));
+    for page in ["ufcsr-capture.1", "ufcsr-capture-observers.1", "ufcsr-capture-study.1"] {
+        let roff = std::fs::read_to_string(pages.join(page)).unwrap();
+        assert!(roff.contains(".TH"), "{page}");
+    }
+    assert_eq!(capture(dir.path(), &["completions", "tcsh"]).status.code(), Some(2));
 }
