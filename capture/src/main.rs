@@ -58,8 +58,14 @@ fn main() -> ExitCode {
     let cli = cli::Cli::parse();
     let _runtime_dir = PrivateRuntimeDir::create();
     ufcsr::remove_temporaries_on_interrupt();
+    let (json, command) = (cli.json, cli.command_name());
     match cli::run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(()) => {
+            if json {
+                println!("{}", cli::json_summary(command, 0, None));
+            }
+            ExitCode::SUCCESS
+        }
         Err(error) => {
             // Library errors already name their cause; only add causes that
             // are not in the message yet (anyhow context, wrapped errors).
@@ -71,11 +77,16 @@ fn main() -> ExitCode {
                 }
             }
             eprintln!("error: {message}");
-            if error.downcast_ref::<cli::DoneWithFailures>().is_some() {
-                ExitCode::from(1)
-            } else {
-                ExitCode::from(2)
+            let code = if error.downcast_ref::<cli::DoneWithFailures>().is_some() { 1 } else { 2 };
+            if json && code == 1 {
+                cli::fact("failures", &message);
             }
+            if json {
+                // Done with failures still wrote its files; nothing done wrote none.
+                let summary = cli::json_summary(command, code, (code == 2).then_some(message.as_str()));
+                println!("{summary}");
+            }
+            ExitCode::from(code)
         }
     }
 }

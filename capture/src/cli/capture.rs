@@ -308,13 +308,20 @@ fn run_unobstructed(
             measured.visibility_seconds,
             (measured.surface_samples * measured.eye_frames) as f64 / measured.visibility_seconds.max(1e-9)
         );
-        print!("{}", ufcsr::format_table(&measured.analysis.result));
+        if !super::quiet() {
+            print!("{}", ufcsr::format_table(&measured.analysis.result));
+        }
+        let out = measured.written.result_json.parent().unwrap_or(std::path::Path::new("."));
+        measured.written.all(out).iter().for_each(|file| super::wrote(file));
+        super::wrote(&measured.estimates_csv);
+        super::fact_item("grand_totals", measured.analysis.result.grand_total);
         for warning in &measured.analysis.result.warnings {
             eprintln!("  warning: {warning}");
         }
         say!("  results: {}", measured.written.result_json.display());
         say!("           {} (per-part estimates, standard errors)", measured.estimates_csv.display());
         if let Some(placed) = &measured.placement {
+            super::wrote(&placed.csv);
             say!(
                 "           {} (placement: {} parts and {} display patches, {} rows, {:.2} s)",
                 placed.csv.display(),
@@ -324,7 +331,8 @@ fn run_unobstructed(
                 placed.seconds
             );
             if let Some(patches) = &placed.patches_csv {
-                println!("           {} (the display patches' footprints)", patches.display());
+                super::wrote(patches);
+                say!("           {} (the display patches' footprints)", patches.display());
             }
         }
         Ok(())
@@ -341,6 +349,29 @@ fn placement_options(common: &Common) -> anyhow::Result<Option<ufcsr_capture::Pl
     Ok(Some(ufcsr_capture::PlacementCandidates { display_m, spacing_m: common.patch_spacing }))
 }
 
+/// For `--json`: the archive's files and the scenario's facts.
+fn record_archive(s: &Summary) {
+    for name in ["manifest.json", "pidt.png", "parts.csv", "palette.png", "vehicle.glb", "scene.glb"] {
+        let path = s.out.join(name);
+        if path.is_file() {
+            super::wrote(&path);
+        }
+    }
+    super::fact_item(
+        "scenarios",
+        serde_json::json!({
+            "scenario": s.scenario,
+            "out": s.out,
+            "frames": s.frames,
+            "seconds": s.seconds,
+            "tiles": s.tiles,
+            "tiles_rendered": s.tally.rendered,
+            "tiles_written": s.tally.written,
+            "tiles_culled": s.tally.culled,
+        }),
+    );
+}
+
 /// Where a capture's tiles went: PNG files, or counted from the readback.
 #[derive(Clone, Copy, PartialEq)]
 enum Sink {
@@ -349,6 +380,7 @@ enum Sink {
 }
 
 fn report(s: &Summary, sink: Sink) {
+    record_archive(s);
     let work = if sink == Sink::Counted { "counting included, no PNGs" } else { "encoding included" };
     say!(
         "scenario {}: {} frames in {:.2} s ({:.2} s setup; {:.2} frames/s, both eyes, {work}) → {}",
@@ -406,6 +438,8 @@ fn report_counted(counted: &CountedCapture) {
     }
     let out = counted.written.result_json.parent().unwrap_or(std::path::Path::new("."));
     for (n, file) in counted.written.all(out).iter().enumerate() {
+        super::wrote(file);
         say!("  {}{}", if n == 0 { "results: " } else { "         " }, file.display());
     }
+    super::fact_item("grand_totals", result.grand_total);
 }

@@ -38,12 +38,104 @@ pub struct Cli {
     /// work (default 0: one per core).
     #[arg(long, short = 'j', global = true, default_value_t = 0, value_parser = clap::value_parser!(u16).range(0..=1024))]
     threads: u16,
+    /// One JSON object on stdout instead of the text: command, exit_code, written (every file
+    /// written) and the command's own facts; on an error, exit_code, an empty written and error.
+    #[arg(long, global = true)]
+    pub json: bool,
+}
+
+impl Cli {
+    /// The subcommand's name, as `--json` reports it.
+    pub fn command_name(&self) -> &'static str {
+        match &self.command {
+            Command::Demo { .. } => "demo",
+            Command::Scene { .. } => "scene",
+            Command::Unity { .. } => "unity",
+            Command::Inspect { .. } => "inspect",
+            Command::Views { .. } => "views",
+            Command::Batch { .. } => "batch plan",
+            Command::Study(_) => "study",
+            Command::Observers(_) => "observers",
+            Command::Assemble { .. } => "assemble",
+            Command::Verify { .. } => "verify",
+            Command::Completions { .. } => "completions",
+            Command::Man { .. } => "man",
+        }
+    }
+}
+
+/// What a command did, for `--json`, recorded by the `run_*` functions as
+/// they go: the files it wrote ([`wrote`]) and its facts ([`fact`], or
+/// [`fact_item`] for one entry of a list such as one per scenario).
+#[derive(Default)]
+struct Outcome {
+    written: Vec<PathBuf>,
+    facts: Vec<(String, serde_json::Value, bool)>,
+}
+
+static OUTCOME: std::sync::Mutex<Outcome> =
+    std::sync::Mutex::new(Outcome { written: Vec::new(), facts: Vec::new() });
+
+fn outcome() -> std::sync::MutexGuard<'static, Outcome> {
+    OUTCOME.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// Records a file the command wrote.
+pub fn wrote(path: &std::path::Path) {
+    outcome().written.push(path.to_path_buf());
+}
+
+/// Records one of the command's facts.
+pub fn fact(key: &str, value: impl serde::Serialize) {
+    let value = serde_json::to_value(value).unwrap_or(serde_json::Value::Null);
+    outcome().facts.push((key.into(), value, false));
+}
+
+/// Records one entry of the list `key` (e.g. one per scenario).
+pub fn fact_item(key: &str, value: impl serde::Serialize) {
+    let value = serde_json::to_value(value).unwrap_or(serde_json::Value::Null);
+    outcome().facts.push((key.into(), value, true));
+}
+
+/// The `--json` summary of a finished (or failed) command.
+pub fn json_summary(command: &str, exit_code: u8, error: Option<&str>) -> String {
+    let Outcome { written, facts } = std::mem::take(&mut *outcome());
+    let mut summary = serde_json::Map::new();
+    summary.insert("command".into(), command.into());
+    summary.insert("exit_code".into(), exit_code.into());
+    if let Some(error) = error {
+        // Nothing done: nothing written that counts.
+        summary.insert("written".into(), serde_json::Value::Array(Vec::new()));
+        summary.insert("error".into(), error.into());
+        return serde_json::Value::Object(summary).to_string();
+    }
+    let written: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
+    summary.insert("written".into(), written.into());
+    for (key, value, item) in facts {
+        if !item {
+            summary.insert(key, value);
+            continue;
+        }
+        match summary.entry(key).or_insert_with(|| serde_json::Value::Array(Vec::new())) {
+            serde_json::Value::Array(list) => list.push(value),
+            other => *other = serde_json::Value::Array(vec![other.take(), value]),
+        }
+    }
+    serde_json::Value::Object(summary).to_string()
 }
 
 /// Set once from `--quiet` before a command runs: [`say!`] prints nothing.
 static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
 
-/// True under `--quiet`.
+/// Set once from `--json` before a command runs.
+static JSON: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// True under `--json`: stdout holds only the summary.
+pub fn json() -> bool {
+    JSON.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// True under `--quiet` (and `--json`).
 pub fn quiet() -> bool {
     QUIET.load(std::sync::atomic::Ordering::Relaxed)
 }
@@ -180,7 +272,9 @@ impl std::error::Error for DoneWithFailures {}
 
 /// Runs one subcommand.
 pub fn run(cli: Cli) -> anyhow::Result<()> {
-    QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
+    // --json: the one JSON object is all that goes to stdout.
+    QUIET.store(cli.quiet || cli.json, std::sync::atomic::Ordering::Relaxed);
+    JSON.store(cli.json, std::sync::atomic::Ordering::Relaxed);
     let threads = usize::from(cli.threads);
     if threads > 0 {
         // The first and only pool of the process; the exact measure and the placement pass use it.
@@ -223,6 +317,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
                 "ufcsr-capture",
                 out.as_deref(),
             )? {
+                wrote(&path);
                 eprintln!("wrote {}", path.display());
             }
             Ok(())

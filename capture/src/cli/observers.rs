@@ -88,8 +88,11 @@ pub fn run_observers(args: ObserversArgs) -> anyhow::Result<()> {
     let study = ufcsr_capture::run_observer_study(&gpu.device, &gpu.queue, &scene, &options)?;
     print_observers(&study);
     for file in ufcsr_capture::write_observer_study(&study, &args.out)? {
+        super::wrote(&file);
         say!("wrote {}", file.display());
     }
+    super::fact("observers", study.observers.len());
+    super::fact("parts", &study.summary);
     Ok(())
 }
 

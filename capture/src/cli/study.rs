@@ -92,8 +92,11 @@ pub fn run_study(args: StudyArgs) -> anyhow::Result<()> {
     let study = ufcsr_capture::run_study(&gpu.device, &gpu.queue, &scene, &options)?;
     print_study(&study);
     for file in ufcsr_capture::write_study(&study, &args.out)? {
+        super::wrote(&file);
         say!("wrote {}", file.display());
     }
+    super::fact("recommended", &study.recommended);
+    super::fact("closest", &study.closest);
     Ok(())
 }
 

@@ -144,3 +144,60 @@ fn completions_and_man_pages_are_generated_from_the_command_line() {
     }
     assert_eq!(capture(dir.path(), &["completions", "tcsh"]).status.code(), Some(2));
 }
+
+/// The one JSON object a `--json` run prints.
+fn json_of(output: &Output) -> serde_json::Value {
+    let text = String::from_utf8_lossy(&output.stdout);
+    serde_json::from_str(text.trim()).unwrap_or_else(|e| panic!("not one JSON object ({e}): {text}"))
+}
+
+#[test]
+fn json_says_what_each_command_did_and_wrote() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = dir.path().join("archive");
+    let archive_text = archive.to_str().unwrap();
+    let small = ["--ppd", "2", "--palette-size", "128", "--frames", "150,180", "--out", archive_text];
+    let counted = capture(dir.path(), &[&["demo", "--count", "--json"][..], &small].concat());
+    let summary = json_of(&counted);
+    assert_eq!((summary["command"].as_str(), summary["exit_code"].as_u64()), (Some("demo"), Some(0)));
+    let written: Vec<&str> =
+        summary["written"].as_array().unwrap().iter().map(|f| f.as_str().unwrap()).collect();
+    for file in ["manifest.json", "pidt.png", "vehicle.glb", "results/result.json", "results/frames.csv"] {
+        let path = archive.join(file);
+        assert!(written.contains(&path.to_str().unwrap()), "{file} not in {written:?}");
+        assert!(path.is_file(), "{file}");
+    }
+    assert_eq!(summary["scenarios"][0]["frames"], 2);
+    assert!(summary["grand_totals"][0].as_u64().unwrap() > 0);
+
+    let png = dir.path().join("png");
+    let captured = capture(
+        dir.path(),
+        &[
+            "demo",
+            "--json",
+            "--ppd",
+            "2",
+            "--palette-size",
+            "128",
+            "--frames",
+            "180",
+            "--out",
+            png.to_str().unwrap(),
+        ],
+    );
+    assert_eq!(json_of(&captured)["exit_code"], 0);
+    let verified = json_of(&capture(dir.path(), &["verify", png.to_str().unwrap(), "--json"]));
+    assert_eq!((verified["stray_pixels"].as_u64(), verified["exit_code"].as_u64()), (Some(0), Some(0)));
+    assert!(verified["vehicle_pixels"].as_u64().unwrap() > 0);
+
+    // Nothing done: exit code 2, nothing written, the error named.
+    let failed = capture(dir.path(), &["demo", "--scenario", "Z", "--json", "--out", archive_text]);
+    let summary = json_of(&failed);
+    assert_eq!(failed.status.code(), Some(2));
+    assert_eq!(
+        (summary["exit_code"].as_u64(), summary["written"].as_array().map(Vec::len)),
+        (Some(2), Some(0))
+    );
+    assert!(summary["error"].as_str().unwrap().contains('Z'), "{summary}");
+}
