@@ -38,7 +38,7 @@ pub struct Common {
     #[arg(long, value_name = "JSON")]
     rig: Option<String>,
     /// Canonical palette size, W or WxH (default 4096).
-    #[arg(long, default_value = "4096")]
+    #[arg(long, value_name = "W|WxH", default_value = "4096")]
     palette_size: String,
     /// An external palette PNG (unique colours) instead of the canonical palette.
     #[arg(long, value_name = "PNG")]

@@ -40,7 +40,7 @@ pub struct ObserversArgs {
     #[arg(long, default_value_t = 3)]
     frame_step: u32,
     /// Canonical palette size, W or WxH.
-    #[arg(long, default_value = "1024")]
+    #[arg(long, value_name = "W|WxH", default_value = "1024")]
     palette_size: String,
     /// Study folder: observers.json, observers.csv, observer-parts.csv and one folder per observer.
     #[arg(long, default_value = "observers")]

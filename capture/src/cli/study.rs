@@ -38,7 +38,7 @@ pub struct StudyArgs {
     #[arg(long, value_enum, default_value_t = ufcsr::Dedupe::Frame)]
     dedupe: ufcsr::Dedupe,
     /// Canonical palette size, W or WxH.
-    #[arg(long, default_value = "4096")]
+    #[arg(long, value_name = "W|WxH", default_value = "4096")]
     palette_size: String,
     /// Study folder: study.csv, study.json, study.svg/.png and one folder per setting.
     #[arg(long, default_value = "study")]
