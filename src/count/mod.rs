@@ -8,6 +8,7 @@
 pub(crate) mod counts;
 pub(crate) mod part_lookup;
 pub(crate) mod scan;
+pub(crate) mod slot_table;
 pub(crate) mod tile_counter;
 pub(crate) mod trim;
 pub(crate) mod work;

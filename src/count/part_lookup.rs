@@ -11,6 +11,7 @@
 
 use crate::color::COLOR_COUNT;
 use crate::color::sets::{SeenSet, key_color};
+use crate::count::slot_table::SlotTable;
 use crate::input::capture_facts::EyeFrame;
 use crate::input::labels::{Legend, Pidt, UNLABELLED};
 use crate::input::palette::Fcsp;
@@ -23,16 +24,14 @@ pub const UNLABELLED_NAME: &str = "(unlabelled)";
 /// The part name used for every texel when there is no PIdT.
 pub const ALL_TEXELS_NAME: &str = "(all texels)";
 
-/// Slot value of colours that are no texel (or background).
-const NO_PART: u16 = u16::MAX;
-
 /// Colour → part slot, for tallying pixels and texels by part.
 pub struct PartLookup {
     /// Part names, in slot order: the legend's parts, then
     /// [`UNLABELLED_NAME`] (with a PIdT), or [`ALL_TEXELS_NAME`] alone.
     pub names: Vec<String>,
-    /// Slot per colour (`0xRRGGBB`); colours past the end are no texel.
-    slot_of_color: Vec<u16>,
+    /// Slot per colour (`0xRRGGBB`); background and colours that are no
+    /// texel get the slot after the parts'.
+    slots: SlotTable,
 }
 
 impl PartLookup {
@@ -40,15 +39,16 @@ impl PartLookup {
     /// the `backgrounds` (packed colours) map to no part even where they name
     /// a texel (background wins, as in [`crate::count::scan::Classifier::classify`]).
     pub fn new(palette: &Fcsp, parts: Option<(&Legend, &Pidt)>, backgrounds: &[u32]) -> PartLookup {
-        use rayon::prelude::*;
         let names: Vec<String> = match parts {
             Some((legend, _)) => {
                 legend.parts.iter().map(|p| p.name.clone()).chain([UNLABELLED_NAME.to_string()]).collect()
             }
             None => vec![ALL_TEXELS_NAME.to_string()],
         };
-        // Legend index per texel, unlabelled texels in the last slot.
+        // Legend index per texel, unlabelled texels in the last slot;
+        // background and colours that are no texel in the slot after it.
         let unlabelled = (names.len() - 1) as u16;
+        let no_part = names.len() as u16;
         let slot_of_texel = |texel: usize| match parts {
             Some((_, pidt)) => match pidt.part_of_texel.get(texel) {
                 Some(&UNLABELLED) | None => unlabelled,
@@ -56,23 +56,23 @@ impl PartLookup {
             },
             None => 0,
         };
-        let mut slot_of_color: Vec<u16> = match palette {
+        let background = |color: u32| backgrounds.contains(&color);
+        let slots = match palette {
             // Texel index == colour.
-            Fcsp::Canonical { .. } => (0..palette.texel_count()).into_par_iter().map(slot_of_texel).collect(),
+            Fcsp::Canonical { width, height } => SlotTable::new([*width, *height], no_part, |color| {
+                if background(color) { no_part } else { slot_of_texel(color as usize) }
+            }),
             Fcsp::Image { colors, .. } => {
-                let mut table = vec![NO_PART; COLOR_COUNT];
+                let mut flat = vec![no_part; COLOR_COUNT];
                 for (texel, &color) in colors.iter().enumerate() {
-                    table[color as usize] = slot_of_texel(texel);
+                    if !background(color) {
+                        flat[color as usize] = slot_of_texel(texel);
+                    }
                 }
-                table
+                SlotTable::new([4096, 4096], no_part, |color| flat[color as usize])
             }
         };
-        for &background in backgrounds {
-            if let Some(slot) = slot_of_color.get_mut(background as usize) {
-                *slot = NO_PART;
-            }
-        }
-        PartLookup { names, slot_of_color }
+        PartLookup { names, slots }
     }
 
     /// Number of part slots (the length of a tally, see [`PartLookup::tally`]).
@@ -88,10 +88,7 @@ impl PartLookup {
     /// One table load: background and strays are folded into the table.
     #[inline(always)]
     fn slot(&self, color: u32) -> usize {
-        match self.slot_of_color.get(color as usize) {
-            Some(&slot) if slot != NO_PART => usize::from(slot),
-            _ => self.parts(),
-        }
+        usize::from(self.slots.get(color))
     }
 
     /// Adds the pixels of one decoded row to `pixels` (a [`PartLookup::tally`])

@@ -1,0 +1,145 @@
+//! Colour → part slot in two levels, small enough to stay in cache.
+//!
+//! The per-part pass looks up one slot per run of equal pixels. A flat table
+//! of one `u16` per colour is 32 MiB for a 4096² palette, and `perf` put 72 %
+//! of the pass's time on the one instruction after that load: neighbouring
+//! pixels show texels in neighbouring texture rows, 8 KiB apart, so nearly
+//! every run missed the caches. Parts are unwrapped as charts, so most
+//! 8 × 8-texel blocks of the palette name one part: those are one entry of
+//! a 1 MiB table, and only blocks on a chart's edge keep their 64 slots
+//! (`detail`), side by side. Square blocks, not runs of 64 texels of one
+//! texture row: every edge of the unwrap is a seam, so a chart is a
+//! triangle a few hundred texels across, and most of a row's runs of 64
+//! would cross its edge.
+
+use rayon::prelude::*;
+
+/// Side of a block, texels (a block is `SIDE × SIDE` texels).
+const SIDE: u32 = 8;
+/// Texels per block.
+const BLOCK_TEXELS: usize = (SIDE * SIDE) as usize;
+/// Set in a block's entry when its slots are in `detail`.
+const DETAILED: u32 = 1 << 31;
+/// Rows of blocks built per unit of parallel work.
+const BLOCK_ROWS_PER_UNIT: u32 = 4;
+
+/// Slot per colour of a `width × height` grid of colours, colour
+/// `y · width + x` at `(x, y)` (a canonical palette's texels, or all 2²⁴
+/// colours as 4096 × 4096); every other colour gets `outside`.
+pub(crate) struct SlotTable {
+    width: u32,
+    len: u32,
+    blocks_per_row: u32,
+    /// Per block (row-major): its one slot, or `DETAILED | index` of its
+    /// slots in `detail`.
+    blocks: Vec<u32>,
+    /// Slots of the blocks that hold more than one, `BLOCK_TEXELS` each, row-major.
+    detail: Vec<u16>,
+    /// Slot of colours past the grid.
+    outside: u16,
+}
+
+impl SlotTable {
+    /// The table of `slot_of(colour)` over a `width × height` grid, built in parallel.
+    pub(crate) fn new(
+        [width, height]: [u32; 2],
+        outside: u16,
+        slot_of: impl Fn(u32) -> u16 + Sync,
+    ) -> SlotTable {
+        let (blocks_per_row, block_rows) = (width.div_ceil(SIDE), height.div_ceil(SIDE));
+        let block_slots = |bx: u32, by: u32| -> [u16; BLOCK_TEXELS] {
+            std::array::from_fn(|k| {
+                let (x, y) = (bx * SIDE + k as u32 % SIDE, by * SIDE + k as u32 / SIDE);
+                if x < width && y < height { slot_of(y * width + x) } else { outside }
+            })
+        };
+        let units: Vec<(Vec<u32>, Vec<u16>)> = (0..block_rows.div_ceil(BLOCK_ROWS_PER_UNIT))
+            .into_par_iter()
+            .map(|unit| {
+                let rows = unit * BLOCK_ROWS_PER_UNIT..((unit + 1) * BLOCK_ROWS_PER_UNIT).min(block_rows);
+                let (mut entries, mut detail) = (Vec::new(), Vec::new());
+                for by in rows {
+                    for bx in 0..blocks_per_row {
+                        let slots = block_slots(bx, by);
+                        if slots.iter().all(|&s| s == slots[0]) {
+                            entries.push(u32::from(slots[0]));
+                        } else {
+                            entries.push(DETAILED | (detail.len() / BLOCK_TEXELS) as u32);
+                            detail.extend_from_slice(&slots);
+                        }
+                    }
+                }
+                (entries, detail)
+            })
+            .collect();
+        let len = width * height;
+        let mut table =
+            SlotTable { width, len, blocks_per_row, blocks: Vec::new(), detail: Vec::new(), outside };
+        for (entries, detail) in units {
+            let offset = (table.detail.len() / BLOCK_TEXELS) as u32;
+            table.blocks.extend(entries.into_iter().map(|e| if e & DETAILED != 0 { e + offset } else { e }));
+            table.detail.extend(detail);
+        }
+        table
+    }
+
+    /// The slot of `color`.
+    #[inline(always)]
+    pub(crate) fn get(&self, color: u32) -> u16 {
+        if color >= self.len {
+            return self.outside;
+        }
+        let y = color / self.width;
+        let x = color - y * self.width;
+        let entry = self.blocks[((y / SIDE) * self.blocks_per_row + x / SIDE) as usize];
+        if entry & DETAILED == 0 {
+            entry as u16
+        } else {
+            let first = (entry & !DETAILED) as usize * BLOCK_TEXELS;
+            self.detail[first + ((y % SIDE) * SIDE + x % SIDE) as usize]
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_colour_gets_the_slot_a_flat_table_gives() {
+        // Grids whose sides end inside a block, charts of one slot with
+        // ragged edges, a few lone colours, and colours far past the grid.
+        for [width, height] in [[100u32, 37], [64, 64], [4096, 3]] {
+            let len = width * height;
+            let flat: Vec<u16> = (0..len)
+                .map(|c| {
+                    let (x, y) = (c % width, c / width);
+                    if c % 977 == 5 { 9 } else { ((x / 30 + y / 20 + (x * y) % 3 / 2) % 4) as u16 }
+                })
+                .collect();
+            let table = SlotTable::new([width, height], 7, |c| flat[c as usize]);
+            for color in 0..len + 200 {
+                let expected = flat.get(color as usize).copied().unwrap_or(7);
+                assert_eq!(table.get(color), expected, "colour {color} of {width}×{height}");
+            }
+            assert_eq!(table.get(u32::MAX), 7);
+            assert_eq!(table.get(0xFF_FFFF), 7);
+        }
+    }
+
+    #[test]
+    fn uniform_blocks_keep_no_detail() {
+        // Two parts split at x = 32 (a block edge) and one lone texel.
+        let table =
+            SlotTable::new([64, 64], 5, |c| if c == 64 * 9 + 40 { 3 } else { u16::from(c % 64 >= 32) });
+        assert_eq!(table.blocks.len(), 64);
+        assert_eq!(table.detail.len(), BLOCK_TEXELS);
+        assert_eq!((table.get(0), table.get(63), table.get(64 * 9 + 40)), (0, 1, 3));
+    }
+
+    #[test]
+    fn an_empty_table_gives_the_outside_slot() {
+        let table = SlotTable::new([0, 0], 3, |_| unreachable!());
+        assert_eq!(table.get(0), 3);
+    }
+}
