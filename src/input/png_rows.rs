@@ -175,6 +175,12 @@ impl<'a> RowReader<'a> {
         self.reader.info().height
     }
 
+    /// Whether rows come in Adam7 passes ([`RowReader::next_row`]) rather
+    /// than in raster order.
+    pub fn interlaced(&self) -> bool {
+        self.reader.info().interlaced
+    }
+
     /// The next decoded row. For interlaced images these are the rows of the
     /// seven passes in turn: every pixel is returned exactly once, but not in
     /// raster order (which counting does not need).

@@ -15,7 +15,7 @@ use plotters::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::input::manifest::{Manifest, TileEntry};
-use crate::input::png_rows::read_color_image;
+use crate::input::png_rows::{RowReader, read_file};
 
 /// The strip's file name in a result set.
 pub const FRAME_STRIP_FILE: &str = "frames-strip.png";
@@ -96,77 +96,226 @@ fn chosen_frames(manifest: &Manifest) -> Vec<EyeFrameTiles<'_>> {
     seen
 }
 
-/// One eye-frame as the eye saw it, in part colours: RGB, its size, and
-/// how many of its tiles could not be read.
-fn assemble(archive: &Path, frame: &EyeFrameTiles, part_colours: &[u32]) -> (Vec<u8>, [u32; 2], usize) {
-    let rows = frame.tiles.keys().map(|k| k.0).max().unwrap_or(0) + 1;
-    let columns = frame.tiles.keys().map(|k| k.1).max().unwrap_or(0) + 1;
-    let mut decoded = Vec::new();
-    let mut unreadable = 0;
-    for (&(row, column), tile) in &frame.tiles {
-        let Some(file) = &tile.file else { continue };
-        match read_color_image(&archive.join(file), |_, _| Ok(())) {
-            Ok(image) => decoded.push((row, column, image)),
-            Err(_) => unreadable += 1,
-        }
-    }
-    let [tile_width, tile_height] =
-        decoded.first().map_or([1, 1], |(_, _, image)| [image.width, image.height]);
-    let size = [tile_width * columns, tile_height * rows];
-    let mut rgb = STRIP_BACKGROUND.repeat((size[0] * size[1]) as usize);
-    for (row, column, image) in decoded {
-        if [image.width, image.height] != [tile_width, tile_height] {
-            unreadable += 1;
-            continue;
-        }
-        for (index, &colour) in image.colors.iter().enumerate() {
-            let x = column * tile_width + index as u32 % tile_width;
-            let y = row * tile_height + index as u32 / tile_width;
-            let pixel = ((y * size[0] + x) * 3) as usize;
-            let shown = match part_colours.get(colour as usize) {
-                Some(&u32::MAX) => STRIP_UNLABELLED,
-                Some(&BACKGROUND_TEXEL) | None => continue,
-                Some(&part) => crate::Color::from_packed(part).rgb(),
-            };
-            rgb[pixel..pixel + 3].copy_from_slice(&shown);
-        }
-    }
-    (rgb, size, unreadable)
+/// What a pixel of the strip shows: an index into [`TexelsShown::colours`].
+type Shown = u16;
+/// Not the vehicle (background, occluders, a colour that is no texel).
+const NOT_VEHICLE: Shown = 0;
+/// A vehicle texel no legend part names.
+const UNLABELLED: Shown = 1;
+
+/// What each texel of the palette shows, and the colour of each [`Shown`]:
+/// one `u16` per texel, found from the PIdT row by row.
+struct TexelsShown {
+    of_texel: Vec<Shown>,
+    colours: Vec<[u8; 3]>,
 }
 
-/// Marks a background colour in the texel table.
-const BACKGROUND_TEXEL: u32 = u32::MAX - 1;
-
-/// Every texel's part colour (packed RGB) from the PIdT, `u32::MAX` where
-/// no legend part names the texel's colour, [`BACKGROUND_TEXEL`] for the
-/// capture's background colours.
-fn part_colours(
-    pidt: &Path,
-    legend: &[crate::PartStats],
-    palette: [u32; 2],
-    background: &[crate::Color],
-) -> Result<Vec<u32>> {
-    let image = read_color_image(pidt, |width, height| {
-        if [width, height] == palette {
-            Ok(())
+impl TexelsShown {
+    /// From the PIdT: a texel shows its part's colour when a legend part
+    /// names it, [`STRIP_UNLABELLED`] when none does; the capture's
+    /// background colours (which may name texels of a canonical palette)
+    /// are not the vehicle.
+    fn read(
+        pidt: &Path,
+        legend: &[crate::PartStats],
+        palette: [u32; 2],
+        background: &[crate::Color],
+    ) -> Result<Self> {
+        let bytes = read_file(pidt)?;
+        let mut reader = RowReader::new(pidt, &bytes)?;
+        let size = [reader.width(), reader.height()];
+        if size != palette {
+            let message = format!("is {}×{}, the palette {}×{}", size[0], size[1], palette[0], palette[1]);
+            return Err(Error::bad_file(pidt, message));
+        }
+        let mut colours = vec![STRIP_BACKGROUND, STRIP_UNLABELLED];
+        let mut shown_of_colour = std::collections::HashMap::new();
+        for colour in legend.iter().filter_map(|part| part.color) {
+            shown_of_colour.entry(colour.packed()).or_insert_with(|| {
+                colours.push(colour.rgb());
+                (colours.len() - 1) as Shown
+            });
+        }
+        let layout = reader.layout();
+        let mut of_texel = Vec::with_capacity(size[0] as usize * size[1] as usize);
+        if reader.interlaced() {
+            let colors = reader.into_colors()?;
+            of_texel.extend(colors.iter().map(|c| shown_of_colour.get(c).copied().unwrap_or(UNLABELLED)));
         } else {
-            Err(Error::bad_file(
-                pidt,
-                format!("is {width}×{height}, the palette {}×{}", palette[0], palette[1]),
-            ))
+            // PIdT rows are long runs of one part: one hash look-up per run.
+            let mut last = (u32::MAX, UNLABELLED);
+            while let Some(row) = reader.next_row()? {
+                for pixel in row.chunks_exact(layout.bytes_per_pixel()) {
+                    let colour = layout.pack(pixel);
+                    if colour != last.0 {
+                        last = (colour, shown_of_colour.get(&colour).copied().unwrap_or(UNLABELLED));
+                    }
+                    of_texel.push(last.1);
+                }
+            }
+            reader.finish()?;
         }
-    })?;
-    let named: std::collections::HashSet<u32> =
-        legend.iter().filter_map(|part| part.color.map(|c| c.packed())).collect();
-    let mut colours: Vec<u32> =
-        image.colors.into_iter().map(|c| if named.contains(&c) { c } else { u32::MAX }).collect();
-    // Background colours may name texels of a canonical palette: they are not the vehicle.
-    for colour in background {
-        if let Some(texel) = colours.get_mut(colour.packed() as usize) {
-            *texel = BACKGROUND_TEXEL;
+        for colour in background {
+            if let Some(texel) = of_texel.get_mut(colour.packed() as usize) {
+                *texel = NOT_VEHICLE;
+            }
         }
+        Ok(TexelsShown { of_texel, colours })
     }
-    Ok(colours)
+
+    /// What a pixel of colour `colour` shows.
+    fn of_colour(&self, colour: u32) -> Shown {
+        self.of_texel.get(colour as usize).copied().unwrap_or(NOT_VEHICLE)
+    }
+
+    fn is_vehicle(&self, shown: Shown) -> bool {
+        self.colours[usize::from(shown)] != STRIP_BACKGROUND
+    }
+}
+
+/// One tile as runs of what it shows, row by row: a tile is decoded once
+/// and kept in a few kilobytes, not as a full-size picture.
+struct ShownTile {
+    size: [u32; 2],
+    /// Per row, the index of its first run in `runs`; one more entry at the end.
+    row_starts: Vec<usize>,
+    /// `(end x, shown)` of each run, row after row.
+    runs: Vec<(u32, Shown)>,
+}
+
+impl ShownTile {
+    fn read(path: &Path, texels: &TexelsShown) -> Result<ShownTile> {
+        let bytes = read_file(path)?;
+        let mut reader = RowReader::new(path, &bytes)?;
+        let size = [reader.width(), reader.height()];
+        let layout = reader.layout();
+        let mut tile = ShownTile { size, row_starts: vec![0], runs: Vec::new() };
+        if reader.interlaced() {
+            let colours = reader.into_colors()?;
+            for row in colours.chunks_exact(size[0].max(1) as usize) {
+                tile.push_row(row.iter().copied(), texels);
+            }
+        } else {
+            while let Some(row) = reader.next_row()? {
+                tile.push_row(row.chunks_exact(layout.bytes_per_pixel()).map(|p| layout.pack(p)), texels);
+            }
+            reader.finish()?;
+        }
+        Ok(tile)
+    }
+
+    /// Adds a row of pixel colours as its runs of what they show.
+    fn push_row(&mut self, colours: impl Iterator<Item = u32>, texels: &TexelsShown) {
+        let first = self.runs.len();
+        let mut last = (u32::MAX, NOT_VEHICLE);
+        for (x, colour) in colours.enumerate() {
+            if colour != last.0 {
+                last = (colour, texels.of_colour(colour));
+            }
+            let in_row = self.runs.len() > first;
+            match self.runs.last_mut() {
+                Some(run) if in_row && run.1 == last.1 => run.0 = x as u32 + 1,
+                _ => self.runs.push((x as u32 + 1, last.1)),
+            }
+        }
+        self.row_starts.push(self.runs.len());
+    }
+
+    /// The runs of row `y`.
+    fn row(&self, y: u32) -> &[(u32, Shown)] {
+        &self.runs[self.row_starts[y as usize]..self.row_starts[y as usize + 1]]
+    }
+}
+
+/// One eye-frame as the eye saw it: its tiles in place, its size, and
+/// how many of its tiles could not be read.
+struct ShownFrame {
+    size: [u32; 2],
+    tile_size: [u32; 2],
+    tiles: BTreeMap<(u32, u32), ShownTile>,
+    unreadable: usize,
+}
+
+impl ShownFrame {
+    /// The frame's written tiles; the first readable tile sets the tile
+    /// size, and a tile of another size counts as unreadable.
+    fn read(archive: &Path, frame: &EyeFrameTiles, texels: &TexelsShown) -> ShownFrame {
+        let rows = frame.tiles.keys().map(|k| k.0).max().unwrap_or(0) + 1;
+        let columns = frame.tiles.keys().map(|k| k.1).max().unwrap_or(0) + 1;
+        let (mut tiles, mut unreadable) = (BTreeMap::new(), 0);
+        let mut tile_size = None;
+        for (&place, entry) in &frame.tiles {
+            let Some(file) = &entry.file else { continue };
+            match ShownTile::read(&archive.join(file), texels) {
+                Ok(tile) if *tile_size.get_or_insert(tile.size) == tile.size => {
+                    tiles.insert(place, tile);
+                }
+                _ => unreadable += 1,
+            }
+        }
+        let tile_size = tile_size.unwrap_or([1, 1]);
+        ShownFrame { size: [tile_size[0] * columns, tile_size[1] * rows], tile_size, tiles, unreadable }
+    }
+
+    /// The smallest box `[low, high]` (inclusive) of the vehicle's pixels.
+    fn vehicle_box(&self, texels: &TexelsShown) -> Option<[[u32; 2]; 2]> {
+        let (mut low, mut high) = ([u32::MAX; 2], [0u32; 2]);
+        for (&(row, column), tile) in &self.tiles {
+            let origin = [column * self.tile_size[0], row * self.tile_size[1]];
+            for y in 0..tile.size[1] {
+                let mut start = 0;
+                for &(end, shown) in tile.row(y) {
+                    if texels.is_vehicle(shown) {
+                        low = [low[0].min(origin[0] + start), low[1].min(origin[1] + y)];
+                        high = [high[0].max(origin[0] + end - 1), high[1].max(origin[1] + y)];
+                    }
+                    start = end;
+                }
+            }
+        }
+        (low[0] <= high[0]).then_some([low, high])
+    }
+
+    /// `region` (x, y, width, height; the whole frame when it does not fit)
+    /// scaled to `height` rows, nearest neighbour, as RGB.
+    fn panel(
+        &self,
+        [x, y, width, height]: [u32; 4],
+        out_height: u32,
+        texels: &TexelsShown,
+    ) -> (Vec<u8>, [u32; 2]) {
+        let region = if x + width > self.size[0] || y + height > self.size[1] {
+            [0, 0, self.size[0], self.size[1]]
+        } else {
+            [x, y, width, height]
+        };
+        let [x0, y0, width, height] = region;
+        let out_width = ((u64::from(width) * u64::from(out_height)) / u64::from(height.max(1))).max(1) as u32;
+        let mut out = Vec::with_capacity((out_width * out_height * 3) as usize);
+        for out_y in 0..out_height {
+            let source_y = y0 + (u64::from(out_y) * u64::from(height) / u64::from(out_height)) as u32;
+            let (row, local_y) = (source_y / self.tile_size[1], source_y % self.tile_size[1]);
+            // The tile under the pixel, its row's runs and the run reached.
+            let mut place: Option<(u32, u32)> = None;
+            let mut runs: &[(u32, Shown)] = &[];
+            let mut at = 0;
+            for out_x in 0..out_width {
+                let source_x = x0 + (u64::from(out_x) * u64::from(width) / u64::from(out_width)) as u32;
+                let (column, local_x) = (source_x / self.tile_size[0], source_x % self.tile_size[0]);
+                if place != Some((row, column)) {
+                    place = Some((row, column));
+                    runs = self.tiles.get(&(row, column)).map_or(&[][..], |tile| tile.row(local_y));
+                    at = 0;
+                }
+                while at < runs.len() && runs[at].0 <= local_x {
+                    at += 1;
+                }
+                let shown = runs.get(at).map_or(NOT_VEHICLE, |run| run.1);
+                out.extend_from_slice(&texels.colours[usize::from(shown)]);
+            }
+        }
+        (out, [out_width, out_height])
+    }
 }
 
 /// What the strip is drawn from.
@@ -183,14 +332,15 @@ pub struct StripInputs<'a> {
 
 /// Writes the strip into `path`; returns the frames shown.
 pub fn write_frame_strip(path: &Path, inputs: &StripInputs) -> Result<Vec<u32>> {
-    let colours = part_colours(inputs.pidt, inputs.parts, inputs.palette, inputs.background)?;
+    let texels = TexelsShown::read(inputs.pidt, inputs.parts, inputs.palette, inputs.background)?;
     let frames = chosen_frames(inputs.manifest);
-    let assembled: Vec<_> = frames.iter().map(|frame| assemble(inputs.archive, frame, &colours)).collect();
-    let crop = vehicle_region(&assembled);
+    let shown: Vec<ShownFrame> =
+        frames.iter().map(|frame| ShownFrame::read(inputs.archive, frame, &texels)).collect();
+    let crop = vehicle_region(&shown, &texels);
     let mut panels = Vec::new();
-    for (frame, (rgb, size, unreadable)) in frames.iter().zip(assembled) {
-        let (rgb, size) = cropped(&rgb, size, crop);
-        let scaled = scale_to_height(&rgb, size, STRIP_FRAME_HEIGHT);
+    for (frame, shown) in frames.iter().zip(&shown) {
+        let scaled = shown.panel(crop, STRIP_FRAME_HEIGHT, &texels);
+        let unreadable = shown.unreadable;
         let mut label = format!("{} eye, frame {}", frame.eye, frame.frame);
         if let Some(time) = frame.number(inputs.manifest, "time_s") {
             label.push_str(&format!(" · {time:.2} s"));
@@ -239,59 +389,23 @@ fn label_panels(strip: &mut [u8], [width, height]: [u32; 2], panels: &[Panel]) {
     let _ = drawn.and(root.present());
 }
 
-/// The region (x, y, width, height) holding the vehicle in every frame,
-/// with a margin of a fifth of its size, at least a sixth of the frame
-/// high: one crop for all frames, so sizes compare.
-fn vehicle_region(frames: &[(Vec<u8>, [u32; 2], usize)]) -> [u32; 4] {
-    let Some((_, size, _)) = frames.first() else { return [0, 0, 1, 1] };
-    let [width, height] = *size;
-    let (mut low, mut high) = ([u32::MAX; 2], [0u32; 2]);
-    for (rgb, frame_size, _) in frames.iter().filter(|(_, s, _)| s == size) {
-        for (index, pixel) in rgb.chunks_exact(3).enumerate() {
-            if pixel != STRIP_BACKGROUND {
-                let (x, y) = (index as u32 % frame_size[0], index as u32 / frame_size[0]);
-                low = [low[0].min(x), low[1].min(y)];
-                high = [high[0].max(x), high[1].max(y)];
-            }
-        }
-    }
-    if low[0] > high[0] {
+/// The region (x, y, width, height) holding the vehicle in every frame
+/// of the first frame's size, with a margin of a fifth of its size, at
+/// least a sixth of the frame high: one crop for all frames, so sizes compare.
+fn vehicle_region(frames: &[ShownFrame], texels: &TexelsShown) -> [u32; 4] {
+    let Some(first) = frames.first() else { return [0, 0, 1, 1] };
+    let [width, height] = first.size;
+    let boxes = frames.iter().filter(|frame| frame.size == first.size).filter_map(|f| f.vehicle_box(texels));
+    let Some([low, high]) = boxes
+        .reduce(|[l, h], [l2, h2]| [[l[0].min(l2[0]), l[1].min(l2[1])], [h[0].max(h2[0]), h[1].max(h2[1])]])
+    else {
         return [0, 0, width, height];
-    }
+    };
     let span = [high[0] - low[0] + 1, (high[1] - low[1] + 1).max(height / 6)];
     let margin = [span[0] / 5 + 4, span[1] / 5 + 4];
     let x = low[0].saturating_sub(margin[0]);
     let y = low[1].saturating_sub(margin[1]);
     [x, y, (high[0] + margin[0] + 1).min(width) - x, (low[1] + span[1] + margin[1]).min(height) - y]
-}
-
-/// `region` (x, y, width, height) of a picture of `size` (the whole
-/// picture when it does not fit).
-fn cropped(rgb: &[u8], size: [u32; 2], [x, y, width, height]: [u32; 4]) -> (Vec<u8>, [u32; 2]) {
-    if x + width > size[0] || y + height > size[1] {
-        return (rgb.to_vec(), size);
-    }
-    let mut out = Vec::with_capacity((width * height * 3) as usize);
-    for row in y..y + height {
-        let from = ((row * size[0] + x) * 3) as usize;
-        out.extend_from_slice(&rgb[from..from + (width * 3) as usize]);
-    }
-    (out, [width, height])
-}
-
-/// Nearest-neighbour scaling of an RGB picture to `height` rows.
-fn scale_to_height(rgb: &[u8], [width, old_height]: [u32; 2], height: u32) -> (Vec<u8>, [u32; 2]) {
-    let new_width = ((u64::from(width) * u64::from(height)) / u64::from(old_height.max(1))).max(1) as u32;
-    let mut out = Vec::with_capacity((new_width * height * 3) as usize);
-    for y in 0..height {
-        let source_y = (u64::from(y) * u64::from(old_height) / u64::from(height)) as u32;
-        for x in 0..new_width {
-            let source_x = (u64::from(x) * u64::from(width) / u64::from(new_width)) as u32;
-            let i = ((source_y * width + source_x) * 3) as usize;
-            out.extend_from_slice(&rgb[i..i + 3]);
-        }
-    }
-    (out, [new_width, height])
 }
 
 #[cfg(test)]
@@ -314,11 +428,39 @@ mod tests {
         assert!(frame_strip_skipped(&manifest, false).unwrap().contains("image palette"));
     }
 
+    /// A frame of two 2×1 tiles side by side; pixel colours name texels
+    /// 0-3, which show shown indices 2, 2, 3 and not-the-vehicle.
+    fn two_tile_frame() -> (ShownFrame, TexelsShown) {
+        let texels = TexelsShown {
+            of_texel: vec![2, 2, 3, NOT_VEHICLE],
+            colours: vec![STRIP_BACKGROUND, STRIP_UNLABELLED, [1; 3], [2; 3]],
+        };
+        let tile =
+            |runs: Vec<(u32, Shown)>| ShownTile { size: [2, 1], row_starts: vec![0, runs.len()], runs };
+        let tiles =
+            BTreeMap::from([((0, 0), tile(vec![(2, 2)])), ((0, 1), tile(vec![(1, 3), (2, NOT_VEHICLE)]))]);
+        (ShownFrame { size: [4, 1], tile_size: [2, 1], tiles, unreadable: 0 }, texels)
+    }
+
     #[test]
     fn scaling_to_twice_the_height_doubles_each_pixel() {
-        let rgb = [1, 1, 1, 2, 2, 2];
-        let (scaled, size) = scale_to_height(&rgb, [2, 1], 2);
-        assert_eq!(size, [4, 2]);
-        assert_eq!(scaled[..12], [1, 1, 1, 1, 1, 1, 2, 2, 2, 2, 2, 2]);
+        let (frame, texels) = two_tile_frame();
+        let (scaled, size) = frame.panel([0, 0, 4, 1], 2, &texels);
+        assert_eq!(size, [8, 2]);
+        let row =
+            [[1u8; 3], [1; 3], [1; 3], [1; 3], [2; 3], [2; 3], STRIP_BACKGROUND, STRIP_BACKGROUND].concat();
+        assert_eq!(scaled, [row.clone(), row].concat());
+        // A region that does not fit the frame shows the whole frame.
+        assert_eq!(frame.panel([3, 0, 4, 1], 2, &texels), (scaled, size));
+    }
+
+    #[test]
+    fn the_vehicle_box_spans_the_pixels_that_show_a_part() {
+        let (frame, texels) = two_tile_frame();
+        assert_eq!(frame.vehicle_box(&texels), Some([[0, 0], [2, 0]]));
+        // A run that shows nothing but continues a row is not the vehicle.
+        let mut tile = ShownTile { size: [4, 1], row_starts: vec![0], runs: Vec::new() };
+        tile.push_row([5, 5, 0, 0].into_iter(), &texels);
+        assert_eq!(tile.runs, [(2, NOT_VEHICLE), (4, 2)]);
     }
 }
