@@ -123,6 +123,12 @@ pub struct Timings {
     pub join_seconds: f64,
     pub heatmap_seconds: f64,
     pub write_seconds: f64,
+    /// Seconds of each figure and the report written after the tables
+    /// (`heatmap.glb` and views, map, frame strip, plots, report page).
+    #[serde(default)]
+    pub figure_seconds: std::collections::BTreeMap<String, f64>,
+    /// From the start of the analysis to the last file of the result set
+    /// written (moving the set into place, a rename per file, is after it).
     pub total_seconds: f64,
     /// Decoded pixels per second during counting, in millions.
     pub decoded_megapixels_per_second: f64,

@@ -152,6 +152,8 @@ struct FiguresWritten {
     map: bool,
     /// Whether `frames-strip.png` was written.
     frames_strip: bool,
+    /// Seconds per figure ([`crate::input::options::Timings::figure_seconds`]).
+    seconds: std::collections::BTreeMap<String, f64>,
 }
 
 /// The scenario map's file name in a result set.
@@ -194,9 +196,32 @@ fn write_results_into(
         write_frames_csv(path, frames)?;
     }
     analysis.timings.write_seconds = stage.elapsed().as_secs_f64();
-    analysis.timings.total_seconds += analysis.timings.heatmap_seconds + analysis.timings.write_seconds;
-    write_timings_json(&files.timings_json, &analysis.timings)?;
-    write_figures(analysis, out_dir, files, options, placement)
+    let timings_json = files.timings_json.clone();
+    let figures = write_figures(analysis, out_dir, files, options, placement)?;
+    let timings = &mut analysis.timings;
+    timings.total_seconds +=
+        timings.heatmap_seconds + timings.write_seconds + figures.seconds.values().sum::<f64>();
+    timings.figure_seconds = figures.seconds.clone();
+    write_timings_json(&timings_json, timings)?;
+    Ok(figures)
+}
+
+/// Seconds per stage: each [`StageClock::lap`] records the time since the last.
+struct StageClock {
+    last: Instant,
+    seconds: std::collections::BTreeMap<String, f64>,
+}
+
+impl StageClock {
+    fn start() -> StageClock {
+        StageClock { last: Instant::now(), seconds: Default::default() }
+    }
+
+    fn lap(&mut self, stage: &str) {
+        let now = Instant::now();
+        *self.seconds.entry(stage.to_string()).or_default() += (now - self.last).as_secs_f64();
+        self.last = now;
+    }
 }
 
 /// Writes the figures (`heatmap.glb`, views, map, frame strip, plots) and
@@ -208,6 +233,7 @@ fn write_figures(
     options: &ResultSetOptions,
     placement: Option<&std::result::Result<PlacementOnPage, String>>,
 ) -> Result<FiguresWritten> {
+    let mut clock = StageClock::start();
     let settings = &analysis.result.settings;
     let (width, height) = (settings.palette.width, settings.palette.height);
     let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
@@ -236,6 +262,7 @@ fn write_figures(
         };
         write_views(model, &texture, out_dir)?;
     }
+    clock.lap("heatmap_glb_and_views");
     let scenario = archive_name(&analysis.result.settings.archive);
     files.map_png = match (&track, files.map_png) {
         (Some(track), Some(path)) if font_available() => {
@@ -244,6 +271,7 @@ fn write_figures(
         }
         _ => None,
     };
+    clock.lap("map");
     let strip_skipped = match (&manifest, &files.frames_strip_png) {
         (Some(manifest), Some(path)) => write_strip(path, manifest, &analysis.result)?,
         _ => None,
@@ -251,7 +279,9 @@ fn write_figures(
     if strip_skipped.is_some() || manifest.is_none() {
         files.frames_strip_png = None;
     }
+    clock.lap("frames_strip");
     files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref(), &scenario)?;
+    clock.lap("plots");
     let scenario_page = ScenarioPage { track: track.as_ref(), strip_skipped };
     crate::output::html::report_page::write_report(
         &files.report_html,
@@ -260,10 +290,12 @@ fn write_figures(
         &scenario_page,
         placement,
     )?;
+    clock.lap("report");
     Ok(FiguresWritten {
         plots: files.plots,
         map: files.map_png.is_some(),
         frames_strip: files.frames_strip_png.is_some(),
+        seconds: clock.seconds,
     })
 }
 
