@@ -8,10 +8,12 @@
 //! on an image palette (`--palette FILE`) would need a search per colour;
 //! [`frame_strip_skipped`] says why a strip is missing, for the report.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
+use std::sync::{Arc, Mutex};
 
 use plotters::prelude::*;
+use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::input::manifest::{Manifest, TileEntry};
@@ -184,9 +186,9 @@ struct ShownTile {
 }
 
 impl ShownTile {
-    fn read(path: &Path, texels: &TexelsShown) -> Result<ShownTile> {
-        let bytes = read_file(path)?;
-        let mut reader = RowReader::new(path, &bytes)?;
+    /// Decodes the tile in `bytes` (read from `path`).
+    fn decode(path: &Path, bytes: &[u8], texels: &TexelsShown) -> Result<ShownTile> {
+        let mut reader = RowReader::new(path, bytes)?;
         let size = [reader.width(), reader.height()];
         let layout = reader.layout();
         let mut tile = ShownTile { size, row_starts: vec![0], runs: Vec::new() };
@@ -232,22 +234,56 @@ impl ShownTile {
 struct ShownFrame {
     size: [u32; 2],
     tile_size: [u32; 2],
-    tiles: BTreeMap<(u32, u32), ShownTile>,
+    tiles: BTreeMap<(u32, u32), Arc<ShownTile>>,
     unreadable: usize,
 }
 
+/// Tiles decoded so far, by their file's bytes, for files small enough to
+/// keep: an archive that writes every tile (`--keep-background-tiles`, a
+/// Unity export) repeats one all-background file in most places, and the
+/// strip decodes it once.
+#[derive(Default)]
+struct TileCache {
+    by_bytes: Mutex<HashMap<Vec<u8>, Arc<ShownTile>>>,
+}
+
+/// Files up to this size are kept as keys of the [`TileCache`].
+const CACHED_FILE_BYTES: usize = 256 * 1024;
+
+impl TileCache {
+    /// The tile in `path` (`None`: it could not be read).
+    fn read(&self, path: &Path, texels: &TexelsShown) -> Option<Arc<ShownTile>> {
+        let bytes = read_file(path).ok()?;
+        let cached = bytes.len() <= CACHED_FILE_BYTES;
+        if cached && let Some(tile) = self.by_bytes.lock().ok()?.get(&bytes[..]) {
+            return Some(tile.clone());
+        }
+        let tile = Arc::new(ShownTile::decode(path, &bytes, texels).ok()?);
+        if cached {
+            self.by_bytes.lock().ok()?.insert(bytes.to_vec(), tile.clone());
+        }
+        Some(tile)
+    }
+}
+
 impl ShownFrame {
-    /// The frame's written tiles; the first readable tile sets the tile
-    /// size, and a tile of another size counts as unreadable.
-    fn read(archive: &Path, frame: &EyeFrameTiles, texels: &TexelsShown) -> ShownFrame {
+    /// The frame's written tiles, decoded in parallel; the first readable
+    /// tile sets the tile size, and a tile of another size counts as
+    /// unreadable.
+    fn read(archive: &Path, frame: &EyeFrameTiles, texels: &TexelsShown, decoded: &TileCache) -> ShownFrame {
         let rows = frame.tiles.keys().map(|k| k.0).max().unwrap_or(0) + 1;
         let columns = frame.tiles.keys().map(|k| k.1).max().unwrap_or(0) + 1;
+        let written: Vec<((u32, u32), &Path)> =
+            frame.tiles.iter().filter_map(|(&place, entry)| Some((place, entry.file.as_deref()?))).collect();
+        let read: Vec<_> = written
+            .par_iter()
+            .map(|&(place, file)| (place, decoded.read(&archive.join(file), texels)))
+            .collect();
         let (mut tiles, mut unreadable) = (BTreeMap::new(), 0);
         let mut tile_size = None;
-        for (&place, entry) in &frame.tiles {
-            let Some(file) = &entry.file else { continue };
-            match ShownTile::read(&archive.join(file), texels) {
-                Ok(tile) if *tile_size.get_or_insert(tile.size) == tile.size => {
+        for (place, tile) in read {
+            match tile {
+                Some(tile) if *tile_size.get_or_insert(tile.size) == tile.size => {
                     tiles.insert(place, tile);
                 }
                 _ => unreadable += 1,
@@ -334,8 +370,9 @@ pub struct StripInputs<'a> {
 pub fn write_frame_strip(path: &Path, inputs: &StripInputs) -> Result<Vec<u32>> {
     let texels = TexelsShown::read(inputs.pidt, inputs.parts, inputs.palette, inputs.background)?;
     let frames = chosen_frames(inputs.manifest);
+    let cache = TileCache::default();
     let shown: Vec<ShownFrame> =
-        frames.iter().map(|frame| ShownFrame::read(inputs.archive, frame, &texels)).collect();
+        frames.iter().map(|frame| ShownFrame::read(inputs.archive, frame, &texels, &cache)).collect();
     let crop = vehicle_region(&shown, &texels);
     let mut panels = Vec::new();
     for (frame, shown) in frames.iter().zip(&shown) {
@@ -435,8 +472,9 @@ mod tests {
             of_texel: vec![2, 2, 3, NOT_VEHICLE],
             colours: vec![STRIP_BACKGROUND, STRIP_UNLABELLED, [1; 3], [2; 3]],
         };
-        let tile =
-            |runs: Vec<(u32, Shown)>| ShownTile { size: [2, 1], row_starts: vec![0, runs.len()], runs };
+        let tile = |runs: Vec<(u32, Shown)>| {
+            Arc::new(ShownTile { size: [2, 1], row_starts: vec![0, runs.len()], runs })
+        };
         let tiles =
             BTreeMap::from([((0, 0), tile(vec![(2, 2)])), ((0, 1), tile(vec![(1, 3), (2, NOT_VEHICLE)]))]);
         (ShownFrame { size: [4, 1], tile_size: [2, 1], tiles, unreadable: 0 }, texels)
