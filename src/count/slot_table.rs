@@ -28,6 +28,9 @@ const BLOCK_ROWS_PER_UNIT: u32 = 4;
 /// colours as 4096 × 4096); every other colour gets `outside`.
 pub(crate) struct SlotTable {
     width: u32,
+    /// `log2(width)` when the width is a power of two (every canonical
+    /// palette the capture writes): a shift instead of a division per look-up.
+    width_shift: Option<u32>,
     len: u32,
     blocks_per_row: u32,
     /// Per block (row-major): its one slot, or `DETAILED | index` of its
@@ -73,8 +76,16 @@ impl SlotTable {
             })
             .collect();
         let len = width * height;
-        let mut table =
-            SlotTable { width, len, blocks_per_row, blocks: Vec::new(), detail: Vec::new(), outside };
+        let width_shift = width.is_power_of_two().then(|| width.trailing_zeros());
+        let mut table = SlotTable {
+            width,
+            width_shift,
+            len,
+            blocks_per_row,
+            blocks: Vec::new(),
+            detail: Vec::new(),
+            outside,
+        };
         for (entries, detail) in units {
             let offset = (table.detail.len() / BLOCK_TEXELS) as u32;
             table.blocks.extend(entries.into_iter().map(|e| if e & DETAILED != 0 { e + offset } else { e }));
@@ -89,7 +100,10 @@ impl SlotTable {
         if color >= self.len {
             return self.outside;
         }
-        let y = color / self.width;
+        let y = match self.width_shift {
+            Some(shift) => color >> shift,
+            None => color / self.width,
+        };
         let x = color - y * self.width;
         let entry = self.blocks[((y / SIDE) * self.blocks_per_row + x / SIDE) as usize];
         if entry & DETAILED == 0 {
