@@ -99,14 +99,16 @@ pub fn run_observers(args: ObserversArgs) -> anyhow::Result<()> {
 fn print_observers(study: &ufcsr_capture::ObserverStudy) {
     let n = study.observers.len();
     say!(
-        "scenario {}, {n} observers at {} px/°, every {} frame(s), eye heights {}–{} m, in {:.1} s ({:.2} s per observer)",
+        "scenario {}, {n} observers at {} px/°, every {} frame(s), eye heights {}–{} m, in {:.1} s ({:.2} s of \
+         shared set-up, then {:.2} s per observer)",
         study.scenario,
         study.ppd,
         study.frame_step,
         study.eye_heights_m[0],
         study.eye_heights_m[1],
         study.seconds,
-        study.seconds / n as f64
+        study.setup_seconds,
+        (study.seconds - study.setup_seconds) / n as f64
     );
     say!(
         "per part over the observers: mean [95 % interval of the mean] (2.5–97.5 % of observers); top-5 = share of \

@@ -119,6 +119,11 @@ fn print_study(study: &ufcsr_capture::Study) {
         );
     }
     say!(
+        "set-up shared by the settings (unwrap, PIdT, archive files, renderer): {:.2} s, once; \
+         seconds below are each setting's own",
+        study.setup_seconds
+    );
+    say!(
         "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12} {:>6}",
         "ppd",
         "step",
