@@ -164,7 +164,9 @@ impl CaptureSetup {
         };
         let Counted { counter, pixels } = counted;
         let mut analysis = ufcsr::analyze_counted(&analyze_options, counter)?;
-        let written = ufcsr::write_results(&mut analysis, &ufcsr::default_output_dir(&options.out))?;
+        let results = ufcsr::ResultSetOptions { views_scale: options.views_scale, ..Default::default() };
+        let written =
+            ufcsr::write_results_with(&mut analysis, &ufcsr::default_output_dir(&options.out), &results)?;
         let summary = Summary { seconds: start.elapsed().as_secs_f64(), ..summary };
         Ok(CountedCapture { summary, analysis, written, pixels_counted: pixels })
     }
@@ -180,8 +182,17 @@ fn check_countable(scene: &Scene, options: &CaptureOptions) -> Result<()> {
                 .into(),
         ));
     }
+    if !(1..=MAX_VIEWS_SCALE).contains(&options.views_scale) {
+        return Err(CaptureError::BadOptions(format!(
+            "--views-scale must be 1 to {MAX_VIEWS_SCALE}, not {}",
+            options.views_scale
+        )));
+    }
     Ok(())
 }
+
+/// The largest views scale (8: 3200×2400 pixels a view), as the analyzer's `--views-scale`.
+pub const MAX_VIEWS_SCALE: u32 = 8;
 
 /// Captures one scenario and counts every tile straight from the readback
 /// buffer: writes the archive's `manifest.json`, `pidt.png` and `parts.csv`

@@ -48,6 +48,11 @@ pub struct ObserversArgs {
     /// GPU backend.
     #[arg(long, value_enum, default_value_t = Backend::Auto)]
     backend: Backend,
+    /// Size of the heatmap views in each observer's results, each 400×300 pixels times this (1–8):
+    /// 1 draws a quarter of the pixels, for a quicker grid; the numbers do not change.
+    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+          value_parser = clap::value_parser!(u32).range(1..=8))]
+    views_scale: u32,
 }
 
 fn parse_pair(text: &str, separator: char, what: &str) -> Result<[f64; 2], String> {
@@ -80,6 +85,7 @@ pub fn run_observers(args: ObserversArgs) -> anyhow::Result<()> {
         capture: CaptureOptions {
             out: args.out.clone(),
             palette: parse_palette_size(&args.palette_size)?,
+            views_scale: args.views_scale,
             ..CaptureOptions::default()
         },
     };

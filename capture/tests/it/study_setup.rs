@@ -5,7 +5,8 @@
 //! moved aside and the same settings captured one by one into the same paths
 //! (results name their archive folder), then the two trees are compared,
 //! only the wall times (`results/timings.json`, the report's
-//! time of writing) left out.
+//! time of writing) left out. `--views-scale`, which a study may lower to
+//! save time, changes the views and nothing else.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -13,7 +14,7 @@ use std::path::{Path, PathBuf};
 use ufcsr::Dedupe;
 use ufcsr_capture::{
     CaptureOptions, Gpu, ObserverOptions, Scene, StudyMeasure, StudyOptions, ValueOrTrack, capture_counted,
-    run_observer_study, run_study,
+    read_rgb_png, run_observer_study, run_study,
 };
 
 use crate::study_accuracy::gpu;
@@ -142,4 +143,34 @@ fn each_observer_is_byte_for_byte_the_capture_of_that_observer_alone() {
         })
         .collect();
     assert_each_alone_is_the_same(&gpu, &out, &observers);
+}
+
+#[test]
+fn the_views_scale_changes_only_the_views_of_a_counted_capture() {
+    let gpu = gpu();
+    let mut scene = Scene::demo();
+    scene.rig.set_pixels_per_degree(2.0).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("A");
+    let scenario = scene.scenario("A").unwrap();
+    let capture = |views_scale: u32| {
+        let options =
+            CaptureOptions { frames: "0-180/90".parse().unwrap(), views_scale, ..base_options(&out) };
+        capture_counted(&gpu.device, &gpu.queue, &scene, scenario, &options, Dedupe::Frame)
+    };
+    capture(1).unwrap();
+    let small = out.with_extension("small");
+    std::fs::rename(&out, &small).unwrap();
+    capture(2).unwrap();
+    let is_view = |name: &Path| name.starts_with("results/views") || name == Path::new("results/views.png");
+    let without_views = |dir: &Path| {
+        let mut files = files_under(dir);
+        files.retain(|name, _| !is_view(name));
+        files
+    };
+    assert!(without_views(&small) == without_views(&out), "the views scale changed more than the views");
+    let front = |dir: &Path| read_rgb_png(&dir.join("results/views/front.png")).unwrap().0;
+    assert_eq!((front(&small), front(&out)), ([400, 300], [800, 600]));
+    let message = capture(9).err().unwrap().to_string();
+    assert!(message.contains("--views-scale"), "{message}");
 }
