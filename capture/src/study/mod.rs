@@ -338,8 +338,8 @@ fn capture_setting(
     let setting = Setting { name: &options.scenario, out: &out, step, dedupe: options.dedupe };
     let (counted, frames) = count_every_nth_frame(device, queue, &scene, &options.capture, &setting, setup)?;
     eprintln!(
-        "study: {ppd} px/°, every {step} frame(s): {} frames in {:.2} s",
-        counted.summary.frames, counted.summary.seconds
+        "study: {ppd} px/°, every {step} frame(s): {} frames in {:.2} s ({:.3} s of it set-up)",
+        counted.summary.frames, counted.summary.seconds, counted.summary.setup_seconds
     );
     Ok(Run {
         ppd,
