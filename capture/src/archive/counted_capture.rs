@@ -48,6 +48,8 @@ pub struct CaptureSetup {
     /// The legend and PIdT as the archive holds them, for the per-part tallies.
     legend: Legend,
     pidt: Pidt,
+    /// What it was built for: only the rig and the frames may change.
+    built_for: BuiltFor,
     /// The archive folder the set-up was built in (its files are there).
     built_in: PathBuf,
     /// Those files' names and bytes, read once another folder needs them.
@@ -80,6 +82,7 @@ impl CaptureSetup {
             palette,
             legend,
             pidt,
+            built_for: BuiltFor::of(scene, options),
             built_in: out.clone(),
             files: Vec::new(),
             seconds: start.elapsed().as_secs_f64(),
@@ -106,6 +109,12 @@ impl CaptureSetup {
         scene: &Scene,
         options: &CaptureOptions,
     ) -> Result<()> {
+        if let Some(what) = self.built_for.differs(scene, options) {
+            return Err(CaptureError::BadOptions(format!(
+                "{}: a capture set-up is shared only by captures of the same {what}",
+                options.out.display()
+            )));
+        }
         let out = &options.out;
         if !ufcsr::same_path(out, &self.built_in) {
             prepare_folder(scene, options)?;
@@ -169,6 +178,47 @@ impl CaptureSetup {
             ufcsr::write_results_with(&mut analysis, &ufcsr::default_output_dir(&options.out), &results)?;
         let summary = Summary { seconds: start.elapsed().as_secs_f64(), ..summary };
         Ok(CountedCapture { summary, analysis, written, pixels_counted: pixels })
+    }
+}
+
+/// What a set-up depends on: the vehicle, the occluders as `scene.glb`
+/// holds them, and the palette and labels of the options.
+struct BuiltFor {
+    vehicle: crate::scene::Mesh,
+    occluders: Vec<ufcsr::SceneObject>,
+    moving_occluders: usize,
+    palette: ([u32; 2], Option<PathBuf>),
+    keep_uvs: bool,
+    own_labels: Option<crate::texture::OwnLabelFiles>,
+}
+
+impl BuiltFor {
+    fn of(scene: &Scene, options: &CaptureOptions) -> BuiltFor {
+        BuiltFor {
+            vehicle: scene.vehicle.clone(),
+            occluders: scene.occluders.scene_objects(),
+            moving_occluders: scene.occluders.moving.len(),
+            palette: (options.palette, options.palette_file.clone()),
+            keep_uvs: options.keep_uvs,
+            own_labels: options.own_labels.clone(),
+        }
+    }
+
+    /// What `scene` and `options` change that the set-up depends on, if anything.
+    fn differs(&self, scene: &Scene, options: &CaptureOptions) -> Option<&'static str> {
+        if scene.vehicle != self.vehicle {
+            Some("vehicle")
+        } else if scene.occluders.moving.len() != self.moving_occluders
+            || scene.occluders.scene_objects() != self.occluders
+        {
+            Some("occluders")
+        } else if (options.palette, &options.palette_file) != (self.palette.0, &self.palette.1) {
+            Some("palette")
+        } else if options.keep_uvs != self.keep_uvs || options.own_labels != self.own_labels {
+            Some("UVs and labels")
+        } else {
+            None
+        }
     }
 }
 

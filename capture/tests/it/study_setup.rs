@@ -5,16 +5,17 @@
 //! moved aside and the same settings captured one by one into the same paths
 //! (results name their archive folder), then the two trees are compared,
 //! only the wall times (`results/timings.json`, the report's
-//! time of writing) left out. `--views-scale`, which a study may lower to
-//! save time, changes the views and nothing else.
+//! time of writing) left out. A set-up refuses a capture of another vehicle
+//! or palette, whose numbers it would get wrong. `--views-scale`, which a
+//! study may lower to save time, changes the views and nothing else.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use ufcsr::Dedupe;
 use ufcsr_capture::{
-    CaptureOptions, Gpu, ObserverOptions, Scene, StudyMeasure, StudyOptions, ValueOrTrack, capture_counted,
-    read_rgb_png, run_observer_study, run_study,
+    CaptureOptions, CaptureSetup, Gpu, ObserverOptions, Scene, StudyMeasure, StudyOptions, ValueOrTrack,
+    capture_counted, read_rgb_png, run_observer_study, run_study,
 };
 
 use crate::study_accuracy::gpu;
@@ -173,4 +174,27 @@ fn the_views_scale_changes_only_the_views_of_a_counted_capture() {
     assert_eq!((front(&small), front(&out)), ([400, 300], [800, 600]));
     let message = capture(9).err().unwrap().to_string();
     assert!(message.contains("--views-scale"), "{message}");
+}
+
+#[test]
+fn a_capture_set_up_refuses_another_vehicle_or_palette_instead_of_counting_wrongly() {
+    let gpu = gpu();
+    let mut scene = Scene::demo();
+    scene.rig.set_pixels_per_degree(2.0).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let options = base_options(&dir.path().join("first"));
+    let mut setup = CaptureSetup::new(&gpu.device, &gpu.queue, &scene, &options).unwrap();
+    let scenario = scene.scenario("A").unwrap().clone();
+    let mut refused = |scene: &Scene, options: &CaptureOptions| {
+        let counted =
+            setup.capture_counted(&gpu.device, &gpu.queue, scene, &scenario, options, Dedupe::Frame);
+        counted.err().expect("refused").to_string()
+    };
+    let other_palette = CaptureOptions { palette: [256, 256], ..base_options(&dir.path().join("second")) };
+    assert!(refused(&scene, &other_palette).contains("same palette"));
+    let mut other_vehicle = scene.clone();
+    other_vehicle.vehicle.parts[0] = "renamed".into();
+    assert!(refused(&other_vehicle, &base_options(&dir.path().join("second"))).contains("same vehicle"));
+    // Nothing was written for the refused captures.
+    assert!(!dir.path().join("second").exists());
 }
