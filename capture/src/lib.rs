@@ -28,10 +28,10 @@ mod texture;
 mod unobstructed;
 
 pub use archive::{
-    Assembled, Batch, CaptureOptions, CaptureProgress, CapturedTiles, Compression, CountedCapture,
-    FrameSelection, MAX_FRAMES, MAX_SCENARIO_SECONDS, MAX_SELECTED_FRAMES, MAX_TILES, PreparedCapture,
-    Summary, Task, TileFilter, TileTally, assemble, capture, capture_all, capture_counted, capture_frames,
-    for_each_scenario, load_batch, plan_batch, prepare, read_rgb_png, verify,
+    Assembled, Batch, CaptureOptions, CaptureProgress, CaptureSetup, CapturedTiles, Compression,
+    CountedCapture, FrameSelection, MAX_FRAMES, MAX_SCENARIO_SECONDS, MAX_SELECTED_FRAMES, MAX_TILES,
+    PreparedCapture, Summary, Task, TileFilter, TileTally, assemble, capture, capture_all, capture_counted,
+    capture_frames, for_each_scenario, load_batch, plan_batch, prepare, read_rgb_png, verify,
 };
 pub use error::{CaptureError, Result};
 pub use inspect::{

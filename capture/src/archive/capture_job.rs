@@ -15,7 +15,6 @@ use std::time::Instant;
 use ufcsr::{Color, Fcsp, Manifest, PaletteRecord};
 
 use crate::archive::capture_shard;
-use crate::archive::count_sink::{Counted, count_while};
 use crate::archive::encoder_pool::{EncoderPool, OldTiles};
 use crate::archive::frame_capture::FrameCapture;
 use crate::archive::manifest_builder::{ManifestParts, build_manifest};
@@ -91,14 +90,7 @@ pub fn prepare_archive(
     options: &CaptureOptions,
 ) -> Result<PreparedCapture> {
     let out = &options.out;
-    crate::overwrite_guard::refuse_overwriting_inputs(
-        out,
-        &ARCHIVE_FILES,
-        &ARCHIVE_FOLDERS,
-        &capture_inputs(scene, options),
-    )?;
-    std::fs::create_dir_all(out).map_err(|e| CaptureError::io(out, e))?;
-    crate::overwrite_guard::unlink_owned_folders(out, &ARCHIVE_FOLDERS)?;
+    prepare_folder(scene, options)?;
     let palette = load_palette(options)?;
     let palette_size = [palette.width(), palette.height()];
     let background_texel = palette_background_texel(&palette);
@@ -155,6 +147,21 @@ pub fn prepare_archive(
         part_count,
         warnings,
     })
+}
+
+/// Makes `options.out` ready for an archive: refuses it when writing the
+/// archive's files or folders there would replace one of the capture's
+/// inputs, creates it, and replaces links where its own folders go.
+pub(crate) fn prepare_folder(scene: &Scene, options: &CaptureOptions) -> Result<()> {
+    let out = &options.out;
+    crate::overwrite_guard::refuse_overwriting_inputs(
+        out,
+        &ARCHIVE_FILES,
+        &ARCHIVE_FOLDERS,
+        &capture_inputs(scene, options),
+    )?;
+    std::fs::create_dir_all(out).map_err(|e| CaptureError::io(out, e))?;
+    crate::overwrite_guard::unlink_owned_folders(out, &ARCHIVE_FOLDERS)
 }
 
 /// Every file a capture of `scene` with `options` reads: the scene's files,
@@ -370,73 +377,6 @@ pub fn capture(
     let summary = summarize(scene, scenario, options, &prepared, &captured, setup_seconds);
     write_manifest(scene, scenario, options, &prepared, captured, true)?;
     Ok(Summary { seconds: start.elapsed().as_secs_f64(), ..summary })
-}
-
-/// A capture counted while rendering (`--count`): its summary, the analysis
-/// and where the analyzer's files went.
-pub struct CountedCapture {
-    pub summary: Summary,
-    pub analysis: ufcsr::Analysis,
-    pub written: ufcsr::WrittenFiles,
-    /// RGBA pixels counted (what PNGs would have held).
-    pub pixels_counted: u64,
-}
-
-/// Captures one scenario and counts every tile straight from the readback
-/// buffer: writes the archive's `manifest.json`, `pidt.png` and `parts.csv`
-/// (no tiles) and the analyzer's results into `options.out/results`, the same
-/// `result.json` as writing the tiles and running `ufcsr-analyze --trim off`
-/// on them.
-pub fn capture_counted(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    scene: &Scene,
-    scenario: &Scenario,
-    options: &CaptureOptions,
-    dedupe: ufcsr::Dedupe,
-) -> Result<CountedCapture> {
-    let start = Instant::now();
-    scene.rig.check()?;
-    if options.shard.is_some() {
-        return Err(CaptureError::BadOptions(
-            "--count with --shard is not supported: capture the shards as PNG tiles, `ufcsr-capture assemble` \
-             them, then analyse (`ufcsr-analyze --shard` and `merge` split the counting)"
-                .into(),
-        ));
-    }
-    let prepared = prepare_archive(device, queue, scene, options)?;
-    // Tiles of an earlier capture would contradict a manifest that says none were written.
-    crate::archive::encoder_pool::remove_old_tiles(&options.out.join("tiles"))?;
-    let palette = match &prepared.palette {
-        PaletteRecord::Canonical { canonical: [width, height] } => ufcsr::Fcsp::canonical(*width, *height)?,
-        PaletteRecord::File(file) => ufcsr::Fcsp::from_png(&options.out.join(file))?,
-    };
-    let setup_seconds = start.elapsed().as_secs_f64();
-    let mut counter = ufcsr::TileCounter::new(&palette, &[prepared.background], dedupe)?;
-    crate::archive::count_sink::tally_parts(
-        &mut counter,
-        &options.out,
-        &palette,
-        prepared.background,
-        &scene.rig,
-    )?;
-    let (captured, counted) = count_while(counter, |sink| {
-        capture_frames(device, queue, scene, scenario, options, &prepared, sink)
-    })?;
-    let summary = summarize(scene, scenario, options, &prepared, &captured, setup_seconds);
-    write_manifest(scene, scenario, options, &prepared, captured, false)?;
-    let analyze_options = ufcsr::AnalyzeOptions {
-        archive: options.out.clone(),
-        dedupe,
-        // Nothing to trim: the renderer knew which tiles were empty.
-        trim: ufcsr::TrimMode::Off,
-        ..ufcsr::AnalyzeOptions::default()
-    };
-    let Counted { counter, pixels } = counted;
-    let mut analysis = ufcsr::analyze_counted(&analyze_options, counter)?;
-    let written = ufcsr::write_results(&mut analysis, &ufcsr::default_output_dir(&options.out))?;
-    let summary = Summary { seconds: start.elapsed().as_secs_f64(), ..summary };
-    Ok(CountedCapture { summary, analysis, written, pixels_counted: pixels })
 }
 
 /// The summary of a capture (its `seconds` still to be filled in).

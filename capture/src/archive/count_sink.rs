@@ -7,7 +7,6 @@
 //! GPU renders the next tile while the last one is counted (as the PNG
 //! encoder pool overlaps encoding with rendering).
 
-use std::path::Path;
 use std::sync::mpsc::{SyncSender, sync_channel};
 
 use ufcsr::TileCounter;
@@ -37,20 +36,10 @@ impl TileSink for CountSink {
 
 /// Makes `counter` tally pixels, their solid angles and texels by part per
 /// eye-frame (`frames.csv` and the measures, as the analyzer does for PNG
-/// tiles): the legend and PIdT the capture wrote into `out`, the rig's eyes.
-pub fn tally_parts(
-    counter: &mut TileCounter,
-    out: &Path,
-    palette: &ufcsr::Fcsp,
-    background: ufcsr::Color,
-    rig: &crate::scene::rig::Rig,
-) -> Result<()> {
-    let legend = ufcsr::Legend::load(&out.join("parts.csv"))?;
-    let (width, height) = (palette.width(), palette.height());
-    let pidt = ufcsr::Pidt::load(&out.join("pidt.png"), &legend, width, height)?;
-    let lookup = ufcsr::PartLookup::new(palette, Some((&legend, &pidt)), &[background.packed()]);
+/// tiles): the parts of `lookup` (the archive's legend and PIdT), the rig's
+/// eyes.
+pub fn tally_parts(counter: &mut TileCounter, lookup: ufcsr::PartLookup, rig: &crate::scene::rig::Rig) {
     counter.tally_parts(lookup, ufcsr::EyeProjection::new(rig.horizontal_fov_deg, rig.eye_pixels));
-    Ok(())
 }
 
 /// What the counting thread did.

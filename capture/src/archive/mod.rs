@@ -1,6 +1,7 @@
 //! The capture job, writing an archive: what to do ([`options`]), the job's
 //! stages ([`capture_job`]: prepare the unwrap, PIdT and renderer, capture the
-//! frames, write the manifest), the checks of a scene before capturing
+//! frames, write the manifest), a capture counted while rendering, alone or
+//! many sharing one set-up ([`counted_capture`]), the checks of a scene before capturing
 //! ([`scene_checks`]), one frame's tiles ([`frame_capture`]), where tiles go
 //! ([`tile_sink`]: PNGs through the [`encoder_pool`], or counted in memory by
 //! [`count_sink`]), the manifest ([`manifest_builder`]), one capture as
@@ -10,6 +11,7 @@ pub(crate) mod batch;
 pub(crate) mod capture_job;
 pub(crate) mod capture_shard;
 pub(crate) mod count_sink;
+pub(crate) mod counted_capture;
 pub(crate) mod encoder_pool;
 pub(crate) mod frame_capture;
 pub(crate) mod manifest_builder;
@@ -19,11 +21,12 @@ pub(crate) mod tile_sink;
 
 pub use batch::{Batch, Task, load as load_batch, plan as plan_batch};
 pub use capture_job::{
-    CapturedTiles, CountedCapture, MAX_SCENARIO_SECONDS, PreparedCapture, capture, capture_all,
-    capture_counted, capture_frames, capture_inputs, for_each_scenario, prepare, prepare_archive,
-    read_rgb_png, summarize, verify, write_manifest,
+    CapturedTiles, MAX_SCENARIO_SECONDS, PreparedCapture, capture, capture_all, capture_frames,
+    capture_inputs, for_each_scenario, prepare, prepare_archive, read_rgb_png, summarize, verify,
+    write_manifest,
 };
 pub use capture_shard::{Assembled, assemble};
+pub use counted_capture::{CaptureSetup, CountedCapture, capture_counted};
 pub use options::{
     CaptureOptions, CaptureProgress, Compression, FrameSelection, MAX_SELECTED_FRAMES, Summary, TileFilter,
     TileTally,

@@ -150,6 +150,9 @@ pub struct CaptureOptions {
     pub encoder_threads: usize,
     /// Render only this shard of the selected frames (see [`crate::archive::capture_shard`]).
     pub shard: Option<ufcsr::Shard>,
+    /// Each heatmap view in a counted capture's results is 400×300 pixels
+    /// times this, 1–8 (the analyzer's `--views-scale`).
+    pub views_scale: u32,
 }
 
 impl Default for CaptureOptions {
@@ -170,6 +173,7 @@ impl Default for CaptureOptions {
             progress: CaptureProgress::default(),
             encoder_threads: 0,
             shard: None,
+            views_scale: ufcsr::DEFAULT_VIEWS_SCALE,
         }
     }
 }

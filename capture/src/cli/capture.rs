@@ -86,6 +86,10 @@ pub struct Common {
     /// eye-pair (once per frame over both eyes).
     #[arg(long, value_enum, default_value_t = ufcsr::Dedupe::Image, requires = "count")]
     dedupe: ufcsr::Dedupe,
+    /// With --count: size of the heatmap views in results/, each 400×300 pixels times this (1–8).
+    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE, requires = "count",
+          value_parser = clap::value_parser!(u32).range(1..=8))]
+    views_scale: u32,
     /// `unobstructed`: instead of rendering pixels, count per texel the eye-frames in which its
     /// point is in view, faces the eye and is not hidden (exact ray casts; writes results/).
     #[arg(long, value_enum)]
@@ -231,6 +235,7 @@ fn capture_options(common: &Common, threads: usize) -> anyhow::Result<CaptureOpt
         },
         encoder_threads: threads,
         shard: common.shard.as_deref().map(parse_shard).transpose()?,
+        views_scale: common.views_scale,
     })
 }
 

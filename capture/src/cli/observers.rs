@@ -48,6 +48,11 @@ pub struct ObserversArgs {
     /// GPU backend.
     #[arg(long, value_enum, default_value_t = Backend::Auto)]
     backend: Backend,
+    /// Size of the heatmap views in each observer's results, each 400×300 pixels times this (1–8):
+    /// 1 draws a quarter of the pixels, for a quicker grid; the numbers do not change.
+    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+          value_parser = clap::value_parser!(u32).range(1..=8))]
+    views_scale: u32,
 }
 
 fn parse_pair(text: &str, separator: char, what: &str) -> Result<[f64; 2], String> {
@@ -80,6 +85,7 @@ pub fn run_observers(args: ObserversArgs) -> anyhow::Result<()> {
         capture: CaptureOptions {
             out: args.out.clone(),
             palette: parse_palette_size(&args.palette_size)?,
+            views_scale: args.views_scale,
             ..CaptureOptions::default()
         },
     };
@@ -99,14 +105,16 @@ pub fn run_observers(args: ObserversArgs) -> anyhow::Result<()> {
 fn print_observers(study: &ufcsr_capture::ObserverStudy) {
     let n = study.observers.len();
     say!(
-        "scenario {}, {n} observers at {} px/°, every {} frame(s), eye heights {}–{} m, in {:.1} s ({:.2} s per observer)",
+        "scenario {}, {n} observers at {} px/°, every {} frame(s), eye heights {}–{} m, in {:.1} s ({:.2} s of \
+         shared set-up, then {:.2} s per observer)",
         study.scenario,
         study.ppd,
         study.frame_step,
         study.eye_heights_m[0],
         study.eye_heights_m[1],
         study.seconds,
-        study.seconds / n as f64
+        study.setup_seconds,
+        (study.seconds - study.setup_seconds) / n as f64
     );
     say!(
         "per part over the observers: mean [95 % interval of the mean] (2.5–97.5 % of observers); top-5 = share of \

@@ -46,6 +46,11 @@ pub struct StudyArgs {
     /// GPU backend.
     #[arg(long, value_enum, default_value_t = Backend::Auto)]
     backend: Backend,
+    /// Size of the heatmap views in each setting's results, each 400×300 pixels times this (1–8):
+    /// 1 draws a quarter of the pixels, for a quicker study; the numbers do not change.
+    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+          value_parser = clap::value_parser!(u32).range(1..=8))]
+    views_scale: u32,
     /// Measure the exact reference on this share of the texels, e.g. 1/16 (default: all).
     #[arg(long, value_name = "FRACTION", conflicts_with = "no_exact")]
     exact_sample: Option<String>,
@@ -79,6 +84,7 @@ pub fn run_study(args: StudyArgs) -> anyhow::Result<()> {
         capture: CaptureOptions {
             out: args.out.clone(),
             palette: parse_palette_size(&args.palette_size)?,
+            views_scale: args.views_scale,
             ..CaptureOptions::default()
         },
         exact_sample: match (args.no_exact, args.exact_sample.as_deref()) {
@@ -118,6 +124,11 @@ fn print_study(study: &ufcsr_capture::Study) {
             exact.seconds
         );
     }
+    say!(
+        "set-up shared by the settings (unwrap, PIdT, archive files, renderer): {:.2} s, once; \
+         seconds below are each setting's own",
+        study.setup_seconds
+    );
     say!(
         "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12} {:>6}",
         "ppd",

@@ -62,36 +62,38 @@ pub struct Renderer {
     origin: DVec3,
 }
 
-/// The uploaded vertices: the vehicle's, and the occluders' with each
-/// object's vertex range.
+/// The uploaded vertices: the vehicle's, and the occluders'.
 struct Geometry {
     vehicle: Option<(wgpu::Buffer, u32)>,
-    occluders: Option<wgpu::Buffer>,
+    occluders: OccluderGeometry,
+}
+
+/// The occluders' vertices with each object's vertex range, and the moving
+/// occluders' vertices in their own frames.
+struct OccluderGeometry {
+    standing: Option<wgpu::Buffer>,
     /// `(first vertex, vertex count)` per occluder object.
     objects: Vec<(u32, u32)>,
     /// Each moving occluder's vertices in its own frame, and their count.
     moving: Vec<Option<(wgpu::Buffer, u32)>>,
 }
 
-impl Geometry {
-    fn upload(device: &wgpu::Device, queue: &wgpu::Queue, setup: &RenderSetup) -> Geometry {
-        let vehicle = vertex_buffer(device, queue, "vehicle", bytemuck::cast_slice(setup.vehicle))
-            .map(|b| (b, setup.vehicle.len() as u32));
+impl OccluderGeometry {
+    /// Uploads `occluders`, the standing ones relative to `origin` (see [`RenderSetup::origin`]).
+    fn upload(device: &wgpu::Device, queue: &wgpu::Queue, occluders: &Occluders, origin: DVec3) -> Self {
         // Occluders carry a UV and chart but the background mode never reads them.
-        let occluder_vertices: Vec<Vertex> = setup
-            .occluders
+        let standing_vertices: Vec<Vertex> = occluders
             .positions
             .iter()
             .map(|p| Vertex {
-                position: (*p - setup.origin).as_vec3().to_array(),
+                position: (*p - origin).as_vec3().to_array(),
                 uv: [0.0, 0.0],
                 chart: [[0.0; 2]; 3],
             })
             .collect();
-        let occluders = vertex_buffer(device, queue, "occluders", bytemuck::cast_slice(&occluder_vertices));
-        let objects = setup.occluders.objects.iter().map(|o| (o.first_vertex, o.vertex_count)).collect();
-        let moving = setup
-            .occluders
+        let standing = vertex_buffer(device, queue, "occluders", bytemuck::cast_slice(&standing_vertices));
+        let objects = occluders.objects.iter().map(|o| (o.first_vertex, o.vertex_count)).collect();
+        let moving = occluders
             .moving
             .iter()
             .map(|occluder| {
@@ -106,7 +108,16 @@ impl Geometry {
                     .map(|buffer| (buffer, vertices.len() as u32))
             })
             .collect();
-        Geometry { vehicle, occluders, objects, moving }
+        OccluderGeometry { standing, objects, moving }
+    }
+}
+
+impl Geometry {
+    fn upload(device: &wgpu::Device, queue: &wgpu::Queue, setup: &RenderSetup) -> Geometry {
+        let vehicle = vertex_buffer(device, queue, "vehicle", bytemuck::cast_slice(setup.vehicle))
+            .map(|b| (b, setup.vehicle.len() as u32));
+        let occluders = OccluderGeometry::upload(device, queue, setup.occluders, setup.origin);
+        Geometry { vehicle, occluders }
     }
 }
 
@@ -138,12 +149,12 @@ pub const MAX_MOVING_OCCLUDERS: usize = 1000;
 
 /// The tile and palette must fit the device's textures.
 fn check_sizes(device: &wgpu::Device, setup: &RenderSetup) -> Result<()> {
-    let [tw, th] = setup.tile_size;
+    check_tile(device, setup.tile_size)?;
     let limit = device.limits().max_texture_dimension_2d;
     let [pw, ph] = setup.palette.size();
-    if tw == 0 || th == 0 || tw > limit || th > limit || pw > limit || ph > limit {
+    if pw > limit || ph > limit {
         return Err(CaptureError::Gpu(format!(
-            "tile {tw}×{th} or palette {pw}×{ph} exceeds the device's texture limit {limit}"
+            "palette {pw}×{ph} exceeds the device's texture limit {limit}"
         )));
     }
     // One uniform block per moving occluder, after the vehicle's and the world's.
@@ -151,6 +162,17 @@ fn check_sizes(device: &wgpu::Device, setup: &RenderSetup) -> Result<()> {
     if moving > MAX_MOVING_OCCLUDERS {
         return Err(CaptureError::BadOptions(format!(
             "{moving} moving occluders: the renderer takes at most {MAX_MOVING_OCCLUDERS}"
+        )));
+    }
+    Ok(())
+}
+
+/// A tile must be at least a pixel and fit the device's textures.
+fn check_tile(device: &wgpu::Device, [width, height]: [u32; 2]) -> Result<()> {
+    let limit = device.limits().max_texture_dimension_2d;
+    if width == 0 || height == 0 || width > limit || height > limit {
+        return Err(CaptureError::Gpu(format!(
+            "tile {width}×{height} exceeds the device's texture limit {limit}"
         )));
     }
     Ok(())
@@ -170,6 +192,39 @@ impl Renderer {
             background: setup.background,
             origin: setup.origin,
         })
+    }
+
+    /// Makes this renderer what [`Renderer::new`] would have built for
+    /// `tile_size` tiles and `occluders` placed relative to `origin`, with the
+    /// palette and vehicle it was built with: what changes between the
+    /// captures of one scene in a study (the rig's resolution, the
+    /// pedestrian). The pipeline, the palette texture and the vehicle stay
+    /// uploaded; the tile's targets are made again when their size changes,
+    /// and the occluders (a few thousand vertices) are uploaded again.
+    /// `occluders` must have as many moving occluders as the renderer was
+    /// built for (a uniform block each).
+    pub fn retarget(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        tile_size: [u32; 2],
+        origin: DVec3,
+        occluders: &Occluders,
+    ) -> Result<()> {
+        check_tile(device, tile_size)?;
+        if occluders.moving.len() != self.pipeline.moving_groups.len() {
+            return Err(CaptureError::BadOptions(format!(
+                "the renderer was built for {} moving occluders, not {}",
+                self.pipeline.moving_groups.len(),
+                occluders.moving.len()
+            )));
+        }
+        if tile_size != self.target.size() {
+            self.target = TileTarget::new(device, tile_size);
+        }
+        self.geometry.occluders = OccluderGeometry::upload(device, queue, occluders, origin);
+        self.origin = origin;
+        Ok(())
     }
 
     /// Tile size in pixels.
@@ -333,8 +388,8 @@ impl Renderer {
 
     /// The occluders visible in the tile, in the background colour.
     fn draw_occluders(&self, pass: &mut wgpu::RenderPass, draw: &TileDraw) {
-        let geometry = &self.geometry;
-        if let Some(buffer) = &geometry.occluders {
+        let geometry = &self.geometry.occluders;
+        if let Some(buffer) = &geometry.standing {
             pass.set_pipeline(&self.pipeline.pipeline);
             pass.set_bind_group(0, &self.pipeline.world_group, &[]);
             pass.set_vertex_buffer(0, buffer.slice(..));

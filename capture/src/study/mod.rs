@@ -25,7 +25,7 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use ufcsr::Dedupe;
 
-use crate::archive::{CaptureOptions, CaptureProgress, CountedCapture, FrameSelection, capture_counted};
+use crate::archive::{CaptureOptions, CaptureProgress, CaptureSetup, CountedCapture, FrameSelection};
 use crate::error::{CaptureError, Result};
 use crate::scene::Scene;
 use crate::unobstructed::accuracy::{
@@ -99,7 +99,8 @@ pub struct StudyRow {
     pub ppd: f64,
     pub frame_step: u32,
     pub frames: u32,
-    /// Wall seconds to capture and count (setup included).
+    /// Wall seconds to capture, count and write this setting's results (the
+    /// set-up every setting shares is [`Study::setup_seconds`]).
     pub seconds: f64,
     pub grand_total: u64,
     pub texels_seen: u64,
@@ -159,6 +160,9 @@ pub struct Study {
     pub reference: String,
     pub exact: Option<ExactReference>,
     pub tolerance_pp: f64,
+    /// Wall seconds of the set-up the settings share (unwrap, PIdT, the
+    /// archive's files, renderer), built once and left out of each row's `seconds`.
+    pub setup_seconds: f64,
     pub rows: Vec<StudyRow>,
     /// The cheapest setting whose error (its 95 % interval's upper end,
     /// against the exact measure when computed) is within the tolerance.
@@ -234,11 +238,15 @@ pub fn run_study(
     steps.sort_unstable();
     steps.dedup();
     let mut runs = Vec::new();
+    // Built by the first setting, in its folder, and handed to the others.
+    let mut setup = None;
     for &ppd in &ppds {
         for &step in &steps {
-            runs.push(capture_setting(device, queue, scene, options, ppd, step)?);
+            let setting = SettingRun { ppd, step, setup: &mut setup };
+            runs.push(capture_setting(device, queue, scene, options, setting)?);
         }
     }
+    let setup_seconds = setup.map_or(0.0, |setup| setup.seconds);
     let exact = match options.exact_sample {
         None => None,
         Some(sample) => {
@@ -265,6 +273,7 @@ pub fn run_study(
             results: e.written.result_json.clone(),
         }),
         tolerance_pp: options.tolerance_pp,
+        setup_seconds,
         rows,
         recommended: None,
         reason: None,
@@ -306,23 +315,31 @@ fn compare_runs(
     Ok(rows)
 }
 
+/// One setting of a study to capture, and the set-up the settings share
+/// (none before the first).
+struct SettingRun<'a> {
+    ppd: f64,
+    step: u32,
+    setup: &'a mut Option<CaptureSetup>,
+}
+
 /// Captures and counts one setting with the fused path.
 fn capture_setting(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     scene: &Scene,
     options: &StudyOptions,
-    ppd: f64,
-    step: u32,
+    run: SettingRun,
 ) -> Result<Run> {
+    let SettingRun { ppd, step, setup } = run;
     let mut scene = scene.clone();
     scene.rig.set_pixels_per_degree(ppd)?;
     let out = options.capture.out.join(format!("ppd{ppd}-step{step}"));
     let setting = Setting { name: &options.scenario, out: &out, step, dedupe: options.dedupe };
-    let (counted, frames) = count_every_nth_frame(device, queue, &scene, &options.capture, &setting)?;
+    let (counted, frames) = count_every_nth_frame(device, queue, &scene, &options.capture, &setting, setup)?;
     eprintln!(
-        "study: {ppd} px/°, every {step} frame(s): {} frames in {:.2} s",
-        counted.summary.frames, counted.summary.seconds
+        "study: {ppd} px/°, every {step} frame(s): {} frames in {:.2} s ({:.3} s of it set-up)",
+        counted.summary.frames, counted.summary.seconds, counted.summary.setup_seconds
     );
     Ok(Run {
         ppd,
@@ -347,13 +364,16 @@ struct Setting<'a> {
 
 /// The fused count of `scene` (its rig as the setting needs it) at every
 /// `step`-th frame into `out`, with `base`'s other capture settings; and
-/// the frames it covered.
+/// the frames it covered. `setup` is the set-up the study's captures share:
+/// the first builds it in its own folder (timed apart, not in its
+/// `seconds`), the others reuse it.
 fn count_every_nth_frame(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     scene: &Scene,
     base: &CaptureOptions,
     setting: &Setting,
+    setup: &mut Option<CaptureSetup>,
 ) -> Result<(CountedCapture, Vec<u32>)> {
     let scenario = scene.scenario(setting.name)?;
     let frame_count = scene.rig.frame_count(scenario.duration_s);
@@ -365,7 +385,11 @@ fn count_every_nth_frame(
         progress: CaptureProgress::default(),
         ..base.clone()
     };
-    let counted = capture_counted(device, queue, scene, scenario, &capture, setting.dedupe)?;
+    let setup = match setup {
+        Some(setup) => setup,
+        None => setup.insert(CaptureSetup::new(device, queue, scene, &capture)?),
+    };
+    let counted = setup.capture_counted(device, queue, scene, scenario, &capture, setting.dedupe)?;
     Ok((counted, frames_every(step, frame_count)))
 }
 
@@ -722,6 +746,7 @@ mod tests {
             reference,
             exact,
             tolerance_pp: 1.0,
+            setup_seconds: 0.5,
             rows,
             recommended: None,
             reason: None,

@@ -19,7 +19,7 @@ use std::time::Instant;
 use serde::Serialize;
 use ufcsr::Dedupe;
 
-use crate::archive::CaptureOptions;
+use crate::archive::{CaptureOptions, CaptureSetup};
 use crate::error::{CaptureError, Result};
 use crate::scene::Scene;
 use crate::scene::track::ValueOrTrack;
@@ -58,7 +58,8 @@ pub struct Observer {
     /// Ground point, world metres (for a walking pedestrian, where the walk starts).
     pub position: [f64; 3],
     pub eye_height_m: f64,
-    /// Wall seconds of this observer's capture (setup included).
+    /// Wall seconds of this observer's capture, count and results (the
+    /// shared set-up is [`ObserverStudy::setup_seconds`]).
     pub seconds: f64,
     /// Per part (the study's `parts` order): visible angular area, deg²·s per eye.
     pub angular_area_deg2_s: Vec<f64>,
@@ -106,6 +107,10 @@ pub struct ObserverStudy {
     pub summary: Vec<PartSpread>,
     /// Wall seconds for all observers.
     pub seconds: f64,
+    /// Wall seconds of the set-up the observers share (unwrap, PIdT, the
+    /// archive's files, renderer), built once and left out of each
+    /// observer's `seconds`.
+    pub setup_seconds: f64,
 }
 
 fn check(options: &ObserverOptions) -> Result<()> {
@@ -180,9 +185,11 @@ pub fn run_observer_study(
     let grid = observer_grid(options, scene.rig.anchor().to_array());
     let mut parts = Vec::new();
     let mut observers = Vec::with_capacity(grid.len());
+    // Built by the first observer, in its folder, and handed to the others.
+    let mut setup = None;
     for (index, &(position, eye_height_m)) in grid.iter().enumerate() {
-        let (observer, observer_parts) =
-            capture_observer(device, queue, scene, options, index, position, eye_height_m)?;
+        let place = ObserverPlace { index, position, eye_height_m };
+        let (observer, observer_parts) = capture_observer(device, queue, scene, options, place, &mut setup)?;
         if index == 0 {
             parts = observer_parts;
         } else if observer_parts != parts {
@@ -205,6 +212,7 @@ pub fn run_observer_study(
         ));
     }
     let summary = summarize(&parts, &observers);
+    let setup_seconds = setup.map_or(0.0, |setup: CaptureSetup| setup.seconds);
     Ok(ObserverStudy {
         scenario: scenario.name.clone(),
         ppd: options.ppd,
@@ -215,19 +223,29 @@ pub fn run_observer_study(
         observers,
         summary,
         seconds: start.elapsed().as_secs_f64(),
+        setup_seconds,
     })
 }
 
-/// One observer: the fused count at the study's setting, reduced per part.
+/// Where one observer of the grid stands.
+struct ObserverPlace {
+    index: usize,
+    /// Ground point, world metres.
+    position: [f64; 3],
+    eye_height_m: f64,
+}
+
+/// One observer: the fused count at the study's setting, reduced per part,
+/// with the set-up the observers share (built by the first).
 fn capture_observer(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     scene: &Scene,
     options: &ObserverOptions,
-    index: usize,
-    position: [f64; 3],
-    eye_height_m: f64,
+    place: ObserverPlace,
+    setup: &mut Option<CaptureSetup>,
 ) -> Result<(Observer, Vec<String>)> {
+    let ObserverPlace { index, position, eye_height_m } = place;
     let mut scene = scene.clone();
     if options.kerb.is_some() {
         scene.rig.pedestrian = ValueOrTrack::Fixed(position);
@@ -238,7 +256,7 @@ fn capture_observer(
     let out = options.capture.out.join(format!("observer-{index:03}"));
     let step = options.frame_step;
     let setting = Setting { name: &options.scenario, out: &out, step, dedupe: Dedupe::Frame };
-    let (counted, _) = count_every_nth_frame(device, queue, &scene, &options.capture, &setting)?;
+    let (counted, _) = count_every_nth_frame(device, queue, &scene, &options.capture, &setting, setup)?;
     let table = frame_table(&counted, &out)?;
     let solid = rendered_per_eye_frame(table, StudyMeasure::AngularArea, &out)?;
     let count = rendered_per_eye_frame(table, StudyMeasure::Count, &out)?;
