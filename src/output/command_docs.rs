@@ -12,9 +12,21 @@ use crate::files::write_bytes_atomically;
 /// The shells completions are generated for (`bash`, `zsh`, `fish`, `elvish`, `powershell`).
 pub use clap_complete::Shell;
 
-/// Prints `program`'s completion script for `shell` on stdout.
+/// Prints `program`'s completion script for `shell` on stdout (generated
+/// whole first: clap_complete panics when stdout closes early, as under `| head`).
 pub fn print_completions(shell: clap_complete::Shell, mut command: clap::Command, program: &str) {
-    clap_complete::generate(shell, &mut command, program, &mut std::io::stdout());
+    let mut script = Vec::new();
+    clap_complete::generate(shell, &mut command, program, &mut script);
+    // Nothing to report on a failed stdout: the reader has gone.
+    let _ = write_stdout(&script);
+}
+
+/// Writes `bytes` on stdout; a reader that closed early (`| head`) is not an error.
+fn write_stdout(bytes: &[u8]) -> std::io::Result<()> {
+    match std::io::Write::write_all(&mut std::io::stdout(), bytes) {
+        Err(error) if error.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        other => other,
+    }
 }
 
 /// Prints `program`'s man page on stdout, or, with `out`, writes
@@ -32,8 +44,7 @@ pub fn write_man_pages(
     };
     let Some(dir) = out else {
         let roff = render(command, Path::new("stdout"))?;
-        std::io::Write::write_all(&mut std::io::stdout(), &roff)
-            .map_err(|e| Error::io(Path::new("stdout"), e))?;
+        write_stdout(&roff).map_err(|e| Error::io(Path::new("stdout"), e))?;
         return Ok(Vec::new());
     };
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;

@@ -183,6 +183,24 @@ fn completions_for_every_shell_and_man_pages_are_generated() {
 }
 
 #[test]
+fn completions_and_man_pages_into_a_reader_that_stops_early_end_quietly() {
+    // `ufcsr-analyze completions bash | head -1`: stdout closes after the
+    // first line; the program must not panic on the broken pipe.
+    for args in [&["completions", "bash"][..], &["man"]] {
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+            .args(args)
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let output = child.wait_with_output().unwrap();
+        assert_eq!(output.status.code(), Some(0), "{args:?}: {}", text(&output.stderr));
+        assert!(!text(&output.stderr).contains("panicked"), "{args:?}");
+    }
+}
+
+#[test]
 fn the_tiles_folder_of_an_archive_is_refused_naming_the_manifest_above() {
     let dir = tempfile::tempdir().unwrap();
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
