@@ -121,38 +121,51 @@ impl TriangleBvh {
     /// A triangle the open segment `from → to` crosses (the first the walk
     /// meets, as an index for [`TriangleBvh::triangle_blocks`]), or `None`.
     pub fn first_blocker(&self, from: DVec3, to: DVec3) -> Option<u32> {
-        if self.nodes.is_empty() {
-            return None;
-        }
         let direction = to - from;
         let inverse = direction.recip();
-        let mut stack = [0u32; TRAVERSAL_STACK];
-        let mut top = 1usize;
-        while top > 0 {
-            top -= 1;
-            let node = &self.nodes[stack[top] as usize];
-            if !segment_hits_box(from, inverse, node) {
-                continue;
-            }
-            let (first, count) = (node.first as usize, node.count as usize);
-            if count > 0 {
-                let hit = self.triangles[first..first + count]
-                    .iter()
-                    .position(|t| segment_hits_triangle(from, direction, t));
-                if let Some(offset) = hit {
-                    return Some((first + offset) as u32);
-                }
-            } else {
-                stack[top] = node.first;
-                stack[top + 1] = node.first + 1;
-                top += 2;
-            }
+        let hits = |index: u32| segment_hits_box(from, inverse, &self.nodes[index as usize]);
+        if self.nodes.is_empty() || !hits(0) {
+            return None;
         }
-        None
+        // Both children's boxes are tested at their parent (they share a
+        // cache line pair); the walk goes down the first one hit and keeps
+        // the other on the stack, so the stack grows by at most one a level.
+        let mut stack = [0u32; TRAVERSAL_STACK];
+        let (mut top, mut node) = (0usize, 0u32);
+        loop {
+            let Node { first, count, .. } = self.nodes[node as usize];
+            let next = if count > 0 {
+                let leaf = &self.triangles[first as usize..(first + count) as usize];
+                if let Some(offset) = leaf.iter().position(|t| segment_hits_triangle(from, direction, t)) {
+                    return Some(first + offset as u32);
+                }
+                None
+            } else {
+                match (hits(first), hits(first + 1)) {
+                    (true, true) => {
+                        stack[top] = first + 1;
+                        top += 1;
+                        Some(first)
+                    }
+                    (true, false) => Some(first),
+                    (false, true) => Some(first + 1),
+                    (false, false) => None,
+                }
+            };
+            node = match next {
+                Some(child) => child,
+                None if top > 0 => {
+                    top -= 1;
+                    stack[top]
+                }
+                None => return None,
+            };
+        }
     }
 
     /// True when triangle `index` (from [`TriangleBvh::first_blocker`])
     /// crosses the open segment `from → to`; an index out of range is false.
+    #[inline]
     pub fn triangle_blocks(&self, index: u32, from: DVec3, to: DVec3) -> bool {
         self.triangles.get(index as usize).is_some_and(|t| segment_hits_triangle(from, to - from, t))
     }
@@ -294,20 +307,37 @@ fn sah_partition(items: &mut [Item], min: DVec3, max: DVec3) -> Option<usize> {
 
 /// Slab test of the segment `from + s·direction`, s ∈ [0, 1], against a box,
 /// without branches. An axis the segment runs parallel to gives ±∞ (inside
-/// the slab or not); `0 · ∞` (the segment on a face of the widened box,
-/// where no triangle lies) gives NaN, which `min`/`max` drop, and the box is
-/// rejected. Conservative by [`SLAB_ROUNDING`].
+/// the slab or not). `0 · ∞` gives NaN only when the segment lies in the
+/// plane of a face of the widened box, where no triangle lies, so whatever
+/// the comparisons then answer is right; every other case is the exact slab
+/// test, made conservative by [`SLAB_ROUNDING`].
 #[inline(always)]
 fn segment_hits_box(from: DVec3, inverse: DVec3, node: &Node) -> bool {
     let to_min = (DVec3::from_array(node.min) - from) * inverse;
     let to_max = (DVec3::from_array(node.max) - from) * inverse;
-    let low = to_min.min(to_max).max_element().max(0.0);
-    let high = to_min.max(to_max).min_element().min(1.0);
+    let enter = |axis: usize| lesser(to_min[axis], to_max[axis]);
+    let leave = |axis: usize| greater(to_min[axis], to_max[axis]);
+    let low = greater(greater(enter(0), enter(1)), greater(enter(2), 0.0));
+    let high = lesser(lesser(leave(0), leave(1)), lesser(leave(2), 1.0));
     low <= high * SLAB_ROUNDING
+}
+
+/// The smaller of two numbers as one `minsd` (a NaN gives either; see
+/// [`segment_hits_box`] for why that is safe).
+#[inline(always)]
+fn lesser(a: f64, b: f64) -> f64 {
+    if a < b { a } else { b }
+}
+
+/// The larger of two numbers as one `maxsd`.
+#[inline(always)]
+fn greater(a: f64, b: f64) -> f64 {
+    if a > b { a } else { b }
 }
 
 /// Möller–Trumbore, segment parameter strictly inside (1e-9, 1 − 1e-9).
 /// `visibility.wgsl` does the same steps.
+#[inline(always)]
 fn segment_hits_triangle(from: DVec3, direction: DVec3, t: &StoredTriangle) -> bool {
     ray_triangle_parameter(from, direction, t).is_some_and(|along| along > 1e-9 && along < 1.0 - 1e-9)
 }

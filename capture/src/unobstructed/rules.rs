@@ -129,6 +129,7 @@ struct Segment<'a> {
 
 impl Segment<'_> {
     /// Its ends in the frame of `frame`'s hierarchy.
+    #[inline]
     fn in_frame(&self, frame: Frame) -> (DVec3, DVec3) {
         let eye_frame = self.eye_frame;
         if let Frame::Vehicle = frame {
