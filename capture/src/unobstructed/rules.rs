@@ -129,7 +129,7 @@ struct Segment<'a> {
 
 impl Segment<'_> {
     /// Its ends in the frame of `frame`'s hierarchy.
-    #[inline]
+    #[inline(always)]
     fn in_frame(&self, frame: Frame) -> (DVec3, DVec3) {
         let eye_frame = self.eye_frame;
         if let Frame::Vehicle = frame {
