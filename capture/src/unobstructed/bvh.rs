@@ -8,6 +8,16 @@
 //! the GPU walks the same array ([`TriangleBvh::flatten`]). Triangles are
 //! stored as `(corner, edge 1, edge 2)`, the form Möller–Trumbore uses, and
 //! every path (BVH, brute force, GPU) reads those same stored numbers.
+//!
+//! The box test is conservative, so the hierarchy answers exactly as brute
+//! force: every node's bounds are widened at the build by [`BOUNDS_MARGIN`]
+//! of their size and distance from the origin (far more than the rounding of
+//! Möller–Trumbore or of the slab test), and the slab test accepts a box
+//! whose entry and exit parameters are within rounding of each other. A
+//! triangle the segment crosses therefore always lies in a visited leaf, and
+//! a shortcut that tests one remembered triangle first
+//! ([`TriangleBvh::triangle_blocks`], the measure's occluder memory) changes
+//! no answer.
 
 use glam::DVec3;
 
@@ -26,6 +36,17 @@ const LEAF_SIZE: usize = 2;
 const BINS: usize = 12;
 /// Cost of visiting a node against testing one triangle, for the SAH.
 const TRAVERSAL_COST: f64 = 1.0;
+/// How far every node's bounds are widened outwards, relative to their
+/// largest |coordinate| plus their largest extent: 1e-7 is ≈ 10⁹ units of
+/// rounding of f64, so a point Möller–Trumbore finds on a triangle (its
+/// rounding included) lies inside every box that holds the triangle, while
+/// the boxes grow by 0.1 µm per metre, which the walk does not notice.
+pub const BOUNDS_MARGIN: f64 = 1e-7;
+/// The slab test's exit parameter is scaled by 1 + 2γ₃ (γ₃ = 3ε / (1 − 3ε),
+/// ε = 2⁻⁵³) before it is compared with the entry: the rounding of
+/// `(bound − from) · (1 / direction)` cannot then reject a box the segment
+/// touches (Ize, "Robust BVH ray traversal", JCGT 2013).
+const SLAB_ROUNDING: f64 = 1.0 + 2.0 * (3.0 * f64::EPSILON / 2.0) / (1.0 - 3.0 * f64::EPSILON / 2.0);
 
 /// One node: 48 bytes of bounds and two u32 (padded to a cache line).
 #[derive(Debug, Clone, Copy)]
@@ -86,6 +107,7 @@ impl TriangleBvh {
                 pending.push((children + 1, depth + 1));
             }
         }
+        nodes.iter_mut().for_each(widen);
         let triangles = items.iter().map(|item| StoredTriangle::from_corners(&corners[item.index])).collect();
         TriangleBvh { triangles, nodes }
     }
@@ -93,34 +115,65 @@ impl TriangleBvh {
     /// True when the open segment `from → to` (ends excluded) crosses a
     /// triangle: any hit ends the walk.
     pub fn blocks(&self, from: DVec3, to: DVec3) -> bool {
-        if self.nodes.is_empty() {
-            return false;
-        }
+        self.first_blocker(from, to).is_some()
+    }
+
+    /// A triangle the open segment `from → to` crosses (the first the walk
+    /// meets, as an index for [`TriangleBvh::triangle_blocks`]), or `None`.
+    pub fn first_blocker(&self, from: DVec3, to: DVec3) -> Option<u32> {
         let direction = to - from;
         let inverse = direction.recip();
-        let mut stack = [0u32; TRAVERSAL_STACK];
-        let mut top = 1usize;
-        while top > 0 {
-            top -= 1;
-            let node = &self.nodes[stack[top] as usize];
-            if !segment_hits_box(from, inverse, node) {
-                continue;
-            }
-            let (first, count) = (node.first as usize, node.count as usize);
-            if count > 0 {
-                if self.triangles[first..first + count]
-                    .iter()
-                    .any(|t| segment_hits_triangle(from, direction, t))
-                {
-                    return true;
-                }
-            } else {
-                stack[top] = node.first;
-                stack[top + 1] = node.first + 1;
-                top += 2;
-            }
+        let hits = |index: u32| segment_hits_box(from, inverse, &self.nodes[index as usize]);
+        if self.nodes.is_empty() || !hits(0) {
+            return None;
         }
-        false
+        // Both children's boxes are tested at their parent (they share a
+        // cache line pair); the walk goes down the first one hit and keeps
+        // the other on the stack, so the stack grows by at most one a level.
+        let mut stack = [0u32; TRAVERSAL_STACK];
+        let (mut top, mut node) = (0usize, 0u32);
+        loop {
+            let Node { first, count, .. } = self.nodes[node as usize];
+            let next = if count > 0 {
+                let leaf = &self.triangles[first as usize..(first + count) as usize];
+                if let Some(offset) = leaf.iter().position(|t| segment_hits_triangle(from, direction, t)) {
+                    return Some(first + offset as u32);
+                }
+                None
+            } else {
+                match (hits(first), hits(first + 1)) {
+                    (true, true) => {
+                        stack[top] = first + 1;
+                        top += 1;
+                        Some(first)
+                    }
+                    (true, false) => Some(first),
+                    (false, true) => Some(first + 1),
+                    (false, false) => None,
+                }
+            };
+            node = match next {
+                Some(child) => child,
+                None if top > 0 => {
+                    top -= 1;
+                    stack[top]
+                }
+                None => return None,
+            };
+        }
+    }
+
+    /// True when triangle `index` (from [`TriangleBvh::first_blocker`])
+    /// crosses the open segment `from → to`; an index out of range is false.
+    #[inline]
+    pub fn triangle_blocks(&self, index: u32, from: DVec3, to: DVec3) -> bool {
+        self.triangles.get(index as usize).is_some_and(|t| segment_hits_triangle(from, to - from, t))
+    }
+
+    /// [`TriangleBvh::first_blocker`] by testing every triangle (for tests).
+    pub fn first_blocker_brute_force(&self, from: DVec3, to: DVec3) -> Option<u32> {
+        let direction = to - from;
+        self.triangles.iter().position(|t| segment_hits_triangle(from, direction, t)).map(|i| i as u32)
     }
 
     /// The same question by testing every triangle (for tests).
@@ -163,6 +216,14 @@ impl TriangleBvh {
     pub fn node_count(&self) -> usize {
         self.nodes.len()
     }
+}
+
+/// Widens a node's bounds outwards by [`BOUNDS_MARGIN`] (see there).
+fn widen(node: &mut Node) {
+    let (min, max) = (DVec3::from_array(node.min), DVec3::from_array(node.max));
+    let margin = BOUNDS_MARGIN * (min.abs().max(max.abs()).max_element() + (max - min).max_element());
+    node.min = (min - DVec3::splat(margin)).to_array();
+    node.max = (max + DVec3::splat(margin)).to_array();
 }
 
 fn leaf(first: usize, count: usize) -> Node {
@@ -244,31 +305,39 @@ fn sah_partition(items: &mut [Item], min: DVec3, max: DVec3) -> Option<usize> {
     Some(left)
 }
 
-/// Slab test of the segment `from + s·direction`, s ∈ [0, 1], against a box.
+/// Slab test of the segment `from + s·direction`, s ∈ [0, 1], against a box,
+/// without branches. An axis the segment runs parallel to gives ±∞ (inside
+/// the slab or not). `0 · ∞` gives NaN only when the segment lies in the
+/// plane of a face of the widened box, where no triangle lies, so whatever
+/// the comparisons then answer is right; every other case is the exact slab
+/// test, made conservative by [`SLAB_ROUNDING`].
+#[inline(always)]
 fn segment_hits_box(from: DVec3, inverse: DVec3, node: &Node) -> bool {
-    let (mut low, mut high) = (0.0f64, 1.0f64);
-    for axis in 0..3 {
-        let (min, max) = (node.min[axis], node.max[axis]);
-        if inverse[axis].is_infinite() {
-            // Parallel to this slab: inside it or never.
-            if from[axis] < min || from[axis] > max {
-                return false;
-            }
-            continue;
-        }
-        let a = (min - from[axis]) * inverse[axis];
-        let b = (max - from[axis]) * inverse[axis];
-        low = low.max(a.min(b));
-        high = high.min(a.max(b));
-        if low > high {
-            return false;
-        }
-    }
-    true
+    let to_min = (DVec3::from_array(node.min) - from) * inverse;
+    let to_max = (DVec3::from_array(node.max) - from) * inverse;
+    let enter = |axis: usize| lesser(to_min[axis], to_max[axis]);
+    let leave = |axis: usize| greater(to_min[axis], to_max[axis]);
+    let low = greater(greater(enter(0), enter(1)), greater(enter(2), 0.0));
+    let high = lesser(lesser(leave(0), leave(1)), lesser(leave(2), 1.0));
+    low <= high * SLAB_ROUNDING
+}
+
+/// The smaller of two numbers as one `minsd` (a NaN gives either; see
+/// [`segment_hits_box`] for why that is safe).
+#[inline(always)]
+fn lesser(a: f64, b: f64) -> f64 {
+    if a < b { a } else { b }
+}
+
+/// The larger of two numbers as one `maxsd`.
+#[inline(always)]
+fn greater(a: f64, b: f64) -> f64 {
+    if a > b { a } else { b }
 }
 
 /// Möller–Trumbore, segment parameter strictly inside (1e-9, 1 − 1e-9).
 /// `visibility.wgsl` does the same steps.
+#[inline(always)]
 fn segment_hits_triangle(from: DVec3, direction: DVec3, t: &StoredTriangle) -> bool {
     ray_triangle_parameter(from, direction, t).is_some_and(|along| along > 1e-9 && along < 1.0 - 1e-9)
 }
@@ -308,6 +377,64 @@ mod tests {
             hits += usize::from(fast);
         }
         assert!(hits > 100 && hits < 1900, "{hits}");
+    }
+
+    /// A tilted sheet of 0.1 m squares (two triangles each), with corners
+    /// that are not exact in binary and lie on the faces of the leaves' boxes.
+    fn tilted_sheet() -> Vec<[DVec3; 3]> {
+        let mut triangles = Vec::new();
+        for i in 0..12 {
+            for j in 0..12 {
+                let corner = |a: i32, b: i32| {
+                    let (x, y) = (0.1 * f64::from(i + a), 0.1 * f64::from(j + b));
+                    DVec3::new(x, y, 0.3 * x + 0.7 * y + 0.01)
+                };
+                triangles.push([corner(0, 0), corner(1, 0), corner(0, 1)]);
+                triangles.push([corner(1, 0), corner(1, 1), corner(0, 1)]);
+            }
+        }
+        triangles
+    }
+
+    #[test]
+    fn segments_through_corners_edges_and_box_faces_answer_as_brute_force() {
+        // Segments through every corner and edge midpoint of the sheet, along
+        // the axes (on the faces of the boxes that hold those corners: a slab
+        // test that is not conservative misses them) and obliquely.
+        let triangles = tilted_sheet();
+        let bvh = TriangleBvh::new(triangles.clone());
+        let directions =
+            [DVec3::Z, DVec3::X, DVec3::Y, DVec3::new(0.2, -0.3, 1.0), DVec3::new(1.0, 1.0, -0.5)];
+        let (mut segments, mut hits) = (0, 0);
+        for t in &triangles {
+            for target in [t[0], t[1], t[2], (t[0] + t[1]) / 2.0, (t[1] + t[2]) / 2.0, (t[2] + t[0]) / 2.0] {
+                for direction in directions {
+                    let (from, to) = (target + direction * 0.37, target - direction * 0.61);
+                    let fast = bvh.first_blocker(from, to);
+                    assert_eq!(fast.is_some(), bvh.blocks_brute_force(from, to), "{from:?} → {to:?}");
+                    if let Some(index) = fast {
+                        assert!(bvh.triangle_blocks(index, from, to));
+                    }
+                    segments += 1;
+                    hits += usize::from(fast.is_some());
+                }
+            }
+        }
+        // Every segment crossing the sheet's inside hits it; those along x
+        // or y run in the sheet's tilted plane only at isolated points.
+        assert!(hits > segments / 2 && hits < segments, "{hits} of {segments}");
+    }
+
+    #[test]
+    fn the_blocker_found_is_one_brute_force_finds_and_a_missing_index_blocks_nothing() {
+        let bvh = TriangleBvh::new(tilted_sheet());
+        let (from, to) = (DVec3::new(0.55, 0.55, 3.0), DVec3::new(0.55, 0.55, -3.0));
+        let index = bvh.first_blocker(from, to).unwrap();
+        assert_eq!(bvh.first_blocker_brute_force(from, to), Some(index), "only one triangle is crossed");
+        assert!(bvh.triangle_blocks(index, from, to));
+        assert!(!bvh.triangle_blocks(index, from + DVec3::X, to + DVec3::X));
+        assert!(!bvh.triangle_blocks(u32::MAX, from, to));
+        assert_eq!(TriangleBvh::new(Vec::new()).first_blocker(from, to), None);
     }
 
     #[test]

@@ -7,11 +7,20 @@
 //! the same eye, and walk the same nodes of the hierarchy while they are in
 //! cache. Per texel the sums run over the eye-frames in order, then over its
 //! samples in order — the order `visibility.wgsl` uses, so both round alike.
+//!
+//! Occluder memory: each sample of a chunk remembers the triangle that hid
+//! it last, and the sample before it in the same eye-frame offers its own:
+//! both are tried before the hierarchy (`rules::sample_visibility`).
+//! Consecutive eye-frames move the eye a little and neighbouring samples lie
+//! side by side, so the same triangle (most often the vehicle's own near
+//! side hiding its far side) usually hides the sample again, and one
+//! triangle test replaces a walk. The hierarchy's box test is conservative,
+//! so the answers are the same as without the memory (and as the GPU's).
 
 use rayon::prelude::*;
 
 use super::geometry::Obstacles;
-use super::rules::{Tracer, visible_solid_angle};
+use super::rules::{Blocker, Sighting, Tracer, sample_visibility};
 use super::types::{EyeFrame, PartEyeFrames, SampledTexel, SurfaceSamples, TexelVisibility};
 
 /// Texels per unit of parallel work.
@@ -69,16 +78,31 @@ fn chunk_visibility(
         per_eye_frame: None,
     };
     let mut per_eye_frame = PartEyeFrames { texels: vec![0; slots], solid_angle_sr: vec![0.0; slots] };
+    // The span of `samples.samples` the chunk's texels use (one run, as
+    // `surface_samples` lays them out).
+    let first_sample = texels.iter().map(|t| t.first as usize).min().unwrap_or(0);
+    let sample_span = texels.iter().map(|t| (t.first + t.count) as usize).max().unwrap_or(0) - first_sample;
+    let mut remembered: Vec<Option<Blocker>> = vec![None; sample_span];
     for (index, eye_frame) in eye_frames.iter().enumerate() {
+        let mut last_blocker: Option<Blocker> = None;
         for (slot, texel) in texels.iter().enumerate() {
             let mut seen = false;
             let mut texel_sr = 0.0;
-            for sample in samples.of(texel) {
-                if let Some(solid_angle) = visible_solid_angle(sample, eye_frame, obstacles, tracer) {
-                    seen = true;
-                    // Added sample by sample, in the order visibility.wgsl adds them.
-                    out.solid_angle_sr[slot] += solid_angle;
-                    texel_sr += solid_angle;
+            for (offset, sample) in samples.of(texel).iter().enumerate() {
+                let memory = &mut remembered[texel.first as usize - first_sample + offset];
+                let guesses = [*memory, last_blocker.filter(|&blocker| Some(blocker) != *memory)];
+                match sample_visibility(sample, eye_frame, obstacles, tracer, &guesses) {
+                    Sighting::Visible(solid_angle) => {
+                        seen = true;
+                        // Added sample by sample, in the order visibility.wgsl adds them.
+                        out.solid_angle_sr[slot] += solid_angle;
+                        texel_sr += solid_angle;
+                    }
+                    Sighting::Blocked(blocker) => {
+                        *memory = Some(blocker);
+                        last_blocker = Some(blocker);
+                    }
+                    Sighting::NotInSight => {}
                 }
             }
             if seen {

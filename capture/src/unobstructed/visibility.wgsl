@@ -92,7 +92,8 @@ fn segment_hits_box(origin: vec3<f64>, direction: vec3<f64>, node_base: u32) -> 
         let b = (hi[axis] - origin[axis]) * inverse;
         low = max(low, min(a, b));
         high = min(high, max(a, b));
-        if (low > high) {
+        // Conservative as bvh.rs's SLAB_ROUNDING (the bounds are widened too).
+        if (low > high * 1.0000000000000007lf) {
             return false;
         }
     }

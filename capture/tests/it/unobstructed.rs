@@ -62,6 +62,39 @@ fn the_hierarchy_answers_exactly_as_brute_force_on_sampled_points() {
 }
 
 #[test]
+fn the_occluder_memory_changes_no_answer_texel_for_texel() {
+    // The CPU loop tries each sample's last blocker (and its neighbour's)
+    // before the hierarchy; sample by sample by brute force, without any
+    // memory, must give the same count and the same solid angle bit for bit.
+    let scene = Scene::demo();
+    let scenario = scene.scenario("A").unwrap();
+    let samples = samples_of(&scene.vehicle, PALETTE, 0.05, 2);
+    let obstacles = Obstacles::new(&scene);
+    let (frames, _) = eye_frames(&scene, scenario, &[0, 30, 31, 32, 90, 91, 150, 180], &obstacles).unwrap();
+    let remembered =
+        texel_visibility(&samples, &frames, &obstacles, scene.vehicle.parts.len(), Tracer::Hierarchy);
+    let (mut hidden, mut visible) = (0, 0);
+    for (slot, texel) in samples.texels.iter().enumerate() {
+        let (mut count, mut solid_angle_sr) = (0, 0.0);
+        for frame in &frames {
+            let mut seen = false;
+            for sample in samples.of(texel) {
+                match visible_solid_angle(sample, frame, &obstacles, Tracer::BruteForce) {
+                    Some(solid_angle) => {
+                        (seen, solid_angle_sr, visible) = (true, solid_angle_sr + solid_angle, visible + 1)
+                    }
+                    None => hidden += 1,
+                }
+            }
+            count += u32::from(seen);
+        }
+        assert_eq!(remembered.counts[slot], count, "texel {}", texel.texel);
+        assert_eq!(remembered.solid_angle_sr[slot], solid_angle_sr, "texel {}", texel.texel);
+    }
+    assert!(hidden > 1000 && visible > 1000, "{hidden} hidden, {visible} visible sample-eye-frames");
+}
+
+#[test]
 fn every_sample_lies_inside_its_own_triangle_and_the_areas_add_up() {
     let scene = Scene::demo();
     for k in [1, 3] {
