@@ -261,6 +261,7 @@ fn main() {
             &args,
             &args.keep.clone().unwrap_or_else(|| temporary.path().join("archive")),
         ));
+        archives.extend(args.also.iter().cloned());
     }
     for archive in &archives {
         println!("\n== {}", archive.display());
