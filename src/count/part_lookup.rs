@@ -105,55 +105,33 @@ impl PartLookup {
 
     #[inline(always)]
     fn add_row_of<const BYTES: usize, const GRAY: bool>(&self, row: &[u8], pixels: &mut [u64]) {
-        self.for_each_span::<BYTES, GRAY>(row, |start, end, slot| pixels[slot] += (end - start) as u64);
+        for (start, end, slot) in self.part_spans::<BYTES, GRAY>(row) {
+            pixels[slot] += (end - start) as u64;
+        }
     }
 
-    /// Calls `span(first pixel, end, slot)` for each of the row's maximal
-    /// spans of one part slot, in order: runs of equal colour, joined while
-    /// their colours name the same part.
-    ///
-    /// Runs are found [`SPAN_BATCH`] at a time and their slots looked up in
-    /// a loop of their own: the look-ups do not depend on one another, so
-    /// the processor keeps many in flight instead of waiting for each
-    /// (looked up one run at a time, the waits were most of this pass).
+    /// The row's maximal spans of one part slot, `(first pixel, end, slot)`:
+    /// runs of equal colour, joined while their colours name the same part.
     #[inline(always)]
-    fn for_each_span<const BYTES: usize, const GRAY: bool>(
-        &self,
-        row: &[u8],
-        mut span: impl FnMut(usize, usize, usize),
-    ) {
-        let mut runs = Runs::<BYTES, GRAY>::new(row);
-        let (mut ends, mut colours, mut slots) =
-            ([0usize; SPAN_BATCH], [0u32; SPAN_BATCH], [0u16; SPAN_BATCH]);
-        // The span being extended: (first pixel, end, slot).
-        let mut open: Option<(usize, usize, usize)> = None;
-        loop {
-            let mut found = 0;
-            for (_, end, colour) in runs.by_ref().take(SPAN_BATCH) {
-                (ends[found], colours[found]) = (end, colour);
-                found += 1;
+    fn part_spans<'r, const BYTES: usize, const GRAY: bool>(
+        &'r self,
+        row: &'r [u8],
+    ) -> impl Iterator<Item = (usize, usize, usize)> + 'r {
+        let mut runs =
+            Runs::<BYTES, GRAY>::new(row).map(|(start, end, color)| (start, end, self.slot(color)));
+        let mut pending = runs.next();
+        std::iter::from_fn(move || {
+            let (start, mut end, slot) = pending?;
+            pending = None;
+            for (next_start, next_end, next_slot) in runs.by_ref() {
+                if next_slot != slot {
+                    pending = Some((next_start, next_end, next_slot));
+                    break;
+                }
+                end = next_end;
             }
-            for (slot, &colour) in slots[..found].iter_mut().zip(&colours[..found]) {
-                *slot = self.slots.get(colour);
-            }
-            for (&end, &slot) in ends[..found].iter().zip(&slots[..found]) {
-                let slot = usize::from(slot);
-                open = match open {
-                    Some((first, _, open_slot)) if open_slot == slot => Some((first, end, slot)),
-                    Some((first, open_end, open_slot)) => {
-                        span(first, open_end, open_slot);
-                        Some((open_end, end, slot))
-                    }
-                    None => Some((0, end, slot)),
-                };
-            }
-            if found < SPAN_BATCH {
-                break;
-            }
-        }
-        if let Some((first, end, slot)) = open {
-            span(first, end, slot);
-        }
+            Some((start, end, slot))
+        })
     }
 
     /// Adds the pixels of row `y` of an image to `tally` by part, and, when
@@ -184,12 +162,12 @@ impl PartLookup {
         weights: &RowWeights,
     ) {
         let mut start_edge = weights.edge(0);
-        self.for_each_span::<BYTES, GRAY>(row, |start, end, slot| {
+        for (start, end, slot) in self.part_spans::<BYTES, GRAY>(row) {
             let edge = weights.edge(end);
             pixels[slot] += (end - start) as u64;
             solid[slot] += solid_angle_units(edge - start_edge);
             start_edge = edge;
-        });
+        }
     }
 
     /// Adds the distinct texels of `seen` (keys from [`crate::color::color_key`])
@@ -280,9 +258,6 @@ impl<const BYTES: usize, const GRAY: bool> Iterator for Runs<'_, BYTES, GRAY> {
         Some((first, self.next, color))
     }
 }
-
-/// Runs whose slots are looked up together ([`PartLookup::for_each_span`]).
-const SPAN_BATCH: usize = 64;
 
 /// Units of [`PartPixels::solid_angle_units`]: 2⁻⁸⁰ sr. Runs' solid angles
 /// are added as integers, so an eye-frame's sum does not depend on the order
@@ -416,14 +391,10 @@ mod tests {
         assert_eq!(pixels, [3, 3, 1, 2]);
         // Spans of one part join runs of different texels (the stray and the
         // background texel 3 are both "no part", so they join too).
-        let spans = |row: &[u8]| {
-            let mut spans = Vec::new();
-            lookup.for_each_span::<4, false>(row, |first, end, slot| spans.push((first, end, slot)));
-            spans
-        };
-        let joined = spans(&[0, 0, 1, 255, 0, 0, 2, 255, 0, 0, 1, 7]);
-        let spans = spans(&row);
+        let spans: Vec<_> = lookup.part_spans::<4, false>(&row).collect();
         assert_eq!(spans, [(0, 2, 0), (2, 3, 3), (3, 6, 1), (6, 7, 2), (7, 8, 3), (8, 9, 0)]);
+        let joined: Vec<_> =
+            lookup.part_spans::<4, false>(&[0, 0, 1, 255, 0, 0, 2, 255, 0, 0, 1, 7]).collect();
         assert_eq!(joined, [(0, 3, 0)]);
         // Weighted: the same pixels, and each part's solid angle is the sum
         // of its pixels' (row 5 of a tile at [10, 20] of a 4 px/° eye).
@@ -462,43 +433,6 @@ mod tests {
             }
         }
         runs
-    }
-
-    #[test]
-    fn spans_over_many_batches_join_runs_of_one_part_as_one_at_a_time() {
-        // A 64×64 palette whose texels belong to 3 parts in stripes, rows
-        // of up to 900 runs (many batches of SPAN_BATCH), some of them
-        // background (texel 5) or no texel at all.
-        let palette = Fcsp::canonical(64, 64).unwrap();
-        let legend = Legend::new(
-            Path::new("parts.csv"),
-            (1..=3).map(|k| Part { name: format!("p{k}"), color: Color::from_packed(k) }).collect(),
-        )
-        .unwrap();
-        let colors: Vec<u32> = (0..64 * 64u32).map(|t| 1 + (t / 7) % 3).collect();
-        let pidt = Pidt::from_colors(64, 64, &colors, &legend);
-        let lookup = PartLookup::new(&palette, Some((&legend, &pidt)), &[5]);
-        let mut state = 0x9E37_79B9_u64;
-        for case in 0..50 {
-            let mut row = Vec::new();
-            for _ in 0..(case * 18 + 1) {
-                state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-                let texel = ((state >> 33) % 5000) as u32; // past 4096: no texel
-                for _ in 0..1 + (state >> 60) % 3 {
-                    row.extend([(texel >> 16) as u8, (texel >> 8) as u8, texel as u8]);
-                }
-            }
-            let mut expected: Vec<(usize, usize, usize)> = Vec::new();
-            for (first, end, color) in Runs::<3, false>::new(&row) {
-                match expected.last_mut() {
-                    Some(span) if span.2 == lookup.slot(color) => span.1 = end,
-                    _ => expected.push((first, end, lookup.slot(color))),
-                }
-            }
-            let mut found = Vec::new();
-            lookup.for_each_span::<3, false>(&row, |first, end, slot| found.push((first, end, slot)));
-            assert_eq!(found, expected, "case {case}");
-        }
     }
 
     #[test]

@@ -91,18 +91,10 @@ impl SlotTable {
             table.blocks.extend(entries.into_iter().map(|e| if e & DETAILED != 0 { e + offset } else { e }));
             table.detail.extend(detail);
         }
-        // One block of detail at least, so [`SlotTable::get`] can always read it.
-        if table.detail.is_empty() {
-            table.detail = vec![outside; BLOCK_TEXELS];
-        }
         table
     }
 
-    /// The slot of `color`, without a branch on what the block holds: the
-    /// detail is always read (block 0's first entry for a block of one
-    /// slot) and the answer selected, so a batch of look-ups
-    /// ([`crate::count::part_lookup`]) keeps its loads in flight instead of
-    /// losing them to a mispredicted branch at every chart edge.
+    /// The slot of `color`.
     #[inline(always)]
     pub(crate) fn get(&self, color: u32) -> u16 {
         if color >= self.len {
@@ -114,13 +106,12 @@ impl SlotTable {
         };
         let x = color - y * self.width;
         let entry = self.blocks[((y / SIDE) * self.blocks_per_row + x / SIDE) as usize];
-        // All ones for a detailed block, else zero: masks, not a branch
-        // (the compiler turns an `if` here into one).
-        let detailed = ((entry as i32) >> 31) as u32;
-        let within = (y % SIDE) * SIDE + x % SIDE;
-        let index = ((entry & !DETAILED) as usize * BLOCK_TEXELS + within as usize) & detailed as usize;
-        let fine = u32::from(self.detail[index]);
-        ((fine & detailed) | (entry & !detailed)) as u16
+        if entry & DETAILED == 0 {
+            entry as u16
+        } else {
+            let first = (entry & !DETAILED) as usize * BLOCK_TEXELS;
+            self.detail[first + ((y % SIDE) * SIDE + x % SIDE) as usize]
+        }
     }
 }
 
