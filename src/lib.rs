@@ -36,9 +36,9 @@ pub use files::{
 };
 pub use input::{
     AnalyzeOptions, Archive, CaptureGeometry, Dedupe, EyeProjection, Fcsp, HeatmapOptions, ImageSource,
-    Legend, MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice, PaletteRecord,
-    PaletteSetting, Part, Pidt, PixelLayout, Progress, RowReader, Scale, ScenarioTrack, Shard, TileEntry,
-    TileView, Timings, TrackFrame, TrimMode, UNLABELLED, inside_archive, parse_palette_size,
+    Legend, LoadedLabels, MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice,
+    PaletteRecord, PaletteSetting, Part, Pidt, PixelLayout, Progress, RowReader, Scale, ScenarioTrack, Shard,
+    TileEntry, TileView, Timings, TrackFrame, TrimMode, UNLABELLED, inside_archive, parse_palette_size,
     read_color_image, read_file, verify_image_data, write_canonical_png,
 };
 pub use output::{

@@ -56,6 +56,7 @@ fn analyze_options(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Re
             Some(text) => Some(text.parse::<Shard>()?),
             None => Shard::from_job_array(|name| std::env::var(name).ok())?,
         },
+        loaded_labels: None,
     })
 }
 

@@ -65,7 +65,7 @@ pub(crate) fn count_images(job: &CountJob) -> (CountedImages, Option<FrameTallie
     let lookup = options.frames.then(|| {
         PartLookup::new(
             &inputs.palette,
-            inputs.parts.as_ref().map(|p| (&p.legend, &p.pidt)),
+            inputs.parts.as_ref().map(|p| (&p.legend, &*p.pidt)),
             job.classifier.backgrounds(),
         )
     });

@@ -132,6 +132,28 @@ fn parse_csv_legend(path: &Path, text: &str) -> Result<Vec<Part>> {
 /// Marker for texels whose PIdT colour is in no legend entry.
 pub const UNLABELLED: u16 = u16::MAX;
 
+/// A legend and PIdT already loaded from the files an analysis resolves
+/// ([`crate::AnalyzeOptions::loaded_labels`]): a study's settings share one
+/// instead of decoding the 4096² PIdT again for each. Whoever builds it
+/// vouches that it holds those files' contents.
+#[derive(Clone)]
+pub struct LoadedLabels {
+    pub legend: Legend,
+    pub pidt: std::sync::Arc<Pidt>,
+}
+
+impl std::fmt::Debug for LoadedLabels {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "LoadedLabels {{ parts: {}, pidt: {}×{} }}",
+            self.legend.parts.len(),
+            self.pidt.width,
+            self.pidt.height
+        )
+    }
+}
+
 /// The PIdT resolved against a legend: a part number per texel (the
 /// capture holds the same texture as the image it writes, `PidtImage`).
 pub struct Pidt {

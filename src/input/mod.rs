@@ -23,7 +23,7 @@ pub mod solid_angle;
 
 pub use archive_reader::{Archive, ImageSource};
 pub use capture_facts::CaptureGeometry;
-pub use labels::{Legend, Part, Pidt, UNLABELLED};
+pub use labels::{Legend, LoadedLabels, Part, Pidt, UNLABELLED};
 pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry, inside_archive};
 pub use options::{
     AnalyzeOptions, Dedupe, HeatmapOptions, MEASURE_PIXELS, PaletteChoice, Progress, Scale, Timings, TrimMode,

@@ -108,6 +108,10 @@ pub struct AnalyzeOptions {
     /// off`. The capture's `--count` tallies them itself
     /// ([`crate::TileCounter::tally_parts`]).
     pub frames: bool,
+    /// The legend and PIdT the analysis would read (from the options or the
+    /// manifest), already loaded by the caller: used instead of reading them
+    /// again (the files must still be there; the identity digests them).
+    pub loaded_labels: Option<crate::input::labels::LoadedLabels>,
 }
 
 /// Wall-clock seconds per stage, and the thread count (kept out of

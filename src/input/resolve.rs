@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::input::archive_reader::Archive;
 use crate::input::capture_facts::{CaptureGeometry, EyeFrame, EyeOptics, FrameClock, eye_frames};
 use crate::input::identity::archive_identity;
-use crate::input::labels::{Legend, Pidt};
+use crate::input::labels::{Legend, LoadedLabels, Pidt};
 use crate::input::manifest::{Manifest, PaletteRecord, inside_archive};
 use crate::input::options::{AnalyzeOptions, Dedupe, PaletteChoice};
 use crate::input::palette::{DEFAULT_PALETTE_SIDE, Fcsp};
@@ -19,7 +19,7 @@ pub(crate) struct LabelFiles {
     pub legend_path: PathBuf,
     pub legend: Legend,
     pub pidt_path: PathBuf,
-    pub pidt: Pidt,
+    pub pidt: std::sync::Arc<Pidt>,
 }
 
 /// Options resolved against the manifest: the fully built inputs.
@@ -151,9 +151,12 @@ fn load_labels(
     };
     match (pidt_path, legend_path) {
         (Some(pidt_path), Some(legend_path)) => {
+            if let Some(loaded) = &options.loaded_labels {
+                return loaded_labels(loaded, legend_path, pidt_path, palette).map(Some);
+            }
             let legend = Legend::load(&legend_path)?;
             let pidt = Pidt::load(&pidt_path, &legend, palette.width(), palette.height())?;
-            Ok(Some(LabelFiles { legend_path, legend, pidt_path, pidt }))
+            Ok(Some(LabelFiles { legend_path, legend, pidt_path, pidt: pidt.into() }))
         }
         (Some(pidt_path), None) => Err(Error::BadOptions(format!(
             "the PIdT {} needs its legend: add --parts parts.csv",
@@ -163,8 +166,36 @@ fn load_labels(
             "the legend {} needs its PIdT: add --pidt pidt.png",
             legend_path.display()
         ))),
+        (None, None) if options.loaded_labels.is_some() => Err(Error::BadOptions(format!(
+            "labels were given already loaded, but {} names no PIdT and legend",
+            options.archive.display()
+        ))),
         (None, None) => Ok(None),
     }
+}
+
+/// The caller's [`LoadedLabels`] for the files at these paths, refused when
+/// the PIdT is not the palette's size.
+fn loaded_labels(
+    loaded: &LoadedLabels,
+    legend_path: PathBuf,
+    pidt_path: PathBuf,
+    palette: &Fcsp,
+) -> Result<LabelFiles> {
+    let size = [loaded.pidt.width, loaded.pidt.height];
+    if size != [palette.width(), palette.height()] {
+        return Err(Error::bad_file(
+            &pidt_path,
+            format!(
+                "was loaded at {}×{}, the palette is {}×{}",
+                size[0],
+                size[1],
+                palette.width(),
+                palette.height()
+            ),
+        ));
+    }
+    Ok(LabelFiles { legend_path, legend: loaded.legend.clone(), pidt_path, pidt: loaded.pidt.clone() })
 }
 
 /// The archive's images: those the manifest lists, or without one every PNG

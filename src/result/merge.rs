@@ -137,7 +137,7 @@ fn load_labels(first_path: &Path, settings: &crate::result::model::Settings) -> 
     let legend = Legend::load(&legend_path).map_err(|e| named_in(first_path, e))?;
     let pidt = Pidt::load(&pidt_path, &legend, settings.palette.width, settings.palette.height)
         .map_err(|e| named_in(first_path, e))?;
-    Ok(Some(LabelFiles { legend_path, legend, pidt_path, pidt }))
+    Ok(Some(LabelFiles { legend_path, legend, pidt_path, pidt: pidt.into() }))
 }
 
 /// The dedupe report of the whole: the shards' per-image totals added, and

@@ -19,6 +19,7 @@ mod fuzz_regressions;
 mod golden_example;
 mod indexed_png;
 mod known_answers;
+mod loaded_labels;
 mod missing_vehicle;
 mod module_graph;
 mod order_and_saturation;

@@ -45,9 +45,10 @@ pub struct CaptureSetup {
     prepared: PreparedCapture,
     /// The palette as the archive records it, for counting.
     palette: Fcsp,
-    /// The legend and PIdT as the archive holds them, for the per-part tallies.
-    legend: Legend,
-    pidt: Pidt,
+    /// The legend and PIdT as the archive holds them, for the per-part
+    /// tallies and the analysis (which would otherwise decode `pidt.png`
+    /// again for every setting).
+    labels: ufcsr::LoadedLabels,
     /// What it was built for: only the rig and the frames may change.
     built_for: BuiltFor,
     /// The archive folder the set-up was built in (its files are there).
@@ -80,8 +81,7 @@ impl CaptureSetup {
         Ok(CaptureSetup {
             prepared,
             palette,
-            legend,
-            pidt,
+            labels: ufcsr::LoadedLabels { legend, pidt: pidt.into() },
             built_for: BuiltFor::of(scene, options),
             built_in: out.clone(),
             files: Vec::new(),
@@ -155,7 +155,7 @@ impl CaptureSetup {
         let mut counter = ufcsr::TileCounter::new(&self.palette, &[prepared.background], dedupe)?;
         let lookup = ufcsr::PartLookup::new(
             &self.palette,
-            Some((&self.legend, &self.pidt)),
+            Some((&self.labels.legend, &*self.labels.pidt)),
             &[prepared.background.packed()],
         );
         crate::archive::count_sink::tally_parts(&mut counter, lookup, &scene.rig);
@@ -169,6 +169,8 @@ impl CaptureSetup {
             dedupe,
             // Nothing to trim: the renderer knew which tiles were empty.
             trim: ufcsr::TrimMode::Off,
+            // The archive's parts.csv and pidt.png, which the set-up read.
+            loaded_labels: Some(self.labels.clone()),
             ..ufcsr::AnalyzeOptions::default()
         };
         let Counted { counter, pixels } = counted;
