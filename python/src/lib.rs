@@ -109,6 +109,7 @@ fn analyze_options(archive: PathBuf, out_dir: &Path, values: &OptionValues) -> u
         shard,
         mesh: values.mesh.clone(),
         frames: values.frames_csv,
+        loaded_labels: None,
     })
 }
 
