@@ -309,40 +309,54 @@ pub struct WrittenViews {
 /// Writes `dir/views/NAME.png` for the eight directions and `dir/views.png`,
 /// drawn with the CPU renderer ([`render_view`]).
 pub fn write_views(model: &VehicleModel, texture: &ViewTexture, dir: &Path) -> Result<WrittenViews> {
-    write_views_with(model, texture, dir, |camera| Ok(render_view(model, texture, camera)))
+    // The views are independent: drawn on all cores, then handed over in order.
+    use rayon::prelude::*;
+    let cameras = view_cameras(model, texture.views_scale);
+    let mut drawn: Vec<Vec<u8>> =
+        cameras.par_iter().map(|camera| render_view(model, texture, camera)).collect();
+    drawn.reverse();
+    write_views_with(model, texture, dir, |_| Ok(drawn.pop().unwrap_or_default()))
 }
 
 /// [`write_views`] with another renderer: `render` draws one camera's
 /// picture (RGB, `camera.size`, rows top to bottom), the heatmap's colours
-/// unlit; shading, outlines, the pedestrian marker, the sheet and its
-/// colour bar are drawn here (below), the same
-/// whichever renderer filled the pixels.
+/// unlit, camera by camera in [`view_cameras`] order; shading, outlines, the
+/// pedestrian marker, the sheet and its colour bar are drawn here (below),
+/// the same whichever renderer filled the pixels, on all cores.
 pub fn write_views_with(
     model: &VehicleModel,
     texture: &ViewTexture,
     dir: &Path,
     mut render: impl FnMut(&ViewCamera) -> Result<Vec<u8>>,
 ) -> Result<WrittenViews> {
+    use rayon::prelude::*;
     let cameras = view_cameras(model, texture.views_scale);
     let views_dir = dir.join("views");
     std::fs::create_dir_all(&views_dir).map_err(|e| crate::error::Error::io(&views_dir, e))?;
-    let mut pictures = Vec::with_capacity(cameras.len());
-    let mut views = Vec::with_capacity(cameras.len());
+    let mut drawn = Vec::with_capacity(cameras.len());
     for camera in &cameras {
         let [width, height] = camera.size;
-        let mut rgb = render(camera)?;
+        let rgb = render(camera)?;
         if rgb.len() != (width * height * 3) as usize {
             return Err(crate::error::Error::bad_file(
                 &views_dir,
                 format!("the {} view has {} bytes, not {width}×{height} RGB", camera.name, rgb.len()),
             ));
         }
-        finish_view(&mut rgb, model, camera, texture);
-        let path = views_dir.join(format!("{}.png", camera.name));
-        crate::files::write_rgb_png(&path, width, height, &rgb, png::Compression::Fast)?;
-        views.push(path);
-        pictures.push(rgb);
+        drawn.push(rgb);
     }
+    let finished: Vec<(PathBuf, Vec<u8>)> = cameras
+        .par_iter()
+        .zip(drawn)
+        .map(|(camera, mut rgb)| {
+            finish_view(&mut rgb, model, camera, texture);
+            let path = views_dir.join(format!("{}.png", camera.name));
+            let [width, height] = camera.size;
+            crate::files::write_rgb_png(&path, width, height, &rgb, png::Compression::Fast)?;
+            Ok((path, rgb))
+        })
+        .collect::<Result<_>>()?;
+    let (views, pictures): (Vec<PathBuf>, Vec<Vec<u8>>) = finished.into_iter().unzip();
     let (sheet, [sheet_width, sheet_height]) = contact_sheet(&pictures, &cameras, texture);
     let contact_sheet = dir.join("views.png");
     crate::files::write_rgb_png(&contact_sheet, sheet_width, sheet_height, &sheet, png::Compression::Fast)?;
