@@ -108,7 +108,7 @@ impl SeenSet {
 
     /// Calls `visit(index, word)` for every non-zero word, in ascending order
     /// of `index`.
-    fn for_each_word(&self, mut visit: impl FnMut(usize, u64)) {
+    pub(crate) fn for_each_word(&self, mut visit: impl FnMut(usize, u64)) {
         for dirty_index in 0..DIRTY_WORDS {
             let mut marks = self.dirty[dirty_index];
             while marks != 0 {

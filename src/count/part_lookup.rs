@@ -173,9 +173,18 @@ impl PartLookup {
     /// Adds the distinct texels of `seen` (keys from [`crate::color::color_key`])
     /// to `texels` (a [`PartLookup::tally`]) by part.
     pub fn add_texels(&self, seen: &SeenSet, texels: &mut [u64]) {
-        for key in seen.keys() {
-            texels[self.slot(key_color(key))] += 1;
-        }
+        // A word of the set holds two runs of 32 consecutive colours (the
+        // key's low 5 bits are the colour's): each run is added a block of
+        // the slot table at a time.
+        seen.for_each_word(|index, word| {
+            for half in 0..2u32 {
+                let members = (word >> (32 * half)) as u32;
+                if members != 0 {
+                    let first = key_color(((index as u32) << 6) | (half << 5));
+                    self.slots.add_32(first, members, texels);
+                }
+            }
+        });
     }
 }
 

@@ -94,6 +94,41 @@ impl SlotTable {
         table
     }
 
+    /// Adds one to `tally[slot]` for each colour `first + j` whose bit `j` of
+    /// `members` is set. Where the 32 colours lie in one texture row (a
+    /// width that is a multiple of 32, `first` a multiple of 32), a block of
+    /// one slot adds its members with one population count.
+    pub(crate) fn add_32(&self, first: u32, members: u32, tally: &mut [u64]) {
+        let aligned = first.is_multiple_of(32) && self.width.is_multiple_of(32) && first + 32 <= self.len;
+        if !aligned {
+            let mut bits = members;
+            while bits != 0 {
+                tally[usize::from(self.get(first + bits.trailing_zeros()))] += 1;
+                bits &= bits - 1;
+            }
+            return;
+        }
+        let y = first / self.width;
+        let x = first - y * self.width;
+        let base = ((y / SIDE) * self.blocks_per_row + x / SIDE) as usize;
+        for block in 0..4u32 {
+            let mut bits = (members >> (SIDE * block)) & 0xFF;
+            if bits == 0 {
+                continue;
+            }
+            let entry = self.blocks[base + block as usize];
+            if entry & DETAILED == 0 {
+                tally[entry as usize] += u64::from(bits.count_ones());
+                continue;
+            }
+            let row = (entry & !DETAILED) as usize * BLOCK_TEXELS + ((y % SIDE) * SIDE) as usize;
+            while bits != 0 {
+                tally[usize::from(self.detail[row + bits.trailing_zeros() as usize])] += 1;
+                bits &= bits - 1;
+            }
+        }
+    }
+
     /// The slot of `color`.
     #[inline(always)]
     pub(crate) fn get(&self, color: u32) -> u16 {
@@ -138,6 +173,37 @@ mod tests {
             }
             assert_eq!(table.get(u32::MAX), 7);
             assert_eq!(table.get(0xFF_FFFF), 7);
+        }
+    }
+
+    #[test]
+    fn runs_of_32_colours_add_what_colour_by_colour_look_ups_add() {
+        let mut state = 0x2545_F491_4F6C_DD1D_u64;
+        let mut random = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for [width, height] in [[64u32, 40], [4096, 9], [100, 37], [96, 17]] {
+            let slot_of = |c: u32| {
+                let (x, y) = (c % width, c / width);
+                if c % 211 == 3 { 5 } else { ((x / 11 + y / 6) % 4) as u16 }
+            };
+            let table = SlotTable::new([width, height], 7, slot_of);
+            // Runs starting anywhere (aligned or not), some past the grid.
+            for first in (0..width * height + 64).step_by(13).chain((0..width * height).step_by(32)) {
+                let members = random() as u32;
+                let mut expected = [0u64; 8];
+                for j in 0..32 {
+                    if members >> j & 1 == 1 {
+                        expected[usize::from(table.get(first + j))] += 1;
+                    }
+                }
+                let mut found = [0u64; 8];
+                table.add_32(first, members, &mut found);
+                assert_eq!(found, expected, "{width}×{height}, first {first}");
+            }
         }
     }
 
