@@ -15,7 +15,8 @@ use std::sync::{Arc, Mutex};
 use plotters::prelude::*;
 use rayon::prelude::*;
 
-use crate::error::{Error, Result};
+use crate::error::Result;
+use crate::input::labels::{LoadedLabels, Pidt};
 use crate::input::manifest::{Manifest, TileEntry};
 use crate::input::png_rows::{RowReader, read_file};
 
@@ -106,68 +107,37 @@ const NOT_VEHICLE: Shown = 0;
 const UNLABELLED: Shown = 1;
 
 /// What each texel of the palette shows, and the colour of each [`Shown`]:
-/// one `u16` per texel, found from the PIdT row by row.
+/// the analysis's own PIdT resolved against its legend (not read again),
+/// the capture's background colours apart.
 struct TexelsShown {
-    of_texel: Vec<Shown>,
+    /// Legend part per texel, or [`crate::UNLABELLED`].
+    pidt: Arc<Pidt>,
+    /// The capture's background colours (which may name texels of a
+    /// canonical palette): not the vehicle.
+    backgrounds: Vec<u32>,
     colours: Vec<[u8; 3]>,
 }
 
 impl TexelsShown {
-    /// From the PIdT: a texel shows its part's colour when a legend part
-    /// names it, [`STRIP_UNLABELLED`] when none does; the capture's
-    /// background colours (which may name texels of a canonical palette)
-    /// are not the vehicle.
-    fn read(
-        pidt: &Path,
-        legend: &[crate::PartStats],
-        palette: [u32; 2],
-        background: &[crate::Color],
-    ) -> Result<Self> {
-        let bytes = read_file(pidt)?;
-        let mut reader = RowReader::new(pidt, &bytes)?;
-        let size = [reader.width(), reader.height()];
-        if size != palette {
-            let message = format!("is {}×{}, the palette {}×{}", size[0], size[1], palette[0], palette[1]);
-            return Err(Error::bad_file(pidt, message));
-        }
+    /// A texel shows its part's colour when a legend part names it,
+    /// [`STRIP_UNLABELLED`] when none does.
+    fn new(labels: &LoadedLabels, background: &[crate::Color]) -> Self {
         let mut colours = vec![STRIP_BACKGROUND, STRIP_UNLABELLED];
-        let mut shown_of_colour = std::collections::HashMap::new();
-        for colour in legend.iter().filter_map(|part| part.color) {
-            shown_of_colour.entry(colour.packed()).or_insert_with(|| {
-                colours.push(colour.rgb());
-                (colours.len() - 1) as Shown
-            });
-        }
-        let layout = reader.layout();
-        let mut of_texel = Vec::with_capacity(size[0] as usize * size[1] as usize);
-        if reader.interlaced() {
-            let colors = reader.into_colors()?;
-            of_texel.extend(colors.iter().map(|c| shown_of_colour.get(c).copied().unwrap_or(UNLABELLED)));
-        } else {
-            // PIdT rows are long runs of one part: one hash look-up per run.
-            let mut last = (u32::MAX, UNLABELLED);
-            while let Some(row) = reader.next_row()? {
-                for pixel in row.chunks_exact(layout.bytes_per_pixel()) {
-                    let colour = layout.pack(pixel);
-                    if colour != last.0 {
-                        last = (colour, shown_of_colour.get(&colour).copied().unwrap_or(UNLABELLED));
-                    }
-                    of_texel.push(last.1);
-                }
-            }
-            reader.finish()?;
-        }
-        for colour in background {
-            if let Some(texel) = of_texel.get_mut(colour.packed() as usize) {
-                *texel = NOT_VEHICLE;
-            }
-        }
-        Ok(TexelsShown { of_texel, colours })
+        colours.extend(labels.legend.parts.iter().map(|part| part.color.rgb()));
+        let backgrounds = background.iter().map(|colour| colour.packed()).collect();
+        TexelsShown { pidt: labels.pidt.clone(), backgrounds, colours }
     }
 
     /// What a pixel of colour `colour` shows.
     fn of_colour(&self, colour: u32) -> Shown {
-        self.of_texel.get(colour as usize).copied().unwrap_or(NOT_VEHICLE)
+        if self.backgrounds.contains(&colour) {
+            return NOT_VEHICLE;
+        }
+        match self.pidt.part_of_texel.get(colour as usize) {
+            None => NOT_VEHICLE,
+            Some(&crate::UNLABELLED) => UNLABELLED,
+            Some(&part) => part + 2,
+        }
     }
 
     fn is_vehicle(&self, shown: Shown) -> bool {
@@ -358,17 +328,15 @@ impl ShownFrame {
 pub struct StripInputs<'a> {
     pub archive: &'a Path,
     pub manifest: &'a Manifest,
-    pub pidt: &'a Path,
-    pub parts: &'a [crate::PartStats],
-    /// The palette's width and height (canonical).
-    pub palette: [u32; 2],
+    /// The legend and PIdT the analysis joined with.
+    pub labels: &'a LoadedLabels,
     /// The capture's background colours.
     pub background: &'a [crate::Color],
 }
 
 /// Writes the strip into `path`; returns the frames shown.
 pub fn write_frame_strip(path: &Path, inputs: &StripInputs) -> Result<Vec<u32>> {
-    let texels = TexelsShown::read(inputs.pidt, inputs.parts, inputs.palette, inputs.background)?;
+    let texels = TexelsShown::new(inputs.labels, inputs.background);
     let frames = chosen_frames(inputs.manifest);
     let cache = TileCache::default();
     let shown: Vec<ShownFrame> =
@@ -468,8 +436,17 @@ mod tests {
     /// A frame of two 2×1 tiles side by side; pixel colours name texels
     /// 0-3, which show shown indices 2, 2, 3 and not-the-vehicle.
     fn two_tile_frame() -> (ShownFrame, TexelsShown) {
+        // Texels 0 and 1 are legend part 0, texel 2 part 1; texel 3 is background.
+        let pidt = Pidt {
+            width: 4,
+            height: 1,
+            part_of_texel: vec![0, 0, 1, 0],
+            part_texels: vec![3, 1],
+            unlabelled_colors: Default::default(),
+        };
         let texels = TexelsShown {
-            of_texel: vec![2, 2, 3, NOT_VEHICLE],
+            pidt: Arc::new(pidt),
+            backgrounds: vec![3],
             colours: vec![STRIP_BACKGROUND, STRIP_UNLABELLED, [1; 3], [2; 3]],
         };
         let tile = |runs: Vec<(u32, Shown)>| {

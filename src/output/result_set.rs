@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use crate::error::{Error, Result};
 use crate::files::{IMAGE_LIMIT, Staging, read_limited, refuse_overwriting_inputs};
+use crate::input::labels::{Legend, LoadedLabels, Pidt};
 use crate::input::manifest::Manifest;
 use crate::input::options::HeatmapOptions;
 use crate::input::scenario_track::ScenarioTrack;
@@ -22,7 +23,7 @@ use crate::output::vehicle_model::VehicleModel;
 use crate::output::view_sheet::write_views;
 use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
-use crate::result::model::{Analysis, AnalysisResult};
+use crate::result::model::Analysis;
 use crate::result::result_json::{write_result_json, write_timings_json};
 
 /// The default output folder for an archive: `<archive>/results` (excluded
@@ -273,7 +274,7 @@ fn write_figures(
     };
     clock.lap("map");
     let strip_skipped = match (&manifest, &files.frames_strip_png) {
-        (Some(manifest), Some(path)) => write_strip(path, manifest, &analysis.result)?,
+        (Some(manifest), Some(path)) => write_strip(path, manifest, analysis)?,
         _ => None,
     };
     if strip_skipped.is_some() || manifest.is_none() {
@@ -300,21 +301,29 @@ fn write_figures(
 }
 
 /// Writes the frame strip, or says why there is none.
-fn write_strip(path: &Path, manifest: &Manifest, result: &AnalysisResult) -> Result<Option<String>> {
-    let settings = &result.settings;
+fn write_strip(path: &Path, manifest: &Manifest, analysis: &Analysis) -> Result<Option<String>> {
+    let settings = &analysis.result.settings;
     let canonical = settings.palette.kind == "canonical";
     if let Some(why) = frame_strip_skipped(manifest, canonical) {
         return Ok(Some(why.to_string()));
     }
-    let Some(pidt) = &settings.pidt else {
+    let (Some(pidt), Some(legend)) = (&settings.pidt, &settings.parts) else {
         return Ok(Some("the analysis had no PIdT, so parts have no colours: no frame strip".into()));
+    };
+    // The analysis's own labels; a merge's are read from the files it names.
+    let labels = match &analysis.labels {
+        Some(labels) => labels.clone(),
+        None => {
+            let legend = Legend::load(Path::new(legend))?;
+            let (width, height) = (settings.palette.width, settings.palette.height);
+            let pidt = Pidt::load(Path::new(pidt), &legend, width, height)?;
+            LoadedLabels { legend, pidt: pidt.into() }
+        }
     };
     let inputs = StripInputs {
         archive: Path::new(&settings.archive),
         manifest,
-        pidt: Path::new(pidt),
-        parts: &result.parts,
-        palette: [settings.palette.width, settings.palette.height],
+        labels: &labels,
         background: &settings.background,
     };
     write_frame_strip(path, &inputs)?;

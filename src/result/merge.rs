@@ -99,7 +99,8 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
     let vehicle_model = archive_vehicle(&result.settings);
     result.measures = merged_measures(&summaries, frames.as_ref());
     let input_files = merge_input_files(paths, parts.as_ref(), vehicle_model.as_ref());
-    Ok(Analysis { result, texel_counts, timings: Timings::default(), input_files, vehicle_model, frames })
+    let timings = Timings::default();
+    Ok(Analysis { result, texel_counts, timings, input_files, vehicle_model, frames, labels: None })
 }
 
 /// Every result's summary, and their per-texel counts added (saturating, as

@@ -228,6 +228,10 @@ pub struct Analysis {
     /// Per-eye-frame tallies by part (`frames.csv`), with
     /// [`AnalyzeOptions::frames`].
     pub frames: Option<FrameTable>,
+    /// The legend and PIdT the counts were joined with, for the figures
+    /// drawn after (the frame strip), so they are not read again; `None`
+    /// without labels, or for a merge, which reads them when it needs them.
+    pub labels: Option<crate::input::labels::LoadedLabels>,
 }
 
 impl Analysis {

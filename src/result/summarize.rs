@@ -235,6 +235,10 @@ fn finish(
         input_files: input_files(&summary),
         vehicle_model: inputs.vehicle_model.clone(),
         frames: None,
+        labels: inputs.parts.as_ref().map(|labels| crate::input::labels::LoadedLabels {
+            legend: labels.legend.clone(),
+            pidt: labels.pidt.clone(),
+        }),
     })
 }
 
