@@ -22,6 +22,13 @@ pub(crate) struct LabelFiles {
     pub pidt: std::sync::Arc<Pidt>,
 }
 
+impl LabelFiles {
+    /// The legend and PIdT, shared (the PIdT is not copied).
+    pub fn loaded(&self) -> LoadedLabels {
+        LoadedLabels { legend: self.legend.clone(), pidt: self.pidt.clone() }
+    }
+}
+
 /// Options resolved against the manifest: the fully built inputs.
 pub(crate) struct Inputs {
     pub palette: Fcsp,

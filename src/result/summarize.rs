@@ -235,10 +235,7 @@ fn finish(
         input_files: input_files(&summary),
         vehicle_model: inputs.vehicle_model.clone(),
         frames: None,
-        labels: inputs.parts.as_ref().map(|labels| crate::input::labels::LoadedLabels {
-            legend: labels.legend.clone(),
-            pidt: labels.pidt.clone(),
-        }),
+        labels: inputs.parts.as_ref().map(crate::input::resolve::LabelFiles::loaded),
     })
 }
 
