@@ -14,12 +14,15 @@ pub(crate) mod labels;
 pub(crate) mod manifest;
 pub(crate) mod options;
 pub(crate) mod palette;
+pub(crate) mod png_decode;
+pub(crate) mod png_format;
 pub(crate) mod png_rows;
 pub(crate) mod png_zlib;
 pub(crate) mod resolve;
 pub(crate) mod scenario_track;
 pub(crate) mod shard;
 pub mod solid_angle;
+pub(crate) mod unfilter;
 
 pub use archive_reader::{Archive, ImageSource};
 pub use capture_facts::CaptureGeometry;

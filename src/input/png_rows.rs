@@ -15,6 +15,8 @@ use std::ops::Deref;
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::input::png_decode::{PlainDecoder, plain_layout};
+pub use crate::input::png_format::{HEADER_BYTES, PixelLayout, PngHeader, parse_header};
 use crate::input::png_zlib::verify_image_data;
 
 /// The bytes of an input file, read whole.
@@ -32,88 +34,21 @@ pub fn read_file(path: &Path) -> Result<FileBytes> {
     crate::files::read_limited(path, crate::files::IMAGE_LIMIT).map(FileBytes)
 }
 
-/// What the IHDR chunk says, read without decoding anything.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PngHeader {
-    pub width: u32,
-    pub height: u32,
-    pub bit_depth: u8,
-    pub color_type: u8,
-    pub interlaced: bool,
-}
-
-const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
-
-/// Bytes needed by [`parse_header`]: signature, IHDR length, type and body.
-pub const HEADER_BYTES: usize = 8 + 8 + 13;
-
-/// Reads width, height and format from the first [`HEADER_BYTES`] bytes.
-pub fn parse_header(path: &Path, bytes: &[u8]) -> Result<PngHeader> {
-    let png_error = |message: &str| Error::Png { path: path.to_path_buf(), message: message.to_string() };
-    if bytes.is_empty() {
-        return Err(png_error("empty file (0 bytes)"));
-    }
-    if bytes.len() < 8 || bytes[..8] != SIGNATURE {
-        return Err(png_error("no PNG signature (not a PNG file)"));
-    }
-    if bytes.len() < HEADER_BYTES {
-        return Err(png_error("truncated before the end of the IHDR header"));
-    }
-    if &bytes[12..16] != b"IHDR" {
-        return Err(png_error("first chunk is not IHDR"));
-    }
-    let be32 = |at: usize| u32::from_be_bytes([bytes[at], bytes[at + 1], bytes[at + 2], bytes[at + 3]]);
-    let header = PngHeader {
-        width: be32(16),
-        height: be32(20),
-        bit_depth: bytes[24],
-        color_type: bytes[25],
-        interlaced: bytes[28] != 0,
-    };
-    if header.width == 0 || header.height == 0 {
-        return Err(png_error("image has zero width or height"));
-    }
-    Ok(header)
-}
-
-/// How the decoded samples of one pixel are laid out (always 8 bits each).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PixelLayout {
-    Gray,
-    GrayAlpha,
-    Rgb,
-    Rgba,
-}
-
-impl PixelLayout {
-    /// Bytes per pixel.
-    pub const fn bytes_per_pixel(self) -> usize {
-        match self {
-            PixelLayout::Gray => 1,
-            PixelLayout::GrayAlpha => 2,
-            PixelLayout::Rgb => 3,
-            PixelLayout::Rgba => 4,
-        }
-    }
-
-    /// The packed `0xRRGGBB` colour of one pixel's samples (alpha ignored).
-    #[inline(always)]
-    pub fn pack(self, pixel: &[u8]) -> u32 {
-        match self {
-            PixelLayout::Gray | PixelLayout::GrayAlpha => u32::from(pixel[0]) * 0x01_0101,
-            PixelLayout::Rgb | PixelLayout::Rgba => {
-                (u32::from(pixel[0]) << 16) | (u32::from(pixel[1]) << 8) | u32::from(pixel[2])
-            }
-        }
-    }
-}
-
-/// A streaming decoder over a PNG held in memory.
+/// A streaming decoder over a PNG held in memory: tiles as renderers write
+/// them through the one-inflate decoder of [`crate::input::png_decode`],
+/// everything else through the png crate.
 pub struct RowReader<'a> {
-    reader: png::Reader<Cursor<&'a [u8]>>,
+    decoder: Decoder<'a>,
     layout: PixelLayout,
     path: &'a Path,
     bytes: &'a [u8],
+    header: PngHeader,
+}
+
+enum Decoder<'a> {
+    Plain(PlainDecoder<'a>),
+    // Boxed: the png crate's reader is large and the plain path is the common one.
+    Crate(Box<png::Reader<Cursor<&'a [u8]>>>),
 }
 
 impl<'a> RowReader<'a> {
@@ -121,6 +56,20 @@ impl<'a> RowReader<'a> {
     pub fn new(path: &'a Path, bytes: &'a [u8]) -> Result<RowReader<'a>> {
         // Cheap structural checks first give clearer messages than the decoder's.
         let header = parse_header(path, bytes)?;
+        if let Some(plain) = plain_layout(&header, bytes) {
+            let layout = plain.layout;
+            let decoder = Decoder::Plain(PlainDecoder::new(path, &header, plain));
+            return Ok(RowReader { decoder, layout, path, bytes, header });
+        }
+        RowReader::with_png_crate(path, bytes, header)
+    }
+
+    /// The png crate's decoder, for every PNG that is not plain.
+    pub(crate) fn with_png_crate(
+        path: &'a Path,
+        bytes: &'a [u8],
+        header: PngHeader,
+    ) -> Result<RowReader<'a>> {
         if header.color_type == INDEXED {
             check_palette_indices(path, bytes)?;
         }
@@ -157,7 +106,7 @@ impl<'a> RowReader<'a> {
                 });
             }
         };
-        Ok(RowReader { reader, layout, path, bytes })
+        Ok(RowReader { decoder: Decoder::Crate(Box::new(reader)), layout, path, bytes, header })
     }
 
     /// Sample layout of the rows this reader returns.
@@ -167,18 +116,18 @@ impl<'a> RowReader<'a> {
 
     /// Image width in pixels.
     pub fn width(&self) -> u32 {
-        self.reader.info().width
+        self.header.width
     }
 
     /// Image height in pixels.
     pub fn height(&self) -> u32 {
-        self.reader.info().height
+        self.header.height
     }
 
     /// Whether rows come in Adam7 passes ([`RowReader::next_row`]) rather
     /// than in raster order.
     pub fn interlaced(&self) -> bool {
-        self.reader.info().interlaced
+        self.header.interlaced
     }
 
     /// The next decoded row. For interlaced images these are the rows of the
@@ -186,10 +135,13 @@ impl<'a> RowReader<'a> {
     /// raster order (which counting does not need).
     #[inline]
     pub fn next_row(&mut self) -> Result<Option<&[u8]>> {
-        match self.reader.next_row() {
-            Ok(Some(row)) => Ok(Some(row.data())),
-            Ok(None) => Ok(None),
-            Err(error) => Err(png_error(self.path, error)),
+        match &mut self.decoder {
+            Decoder::Plain(plain) => plain.next_row(),
+            Decoder::Crate(reader) => match reader.next_row() {
+                Ok(Some(row)) => Ok(Some(row.data())),
+                Ok(None) => Ok(None),
+                Err(error) => Err(png_error(self.path, error)),
+            },
         }
     }
 
@@ -198,22 +150,42 @@ impl<'a> RowReader<'a> {
     /// Adler-32 (call once `next_row` is done; a file that fails here must
     /// not be counted).
     pub fn finish(&mut self) -> Result<()> {
-        self.reader.finish().map_err(|e| png_error(self.path, e))?;
-        verify_image_data(self.path, self.bytes)
+        match &mut self.decoder {
+            // Its one inflate has run to the checksum.
+            Decoder::Plain(plain) => plain.finish(),
+            Decoder::Crate(reader) => {
+                reader.finish().map_err(|e| png_error(self.path, e))?;
+                verify_image_data(self.path, self.bytes)
+            }
+        }
     }
 
     /// Decodes the whole image in raster order into packed `0xRRGGBB` colours.
     pub fn into_colors(mut self) -> Result<Vec<u32>> {
-        let size = self.reader.output_buffer_size().ok_or_else(|| Error::Png {
-            path: self.path.to_path_buf(),
-            message: "image too large to decode".to_string(),
-        })?;
-        let mut buffer = vec![0u8; size];
-        self.reader.next_frame(&mut buffer).map_err(|e| png_error(self.path, e))?;
+        let (layout, step) = (self.layout, self.layout.bytes_per_pixel());
+        let pack_all = |colors: &mut Vec<u32>, buffer: &[u8]| {
+            colors.extend(buffer.chunks_exact(step).map(|pixel| layout.pack(pixel)));
+        };
+        let mut colors = Vec::new();
+        match &mut self.decoder {
+            Decoder::Plain(_) => {
+                colors.reserve_exact(self.header.width as usize * self.header.height as usize);
+                while let Some(row) = self.next_row()? {
+                    pack_all(&mut colors, row);
+                }
+            }
+            Decoder::Crate(reader) => {
+                let size = reader.output_buffer_size().ok_or_else(|| Error::Png {
+                    path: self.path.to_path_buf(),
+                    message: "image too large to decode".to_string(),
+                })?;
+                let mut buffer = vec![0u8; size];
+                reader.next_frame(&mut buffer).map_err(|e| png_error(self.path, e))?;
+                pack_all(&mut colors, &buffer);
+            }
+        }
         self.finish()?;
-        let step = self.layout.bytes_per_pixel();
-        let layout = self.layout;
-        Ok(buffer.chunks_exact(step).map(|pixel| layout.pack(pixel)).collect())
+        Ok(colors)
     }
 }
 
@@ -309,4 +281,172 @@ pub fn read_color_image(path: &Path, check_size: impl FnOnce(u32, u32) -> Result
     let (width, height) = (reader.width(), reader.height());
     let colors = reader.into_colors()?;
     Ok(ColorImage { width, height, colors })
+}
+
+#[cfg(test)]
+mod tests {
+    //! The plain decoder ([`crate::input::png_decode`]) against the png
+    //! crate's rows, and what it refuses.
+    use super::*;
+    use crate::input::png_decode::plain_layout;
+
+    const PATH: &str = "tile.png";
+
+    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], body: &[u8]) {
+        out.extend((body.len() as u32).to_be_bytes());
+        let start = out.len();
+        out.extend(kind);
+        out.extend(body);
+        let crc = crc32fast::hash(&out[start..]);
+        out.extend(crc.to_be_bytes());
+    }
+
+    /// A PNG with `zlib` as its image data, split into IDATs of `split` bytes.
+    fn png_with(
+        size: [u32; 2],
+        color_type: u8,
+        zlib: &[u8],
+        split: usize,
+        extra: &[(&[u8; 4], &[u8])],
+    ) -> Vec<u8> {
+        let mut out = vec![0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
+        let mut ihdr = Vec::new();
+        ihdr.extend(size[0].to_be_bytes());
+        ihdr.extend(size[1].to_be_bytes());
+        ihdr.extend([8, color_type, 0, 0, 0]);
+        chunk(&mut out, b"IHDR", &ihdr);
+        for (kind, body) in extra {
+            chunk(&mut out, kind, body);
+        }
+        for part in zlib.chunks(split.max(1)) {
+            chunk(&mut out, b"IDAT", part);
+        }
+        chunk(&mut out, b"IEND", &[]);
+        out
+    }
+
+    /// Deterministic pseudo-random bytes.
+    fn noise(seed: u64, length: usize) -> Vec<u8> {
+        let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+        (0..length)
+            .map(|_| {
+                state ^= state << 13;
+                state ^= state >> 7;
+                state ^= state << 17;
+                (state >> 24) as u8
+            })
+            .collect()
+    }
+
+    /// Filtered scanlines: each row a filter byte (cycling through 0–4, or
+    /// `filter`) and random bytes, so every filter meets every neighbour.
+    fn scanlines(seed: u64, row_bytes: usize, height: usize, filter: Option<u8>) -> Vec<u8> {
+        let data = noise(seed, row_bytes * height);
+        let mut out = Vec::new();
+        for (y, row) in data.chunks(row_bytes.max(1)).enumerate().take(height) {
+            out.push(filter.unwrap_or((y % 5) as u8));
+            out.extend(row);
+        }
+        out
+    }
+
+    type Rows = Result<Vec<Vec<u8>>>;
+
+    fn rows(reader: &mut RowReader) -> Rows {
+        let mut rows = Vec::new();
+        while let Some(row) = reader.next_row()? {
+            rows.push(row.to_vec());
+        }
+        reader.finish()?;
+        Ok(rows)
+    }
+
+    /// Rows through the plain decoder and through the png crate.
+    fn both(bytes: &[u8]) -> (Rows, Rows) {
+        let path = Path::new(PATH);
+        let header = parse_header(path, bytes).unwrap();
+        assert!(plain_layout(&header, bytes).is_some(), "a plain PNG");
+        let plain = RowReader::new(path, bytes).and_then(|mut r| rows(&mut r));
+        let reference = RowReader::with_png_crate(path, bytes, header).and_then(|mut r| rows(&mut r));
+        (plain, reference)
+    }
+
+    #[test]
+    fn plain_pngs_decode_to_the_png_crates_rows_for_every_filter_and_layout() {
+        for (color_type, bpp) in [(0u8, 1usize), (4, 2), (2, 3), (6, 4)] {
+            for width in [1u32, 2, 5, 16, 33] {
+                for filter in [None, Some(0), Some(1), Some(2), Some(3), Some(4)] {
+                    let seed = u64::from(width) * 31 + u64::from(color_type);
+                    let data = scanlines(seed, width as usize * bpp, 7, filter);
+                    let zlib = fdeflate::compress_to_vec(&data);
+                    let bytes = png_with([width, 7], color_type, &zlib, 13, &[(b"tEXt", b"k\0v")]);
+                    let (plain, reference) = both(&bytes);
+                    assert_eq!(
+                        plain.unwrap(),
+                        reference.unwrap(),
+                        "type {color_type} width {width} {filter:?}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn rows_longer_than_the_inflate_buffer_and_many_of_them_decode_exactly() {
+        // 1.7 MB of RGBA in 40 KB rows: the buffer is compacted many times.
+        let (width, height) = (10_000u32, 43u32);
+        let data = scanlines(7, width as usize * 4, height as usize, None);
+        let bytes = png_with([width, height], 6, &fdeflate::compress_to_vec(&data), 1 << 16, &[]);
+        let (plain, reference) = both(&bytes);
+        let plain = plain.unwrap();
+        assert_eq!(plain.len(), height as usize);
+        assert_eq!(plain, reference.unwrap());
+    }
+
+    #[test]
+    fn a_damaged_stream_a_missing_checksum_or_missing_rows_are_refused() {
+        let data = scanlines(3, 3 * 20, 10, None);
+        let zlib = fdeflate::compress_to_vec(&data);
+        let decode = |zlib: &[u8]| {
+            let bytes = png_with([20, 10], 2, zlib, 1 << 20, &[]);
+            let path = Path::new(PATH);
+            RowReader::new(path, &bytes).and_then(|mut r| rows(&mut r)).map_err(|e| e.to_string())
+        };
+        assert!(decode(&zlib).is_ok());
+        let mut checksum = zlib.clone();
+        *checksum.last_mut().unwrap() ^= 1;
+        assert!(decode(&checksum).unwrap_err().contains("Adler-32"), "{:?}", decode(&checksum));
+        let trailer_cut = &zlib[..zlib.len() - 4];
+        assert!(decode(trailer_cut).unwrap_err().contains("Adler-32"), "{:?}", decode(trailer_cut));
+        let short = fdeflate::compress_to_vec(&data[..data.len() - 61]);
+        let message = decode(&short).unwrap_err();
+        assert!(message.contains("ends after 9 of its 10 rows"), "{message}");
+        let mut filter = data.clone();
+        filter[61 * 4] = 7;
+        let message = decode(&fdeflate::compress_to_vec(&filter)).unwrap_err();
+        assert!(message.contains("row 4 has filter type 7"), "{message}");
+        assert!(message.contains(PATH), "{message}");
+    }
+
+    #[test]
+    fn only_plain_chunk_layouts_take_the_fast_path() {
+        let data = scanlines(1, 12, 2, Some(0));
+        let zlib = fdeflate::compress_to_vec(&data);
+        let plain =
+            |bytes: &[u8]| plain_layout(&parse_header(Path::new(PATH), bytes).unwrap(), bytes).is_some();
+        assert!(plain(&png_with([4, 2], 2, &zlib, 5, &[(b"PLTE", &[0; 3]), (b"gAMA", &[0; 4])])));
+        assert!(!plain(&png_with([4, 2], 2, &zlib, 5, &[(b"tRNS", &[0; 6])])), "tRNS adds alpha");
+        assert!(!plain(&png_with([4, 2], 2, &zlib, 5, &[(b"acTL", &[0; 8])])), "APNG");
+        assert!(!plain(&png_with([4, 2], 2, &zlib, 5, &[(b"XYZW", &[])])), "unknown critical chunk");
+        let mut bad_crc = png_with([4, 2], 2, &zlib, 5, &[]);
+        let at = bad_crc.len() - 13; // the last IDAT's CRC
+        bad_crc[at] ^= 1;
+        assert!(!plain(&bad_crc), "a bad CRC is the png crate's to report");
+        let no_end = png_with([4, 2], 2, &zlib, 5, &[]);
+        assert!(!plain(&no_end[..no_end.len() - 12]), "no IEND");
+        let mut interlaced = png_with([4, 2], 2, &zlib, 5, &[]);
+        interlaced[28] = 1;
+        assert!(!plain(&interlaced));
+        assert!(!plain(&png_with([4, 2], 3, &zlib, 5, &[(b"PLTE", &[0; 3])])), "palette images");
+    }
 }

@@ -64,18 +64,20 @@ pub fn verify_image_data(path: &Path, bytes: &[u8]) -> Result<()> {
             }
         }
     }
-    Err(failed(
-        "the image data's zlib stream ends without its Adler-32 checksum (truncated or damaged data \
-         cannot be trusted)"
-            .to_string(),
-    ))
+    Err(failed(MISSING_TRAILER.to_string()))
 }
 
-fn inflate_message(error: &fdeflate::DecompressionError) -> String {
+/// Why a zlib stream that stops before its checksum is refused.
+pub(crate) const MISSING_TRAILER: &str = "the image data's zlib stream ends without its Adler-32 checksum \
+     (truncated or damaged data cannot be trusted)";
+
+/// What an inflate error means, for the file's error message.
+pub(crate) fn inflate_message(error: &fdeflate::DecompressionError) -> String {
     match error {
         fdeflate::DecompressionError::WrongChecksum => {
             "the image data's zlib checksum (Adler-32) does not match: the data is damaged".to_string()
         }
+        fdeflate::DecompressionError::InsufficientInput => MISSING_TRAILER.to_string(),
         other => format!("the image data's zlib stream is corrupt ({other:?})"),
     }
 }
