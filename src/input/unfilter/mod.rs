@@ -144,15 +144,20 @@ fn unfilter_row(filter: Filter, bpp: usize, previous: &[u8], filtered: &[u8], ou
 /// formulation, which compilers keep in registers; Up over whole rows.
 #[inline(always)]
 fn unfilter_pixels<const BPP: usize>(filter: Filter, previous: &[u8], filtered: &[u8], out: &mut [u8]) {
-    out.copy_from_slice(filtered);
+    match filter {
+        Filter::None => return out.copy_from_slice(filtered),
+        // Whole rows, which compilers vectorise (in place they did not).
+        Filter::Up => {
+            for ((o, &f), &p) in out.iter_mut().zip(filtered).zip(previous) {
+                *o = f.wrapping_add(p);
+            }
+            return;
+        }
+        _ => out.copy_from_slice(filtered),
+    }
     let pixels = out.chunks_exact_mut(BPP).zip(previous.chunks_exact(BPP));
     match filter {
-        Filter::None => {}
-        Filter::Up => {
-            for (o, &p) in out.iter_mut().zip(previous) {
-                *o = o.wrapping_add(p);
-            }
-        }
+        Filter::None | Filter::Up => {}
         Filter::Sub => {
             let mut left = [0u8; BPP];
             for (o, _) in pixels {
