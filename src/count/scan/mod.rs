@@ -94,6 +94,12 @@ impl RowScan {
         vector_row_scan(kernel, layout, classifier).unwrap_or_else(|| portable_row_scan(layout, classifier))
     }
 
+    /// The same kernel with its per-part tally left to a separate pass over
+    /// each row ([`PartRows`]), for benchmarks that compare the two.
+    pub fn with_separate_parts(self) -> RowScan {
+        RowScan { by_part: None, ..self }
+    }
+
     /// Classifies `row` (decoded samples of `layout`), adds its palette
     /// texels (as [`color_key`]s) to `seen`, its stray colours to `strays`,
     /// and its pixels to `by_class`.
@@ -121,7 +127,7 @@ impl RowScan {
 /// palette's texel count of colours: a canonical palette's lookup), the
 /// kernel does both in one pass; else the tally is a second pass over each
 /// row. Both give the same bits.
-pub(crate) struct PartRows<'l, 't> {
+pub struct PartRows<'l, 't> {
     scan: RowScan,
     layout: PixelLayout,
     lookup: &'l PartLookup,
@@ -132,7 +138,7 @@ pub(crate) struct PartRows<'l, 't> {
 impl<'l, 't> PartRows<'l, 't> {
     /// Rows of `layout` counted with `scan` (built for `classifier`) and
     /// tallied by `lookup`'s parts into `tally`.
-    pub(crate) fn new(
+    pub fn new(
         scan: RowScan,
         layout: PixelLayout,
         classifier: &Classifier,
@@ -146,7 +152,7 @@ impl<'l, 't> PartRows<'l, 't> {
 
     /// [`RowScan::scan`] of row `y`, and its pixels by part.
     #[inline]
-    pub(crate) fn scan(
+    pub fn scan(
         &mut self,
         row: &[u8],
         y: u32,
