@@ -54,7 +54,7 @@ struct FusedParts<'t> {
     detail: *const u8,
     width_shift: __m512i,
     blocks_per_row: __m512i,
-    /// The slot of colours that are no texel.
+    /// The slot of colours outside the table's grid (no palette colour).
     outside: __m512i,
     /// The slots of the last block scanned (an impossible slot before the
     /// first, so the first pixel always opens a span).

@@ -163,12 +163,12 @@ impl<'l, 't> PartRows<'l, 't> {
     ) {
         match &self.fused {
             // SAFETY: `vector_row_scan` builds `by_part` only for kernels
-            // whose CPU features it found, and `new` checked the table's
-            // `len`.
-            Some((kernel, slots)) => unsafe {
+            // whose CPU features it found, and the guard checks the table's
+            // `len` against this classifier's palette.
+            Some((kernel, slots)) if slots.len as usize == classifier.palette().texel_count() => unsafe {
                 kernel(row, classifier, seen, strays, by_class, slots, RowSpans::new(self.tally, y))
             },
-            None => {
+            _ => {
                 self.scan.scan(row, classifier, seen, strays, by_class);
                 self.lookup.add_row_at(row, self.layout, y, self.tally);
             }
