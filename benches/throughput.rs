@@ -20,7 +20,8 @@
 //!
 //! `--keep DIR` writes the generated archive to DIR and leaves it there.
 //! `--kernels` times only the row kernels on decoded rows (one thread, each
-//! kernel this CPU runs), for work on the kernels.
+//! kernel this CPU runs) and the AVX-512 kernel with the per-part tally, in
+//! its own pass and as a separate pass, for work on the kernels.
 //!
 //! Without `--archive` it generates a realistic archive (1284×1620 tiles,
 //! 5×5 per eye, mostly empty; object tiles with smooth unique-colour
@@ -36,6 +37,7 @@ use rayon::prelude::*;
 use ufcsr::synthetic::{ArchiveSpec, write_archive};
 use ufcsr::{AnalyzeOptions, Classifier, Counts, Fcsp, analyze, scan_image};
 use ufcsr::{AtomicColorSet, SeenSet};
+use ufcsr::{EyeProjection, Legend, PartLookup, PartPixels, PartRows, Pidt, PixelLayout, TileView};
 use ufcsr::{Kernel, RowScan};
 use ufcsr::{RowReader, read_file};
 
@@ -200,22 +202,8 @@ fn count_loaded<B: std::ops::Deref<Target = [u8]>>(
 /// The row kernels alone, one thread, on rows decoded beforehand: nanoseconds
 /// per pixel for each kernel this CPU runs, including the commit of each
 /// tile's texels to the counts (with the selected kernel's count updates).
-fn kernels_alone(files: &[PathBuf], classifier: &Classifier) {
-    // 12 tiles spread over the archive (an approach changes from frame to
-    // frame), kept decoded in memory (1284×1620×3 bytes each).
-    let tiles: Vec<(ufcsr::PixelLayout, Vec<Vec<u8>>)> = files
-        .iter()
-        .step_by(files.len().div_ceil(12).max(1))
-        .map(|path| {
-            let bytes = read_file(path).unwrap();
-            let mut reader = RowReader::new(path, &bytes).unwrap();
-            let mut rows = Vec::new();
-            while let Some(row) = reader.next_row().unwrap() {
-                rows.push(row.to_vec());
-            }
-            (reader.layout(), rows)
-        })
-        .collect();
+fn kernels_alone(files: &[PathBuf], classifier: &Classifier, lookup: Option<&PartLookup>) {
+    let tiles = decoded_tiles(files);
     let pixels: usize = tiles
         .iter()
         .map(|(layout, rows)| rows.iter().map(|r| r.len() / layout.bytes_per_pixel()).sum::<usize>())
@@ -251,6 +239,73 @@ fn kernels_alone(files: &[PathBuf], classifier: &Classifier) {
         black_box(by_class);
     }
     black_box(counts);
+    if let Some(lookup) = lookup {
+        parts_alone(&tiles, pixels, classifier, lookup);
+    }
+}
+
+/// The per-part tally with solid angles on the same decoded rows (one
+/// thread): the AVX-512 kernel tallying parts in its own pass against the
+/// same kernel followed by the separate pass, and the tallies compared.
+fn parts_alone(
+    tiles: &[(PixelLayout, Vec<Vec<u8>>)],
+    pixels: usize,
+    classifier: &Classifier,
+    lookup: &PartLookup,
+) {
+    if Kernel::supported() < Kernel::Avx512 {
+        return;
+    }
+    // A 107° eye of 5 × 5 tiles of 1284 × 1620, the tiles at its centre.
+    let projection = EyeProjection::new(107.0, [5 * 1284, 5 * 1620]).unwrap();
+    let view = TileView { projection, origin: [2 * 1284, 2 * 1620] };
+    let strays = AtomicColorSet::new();
+    let mut seen = SeenSet::new();
+    let mut tallies = Vec::new();
+    let mut time = |fused: bool| {
+        let mut tally = PartPixels::new(lookup);
+        let seconds = best_of(3, || {
+            tally = PartPixels { view: Some(view), ..PartPixels::new(lookup) };
+            let mut by_class = [0u64; 3];
+            for (layout, rows) in tiles {
+                let scan = RowScan::new(Kernel::Avx512, *layout, classifier);
+                let scan = if fused { scan } else { scan.with_separate_parts() };
+                let mut parts = PartRows::new(scan, *layout, classifier, lookup, &mut tally);
+                for (y, row) in rows.iter().enumerate() {
+                    parts.scan(row, y as u32, classifier, &mut seen, &strays, &mut by_class);
+                }
+                seen.clear();
+            }
+            black_box(by_class);
+        });
+        tallies.push(tally);
+        seconds * 1e9 / pixels as f64
+    };
+    let (separate, fused) = (time(false), time(true));
+    println!(
+        "  avx512 kernel + per-part tally (1 thread, decoded rows, with solid angles): separate pass {separate:5.2} ns/pixel, fused {fused:5.2}: ratio fused / separate {:.3}; tallies identical: {}",
+        fused / separate,
+        tallies[0] == tallies[1]
+    );
+    assert_eq!(tallies[0], tallies[1], "the fused tally differs from the separate pass's");
+}
+
+/// 12 tiles spread over the archive (an approach changes from frame to
+/// frame), kept decoded in memory (1284×1620×3 bytes each).
+fn decoded_tiles(files: &[PathBuf]) -> Vec<(PixelLayout, Vec<Vec<u8>>)> {
+    files
+        .iter()
+        .step_by(files.len().div_ceil(12).max(1))
+        .map(|path| {
+            let bytes = read_file(path).unwrap();
+            let mut reader = RowReader::new(path, &bytes).unwrap();
+            let mut rows = Vec::new();
+            while let Some(row) = reader.next_row().unwrap() {
+                rows.push(row.to_vec());
+            }
+            (reader.layout(), rows)
+        })
+        .collect()
 }
 
 /// The original algorithm: decode the whole image, put every pixel's colour
@@ -306,9 +361,10 @@ fn bench_archive(args: &Args, archive: &Path, scratch: &Path) {
     let pixels: u64 = files.iter().map(|p| pixels_of(p)).sum();
     let palette = Fcsp::canonical(4096, 4096).unwrap();
     let classifier = Classifier::new(&palette, &[0x000FFF]).unwrap();
+    let lookup = archive_lookup(archive, &palette);
     if args.kernels_only {
         let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-        one_thread.install(|| kernels_alone(&files, &classifier));
+        one_thread.install(|| kernels_alone(&files, &classifier, lookup.as_ref()));
         return;
     }
     // The whole job first (so peak memory is ours alone; the listing above
@@ -330,8 +386,16 @@ fn bench_archive(args: &Args, archive: &Path, scratch: &Path) {
     let count = reading_against_mapping(&files, &classifier);
     let agree = against_decode_and_hash_map(&files, &classifier, pixels, [decode, own_decode, count]);
     let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
-    one_thread.install(|| kernels_alone(&files, &classifier));
+    one_thread.install(|| kernels_alone(&files, &classifier, lookup.as_ref()));
     assert!(agree, "dense and hash-map counts differ");
+}
+
+/// The archive's part lookup, from its `parts.csv` and `pidt.png` (none
+/// where it has no PIdT).
+fn archive_lookup(archive: &Path, palette: &Fcsp) -> Option<PartLookup> {
+    let legend = Legend::load(&archive.join("parts.csv")).ok()?;
+    let pidt = Pidt::load(&archive.join("pidt.png"), &legend, 4096, 4096).ok()?;
+    Some(PartLookup::new(palette, Some((&legend, &pidt)), &[0x000FFF]))
 }
 
 /// The counting stage of `analyze()` (its `timings.count_seconds`: decode,

@@ -22,7 +22,7 @@ pub use checks::{ColourChecks, ColourWarning, NeighbourSample};
 pub use color::{AtomicColorSet, COLOR_COUNT, Color, ParseColorError, SeenSet};
 pub use count::{
     Classifier, CountedTile, Counts, EmptyTile, FrameLabel, FrameRecord, ImageTally, KERNEL_ENV, Kernel,
-    PartLookup, PartPixels, PixelClass, RowScan, TileCounter, scan_image, scan_image_by_part,
+    PartLookup, PartPixels, PartRows, PixelClass, RowScan, TileCounter, scan_image, scan_image_by_part,
 };
 pub use describe::{DEFAULT_PATTERN, DescribeOptions, Described, describe, parse_fov};
 pub use error::{Error, Result};

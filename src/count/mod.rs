@@ -16,7 +16,7 @@ pub(crate) mod work;
 pub use counts::Counts;
 pub use part_lookup::{FrameLabel, FrameRecord, PartLookup, PartPixels};
 pub use scan::{
-    Classifier, ImageTally, KERNEL_ENV, Kernel, PixelClass, RowScan, scan_image, scan_image_by_part,
+    Classifier, ImageTally, KERNEL_ENV, Kernel, PartRows, PixelClass, RowScan, scan_image, scan_image_by_part,
 };
 pub use tile_counter::{CountedTile, TileCounter};
 pub use trim::EmptyTile;

@@ -170,6 +170,12 @@ impl PartLookup {
         }
     }
 
+    /// The slot table, for a kernel that looks slots up itself (see
+    /// [`RowSpans`]).
+    pub(crate) fn slot_table(&self) -> &SlotTable {
+        &self.slots
+    }
+
     /// Adds the distinct texels of `seen` (keys from [`crate::color::color_key`])
     /// to `texels` (a [`PartLookup::tally`]) by part.
     pub fn add_texels(&self, seen: &SeenSet, texels: &mut [u64]) {
@@ -185,6 +191,61 @@ impl PartLookup {
                 }
             }
         });
+    }
+}
+
+/// One row's part tally built by a kernel that finds the pixels where the
+/// slot changes itself (the AVX-512 counting kernel, in the same pass as its
+/// count): it calls [`RowSpans::change`] at each, and [`RowSpans::finish`] at
+/// the row's end. The spans are those of [`PartLookup::part_spans`], and
+/// each is added as [`PartLookup::add_row_at`] adds it — the same float
+/// operations in the same order, so the same bits.
+pub(crate) struct RowSpans<'t> {
+    pixels: &'t mut [u64],
+    solid: &'t mut [u128],
+    /// With a [`PartPixels::view`]: the row's weights.
+    weights: Option<RowWeights>,
+    /// The open span: its first pixel, slot and left edge's `G`.
+    start: usize,
+    slot: usize,
+    start_edge: f64,
+}
+
+impl<'t> RowSpans<'t> {
+    /// Row `y` of the image `tally` is for, before its first pixel.
+    pub(crate) fn new(tally: &'t mut PartPixels, y: u32) -> RowSpans<'t> {
+        let weights = tally.view.map(|view| RowWeights::new(&view, y));
+        let start_edge = weights.as_ref().map_or(0.0, |weights| weights.edge(0));
+        let (pixels, solid) = (&mut tally.pixels, &mut tally.solid_angle_units);
+        RowSpans { pixels, solid, weights, start: 0, slot: 0, start_edge }
+    }
+
+    /// Pixel `at` has slot `slot`, unlike the pixel before it (or it is the
+    /// row's first pixel): the open span ends there.
+    #[inline]
+    pub(crate) fn change(&mut self, at: usize, slot: usize) {
+        if at > self.start {
+            self.close(at);
+        }
+        self.start = at;
+        self.slot = slot;
+    }
+
+    /// The row ends at pixel `end` (its width).
+    pub(crate) fn finish(mut self, end: usize) {
+        if end > self.start {
+            self.close(end);
+        }
+    }
+
+    /// Adds the open span, which ends at `end`.
+    fn close(&mut self, end: usize) {
+        self.pixels[self.slot] += (end - self.start) as u64;
+        if let Some(weights) = &self.weights {
+            let edge = weights.edge(end);
+            self.solid[self.slot] += solid_angle_units(edge - self.start_edge);
+            self.start_edge = edge;
+        }
     }
 }
 

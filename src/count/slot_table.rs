@@ -36,7 +36,9 @@ pub(crate) struct SlotTable {
     /// Per block (row-major): its one slot, or `DETAILED | index` of its
     /// slots in `detail`.
     blocks: Vec<u32>,
-    /// Slots of the blocks that hold more than one, `BLOCK_TEXELS` each, row-major.
+    /// Slots of the blocks that hold more than one, `BLOCK_TEXELS` each,
+    /// row-major, and one padding slot after the last: the vector kernel
+    /// gathers a slot as the low half of 4 bytes ([`BlockSlots`]).
     detail: Vec<u16>,
     /// Slot of colours past the grid.
     outside: u16,
@@ -91,7 +93,21 @@ impl SlotTable {
             table.blocks.extend(entries.into_iter().map(|e| if e & DETAILED != 0 { e + offset } else { e }));
             table.detail.extend(detail);
         }
+        table.detail.push(outside);
         table
+    }
+
+    /// The table as a vector kernel reads it, where the grid's width is a
+    /// power of two (every canonical palette the capture writes).
+    pub(crate) fn block_slots(&self) -> Option<BlockSlots<'_>> {
+        Some(BlockSlots {
+            blocks: &self.blocks,
+            detail: &self.detail,
+            width_shift: self.width_shift?,
+            blocks_per_row: self.blocks_per_row,
+            len: self.len,
+            outside: self.outside,
+        })
     }
 
     /// Adds one to `tally[slot]` for each colour `first + j` whose bit `j` of
@@ -148,6 +164,27 @@ impl SlotTable {
             self.detail[first + ((y % SIDE) * SIDE + x % SIDE) as usize]
         }
     }
+}
+
+/// A [`SlotTable`] laid bare for a vector kernel, which computes for colour
+/// `c < len` (`y = c >> width_shift`, `x = c - (y << width_shift)`) what
+/// [`SlotTable::get`] does: the entry `blocks[(y >> 3) · blocks_per_row +
+/// (x >> 3)]` is the slot unless [`BlockSlots::DETAILED`] is set, and then
+/// the slot is `detail[((entry & !DETAILED) << 6) | (y & 7) << 3 | (x & 7)]`.
+/// `detail` ends in a padding slot, so reading 4 bytes at any slot stays
+/// inside it.
+pub(crate) struct BlockSlots<'t> {
+    pub blocks: &'t [u32],
+    pub detail: &'t [u16],
+    pub width_shift: u32,
+    pub blocks_per_row: u32,
+    pub len: u32,
+    pub outside: u16,
+}
+
+impl BlockSlots<'_> {
+    /// Set in an entry of `blocks` whose slots are in `detail`.
+    pub const DETAILED: u32 = DETAILED;
 }
 
 #[cfg(test)]
@@ -208,12 +245,37 @@ mod tests {
     }
 
     #[test]
+    fn block_slots_arithmetic_gives_the_slot_get_gives() {
+        // The vector kernel's recipe, lane by lane, on power-of-two widths
+        // below, at and above a block's side; the last slot of `detail` is
+        // read as the low half of 4 bytes, so a padding slot follows it.
+        for [width, height] in [[4u32, 4], [8, 3], [64, 40], [512, 9]] {
+            let table =
+                SlotTable::new([width, height], 9, |c| ((c % width) / 5 + (c / width) / 3) as u16 % 6);
+            let slots = table.block_slots().expect("a power-of-two width");
+            assert_eq!(slots.detail.len() % BLOCK_TEXELS, 1, "{width}×{height}");
+            for color in 0..slots.len {
+                let y = color >> slots.width_shift;
+                let x = color - (y << slots.width_shift);
+                let entry = slots.blocks[((y >> 3) * slots.blocks_per_row + (x >> 3)) as usize];
+                let slot = if entry & BlockSlots::DETAILED == 0 {
+                    entry as u16
+                } else {
+                    slots.detail[((entry << 6) | (y & 7) << 3 | (x & 7)) as usize]
+                };
+                assert_eq!(slot, table.get(color), "colour {color} of {width}×{height}");
+            }
+        }
+        assert!(SlotTable::new([100, 37], 9, |_| 0).block_slots().is_none());
+    }
+
+    #[test]
     fn uniform_blocks_keep_no_detail() {
         // Two parts split at x = 32 (a block edge) and one lone texel.
         let table =
             SlotTable::new([64, 64], 5, |c| if c == 64 * 9 + 40 { 3 } else { u16::from(c % 64 >= 32) });
         assert_eq!(table.blocks.len(), 64);
-        assert_eq!(table.detail.len(), BLOCK_TEXELS);
+        assert_eq!(table.detail.len(), BLOCK_TEXELS + 1, "one detailed block and the padding");
         assert_eq!((table.get(0), table.get(63), table.get(64 * 9 + 40)), (0, 1, 3));
     }
 

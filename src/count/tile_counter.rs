@@ -18,8 +18,8 @@ use crate::color::Color;
 use crate::color::{AtomicColorSet, SeenSet};
 use crate::count::counts::Counts;
 use crate::count::part_lookup::{PartLookup, PartPixels};
-use crate::count::scan::row_scan;
 use crate::count::scan::{Classifier, ImageTally, PixelClass};
+use crate::count::scan::{PartRows, row_scan};
 use crate::error::{Error, Result};
 use crate::input::options::Dedupe;
 use crate::input::palette::Fcsp;
@@ -162,20 +162,25 @@ impl<'a> TileCounter<'a> {
             }
             parts.pixels.view = parts.projection.map(|projection| TileView { projection, origin });
         }
-        let (mut parts, mut neighbours) = (self.parts.as_mut(), self.neighbours.as_mut());
+        let mut part_rows = self.parts.as_mut().map(|parts| {
+            PartRows::new(scan, PixelLayout::Rgba, &self.classifier, &parts.lookup, &mut parts.pixels)
+        });
+        let mut neighbours = self.neighbours.as_mut();
         if let Some(sampler) = neighbours.as_mut() {
             sampler.start_image();
         }
         for (y, row) in rgba.chunks_exact(row_bytes.max(1)).enumerate() {
-            scan.scan(row, &self.classifier, &mut self.seen, &self.strays, &mut by_class);
-            if let Some(parts) = parts.as_mut() {
-                parts.lookup.add_row_at(row, PixelLayout::Rgba, y as u32, &mut parts.pixels);
+            match part_rows.as_mut() {
+                Some(parts) => {
+                    parts.scan(row, y as u32, &self.classifier, &mut self.seen, &self.strays, &mut by_class)
+                }
+                None => scan.scan(row, &self.classifier, &mut self.seen, &self.strays, &mut by_class),
             }
             if let Some(sampler) = neighbours.as_mut() {
                 sampler.row(y as u32, row, PixelLayout::Rgba);
             }
         }
-        if let Some(parts) = parts {
+        if let Some(parts) = self.parts.as_mut() {
             self.seen.merge_into(&mut parts.seen);
         }
         let tally = ImageTally {

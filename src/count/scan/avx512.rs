@@ -2,12 +2,23 @@
 //! that repeat the pixel before them, unpacks, classifies and keys 16 RGB or
 //! RGBA pixels per instruction, and hands only the texels whose colour
 //! differs from their left neighbour's to scalar code.
+//!
+//! Its second form, [`scan_row_by_part`], also tallies the row by part in
+//! the same pass: the separate per-part pass re-read every row to find its
+//! runs and cost twice the kernel (`perf`: 19 % of a default analysis
+//! against 8.7 %). Here each block that is not a repeat looks its 16 slots
+//! up with a gather from the slot table's block entries (a second gather
+//! only for lanes in blocks on a chart's edge), and only the rare lanes
+//! whose slot differs from their left neighbour's reach scalar code, which
+//! closes a span there ([`RowSpans`]). A repeated block changes no slot.
 
 use std::arch::x86_64::*;
 
 use super::{ClassCounts, WordAccumulator, unpack_table};
 use crate::color::{AtomicColorSet, SeenSet};
+use crate::count::part_lookup::RowSpans;
 use crate::count::scan::{Classifier, PixelClass};
+use crate::count::slot_table::BlockSlots;
 
 /// The vector form of [`crate::color::color_key`].
 #[target_feature(enable = "avx512f")]
@@ -19,8 +30,119 @@ fn color_keys(colors: __m512i) -> __m512i {
     _mm512_or_si512(low, _mm512_or_si512(x_blocks, y_rows))
 }
 
+/// What a block adds by part: nothing (`()`, the plain kernel) or its part
+/// spans ([`FusedParts`]).
+trait BlockParts {
+    /// Records the block of `colors` whose lane 0 is pixel `first`; `member`
+    /// marks the lanes in `lanes` with a palette colour (texels, and
+    /// background colours that name a texel).
+    ///
+    /// # Safety
+    /// As [`RowScanner::block`].
+    unsafe fn block(&mut self, first: usize, colors: __m512i, member: __mmask16, lanes: __mmask16);
+}
+
+impl BlockParts for () {
+    #[inline(always)]
+    unsafe fn block(&mut self, _: usize, _: __m512i, _: __mmask16, _: __mmask16) {}
+}
+
+/// The part spans of one row, found 16 slots at a time.
+struct FusedParts<'t> {
+    /// `BlockSlots::blocks` and `BlockSlots::detail`.
+    blocks: *const u8,
+    detail: *const u8,
+    width_shift: __m512i,
+    blocks_per_row: __m512i,
+    /// The slot of colours outside the table's grid (no palette colour).
+    outside: __m512i,
+    /// The slots of the last block scanned (an impossible slot before the
+    /// first, so the first pixel always opens a span).
+    previous: __m512i,
+    spans: RowSpans<'t>,
+}
+
+impl<'t> FusedParts<'t> {
+    /// Before a row's first pixel.
+    #[target_feature(enable = "avx512f")]
+    #[inline]
+    fn new(slots: &BlockSlots, spans: RowSpans<'t>) -> FusedParts<'t> {
+        FusedParts {
+            blocks: slots.blocks.as_ptr().cast(),
+            detail: slots.detail.as_ptr().cast(),
+            width_shift: _mm512_set1_epi32(slots.width_shift as i32),
+            blocks_per_row: _mm512_set1_epi32(slots.blocks_per_row as i32),
+            outside: _mm512_set1_epi32(i32::from(slots.outside)),
+            previous: _mm512_set1_epi32(-1),
+            spans,
+        }
+    }
+
+    /// The slot of each lane of `member` ([`BlockSlots`]' arithmetic), the
+    /// outside slot elsewhere.
+    ///
+    /// # Safety
+    /// As [`RowScanner::block`]; the colours of `member` lanes are below the
+    /// table's `len`.
+    #[inline(always)]
+    unsafe fn slots(&self, colors: __m512i, member: __mmask16) -> __m512i {
+        // SAFETY: the caller guarantees the features; gathered lanes index
+        // `blocks` (a colour below `len` is in a block of the grid) and
+        // `detail` (a detailed entry's block, padded by one slot).
+        unsafe {
+            let y = _mm512_srlv_epi32(colors, self.width_shift);
+            let x = _mm512_sub_epi32(colors, _mm512_sllv_epi32(y, self.width_shift));
+            let block = _mm512_add_epi32(
+                _mm512_mullo_epi32(_mm512_srli_epi32::<3>(y), self.blocks_per_row),
+                _mm512_srli_epi32::<3>(x),
+            );
+            let entries = _mm512_mask_i32gather_epi32::<4>(self.outside, member, block, self.blocks.cast());
+            let detailed =
+                _mm512_mask_test_epi32_mask(member, entries, _mm512_set1_epi32(BlockSlots::DETAILED as i32));
+            if detailed == 0 {
+                return entries;
+            }
+            // Rare: a block on a chart's edge. Shifting the entry left by 6
+            // drops the DETAILED bit.
+            let seven = _mm512_set1_epi32(7);
+            let within = _mm512_or_si512(
+                _mm512_slli_epi32::<3>(_mm512_and_si512(y, seven)),
+                _mm512_and_si512(x, seven),
+            );
+            let at = _mm512_or_si512(_mm512_slli_epi32::<6>(entries), within);
+            let pairs = _mm512_mask_i32gather_epi32::<2>(entries, detailed, at, self.detail.cast());
+            _mm512_mask_and_epi32(entries, detailed, pairs, _mm512_set1_epi32(0xFFFF))
+        }
+    }
+}
+
+impl BlockParts for FusedParts<'_> {
+    #[inline(always)]
+    unsafe fn block(&mut self, first: usize, colors: __m512i, member: __mmask16, lanes: __mmask16) {
+        // SAFETY: as `RowScanner::block`; `scan_row_by_part` checked that
+        // palette colours are below the table's `len`. The store writes a
+        // 64-byte array.
+        unsafe {
+            let slots = self.slots(colors, member);
+            let left = _mm512_alignr_epi32::<15>(slots, self.previous);
+            let changes = _mm512_mask_cmpneq_epi32_mask(lanes, slots, left);
+            if changes != 0 {
+                let mut lane_slots = [0u32; 16];
+                _mm512_storeu_si512(lane_slots.as_mut_ptr().cast(), slots);
+                let mut remaining = changes;
+                while remaining != 0 {
+                    let lane = remaining.trailing_zeros() as usize;
+                    self.spans.change(first + lane, lane_slots[lane] as usize);
+                    remaining &= remaining - 1;
+                }
+            }
+            self.previous = slots;
+        }
+    }
+}
+
 /// One row in progress: what its blocks need and what they add up to.
-struct RowScanner<'a, const SINGLE_BACKGROUND: bool> {
+struct RowScanner<'a, const SINGLE_BACKGROUND: bool, P: BlockParts> {
     classifier: &'a Classifier<'a>,
     texel_limit: __m512i,
     seen: &'a mut SeenSet,
@@ -34,9 +156,10 @@ struct RowScanner<'a, const SINGLE_BACKGROUND: bool> {
     last_class: usize,
     background: u64,
     stray: u64,
+    parts: P,
 }
 
-impl<const SINGLE_BACKGROUND: bool> RowScanner<'_, SINGLE_BACKGROUND> {
+impl<const SINGLE_BACKGROUND: bool, P: BlockParts> RowScanner<'_, SINGLE_BACKGROUND, P> {
     /// Adds a block of `pixels` that all repeat the last pixel scanned: its
     /// class, and nothing new.
     #[inline(always)]
@@ -45,16 +168,16 @@ impl<const SINGLE_BACKGROUND: bool> RowScanner<'_, SINGLE_BACKGROUND> {
         self.stray += pixels * u64::from(self.last_class == PixelClass::Stray as usize);
     }
 
-    /// Classifies the 16 colours of `colors` (lanes outside `lanes` are
-    /// ignored) and records the texels whose colour differs from their left
-    /// neighbour's.
+    /// Classifies the 16 colours of `colors` (pixels `first` on; lanes
+    /// outside `lanes` are ignored), records the texels whose colour differs
+    /// from their left neighbour's, and hands the block to `parts`.
     ///
     /// # Safety
     /// The CPU must have the features `scan_row` enables. (A plain
     /// `#[target_feature]` function is not inlined into its caller, and the
     /// call per 16 pixels cost 15 % of the kernel.)
     #[inline(always)]
-    unsafe fn block(&mut self, colors: __m512i, lanes: __mmask16) {
+    unsafe fn block(&mut self, first: usize, colors: __m512i, lanes: __mmask16) {
         // SAFETY: the caller guarantees the CPU features (see above); the
         // stores below write 64-byte arrays.
         unsafe {
@@ -69,6 +192,7 @@ impl<const SINGLE_BACKGROUND: bool> RowScanner<'_, SINGLE_BACKGROUND> {
             let member = _mm512_cmplt_epu32_mask(colors, self.texel_limit);
             let is_texel = member & !is_background & lanes;
             let is_stray = !member & !is_background & lanes;
+            self.parts.block(first, colors, member & lanes, lanes);
             if is_stray != 0 {
                 // Rare: damaged or filtered pixels.
                 let mut lane_colors = [0u32; 16];
@@ -114,6 +238,68 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
     strays: &AtomicColorSet,
     by_class: &mut ClassCounts,
 ) {
+    let scanner = RowScanner::<SINGLE_BACKGROUND, ()>::new(classifier, seen, strays, ());
+    scan_blocks::<BYTES, SINGLE_BACKGROUND, ()>(row, scanner, by_class);
+}
+
+/// [`scan_row`], which also adds the row's pixels (and, with a view, their
+/// solid angles) by part to `spans`, as [`crate::count::PartLookup::add_row_at`]
+/// does, looking slots up in `slots`.
+///
+/// # Safety
+/// As [`scan_row`]; besides, `slots.len` must be the palette's texel
+/// count (so every palette colour is in the table's grid).
+#[target_feature(enable = "avx512f,avx512bw,avx512vbmi,popcnt,bmi1,bmi2")]
+pub(super) unsafe fn scan_row_by_part<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
+    row: &[u8],
+    classifier: &Classifier,
+    seen: &mut SeenSet,
+    strays: &AtomicColorSet,
+    by_class: &mut ClassCounts,
+    slots: &BlockSlots,
+    spans: RowSpans,
+) {
+    debug_assert_eq!(slots.len as usize, classifier.palette().texel_count());
+    let parts = FusedParts::new(slots, spans);
+    let scanner = RowScanner::<SINGLE_BACKGROUND, _>::new(classifier, seen, strays, parts);
+    let scanner = scan_blocks::<BYTES, SINGLE_BACKGROUND, _>(row, scanner, by_class);
+    scanner.parts.spans.finish(row.len() / BYTES);
+}
+
+impl<'a, const SINGLE_BACKGROUND: bool, P: BlockParts> RowScanner<'a, SINGLE_BACKGROUND, P> {
+    /// A scanner before a row's first pixel.
+    #[target_feature(enable = "avx512f")]
+    #[inline]
+    fn new(
+        classifier: &'a Classifier<'a>,
+        seen: &'a mut SeenSet,
+        strays: &'a AtomicColorSet,
+        parts: P,
+    ) -> RowScanner<'a, SINGLE_BACKGROUND, P> {
+        RowScanner {
+            classifier,
+            texel_limit: _mm512_set1_epi32(classifier.palette().texel_count() as i32),
+            seen,
+            strays,
+            word: WordAccumulator::new(),
+            previous: _mm512_set1_epi32(-1),
+            last_class: PixelClass::Background as usize,
+            background: 0,
+            stray: 0,
+            parts,
+        }
+    }
+}
+
+/// The body of both kernels: the row's blocks through `scanner`; returns it
+/// (its `parts` hold what they gathered).
+#[target_feature(enable = "avx512f,avx512bw,avx512vbmi,popcnt,bmi1,bmi2")]
+#[inline]
+fn scan_blocks<'a, const BYTES: usize, const SINGLE_BACKGROUND: bool, P: BlockParts>(
+    row: &[u8],
+    mut scanner: RowScanner<'a, SINGLE_BACKGROUND, P>,
+    by_class: &mut ClassCounts,
+) -> RowScanner<'a, SINGLE_BACKGROUND, P> {
     let pixels = row.len() / BYTES;
     // SAFETY: a 64-byte array.
     let index = unsafe { _mm512_loadu_si512(unpack_table::<BYTES, 64>(16).as_ptr().cast()) };
@@ -126,17 +312,6 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
         unsafe { _mm512_maskz_loadu_epi8(mask, row.as_ptr().add(start * BYTES).cast()) }
     };
     let unpack = |raw: __m512i| _mm512_maskz_permutexvar_epi8(0x7777_7777_7777_7777, index, raw);
-    let mut scanner = RowScanner::<SINGLE_BACKGROUND> {
-        classifier,
-        texel_limit: _mm512_set1_epi32(classifier.palette().texel_count() as i32),
-        seen,
-        strays,
-        word: WordAccumulator::new(),
-        previous: _mm512_set1_epi32(-1),
-        last_class: PixelClass::Background as usize,
-        background: 0,
-        stray: 0,
-    };
     let full_blocks = pixels / 16;
     for block in 0..full_blocks {
         let raw = load(block * 16, 16);
@@ -149,14 +324,15 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
             continue;
         }
         // SAFETY: this function has the features `block` needs.
-        unsafe { scanner.block(unpack(raw), !0) };
+        unsafe { scanner.block(block * 16, unpack(raw), !0) };
     }
     let rest = pixels - full_blocks * 16;
     if rest > 0 {
         let lanes = ((1u32 << rest) - 1) as __mmask16;
         // SAFETY: as above.
-        unsafe { scanner.block(unpack(load(full_blocks * 16, rest)), lanes) };
+        unsafe { scanner.block(full_blocks * 16, unpack(load(full_blocks * 16, rest)), lanes) };
     }
     scanner.word.flush(scanner.seen);
     super::add_row_classes(by_class, pixels, scanner.background, scanner.stray);
+    scanner
 }

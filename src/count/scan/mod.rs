@@ -19,6 +19,11 @@
 //! repeats the last pixel scanned, so it adds that pixel's class and nothing
 //! new.
 //!
+//! With a per-part tally ([`PartRows`]) the AVX-512 kernel's second form
+//! tallies each row by part in the same pass; every other kernel leaves it to
+//! [`PartLookup::add_row_at`], a second pass over the row, with the same
+//! result.
+//!
 //! All accumulate the bits of one 64-bit word of the [`SeenSet`] in a
 //! register and write it back only when a pixel needs another word:
 //! neighbouring pixels nearly always share a word (see
@@ -29,7 +34,8 @@ use std::path::Path;
 
 use crate::checks::neighbours::NeighbourSampler;
 use crate::color::{AtomicColorSet, SeenSet, color_key};
-use crate::count::part_lookup::{PartLookup, PartPixels};
+use crate::count::part_lookup::{PartLookup, PartPixels, RowSpans};
+use crate::count::slot_table::BlockSlots;
 use crate::error::{Error, Result};
 use crate::input::palette::Fcsp;
 use crate::input::png_rows::{PixelLayout, RowReader};
@@ -48,9 +54,27 @@ type SafeKernel = fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet, &mut Cla
 /// A row kernel compiled for CPU features the CPU may lack.
 type VectorKernel = unsafe fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet, &mut ClassCounts);
 
+/// A vector kernel that also tallies the row by part (see
+/// [`PartRows`]); its caller vouches that `BlockSlots::len` is the
+/// palette's texel count.
+type ByPartKernel = unsafe fn(
+    &[u8],
+    &Classifier,
+    &mut SeenSet,
+    &AtomicColorSet,
+    &mut ClassCounts,
+    &BlockSlots,
+    RowSpans,
+) -> ();
+
 /// The row kernel chosen for one image.
 #[derive(Clone, Copy)]
-pub struct RowScan(Choice);
+pub struct RowScan {
+    choice: Choice,
+    /// The kernel's form that also tallies parts, where it has one (built,
+    /// like [`Choice::Vector`], only after checking the CPU).
+    by_part: Option<ByPartKernel>,
+}
 
 #[derive(Clone, Copy)]
 // Vector kernels exist on x86-64 only.
@@ -70,6 +94,12 @@ impl RowScan {
         vector_row_scan(kernel, layout, classifier).unwrap_or_else(|| portable_row_scan(layout, classifier))
     }
 
+    /// The same kernel with its per-part tally left to a separate pass over
+    /// each row ([`PartRows`]), for benchmarks that compare the two.
+    pub fn with_separate_parts(self) -> RowScan {
+        RowScan { by_part: None, ..self }
+    }
+
     /// Classifies `row` (decoded samples of `layout`), adds its palette
     /// texels (as [`color_key`]s) to `seen`, its stray colours to `strays`,
     /// and its pixels to `by_class`.
@@ -82,12 +112,73 @@ impl RowScan {
         strays: &AtomicColorSet,
         by_class: &mut ClassCounts,
     ) {
-        match self.0 {
+        match self.choice {
             Choice::Portable(kernel) => kernel(row, classifier, seen, strays, by_class),
             // SAFETY: `vector_row_scan` builds this only for kernels whose
             // CPU features `Kernel::supported` found.
             Choice::Vector(kernel) => unsafe { kernel(row, classifier, seen, strays, by_class) },
         }
+    }
+}
+
+/// The per-part tally of an image's rows ([`PartLookup::add_row_at`]) beside
+/// their count. Where the row kernel has a form that tallies parts (AVX-512)
+/// and the slot table a form it reads (a power-of-two width and the
+/// palette's texel count of colours: a canonical palette's lookup), the
+/// kernel does both in one pass; else the tally is a second pass over each
+/// row. Both give the same bits.
+pub struct PartRows<'l, 't> {
+    scan: RowScan,
+    layout: PixelLayout,
+    lookup: &'l PartLookup,
+    tally: &'t mut PartPixels,
+    fused: Option<(ByPartKernel, BlockSlots<'l>)>,
+}
+
+impl<'l, 't> PartRows<'l, 't> {
+    /// Rows of `layout` counted with `scan` (built for `classifier`) and
+    /// tallied by `lookup`'s parts into `tally`.
+    pub fn new(
+        scan: RowScan,
+        layout: PixelLayout,
+        classifier: &Classifier,
+        lookup: &'l PartLookup,
+        tally: &'t mut PartPixels,
+    ) -> PartRows<'l, 't> {
+        let texels = classifier.palette().texel_count();
+        let slots = lookup.slot_table().block_slots().filter(|slots| slots.len as usize == texels);
+        PartRows { scan, layout, lookup, tally, fused: scan.by_part.zip(slots) }
+    }
+
+    /// [`RowScan::scan`] of row `y`, and its pixels by part.
+    #[inline]
+    pub fn scan(
+        &mut self,
+        row: &[u8],
+        y: u32,
+        classifier: &Classifier,
+        seen: &mut SeenSet,
+        strays: &AtomicColorSet,
+        by_class: &mut ClassCounts,
+    ) {
+        match &self.fused {
+            // SAFETY: `vector_row_scan` builds `by_part` only for kernels
+            // whose CPU features it found, and the guard checks the table's
+            // `len` against this classifier's palette.
+            Some((kernel, slots)) if slots.len as usize == classifier.palette().texel_count() => unsafe {
+                kernel(row, classifier, seen, strays, by_class, slots, RowSpans::new(self.tally, y))
+            },
+            _ => {
+                self.scan.scan(row, classifier, seen, strays, by_class);
+                self.lookup.add_row_at(row, self.layout, y, self.tally);
+            }
+        }
+    }
+
+    /// Whether the kernel tallies parts itself (for tests).
+    #[cfg(test)]
+    fn fused(&self) -> bool {
+        self.fused.is_some()
     }
 }
 
@@ -178,6 +269,13 @@ pub(crate) fn vector_row_scan(
     #[cfg(target_arch = "x86_64")]
     {
         let single = classifier.backgrounds().len() == 1;
+        let by_part: Option<ByPartKernel> = match (kernel, layout, single) {
+            (Kernel::Avx512, PixelLayout::Rgb, true) => Some(avx512::scan_row_by_part::<3, true>),
+            (Kernel::Avx512, PixelLayout::Rgb, false) => Some(avx512::scan_row_by_part::<3, false>),
+            (Kernel::Avx512, PixelLayout::Rgba, true) => Some(avx512::scan_row_by_part::<4, true>),
+            (Kernel::Avx512, PixelLayout::Rgba, false) => Some(avx512::scan_row_by_part::<4, false>),
+            _ => None,
+        };
         let vector: VectorKernel = match (kernel, layout, single) {
             (Kernel::Avx512, PixelLayout::Rgb, true) => avx512::scan_row::<3, true>,
             (Kernel::Avx512, PixelLayout::Rgb, false) => avx512::scan_row::<3, false>,
@@ -189,7 +287,7 @@ pub(crate) fn vector_row_scan(
             (Kernel::Avx2, PixelLayout::Rgba, false) => avx2::scan_row::<4, false>,
             _ => return None,
         };
-        Some(RowScan(Choice::Vector(vector)))
+        Some(RowScan { choice: Choice::Vector(vector), by_part })
     }
     #[cfg(not(target_arch = "x86_64"))]
     {
@@ -216,7 +314,7 @@ pub(crate) fn portable_row_scan(layout: PixelLayout, classifier: &Classifier) ->
         (PixelLayout::GrayAlpha, true, _) => scan_row::<2, true, true, false>,
         (PixelLayout::GrayAlpha, false, _) => scan_row::<2, true, false, false>,
     };
-    RowScan(Choice::Portable(kernel))
+    RowScan { choice: Choice::Portable(kernel), by_part: None }
 }
 
 #[inline(always)]
@@ -356,6 +454,7 @@ fn scan_row<const BYTES: usize, const GRAY: bool, const CANONICAL: bool, const S
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::input::solid_angle::TileView;
 
     /// Per-class counts and texel keys of one row; strays go to `strays`.
     fn scan_with(
@@ -468,6 +567,155 @@ mod tests {
                     let all = usize::MAX;
                     assert!(vector_strays.len() > 1000, "the rows must exercise strays");
                     assert_eq!(vector_strays.first(all), portable_strays.first(all));
+                }
+            }
+        }
+    }
+
+    /// A lookup with many parts, drawn as charts the way a PIdT marks them:
+    /// triangles a few dozen texels across (so 8 × 8 blocks on their edges
+    /// hold several slots), lone texels of another part, and unlabelled
+    /// texels (no legend colour).
+    fn pidt_like_lookup(palette: &Fcsp, backgrounds: &[u32]) -> PartLookup {
+        use crate::color::Color;
+        use crate::input::labels::{Legend, Part, Pidt};
+        let Fcsp::Canonical { width, height } = *palette else { unreachable!("canonical palettes only") };
+        let parts: Vec<Part> = (0..6u32)
+            .map(|i| Part { name: format!("part {i}"), color: Color::from_packed(0x10_0000 * (i + 1)) })
+            .collect();
+        let legend = Legend::new(Path::new("parts.csv"), parts).unwrap();
+        let colors: Vec<u32> = (0..width * height)
+            .map(|texel| {
+                let (x, y) = (texel % width, texel / width);
+                let chart = (x / 37 + 3 * (y / 29)) % 7; // 6: unlabelled
+                let upper = (x % 37) * 29 > (y % 29) * 37; // the chart's diagonal
+                match (texel % 331 == 7, chart) {
+                    (true, _) => 0x10_0000 * 4,
+                    (false, 6) => 0x12_3456,
+                    (false, _) => 0x10_0000 * ((chart + u32::from(upper)) % 6 + 1),
+                }
+            })
+            .collect();
+        let pidt = Pidt::from_colors(width, height, &colors, &legend);
+        PartLookup::new(palette, Some((&legend, &pidt)), backgrounds)
+    }
+
+    /// A deterministic pseudo-random row that walks the palette's grid as a
+    /// rendered surface does: texel gradients (magnified, minified, crossing
+    /// part boundaries and 8 × 8 block edges, sometimes a texture row down),
+    /// background runs, strays, repeats and (RGBA) arbitrary alpha.
+    fn random_part_row(
+        seed: u64,
+        pixels: usize,
+        bytes: usize,
+        width: u32,
+        texels: u32,
+        backgrounds: &[u32],
+    ) -> Vec<u8> {
+        let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(7);
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut row = Vec::with_capacity(pixels * bytes);
+        let mut color = 0u32;
+        while row.len() < pixels * bytes {
+            let run = (next() % 60) as usize + 1;
+            let kind = next() % 12;
+            let (start, magnify, step) =
+                ((next() as u32) % texels, (next() % 5) as u32 + 1, (next() % 3) as u32);
+            for i in 0..run as u32 {
+                color = match kind {
+                    0..=2 => backgrounds[(next() as usize) % backgrounds.len()],
+                    3..=8 => {
+                        let down = if next() % 50 == 0 { width } else { 0 };
+                        (start + i / magnify * step + down).min(texels - 1)
+                    }
+                    9 => (next() as u32) & 0xFF_FFFF, // anything, mostly stray
+                    _ => color,                       // repeat
+                };
+                row.extend_from_slice(
+                    &[(color >> 16) as u8, (color >> 8) as u8, color as u8, next() as u8][..bytes],
+                );
+            }
+        }
+        row.truncate(pixels * bytes);
+        row
+    }
+
+    /// Counts and tallies `row` with `rows` (row `y` of its image); returns
+    /// what both gave.
+    fn scan_parts(
+        rows: &mut PartRows,
+        classifier: &Classifier,
+        row: &[u8],
+        y: u32,
+        strays: &AtomicColorSet,
+    ) -> (ClassCounts, Vec<u32>) {
+        let mut seen = SeenSet::new();
+        let mut by_class = [0; 3];
+        rows.scan(row, y, classifier, &mut seen, strays, &mut by_class);
+        (by_class, seen.keys())
+    }
+
+    #[test]
+    fn the_kernel_that_tallies_parts_gives_the_separate_passs_pixels_and_solid_angles() {
+        if Kernel::supported() < Kernel::Avx512 {
+            eprintln!("skipped: this CPU has no AVX-512");
+            return;
+        }
+        let projection = crate::input::solid_angle::EyeProjection::new(107.0, [1284, 1620]).unwrap();
+        // Widths of 512 and 4 texels: blocks of the slot table inside and
+        // (4 × 4) wider than the grid; 100 is no power of two (separate pass).
+        for (width, height) in [(512u32, 256u32), (4, 4), (100, 37)] {
+            let palette = Fcsp::canonical(width, height).unwrap();
+            for backgrounds in [vec![0x000FFF], vec![0x000FFF, 0x000010, 5]] {
+                let classifier = Classifier::new(&palette, &backgrounds).unwrap();
+                let lookups =
+                    [pidt_like_lookup(&palette, &backgrounds), PartLookup::new(&palette, None, &backgrounds)];
+                for (lookup, (layout, bytes)) in
+                    lookups.iter().flat_map(|l| [(l, (PixelLayout::Rgb, 3)), (l, (PixelLayout::Rgba, 4))])
+                {
+                    let fused_scan = vector_row_scan(Kernel::Avx512, layout, &classifier).unwrap();
+                    let plain_scan = portable_row_scan(layout, &classifier);
+                    for view in [None, Some(TileView { projection, origin: [300, 700] })] {
+                        let (mut fused_tally, mut separate_tally) =
+                            (PartPixels::new(lookup), PartPixels::new(lookup));
+                        fused_tally.view = view;
+                        separate_tally.view = view;
+                        let mut fused =
+                            PartRows::new(fused_scan, layout, &classifier, lookup, &mut fused_tally);
+                        let mut separate =
+                            PartRows::new(plain_scan, layout, &classifier, lookup, &mut separate_tally);
+                        assert_eq!(fused.fused(), width.is_power_of_two());
+                        assert!(!separate.fused());
+                        let strays = AtomicColorSet::new();
+                        for seed in 0..120u64 {
+                            let pixels = match seed % 4 {
+                                0 => seed as usize % 16, // shorter than a block
+                                1 => 1284,
+                                _ => (seed as usize * 37) % 300,
+                            };
+                            let row =
+                                random_part_row(seed, pixels, bytes, width, width * height, &backgrounds);
+                            let y = (seed % 300) as u32;
+                            let by_fused = scan_parts(&mut fused, &classifier, &row, y, &strays);
+                            let by_separate = scan_parts(&mut separate, &classifier, &row, y, &strays);
+                            assert_eq!(by_fused, by_separate, "{width}×{height}, seed {seed}, {bytes} bytes");
+                        }
+                        assert_eq!(
+                            fused_tally, separate_tally,
+                            "{width}×{height}, {layout:?}, view {view:?}"
+                        );
+                        let texels: u64 = separate_tally.pixels[..lookup.parts()].iter().sum();
+                        assert!(texels > 10_000, "the rows must show texels");
+                        if lookup.parts() > 1 && width == 512 {
+                            let parts_shown = separate_tally.pixels.iter().filter(|&&p| p > 0).count();
+                            assert_eq!(parts_shown, lookup.parts() + 1, "every part and the non-texels");
+                        }
+                    }
                 }
             }
         }
@@ -627,19 +875,20 @@ fn scan_rows(
     strays: &AtomicColorSet,
     passes: RowPasses,
 ) -> Result<ImageTally> {
-    let RowPasses { mut parts, mut neighbours } = passes;
+    let RowPasses { parts, mut neighbours } = passes;
     if let Some(sampler) = neighbours.as_mut() {
         sampler.start_image();
     }
     let mut reader = RowReader::new(path, bytes)?;
     let layout = reader.layout();
     let scan = row_scan(layout, classifier);
+    let mut parts = parts.map(|(lookup, tally)| PartRows::new(scan, layout, classifier, lookup, tally));
     let mut by_class = [0u64; 3];
     let mut y = 0;
     while let Some(row) = reader.next_row()? {
-        scan.scan(row, classifier, seen, strays, &mut by_class);
-        if let Some((lookup, tally)) = parts.as_mut() {
-            lookup.add_row_at(row, layout, y, tally);
+        match parts.as_mut() {
+            Some(parts) => parts.scan(row, y, classifier, seen, strays, &mut by_class),
+            None => scan.scan(row, classifier, seen, strays, &mut by_class),
         }
         if let Some(sampler) = neighbours.as_mut() {
             sampler.row(y, row, layout);
