@@ -138,14 +138,20 @@ impl<'a> PlainDecoder<'a> {
             // Left checking the Adler-32 (the default): the stream is
             // inflated to its end in `finish`.
             inflater: Box::new(fdeflate::Decompressor::new()),
-            buffer: vec![0; BUFFER.max(WINDOW + 2 * GROUP * (row_bytes + 1) + 8)],
+            buffer: spare_buffer(BUFFER.max(WINDOW + 2 * GROUP * (row_bytes + 1) + 8)),
             filled: 0,
             taken: 0,
             bytes_per_pixel,
             row_bytes,
             height: header.height,
             decoded: 0,
-            rows: vec![0; (GROUP + 1) * pitch],
+            rows: {
+                // Row 0 is the zeros above the image; the rest is written
+                // before it is read.
+                let mut rows = spare_buffer((GROUP + 1) * pitch);
+                rows[..pitch].fill(0);
+                rows
+            },
             pitch,
             group_rows: 0,
             group_next: 1,
@@ -257,6 +263,43 @@ impl<'a> PlainDecoder<'a> {
             self.inflate_more(0)?;
         }
         Ok(())
+    }
+}
+
+impl Drop for PlainDecoder<'_> {
+    fn drop(&mut self) {
+        keep_spare(std::mem::take(&mut self.buffer));
+        keep_spare(std::mem::take(&mut self.rows));
+    }
+}
+
+/// Buffers up to this size are kept for the thread's next tile.
+const SPARE_LIMIT: usize = 8 << 20;
+
+thread_local! {
+    /// A decoder's buffers, kept for the next tile on this thread: a fresh
+    /// 256 KiB buffer per tile cost a zeroing and its page faults each time.
+    static SPARES: std::cell::RefCell<Vec<Vec<u8>>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// A buffer of `length` bytes (their contents are whatever a previous tile
+/// left, or zeros).
+fn spare_buffer(length: usize) -> Vec<u8> {
+    let mut buffer = SPARES.with_borrow_mut(|spares| {
+        let fits = spares.iter().position(|b| b.capacity() >= length);
+        fits.map(|at| spares.swap_remove(at)).unwrap_or_default()
+    });
+    buffer.resize(length, 0);
+    buffer
+}
+
+fn keep_spare(buffer: Vec<u8>) {
+    if buffer.capacity() > 0 && buffer.capacity() <= SPARE_LIMIT {
+        SPARES.with_borrow_mut(|spares| {
+            if spares.len() < 4 {
+                spares.push(buffer);
+            }
+        });
     }
 }
 
