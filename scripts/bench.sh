@@ -7,7 +7,7 @@
 #   scripts/bench.sh                  # a generated realistic archive and a
 #                                     # scenario A capture at 60 px/° (ufcsr-capture demo)
 #   scripts/bench.sh --no-capture     # the generated archive only
-#   scripts/bench.sh --frames 6       # bigger generated archive
+#   scripts/bench.sh --frames 6       # a smaller generated archive (default 24 frames, 1,200 tiles)
 #   scripts/bench.sh --archive DIR    # your own capture(s) only (repeatable)
 #   RAYON_NUM_THREADS=1 scripts/bench.sh
 set -euo pipefail

@@ -506,16 +506,20 @@ mod tests {
         }
     }
 
-    /// A deterministic pseudo-random row mixing background runs, texel
-    /// gradients, repeats, strays and (for RGBA) arbitrary alpha.
-    fn random_row(seed: u64, pixels: usize, bytes: usize, backgrounds: &[u32]) -> Vec<u8> {
-        let mut state = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
-        let mut next = move || {
+    /// A xorshift64 generator from `state` (deterministic test data).
+    fn xorshift(mut state: u64) -> impl FnMut() -> u64 {
+        move || {
             state ^= state << 13;
             state ^= state >> 7;
             state ^= state << 17;
             state
-        };
+        }
+    }
+
+    /// A deterministic pseudo-random row mixing background runs, texel
+    /// gradients, repeats, strays and (for RGBA) arbitrary alpha.
+    fn random_row(seed: u64, pixels: usize, bytes: usize, backgrounds: &[u32]) -> Vec<u8> {
+        let mut next = xorshift(seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1));
         let mut row = Vec::with_capacity(pixels * bytes);
         let mut color = 0u32;
         while row.len() < pixels * bytes {
@@ -612,13 +616,7 @@ mod tests {
         texels: u32,
         backgrounds: &[u32],
     ) -> Vec<u8> {
-        let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(7);
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut next = xorshift(seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(7));
         let mut row = Vec::with_capacity(pixels * bytes);
         let mut color = 0u32;
         while row.len() < pixels * bytes {
