@@ -628,7 +628,7 @@ mod tests {
                 color = match kind {
                     0..=2 => backgrounds[(next() as usize) % backgrounds.len()],
                     3..=8 => {
-                        let down = if next() % 50 == 0 { width } else { 0 };
+                        let down = if next().is_multiple_of(50) { width } else { 0 };
                         (start + i / magnify * step + down).min(texels - 1)
                     }
                     9 => (next() as u32) & 0xFF_FFFF, // anything, mostly stray
