@@ -27,8 +27,11 @@ use crate::input::unfilter::{Filter, GROUP, unfilter_rows};
 const WINDOW: usize = 32 << 10;
 /// The inflater's output buffer, at least (rows are read out of it).
 const BUFFER: usize = 256 << 10;
-/// Rows longer than this go to the png crate (whose limits then apply).
-const MAX_ROW_BYTES: usize = 64 << 20;
+/// Rows longer than this go to the png crate (whose limits then apply): the
+/// decoder holds about 13 rows (inflate buffer and row group), allocated
+/// before any data is read, so a header may not make them large. Tiles
+/// are 1284 pixels wide, a 16k-wide RGBA texture has 64 KiB rows.
+const MAX_ROW_BYTES: usize = 1 << 20;
 
 /// What [`plain_layout`] found: the pixel layout and the IDAT payloads.
 pub(crate) struct PlainPng<'a> {

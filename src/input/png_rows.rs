@@ -448,5 +448,8 @@ mod tests {
         interlaced[28] = 1;
         assert!(!plain(&interlaced));
         assert!(!plain(&png_with([4, 2], 3, &zlib, 5, &[(b"PLTE", &[0; 3])])), "palette images");
+        // A header may not make the decoder's buffers large (1.2 MB rows).
+        assert!(!plain(&png_with([300_000, 2], 6, &zlib, 5, &[])), "rows over 1 MiB");
+        assert!(plain(&png_with([200_000, 2], 6, &zlib, 5, &[])), "rows under 1 MiB");
     }
 }
