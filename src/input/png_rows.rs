@@ -168,8 +168,9 @@ impl<'a> RowReader<'a> {
         };
         let mut colors = Vec::new();
         match &mut self.decoder {
+            // No reservation from the header: a forged height would ask for
+            // it before any row is shown to exist.
             Decoder::Plain(_) => {
-                colors.reserve_exact(self.header.width as usize * self.header.height as usize);
                 while let Some(row) = self.next_row()? {
                     pack_all(&mut colors, row);
                 }

@@ -6,7 +6,7 @@
 //! to pixel: each output byte needs the one to its left. Decoding one row
 //! at a time is therefore bound by that chain's latency (≈ 4 cycles per
 //! pixel in the png crate). [`unfilter_rows`] takes several consecutive
-//! rows at once and runs their chains side by side, each row one pixel
+//! rows at once and runs their chains side by side, each row two pixels
 //! behind the row above it (the pixel above and the pixel above-left are
 //! then already done): the chains overlap in the CPU, and the rows come out
 //! byte-identical to one-row-at-a-time unfiltering ([`unfilter_row`], the
