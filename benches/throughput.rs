@@ -274,7 +274,7 @@ fn parts_alone(
                 let scan = if fused { scan } else { scan.with_separate_parts() };
                 let mut parts = PartRows::new(scan, *layout, classifier, lookup, &mut tally);
                 for (y, row) in rows.iter().enumerate() {
-                    parts.scan(row, y as u32, classifier, &mut seen, &strays, &mut by_class);
+                    parts.scan(row, y as u32, &mut seen, &strays, &mut by_class);
                 }
                 seen.clear();
             }

@@ -171,9 +171,7 @@ impl<'a> TileCounter<'a> {
         }
         for (y, row) in rgba.chunks_exact(row_bytes.max(1)).enumerate() {
             match part_rows.as_mut() {
-                Some(parts) => {
-                    parts.scan(row, y as u32, &self.classifier, &mut self.seen, &self.strays, &mut by_class)
-                }
+                Some(parts) => parts.scan(row, y as u32, &mut self.seen, &self.strays, &mut by_class),
                 None => scan.scan(row, &self.classifier, &mut self.seen, &self.strays, &mut by_class),
             }
             if let Some(sampler) = neighbours.as_mut() {

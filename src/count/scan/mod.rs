@@ -130,6 +130,7 @@ impl RowScan {
 pub struct PartRows<'l, 't> {
     scan: RowScan,
     layout: PixelLayout,
+    classifier: &'l Classifier<'l>,
     lookup: &'l PartLookup,
     tally: &'t mut PartPixels,
     fused: Option<(ByPartKernel, BlockSlots<'l>)>,
@@ -141,13 +142,15 @@ impl<'l, 't> PartRows<'l, 't> {
     pub fn new(
         scan: RowScan,
         layout: PixelLayout,
-        classifier: &Classifier,
+        classifier: &'l Classifier<'l>,
         lookup: &'l PartLookup,
         tally: &'t mut PartPixels,
     ) -> PartRows<'l, 't> {
+        // The fused kernel's gathers need every palette colour inside the
+        // table's grid: checked here, once, against the classifier kept.
         let texels = classifier.palette().texel_count();
         let slots = lookup.slot_table().block_slots().filter(|slots| slots.len as usize == texels);
-        PartRows { scan, layout, lookup, tally, fused: scan.by_part.zip(slots) }
+        PartRows { scan, layout, classifier, lookup, tally, fused: scan.by_part.zip(slots) }
     }
 
     /// [`RowScan::scan`] of row `y`, and its pixels by part.
@@ -156,19 +159,19 @@ impl<'l, 't> PartRows<'l, 't> {
         &mut self,
         row: &[u8],
         y: u32,
-        classifier: &Classifier,
         seen: &mut SeenSet,
         strays: &AtomicColorSet,
         by_class: &mut ClassCounts,
     ) {
+        let classifier = self.classifier;
         match &self.fused {
             // SAFETY: `vector_row_scan` builds `by_part` only for kernels
-            // whose CPU features it found, and the guard checks the table's
+            // whose CPU features it found, and `new` checked the table's
             // `len` against this classifier's palette.
-            Some((kernel, slots)) if slots.len as usize == classifier.palette().texel_count() => unsafe {
+            Some((kernel, slots)) => unsafe {
                 kernel(row, classifier, seen, strays, by_class, slots, RowSpans::new(self.tally, y))
             },
-            _ => {
+            None => {
                 self.scan.scan(row, classifier, seen, strays, by_class);
                 self.lookup.add_row_at(row, self.layout, y, self.tally);
             }
@@ -647,14 +650,13 @@ mod tests {
     /// what both gave.
     fn scan_parts(
         rows: &mut PartRows,
-        classifier: &Classifier,
         row: &[u8],
         y: u32,
         strays: &AtomicColorSet,
     ) -> (ClassCounts, Vec<u32>) {
         let mut seen = SeenSet::new();
         let mut by_class = [0; 3];
-        rows.scan(row, y, classifier, &mut seen, strays, &mut by_class);
+        rows.scan(row, y, &mut seen, strays, &mut by_class);
         (by_class, seen.keys())
     }
 
@@ -699,8 +701,8 @@ mod tests {
                             let row =
                                 random_part_row(seed, pixels, bytes, width, width * height, &backgrounds);
                             let y = (seed % 300) as u32;
-                            let by_fused = scan_parts(&mut fused, &classifier, &row, y, &strays);
-                            let by_separate = scan_parts(&mut separate, &classifier, &row, y, &strays);
+                            let by_fused = scan_parts(&mut fused, &row, y, &strays);
+                            let by_separate = scan_parts(&mut separate, &row, y, &strays);
                             assert_eq!(by_fused, by_separate, "{width}×{height}, seed {seed}, {bytes} bytes");
                         }
                         assert_eq!(
@@ -885,7 +887,7 @@ fn scan_rows(
     let mut y = 0;
     while let Some(row) = reader.next_row()? {
         match parts.as_mut() {
-            Some(parts) => parts.scan(row, y, classifier, seen, strays, &mut by_class),
+            Some(parts) => parts.scan(row, y, seen, strays, &mut by_class),
             None => scan.scan(row, classifier, seen, strays, &mut by_class),
         }
         if let Some(sampler) = neighbours.as_mut() {
