@@ -138,35 +138,26 @@ impl PartLookup {
     /// the tally knows where the image lies in its eye ([`PartPixels::view`]),
     /// their solid angle (one pair of `atan` per run of equal pixels).
     pub fn add_row_at(&self, row: &[u8], layout: PixelLayout, y: u32, tally: &mut PartPixels) {
-        let Some(view) = tally.view else {
+        if tally.view.is_none() {
             return self.add_row(row, layout, &mut tally.pixels);
-        };
-        let weights = RowWeights::new(&view, y);
-        let (pixels, solid) = (&mut tally.pixels, &mut tally.solid_angle_units);
-        match layout {
-            PixelLayout::Rgb => self.add_weighted_of::<3, false>(row, pixels, solid, &weights),
-            PixelLayout::Rgba => self.add_weighted_of::<4, false>(row, pixels, solid, &weights),
-            PixelLayout::Gray => self.add_weighted_of::<1, true>(row, pixels, solid, &weights),
-            PixelLayout::GrayAlpha => self.add_weighted_of::<2, true>(row, pixels, solid, &weights),
         }
+        let mut spans = RowSpans::new(tally, y);
+        match layout {
+            PixelLayout::Rgb => self.add_spans::<3, false>(row, &mut spans),
+            PixelLayout::Rgba => self.add_spans::<4, false>(row, &mut spans),
+            PixelLayout::Gray => self.add_spans::<1, true>(row, &mut spans),
+            PixelLayout::GrayAlpha => self.add_spans::<2, true>(row, &mut spans),
+        }
+        spans.finish(row.len() / layout.bytes_per_pixel());
     }
 
     /// Pixels and solid angles by part: one solid angle per span of one
     /// part (two `atan` at each end), so a part covered by many texels, each
-    /// a few pixels wide, costs what one run does.
-    fn add_weighted_of<const BYTES: usize, const GRAY: bool>(
-        &self,
-        row: &[u8],
-        pixels: &mut [u64],
-        solid: &mut [u128],
-        weights: &RowWeights,
-    ) {
-        let mut start_edge = weights.edge(0);
-        for (start, end, slot) in self.part_spans::<BYTES, GRAY>(row) {
-            let edge = weights.edge(end);
-            pixels[slot] += (end - start) as u64;
-            solid[slot] += solid_angle_units(edge - start_edge);
-            start_edge = edge;
+    /// a few pixels wide, costs what one run does. The spans go through
+    /// [`RowSpans`], as the AVX-512 kernel's do, so both add the same bits.
+    fn add_spans<const BYTES: usize, const GRAY: bool>(&self, row: &[u8], spans: &mut RowSpans) {
+        for (start, _, slot) in self.part_spans::<BYTES, GRAY>(row) {
+            spans.change(start, slot);
         }
     }
 
@@ -198,8 +189,8 @@ impl PartLookup {
 /// slot changes itself (the AVX-512 counting kernel, in the same pass as its
 /// count): it calls [`RowSpans::change`] at each, and [`RowSpans::finish`] at
 /// the row's end. The spans are those of [`PartLookup::part_spans`], and
-/// each is added as [`PartLookup::add_row_at`] adds it — the same float
-/// operations in the same order, so the same bits.
+/// [`PartLookup::add_row_at`] adds its own through it too, so both paths
+/// do the same float operations in the same order: the same bits.
 pub(crate) struct RowSpans<'t> {
     pixels: &'t mut [u64],
     solid: &'t mut [u128],
