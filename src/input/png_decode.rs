@@ -19,7 +19,7 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::input::png_format::{HEADER_BYTES, PixelLayout, PngHeader};
+use crate::input::png_format::{HEADER_BYTES, PixelLayout, PngHeader, chunks};
 use crate::input::png_zlib::{MISSING_TRAILER, inflate_message};
 use crate::input::unfilter::{Filter, GROUP, unfilter_rows};
 
@@ -65,26 +65,16 @@ pub(crate) fn plain_layout<'a>(header: &PngHeader, bytes: &'a [u8]) -> Option<Pl
 /// matching CRC and comes in the plain order; `None` otherwise.
 fn plain_chunks(bytes: &[u8], layout: PixelLayout) -> Option<Vec<&[u8]>> {
     let mut idat = Vec::new();
-    let mut at = 8usize;
     let mut idat_ended = false;
-    let mut first = true;
-    loop {
-        let header = bytes.get(at..at.checked_add(8)?)?;
-        let length = u32::from_be_bytes([header[0], header[1], header[2], header[3]]);
-        if length > i32::MAX as u32 {
+    for (index, chunk) in chunks(bytes).enumerate() {
+        if !chunk.crc_matches() {
             return None;
         }
-        let kind: [u8; 4] = [header[4], header[5], header[6], header[7]];
-        let body_end = (at + 8).checked_add(length as usize)?;
-        let crc = bytes.get(body_end..body_end.checked_add(4)?)?;
-        if crc32fast::hash(&bytes[at + 4..body_end]) != u32::from_be_bytes([crc[0], crc[1], crc[2], crc[3]]) {
-            return None;
-        }
-        let body = &bytes[at + 8..body_end];
+        let kind = chunk.kind;
         match &kind {
-            b"IHDR" if first && length == 13 => {}
-            b"IDAT" if !idat_ended => idat.push(body),
-            b"IEND" if length == 0 && !idat.is_empty() => return Some(idat),
+            b"IHDR" if index == 0 && chunk.body.len() == 13 => {}
+            b"IDAT" if !idat_ended => idat.push(chunk.body),
+            b"IEND" if chunk.body.is_empty() && !idat.is_empty() => return Some(idat),
             b"PLTE" if idat.is_empty() && matches!(layout, PixelLayout::Rgb | PixelLayout::Rgba) => {}
             // tRNS would add an alpha channel; APNG is refused by the png crate.
             b"tRNS" | b"acTL" | b"fcTL" | b"fdAT" => return None,
@@ -92,12 +82,9 @@ fn plain_chunks(bytes: &[u8], layout: PixelLayout) -> Option<Vec<&[u8]>> {
             _ if kind[0].is_ascii_lowercase() && kind.iter().all(u8::is_ascii_alphabetic) => {}
             _ => return None,
         }
-        first = false;
-        if !idat.is_empty() && &kind != b"IDAT" {
-            idat_ended = true;
-        }
-        at = body_end + 4;
+        idat_ended |= !idat.is_empty() && &kind != b"IDAT";
     }
+    None // no IEND
 }
 
 /// Rows of a plain PNG, unfiltered as they are inflated, [`GROUP`] at a time.

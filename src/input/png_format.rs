@@ -1,6 +1,6 @@
 //! What a PNG says about itself before any pixel is decoded: the IHDR
-//! header ([`parse_header`]) and the layout of decoded samples
-//! ([`PixelLayout`]). Both decoders ([`crate::input::png_rows`] over the png
+//! header ([`parse_header`]), its chunks ([`chunks`]) and the layout of
+//! decoded samples ([`PixelLayout`]). Both decoders ([`crate::input::png_rows`] over the png
 //! crate, [`crate::input::png_decode`] for plain tiles) start from here.
 
 use std::path::Path;
@@ -81,4 +81,44 @@ impl PixelLayout {
             }
         }
     }
+}
+
+/// One chunk of a PNG: its type and data, and the CRC stored after them.
+pub(crate) struct Chunk<'a> {
+    pub kind: [u8; 4],
+    pub body: &'a [u8],
+    /// Type and data: what the CRC covers.
+    covered: &'a [u8],
+    stored_crc: u32,
+}
+
+impl Chunk<'_> {
+    /// Whether the stored CRC is that of the chunk's type and data.
+    pub fn crc_matches(&self) -> bool {
+        crc32fast::hash(self.covered) == self.stored_crc
+    }
+}
+
+/// The chunks after the signature, in order, up to the first that does not
+/// fit in `bytes` with its CRC or claims more than 2³¹ − 1 bytes.
+pub(crate) fn chunks(bytes: &[u8]) -> impl Iterator<Item = Chunk<'_>> {
+    let be32 = |b: &[u8]| u32::from_be_bytes([b[0], b[1], b[2], b[3]]);
+    let mut at = 8usize;
+    std::iter::from_fn(move || {
+        let header = bytes.get(at..at.checked_add(8)?)?;
+        let length = be32(header);
+        if length > i32::MAX as u32 {
+            return None;
+        }
+        let body_end = (at + 8).checked_add(length as usize)?;
+        let crc = bytes.get(body_end..body_end.checked_add(4)?)?;
+        let chunk = Chunk {
+            kind: [header[4], header[5], header[6], header[7]],
+            body: &bytes[at + 8..body_end],
+            covered: &bytes[at + 4..body_end],
+            stored_crc: be32(crc),
+        };
+        at = body_end + 4;
+        Some(chunk)
+    })
 }

@@ -12,29 +12,23 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
+use crate::input::png_format::chunks;
 
 /// Output window: deflate looks back at most 32 KiB.
 const WINDOW: usize = 32 << 10;
 const BUFFER: usize = 256 << 10;
 
-/// The payloads of the IDAT chunks, in order (chunk framing and CRCs are the
-/// png crate's to check; a chunk running past the end stops the list).
+/// The payloads of the IDAT chunks, in order (CRCs are the png crate's to
+/// check; a chunk running past the end stops the list).
 fn idat_payloads(bytes: &[u8]) -> Vec<&[u8]> {
     let mut payloads = Vec::new();
-    let mut at = 8usize;
-    while let Some(header) = bytes.get(at..at + 8) {
-        let length = u32::from_be_bytes([header[0], header[1], header[2], header[3]]) as usize;
-        let Some(body) = at.checked_add(8).and_then(|start| bytes.get(start..start.checked_add(length)?))
-        else {
-            break;
-        };
-        match &header[4..8] {
-            b"IDAT" => payloads.push(body),
+    for chunk in chunks(bytes) {
+        match &chunk.kind {
+            b"IDAT" => payloads.push(chunk.body),
             b"IEND" => break,
             _ if !payloads.is_empty() => break, // IDAT chunks are consecutive
             _ => {}
         }
-        at += 12 + length;
     }
     payloads
 }
