@@ -122,3 +122,21 @@ pub(crate) fn chunks(bytes: &[u8]) -> impl Iterator<Item = Chunk<'_>> {
         Some(chunk)
     })
 }
+
+/// A PNG file's bytes: the signature, then each `(type, body)` chunk with
+/// its length and CRC. For tests that need damaged or unusual PNGs (the
+/// decoder's unit tests, and the integration tests through
+/// `ufcsr::synthetic`).
+#[cfg(any(test, feature = "synthetic"))]
+pub fn png_from_chunks(chunks: &[(&[u8; 4], &[u8])]) -> Vec<u8> {
+    let mut png = vec![0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
+    for (kind, body) in chunks {
+        png.extend((body.len() as u32).to_be_bytes());
+        let start = png.len();
+        png.extend(*kind);
+        png.extend(*body);
+        let crc = crc32fast::hash(&png[start..]);
+        png.extend(crc.to_be_bytes());
+    }
+    png
+}

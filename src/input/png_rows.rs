@@ -290,19 +290,10 @@ mod tests {
     //! crate's rows, and what it refuses.
     use super::*;
     use crate::input::png_decode::plain_layout;
+    use crate::input::png_format::png_from_chunks;
 
     const PATH: &str = "tile.png";
 
-    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], body: &[u8]) {
-        out.extend((body.len() as u32).to_be_bytes());
-        let start = out.len();
-        out.extend(kind);
-        out.extend(body);
-        let crc = crc32fast::hash(&out[start..]);
-        out.extend(crc.to_be_bytes());
-    }
-
-    /// A PNG with `zlib` as its image data, split into IDATs of `split` bytes.
     fn png_with(
         size: [u32; 2],
         color_type: u8,
@@ -310,20 +301,15 @@ mod tests {
         split: usize,
         extra: &[(&[u8; 4], &[u8])],
     ) -> Vec<u8> {
-        let mut out = vec![0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
         let mut ihdr = Vec::new();
         ihdr.extend(size[0].to_be_bytes());
         ihdr.extend(size[1].to_be_bytes());
         ihdr.extend([8, color_type, 0, 0, 0]);
-        chunk(&mut out, b"IHDR", &ihdr);
-        for (kind, body) in extra {
-            chunk(&mut out, kind, body);
-        }
-        for part in zlib.chunks(split.max(1)) {
-            chunk(&mut out, b"IDAT", part);
-        }
-        chunk(&mut out, b"IEND", &[]);
-        out
+        let mut chunks: Vec<(&[u8; 4], &[u8])> = vec![(b"IHDR", &ihdr)];
+        chunks.extend(extra.iter().copied());
+        chunks.extend(zlib.chunks(split.max(1)).map(|part| (b"IDAT", part)));
+        chunks.push((b"IEND", &[]));
+        png_from_chunks(&chunks)
     }
 
     /// Deterministic pseudo-random bytes.

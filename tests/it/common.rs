@@ -91,19 +91,7 @@ pub fn png_from_filtered_rows(
 
 /// A PNG file's bytes: the signature, then each `(type, body)` chunk with its
 /// length and CRC (for tests that build damaged or unusual PNGs by hand).
-pub fn png_from_chunks(chunks: &[(&[u8; 4], &[u8])]) -> Vec<u8> {
-    let mut png = vec![0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
-    for (kind, body) in chunks {
-        png.extend((body.len() as u32).to_be_bytes());
-        let mut crc = crc32fast::Hasher::new();
-        crc.update(*kind);
-        crc.update(body);
-        png.extend(*kind);
-        png.extend(*body);
-        png.extend(crc.finalize().to_be_bytes());
-    }
-    png
-}
+pub use ufcsr::synthetic::png_from_chunks;
 
 /// Analysis options for the hand-made 4×4-palette archives of the
 /// bad-input tests: canonical palette, no trimming.
