@@ -21,7 +21,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 use crate::input::png_format::{HEADER_BYTES, PixelLayout, PngHeader, chunks};
 use crate::input::png_zlib::{MISSING_TRAILER, inflate_message};
-use crate::input::unfilter::{Filter, GROUP, unfilter_rows};
+use crate::input::unfilter::{Filter, GROUP, RowGroup, unfilter_rows};
 
 /// Deflate looks back at most 32 KiB.
 const WINDOW: usize = 32 << 10;
@@ -195,14 +195,14 @@ impl<'a> PlainDecoder<'a> {
             })?;
         }
         let out = &mut self.rows[..(want + 1) * self.pitch];
-        unfilter_rows(
-            &filters[..want],
-            self.bytes_per_pixel,
-            self.row_bytes,
-            &self.buffer[self.taken..],
+        unfilter_rows(RowGroup {
+            filters: &filters[..want],
+            bpp: self.bytes_per_pixel,
+            row_bytes: self.row_bytes,
+            filtered: &self.buffer[self.taken..],
             out,
-            self.pitch,
-        );
+            pitch: self.pitch,
+        });
         self.taken += want * stride;
         self.decoded += want as u32;
         (self.group_rows, self.group_next) = (want, 1);

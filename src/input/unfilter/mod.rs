@@ -14,9 +14,12 @@
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;
+#[cfg(target_arch = "x86_64")]
+mod avx512;
 
-/// Rows [`unfilter_rows`] takes at once (the decoder hands it this many).
-pub(crate) const GROUP: usize = 4;
+/// Rows [`unfilter_rows`] takes at once (the decoder hands it this many):
+/// eight side by side with AVX-512, two fours with AVX2.
+pub(crate) const GROUP: usize = 8;
 
 /// The five PNG filter types.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -35,6 +38,11 @@ impl Filter {
             .get(usize::from(byte))
             .copied()
     }
+
+    /// Whether each pixel needs the one to its left (Up and None do not).
+    fn chained(self) -> bool {
+        matches!(self, Filter::Sub | Filter::Average | Filter::Paeth)
+    }
 }
 
 /// The Paeth predictor (PNG spec §9.4) in the branch-free form of
@@ -51,49 +59,103 @@ fn paeth(a: i16, b: i16, c: i16) -> u8 {
     t1 as u8
 }
 
-/// Unfilters `filters.len()` (at most [`GROUP`]) consecutive rows of
-/// `row_bytes` bytes, `bpp` bytes per pixel.
+/// Consecutive rows to unfilter, as the decoder holds them.
 ///
 /// `filtered` holds the rows as inflated, each a filter byte followed by
-/// its bytes (`filters` are those bytes, checked). `out` holds
+/// its `row_bytes` bytes (`filters` are those bytes, checked). `out` holds
 /// `filters.len() + 1` rows `pitch` (≥ `row_bytes`) bytes apart: row 0 is
 /// the unfiltered row above the first (zeros above the image), the others
-/// receive the rows. A whole group of RGB or RGBA rows with a chained
-/// filter among them goes side by side (see the module doc) when the CPU
-/// has AVX2 and `filtered` and `pitch` leave 4 spare bytes; otherwise, and
-/// for the answers the tests hold that path to, one row at a time.
-pub(crate) fn unfilter_rows(
-    filters: &[Filter],
-    bpp: usize,
-    row_bytes: usize,
-    filtered: &[u8],
-    out: &mut [u8],
-    pitch: usize,
-) {
-    #[cfg(target_arch = "x86_64")]
-    if side_by_side(filters, bpp, row_bytes, filtered.len(), pitch) {
-        let group: &[Filter; GROUP] = filters.try_into().expect("a whole group");
-        // SAFETY: `side_by_side` checked AVX2; the sizes are asserted inside.
-        unsafe {
-            match bpp {
-                3 => avx2::unfilter_rows::<3>(group, row_bytes, filtered, out, pitch),
-                _ => avx2::unfilter_rows::<4>(group, row_bytes, filtered, out, pitch),
-            }
+/// receive the rows.
+pub(crate) struct RowGroup<'a> {
+    pub filters: &'a [Filter],
+    /// Bytes per pixel, 1 to 4.
+    pub bpp: usize,
+    pub row_bytes: usize,
+    pub filtered: &'a [u8],
+    pub out: &'a mut [u8],
+    pub pitch: usize,
+}
+
+impl RowGroup<'_> {
+    /// The group's rows `first..first + count` (their `out` starts at the
+    /// row above them).
+    fn part(&mut self, first: usize, count: usize) -> RowGroup<'_> {
+        RowGroup {
+            filters: &self.filters[first..first + count],
+            bpp: self.bpp,
+            row_bytes: self.row_bytes,
+            filtered: &self.filtered[first * (self.row_bytes + 1)..],
+            out: &mut self.out[first * self.pitch..],
+            pitch: self.pitch,
         }
-        return;
     }
-    row_by_row(filters, bpp, row_bytes, filtered, out, pitch);
+
+    /// Whether `rows` of these rows can go side by side: RGB or RGBA, at
+    /// least 16 pixels wide, 4 spare bytes after the filtered rows and in
+    /// `pitch`, and `chained` of them with a chained filter (Up and None
+    /// alone are faster row by row).
+    fn side_by_side(&self, rows: usize, chained: usize) -> bool {
+        self.filters.len() == rows
+            && matches!(self.bpp, 3 | 4)
+            && self.row_bytes >= 16 * self.bpp
+            && self.filters.iter().filter(|f| f.chained()).count() >= chained
+            && self.filtered.len() >= rows * (self.row_bytes + 1) + 4
+            && self.pitch >= self.row_bytes + 4
+    }
+}
+
+/// Unfilters the rows of `group` (at most [`GROUP`]). A whole group of RGB
+/// or RGBA rows with chained filters among them goes side by side (see the
+/// module doc): eight at once when the CPU has AVX-512, else four at once
+/// with AVX2; otherwise, and for the answers the tests hold those paths
+/// to, one row at a time.
+pub(crate) fn unfilter_rows(mut group: RowGroup) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        let vector = vector_unfilter();
+        if vector == VectorUnfilter::Avx512 && group.side_by_side(avx512::ROWS, avx512::ROWS / 2) {
+            let filters: &[Filter; avx512::ROWS] = group.filters.try_into().expect("a whole group");
+            let (bpp, row_bytes, pitch) = (group.bpp, group.row_bytes, group.pitch);
+            // SAFETY: AVX-512 F and BW were checked; the sizes are asserted inside.
+            unsafe {
+                match bpp {
+                    3 => avx512::unfilter_rows::<3>(filters, row_bytes, group.filtered, group.out, pitch),
+                    _ => avx512::unfilter_rows::<4>(filters, row_bytes, group.filtered, group.out, pitch),
+                }
+            }
+            return;
+        }
+        if vector != VectorUnfilter::None {
+            for first in (0..group.filters.len()).step_by(avx2::ROWS) {
+                let count = avx2::ROWS.min(group.filters.len() - first);
+                four_rows(group.part(first, count));
+            }
+            return;
+        }
+    }
+    row_by_row(group);
+}
+
+/// Up to four rows: side by side with AVX2 when they allow it, else one
+/// at a time. The caller checked AVX2.
+#[cfg(target_arch = "x86_64")]
+fn four_rows(group: RowGroup) {
+    if !group.side_by_side(avx2::ROWS, 2) {
+        return row_by_row(group);
+    }
+    let filters: &[Filter; avx2::ROWS] = group.filters.try_into().expect("a whole group");
+    // SAFETY: the caller checked AVX2; the sizes are asserted inside.
+    unsafe {
+        match group.bpp {
+            3 => avx2::unfilter_rows::<3>(filters, group.row_bytes, group.filtered, group.out, group.pitch),
+            _ => avx2::unfilter_rows::<4>(filters, group.row_bytes, group.filtered, group.out, group.pitch),
+        }
+    }
 }
 
 /// [`unfilter_rows`] one row at a time.
-fn row_by_row(
-    filters: &[Filter],
-    bpp: usize,
-    row_bytes: usize,
-    filtered: &[u8],
-    out: &mut [u8],
-    pitch: usize,
-) {
+fn row_by_row(group: RowGroup) {
+    let RowGroup { filters, bpp, row_bytes, filtered, out, pitch } = group;
     for (k, &filter) in filters.iter().enumerate() {
         let (above, below) = out.split_at_mut((k + 1) * pitch);
         let from = k * (row_bytes + 1) + 1;
@@ -102,28 +164,35 @@ fn row_by_row(
     }
 }
 
-/// Whether [`unfilter_rows`] takes the side-by-side path: a whole group of
-/// RGB or RGBA rows, at least 16 pixels wide, two of them with a chained
-/// filter (Up and None alone are faster row by row), 4 spare bytes, AVX2.
+/// The side-by-side forms this CPU has and `UFCSR_KERNEL` allows.
 #[cfg(target_arch = "x86_64")]
-fn side_by_side(filters: &[Filter], bpp: usize, row_bytes: usize, filtered: usize, pitch: usize) -> bool {
-    static AVX2: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    let chained =
-        filters.iter().filter(|f| matches!(f, Filter::Sub | Filter::Average | Filter::Paeth)).count();
-    filters.len() == GROUP
-        && matches!(bpp, 3 | 4)
-        && row_bytes >= 16 * bpp
-        && chained >= 2
-        && filtered >= GROUP * (row_bytes + 1) + 4
-        && pitch >= row_bytes + 4
-        && *AVX2.get_or_init(|| std::arch::is_x86_feature_detected!("avx2") && side_by_side_allowed())
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum VectorUnfilter {
+    None,
+    Avx2,
+    Avx512,
 }
 
-/// `UFCSR_KERNEL=portable` (the counting kernels' switch,
-/// `crate::count::KERNEL_ENV`) rules the vector code out here too.
+/// Which side-by-side form [`unfilter_rows`] uses, decided once.
+/// `UFCSR_KERNEL` (the counting kernels' cap, `crate::count::KERNEL_ENV`)
+/// caps it the same way: `portable` rules the vector code out, `avx2`
+/// AVX-512.
 #[cfg(target_arch = "x86_64")]
-fn side_by_side_allowed() -> bool {
-    std::env::var("UFCSR_KERNEL").map_or(true, |kernel| kernel != "portable")
+fn vector_unfilter() -> VectorUnfilter {
+    static CHOSEN: std::sync::OnceLock<VectorUnfilter> = std::sync::OnceLock::new();
+    *CHOSEN.get_or_init(|| {
+        let cap = std::env::var("UFCSR_KERNEL").unwrap_or_default();
+        if cap == "portable" || !std::arch::is_x86_feature_detected!("avx2") {
+            VectorUnfilter::None
+        } else if cap != "avx2"
+            && std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512bw")
+        {
+            VectorUnfilter::Avx512
+        } else {
+            VectorUnfilter::Avx2
+        }
+    })
 }
 
 /// Unfilters one row: `filtered` (without its filter byte) into `out`, with
@@ -221,54 +290,142 @@ mod tests {
         }
     }
 
+    /// A side-by-side form under test: unfilters `filters.len()` rows.
     #[cfg(target_arch = "x86_64")]
-    #[test]
-    fn rows_side_by_side_equal_rows_one_at_a_time_for_every_filter_mix() {
-        if !std::arch::is_x86_feature_detected!("avx2") {
-            eprintln!("skipped: this CPU has no AVX2");
-            return;
-        }
-        let filters = [Filter::None, Filter::Sub, Filter::Up, Filter::Average, Filter::Paeth];
-        let mut state = 0x2545_F491_4F6C_DD1Du64;
-        let mut byte = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 32) as u8
-        };
+    type SideBySide = fn(&[Filter], usize, usize, &[u8], &mut [u8], usize);
+
+    /// Holds `side_by_side` to [`row_by_row`] on RGB and RGBA rows of
+    /// several widths, smooth (as renderers give) and noisy, for each
+    /// filter mix `mixes` gives (one filter per row).
+    #[cfg(target_arch = "x86_64")]
+    fn check_side_by_side(rows: usize, mixes: &[Vec<Filter>], side_by_side: SideBySide) {
+        let mut byte = xorshift_bytes(0x2545_F491_4F6C_DD1D);
         for bpp in [3usize, 4] {
             for width in [16usize, 17, 23, 64, 101] {
                 let row_bytes = width * bpp;
                 let pitch = row_bytes + 4 + (width % 3);
-                for mix in 0..5usize.pow(4) {
-                    let group: [Filter; GROUP] =
-                        std::array::from_fn(|k| filters[mix / 5usize.pow(k as u32) % 5]);
+                for (m, group) in mixes.iter().enumerate() {
+                    assert_eq!(group.len(), rows);
                     let mut filtered = Vec::new();
-                    for filter in group {
+                    for &filter in group {
                         filtered.push(filter as u8);
-                        // Smooth rows (as renderers give) and noisy ones.
-                        filtered.extend(
-                            (0..row_bytes).map(|i| if mix % 2 == 0 { byte() } else { (i as u8) / 7 }),
-                        );
+                        filtered
+                            .extend((0..row_bytes).map(|i| if m % 2 == 0 { byte() } else { (i as u8) / 7 }));
                     }
                     filtered.extend([byte(), byte(), byte(), byte()]);
-                    let mut expected: Vec<u8> = (0..(GROUP + 1) * pitch).map(|_| byte()).collect();
+                    let mut expected: Vec<u8> = (0..(rows + 1) * pitch).map(|_| byte()).collect();
                     let mut side = expected.clone();
-                    row_by_row(&group, bpp, row_bytes, &filtered, &mut expected, pitch);
-                    // SAFETY: AVX2 was checked above.
-                    unsafe {
-                        match bpp {
-                            3 => avx2::unfilter_rows::<3>(&group, row_bytes, &filtered, &mut side, pitch),
-                            _ => avx2::unfilter_rows::<4>(&group, row_bytes, &filtered, &mut side, pitch),
-                        }
-                    }
-                    for k in 0..=GROUP {
+                    row_by_row(RowGroup {
+                        filters: group,
+                        bpp,
+                        row_bytes,
+                        filtered: &filtered,
+                        out: &mut expected,
+                        pitch,
+                    });
+                    side_by_side(group, bpp, row_bytes, &filtered, &mut side, pitch);
+                    for k in 0..=rows {
                         let row = k * pitch..k * pitch + row_bytes;
                         assert_eq!(
                             side[row.clone()],
                             expected[row],
                             "bpp {bpp} width {width} {group:?} row {k}"
                         );
+                    }
+                }
+            }
+        }
+    }
+
+    /// Pseudo-random bytes (xorshift64) from `state`.
+    fn xorshift_bytes(mut state: u64) -> impl FnMut() -> u8 {
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 32) as u8
+        }
+    }
+
+    const FILTERS: [Filter; 5] = [Filter::None, Filter::Sub, Filter::Up, Filter::Average, Filter::Paeth];
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn four_rows_side_by_side_equal_rows_one_at_a_time_for_every_filter_mix() {
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            eprintln!("skipped: this CPU has no AVX2");
+            return;
+        }
+        let mixes: Vec<Vec<Filter>> = (0..5usize.pow(4))
+            .map(|mix| (0..4).map(|k| FILTERS[mix / 5usize.pow(k) % 5]).collect())
+            .collect();
+        check_side_by_side(4, &mixes, |filters, bpp, row_bytes, filtered, out, pitch| {
+            let filters = filters.try_into().unwrap();
+            // SAFETY: AVX2 was checked above.
+            unsafe {
+                match bpp {
+                    3 => avx2::unfilter_rows::<3>(filters, row_bytes, filtered, out, pitch),
+                    _ => avx2::unfilter_rows::<4>(filters, row_bytes, filtered, out, pitch),
+                }
+            }
+        });
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn eight_rows_side_by_side_equal_rows_one_at_a_time_for_many_filter_mixes() {
+        if !(std::arch::is_x86_feature_detected!("avx512f")
+            && std::arch::is_x86_feature_detected!("avx512bw"))
+        {
+            eprintln!("skipped: this CPU has no AVX-512 F and BW");
+            return;
+        }
+        // Every filter in every row (each row's filter from a different
+        // digit), each filter alone, and random mixes.
+        let mut mixes: Vec<Vec<Filter>> = (0..5usize.pow(4))
+            .map(|mix| (0..8).map(|k| FILTERS[mix / 5usize.pow(k % 4) % 5]).collect())
+            .collect();
+        mixes.extend(FILTERS.map(|filter| vec![filter; 8]));
+        let mut byte = xorshift_bytes(7);
+        mixes.extend((0..600).map(|_| (0..8).map(|_| FILTERS[usize::from(byte()) % 5]).collect()));
+        check_side_by_side(8, &mixes, |filters, bpp, row_bytes, filtered, out, pitch| {
+            let filters = filters.try_into().unwrap();
+            // SAFETY: AVX-512 F and BW were checked above.
+            unsafe {
+                match bpp {
+                    3 => avx512::unfilter_rows::<3>(filters, row_bytes, filtered, out, pitch),
+                    _ => avx512::unfilter_rows::<4>(filters, row_bytes, filtered, out, pitch),
+                }
+            }
+        });
+    }
+
+    #[test]
+    fn groups_of_any_size_equal_rows_one_at_a_time() {
+        // The dispatch itself: partial groups (an image's last rows), mixes
+        // with few chained rows, grey rows; whichever path this CPU takes.
+        let mut byte = xorshift_bytes(11);
+        for bpp in 1..=4usize {
+            let row_bytes = 40 * bpp;
+            let pitch = row_bytes + 4;
+            for rows in 1..=GROUP {
+                for _ in 0..40 {
+                    let filters: Vec<Filter> = (0..rows).map(|_| FILTERS[usize::from(byte()) % 5]).collect();
+                    let mut filtered = Vec::new();
+                    for &filter in &filters {
+                        filtered.push(filter as u8);
+                        filtered.extend((0..row_bytes).map(|_| byte()));
+                    }
+                    filtered.extend([0; 4]);
+                    let mut expected: Vec<u8> = (0..(rows + 1) * pitch).map(|_| byte()).collect();
+                    let mut chosen = expected.clone();
+                    let group =
+                        |out| RowGroup { filters: &filters, bpp, row_bytes, filtered: &filtered, out, pitch };
+                    row_by_row(group(&mut expected));
+                    unfilter_rows(group(&mut chosen));
+                    for k in 0..=rows {
+                        let row = k * pitch..k * pitch + row_bytes;
+                        assert_eq!(chosen[row.clone()], expected[row], "bpp {bpp} {filters:?} row {k}");
                     }
                 }
             }
