@@ -179,5 +179,6 @@ fn predict_and_add(x: __m256i, [a, b, c]: [__m256i; 3], [sub, up, average, paeth
         _mm256_or_si256(_mm256_and_si256(a, sub), _mm256_and_si256(b, up)),
         _mm256_or_si256(_mm256_and_si256(mean, average), _mm256_and_si256(nearest, paeth)),
     );
-    _mm256_and_si256(_mm256_add_epi16(x, predicted), _mm256_set1_epi16(0xFF))
+    // Every channel's high byte is zero in both: 8-bit lanes wrap exactly.
+    _mm256_add_epi8(x, predicted)
 }
