@@ -444,15 +444,15 @@ impl Drop for Staging {
 /// `fill` succeeds. On failure the temporary file is removed.
 pub fn write_atomically<F>(path: &Path, fill: F) -> Result<()>
 where
-    F: FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
+    F: FnOnce(&mut BufWriter<BoundedWrites>) -> std::io::Result<()>,
 {
     let temporary = temporary_path(path);
     let outcome = (|| {
         let file = create_registered(&temporary)?;
-        let mut writer = BufWriter::with_capacity(1 << 20, file);
+        let mut writer = BufWriter::with_capacity(WRITE_LIMIT, BoundedWrites(file));
         fill(&mut writer)?;
         writer.flush()?;
-        let file = writer.into_inner().map_err(|e| e.into_error())?;
+        let BoundedWrites(file) = writer.into_inner().map_err(|e| e.into_error())?;
         file.sync_all()?;
         drop(file);
         fs::rename(&temporary, path)
@@ -462,6 +462,29 @@ where
         let _ = fs::remove_file(&temporary);
         Error::io(path, source)
     })
+}
+
+/// The most bytes [`BoundedWrites`] hands the system at once.
+const WRITE_LIMIT: usize = 1 << 20;
+
+/// A file written at most [`WRITE_LIMIT`] bytes per system call.
+///
+/// `BufWriter` passes a write larger than its buffer straight through, and
+/// the png encoder writes a whole image's compressed data at once: one
+/// write of 49 MB into a new file (the generated archive's `heatmap.png`)
+/// took 0.48–0.72 s on the development machine (Linux 6.18, `strace -T`),
+/// against 0.19 s for the whole heatmap stage in 1 MiB pieces, while the
+/// 82 MB of `result.json` in 1 MiB writes took 0.03 s.
+pub struct BoundedWrites<W = File>(W);
+
+impl<W: Write> Write for BoundedWrites<W> {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        self.0.write(&bytes[..bytes.len().min(WRITE_LIMIT)])
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.0.flush()
+    }
 }
 
 /// Creates `path` new (`O_EXCL`): whatever sits there already, a link
@@ -512,6 +535,32 @@ fn temporary_path(path: &Path) -> PathBuf {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn bounded_writes_hand_on_at_most_a_mebibyte_per_call_and_lose_nothing() {
+        /// Records the size of every write it is handed.
+        struct Sizes(Vec<usize>, Vec<u8>);
+        impl Write for Sizes {
+            fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+                self.0.push(bytes.len());
+                self.1.extend_from_slice(bytes);
+                Ok(bytes.len())
+            }
+            fn flush(&mut self) -> std::io::Result<()> {
+                Ok(())
+            }
+        }
+        let data: Vec<u8> = (0..(5 * WRITE_LIMIT / 2)).map(|i| (i % 251) as u8).collect();
+        let mut writer = BufWriter::with_capacity(WRITE_LIMIT, BoundedWrites(Sizes(Vec::new(), Vec::new())));
+        writer.write_all(b"header").unwrap();
+        writer.write_all(&data).unwrap();
+        writer.flush().unwrap();
+        let BoundedWrites(Sizes(sizes, written)) = writer.into_inner().ok().unwrap();
+        assert!(sizes.iter().all(|&size| size <= WRITE_LIMIT), "{sizes:?}");
+        assert_eq!(written.len(), 6 + data.len());
+        assert_eq!(&written[..6], b"header");
+        assert_eq!(&written[6..], &data[..]);
+    }
 
     #[test]
     fn failed_write_leaves_old_file_and_no_temporary() {
