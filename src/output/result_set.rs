@@ -170,20 +170,78 @@ fn write_results_into(
     placement: Option<&std::result::Result<PlacementOnPage, String>>,
 ) -> Result<FiguresWritten> {
     let files = planned_files(analysis, out_dir);
-    let palette = &analysis.result.settings.palette;
-    let (width, height) = (palette.width, palette.height);
+    // What the manifest says about the scenario, for the views, the map and the strip.
+    let settings = &analysis.result.settings;
+    let archive = Path::new(&settings.archive);
+    let manifest = settings.manifest.then(|| Manifest::load_from_dir(archive).ok().flatten()).flatten();
+    let stage = Instant::now();
+    let written = write_side_by_side(analysis, &files, options, manifest.as_ref())?;
+    let side_by_side_seconds = stage.elapsed().as_secs_f64();
+    analysis.timings.heatmap_seconds = written.heatmap_seconds;
+    analysis.timings.write_seconds = written.tables_seconds;
+    let timings_json = files.timings_json.clone();
+    let mut figures =
+        write_figures(analysis, out_dir, files, options, placement, manifest, written.strip_skipped)?;
+    let timings = &mut analysis.timings;
+    timings.total_seconds += side_by_side_seconds + figures.seconds.values().sum::<f64>();
+    figures.seconds.insert(STRIP_STAGE.to_string(), written.strip_seconds);
+    timings.figure_seconds = figures.seconds.clone();
+    write_timings_json(&timings_json, timings)?;
+    Ok(figures)
+}
+
+/// The frame strip's entry in [`crate::input::options::Timings::figure_seconds`].
+const STRIP_STAGE: &str = "frames_strip";
+
+/// What [`write_side_by_side`] wrote, and each one's seconds.
+struct SideBySide {
+    heatmap_seconds: f64,
+    tables_seconds: f64,
+    strip_seconds: f64,
+    /// Why there is no frame strip (`None`: written, or no manifest).
+    strip_skipped: Option<String>,
+}
+
+/// Writes the files that need only the analysis, side by side (each is
+/// mostly one thread's work: encoding `heatmap.png`, formatting
+/// `result.json`'s 16.7 M counts, decoding the strip's tiles): the
+/// heatmap, the tables (`result.json`, `parts.csv`, `frames.csv`) and the
+/// frame strip. The first error, in that order, is the one returned.
+fn write_side_by_side(
+    analysis: &Analysis,
+    files: &WrittenFiles,
+    options: &ResultSetOptions,
+    manifest: Option<&Manifest>,
+) -> Result<SideBySide> {
+    fn timed<T>(write: impl FnOnce() -> Result<T>) -> Result<(T, f64)> {
+        let stage = Instant::now();
+        write().map(|value| (value, stage.elapsed().as_secs_f64()))
+    }
+    let strip = || match (manifest, &files.frames_strip_png) {
+        (Some(manifest), Some(path)) => write_strip(path, manifest, analysis),
+        _ => Ok(None),
+    };
+    let (heatmap, (tables, strip)) = rayon::join(
+        || timed(|| write_heatmap_file(analysis, &files.heatmap_png)),
+        || rayon::join(|| timed(|| write_tables(analysis, files, options)), || timed(strip)),
+    );
+    let ((), heatmap_seconds) = heatmap?;
+    let ((), tables_seconds) = tables?;
+    let (strip_skipped, strip_seconds) = strip?;
+    Ok(SideBySide { heatmap_seconds, tables_seconds, strip_seconds, strip_skipped })
+}
+
+/// Writes `heatmap.png` with the scale recorded in the result's settings.
+fn write_heatmap_file(analysis: &Analysis, path: &Path) -> Result<()> {
     let settings = &analysis.result.settings;
     let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
-    let stage = Instant::now();
-    crate::output::heatmap::write_heatmap(
-        &files.heatmap_png,
-        &analysis.texel_counts,
-        width,
-        height,
-        heatmap,
-    )?;
-    analysis.timings.heatmap_seconds = stage.elapsed().as_secs_f64();
-    let stage = Instant::now();
+    let (width, height) = (settings.palette.width, settings.palette.height);
+    crate::output::heatmap::write_heatmap(path, &analysis.texel_counts, width, height, heatmap)
+}
+
+/// Writes `result.json`, `parts.csv` (with parts) and `frames.csv` (with
+/// per-frame tallies).
+fn write_tables(analysis: &Analysis, files: &WrittenFiles, options: &ResultSetOptions) -> Result<()> {
     write_result_json(&files.result_json, &analysis.result, &analysis.texel_counts)?;
     if let Some(path) = &files.parts_csv {
         write_parts_table(
@@ -196,15 +254,7 @@ fn write_results_into(
     if let (Some(frames), Some(path)) = (&analysis.frames, &files.frames_csv) {
         write_frames_csv(path, frames)?;
     }
-    analysis.timings.write_seconds = stage.elapsed().as_secs_f64();
-    let timings_json = files.timings_json.clone();
-    let figures = write_figures(analysis, out_dir, files, options, placement)?;
-    let timings = &mut analysis.timings;
-    timings.total_seconds +=
-        timings.heatmap_seconds + timings.write_seconds + figures.seconds.values().sum::<f64>();
-    timings.figure_seconds = figures.seconds.clone();
-    write_timings_json(&timings_json, timings)?;
-    Ok(figures)
+    Ok(())
 }
 
 /// Seconds per stage: each [`StageClock::lap`] records the time since the last.
@@ -225,22 +275,24 @@ impl StageClock {
     }
 }
 
-/// Writes the figures (`heatmap.glb`, views, map, frame strip, plots) and
-/// the report page that shows them (with `placement`, if found beside).
+/// Writes the figures left after [`write_side_by_side`] (`heatmap.glb`,
+/// views, map, plots) and the report page that shows them all (with
+/// `placement`, if found beside). `strip_skipped`: why there is no frame
+/// strip, for the page.
 fn write_figures(
     analysis: &Analysis,
     out_dir: &Path,
     mut files: WrittenFiles,
     options: &ResultSetOptions,
     placement: Option<&std::result::Result<PlacementOnPage, String>>,
+    manifest: Option<Manifest>,
+    strip_skipped: Option<String>,
 ) -> Result<FiguresWritten> {
     let mut clock = StageClock::start();
     let settings = &analysis.result.settings;
     let (width, height) = (settings.palette.width, settings.palette.height);
     let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
-    // What the manifest says about the scenario, for the views, the map and the strip.
     let archive = Path::new(&settings.archive);
-    let manifest = settings.manifest.then(|| Manifest::load_from_dir(archive).ok().flatten()).flatten();
     let track = manifest.as_ref().and_then(ScenarioTrack::from_manifest);
     let model = analysis.vehicle_model.as_deref().map(VehicleModel::read).transpose()?;
     if let (Some(model), Some(glb)) = (&model, &files.heatmap_glb) {
@@ -273,14 +325,9 @@ fn write_figures(
         _ => None,
     };
     clock.lap("map");
-    let strip_skipped = match (&manifest, &files.frames_strip_png) {
-        (Some(manifest), Some(path)) => write_strip(path, manifest, analysis)?,
-        _ => None,
-    };
     if strip_skipped.is_some() || manifest.is_none() {
         files.frames_strip_png = None;
     }
-    clock.lap("frames_strip");
     files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref(), &scenario)?;
     clock.lap("plots");
     let scenario_page = ScenarioPage { track: track.as_ref(), strip_skipped };
