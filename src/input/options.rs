@@ -115,7 +115,10 @@ pub struct AnalyzeOptions {
 }
 
 /// Wall-clock seconds per stage, and the thread count (kept out of
-/// `result.json`, which must not change from run to run).
+/// `result.json`, which must not change from run to run). The heatmap
+/// (`heatmap_seconds`), the tables (`write_seconds`) and the frame strip
+/// (`figure_seconds["frames_strip"]`) are written side by side, so their
+/// seconds overlap; `total_seconds` is the wall clock.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct Timings {
     pub threads: usize,
