@@ -116,9 +116,10 @@ pub struct AnalyzeOptions {
 
 /// Wall-clock seconds per stage, and the thread count (kept out of
 /// `result.json`, which must not change from run to run). The heatmap
-/// (`heatmap_seconds`), the tables (`write_seconds`) and the frame strip
-/// (`figure_seconds["frames_strip"]`) are written side by side, so their
-/// seconds overlap; `total_seconds` is the wall clock.
+/// (`heatmap_seconds`), the tables (`write_seconds`), the frame strip and
+/// the views (`figure_seconds["frames_strip"]`, `["views"]`) are written
+/// side by side, so their seconds overlap; `total_seconds` is the wall
+/// clock.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct Timings {
     pub threads: usize,
@@ -130,8 +131,8 @@ pub struct Timings {
     pub join_seconds: f64,
     pub heatmap_seconds: f64,
     pub write_seconds: f64,
-    /// Seconds of each figure and the report written after the tables
-    /// (`heatmap.glb` and views, map, frame strip, plots, report page).
+    /// Seconds of each figure and the report page (`heatmap_glb`, `views`,
+    /// `map`, `frames_strip`, `plots`, `report`).
     #[serde(default)]
     pub figure_seconds: std::collections::BTreeMap<String, f64>,
     /// From the start of the analysis to the last file of the result set

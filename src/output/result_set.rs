@@ -170,65 +170,114 @@ fn write_results_into(
     placement: Option<&std::result::Result<PlacementOnPage, String>>,
 ) -> Result<FiguresWritten> {
     let files = planned_files(analysis, out_dir);
-    // What the manifest says about the scenario, for the views, the map and the strip.
-    let settings = &analysis.result.settings;
-    let archive = Path::new(&settings.archive);
-    let manifest = settings.manifest.then(|| Manifest::load_from_dir(archive).ok().flatten()).flatten();
+    let inputs = FigureInputs::read(analysis)?;
     let stage = Instant::now();
-    let written = write_side_by_side(analysis, &files, options, manifest.as_ref())?;
+    let written = write_side_by_side(analysis, &files, options, &inputs, out_dir)?;
     let side_by_side_seconds = stage.elapsed().as_secs_f64();
     analysis.timings.heatmap_seconds = written.heatmap_seconds;
     analysis.timings.write_seconds = written.tables_seconds;
     let timings_json = files.timings_json.clone();
-    let mut figures =
-        write_figures(analysis, out_dir, files, options, placement, manifest, written.strip_skipped)?;
+    let mut figures = write_figures(analysis, out_dir, files, placement, &inputs, written.strip_skipped)?;
     let timings = &mut analysis.timings;
     timings.total_seconds += side_by_side_seconds + figures.seconds.values().sum::<f64>();
-    figures.seconds.insert(STRIP_STAGE.to_string(), written.strip_seconds);
+    figures.seconds.insert("frames_strip".to_string(), written.strip_seconds);
+    figures.seconds.insert("views".to_string(), written.views_seconds);
     timings.figure_seconds = figures.seconds.clone();
     write_timings_json(&timings_json, timings)?;
     Ok(figures)
 }
 
-/// The frame strip's entry in [`crate::input::options::Timings::figure_seconds`].
-const STRIP_STAGE: &str = "frames_strip";
+/// What the figures are drawn from besides the analysis, read once.
+struct FigureInputs {
+    /// The archive's manifest: what it says about the scenario, for the
+    /// views, the map and the strip.
+    manifest: Option<Manifest>,
+    track: Option<ScenarioTrack>,
+    model: Option<VehicleModel>,
+}
+
+impl FigureInputs {
+    fn read(analysis: &Analysis) -> Result<FigureInputs> {
+        let settings = &analysis.result.settings;
+        let archive = Path::new(&settings.archive);
+        let manifest = settings.manifest.then(|| Manifest::load_from_dir(archive).ok().flatten()).flatten();
+        let track = manifest.as_ref().and_then(ScenarioTrack::from_manifest);
+        let model = analysis.vehicle_model.as_deref().map(VehicleModel::read).transpose()?;
+        Ok(FigureInputs { manifest, track, model })
+    }
+}
 
 /// What [`write_side_by_side`] wrote, and each one's seconds.
 struct SideBySide {
     heatmap_seconds: f64,
     tables_seconds: f64,
     strip_seconds: f64,
+    views_seconds: f64,
     /// Why there is no frame strip (`None`: written, or no manifest).
     strip_skipped: Option<String>,
 }
 
-/// Writes the files that need only the analysis, side by side (each is
-/// mostly one thread's work: encoding `heatmap.png`, formatting
-/// `result.json`'s 16.7 M counts, decoding the strip's tiles): the
-/// heatmap, the tables (`result.json`, `parts.csv`, `frames.csv`) and the
-/// frame strip. The first error, in that order, is the one returned.
+/// Writes the files that need only the analysis side by side, as each is
+/// largely one thread's work (encoding `heatmap.png`, formatting
+/// `result.json`'s counts, decoding the strip's tiles): the heatmap, the
+/// tables (`result.json`, `parts.csv`, `frames.csv`), the frame strip and
+/// the views of the vehicle model. The first error, in that order, is the
+/// one returned.
 fn write_side_by_side(
     analysis: &Analysis,
     files: &WrittenFiles,
     options: &ResultSetOptions,
-    manifest: Option<&Manifest>,
+    inputs: &FigureInputs,
+    out_dir: &Path,
 ) -> Result<SideBySide> {
     fn timed<T>(write: impl FnOnce() -> Result<T>) -> Result<(T, f64)> {
         let stage = Instant::now();
         write().map(|value| (value, stage.elapsed().as_secs_f64()))
     }
-    let strip = || match (manifest, &files.frames_strip_png) {
+    let strip = || match (&inputs.manifest, &files.frames_strip_png) {
         (Some(manifest), Some(path)) => write_strip(path, manifest, analysis),
         _ => Ok(None),
     };
-    let (heatmap, (tables, strip)) = rayon::join(
-        || timed(|| write_heatmap_file(analysis, &files.heatmap_png)),
-        || rayon::join(|| timed(|| write_tables(analysis, files, options)), || timed(strip)),
+    let views = || match (&inputs.model, &files.views_png) {
+        (Some(model), Some(_)) => {
+            write_views(model, &view_texture(analysis, inputs.track.as_ref(), options), out_dir).map(drop)
+        }
+        _ => Ok(()),
+    };
+    let ((heatmap, tables), (strip, views)) = rayon::join(
+        || {
+            rayon::join(
+                || timed(|| write_heatmap_file(analysis, &files.heatmap_png)),
+                || timed(|| write_tables(analysis, files, options)),
+            )
+        },
+        || rayon::join(|| timed(strip), || timed(views)),
     );
     let ((), heatmap_seconds) = heatmap?;
     let ((), tables_seconds) = tables?;
     let (strip_skipped, strip_seconds) = strip?;
-    Ok(SideBySide { heatmap_seconds, tables_seconds, strip_seconds, strip_skipped })
+    let ((), views_seconds) = views?;
+    Ok(SideBySide { heatmap_seconds, tables_seconds, strip_seconds, views_seconds, strip_skipped })
+}
+
+/// The heatmap as the views paint it, captioned for this analysis.
+fn view_texture<'a>(
+    analysis: &'a Analysis,
+    track: Option<&ScenarioTrack>,
+    options: &ResultSetOptions,
+) -> ViewTexture<'a> {
+    let settings = &analysis.result.settings;
+    let measure = &analysis.result.measure;
+    ViewTexture {
+        counts: &analysis.texel_counts,
+        width: settings.palette.width,
+        height: settings.palette.height,
+        options: HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max },
+        caption: views_caption(measure, &settings.archive, track.and_then(|t| t.name.as_deref())),
+        unit: measure_unit(measure).to_string(),
+        views_scale: options.views_scale,
+        pedestrian_azimuths_deg: pedestrian_azimuths(track),
+    }
 }
 
 /// Writes `heatmap.png` with the scale recorded in the result's settings.
@@ -276,48 +325,27 @@ impl StageClock {
 }
 
 /// Writes the figures left after [`write_side_by_side`] (`heatmap.glb`,
-/// views, map, plots) and the report page that shows them all (with
-/// `placement`, if found beside). `strip_skipped`: why there is no frame
-/// strip, for the page.
+/// which embeds `heatmap.png`, the map, the plots) and the report page that
+/// shows them all (with `placement`, if found beside). `strip_skipped`:
+/// why there is no frame strip, for the page.
 fn write_figures(
     analysis: &Analysis,
     out_dir: &Path,
     mut files: WrittenFiles,
-    options: &ResultSetOptions,
     placement: Option<&std::result::Result<PlacementOnPage, String>>,
-    manifest: Option<Manifest>,
+    inputs: &FigureInputs,
     strip_skipped: Option<String>,
 ) -> Result<FiguresWritten> {
     let mut clock = StageClock::start();
-    let settings = &analysis.result.settings;
-    let (width, height) = (settings.palette.width, settings.palette.height);
-    let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
-    let archive = Path::new(&settings.archive);
-    let track = manifest.as_ref().and_then(ScenarioTrack::from_manifest);
-    let model = analysis.vehicle_model.as_deref().map(VehicleModel::read).transpose()?;
-    if let (Some(model), Some(glb)) = (&model, &files.heatmap_glb) {
+    let archive = Path::new(&analysis.result.settings.archive);
+    let FigureInputs { manifest, track, model } = inputs;
+    if let (Some(model), Some(glb)) = (model, &files.heatmap_glb) {
         let png = read_limited(&files.heatmap_png, IMAGE_LIMIT)?;
         model.write_glb(glb, Some(("heatmap", &png)))?;
-        let measure = &analysis.result.measure;
-        let texture = ViewTexture {
-            counts: &analysis.texel_counts,
-            width,
-            height,
-            options: heatmap,
-            caption: views_caption(
-                measure,
-                &settings.archive,
-                track.as_ref().and_then(|t| t.name.as_deref()),
-            ),
-            unit: measure_unit(measure).to_string(),
-            views_scale: options.views_scale,
-            pedestrian_azimuths_deg: pedestrian_azimuths(track.as_ref()),
-        };
-        write_views(model, &texture, out_dir)?;
     }
-    clock.lap("heatmap_glb_and_views");
+    clock.lap("heatmap_glb");
     let scenario = archive_name(&analysis.result.settings.archive);
-    files.map_png = match (&track, files.map_png) {
+    files.map_png = match (track, files.map_png) {
         (Some(track), Some(path)) if font_available() => {
             write_map(&path, track, model.as_ref(), archive, &scenario)?;
             Some(path)
