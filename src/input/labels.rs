@@ -194,33 +194,44 @@ impl Pidt {
         let mut index: Vec<(u32, u16)> =
             legend.parts.iter().enumerate().map(|(i, part)| (part.color.packed(), i as u16)).collect();
         index.sort_unstable();
-        let row = width as usize;
-        let part_of_texel: Vec<u16> = colors
-            .par_chunks(row.max(1))
-            .flat_map_iter(|row_colors| {
-                let index = &index;
-                // PIdT rows are long runs of one colour; remember the last lookup.
-                let mut last = (u32::MAX, UNLABELLED);
-                row_colors.iter().map(move |&color| {
-                    if color != last.0 {
-                        let part = index
-                            .binary_search_by_key(&color, |&(key, _)| key)
-                            .map_or(UNLABELLED, |i| index[i].1);
-                        last = (color, part);
+        let row = (width as usize).max(1);
+        let mut part_of_texel = vec![UNLABELLED; colors.len()];
+        // Row by row on every core: each row's parts, and its tallies.
+        let (part_texels, unlabelled_colors) = part_of_texel
+            .par_chunks_mut(row)
+            .zip(colors.par_chunks(row))
+            .fold(
+                || (vec![0u64; legend.parts.len()], BTreeMap::new()),
+                |(mut part_texels, mut unlabelled), (parts, row_colors)| {
+                    // PIdT rows are long runs of one colour: one lookup per run.
+                    let mut x = 0;
+                    while x < row_colors.len() {
+                        let color = row_colors[x];
+                        let run =
+                            row_colors[x..].iter().position(|&c| c != color).unwrap_or(row_colors.len() - x);
+                        let found = index.binary_search_by_key(&color, |&(key, _)| key);
+                        let part = found.map_or(UNLABELLED, |i| index[i].1);
+                        parts[x..x + run].fill(part);
+                        if part == UNLABELLED {
+                            *unlabelled.entry(Color::from_packed(color)).or_insert(0u64) += run as u64;
+                        } else {
+                            part_texels[usize::from(part)] += run as u64;
+                        }
+                        x += run;
                     }
-                    last.1
-                })
-            })
-            .collect();
-        let mut part_texels = vec![0u64; legend.parts.len()];
-        let mut unlabelled_colors = BTreeMap::new();
-        for (&part, &color) in part_of_texel.iter().zip(colors) {
-            if part == UNLABELLED {
-                *unlabelled_colors.entry(Color::from_packed(color)).or_insert(0) += 1;
-            } else {
-                part_texels[usize::from(part)] += 1;
-            }
-        }
+                    (part_texels, unlabelled)
+                },
+            )
+            .reduce(
+                || (vec![0u64; legend.parts.len()], BTreeMap::new()),
+                |(mut texels, mut unlabelled), (more_texels, more_unlabelled)| {
+                    texels.iter_mut().zip(more_texels).for_each(|(sum, more)| *sum += more);
+                    for (color, count) in more_unlabelled {
+                        *unlabelled.entry(color).or_insert(0) += count;
+                    }
+                    (texels, unlabelled)
+                },
+            );
         Pidt { width, height, part_of_texel, part_texels, unlabelled_colors }
     }
 }
@@ -228,6 +239,26 @@ impl Pidt {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn pidt_runs_resolve_to_parts_and_tallies_row_by_row() {
+        let parts = vec![
+            Part { name: "Hood".into(), color: Color::from_packed(0xFF0000) },
+            Part { name: "Roof".into(), color: Color::from_packed(0x00FF00) },
+        ];
+        let legend = Legend::new(Path::new("p.csv"), parts).unwrap();
+        let (hood, roof, stray) = (0xFF0000, 0x00FF00, 0x0A0000);
+        // 4×3: runs that end at a row's end, an unlabelled run in the
+        // middle of a row, a one-texel run.
+        let colors = [hood, hood, stray, roof, roof, roof, roof, roof, stray, stray, hood, stray];
+        let pidt = Pidt::from_colors(4, 3, &colors, &legend);
+        assert_eq!(
+            pidt.part_of_texel,
+            [0, 0, UNLABELLED, 1, 1, 1, 1, 1, UNLABELLED, UNLABELLED, 0, UNLABELLED]
+        );
+        assert_eq!(pidt.part_texels, [3, 5]);
+        assert_eq!(pidt.unlabelled_colors, BTreeMap::from([(Color::from_packed(stray), 4)]));
+    }
 
     #[test]
     fn parses_csv_with_header_quotes_and_bom() {
