@@ -364,9 +364,11 @@ mod tests {
             for width in [1u32, 2, 5, 16, 33] {
                 for filter in [None, Some(0), Some(1), Some(2), Some(3), Some(4)] {
                     let seed = u64::from(width) * 31 + u64::from(color_type);
-                    let data = scanlines(seed, width as usize * bpp, 7, filter);
+                    // Two whole groups of rows for the side-by-side
+                    // unfilter, and a partial one.
+                    let data = scanlines(seed, width as usize * bpp, 19, filter);
                     let zlib = fdeflate::compress_to_vec(&data);
-                    let bytes = png_with([width, 7], color_type, &zlib, 13, &[(b"tEXt", b"k\0v")]);
+                    let bytes = png_with([width, 19], color_type, &zlib, 13, &[(b"tEXt", b"k\0v")]);
                     let (plain, reference) = both(&bytes);
                     assert_eq!(
                         plain.unwrap(),
@@ -375,6 +377,28 @@ mod tests {
                     );
                 }
             }
+        }
+    }
+
+    #[test]
+    fn random_filter_mixes_and_sizes_decode_to_the_png_crates_rows() {
+        // Each row's filter drawn at random, so groups of rows meet every
+        // mix the side-by-side unfilter may take or refuse.
+        let dice = noise(99, 4 * 300);
+        for case in 0..300usize {
+            let roll = |k: usize| usize::from(dice[4 * case + k]);
+            let (color_type, bpp) = [(2u8, 3usize), (6, 4), (0, 1), (4, 2)][roll(0) % 4];
+            let (width, height) = (1 + roll(1) % 90, 1 + roll(2) % 40);
+            let row_bytes = width * bpp;
+            let mut data = scanlines(case as u64, row_bytes, height, None);
+            let filters = noise(case as u64 + 1000, height);
+            for (y, filter) in filters.iter().enumerate() {
+                data[y * (row_bytes + 1)] = filter % 5;
+            }
+            let zlib = fdeflate::compress_to_vec(&data);
+            let bytes = png_with([width as u32, height as u32], color_type, &zlib, 1 + roll(3) * 50, &[]);
+            let (plain, reference) = both(&bytes);
+            assert_eq!(plain.unwrap(), reference.unwrap(), "case {case}: type {color_type} {width}×{height}");
         }
     }
 
