@@ -15,6 +15,7 @@ use std::sync::{Arc, Mutex};
 use plotters::prelude::*;
 use rayon::prelude::*;
 
+use crate::count::slot_table::SlotTable;
 use crate::error::Result;
 use crate::input::labels::{LoadedLabels, Pidt};
 use crate::input::manifest::{Manifest, TileEntry};
@@ -110,8 +111,10 @@ const UNLABELLED: Shown = 1;
 /// the analysis's own PIdT resolved against its legend (not read again),
 /// the capture's background colours apart.
 struct TexelsShown {
-    /// Legend part per texel, or [`crate::UNLABELLED`].
-    pidt: Arc<Pidt>,
+    /// What each texel shows, in two levels: the PIdT's flat table (one
+    /// entry per texel, 32 MiB at 4096²) missed the caches on nearly every
+    /// vehicle pixel, as neighbouring pixels show texels rows apart.
+    shown: SlotTable,
     /// The capture's background colours (which may name texels of a
     /// canonical palette): not the vehicle.
     backgrounds: Vec<u32>,
@@ -125,7 +128,7 @@ impl TexelsShown {
         let mut colours = vec![STRIP_BACKGROUND, STRIP_UNLABELLED];
         colours.extend(labels.legend.parts.iter().map(|part| part.color.rgb()));
         let backgrounds = background.iter().map(|colour| colour.packed()).collect();
-        TexelsShown { pidt: labels.pidt.clone(), backgrounds, colours }
+        TexelsShown { shown: shown_per_texel(&labels.pidt), backgrounds, colours }
     }
 
     /// What a pixel of colour `colour` shows.
@@ -133,16 +136,21 @@ impl TexelsShown {
         if self.backgrounds.contains(&colour) {
             return NOT_VEHICLE;
         }
-        match self.pidt.part_of_texel.get(colour as usize) {
-            None => NOT_VEHICLE,
-            Some(&crate::UNLABELLED) => UNLABELLED,
-            Some(&part) => part + 2,
-        }
+        self.shown.get(colour)
     }
 
     fn is_vehicle(&self, shown: Shown) -> bool {
         self.colours[usize::from(shown)] != STRIP_BACKGROUND
     }
+}
+
+/// What each texel of `pidt` shows: its part, or [`UNLABELLED`]; colours
+/// past the PIdT are not the vehicle.
+fn shown_per_texel(pidt: &Pidt) -> SlotTable {
+    SlotTable::new([pidt.width, pidt.height], NOT_VEHICLE, |texel| match pidt.part_of_texel[texel as usize] {
+        crate::UNLABELLED => UNLABELLED,
+        part => part + 2,
+    })
 }
 
 /// One tile as runs of what it shows, row by row: a tile is decoded once
@@ -445,7 +453,7 @@ mod tests {
             unlabelled_colors: Default::default(),
         };
         let texels = TexelsShown {
-            pidt: Arc::new(pidt),
+            shown: shown_per_texel(&pidt),
             backgrounds: vec![3],
             colours: vec![STRIP_BACKGROUND, STRIP_UNLABELLED, [1; 3], [2; 3]],
         };
