@@ -12,6 +12,7 @@ mod describe;
 mod error;
 mod files;
 mod input;
+mod kernel;
 mod output;
 mod placement;
 mod result;

@@ -13,6 +13,9 @@
 //! reference the tests hold it to).
 
 #[cfg(target_arch = "x86_64")]
+use crate::kernel::Kernel;
+
+#[cfg(target_arch = "x86_64")]
 mod avx2;
 #[cfg(target_arch = "x86_64")]
 mod avx512;
@@ -106,17 +109,19 @@ impl RowGroup<'_> {
 
 /// Unfilters the rows of `group` (at most [`GROUP`]). A whole group of RGB
 /// or RGBA rows with chained filters among them goes side by side (see the
-/// module doc): eight at once when the CPU has AVX-512, else four at once
-/// with AVX2; otherwise, and for the answers the tests hold those paths
-/// to, one row at a time.
+/// module doc): eight at once with the AVX-512 kernels, four at once with
+/// the AVX2 ones ([`Kernel::selected`], the process's one choice of vector
+/// code); otherwise, and for the answers the tests hold those paths to, one
+/// row at a time.
 pub(crate) fn unfilter_rows(mut group: RowGroup) {
     #[cfg(target_arch = "x86_64")]
     {
-        let vector = vector_unfilter();
-        if vector == VectorUnfilter::Avx512 && group.side_by_side(avx512::ROWS, avx512::ROWS / 2) {
+        let kernel = Kernel::selected();
+        if kernel == Kernel::Avx512 && group.side_by_side(avx512::ROWS, avx512::ROWS / 2) {
             let filters: &[Filter; avx512::ROWS] = group.filters.try_into().expect("a whole group");
             let (bpp, row_bytes, pitch) = (group.bpp, group.row_bytes, group.pitch);
-            // SAFETY: AVX-512 F and BW were checked; the sizes are asserted inside.
+            // SAFETY: the AVX-512 kernels need AVX-512 F and BW among their
+            // features; the sizes are asserted inside.
             unsafe {
                 match bpp {
                     3 => avx512::unfilter_rows::<3>(filters, row_bytes, group.filtered, group.out, pitch),
@@ -125,7 +130,7 @@ pub(crate) fn unfilter_rows(mut group: RowGroup) {
             }
             return;
         }
-        if vector != VectorUnfilter::None {
+        if kernel >= Kernel::Avx2 {
             for first in (0..group.filters.len()).step_by(avx2::ROWS) {
                 let count = avx2::ROWS.min(group.filters.len() - first);
                 four_rows(group.part(first, count));
@@ -162,37 +167,6 @@ fn row_by_row(group: RowGroup) {
         let previous = &above[k * pitch..k * pitch + row_bytes];
         unfilter_row(filter, bpp, previous, &filtered[from..from + row_bytes], &mut below[..row_bytes]);
     }
-}
-
-/// The side-by-side forms this CPU has and `UFCSR_KERNEL` allows.
-#[cfg(target_arch = "x86_64")]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum VectorUnfilter {
-    None,
-    Avx2,
-    Avx512,
-}
-
-/// Which side-by-side form [`unfilter_rows`] uses, decided once.
-/// `UFCSR_KERNEL` (the counting kernels' cap, `crate::count::KERNEL_ENV`)
-/// caps it the same way: `portable` rules the vector code out, `avx2`
-/// AVX-512.
-#[cfg(target_arch = "x86_64")]
-fn vector_unfilter() -> VectorUnfilter {
-    static CHOSEN: std::sync::OnceLock<VectorUnfilter> = std::sync::OnceLock::new();
-    *CHOSEN.get_or_init(|| {
-        let cap = std::env::var("UFCSR_KERNEL").unwrap_or_default();
-        if cap == "portable" || !std::arch::is_x86_feature_detected!("avx2") {
-            VectorUnfilter::None
-        } else if cap != "avx2"
-            && std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512bw")
-        {
-            VectorUnfilter::Avx512
-        } else {
-            VectorUnfilter::Avx2
-        }
-    })
 }
 
 /// Unfilters one row: `filtered` (without its filter byte) into `out`, with
