@@ -315,7 +315,7 @@ pub fn write_views(model: &VehicleModel, texture: &ViewTexture, dir: &Path) -> R
     let mut drawn: Vec<Vec<u8>> =
         cameras.par_iter().map(|camera| render_view(model, texture, camera)).collect();
     drawn.reverse();
-    write_views_with(model, texture, dir, |_| Ok(drawn.pop().unwrap_or_default()))
+    finish_views(model, texture, dir, &cameras, |_| Ok(drawn.pop().unwrap_or_default()))
 }
 
 /// [`write_views`] with another renderer: `render` draws one camera's
@@ -327,14 +327,25 @@ pub fn write_views_with(
     model: &VehicleModel,
     texture: &ViewTexture,
     dir: &Path,
+    render: impl FnMut(&ViewCamera) -> Result<Vec<u8>>,
+) -> Result<WrittenViews> {
+    finish_views(model, texture, dir, &view_cameras(model, texture.views_scale), render)
+}
+
+/// [`write_views_with`] for `cameras` ([`view_cameras`], computed once by
+/// the caller).
+fn finish_views(
+    model: &VehicleModel,
+    texture: &ViewTexture,
+    dir: &Path,
+    cameras: &[ViewCamera],
     mut render: impl FnMut(&ViewCamera) -> Result<Vec<u8>>,
 ) -> Result<WrittenViews> {
     use rayon::prelude::*;
-    let cameras = view_cameras(model, texture.views_scale);
     let views_dir = dir.join("views");
     std::fs::create_dir_all(&views_dir).map_err(|e| crate::error::Error::io(&views_dir, e))?;
     let mut drawn = Vec::with_capacity(cameras.len());
-    for camera in &cameras {
+    for camera in cameras {
         let [width, height] = camera.size;
         let rgb = render(camera)?;
         if rgb.len() != (width * height * 3) as usize {
@@ -357,7 +368,7 @@ pub fn write_views_with(
         })
         .collect::<Result<_>>()?;
     let (views, pictures): (Vec<PathBuf>, Vec<Vec<u8>>) = finished.into_iter().unzip();
-    let (sheet, [sheet_width, sheet_height]) = contact_sheet(&pictures, &cameras, texture);
+    let (sheet, [sheet_width, sheet_height]) = contact_sheet(&pictures, cameras, texture);
     let contact_sheet = dir.join("views.png");
     crate::files::write_rgb_png(&contact_sheet, sheet_width, sheet_height, &sheet, png::Compression::Fast)?;
     Ok(WrittenViews { contact_sheet, views })
