@@ -170,8 +170,8 @@ fn write_results_into(
     placement: Option<&std::result::Result<PlacementOnPage, String>>,
 ) -> Result<FiguresWritten> {
     let files = planned_files(analysis, out_dir);
-    let inputs = FigureInputs::read(analysis)?;
     let stage = Instant::now();
+    let inputs = FigureInputs::read(analysis)?;
     let written = write_side_by_side(analysis, &files, options, &inputs, out_dir)?;
     let side_by_side_seconds = stage.elapsed().as_secs_f64();
     analysis.timings.heatmap_seconds = written.heatmap_seconds;
