@@ -29,6 +29,9 @@ fn lanes_of(filters: &[Filter; ROWS], filter: Filter) -> __m256i {
     _mm256_set_epi64x(lane(3), lane(2), lane(1), lane(0))
 }
 
+/// This form for [`super::unfilter_rows`]: RGB, RGBA.
+pub(super) const FORM: super::SideBySideForm<ROWS> = [unfilter_rows::<3>, unfilter_rows::<4>];
+
 /// Unfilters [`ROWS`] rows of `BPP`-byte pixels (3 or 4).
 ///
 /// `filtered`: the rows as inflated (a filter byte, then `row_bytes`), and
@@ -38,7 +41,7 @@ fn lanes_of(filters: &[Filter; ROWS], filter: Filter) -> __m256i {
 /// # Safety
 /// The CPU must have AVX2. (The slice sizes are asserted.)
 #[target_feature(enable = "avx2")]
-pub(super) unsafe fn unfilter_rows<const BPP: usize>(
+unsafe fn unfilter_rows<const BPP: usize>(
     filters: &[Filter; ROWS],
     row_bytes: usize,
     filtered: &[u8],

@@ -25,6 +25,9 @@ fn lanes_of(filters: &[Filter; ROWS], filter: Filter) -> __mmask8 {
     filters.iter().enumerate().filter(|(_, f)| **f == filter).fold(0, |mask, (k, _)| mask | 1 << k)
 }
 
+/// This form for [`super::unfilter_rows`]: RGB, RGBA.
+pub(super) const FORM: super::SideBySideForm<ROWS> = [unfilter_rows::<3>, unfilter_rows::<4>];
+
 /// Unfilters [`ROWS`] rows of `BPP`-byte pixels (3 or 4), as
 /// [`super::avx2::unfilter_rows`] does four.
 ///
@@ -35,7 +38,7 @@ fn lanes_of(filters: &[Filter; ROWS], filter: Filter) -> __mmask8 {
 /// # Safety
 /// The CPU must have AVX-512 F and BW. (The slice sizes are asserted.)
 #[target_feature(enable = "avx512f,avx512bw")]
-pub(super) unsafe fn unfilter_rows<const BPP: usize>(
+unsafe fn unfilter_rows<const BPP: usize>(
     filters: &[Filter; ROWS],
     row_bytes: usize,
     filtered: &[u8],

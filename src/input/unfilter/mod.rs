@@ -118,22 +118,19 @@ pub(crate) fn unfilter_rows(mut group: RowGroup) {
     {
         let kernel = Kernel::selected();
         if kernel == Kernel::Avx512 && group.side_by_side(avx512::ROWS, avx512::ROWS / 2) {
-            let filters: &[Filter; avx512::ROWS] = group.filters.try_into().expect("a whole group");
-            let (bpp, row_bytes, pitch) = (group.bpp, group.row_bytes, group.pitch);
-            // SAFETY: the AVX-512 kernels need AVX-512 F and BW among their
-            // features; the sizes are asserted inside.
-            unsafe {
-                match bpp {
-                    3 => avx512::unfilter_rows::<3>(filters, row_bytes, group.filtered, group.out, pitch),
-                    _ => avx512::unfilter_rows::<4>(filters, row_bytes, group.filtered, group.out, pitch),
-                }
-            }
-            return;
+            // SAFETY: the AVX-512 kernels' features include AVX-512 F and BW.
+            return unsafe { side_by_side(avx512::FORM, group) };
         }
         if kernel >= Kernel::Avx2 {
             for first in (0..group.filters.len()).step_by(avx2::ROWS) {
                 let count = avx2::ROWS.min(group.filters.len() - first);
-                four_rows(group.part(first, count));
+                let four = group.part(first, count);
+                if four.side_by_side(avx2::ROWS, 2) {
+                    // SAFETY: the AVX2 kernels' features include AVX2.
+                    unsafe { side_by_side(avx2::FORM, four) };
+                } else {
+                    row_by_row(four);
+                }
             }
             return;
         }
@@ -141,21 +138,23 @@ pub(crate) fn unfilter_rows(mut group: RowGroup) {
     row_by_row(group);
 }
 
-/// Up to four rows: side by side with AVX2 when they allow it, else one
-/// at a time. The caller checked AVX2.
+/// A side-by-side form for `N` rows ([`avx2`], [`avx512`]): its functions
+/// for RGB and for RGBA pixels, each taking the rows' filters, `row_bytes`,
+/// the filtered rows, `out` and `pitch` as [`RowGroup`] holds them.
 #[cfg(target_arch = "x86_64")]
-fn four_rows(group: RowGroup) {
-    if !group.side_by_side(avx2::ROWS, 2) {
-        return row_by_row(group);
-    }
-    let filters: &[Filter; avx2::ROWS] = group.filters.try_into().expect("a whole group");
-    // SAFETY: the caller checked AVX2; the sizes are asserted inside.
-    unsafe {
-        match group.bpp {
-            3 => avx2::unfilter_rows::<3>(filters, group.row_bytes, group.filtered, group.out, group.pitch),
-            _ => avx2::unfilter_rows::<4>(filters, group.row_bytes, group.filtered, group.out, group.pitch),
-        }
-    }
+type SideBySideForm<const N: usize> = [unsafe fn(&[Filter; N], usize, &[u8], &mut [u8], usize); 2];
+
+/// Unfilters `group`, `N` RGB or RGBA rows that
+/// [`RowGroup::side_by_side`] allows, with `form`.
+///
+/// # Safety
+/// The CPU must have the features `form` is compiled for.
+#[cfg(target_arch = "x86_64")]
+unsafe fn side_by_side<const N: usize>(form: SideBySideForm<N>, group: RowGroup) {
+    let filters: &[Filter; N] = group.filters.try_into().expect("a whole group");
+    let unfilter = if group.bpp == 3 { form[0] } else { form[1] };
+    // SAFETY: the caller vouches for the features; the sizes are asserted inside.
+    unsafe { unfilter(filters, group.row_bytes, group.filtered, group.out, group.pitch) }
 }
 
 /// [`unfilter_rows`] one row at a time.
@@ -264,15 +263,12 @@ mod tests {
         }
     }
 
-    /// A side-by-side form under test: unfilters `filters.len()` rows.
+    /// Holds `form` to [`row_by_row`] on RGB and RGBA rows of several
+    /// widths, smooth (as renderers give) and noisy, for each filter mix
+    /// `mixes` gives (one filter per row). The caller checked the CPU.
     #[cfg(target_arch = "x86_64")]
-    type SideBySide = fn(&[Filter], usize, usize, &[u8], &mut [u8], usize);
-
-    /// Holds `side_by_side` to [`row_by_row`] on RGB and RGBA rows of
-    /// several widths, smooth (as renderers give) and noisy, for each
-    /// filter mix `mixes` gives (one filter per row).
-    #[cfg(target_arch = "x86_64")]
-    fn check_side_by_side(rows: usize, mixes: &[Vec<Filter>], side_by_side: SideBySide) {
+    fn check_side_by_side<const N: usize>(form: SideBySideForm<N>, mixes: &[Vec<Filter>]) {
+        let rows = N;
         let mut byte = xorshift_bytes(0x2545_F491_4F6C_DD1D);
         for bpp in [3usize, 4] {
             for width in [16usize, 17, 23, 64, 101] {
@@ -297,7 +293,16 @@ mod tests {
                         out: &mut expected,
                         pitch,
                     });
-                    side_by_side(group, bpp, row_bytes, &filtered, &mut side, pitch);
+                    let under_test = RowGroup {
+                        filters: group,
+                        bpp,
+                        row_bytes,
+                        filtered: &filtered,
+                        out: &mut side,
+                        pitch,
+                    };
+                    // SAFETY: the caller checked the CPU's features.
+                    unsafe { side_by_side(form, under_test) };
                     for k in 0..=rows {
                         let row = k * pitch..k * pitch + row_bytes;
                         assert_eq!(
@@ -333,16 +338,7 @@ mod tests {
         let mixes: Vec<Vec<Filter>> = (0..5usize.pow(4))
             .map(|mix| (0..4).map(|k| FILTERS[mix / 5usize.pow(k) % 5]).collect())
             .collect();
-        check_side_by_side(4, &mixes, |filters, bpp, row_bytes, filtered, out, pitch| {
-            let filters = filters.try_into().unwrap();
-            // SAFETY: AVX2 was checked above.
-            unsafe {
-                match bpp {
-                    3 => avx2::unfilter_rows::<3>(filters, row_bytes, filtered, out, pitch),
-                    _ => avx2::unfilter_rows::<4>(filters, row_bytes, filtered, out, pitch),
-                }
-            }
-        });
+        check_side_by_side(avx2::FORM, &mixes);
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -362,16 +358,7 @@ mod tests {
         mixes.extend(FILTERS.map(|filter| vec![filter; 8]));
         let mut byte = xorshift_bytes(7);
         mixes.extend((0..600).map(|_| (0..8).map(|_| FILTERS[usize::from(byte()) % 5]).collect()));
-        check_side_by_side(8, &mixes, |filters, bpp, row_bytes, filtered, out, pitch| {
-            let filters = filters.try_into().unwrap();
-            // SAFETY: AVX-512 F and BW were checked above.
-            unsafe {
-                match bpp {
-                    3 => avx512::unfilter_rows::<3>(filters, row_bytes, filtered, out, pitch),
-                    _ => avx512::unfilter_rows::<4>(filters, row_bytes, filtered, out, pitch),
-                }
-            }
-        });
+        check_side_by_side(avx512::FORM, &mixes);
     }
 
     #[test]
