@@ -15,10 +15,11 @@ use std::sync::{Arc, Mutex};
 use plotters::prelude::*;
 use rayon::prelude::*;
 
-use crate::count::slot_table::SlotTable;
+use crate::count::part_lookup::PartLookup;
 use crate::error::Result;
-use crate::input::labels::{LoadedLabels, Pidt};
+use crate::input::labels::LoadedLabels;
 use crate::input::manifest::{Manifest, TileEntry};
+use crate::input::palette::Fcsp;
 use crate::input::png_rows::{RowReader, read_file};
 
 /// The strip's file name in a result set.
@@ -111,46 +112,41 @@ const UNLABELLED: Shown = 1;
 /// the analysis's own PIdT resolved against its legend (not read again),
 /// the capture's background colours apart.
 struct TexelsShown {
-    /// What each texel shows, in two levels: the PIdT's flat table (one
-    /// entry per texel, 32 MiB at 4096²) missed the caches on nearly every
-    /// vehicle pixel, as neighbouring pixels show texels rows apart.
-    shown: SlotTable,
-    /// The capture's background colours (which may name texels of a
-    /// canonical palette): not the vehicle.
-    backgrounds: Vec<u32>,
+    /// Colour → legend part, unlabelled or neither (background, no
+    /// texel): the lookup the per-part counting uses, whose two-level
+    /// table stays in cache (the PIdT's flat one, 32 MiB at 4096², missed
+    /// on nearly every vehicle pixel, neighbouring pixels showing texels
+    /// rows apart).
+    parts: PartLookup,
+    /// What each of the lookup's slots shows: the legend's parts, then
+    /// unlabelled, then neither.
+    shown_of_slot: Vec<Shown>,
     colours: Vec<[u8; 3]>,
 }
 
 impl TexelsShown {
     /// A texel shows its part's colour when a legend part names it,
-    /// [`STRIP_UNLABELLED`] when none does.
+    /// [`STRIP_UNLABELLED`] when none does; the capture's `background`
+    /// colours (which may name texels) are not the vehicle.
     fn new(labels: &LoadedLabels, background: &[crate::Color]) -> Self {
         let mut colours = vec![STRIP_BACKGROUND, STRIP_UNLABELLED];
         colours.extend(labels.legend.parts.iter().map(|part| part.color.rgb()));
-        let backgrounds = background.iter().map(|colour| colour.packed()).collect();
-        TexelsShown { shown: shown_per_texel(&labels.pidt), backgrounds, colours }
+        let backgrounds: Vec<u32> = background.iter().map(|colour| colour.packed()).collect();
+        let palette = Fcsp::Canonical { width: labels.pidt.width, height: labels.pidt.height };
+        let parts = PartLookup::new(&palette, Some((&labels.legend, &labels.pidt)), &backgrounds);
+        let legend_parts = labels.legend.parts.len() as Shown;
+        let shown_of_slot = (2..legend_parts + 2).chain([UNLABELLED, NOT_VEHICLE]).collect();
+        TexelsShown { parts, shown_of_slot, colours }
     }
 
     /// What a pixel of colour `colour` shows.
     fn of_colour(&self, colour: u32) -> Shown {
-        if self.backgrounds.contains(&colour) {
-            return NOT_VEHICLE;
-        }
-        self.shown.get(colour)
+        self.shown_of_slot[usize::from(self.parts.slot_table().get(colour))]
     }
 
     fn is_vehicle(&self, shown: Shown) -> bool {
         self.colours[usize::from(shown)] != STRIP_BACKGROUND
     }
-}
-
-/// What each texel of `pidt` shows: its part, or [`UNLABELLED`]; colours
-/// past the PIdT are not the vehicle.
-fn shown_per_texel(pidt: &Pidt) -> SlotTable {
-    SlotTable::new([pidt.width, pidt.height], NOT_VEHICLE, |texel| match pidt.part_of_texel[texel as usize] {
-        crate::UNLABELLED => UNLABELLED,
-        part => part + 2,
-    })
 }
 
 /// One tile as runs of what it shows, row by row: a tile is decoded once
@@ -424,6 +420,7 @@ fn vehicle_region(frames: &[ShownFrame], texels: &TexelsShown) -> [u32; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::input::labels::Pidt;
 
     #[test]
     fn an_archive_without_tile_images_gives_no_strip_and_says_why() {
@@ -452,11 +449,17 @@ mod tests {
             part_texels: vec![3, 1],
             unlabelled_colors: Default::default(),
         };
-        let texels = TexelsShown {
-            shown: shown_per_texel(&pidt),
-            backgrounds: vec![3],
-            colours: vec![STRIP_BACKGROUND, STRIP_UNLABELLED, [1; 3], [2; 3]],
-        };
+        let parts = [0x010101, 0x020202]
+            .map(|c| crate::Part { name: format!("part {c}"), color: crate::Color::from_packed(c) });
+        let legend = crate::Legend::new(Path::new("p.csv"), parts.to_vec()).unwrap();
+        let labels = LoadedLabels { legend, pidt: Arc::new(pidt) };
+        let texels = TexelsShown::new(&labels, &[crate::Color::from_packed(3)]);
+        assert_eq!(texels.colours, [STRIP_BACKGROUND, STRIP_UNLABELLED, [1; 3], [2; 3]]);
+        // Past the palette is no texel either.
+        assert_eq!(
+            [0, 1, 2, 3, 4].map(|colour| texels.of_colour(colour)),
+            [2, 2, 3, NOT_VEHICLE, NOT_VEHICLE]
+        );
         let tile = |runs: Vec<(u32, Shown)>| {
             Arc::new(ShownTile { size: [2, 1], row_starts: vec![0, runs.len()], runs })
         };
