@@ -196,42 +196,37 @@ impl Pidt {
         index.sort_unstable();
         let row = (width as usize).max(1);
         let mut part_of_texel = vec![UNLABELLED; colors.len()];
+        let no_tallies = || (vec![0u64; legend.parts.len()], BTreeMap::new());
         // Row by row on every core: each row's parts, and its tallies.
         let (part_texels, unlabelled_colors) = part_of_texel
             .par_chunks_mut(row)
             .zip(colors.par_chunks(row))
-            .fold(
-                || (vec![0u64; legend.parts.len()], BTreeMap::new()),
-                |(mut part_texels, mut unlabelled), (parts, row_colors)| {
-                    // PIdT rows are long runs of one colour: one lookup per run.
-                    let mut x = 0;
-                    while x < row_colors.len() {
-                        let color = row_colors[x];
-                        let run =
-                            row_colors[x..].iter().position(|&c| c != color).unwrap_or(row_colors.len() - x);
-                        let found = index.binary_search_by_key(&color, |&(key, _)| key);
-                        let part = found.map_or(UNLABELLED, |i| index[i].1);
-                        parts[x..x + run].fill(part);
-                        if part == UNLABELLED {
-                            *unlabelled.entry(Color::from_packed(color)).or_insert(0u64) += run as u64;
-                        } else {
-                            part_texels[usize::from(part)] += run as u64;
-                        }
-                        x += run;
+            .fold(no_tallies, |(mut part_texels, mut unlabelled), (parts, row_colors)| {
+                // PIdT rows are long runs of one colour: one lookup per run.
+                let mut x = 0;
+                while x < row_colors.len() {
+                    let color = row_colors[x];
+                    let run =
+                        row_colors[x..].iter().position(|&c| c != color).unwrap_or(row_colors.len() - x);
+                    let found = index.binary_search_by_key(&color, |&(key, _)| key);
+                    let part = found.map_or(UNLABELLED, |i| index[i].1);
+                    parts[x..x + run].fill(part);
+                    if part == UNLABELLED {
+                        *unlabelled.entry(Color::from_packed(color)).or_insert(0u64) += run as u64;
+                    } else {
+                        part_texels[usize::from(part)] += run as u64;
                     }
-                    (part_texels, unlabelled)
-                },
-            )
-            .reduce(
-                || (vec![0u64; legend.parts.len()], BTreeMap::new()),
-                |(mut texels, mut unlabelled), (more_texels, more_unlabelled)| {
-                    texels.iter_mut().zip(more_texels).for_each(|(sum, more)| *sum += more);
-                    for (color, count) in more_unlabelled {
-                        *unlabelled.entry(color).or_insert(0) += count;
-                    }
-                    (texels, unlabelled)
-                },
-            );
+                    x += run;
+                }
+                (part_texels, unlabelled)
+            })
+            .reduce(no_tallies, |(mut texels, mut unlabelled), (more_texels, more_unlabelled)| {
+                texels.iter_mut().zip(more_texels).for_each(|(sum, more)| *sum += more);
+                for (color, count) in more_unlabelled {
+                    *unlabelled.entry(color).or_insert(0) += count;
+                }
+                (texels, unlabelled)
+            });
         Pidt { width, height, part_of_texel, part_texels, unlabelled_colors }
     }
 }
