@@ -94,6 +94,22 @@ impl SeenSet {
         self.dirty[index >> 6] |= 1u64 << (index & 63);
     }
 
+    /// Sets `bits` in word `index` and leaves the word unmarked: the caller
+    /// marks it with [`SeenSet::mark`] before the set is read, drained or
+    /// cleared (a vector kernel collects a row's marks in a register,
+    /// [`crate::count::scan`]'s `MarkAccumulator`).
+    #[inline(always)]
+    pub(crate) fn or_word_unmarked(&mut self, index: usize, bits: u64) {
+        self.words[index & (WORDS - 1)] |= bits;
+    }
+
+    /// Marks words `dirty_index * 64 + i` for each bit `i` of `marks` as
+    /// possibly non-zero.
+    #[inline(always)]
+    pub(crate) fn mark(&mut self, dirty_index: usize, marks: u64) {
+        self.dirty[dirty_index & (DIRTY_WORDS - 1)] |= marks;
+    }
+
     /// Inserts `key` (< 2^24); returns true when it was not yet present.
     pub fn insert(&mut self, key: u32) -> bool {
         let fresh = !self.contains(key);

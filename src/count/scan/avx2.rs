@@ -7,7 +7,7 @@
 
 use std::arch::x86_64::*;
 
-use super::{ClassCounts, WordAccumulator, unpack_table};
+use super::{ClassCounts, MarkAccumulator, unpack_table};
 use crate::color::{AtomicColorSet, SeenSet, color_key};
 use crate::count::scan::{Classifier, PixelClass};
 
@@ -24,7 +24,7 @@ struct RowScanner<'a, const BYTES: usize, const SINGLE_BACKGROUND: bool> {
     rotate: __m256i,
     seen: &'a mut SeenSet,
     strays: &'a AtomicColorSet,
-    word: WordAccumulator,
+    marks: MarkAccumulator,
     /// The colours of the last block scanned (an impossible colour, above
     /// 2^24, before the first, so the first pixel always differs).
     previous: __m256i,
@@ -89,7 +89,7 @@ impl<const BYTES: usize, const SINGLE_BACKGROUND: bool> RowScanner<'_, BYTES, SI
                 let mut remaining = fresh;
                 while remaining != 0 {
                     let key = color_key(lane_values[remaining.trailing_zeros() as usize]);
-                    self.word.add(self.seen, (key >> 6) as usize, 1u64 << (key & 63));
+                    self.marks.add(self.seen, key);
                     remaining &= remaining - 1;
                 }
                 // Rare: damaged or filtered pixels.
@@ -128,7 +128,7 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
         rotate: _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6),
         seen: &mut *seen,
         strays,
-        word: WordAccumulator::new(),
+        marks: MarkAccumulator::new(),
         previous: _mm256_set1_epi32(-1),
         last_class: PixelClass::Background as usize,
         background: 0,
@@ -156,7 +156,7 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
         // SAFETY: this function has the features `block` needs.
         unsafe { scanner.block(raw) };
     }
-    scanner.word.flush(scanner.seen);
+    scanner.marks.flush(scanner.seen);
     super::add_row_classes(by_class, blocks * 8, scanner.background, scanner.stray);
     // The rest of the row (a few pixels): the portable kernel. It does
     // not know the last block's colours, so it may set a bit that is already

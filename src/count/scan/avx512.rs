@@ -14,7 +14,7 @@
 
 use std::arch::x86_64::*;
 
-use super::{ClassCounts, WordAccumulator, unpack_table};
+use super::{ClassCounts, MarkAccumulator, unpack_table};
 use crate::color::{AtomicColorSet, SeenSet};
 use crate::count::part_lookup::RowSpans;
 use crate::count::scan::{Classifier, PixelClass};
@@ -147,7 +147,7 @@ struct RowScanner<'a, const SINGLE_BACKGROUND: bool, P: BlockParts> {
     texel_limit: __m512i,
     seen: &'a mut SeenSet,
     strays: &'a AtomicColorSet,
-    word: WordAccumulator,
+    marks: MarkAccumulator,
     /// The colours of the last block scanned (an impossible colour, above
     /// 2^24, before the first, so the first pixel always differs).
     previous: __m512i,
@@ -211,7 +211,7 @@ impl<const SINGLE_BACKGROUND: bool, P: BlockParts> RowScanner<'_, SINGLE_BACKGRO
                 let fresh_keys = _mm512_maskz_compress_epi32(fresh, color_keys(colors));
                 _mm512_storeu_si512(keys.as_mut_ptr().cast(), fresh_keys);
                 for &key in &keys[..fresh.count_ones() as usize] {
-                    self.word.add(self.seen, (key >> 6) as usize, 1u64 << (key & 63));
+                    self.marks.add(self.seen, key);
                 }
             }
             self.background += u64::from(is_background.count_ones());
@@ -281,7 +281,7 @@ impl<'a, const SINGLE_BACKGROUND: bool, P: BlockParts> RowScanner<'a, SINGLE_BAC
             texel_limit: _mm512_set1_epi32(classifier.palette().texel_count() as i32),
             seen,
             strays,
-            word: WordAccumulator::new(),
+            marks: MarkAccumulator::new(),
             previous: _mm512_set1_epi32(-1),
             last_class: PixelClass::Background as usize,
             background: 0,
@@ -332,7 +332,7 @@ fn scan_blocks<'a, const BYTES: usize, const SINGLE_BACKGROUND: bool, P: BlockPa
         // SAFETY: as above.
         unsafe { scanner.block(full_blocks * 16, unpack(load(full_blocks * 16, rest)), lanes) };
     }
-    scanner.word.flush(scanner.seen);
+    scanner.marks.flush(scanner.seen);
     super::add_row_classes(by_class, pixels, scanner.background, scanner.stray);
     scanner
 }
