@@ -20,7 +20,7 @@ mod testing;
 
 pub use analyze::{analyze, analyze_counted, analyze_texel_counts};
 pub use checks::{ColourChecks, ColourWarning, NeighbourSample};
-pub use color::{AtomicColorSet, COLOR_COUNT, Color, ParseColorError, SeenSet};
+pub use color::{AtomicColorSet, COLOR_COUNT, Color, ParseColorError, SeenSet, color_key};
 pub use count::{
     Classifier, CountedTile, Counts, EmptyTile, FrameLabel, FrameRecord, ImageTally, KERNEL_ENV, Kernel,
     PartLookup, PartPixels, PartRows, PixelClass, RowScan, TileCounter, scan_image, scan_image_by_part,
