@@ -265,23 +265,7 @@ fn kernels_alone(files: &[PathBuf], classifier: &Classifier, lookup: Option<&Par
 /// all three timed here on the same tiles; with the bits' time alone it
 /// bounds even a counter whose counts cost nothing.
 fn exact_counter_floor(sample: &[PathBuf], tiles: &[(PixelLayout, Vec<Vec<u8>>)], pixels: usize) {
-    let keys: Vec<Vec<u32>> = tiles
-        .iter()
-        .map(|(layout, rows)| {
-            let mut keys = Vec::new();
-            for row in rows {
-                let mut left = u32::MAX;
-                for pixel in row.chunks_exact(layout.bytes_per_pixel()) {
-                    let color = layout.pack(pixel);
-                    if color != 0x000FFF && color != left {
-                        keys.push(color_key(color));
-                    }
-                    left = color;
-                }
-            }
-            keys
-        })
-        .collect();
+    let keys: Vec<Vec<u32>> = tiles.iter().map(|(layout, rows)| fresh_texel_keys(*layout, rows)).collect();
     let inserted: usize = keys.iter().map(Vec::len).sum();
     let counts = Counts::new();
     let mut seen = SeenSet::new();
@@ -339,6 +323,23 @@ fn exact_counter_floor(sample: &[PathBuf], tiles: &[(PixelLayout, Vec<Vec<u8>>)]
         png / (own + floor),
         png / (own + bits),
     );
+}
+
+/// The keys ([`color_key`]) of a tile's texel pixels whose colour differs
+/// from their left neighbour's, row by row.
+fn fresh_texel_keys(layout: PixelLayout, rows: &[Vec<u8>]) -> Vec<u32> {
+    let mut keys = Vec::new();
+    for row in rows {
+        let mut left = u32::MAX;
+        for pixel in row.chunks_exact(layout.bytes_per_pixel()) {
+            let color = layout.pack(pixel);
+            if color != 0x000FFF && color != left {
+                keys.push(color_key(color));
+            }
+            left = color;
+        }
+    }
+    keys
 }
 
 /// The per-part tally with solid angles on the same decoded rows (one
