@@ -82,14 +82,14 @@ impl TexelGrid {
     }
 
     /// The texel `color` names, unless it is background or no texel.
-    #[inline]
+    #[inline(always)]
     fn texel(&self, color: u32) -> Option<(u32, u32)> {
         (color < self.texels && !self.backgrounds.contains(&color))
             .then(|| (color % self.width, color / self.width))
     }
 
     /// Adds one triple `a`, `p`, `b` (packed colours, `p` in the middle).
-    #[inline]
+    #[inline(always)]
     fn triple(&self, a: u32, p: u32, b: u32, sample: &mut NeighbourSample) {
         if a == p && p == b {
             sample.triples += u64::from(self.texel(p).is_some());
