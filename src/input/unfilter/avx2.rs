@@ -15,12 +15,10 @@
 
 use std::arch::x86_64::*;
 
-use super::Filter;
+use super::{Filter, Steps, checked_width, run_steps};
 
 /// Rows unfiltered together.
 pub(super) const ROWS: usize = 4;
-/// Steps until the last row's first pixel (its lag).
-const LAG: usize = 2 * (ROWS - 1);
 
 /// All ones in the lanes of the rows whose filter is `filter`.
 #[target_feature(enable = "avx2")]
@@ -32,11 +30,9 @@ fn lanes_of(filters: &[Filter; ROWS], filter: Filter) -> __m256i {
 /// This form for [`super::unfilter_rows`]: RGB, RGBA.
 pub(super) const FORM: super::SideBySideForm<ROWS> = [unfilter_rows::<3>, unfilter_rows::<4>];
 
-/// Unfilters [`ROWS`] rows of `BPP`-byte pixels (3 or 4).
-///
-/// `filtered`: the rows as inflated (a filter byte, then `row_bytes`), and
-/// at least 4 bytes after the last. `out`: `ROWS + 1` rows `pitch` bytes
-/// apart, row 0 the unfiltered row above; `pitch ≥ row_bytes + 4`.
+/// Unfilters [`ROWS`] rows of `BPP`-byte pixels (3 or 4): `filtered` as
+/// inflated, `out` with the row above the group first; the slices as
+/// [`super::checked_width`] asserts them.
 ///
 /// # Safety
 /// The CPU must have AVX2. (The slice sizes are asserted.)
@@ -48,9 +44,8 @@ unsafe fn unfilter_rows<const BPP: usize>(
     out: &mut [u8],
     pitch: usize,
 ) {
-    let (width, stride) = (row_bytes / BPP, row_bytes + 1);
-    assert!(filtered.len() >= ROWS * stride + 4 && out.len() >= (ROWS + 1) * pitch && pitch >= row_bytes + 4);
-    assert!(width > LAG);
+    let width = checked_width::<Rows, BPP>(row_bytes, filtered.len(), out.len(), pitch);
+    let stride = row_bytes + 1;
     let mut rows = Rows {
         masks: [Filter::Sub, Filter::Up, Filter::Average, Filter::Paeth].map(|f| lanes_of(filters, f)),
         // Pixel t − 2k of row k is at `inputs[k] + BPP·t` (and likewise in
@@ -68,18 +63,8 @@ unsafe fn unfilter_rows<const BPP: usize>(
         two_back: _mm256_setzero_si256(),
         above_before: _mm256_setzero_si256(),
     };
-    // SAFETY (the three loops): `step` touches pixel t − 2k of row k only
-    // where that is inside the row (all rows in the middle loop), 4 bytes
-    // at a time, which the sizes asserted above allow.
-    for t in 0..LAG {
-        unsafe { rows.step::<BPP, false>(t) };
-    }
-    for t in LAG..width {
-        unsafe { rows.step::<BPP, true>(t) };
-    }
-    for t in width..width + LAG {
-        unsafe { rows.step::<BPP, false>(t) };
-    }
+    // SAFETY: this function has AVX2; `width` is `checked_width`'s.
+    unsafe { run_steps::<Rows, BPP>(&mut rows, width) };
 }
 
 /// The four rows in progress.
@@ -97,13 +82,10 @@ struct Rows {
     above_before: __m256i,
 }
 
-impl Rows {
-    /// Step `t`: pixel t − 2k of each row k. With `EVERY` every row has
-    /// that pixel; without, rows before their first or past their last
-    /// pixel read and write nothing and hold zeros.
-    ///
-    /// # Safety
-    /// AVX2, and the pointers of [`unfilter_rows`].
+impl Steps for Rows {
+    const ROWS: usize = ROWS;
+
+    /// [`Steps::step`] for AVX2, on the pointers of [`unfilter_rows`].
     #[inline(always)]
     unsafe fn step<const BPP: usize, const EVERY: bool>(&mut self, t: usize) {
         unsafe {

@@ -13,12 +13,10 @@
 
 use std::arch::x86_64::*;
 
-use super::Filter;
+use super::{Filter, Steps, checked_width, run_steps};
 
 /// Rows unfiltered together.
 pub(super) const ROWS: usize = 8;
-/// Steps until the last row's first pixel (its lag).
-const LAG: usize = 2 * (ROWS - 1);
 
 /// The lanes of the rows whose filter is `filter`.
 fn lanes_of(filters: &[Filter; ROWS], filter: Filter) -> __mmask8 {
@@ -29,11 +27,8 @@ fn lanes_of(filters: &[Filter; ROWS], filter: Filter) -> __mmask8 {
 pub(super) const FORM: super::SideBySideForm<ROWS> = [unfilter_rows::<3>, unfilter_rows::<4>];
 
 /// Unfilters [`ROWS`] rows of `BPP`-byte pixels (3 or 4), as
-/// [`super::avx2::unfilter_rows`] does four.
-///
-/// `filtered`: the rows as inflated (a filter byte, then `row_bytes`), and
-/// at least 4 bytes after the last. `out`: `ROWS + 1` rows `pitch` bytes
-/// apart, row 0 the unfiltered row above; `pitch ≥ row_bytes + 4`.
+/// [`super::avx2::unfilter_rows`] does four; the slices as
+/// [`super::checked_width`] asserts them.
 ///
 /// # Safety
 /// The CPU must have AVX-512 F and BW. (The slice sizes are asserted.)
@@ -45,9 +40,8 @@ unsafe fn unfilter_rows<const BPP: usize>(
     out: &mut [u8],
     pitch: usize,
 ) {
-    let (width, stride) = (row_bytes / BPP, row_bytes + 1);
-    assert!(filtered.len() >= ROWS * stride + 4 && out.len() >= (ROWS + 1) * pitch && pitch >= row_bytes + 4);
-    assert!(width > LAG);
+    let width = checked_width::<Rows, BPP>(row_bytes, filtered.len(), out.len(), pitch);
+    let stride = row_bytes + 1;
     // Pixel t − 2k of row k is `filtered[from[k] + BPP·t]` and
     // `out[to[k] + BPP·t]`; the offsets are signed, as they are formed
     // before t is large enough to bring them inside the slices.
@@ -64,18 +58,8 @@ unsafe fn unfilter_rows<const BPP: usize>(
         two_back: _mm512_setzero_si512(),
         above_before: _mm512_setzero_si512(),
     };
-    // SAFETY (the three loops): `step` touches pixel t − 2k of row k only
-    // where that is inside the row (all rows in the middle loop), 4 bytes
-    // at a time, which the sizes asserted above allow.
-    for t in 0..LAG {
-        unsafe { rows.step::<BPP, false>(t) };
-    }
-    for t in LAG..width {
-        unsafe { rows.step::<BPP, true>(t) };
-    }
-    for t in width..width + LAG {
-        unsafe { rows.step::<BPP, false>(t) };
-    }
+    // SAFETY: this function has AVX-512 F and BW; `width` is `checked_width`'s.
+    unsafe { run_steps::<Rows, BPP>(&mut rows, width) };
 }
 
 /// The eight rows in progress.
@@ -101,13 +85,13 @@ impl Rows {
     fn inside(&self, t: usize) -> __mmask8 {
         (0..ROWS).filter(|&k| t >= 2 * k && t - 2 * k < self.width).fold(0, |mask, k| mask | 1 << k)
     }
+}
 
-    /// Step `t`: pixel t − 2k of each row k. With `EVERY` every row has
-    /// that pixel; without, rows before their first or past their last
-    /// pixel read and write nothing and hold zeros.
-    ///
-    /// # Safety
-    /// AVX-512 F and BW, and the slices of [`unfilter_rows`].
+impl Steps for Rows {
+    const ROWS: usize = ROWS;
+
+    /// [`Steps::step`] for AVX-512 F and BW, on the slices of
+    /// [`unfilter_rows`].
     #[inline(always)]
     unsafe fn step<const BPP: usize, const EVERY: bool>(&mut self, t: usize) {
         unsafe {

@@ -144,6 +144,66 @@ pub(crate) fn unfilter_rows(mut group: RowGroup) {
 #[cfg(target_arch = "x86_64")]
 type SideBySideForm<const N: usize> = [unsafe fn(&[Filter; N], usize, &[u8], &mut [u8], usize); 2];
 
+/// The rows of a side-by-side form in progress ([`avx2`], [`avx512`]): row
+/// `k` is `2k` pixels behind row 0, so at step `t` each row `k` takes its
+/// pixel `t − 2k`.
+#[cfg(target_arch = "x86_64")]
+trait Steps {
+    /// Rows side by side.
+    const ROWS: usize;
+
+    /// Step `t`: pixel t − 2k of each row k. With `EVERY` every row has
+    /// that pixel; without, rows before their first or past their last
+    /// pixel read and write nothing and hold zeros.
+    ///
+    /// # Safety
+    /// The CPU features of the form, and slices [`run_steps`] checked.
+    unsafe fn step<const BPP: usize, const EVERY: bool>(&mut self, t: usize);
+}
+
+/// Asserts what a side-by-side form of `S::ROWS` rows of `BPP`-byte pixels
+/// needs: `filtered` holds the rows as inflated (a filter byte, then
+/// `row_bytes`) and at least 4 bytes after the last; `out_len` covers
+/// `S::ROWS + 1` rows `pitch ≥ row_bytes + 4` bytes apart; each row is
+/// longer than the last row's lag. Returns the width in pixels.
+#[cfg(target_arch = "x86_64")]
+fn checked_width<S: Steps, const BPP: usize>(
+    row_bytes: usize,
+    filtered: usize,
+    out: usize,
+    pitch: usize,
+) -> usize {
+    let (rows, width) = (S::ROWS, row_bytes / BPP);
+    assert!(filtered >= rows * (row_bytes + 1) + 4 && out >= (rows + 1) * pitch && pitch >= row_bytes + 4);
+    assert!(width > 2 * (rows - 1));
+    width
+}
+
+/// Runs every step of `rows`, `width` pixels wide (from
+/// [`checked_width`]): the last row's lag with some rows outside their
+/// pixels, then every row inside, then the lag again.
+///
+/// # Safety
+/// The CPU features of the form; `width` from [`checked_width`] on the
+/// slices `rows` points into.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn run_steps<S: Steps, const BPP: usize>(rows: &mut S, width: usize) {
+    let lag = 2 * (S::ROWS - 1);
+    // SAFETY (the three loops): `step` touches pixel t − 2k of row k only
+    // where that is inside the row (all rows in the middle loop), 4 bytes
+    // at a time, which the sizes `checked_width` asserted allow.
+    for t in 0..lag {
+        unsafe { rows.step::<BPP, false>(t) };
+    }
+    for t in lag..width {
+        unsafe { rows.step::<BPP, true>(t) };
+    }
+    for t in width..width + lag {
+        unsafe { rows.step::<BPP, false>(t) };
+    }
+}
+
 /// Unfilters `group`, `N` RGB or RGBA rows that
 /// [`RowGroup::side_by_side`] allows, with `form`.
 ///
