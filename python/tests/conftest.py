@@ -1,6 +1,8 @@
 """Shared fixtures of the Python package's tests: the bundled example archive,
-analysed once in-process, and (when the Rust test harness names the binary in
-UFCSR_ANALYZE_BIN) once by `ufcsr-analyze` itself, the reference."""
+analysed once through ``ufcsr.analyze`` and once by running ``ufcsr-analyze``
+directly (the reference). Both need the program: the Rust test harness names
+it in UFCSR_ANALYZE_BIN; without it the tests that need it are skipped, and
+fail under CI."""
 
 import os
 import subprocess
@@ -15,22 +17,28 @@ EXAMPLE = REPOSITORY / "fixtures" / "example"
 
 
 @pytest.fixture(scope="session")
-def example_result(tmp_path_factory):
+def program():
+    """The ufcsr-analyze the package runs (skipped without one, failed under CI)."""
+    try:
+        return ufcsr._program.find_program()
+    except ufcsr.UfcsrError as error:
+        # A skip must not hide a missing program where the suite is meant to be complete.
+        if os.environ.get("CI"):
+            pytest.fail(f"CI: {error}")
+        pytest.skip(str(error))
+
+
+@pytest.fixture(scope="session")
+def example_result(program, tmp_path_factory):
     """The example analysed by ufcsr.analyze, into a fresh folder."""
-    out = tmp_path_factory.mktemp("in-process")
+    out = tmp_path_factory.mktemp("through-python")
     with pytest.warns(ufcsr.UfcsrWarning):
         return ufcsr.analyze(EXAMPLE, out=out)
 
 
 @pytest.fixture(scope="session")
-def cli_result_folder(tmp_path_factory):
+def cli_result_folder(program, tmp_path_factory):
     """The example analysed by the ufcsr-analyze binary (the reference)."""
-    binary = os.environ.get("UFCSR_ANALYZE_BIN")
-    if not binary:
-        # A skip must not hide a missing reference where the suite is meant to be complete.
-        if os.environ.get("CI"):
-            pytest.fail("CI: UFCSR_ANALYZE_BIN is not set (run through `cargo test`)")
-        pytest.skip("UFCSR_ANALYZE_BIN is not set: no ufcsr-analyze to compare with")
     out = tmp_path_factory.mktemp("cli")
-    subprocess.run([binary, str(EXAMPLE), "--out", str(out), "--quiet"], check=True)
+    subprocess.run([program, str(EXAMPLE), "--out", str(out), "--quiet"], check=True)
     return out

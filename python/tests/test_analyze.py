@@ -50,7 +50,14 @@ def test_parts_have_the_report_columns_one_row_per_legend_part(example_result):
     assert "parts" not in example_result.summary, "the parts live in .parts"
 
 
-def test_in_process_analysis_writes_the_same_files_as_the_cli(example_result, cli_result_folder):
+def test_parts_are_indexed_by_part_name(example_result):
+    parts = example_result.parts
+    assert parts.index.name == "part"
+    assert list(parts.index) == list(parts["name"])
+    assert parts.loc["grill", "total"] == GRILL_TOTAL
+
+
+def test_analysis_through_python_writes_the_same_files_as_the_cli(example_result, cli_result_folder):
     ours = example_result.path.parent
     for name in ["result.json", "parts.csv", "frames.csv", "heatmap.png"]:
         assert (ours / name).read_bytes() == (cli_result_folder / name).read_bytes(), name
@@ -93,7 +100,7 @@ def test_repr_says_what_it_is(example_result):
     assert "48 parts" in text and "52,944" in text and "512×512" in text
 
 
-def test_without_frames_csv_frames_is_none(tmp_path):
+def test_without_frames_csv_frames_is_none(program, tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", ufcsr.UfcsrWarning)
         result = ufcsr.analyze(EXAMPLE, out=tmp_path, frames_csv=False, threads=1)
@@ -101,7 +108,7 @@ def test_without_frames_csv_frames_is_none(tmp_path):
     assert result.grand_total == GRAND_TOTAL, "one thread counts the same"
 
 
-def test_default_output_folder_is_the_analyzers(tmp_path):
+def test_default_output_folder_is_the_analyzers(program, tmp_path):
     archive = tmp_path / "example"
     shutil.copytree(EXAMPLE, archive)
     with warnings.catch_warnings():

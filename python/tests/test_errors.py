@@ -6,7 +6,7 @@ import ufcsr
 from conftest import EXAMPLE
 
 
-def test_missing_archive_raises_ufcsr_error_naming_the_path(tmp_path):
+def test_missing_archive_raises_ufcsr_error_naming_the_path(program, tmp_path):
     missing = tmp_path / "no-such-archive"
     with pytest.raises(ufcsr.UfcsrError, match="no-such-archive"):
         ufcsr.analyze(missing, out=tmp_path / "out")
@@ -14,7 +14,8 @@ def test_missing_archive_raises_ufcsr_error_naming_the_path(tmp_path):
 
 
 def test_unknown_option_raises_type_error_naming_it(tmp_path):
-    with pytest.raises(TypeError, match="'pidtt'.*did you mean 'pidt'"):
+    # Every option is an explicit keyword argument (help() and editors list them).
+    with pytest.raises(TypeError, match="pidtt"):
         ufcsr.analyze(EXAMPLE, out=tmp_path, pidtt="pidt.png")
 
 
@@ -25,7 +26,7 @@ def test_option_of_the_wrong_type_raises_type_error(tmp_path):
         ufcsr.analyze(EXAMPLE, out=tmp_path, strict="yes")
 
 
-def test_bad_option_value_raises_the_analyzers_message(tmp_path):
+def test_bad_option_value_raises_the_analyzers_message(program, tmp_path):
     with pytest.raises(ufcsr.UfcsrError, match="dedupe"):
         ufcsr.analyze(EXAMPLE, out=tmp_path, dedupe="sometimes")
     with pytest.raises(ufcsr.UfcsrError, match="max must be at least 1"):
@@ -34,7 +35,7 @@ def test_bad_option_value_raises_the_analyzers_message(tmp_path):
         ufcsr.analyze(EXAMPLE, out=tmp_path, fcsp="palette.png", palette_size="512x512")
 
 
-def test_missing_pidt_raises_ufcsr_error_naming_it(tmp_path):
+def test_missing_pidt_raises_ufcsr_error_naming_it(program, tmp_path):
     with pytest.raises(ufcsr.UfcsrError, match="missing-pidt.png"):
         ufcsr.analyze(EXAMPLE, out=tmp_path, pidt=tmp_path / "missing-pidt.png")
 

@@ -1,131 +1,84 @@
 """ufcsr from Python: run the visibility analysis, read its results, draw heatmaps.
 
-The counting, the decoding of result.json's texel counts and the heatmap are
-the analyzer's own Rust code (``ufcsr._native``), so the numbers are the ones
-``ufcsr-analyze`` prints. This layer checks option names, shapes their values
-and hands results over as pandas DataFrames and numpy arrays.
+Pure Python: ``pip install ./python`` compiles nothing. Reading results
+(parts, frames, per-texel counts, placement, study and observer outputs) needs
+only numpy and pandas; :func:`analyze` and :func:`heatmap` run the installed
+``ufcsr-analyze`` program, so the numbers are exactly the ones it prints.
 
     >>> import ufcsr
     >>> result = ufcsr.analyze("fixtures/example", out="results")
-    >>> result.parts.nlargest(5, "share")[["name", "total", "share"]]
+    >>> result.parts.nlargest(5, "share")[["total", "share"]]
 """
 
 from __future__ import annotations
 
-import difflib
+import json
 import os
+import tempfile
 import warnings
 from pathlib import Path
-from typing import Any, Optional, Union
+from typing import Literal, Optional, Sequence, Union
 
 import numpy as np
 
-from . import _native
-from ._result import PathLike, Result, read_result
+from ._files import PathLike, UfcsrError
+from ._outputs import Outputs, read_observers, read_placement, read_study
+from ._program import find_program, run
+from ._result import RESULT_SCHEMA, Result, read_result
 
-UfcsrError = _native.UfcsrError
+__version__ = "0.1.0"
 
-__all__ = ["OPTIONS", "Result", "UfcsrError", "UfcsrWarning", "analyze", "heatmap", "read_result"]
+__all__ = [
+    "Outputs",
+    "Result",
+    "UfcsrError",
+    "UfcsrWarning",
+    "__version__",
+    "analyze",
+    "heatmap",
+    "read_observers",
+    "read_placement",
+    "read_result",
+    "read_study",
+]
+
+Pair = Union[str, tuple[int, int]]
 
 
 class UfcsrWarning(UserWarning):
     """What ``ufcsr-analyze`` prints as ``warning:`` (result.json's warnings, failed images)."""
 
 
-def _path(name: str, value: Any) -> Optional[str]:
-    return None if value is None else os.fspath(value)
-
-
-def _text(name: str, value: Any) -> Optional[str]:
-    if value is None or isinstance(value, str):
-        return value
-    raise TypeError(f"option {name}: expected a str, got {type(value).__name__}")
-
-
-def _integer(name: str, value: Any) -> Optional[int]:
-    if value is None or (isinstance(value, (int, np.integer)) and not isinstance(value, bool)):
-        return None if value is None else int(value)
+def _integer(name: str, value: object) -> Optional[int]:
+    if value is None:
+        return None
+    if isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_)):
+        return int(value)
     raise TypeError(f"option {name}: expected an int, got {type(value).__name__}")
 
 
-def _flag(name: str, value: Any) -> bool:
+def _flag(name: str, value: object) -> bool:
     if isinstance(value, (bool, np.bool_)):
         return bool(value)
     raise TypeError(f"option {name}: expected True or False, got {value!r}")
 
 
-def _pair(name: str, value: Any, separator: str) -> Optional[str]:
+def _text(name: str, value: object) -> str:
+    if isinstance(value, str):
+        return value
+    raise TypeError(f"option {name}: expected a str, got {type(value).__name__}")
+
+
+def _pair(name: str, value: Pair, separator: str) -> str:
     """``"WxH"`` / ``"I/N"`` as text, or from a (first, second) tuple."""
     if isinstance(value, (tuple, list)) and len(value) == 2:
         return f"{_integer(name, value[0])}{separator}{_integer(name, value[1])}"
     return _text(name, value)
 
 
-def _background(name: str, value: Any) -> list[str]:
-    if value is None:
-        return []
-    colors = [value] if isinstance(value, str) else list(value)
-    return [_text(name, color) for color in colors]
-
-
-def _trim(name: str, value: Any) -> Optional[str]:
-    if isinstance(value, (int, np.integer)) and not isinstance(value, bool):
-        return str(int(value))
-    return _text(name, value)
-
-
-def _frames_csv(name: str, value: Any) -> bool:
-    if value in ("on", "off"):
-        return value == "on"
-    return _flag(name, value)
-
-
-def _dedupe(name: str, value: Any) -> Optional[str]:
-    text = _text(name, value)
-    return None if text is None else text.replace("_", "-")
-
-
-# Every option of `ufcsr-analyze ARCHIVE`, by its name in snake_case: the
-# value's check and shape, and the command line's default.
-OPTIONS: dict[str, tuple[Any, Any]] = {
-    "pidt": (_path, None),
-    "parts": (_path, None),
-    "fcsp": (_path, None),
-    "palette_size": (lambda name, value: _pair(name, value, "x"), None),
-    "background": (_background, None),
-    "dedupe": (_dedupe, "image"),
-    "trim": (_trim, "auto"),
-    "scale": (_text, "linear"),
-    "max": (_integer, None),
-    "shard": (lambda name, value: _pair(name, value, "/"), None),
-    "mesh": (_path, None),
-    "frames_csv": (_frames_csv, True),
-    "threads": (_integer, None),
-    "strict": (_flag, False),
-    "no_manifest": (_flag, False),
-}
-
-
-def _unknown_option(name: str) -> TypeError:
-    close = difflib.get_close_matches(name, OPTIONS, n=1)
-    hint = f" (did you mean {close[0]!r}?)" if close else ""
-    return TypeError(
-        f"analyze() got an unknown option {name!r}{hint}; options are: {', '.join(sorted(OPTIONS))}"
-    )
-
-
-def _analysis_options(options: dict[str, Any]) -> dict[str, Any]:
-    """All options, checked and shaped for the native module, defaults filled in."""
-    for name in options:
-        if name not in OPTIONS:
-            raise _unknown_option(name)
-    if options.get("fcsp") is not None and options.get("palette_size") is not None:
-        raise ValueError("options fcsp and palette_size exclude each other: give one palette")
-    values = {}
-    for name, (shape, default) in OPTIONS.items():
-        value = options.get(name, default)
-        values[name] = shape(name, value if value is not None else default)
-    return values
+def _option(arguments: list[str], flag: str, value: Optional[str]) -> None:
+    if value is not None:
+        arguments += [flag, value]
 
 
 def _warn(result: Result) -> None:
@@ -151,59 +104,147 @@ def _warn(result: Result) -> None:
         )
 
 
-def analyze(archive: PathLike, out: Optional[PathLike] = None, **options: Any) -> Result:
-    """Analyses ``archive`` in-process, as ``ufcsr-analyze ARCHIVE --out OUT`` does.
+def analyze(
+    archive: PathLike,
+    out: Optional[PathLike] = None,
+    *,
+    pidt: Optional[PathLike] = None,
+    parts: Optional[PathLike] = None,
+    fcsp: Optional[PathLike] = None,
+    palette_size: Optional[Pair] = None,
+    background: Union[str, Sequence[str], None] = None,
+    dedupe: Literal["image", "frame", "eye-pair", "eye_pair"] = "image",
+    trim: Union[Literal["auto", "off"], int] = "auto",
+    scale: Literal["linear", "log"] = "linear",
+    max: Optional[int] = None,
+    shard: Optional[Pair] = None,
+    mesh: Optional[PathLike] = None,
+    frames_csv: bool = True,
+    csv_style: Literal["report", "paper"] = "report",
+    threads: Optional[int] = None,
+    strict: bool = False,
+    strict_colors: bool = False,
+    no_manifest: bool = False,
+    progress: bool = False,
+    executable: Optional[PathLike] = None,
+) -> Result:
+    """Analyses ``archive`` as ``ufcsr-analyze ARCHIVE --out OUT`` does, and reads the result back.
 
     Writes the full result set (result.json, parts.csv, heatmap.png,
-    frames.csv, report.html, ...) to ``out`` (default: the analyzer's default,
-    ``ARCHIVE/results``) and returns it read back as a :class:`Result`.
+    frames.csv, report.html, ...) to ``out`` (default ``ARCHIVE/results``, as
+    the command line) and returns it as a :class:`Result`. The options are
+    the command line's (``ufcsr-analyze --help``): ``pidt``, ``parts`` (the
+    legend), ``fcsp`` or ``palette_size`` ("WxH" or (w, h)), ``background``
+    ("#RRGGBB" or a list), ``dedupe``, ``trim`` ("auto", "off" or bytes),
+    ``scale``, ``max``, ``shard`` ("I/N" or (i, n); default from the job
+    array's environment), ``mesh``, ``frames_csv``, ``csv_style``,
+    ``threads`` (default all cores), ``strict``, ``strict_colors``,
+    ``no_manifest``. ``progress=True`` shows the program's progress bar on
+    stderr. ``executable`` is the ``ufcsr-analyze`` to run (default: the
+    ``UFCSR_ANALYZE`` variable, then PATH).
 
-    Options are the command line's, in snake_case, with its defaults:
-    ``pidt``, ``parts`` (legend), ``fcsp`` or ``palette_size`` ("WxH" or
-    (w, h)), ``background`` ("#RRGGBB" or a list), ``dedupe`` ("image",
-    "frame", "eye-pair"), ``trim`` ("auto", "off" or bytes), ``scale``
-    ("linear", "log"), ``max``, ``shard`` ("I/N" or (i, n); default from
-    the job array's environment, as the command line), ``mesh``,
-    ``frames_csv`` (True), ``threads`` (default all cores), ``strict``,
-    ``no_manifest``.
-
-    Raises TypeError for an unknown option or a value of the wrong type,
-    ``UfcsrError`` with the analyzer's message (naming the file) when the
-    analysis fails. Warnings the command line prints come as UfcsrWarning;
-    images that failed leave ``result.complete`` False (``strict=True``
-    raises instead).
+    Raises TypeError for a value of the wrong type, ``UfcsrError`` with the
+    analyzer's message (naming the file) when the analysis fails. Ctrl-C
+    stops the analysis within a second, leaves ``out`` as it was and raises
+    KeyboardInterrupt. Warnings come as UfcsrWarning; images that failed
+    leave ``result.complete`` False (``strict=True`` raises instead).
     """
-    values = _analysis_options(options)
-    folder = _native.analyze(os.fspath(archive), None if out is None else os.fspath(out), values)
-    result = read_result(folder)
+    if fcsp is not None and palette_size is not None:
+        raise ValueError("options fcsp and palette_size exclude each other: give one palette")
+    out_dir = Path(os.fspath(archive)) / "results" if out is None else Path(os.fspath(out))
+    arguments = [os.fspath(archive), "--out", os.fspath(out_dir), "--quiet"]
+    for flag, path in (("--pidt", pidt), ("--legend", parts), ("--fcsp", fcsp), ("--mesh", mesh)):
+        _option(arguments, flag, None if path is None else os.fspath(path))
+    _option(arguments, "--palette-size", None if palette_size is None else _pair("palette_size", palette_size, "x"))
+    for color in [background] if isinstance(background, str) else list(background or []):
+        _option(arguments, "--background", _text("background", color))
+    _option(arguments, "--dedupe", _text("dedupe", dedupe).replace("_", "-"))
+    _option(arguments, "--trim", str(trim) if isinstance(trim, (int, np.integer)) else _text("trim", trim))
+    _option(arguments, "--scale", _text("scale", scale))
+    _option(arguments, "--max", None if max is None else str(_integer("max", max)))
+    _option(arguments, "--shard", None if shard is None else _pair("shard", shard, "/"))
+    _option(arguments, "--frames-csv", "on" if _flag("frames_csv", frames_csv) else "off")
+    _option(arguments, "--csv-style", _text("csv_style", csv_style))
+    _option(arguments, "--threads", None if threads is None else str(_integer("threads", threads)))
+    for flag, name, value in (
+        ("--strict", "strict", strict),
+        ("--strict-colors", "strict_colors", strict_colors),
+        ("--no-manifest", "no_manifest", no_manifest),
+    ):
+        if _flag(name, value):
+            arguments.append(flag)
+    program = find_program(executable)
+    if progress:
+        arguments.remove("--quiet")
+    run(program, arguments, _flag("progress", progress))
+    result = read_result(out_dir)
     _warn(result)
     return result
+
+
+def _write_counts(folder: Path, result: Result, counts: np.ndarray) -> Path:
+    """A result.json holding ``result``'s settings and ``counts``: what ``ufcsr-analyze heatmap`` reads."""
+    seen = np.flatnonzero(counts)
+    deltas = np.diff(seen, prepend=0) if len(seen) else seen
+    document = {
+        "schema": RESULT_SCHEMA,
+        "measure": result.summary.get("measure", "pixels"),
+        "settings": result.summary["settings"],
+        "texel_counts": {
+            "encoding": "delta",
+            "texels": int(len(seen)),
+            "texel_delta": deltas.tolist(),
+            "count": counts[seen].tolist(),
+        },
+    }
+    path = folder / "result.json"
+    path.write_text(json.dumps(document))
+    return path
+
+
+def _refuse_output(out: Path, source: Path) -> None:
+    """``out`` may be a new file or a regular file that is not the result read: never an input or a device."""
+    if not os.path.lexists(out):
+        return
+    if out.is_symlink() or not out.is_file():
+        raise UfcsrError(f"{out}: exists and is not a regular file: the heatmap is not written over it")
+    if out.resolve() == source.resolve() or out.name == source.name:
+        raise UfcsrError(f"{out}: is the result being drawn: the heatmap is not written over its input")
 
 
 def heatmap(
     result: Union[Result, PathLike],
     out: PathLike,
-    scale: Optional[str] = None,
+    scale: Optional[Literal["linear", "log"]] = None,
     max: Optional[int] = None,
+    *,
+    executable: Optional[PathLike] = None,
 ) -> Path:
     """Writes the heatmap PNG of ``result`` (a Result, a result.json or its folder) to ``out``.
 
     ``scale`` is "linear" or "log", ``max`` the count shown at the top of the
     colour scale (larger counts clamp); by default the result's own settings
     (as ``ufcsr-analyze heatmap``). The counts are ``result.texel_counts``,
-    so an array changed in Python is drawn as it is now. Returns ``out``.
+    so an array changed in Python is drawn as it is now, by the analyzer's
+    own heatmap code. Returns ``out``.
     """
     if not isinstance(result, Result):
         result = read_result(result)
-    settings = result.summary["settings"]
-    scale = settings.get("heatmap_scale", "linear") if scale is None else _text("scale", scale)
-    max = settings.get("heatmap_max") if max is None else _integer("max", max)
+    if scale is not None and scale not in ("linear", "log"):
+        raise UfcsrError(f"scale {scale!r}: the heatmap's scale is linear or log")
+    if max is not None and _integer("max", max) < 1:
+        raise UfcsrError(f"max {max}: the top of the colour scale must be at least 1")
     counts = np.asarray(result.texel_counts)
-    if counts.dtype != np.uint32:
-        if counts.size and (counts.min() < 0 or counts.max() > np.iinfo(np.uint32).max):
-            raise ValueError("texel_counts must be counts from 0 to 2**32 - 1")
-        counts = counts.astype(np.uint32)
-    width, height = result.palette_size
-    little_endian = np.ascontiguousarray(counts, dtype="<u4")
-    _native.write_heatmap(os.fspath(out), little_endian.tobytes(), width, height, scale, max)
+    if counts.shape != (result.palette_size[0] * result.palette_size[1],):
+        raise ValueError(f"texel_counts must have one count per texel ({result.palette_size[0]}×{result.palette_size[1]})")
+    if counts.size and (counts.min() < 0 or counts.max() > np.iinfo(np.uint32).max):
+        raise ValueError("texel_counts must be counts from 0 to 2**32 - 1")
+    _refuse_output(Path(os.fspath(out)), result.path)
+    program = find_program(executable)
+    with tempfile.TemporaryDirectory(prefix="ufcsr-heatmap-") as folder:
+        source = _write_counts(Path(folder), result, counts.astype(np.uint32))
+        arguments = ["heatmap", os.fspath(source), "--out", os.fspath(out), "--quiet"]
+        _option(arguments, "--scale", scale)
+        _option(arguments, "--max", None if max is None else str(max))
+        run(program, arguments, False)
     return Path(os.fspath(out))

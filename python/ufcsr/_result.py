@@ -1,32 +1,37 @@
-"""A ufcsr result set read back into pandas and numpy.
+"""A ufcsr result set read back into pandas and numpy, in pure Python.
 
 Its own module so that reading results (``read_result``) needs nothing of the
-analysis options: a result folder written by ``ufcsr-analyze`` on a cluster
-reads the same as one written by ``ufcsr.analyze`` in a notebook.
+analysis: a result folder written by ``ufcsr-analyze`` on a cluster reads the
+same as one written by ``ufcsr.analyze`` in a notebook. The per-texel counts
+are decoded from result.json's delta encoding with numpy, checked as the
+analyzer checks them (src/result/result_json.rs), so an edited or truncated
+file is an error naming it, never silently different counts.
 """
 
 from __future__ import annotations
 
+import io
 import json
 import os
 from functools import cached_property
 from pathlib import Path
-from typing import Any, Optional, Union
+from typing import Any, Optional
 
 import numpy as np
 import pandas as pd
 
-from . import _native
-
-PathLike = Union[str, "os.PathLike[str]"]
+from ._files import PathLike, UfcsrError, read_bytes, refuse_half_written
 
 RESULT_FILE = "result.json"
 FRAMES_FILE = "frames.csv"
+RESULT_SCHEMA = "ufcsr-result/1"
 
 # result.json's per-part fields, in the report's order (PartStats).
 PART_COLUMNS = ["name", "color", "texels", "total", "peak", "average", "share", "coverage", "texels_seen"]
 # result.json's measures.parts fields joined onto the parts (when frames were tallied).
 MEASURE_COLUMNS = ["pixels", "eye_frames_seen", "angular_area_deg2_s", "exposure_s"]
+# The largest palette: one texel per 24-bit colour.
+COLOR_COUNT = 1 << 24
 
 
 def result_json_path(path: PathLike) -> Path:
@@ -35,8 +40,25 @@ def result_json_path(path: PathLike) -> Path:
     return path / RESULT_FILE if path.is_dir() else path
 
 
+def _document(path: Path) -> dict[str, Any]:
+    """result.json parsed and its schema checked; errors name the file."""
+    refuse_half_written(path.parent, path)
+    try:
+        document = json.loads(read_bytes(path, "result"))
+    except (ValueError, UnicodeDecodeError) as error:
+        raise UfcsrError(f"{path}: not a ufcsr result.json: {error}") from None
+    schema = document.get("schema") if isinstance(document, dict) else None
+    if schema != RESULT_SCHEMA:
+        if isinstance(schema, str) and schema.startswith("ufcsr-result/"):
+            hint = f"a version this package does not know (it reads {RESULT_SCHEMA}); update ufcsr"
+        else:
+            hint = f"not a ufcsr result (expected {RESULT_SCHEMA})"
+        raise UfcsrError(f"{path}: schema {schema!r}: {hint}")
+    return document
+
+
 def _parts_frame(summary: dict[str, Any]) -> pd.DataFrame:
-    """One row per legend part, the report's columns, plus the measures when present."""
+    """One row per legend part, indexed by part name, plus the measures when present."""
     parts = pd.DataFrame(summary.get("parts", []), columns=PART_COLUMNS)
     measures = (summary.get("measures") or {}).get("parts") or []
     # The measures list the legend's parts in legend order, then "(unlabelled)".
@@ -44,7 +66,42 @@ def _parts_frame(summary: dict[str, Any]) -> pd.DataFrame:
     if measures and names == list(parts["name"]):
         for column in MEASURE_COLUMNS:
             parts[column] = [measure.get(column) for measure in measures[: len(parts)]]
-    return parts
+    return parts.set_index("name", drop=False).rename_axis("part")
+
+
+def decode_texel_counts(path: Path, document: dict[str, Any]) -> np.ndarray:
+    """result.json's delta-encoded counts as a dense uint32 array of the palette's size."""
+    width, height = _palette_size(path, document)
+    encoded = document.get("texel_counts")
+    if not isinstance(encoded, dict) or encoded.get("encoding") != "delta":
+        raise UfcsrError(f"{path}: texel_counts: expected delta encoding")
+    deltas = np.asarray(encoded.get("texel_delta", []), dtype=np.int64)
+    counts = np.asarray(encoded.get("count", []), dtype=np.int64)
+    if deltas.ndim != 1 or deltas.shape != counts.shape:
+        raise UfcsrError(f"{path}: texel_counts: expected delta encoding with arrays of equal length")
+    if encoded.get("texels") != len(counts):
+        raise UfcsrError(
+            f"{path}: texel_counts: \"texels\" says {encoded.get('texels')} but {len(counts)} counts follow "
+            "(edited or truncated?)"
+        )
+    texels = np.cumsum(deltas)
+    if len(deltas) and (deltas[0] < 0 or (deltas[1:] <= 0).any()):
+        raise UfcsrError(f"{path}: texel_counts: texels must be listed once each, in increasing order")
+    if len(texels) and texels[-1] >= width * height:
+        raise UfcsrError(f"{path}: texel_counts: texel {int(texels[-1])} is outside the palette")
+    if (counts <= 0).any() or (counts > np.iinfo(np.uint32).max).any():
+        raise UfcsrError(f"{path}: texel_counts: counts must be 1 to 2**32 - 1 (only seen texels are listed)")
+    dense = np.zeros(width * height, dtype=np.uint32)
+    dense[texels] = counts.astype(np.uint32)
+    return dense
+
+
+def _palette_size(path: Path, document: dict[str, Any]) -> tuple[int, int]:
+    palette = (document.get("settings") or {}).get("palette") or {}
+    width, height = palette.get("width"), palette.get("height")
+    if not (isinstance(width, int) and isinstance(height, int) and 0 < width * height <= COLOR_COUNT):
+        raise UfcsrError(f"{path}: settings.palette is {width}×{height}: not a palette size")
+    return width, height
 
 
 class Result:
@@ -52,43 +109,44 @@ class Result:
 
     Attributes:
         path: the result.json read.
-        parts: pandas DataFrame, one row per legend part (name, color, texels,
-            total, peak, average, share %, coverage %, texels_seen, and with
-            frames tallied pixels, eye_frames_seen, angular_area_deg2_s,
-            exposure_s).
+        parts: pandas DataFrame, one row per legend part, indexed by part name
+            (``result.parts.loc["grill"]``): name, color, texels, total, peak,
+            average, share %, coverage %, texels_seen, and with frames tallied
+            pixels, eye_frames_seen, angular_area_deg2_s, exposure_s.
         frames: frames.csv as a DataFrame (one row per eye-frame and part), or
             None when the analysis wrote none.
         texel_counts: numpy uint32 array of the palette's size, the count per
-            texel index (``y * width + x``), decoded in Rust on first use.
+            texel index (``y * width + x``), decoded on first use.
         summary: the rest of result.json as a dict (images, settings,
             warnings, measures, ...).
     """
 
     def __init__(self, path: PathLike):
-        self.path = result_json_path(path)
-        summary = json.loads(_native.read_summary_json(os.fspath(self.path)))
-        self.parts = _parts_frame(summary)
-        summary.pop("parts", None)
-        self.summary: dict[str, Any] = summary
+        self.path: Path = result_json_path(path)
+        document = _document(self.path)
+        self._encoded = document.pop("texel_counts", None)
+        self.parts: pd.DataFrame = _parts_frame(document)
+        document.pop("parts", None)
+        self.summary: dict[str, Any] = document
         frames = self.path.parent / FRAMES_FILE
-        self.frames: Optional[pd.DataFrame] = pd.read_csv(frames) if frames.is_file() else None
+        self.frames: Optional[pd.DataFrame] = None
+        if os.path.lexists(frames):
+            self.frames = pd.read_csv(io.BytesIO(read_bytes(frames, "table")))
 
     @cached_property
     def texel_counts(self) -> np.ndarray:
-        counts, width, height = _native.read_texel_counts(os.fspath(self.path))
-        # The bytearray becomes the array's memory: no per-element copy.
-        return np.frombuffer(counts, dtype="<u4").astype(np.uint32, copy=False)
+        document = {"settings": self.summary.get("settings"), "texel_counts": self._encoded}
+        return decode_texel_counts(self.path, document)
 
     @property
     def palette_size(self) -> tuple[int, int]:
         """(width, height) of the palette the texel indices address."""
-        palette = self.summary["settings"]["palette"]
-        return palette["width"], palette["height"]
+        return _palette_size(self.path, self.summary)
 
     @property
     def grand_total(self) -> int:
         """Sum of the part totals over legend parts (without a PIdT: over all texels)."""
-        return self.summary["grand_total"]
+        return int(self.summary["grand_total"])
 
     @property
     def complete(self) -> bool:
@@ -110,7 +168,7 @@ class Result:
 def read_result(path: PathLike) -> Result:
     """Reads a result set: ``path`` is a ``result.json`` or the folder holding it.
 
-    Raises ``ufcsr.UfcsrError`` (naming the file) when it is missing or not a
-    ufcsr result.
+    Raises :class:`ufcsr.UfcsrError` (naming the file) when it is missing, not
+    a regular file, too large, or not a ufcsr result.
     """
     return Result(path)

@@ -38,7 +38,7 @@ import logging
 import math
 import os
 import re
-import shutil
+import stat
 import struct
 import sys
 import time
@@ -94,15 +94,43 @@ def frame_selection(spec):
     return items
 
 
+# Size caps for what this script reads, as the analyzer's (docs/reliability.md).
+MANIFEST_LIMIT = 256 << 20
+COPIED_FILE_LIMIT = 1 << 30
+
+
+def read_regular(path, limit):
+    """The bytes of `path`: opened without blocking (a FIFO must not hang the
+    script), a regular file once open (not a device or folder), at most `limit`
+    bytes (a link to /dev/zero must not eat the memory); errors name the file."""
+    try:
+        descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except FileNotFoundError:
+        raise InputError(f"{path}: not found")
+    except OSError as error:
+        raise InputError(f"{path}: cannot open ({error.strerror})")
+    with os.fdopen(descriptor, "rb") as file:
+        info = os.fstat(file.fileno())
+        if not stat.S_ISREG(info.st_mode):
+            raise InputError(f"{path}: not a regular file (a folder, device, FIFO or socket)")
+        if info.st_size > limit:
+            raise InputError(f"{path}: {info.st_size:,} bytes, more than the {limit:,} bytes allowed")
+        data = file.read(limit + 1)
+    if len(data) > limit:
+        raise InputError(f"{path}: more than the {limit:,} bytes allowed")
+    return data
+
+
 def read_manifest(archive):
     """The manifest of `archive`, checked for what rebuilding the cameras needs."""
     path = os.path.join(archive, "manifest.json")
     try:
-        with open(path, encoding="utf-8") as file:
-            manifest = json.load(file)
-    except FileNotFoundError:
-        raise InputError(f"{path}: not found (--from takes an archive written by ufcsr-capture)")
-    except (OSError, ValueError) as error:
+        manifest = json.loads(read_regular(path, MANIFEST_LIMIT))
+    except InputError as error:
+        if not os.path.lexists(path):
+            raise InputError(f"{path}: not found (--from takes an archive written by ufcsr-capture)")
+        raise error
+    except (UnicodeDecodeError, ValueError) as error:
         raise InputError(f"{path}: not readable JSON ({error})")
     if not isinstance(manifest, dict) or manifest.get("schema", MANIFEST_SCHEMA) != MANIFEST_SCHEMA:
         raise InputError(f"{path}: not a {MANIFEST_SCHEMA} manifest")
@@ -172,13 +200,19 @@ def check_projection(projection, where):
 
 
 def inside(archive, relative, manifest_path):
-    """`archive/relative`, refused when it leaves the archive or does not exist."""
+    """`archive/relative` with links resolved, refused when it leaves the archive
+    (also through a link), is not a regular file, or does not exist."""
     if os.path.isabs(relative) or ".." in relative.replace("\\", "/").split("/"):
         raise InputError(f"{manifest_path}: '{relative}' leaves the archive")
     path = os.path.join(archive, relative)
-    if not os.path.isfile(path):
+    real, root = os.path.realpath(path), os.path.realpath(archive)
+    if os.path.commonpath([real, root]) != root:
+        raise InputError(f"{manifest_path}: '{relative}' leads outside the archive (to {real}) through a link")
+    if not os.path.lexists(path):
         raise InputError(f"{path}: named by {manifest_path} but missing")
-    return path
+    if not os.path.isfile(real):
+        raise InputError(f"{path}: named by {manifest_path} but not a regular file")
+    return real
 
 
 def tile_grid(manifest, manifest_path):
@@ -480,9 +514,8 @@ def write_png(path, rgb):
         return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", checksum)
 
     header = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
-    with open(path, "wb") as file:
-        file.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header))
-        file.write(chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
+    png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header)
+    write_new(path, png + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b""))
 
 
 def tiles_of_eye(rgb, grid, backgrounds, out, record, eye_name):
@@ -516,22 +549,35 @@ def tiles_of_eye(rgb, grid, backgrounds, out, record, eye_name):
 
 
 def prepare_out(source, out):
-    if os.path.abspath(out) == os.path.abspath(source):
+    """A new or empty folder for the new archive: never the source, never a link."""
+    if os.path.realpath(out) == os.path.realpath(source):
         raise InputError(f"{out}: --out is the source archive; give a new folder")
-    if os.path.exists(out) and (not os.path.isdir(out) or os.listdir(out)):
+    if os.path.islink(out):
+        raise InputError(f"{out}: is a link (the new archive is not written through it)")
+    if os.path.lexists(out) and (not os.path.isdir(out) or os.listdir(out)):
         raise InputError(f"{out}: exists and is not an empty folder (it is not overwritten)")
     os.makedirs(os.path.join(out, "tiles"), exist_ok=True)
 
 
 def copy_described_files(source, out, manifest):
-    """The PIdT, legend, vehicle, occluders (and an image palette) beside the new tiles."""
+    """The PIdT, legend, vehicle, occluders (and an image palette) beside the new
+    tiles: each resolved inside the source archive and read by the same rules."""
     names = [manifest[key] for key in ("pidt", "parts", "vehicle", "occluders")]
     if isinstance(manifest.get("palette"), str):
         names.append(manifest["palette"])
+    manifest_path = os.path.join(source, "manifest.json")
     for name in names:
+        data = read_regular(inside(source, name, manifest_path), COPIED_FILE_LIMIT)
         target = os.path.join(out, name)
         os.makedirs(os.path.dirname(target), exist_ok=True)
-        shutil.copyfile(os.path.join(source, name), target)
+        write_new(target, data)
+
+
+def write_new(path, data):
+    """Writes a file that must not exist yet (never through a link, never over anything)."""
+    descriptor = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_NOFOLLOW", 0), 0o644)
+    with os.fdopen(descriptor, "wb") as file:
+        file.write(data)
 
 
 def blender_manifest(manifest, records, rendering, engine):
@@ -629,9 +675,9 @@ def render_archive(arguments):
         if not arguments.quiet:
             print(f"{TOOL}: frame {record['frame']} rendered", flush=True)
     copy_described_files(source, out, manifest)
-    with open(os.path.join(out, "manifest.json"), "w", encoding="utf-8") as file:
-        json.dump(blender_manifest(manifest, records, (tiles, rendered), arguments.engine), file, indent=2)
-        file.write("\n")
+    text = json.dumps(blender_manifest(manifest, records, (tiles, rendered), arguments.engine), indent=2)
+    # Written last and whole: an interrupted render leaves no manifest, so no half archive reads as one.
+    write_new(os.path.join(out, "manifest.json"), (text + "\n").encode("utf-8"))
     if not arguments.quiet:
         written = sum(1 for tile in tiles if "file" in tile)
         seconds = time.monotonic() - started

@@ -198,3 +198,20 @@ pub fn the_blender_script_refuses_an_archive_without_cameras_naming_its_manifest
     assert!(!out.exists(), "nothing is written for a refused archive");
     Ok(Completion::Completed)
 }
+
+/// The script's file rules (regular files, no hang on a FIFO, size caps, links
+/// resolved before containment, nothing written through a link or over a file)
+/// hold: its own unittest, which needs python3 but not Blender.
+pub fn the_blender_scripts_file_rules_hold_without_blender() -> Outcome {
+    if !crate::need::runs("python3") {
+        return missing("python3");
+    }
+    let test = concat!(env!("CARGO_MANIFEST_DIR"), "/scripts/blender/test_ufcsr_blender.py");
+    let output = Command::new("python3").arg(test).output().expect("run python3");
+    assert!(
+        output.status.success(),
+        "scripts/blender/test_ufcsr_blender.py failed:\n{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    Ok(Completion::Completed)
+}

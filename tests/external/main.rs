@@ -46,6 +46,10 @@ fn trials() -> Vec<Trial> {
             blender::the_blender_script_refuses_an_archive_without_cameras_naming_its_manifest,
         ),
         trial(
+            "blender::the_blender_scripts_file_rules_hold_without_blender",
+            blender::the_blender_scripts_file_rules_hold_without_blender,
+        ),
+        trial(
             "gltf_validator::vehicle_heatmap_and_scene_glb_validate_with_no_error_or_warning",
             gltf_validator::vehicle_heatmap_and_scene_glb_validate_with_no_error_or_warning,
         ),

@@ -1,16 +1,15 @@
-//! The Python package (`python/`, pyo3 + maturin) built, installed and tested
-//! with its pytest suite, so that the README's one test command covers it.
+//! The Python package (`python/`, pure Python) installed and tested with
+//! its pytest suite, so that the README's one test command covers it.
 //!
-//! The package is not a member of this workspace (an `extension-module`
-//! cdylib does not link as a test binary), so this test builds it the way a
-//! user does: a venv under the target folder, `pip install ./python`, then
-//! pytest, with `ufcsr-analyze` as the reference the suite compares against.
-//! The venv (under the target folder) is kept between runs, and the extension
-//! builds in `python/target` as a plain `pip install ./python` does, so a warm
-//! run — or one after a manual install — rebuilds only what changed.
+//! It is installed the way a user without Rust does: a venv under the target
+//! folder, `pip install ./python` with a `PATH` that holds no `cargo` or
+//! `rustc` (checked), then pytest, with this build's `ufcsr-analyze` as the
+//! program `ufcsr.analyze()` runs and the reference the suite compares
+//! against. The venv and its tools (numpy, pandas, pytest, the flit_core
+//! build backend) are kept between runs.
 //!
-//! Without python3, a working venv/pip or the registries (PyPI, crates.io) it
-//! is reported ignored with the reason — and fails instead when `CI` is set.
+//! Without python3, a working venv/pip or PyPI it is reported ignored with
+//! the reason — and fails instead when `CI` is set.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -21,7 +20,7 @@ use crate::need::{Outcome, missing, strict};
 use libtest_mimic::Completion;
 
 /// Python packages the build and the suite need beside `./python`'s own.
-const TOOLS: [&str; 4] = ["maturin>=1.5,<2", "numpy", "pandas", "pytest"];
+const TOOLS: [&str; 4] = ["flit_core>=3.9,<4", "numpy", "pandas", "pytest"];
 
 /// Writes a timing line to stderr (this harness does not capture it).
 fn say(line: &str) {
@@ -70,14 +69,14 @@ fn prepared_venv(venv: &Path) -> Result<PathBuf, Outcome> {
             return Err(unavailable("python3 -m venv (install python3-venv)", created.as_ref()));
         }
     }
-    let imports = "import maturin, numpy, pandas, pytest";
+    let imports = "import flit_core, numpy, pandas, pytest";
     if !succeeded(&run(Command::new(&python).args(["-c", imports]))) {
         let installed = run(Command::new(&python)
             .args(["-m", "pip", "install", "--quiet", "--retries", "1", "--timeout", "60"])
             .args(TOOLS));
         if !succeeded(&installed) {
             return Err(unavailable(
-                "pip to install maturin, numpy, pandas, pytest (no pip or no PyPI)",
+                "pip to install flit_core, numpy, pandas, pytest (no pip or no PyPI)",
                 installed.as_ref(),
             ));
         }
@@ -85,11 +84,18 @@ fn prepared_venv(venv: &Path) -> Result<PathBuf, Outcome> {
     Ok(python)
 }
 
-/// `PATH` with the venv's `bin` first, as an activated venv has it.
-fn venv_path(python: &Path) -> std::ffi::OsString {
+/// `PATH` with the venv's `bin` first, as an activated venv has it, and
+/// without any folder that holds `cargo` or `rustc`: the install must not
+/// need (or find) a Rust toolchain.
+fn venv_path_without_rust(python: &Path) -> std::ffi::OsString {
     let bin = python.parent().expect("the venv's bin folder").to_path_buf();
     let rest = std::env::var_os("PATH").unwrap_or_default();
-    std::env::join_paths(std::iter::once(bin).chain(std::env::split_paths(&rest))).expect("a valid PATH")
+    let rust_free = std::env::split_paths(&rest).filter(|dir| !holds_rust(dir));
+    std::env::join_paths(std::iter::once(bin).chain(rust_free)).expect("a valid PATH")
+}
+
+fn holds_rust(dir: &Path) -> bool {
+    ["cargo", "rustc"].iter().any(|tool| dir.join(tool).exists())
 }
 
 pub fn python_package_builds_installs_and_passes_its_pytest_suite() -> Outcome {
@@ -100,23 +106,18 @@ pub fn python_package_builds_installs_and_passes_its_pytest_suite() -> Outcome {
         Err(outcome) => return outcome,
     };
 
-    // The extension's crates: a fetch that fails is the registry, not the package.
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
-    let fetched = run(Command::new(&cargo)
-        .args(["fetch", "--locked", "--manifest-path"])
-        .arg(repository.join("python/Cargo.toml")));
-    if !succeeded(&fetched) {
-        return unavailable("cargo to fetch the Python package's crates (no crates.io?)", fetched.as_ref());
-    }
-
+    let path = venv_path_without_rust(&python);
+    assert!(
+        !std::env::split_paths(&path).any(|dir| holds_rust(&dir)),
+        "the install's PATH still holds a Rust toolchain"
+    );
     let started = Instant::now();
     let installed = Command::new(&python)
         .args(["-m", "pip", "install", "--quiet", "--no-build-isolation", "--no-deps", "--force-reinstall"])
         .arg(repository.join("python"))
-        // maturin's own default (python/target), not an outer cargo's folder.
-        .env_remove("CARGO_TARGET_DIR")
-        // The build backend runs the venv's `maturin` binary by name.
-        .env("PATH", venv_path(&python))
+        .env("PATH", &path)
+        .env_remove("CARGO")
+        .env_remove("RUSTC")
         .current_dir(repository)
         .output()
         .expect("run pip");
@@ -134,7 +135,7 @@ pub fn python_package_builds_installs_and_passes_its_pytest_suite() -> Outcome {
     assert!(tested.status.success(), "pytest python/tests failed:\n{report}");
     let summary = report.lines().rev().find(|line| line.contains("passed")).unwrap_or("no summary line");
     say(&format!(
-        "pip install ./python {built:.1} s (wall clock, incl. the extension's build), pytest {:.1} s: {}",
+        "pip install ./python {built:.1} s (wall clock, no Rust on PATH), pytest {:.1} s: {}",
         started.elapsed().as_secs_f64(),
         summary.trim()
     ));

@@ -1,0 +1,68 @@
+"""Reading the files of a result set safely, by the same rules as the analyzer.
+
+Every file this package reads comes through :func:`read_bytes`: it is opened
+without blocking (a FIFO named ``result.json`` must not hang a notebook), it
+must be a regular file once open (not a device, a FIFO or a folder), and it is
+read only up to a size cap from one table, so a link to ``/dev/zero`` or a
+runaway file gives an error naming the file instead of eating the machine's
+memory. Links are followed (a result folder may be linked), but what they
+reach must pass the same checks. Errors name the file and the problem.
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+from pathlib import Path
+from typing import Union
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+# Size caps per kind of file, as the analyzer's (src/files/limited_read.rs):
+# a result.json at 4096² holds up to 16.8 M texels of counts; tables and the
+# small JSON files of placement, study and observers are far smaller.
+LIMITS = {
+    "result": 1 << 31,
+    "table": 1 << 30,
+    "small": 64 << 20,
+}
+
+# The analyzer's commit journal: a result set whose move into place a killed
+# run left unfinished (docs/reliability.md).
+COMMIT_JOURNAL = ".ufcsr-commit.json"
+
+
+class UfcsrError(Exception):
+    """A ufcsr file or run failed; the message names the file and the problem."""
+
+
+def read_bytes(path: PathLike, kind: str = "small") -> bytes:
+    """The bytes of ``path``, a regular file of at most ``LIMITS[kind]`` bytes."""
+    path = Path(os.fspath(path))
+    limit = LIMITS[kind]
+    try:
+        descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except FileNotFoundError:
+        raise UfcsrError(f"{path}: no such file") from None
+    except OSError as error:
+        raise UfcsrError(f"{path}: cannot open: {error.strerror}") from None
+    with os.fdopen(descriptor, "rb") as handle:
+        info = os.fstat(handle.fileno())
+        if not stat.S_ISREG(info.st_mode):
+            raise UfcsrError(f"{path}: not a regular file (a folder, device, FIFO or socket)")
+        if info.st_size > limit:
+            raise UfcsrError(f"{path}: {info.st_size:,} bytes, more than the {limit:,} bytes a {kind} file may have")
+        data = handle.read(limit + 1)
+    if len(data) > limit:
+        raise UfcsrError(f"{path}: more than the {limit:,} bytes a {kind} file may have (it grew while read)")
+    return data
+
+
+def refuse_half_written(folder: Path, path: Path) -> None:
+    """A set whose commit was interrupted is part old, part new: refused, as by the analyzer."""
+    journal = folder / COMMIT_JOURNAL
+    if os.path.lexists(journal):
+        raise UfcsrError(
+            f"{path}: its run was killed while it moved a new result set into place ({journal} is left): "
+            "the set is part old, part new; analyse again into this folder (that finishes the move first)"
+        )
