@@ -231,8 +231,8 @@ fn capture_modules_form_no_cycle() {
         );
     }
     assert!(
-        edges.get("archive").is_some_and(|to| to.contains("scene")),
-        "no edge archive → scene found: is capture/src/ where it was? {edges:?}"
+        edges.get("job").is_some_and(|to| to.contains("scene")),
+        "no edge job → scene found: is capture/src/ where it was? {edges:?}"
     );
     if std::env::var_os("UFCSR_PRINT_MODULE_EDGES").is_some() {
         for (from, to) in &edges {

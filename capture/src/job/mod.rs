@@ -5,7 +5,9 @@
 //! ([`scene_checks`]), one frame's tiles ([`frame_capture`]), where tiles go
 //! ([`tile_sink`]: PNGs through the [`encoder_pool`], or counted in memory by
 //! [`count_sink`]), the manifest ([`manifest_builder`]), one capture as
-//! several jobs ([`capture_shard`]) and a batch of captures ([`batch`]).
+//! several jobs ([`capture_shard`]) and a batch of captures ([`batch`]),
+//! and the guard every writing command passes first, that no output
+//! replaces an input ([`overwrite_guard`]; `inspect` and `study` use it too).
 
 pub(crate) mod batch;
 pub(crate) mod capture_job;
@@ -16,6 +18,7 @@ pub(crate) mod encoder_pool;
 pub(crate) mod frame_capture;
 pub(crate) mod manifest_builder;
 pub(crate) mod options;
+pub(crate) mod overwrite_guard;
 pub(crate) mod scene_checks;
 pub(crate) mod tile_sink;
 

@@ -14,14 +14,14 @@ use std::time::Instant;
 
 use ufcsr::{Color, Fcsp, Manifest, PaletteRecord};
 
-use crate::archive::capture_shard;
-use crate::archive::encoder_pool::{EncoderPool, OldTiles};
-use crate::archive::frame_capture::FrameCapture;
-use crate::archive::manifest_builder::{ManifestParts, build_manifest};
-use crate::archive::options::{CaptureOptions, Summary, TileTally};
-use crate::archive::tile_sink::TileSink;
-use crate::archive::{ARCHIVE_FILES, ARCHIVE_FOLDERS, SCENE_FILE, VEHICLE_FILE};
 use crate::error::{CaptureError, Result};
+use crate::job::capture_shard;
+use crate::job::encoder_pool::{EncoderPool, OldTiles};
+use crate::job::frame_capture::FrameCapture;
+use crate::job::manifest_builder::{ManifestParts, build_manifest};
+use crate::job::options::{CaptureOptions, Summary, TileTally};
+use crate::job::tile_sink::TileSink;
+use crate::job::{ARCHIVE_FILES, ARCHIVE_FOLDERS, SCENE_FILE, VEHICLE_FILE};
 use crate::render::{GpuPalette, RenderSetup, Renderer, vehicle_vertices};
 use crate::scene::Scene;
 use crate::scene::scenario::Scenario;
@@ -154,14 +154,14 @@ pub fn prepare_archive(
 /// inputs, creates it, and replaces links where its own folders go.
 pub(crate) fn prepare_folder(scene: &Scene, options: &CaptureOptions) -> Result<()> {
     let out = &options.out;
-    crate::overwrite_guard::refuse_overwriting_inputs(
+    crate::job::overwrite_guard::refuse_overwriting_inputs(
         out,
         &ARCHIVE_FILES,
         &ARCHIVE_FOLDERS,
         &capture_inputs(scene, options),
     )?;
     std::fs::create_dir_all(out).map_err(|e| CaptureError::io(out, e))?;
-    crate::overwrite_guard::unlink_owned_folders(out, &ARCHIVE_FOLDERS)
+    crate::job::overwrite_guard::unlink_owned_folders(out, &ARCHIVE_FOLDERS)
 }
 
 /// Every file a capture of `scene` with `options` reads: the scene's files,
@@ -260,7 +260,7 @@ pub struct CapturedTiles {
     pub tally: TileTally,
     pub frames: u32,
     pub tiles: u64,
-    /// What the impossible-scene checks found (see [`crate::archive::scene_checks`]).
+    /// What the impossible-scene checks found (see [`crate::job::scene_checks`]).
     pub warnings: Vec<String>,
 }
 
@@ -278,8 +278,8 @@ pub fn capture_frames(
     check_capturable(scene, scenario)?;
     let frames = frames_to_capture(scene, scenario, options)?;
     // Over the whole selection, so that every shard warns alike.
-    let selected = crate::archive::scene_checks::selected_frames(scene, scenario, options)?;
-    let warnings = crate::archive::scene_checks::scene_warnings(scene, scenario, &selected)?;
+    let selected = crate::job::scene_checks::selected_frames(scene, scenario, options)?;
+    let warnings = crate::job::scene_checks::scene_warnings(scene, scenario, &selected)?;
     let tiles_per_eye = u64::from(rig.tiles[0]) * u64::from(rig.tiles[1]);
     let total = frames.len() as u64 * 2 * tiles_per_eye;
     let progress = &options.progress;
@@ -328,7 +328,7 @@ pub fn frames_to_capture(
     scenario: &Scenario,
     options: &CaptureOptions,
 ) -> Result<Vec<(usize, u32)>> {
-    let selected = crate::archive::scene_checks::selected_frames(scene, scenario, options)?;
+    let selected = crate::job::scene_checks::selected_frames(scene, scenario, options)?;
     let frames = capture_shard::frames_of_shard(&selected, options.shard);
     if frames.is_empty()
         && let Some(shard) = options.shard
@@ -447,7 +447,7 @@ pub fn write_manifest(
         Some(shard) => {
             let mut manifest = manifest.clone();
             // What assemble accounts for: the whole selection and this shard's tiles.
-            let selected = crate::archive::scene_checks::selected_frames(scene, scenario, options)?;
+            let selected = crate::job::scene_checks::selected_frames(scene, scenario, options)?;
             let record = capture_shard::shard_record(shard, &selected, manifest.tiles.len());
             if let Some(serde_json::Value::Object(capture)) = manifest.extra.get_mut("capture") {
                 capture.insert("shard".into(), record);
@@ -558,8 +558,8 @@ pub fn read_rgb_png(path: &Path) -> Result<([u32; 2], Vec<u8>)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::archive::options::FrameSelection;
-    use crate::archive::tile_sink::{is_tile_name, tile_file};
+    use crate::job::options::FrameSelection;
+    use crate::job::tile_sink::{is_tile_name, tile_file};
     use crate::scene::rig::Eye;
 
     #[test]

@@ -11,8 +11,8 @@ use std::sync::mpsc::{SyncSender, sync_channel};
 
 use ufcsr::TileCounter;
 
-use crate::archive::tile_sink::{RenderedTile, TileSink};
 use crate::error::{CaptureError, Result};
+use crate::job::tile_sink::{RenderedTile, TileSink};
 
 /// Hands tiles to the counting thread.
 pub struct CountSink {

@@ -25,8 +25,8 @@ use std::collections::BTreeMap;
 
 use glam::{DMat4, DVec3, DVec4, dvec3};
 
-use crate::archive::options::CaptureOptions;
 use crate::error::{CaptureError, Result};
+use crate::job::options::CaptureOptions;
 use crate::scene::Scene;
 use crate::scene::frame_state::FrameState;
 use crate::scene::mesh::Mesh;

@@ -12,7 +12,7 @@ use std::path::PathBuf;
 use serde_json::{Map, Value, json};
 use ufcsr::{Color, MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry};
 
-use crate::archive::options::{CaptureOptions, TileTally};
+use crate::job::options::{CaptureOptions, TileTally};
 use crate::scene::Scene;
 use crate::scene::frame_state::FrameState;
 use crate::scene::rig::{Eye, Rig, reversed_z_perspective};
@@ -22,7 +22,7 @@ use crate::texture::pidt::PidtImage;
 use crate::texture::uv_islands::{self as unwrap, Unwrapped};
 
 /// The counters in the manifest's `capture` object that add up over the
-/// shards of one capture (see [`crate::archive::capture_shard`]); everything else in
+/// shards of one capture (see [`crate::job::capture_shard`]); everything else in
 /// it must agree between them.
 pub const CAPTURE_TALLIES: [&str; 5] =
     ["tiles_rendered", "tiles_culled", "tiles_background_only", "pixels_scissored", "tiles_hidden"];
@@ -147,8 +147,8 @@ pub fn build_manifest(parts: ManifestParts) -> Manifest {
         }),
     );
     extra.insert("scene".into(), scene.info.clone());
-    extra.insert("vehicle".into(), json!(crate::archive::VEHICLE_FILE));
-    extra.insert("occluders".into(), json!(crate::archive::SCENE_FILE));
+    extra.insert("vehicle".into(), json!(crate::job::VEHICLE_FILE));
+    extra.insert("occluders".into(), json!(crate::job::SCENE_FILE));
     extra.insert(
         "unwrap".into(),
         json!({

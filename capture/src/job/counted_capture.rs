@@ -16,13 +16,13 @@ use std::time::Instant;
 
 use ufcsr::{Dedupe, Fcsp, Legend, PaletteRecord, Pidt};
 
-use crate::archive::capture_job::{
+use crate::error::{CaptureError, Result};
+use crate::job::capture_job::{
     PreparedCapture, capture_frames, prepare_archive, prepare_folder, summarize, write_manifest,
 };
-use crate::archive::count_sink::{Counted, count_while};
-use crate::archive::options::{CaptureOptions, Summary};
-use crate::archive::{SCENE_FILE, VEHICLE_FILE};
-use crate::error::{CaptureError, Result};
+use crate::job::count_sink::{Counted, count_while};
+use crate::job::options::{CaptureOptions, Summary};
+use crate::job::{SCENE_FILE, VEHICLE_FILE};
 use crate::scene::Scene;
 use crate::scene::scenario::Scenario;
 
@@ -149,7 +149,7 @@ impl CaptureSetup {
         check_countable(scene, options)?;
         self.place(device, queue, scene, options)?;
         // Tiles of an earlier capture would contradict a manifest that says none were written.
-        crate::archive::encoder_pool::remove_old_tiles(&options.out.join("tiles"))?;
+        crate::job::encoder_pool::remove_old_tiles(&options.out.join("tiles"))?;
         let setup_seconds = start.elapsed().as_secs_f64();
         let prepared = &self.prepared;
         let mut counter = ufcsr::TileCounter::new(&self.palette, &[prepared.background], dedupe)?;
@@ -158,7 +158,7 @@ impl CaptureSetup {
             Some((&self.labels.legend, &*self.labels.pidt)),
             &[prepared.background.packed()],
         );
-        crate::archive::count_sink::tally_parts(&mut counter, lookup, &scene.rig);
+        crate::job::count_sink::tally_parts(&mut counter, lookup, &scene.rig);
         let (captured, counted) = count_while(counter, |sink| {
             capture_frames(device, queue, scene, scenario, options, prepared, sink)
         })?;

@@ -1,8 +1,8 @@
 //! Where rendered tiles go: the seam between rendering and output.
 //!
-//! The frame loop ([`crate::archive::frame_capture`]) renders tiles and hands each one
+//! The frame loop ([`crate::job::frame_capture`]) renders tiles and hands each one
 //! that shows anything but background to a [`TileSink`]. Writing PNGs
-//! ([`crate::archive::encoder_pool::EncoderPool`]) is one sink; counting the readback
+//! ([`crate::job::encoder_pool::EncoderPool`]) is one sink; counting the readback
 //! buffer straight into the analyzer's tables is another. Keeping the loop
 //! ignorant of files is what lets both produce the same archive bookkeeping.
 

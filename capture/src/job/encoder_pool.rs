@@ -9,9 +9,9 @@ use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::JoinHandle;
 
-use crate::archive::options::{Compression, TileFilter};
-use crate::archive::tile_sink::{RenderedTile, TileAddress, TileSink, is_tile_name};
 use crate::error::{CaptureError, Result};
+use crate::job::options::{Compression, TileFilter};
+use crate::job::tile_sink::{RenderedTile, TileAddress, TileSink, is_tile_name};
 
 /// What to do with tiles an earlier capture left in the archive.
 #[derive(Debug, Clone)]

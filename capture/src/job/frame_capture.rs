@@ -15,10 +15,10 @@ use glam::{DMat4, DVec3};
 use serde_json::{Map, Value, json};
 use ufcsr::{Color, TileEntry};
 
-use crate::archive::manifest_builder::round6;
-use crate::archive::options::TileTally;
-use crate::archive::tile_sink::{RenderedTile, TileAddress, TileSink};
 use crate::error::Result;
+use crate::job::manifest_builder::round6;
+use crate::job::options::TileTally;
+use crate::job::tile_sink::{RenderedTile, TileAddress, TileSink};
 use crate::render::scissor::{EyeBounds, background_tile, fill_tile};
 use crate::render::{PixelRect, Renderer, TileDraw};
 use crate::scene::Scene;
@@ -121,7 +121,7 @@ impl<'a> FrameCapture<'a> {
             }
             tiles_with_vehicle.insert(eye.name().into(), json!(with_vehicle));
         }
-        let mut record = crate::archive::manifest_builder::frame_record(self.scene, &state);
+        let mut record = crate::job::manifest_builder::frame_record(self.scene, &state);
         record.insert("tiles_with_vehicle".into(), Value::Object(tiles_with_vehicle));
         captured.record = Value::Object(record);
         Ok(captured)

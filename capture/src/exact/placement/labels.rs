@@ -7,7 +7,7 @@
 //! each.
 
 use super::patches::PlacedPatch;
-use crate::unobstructed::types::SurfaceSamples;
+use crate::exact::types::SurfaceSamples;
 
 /// `part` or `patch`, as `placement-frames.csv` spells it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

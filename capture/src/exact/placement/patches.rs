@@ -36,7 +36,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use super::ExactInputs;
-use crate::unobstructed::types::{SURFACE_LIFT_RELATIVE, SurfaceSample};
+use crate::exact::types::{SURFACE_LIFT_RELATIVE, SurfaceSample};
 
 /// The footprint table's name and columns: the analyzer's, which reads it.
 pub use ufcsr::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE};

@@ -104,7 +104,7 @@ pub fn eye_frames(
         for camera in rig.cameras(state.time_s, &state.vehicle) {
             eye_frames.push(eye_frame(obstacles, &to_world, &moving, camera.position, &camera.view_proj));
         }
-        let record = crate::archive::manifest_builder::frame_record(scene, &state);
+        let record = crate::job::manifest_builder::frame_record(scene, &state);
         records.push(Value::Object(record));
     }
     Ok((eye_frames, records))

@@ -24,8 +24,8 @@ use rayon::prelude::*;
 use super::ExactInputs;
 use super::labels::{LabelKind, LabelSet};
 use crate::error::{CaptureError, Result};
-use crate::unobstructed::rules::{Tracer, visible_solid_angle};
-use crate::unobstructed::types::{EyeFrame, SurfaceSample, transform_point};
+use crate::exact::rules::{Tracer, visible_solid_angle};
+use crate::exact::types::{EyeFrame, SurfaceSample, transform_point};
 
 /// The sums of one candidate in one eye-frame.
 #[derive(Debug, Clone, Copy)]

@@ -148,7 +148,7 @@ pub struct CaptureOptions {
     pub progress: CaptureProgress,
     /// PNG encoder threads (0: as many as cores).
     pub encoder_threads: usize,
-    /// Render only this shard of the selected frames (see [`crate::archive::capture_shard`]).
+    /// Render only this shard of the selected frames (see [`crate::job::capture_shard`]).
     pub shard: Option<ufcsr::Shard>,
     /// Each heatmap view in a counted capture's results is 400×300 pixels
     /// times this, 1–8 (the analyzer's `--views-scale`).

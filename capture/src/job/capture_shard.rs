@@ -19,8 +19,8 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 use ufcsr::{MANIFEST_FILE, Manifest, Shard};
 
-use crate::archive::manifest_builder::CAPTURE_TALLIES;
 use crate::error::{CaptureError, Result};
+use crate::job::manifest_builder::CAPTURE_TALLIES;
 
 /// Folder of the shards' partial manifests, inside the archive.
 pub const SHARDS_DIR: &str = "shards";

@@ -12,11 +12,11 @@ use super::frames::{Seen, measure_eye_frame};
 use super::labels::LabelSet;
 use super::patches::place_patches;
 use super::{ExactInputs, parse_display};
+use crate::exact::geometry::{Obstacles, eye_frame};
+use crate::exact::points::surface_samples;
+use crate::exact::types::{EyeFrame, PlacementCandidates, SurfaceSamples};
 use crate::scene::{Mesh, Occluders, Scene, ValueOrTrack, look_to, reversed_z_perspective};
 use crate::texture::{background_texel, unwrap_islands_avoiding};
-use crate::unobstructed::geometry::{Obstacles, eye_frame};
-use crate::unobstructed::points::surface_samples;
-use crate::unobstructed::types::{EyeFrame, PlacementCandidates, SurfaceSamples};
 
 /// A plate `w` wide (along y) and `h` high in the plane x = 0, centred on (0, 0, `z`).
 fn plate(w: f32, h: f32, z: f32) -> Mesh {
@@ -171,8 +171,7 @@ fn a_patch_behind_a_moving_box_is_hidden_in_exactly_the_frames_the_box_covers_it
     let samples = samples_of(&scene.vehicle, [512, 512]);
     let obstacles = Obstacles::new(&scene);
     let frames: Vec<u32> = (0..=10).collect();
-    let (eye_frames, _) =
-        crate::unobstructed::geometry::eye_frames(&scene, &scenario, &frames, &obstacles).unwrap();
+    let (eye_frames, _) = crate::exact::geometry::eye_frames(&scene, &scenario, &frames, &obstacles).unwrap();
     let inputs = inputs(&scene, &samples, &obstacles);
     let (labels, patches) = display_patches(&inputs);
     let low = centred_patch(&patches, |z| z < 1.7);

@@ -22,8 +22,8 @@ use super::types::{
     DEG2_PER_SR, MEASURE_UNOBSTRUCTED, MeasureDevice, MeasureOptions, PartEyeFrames, SurfaceSamples,
     TexelVisibility,
 };
-use crate::archive::{CaptureOptions, CapturedTiles, TileTally, prepare_archive, summarize, write_manifest};
 use crate::error::{CaptureError, Result};
+use crate::job::{CaptureOptions, CapturedTiles, TileTally, prepare_archive, summarize, write_manifest};
 use crate::scene::Scene;
 use crate::scene::scenario::Scenario;
 
@@ -96,8 +96,8 @@ pub fn measure_unobstructed(
     check_options(measure)?;
     scene.rig.check()?;
     let prepared = prepare_archive(device, queue, scene, options)?;
-    let frames = crate::archive::scene_checks::selected_frames(scene, scenario, options)?;
-    let warnings = crate::archive::scene_checks::scene_warnings(scene, scenario, &frames)?;
+    let frames = crate::job::scene_checks::selected_frames(scene, scenario, options)?;
+    let warnings = crate::job::scene_checks::scene_warnings(scene, scenario, &frames)?;
     let samples = surface_samples(
         &scene.vehicle,
         &prepared.unwrapped,
