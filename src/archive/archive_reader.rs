@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 
 use walkdir::WalkDir;
 
+use crate::archive::manifest::Manifest;
 use crate::error::{Error, Result};
-use crate::input::manifest::Manifest;
 
 /// One image file to analyse.
 #[derive(Debug, Clone)]
@@ -72,13 +72,13 @@ impl Archive {
             let group = groups[&(tile.frame, tile.eye.clone())];
             if let Some(file) = &tile.file {
                 let place = format!("tile {}", tile.place());
-                crate::input::manifest::inside_archive(root, &place, file)?;
+                crate::archive::manifest::inside_archive(root, &place, file)?;
                 // A tile that cannot be resolved (missing) fails when it is read.
                 if let Some(real) = crate::files::resolved(&root.join(file))
                     && let Some(first) = resolved.insert(real, file)
                 {
                     return Err(Error::bad_file(
-                        &root.join(crate::input::manifest::MANIFEST_FILE),
+                        &root.join(crate::archive::manifest::MANIFEST_FILE),
                         format!(
                             "tiles {} and {} are the same file: it would be counted twice",
                             first.display(),
@@ -233,14 +233,14 @@ fn same_file(a: &Path, b: &Path) -> bool {
 fn textures_named_by_manifests(root: &Path) -> Vec<PathBuf> {
     let mut named = Vec::new();
     for entry in WalkDir::new(root).follow_links(true).into_iter().flatten() {
-        if entry.file_name() != crate::input::manifest::MANIFEST_FILE || !entry.file_type().is_file() {
+        if entry.file_name() != crate::archive::manifest::MANIFEST_FILE || !entry.file_type().is_file() {
             continue;
         }
         let Some(folder) = entry.path().parent() else { continue };
         // An unreadable manifest names nothing; the frames are still counted.
         let Ok(Some(manifest)) = Manifest::load_from_dir(folder) else { continue };
         named.extend(manifest.pidt.iter().map(|p| folder.join(p)));
-        if let Some(crate::input::manifest::PaletteRecord::File(file)) = &manifest.palette {
+        if let Some(crate::archive::manifest::PaletteRecord::File(file)) = &manifest.palette {
             named.push(folder.join(file));
         }
     }

@@ -5,8 +5,8 @@
 
 use std::collections::BTreeMap;
 
-use crate::input::manifest::Manifest;
-use crate::input::solid_angle::{EyeProjection, TileView};
+use crate::archive::manifest::Manifest;
+use crate::optics::solid_angle::{EyeProjection, TileView};
 
 /// One eye-frame of a manifest (group ids as [`crate::Archive`] numbers them).
 #[derive(Debug, Clone, PartialEq)]
@@ -84,7 +84,7 @@ impl FrameClock {
 
 /// The eyes' projection and tiling, from the manifest's `rig.settings`
 /// (`horizontal_fov_deg`, `eye_pixels`, `tiles`): what the solid angle of
-/// each pixel needs ([`crate::count::solid_angle`]).
+/// each pixel needs ([`crate::optics::solid_angle`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EyeOptics {
     pub projection: EyeProjection,

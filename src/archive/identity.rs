@@ -9,7 +9,7 @@
 
 use std::path::Path;
 
-use crate::input::archive_reader::Archive;
+use crate::archive::archive_reader::Archive;
 
 /// FNV-1a, 64 bits.
 struct Digest(u64);

@@ -8,9 +8,9 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
+use crate::archive::shard::Shard;
 use crate::color::Color;
 use crate::error::{Error, Result};
-use crate::input::shard::Shard;
 
 /// Which palette to use.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -97,7 +97,7 @@ pub struct AnalyzeOptions {
     pub exclude: Vec<PathBuf>,
     /// Ignore `manifest.json` even if present.
     pub ignore_manifest: bool,
-    /// Count only this shard of the archive (see [`crate::input::shard`]).
+    /// Count only this shard of the archive (see [`crate::archive::shard`]).
     pub shard: Option<Shard>,
     /// The vehicle as unwrapped (glTF with the palette UVs), for `heatmap.glb`;
     /// default: the manifest's `vehicle`.
@@ -111,7 +111,7 @@ pub struct AnalyzeOptions {
     /// The legend and PIdT the analysis would read (from the options or the
     /// manifest), already loaded by the caller: used instead of reading them
     /// again (the files must still be there; the identity digests them).
-    pub loaded_labels: Option<crate::input::labels::LoadedLabels>,
+    pub loaded_labels: Option<crate::archive::labels::LoadedLabels>,
 }
 
 /// Wall-clock seconds per stage, and the thread count (kept out of

@@ -4,15 +4,15 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::archive::archive_reader::Archive;
+use crate::archive::capture_facts::{CaptureGeometry, EyeFrame, EyeOptics, FrameClock, eye_frames};
+use crate::archive::identity::archive_identity;
+use crate::archive::labels::{Legend, LoadedLabels, Pidt};
+use crate::archive::manifest::{Manifest, PaletteRecord, inside_archive};
+use crate::archive::options::{AnalyzeOptions, Dedupe, PaletteChoice};
+use crate::archive::palette::{DEFAULT_PALETTE_SIDE, Fcsp};
 use crate::color::Color;
 use crate::error::{Error, Result};
-use crate::input::archive_reader::Archive;
-use crate::input::capture_facts::{CaptureGeometry, EyeFrame, EyeOptics, FrameClock, eye_frames};
-use crate::input::identity::archive_identity;
-use crate::input::labels::{Legend, LoadedLabels, Pidt};
-use crate::input::manifest::{Manifest, PaletteRecord, inside_archive};
-use crate::input::options::{AnalyzeOptions, Dedupe, PaletteChoice};
-use crate::input::palette::{DEFAULT_PALETTE_SIDE, Fcsp};
 
 /// The legend and the PIdT, each with the file it was read from.
 pub(crate) struct LabelFiles {
@@ -52,7 +52,7 @@ pub(crate) struct Inputs {
     pub eye_frames: Vec<EyeFrame>,
     /// Seconds per captured frame, eyes and pixels per degree.
     pub clock: FrameClock,
-    /// What the counts depend on, digested ([`crate::input::identity`]).
+    /// What the counts depend on, digested ([`crate::archive::identity`]).
     pub identity: String,
     /// The eyes' projection and tiling (for each pixel's solid angle).
     pub optics: Option<EyeOptics>,
@@ -101,7 +101,7 @@ pub(crate) fn resolve_inputs_allowing_no_images(
     if let Some(labels) = &parts {
         files.extend([labels.pidt_path.as_path(), labels.legend_path.as_path()]);
     }
-    let manifest_path = root.join(crate::input::manifest::MANIFEST_FILE);
+    let manifest_path = root.join(crate::archive::manifest::MANIFEST_FILE);
     let identity = archive_identity(manifest.as_ref().map(|_| manifest_path.as_path()), &archive, &files);
     Ok(Inputs {
         identity,

@@ -7,15 +7,15 @@
 //! heatmap as the base-colour texture, nearest filtering, unlit — they open
 //! upright in Blender, three.js and any glTF viewer, because positions are
 //! stored in glTF's axes and read back into the vehicle frame by the rule of
-//! [`crate::output::glb`] (old z-up files included). Written with
+//! [`crate::archive::glb`] (old z-up files included). Written with
 //! `gltf-json`, read back with `gltf`.
 
 use std::path::Path;
 
 use gltf_json as json;
 
+use crate::archive::glb::{FileAxes, GlbBuilder, IDENTITY, multiply, to_gltf_axes, transform_point};
 use crate::error::{Error, Result};
-use crate::output::glb::{FileAxes, GlbBuilder, IDENTITY, multiply, to_gltf_axes, transform_point};
 
 /// One part: a triangle list (three vertices per triangle).
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -44,7 +44,7 @@ impl VehicleModel {
     }
 
     /// The GLB: one node and mesh per part in glTF's axes (see
-    /// [`crate::output::glb`]), every primitive with the one unlit material
+    /// [`crate::archive::glb`]), every primitive with the one unlit material
     /// (textured when `texture` is given).
     fn to_glb(&self, texture: Option<(&str, &[u8])>) -> std::result::Result<Vec<u8>, String> {
         let mut glb = GlbBuilder::new();

@@ -11,8 +11,8 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::archive::scenario_track::ScenarioTrack;
 use crate::error::Result;
-use crate::input::scenario_track::ScenarioTrack;
 use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::numbers::grouped;
 use crate::result::part_stats::top_five_union;
