@@ -38,10 +38,10 @@ pub use error::{Error, Result};
 #[cfg(feature = "cli")]
 pub use files::remove_temporaries_on_interrupt;
 pub use files::{
-    GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, SMALL_INPUT_LIMIT, check_accessors, check_coordinates,
-    parse_gltf, read_gltf, read_limited, real_dir, refuse_overwriting_inputs, remove_on_interrupt,
-    remove_stale_staging, remove_temporaries, resolve_inside, same_path, write_atomically,
-    write_bytes_atomically, write_rgb_png,
+    GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, PngEncoding, SMALL_INPUT_LIMIT, check_accessors,
+    check_coordinates, encode_rgb_png, parse_gltf, read_gltf, read_limited, real_dir,
+    refuse_overwriting_inputs, remove_on_interrupt, remove_stale_staging, remove_temporaries, resolve_inside,
+    same_path, write_atomically, write_bytes_atomically, write_rgb_png,
 };
 pub use input::{PixelLayout, RowReader, read_color_image, read_file, verify_image_data};
 pub use optics::{EyeProjection, TileView};

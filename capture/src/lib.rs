@@ -65,5 +65,7 @@ pub use study::observers::{
 pub use study::{Study, StudyMeasure, StudyOptions, StudyRow, run_study, write_study};
 pub use texture::{
     OwnLabelFiles, PidtImage, UNLABELLED_COLOR, Unwrapped, background_texel, footprint, keep_uvs, paint_pidt,
-    parse_palette_size, unwrap_islands, unwrap_islands_avoiding,
+    unwrap_islands, unwrap_islands_avoiding,
 };
+/// The analyzer's one `--palette-size` parser, for the capture's commands.
+pub use ufcsr::parse_palette_size;

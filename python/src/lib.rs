@@ -60,7 +60,7 @@ fn palette_choice(values: &OptionValues) -> ufcsr::Result<Option<PaletteChoice>>
     Ok(match (&values.fcsp, &values.palette_size) {
         (Some(path), _) => Some(PaletteChoice::Image(path.clone())),
         (None, Some(size)) => {
-            let (width, height) = ufcsr::parse_palette_size(size)?;
+            let [width, height] = ufcsr::parse_palette_size(size)?;
             Some(PaletteChoice::Canonical { width, height })
         }
         (None, None) => None,

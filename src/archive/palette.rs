@@ -186,8 +186,10 @@ pub fn write_canonical_png(path: &Path, width: u32, height: u32) -> Result<()> {
     crate::files::write_rgb_png(path, width, height, &rgb, png::Compression::Fast)
 }
 
-/// Parses `W`, `WxH` or `W×H` into a size.
-pub fn parse_size(text: &str) -> Result<(u32, u32)> {
+/// Parses `W`, `WxH` or `W×H` into a palette size `[W, H]` (W alone:
+/// square), of 1 to 2^24 texels (one colour each). The one parser of
+/// `--palette-size` in both crates.
+pub fn parse_size(text: &str) -> Result<[u32; 2]> {
     let bad =
         || Error::BadOptions(format!("invalid palette size {text:?}: expected W or WxH, e.g. 4096x4096"));
     let mut parts = text.split(['x', 'X', '×']);
@@ -199,7 +201,12 @@ pub fn parse_size(text: &str) -> Result<(u32, u32)> {
     if parts.next().is_some() {
         return Err(bad());
     }
-    Ok((width, height))
+    if width == 0 || height == 0 || u64::from(width) * u64::from(height) > COLOR_COUNT as u64 {
+        return Err(Error::BadOptions(format!(
+            "palette size {width}x{height}: needs 1 to 2^24 texels (e.g. 4096, 512x256), from {text:?}"
+        )));
+    }
+    Ok([width, height])
 }
 
 #[cfg(test)]
@@ -228,8 +235,11 @@ mod tests {
 
     #[test]
     fn parses_sizes() {
-        assert_eq!(parse_size("4096").unwrap(), (4096, 4096));
-        assert_eq!(parse_size("64x32").unwrap(), (64, 32));
+        assert_eq!(parse_size("4096").unwrap(), [4096, 4096]);
+        assert_eq!(parse_size("64x32").unwrap(), [64, 32]);
+        assert_eq!(parse_size("512×128").unwrap(), [512, 128]);
         assert!(parse_size("64x").is_err());
+        assert!(parse_size("8192").is_err());
+        assert!(parse_size("0x4").is_err());
     }
 }

@@ -203,11 +203,7 @@ fn write_models(
 /// it compresses to a few hundred kB even at 4096²).
 fn palette_png(texel_rgb: &[u8], size: [u32; 2]) -> Result<Vec<u8>> {
     let mut bytes = Vec::new();
-    let mut encoder = png::Encoder::new(&mut bytes, size[0], size[1]);
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(png::BitDepth::Eight);
-    encoder.set_compression(png::Compression::Fast);
-    let encoded = encoder.write_header().and_then(|mut writer| writer.write_image_data(texel_rgb));
+    let encoded = ufcsr::encode_rgb_png(&mut bytes, size, texel_rgb, png::Compression::Fast.into());
     encoded.map_err(|e| CaptureError::BadOptions(format!("encoding the palette for vehicle.glb: {e}")))?;
     Ok(bytes)
 }

@@ -9,6 +9,8 @@ use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::JoinHandle;
 
+use ufcsr::PngEncoding;
+
 use crate::error::{CaptureError, Result};
 use crate::job::options::{Compression, TileFilter};
 use crate::job::tile_sink::{RenderedTile, TileAddress, TileSink, is_tile_name};
@@ -72,7 +74,7 @@ impl EncoderPool {
         let workers = (0..threads)
             .map(|_| {
                 let (receiver, errors) = (receiver.clone(), errors.clone());
-                let format = TileFormat { compression: compression.png(), filter: filter.png() };
+                let format = PngEncoding { compression: compression.png(), filter: Some(filter.png()) };
                 std::thread::spawn(move || encoder_worker(&receiver, format, &errors))
             })
             .collect();
@@ -130,14 +132,7 @@ impl Drop for EncoderPool {
     }
 }
 
-/// How tiles are encoded: deflate level and row filter.
-#[derive(Debug, Clone, Copy)]
-struct TileFormat {
-    compression: png::Compression,
-    filter: png::Filter,
-}
-
-fn encoder_worker(jobs: &Mutex<Receiver<EncodeJob>>, format: TileFormat, errors: &Mutex<Vec<CaptureError>>) {
+fn encoder_worker(jobs: &Mutex<Receiver<EncodeJob>>, format: PngEncoding, errors: &Mutex<Vec<CaptureError>>) {
     let mut rgb = Vec::new();
     loop {
         let job = match jobs.lock() {
@@ -164,19 +159,10 @@ pub(crate) fn rgba_to_rgb(rgba: &[u8], rgb: &mut Vec<u8>) {
     }
 }
 
-/// Writes one RGB tile atomically with the capture's deflate level and row filter.
-fn write_tile_png(path: &Path, size: [u32; 2], rgb: &[u8], format: TileFormat) -> Result<()> {
-    ufcsr::write_atomically(path, |writer| {
-        let mut encoder = png::Encoder::new(writer, size[0], size[1]);
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        // set_compression also picks a filter: set ours after it.
-        encoder.set_compression(format.compression);
-        encoder.set_filter(format.filter);
-        let mut png_writer = encoder.write_header().map_err(std::io::Error::other)?;
-        png_writer.write_image_data(rgb).map_err(std::io::Error::other)?;
-        png_writer.finish().map_err(std::io::Error::other)
-    })?;
+/// Writes one RGB tile atomically with the capture's deflate level and row
+/// filter (`format`), through the one encoder.
+fn write_tile_png(path: &Path, size: [u32; 2], rgb: &[u8], format: PngEncoding) -> Result<()> {
+    ufcsr::write_rgb_png(path, size[0], size[1], rgb, format)?;
     Ok(())
 }
 
@@ -236,7 +222,7 @@ mod tests {
         // Rows alike, as in tiles (the fast deflate stores rows it cannot shrink unfiltered).
         let rgb: Vec<u8> = (0..64 * 32 * 3).map(|i: usize| (i % 192 / 12 * 5) as u8).collect();
         for (filter, name) in [(png::Filter::Up, "up.png"), (png::Filter::Adaptive, "adaptive.png")] {
-            let format = TileFormat { compression: png::Compression::Fast, filter };
+            let format = PngEncoding { compression: png::Compression::Fast, filter: Some(filter) };
             write_tile_png(&dir.path().join(name), [64, 32], &rgb, format).unwrap();
         }
         let read =
