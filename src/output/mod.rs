@@ -1,9 +1,10 @@
 //! Stage 4, output: a result for people and other programs — the result
 //! set written atomically into its folder ([`write_results`]), `parts.csv`
 //! and `frames.csv` ([`csv`]), the console table, the heatmap texture, the
-//! vehicle model with it (`heatmap.glb`, written by `archive`'s [`crate::VehicleModel`]), the eight views (drawn with the
-//! CPU rasterizer [`raster`], which the capture's inspect pictures share),
-//! the plots and the HTML pages ([`html`]); with the `cli` feature, shell
+//! vehicle model with it (`heatmap.glb`, the archive's [`crate::VehicleModel`]
+//! with the heatmap as its texture), the eight views (drawn with the CPU
+//! rasterizer [`raster`], which the capture's inspect pictures share), the
+//! plots and the HTML pages ([`html`]); with the `cli` feature, shell
 //! completions and man pages for both binaries.
 
 #[cfg(feature = "cli")]
