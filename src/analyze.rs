@@ -2,12 +2,16 @@
 //!
 //! [`analyze`] is the whole pipeline in four stages, each in its folder:
 //! resolve the options against the archive's manifest and load every input
-//! once ([`crate::input`]), count the images in parallel ([`crate::count`]),
+//! once ([`crate::archive`]), count the images in parallel ([`crate::count`]),
 //! summarize the counts into the result ([`crate::result`]); the caller then
 //! writes the result set ([`crate::write_results`], [`crate::output`]).
 
 use std::time::Instant;
 
+use crate::archive::capture_facts::EyeFrame;
+use crate::archive::manifest::MANIFEST_FILE;
+use crate::archive::options::{AnalyzeOptions, Progress, Timings};
+use crate::archive::resolve::{resolve_inputs, resolve_inputs_allowing_no_images};
 use crate::count::part_lookup::{FrameLabel, FrameRecord};
 use crate::count::scan::{Classifier, Kernel};
 use crate::count::tile_counter::{PartTallies, TileCounter};
@@ -15,10 +19,6 @@ use crate::count::trim::TrimPlan;
 use crate::count::work::{CountJob, CountedImages, Outcome, count_images};
 use crate::count::work::{FrameTallies, eye_frame_label};
 use crate::error::{Error, Result};
-use crate::input::capture_facts::EyeFrame;
-use crate::input::manifest::MANIFEST_FILE;
-use crate::input::options::{AnalyzeOptions, Progress, Timings};
-use crate::input::resolve::{resolve_inputs, resolve_inputs_allowing_no_images};
 use crate::result::frames::FrameTable;
 use crate::result::measures::Measures;
 use crate::result::model::Analysis;
@@ -108,7 +108,7 @@ pub fn analyze_counted(options: &AnalyzeOptions, mut counter: TileCounter) -> Re
 
 /// The `frames.csv` table of a [`TileCounter`]'s part tallies, labelled by
 /// the manifest's eye-frames as the PNG path labels them.
-fn counted_frame_table(tallies: PartTallies, inputs: &crate::input::resolve::Inputs) -> FrameTable {
+fn counted_frame_table(tallies: PartTallies, inputs: &crate::archive::resolve::Inputs) -> FrameTable {
     let weighted = tallies.projection.is_some();
     let records = tallies
         .records

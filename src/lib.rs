@@ -5,6 +5,7 @@
 //! per-part statistics, and renders a heatmap texture.
 
 mod analyze;
+mod archive;
 mod checks;
 mod color;
 mod count;
@@ -13,12 +14,19 @@ mod error;
 mod files;
 mod input;
 mod kernel;
+mod optics;
 mod output;
 mod placement;
 mod result;
 mod testing;
 
 pub use analyze::{analyze, analyze_counted, analyze_texel_counts};
+pub use archive::{
+    AnalyzeOptions, Archive, CaptureGeometry, Dedupe, Fcsp, HeatmapOptions, ImageSource, Legend,
+    LoadedLabels, MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, ModelPart, PaletteChoice,
+    PaletteRecord, PaletteSetting, Part, Pidt, Progress, Scale, ScenarioTrack, Shard, TileEntry, Timings,
+    TrackFrame, TrimMode, UNLABELLED, VehicleModel, inside_archive, parse_palette_size, write_canonical_png,
+};
 pub use checks::{ColourChecks, ColourWarning, NeighbourSample};
 pub use color::{AtomicColorSet, COLOR_COUNT, Color, ParseColorError, SeenSet, color_key};
 pub use count::{
@@ -30,24 +38,19 @@ pub use error::{Error, Result};
 #[cfg(feature = "cli")]
 pub use files::remove_temporaries_on_interrupt;
 pub use files::{
-    GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, SMALL_INPUT_LIMIT, check_accessors, check_coordinates,
-    parse_gltf, read_gltf, read_limited, real_dir, refuse_overwriting_inputs, remove_on_interrupt,
-    remove_stale_staging, remove_temporaries, resolve_inside, same_path, write_atomically,
-    write_bytes_atomically, write_rgb_png,
+    GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, PngEncoding, SMALL_INPUT_LIMIT, check_accessors,
+    check_coordinates, encode_rgb_png, parse_gltf, read_gltf, read_limited, real_dir,
+    refuse_overwriting_inputs, remove_on_interrupt, remove_stale_staging, remove_temporaries, resolve_inside,
+    same_path, write_atomically, write_bytes_atomically, write_rgb_png,
 };
-pub use input::{
-    AnalyzeOptions, Archive, CaptureGeometry, Dedupe, EyeProjection, Fcsp, HeatmapOptions, ImageSource,
-    Legend, LoadedLabels, MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice,
-    PaletteRecord, PaletteSetting, Part, Pidt, PixelLayout, Progress, RowReader, Scale, ScenarioTrack, Shard,
-    TileEntry, TileView, Timings, TrackFrame, TrimMode, UNLABELLED, inside_archive, parse_palette_size,
-    read_color_image, read_file, verify_image_data, write_canonical_png,
-};
+pub use input::{PixelLayout, RowReader, read_color_image, read_file, verify_image_data};
+pub use optics::{EyeProjection, TileView};
 pub use output::{
     CsvStyle, DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, MAP_FILE, MAP_SIZE, MapContent, MapFrame,
-    ModelPart, NEVER_SEEN, ResultSetOptions, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED,
-    SceneObject, SceneShapes, VIEW_BASE, VehicleModel, ViewCamera, ViewTexture, WrittenFiles, WrittenViews,
-    ZBuffer, bar_ticks, csv_field, default_output_dir, format_counted_table, format_table, measure_unit,
-    plasma, plot_font_available, render_heatmap, render_view, time_colour, view_cameras, views_caption,
+    NEVER_SEEN, ResultSetOptions, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED, SceneObject,
+    SceneShapes, VIEW_BASE, ViewCamera, ViewTexture, WrittenFiles, WrittenViews, ZBuffer, bar_ticks,
+    csv_field, default_output_dir, format_counted_table, format_table, measure_unit, plasma,
+    plot_font_available, render_heatmap, render_view, time_colour, view_cameras, views_caption,
     write_comparison, write_heatmap, write_parts_csv, write_results, write_results_with, write_scenario_map,
     write_scene_glb, write_views, write_views_with,
 };

@@ -9,34 +9,42 @@
 //! The modules are private, one folder per stage (each folder's `mod.rs`
 //! says what it holds): `scene` what is captured (scene file, meshes,
 //! vehicle, rig, motion, the demo), `texture` the unwrap, palettes and PIdT,
-//! `render` the GPU device and renderer, `archive` the capture job (options,
-//! frames, tile sinks, manifest, shards, batches), `unobstructed` the exact
-//! ray-traced measure, `study` the resolution study, `inspect` looking at a
+//! `render` the GPU device and renderer, `job` the capture job (options,
+//! frames, tile sinks, manifest, shards, batches, the overwrite guard), `exact`
+//! the exact ray-traced measure, `study` the resolution study, `inspect` looking at a
 //! vehicle or a result. The API is the flat list below: [`capture`],
 //! [`capture_counted`] and [`measure_unobstructed`] are the entry points,
 //! with a [`Scene`], [`CaptureOptions`] and a [`Gpu`]. The library draws no
 //! progress bar: it reports to a [`ufcsr::Progress`] ([`CaptureProgress`]).
 
-mod archive;
 mod error;
+mod exact;
 mod inspect;
-mod overwrite_guard;
+mod job;
 mod render;
 mod scene;
 mod study;
 mod texture;
-mod unobstructed;
 
-pub use archive::{
+pub use error::{CaptureError, Result};
+pub use exact::{
+    DEFAULT_PATCH_SPACING_M, DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE,
+    EyeFrame, MAX_TEXEL_SAMPLES, MEASURE_UNOBSTRUCTED, MeasureDevice, MeasureOptions, Obstacles,
+    PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PartEstimate,
+    PlacementCandidates, PlacementWritten, SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample,
+    SurfaceSamples, TexelVisibility, Tracer, TriangleBvh, UnobstructedCapture, estimate_parts, eye_frame,
+    eye_frames, is_sampled, measure_unobstructed, parse_display, seconds_per_frame, surface_samples,
+    texel_visibility, texel_visibility_gpu, visible_solid_angle,
+};
+pub use inspect::{
+    InspectOptions, Inspection, PartInfo, Sliver, TriangleQuality, UvState, ViewsOptions, inspect,
+    triangle_quality, views_from_results, write_views_gpu,
+};
+pub use job::{
     Assembled, Batch, CaptureOptions, CaptureProgress, CaptureSetup, CapturedTiles, Compression,
     CountedCapture, FrameSelection, MAX_FRAMES, MAX_SCENARIO_SECONDS, MAX_SELECTED_FRAMES, MAX_TILES,
     PreparedCapture, Summary, Task, TileFilter, TileTally, assemble, capture, capture_all, capture_counted,
     capture_frames, for_each_scenario, load_batch, plan_batch, prepare, read_rgb_png, verify,
-};
-pub use error::{CaptureError, Result};
-pub use inspect::{
-    InspectOptions, Inspection, PartInfo, Sliver, TriangleQuality, UvState, ViewsOptions, inspect,
-    triangle_quality, views_from_results, write_views_gpu,
 };
 pub use render::{
     Backend, Gpu, GpuPalette, PixelRect, RenderSetup, Renderer, TileDraw, Vertex, vehicle_vertices,
@@ -57,14 +65,7 @@ pub use study::observers::{
 pub use study::{Study, StudyMeasure, StudyOptions, StudyRow, run_study, write_study};
 pub use texture::{
     OwnLabelFiles, PidtImage, UNLABELLED_COLOR, Unwrapped, background_texel, footprint, keep_uvs, paint_pidt,
-    parse_palette_size, unwrap_islands, unwrap_islands_avoiding,
+    unwrap_islands, unwrap_islands_avoiding,
 };
-pub use unobstructed::{
-    DEFAULT_PATCH_SPACING_M, DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE,
-    EyeFrame, MAX_TEXEL_SAMPLES, MEASURE_UNOBSTRUCTED, MeasureDevice, MeasureOptions, Obstacles,
-    PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PartEstimate,
-    PlacementCandidates, PlacementWritten, SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample,
-    SurfaceSamples, TexelVisibility, Tracer, TriangleBvh, UnobstructedCapture, estimate_parts, eye_frame,
-    eye_frames, is_sampled, measure_unobstructed, parse_display, seconds_per_frame, surface_samples,
-    texel_visibility, texel_visibility_gpu, visible_solid_angle,
-};
+/// The analyzer's one `--palette-size` parser, for the capture's commands.
+pub use ufcsr::parse_palette_size;

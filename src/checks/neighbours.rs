@@ -20,7 +20,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::input::palette::Fcsp;
+use crate::archive::palette::Fcsp;
 use crate::input::png_rows::PixelLayout;
 
 /// A window of three consecutive rows starts every this many rows.

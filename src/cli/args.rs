@@ -310,7 +310,7 @@ impl LabelArgs {
         Ok(match (&self.fcsp, &self.palette_size) {
             (Some(png), _) => Some(ufcsr::PaletteChoice::Image(png.clone())),
             (None, Some(size)) => {
-                let (width, height) = ufcsr::parse_palette_size(size)?;
+                let [width, height] = ufcsr::parse_palette_size(size)?;
                 Some(ufcsr::PaletteChoice::Canonical { width, height })
             }
             (None, None) => None,

@@ -108,7 +108,7 @@ pub fn run_heatmap(args: HeatmapArgs) -> Result<ExitCode> {
 
 pub fn run_palette(args: PaletteArgs) -> Result<ExitCode> {
     start_threads(&args.common)?;
-    let (width, height) = ufcsr::parse_palette_size(&args.size)?;
+    let [width, height] = ufcsr::parse_palette_size(&args.size)?;
     ufcsr::write_canonical_png(&args.out, width, height)?;
     finish(
         &args.common,

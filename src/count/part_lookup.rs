@@ -9,14 +9,14 @@
 //! eye-frame, walks the distinct texels the scan already collected
 //! ([`PartLookup::add_texels`]).
 
+use crate::archive::capture_facts::EyeFrame;
+use crate::archive::labels::{Legend, Pidt, UNLABELLED};
+use crate::archive::palette::Fcsp;
 use crate::color::COLOR_COUNT;
 use crate::color::sets::{SeenSet, key_color};
 use crate::count::slot_table::SlotTable;
-use crate::input::capture_facts::EyeFrame;
-use crate::input::labels::{Legend, Pidt, UNLABELLED};
-use crate::input::palette::Fcsp;
 use crate::input::png_rows::PixelLayout;
-use crate::input::solid_angle::{RowWeights, TileView};
+use crate::optics::solid_angle::{RowWeights, TileView};
 
 /// The part name used for texels whose PIdT colour is in no legend entry.
 pub const UNLABELLED_NAME: &str = "(unlabelled)";
@@ -421,7 +421,7 @@ mod tests {
     use crate::color::Color;
     use std::path::Path;
 
-    use crate::input::labels::Part;
+    use crate::archive::labels::Part;
 
     #[test]
     fn rows_are_tallied_by_part_with_background_and_strays_apart() {
@@ -459,7 +459,7 @@ mod tests {
         assert_eq!(joined, [(0, 3, 0)]);
         // Weighted: the same pixels, and each part's solid angle is the sum
         // of its pixels' (row 5 of a tile at [10, 20] of a 4 px/° eye).
-        let projection = crate::input::solid_angle::EyeProjection::new(107.0, [428, 540]).unwrap();
+        let projection = crate::optics::solid_angle::EyeProjection::new(107.0, [428, 540]).unwrap();
         let mut tally = PartPixels::new(&lookup);
         tally.view = Some(TileView { projection, origin: [10, 20] });
         lookup.add_row_at(&row, PixelLayout::Rgba, 5, &mut tally);

@@ -13,6 +13,8 @@
 
 use std::collections::BTreeMap;
 
+use crate::archive::options::Dedupe;
+use crate::archive::palette::Fcsp;
 use crate::checks::neighbours::{NeighbourSampler, TexelGrid};
 use crate::color::Color;
 use crate::color::{AtomicColorSet, SeenSet};
@@ -21,10 +23,8 @@ use crate::count::part_lookup::{PartLookup, PartPixels};
 use crate::count::scan::{Classifier, ImageTally, PixelClass};
 use crate::count::scan::{PartRows, row_scan};
 use crate::error::{Error, Result};
-use crate::input::options::Dedupe;
-use crate::input::palette::Fcsp;
 use crate::input::png_rows::PixelLayout;
-use crate::input::solid_angle::{EyeProjection, TileView};
+use crate::optics::solid_angle::{EyeProjection, TileView};
 
 /// One tile handed to [`TileCounter::count_tile`].
 #[derive(Debug, Clone, Copy)]

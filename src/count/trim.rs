@@ -13,10 +13,10 @@ use std::io::Read;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::archive::archive_reader::ImageSource;
+use crate::archive::options::TrimMode;
 use crate::color::{AtomicColorSet, SeenSet};
 use crate::count::scan::{Classifier, scan_image};
-use crate::input::archive_reader::ImageSource;
-use crate::input::options::TrimMode;
 use crate::input::png_rows::{FileBytes, HEADER_BYTES, parse_header, read_file};
 
 /// One candidate empty file: a tile size and a file size.

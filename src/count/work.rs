@@ -10,6 +10,11 @@ use std::sync::{Mutex, PoisonError};
 
 use rayon::prelude::*;
 
+use crate::archive::archive_reader::{Archive, ImageSource};
+use crate::archive::capture_facts::EyeFrame;
+use crate::archive::options::{AnalyzeOptions, Dedupe, Progress};
+use crate::archive::resolve::Inputs;
+use crate::archive::shard::Shard;
 use crate::checks::neighbours::{NeighbourSample, NeighbourSampler, TexelGrid};
 use crate::color::sets::{AtomicColorSet, SeenSet};
 use crate::count::counts::Counts;
@@ -17,12 +22,7 @@ use crate::count::part_lookup::{FrameLabel, FrameRecord, PartLookup, PartPixels}
 use crate::count::scan::{Classifier, ImageTally, RowPasses, scan_image_with};
 use crate::count::trim::TrimPlan;
 use crate::error::Error;
-use crate::input::archive_reader::{Archive, ImageSource};
-use crate::input::capture_facts::EyeFrame;
-use crate::input::options::{AnalyzeOptions, Dedupe, Progress};
 use crate::input::png_rows::read_file;
-use crate::input::resolve::Inputs;
-use crate::input::shard::Shard;
 
 /// What [`count_images`] needs: the options, the resolved inputs, and the
 /// read-only objects built from them.

@@ -18,9 +18,9 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Map, Value, json};
 
+use crate::archive::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteChoice, PaletteRecord, TileEntry};
 use crate::color::Color;
 use crate::error::{Error, Result};
-use crate::input::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteChoice, PaletteRecord, TileEntry};
 
 pub use metadata::{FrameTime, parse_fov};
 pub use names::{DEFAULT_PATTERN, NamePattern};

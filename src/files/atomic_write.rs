@@ -507,25 +507,6 @@ pub fn write_bytes_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomically(path, |writer| writer.write_all(bytes))
 }
 
-/// Writes an 8-bit RGB PNG atomically (`rgb` holds `width * height * 3` bytes).
-pub fn write_rgb_png(
-    path: &Path,
-    width: u32,
-    height: u32,
-    rgb: &[u8],
-    compression: png::Compression,
-) -> Result<()> {
-    write_atomically(path, |writer| {
-        let mut encoder = png::Encoder::new(writer, width, height);
-        encoder.set_color(png::ColorType::Rgb);
-        encoder.set_depth(png::BitDepth::Eight);
-        encoder.set_compression(compression);
-        let mut png_writer = encoder.write_header().map_err(std::io::Error::other)?;
-        png_writer.write_image_data(rgb).map_err(std::io::Error::other)?;
-        png_writer.finish().map_err(std::io::Error::other)
-    })
-}
-
 /// `dir/.name.tmp-<pid>`: same directory, so the rename never crosses devices.
 fn temporary_path(path: &Path) -> PathBuf {
     let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();

@@ -1,39 +1,17 @@
-//! Stage 1, input: everything an analysis reads, checked and loaded once
-//! before anything is counted — the options ([`AnalyzeOptions`]), the
-//! archive's manifest and shard, the archive reader (which files are the
-//! images), PNG rows, the palette, the labels (legend and PIdT), what the
-//! manifest says about the capture, and [`resolve`] that puts them together.
+//! The PNG decoder the archive's images are read with: the format's chunks
+//! ([`png_format`]), the zlib stream ([`png_zlib`]), the decode
+//! ([`png_decode`]) with its row filters ([`unfilter`], SIMD kernels beside a
+//! scalar reference) and the row reader the counters use ([`png_rows`]).
 //!
-//! Words: a *tile* is a file of an archive (the manifest lists tiles); an
-//! *image* is what is counted — a tile that was decoded or trimmed.
+//! What remains of the former `input/` stage once the archive contract moved
+//! to `archive/` and the optics to `optics/`: only the decoder, which moves
+//! to its own folder (`png/`) with the SIMD in one module.
 
-pub(crate) mod archive_reader;
-pub(crate) mod capture_facts;
-pub(crate) mod identity;
-pub(crate) mod labels;
-pub(crate) mod manifest;
-pub(crate) mod options;
-pub(crate) mod palette;
 pub(crate) mod png_decode;
 pub(crate) mod png_format;
 pub(crate) mod png_rows;
 pub(crate) mod png_zlib;
-pub(crate) mod resolve;
-pub(crate) mod scenario_track;
-pub(crate) mod shard;
-pub mod solid_angle;
 pub(crate) mod unfilter;
 
-pub use archive_reader::{Archive, ImageSource};
-pub use capture_facts::CaptureGeometry;
-pub use labels::{Legend, LoadedLabels, Part, Pidt, UNLABELLED};
-pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry, inside_archive};
-pub use options::{
-    AnalyzeOptions, Dedupe, HeatmapOptions, MEASURE_PIXELS, PaletteChoice, Progress, Scale, Timings, TrimMode,
-};
-pub use palette::{Fcsp, PaletteSetting, parse_size as parse_palette_size, write_canonical_png};
 pub use png_rows::{PixelLayout, RowReader, read_color_image, read_file};
 pub use png_zlib::verify_image_data;
-pub use scenario_track::{ScenarioTrack, TrackFrame};
-pub use shard::Shard;
-pub use solid_angle::{EyeProjection, TileView};

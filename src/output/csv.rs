@@ -166,7 +166,7 @@ mod tests {
     fn names_with_newlines_and_quotes_round_trip_through_the_legend_reader() {
         let odd = "Door\r\n\"front\", left";
         let written = format!("name,color\n{},#010203\n", csv_field(odd));
-        let legend = crate::input::labels::Legend::parse(Path::new("p.csv"), written.into_bytes()).unwrap();
+        let legend = crate::archive::labels::Legend::parse(Path::new("p.csv"), written.into_bytes()).unwrap();
         assert_eq!(legend.parts[0].name, odd);
     }
 }

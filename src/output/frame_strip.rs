@@ -15,11 +15,11 @@ use std::sync::{Arc, Mutex};
 use plotters::prelude::*;
 use rayon::prelude::*;
 
+use crate::archive::labels::LoadedLabels;
+use crate::archive::manifest::{Manifest, TileEntry};
+use crate::archive::palette::Fcsp;
 use crate::count::part_lookup::PartLookup;
 use crate::error::Result;
-use crate::input::labels::LoadedLabels;
-use crate::input::manifest::{Manifest, TileEntry};
-use crate::input::palette::Fcsp;
 use crate::input::png_rows::{RowReader, read_file};
 
 /// The strip's file name in a result set.
@@ -420,7 +420,7 @@ fn vehicle_region(frames: &[ShownFrame], texels: &TexelsShown) -> [u32; 4] {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::input::labels::Pidt;
+    use crate::archive::labels::Pidt;
 
     #[test]
     fn an_archive_without_tile_images_gives_no_strip_and_says_why() {

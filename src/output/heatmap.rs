@@ -10,9 +10,9 @@ use std::path::Path;
 
 use rayon::prelude::*;
 
+use crate::archive::options::{HeatmapOptions, Scale};
 use crate::error::Result;
 use crate::files::write_rgb_png;
-use crate::input::options::{HeatmapOptions, Scale};
 
 /// The colormap position in `[0, 1]` of `count` given `max`.
 pub fn position(count: u32, max: u32, scale: Scale) -> f64 {

@@ -20,10 +20,10 @@
 
 use std::path::Path;
 
+use crate::archive::vehicle_model::VehicleModel;
 use crate::output::raster::ZBuffer;
-use crate::output::vehicle_model::VehicleModel;
 use crate::{
-    input::options::HeatmapOptions,
+    archive::options::HeatmapOptions,
     output::heatmap::{plasma, position},
 };
 
@@ -204,7 +204,7 @@ impl ViewTexture<'_> {
 /// paper's measure, `eye-frames` for the unobstructed one.
 pub fn measure_unit(measure: &str) -> &str {
     match measure {
-        crate::input::options::MEASURE_PIXELS => "images",
+        crate::archive::options::MEASURE_PIXELS => "images",
         "unobstructed" => "eye-frames",
         other => other,
     }
@@ -217,7 +217,7 @@ pub fn views_caption(measure: &str, archive: &str, scenario: Option<&str>) -> St
         .file_name()
         .map_or_else(|| archive.to_string(), |n| n.to_string_lossy().into_owned());
     let what = match measure {
-        crate::input::options::MEASURE_PIXELS => "Images in which each point of the vehicle was seen",
+        crate::archive::options::MEASURE_PIXELS => "Images in which each point of the vehicle was seen",
         "unobstructed" => "Eye-frames in which each point of the vehicle was in unobstructed view",
         other => return format!("{other} per texel · {folder}"),
     };

@@ -1,9 +1,10 @@
 //! Stage 4, output: a result for people and other programs — the result
 //! set written atomically into its folder ([`write_results`]), `parts.csv`
 //! and `frames.csv` ([`csv`]), the console table, the heatmap texture, the
-//! vehicle model with it (`heatmap.glb`), the eight views (drawn with the
-//! CPU rasterizer [`raster`], which the capture's inspect pictures share),
-//! the plots and the HTML pages ([`html`]); with the `cli` feature, shell
+//! vehicle model with it (`heatmap.glb`, the archive's [`crate::VehicleModel`]
+//! with the heatmap as its texture), the eight views (drawn with the CPU
+//! rasterizer [`raster`], which the capture's inspect pictures share), the
+//! plots and the HTML pages ([`html`]); with the `cli` feature, shell
 //! completions and man pages for both binaries.
 
 #[cfg(feature = "cli")]
@@ -11,7 +12,6 @@ pub(crate) mod command_docs;
 pub(crate) mod console_table;
 pub(crate) mod csv;
 pub(crate) mod frame_strip;
-pub(crate) mod glb;
 pub(crate) mod heatmap;
 pub(crate) mod heatmap_views;
 pub(crate) mod html;
@@ -21,7 +21,6 @@ pub(crate) mod raster;
 pub(crate) mod result_set;
 pub(crate) mod scenario_map;
 pub(crate) mod scene_model;
-pub(crate) mod vehicle_model;
 pub(crate) mod view_sheet;
 pub(crate) mod written_files;
 
@@ -41,6 +40,5 @@ pub use raster::ZBuffer;
 pub use result_set::{MAP_FILE, ResultSetOptions, default_output_dir, write_results, write_results_with};
 pub use scenario_map::{MAP_SIZE, MapContent, MapFrame, SceneShapes, time_colour, write_scenario_map};
 pub use scene_model::{SceneObject, write_scene_glb};
-pub use vehicle_model::{ModelPart, VehicleModel};
 pub use view_sheet::{WrittenViews, bar_ticks, write_views, write_views_with};
 pub use written_files::WrittenFiles;

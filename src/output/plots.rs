@@ -439,8 +439,8 @@ impl Drawing for PartBars<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::archive::capture_facts::EyeFrame;
     use crate::count::part_lookup::FrameRecord;
-    use crate::input::capture_facts::EyeFrame;
 
     fn record(eye: &str, pixels: u64, solid_angle_sr: Option<f64>) -> FrameRecord {
         let frame = EyeFrame { frame: 0, eye: eye.into(), time_s: Some(0.0), distance_m: Some(5.0) };

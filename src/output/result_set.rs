@@ -4,12 +4,13 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use crate::archive::labels::{Legend, LoadedLabels, Pidt};
+use crate::archive::manifest::Manifest;
+use crate::archive::options::HeatmapOptions;
+use crate::archive::scenario_track::ScenarioTrack;
+use crate::archive::vehicle_model::VehicleModel;
 use crate::error::{Error, Result};
 use crate::files::{IMAGE_LIMIT, Staging, read_limited, refuse_overwriting_inputs};
-use crate::input::labels::{Legend, LoadedLabels, Pidt};
-use crate::input::manifest::Manifest;
-use crate::input::options::HeatmapOptions;
-use crate::input::scenario_track::ScenarioTrack;
 use crate::output::csv::{CsvStyle, write_frames_csv, write_parts_table};
 use crate::output::frame_strip::{FRAME_STRIP_FILE, StripInputs, frame_strip_skipped, write_frame_strip};
 use crate::output::heatmap_views::{
@@ -19,7 +20,6 @@ use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::html::report_page::ScenarioPage;
 use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, font_available, write_plots};
 use crate::output::scenario_map::{MapContent, SceneShapes, write_scenario_map};
-use crate::output::vehicle_model::VehicleModel;
 use crate::output::view_sheet::write_views;
 use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
@@ -153,7 +153,7 @@ struct FiguresWritten {
     map: bool,
     /// Whether `frames-strip.png` was written.
     frames_strip: bool,
-    /// Seconds per figure ([`crate::input::options::Timings::figure_seconds`]).
+    /// Seconds per figure ([`crate::archive::options::Timings::figure_seconds`]).
     seconds: std::collections::BTreeMap<String, f64>,
 }
 

@@ -12,9 +12,9 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+use crate::archive::scenario_track::{ScenarioTrack, TrackFrame};
+use crate::archive::vehicle_model::VehicleModel;
 use crate::error::{Error, Result};
-use crate::input::scenario_track::{ScenarioTrack, TrackFrame};
-use crate::output::vehicle_model::VehicleModel;
 
 /// Size of the map in pixels.
 pub const MAP_SIZE: (u32, u32) = (1600, 1200);

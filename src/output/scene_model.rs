@@ -7,15 +7,15 @@
 //! — in world coordinates, one node per occluder named after it. A moving
 //! occluder is a node at the world origin holding its triangles in its own
 //! frame: the manifest's frames give its pose (position and yaw) in each
-//! frame, as they give the vehicle's for `vehicle.glb`. Axes follow [`crate::output::glb`]: world `(x, y, z)` (x east,
+//! frame, as they give the vehicle's for `vehicle.glb`. Axes follow [`crate::archive::glb`]: world `(x, y, z)` (x east,
 //! y north, z up) is glTF `(y, z, x)`.
 
 use std::path::Path;
 
 use gltf_json as json;
 
+use crate::archive::glb::{GlbBuilder, to_gltf_axes};
 use crate::error::{Error, Result};
-use crate::output::glb::{GlbBuilder, to_gltf_axes};
 
 /// One occluder: a triangle list around its origin.
 #[derive(Debug, Clone, PartialEq, Default)]

@@ -14,15 +14,15 @@ use std::path::{Path, PathBuf};
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
+use crate::archive::options::Scale;
+use crate::archive::vehicle_model::VehicleModel;
 use crate::error::Result;
-use crate::input::options::Scale;
 use crate::output::heatmap::{plasma, position};
 use crate::output::heatmap_views::{
     DIRECTIONS, NEVER_SEEN, ViewCamera, ViewTexture, render_view, view_cameras,
 };
 use crate::output::numbers::grouped;
 use crate::output::raster::ZBuffer;
-use crate::output::vehicle_model::VehicleModel;
 
 const PAPER: [u8; 3] = [255, 255, 255];
 /// Share of a colour kept where the light does not reach (the rest is Lambert).

@@ -14,8 +14,9 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+use crate::archive::VehicleModel;
 use crate::error::Result;
-use crate::output::{VehicleModel, ViewCamera, ZBuffer, view_cameras};
+use crate::output::{ViewCamera, ZBuffer, view_cameras};
 use crate::placement::footprints::{PatchFootprint, centre_in_name};
 use crate::placement::search::{Combination, Objective};
 
@@ -293,7 +294,7 @@ fn caption_rows(sheet: &mut [u8], (width, height): (u32, u32), captions: &[(i32,
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::output::ModelPart;
+    use crate::archive::ModelPart;
 
     /// A 2 m cube of two parts: `front` (the +x face) and `body` (the rest).
     fn cube() -> VehicleModel {

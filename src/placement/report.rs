@@ -192,7 +192,7 @@ pub fn write_placement(placement: &Placement, out: &Path) -> Result<WrittenPlace
     write_atomically(&written.combinations_csv, |w| write_combinations(w, &placement.combinations))?;
     let picture = match &placement.vehicle_model {
         Some(path) => {
-            let model = crate::output::VehicleModel::read(path)?;
+            let model = crate::archive::VehicleModel::read(path)?;
             let sets = pictured_sets(&placement.combinations, &placement.footprints);
             Some(write_placement_picture(&model, &sets, out)?)
         }

@@ -8,9 +8,9 @@
 
 use std::path::Path;
 
+use crate::archive::capture_facts::EyeFrame;
 use crate::count::part_lookup::{FrameLabel, FrameRecord};
 use crate::error::{Error, Result};
-use crate::input::capture_facts::EyeFrame;
 
 /// Name of the per-eye-frame table beside `result.json`.
 pub const FRAMES_FILE: &str = "frames.csv";

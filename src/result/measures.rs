@@ -23,7 +23,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::{input::capture_facts::FrameClock, result::frames::FrameTable};
+use crate::{archive::capture_facts::FrameClock, result::frames::FrameTable};
 
 /// How the measures are defined, recorded in every result.
 pub const DEFINITION: &str = "angular_area_deg2_s = sum over eye-frames of solid_angle_sr (the sum over the \

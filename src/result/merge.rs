@@ -1,6 +1,6 @@
 //! Merging the results of shards: `ufcsr-analyze merge RESULT... --out DIR`.
 //!
-//! Shards of one archive ([`crate::input::shard`]) count disjoint sets of
+//! Shards of one archive ([`crate::archive::shard`]) count disjoint sets of
 //! eye-frames with the same settings, and every shard builds the same
 //! trimming plan over the whole archive. So their per-texel counts add (with
 //! saturation, like counting does), their image and pixel bookkeeping adds,
@@ -12,12 +12,12 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::archive::labels::{Legend, Pidt};
+use crate::archive::options::Timings;
+use crate::archive::resolve::LabelFiles;
+use crate::archive::shard::Shard;
 use crate::color::Color;
 use crate::error::{Error, Result};
-use crate::input::labels::{Legend, Pidt};
-use crate::input::options::Timings;
-use crate::input::resolve::LabelFiles;
-use crate::input::shard::Shard;
 use crate::result::model::Analysis;
 use crate::result::resolution::ResolutionReport;
 use crate::result::summarize::{
@@ -259,7 +259,7 @@ fn archive_vehicle(settings: &crate::result::model::Settings) -> Option<PathBuf>
         return None;
     }
     let root = PathBuf::from(&settings.archive);
-    let manifest = crate::input::manifest::Manifest::load_from_dir(&root).ok()??;
+    let manifest = crate::archive::manifest::Manifest::load_from_dir(&root).ok()??;
     let path = root.join(manifest.extra.get("vehicle")?.as_str()?);
     crate::files::open_regular(&path).ok().map(|_| path)
 }
@@ -295,7 +295,7 @@ fn merged_measures(
     let measures = measures?;
     match (frames, measures.first()) {
         (Some(frames), Some(first)) => {
-            let clock = crate::input::capture_facts::FrameClock {
+            let clock = crate::archive::capture_facts::FrameClock {
                 seconds_per_frame: first.seconds_per_frame,
                 eyes: first.eyes,
                 pixels_per_degree: first.pixels_per_degree,

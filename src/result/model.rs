@@ -6,14 +6,14 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
+use crate::archive::options::Scale;
+use crate::archive::options::{Dedupe, Timings};
+use crate::archive::palette::PaletteSetting;
 use crate::color::Color;
 use crate::count::trim::EmptyTile;
-use crate::input::options::Scale;
-use crate::input::options::{Dedupe, Timings};
-use crate::input::palette::PaletteSetting;
 use crate::result::frames::FrameTable;
 use crate::{
-    input::labels::Pidt,
+    archive::labels::Pidt,
     result::part_stats::{PartStats, PartTable, ratio},
 };
 
@@ -95,7 +95,7 @@ pub struct Settings {
     pub heatmap_max: Option<u32>,
     /// The shard counted (`ufcsr-analyze --shard`); absent for a whole archive.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub shard: Option<crate::input::shard::Shard>,
+    pub shard: Option<crate::archive::shard::Shard>,
     /// What the counts depend on (manifest or tile list, palette, PIdT,
     /// legend), digested: `merge` refuses shards whose identities differ.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -210,7 +210,7 @@ pub struct AnalysisResult {
 }
 
 pub(crate) fn default_measure() -> String {
-    crate::input::options::MEASURE_PIXELS.to_string()
+    crate::archive::options::MEASURE_PIXELS.to_string()
 }
 
 /// The outcome of an analysis.
@@ -231,7 +231,7 @@ pub struct Analysis {
     /// The legend and PIdT the counts were joined with, for the figures
     /// drawn after (the frame strip), so they are not read again; `None`
     /// without labels, or for a merge, which reads them when it needs them.
-    pub labels: Option<crate::input::labels::LoadedLabels>,
+    pub labels: Option<crate::archive::labels::LoadedLabels>,
 }
 
 impl Analysis {

@@ -4,8 +4,8 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::archive::labels::{Legend, Pidt, UNLABELLED};
 use crate::color::Color;
-use crate::input::labels::{Legend, Pidt, UNLABELLED};
 
 /// Statistics of one part (or of the unlabelled texels).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
@@ -129,7 +129,7 @@ mod tests {
     use std::path::Path;
 
     use super::*;
-    use crate::input::labels::Part;
+    use crate::archive::labels::Part;
 
     fn legend() -> Legend {
         Legend::new(

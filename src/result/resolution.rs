@@ -13,7 +13,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::input::capture_facts::CaptureGeometry;
+use crate::archive::capture_facts::CaptureGeometry;
 
 /// Pixels per count above which counts are called saturated.
 pub const SATURATION_WARNING: f64 = 1.5;

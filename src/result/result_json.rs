@@ -10,10 +10,10 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use crate::archive::options::{Scale, Timings};
+use crate::archive::palette::PaletteSetting;
 use crate::error::{Error, Result};
 use crate::files::write_atomically;
-use crate::input::options::{Scale, Timings};
-use crate::input::palette::PaletteSetting;
 use crate::result::model::{AnalysisResult, default_measure};
 
 /// Per-texel counts as stored in `result.json`: only seen texels, texel

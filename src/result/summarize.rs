@@ -7,6 +7,15 @@ use std::time::Instant;
 
 use rayon::prelude::*;
 
+use crate::archive::archive_reader::Archive;
+use crate::archive::manifest::MANIFEST_FILE;
+use crate::archive::options::{AnalyzeOptions, MEASURE_PIXELS, Timings};
+use crate::archive::palette::Fcsp;
+use crate::archive::resolve::{
+    CAPTURE_WARNING, Inputs, LabelFiles, MISSING_VEHICLE_WARNING, SKIPPED_FILES_WARNING,
+    UNREADABLE_VEHICLE_WARNING,
+};
+use crate::archive::shard::Shard;
 use crate::checks::colour_damage::{ColourFacts, UNLABELLED_CHECK};
 use crate::checks::{ColourChecks, ColourWarning, NeighbourSample};
 use crate::color::Color;
@@ -16,15 +25,6 @@ use crate::count::part_lookup::{FrameLabel, FrameRecord};
 use crate::count::trim::EmptyTile;
 use crate::count::work::{CountedImages, FrameTallies, Outcome, eye_frame_label, in_shard};
 use crate::error::{Error, Result};
-use crate::input::archive_reader::Archive;
-use crate::input::manifest::MANIFEST_FILE;
-use crate::input::options::{AnalyzeOptions, MEASURE_PIXELS, Timings};
-use crate::input::palette::Fcsp;
-use crate::input::resolve::{
-    CAPTURE_WARNING, Inputs, LabelFiles, MISSING_VEHICLE_WARNING, SKIPPED_FILES_WARNING,
-    UNREADABLE_VEHICLE_WARNING,
-};
-use crate::input::shard::Shard;
 use crate::result::frames::FrameTable;
 use crate::result::model::{
     Analysis, AnalysisResult, DedupeReport, FailedImage, ImageCounts, PixelCounts, RESULT_SCHEMA,
@@ -235,7 +235,7 @@ fn finish(
         input_files: input_files(&summary),
         vehicle_model: inputs.vehicle_model.clone(),
         frames: None,
-        labels: inputs.parts.as_ref().map(crate::input::resolve::LabelFiles::loaded),
+        labels: inputs.parts.as_ref().map(crate::archive::resolve::LabelFiles::loaded),
     })
 }
 

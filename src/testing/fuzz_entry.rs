@@ -6,10 +6,10 @@
 
 use std::path::Path;
 
+use crate::archive::labels::Legend;
+use crate::archive::manifest::Manifest;
+use crate::archive::palette::Fcsp;
 use crate::color::Color;
-use crate::input::labels::Legend;
-use crate::input::manifest::Manifest;
-use crate::input::palette::Fcsp;
 
 /// A tile: decoded and counted against the canonical 4096² palette. The
 /// palette and the seen-set are built once per thread (a fuzzer calls this

@@ -12,10 +12,10 @@
 pub use crate::input::png_format::png_from_chunks;
 use std::path::Path;
 
+use crate::archive::manifest::{MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry};
 use crate::color::Color;
 use crate::error::{Error, Result};
 use crate::files::{write_bytes_atomically, write_rgb_png};
-use crate::input::manifest::{MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry};
 
 /// A small deterministic random generator (SplitMix64): no dependency, same
 /// sequence on every platform.

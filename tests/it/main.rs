@@ -6,6 +6,7 @@
 
 mod common;
 
+mod architecture_page;
 mod atomic_results;
 mod bad_input;
 mod cli;

@@ -7,7 +7,7 @@
 //! ([`StudyMeasure`]: the count ↔ any-part visibility, the angular area ↔
 //! the ray-traced solid angle), computed once by the ray tracer on every
 //! frame any setting uses: each setting on its own eye-frames, with a 95 %
-//! interval ([`crate::unobstructed::accuracy`]). The Pareto front of error
+//! interval ([`crate::exact::accuracy`]). The Pareto front of error
 //! against run time and the recommendation (the cheapest setting whose
 //! interval lies within the tolerance) use that error; when no setting is
 //! within it the study says so and names the closest. The comparison with
@@ -25,13 +25,11 @@ use std::path::{Path, PathBuf};
 use serde::Serialize;
 use ufcsr::Dedupe;
 
-use crate::archive::{CaptureOptions, CaptureProgress, CaptureSetup, CountedCapture, FrameSelection};
 use crate::error::{CaptureError, Result};
+use crate::exact::accuracy::{PerEyeFrame, Resampling, ShareError, share_error, share_l1_interval, totals};
+use crate::exact::{MeasureOptions, UnobstructedCapture, measure_unobstructed};
+use crate::job::{CaptureOptions, CaptureProgress, CaptureSetup, CountedCapture, FrameSelection};
 use crate::scene::Scene;
-use crate::unobstructed::accuracy::{
-    PerEyeFrame, Resampling, ShareError, share_error, share_l1_interval, totals,
-};
-use crate::unobstructed::{MeasureOptions, UnobstructedCapture, measure_unobstructed};
 
 /// What a study compares.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -224,11 +222,11 @@ pub fn run_study(
 ) -> Result<Study> {
     check(options)?;
     // study.* beside the runs' archives (each checks its own files).
-    crate::overwrite_guard::refuse_overwriting_inputs(
+    crate::job::overwrite_guard::refuse_overwriting_inputs(
         &options.capture.out,
         &STUDY_FILES,
         &[],
-        &crate::archive::capture_inputs(scene, &options.capture),
+        &crate::job::capture_inputs(scene, &options.capture),
     )?;
     let scenario = scene.scenario(&options.scenario)?;
     let mut ppds = options.ppds.clone();
@@ -551,7 +549,7 @@ fn compare_with_exact(
         error: share_error(&values.parts, &exact_totals, &rendered_totals),
         ci95_pp,
         replicates,
-        frame_step_pp: crate::unobstructed::accuracy::share_l1_pp(&all, &exact_totals),
+        frame_step_pp: crate::exact::accuracy::share_l1_pp(&all, &exact_totals),
     })
 }
 

@@ -19,12 +19,12 @@ use std::time::Instant;
 use serde::Serialize;
 use ufcsr::Dedupe;
 
-use crate::archive::{CaptureOptions, CaptureSetup};
 use crate::error::{CaptureError, Result};
+use crate::exact::accuracy::SplitMix;
+use crate::job::{CaptureOptions, CaptureSetup};
 use crate::scene::Scene;
 use crate::scene::track::ValueOrTrack;
 use crate::study::{Setting, StudyMeasure, count_every_nth_frame, frame_table, rendered_per_eye_frame};
-use crate::unobstructed::accuracy::SplitMix;
 
 /// The most observers one study captures (each is a full capture).
 pub const MAX_OBSERVERS: u32 = 400;
@@ -263,7 +263,7 @@ fn capture_observer(
     // deg²·s per eye: Σ sr × (180/π)² × seconds per frame / 2 eyes.
     let seconds_per_frame = f64::from(step) / scene.rig.fps;
     let to_deg2_s = (180.0 / std::f64::consts::PI).powi(2) * seconds_per_frame / 2.0;
-    let sum = |values: &crate::unobstructed::accuracy::PerEyeFrame, scale: f64| -> Vec<f64> {
+    let sum = |values: &crate::exact::accuracy::PerEyeFrame, scale: f64| -> Vec<f64> {
         let mut totals = vec![0.0; values.parts.len()];
         for (_, _, row) in &values.rows {
             totals.iter_mut().zip(row).for_each(|(t, v)| *t += v * scale);

@@ -10,6 +10,5 @@ pub(crate) mod uv_islands;
 
 pub use pidt::{OwnLabelFiles, PidtImage, UNLABELLED_COLOR, paint_pidt};
 pub use uv_islands::{
-    Unwrapped, background_texel, footprint, keep_uvs, parse_palette_size, unwrap_islands,
-    unwrap_islands_avoiding,
+    Unwrapped, background_texel, footprint, keep_uvs, unwrap_islands, unwrap_islands_avoiding,
 };

@@ -52,18 +52,6 @@ pub fn background_texel(palette: [u32; 2]) -> Option<(u32, u32)> {
         .then(|| ((BACKGROUND_INDEX % u64::from(w)) as u32, (BACKGROUND_INDEX / u64::from(w)) as u32))
 }
 
-/// Parses `W` or `WxH`.
-pub fn parse_palette_size(text: &str) -> Result<[u32; 2]> {
-    // One parser for both crates; the capture adds the palette's limits.
-    let (w, h) = ufcsr::parse_palette_size(text)?;
-    if w == 0 || h == 0 || u64::from(w) * u64::from(h) > 1 << 24 {
-        return Err(CaptureError::BadOptions(format!(
-            "palette size {w}x{h}: needs 1 to 2^24 texels (e.g. 4096, 512x256), from {text:?}"
-        )));
-    }
-    Ok([w, h])
-}
-
 /// Lays every triangle flat: corners in metres, longest edge on the x axis,
 /// the third corner above it, bounding box starting at the origin.
 fn flatten(corners: [glam::Vec3; 3]) -> [DVec2; 3] {
@@ -389,10 +377,7 @@ mod tests {
     }
 
     #[test]
-    fn palette_sizes_parse_and_background_texel_is_index_4095() {
-        assert_eq!(parse_palette_size("256").unwrap(), [256, 256]);
-        assert_eq!(parse_palette_size("512x128").unwrap(), [512, 128]);
-        assert!(parse_palette_size("8192").is_err());
+    fn the_background_texel_is_index_4095() {
         assert_eq!(background_texel([4096, 4096]), Some((4095, 0)));
         assert_eq!(background_texel([256, 256]), Some((255, 15)));
         assert_eq!(background_texel([32, 32]), None);

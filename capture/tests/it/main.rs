@@ -13,7 +13,6 @@ mod extremes;
 mod fused_count;
 mod fuzz_regressions;
 mod hardening;
-mod module_graph;
 mod observers;
 mod palette;
 mod reliability;

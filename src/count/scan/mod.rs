@@ -34,12 +34,12 @@
 
 use std::path::Path;
 
+use crate::archive::palette::Fcsp;
 use crate::checks::neighbours::NeighbourSampler;
 use crate::color::{AtomicColorSet, SeenSet, color_key};
 use crate::count::part_lookup::{PartLookup, PartPixels, RowSpans};
 use crate::count::slot_table::BlockSlots;
 use crate::error::{Error, Result};
-use crate::input::palette::Fcsp;
 use crate::input::png_rows::{PixelLayout, RowReader};
 
 #[cfg(target_arch = "x86_64")]
@@ -443,7 +443,7 @@ fn scan_row<const BYTES: usize, const GRAY: bool, const CANONICAL: bool, const S
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::input::solid_angle::TileView;
+    use crate::optics::solid_angle::TileView;
 
     /// Per-class counts and texel keys of one row; strays go to `strays`.
     fn scan_with(
@@ -570,8 +570,8 @@ mod tests {
     /// hold several slots), lone texels of another part, and unlabelled
     /// texels (no legend colour).
     fn pidt_like_lookup(palette: &Fcsp, backgrounds: &[u32]) -> PartLookup {
+        use crate::archive::labels::{Legend, Part, Pidt};
         use crate::color::Color;
-        use crate::input::labels::{Legend, Part, Pidt};
         let Fcsp::Canonical { width, height } = *palette else { unreachable!("canonical palettes only") };
         let parts: Vec<Part> = (0..6u32)
             .map(|i| Part { name: format!("part {i}"), color: Color::from_packed(0x10_0000 * (i + 1)) })
@@ -652,7 +652,7 @@ mod tests {
             eprintln!("skipped: this CPU has no AVX-512");
             return;
         }
-        let projection = crate::input::solid_angle::EyeProjection::new(107.0, [1284, 1620]).unwrap();
+        let projection = crate::optics::solid_angle::EyeProjection::new(107.0, [1284, 1620]).unwrap();
         // Widths of 512 and 4 texels: blocks of the slot table inside and
         // (4 × 4) wider than the grid; 100 is no power of two (separate pass).
         for (width, height) in [(512u32, 256u32), (4, 4), (100, 37)] {

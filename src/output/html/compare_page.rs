@@ -16,7 +16,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::output::html::placement_section::{PLACEMENT_PNG, PlacementOnPage, on_page, placement_folder};
-use crate::{output::html::report_page::escape, result::part_stats::top_five_union};
+use crate::{output::html::escape::escape, result::part_stats::top_five_union};
 use crate::{result::model::AnalysisResult, result::result_json::read_result_summary};
 
 /// Parts in each top list compared ([`crate::Comparison::top_k`]).

@@ -2,9 +2,11 @@
 //! comparison of several ([`compare_page`]), both with the placement section
 //! ([`placement_section`]) when there is a placement result, each rendered one page section
 //! per function (the report's sections are listed in order in
-//! `report_page::SECTIONS`: a new section is its function and one line there).
+//! `report_page::SECTIONS`: a new section is its function and one line there),
+//! the run's provenance ([`provenance`]) and the one [`escape`] they all use.
 
 pub(crate) mod compare_page;
+pub(crate) mod escape;
 pub(crate) mod placement_section;
 pub(crate) mod provenance;
 pub(crate) mod report_page;

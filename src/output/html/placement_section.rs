@@ -17,7 +17,7 @@ use std::path::{Path, PathBuf};
 use serde_json::Value;
 
 use crate::error::{Error, Result};
-use crate::output::html::report_page::escape;
+use crate::output::html::escape::escape;
 
 /// The file the section is made from.
 pub const PLACEMENT_JSON: &str = "placement.json";

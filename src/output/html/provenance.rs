@@ -5,7 +5,7 @@
 
 use std::time::{SystemTime, UNIX_EPOCH};
 
-use crate::output::html::report_page::escape;
+use crate::output::html::escape::escape;
 
 /// The seconds since 1970 to show: `SOURCE_DATE_EPOCH` when set and valid, else now.
 fn epoch_seconds() -> i64 {

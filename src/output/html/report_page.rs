@@ -11,8 +11,9 @@
 use std::fmt::Write as _;
 use std::path::Path;
 
+use crate::archive::scenario_track::ScenarioTrack;
 use crate::error::Result;
-use crate::input::scenario_track::ScenarioTrack;
+use crate::output::html::escape::escape;
 use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::numbers::grouped;
 use crate::result::part_stats::top_five_union;
@@ -39,11 +40,6 @@ pub fn write_report(
 pub struct ScenarioPage<'a> {
     pub track: Option<&'a ScenarioTrack>,
     pub strip_skipped: Option<String>,
-}
-
-/// Escapes text for HTML.
-pub(crate) fn escape(text: &str) -> String {
-    text.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
 
 fn file_name(path: &Path) -> String {

@@ -1,0 +1,279 @@
+//! `ufcsr-capture … --measure unobstructed`: one scenario measured exactly.
+//!
+//! Writes the archive skeleton (manifest, PIdT, legend, vehicle.glb; no
+//! tiles), the analyzer's results for the per-texel counts (`measure:
+//! "unobstructed"`) with a `measures` block holding the ray-traced
+//! `angular_area_deg2_s` and `exposure_s` under the rendered measures' names,
+//! and `results/unobstructed-parts.csv` (per-part estimates with errors).
+
+use std::path::PathBuf;
+use std::time::Instant;
+
+use serde_json::json;
+
+use super::cpu::texel_visibility;
+use super::estimator::{PartEstimate, estimate_parts};
+use super::geometry::{Obstacles, eye_frames, seconds_per_frame};
+use super::gpu::texel_visibility_gpu;
+use super::placement::{ExactInputs, PlacementWritten, write_placement_frames};
+use super::points::surface_samples;
+use super::rules::Tracer;
+use super::types::{
+    DEG2_PER_SR, MEASURE_UNOBSTRUCTED, MeasureDevice, MeasureOptions, PartEyeFrames, SurfaceSamples,
+    TexelVisibility,
+};
+use crate::error::{CaptureError, Result};
+use crate::job::{CaptureOptions, CapturedTiles, TileTally, prepare_archive, summarize, write_manifest};
+use crate::scene::Scene;
+use crate::scene::scenario::Scenario;
+
+/// The most samples per texel side (`--texel-samples`).
+pub const MAX_TEXEL_SAMPLES: u32 = 16;
+
+/// What [`measure_unobstructed`] did.
+pub struct UnobstructedCapture {
+    pub analysis: ufcsr::Analysis,
+    pub written: ufcsr::WrittenFiles,
+    pub sampled_texels: u64,
+    /// Texels with a footprint on the mesh.
+    pub labelled_texels: u64,
+    /// Surface samples (K × K per texel, more on edges).
+    pub surface_samples: u64,
+    pub eye_frames: u64,
+    pub seconds: f64,
+    /// Seconds of the ray casts alone (samples × eye-frames tests).
+    pub visibility_seconds: f64,
+    /// Per part: texels, sampled texels, sampled total, estimates and errors.
+    pub estimates: Vec<PartEstimate>,
+    pub estimates_csv: PathBuf,
+    /// The frames measured, in order; eye-frame `i` is frame `frames[i / 2]`,
+    /// left eye for even `i`, right for odd.
+    pub frames: Vec<u32>,
+    /// Seconds one eye-frame stands for.
+    pub seconds_per_frame: f64,
+    /// Per part and eye-frame, the sampled texels' sums (CPU only).
+    pub per_eye_frame: Option<PartEyeFrames>,
+    /// With `--placement`: the candidates' table (`placement-frames.csv`).
+    pub placement: Option<PlacementWritten>,
+}
+
+/// The exact measure's result before it is written.
+struct Measured {
+    frames: Vec<u32>,
+    samples: SurfaceSamples,
+    visibility: TexelVisibility,
+    eye_frames: usize,
+    seconds_per_frame: f64,
+    visibility_seconds: f64,
+}
+
+fn check_options(measure: &MeasureOptions) -> Result<()> {
+    if !(measure.sample > 0.0 && measure.sample <= 1.0) {
+        return Err(CaptureError::BadOptions(format!("--sample must be in (0, 1], not {}", measure.sample)));
+    }
+    if !(1..=MAX_TEXEL_SAMPLES).contains(&measure.texel_samples) {
+        return Err(CaptureError::BadOptions(format!(
+            "--texel-samples must be 1 to {MAX_TEXEL_SAMPLES}, not {}",
+            measure.texel_samples
+        )));
+    }
+    if let Some(placement) = &measure.placement {
+        placement.check()?;
+    }
+    Ok(())
+}
+
+/// Measures one scenario (see the module documentation).
+pub fn measure_unobstructed(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    scene: &Scene,
+    scenario: &Scenario,
+    options: &CaptureOptions,
+    measure: &MeasureOptions,
+) -> Result<UnobstructedCapture> {
+    let start = Instant::now();
+    check_options(measure)?;
+    scene.rig.check()?;
+    let prepared = prepare_archive(device, queue, scene, options)?;
+    let frames = crate::job::scene_checks::selected_frames(scene, scenario, options)?;
+    let warnings = crate::job::scene_checks::scene_warnings(scene, scenario, &frames)?;
+    let samples = surface_samples(
+        &scene.vehicle,
+        &prepared.unwrapped,
+        measure.sample,
+        measure.seed,
+        measure.texel_samples,
+    );
+    let obstacles = Obstacles::new(scene);
+    let (eye_frames, frame_records) = eye_frames(scene, scenario, &frames, &obstacles)?;
+    let parts = scene.vehicle.parts.len();
+    let casting = Instant::now();
+    let visibility = match measure.on {
+        MeasureDevice::Cpu => texel_visibility(&samples, &eye_frames, &obstacles, parts, Tracer::Hierarchy),
+        MeasureDevice::Gpu => texel_visibility_gpu(device, queue, &samples, &eye_frames, &obstacles, parts)?,
+    };
+    let placement_records = measure.placement.map(|_| frame_records.clone());
+    let captured = CapturedTiles {
+        entries: Vec::new(),
+        frame_records,
+        tally: TileTally::default(),
+        frames: frames.len() as u32,
+        tiles: 0,
+        warnings,
+    };
+    let _ = summarize(scene, scenario, options, &prepared, &captured, 0.0);
+    write_manifest(scene, scenario, options, &prepared, captured, false)?;
+    let measured = Measured {
+        frames: frames.clone(),
+        samples,
+        visibility,
+        eye_frames: eye_frames.len(),
+        seconds_per_frame: seconds_per_frame(scene, &frames),
+        visibility_seconds: casting.elapsed().as_secs_f64(),
+    };
+    let mut capture = write_results(scene, options, measure, &measured, prepared.palette_size, start)?;
+    if let (Some(placement), Some(frame_records)) = (&measure.placement, placement_records) {
+        let inputs = ExactInputs {
+            scene,
+            samples: &measured.samples,
+            eye_frames: &eye_frames,
+            frame_records: &frame_records,
+            obstacles: &obstacles,
+            sample_fraction: measure.sample,
+            frame_s: measured.seconds_per_frame,
+        };
+        capture.placement =
+            Some(write_placement_frames(&inputs, placement, &ufcsr::default_output_dir(&options.out))?);
+    }
+    Ok(capture)
+}
+
+/// The analyzer's results for the counts, the measures block and the CSV.
+fn write_results(
+    scene: &Scene,
+    options: &CaptureOptions,
+    measure: &MeasureOptions,
+    measured: &Measured,
+    [width, height]: [u32; 2],
+    start: Instant,
+) -> Result<UnobstructedCapture> {
+    let Measured { samples, visibility, .. } = measured;
+    let mut texel_counts = vec![0u32; width as usize * height as usize];
+    for (texel, &count) in samples.texels.iter().zip(&visibility.counts) {
+        texel_counts[texel.texel as usize] = count;
+    }
+    let estimates = estimate_parts(&scene.vehicle.parts, samples, visibility, measure.sample);
+    let labelled: u64 = samples.texels_per_part.iter().sum();
+    let notes = vec![describe(measure, measured, labelled)];
+    let analyze_options =
+        ufcsr::AnalyzeOptions { archive: options.out.clone(), ..ufcsr::AnalyzeOptions::default() };
+    let mut analysis =
+        ufcsr::analyze_texel_counts(&analyze_options, texel_counts, MEASURE_UNOBSTRUCTED, notes)?;
+    analysis.result.measures = Some(measures_block(measure, measured, &estimates)?);
+    let results = ufcsr::default_output_dir(&options.out);
+    let written = ufcsr::write_results(&mut analysis, &results)?;
+    let estimates_csv = results.join("unobstructed-parts.csv");
+    write_estimates(&estimates_csv, &estimates)?;
+    Ok(UnobstructedCapture {
+        analysis,
+        written,
+        sampled_texels: samples.texels.len() as u64,
+        labelled_texels: labelled,
+        surface_samples: samples.samples.len() as u64,
+        eye_frames: measured.eye_frames as u64,
+        seconds: start.elapsed().as_secs_f64(),
+        visibility_seconds: measured.visibility_seconds,
+        estimates,
+        estimates_csv,
+        frames: measured.frames.clone(),
+        seconds_per_frame: measured.seconds_per_frame,
+        per_eye_frame: visibility.per_eye_frame.clone(),
+        placement: None,
+    })
+}
+
+/// The result's note on what the counts mean.
+fn describe(measure: &MeasureOptions, measured: &Measured, labelled: u64) -> String {
+    let MeasureOptions { sample, seed, texel_samples, on, .. } = *measure;
+    format!(
+        "measure \"unobstructed\": a count is the number of eye-frames ({}) in which any part of the texel's \
+         footprint on the vehicle is visible: in view, beyond the near plane, not edge-on, nothing in between \
+         (exact f64 ray casts of {texel_samples}×{texel_samples} samples per texel, {} in all; independent of pixels \
+         per degree); {} of {} texels with a footprint sampled (fraction {sample}, seed {seed}), the others are 0 \
+         here: divide totals by the fraction to estimate them (per-part estimates with standard errors in \
+         unobstructed-parts.csv); computed on the {}",
+        measured.eye_frames,
+        measured.samples.samples.len(),
+        measured.samples.texels.len(),
+        labelled,
+        match on {
+            MeasureDevice::Cpu => "CPU",
+            MeasureDevice::Gpu => "GPU (f64 compute shader)",
+        }
+    )
+}
+
+/// How the exact measures are defined, recorded in the result's `measures`.
+pub const EXACT_DEFINITION: &str = "exact (ray-traced): angular_area_deg2_s = sum over eye-frames and visible \
+     surface samples of area * |cos theta| / r^2 (sr, times (180/pi)^2 for deg^2) * seconds_per_frame / eyes, \
+     scaled by texels / sampled texels per part under --sample; exposure_s = eye_frames_seen * seconds_per_frame \
+     / eyes, eye_frames_seen = eye-frames in which any sampled surface sample of the part is visible; \
+     seconds_per_frame = smallest step between the frame numbers / fps; pixels = the part's count summed over \
+     its sampled texels (texel-eye-frames; no pixels are rendered)";
+
+/// The `measures` block: the rendered measures' fields, ray-traced.
+fn measures_block(
+    measure: &MeasureOptions,
+    measured: &Measured,
+    estimates: &[PartEstimate],
+) -> Result<ufcsr::Measures> {
+    let eyes = 2.0;
+    let seconds = measured.seconds_per_frame;
+    let parts: Vec<serde_json::Value> = estimates
+        .iter()
+        .enumerate()
+        .map(|(part, estimate)| {
+            let seen = measured.visibility.part_seen
+                [part * measured.eye_frames..(part + 1) * measured.eye_frames]
+                .iter()
+                .filter(|&&seen| seen)
+                .count() as u64;
+            json!({
+                "name": estimate.part,
+                "pixels": estimate.sampled_total,
+                "eye_frames_seen": seen,
+                "angular_area_deg2_s": estimate.estimated_solid_angle_sr * DEG2_PER_SR * seconds / eyes,
+                "exposure_s": seen as f64 * seconds / eyes,
+            })
+        })
+        .collect();
+    let mut notes = Vec::new();
+    if measure.sample < 1.0 {
+        notes.push(format!(
+            "--sample {}: angular_area_deg2_s is estimated from the sampled texels (standard errors in \
+             unobstructed-parts.csv); exposure_s counts the eye-frames in which a sampled texel is seen, a lower \
+             bound; pixels sums the sampled texels' counts",
+            measure.sample
+        ));
+    }
+    let block = json!({
+        "definition": EXACT_DEFINITION,
+        "pixels_per_degree": null,
+        "seconds_per_frame": seconds,
+        "eyes": eyes as usize,
+        "eye_frames": measured.eye_frames,
+        "parts": parts,
+        "notes": notes,
+    });
+    serde_json::from_value(block).map_err(|e| CaptureError::BadOptions(format!("the measures block: {e}")))
+}
+
+fn write_estimates(path: &std::path::Path, estimates: &[PartEstimate]) -> Result<()> {
+    let mut table = csv::Writer::from_path(path)
+        .map_err(|e| CaptureError::bad_input(path, format!("writing CSV: {e}")))?;
+    for estimate in estimates {
+        table.serialize(estimate).map_err(|e| CaptureError::bad_input(path, format!("writing CSV: {e}")))?;
+    }
+    table.flush().map_err(|e| CaptureError::io(path, e))
+}

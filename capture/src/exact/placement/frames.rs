@@ -1,0 +1,198 @@
+//! Per candidate and eye-frame, from the visible surface samples (the exact
+//! measure's visibility rules, `rules.rs`):
+//!
+//! * `solid_angle_sr`: Σ area · |cos θ| / r² of the visible samples, divided
+//!   by the texel sample fraction (an estimate of the whole candidate's);
+//! * `visible_fraction`: visible area / the candidate's area (of the sampled
+//!   texels);
+//! * `view_angle_deg`: the area-weighted mean of θ, the angle between the
+//!   line of sight and the surface normal (two-sided: 0–90°);
+//! * `angular_height_deg`: the visible samples' vertical angular extent seen
+//!   from the eye: the largest minus the smallest elevation (world up), each
+//!   sample widened by its own half-height (√area/2 · √(1 − (e·n)²) / r, e the
+//!   direction of rising elevation), so a facing plate of height h at
+//!   distance d gives 2·atan(h / 2d).
+//!
+//! Rows: every part in every eye-frame (zeros included, so the analyzer
+//! sees every frame), patches only where something of them is visible.
+
+use std::path::Path;
+
+use glam::{DMat4, DVec3};
+use rayon::prelude::*;
+
+use super::ExactInputs;
+use super::labels::{LabelKind, LabelSet};
+use crate::error::{CaptureError, Result};
+use crate::exact::rules::{Tracer, visible_solid_angle};
+use crate::exact::types::{EyeFrame, SurfaceSample, transform_point};
+
+/// The sums of one candidate in one eye-frame.
+#[derive(Debug, Clone, Copy)]
+struct Sums {
+    area_m2: f64,
+    solid_angle_sr: f64,
+    angle_area: f64,
+    lowest: f64,
+    highest: f64,
+}
+
+impl Default for Sums {
+    fn default() -> Sums {
+        Sums {
+            area_m2: 0.0,
+            solid_angle_sr: 0.0,
+            angle_area: 0.0,
+            lowest: f64::INFINITY,
+            highest: f64::NEG_INFINITY,
+        }
+    }
+}
+
+/// One candidate's numbers in one eye-frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Seen {
+    pub solid_angle_sr: f64,
+    pub visible_fraction: f64,
+    pub view_angle_deg: f64,
+    pub angular_height_deg: f64,
+}
+
+/// What a visible sample adds: (θ in radians, lowest and highest elevation).
+fn sample_view(sample: &SurfaceSample, eye_frame: &EyeFrame, local_to_vehicle: &DMat4) -> (f64, f64, f64) {
+    let to_eye = eye_frame.eye_in_vehicle - sample.position;
+    let r = to_eye.length();
+    let cos = (sample.normal.dot(to_eye).abs() / r).min(1.0);
+    // Elevation in the local frame, whose z is world up.
+    let local = transform_point(&eye_frame.vehicle_to_local, sample.position).truncate();
+    let d = local - eye_frame.eye_local;
+    let horizontal = d.truncate().length();
+    let elevation = d.z.atan2(horizontal);
+    // The direction of rising elevation at the sample, in the vehicle frame.
+    let rising_local = if horizontal > 0.0 {
+        (DVec3::new(-d.x * d.z / horizontal, -d.y * d.z / horizontal, horizontal) / r).normalize_or_zero()
+    } else {
+        DVec3::X
+    };
+    let rising = local_to_vehicle.transform_vector3(rising_local);
+    let tilt = rising.dot(sample.normal);
+    let half = 0.5 * sample.area_m2.sqrt() * (1.0 - tilt * tilt).max(0.0).sqrt() / r;
+    (cos.acos(), elevation - half, elevation + half)
+}
+
+/// Every candidate's numbers in one eye-frame (`None` where nothing is visible).
+pub fn measure_eye_frame(inputs: &ExactInputs, labels: &LabelSet, eye_frame: &EyeFrame) -> Vec<Option<Seen>> {
+    let mut sums = vec![Sums::default(); labels.count()];
+    let local_to_vehicle = eye_frame.vehicle_to_local.inverse();
+    for (index, sample) in inputs.samples.samples.iter().enumerate() {
+        let Some(solid_angle) = visible_solid_angle(sample, eye_frame, inputs.obstacles, Tracer::Hierarchy)
+        else {
+            continue;
+        };
+        let (theta, low, high) = sample_view(sample, eye_frame, &local_to_vehicle);
+        for label in labels.of_sample(index) {
+            let s = &mut sums[label as usize];
+            s.area_m2 += sample.area_m2;
+            s.solid_angle_sr += solid_angle;
+            s.angle_area += theta * sample.area_m2;
+            s.lowest = s.lowest.min(low);
+            s.highest = s.highest.max(high);
+        }
+    }
+    sums.iter()
+        .zip(&labels.area_m2)
+        .map(|(s, &total)| {
+            (s.area_m2 > 0.0).then(|| Seen {
+                solid_angle_sr: s.solid_angle_sr / inputs.sample_fraction,
+                visible_fraction: if total > 0.0 { (s.area_m2 / total).min(1.0) } else { 0.0 },
+                view_angle_deg: (s.angle_area / s.area_m2).to_degrees(),
+                angular_height_deg: (s.highest - s.lowest).to_degrees(),
+            })
+        })
+        .collect()
+}
+
+/// One row of the table.
+#[derive(serde::Serialize)]
+struct Row<'a> {
+    frame: u64,
+    time_s: f64,
+    eye: &'static str,
+    distance_m: f64,
+    candidate: &'a str,
+    kind: &'static str,
+    solid_angle_sr: f64,
+    visible_fraction: f64,
+    view_angle_deg: f64,
+    angular_height_deg: f64,
+    frame_s: f64,
+    mirror: &'a str,
+}
+
+/// Eye-frames measured at once (in parallel) before their rows are written.
+const EYE_FRAMES_PER_BATCH: usize = 32;
+
+/// Measures every eye-frame (in parallel, a batch at a time) and writes the
+/// table; the rows written.
+pub fn write_table(inputs: &ExactInputs, labels: &LabelSet, path: &Path) -> Result<u64> {
+    if inputs.eye_frames.len() != 2 * inputs.frame_records.len() {
+        return Err(CaptureError::BadOptions(format!(
+            "placement: {} eye-frames for {} frames (expected two eyes per frame)",
+            inputs.eye_frames.len(),
+            inputs.frame_records.len()
+        )));
+    }
+    let mut rows = 0u64;
+    ufcsr::write_atomically(path, |writer| {
+        let mut table = csv::Writer::from_writer(writer);
+        for (batch, eye_frames) in inputs.eye_frames.chunks(EYE_FRAMES_PER_BATCH).enumerate() {
+            let seen: Vec<Vec<Option<Seen>>> =
+                eye_frames.par_iter().map(|eye_frame| measure_eye_frame(inputs, labels, eye_frame)).collect();
+            for (offset, per_label) in seen.iter().enumerate() {
+                let index = batch * EYE_FRAMES_PER_BATCH + offset;
+                rows += write_rows(&mut table, inputs, labels, index, per_label)
+                    .map_err(std::io::Error::other)?;
+            }
+        }
+        table.flush()
+    })?;
+    Ok(rows)
+}
+
+/// The rows of eye-frame `index`.
+fn write_rows<W: std::io::Write>(
+    table: &mut csv::Writer<W>,
+    inputs: &ExactInputs,
+    labels: &LabelSet,
+    index: usize,
+    per_label: &[Option<Seen>],
+) -> std::result::Result<u64, csv::Error> {
+    let record = &inputs.frame_records[index / 2];
+    let number = |key: &str| record[key].as_f64().unwrap_or(0.0);
+    let none =
+        Seen { solid_angle_sr: 0.0, visible_fraction: 0.0, view_angle_deg: 0.0, angular_height_deg: 0.0 };
+    let mut rows = 0;
+    for (label, seen) in per_label.iter().enumerate() {
+        let kind = labels.kinds[label];
+        if seen.is_none() && kind == LabelKind::Patch {
+            continue;
+        }
+        let seen = seen.unwrap_or(none);
+        table.serialize(Row {
+            frame: record["frame"].as_u64().unwrap_or(0),
+            time_s: number("time_s"),
+            eye: if index.is_multiple_of(2) { "left" } else { "right" },
+            distance_m: number("distance_m"),
+            candidate: &labels.names[label],
+            kind: kind.name(),
+            solid_angle_sr: seen.solid_angle_sr,
+            visible_fraction: seen.visible_fraction,
+            view_angle_deg: seen.view_angle_deg,
+            angular_height_deg: seen.angular_height_deg,
+            frame_s: inputs.frame_s,
+            mirror: labels.mirrors[label].as_deref().unwrap_or(""),
+        })?;
+        rows += 1;
+    }
+    Ok(rows)
+}

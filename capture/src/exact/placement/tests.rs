@@ -1,0 +1,241 @@
+//! Known answers of the placement measure: a facing plate's angular height
+//! is 2·atan(h / 2d), so it reaches the legibility threshold exactly at the
+//! distance the threshold implies; a display patch behind a box is not
+//! visible in the eye-frames the box covers it and legible in those it does
+//! not, and one behind a box driving past is hidden in exactly the frames
+//! the box covers it; patches fit inside the surface, hold W × H of it and pair with their
+//! mirror images.
+
+use glam::{DMat4, DVec3, Vec3, dvec3};
+
+use super::frames::{Seen, measure_eye_frame};
+use super::labels::LabelSet;
+use super::patches::place_patches;
+use super::{ExactInputs, parse_display};
+use crate::exact::geometry::{Obstacles, eye_frame};
+use crate::exact::points::surface_samples;
+use crate::exact::types::{EyeFrame, PlacementCandidates, SurfaceSamples};
+use crate::scene::{Mesh, Occluders, Scene, ValueOrTrack, look_to, reversed_z_perspective};
+use crate::texture::{background_texel, unwrap_islands_avoiding};
+
+/// A plate `w` wide (along y) and `h` high in the plane x = 0, centred on (0, 0, `z`).
+fn plate(w: f32, h: f32, z: f32) -> Mesh {
+    let mut mesh = Mesh::default();
+    let corner = |y: f32, dz: f32| Vec3::new(0.0, y, z + dz);
+    mesh.add_quad(
+        "plate",
+        corner(-w / 2.0, -h / 2.0),
+        corner(w / 2.0, -h / 2.0),
+        corner(w / 2.0, h / 2.0),
+        corner(-w / 2.0, h / 2.0),
+    );
+    mesh
+}
+
+fn scene_with(vehicle: Mesh, occluders: Occluders) -> Scene {
+    let mut scene = Scene::demo();
+    scene.vehicle = vehicle;
+    scene.occluders = occluders;
+    scene.rig.pedestrian = ValueOrTrack::Fixed([0.0, 0.0, 0.0]);
+    scene
+}
+
+fn samples_of(mesh: &Mesh, palette: [u32; 2]) -> SurfaceSamples {
+    let unwrapped = unwrap_islands_avoiding(mesh, palette, background_texel(palette)).unwrap();
+    surface_samples(mesh, &unwrapped, 1.0, 1, 1)
+}
+
+/// An eye at `eye` looking at `target`.
+fn eye_at(obstacles: &Obstacles, eye: DVec3, target: DVec3) -> EyeFrame {
+    let view_proj = reversed_z_perspective(60f64.to_radians(), 1.0, 0.3, 1000.0)
+        * look_to(eye, (target - eye).normalize(), DVec3::Z);
+    eye_frame(obstacles, &DMat4::IDENTITY, &[], eye, &view_proj)
+}
+
+fn inputs<'a>(scene: &'a Scene, samples: &'a SurfaceSamples, obstacles: &'a Obstacles) -> ExactInputs<'a> {
+    ExactInputs {
+        scene,
+        samples,
+        eye_frames: &[],
+        frame_records: &[],
+        obstacles,
+        sample_fraction: 1.0,
+        frame_s: 0.1,
+    }
+}
+
+/// The parts and 0.40 m × 0.15 m display patches every 10 cm as labels.
+fn display_patches(inputs: &ExactInputs) -> (LabelSet, Vec<super::patches::PlacedPatch>) {
+    let mut labels = LabelSet::parts(&inputs.scene.vehicle.parts, inputs.samples);
+    let patches = place_patches(inputs, [0.40, 0.15], 0.10);
+    labels.add_patches(&patches, inputs.samples);
+    (labels, patches)
+}
+
+/// The label of the first patch centred near y = 0 at a height `at_z` accepts.
+fn centred_patch(patches: &[super::patches::PlacedPatch], at_z: impl Fn(f64) -> bool) -> usize {
+    1 + patches.iter().position(|p| at_z(p.centre.z) && p.centre.y.abs() < 0.1).expect("a centred patch")
+}
+
+#[test]
+fn a_facing_plate_reaches_sixteen_arcmin_exactly_at_the_distance_it_implies() {
+    let (w, h, z) = (0.40, 0.15, 1.6);
+    let scene = scene_with(plate(w as f32, h as f32, z as f32), Occluders::default());
+    let samples = samples_of(&scene.vehicle, [512, 512]);
+    let obstacles = Obstacles::new(&scene);
+    let labels = LabelSet::parts(&scene.vehicle.parts, &samples);
+    let inputs = inputs(&scene, &samples, &obstacles);
+    let seen_from = |d: f64| -> Seen {
+        let frame = eye_at(&obstacles, dvec3(d, 0.0, z), dvec3(0.0, 0.0, z));
+        measure_eye_frame(&inputs, &labels, &frame)[0].expect("the plate is visible")
+    };
+    // Sample points stand for texels: the extent is exact to about one texel.
+    let texel_m =
+        (samples.samples.iter().map(|s| s.area_m2).sum::<f64>() / samples.samples.len() as f64).sqrt();
+    assert!(texel_m < 1e-3, "{texel_m}");
+    for d in [2.0, 10.0, 40.0] {
+        let seen = seen_from(d);
+        let exact = (2.0 * (h / (2.0 * d)).atan()).to_degrees();
+        let tolerance = (texel_m / d).to_degrees();
+        assert!((seen.angular_height_deg - exact).abs() <= tolerance, "{d} m: {seen:?} vs {exact}");
+        assert!((seen.visible_fraction - 1.0).abs() < 1e-9);
+        assert!(seen.view_angle_deg < (w / 2.0 / d).atan().to_degrees() + 1e-9);
+    }
+    // 16 arcmin: d* = h / (2 tan 8') = 32.228 m; one texel of height moves it
+    // by d* · texel / h. Legible just inside that band, not just outside.
+    let implied = h / (2.0 * (8.0f64 / 60.0).to_radians().tan());
+    assert!((implied - 32.228).abs() < 1e-3, "{implied}");
+    let band = implied * texel_m / h;
+    assert!(seen_from(implied - band).angular_height_deg * 60.0 >= 16.0);
+    assert!(seen_from(implied + band).angular_height_deg * 60.0 < 16.0);
+}
+
+#[test]
+fn a_patch_behind_a_box_is_hidden_exactly_while_the_box_covers_it() {
+    // A 1 m plate at x = 0 (z 1.5 to 2.5), a box in front of its lower half
+    // (x 0.5 to 0.7, z up to 1.95). From straight ahead at eye height 2.2 the
+    // box hides the lower patches; from 1 m higher up it hides none of them.
+    let mut occluders = Occluders::default();
+    occluders.add_box(dvec3(0.5, -1.0, 0.0), dvec3(0.7, 1.0, 1.95));
+    let scene = scene_with(plate(1.0, 1.0, 2.0), occluders);
+    let samples = samples_of(&scene.vehicle, [512, 512]);
+    let obstacles = Obstacles::new(&scene);
+    let inputs = inputs(&scene, &samples, &obstacles);
+    let (labels, patches) = display_patches(&inputs);
+    let low = centred_patch(&patches, |z| z < 1.7);
+    let high = centred_patch(&patches, |z| z > 2.3);
+    let behind =
+        measure_eye_frame(&inputs, &labels, &eye_at(&obstacles, dvec3(3.0, 0.0, 2.2), dvec3(0.0, 0.0, 2.0)));
+    assert_eq!(behind[low], None, "the box covers the low patch");
+    assert!(behind[high].is_some_and(|s| s.visible_fraction == 1.0));
+    let above =
+        measure_eye_frame(&inputs, &labels, &eye_at(&obstacles, dvec3(3.0, 0.0, 12.0), dvec3(0.0, 0.0, 2.0)));
+    assert!(above[low].is_some_and(|s| s.visible_fraction == 1.0), "{:?}", above[low]);
+}
+
+/// A box 0.2 m thick, 2 m wide and 1.95 m tall driving across in front of
+/// the plate of the test above (x = 0.6, y from −2.5 to +2.5 in 1 s), seen
+/// from 3 m ahead at eye height 2.2 m at 10 fps (centre y = −2.5 + 0.5 ·
+/// frame). The low patch's rays reach |y| ≤ 0.26 m in the box, so the box
+/// (|y − c| ≤ 1) hides the patch wholly for |c| ≤ 0.74 (frames 4–6), partly
+/// for |c| = 1 (frames 3 and 7) and not at all for |c| ≥ 1.26.
+fn crossing_box() -> crate::scene::MovingOccluder {
+    use crate::scene::track::{Key, Track};
+    let mut mesh = Mesh::default();
+    mesh.add_box(Vec3::new(-0.1, -1.0, 0.0), Vec3::new(0.1, 1.0, 1.95), [Some("box"); 6]);
+    let keys = vec![Key::linear(0.0, [0.6, -2.5, 0.0]), Key::linear(1.0, [0.6, 2.5, 0.0])];
+    crate::scene::MovingOccluder {
+        name: "crossing box".into(),
+        mesh,
+        path: crate::scene::OccluderPath::Tracks {
+            position: ValueOrTrack::Keys(Track { keys }),
+            yaw_deg: ValueOrTrack::Fixed([0.0]),
+        },
+    }
+}
+
+#[test]
+fn a_patch_behind_a_moving_box_is_hidden_in_exactly_the_frames_the_box_covers_it() {
+    use crate::scene::track::{Key, Motion, Track};
+    let occluders = Occluders { moving: vec![crossing_box()], ..Occluders::default() };
+    let mut scene = scene_with(plate(1.0, 1.0, 2.0), occluders);
+    scene.rig.pedestrian = ValueOrTrack::Fixed([3.0, 0.0, 0.0]);
+    scene.rig.eye_height_m = 2.2;
+    scene.rig.look_at_vehicle = [0.0, 0.0, 2.0];
+    scene.rig.fps = 10.0;
+    let still = Motion {
+        position: Track { keys: vec![Key::linear(0.0, [0.0; 3])] },
+        yaw_deg: Track { keys: vec![Key::linear(0.0, [0.0])] },
+    };
+    let scenario = crate::scene::Scenario { name: "S".into(), duration_s: 1.0, motion: still };
+    let samples = samples_of(&scene.vehicle, [512, 512]);
+    let obstacles = Obstacles::new(&scene);
+    let frames: Vec<u32> = (0..=10).collect();
+    let (eye_frames, _) = crate::exact::geometry::eye_frames(&scene, &scenario, &frames, &obstacles).unwrap();
+    let inputs = inputs(&scene, &samples, &obstacles);
+    let (labels, patches) = display_patches(&inputs);
+    let low = centred_patch(&patches, |z| z < 1.7);
+    for (index, eye_frame) in eye_frames.iter().enumerate() {
+        let frame = index / 2;
+        let seen = measure_eye_frame(&inputs, &labels, eye_frame)[low];
+        match frame {
+            4..=6 => assert_eq!(seen, None, "frame {frame}: the box covers the low patch"),
+            3 | 7 => assert!(
+                seen.is_some_and(|s| s.visible_fraction > 0.05 && s.visible_fraction < 0.95),
+                "frame {frame}: {seen:?}"
+            ),
+            _ => assert!(seen.is_some_and(|s| s.visible_fraction > 1.0 - 1e-9), "frame {frame}: {seen:?}"),
+        }
+    }
+}
+
+#[test]
+fn patches_fit_inside_the_surface_hold_their_area_and_pair_with_their_mirrors() {
+    let scene = scene_with(plate(1.0, 1.0, 2.0), Occluders::default());
+    let samples = samples_of(&scene.vehicle, [512, 512]);
+    let obstacles = Obstacles::new(&scene);
+    let inputs = inputs(&scene, &samples, &obstacles);
+    let [w, h] = parse_display("0.40x0.15").unwrap();
+    let patches = place_patches(&inputs, [w, h], 0.10);
+    let texel_m =
+        (samples.samples.iter().map(|s| s.area_m2).sum::<f64>() / samples.samples.len() as f64).sqrt();
+    assert!(patches.len() >= 20, "{} patches", patches.len());
+    for patch in &patches {
+        assert!(patch.centre.y.abs() <= 0.5 - w / 2.0 + 0.01, "{} overhangs", patch.name);
+        assert!((patch.centre.z - 2.0).abs() <= 0.5 - h / 2.0 + 0.01, "{} overhangs", patch.name);
+        assert!(patch.normal.x.abs() > 0.999 && patch.up.z > 0.999, "{patch:?}");
+        // Samples whose centre lies inside: W × H to about half a texel along the rim.
+        let area: f64 = patch.members.iter().map(|&s| samples.samples[s as usize].area_m2).sum();
+        assert!((area - w * h).abs() <= (w + h) * texel_m, "{}: {area} m²", patch.name);
+        if patch.centre.y.abs() > 0.06 {
+            let mirror = patch.mirror.as_ref().expect("an off-centre patch has a mirror");
+            let other = patches.iter().find(|p| &p.name == mirror).unwrap();
+            assert!(
+                (other.centre.y + patch.centre.y).abs() <= 0.05
+                    && (other.centre.z - patch.centre.z).abs() <= 0.05
+            );
+        }
+    }
+    assert!(parse_display("0.4").is_err() && parse_display("0x1").is_err() && parse_display("ax1").is_err());
+    assert_eq!(PlacementCandidates::default().spacing_m, 0.10);
+}
+
+#[test]
+fn patch_names_are_unique_where_the_surface_crosses_a_cube_face() {
+    // A plate tilted by about 1° crossing the cube face x = 0.10 at z = 1.95: the cubes
+    // on either side of the face both hold surface, and their centres, a few millimetres
+    // apart, round to one name; the first stands for both.
+    let mut mesh = Mesh::default();
+    let corner = |y: f32, dz: f32| Vec3::new(0.1 + 0.02 * (dz + 0.05), y, 2.0 + dz);
+    mesh.add_quad("plate", corner(-0.5, -0.5), corner(0.5, -0.5), corner(0.5, 0.5), corner(-0.5, 0.5));
+    let scene = scene_with(mesh, Occluders::default());
+    let samples = samples_of(&scene.vehicle, [512, 512]);
+    let obstacles = Obstacles::new(&scene);
+    let patches = place_patches(&inputs(&scene, &samples, &obstacles), [0.40, 0.15], 0.10);
+    let mut names: Vec<&str> = patches.iter().map(|p| p.name.as_str()).collect();
+    assert!(names.iter().any(|name| name.contains("z1.95")), "{names:?}");
+    names.sort_unstable();
+    let count = names.len();
+    names.dedup();
+    assert_eq!(names.len(), count, "a name given twice");
+}

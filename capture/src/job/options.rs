@@ -1,0 +1,280 @@
+//! What a capture is asked to do ([`CaptureOptions`]) and what it reports
+//! ([`Summary`]). Validated once by the binary, then handed to the capture.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use crate::error::{CaptureError, Result};
+use crate::texture::pidt::own::OwnLabelFiles;
+
+/// PNG compression of tiles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+pub enum Compression {
+    Fastest,
+    /// The default: much faster to encode than `balanced`, for somewhat larger files.
+    #[default]
+    Fast,
+    #[cfg_attr(feature = "cli", value(alias = "default"))]
+    Balanced,
+    #[cfg_attr(feature = "cli", value(alias = "best"))]
+    High,
+}
+
+impl Compression {
+    pub(crate) fn png(self) -> png::Compression {
+        match self {
+            Compression::Fastest => png::Compression::Fastest,
+            Compression::Fast => png::Compression::Fast,
+            Compression::Balanced => png::Compression::Balanced,
+            Compression::High => png::Compression::High,
+        }
+    }
+}
+
+/// The PNG row filter of tiles. The analyzer unfilters Up rows in about half
+/// the time of the Paeth rows an adaptive encoder picks (issue 22; figures in
+/// `docs/performance.md`), so tiles are Up-filtered unless asked otherwise.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+pub enum TileFilter {
+    /// Every row Up-filtered: fast to decode, a little larger.
+    #[default]
+    Up,
+    /// The png crate's per-row choice (mostly Paeth): smaller, slower to decode.
+    Adaptive,
+}
+
+impl TileFilter {
+    pub(crate) fn png(self) -> png::Filter {
+        match self {
+            TileFilter::Up => png::Filter::Up,
+            TileFilter::Adaptive => png::Filter::Adaptive,
+        }
+    }
+}
+
+/// Most frames a `--frames` list may name (a day at 100 frames/s is 8.6 million).
+pub const MAX_SELECTED_FRAMES: u64 = 10_000_000;
+
+/// Which frames to capture: all, or a list such as `0,30,60-90/10`.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct FrameSelection(Option<Vec<u32>>);
+
+impl FrameSelection {
+    /// Every frame.
+    pub fn all() -> FrameSelection {
+        FrameSelection(None)
+    }
+
+    /// The frames of a scenario with `count` frames.
+    pub fn frames(&self, count: u32) -> Vec<u32> {
+        match &self.0 {
+            None => (0..count).collect(),
+            Some(list) => list.iter().copied().filter(|&f| f < count).collect(),
+        }
+    }
+}
+
+impl std::str::FromStr for FrameSelection {
+    type Err = CaptureError;
+
+    /// Parses `all` or comma-separated frames and inclusive ranges `a-b`,
+    /// optionally with a step `a-b/s`.
+    fn from_str(text: &str) -> Result<FrameSelection> {
+        if text.trim().eq_ignore_ascii_case("all") {
+            return Ok(FrameSelection(None));
+        }
+        let bad =
+            || CaptureError::BadOptions(format!("frames must look like 0,30,60-90/10 or all, not {text:?}"));
+        let mut frames = Vec::new();
+        for item in text.split(',') {
+            let (range, step) = match item.split_once('/') {
+                Some((range, step)) => (range, step.trim().parse::<u32>().map_err(|_| bad())?),
+                None => (item, 1),
+            };
+            let (a, b) = match range.split_once('-') {
+                Some((a, b)) => {
+                    (a.trim().parse::<u32>().map_err(|_| bad())?, b.trim().parse::<u32>().map_err(|_| bad())?)
+                }
+                None => {
+                    let a = range.trim().parse::<u32>().map_err(|_| bad())?;
+                    (a, a)
+                }
+            };
+            if step == 0 || b < a {
+                return Err(bad());
+            }
+            // A selection is expanded into a list: bound it before it is.
+            let selected = u64::from(b - a) / u64::from(step) + 1;
+            if frames.len() as u64 + selected > MAX_SELECTED_FRAMES {
+                return Err(CaptureError::BadOptions(format!(
+                    "--frames {text:?} selects more than {MAX_SELECTED_FRAMES} frames"
+                )));
+            }
+            frames.extend((a..=b).step_by(step as usize));
+        }
+        frames.sort_unstable();
+        frames.dedup();
+        Ok(FrameSelection(Some(frames)))
+    }
+}
+
+/// How to capture.
+#[derive(Debug, Clone)]
+pub struct CaptureOptions {
+    pub out: PathBuf,
+    /// Size of the canonical palette (ignored with `palette_file`).
+    pub palette: [u32; 2],
+    /// An external palette PNG instead of the canonical palette.
+    pub palette_file: Option<PathBuf>,
+    pub keep_uvs: bool,
+    /// A PIdT and legend painted for the kept UVs, used as is (see [`crate::texture::pidt::own`]).
+    pub own_labels: Option<OwnLabelFiles>,
+    pub frames: FrameSelection,
+    pub compression: Compression,
+    /// The tiles' PNG row filter.
+    pub tile_filter: TileFilter,
+    pub resume: bool,
+    pub keep_background_tiles: bool,
+    /// Render every tile, even those the vehicle's bounds do not touch
+    /// (for benchmarks and checks of the culling).
+    pub no_cull: bool,
+    /// Render whole tiles: no scissor to the vehicle's projected bounds and
+    /// no skipping of tiles where occluders hide the vehicle (for benchmarks
+    /// and checks that both give the same tiles).
+    pub no_scissor: bool,
+    /// Told of every rendered tile (the binary draws a bar); none by default.
+    pub progress: CaptureProgress,
+    /// PNG encoder threads (0: as many as cores).
+    pub encoder_threads: usize,
+    /// Render only this shard of the selected frames (see [`crate::job::capture_shard`]).
+    pub shard: Option<ufcsr::Shard>,
+    /// Each heatmap view in a counted capture's results is 400×300 pixels
+    /// times this, 1–8 (the analyzer's `--views-scale`).
+    pub views_scale: u32,
+}
+
+impl Default for CaptureOptions {
+    fn default() -> CaptureOptions {
+        CaptureOptions {
+            out: PathBuf::from("archive"),
+            palette: [4096, 4096],
+            palette_file: None,
+            keep_uvs: false,
+            own_labels: None,
+            frames: FrameSelection::all(),
+            compression: Compression::Fast,
+            tile_filter: TileFilter::Up,
+            resume: false,
+            keep_background_tiles: false,
+            no_cull: false,
+            no_scissor: false,
+            progress: CaptureProgress::default(),
+            encoder_threads: 0,
+            shard: None,
+            views_scale: ufcsr::DEFAULT_VIEWS_SCALE,
+        }
+    }
+}
+
+/// Where a capture reports its progress: each scenario `start`s with its
+/// number of tiles, `advance`s by one per tile rendered (or culled, hidden,
+/// resumed) and `finish`es. The library draws nothing itself.
+#[derive(Clone, Default)]
+pub struct CaptureProgress(Option<Arc<dyn ufcsr::Progress + Send>>);
+
+impl CaptureProgress {
+    /// Progress reported to `progress`.
+    pub fn to(progress: Arc<dyn ufcsr::Progress + Send>) -> CaptureProgress {
+        CaptureProgress(Some(progress))
+    }
+
+    pub(crate) fn start(&self, total: u64) {
+        if let Some(progress) = &self.0 {
+            progress.start(total);
+        }
+    }
+
+    pub(crate) fn advance(&self, done: u64) {
+        if let Some(progress) = &self.0 {
+            progress.advance(done);
+        }
+    }
+
+    pub(crate) fn finish(&self) {
+        if let Some(progress) = &self.0 {
+            progress.finish();
+        }
+    }
+}
+
+impl std::fmt::Debug for CaptureProgress {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(if self.0.is_some() { "CaptureProgress(reported)" } else { "CaptureProgress(none)" })
+    }
+}
+
+/// What the frame loop did with the tiles of a capture.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TileTally {
+    /// Rendered by the GPU.
+    pub rendered: u64,
+    /// Handed to the sink (PNGs written, or tiles counted).
+    pub written: u64,
+    /// Already on disk (`--resume`).
+    pub resumed: u64,
+    /// Not rendered: outside the vehicle's projected bounds.
+    pub culled: u64,
+    /// Rendered but pure background.
+    pub background: u64,
+    /// Pixels of rendered tiles outside the scissor rectangle: neither
+    /// rendered nor read back, filled with the background.
+    pub pixels_scissored: u64,
+    /// Tiles the vehicle's bounds touch but occluders hide: not rendered.
+    pub hidden: u64,
+}
+
+impl TileTally {
+    pub fn add(&mut self, other: TileTally) {
+        self.rendered += other.rendered;
+        self.written += other.written;
+        self.resumed += other.resumed;
+        self.culled += other.culled;
+        self.background += other.background;
+        self.pixels_scissored += other.pixels_scissored;
+        self.hidden += other.hidden;
+    }
+}
+
+/// What a capture did.
+#[derive(Debug, Clone, Default)]
+pub struct Summary {
+    pub out: PathBuf,
+    pub scenario: String,
+    pub frames: u32,
+    pub tiles: u64,
+    /// What the frame loop did with them.
+    pub tally: TileTally,
+    /// Pixels of the tiles the vehicle's bounds touch (not culled): the
+    /// share the scissor left out is against this.
+    pub pixels: u64,
+    pub seconds: f64,
+    /// Of which unwrap, PIdT and pipeline setup.
+    pub setup_seconds: f64,
+    pub texels_per_m2: f64,
+    pub palette_share: f64,
+    pub parts: usize,
+    pub triangles: usize,
+    /// What did not fit but did not stop the capture (own PIdT texels).
+    pub warnings: Vec<String>,
+}
+
+impl Summary {
+    /// Frames per second of the frame loop (both eyes, rendering, readback
+    /// and PNG encoding; setup excluded).
+    pub fn frames_per_second(&self) -> f64 {
+        let seconds = self.seconds - self.setup_seconds;
+        if seconds > 0.0 { f64::from(self.frames) / seconds } else { 0.0 }
+    }
+}

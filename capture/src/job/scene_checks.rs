@@ -1,0 +1,416 @@
+//! Scenes that cannot give a meaningful capture: refused, or warned about by
+//! name, before any frame is rendered.
+//!
+//! Bounds (each an error naming the value): at most [`MAX_FRAMES`] frames
+//! and [`MAX_TILES`] tiles in one capture (the rig's own bounds are in
+//! [`Rig::check`], a mesh's in [`ufcsr::check_coordinates`]).
+//!
+//! Impossible scenes, checked over the selected frames with the vehicle's
+//! own triangles and the eyes where the (possibly walking) pedestrian is at
+//! each frame (warnings go to stderr, the summary and the manifest's
+//! `warnings`):
+//! - the near plane cuts the vehicle inside the view (the renderer then shows
+//!   its inside): a warning naming the frames;
+//! - part of the vehicle lies beyond the far plane (never drawn): a warning
+//!   naming the frames;
+//! - an eye inside the vehicle: an **error** naming the frames — every count
+//!   would be of the vehicle's inside, and plausible-looking;
+//! - an eye inside a moving occluder (a car driving through the pedestrian,
+//!   or the pedestrian walking into one): a warning naming it and the frames;
+//! - between frames (at the rig's fps) the vehicle moves faster than
+//!   [`MAX_SPEED_M_S`] or accelerates more than [`MAX_ACCELERATION_M_S2`]: a
+//!   warning naming the position keys.
+
+use std::collections::BTreeMap;
+
+use glam::{DMat4, DVec3, DVec4, dvec3};
+
+use crate::error::{CaptureError, Result};
+use crate::job::options::CaptureOptions;
+use crate::scene::Scene;
+use crate::scene::frame_state::FrameState;
+use crate::scene::mesh::Mesh;
+use crate::scene::rig::{Eye, Rig, vehicle_to_world};
+use crate::scene::scenario::Scenario;
+use crate::scene::track::Track;
+
+/// Most frames in a scenario: 1,000,000 (4.6 h at 60 fps).
+pub const MAX_FRAMES: f64 = 1.0e6;
+/// Most tiles in one capture: 10 million (the paper's 50 a frame for 55 min at 60 fps).
+pub const MAX_TILES: u64 = 10_000_000;
+/// Fastest plausible road vehicle, m/s (360 km/h).
+pub const MAX_SPEED_M_S: f64 = 100.0;
+/// Hardest plausible acceleration or braking: 3 g.
+pub const MAX_ACCELERATION_M_S2: f64 = 3.0 * 9.80665;
+
+/// The frames of `scenario` the options select, after checking that the
+/// scenario's frame count and the capture's tile count are bounded.
+pub fn selected_frames(scene: &Scene, scenario: &Scenario, options: &CaptureOptions) -> Result<Vec<u32>> {
+    let rig = &scene.rig;
+    let frames = scenario.duration_s * rig.fps;
+    if !(frames.is_finite() && frames < MAX_FRAMES) {
+        return Err(CaptureError::BadOptions(format!(
+            "scenario {}: {} s at {} fps is {frames:e} frames, more than the {MAX_FRAMES:e} a capture may have: \
+             lower the rig's fps or the duration",
+            scenario.name, scenario.duration_s, rig.fps
+        )));
+    }
+    let frame_count = rig.frame_count(scenario.duration_s);
+    let selected = options.frames.frames(frame_count);
+    if selected.is_empty() {
+        return Err(CaptureError::BadOptions(format!(
+            "no frame selected: scenario {} has frames 0-{}, and the frame selection names none of them",
+            scenario.name,
+            frame_count.saturating_sub(1)
+        )));
+    }
+    let tiles = selected.len() as u64 * 2 * u64::from(rig.tiles[0]) * u64::from(rig.tiles[1]);
+    if tiles > MAX_TILES {
+        return Err(CaptureError::BadOptions(format!(
+            "scenario {}: {} frames × 2 eyes × {}×{} tiles is {tiles} tiles, more than the {MAX_TILES} one capture \
+             may have: select fewer frames (--frames) or use fewer tiles",
+            scenario.name,
+            selected.len(),
+            rig.tiles[0],
+            rig.tiles[1]
+        )));
+    }
+    Ok(selected)
+}
+
+/// The impossible-scene checks over `frames`: the warnings, or an error
+/// when an eye is inside the vehicle.
+pub fn scene_warnings(scene: &Scene, scenario: &Scenario, frames: &[u32]) -> Result<Vec<String>> {
+    let rig = &scene.rig;
+    let mut found = ViewFindings::default();
+    for &frame in frames {
+        // The eyes where the (possibly walking) pedestrian is at this frame.
+        let state = FrameState::at(scene, scenario, frame)?;
+        let to_world = vehicle_to_world(&state.vehicle);
+        let world: Vec<DVec3> =
+            scene.vehicle.positions.iter().map(|p| to_world.transform_point3(p.as_dvec3())).collect();
+        for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(state.time_s, &state.vehicle)) {
+            found.look(&scene.vehicle, rig, frame, &world, &camera.view_proj);
+            let local = to_world.inverse().transform_point3(camera.position);
+            if inside_mesh(&scene.vehicle, local) {
+                found.inside.push((frame, eye));
+            }
+            found.look_out_of_moving(scene, &state, camera.position);
+        }
+    }
+    if !found.inside.is_empty() {
+        let mut frames: Vec<u32> = found.inside.iter().map(|&(frame, _)| frame).collect();
+        frames.dedup();
+        let both = found.inside.iter().any(|&(_, eye)| eye == Eye::Left)
+            && found.inside.iter().any(|&(_, eye)| eye == Eye::Right);
+        let eyes = if both {
+            "both eyes are".to_string()
+        } else {
+            format!("the {} eye is", found.inside[0].1.name())
+        };
+        return Err(CaptureError::BadOptions(format!(
+            "scenario {}: {eyes} inside the vehicle in frames {} (pedestrian {:?} at frame {}, eye height {} m): \
+             every count would be of the vehicle's inside; move the pedestrian or the vehicle's track",
+            scenario.name,
+            list_frames(&frames),
+            FrameState::at(scene, scenario, frames[0])?.pedestrian.to_array(),
+            frames[0],
+            rig.eye_height_m
+        )));
+    }
+    let mut warnings = found.warnings(rig);
+    warnings.extend(motion_warnings(rig, scenario));
+    Ok(warnings)
+}
+
+/// What the views of the selected frames showed.
+#[derive(Default)]
+struct ViewFindings {
+    near_cut: Vec<u32>,
+    beyond_far: Vec<u32>,
+    farthest_m: f64,
+    inside: Vec<(u32, Eye)>,
+    /// Per moving occluder (by name): the frames an eye is inside it.
+    inside_moving: BTreeMap<String, Vec<u32>>,
+}
+
+impl ViewFindings {
+    /// One eye's view of the vehicle (`world`: its vertices this frame).
+    fn look(&mut self, mesh: &Mesh, rig: &Rig, frame: u32, world: &[DVec3], view_proj: &DMat4) {
+        let clip: Vec<DVec4> = world.iter().map(|p| *view_proj * p.extend(1.0)).collect();
+        // Depth along the view axis is clip w for this projection.
+        let farthest = clip.iter().map(|c| c.w).fold(f64::NEG_INFINITY, f64::max);
+        let nearest = clip.iter().map(|c| c.w).fold(f64::INFINITY, f64::min);
+        let once = |frames: &mut Vec<u32>| {
+            if frames.last() != Some(&frame) {
+                frames.push(frame);
+            }
+        };
+        if farthest > rig.far_m {
+            once(&mut self.beyond_far);
+            self.farthest_m = self.farthest_m.max(farthest);
+        }
+        if nearest < rig.near_m
+            && mesh.triangles.iter().any(|t| near_plane_cuts(t.map(|i| clip[i as usize]), rig.near_m))
+        {
+            once(&mut self.near_cut);
+        }
+    }
+
+    /// Whether the eye at `eye` (world) is inside a moving occluder this frame.
+    fn look_out_of_moving(&mut self, scene: &Scene, state: &FrameState, eye: DVec3) {
+        for (occluder, to_world) in scene.occluders.moving.iter().zip(state.moving_to_world()) {
+            if inside_mesh(&occluder.mesh, to_world.inverse().transform_point3(eye)) {
+                let frames = self.inside_moving.entry(occluder.name.clone()).or_default();
+                if frames.last() != Some(&state.frame) {
+                    frames.push(state.frame);
+                }
+            }
+        }
+    }
+
+    fn warnings(&self, rig: &Rig) -> Vec<String> {
+        let mut warnings = Vec::new();
+        for (name, frames) in &self.inside_moving {
+            warnings.push(format!(
+                "an eye is inside the moving occluder {name} in frames {}: it hides the whole vehicle then; \
+                 check its track (or follow offset) and the pedestrian's",
+                list_frames(frames)
+            ));
+        }
+        if !self.near_cut.is_empty() {
+            warnings.push(format!(
+                "the near plane ({} m) cuts the vehicle open in frames {}: those frames show (and count) its \
+                 inside; keep the vehicle farther from the eyes or lower near_m",
+                rig.near_m,
+                list_frames(&self.near_cut)
+            ));
+        }
+        if !self.beyond_far.is_empty() {
+            warnings.push(format!(
+                "the vehicle reaches beyond the far plane ({} m) in frames {} (up to {:.1} m away): what lies \
+                 beyond is never drawn nor counted; raise far_m or bring the vehicle closer",
+                rig.far_m,
+                list_frames(&self.beyond_far),
+                self.farthest_m
+            ));
+        }
+        warnings
+    }
+}
+
+/// True when the plane at depth `near` crosses the triangle (clip corners)
+/// inside the view: the cut the renderer would show.
+fn near_plane_cuts(corners: [DVec4; 3], near: f64) -> bool {
+    let depth = corners.map(|c| c.w - near);
+    if depth.iter().all(|&d| d > 0.0) || depth.iter().all(|&d| d < 0.0) {
+        return false;
+    }
+    let mut ends = Vec::with_capacity(3);
+    for (a, b) in [(0, 1), (1, 2), (2, 0)] {
+        let (da, db) = (depth[a], depth[b]);
+        if (da <= 0.0) != (db <= 0.0) || da == 0.0 {
+            let s = if da == db { 0.0 } else { da / (da - db) };
+            let point = corners[a] + (corners[b] - corners[a]) * s;
+            ends.push(glam::dvec2(point.x / near, point.y / near));
+        }
+    }
+    match ends[..] {
+        [a] => a.x.abs() <= 1.0 && a.y.abs() <= 1.0,
+        [a, b, ..] => segment_meets_square(a, b),
+        [] => false,
+    }
+}
+
+/// Liang–Barsky: does the segment a→b meet the square [-1, 1]²?
+fn segment_meets_square(a: glam::DVec2, b: glam::DVec2) -> bool {
+    let d = b - a;
+    let (mut enter, mut leave) = (0.0_f64, 1.0_f64);
+    for (p, q) in [(-d.x, a.x + 1.0), (d.x, 1.0 - a.x), (-d.y, a.y + 1.0), (d.y, 1.0 - a.y)] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return false;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                enter = enter.max(r);
+            } else {
+                leave = leave.min(r);
+            }
+        }
+    }
+    enter <= leave
+}
+
+/// Point-in-mesh by ray parity: inside when three rays in unrelated
+/// directions all cross the surface an odd number of times (a mesh with
+/// holes then gives no false alarm). The bounding box is the quick test.
+pub fn inside_mesh(mesh: &Mesh, point: DVec3) -> bool {
+    let (min, max) = mesh.bounds();
+    if point.cmplt(min).any() || point.cmpgt(max).any() {
+        return false;
+    }
+    let directions =
+        [dvec3(0.5773, 0.5774, 0.5775), dvec3(-0.8017, 0.2673, 0.5345), dvec3(0.1, -0.97, -0.22)];
+    directions.iter().all(|&direction| {
+        let direction = direction.normalize();
+        let crossings = (0..mesh.triangles.len())
+            .filter(|&t| ray_hits(point, direction, mesh.corners(t).map(|c| c.as_dvec3())))
+            .count();
+        crossings % 2 == 1
+    })
+}
+
+/// Does the ray from `origin` along `direction` cross the triangle (ahead of `origin`)?
+/// The exact measure's Möller–Trumbore test, so both agree on what a crossing is.
+fn ray_hits(origin: DVec3, direction: DVec3, corners: [DVec3; 3]) -> bool {
+    let triangle = crate::scene::ray_triangle::StoredTriangle::from_corners(&corners);
+    crate::scene::ray_triangle::ray_triangle_parameter(origin, direction, &triangle)
+        .is_some_and(|along| along > 0.0)
+}
+
+/// Where on a position track a bound was broken.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Place {
+    /// At a key (its slopes differ on either side: the velocity jumps).
+    Key(usize),
+    /// Between keys: the number of the first key after (0 before the first,
+    /// the key count after the last).
+    Segment(usize),
+}
+
+/// Speeds and accelerations between consecutive frames (at the rig's fps,
+/// every frame, not only the selected ones) beyond physical bounds.
+pub fn motion_warnings(rig: &Rig, scenario: &Scenario) -> Vec<String> {
+    let track = &scenario.motion.position;
+    let count = rig.frame_count(scenario.duration_s);
+    let at = |frame: u32| {
+        let time_s = (f64::from(frame) / rig.fps).min(scenario.duration_s);
+        (time_s, DVec3::from(track.eval(time_s)))
+    };
+    let mut too_fast: BTreeMap<Place, f64> = BTreeMap::new();
+    let mut too_hard: BTreeMap<Place, f64> = BTreeMap::new();
+    let record = |found: &mut BTreeMap<Place, f64>, place: Place, value: f64| {
+        let entry = found.entry(place).or_default();
+        *entry = entry.max(value);
+    };
+    let mut before: Option<(f64, DVec3)> = None;
+    let mut current = at(0);
+    for frame in 1..count {
+        let next = at(frame);
+        let dt = next.0 - current.0;
+        if dt > 0.0 {
+            let speed = (next.1 - current.1).length() / dt;
+            if speed > MAX_SPEED_M_S {
+                record(&mut too_fast, Place::Segment(segment(track, current.0)), speed);
+            }
+            if let Some((t0, p0)) = before.filter(|&(t0, _)| current.0 > t0) {
+                let previous_dt = current.0 - t0;
+                let change = (next.1 - current.1) / dt - (current.1 - p0) / previous_dt;
+                let acceleration = change.length() / ((dt + previous_dt) / 2.0);
+                if acceleration > MAX_ACCELERATION_M_S2 {
+                    record(&mut too_hard, place(track, t0, next.0, current.0), acceleration);
+                }
+            }
+        }
+        before = Some(current);
+        current = next;
+    }
+    let mut warnings = Vec::new();
+    if let Some(fastest) = too_fast.values().copied().reduce(f64::max) {
+        warnings.push(format!(
+            "scenario {}: the vehicle moves faster than {MAX_SPEED_M_S} m/s between frames (up to {fastest:.1} m/s) \
+             at position {}: a mistyped or teleporting track?",
+            scenario.name,
+            list_places(track, &too_fast)
+        ));
+    }
+    if let Some(hardest) = too_hard.values().copied().reduce(f64::max) {
+        warnings.push(format!(
+            "scenario {}: the vehicle accelerates or brakes harder than 3 g ({MAX_ACCELERATION_M_S2:.2} m/s²) \
+             between frames (up to {hardest:.1} m/s², {:.1} g) at position {} (at a key: its in and out slopes \
+             differ, so the speed jumps within a frame)",
+            scenario.name,
+            hardest / 9.80665,
+            list_places(track, &too_hard)
+        ));
+    }
+    warnings
+}
+
+/// The key within `(from, to)` if there is one, else the segment of `time_s`.
+fn place(track: &Track<3>, from: f64, to: f64, time_s: f64) -> Place {
+    match track.keys.iter().position(|key| key.t > from && key.t < to) {
+        Some(key) => Place::Key(key),
+        None => Place::Segment(segment(track, time_s)),
+    }
+}
+
+/// The number of the first key after `time_s` (0: before the first key,
+/// the key count: after the last).
+fn segment(track: &Track<3>, time_s: f64) -> usize {
+    track.keys.partition_point(|key| key.t <= time_s)
+}
+
+/// "key 2 (t 1.500 s), keys 1–2 (t 1.300–2.300 s), after key 3 (t 3.000 s)".
+fn list_places(track: &Track<3>, places: &BTreeMap<Place, f64>) -> String {
+    let keys = &track.keys;
+    let names: Vec<String> = places
+        .keys()
+        .map(|&place| match place {
+            Place::Key(key) => format!("key {key} (t {:.3} s)", keys[key].t),
+            Place::Segment(0) => format!("before key 0 (t {:.3} s)", keys[0].t),
+            Place::Segment(r) if r >= keys.len() => format!("after key {} (t {:.3} s)", r - 1, keys[r - 1].t),
+            Place::Segment(r) => format!("keys {}–{r} (t {:.3}–{:.3} s)", r - 1, keys[r - 1].t, keys[r].t),
+        })
+        .collect();
+    names.join(", ")
+}
+
+/// "0-3, 60, 120" (runs joined; at most 12 items, then how many in all).
+pub fn list_frames(frames: &[u32]) -> String {
+    let mut runs: Vec<(u32, u32)> = Vec::new();
+    for &frame in frames {
+        match runs.last_mut() {
+            Some((_, last)) if frame == *last + 1 => *last = frame,
+            _ => runs.push((frame, frame)),
+        }
+    }
+    let mut text: Vec<String> =
+        runs.iter().take(12).map(|&(a, b)| if a == b { a.to_string() } else { format!("{a}-{b}") }).collect();
+    if runs.len() > 12 {
+        text.push(format!("… ({} frames in all)", frames.len()));
+    }
+    text.join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::{dvec2, vec3};
+
+    #[test]
+    fn parity_finds_points_inside_a_closed_box_only() {
+        let mut mesh = Mesh::default();
+        mesh.add_box(vec3(-2.0, -1.0, 0.0), vec3(2.0, 1.0, 2.0), [Some("body"); 6]);
+        assert!(inside_mesh(&mesh, dvec3(0.3, 0.2, 1.0)));
+        assert!(!inside_mesh(&mesh, dvec3(0.3, 0.2, 2.5)));
+        // Open on top: no surface above, so no false alarm.
+        let mut open = Mesh::default();
+        open.add_box(
+            vec3(-2.0, -1.0, 0.0),
+            vec3(2.0, 1.0, 2.0),
+            [Some("body"), Some("body"), Some("body"), Some("body"), None, Some("body")],
+        );
+        assert!(!inside_mesh(&open, dvec3(0.3, 0.2, 1.0)));
+    }
+
+    #[test]
+    fn segments_meet_the_square_or_not() {
+        assert!(segment_meets_square(dvec2(-2.0, 0.0), dvec2(2.0, 0.0)));
+        assert!(!segment_meets_square(dvec2(-2.0, 1.5), dvec2(2.0, 1.5)));
+        assert!(!segment_meets_square(dvec2(1.5, 3.0), dvec2(3.0, 1.5)));
+        assert_eq!(list_frames(&[0, 1, 2, 60, 120]), "0-2, 60, 120");
+    }
+}

@@ -1,0 +1,213 @@
+//! What an analysis is asked to do and what it measures about itself: the
+//! options ([`AnalyzeOptions`], [`Dedupe`], [`PaletteChoice`]), progress
+//! reporting, and per-stage [`Timings`]. Its own module so that the job
+//! (`analyze`) and the report layer (`report`) both depend on it and not on
+//! each other.
+
+use std::path::PathBuf;
+
+use serde::{Deserialize, Serialize};
+
+use crate::archive::shard::Shard;
+use crate::color::Color;
+use crate::error::{Error, Result};
+
+/// Which palette to use.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum PaletteChoice {
+    /// The canonical W×H palette.
+    Canonical { width: u32, height: u32 },
+    /// A palette image with unique colours.
+    Image(PathBuf),
+}
+
+/// What one count means.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum Dedupe {
+    /// A texel counts once per image (tile) that shows it.
+    #[default]
+    Image,
+    /// A texel counts once per eye-frame, however many of its tiles show it
+    /// (each eye counts separately).
+    Frame,
+    /// A texel counts once per frame, over both eyes and all their tiles.
+    #[serde(rename = "eye-pair")]
+    EyePair,
+}
+
+impl Dedupe {
+    /// Its name, as `--dedupe` takes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Dedupe::Image => "image",
+            Dedupe::Frame => "frame",
+            Dedupe::EyePair => "eye-pair",
+        }
+    }
+
+    /// True when counts are per eye-frame or per frame (needs a manifest).
+    pub fn per_frame(self) -> bool {
+        self != Dedupe::Image
+    }
+}
+
+impl std::str::FromStr for Dedupe {
+    type Err = Error;
+    fn from_str(text: &str) -> Result<Dedupe> {
+        match text {
+            "image" => Ok(Dedupe::Image),
+            "frame" => Ok(Dedupe::Frame),
+            "eye-pair" => Ok(Dedupe::EyePair),
+            other => {
+                Err(Error::BadOptions(format!("unknown --dedupe {other:?}: use image, frame or eye-pair")))
+            }
+        }
+    }
+}
+
+/// Receives progress while images are counted (the binary draws a bar).
+pub trait Progress: Sync {
+    /// Counting starts; `total` images will be reported.
+    fn start(&self, total: u64);
+    /// `done` more images are finished.
+    fn advance(&self, done: u64);
+    /// Counting is over.
+    fn finish(&self);
+}
+
+/// Everything [`crate::analyze()`] needs. `None` fields fall back to the archive's
+/// manifest, then to the defaults.
+#[derive(Debug, Clone, Default)]
+pub struct AnalyzeOptions {
+    /// The archive folder.
+    pub archive: PathBuf,
+    pub palette: Option<PaletteChoice>,
+    pub pidt: Option<PathBuf>,
+    pub legend: Option<PathBuf>,
+    pub background: Option<Vec<Color>>,
+    pub dedupe: Dedupe,
+    pub trim: TrimMode,
+    /// Heatmap settings, recorded in the result.
+    pub heatmap: HeatmapOptions,
+    /// Stop at the first failed image.
+    pub strict: bool,
+    /// Files or folders never taken as images (e.g. the output folder).
+    pub exclude: Vec<PathBuf>,
+    /// Ignore `manifest.json` even if present.
+    pub ignore_manifest: bool,
+    /// Count only this shard of the archive (see [`crate::archive::shard`]).
+    pub shard: Option<Shard>,
+    /// The vehicle as unwrapped (glTF with the palette UVs), for `heatmap.glb`;
+    /// default: the manifest's `vehicle`.
+    pub mesh: Option<PathBuf>,
+    /// Tally pixels and texels per eye-frame and part (`frames.csv`) and the
+    /// resolution-independent measures (`measures` in `result.json`). Off by
+    /// default in the library; the binary turns it on unless `--frames-csv
+    /// off`. The capture's `--count` tallies them itself
+    /// ([`crate::TileCounter::tally_parts`]).
+    pub frames: bool,
+    /// The legend and PIdT the analysis would read (from the options or the
+    /// manifest), already loaded by the caller: used instead of reading them
+    /// again (the files must still be there; the identity digests them).
+    pub loaded_labels: Option<crate::archive::labels::LoadedLabels>,
+}
+
+/// Wall-clock seconds per stage, and the thread count (kept out of
+/// `result.json`, which must not change from run to run). The heatmap
+/// (`heatmap_seconds`), the tables (`write_seconds`), the frame strip and
+/// the views (`figure_seconds["frames_strip"]`, `["views"]`) are written
+/// side by side, so their seconds overlap; `total_seconds` is the wall
+/// clock.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Timings {
+    pub threads: usize,
+    /// The row kernels used ([`crate::count::scan::Kernel::name`]).
+    pub kernel: String,
+    pub load_seconds: f64,
+    pub trim_seconds: f64,
+    pub count_seconds: f64,
+    pub join_seconds: f64,
+    pub heatmap_seconds: f64,
+    pub write_seconds: f64,
+    /// Seconds of each figure and the report page (`heatmap_glb`, `views`,
+    /// `map`, `frames_strip`, `plots`, `report`).
+    #[serde(default)]
+    pub figure_seconds: std::collections::BTreeMap<String, f64>,
+    /// From the start of the analysis to the last file of the result set
+    /// written (moving the set into place, a rename per file, is after it).
+    pub total_seconds: f64,
+    /// Decoded pixels per second during counting, in millions.
+    pub decoded_megapixels_per_second: f64,
+}
+
+/// The paper's measure: a texel counts once per image (or eye-frame) whose pixels show it.
+pub const MEASURE_PIXELS: &str = "pixels";
+
+/// How counts map onto the colormap.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
+#[serde(rename_all = "lowercase")]
+pub enum Scale {
+    /// `count / max`.
+    #[default]
+    Linear,
+    /// `ln(1 + count) / ln(1 + max)`: shows rarely seen texels too.
+    Log,
+}
+
+impl std::str::FromStr for Scale {
+    type Err = Error;
+    fn from_str(text: &str) -> Result<Scale> {
+        match text {
+            "linear" => Ok(Scale::Linear),
+            "log" => Ok(Scale::Log),
+            other => Err(Error::BadOptions(format!("unknown heatmap scale {other:?}: use linear or log"))),
+        }
+    }
+}
+
+/// Heatmap settings.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct HeatmapOptions {
+    pub scale: Scale,
+    /// The count shown as the top of the colormap; `None` = the largest count.
+    /// Fixing it lets two scenarios share one colour scale (larger counts clamp).
+    pub max: Option<u32>,
+}
+
+/// How to find empty tiles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum TrimMode {
+    /// Every file size that repeats within one tile size is a candidate.
+    #[default]
+    Auto,
+    /// Every file of at most this many bytes is a candidate (the paper: 30,381).
+    Bytes(u64),
+    /// Decode everything.
+    Off,
+}
+
+impl std::str::FromStr for TrimMode {
+    type Err = Error;
+    fn from_str(text: &str) -> Result<TrimMode, Error> {
+        match text {
+            "auto" => Ok(TrimMode::Auto),
+            "off" => Ok(TrimMode::Off),
+            number => number.replace(['_', ','], "").parse().map(TrimMode::Bytes).map_err(|_| {
+                Error::BadOptions(format!("invalid --trim {text:?}: use auto, off or a size in bytes"))
+            }),
+        }
+    }
+}
+
+impl std::fmt::Display for TrimMode {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            TrimMode::Auto => write!(f, "auto"),
+            TrimMode::Off => write!(f, "off"),
+            TrimMode::Bytes(bytes) => write!(f, "{bytes}"),
+        }
+    }
+}

@@ -1,0 +1,245 @@
+//! The Full Color Space Palette (FCSP): which texel each colour names.
+//!
+//! The canonical palette needs no file: texel `(x, y)` of a W×H palette has
+//! index `y*W + x`, and its colour *is* that index (`0xRRGGBB`). Unity and
+//! Blender users may bring any palette image whose colours are all distinct;
+//! then we keep the texel → colour table and a 2^24-bit membership set.
+
+use std::path::{Path, PathBuf};
+
+use serde::Serialize;
+
+use crate::color::ColorSet;
+use crate::color::{COLOR_COUNT, Color};
+use crate::error::{Error, Result};
+use crate::input::png_rows::read_color_image;
+
+/// Default canonical palette side (4096 × 4096 = 2^24 texels).
+pub const DEFAULT_PALETTE_SIDE: u32 = 4096;
+
+/// A palette, loaded: the mapping between texels and the colours that name
+/// them. The one palette type of both crates: the analyzer counts with it,
+/// the capture renders with it (`GpuPalette::of` there), and its relatives
+/// say what they are — [`crate::PaletteChoice`] the palette an analysis is
+/// asked for, [`crate::PaletteRecord`] the one `manifest.json` names,
+/// [`PaletteSetting`] the one `result.json`'s settings name.
+pub enum Fcsp {
+    /// `colour == texel index`, for a W×H texture.
+    Canonical { width: u32, height: u32 },
+    /// An arbitrary palette image with unique colours.
+    Image { width: u32, height: u32, path: PathBuf, colors: Vec<u32>, members: ColorSet },
+}
+
+/// The palette as `result.json`'s `settings.palette` records it
+/// ([`Fcsp::describe`]).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, serde::Deserialize)]
+pub struct PaletteSetting {
+    /// `"canonical"` or `"image"`.
+    pub kind: String,
+    pub width: u32,
+    pub height: u32,
+    /// The palette image, for `"image"` palettes.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+}
+
+impl Fcsp {
+    /// The canonical W×H palette.
+    pub fn canonical(width: u32, height: u32) -> Result<Fcsp> {
+        let texels = u64::from(width) * u64::from(height);
+        if width == 0 || height == 0 || texels > COLOR_COUNT as u64 {
+            return Err(Error::BadOptions(format!(
+                "a canonical palette must have between 1 and 2^24 texels; {width}×{height} has {texels}"
+            )));
+        }
+        Ok(Fcsp::Canonical { width, height })
+    }
+
+    /// Loads a palette image and checks that its colours are unique.
+    pub fn from_png(path: &Path) -> Result<Fcsp> {
+        let image = read_color_image(path, |width, height| {
+            let texels = u64::from(width) * u64::from(height);
+            if texels > COLOR_COUNT as u64 {
+                return Err(Error::bad_file(
+                    path,
+                    format!(
+                        "a {width}×{height} palette has {texels} texels, more than the 2^24 distinct colours"
+                    ),
+                ));
+            }
+            Ok(())
+        })?;
+        let mut members = ColorSet::new();
+        let mut repeats = 0u64;
+        let mut first_repeat = None;
+        for (texel, &color) in image.colors.iter().enumerate() {
+            if !members.insert(color) {
+                repeats += 1;
+                first_repeat.get_or_insert(texel);
+            }
+        }
+        if let Some(texel) = first_repeat {
+            let color = image.colors[texel];
+            // The first occurrence exists because the repeat found it in the set.
+            let first = image.colors.iter().position(|&c| c == color).unwrap_or(texel);
+            let width = image.width as usize;
+            return Err(Error::DuplicatePaletteColor {
+                path: path.to_path_buf(),
+                repeats,
+                color: Color::from_packed(color),
+                x: (texel % width) as u32,
+                y: (texel / width) as u32,
+                first_x: (first % width) as u32,
+                first_y: (first / width) as u32,
+            });
+        }
+        Ok(Fcsp::Image {
+            width: image.width,
+            height: image.height,
+            path: path.to_path_buf(),
+            colors: image.colors,
+            members,
+        })
+    }
+
+    /// Palette width in texels.
+    pub fn width(&self) -> u32 {
+        match self {
+            Fcsp::Canonical { width, .. } | Fcsp::Image { width, .. } => *width,
+        }
+    }
+
+    /// Palette height in texels.
+    pub fn height(&self) -> u32 {
+        match self {
+            Fcsp::Canonical { height, .. } | Fcsp::Image { height, .. } => *height,
+        }
+    }
+
+    /// Number of texels.
+    pub fn texel_count(&self) -> usize {
+        self.width() as usize * self.height() as usize
+    }
+
+    /// True when `color` names a texel of this palette.
+    #[inline(always)]
+    pub fn contains(&self, color: u32) -> bool {
+        match self {
+            Fcsp::Canonical { width, height } => (color as usize) < *width as usize * *height as usize,
+            Fcsp::Image { members, .. } => members.contains(color),
+        }
+    }
+
+    /// The colour of texel `texel` (`y * width + x`).
+    #[inline(always)]
+    pub fn color_of(&self, texel: usize) -> u32 {
+        match self {
+            Fcsp::Canonical { .. } => texel as u32,
+            Fcsp::Image { colors, .. } => colors[texel],
+        }
+    }
+
+    /// The texel that `color` names, if any (`y * width + x`). A palette
+    /// image is searched texel by texel: for one colour, not per pixel.
+    pub fn texel_of(&self, color: u32) -> Option<usize> {
+        match self {
+            Fcsp::Canonical { .. } => self.contains(color).then_some(color as usize),
+            Fcsp::Image { colors, .. } => colors.iter().position(|&c| c == color),
+        }
+    }
+
+    /// Every texel's colour as RGB bytes, row 0 at the top: the palette as an
+    /// image (2^24 texels at the canonical default, so rows in parallel).
+    pub fn texel_rgb(&self) -> Vec<u8> {
+        use rayon::prelude::*;
+        let row_bytes = self.width() as usize * 3;
+        let mut rgb = vec![0u8; row_bytes * self.height() as usize];
+        rgb.par_chunks_mut(row_bytes).enumerate().for_each(|(y, row)| {
+            for (x, pixel) in row.chunks_exact_mut(3).enumerate() {
+                let texel = y * self.width() as usize + x;
+                pixel.copy_from_slice(&Color::from_packed(self.color_of(texel)).rgb());
+            }
+        });
+        rgb
+    }
+
+    /// The setting stored in results.
+    pub fn describe(&self) -> PaletteSetting {
+        match self {
+            Fcsp::Canonical { width, height } => {
+                PaletteSetting { kind: "canonical".into(), width: *width, height: *height, file: None }
+            }
+            Fcsp::Image { width, height, path, .. } => PaletteSetting {
+                kind: "image".into(),
+                width: *width,
+                height: *height,
+                file: Some(path.display().to_string()),
+            },
+        }
+    }
+}
+
+/// Writes the canonical W×H palette as an 8-bit RGB PNG, for putting on a
+/// mesh in Unity or Blender (texel `(x, y)` has colour `y * W + x`).
+pub fn write_canonical_png(path: &Path, width: u32, height: u32) -> Result<()> {
+    let rgb = Fcsp::canonical(width, height)?.texel_rgb();
+    crate::files::write_rgb_png(path, width, height, &rgb, png::Compression::Fast)
+}
+
+/// Parses `W`, `WxH` or `W×H` into a palette size `[W, H]` (W alone:
+/// square), of 1 to 2^24 texels (one colour each). The one parser of
+/// `--palette-size` in both crates.
+pub fn parse_size(text: &str) -> Result<[u32; 2]> {
+    let bad =
+        || Error::BadOptions(format!("invalid palette size {text:?}: expected W or WxH, e.g. 4096x4096"));
+    let mut parts = text.split(['x', 'X', '×']);
+    let width: u32 = parts.next().ok_or_else(bad)?.trim().parse().map_err(|_| bad())?;
+    let height: u32 = match parts.next() {
+        Some(part) => part.trim().parse().map_err(|_| bad())?,
+        None => width,
+    };
+    if parts.next().is_some() {
+        return Err(bad());
+    }
+    if width == 0 || height == 0 || u64::from(width) * u64::from(height) > COLOR_COUNT as u64 {
+        return Err(Error::BadOptions(format!(
+            "palette size {width}x{height}: needs 1 to 2^24 texels (e.g. 4096, 512x256), from {text:?}"
+        )));
+    }
+    Ok([width, height])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn canonical_maps_index_to_colour() {
+        let palette = Fcsp::canonical(16, 4).unwrap();
+        assert_eq!(palette.color_of(17), 17);
+        assert!(palette.contains(63));
+        assert!(!palette.contains(64));
+        assert!(Fcsp::canonical(4097, 4096).is_err());
+        assert!(Fcsp::canonical(0, 4).is_err());
+    }
+
+    #[test]
+    fn written_canonical_palette_loads_as_an_image_palette() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("fcsp.png");
+        write_canonical_png(&path, 64, 32).unwrap();
+        let palette = Fcsp::from_png(&path).unwrap();
+        assert_eq!((palette.width(), palette.height()), (64, 32));
+        assert!((0..64 * 32).all(|texel| palette.color_of(texel) == texel as u32));
+    }
+
+    #[test]
+    fn parses_sizes() {
+        assert_eq!(parse_size("4096").unwrap(), [4096, 4096]);
+        assert_eq!(parse_size("64x32").unwrap(), [64, 32]);
+        assert_eq!(parse_size("512×128").unwrap(), [512, 128]);
+        assert!(parse_size("64x").is_err());
+        assert!(parse_size("8192").is_err());
+        assert!(parse_size("0x4").is_err());
+    }
+}
