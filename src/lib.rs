@@ -15,6 +15,7 @@ mod input;
 mod kernel;
 mod output;
 mod placement;
+mod png;
 mod result;
 mod testing;
 
@@ -38,9 +39,8 @@ pub use files::{
 pub use input::{
     AnalyzeOptions, Archive, CaptureGeometry, Dedupe, EyeProjection, Fcsp, HeatmapOptions, ImageSource,
     Legend, LoadedLabels, MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice,
-    PaletteRecord, PaletteSetting, Part, Pidt, PixelLayout, Progress, RowReader, Scale, ScenarioTrack, Shard,
-    TileEntry, TileView, Timings, TrackFrame, TrimMode, UNLABELLED, inside_archive, parse_palette_size,
-    read_color_image, read_file, verify_image_data, write_canonical_png,
+    PaletteRecord, PaletteSetting, Part, Pidt, Progress, Scale, ScenarioTrack, Shard, TileEntry, TileView,
+    Timings, TrackFrame, TrimMode, UNLABELLED, inside_archive, parse_palette_size, write_canonical_png,
 };
 pub use output::{
     CsvStyle, DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, MAP_FILE, MAP_SIZE, MapContent, MapFrame,
@@ -66,6 +66,7 @@ pub use result::{
     ResolutionReport, compare_parts, join_parts, kendall_tau_b, merge_results, read_result_summary,
     read_texel_counts, write_result_json, write_timings_json,
 };
+pub use self::png::{PixelLayout, RowReader, read_color_image, read_file, verify_image_data};
 #[doc(hidden)]
 pub use testing::fuzz_entry;
 #[cfg(feature = "synthetic")]

@@ -15,7 +15,7 @@ use crate::count::slot_table::SlotTable;
 use crate::input::capture_facts::EyeFrame;
 use crate::input::labels::{Legend, Pidt, UNLABELLED};
 use crate::input::palette::Fcsp;
-use crate::input::png_rows::PixelLayout;
+use crate::png::rows::PixelLayout;
 use crate::input::solid_angle::{RowWeights, TileView};
 
 /// The part name used for texels whose PIdT colour is in no legend entry.

@@ -23,7 +23,7 @@ use crate::count::scan::{PartRows, row_scan};
 use crate::error::{Error, Result};
 use crate::input::options::Dedupe;
 use crate::input::palette::Fcsp;
-use crate::input::png_rows::PixelLayout;
+use crate::png::rows::PixelLayout;
 use crate::input::solid_angle::{EyeProjection, TileView};
 
 /// One tile handed to [`TileCounter::count_tile`].

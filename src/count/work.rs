@@ -20,7 +20,7 @@ use crate::error::Error;
 use crate::input::archive_reader::{Archive, ImageSource};
 use crate::input::capture_facts::EyeFrame;
 use crate::input::options::{AnalyzeOptions, Dedupe, Progress};
-use crate::input::png_rows::read_file;
+use crate::png::rows::read_file;
 use crate::input::resolve::Inputs;
 use crate::input::shard::Shard;
 

@@ -1,7 +1,7 @@
 //! Stage 1, input: everything an analysis reads, checked and loaded once
 //! before anything is counted — the options ([`AnalyzeOptions`]), the
 //! archive's manifest and shard, the archive reader (which files are the
-//! images), PNG rows, the palette, the labels (legend and PIdT), what the
+//! images), the palette, the labels (legend and PIdT), what the
 //! manifest says about the capture, and [`resolve`] that puts them together.
 //!
 //! Words: a *tile* is a file of an archive (the manifest lists tiles); an
@@ -14,15 +14,10 @@ pub(crate) mod labels;
 pub(crate) mod manifest;
 pub(crate) mod options;
 pub(crate) mod palette;
-pub(crate) mod png_decode;
-pub(crate) mod png_format;
-pub(crate) mod png_rows;
-pub(crate) mod png_zlib;
 pub(crate) mod resolve;
 pub(crate) mod scenario_track;
 pub(crate) mod shard;
 pub mod solid_angle;
-pub(crate) mod unfilter;
 
 pub use archive_reader::{Archive, ImageSource};
 pub use capture_facts::CaptureGeometry;
@@ -32,8 +27,6 @@ pub use options::{
     AnalyzeOptions, Dedupe, HeatmapOptions, MEASURE_PIXELS, PaletteChoice, Progress, Scale, Timings, TrimMode,
 };
 pub use palette::{Fcsp, PaletteSetting, parse_size as parse_palette_size, write_canonical_png};
-pub use png_rows::{PixelLayout, RowReader, read_color_image, read_file};
-pub use png_zlib::verify_image_data;
 pub use scenario_track::{ScenarioTrack, TrackFrame};
 pub use shard::Shard;
 pub use solid_angle::{EyeProjection, TileView};

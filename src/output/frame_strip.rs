@@ -20,7 +20,7 @@ use crate::error::Result;
 use crate::input::labels::LoadedLabels;
 use crate::input::manifest::{Manifest, TileEntry};
 use crate::input::palette::Fcsp;
-use crate::input::png_rows::{RowReader, read_file};
+use crate::png::rows::{RowReader, read_file};
 
 /// The strip's file name in a result set.
 pub const FRAME_STRIP_FILE: &str = "frames-strip.png";

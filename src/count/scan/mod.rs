@@ -40,7 +40,7 @@ use crate::count::part_lookup::{PartLookup, PartPixels, RowSpans};
 use crate::count::slot_table::BlockSlots;
 use crate::error::{Error, Result};
 use crate::input::palette::Fcsp;
-use crate::input::png_rows::{PixelLayout, RowReader};
+use crate::png::rows::{PixelLayout, RowReader};
 
 #[cfg(target_arch = "x86_64")]
 mod avx2;

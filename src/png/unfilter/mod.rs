@@ -1,5 +1,5 @@
 //! Undoing PNG row filters (PNG spec §9) for 8-bit samples, for the tile
-//! decoder ([`crate::input::png_decode`]).
+//! decoder ([`crate::png::decode`]).
 //!
 //! Renderers (Unity, Blender, libpng's adaptive filtering) write most rows
 //! of a tile with the Paeth filter, whose unfiltering is a chain from pixel
