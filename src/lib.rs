@@ -19,6 +19,7 @@ mod png;
 mod result;
 mod testing;
 
+pub use self::png::{PixelLayout, RowReader, read_color_image, read_file, verify_image_data};
 pub use analyze::{analyze, analyze_counted, analyze_texel_counts};
 pub use checks::{ColourChecks, ColourWarning, NeighbourSample};
 pub use color::{AtomicColorSet, COLOR_COUNT, Color, ParseColorError, SeenSet, color_key};
@@ -66,7 +67,6 @@ pub use result::{
     ResolutionReport, compare_parts, join_parts, kendall_tau_b, merge_results, read_result_summary,
     read_texel_counts, write_result_json, write_timings_json,
 };
-pub use self::png::{PixelLayout, RowReader, read_color_image, read_file, verify_image_data};
 #[doc(hidden)]
 pub use testing::fuzz_entry;
 #[cfg(feature = "synthetic")]

@@ -15,8 +15,8 @@ use crate::count::slot_table::SlotTable;
 use crate::input::capture_facts::EyeFrame;
 use crate::input::labels::{Legend, Pidt, UNLABELLED};
 use crate::input::palette::Fcsp;
-use crate::png::rows::PixelLayout;
 use crate::input::solid_angle::{RowWeights, TileView};
+use crate::png::rows::PixelLayout;
 
 /// The part name used for texels whose PIdT colour is in no legend entry.
 pub const UNLABELLED_NAME: &str = "(unlabelled)";

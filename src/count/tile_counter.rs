@@ -23,8 +23,8 @@ use crate::count::scan::{PartRows, row_scan};
 use crate::error::{Error, Result};
 use crate::input::options::Dedupe;
 use crate::input::palette::Fcsp;
-use crate::png::rows::PixelLayout;
 use crate::input::solid_angle::{EyeProjection, TileView};
+use crate::png::rows::PixelLayout;
 
 /// One tile handed to [`TileCounter::count_tile`].
 #[derive(Debug, Clone, Copy)]

@@ -20,9 +20,9 @@ use crate::error::Error;
 use crate::input::archive_reader::{Archive, ImageSource};
 use crate::input::capture_facts::EyeFrame;
 use crate::input::options::{AnalyzeOptions, Dedupe, Progress};
-use crate::png::rows::read_file;
 use crate::input::resolve::Inputs;
 use crate::input::shard::Shard;
+use crate::png::rows::read_file;
 
 /// What [`count_images`] needs: the options, the resolved inputs, and the
 /// read-only objects built from them.

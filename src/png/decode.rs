@@ -20,8 +20,8 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::png::format::{HEADER_BYTES, PixelLayout, PngHeader, chunks};
-use crate::png::zlib::{MISSING_TRAILER, inflate_message};
 use crate::png::unfilter::{Filter, GROUP, RowGroup, unfilter_rows};
+use crate::png::zlib::{MISSING_TRAILER, inflate_message};
 
 /// Deflate looks back at most 32 KiB.
 const WINDOW: usize = 32 << 10;
