@@ -17,6 +17,7 @@ use crate::input::labels::{Legend, Pidt, UNLABELLED};
 use crate::input::palette::Fcsp;
 use crate::input::solid_angle::{RowWeights, TileView};
 use crate::png::rows::PixelLayout;
+use crate::simd::SlotSpans;
 
 /// The part name used for texels whose PIdT colour is in no legend entry.
 pub const UNLABELLED_NAME: &str = "(unlabelled)";
@@ -237,6 +238,19 @@ impl<'t> RowSpans<'t> {
             self.solid[self.slot] += solid_angle_units(edge - self.start_edge);
             self.start_edge = edge;
         }
+    }
+}
+
+/// The fused kernel's view of a row's spans.
+impl SlotSpans for RowSpans<'_> {
+    #[inline(always)]
+    fn change(&mut self, at: usize, slot: usize) {
+        RowSpans::change(self, at, slot);
+    }
+
+    #[inline(always)]
+    fn finish(self, end: usize) {
+        RowSpans::finish(self, end);
     }
 }
 
