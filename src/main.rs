@@ -2,6 +2,7 @@
 //! ([`cli::args`]), runs the library, prints what was done and maps the
 //! outcome to the exit code every subcommand shares: 0 done, 1 done with
 //! failures, 2 nothing done (docs/guide.md#exit-codes).
+#![forbid(unsafe_code)]
 
 mod cli;
 

@@ -16,6 +16,7 @@
 //! [`capture_counted`] and [`measure_unobstructed`] are the entry points,
 //! with a [`Scene`], [`CaptureOptions`] and a [`Gpu`]. The library draws no
 //! progress bar: it reports to a [`ufcsr::Progress`] ([`CaptureProgress`]).
+#![forbid(unsafe_code)]
 
 mod error;
 mod exact;

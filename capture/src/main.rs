@@ -6,6 +6,9 @@
 //! ([`cli::DoneWithFailures`], e.g. `verify` finding stray pixels); 2 nothing
 //! done (bad options — clap's usage errors too —, unreadable inputs, a failed
 //! capture, which writes no manifest); 130 interrupted.
+// Unsafe code only in `PrivateRuntimeDir::create`'s one block (Mesa reads
+// the variable from the process's environment).
+#![deny(unsafe_code)]
 
 mod cli;
 
@@ -22,6 +25,7 @@ use clap::Parser;
 struct PrivateRuntimeDir(Option<std::path::PathBuf>);
 
 impl PrivateRuntimeDir {
+    #[allow(unsafe_code)]
     fn create() -> PrivateRuntimeDir {
         let valid =
             std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|dir| std::path::Path::new(&dir).is_dir());

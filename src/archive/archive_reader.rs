@@ -215,9 +215,9 @@ fn count_pngs(dir: &Path) -> usize {
 /// Width and height from a PNG's header, if it is a readable regular file.
 fn png_size(path: &Path) -> Option<[u32; 2]> {
     use std::io::Read;
-    let mut bytes = [0u8; crate::input::png_rows::HEADER_BYTES];
+    let mut bytes = [0u8; crate::png::rows::HEADER_BYTES];
     crate::files::open_regular(path).ok()?.read_exact(&mut bytes).ok()?;
-    let header = crate::input::png_rows::parse_header(path, &bytes).ok()?;
+    let header = crate::png::rows::parse_header(path, &bytes).ok()?;
     Some([header.width, header.height])
 }
 

@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::color::Color;
 use crate::error::{Error, Result};
-use crate::input::png_rows::read_color_image;
+use crate::png::rows::read_color_image;
 
 /// One legend entry.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]

@@ -12,7 +12,7 @@ use serde::Serialize;
 use crate::color::ColorSet;
 use crate::color::{COLOR_COUNT, Color};
 use crate::error::{Error, Result};
-use crate::input::png_rows::read_color_image;
+use crate::png::rows::read_color_image;
 
 /// Default canonical palette side (4096 × 4096 = 2^24 texels).
 pub const DEFAULT_PALETTE_SIDE: u32 = 4096;

@@ -21,7 +21,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::archive::palette::Fcsp;
-use crate::input::png_rows::PixelLayout;
+use crate::png::rows::PixelLayout;
 
 /// A window of three consecutive rows starts every this many rows.
 pub(crate) const WINDOW_STEP: u32 = 64;

@@ -46,10 +46,9 @@ pub fn zeroed_writable<T: Copy + Default>(len: usize) -> Box<[T]> {
     let mut slice = vec![T::default(); len].into_boxed_slice();
     let per_page = (4096 / std::mem::size_of::<T>().max(1)).max(1);
     for page in slice.chunks_mut(per_page) {
-        // SAFETY: `page[0]` is a valid, aligned element of the slice; the
-        // volatile write keeps the compiler from dropping a store of the
-        // value already there.
-        unsafe { std::ptr::write_volatile(&mut page[0], T::default()) };
+        // An opaque value, so that the compiler cannot drop the store of
+        // the value already there.
+        page[0] = std::hint::black_box(T::default());
     }
     slice
 }
@@ -97,7 +96,7 @@ impl SeenSet {
     /// Sets `bits` in word `index` and leaves the word unmarked: the caller
     /// marks it with [`SeenSet::mark`] before the set is read, drained or
     /// cleared (a vector kernel collects a row's marks in a register,
-    /// [`crate::count::scan`]'s `MarkAccumulator`).
+    /// `simd::scan`'s `MarkAccumulator`).
     #[inline(always)]
     pub(crate) fn or_word_unmarked(&mut self, index: usize, bits: u64) {
         self.words[index & (WORDS - 1)] |= bits;
@@ -174,6 +173,25 @@ impl SeenSet {
     /// may hold members.
     pub fn blocks_marked(&self, block: usize, blocks: usize) -> bool {
         self.dirty[block..block + blocks].iter().any(|&marks| marks != 0)
+    }
+
+    /// Calls `add(counts, word)` for every non-zero 64-bit word of shard
+    /// `shard` (keys `shard · SIZE ..`, `SIZE` a power of two and a multiple
+    /// of [`SeenSet::BLOCK_KEYS`]) with the 64 of `counts` (the shard's
+    /// `SIZE` counts) its bits stand for, and removes those keys from the
+    /// set. Always inlined, so each caller's `add` is too.
+    #[inline(always)]
+    pub(crate) fn drain_shard<const SIZE: usize>(
+        &mut self,
+        shard: usize,
+        counts: &mut [u32],
+        mut add: impl FnMut(&mut [u32], u64),
+    ) {
+        let blocks = SIZE / SeenSet::BLOCK_KEYS;
+        self.drain_blocks(shard * blocks, blocks, |index, word| {
+            let offset = (index * 64) & (SIZE - 1);
+            add(&mut counts[offset..offset + 64], word);
+        });
     }
 
     /// Calls `visit(index, word)` with every non-zero 64-bit word (keys

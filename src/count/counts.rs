@@ -95,32 +95,17 @@ impl Counts {
 const BLOCKS_PER_SHARD: usize = SHARD_SIZE / SeenSet::BLOCK_KEYS;
 
 /// Moves the keys of `seen` that fall in `shard` into its `counts`, with
-/// the vector instructions of `kernel` where this CPU has them.
+/// the vector instructions of `kernel` where this CPU has them
+/// ([`crate::simd::add_shard`]).
 fn add_blocks(kernel: Kernel, seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
-    match kernel.min(Kernel::supported()) {
-        // SAFETY (both): the CPU supports the kernel, clamped just above.
-        #[cfg(target_arch = "x86_64")]
-        Kernel::Avx512 => unsafe { add_blocks_avx512(seen, shard, counts) },
-        #[cfg(target_arch = "x86_64")]
-        Kernel::Avx2 => unsafe { add_blocks_avx2(seen, shard, counts) },
-        _ => add_blocks_portable(seen, shard, counts),
+    if !crate::simd::add_shard::<SHARD_SIZE>(kernel, seen, shard, counts) {
+        add_blocks_portable(seen, shard, counts);
     }
 }
 
-/// Calls `add(slots, word)` for every non-zero 64-bit word of `seen` that
-/// falls in `shard`, with the 64 counts its bits stand for, and removes those
-/// keys from `seen`. Always inlined, so each caller's `add` is too.
-#[inline(always)]
-fn drain_shard(seen: &mut SeenSet, shard: usize, counts: &mut [u32], mut add: impl FnMut(&mut [u32], u64)) {
-    seen.drain_blocks(shard * BLOCKS_PER_SHARD, BLOCKS_PER_SHARD, |index, word| {
-        let offset = (index * 64) & (SHARD_SIZE - 1);
-        add(&mut counts[offset..offset + 64], word);
-    });
-}
-
-/// [`add_blocks`] one count at a time.
+/// [`add_blocks`] one count at a time (the reference of the vector forms).
 fn add_blocks_portable(seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
-    drain_shard(seen, shard, counts, |slots, mut word| {
+    seen.drain_shard::<SHARD_SIZE>(shard, counts, |slots, mut word| {
         while word != 0 {
             let slot = &mut slots[word.trailing_zeros() as usize];
             *slot = slot.saturating_add(1);
@@ -129,57 +114,50 @@ fn add_blocks_portable(seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
     });
 }
 
-/// [`add_blocks`] 16 counts per instruction: a set word's bits become the
-/// lane mask of a masked add.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn add_blocks_avx512(seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
-    use std::arch::x86_64::*;
-    let (one, full) = (_mm512_set1_epi32(1), _mm512_set1_epi32(-1));
-    drain_shard(seen, shard, counts, |slots, word| {
-        for (quarter, lanes) in slots.chunks_exact_mut(16).enumerate() {
-            let mask = (word >> (16 * quarter)) as u16;
-            if mask != 0 {
-                // SAFETY: `lanes` is 16 valid u32s (64 bytes); unaligned
-                // access is allowed.
-                unsafe {
-                    let counts = _mm512_loadu_si512(lanes.as_ptr().cast());
-                    // Saturate like the scalar path: a full count stays full.
-                    let room = _mm512_cmpneq_epi32_mask(counts, full);
-                    let counts = _mm512_mask_add_epi32(counts, mask & room, counts, one);
-                    _mm512_storeu_si512(lanes.as_mut_ptr().cast(), counts);
-                }
-            }
-        }
-    });
-}
+/// The checks that hold the vector count updates to the portable one.
+/// `tests/kernels` runs them (`testing::kernel_checks`), and
+/// reports one ignored where this CPU lacks its kernel.
+#[cfg(any(test, feature = "synthetic"))]
+pub(crate) mod kernel_checks {
+    use super::*;
 
-/// [`add_blocks`] 8 counts per instruction: each byte of a set word becomes
-/// a lane mask (lane i set when bit i is), and subtracting the all-ones
-/// lanes adds one.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn add_blocks_avx2(seen: &mut SeenSet, shard: usize, counts: &mut [u32]) {
-    use std::arch::x86_64::*;
-    let lane_bits = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-    let full = _mm256_set1_epi32(-1);
-    drain_shard(seen, shard, counts, |slots, word| {
-        for (eighth, lanes) in slots.chunks_exact_mut(8).enumerate() {
-            let byte = (word >> (8 * eighth)) as u8;
-            if byte != 0 {
-                let bits = _mm256_and_si256(_mm256_set1_epi32(i32::from(byte)), lane_bits);
-                let add = _mm256_cmpeq_epi32(bits, lane_bits);
-                // SAFETY: `lanes` is 8 valid u32s (32 bytes); unaligned
-                // access is allowed.
-                unsafe {
-                    let counts = _mm256_loadu_si256(lanes.as_ptr().cast());
-                    // Saturate like the scalar path: a full count stays full.
-                    let add = _mm256_andnot_si256(_mm256_cmpeq_epi32(counts, full), add);
-                    _mm256_storeu_si256(lanes.as_mut_ptr().cast(), _mm256_sub_epi32(counts, add));
-                }
-            }
+    /// The AVX2 update against the portable one's answer.
+    pub(crate) fn the_avx2_update_adds_words_and_saturates() {
+        adds_words_and_saturates(Kernel::Avx2);
+    }
+
+    /// The AVX-512 update against the portable one's answer.
+    pub(crate) fn the_avx512_update_adds_words_and_saturates() {
+        adds_words_and_saturates(Kernel::Avx512);
+    }
+
+    /// `kernel`'s update adds one per key of its shard, saturating, and
+    /// leaves the keys of other shards.
+    pub(crate) fn adds_words_and_saturates(kernel: Kernel) {
+        let mut counts = vec![0u32; SHARD_SIZE];
+        counts[64 + 5] = u32::MAX;
+        counts[64 + 6] = u32::MAX - 1;
+        let mut seen = SeenSet::new();
+        let keys = [0u32, 7, 8, 63, 64 + 5, 64 + 6, 64 + 40, 2 * SHARD_SIZE as u32 + 3];
+        for &key in &keys {
+            seen.insert(key);
         }
-    });
+        if kernel == Kernel::Portable {
+            add_blocks_portable(&mut seen, 0, &mut counts);
+        } else {
+            let ran = crate::simd::add_shard::<SHARD_SIZE>(kernel, &mut seen, 0, &mut counts);
+            assert!(ran, "this CPU lacks a feature of {kernel:?}");
+        }
+        let mut expected = vec![0u32; SHARD_SIZE];
+        for key in [0, 7, 8, 63, 64 + 40] {
+            expected[key] = 1;
+        }
+        expected[64 + 5] = u32::MAX;
+        expected[64 + 6] = u32::MAX;
+        assert_eq!(counts, expected, "{kernel:?}");
+        // Keys of other shards stay in the set.
+        assert_eq!(seen.keys(), vec![2 * SHARD_SIZE as u32 + 3], "{kernel:?}");
+    }
 }
 
 #[cfg(test)]
@@ -204,27 +182,7 @@ mod counts_tests {
     }
 
     #[test]
-    fn every_kernel_adds_words_and_saturates() {
-        let kernels = [Kernel::Portable, Kernel::Avx2, Kernel::Avx512];
-        for kernel in kernels.into_iter().filter(|&k| k <= Kernel::supported()) {
-            let mut counts = vec![0u32; SHARD_SIZE];
-            counts[64 + 5] = u32::MAX;
-            counts[64 + 6] = u32::MAX - 1;
-            let mut seen = SeenSet::new();
-            let keys = [0u32, 7, 8, 63, 64 + 5, 64 + 6, 64 + 40, 2 * SHARD_SIZE as u32 + 3];
-            for &key in &keys {
-                seen.insert(key);
-            }
-            add_blocks(kernel, &mut seen, 0, &mut counts);
-            let mut expected = vec![0u32; SHARD_SIZE];
-            for key in [0, 7, 8, 63, 64 + 40] {
-                expected[key] = 1;
-            }
-            expected[64 + 5] = u32::MAX;
-            expected[64 + 6] = u32::MAX;
-            assert_eq!(counts, expected, "{kernel:?}");
-            // Keys of other shards stay in the set.
-            assert_eq!(seen.keys(), vec![2 * SHARD_SIZE as u32 + 3], "{kernel:?}");
-        }
+    fn the_portable_update_adds_words_and_saturates() {
+        super::kernel_checks::adds_words_and_saturates(Kernel::Portable);
     }
 }

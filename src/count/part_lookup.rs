@@ -15,8 +15,9 @@ use crate::archive::palette::Fcsp;
 use crate::color::COLOR_COUNT;
 use crate::color::sets::{SeenSet, key_color};
 use crate::count::slot_table::SlotTable;
-use crate::input::png_rows::PixelLayout;
+use crate::png::rows::PixelLayout;
 use crate::optics::solid_angle::{RowWeights, TileView};
+use crate::simd::SlotSpans;
 
 /// The part name used for texels whose PIdT colour is in no legend entry.
 pub const UNLABELLED_NAME: &str = "(unlabelled)";
@@ -237,6 +238,19 @@ impl<'t> RowSpans<'t> {
             self.solid[self.slot] += solid_angle_units(edge - self.start_edge);
             self.start_edge = edge;
         }
+    }
+}
+
+/// The fused kernel's view of a row's spans.
+impl SlotSpans for RowSpans<'_> {
+    #[inline(always)]
+    fn change(&mut self, at: usize, slot: usize) {
+        RowSpans::change(self, at, slot);
+    }
+
+    #[inline(always)]
+    fn finish(self, end: usize) {
+        RowSpans::finish(self, end);
     }
 }
 

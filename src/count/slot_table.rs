@@ -14,12 +14,14 @@
 
 use rayon::prelude::*;
 
+use crate::simd::{BlockSlots, SlotBlocks};
+
 /// Side of a block, texels (a block is `SIDE × SIDE` texels).
 const SIDE: u32 = 8;
 /// Texels per block.
 const BLOCK_TEXELS: usize = (SIDE * SIDE) as usize;
 /// Set in a block's entry when its slots are in `detail`.
-const DETAILED: u32 = 1 << 31;
+const DETAILED: u32 = BlockSlots::DETAILED;
 /// Rows of blocks built per unit of parallel work.
 const BLOCK_ROWS_PER_UNIT: u32 = 4;
 
@@ -34,12 +36,11 @@ pub(crate) struct SlotTable {
     len: u32,
     blocks_per_row: u32,
     /// Per block (row-major): its one slot, or `DETAILED | index` of its
-    /// slots in `detail`.
-    blocks: Vec<u32>,
-    /// Slots of the blocks that hold more than one, `BLOCK_TEXELS` each,
-    /// row-major, and one padding slot after the last: the vector kernel
-    /// gathers a slot as the low half of 4 bytes ([`BlockSlots`]).
-    detail: Vec<u16>,
+    /// slots in `detail`; and the slots of the blocks that hold more than
+    /// one, `BLOCK_TEXELS` each, row-major, and one padding slot after the
+    /// last: the vector kernel gathers a slot as the low half of 4 bytes
+    /// ([`BlockSlots`]), so these are checked where they are built.
+    slots: SlotBlocks,
     /// Slot of colours past the grid.
     outside: u16,
 }
@@ -79,35 +80,21 @@ impl SlotTable {
             .collect();
         let len = width * height;
         let width_shift = width.is_power_of_two().then(|| width.trailing_zeros());
-        let mut table = SlotTable {
-            width,
-            width_shift,
-            len,
-            blocks_per_row,
-            blocks: Vec::new(),
-            detail: Vec::new(),
-            outside,
-        };
+        let (mut blocks, mut all_detail) = (Vec::new(), Vec::new());
         for (entries, detail) in units {
-            let offset = (table.detail.len() / BLOCK_TEXELS) as u32;
-            table.blocks.extend(entries.into_iter().map(|e| if e & DETAILED != 0 { e + offset } else { e }));
-            table.detail.extend(detail);
+            let offset = (all_detail.len() / BLOCK_TEXELS) as u32;
+            blocks.extend(entries.into_iter().map(|e| if e & DETAILED != 0 { e + offset } else { e }));
+            all_detail.extend(detail);
         }
-        table.detail.push(outside);
-        table
+        all_detail.push(outside);
+        let slots = SlotBlocks::new(blocks, all_detail);
+        SlotTable { width, width_shift, len, blocks_per_row, slots, outside }
     }
 
     /// The table as a vector kernel reads it, where the grid's width is a
     /// power of two (every canonical palette the capture writes).
     pub(crate) fn block_slots(&self) -> Option<BlockSlots<'_>> {
-        Some(BlockSlots {
-            blocks: &self.blocks,
-            detail: &self.detail,
-            width_shift: self.width_shift?,
-            blocks_per_row: self.blocks_per_row,
-            len: self.len,
-            outside: self.outside,
-        })
+        BlockSlots::new(&self.slots, self.width_shift?, self.blocks_per_row, self.len, self.outside)
     }
 
     /// Adds one to `tally[slot]` for each colour `first + j` whose bit `j` of
@@ -132,14 +119,14 @@ impl SlotTable {
             if bits == 0 {
                 continue;
             }
-            let entry = self.blocks[base + block as usize];
+            let entry = self.slots.blocks()[base + block as usize];
             if entry & DETAILED == 0 {
                 tally[entry as usize] += u64::from(bits.count_ones());
                 continue;
             }
             let row = (entry & !DETAILED) as usize * BLOCK_TEXELS + ((y % SIDE) * SIDE) as usize;
             while bits != 0 {
-                tally[usize::from(self.detail[row + bits.trailing_zeros() as usize])] += 1;
+                tally[usize::from(self.slots.detail()[row + bits.trailing_zeros() as usize])] += 1;
                 bits &= bits - 1;
             }
         }
@@ -156,35 +143,14 @@ impl SlotTable {
             None => color / self.width,
         };
         let x = color - y * self.width;
-        let entry = self.blocks[((y / SIDE) * self.blocks_per_row + x / SIDE) as usize];
+        let entry = self.slots.blocks()[((y / SIDE) * self.blocks_per_row + x / SIDE) as usize];
         if entry & DETAILED == 0 {
             entry as u16
         } else {
             let first = (entry & !DETAILED) as usize * BLOCK_TEXELS;
-            self.detail[first + ((y % SIDE) * SIDE + x % SIDE) as usize]
+            self.slots.detail()[first + ((y % SIDE) * SIDE + x % SIDE) as usize]
         }
     }
-}
-
-/// A [`SlotTable`] laid bare for a vector kernel, which computes for colour
-/// `c < len` (`y = c >> width_shift`, `x = c - (y << width_shift)`) what
-/// [`SlotTable::get`] does: the entry `blocks[(y >> 3) · blocks_per_row +
-/// (x >> 3)]` is the slot unless [`BlockSlots::DETAILED`] is set, and then
-/// the slot is `detail[((entry & !DETAILED) << 6) | (y & 7) << 3 | (x & 7)]`.
-/// `detail` ends in a padding slot, so reading 4 bytes at any slot stays
-/// inside it.
-pub(crate) struct BlockSlots<'t> {
-    pub blocks: &'t [u32],
-    pub detail: &'t [u16],
-    pub width_shift: u32,
-    pub blocks_per_row: u32,
-    pub len: u32,
-    pub outside: u16,
-}
-
-impl BlockSlots<'_> {
-    /// Set in an entry of `blocks` whose slots are in `detail`.
-    pub const DETAILED: u32 = DETAILED;
 }
 
 #[cfg(test)]
@@ -253,17 +219,9 @@ mod tests {
             let table =
                 SlotTable::new([width, height], 9, |c| ((c % width) / 5 + (c / width) / 3) as u16 % 6);
             let slots = table.block_slots().expect("a power-of-two width");
-            assert_eq!(slots.detail.len() % BLOCK_TEXELS, 1, "{width}×{height}");
-            for color in 0..slots.len {
-                let y = color >> slots.width_shift;
-                let x = color - (y << slots.width_shift);
-                let entry = slots.blocks[((y >> 3) * slots.blocks_per_row + (x >> 3)) as usize];
-                let slot = if entry & BlockSlots::DETAILED == 0 {
-                    entry as u16
-                } else {
-                    slots.detail[((entry << 6) | (y & 7) << 3 | (x & 7)) as usize]
-                };
-                assert_eq!(slot, table.get(color), "colour {color} of {width}×{height}");
+            assert_eq!(table.slots.detail().len() % BLOCK_TEXELS, 1, "{width}×{height}");
+            for color in 0..slots.len() {
+                assert_eq!(slots.slot(color), table.get(color), "colour {color} of {width}×{height}");
             }
         }
         assert!(SlotTable::new([100, 37], 9, |_| 0).block_slots().is_none());
@@ -274,8 +232,8 @@ mod tests {
         // Two parts split at x = 32 (a block edge) and one lone texel.
         let table =
             SlotTable::new([64, 64], 5, |c| if c == 64 * 9 + 40 { 3 } else { u16::from(c % 64 >= 32) });
-        assert_eq!(table.blocks.len(), 64);
-        assert_eq!(table.detail.len(), BLOCK_TEXELS + 1, "one detailed block and the padding");
+        assert_eq!(table.slots.blocks().len(), 64);
+        assert_eq!(table.slots.detail().len(), BLOCK_TEXELS + 1, "one detailed block and the padding");
         assert_eq!((table.get(0), table.get(63), table.get(64 * 9 + 40)), (0, 1, 3));
     }
 

@@ -23,7 +23,7 @@ use crate::count::part_lookup::{PartLookup, PartPixels};
 use crate::count::scan::{Classifier, ImageTally, PixelClass};
 use crate::count::scan::{PartRows, row_scan};
 use crate::error::{Error, Result};
-use crate::input::png_rows::PixelLayout;
+use crate::png::rows::PixelLayout;
 use crate::optics::solid_angle::{EyeProjection, TileView};
 
 /// One tile handed to [`TileCounter::count_tile`].

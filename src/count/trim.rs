@@ -17,7 +17,7 @@ use crate::archive::archive_reader::ImageSource;
 use crate::archive::options::TrimMode;
 use crate::color::{AtomicColorSet, SeenSet};
 use crate::count::scan::{Classifier, scan_image};
-use crate::input::png_rows::{FileBytes, HEADER_BYTES, parse_header, read_file};
+use crate::png::rows::{FileBytes, HEADER_BYTES, parse_header, read_file};
 
 /// One candidate empty file: a tile size and a file size.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]

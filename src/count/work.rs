@@ -22,7 +22,7 @@ use crate::count::part_lookup::{FrameLabel, FrameRecord, PartLookup, PartPixels}
 use crate::count::scan::{Classifier, ImageTally, RowPasses, scan_image_with};
 use crate::count::trim::TrimPlan;
 use crate::error::Error;
-use crate::input::png_rows::read_file;
+use crate::png::rows::read_file;
 
 /// What [`count_images`] needs: the options, the resolved inputs, and the
 /// read-only objects built from them.

@@ -20,7 +20,7 @@ use crate::archive::manifest::{Manifest, TileEntry};
 use crate::archive::palette::Fcsp;
 use crate::count::part_lookup::PartLookup;
 use crate::error::Result;
-use crate::input::png_rows::{RowReader, read_file};
+use crate::png::rows::{RowReader, read_file};
 
 /// The strip's file name in a result set.
 pub const FRAME_STRIP_FILE: &str = "frames-strip.png";

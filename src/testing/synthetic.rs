@@ -9,7 +9,7 @@
 //! pixel, nearest sampling), so object tiles have smooth unique-colour
 //! gradients with occlusion edges. Deterministic for a given seed.
 
-pub use crate::input::png_format::png_from_chunks;
+pub use crate::png::format::png_from_chunks;
 use std::path::Path;
 
 use crate::archive::manifest::{MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry};

@@ -124,6 +124,10 @@ fn random_interruptions_never_leave_a_mixed_set_and_the_next_run_cleans_up() {
     let matches =
         |out: &Path, set: &Path| DETERMINISTIC.iter().all(|name| read(out, name) == read(set, name));
 
+    // The delays (from this seed: 0.07, 0.89, 0.58, 0.38, 0.25, 0.09, 1.0 and
+    // 0.35 of a whole run) stop most runs midway; a run that ends first is
+    // still checked, but each signal must have stopped at least one run.
+    let mut interrupted = [0u32; 2];
     let mut state = 0x5EED_u64;
     for round in 0..8 {
         state = state.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
@@ -133,9 +137,13 @@ fn random_interruptions_never_leave_a_mixed_set_and_the_next_run_cleans_up() {
         copy_tree(&set_a, &out);
         let mut child = analyze(&out, "frame");
         std::thread::sleep(delay);
-        let _ = Command::new("kill").args([signal, &child.id().to_string()]).status();
+        // Not yet waited for, the child exists (if only as a zombie), so the
+        // signal is delivered or, after its end, ignored: `kill` succeeds.
+        let killed = Command::new("kill").args([signal, &child.id().to_string()]).status().unwrap();
         let status = child.wait().unwrap();
         let context = format!("round {round}: {signal} after {delay:?} ({status})");
+        assert!(killed.success(), "{context}: kill failed");
+        interrupted[round % 2] += u32::from(!status.success());
         if out.join(".ufcsr-commit.json").exists() {
             // Killed while moving the new set in: readers refuse the half-old, half-new set.
             let refused = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
@@ -159,4 +167,5 @@ fn random_interruptions_never_leave_a_mixed_set_and_the_next_run_cleans_up() {
         assert!(leftovers(&out).is_empty(), "{context}: left {:?}", leftovers(&out));
         assert!(!out.join(".ufcsr-commit.json").exists(), "{context}");
     }
+    assert!(interrupted.iter().all(|&rounds| rounds > 0), "rounds interrupted by KILL, INT: {interrupted:?}");
 }

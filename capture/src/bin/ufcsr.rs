@@ -5,6 +5,7 @@
 //! this one, or else on `PATH`), with the rest of the arguments. It holds no
 //! logic of its own, so each command behaves and is documented exactly as in
 //! the tool it belongs to.
+#![forbid(unsafe_code)]
 
 use std::ffi::OsString;
 use std::path::PathBuf;

@@ -9,10 +9,10 @@
 //!   blocks of 16 pixels without branches;
 //! * vector kernels for RGB and RGBA rows against the canonical palette (the
 //!   layout every capture writes), picked at run time ([`Kernel`]): AVX-512
-//!   (`scan/avx512.rs`, 16 pixels per instruction) and AVX2
-//!   (`scan/avx2.rs`, 8). They classify whole blocks at once and leave to
-//!   scalar code only the texels whose colour differs from their left
-//!   neighbour's.
+//!   (`simd/scan/avx512.rs`, 16 pixels per instruction) and AVX2
+//!   (`simd/scan/avx2.rs`, 8), in [`crate::simd`], the one module allowed
+//!   `unsafe` code. They classify whole blocks at once and leave to scalar
+//!   code only the texels whose colour differs from their left neighbour's.
 //!
 //! Every kernel skips a block whose bytes equal the bytes one pixel earlier
 //! (a run of background, or of one magnified texel) with one comparison: it
@@ -30,7 +30,7 @@
 //! and neighbouring pixels nearly always share a word (see
 //! [`crate::color::color_key`]). The vector kernels hand over only texels
 //! that differ from their left neighbour, set their bits in memory at once
-//! and accumulate the words' marks instead ([`MarkAccumulator`]).
+//! and accumulate the words' marks instead (`simd::scan::MarkAccumulator`).
 
 use std::path::Path;
 
@@ -38,14 +38,9 @@ use crate::archive::palette::Fcsp;
 use crate::checks::neighbours::NeighbourSampler;
 use crate::color::{AtomicColorSet, SeenSet, color_key};
 use crate::count::part_lookup::{PartLookup, PartPixels, RowSpans};
-use crate::count::slot_table::BlockSlots;
 use crate::error::{Error, Result};
-use crate::input::png_rows::{PixelLayout, RowReader};
-
-#[cfg(target_arch = "x86_64")]
-mod avx2;
-#[cfg(target_arch = "x86_64")]
-mod avx512;
+use crate::png::rows::{PixelLayout, RowReader};
+use crate::simd::{Classes, FusedScan, RowTally, VectorScan};
 
 /// Pixel counts by [`PixelClass`] (indexed by its discriminant).
 pub type ClassCounts = [u64; 3];
@@ -53,29 +48,13 @@ pub type ClassCounts = [u64; 3];
 /// A row kernel (see [`RowScan::scan`]).
 type SafeKernel = fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet, &mut ClassCounts);
 
-/// A row kernel compiled for CPU features the CPU may lack.
-type VectorKernel = unsafe fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet, &mut ClassCounts);
-
-/// A vector kernel that also tallies the row by part (see
-/// [`PartRows`]); its caller vouches that `BlockSlots::len` is the
-/// palette's texel count.
-type ByPartKernel = unsafe fn(
-    &[u8],
-    &Classifier,
-    &mut SeenSet,
-    &AtomicColorSet,
-    &mut ClassCounts,
-    &BlockSlots,
-    RowSpans,
-) -> ();
-
 /// The row kernel chosen for one image.
 #[derive(Clone, Copy)]
 pub struct RowScan {
     choice: Choice,
-    /// The kernel's form that also tallies parts, where it has one (built,
-    /// like [`Choice::Vector`], only after checking the CPU).
-    by_part: Option<ByPartKernel>,
+    /// Whether a vector kernel's form that also tallies parts may be used
+    /// ([`PartRows`]).
+    fuse_parts: bool,
 }
 
 #[derive(Clone, Copy)]
@@ -83,8 +62,8 @@ pub struct RowScan {
 #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 enum Choice {
     Portable(SafeKernel),
-    /// Only built by [`vector_row_scan`], after checking the CPU.
-    Vector(VectorKernel),
+    /// A vector kernel, and the portable one for the pixels it leaves.
+    Vector(VectorScan, SafeKernel),
 }
 
 impl RowScan {
@@ -99,7 +78,7 @@ impl RowScan {
     /// The same kernel with its per-part tally left to a separate pass over
     /// each row ([`PartRows`]), for benchmarks that compare the two.
     pub fn with_separate_parts(self) -> RowScan {
-        RowScan { by_part: None, ..self }
+        RowScan { fuse_parts: false, ..self }
     }
 
     /// Classifies `row` (decoded samples of `layout`), adds its palette
@@ -116,9 +95,15 @@ impl RowScan {
     ) {
         match self.choice {
             Choice::Portable(kernel) => kernel(row, classifier, seen, strays, by_class),
-            // SAFETY: `vector_row_scan` builds this only for kernels whose
-            // CPU features `Kernel::supported` found.
-            Choice::Vector(kernel) => unsafe { kernel(row, classifier, seen, strays, by_class) },
+            Choice::Vector(vector, rest) => {
+                let tally = vector.scan(row, classifier.classes(), seen, strays);
+                add_row_classes(by_class, tally);
+                // The rest of the row (AVX2: a few pixels), if any.
+                let done = tally.pixels * vector.bytes();
+                if done < row.len() {
+                    rest(&row[done..], classifier, seen, strays, by_class);
+                }
+            }
         }
     }
 }
@@ -135,7 +120,7 @@ pub struct PartRows<'l, 't> {
     classifier: &'l Classifier<'l>,
     lookup: &'l PartLookup,
     tally: &'t mut PartPixels,
-    fused: Option<(ByPartKernel, BlockSlots<'l>)>,
+    fused: Option<FusedScan<'l>>,
 }
 
 impl<'l, 't> PartRows<'l, 't> {
@@ -150,9 +135,15 @@ impl<'l, 't> PartRows<'l, 't> {
     ) -> PartRows<'l, 't> {
         // The fused kernel's gathers need every palette colour inside the
         // table's grid: checked here, once, against the classifier kept.
-        let texels = classifier.palette().texel_count();
-        let slots = lookup.slot_table().block_slots().filter(|slots| slots.len as usize == texels);
-        PartRows { scan, layout, classifier, lookup, tally, fused: scan.by_part.zip(slots) }
+        let texels = classifier.palette().texel_count() as u32;
+        let slots = lookup.slot_table().block_slots().filter(|slots| slots.len() == texels);
+        let fused = match scan.choice {
+            Choice::Vector(vector, _) if scan.fuse_parts => {
+                slots.and_then(|slots| vector.fused(slots, texels))
+            }
+            _ => None,
+        };
+        PartRows { scan, layout, classifier, lookup, tally, fused }
     }
 
     /// [`RowScan::scan`] of row `y`, and its pixels by part.
@@ -167,12 +158,10 @@ impl<'l, 't> PartRows<'l, 't> {
     ) {
         let classifier = self.classifier;
         match &self.fused {
-            // SAFETY: `vector_row_scan` builds `by_part` only for kernels
-            // whose CPU features it found, and `new` checked the table's
-            // `len` against this classifier's palette.
-            Some((kernel, slots)) => unsafe {
-                kernel(row, classifier, seen, strays, by_class, slots, RowSpans::new(self.tally, y))
-            },
+            Some(fused) => {
+                let spans = RowSpans::new(self.tally, y);
+                add_row_classes(by_class, fused.scan(row, classifier.classes(), seen, strays, spans));
+            }
             None => {
                 self.scan.scan(row, classifier, seen, strays, by_class);
                 self.lookup.add_row_at(row, self.layout, y, self.tally);
@@ -181,13 +170,13 @@ impl<'l, 't> PartRows<'l, 't> {
     }
 
     /// Whether the kernel tallies parts itself (for tests).
-    #[cfg(test)]
+    #[cfg(any(test, feature = "synthetic"))]
     fn fused(&self) -> bool {
         self.fused.is_some()
     }
 }
 
-pub use crate::kernel::{KERNEL_ENV, Kernel};
+pub use crate::simd::{KERNEL_ENV, Kernel};
 
 /// The row kernel of [`Kernel::selected`] for `layout` and the classifier's
 /// palette.
@@ -203,37 +192,19 @@ pub(crate) fn vector_row_scan(
     layout: PixelLayout,
     classifier: &Classifier,
 ) -> Option<RowScan> {
-    if kernel > Kernel::supported() || !matches!(classifier.palette(), Fcsp::Canonical { .. }) {
+    if !matches!(classifier.palette(), Fcsp::Canonical { .. }) {
         return None;
     }
-    #[cfg(target_arch = "x86_64")]
-    {
-        let single = classifier.backgrounds().len() == 1;
-        let by_part: Option<ByPartKernel> = match (kernel, layout, single) {
-            (Kernel::Avx512, PixelLayout::Rgb, true) => Some(avx512::scan_row_by_part::<3, true>),
-            (Kernel::Avx512, PixelLayout::Rgb, false) => Some(avx512::scan_row_by_part::<3, false>),
-            (Kernel::Avx512, PixelLayout::Rgba, true) => Some(avx512::scan_row_by_part::<4, true>),
-            (Kernel::Avx512, PixelLayout::Rgba, false) => Some(avx512::scan_row_by_part::<4, false>),
-            _ => None,
-        };
-        let vector: VectorKernel = match (kernel, layout, single) {
-            (Kernel::Avx512, PixelLayout::Rgb, true) => avx512::scan_row::<3, true>,
-            (Kernel::Avx512, PixelLayout::Rgb, false) => avx512::scan_row::<3, false>,
-            (Kernel::Avx512, PixelLayout::Rgba, true) => avx512::scan_row::<4, true>,
-            (Kernel::Avx512, PixelLayout::Rgba, false) => avx512::scan_row::<4, false>,
-            (Kernel::Avx2, PixelLayout::Rgb, true) => avx2::scan_row::<3, true>,
-            (Kernel::Avx2, PixelLayout::Rgb, false) => avx2::scan_row::<3, false>,
-            (Kernel::Avx2, PixelLayout::Rgba, true) => avx2::scan_row::<4, true>,
-            (Kernel::Avx2, PixelLayout::Rgba, false) => avx2::scan_row::<4, false>,
-            _ => return None,
-        };
-        Some(RowScan { choice: Choice::Vector(vector), by_part })
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        let _ = layout;
-        None
-    }
+    let bytes = match layout {
+        PixelLayout::Rgb => 3,
+        PixelLayout::Rgba => 4,
+        PixelLayout::Gray | PixelLayout::GrayAlpha => return None,
+    };
+    let vector = VectorScan::new(kernel, bytes, classifier.backgrounds().len() == 1)?;
+    let Choice::Portable(rest) = portable_row_scan(layout, classifier).choice else {
+        unreachable!("the portable row scan is portable")
+    };
+    Some(RowScan { choice: Choice::Vector(vector, rest), fuse_parts: true })
 }
 
 /// The portable kernel for `layout` and the classifier's palette.
@@ -254,7 +225,7 @@ pub(crate) fn portable_row_scan(layout: PixelLayout, classifier: &Classifier) ->
         (PixelLayout::GrayAlpha, true, _) => scan_row::<2, true, true, false>,
         (PixelLayout::GrayAlpha, false, _) => scan_row::<2, true, false, false>,
     };
-    RowScan { choice: Choice::Portable(kernel), by_part: None }
+    RowScan { choice: Choice::Portable(kernel), fuse_parts: false }
 }
 
 #[inline(always)]
@@ -267,34 +238,12 @@ fn pack<const BYTES: usize, const GRAY: bool>(row: &[u8], pixel: usize) -> u32 {
     }
 }
 
-/// A byte shuffle for the vector kernels that turns pixels of `BYTES`
-/// samples into `N / 4` lanes of `0x00RRGGBB` (lane byte 0 = B, 1 = G,
-/// 2 = R): lane i takes pixel `i % group` of its group of `group` lanes (a
-/// 128-bit half for AVX2's in-lane shuffle, the whole register for
-/// AVX-512's). Byte 3 is 0x80, which zeroes it (AVX2) or is masked off
-/// (AVX-512).
-#[cfg(target_arch = "x86_64")]
-const fn unpack_table<const BYTES: usize, const N: usize>(group: usize) -> [u8; N] {
-    let mut table = [0x80u8; N];
-    let mut lane = 0;
-    while lane < N / 4 {
-        let pixel = lane % group;
-        table[lane * 4] = (pixel * BYTES + 2) as u8;
-        table[lane * 4 + 1] = (pixel * BYTES + 1) as u8;
-        table[lane * 4 + 2] = (pixel * BYTES) as u8;
-        lane += 1;
-    }
-    table
-}
-
-/// Adds a row of `pixels` pixels to the per-class counts: `background` and
-/// `stray` of them, the rest texels.
-#[cfg(target_arch = "x86_64")]
+/// Adds what a vector kernel found to the per-class counts.
 #[inline(always)]
-fn add_row_classes(by_class: &mut ClassCounts, pixels: usize, background: u64, stray: u64) {
-    by_class[PixelClass::Background as usize] += background;
-    by_class[PixelClass::Stray as usize] += stray;
-    by_class[PixelClass::Texel as usize] += pixels as u64 - background - stray;
+fn add_row_classes(by_class: &mut ClassCounts, tally: RowTally) {
+    by_class[PixelClass::Background as usize] += tally.background;
+    by_class[PixelClass::Stray as usize] += tally.stray;
+    by_class[PixelClass::Texel as usize] += tally.pixels as u64 - tally.background - tally.stray;
 }
 
 /// Accumulates the bits of one [`SeenSet`] word at a time (the portable
@@ -329,54 +278,6 @@ impl WordAccumulator {
         if self.bits != 0 {
             seen.or_word(self.index, self.bits);
             self.bits = 0;
-        }
-    }
-}
-
-/// Sets texel bits in a [`SeenSet`] at once and accumulates the marks of
-/// the words it wrote, one 64-bit word of [`SeenSet::dirty`] marks at a
-/// time; the vector kernels' choice.
-///
-/// They hand over only texels whose colour differs from their left
-/// neighbour's, and with texels smaller than a pixel (scenario A: 98 % of
-/// its texel pixels) about every second one needs another word, a branch
-/// [`WordAccumulator`] mispredicts. Setting the bit in memory costs no
-/// branch (two texels in one word, about half the time, chain through store
-/// forwarding, which the loop hides), and a 64-bit word of marks covers 64
-/// words, 4,096 keys, so its branch is nearly always taken the same way.
-/// Measured on scenario A's decoded rows, one thread, three alternated runs
-/// of `cargo bench --bench throughput -- --archive A --kernels`: the AVX-512
-/// kernel went from 0.87–0.89 to 0.82–0.85 ns per pixel, the AVX2 one from
-/// 0.97–0.98 to 0.89–0.92; the generated archive's are unchanged.
-struct MarkAccumulator {
-    dirty_index: usize,
-    marks: u64,
-}
-
-impl MarkAccumulator {
-    fn new() -> MarkAccumulator {
-        MarkAccumulator { dirty_index: 0, marks: 0 }
-    }
-
-    /// Sets `key`'s bit and collects its word's mark.
-    #[inline(always)]
-    fn add(&mut self, seen: &mut SeenSet, key: u32) {
-        let index = (key >> 6) as usize;
-        seen.or_word_unmarked(index, 1u64 << (key & 63));
-        if index >> 6 != self.dirty_index {
-            self.flush(seen);
-            self.dirty_index = index >> 6;
-        }
-        self.marks |= 1u64 << (index & 63);
-    }
-
-    /// Marks the words written since the last flush (before the set is
-    /// read: at the end of every row).
-    #[inline(always)]
-    fn flush(&mut self, seen: &mut SeenSet) {
-        if self.marks != 0 {
-            seen.mark(self.dirty_index, self.marks);
-            self.marks = 0;
         }
     }
 }
@@ -440,13 +341,16 @@ fn scan_row<const BYTES: usize, const GRAY: bool, const CANONICAL: bool, const S
     word.flush(seen);
 }
 
-#[cfg(test)]
-mod tests {
+/// The checks that hold the vector kernels to the portable one. `tests/kernels`
+/// runs them (`testing::kernel_checks`), and reports one ignored
+/// where this CPU lacks its kernel.
+#[cfg(any(test, feature = "synthetic"))]
+pub(crate) mod kernel_checks {
     use super::*;
     use crate::optics::solid_angle::TileView;
 
     /// Per-class counts and texel keys of one row; strays go to `strays`.
-    fn scan_with(
+    pub(crate) fn scan_with(
         scan: RowScan,
         classifier: &Classifier,
         row: &[u8],
@@ -463,36 +367,6 @@ mod tests {
             seen.clear();
             (by_class, keys)
         })
-    }
-
-    fn rgb(colors: &[u32]) -> Vec<u8> {
-        colors.iter().flat_map(|&c| [(c >> 16) as u8, (c >> 8) as u8, c as u8]).collect()
-    }
-
-    #[test]
-    fn runs_of_every_length_are_counted_exactly() {
-        let palette = Fcsp::canonical(16, 16).unwrap();
-        let classifier = Classifier::new(&palette, &[0x000FFF]).unwrap();
-        for scan in
-            [portable_row_scan(PixelLayout::Rgb, &classifier), row_scan(PixelLayout::Rgb, &classifier)]
-        {
-            let strays = AtomicColorSet::new();
-            for length in 0..60 {
-                let mut colors = vec![0x000FFF; length];
-                colors.extend([5, 5, 7, 0xFFFFFF, 5]);
-                colors.extend(vec![9; length]);
-                colors.push(0x000FFF);
-                let (by_class, seen) = scan_with(scan, &classifier, &rgb(&colors), &strays);
-                let seen: Vec<u32> = seen.into_iter().map(crate::color::sets::key_color).collect();
-                assert_eq!(by_class, [length as u64 + 1, 4 + length as u64, 1], "length {length}");
-                let mut expected = vec![5, 7];
-                if length > 0 {
-                    expected.push(9);
-                }
-                assert_eq!(seen, expected);
-                assert_eq!(strays.first(10), vec![0xFFFFFF]);
-            }
-        }
     }
 
     /// A xorshift64 generator from `state` (deterministic test data).
@@ -530,37 +404,39 @@ mod tests {
         row
     }
 
-    #[test]
-    fn vector_kernels_equal_the_portable_kernel() {
-        let kernels: Vec<Kernel> =
-            [Kernel::Avx2, Kernel::Avx512].into_iter().filter(|&k| k <= Kernel::supported()).collect();
-        if kernels.is_empty() {
-            eprintln!("skipped: this CPU runs only the portable kernel");
-        }
+    /// The AVX2 row kernel against the portable one, on random rows.
+    pub(crate) fn the_avx2_kernel_equals_the_portable_kernel() {
+        vector_kernel_equals_the_portable_kernel(Kernel::Avx2);
+    }
+
+    /// The AVX-512 row kernel against the portable one, on random rows.
+    pub(crate) fn the_avx512_kernel_equals_the_portable_kernel() {
+        vector_kernel_equals_the_portable_kernel(Kernel::Avx512);
+    }
+
+    fn vector_kernel_equals_the_portable_kernel(kernel: Kernel) {
         // 4096 × 3000 texels: colours from 12,288,000 up are strays.
         let palette = Fcsp::canonical(4096, 3000).unwrap();
-        for kernel in kernels {
-            for backgrounds in [vec![0x000FFF], vec![0x000FFF, 0x000010, 0xFFFFFF]] {
-                let classifier = Classifier::new(&palette, &backgrounds).unwrap();
-                for (layout, bytes) in [(PixelLayout::Rgb, 3), (PixelLayout::Rgba, 4)] {
-                    let Some(vector) = vector_row_scan(kernel, layout, &classifier) else {
-                        panic!("{kernel:?} has no kernel for {layout:?}");
-                    };
-                    let portable = portable_row_scan(layout, &classifier);
-                    let (vector_strays, portable_strays) = (AtomicColorSet::new(), AtomicColorSet::new());
-                    for seed in 0..300u64 {
-                        let pixels = (seed as usize * 7) % 200 + (seed as usize % 3) * 1284;
-                        let row = random_row(seed, pixels, bytes, &backgrounds);
-                        assert_eq!(
-                            scan_with(vector, &classifier, &row, &vector_strays),
-                            scan_with(portable, &classifier, &row, &portable_strays),
-                            "{kernel:?}, seed {seed}, {pixels} pixels, {bytes} bytes per pixel"
-                        );
-                    }
-                    let all = usize::MAX;
-                    assert!(vector_strays.len() > 1000, "the rows must exercise strays");
-                    assert_eq!(vector_strays.first(all), portable_strays.first(all));
+        for backgrounds in [vec![0x000FFF], vec![0x000FFF, 0x000010, 0xFFFFFF]] {
+            let classifier = Classifier::new(&palette, &backgrounds).unwrap();
+            for (layout, bytes) in [(PixelLayout::Rgb, 3), (PixelLayout::Rgba, 4)] {
+                let Some(vector) = vector_row_scan(kernel, layout, &classifier) else {
+                    panic!("{kernel:?} has no kernel for {layout:?}");
+                };
+                let portable = portable_row_scan(layout, &classifier);
+                let (vector_strays, portable_strays) = (AtomicColorSet::new(), AtomicColorSet::new());
+                for seed in 0..300u64 {
+                    let pixels = (seed as usize * 7) % 200 + (seed as usize % 3) * 1284;
+                    let row = random_row(seed, pixels, bytes, &backgrounds);
+                    assert_eq!(
+                        scan_with(vector, &classifier, &row, &vector_strays),
+                        scan_with(portable, &classifier, &row, &portable_strays),
+                        "{kernel:?}, seed {seed}, {pixels} pixels, {bytes} bytes per pixel"
+                    );
                 }
+                let all = usize::MAX;
+                assert!(vector_strays.len() > 1000, "the rows must exercise strays");
+                assert_eq!(vector_strays.first(all), portable_strays.first(all));
             }
         }
     }
@@ -646,12 +522,9 @@ mod tests {
         (by_class, seen.keys())
     }
 
-    #[test]
-    fn the_kernel_that_tallies_parts_gives_the_separate_passs_pixels_and_solid_angles() {
-        if Kernel::supported() < Kernel::Avx512 {
-            eprintln!("skipped: this CPU has no AVX-512");
-            return;
-        }
+    /// The AVX-512 kernel's form that tallies parts against the separate
+    /// per-part pass.
+    pub(crate) fn the_kernel_that_tallies_parts_gives_the_separate_passs_pixels_and_solid_angles() {
         let projection = crate::optics::solid_angle::EyeProjection::new(107.0, [1284, 1620]).unwrap();
         // Widths of 512 and 4 texels: blocks of the slot table inside and
         // (4 × 4) wider than the grid; 100 is no power of two (separate pass).
@@ -708,6 +581,42 @@ mod tests {
     }
 }
 
+#[cfg(test)]
+mod tests {
+    use super::kernel_checks::scan_with;
+    use super::*;
+
+    fn rgb(colors: &[u32]) -> Vec<u8> {
+        colors.iter().flat_map(|&c| [(c >> 16) as u8, (c >> 8) as u8, c as u8]).collect()
+    }
+
+    #[test]
+    fn runs_of_every_length_are_counted_exactly() {
+        let palette = Fcsp::canonical(16, 16).unwrap();
+        let classifier = Classifier::new(&palette, &[0x000FFF]).unwrap();
+        for scan in
+            [portable_row_scan(PixelLayout::Rgb, &classifier), row_scan(PixelLayout::Rgb, &classifier)]
+        {
+            let strays = AtomicColorSet::new();
+            for length in 0..60 {
+                let mut colors = vec![0x000FFF; length];
+                colors.extend([5, 5, 7, 0xFFFFFF, 5]);
+                colors.extend(vec![9; length]);
+                colors.push(0x000FFF);
+                let (by_class, seen) = scan_with(scan, &classifier, &rgb(&colors), &strays);
+                let seen: Vec<u32> = seen.into_iter().map(crate::color::sets::key_color).collect();
+                assert_eq!(by_class, [length as u64 + 1, 4 + length as u64, 1], "length {length}");
+                let mut expected = vec![5, 7];
+                if length > 0 {
+                    expected.push(9);
+                }
+                assert_eq!(seen, expected);
+                assert_eq!(strays.first(10), vec![0xFFFFFF]);
+            }
+        }
+    }
+}
+
 /// At most this many background colours (checked without branches).
 pub const MAX_BACKGROUNDS: usize = 8;
 
@@ -756,6 +665,12 @@ impl<'a> Classifier<'a> {
     /// The background colours, as given.
     pub fn backgrounds(&self) -> &[u32] {
         &self.backgrounds[..self.background_count]
+    }
+
+    /// What a vector kernel needs of it.
+    #[inline]
+    pub(crate) fn classes(&self) -> Classes<'_> {
+        Classes { backgrounds: self.backgrounds(), texels: self.palette.texel_count() as u32 }
     }
 
     /// Compares with all [`MAX_BACKGROUNDS`] slots, so the check has no

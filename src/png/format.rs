@@ -1,7 +1,7 @@
 //! What a PNG says about itself before any pixel is decoded: the IHDR
 //! header ([`parse_header`]), its chunks ([`chunks`]) and the layout of
-//! decoded samples ([`PixelLayout`]). Both decoders ([`crate::input::png_rows`] over the png
-//! crate, [`crate::input::png_decode`] for plain tiles) start from here.
+//! decoded samples ([`PixelLayout`]). Both decoders ([`crate::png::rows`] over the png
+//! crate, [`crate::png::decode`] for plain tiles) start from here.
 
 use std::path::Path;
 

@@ -1,5 +1,5 @@
 //! Undoing PNG row filters (PNG spec §9) for 8-bit samples, for the tile
-//! decoder ([`crate::input::png_decode`]).
+//! decoder ([`crate::png::decode`]).
 //!
 //! Renderers (Unity, Blender, libpng's adaptive filtering) write most rows
 //! of a tile with the Paeth filter, whose unfiltering is a chain from pixel
@@ -12,13 +12,7 @@
 //! byte-identical to one-row-at-a-time unfiltering ([`unfilter_row`], the
 //! reference the tests hold it to).
 
-#[cfg(target_arch = "x86_64")]
-use crate::kernel::Kernel;
-
-#[cfg(target_arch = "x86_64")]
-mod avx2;
-#[cfg(target_arch = "x86_64")]
-mod avx512;
+use crate::simd::{Kernel, SideBySide};
 
 /// Rows [`unfilter_rows`] takes at once (the decoder hands it this many):
 /// eight side by side with AVX-512, two fours with AVX2.
@@ -93,6 +87,23 @@ impl RowGroup<'_> {
         }
     }
 
+    /// These rows (`N` of them) as a side-by-side form takes them.
+    ///
+    /// # Panics
+    /// Unless there are `N` rows.
+    fn side_by_side_form<const N: usize>(&mut self) -> SideBySide<'_, N> {
+        let filters: &[Filter; N] = self.filters.try_into().expect("a whole group");
+        let chained = [Filter::Sub, Filter::Up, Filter::Average, Filter::Paeth];
+        SideBySide {
+            filters: chained.map(|filter| filters.map(|row| row == filter)),
+            bpp: self.bpp,
+            row_bytes: self.row_bytes,
+            filtered: self.filtered,
+            out: &mut *self.out,
+            pitch: self.pitch,
+        }
+    }
+
     /// Whether `rows` of these rows can go side by side: RGB or RGBA, at
     /// least 16 pixels wide, 4 spare bytes after the filtered rows and in
     /// `pitch`, and `chained` of them with a chained filter (Up and None
@@ -111,111 +122,31 @@ impl RowGroup<'_> {
 /// or RGBA rows with chained filters among them goes side by side (see the
 /// module doc): eight at once with the AVX-512 kernels, four at once with
 /// the AVX2 ones ([`Kernel::selected`], the process's one choice of vector
-/// code); otherwise, and for the answers the tests hold those paths to, one
-/// row at a time.
+/// code; [`SideBySide`] in [`crate::simd`]); otherwise, and for the answers
+/// the tests hold those paths to, one row at a time.
 pub(crate) fn unfilter_rows(mut group: RowGroup) {
-    #[cfg(target_arch = "x86_64")]
+    let kernel = Kernel::selected();
+    if kernel == Kernel::Avx512
+        && group.side_by_side(GROUP, GROUP / 2)
+        && group.side_by_side_form::<GROUP>().unfilter()
     {
-        let kernel = Kernel::selected();
-        if kernel == Kernel::Avx512 && group.side_by_side(avx512::ROWS, avx512::ROWS / 2) {
-            // SAFETY: the AVX-512 kernels' features include AVX-512 F and BW.
-            return unsafe { side_by_side(avx512::FORM, group) };
-        }
-        if kernel >= Kernel::Avx2 {
-            for first in (0..group.filters.len()).step_by(avx2::ROWS) {
-                let count = avx2::ROWS.min(group.filters.len() - first);
-                let four = group.part(first, count);
-                if four.side_by_side(avx2::ROWS, 2) {
-                    // SAFETY: the AVX2 kernels' features include AVX2.
-                    unsafe { side_by_side(avx2::FORM, four) };
-                } else {
-                    row_by_row(four);
-                }
+        return;
+    }
+    if kernel >= Kernel::Avx2 {
+        for first in (0..group.filters.len()).step_by(FOUR) {
+            let count = FOUR.min(group.filters.len() - first);
+            let mut four = group.part(first, count);
+            if !(four.side_by_side(FOUR, 2) && four.side_by_side_form::<FOUR>().unfilter()) {
+                row_by_row(four);
             }
-            return;
         }
+        return;
     }
     row_by_row(group);
 }
 
-/// A side-by-side form for `N` rows ([`avx2`], [`avx512`]): its functions
-/// for RGB and for RGBA pixels, each taking the rows' filters, `row_bytes`,
-/// the filtered rows, `out` and `pitch` as [`RowGroup`] holds them.
-#[cfg(target_arch = "x86_64")]
-type SideBySideForm<const N: usize> = [unsafe fn(&[Filter; N], usize, &[u8], &mut [u8], usize); 2];
-
-/// The rows of a side-by-side form in progress ([`avx2`], [`avx512`]): row
-/// `k` is `2k` pixels behind row 0, so at step `t` each row `k` takes its
-/// pixel `t − 2k`.
-#[cfg(target_arch = "x86_64")]
-trait Steps {
-    /// Rows side by side.
-    const ROWS: usize;
-
-    /// Step `t`: pixel t − 2k of each row k. With `EVERY` every row has
-    /// that pixel; without, rows before their first or past their last
-    /// pixel read and write nothing and hold zeros.
-    ///
-    /// # Safety
-    /// The CPU features of the form, and slices [`run_steps`] checked.
-    unsafe fn step<const BPP: usize, const EVERY: bool>(&mut self, t: usize);
-}
-
-/// Asserts what a side-by-side form of `S::ROWS` rows of `BPP`-byte pixels
-/// needs: `filtered` holds the rows as inflated (a filter byte, then
-/// `row_bytes`) and at least 4 bytes after the last; `out_len` covers
-/// `S::ROWS + 1` rows `pitch ≥ row_bytes + 4` bytes apart; each row is
-/// longer than the last row's lag. Returns the width in pixels.
-#[cfg(target_arch = "x86_64")]
-fn checked_width<S: Steps, const BPP: usize>(
-    row_bytes: usize,
-    filtered: usize,
-    out: usize,
-    pitch: usize,
-) -> usize {
-    let (rows, width) = (S::ROWS, row_bytes / BPP);
-    assert!(filtered >= rows * (row_bytes + 1) + 4 && out >= (rows + 1) * pitch && pitch >= row_bytes + 4);
-    assert!(width > 2 * (rows - 1));
-    width
-}
-
-/// Runs every step of `rows`, `width` pixels wide (from
-/// [`checked_width`]): the last row's lag with some rows outside their
-/// pixels, then every row inside, then the lag again.
-///
-/// # Safety
-/// The CPU features of the form; `width` from [`checked_width`] on the
-/// slices `rows` points into.
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-unsafe fn run_steps<S: Steps, const BPP: usize>(rows: &mut S, width: usize) {
-    let lag = 2 * (S::ROWS - 1);
-    // SAFETY (the three loops): `step` touches pixel t − 2k of row k only
-    // where that is inside the row (all rows in the middle loop), 4 bytes
-    // at a time, which the sizes `checked_width` asserted allow.
-    for t in 0..lag {
-        unsafe { rows.step::<BPP, false>(t) };
-    }
-    for t in lag..width {
-        unsafe { rows.step::<BPP, true>(t) };
-    }
-    for t in width..width + lag {
-        unsafe { rows.step::<BPP, false>(t) };
-    }
-}
-
-/// Unfilters `group`, `N` RGB or RGBA rows that
-/// [`RowGroup::side_by_side`] allows, with `form`.
-///
-/// # Safety
-/// The CPU must have the features `form` is compiled for.
-#[cfg(target_arch = "x86_64")]
-unsafe fn side_by_side<const N: usize>(form: SideBySideForm<N>, group: RowGroup) {
-    let filters: &[Filter; N] = group.filters.try_into().expect("a whole group");
-    let unfilter = if group.bpp == 3 { form[0] } else { form[1] };
-    // SAFETY: the caller vouches for the features; the sizes are asserted inside.
-    unsafe { unfilter(filters, group.row_bytes, group.filtered, group.out, group.pitch) }
-}
+/// Rows the AVX2 form takes at once.
+const FOUR: usize = 4;
 
 /// [`unfilter_rows`] one row at a time.
 fn row_by_row(group: RowGroup) {
@@ -295,40 +226,18 @@ fn unfilter_pixels<const BPP: usize>(filter: Filter, previous: &[u8], filtered: 
     }
 }
 
-#[cfg(test)]
-mod tests {
+/// The checks that hold the side-by-side forms ([`SideBySide`]) to
+/// row-by-row unfiltering. `tests/kernels` runs them
+/// (`testing::kernel_checks`), and reports one ignored where this
+/// CPU lacks its form's kernel.
+#[cfg(any(test, feature = "synthetic"))]
+pub(crate) mod kernel_checks {
     use super::*;
 
-    /// The PNG spec's Paeth predictor, written as the spec writes it.
-    fn spec_paeth(a: u8, b: u8, c: u8) -> u8 {
-        let p = i16::from(a) + i16::from(b) - i16::from(c);
-        let (pa, pb, pc) = ((p - i16::from(a)).abs(), (p - i16::from(b)).abs(), (p - i16::from(c)).abs());
-        if pa <= pb && pa <= pc {
-            a
-        } else if pb <= pc {
-            b
-        } else {
-            c
-        }
-    }
-
-    #[test]
-    fn paeth_predictor_equals_the_spec_for_every_input() {
-        for a in 0..=255u8 {
-            for b in 0..=255u8 {
-                for c in (0..=255u8).step_by(3) {
-                    assert_eq!(paeth(a.into(), b.into(), c.into()), spec_paeth(a, b, c), "{a} {b} {c}");
-                }
-            }
-        }
-    }
-
-    /// Holds `form` to [`row_by_row`] on RGB and RGBA rows of several
-    /// widths, smooth (as renderers give) and noisy, for each filter mix
-    /// `mixes` gives (one filter per row). The caller checked the CPU.
-    #[cfg(target_arch = "x86_64")]
-    fn check_side_by_side<const N: usize>(form: SideBySideForm<N>, mixes: &[Vec<Filter>]) {
-        let rows = N;
+    /// Holds the form of `rows` rows (`unfilter`) to [`row_by_row`] on RGB
+    /// and RGBA rows of several widths, smooth (as renderers give) and
+    /// noisy, for each filter mix `mixes` gives (one filter per row).
+    fn check_side_by_side(rows: usize, unfilter: fn(RowGroup) -> bool, mixes: &[Vec<Filter>]) {
         let mut byte = xorshift_bytes(0x2545_F491_4F6C_DD1D);
         for bpp in [3usize, 4] {
             for width in [16usize, 17, 23, 64, 101] {
@@ -361,8 +270,7 @@ mod tests {
                         out: &mut side,
                         pitch,
                     };
-                    // SAFETY: the caller checked the CPU's features.
-                    unsafe { side_by_side(form, under_test) };
+                    assert!(unfilter(under_test), "this CPU lacks a feature of the form");
                     for k in 0..=rows {
                         let row = k * pitch..k * pitch + row_bytes;
                         assert_eq!(
@@ -377,7 +285,7 @@ mod tests {
     }
 
     /// Pseudo-random bytes (xorshift64) from `state`.
-    fn xorshift_bytes(mut state: u64) -> impl FnMut() -> u8 {
+    pub(crate) fn xorshift_bytes(mut state: u64) -> impl FnMut() -> u8 {
         move || {
             state ^= state << 13;
             state ^= state >> 7;
@@ -386,30 +294,20 @@ mod tests {
         }
     }
 
-    const FILTERS: [Filter; 5] = [Filter::None, Filter::Sub, Filter::Up, Filter::Average, Filter::Paeth];
+    pub(crate) const FILTERS: [Filter; 5] =
+        [Filter::None, Filter::Sub, Filter::Up, Filter::Average, Filter::Paeth];
 
-    #[cfg(target_arch = "x86_64")]
-    #[test]
-    fn four_rows_side_by_side_equal_rows_one_at_a_time_for_every_filter_mix() {
-        if !std::arch::is_x86_feature_detected!("avx2") {
-            eprintln!("skipped: this CPU has no AVX2");
-            return;
-        }
+    /// The AVX2 form against row-by-row unfiltering, every mix of filters.
+    pub(crate) fn four_rows_side_by_side_equal_rows_one_at_a_time_for_every_filter_mix() {
         let mixes: Vec<Vec<Filter>> = (0..5usize.pow(4))
             .map(|mix| (0..4).map(|k| FILTERS[mix / 5usize.pow(k) % 5]).collect())
             .collect();
-        check_side_by_side(avx2::FORM, &mixes);
+        check_side_by_side(FOUR, |mut group| group.side_by_side_form::<FOUR>().unfilter(), &mixes);
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[test]
-    fn eight_rows_side_by_side_equal_rows_one_at_a_time_for_many_filter_mixes() {
-        if !(std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512bw"))
-        {
-            eprintln!("skipped: this CPU has no AVX-512 F and BW");
-            return;
-        }
+    /// The AVX-512 form against row-by-row unfiltering: every filter in
+    /// every row, each filter alone, and random mixes.
+    pub(crate) fn eight_rows_side_by_side_equal_rows_one_at_a_time_for_many_filter_mixes() {
         // Every filter in every row (each row's filter from a different
         // digit), each filter alone, and random mixes.
         let mut mixes: Vec<Vec<Filter>> = (0..5usize.pow(4))
@@ -418,7 +316,37 @@ mod tests {
         mixes.extend(FILTERS.map(|filter| vec![filter; 8]));
         let mut byte = xorshift_bytes(7);
         mixes.extend((0..600).map(|_| (0..8).map(|_| FILTERS[usize::from(byte()) % 5]).collect()));
-        check_side_by_side(avx512::FORM, &mixes);
+        check_side_by_side(GROUP, |mut group| group.side_by_side_form::<GROUP>().unfilter(), &mixes);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::kernel_checks::{FILTERS, xorshift_bytes};
+    use super::*;
+
+    /// The PNG spec's Paeth predictor, written as the spec writes it.
+    fn spec_paeth(a: u8, b: u8, c: u8) -> u8 {
+        let p = i16::from(a) + i16::from(b) - i16::from(c);
+        let (pa, pb, pc) = ((p - i16::from(a)).abs(), (p - i16::from(b)).abs(), (p - i16::from(c)).abs());
+        if pa <= pb && pa <= pc {
+            a
+        } else if pb <= pc {
+            b
+        } else {
+            c
+        }
+    }
+
+    #[test]
+    fn paeth_predictor_equals_the_spec_for_every_input() {
+        for a in 0..=255u8 {
+            for b in 0..=255u8 {
+                for c in (0..=255u8).step_by(3) {
+                    assert_eq!(paeth(a.into(), b.into(), c.into()), spec_paeth(a, b, c), "{a} {b} {c}");
+                }
+            }
+        }
     }
 
     #[test]

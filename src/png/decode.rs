@@ -2,12 +2,12 @@
 //! PNGs (every tile a renderer writes), inflated once.
 //!
 //! Through the png crate a tile was inflated twice: once for its rows and
-//! once more by [`crate::input::png_zlib::verify_image_data`], because the
+//! once more by [`crate::png::zlib::verify_image_data`], because the
 //! png crate may stop before the zlib trailer and never check the Adler-32.
 //! Here the same inflater that produces the rows runs on to the end of the
 //! stream and checks its Adler-32, so a tile costs one inflate, and rows are
 //! unfiltered straight out of the inflater's buffer
-//! ([`crate::input::unfilter`]).
+//! ([`crate::png::unfilter`]).
 //!
 //! It takes only files whose chunks are plain — [`plain_layout`] walks them
 //! first and checks every CRC: IHDR, then ancillary chunks, an optional
@@ -19,9 +19,9 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::input::png_format::{HEADER_BYTES, PixelLayout, PngHeader, chunks};
-use crate::input::png_zlib::{MISSING_TRAILER, inflate_message};
-use crate::input::unfilter::{Filter, GROUP, RowGroup, unfilter_rows};
+use crate::png::format::{HEADER_BYTES, PixelLayout, PngHeader, chunks};
+use crate::png::unfilter::{Filter, GROUP, RowGroup, unfilter_rows};
+use crate::png::zlib::{MISSING_TRAILER, inflate_message};
 
 /// Deflate looks back at most 32 KiB.
 const WINDOW: usize = 32 << 10;

@@ -12,7 +12,7 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::input::png_format::chunks;
+use crate::png::format::chunks;
 
 /// Output window: deflate looks back at most 32 KiB.
 const WINDOW: usize = 32 << 10;

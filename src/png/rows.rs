@@ -5,7 +5,7 @@
 //! tile truncated by another process while mapped kills the process with
 //! SIGBUS, while a read just sees a short, reported file.) The zlib stream
 //! of the image data must be whole and end with a matching Adler-32
-//! ([`crate::input::png_zlib`]): a corrupted IDAT with valid chunk CRCs, or
+//! ([`crate::png::zlib`]): a corrupted IDAT with valid chunk CRCs, or
 //! one without its trailer, must fail, not count wrong texels. Every accepted PNG is turned into 8-bit
 //! samples (palette and low-bit grey expanded); 16-bit images are rejected,
 //! because their colours cannot name 8-bit palette texels exactly.
@@ -15,9 +15,9 @@ use std::ops::Deref;
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::input::png_decode::{PlainDecoder, plain_layout};
-pub use crate::input::png_format::{HEADER_BYTES, PixelLayout, PngHeader, parse_header};
-use crate::input::png_zlib::verify_image_data;
+use crate::png::decode::{PlainDecoder, plain_layout};
+pub use crate::png::format::{HEADER_BYTES, PixelLayout, PngHeader, parse_header};
+use crate::png::zlib::verify_image_data;
 
 /// The bytes of an input file, read whole.
 pub struct FileBytes(Vec<u8>);
@@ -35,7 +35,7 @@ pub fn read_file(path: &Path) -> Result<FileBytes> {
 }
 
 /// A streaming decoder over a PNG held in memory: tiles as renderers write
-/// them through the one-inflate decoder of [`crate::input::png_decode`],
+/// them through the one-inflate decoder of [`crate::png::decode`],
 /// everything else through the png crate.
 pub struct RowReader<'a> {
     decoder: Decoder<'a>,
@@ -286,11 +286,11 @@ pub fn read_color_image(path: &Path, check_size: impl FnOnce(u32, u32) -> Result
 
 #[cfg(test)]
 mod tests {
-    //! The plain decoder ([`crate::input::png_decode`]) against the png
+    //! The plain decoder ([`crate::png::decode`]) against the png
     //! crate's rows, and what it refuses.
     use super::*;
-    use crate::input::png_decode::plain_layout;
-    use crate::input::png_format::png_from_chunks;
+    use crate::png::decode::plain_layout;
+    use crate::png::format::png_from_chunks;
 
     const PATH: &str = "tile.png";
 
