@@ -131,11 +131,11 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<(Rig, Vec<Scenario>)> {
                 .collect(),
         )
         .map_err(in_scenario)?;
-        scenarios.push(Scenario {
-            name,
-            duration_s: scenario.duration_s,
-            motion: Motion { position, yaw_deg },
-        });
+        let scenario =
+            Scenario { name, duration_s: scenario.duration_s, motion: Motion { position, yaw_deg } };
+        crate::scene::scenario::check_frame_time(&scenario, rig.fps, "capture.fps")
+            .map_err(|message| CaptureError::bad_input(path, message))?;
+        scenarios.push(scenario);
     }
     if scenarios.is_empty() {
         return Err(CaptureError::bad_input(path, "the Unity export has no scenarios"));
