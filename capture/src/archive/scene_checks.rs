@@ -400,22 +400,23 @@ fn speed_jump_warning(rig: &Rig, scenario: &Scenario, at_keys: &BTreeMap<Place, 
     let share: f64 = affected.iter().map(|&frame| weight(frame)).sum::<f64>() / total;
     let hardest = at_keys.values().copied().fold(0.0, f64::max);
     let linear = if track.is_piecewise_linear() {
-        " These keys have Unity's Linear tangents (each slope is its segment's secant): the vehicle drives at \
-         constant speed from key to key, in Unity too."
+        " The keys are linear (no slopes, or each slope its segment's secant: Unity's Linear tangents): the \
+         vehicle drives at constant speed from key to key, in Unity too."
     } else {
         ""
     };
     format!(
-        "scenario {}: the vehicle's speed jumps at position keys {} (up to {hardest:.1} m/s², {:.0} g, between \
-         frames): the replay follows the keys as Unity's AnimationCurve does (a cubic Hermite from the left key's \
-         out slope to the right key's in slope), and these keys' in and out slopes differ.{linear} Even a vehicle \
-         changing speed at 3 g would be up to {farthest_m:.2} m from this path, in frames {} ({} of {count} \
-         frames: {:.0} % of the time, about {:.0} % of the vehicle's apparent size summed over frames, a proxy \
-         of their share of the result). To see how much that matters, compare with a capture of the other \
-         frames (--frames) or with the keys smoothed (equal in and out slopes at each key).",
+        "scenario {}: the vehicle accelerates or brakes harder than 3 g ({MAX_ACCELERATION_M_S2:.2} m/s²) between \
+         frames (up to {hardest:.1} m/s², {:.0} g) where its speed jumps at position keys {}: the replay follows \
+         the keys as Unity's AnimationCurve does (a cubic Hermite from the left key's out slope to the right \
+         key's in slope), and the slopes on either side of these keys differ.{linear} Even a vehicle changing \
+         speed at 3 g would be up to {farthest_m:.2} m from this path, in frames {} ({} of {count} frames: \
+         {:.0} % of the time, about {:.0} % of the vehicle's apparent size summed over frames, a proxy of their \
+         share of the result). To see how much that matters, compare with a capture of the other frames \
+         (--frames) or with the keys smoothed (equal in and out slopes at each key).",
         scenario.name,
-        jumps.join(", "),
         hardest / G_M_S2,
+        jumps.join(", "),
         list_frames(&affected),
         affected.len(),
         100.0 * affected.len() as f64 / f64::from(count),
