@@ -122,7 +122,7 @@ impl Rig {
             fields.extend(changes);
         }
         let rig: Rig = serde_json::from_value(value).map_err(bad)?;
-        rig.check()?;
+        rig.check().map_err(|e| CaptureError::BadOptions(format!("--rig: {e}")))?;
         Ok(rig)
     }
 

@@ -153,3 +153,46 @@ pub fn the_replay_equals_unitys_curve_evaluation_and_the_jumps_are_in_the_keys()
     }
     Ok(Completion::Completed)
 }
+
+/// The Unity rig and scenarios land where Unity has them (moved here from a
+/// unit test that passed silently when the export was absent).
+pub fn unity_scenarios_put_the_vehicle_where_unity_would() -> Outcome {
+    let reference = shared_dir().join("ref/scenarios/unity-intersection.json");
+    if !reference.is_file() {
+        return missing(&format!("{} (see shared/ref/scenarios/SOURCE.md)", reference.display()));
+    }
+    let scene = Scene::unity(&reference).unwrap();
+    let (rig, scenarios) = (&scene.rig, &scene.scenarios);
+    assert_eq!(scenarios.len(), 4);
+    assert_eq!(rig.eye_pixels, [6420, 8100]);
+    assert!((rig.horizontal_fov_deg - 107.0).abs() < 1e-3, "{}", rig.horizontal_fov_deg);
+    assert!((rig.ipd_m - 0.1103594).abs() < 1e-9);
+    assert!((rig.eye_height_m - (272.699 - 271.54)).abs() < 1e-9);
+    let a = &scenarios[0];
+    assert_eq!(a.name, "A");
+    // End of A in Unity: (-65.5, 271.59, 21.16) → x east -65.5, y north 21.16, z up 271.59.
+    assert_eq!(a.motion.pose(3.0).position.to_array(), [-65.5, 21.16, 271.59]);
+    for scenario in scenarios {
+        // During the straight approach the truck must point where it drives:
+        // this checks the yaw convention and the model's −X forward axis.
+        let (p0, p1) = (scenario.motion.pose(2.0).position, scenario.motion.pose(2.2).position);
+        let motion = (p1 - p0).truncate();
+        if motion.length() < 0.5 {
+            continue;
+        }
+        let yaw = scenario.motion.pose(2.0).yaw_deg.to_radians();
+        let heading = glam::dvec2(yaw.cos(), yaw.sin());
+        let cos = heading.dot(motion.normalize());
+        assert!(cos > 0.95, "scenario {}: heading {heading:?} vs motion {motion:?}", scenario.name);
+        // And it ends within a few metres of the pedestrian, who is in front of it.
+        let end = scenario.motion.pose(scenario.duration_s);
+        let to_pedestrian = (rig.anchor() - end.position).truncate();
+        assert!(
+            to_pedestrian.length() < 40.0,
+            "scenario {} ends {} m away",
+            scenario.name,
+            to_pedestrian.length()
+        );
+    }
+    Ok(Completion::Completed)
+}
