@@ -10,6 +10,9 @@
 //! footprint exactly, so their areas add up to the triangles' areas. K = 1
 //! keeps the centre of a texel inside one triangle, and samples an edge
 //! texel (centre outside every triangle) at the centroid of its piece.
+//! A face that an earlier face of the mesh covers whole (a duplicate, the
+//! same surface twice) keeps its samples, so its texels still count, but
+//! they stand for no area: the angular area counts that surface once.
 
 use glam::{DVec2, DVec3};
 
@@ -84,6 +87,9 @@ pub fn surface_samples(
     let [width, _] = unwrapped.palette;
     let triangles: Vec<Option<SampledTriangle>> =
         (0..mesh.triangles.len()).map(|t| SampledTriangle::new(mesh, unwrapped, t)).collect();
+    // A face that an earlier face covers whole is the same surface: its
+    // samples stand for no area (the scene checks warn by part name).
+    let covered = crate::scene::coincident::covered_triangles(mesh);
     // (texel, triangle) for every texel square a triangle touches.
     let mut touching: Vec<(u32, u32)> = Vec::new();
     for (index, triangle) in triangles.iter().enumerate() {
@@ -109,7 +115,7 @@ pub fn surface_samples(
         for &(_, index) in group {
             let Some(triangle) = &triangles[index as usize] else { continue };
             for (centroid, area) in pieces(&triangle.uv, x, y, samples_per_side) {
-                let area_m2 = area * triangle.area_scale;
+                let area_m2 = if covered[index as usize] { 0.0 } else { area * triangle.area_scale };
                 let triangle_part = mesh.triangle_part[index as usize];
                 out.area_per_part_m2[triangle_part as usize] += area_m2;
                 part.get_or_insert(triangle_part);
@@ -235,6 +241,26 @@ mod tests {
             }
             assert!((total - area).abs() < 1e-9, "K = {k}: {total} against {area}");
         }
+    }
+
+    #[test]
+    fn a_face_two_parts_share_counts_its_area_once() {
+        // A 2 m cube, and a badge made of its +x face's own two triangles:
+        // the exact measure counted that 4 m² twice (742.8 vs 723.8 deg²·s rendered).
+        let mut mesh = Mesh::default();
+        mesh.add_box(glam::vec3(-1.0, -1.0, 0.0), glam::vec3(1.0, 1.0, 2.0), [Some("body"); 6]);
+        for t in 0..2 {
+            let [a, b, c] = mesh.corners(t);
+            mesh.add_triangle("badge", a, b, c);
+        }
+        let palette = [64, 64];
+        let unwrapped =
+            crate::texture::uv_islands::unwrap_islands(&mesh, palette).expect("a cube fits a 64² palette");
+        let samples = surface_samples(&mesh, &unwrapped, 1.0, 7, 2);
+        let [body, badge] = [samples.area_per_part_m2[0], samples.area_per_part_m2[1]];
+        assert!((body - 24.0).abs() < 1e-6 && badge == 0.0, "body {body} m², badge {badge} m²");
+        // Its texels are still sampled (they count when seen), standing for no area.
+        assert!(samples.texels.iter().any(|texel| texel.part == 1));
     }
 
     #[test]

@@ -21,8 +21,9 @@ pub const EDGE_ON_F32_ULPS: f64 = 4.0;
 /// The surface lift, relative to the vehicle's size: a point is moved this
 /// share of the vehicle's bounding-box diagonal off its surface towards the
 /// eye so that its ray does not hit its own triangle (1e-5: 0.1 mm on a 10 m
-/// truck; a model ×0.01 or ×100 gets the same relative lift).
-pub const SURFACE_LIFT_RELATIVE: f64 = 1e-5;
+/// truck; a model ×0.01 or ×100 gets the same relative lift). The scene
+/// checks call surfaces this near one another coincident: the same number.
+pub const SURFACE_LIFT_RELATIVE: f64 = crate::scene::coincident::COINCIDENT_RELATIVE;
 /// Square degrees per steradian.
 pub const DEG2_PER_SR: f64 = (180.0 / std::f64::consts::PI) * (180.0 / std::f64::consts::PI);
 

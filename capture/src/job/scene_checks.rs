@@ -17,9 +17,23 @@
 //!   would be of the vehicle's inside, and plausible-looking;
 //! - an eye inside a moving occluder (a car driving through the pedestrian,
 //!   or the pedestrian walking into one): a warning naming it and the frames;
+//! - an occluder lying on the vehicle (coplanar with and overlapping its
+//!   faces, [`crate::scene::coincident`]): a warning naming the occluder,
+//!   the parts and the frames — the renderer hides those faces or not as
+//!   depth ties fall, the exact measure never;
+//! - faces of the vehicle lying on one another (within a part or across
+//!   two): a warning naming the parts — the exact measure would count that
+//!   surface twice (it counts a face covered whole by an earlier one once);
 //! - between frames (at the rig's fps) the vehicle moves faster than
 //!   [`MAX_SPEED_M_S`] or accelerates more than [`MAX_ACCELERATION_M_S2`]: a
-//!   warning naming the position keys.
+//!   warning naming the position keys; where the speed jumps at a key (in
+//!   and out slopes differ, as in the paper's Unity clips), the warning says
+//!   which frames a 3 g vehicle would spend changing speed, how far from the
+//!   keyed path it would be, those frames' share of the scenario and what
+//!   to do.
+//!
+//! Refused before any check: a frame (1/fps) longer than the scenario
+//! ([`crate::scene::scenario::check_frame_time`]).
 
 use std::collections::BTreeMap;
 
@@ -28,7 +42,8 @@ use glam::{DMat4, DVec3, DVec4, dvec3};
 use crate::error::{CaptureError, Result};
 use crate::job::options::CaptureOptions;
 use crate::scene::Scene;
-use crate::scene::frame_state::FrameState;
+use crate::scene::coincident;
+use crate::scene::frame_state::{FrameState, list_frames};
 use crate::scene::mesh::Mesh;
 use crate::scene::rig::{Eye, Rig, vehicle_to_world};
 use crate::scene::scenario::Scenario;
@@ -55,6 +70,7 @@ pub fn selected_frames(scene: &Scene, scenario: &Scenario, options: &CaptureOpti
             scenario.name, scenario.duration_s, rig.fps
         )));
     }
+    crate::scene::scenario::check_frame_time(scenario, rig.fps, "fps").map_err(CaptureError::BadOptions)?;
     let frame_count = rig.frame_count(scenario.duration_s);
     let selected = options.frames.frames(frame_count);
     if selected.is_empty() {
@@ -119,6 +135,9 @@ pub fn scene_warnings(scene: &Scene, scenario: &Scenario, frames: &[u32]) -> Res
         )));
     }
     let mut warnings = found.warnings(rig);
+    let vehicle = coincident::vehicle_index(&scene.vehicle);
+    warnings.extend(coincident::occluder_warnings(scene, scenario, frames, &vehicle)?);
+    warnings.extend(coincident::shared_surface_warnings(&scene.vehicle, &vehicle));
     warnings.extend(motion_warnings(rig, scenario));
     Ok(warnings)
 }
@@ -326,17 +345,83 @@ pub fn motion_warnings(rig: &Rig, scenario: &Scenario) -> Vec<String> {
             list_places(track, &too_fast)
         ));
     }
-    if let Some(hardest) = too_hard.values().copied().reduce(f64::max) {
+    let (at_keys, between): (BTreeMap<Place, f64>, BTreeMap<Place, f64>) =
+        too_hard.into_iter().partition(|(place, _)| matches!(place, Place::Key(_)));
+    if let Some(hardest) = between.values().copied().reduce(f64::max) {
         warnings.push(format!(
             "scenario {}: the vehicle accelerates or brakes harder than 3 g ({MAX_ACCELERATION_M_S2:.2} m/s²) \
-             between frames (up to {hardest:.1} m/s², {:.1} g) at position {} (at a key: its in and out slopes \
-             differ, so the speed jumps within a frame)",
+             between frames (up to {hardest:.1} m/s², {:.1} g) at position {}",
             scenario.name,
-            hardest / 9.80665,
-            list_places(track, &too_hard)
+            hardest / G_M_S2,
+            list_places(track, &between)
         ));
     }
+    if !at_keys.is_empty() {
+        warnings.push(speed_jump_warning(rig, scenario, &at_keys));
+    }
     warnings
+}
+
+/// Standard gravity, m/s².
+const G_M_S2: f64 = 9.80665;
+
+/// The speed jumps at position keys (`at_keys`: the accelerations between
+/// frames there): how large, which frames even a 3 g vehicle would spend
+/// changing speed that much and how far from this path it would be, how much
+/// of the scenario those frames are, and what to do.
+fn speed_jump_warning(rig: &Rig, scenario: &Scenario, at_keys: &BTreeMap<Place, f64>) -> String {
+    let track = &scenario.motion.position;
+    let count = rig.frame_count(scenario.duration_s);
+    let mut affected: Vec<u32> = Vec::new();
+    let mut jumps = Vec::new();
+    let mut farthest_m = 0.0_f64;
+    for place in at_keys.keys() {
+        let Place::Key(k) = *place else { continue };
+        let (arriving, leaving) = track.slopes_at(k);
+        let jump = (DVec3::from(leaving) - DVec3::from(arriving)).length();
+        // Changing speed by `jump` at the bound takes `window` s, centred on
+        // the key, and leaves the vehicle jump²/(8a) from the kinked path.
+        let window = jump / MAX_ACCELERATION_M_S2;
+        farthest_m = farthest_m.max(jump * window / 8.0);
+        jumps.push(format!("{k} (t {:.3} s, {jump:.1} m/s)", track.keys[k].t));
+        let first = ((track.keys[k].t - window / 2.0) * rig.fps).ceil().max(0.0) as u32;
+        let last = (((track.keys[k].t + window / 2.0) * rig.fps).floor().max(0.0) as u32).min(count - 1);
+        affected.extend(first..=last);
+    }
+    affected.sort_unstable();
+    affected.dedup();
+    // Each frame's weight: the vehicle's apparent size, 1 / distance² from the head.
+    let weight = |frame: u32| {
+        let time_s = (f64::from(frame) / rig.fps).min(scenario.duration_s);
+        let distance = (DVec3::from(track.eval(time_s)) - rig.head_at(time_s)).length().max(1.0);
+        1.0 / (distance * distance)
+    };
+    let total: f64 = (0..count).map(weight).sum();
+    let share: f64 = affected.iter().map(|&frame| weight(frame)).sum::<f64>() / total;
+    let hardest = at_keys.values().copied().fold(0.0, f64::max);
+    let linear = if track.is_piecewise_linear() {
+        " The keys are linear (no slopes, or each slope its segment's secant: Unity's Linear tangents): the \
+         vehicle drives at constant speed from key to key, in Unity too."
+    } else {
+        ""
+    };
+    format!(
+        "scenario {}: the vehicle accelerates or brakes harder than 3 g ({MAX_ACCELERATION_M_S2:.2} m/s²) between \
+         frames (up to {hardest:.1} m/s², {:.0} g) where its speed jumps at position keys {}: the replay follows \
+         the keys as Unity's AnimationCurve does (a cubic Hermite from the left key's out slope to the right \
+         key's in slope), and the slopes on either side of these keys differ.{linear} Even a vehicle changing \
+         speed at 3 g would be up to {farthest_m:.2} m from this path, in frames {} ({} of {count} frames: \
+         {:.0} % of the time, about {:.0} % of the vehicle's apparent size summed over frames, a proxy of their \
+         share of the result). To see how much that matters, compare with a capture of the other frames \
+         (--frames) or with the keys smoothed (equal in and out slopes at each key).",
+        scenario.name,
+        hardest / G_M_S2,
+        jumps.join(", "),
+        list_frames(&affected),
+        affected.len(),
+        100.0 * affected.len() as f64 / f64::from(count),
+        100.0 * share
+    )
 }
 
 /// The key within `(from, to)` if there is one, else the segment of `time_s`.
@@ -368,23 +453,6 @@ fn list_places(track: &Track<3>, places: &BTreeMap<Place, f64>) -> String {
     names.join(", ")
 }
 
-/// "0-3, 60, 120" (runs joined; at most 12 items, then how many in all).
-pub fn list_frames(frames: &[u32]) -> String {
-    let mut runs: Vec<(u32, u32)> = Vec::new();
-    for &frame in frames {
-        match runs.last_mut() {
-            Some((_, last)) if frame == *last + 1 => *last = frame,
-            _ => runs.push((frame, frame)),
-        }
-    }
-    let mut text: Vec<String> =
-        runs.iter().take(12).map(|&(a, b)| if a == b { a.to_string() } else { format!("{a}-{b}") }).collect();
-    if runs.len() > 12 {
-        text.push(format!("… ({} frames in all)", frames.len()));
-    }
-    text.join(", ")
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -404,6 +472,144 @@ mod tests {
             [Some("body"), Some("body"), Some("body"), Some("body"), None, Some("body")],
         );
         assert!(!inside_mesh(&open, dvec3(0.3, 0.2, 1.0)));
+    }
+
+    /// The demo truck standing at (10, 0, 0), seen from the origin, with `occluders`.
+    fn truck_scene(occluders: &str, fps: f64, duration_s: f64) -> Result<Scene> {
+        let text = format!(
+            r#"{{"vehicle": {{"mesh": "demo"}}, "occluders": [{occluders}],
+                "rig": {{"eye_pixels": [40, 40], "tiles": [1, 1], "fps": {fps}}},
+                "scenarios": {{"S": {{"duration_s": {duration_s}, "position": [{{"t": 0, "value": [10, 0, 0]}}],
+                                      "yaw_deg": [{{"t": 0, "value": 0}}]}}}}}}"#
+        );
+        Scene::parse(std::path::Path::new("scene.json"), text.as_bytes())
+    }
+
+    fn warnings_of(scene: &Scene) -> Vec<String> {
+        scene_warnings(scene, &scene.scenarios[0], &[0, 30]).unwrap()
+    }
+
+    #[test]
+    fn an_occluder_lying_on_the_vehicle_is_named_with_its_parts_and_frames() {
+        // The vehicle's own mesh as an occluder exactly where the vehicle is:
+        // rendered, it hid 60 % of the truck (287.8 of 724.0 deg²·s), silently.
+        for placed in [
+            r#"{"vehicle": {"position": [10, 0, 0]}}"#,
+            r#"{"vehicle": {"follow": {"ahead_m": 0, "left_m": 0, "yaw_deg": 0}}}"#,
+        ] {
+            let scene = truck_scene(placed, 60.0, 1.0).unwrap();
+            let warnings = warnings_of(&scene);
+            let found: Vec<&String> = warnings.iter().filter(|w| w.contains("lies on the vehicle")).collect();
+            assert_eq!(found.len(), 1, "{placed}: {warnings:#?}");
+            for needed in ["the occluder vehicle #0", "roof", "hood", "in frames 0, 30", "z-fighting"] {
+                assert!(found[0].contains(needed), "{needed} missing: {}", found[0]);
+            }
+        }
+        // Beside the vehicle, or through it 1 cm higher and turned by 1° (its
+        // sides then leave the vehicle's planes too): no coincidence.
+        let beside = truck_scene(r#"{"vehicle": {"position": [10, 4, 0]}}"#, 60.0, 1.0).unwrap();
+        let through = r#"{"vehicle": {"position": [10, 0, 0.01], "yaw_deg": 1}}"#;
+        let above = truck_scene(through, 60.0, 1.0).unwrap();
+        for scene in [beside, above] {
+            assert!(!warnings_of(&scene).iter().any(|w| w.contains("lies on the vehicle")));
+        }
+        // The demo intersection's ground touches the truck's tyres along an edge only.
+        let ground = truck_scene(r#""demo_intersection""#, 60.0, 1.0).unwrap();
+        assert!(!warnings_of(&ground).iter().any(|w| w.contains("lies on")), "{:#?}", warnings_of(&ground));
+    }
+
+    #[test]
+    fn faces_shared_by_two_parts_are_named() {
+        let mut scene = truck_scene("", 60.0, 1.0).unwrap();
+        assert!(!warnings_of(&scene).iter().any(|w| w.contains("coincident faces")));
+        // A badge made of the hood's own triangles.
+        let hood = scene.vehicle.parts.iter().position(|p| p == "hood").unwrap() as u32;
+        let hood_triangles: Vec<usize> =
+            (0..scene.vehicle.triangles.len()).filter(|&t| scene.vehicle.triangle_part[t] == hood).collect();
+        for t in hood_triangles {
+            let [a, b, c] = scene.vehicle.corners(t);
+            scene.vehicle.add_triangle("badge", a, b, c);
+        }
+        let warnings = warnings_of(&scene);
+        let found: Vec<&String> = warnings.iter().filter(|w| w.contains("coincident faces")).collect();
+        assert_eq!(found.len(), 1, "{warnings:#?}");
+        assert!(found[0].contains("parts hood and badge lie on one another"), "{}", found[0]);
+        assert!(found[0].contains("once (for hood)"), "{}", found[0]);
+        let covered = crate::scene::coincident::covered_triangles(&scene.vehicle);
+        let badge = scene.vehicle.parts.iter().position(|p| p == "badge").unwrap() as u32;
+        for (t, &covered) in covered.iter().enumerate() {
+            assert_eq!(covered, scene.vehicle.triangle_part[t] == badge, "triangle {t}");
+        }
+    }
+
+    #[test]
+    fn a_frame_longer_than_the_scenario_or_below_one_fps_is_refused_by_file_and_field() {
+        // fps 0.001: one frame of 1000 s for a 3 s scenario; fps 0.5: 4 s.
+        for (fps, needed) in [(0.001, "fps 0.001 is below 1"), (0.5, "fps 0.5 is below 1")] {
+            let error = truck_scene("", fps, 3.0).unwrap_err().to_string();
+            assert!(error.contains("scene.json") && error.contains(needed), "{error}");
+        }
+        // 2 fps for a 0.4 s scenario: a 0.5 s frame outlasts it.
+        let error = truck_scene("", 2.0, 0.4).unwrap_err().to_string();
+        assert!(error.contains("scene.json") && error.contains("rig.fps 2 makes one frame 0.5 s"), "{error}");
+        // The same through a rig changed after loading (`--rig`): refused by the capture.
+        let mut scene = truck_scene("", 60.0, 0.4).unwrap();
+        scene.rig.fps = 2.0;
+        let options = CaptureOptions::default();
+        let error = selected_frames(&scene, &scene.scenarios[0], &options).unwrap_err().to_string();
+        assert!(error.contains("fps 2 makes one frame 0.5 s"), "{error}");
+        // A still scenario of 0 s is one frame, and 1 fps for 1 s is two.
+        truck_scene("", 60.0, 0.0).unwrap();
+        truck_scene("", 1.0, 1.0).unwrap();
+    }
+
+    #[test]
+    fn a_speed_jump_at_a_key_names_the_frames_it_carries_and_what_to_do() {
+        // Unity's Linear tangents: 5 m/s to 15 m/s at t = 1 s, a 10 m/s jump.
+        let position = Track::new(vec![
+            crate::scene::track::Key {
+                t: 0.0,
+                value: [0.0, 0.0, 0.0],
+                in_slope: Some([5.0, 0.0, 0.0]),
+                out_slope: Some([5.0, 0.0, 0.0]),
+            },
+            crate::scene::track::Key {
+                t: 1.0,
+                value: [5.0, 0.0, 0.0],
+                in_slope: Some([5.0, 0.0, 0.0]),
+                out_slope: Some([15.0, 0.0, 0.0]),
+            },
+            crate::scene::track::Key {
+                t: 2.0,
+                value: [20.0, 0.0, 0.0],
+                in_slope: Some([15.0, 0.0, 0.0]),
+                out_slope: Some([15.0, 0.0, 0.0]),
+            },
+        ])
+        .unwrap();
+        assert!(position.is_piecewise_linear());
+        let yaw_deg = Track::new(vec![crate::scene::track::Key::linear(0.0, [0.0])]).unwrap();
+        let scenario = Scenario {
+            name: "J".into(),
+            duration_s: 2.0,
+            motion: crate::scene::track::Motion { position, yaw_deg },
+        };
+        let rig =
+            Rig { pedestrian: crate::scene::track::ValueOrTrack::Fixed([10.0, 5.0, 0.0]), ..Rig::default() };
+        let warnings = motion_warnings(&rig, &scenario);
+        assert_eq!(warnings.len(), 1, "{warnings:#?}");
+        let warning = &warnings[0];
+        // 10 m/s at 3 g takes 0.34 s: frames 50-70 at 60 fps, 0.42 m off the kinked path.
+        for needed in [
+            "keys 1 (t 1.000 s, 10.0 m/s)",
+            "Linear tangents",
+            "up to 0.42 m",
+            "frames 50-70",
+            "21 of 121 frames",
+            "--frames",
+        ] {
+            assert!(warning.contains(needed), "{needed} missing: {warning}");
+        }
     }
 
     #[test]

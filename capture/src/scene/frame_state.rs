@@ -60,3 +60,20 @@ impl FrameState {
         self.moving.iter().map(vehicle_to_world).collect()
     }
 }
+
+/// "0-3, 60, 120" (runs joined; at most 12 items, then how many in all).
+pub fn list_frames(frames: &[u32]) -> String {
+    let mut runs: Vec<(u32, u32)> = Vec::new();
+    for &frame in frames {
+        match runs.last_mut() {
+            Some((_, last)) if frame == *last + 1 => *last = frame,
+            _ => runs.push((frame, frame)),
+        }
+    }
+    let mut text: Vec<String> =
+        runs.iter().take(12).map(|&(a, b)| if a == b { a.to_string() } else { format!("{a}-{b}") }).collect();
+    if runs.len() > 12 {
+        text.push(format!("… ({} frames in all)", frames.len()));
+    }
+    text.join(", ")
+}

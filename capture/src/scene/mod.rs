@@ -6,11 +6,14 @@
 //! the scene at one frame ([`frame_state`]: everything that moves, once),
 //! the vehicle's motion ([`track`] keyframes, [`scenario`] a timed motion,
 //! [`unity`] Unity exports), the one ray–triangle test ([`ray_triangle`],
-//! shared by the exact measure and the scene checks), and the built-in scenes
+//! shared by the exact measure and the scene checks), surfaces lying on one
+//! another ([`coincident`], found for the scene checks and the exact
+//! measure), and the built-in scenes
 //! ([`demo`] the truck and intersection, [`degenerate_mesh`] a vehicle of bad
 //! triangles), and the fuzzing entry points ([`fuzz_entry`]). Nothing here
 //! renders or writes an archive.
 
+pub(crate) mod coincident;
 pub(crate) mod degenerate_mesh;
 pub(crate) mod demo;
 pub(crate) mod frame_state;

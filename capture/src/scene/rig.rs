@@ -21,6 +21,12 @@ use crate::scene::track::{MAX_TRACK_MAGNITUDE, Pose, ValueOrTrack};
 pub const MAX_IPD_M: f64 = 1.0;
 /// Most frames per second: 1000 (high-speed video); beyond is a unit mistake.
 pub const MAX_FPS: f64 = 1000.0;
+/// Fewest frames per second: 1. Every frame stands for 1/fps seconds of the
+/// time totals (exposure, angular area), the final frame included, so they
+/// exceed the scenario's duration by one frame; slower than 1 fps that frame
+/// is longer than a pedestrian's glance (fps 0.5 made a 3 s scene 4 s of
+/// exposure, fps 0.001 made it 1000 s).
+pub const MIN_FPS: f64 = 1.0;
 /// Most pixels per degree: 1000 (an eye of 107,000 pixels, already beyond
 /// any GPU's textures at a few tiles); the paper's is 60.
 pub const MAX_PIXELS_PER_DEGREE: f64 = 1000.0;
@@ -116,7 +122,7 @@ impl Rig {
             fields.extend(changes);
         }
         let rig: Rig = serde_json::from_value(value).map_err(bad)?;
-        rig.check()?;
+        rig.check().map_err(|e| CaptureError::BadOptions(format!("--rig: {e}")))?;
         Ok(rig)
     }
 
@@ -233,12 +239,14 @@ impl Rig {
     pub fn cameras(&self, time_s: f64, pose: &Pose) -> [EyeCamera; 2] {
         let head = self.head_at(time_s);
         let mut forward = (self.look_target(pose) - head).normalize_or_zero();
-        if forward.length_squared() == 0.0 || forward.cross(DVec3::Z).length_squared() < 1e-12 {
-            // The vehicle is straight above or below the head (never in a
-            // street scene): look along +X rather than produce NaNs.
+        if forward.length_squared() == 0.0 {
+            // The point looked at is the head itself (an eye inside the
+            // vehicle, which the scene checks refuse): look along +X rather
+            // than produce NaNs.
             forward = DVec3::X;
         }
-        let right = forward.cross(DVec3::Z).normalize();
+        let up = image_up(forward);
+        let right = forward.cross(up).normalize();
         let projection = reversed_z_perspective(
             self.vertical_fov_deg().to_radians(),
             f64::from(self.eye_pixels[0]) / f64::from(self.eye_pixels[1]),
@@ -248,7 +256,7 @@ impl Rig {
         Eye::BOTH.map(|eye| {
             let side = if eye == Eye::Left { -0.5 } else { 0.5 };
             let position = head + right * (side * self.ipd_m);
-            let view = look_to(position, forward, DVec3::Z);
+            let view = look_to(position, forward, up);
             EyeCamera { position, view_proj: projection * view }
         })
     }
@@ -349,6 +357,14 @@ fn check_bounds(rig: &Rig) -> Result<()> {
     if !(rig.fps > 0.0 && rig.fps <= MAX_FPS) {
         return bad(format!("fps {} must be in (0, {MAX_FPS}] frames per second", rig.fps));
     }
+    if rig.fps < MIN_FPS {
+        return bad(format!(
+            "fps {} is below {MIN_FPS}: each frame stands for 1/fps = {} s of every time total (exposure, \
+             angular area), far longer than a glance; use {MIN_FPS} to {MAX_FPS} frames per second",
+            rig.fps,
+            1.0 / rig.fps
+        ));
+    }
     Ok(())
 }
 
@@ -365,9 +381,27 @@ pub fn reversed_z_perspective(vertical_fov: f64, aspect: f64, near: f64, far: f6
     )
 }
 
-/// Right-handed view matrix of a camera at `eye` looking along `dir`.
+/// Within this angle of straight up or down (radians, squared sine), the
+/// image's up is north instead of the world's up: 0.06°. Nearer, `forward ×
+/// up` loses digits; the view then turns to north about the view axis, which
+/// changes no solid angle.
+const VERTICAL_VIEW_SIN2: f64 = 1e-6;
+
+/// The image's up for a camera looking along `forward`: the world's +Z, or
+/// +Y (north) when the view is within [`VERTICAL_VIEW_SIN2`] of vertical, so
+/// that the camera basis is well defined for every direction (an eye looking
+/// straight up at a plate overhead sees it in the middle of its image).
+pub fn image_up(forward: DVec3) -> DVec3 {
+    let f = forward.normalize_or_zero();
+    if f.cross(DVec3::Z).length_squared() < VERTICAL_VIEW_SIN2 { DVec3::Y } else { DVec3::Z }
+}
+
+/// Right-handed view matrix of a camera at `eye` looking along `dir`; an
+/// `up` parallel to `dir` is replaced by [`image_up`]'s.
 pub fn look_to(eye: DVec3, dir: DVec3, up: DVec3) -> DMat4 {
     let f = dir.normalize();
+    let up =
+        if f.cross(up.normalize_or_zero()).length_squared() < VERTICAL_VIEW_SIN2 { image_up(f) } else { up };
     let r = f.cross(up).normalize();
     let u = r.cross(f);
     DMat4::from_cols(

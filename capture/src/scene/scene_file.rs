@@ -353,6 +353,10 @@ impl Scene {
                 "the scene has no scenarios (give \"scenarios\" or \"unity\")",
             ));
         }
+        for scenario in &scenarios {
+            crate::scene::scenario::check_frame_time(scenario, rig.fps, "rig.fps")
+                .map_err(|message| CaptureError::bad_input(path, message))?;
+        }
 
         let (occluders, occluder_files) = build_occluders(&file.occluders, path, &vehicle, &rig)?;
         input_files.extend(occluder_files);

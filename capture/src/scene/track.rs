@@ -132,6 +132,47 @@ impl<const N: usize> Track<N> {
         }
     }
 
+    /// The slopes (per second) with which [`Track::eval`] arrives at and
+    /// leaves key `k`: a Hermite segment's key slopes, a linear segment's
+    /// secant, and 0 before the first and after the last key (the curve holds
+    /// its end values). They differ where the motion's speed jumps.
+    pub fn slopes_at(&self, k: usize) -> ([f64; N], [f64; N]) {
+        let segment = |left: usize| -> ([f64; N], [f64; N]) {
+            let (k0, k1) = (&self.keys[left], &self.keys[left + 1]);
+            match (k0.out_slope, k1.in_slope) {
+                (Some(out), Some(arriving)) => (out, arriving),
+                _ => {
+                    let secant = std::array::from_fn(|i| (k1.value[i] - k0.value[i]) / (k1.t - k0.t));
+                    (secant, secant)
+                }
+            }
+        };
+        let arriving = if k == 0 || k >= self.keys.len() { [0.0; N] } else { segment(k - 1).1 };
+        let leaving = if k + 1 >= self.keys.len() { [0.0; N] } else { segment(k).0 };
+        (arriving, leaving)
+    }
+
+    /// True when every segment runs at constant speed: each key's slopes
+    /// are its segments' secants (Unity's "Linear" tangents) or absent, to
+    /// 1e-4 and the f32 rounding of values Unity stores (a few units of f32
+    /// of the values, over the interval).
+    pub fn is_piecewise_linear(&self) -> bool {
+        self.keys.windows(2).all(|pair| {
+            let dt = pair[1].t - pair[0].t;
+            let secant: [f64; N] = std::array::from_fn(|i| (pair[1].value[i] - pair[0].value[i]) / dt);
+            let rounding: [f64; N] = std::array::from_fn(|i| {
+                4.0 * f64::from(f32::EPSILON) * pair[0].value[i].abs().max(pair[1].value[i].abs()) / dt
+            });
+            let near = |m: [f64; N]| {
+                (0..N).all(|i| (m[i] - secant[i]).abs() <= 1e-4 * secant[i].abs() + rounding[i])
+            };
+            match (pair[0].out_slope, pair[1].in_slope) {
+                (Some(out), Some(arriving)) => near(out) && near(arriving),
+                _ => true,
+            }
+        })
+    }
+
     /// Time of the last key.
     pub fn end_time(&self) -> f64 {
         self.keys.last().map_or(0.0, |key| key.t)

@@ -131,11 +131,11 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<(Rig, Vec<Scenario>)> {
                 .collect(),
         )
         .map_err(in_scenario)?;
-        scenarios.push(Scenario {
-            name,
-            duration_s: scenario.duration_s,
-            motion: Motion { position, yaw_deg },
-        });
+        let scenario =
+            Scenario { name, duration_s: scenario.duration_s, motion: Motion { position, yaw_deg } };
+        crate::scene::scenario::check_frame_time(&scenario, rig.fps, "capture.fps")
+            .map_err(|message| CaptureError::bad_input(path, message))?;
+        scenarios.push(scenario);
     }
     if scenarios.is_empty() {
         return Err(CaptureError::bad_input(path, "the Unity export has no scenarios"));
@@ -146,19 +146,6 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<(Rig, Vec<Scenario>)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::PathBuf;
-
-    /// `../shared/ref`'s Unity scenarios beside the checkout; `None` (skip)
-    /// when absent, a failure when `CI` is set.
-    fn reference() -> Option<PathBuf> {
-        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-            .join("../../shared/ref/scenarios/unity-intersection.json");
-        if path.is_file() {
-            return Some(path);
-        }
-        assert!(std::env::var_os("CI").is_none(), "CI: {} is missing", path.display());
-        None
-    }
 
     #[test]
     fn conversion_is_a_handedness_flip_with_z_up() {
@@ -167,43 +154,5 @@ mod tests {
         // θ = 180° drives towards +X (east): heading 0°. θ = 90° → north.
         assert_eq!(yaw_from_unity(180.0), 0.0);
         assert_eq!(yaw_from_unity(90.0), 90.0);
-    }
-
-    #[test]
-    fn unity_scenarios_put_the_vehicle_where_unity_would() {
-        let Some(path) = reference() else {
-            eprintln!("SKIP: shared/ref/scenarios/unity-intersection.json not found");
-            return;
-        };
-        let (rig, scenarios) = load(&path).unwrap();
-        assert_eq!(scenarios.len(), 4);
-        assert_eq!(rig.eye_pixels, [6420, 8100]);
-        assert!((rig.horizontal_fov_deg - 107.0).abs() < 1e-3, "{}", rig.horizontal_fov_deg);
-        assert!((rig.ipd_m - 0.1103594).abs() < 1e-9);
-        assert!((rig.eye_height_m - (272.699 - 271.54)).abs() < 1e-9);
-        let a = &scenarios[0];
-        assert_eq!(a.name, "A");
-        // End of A in Unity: (-65.5, 271.59, 21.16) → x east -65.5, y north 21.16, z up 271.59.
-        let end = a.motion.pose(3.0);
-        assert_eq!(end.position.to_array(), [-65.5, 21.16, 271.59]);
-        for scenario in &scenarios {
-            // During the straight approach the truck must point where it drives:
-            // this checks the yaw convention and the model's −X forward axis.
-            let (t0, t1) = (2.0, 2.2);
-            let p0 = scenario.motion.pose(t0).position;
-            let p1 = scenario.motion.pose(t1).position;
-            let motion = (p1 - p0).truncate();
-            if motion.length() < 0.5 {
-                continue;
-            }
-            let yaw = scenario.motion.pose(t0).yaw_deg.to_radians();
-            let heading = glam::dvec2(yaw.cos(), yaw.sin());
-            let cos = heading.dot(motion.normalize());
-            assert!(cos > 0.95, "scenario {}: heading {heading:?} vs motion {motion:?}", scenario.name);
-            // And it ends within a few metres of the pedestrian, who is in front of it.
-            let end = scenario.motion.pose(scenario.duration_s);
-            let to_ped = (rig.anchor() - end.position).truncate();
-            assert!(to_ped.length() < 40.0, "scenario {} ends {} m away", scenario.name, to_ped.length());
-        }
     }
 }

@@ -66,6 +66,14 @@ fn trials() -> Vec<Trial> {
             "unity_reference::unity_scenarios_replay_with_the_demo_truck",
             unity_reference::unity_scenarios_replay_with_the_demo_truck,
         ),
+        trial(
+            "unity_reference::unity_scenarios_put_the_vehicle_where_unity_would",
+            unity_reference::unity_scenarios_put_the_vehicle_where_unity_would,
+        ),
+        trial(
+            "unity_reference::the_replay_equals_unitys_curve_evaluation_and_the_jumps_are_in_the_keys",
+            unity_reference::the_replay_equals_unitys_curve_evaluation_and_the_jumps_are_in_the_keys,
+        ),
     ]
 }
 

@@ -21,6 +21,7 @@ mod round_trip;
 mod scenes;
 mod schemas;
 mod scissor;
+mod silent_numbers;
 mod study_accuracy;
 mod study_setup;
 mod tile_filter;
