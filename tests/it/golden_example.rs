@@ -54,3 +54,69 @@ fn the_example_analysed_as_the_command_line_does_writes_the_checked_in_result_by
     assert_same_as_reference(&read("parts.csv"), "tests/reference/example-parts.csv");
     assert_same_as_reference(&read("frames.csv"), "tests/reference/example-frames.csv");
 }
+
+/// The lowest point and the extents `[x, y, z]` of every mesh a glTF file
+/// places, as its accessors' bounds say, with the node's translation; a
+/// rotated or scaled node is refused (the positions themselves must hold
+/// the axes, as docs/archive-format.md says ufcsr writes them).
+fn placed_bounds(path: &Path) -> ([f64; 3], [f64; 3]) {
+    let gltf = gltf::Gltf::open(path).unwrap();
+    let (mut low, mut high) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for node in gltf.nodes() {
+        let Some(mesh) = node.mesh() else { continue };
+        let (translation, rotation, scale) = node.transform().decomposed();
+        assert!(
+            rotation == [0.0, 0.0, 0.0, 1.0] && scale == [1.0; 3],
+            "{}: node {:?} is turned",
+            path.display(),
+            node.name()
+        );
+        for primitive in mesh.primitives() {
+            let bounds = primitive.bounding_box();
+            for axis in 0..3 {
+                low[axis] = low[axis].min(f64::from(bounds.min[axis] + translation[axis]));
+                high[axis] = high[axis].max(f64::from(bounds.max[axis] + translation[axis]));
+            }
+        }
+    }
+    (low, high)
+}
+
+#[test]
+fn every_gltf_file_of_the_bundled_example_stands_upright() {
+    let example = workspace_file("fixtures/example");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&example)
+        .unwrap()
+        .map(|entry| entry.unwrap().path())
+        .filter(|path| path.extension().is_some_and(|e| e == "glb" || e == "gltf"))
+        .collect();
+    files.sort();
+    assert!(files.iter().any(|f| f.ends_with("vehicle.glb")), "no vehicle.glb in {files:?}");
+    for file in &files {
+        let bytes = std::fs::read(file).unwrap();
+        let json: serde_json::Value = match gltf::Glb::from_slice(&bytes) {
+            Ok(glb) => serde_json::from_slice(&glb.json).unwrap(),
+            Err(_) => serde_json::from_slice(&bytes).unwrap(),
+        };
+        let marked = json["asset"]["extras"]["ufcsr_axes"].is_string();
+        assert!(
+            marked,
+            "{}: no asset.extras.ufcsr_axes, so it is read as the old z-up frame",
+            file.display()
+        );
+        let (low, high) = placed_bounds(file);
+        let extent = [0, 1, 2].map(|axis| high[axis] - low[axis]);
+        // glTF: +Y up, front +Z, left +X. On the ground (y from 0) and longest front to back.
+        assert!(
+            low[1].abs() < 0.01,
+            "{}: lowest point at y = {} m, not on the ground",
+            file.display(),
+            low[1]
+        );
+        assert!(
+            extent[2] > extent[0] && extent[2] > extent[1],
+            "{}: extents {extent:?} are not longest along z",
+            file.display()
+        );
+    }
+}

@@ -120,15 +120,21 @@ fn crate_tree(label: &str, root: &str, read: &dyn Fn(&str) -> Option<String>) ->
     CrateTree { label: label.to_string(), files }
 }
 
+/// A name a module re-exports: `(module, name)`, `*` for a glob.
+type ReExported = (Module, String);
+
+/// A path as named, with the module it is named in.
+type Named = (Module, Vec<String>);
+
 /// The paths one file names, each with the module it is named in (a file's
 /// own module, or an inline module in it), and its re-exports.
 #[derive(Default)]
 struct Names {
     scope: Module,
-    paths: Vec<(Module, Vec<String>)>,
+    paths: Vec<Named>,
     /// `(module, name) → path`: `pub use a::B as C` in `m` is `(m, C) → a::B`;
     /// a glob re-export is the name `*`.
-    re_exports: Vec<((Module, String), (Module, Vec<String>))>,
+    re_exports: Vec<(ReExported, Named)>,
 }
 
 /// `use` trees flattened: `a::{b, c::D as E}` gives `(b, [a, b])` and `(E, [a, c, D])`.
@@ -236,7 +242,7 @@ fn absolute(scope: &[String], path: &[String], modules: &BTreeSet<Module>) -> Op
 fn resolve(
     path: &[String],
     files: &BTreeSet<Module>,
-    re_exports: &BTreeMap<(Module, String), Vec<String>>,
+    re_exports: &BTreeMap<ReExported, Vec<String>>,
     depth: usize,
 ) -> Option<Module> {
     let mut length = path.len();
@@ -274,7 +280,7 @@ fn crate_edges(tree: &CrateTree) -> Edges {
     for found in names.values() {
         all_modules.extend(found.paths.iter().map(|(scope, _)| scope.clone()));
     }
-    let re_exports: BTreeMap<(Module, String), Vec<String>> = names
+    let re_exports: BTreeMap<ReExported, Vec<String>> = names
         .values()
         .flat_map(|found| &found.re_exports)
         .filter_map(|(key, (scope, path))| Some((key.clone(), absolute(scope, path, &all_modules)?)))
