@@ -51,8 +51,6 @@ pub use output::{
     write_comparison, write_heatmap, write_parts_csv, write_results, write_results_with, write_scenario_map,
     write_scene_glb, write_views, write_views_with,
 };
-#[cfg(feature = "cli")]
-pub use output::{Shell, print_completions, write_man_pages};
 pub use placement::report::{WrittenPlacement, format_placement};
 pub use placement::{
     CandidateKind, CandidateSummary, Combination, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Mark, Method,

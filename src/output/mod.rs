@@ -3,11 +3,8 @@
 //! and `frames.csv` ([`csv`]), the console table, the heatmap texture, the
 //! vehicle model with it (`heatmap.glb`), the eight views (drawn with the
 //! CPU rasterizer [`raster`], which the capture's inspect pictures share),
-//! the plots and the HTML pages ([`html`]); with the `cli` feature, shell
-//! completions and man pages for both binaries.
+//! the plots and the HTML pages ([`html`]).
 
-#[cfg(feature = "cli")]
-pub(crate) mod command_docs;
 pub(crate) mod console_table;
 pub(crate) mod csv;
 pub(crate) mod frame_strip;
@@ -25,8 +22,6 @@ pub(crate) mod vehicle_model;
 pub(crate) mod view_sheet;
 pub(crate) mod written_files;
 
-#[cfg(feature = "cli")]
-pub use command_docs::{Shell, print_completions, write_man_pages};
 pub use console_table::{format_counted_table, format_table};
 pub use csv::{CsvStyle, csv_field, write_parts_csv};
 pub use frame_strip::{FRAME_STRIP_FILE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED};

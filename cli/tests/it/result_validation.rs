@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 
 /// The bundled example's result.json, analysed afresh (results are not in the repository).
 fn example_result(dir: &Path) -> serde_json::Value {
-    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let out = dir.join("example-results");
     let status = common::analyzer().arg(&example).arg("--out").arg(&out).arg("-q").status().unwrap();
     assert!(status.success());

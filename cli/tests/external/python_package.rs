@@ -93,7 +93,7 @@ fn venv_path(python: &Path) -> std::ffi::OsString {
 }
 
 pub fn python_package_builds_installs_and_passes_its_pytest_suite() -> Outcome {
-    let repository = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let repository = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
     let work = Path::new(env!("CARGO_TARGET_TMPDIR")).join("python-package");
     let python = match prepared_venv(&work.join("venv")) {
         Ok(python) => python,

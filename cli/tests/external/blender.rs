@@ -24,7 +24,7 @@ const FRAMES: &str = "130,180";
 /// The interpreter with `bpy`: `UFCSR_BPY_PYTHON`, else the venv `.ci/run` installs in
 /// `target/bpy-venv`, else `python3`; or the outcome saying what is missing.
 fn bpy_python() -> Result<String, Outcome> {
-    let installed = Path::new(env!("CARGO_MANIFEST_DIR")).join("target/bpy-venv/bin/python");
+    let installed = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/bpy-venv/bin/python");
     let python = std::env::var("UFCSR_BPY_PYTHON").unwrap_or_else(|_| {
         if installed.is_file() { installed.display().to_string() } else { "python3".to_string() }
     });
@@ -41,7 +41,7 @@ fn bpy_python() -> Result<String, Outcome> {
 }
 
 fn script() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("scripts/blender/ufcsr_blender.py")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/blender/ufcsr_blender.py")
 }
 
 fn run_ok(command: &mut Command) -> Output {
@@ -160,7 +160,7 @@ pub fn blender_rerenders_a_capture_with_its_silhouettes_pixels_and_part_totals()
         );
     }
     // A complete archive: the manifest matches the capture's schema (rig, frames, poses, capture).
-    let schema = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/schemas/manifest.schema.json");
+    let schema = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/schemas/manifest.schema.json");
     crate::validator::Schema::load(&schema)
         .assert_valid(&read_json(&blender.join("manifest.json")), "Blender's manifest");
     let expected = read_json(&ours.join("results/result.json"));
@@ -181,7 +181,7 @@ pub fn the_blender_script_refuses_an_archive_without_cameras_naming_its_manifest
         Err(outcome) => return outcome,
     };
     // The bundled example predates the eyes' poses in the manifest.
-    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("blender");
     let output = Command::new(&python)

@@ -6,11 +6,7 @@
 
 use std::path::Path;
 
-use crate::error::{Error, Result};
-use crate::files::write_bytes_atomically;
-
-/// The shells completions are generated for (`bash`, `zsh`, `fish`, `elvish`, `powershell`).
-pub use clap_complete::Shell;
+use ufcsr::{Error, Result, write_bytes_atomically};
 
 /// Prints `program`'s completion script for `shell` on stdout (generated
 /// whole first: clap_complete panics when stdout closes early, as under `| head`).

@@ -23,7 +23,7 @@ pub fn unity_named_tiles_get_a_working_manifest() -> Outcome {
     rgb_png(&archive.join("Right_0001_0_0.png"), 2, 1, &[1, BG]);
     rgb_png(&archive.join("pidt.png"), 4, 4, &[0xFF0000; 16]);
     std::fs::write(archive.join("parts.csv"), "name,color\nBody,#FF0000\n").unwrap();
-    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/scripts/manifest-from-tiles.py");
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/../scripts/manifest-from-tiles.py");
     let run = |pattern: &str| {
         Command::new("python3")
             .env("UFCSR_ANALYZE", env!("CARGO_BIN_EXE_ufcsr-analyze"))

@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn example() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example")
 }
 
 /// An archive with the example's vehicle.glb and a table where `hood` is

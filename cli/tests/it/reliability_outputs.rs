@@ -9,7 +9,7 @@ use crate::common;
 use std::path::{Path, PathBuf};
 
 fn example() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example")
 }
 
 /// Runs the analyzer on the example archive into `out`; returns its stderr.

@@ -7,7 +7,7 @@ use crate::common;
 use std::path::PathBuf;
 
 fn example_without_vehicle(dir: &std::path::Path) -> PathBuf {
-    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let copy = dir.join("archive");
     std::fs::create_dir_all(copy.join("tiles")).unwrap();
     for name in ["manifest.json", "pidt.png", "parts.csv"] {

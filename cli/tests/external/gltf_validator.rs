@@ -19,7 +19,7 @@ use libtest_mimic::Completion;
 fn validator_dir() -> Option<PathBuf> {
     let dir = std::env::var_os("UFCSR_GLTF_VALIDATOR")
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/gltf-validator"));
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../target/gltf-validator"));
     dir.join("node_modules/gltf-validator/package.json").is_file().then_some(dir)
 }
 
@@ -86,7 +86,7 @@ pub fn vehicle_heatmap_and_scene_glb_validate_with_no_error_or_warning() -> Outc
             .arg(&archive),
     );
     let results = dir.path().join("results");
-    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/example");
+    let example = concat!(env!("CARGO_MANIFEST_DIR"), "/../fixtures/example");
     run_ok(Command::new(analyzer).arg(example).arg("--out").arg(&results).arg("-q"));
     let files = [archive.join("vehicle.glb"), archive.join("scene.glb"), results.join("heatmap.glb")];
     for (file, report) in files.iter().zip(validate(&validator, &files)) {

@@ -23,7 +23,8 @@ pub fn a_slurm_array_of_shards_and_an_afterok_merge_equal_the_whole_analysis() -
     let (_one, dir, cluster) = start_cluster(true, NEED).expect("Slurm was found just now");
     let conf = cluster.conf();
 
-    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example").canonicalize().unwrap();
+    let example =
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example").canonicalize().unwrap();
     let out = dir.path().join("out");
     let analyzer = env!("CARGO_BIN_EXE_ufcsr-analyze");
     let submitted = Command::new(script("submit"))

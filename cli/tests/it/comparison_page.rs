@@ -9,7 +9,7 @@ use std::process::Command;
 #[test]
 fn the_comparison_page_names_both_results_and_ranks_the_second_against_the_first() {
     let dir = tempfile::tempdir().unwrap();
-    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let analyse = |name: &str, dedupe: &str| {
         let out = dir.path().join(name).join("results");
         let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))

@@ -203,7 +203,7 @@ fn completions_and_man_pages_into_a_reader_that_stops_early_end_quietly() {
 #[test]
 fn the_tiles_folder_of_an_archive_is_refused_naming_the_manifest_above() {
     let dir = tempfile::tempdir().unwrap();
-    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let out = dir.path().join("out");
     let output = run(&[example.join("tiles").as_os_str(), "--out".as_ref(), out.as_os_str()]);
     assert_eq!(output.status.code(), Some(2));

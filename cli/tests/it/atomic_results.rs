@@ -30,7 +30,7 @@ fn leftovers(dir: &Path) -> Vec<PathBuf> {
 #[test]
 fn a_failure_while_writing_leaves_the_previous_result_set_whole() {
     let dir = tempfile::tempdir().unwrap();
-    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let out = dir.path().join("out");
     let status = common::analyzer().arg(&example).arg("--out").arg(&out).arg("-q").status().unwrap();
     assert!(status.success());
@@ -63,7 +63,7 @@ fn a_failure_while_writing_leaves_the_previous_result_set_whole() {
 #[test]
 fn a_smaller_result_set_takes_away_stale_files_and_keeps_the_users_own() {
     let dir = tempfile::tempdir().unwrap();
-    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let out = dir.path().join("out");
     let run = |extra: &[&str]| {
         let status = common::analyzer().arg(&example).arg("--out").arg(&out).arg("-q").args(extra).status();
@@ -103,7 +103,7 @@ fn random_interruptions_never_leave_a_mixed_set_and_the_next_run_cleans_up() {
     use std::process::Command;
     use std::time::Instant;
     let dir = tempfile::tempdir().unwrap();
-    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let analyze = |out: &Path, dedupe: &str| {
         Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
             .arg(&example)

@@ -168,12 +168,12 @@ pub fn run_merge(args: MergeArgs) -> Result<ExitCode> {
 }
 
 pub fn run_completions(args: CompletionsArgs) -> Result<ExitCode> {
-    ufcsr::print_completions(args.shell, Cli::command(), "ufcsr-analyze");
+    crate::command_docs::print_completions(args.shell, Cli::command(), "ufcsr-analyze");
     Ok(ExitCode::SUCCESS)
 }
 
 pub fn run_man(args: ManArgs) -> Result<ExitCode> {
-    for path in ufcsr::write_man_pages(Cli::command(), "ufcsr-analyze", args.out.as_deref())? {
+    for path in crate::command_docs::write_man_pages(Cli::command(), "ufcsr-analyze", args.out.as_deref())? {
         eprintln!("wrote {}", path.display());
     }
     Ok(ExitCode::SUCCESS)

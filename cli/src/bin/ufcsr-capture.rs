@@ -7,7 +7,10 @@
 //! done (bad options — clap's usage errors too —, unreadable inputs, a failed
 //! capture, which writes no manifest); 130 interrupted.
 
+#[path = "../capture/mod.rs"]
 mod cli;
+#[path = "../command_docs.rs"]
+mod command_docs;
 
 use std::process::ExitCode;
 

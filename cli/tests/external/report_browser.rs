@@ -53,7 +53,7 @@ pub fn the_report_of_the_bundled_example_renders_in_chromium() -> Outcome {
     let Some(binary) = chromium() else { return missing(CHROMIUM) };
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("results");
-    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
         .arg(&example)
         .arg("--out")
@@ -113,7 +113,7 @@ fn distinct_colours(path: &Path) -> usize {
 pub fn the_comparison_page_of_two_results_renders_in_chromium() -> Outcome {
     let Some(binary) = chromium() else { return missing(CHROMIUM) };
     let dir = tempfile::tempdir().unwrap();
-    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let analyse = |name: &str, dedupe: &str| {
         let out = dir.path().join(name).join("results");
         let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
@@ -153,7 +153,7 @@ pub fn the_comparison_page_of_two_results_renders_in_chromium() -> Outcome {
 pub fn the_placement_section_renders_in_chromium() -> Outcome {
     let Some(binary) = chromium() else { return missing(CHROMIUM) };
     let dir = tempfile::tempdir().unwrap();
-    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let archive = dir.path().join("archive");
     std::fs::create_dir_all(archive.join("results")).unwrap();
     std::fs::copy(example.join("vehicle.glb"), archive.join("vehicle.glb")).unwrap();

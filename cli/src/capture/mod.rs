@@ -235,7 +235,7 @@ enum Command {
     Completions {
         /// The shell.
         #[arg(value_enum)]
-        shell: ufcsr::Shell,
+        shell: clap_complete::Shell,
     },
     /// Print the man page (roff) on stdout, or write one page per subcommand into --out.
     Man {
@@ -308,11 +308,15 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Assemble { archive } => tools::run_assemble(&archive),
         Command::Verify { archive } => tools::run_verify(&archive),
         Command::Completions { shell } => {
-            ufcsr::print_completions(shell, <Cli as clap::CommandFactory>::command(), "ufcsr-capture");
+            crate::command_docs::print_completions(
+                shell,
+                <Cli as clap::CommandFactory>::command(),
+                "ufcsr-capture",
+            );
             Ok(())
         }
         Command::Man { out } => {
-            for path in ufcsr::write_man_pages(
+            for path in crate::command_docs::write_man_pages(
                 <Cli as clap::CommandFactory>::command(),
                 "ufcsr-capture",
                 out.as_deref(),

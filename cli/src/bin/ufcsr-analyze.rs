@@ -3,7 +3,10 @@
 //! outcome to the exit code every subcommand shares: 0 done, 1 done with
 //! failures, 2 nothing done (docs/guide.md#exit-codes).
 
+#[path = "../analyze/mod.rs"]
 mod cli;
+#[path = "../command_docs.rs"]
+mod command_docs;
 
 use std::process::ExitCode;
 
