@@ -27,8 +27,6 @@ pub use count::{
 };
 pub use describe::{DEFAULT_PATTERN, DescribeOptions, Described, describe, parse_fov};
 pub use error::{Error, Result};
-#[cfg(feature = "cli")]
-pub use files::remove_temporaries_on_interrupt;
 pub use files::{
     GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, SMALL_INPUT_LIMIT, check_accessors, check_coordinates,
     parse_gltf, read_gltf, read_limited, real_dir, refuse_overwriting_inputs, remove_on_interrupt,

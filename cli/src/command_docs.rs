@@ -1,59 +1,110 @@
-//! Shell completions and man pages for a command line, generated from the
-//! same clap definitions as `--help`, so both binaries (`ufcsr-analyze` and
-//! `ufcsr-capture`) document themselves the same way and never drift from
-//! what they accept. Behind the `cli` feature: the library proper needs no
-//! command-line crates.
+//! Shell completions and man pages, generated from the same clap
+//! definitions as `--help` for whichever program runs (`ufcsr completions
+//! bash`, `ufcsr-analyze man`, …), so each documents itself and never
+//! drifts from what it accepts. Under `--json` the script or page goes into
+//! the one JSON object (`script`, `page`) instead of stdout.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-use ufcsr::{Error, Result, write_bytes_atomically};
+use anyhow::Context;
+use clap::Subcommand;
 
-/// Prints `program`'s completion script for `shell` on stdout (generated
-/// whole first: clap_complete panics when stdout closes early, as under `| head`).
-pub fn print_completions(shell: clap_complete::Shell, mut command: clap::Command, program: &str) {
-    let mut script = Vec::new();
-    clap_complete::generate(shell, &mut command, program, &mut script);
-    // Nothing to report on a failed stdout: the reader has gone.
-    let _ = write_stdout(&script);
+use crate::console::{Completion, Console};
+
+/// The commands that document the program.
+#[derive(Subcommand)]
+pub enum DocsCommand {
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell) on stdout.
+    Completions {
+        /// The shell: bash, zsh, fish, elvish or powershell.
+        #[arg(value_enum)]
+        shell: clap_complete::Shell,
+    },
+    /// Print the man page (roff) on stdout, or write one page per command into --out.
+    Man {
+        /// Write PROGRAM.1 and one PROGRAM-COMMAND.1 per command (PROGRAM-COMMAND-SUBCOMMAND.1
+        /// below it) into this folder (default: print the main page on stdout).
+        #[arg(long, short, value_name = "DIR")]
+        out: Option<PathBuf>,
+    },
 }
 
-/// Writes `bytes` on stdout; a reader that closed early (`| head`) is not an error.
-fn write_stdout(bytes: &[u8]) -> std::io::Result<()> {
-    match std::io::Write::write_all(&mut std::io::stdout(), bytes) {
-        Err(error) if error.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-        other => other,
+impl DocsCommand {
+    /// The command's name, as `--json` reports it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            DocsCommand::Completions { .. } => "completions",
+            DocsCommand::Man { .. } => "man",
+        }
     }
 }
 
-/// Prints `program`'s man page on stdout, or, with `out`, writes
-/// `PROGRAM.1` and one `PROGRAM-COMMAND.1` per subcommand into that folder;
-/// returns the pages written.
-pub fn write_man_pages(
+/// Runs `docs` for `command`, the tree of the program named `program`.
+pub fn run(
+    docs: DocsCommand,
     command: clap::Command,
     program: &str,
-    out: Option<&Path>,
-) -> Result<Vec<std::path::PathBuf>> {
-    let render = |page: clap::Command, to: &Path| -> Result<Vec<u8>> {
-        let mut roff = Vec::new();
-        clap_mangen::Man::new(page).render(&mut roff).map_err(|e| Error::io(to, e))?;
-        Ok(roff)
-    };
-    let Some(dir) = out else {
-        let roff = render(command, Path::new("stdout"))?;
-        write_stdout(&roff).map_err(|e| Error::io(Path::new("stdout"), e))?;
-        return Ok(Vec::new());
-    };
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-    let mut pages = vec![(format!("{program}.1"), command.clone())];
-    for sub in command.get_subcommands().filter(|sub| sub.get_name() != "help") {
-        // clap names are 'static; a handful of bytes, once per process.
-        let name: &'static str = Box::leak(format!("{program}-{}", sub.get_name()).into_boxed_str());
-        pages.push((format!("{name}.1"), sub.clone().name(name)));
+    console: &Console,
+) -> anyhow::Result<Completion> {
+    match docs {
+        DocsCommand::Completions { shell } => {
+            let script = completions(shell, command, program);
+            console.fact("script", String::from_utf8_lossy(&script));
+            console.product(&script);
+        }
+        DocsCommand::Man { out: None } => {
+            let page = render(command)?;
+            console.fact("page", String::from_utf8_lossy(&page));
+            console.product(&page);
+        }
+        DocsCommand::Man { out: Some(dir) } => {
+            for path in write_man_pages(command, program, &dir, console)? {
+                eprintln!("wrote {}", path.display());
+            }
+        }
     }
+    Ok(Completion::Done)
+}
+
+/// `program`'s completion script for `shell`.
+fn completions(shell: clap_complete::Shell, mut command: clap::Command, program: &str) -> Vec<u8> {
+    let mut script = Vec::new();
+    clap_complete::generate(shell, &mut command, program, &mut script);
+    script
+}
+
+/// One man page in roff.
+fn render(page: clap::Command) -> anyhow::Result<Vec<u8>> {
+    let mut roff = Vec::new();
+    clap_mangen::Man::new(page).render(&mut roff).context("rendering the man page")?;
+    Ok(roff)
+}
+
+/// Every page of `command` (named `name`) and of the commands below it, as
+/// (page name, command).
+fn pages(command: &clap::Command, name: &str) -> Vec<(String, clap::Command)> {
+    // clap names are 'static; a handful of bytes, once per process.
+    let title: &'static str = Box::leak(name.to_string().into_boxed_str());
+    let mut found = vec![(name.to_string(), command.clone().name(title))];
+    for sub in command.get_subcommands().filter(|sub| sub.get_name() != "help") {
+        found.extend(pages(sub, &format!("{name}-{}", sub.get_name())));
+    }
+    found
+}
+
+/// Writes `PROGRAM.1` and one page per command into `dir`; returns the pages.
+fn write_man_pages(
+    command: clap::Command,
+    program: &str,
+    dir: &Path,
+    console: &Console,
+) -> anyhow::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the folder", dir.display()))?;
     let mut written = Vec::new();
-    for (file, page) in pages {
-        let path = dir.join(file);
-        write_bytes_atomically(&path, &render(page, &path)?)?;
+    for (name, page) in pages(&command, program) {
+        let path = dir.join(format!("{name}.1"));
+        ufcsr::write_bytes_atomically(&path, &render(page)?)?;
+        console.wrote(&path);
         written.push(path);
     }
     Ok(written)

@@ -11,8 +11,6 @@ mod limited_read;
 mod model_input;
 mod output_guard;
 
-#[cfg(feature = "cli")]
-pub use atomic_write::remove_temporaries_on_interrupt;
 pub use atomic_write::{
     Staging, interrupted_commit, remove_on_interrupt, remove_stale_staging, remove_temporaries,
     write_atomically, write_bytes_atomically, write_rgb_png,

@@ -1,36 +1,21 @@
-//! The main command, `ufcsr-analyze ARCHIVE`: options validated once, the
-//! archive checked for what the user meant ([`crate::cli::intent`]), the
-//! analysis with a progress bar, the result set written, and the summary
-//! (table or JSON) with every file written; `--each` does it per archive.
+//! The analysis, `ufcsr analyze ARCHIVE` (`ufcsr-analyze ARCHIVE`): options
+//! validated once, the archive checked for what the user meant
+//! ([`super::intent`]), the analysis with a progress bar, the result set
+//! written, and the summary (table or JSON) with every file written; `--each`
+//! does it per archive.
 
 use std::path::{Path, PathBuf};
-use std::process::ExitCode;
 
 use anyhow::{Context, Result};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde_json::json;
-use ufcsr::{
-    AnalyzeOptions, Progress, Shard, TrimMode, WrittenFiles, analyze, default_output_dir, format_table,
-};
+use ufcsr::{AnalyzeOptions, Shard, TrimMode, WrittenFiles, analyze, default_output_dir, format_table};
 
-use crate::cli::args::{AnalyzeArgs, Switch};
-use crate::cli::intent::{archives_below, misread_archive};
-use crate::cli::run::{Done, finish, heatmap_options, start_threads};
-
-/// A progress bar on stderr (drawn only on a terminal).
-struct Bar(ProgressBar);
-
-impl Progress for Bar {
-    fn start(&self, total: u64) {
-        self.0.set_length(total);
-    }
-    fn advance(&self, done: u64) {
-        self.0.inc(done);
-    }
-    fn finish(&self) {
-        self.0.finish_and_clear();
-    }
-}
+use super::args::AnalyzeArgs;
+use super::intent::{archives_below, misread_archive};
+use super::run::{Done, finish};
+use crate::choices::Switch;
+use crate::console::{Completion, Console, shown};
+use crate::progress::Bar;
 
 /// The analysis options from the command line for `archive` (validated
 /// once, here), and the output folder.
@@ -44,9 +29,9 @@ fn analyze_options(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Re
         pidt: args.labels.pidt.clone(),
         legend: args.labels.legend.clone(),
         background,
-        dedupe: args.dedupe,
+        dedupe: args.dedupe.into(),
         trim: args.trim.parse::<TrimMode>()?,
-        heatmap: heatmap_options(&args.heatmap, None)?,
+        heatmap: args.heatmap.options(None)?,
         strict: args.strict,
         exclude: vec![out_dir],
         ignore_manifest: args.no_manifest,
@@ -140,19 +125,9 @@ fn refuse_colour_damage(archive: &Path, result: &ufcsr::AnalysisResult) -> Resul
 }
 
 /// One archive analysed and written: what was done.
-fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Result<Done> {
+fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf, console: &Console) -> Result<Done> {
     let options = analyze_options(args, archive, out_dir.clone())?;
-    let hidden = args.common.quiet || args.common.json;
-    let bar = ProgressBar::with_draw_target(
-        Some(0),
-        if hidden { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() },
-    );
-    bar.set_style(
-        ProgressStyle::with_template("{spinner} counting {pos}/{len} images [{bar:40}] {per_sec} eta {eta}")
-            .unwrap_or_else(|_| ProgressStyle::default_bar())
-            .progress_chars("=> "),
-    );
-    let mut analysis = analyze(&options, Some(&Bar(bar)))?;
+    let mut analysis = analyze(&options, Some(&Bar::counting(console)))?;
     if args.strict_colors {
         refuse_colour_damage(&options.archive, &analysis.result)?;
     }
@@ -163,34 +138,33 @@ fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Result
     )?;
     report_problems(&analysis.result);
     Ok(Done {
-        command: "analyze",
-        exit_code: if analysis.is_complete() { 0 } else { 1 },
+        completion: if analysis.is_complete() { Completion::Done } else { Completion::WithFailures },
         written: written.all(&out_dir),
         text: summary_text(&analysis, &written, &out_dir),
         facts: json!({
-            "archive": options.archive,
-            "out": out_dir,
+            "archive": shown(&options.archive),
+            "out": shown(&out_dir),
             "result": analysis.result,
             "timings": analysis.timings,
             "files": {
-                "result_json": written.result_json,
-                "parts_csv": written.parts_csv,
-                "heatmap_png": written.heatmap_png,
-                "timings_json": written.timings_json,
-                "frames_csv": written.frames_csv,
-                "heatmap_glb": written.heatmap_glb,
-                "views_png": written.views_png,
-                "report_html": written.report_html,
+                "result_json": shown(&written.result_json),
+                "parts_csv": written.parts_csv.as_deref().map(shown),
+                "heatmap_png": shown(&written.heatmap_png),
+                "timings_json": shown(&written.timings_json),
+                "frames_csv": written.frames_csv.as_deref().map(shown),
+                "heatmap_glb": written.heatmap_glb.as_deref().map(shown),
+                "views_png": written.views_png.as_deref().map(shown),
+                "report_html": shown(&written.report_html),
             },
         }),
     })
 }
 
-pub fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
+/// Runs the analysis of ARCHIVE (or, with `--each`, of every archive below it).
+pub fn run_analyze(args: AnalyzeArgs, console: &Console) -> Result<Completion> {
     let archive = args.archive.clone().context("ARCHIVE is required")?;
-    start_threads(&args.common)?;
     if args.each {
-        return run_each(&args, &archive);
+        return run_each(&args, &archive, console);
     }
     if !args.no_manifest
         && let Some(problem) = misread_archive(&archive)
@@ -198,14 +172,14 @@ pub fn run_analyze(args: AnalyzeArgs) -> Result<ExitCode> {
         anyhow::bail!(problem);
     }
     let out_dir = args.out.clone().unwrap_or_else(|| default_output_dir(&archive));
-    let done = analyse_one(&args, archive, out_dir)?;
-    finish(&args.common, done)
+    let done = analyse_one(&args, archive, out_dir, console)?;
+    Ok(finish(console, done))
 }
 
 /// `--each`: every archive below ARCHIVE analysed into its own results
 /// folder; exit 1 when any had failures or could not be analysed, 2 when
 /// none could.
-fn run_each(args: &AnalyzeArgs, parent: &Path) -> Result<ExitCode> {
+fn run_each(args: &AnalyzeArgs, parent: &Path, console: &Console) -> Result<Completion> {
     let archives = archives_below(parent);
     anyhow::ensure!(
         !archives.is_empty(),
@@ -213,7 +187,7 @@ fn run_each(args: &AnalyzeArgs, parent: &Path) -> Result<ExitCode> {
         parent.display()
     );
     let mut done =
-        Done { command: "analyze", exit_code: 0, written: Vec::new(), text: String::new(), facts: json!({}) };
+        Done { completion: Completion::Done, written: Vec::new(), text: String::new(), facts: json!({}) };
     let mut each = Vec::new();
     let mut analysed = 0;
     for archive in archives {
@@ -221,18 +195,20 @@ fn run_each(args: &AnalyzeArgs, parent: &Path) -> Result<ExitCode> {
             Some(out) => out.join(archive.strip_prefix(parent).unwrap_or(&archive)),
             None => default_output_dir(&archive),
         };
-        match analyse_one(args, archive.clone(), out_dir) {
+        match analyse_one(args, archive.clone(), out_dir, console) {
             Ok(one) => {
                 analysed += 1;
-                done.exit_code = done.exit_code.max(one.exit_code);
+                if one.completion == Completion::WithFailures {
+                    done.completion = Completion::WithFailures;
+                }
                 done.written.extend(one.written.iter().cloned());
                 done.text.push_str(&format!("== {}\n{}\n\n", archive.display(), one.text));
                 each.push(one.facts);
             }
             Err(error) => {
                 eprintln!("error: {}: {error:#}", archive.display());
-                done.exit_code = 1;
-                each.push(json!({ "archive": archive, "error": format!("{error:#}") }));
+                done.completion = Completion::WithFailures;
+                each.push(json!({ "archive": shown(&archive), "error": crate::console::message(&error) }));
             }
         }
     }
@@ -241,5 +217,5 @@ fn run_each(args: &AnalyzeArgs, parent: &Path) -> Result<ExitCode> {
     }
     done.text = done.text.trim_end().to_string();
     done.facts = json!({ "archives": each });
-    finish(&args.common, done)
+    Ok(finish(console, done))
 }

@@ -1,15 +1,18 @@
-//! `ufcsr-analyze manifest`: the command line of describing externally
-//! rendered frames (Unity, Blender) as an archive ([`ufcsr::describe`]),
-//! beside the other subcommands and sharing their `--quiet`/`--json`/`-j`
-//! words and exit codes. Paths given here are relative to the working
+//! `ufcsr manifest` (`ufcsr-analyze manifest`): the command line of
+//! describing externally rendered frames (Unity, Blender) as an archive
+//! ([`ufcsr::describe`]), beside the other commands and sharing their
+//! `--quiet`/`--json`/`-j` words and exit codes. Paths given here are relative to the working
 //! directory; those written into the manifest are relative to it.
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::Args;
 use serde_json::json;
+
+use super::run::{Done, finish};
+use crate::console::{Completion, Console, shown};
+use crate::options::LabelArgs;
 
 /// Options of `ufcsr-analyze manifest`.
 #[derive(Args)]
@@ -27,7 +30,7 @@ pub struct ManifestArgs {
     /// Palette, PIdT, legend and background the frames were rendered with (each file inside the
     /// manifest's folder).
     #[command(flatten)]
-    pub labels: super::args::LabelArgs,
+    pub labels: LabelArgs,
 
     /// Frames per second of the rendered sequence (frame N is at N / F seconds).
     #[arg(long, value_name = "F")]
@@ -61,14 +64,10 @@ pub struct ManifestArgs {
     /// in DIR or above it; the analyzer reads ARCHIVE/manifest.json.
     #[arg(long, short, value_name = "FILE")]
     pub out: Option<PathBuf>,
-
-    #[command(flatten)]
-    pub common: super::args::Common,
 }
 
 /// Writes the manifest and says what it holds and what it lacks.
-pub fn run_manifest(args: ManifestArgs) -> Result<ExitCode> {
-    super::run::start_threads(&args.common)?;
+pub fn run_manifest(args: ManifestArgs, console: &Console) -> Result<Completion> {
     let palette = args.labels.palette()?;
     let background = args.labels.background_colors()?;
     let options = ufcsr::DescribeOptions {
@@ -90,16 +89,15 @@ pub fn run_manifest(args: ManifestArgs) -> Result<ExitCode> {
     for note in &described.notes {
         eprintln!("note: {note}");
     }
-    super::run::finish(
-        &args.common,
-        super::run::Done {
-            command: "manifest",
-            exit_code: 0,
+    Ok(finish(
+        console,
+        Done {
+            completion: Completion::Done,
             written: vec![described.manifest_path.clone()],
             text: summary(&described),
             facts: facts(&described),
         },
-    )
+    ))
 }
 
 fn summary(d: &ufcsr::Described) -> String {
@@ -132,7 +130,7 @@ fn summary(d: &ufcsr::Described) -> String {
 
 fn facts(d: &ufcsr::Described) -> serde_json::Value {
     json!({
-        "manifest": d.manifest_path,
+        "manifest": shown(&d.manifest_path),
         "tiles": d.manifest.tiles.len(),
         "empty_tiles": d.manifest.tiles.iter().filter(|t| t.empty).count(),
         "eye_frames": d.eye_frames,

@@ -1,19 +1,20 @@
-//! `ufcsr-analyze placement`: the command line of the eHMI placement
-//! search (docs/placement.md), a page of options of its own beside the
-//! other subcommands' (`args`), sharing their `--quiet`/`--json`/`-j` words.
+//! `ufcsr placement` (`ufcsr-analyze placement`): the command line of the
+//! eHMI placement search (docs/placement.md), a page of options of its own
+//! beside the other commands' (`args`), sharing their `--quiet`/`--json`/`-j`
+//! words.
 
 use std::path::PathBuf;
-use std::process::ExitCode;
 
 use anyhow::Result;
 use clap::Args;
 
+use super::run::{Done, finish};
+use crate::choices::EyeRule;
+use crate::console::{Completion, Console};
+
 /// Options of `ufcsr-analyze placement`.
 #[derive(Args)]
 pub struct PlacementArgs {
-    #[command(flatten)]
-    pub common: super::args::Common,
-
     /// Result folders of `ufcsr-capture … --measure unobstructed --placement` (or archives, or their
     /// placement-frames.csv); several: scenarios or traffic conditions, scored by mean and worst case.
     #[arg(required = true)]
@@ -41,8 +42,8 @@ pub struct PlacementArgs {
     decision_window_s: f64,
 
     /// A frame is legible when either eye (`any`) or both (`both`) can read the candidate.
-    #[arg(long, value_enum, default_value_t = ufcsr::EyeRule::Any)]
-    eyes: ufcsr::EyeRule,
+    #[arg(long, value_enum, default_value_t = EyeRule::Any)]
+    eyes: EyeRule,
 
     /// The solid-angle rule instead of the three thresholds: legible when the visible solid angle
     /// reaches this many steradians; needed to score a rendered frames.csv (solid angles only) and
@@ -69,15 +70,14 @@ pub struct PlacementArgs {
 }
 
 /// Runs the search and writes its files.
-pub fn run_placement(args: PlacementArgs) -> Result<ExitCode> {
-    super::run::start_threads(&args.common)?;
+pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completion> {
     let options = ufcsr::PlacementOptions {
         thresholds: ufcsr::Thresholds {
             min_angular_height_arcmin: args.min_angular_height_arcmin,
             min_visible_fraction: args.min_visible_fraction,
             max_view_angle_deg: args.max_view_angle_deg,
             decision_window_s: args.decision_window_s,
-            eyes: args.eyes,
+            eyes: args.eyes.into(),
             min_solid_angle_sr: args.min_solid_angle_sr,
         },
         k: args.k,
@@ -102,14 +102,8 @@ pub fn run_placement(args: PlacementArgs) -> Result<ExitCode> {
     files.extend(
         written.picture.iter().flat_map(|p| std::iter::once(p.overview.clone()).chain(p.views.clone())),
     );
-    super::run::finish(
-        &args.common,
-        super::run::Done {
-            command: "placement",
-            exit_code: 0,
-            written: files,
-            text,
-            facts: serde_json::json!({}),
-        },
-    )
+    Ok(finish(
+        console,
+        Done { completion: Completion::Done, written: files, text, facts: serde_json::json!({}) },
+    ))
 }

@@ -1,179 +1,87 @@
-//! The command line of `ufcsr-capture`: the subcommands and one `run_*` for
-//! each ([`capture`] the captures of `demo`, `scene` and `unity` with their
-//! `--count` and `--measure` variants, [`study`] the resolution study, [`observers`] the
-//! observer study,
-//! [`tools`] inspect, views, batch, assemble and verify), and the progress
-//! bar the library reports to ([`progress`]). Only the binary draws on the
-//! terminal; the library returns what it did.
+//! The capture's commands: the captures (`ufcsr capture demo|scene|unity`,
+//! or `ufcsr-capture demo|scene|unity`; [`captures`], with their `--count`
+//! and `--measure` variants), the resolution study ([`study`]), the observer
+//! study ([`observers`]) and the tools around a capture ([`tools`]: inspect,
+//! views, batch plan, assemble, verify), and the private runtime folder Mesa
+//! wants ([`runtime_dir`]). Each parses into the capture library's plain
+//! options; only the command line draws on the terminal.
 
-mod capture;
+mod captures;
 mod observers;
-mod progress;
+mod runtime_dir;
 mod study;
 mod tools;
 
 use std::path::PathBuf;
 
-use anyhow::Context;
-use clap::{Parser, Subcommand};
-use ufcsr_capture::{Backend, ViewsOptions};
+use clap::Subcommand;
+use ufcsr_capture::{Scene, ViewsOptions};
 
-use capture::Common;
+use crate::choices::{Backend, DemoTraffic};
+use crate::console::{Completion, Console};
+use crate::options::Global;
+
+pub use runtime_dir::PrivateRuntimeDir;
+
+use captures::CaptureArgs;
 use observers::ObserversArgs;
 use study::StudyArgs;
 
-#[derive(Parser)]
-#[command(
-    name = "ufcsr-capture",
-    version,
-    about = "Record UFCSR archives with a headless, exact wgpu renderer"
-)]
-pub struct Cli {
-    #[command(subcommand)]
-    command: Command,
-    /// Nothing on stdout and no progress bar; warnings and errors still go to stderr.
-    #[arg(long, short, global = true)]
-    quiet: bool,
-    /// Worker threads: PNG encoders, the exact measure's ray casting and the other parallel
-    /// work (default 0: one per core).
-    #[arg(long, short = 'j', global = true, default_value_t = 0, value_parser = clap::value_parser!(u16).range(0..=1024))]
-    threads: u16,
-    /// One JSON object on stdout instead of the text: command, exit_code, written (every file
-    /// written) and the command's own facts; on an error, exit_code, an empty written and error.
-    #[arg(long, global = true)]
-    pub json: bool,
-}
-
-impl Cli {
-    /// The subcommand's name, as `--json` reports it.
-    pub fn command_name(&self) -> &'static str {
-        match &self.command {
-            Command::Demo { .. } => "demo",
-            Command::Scene { .. } => "scene",
-            Command::Unity { .. } => "unity",
-            Command::Inspect { .. } => "inspect",
-            Command::Views { .. } => "views",
-            Command::Batch { .. } => "batch plan",
-            Command::Study(_) => "study",
-            Command::Observers(_) => "observers",
-            Command::Assemble { .. } => "assemble",
-            Command::Verify { .. } => "verify",
-            Command::Completions { .. } => "completions",
-            Command::Man { .. } => "man",
-        }
-    }
-}
-
-/// What a command did, for `--json`, recorded by the `run_*` functions as
-/// they go: the files it wrote ([`wrote`]) and its facts ([`fact`], or
-/// [`fact_item`] for one entry of a list such as one per scenario).
-#[derive(Default)]
-struct Outcome {
-    written: Vec<PathBuf>,
-    facts: Vec<(String, serde_json::Value, bool)>,
-}
-
-static OUTCOME: std::sync::Mutex<Outcome> =
-    std::sync::Mutex::new(Outcome { written: Vec::new(), facts: Vec::new() });
-
-fn outcome() -> std::sync::MutexGuard<'static, Outcome> {
-    OUTCOME.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
-}
-
-/// Records a file the command wrote.
-pub fn wrote(path: &std::path::Path) {
-    outcome().written.push(path.to_path_buf());
-}
-
-/// Records one of the command's facts.
-pub fn fact(key: &str, value: impl serde::Serialize) {
-    let value = serde_json::to_value(value).unwrap_or(serde_json::Value::Null);
-    outcome().facts.push((key.into(), value, false));
-}
-
-/// Records one entry of the list `key` (e.g. one per scenario).
-pub fn fact_item(key: &str, value: impl serde::Serialize) {
-    let value = serde_json::to_value(value).unwrap_or(serde_json::Value::Null);
-    outcome().facts.push((key.into(), value, true));
-}
-
-/// The `--json` summary of a finished (or failed) command.
-pub fn json_summary(command: &str, exit_code: u8, error: Option<&str>) -> String {
-    let Outcome { written, facts } = std::mem::take(&mut *outcome());
-    let mut summary = serde_json::Map::new();
-    summary.insert("command".into(), command.into());
-    summary.insert("exit_code".into(), exit_code.into());
-    if let Some(error) = error {
-        // Nothing done: nothing written that counts.
-        summary.insert("written".into(), serde_json::Value::Array(Vec::new()));
-        summary.insert("error".into(), error.into());
-        return serde_json::Value::Object(summary).to_string();
-    }
-    let written: Vec<String> = written.iter().map(|p| p.display().to_string()).collect();
-    summary.insert("written".into(), written.into());
-    for (key, value, item) in facts {
-        if !item {
-            summary.insert(key, value);
-            continue;
-        }
-        match summary.entry(key).or_insert_with(|| serde_json::Value::Array(Vec::new())) {
-            serde_json::Value::Array(list) => list.push(value),
-            other => *other = serde_json::Value::Array(vec![other.take(), value]),
-        }
-    }
-    serde_json::Value::Object(summary).to_string()
-}
-
-/// Set once from `--quiet` before a command runs: [`say!`] prints nothing.
-static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
-/// Set once from `--json` before a command runs.
-static JSON: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
-/// True under `--json`: stdout holds only the summary.
-pub fn json() -> bool {
-    JSON.load(std::sync::atomic::Ordering::Relaxed)
-}
-
-/// True under `--quiet` (and `--json`).
-pub fn quiet() -> bool {
-    QUIET.load(std::sync::atomic::Ordering::Relaxed)
-}
-
-/// `println!` unless `--quiet`: what a command did, on stdout.
-macro_rules! say {
-    ($($arg:tt)*) => {
-        if !$crate::cli::quiet() {
-            println!($($arg)*);
-        }
-    };
-}
-pub(crate) use say;
-
+/// The captures: a scene recorded into an archive.
 #[derive(Subcommand)]
-enum Command {
+pub enum CaptureCommand {
     /// The built-in demo: pickup truck, intersection, scenarios A–D.
     Demo {
         /// A second pickup in traffic: alongside the truck in the lane on the pedestrian's side
         /// (adjacent-lane), or ahead of it in its lane (lead-car); see docs/scene-file.md.
         #[arg(long, value_enum)]
-        traffic: Option<ufcsr_capture::DemoTraffic>,
+        traffic: Option<DemoTraffic>,
         #[command(flatten)]
-        common: Common,
+        capture: CaptureArgs,
     },
     /// A scene file (see capture/README.md).
     Scene {
         /// The scene JSON file.
         scene: PathBuf,
         #[command(flatten)]
-        common: Common,
+        capture: CaptureArgs,
     },
     /// Replay a Unity export (unity-intersection.json) with the demo truck.
     Unity {
         /// The Unity scenario export.
         file: PathBuf,
         #[command(flatten)]
-        common: Common,
+        capture: CaptureArgs,
+    },
+}
+
+/// The commands around a capture.
+#[derive(Subcommand)]
+pub enum CaptureToolCommand {
+    /// Join the parts the shards of a capture (`--shard I/N`) wrote into the archive's
+    /// manifest.json, once all have finished (checks that every shard is there, once).
+    Assemble {
+        /// The archive folder the shards wrote into (their --out).
+        archive: PathBuf,
+    },
+    /// Plan a batch (batch.json: scenes × scenarios × ppd × frame steps): prints one
+    /// `ufcsr-capture ... --count` command per task, task i on line i (for job arrays, xargs -P).
+    Batch {
+        #[command(subcommand)]
+        action: BatchAction,
+    },
+    /// Capture and count one scenario at several ppd and frame steps, compare each with the
+    /// finest, and plot error against run time (writes study.csv, study.json, study.svg/.png).
+    Study(StudyArgs),
+    /// Capture one scenario from a grid of pedestrians (positions along a kerb × eye heights)
+    /// and report per part the mean, its 95 % interval and the spread over them
+    /// (writes observers.json, observers.csv, observer-parts.csv).
+    Observers(ObserversArgs),
+    /// Check an archive without the analyzer: tile pixels are background or
+    /// palette colours the PIdT labels.
+    Verify {
+        /// The archive folder.
+        archive: PathBuf,
     },
     /// Look at a vehicle before capturing: size and origin after `axes`,
     /// triangle quality, UVs, parts and their areas, and pictures of it.
@@ -206,125 +114,86 @@ enum Command {
         #[arg(long, value_enum, default_value_t = Backend::Auto)]
         backend: Backend,
     },
-    /// Plan a batch (batch.json: scenes × scenarios × ppd × frame steps): prints one
-    /// `ufcsr-capture ... --count` command per task, task i on line i (for job arrays, xargs -P).
-    Batch {
-        #[command(subcommand)]
-        action: BatchAction,
-    },
-    /// Capture and count one scenario at several ppd and frame steps, compare each with the
-    /// finest, and plot error against run time (writes study.csv, study.json, study.svg/.png).
-    Study(StudyArgs),
-    /// Capture one scenario from a grid of pedestrians (positions along a kerb × eye heights)
-    /// and report per part the mean, its 95 % interval and the spread over them
-    /// (writes observers.json, observers.csv, observer-parts.csv).
-    Observers(ObserversArgs),
-    /// Join the parts the shards of a capture (`--shard I/N`) wrote into the archive's
-    /// manifest.json, once all have finished (checks that every shard is there, once).
-    Assemble {
-        /// The archive folder the shards wrote into (their --out).
-        archive: PathBuf,
-    },
-    /// Check an archive without the analyzer: tile pixels are background or
-    /// palette colours the PIdT labels.
-    Verify {
-        /// The archive folder.
-        archive: PathBuf,
-    },
-    /// Print a shell completion script (bash, zsh, fish, elvish, powershell) on stdout.
-    Completions {
-        /// The shell.
-        #[arg(value_enum)]
-        shell: clap_complete::Shell,
-    },
-    /// Print the man page (roff) on stdout, or write one page per subcommand into --out.
-    Man {
-        /// Write ufcsr-capture.1 and one ufcsr-capture-COMMAND.1 per subcommand into this folder.
-        #[arg(long)]
-        out: Option<PathBuf>,
-    },
 }
 
 #[derive(Subcommand)]
-enum BatchAction {
+pub enum BatchAction {
     /// Print the tasks' commands, one per line.
     Plan {
         /// The batch file.
         batch: PathBuf,
-        /// The ufcsr-capture the commands call (default: this one).
+        /// The ufcsr-capture the commands call (default: the ufcsr-capture beside this program).
         #[arg(long)]
         program: Option<String>,
     },
 }
 
-/// A command that did its work but found failures (exit code 1), as opposed
-/// to one that could do nothing (exit code 2).
-#[derive(Debug)]
-pub struct DoneWithFailures(pub String);
-
-impl std::fmt::Display for DoneWithFailures {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
+impl CaptureCommand {
+    /// The command's name, as `--json` reports it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            CaptureCommand::Demo { .. } => "demo",
+            CaptureCommand::Scene { .. } => "scene",
+            CaptureCommand::Unity { .. } => "unity",
+        }
     }
 }
 
-impl std::error::Error for DoneWithFailures {}
+impl CaptureToolCommand {
+    /// The command's name, as `--json` reports it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            CaptureToolCommand::Assemble { .. } => "assemble",
+            CaptureToolCommand::Batch { .. } => "batch plan",
+            CaptureToolCommand::Study(_) => "study",
+            CaptureToolCommand::Observers(_) => "observers",
+            CaptureToolCommand::Verify { .. } => "verify",
+            CaptureToolCommand::Inspect { .. } => "inspect",
+            CaptureToolCommand::Views { .. } => "views",
+        }
+    }
+}
 
-/// Runs one subcommand.
-pub fn run(cli: Cli) -> anyhow::Result<()> {
-    // --json: the one JSON object is all that goes to stdout.
-    QUIET.store(cli.quiet || cli.json, std::sync::atomic::Ordering::Relaxed);
-    JSON.store(cli.json, std::sync::atomic::Ordering::Relaxed);
-    let threads = usize::from(cli.threads);
-    if threads > 0 {
-        // The first and only pool of the process; the exact measure and the placement pass use it.
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build_global()
-            .context("setting up the worker threads")?;
-    }
-    match cli.command {
-        Command::Demo { traffic: None, common } => {
-            capture::run_capture(ufcsr_capture::Scene::demo(), &common, threads)
+/// Runs one capture.
+pub fn run_capture_command(
+    command: CaptureCommand,
+    global: &Global,
+    console: &Console,
+) -> anyhow::Result<Completion> {
+    let threads = usize::from(global.threads);
+    match command {
+        CaptureCommand::Demo { traffic: None, capture } => {
+            captures::run_capture(Scene::demo(), &capture, threads, console)
         }
-        Command::Demo { traffic: Some(traffic), common } => {
-            capture::run_demo_with_traffic(traffic, &common, threads)
+        CaptureCommand::Demo { traffic: Some(traffic), capture } => {
+            captures::run_demo_with_traffic(traffic.into(), &capture, threads, console)
         }
-        Command::Scene { scene, common } => {
-            capture::run_capture(ufcsr_capture::Scene::load(&scene)?, &common, threads)
+        CaptureCommand::Scene { scene, capture } => {
+            captures::run_capture(Scene::load(&scene)?, &capture, threads, console)
         }
-        Command::Unity { file, common } => {
-            capture::run_capture(ufcsr_capture::Scene::unity(&file)?, &common, threads)
+        CaptureCommand::Unity { file, capture } => {
+            captures::run_capture(Scene::unity(&file)?, &capture, threads, console)
         }
-        Command::Inspect { input, out, pixels_per_metre } => tools::run_inspect(input, out, pixels_per_metre),
-        Command::Study(args) => study::run_study(args),
-        Command::Observers(args) => observers::run_observers(args),
-        Command::Views { results, model, out, views_scale, backend } => {
-            tools::run_views(ViewsOptions { results, model, out, views_scale }, backend)
+    }?;
+    Ok(Completion::Done)
+}
+
+/// Runs one of the commands around a capture.
+pub fn run_tool(command: CaptureToolCommand, console: &Console) -> anyhow::Result<Completion> {
+    match command {
+        CaptureToolCommand::Assemble { archive } => tools::run_assemble(&archive, console),
+        CaptureToolCommand::Batch { action: BatchAction::Plan { batch, program } } => {
+            tools::run_batch_plan(&batch, program, console)
         }
-        Command::Batch { action: BatchAction::Plan { batch, program } } => {
-            tools::run_batch_plan(&batch, program)
+        CaptureToolCommand::Study(args) => study::run_study(args, console),
+        CaptureToolCommand::Observers(args) => observers::run_observers(args, console),
+        CaptureToolCommand::Verify { archive } => return tools::run_verify(&archive, console),
+        CaptureToolCommand::Inspect { input, out, pixels_per_metre } => {
+            tools::run_inspect(input, out, pixels_per_metre, console)
         }
-        Command::Assemble { archive } => tools::run_assemble(&archive),
-        Command::Verify { archive } => tools::run_verify(&archive),
-        Command::Completions { shell } => {
-            crate::command_docs::print_completions(
-                shell,
-                <Cli as clap::CommandFactory>::command(),
-                "ufcsr-capture",
-            );
-            Ok(())
+        CaptureToolCommand::Views { results, model, out, views_scale, backend } => {
+            tools::run_views(ViewsOptions { results, model, out, views_scale }, backend.into(), console)
         }
-        Command::Man { out } => {
-            for path in crate::command_docs::write_man_pages(
-                <Cli as clap::CommandFactory>::command(),
-                "ufcsr-capture",
-                out.as_deref(),
-            )? {
-                wrote(&path);
-                eprintln!("wrote {}", path.display());
-            }
-            Ok(())
-        }
-    }
+    }?;
+    Ok(Completion::Done)
 }

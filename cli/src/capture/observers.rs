@@ -1,4 +1,4 @@
-//! `ufcsr-capture observers`: its arguments and [`run_observers`], which
+//! `ufcsr observers` (`ufcsr-capture observers`): its arguments and [`run_observers`], which
 //! captures a scenario from a grid of pedestrians (positions along a kerb ×
 //! eye heights) and prints each part's mean, interval and spread.
 
@@ -6,11 +6,12 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use clap::Args;
-use ufcsr_capture::{Backend, CaptureOptions, Gpu, parse_palette_size};
+use ufcsr_capture::{CaptureOptions, Gpu, parse_palette_size};
 
 use super::study::{load_scene, scenario_name};
+use crate::choices::Backend;
 
-use super::say;
+use crate::console::{Console, say};
 
 /// Uncertainty over the observer (see `ufcsr_capture::run_observer_study`).
 #[derive(Args)]
@@ -72,7 +73,7 @@ fn parse_kerb(text: &str) -> Result<[[f64; 2]; 2], String> {
     Ok([parse_pair(from, ',', "kerb")?, parse_pair(to, ',', "kerb")?])
 }
 
-pub fn run_observers(args: ObserversArgs) -> anyhow::Result<()> {
+pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<()> {
     let scene = load_scene(&args.scene)?;
     let options = ufcsr_capture::ObserverOptions {
         scenario: scenario_name(&scene, args.scenario.as_deref())?,
@@ -89,22 +90,23 @@ pub fn run_observers(args: ObserversArgs) -> anyhow::Result<()> {
             ..CaptureOptions::default()
         },
     };
-    let gpu = Gpu::create(args.backend).context("creating the GPU device")?;
+    let gpu = Gpu::create(args.backend.into()).context("creating the GPU device")?;
     eprintln!("adapter: {}", gpu.describe());
     let study = ufcsr_capture::run_observer_study(&gpu.device, &gpu.queue, &scene, &options)?;
-    print_observers(&study);
+    print_observers(&study, console);
     for file in ufcsr_capture::write_observer_study(&study, &args.out)? {
-        super::wrote(&file);
-        say!("wrote {}", file.display());
+        console.wrote(&file);
+        say!(console, "wrote {}", file.display());
     }
-    super::fact("observers", study.observers.len());
-    super::fact("parts", &study.summary);
+    console.fact("observers", study.observers.len());
+    console.fact("parts", &study.summary);
     Ok(())
 }
 
-fn print_observers(study: &ufcsr_capture::ObserverStudy) {
+fn print_observers(study: &ufcsr_capture::ObserverStudy, console: &Console) {
     let n = study.observers.len();
     say!(
+        console,
         "scenario {}, {n} observers at {} px/°, every {} frame(s), eye heights {}–{} m, in {:.1} s ({:.2} s of \
          shared set-up, then {:.2} s per observer)",
         study.scenario,
@@ -117,13 +119,22 @@ fn print_observers(study: &ufcsr_capture::ObserverStudy) {
         (study.seconds - study.setup_seconds) / n as f64
     );
     say!(
+        console,
         "per part over the observers: mean [95 % interval of the mean] (2.5–97.5 % of observers); top-5 = share of \
          observers with the part among the five largest angular areas"
     );
-    say!("{:<24} {:>34} {:>34} {:>6}", "part", "angular area, deg²·s", "share of angular area, %", "top-5");
+    say!(
+        console,
+        "{:<24} {:>34} {:>34} {:>6}",
+        "part",
+        "angular area, deg²·s",
+        "share of angular area, %",
+        "top-5"
+    );
     for part in study.summary.iter().take(15) {
         let (a, s) = (&part.angular_area_deg2_s, &part.angular_area_share_percent);
         say!(
+            console,
             "{:<24} {:>34} {:>34} {:>6.2}",
             part.part,
             format!(
@@ -138,6 +149,6 @@ fn print_observers(study: &ufcsr_capture::ObserverStudy) {
         );
     }
     if study.summary.len() > 15 {
-        say!("… {} more parts in observer-parts.csv", study.summary.len() - 15);
+        say!(console, "… {} more parts in observer-parts.csv", study.summary.len() - 15);
     }
 }

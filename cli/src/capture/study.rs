@@ -1,15 +1,16 @@
-//! `ufcsr-capture study`: its arguments and [`run_study`], which runs the
+//! `ufcsr study` (`ufcsr-capture study`): its arguments and [`run_study`], which runs the
 //! library's resolution study and prints its table.
 
 use std::path::PathBuf;
 
 use anyhow::Context;
 use clap::Args;
-use ufcsr_capture::{Backend, CaptureOptions, Gpu, Scene, parse_palette_size};
+use ufcsr_capture::{CaptureOptions, Gpu, Scene, parse_palette_size};
 
-use super::capture::parse_fraction;
+use super::captures::parse_fraction;
+use crate::choices::{Backend, Dedupe, StudyMeasure};
 
-use super::say;
+use crate::console::{Console, say};
 
 /// A resolution study (see `ufcsr_capture::run_study`).
 #[derive(Args)]
@@ -31,12 +32,12 @@ pub struct StudyArgs {
     tolerance: f64,
     /// What is studied: angular-area (solid angle of the pixels ↔ ray-traced solid angle) or
     /// count (texels seen per eye-frame ↔ any-part visibility).
-    #[arg(long, value_enum, default_value_t = ufcsr_capture::StudyMeasure::AngularArea)]
-    measure: ufcsr_capture::StudyMeasure,
+    #[arg(long, value_enum, default_value_t = StudyMeasure::AngularArea)]
+    measure: StudyMeasure,
     /// What one count of the settings' results means: image (once per tile), frame (once per
     /// eye-frame, as the exact count) or eye-pair (once per frame over both eyes).
-    #[arg(long, value_enum, default_value_t = ufcsr::Dedupe::Frame)]
-    dedupe: ufcsr::Dedupe,
+    #[arg(long, value_enum, default_value_t = Dedupe::Frame)]
+    dedupe: Dedupe,
     /// Canonical palette size, W or WxH.
     #[arg(long, value_name = "W|WxH", default_value = "4096")]
     palette_size: String,
@@ -72,15 +73,15 @@ pub fn scenario_name(scene: &Scene, asked: Option<&str>) -> anyhow::Result<Strin
     })
 }
 
-pub fn run_study(args: StudyArgs) -> anyhow::Result<()> {
+pub fn run_study(args: StudyArgs, console: &Console) -> anyhow::Result<()> {
     let scene = load_scene(&args.scene)?;
     let options = ufcsr_capture::StudyOptions {
         scenario: scenario_name(&scene, args.scenario.as_deref())?,
         ppds: args.ppd,
         frame_steps: args.frame_step,
         tolerance_pp: args.tolerance,
-        dedupe: args.dedupe,
-        measure: args.measure,
+        dedupe: args.dedupe.into(),
+        measure: args.measure.into(),
         capture: CaptureOptions {
             out: args.out.clone(),
             palette: parse_palette_size(&args.palette_size)?,
@@ -93,21 +94,22 @@ pub fn run_study(args: StudyArgs) -> anyhow::Result<()> {
             (false, Some(text)) => Some(parse_fraction(text)?),
         },
     };
-    let gpu = Gpu::create(args.backend).context("creating the GPU device")?;
+    let gpu = Gpu::create(args.backend.into()).context("creating the GPU device")?;
     eprintln!("adapter: {}", gpu.describe());
     let study = ufcsr_capture::run_study(&gpu.device, &gpu.queue, &scene, &options)?;
-    print_study(&study);
+    print_study(&study, console);
     for file in ufcsr_capture::write_study(&study, &args.out)? {
-        super::wrote(&file);
-        say!("wrote {}", file.display());
+        console.wrote(&file);
+        say!(console, "wrote {}", file.display());
     }
-    super::fact("recommended", &study.recommended);
-    super::fact("closest", &study.closest);
+    console.fact("recommended", &study.recommended);
+    console.fact("closest", &study.closest);
     Ok(())
 }
 
-fn print_study(study: &ufcsr_capture::Study) {
+fn print_study(study: &ufcsr_capture::Study, console: &Console) {
     say!(
+        console,
         "scenario {}, measure {}: error = share L1 (pp) against the exact measure on the same eye-frames, \
          95 % interval; precision = against the finest setting ({})",
         study.scenario,
@@ -116,6 +118,7 @@ fn print_study(study: &ufcsr_capture::Study) {
     );
     if let Some(exact) = &study.exact {
         say!(
+            console,
             "exact reference: {} of {} texels (sample {}), {} eye-frames, {:.1} s",
             exact.sampled_texels,
             exact.labelled_texels,
@@ -125,11 +128,13 @@ fn print_study(study: &ufcsr_capture::Study) {
         );
     }
     say!(
+        console,
         "set-up shared by the settings (unwrap, PIdT, archive files, renderer): {:.2} s, once; \
          seconds below are each setting's own",
         study.setup_seconds
     );
     say!(
+        console,
         "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12} {:>6}",
         "ppd",
         "step",
@@ -146,6 +151,7 @@ fn print_study(study: &ufcsr_capture::Study) {
     for row in &study.rows {
         let exact = row.error_vs_exact.as_ref();
         say!(
+            console,
             "{:>6} {:>5} {:>6} {:>9.2} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12.3} {:>6}",
             row.ppd,
             row.frame_step,
@@ -162,6 +168,7 @@ fn print_study(study: &ufcsr_capture::Study) {
     }
     match (&study.recommended, &study.reason) {
         (Some(pick), _) => say!(
+            console,
             "recommended (cheapest within {} pp of the {}): {} ({:.2} s, share L1 {:.3} pp{})",
             study.tolerance_pp,
             if pick.against == "exact" { "exact measure at 95 %" } else { "finest setting" },
@@ -170,7 +177,7 @@ fn print_study(study: &ufcsr_capture::Study) {
             pick.share_l1_pp,
             pick.ci95_pp.map_or(String::new(), |[lo, hi]| format!(", 95 % {lo:.3}–{hi:.3}"))
         ),
-        (None, Some(reason)) => say!("{reason}"),
-        (None, None) => say!("no recommendation"),
+        (None, Some(reason)) => say!(console, "{reason}"),
+        (None, None) => say!(console, "no recommendation"),
     }
 }

@@ -19,6 +19,9 @@ mod common {
     }
 }
 
+// The one front door (ufcsr and its two aliases).
+mod front_door;
+
 // The analyzer's command line.
 mod atomic_results;
 mod cli;

@@ -1,4 +1,4 @@
-//! The captures (`demo`, `scene`, `unity`): their common arguments and
+//! The captures (`demo`, `scene`, `unity`): their arguments ([`CaptureArgs`]) and
 //! [`run_capture`] (and [`run_demo_with_traffic`] for `demo --traffic`), which builds the options, creates the device and runs the
 //! capture to PNG tiles, the fused count (`--count`) or the exact measure
 //! (`--measure unobstructed`), then prints what each scenario gave.
@@ -9,11 +9,13 @@ use std::sync::Arc;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use ufcsr_capture::{
-    Backend, CaptureOptions, CaptureProgress, Compression, CountedCapture, DemoTraffic, FrameSelection, Gpu,
-    MeasureDevice, OwnLabelFiles, Scene, Summary, TileFilter, parse_palette_size,
+    CaptureOptions, CaptureProgress, CountedCapture, DemoTraffic, FrameSelection, Gpu, OwnLabelFiles, Scene,
+    Summary, parse_palette_size,
 };
 
-use super::say;
+use crate::choices::{Backend, Compression, Dedupe, MeasureDevice, TileFilter};
+use crate::console::{Console, say};
+use crate::progress::Bar;
 
 /// What `--measure` counts instead of rendered pixels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
@@ -23,8 +25,9 @@ pub enum Measure {
     Unobstructed,
 }
 
+/// What a capture records, and how: the options of `demo`, `scene` and `unity`.
 #[derive(Args, Clone)]
-pub struct Common {
+pub struct CaptureArgs {
     /// Output folder (one archive; with --scenario all, one sub-folder per scenario).
     #[arg(long, default_value = "archive")]
     out: PathBuf,
@@ -84,8 +87,8 @@ pub struct Common {
     count: bool,
     /// With --count: what one count means, image (once per tile), frame (once per eye-frame) or
     /// eye-pair (once per frame over both eyes).
-    #[arg(long, value_enum, default_value_t = ufcsr::Dedupe::Image, requires = "count")]
-    dedupe: ufcsr::Dedupe,
+    #[arg(long, value_enum, default_value_t = Dedupe::Image, requires = "count")]
+    dedupe: Dedupe,
     /// With --count: size of the heatmap views in results/, each 400×300 pixels times this (1–8).
     #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE, requires = "count",
           value_parser = clap::value_parser!(u32).range(1..=8))]
@@ -150,43 +153,49 @@ pub fn parse_fraction(text: &str) -> anyhow::Result<f64> {
     Ok(value)
 }
 
-/// A capture of `scene` as `common` says: to PNG tiles, counted (`--count`)
+/// A capture of `scene` as `args` say: to PNG tiles, counted (`--count`)
 /// or measured (`--measure`), one scenario or all.
-pub fn run_capture(mut scene: Scene, common: &Common, threads: usize) -> anyhow::Result<()> {
+pub fn run_capture(
+    mut scene: Scene,
+    args: &CaptureArgs,
+    threads: usize,
+    console: &Console,
+) -> anyhow::Result<()> {
     for warning in &scene.warnings {
         eprintln!("warning: {warning}");
     }
-    if let Some(json) = &common.rig {
+    if let Some(json) = &args.rig {
         scene.rig = scene.rig.override_with(json)?;
     }
-    if let Some(ppd) = common.ppd {
+    if let Some(ppd) = args.ppd {
         scene.rig.set_pixels_per_degree(ppd)?;
     }
-    let options = capture_options(common, threads)?;
-    let all = common.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
-    let names = scenario_names(&scene, common.scenario.as_deref())?;
-    let gpu = Gpu::create(common.backend).context("creating the GPU device")?;
+    let options = capture_options(args, threads, console)?;
+    let all = args.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
+    let names = scenario_names(&scene, args.scenario.as_deref())?;
+    let gpu = Gpu::create(args.backend.into()).context("creating the GPU device")?;
     eprintln!("adapter: {}", gpu.describe());
     describe_rig(&scene, &options);
-    if let Some(Measure::Unobstructed) = common.measure {
-        return run_unobstructed(&gpu, &scene, &names, all, &options, common);
+    if let Some(Measure::Unobstructed) = args.measure {
+        return run_unobstructed(&gpu, &scene, &names, all, &options, args, console);
     }
-    if common.count {
-        let dedupe = common.dedupe;
+    if args.count {
+        let dedupe = args.dedupe.into();
         ufcsr_capture::for_each_scenario(&scene, &names, all, &options, |scenario, options| {
             let counted =
                 ufcsr_capture::capture_counted(&gpu.device, &gpu.queue, &scene, scenario, options, dedupe)?;
-            report(&counted.summary, Sink::Counted);
-            report_counted(&counted);
+            report(&counted.summary, Sink::Counted, console);
+            report_counted(&counted, console);
             Ok(())
         })?;
         return Ok(());
     }
     let summaries = ufcsr_capture::capture_all(&gpu.device, &gpu.queue, &scene, &names, all, &options)?;
     for summary in &summaries {
-        report(summary, Sink::Png);
+        report(summary, Sink::Png, console);
         if let Some(shard) = options.shard {
             say!(
+                console,
                 "  shard {shard}: wrote its part of the manifest; once every shard has finished, run \
                  `ufcsr-capture assemble {}`",
                 summary.out.display()
@@ -199,43 +208,48 @@ pub fn run_capture(mut scene: Scene, common: &Common, threads: usize) -> anyhow:
 /// `demo --traffic`: each selected scenario with the truck's twin in
 /// traffic (its side depends on the scenario), one capture each, into
 /// `--out` or, with `--scenario all`, `--out/NAME`.
-pub fn run_demo_with_traffic(traffic: DemoTraffic, common: &Common, threads: usize) -> anyhow::Result<()> {
-    let all = common.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
-    for name in scenario_names(&Scene::demo(), common.scenario.as_deref())? {
+pub fn run_demo_with_traffic(
+    traffic: DemoTraffic,
+    args: &CaptureArgs,
+    threads: usize,
+    console: &Console,
+) -> anyhow::Result<()> {
+    let all = args.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
+    for name in scenario_names(&Scene::demo(), args.scenario.as_deref())? {
         let scene = Scene::demo_with_traffic(traffic, &name)?;
-        let out = if all { common.out.join(&name) } else { common.out.clone() };
-        run_capture(scene, &Common { out, scenario: Some(name), ..common.clone() }, threads)?;
+        let out = if all { args.out.join(&name) } else { args.out.clone() };
+        run_capture(scene, &CaptureArgs { out, scenario: Some(name), ..args.clone() }, threads, console)?;
     }
     Ok(())
 }
 
 /// The library's options from the command line's.
 /// `threads`: PNG encoders (0: one per core).
-fn capture_options(common: &Common, threads: usize) -> anyhow::Result<CaptureOptions> {
+fn capture_options(args: &CaptureArgs, threads: usize, console: &Console) -> anyhow::Result<CaptureOptions> {
     Ok(CaptureOptions {
-        out: common.out.clone(),
-        palette: parse_palette_size(&common.palette_size)?,
-        palette_file: common.palette.clone(),
-        keep_uvs: common.keep_uvs,
-        own_labels: match (common.pidt.clone(), common.parts.clone()) {
+        out: args.out.clone(),
+        palette: parse_palette_size(&args.palette_size)?,
+        palette_file: args.palette.clone(),
+        keep_uvs: args.keep_uvs,
+        own_labels: match (args.pidt.clone(), args.parts.clone()) {
             (Some(pidt), Some(parts)) => Some(OwnLabelFiles { pidt, parts }),
             _ => None,
         },
-        frames: common.frames.parse::<FrameSelection>()?,
-        compression: common.png_compression,
-        tile_filter: common.tile_filter,
-        resume: common.resume,
-        keep_background_tiles: common.keep_background_tiles,
-        no_cull: common.no_cull,
-        no_scissor: common.no_scissor,
-        progress: if super::quiet() {
+        frames: args.frames.parse::<FrameSelection>()?,
+        compression: args.png_compression.into(),
+        tile_filter: args.tile_filter.into(),
+        resume: args.resume,
+        keep_background_tiles: args.keep_background_tiles,
+        no_cull: args.no_cull,
+        no_scissor: args.no_scissor,
+        progress: if console.quiet() {
             CaptureProgress::default()
         } else {
-            CaptureProgress::to(Arc::new(super::progress::TileBar::default()))
+            CaptureProgress::to(Arc::new(Bar::capturing(console)))
         },
         encoder_threads: threads,
-        shard: common.shard.as_deref().map(parse_shard).transpose()?,
-        views_scale: common.views_scale,
+        shard: args.shard.as_deref().map(parse_shard).transpose()?,
+        views_scale: args.views_scale,
     })
 }
 
@@ -276,14 +290,15 @@ fn run_unobstructed(
     names: &[String],
     all: bool,
     options: &CaptureOptions,
-    common: &Common,
+    args: &CaptureArgs,
+    console: &Console,
 ) -> anyhow::Result<()> {
     anyhow::ensure!(
         options.shard.is_none(),
         "--measure unobstructed with --shard is not supported: sample fewer texels (--sample) instead"
     );
-    let sample = parse_fraction(&common.sample)?;
-    let placement = placement_options(common)?;
+    let sample = parse_fraction(&args.sample)?;
+    let placement = placement_options(args)?;
     ufcsr_capture::for_each_scenario(scene, names, all, options, |scenario, options| {
         let measured = ufcsr_capture::measure_unobstructed(
             &gpu.device,
@@ -293,13 +308,14 @@ fn run_unobstructed(
             options,
             &ufcsr_capture::MeasureOptions {
                 sample,
-                seed: common.seed,
-                texel_samples: common.texel_samples,
-                on: common.measure_on,
+                seed: args.seed,
+                texel_samples: args.texel_samples,
+                on: args.measure_on.into(),
                 placement,
             },
         )?;
         say!(
+            console,
             "scenario {}: unobstructed measure of {} of {} texels ({} surface samples) over {} eye-frames in {:.2} s",
             scenario.name,
             measured.sampled_texels,
@@ -309,25 +325,29 @@ fn run_unobstructed(
             measured.seconds
         );
         say!(
+            console,
             "  ray casts: {:.2} s, {:.3e} sample-eye-frame tests per second (each up to two segment queries)",
             measured.visibility_seconds,
             (measured.surface_samples * measured.eye_frames) as f64 / measured.visibility_seconds.max(1e-9)
         );
-        if !super::quiet() {
-            print!("{}", ufcsr::format_table(&measured.analysis.result));
-        }
+        console.print(&ufcsr::format_table(&measured.analysis.result));
         let out = measured.written.result_json.parent().unwrap_or(std::path::Path::new("."));
-        measured.written.all(out).iter().for_each(|file| super::wrote(file));
-        super::wrote(&measured.estimates_csv);
-        super::fact_item("grand_totals", measured.analysis.result.grand_total);
+        measured.written.all(out).iter().for_each(|file| console.wrote(file));
+        console.wrote(&measured.estimates_csv);
+        console.fact_item("grand_totals", measured.analysis.result.grand_total);
         for warning in &measured.analysis.result.warnings {
             eprintln!("  warning: {warning}");
         }
-        say!("  results: {}", measured.written.result_json.display());
-        say!("           {} (per-part estimates, standard errors)", measured.estimates_csv.display());
+        say!(console, "  results: {}", measured.written.result_json.display());
+        say!(
+            console,
+            "           {} (per-part estimates, standard errors)",
+            measured.estimates_csv.display()
+        );
         if let Some(placed) = &measured.placement {
-            super::wrote(&placed.csv);
+            console.wrote(&placed.csv);
             say!(
+                console,
                 "           {} (placement: {} parts and {} display patches, {} rows, {:.2} s)",
                 placed.csv.display(),
                 placed.parts,
@@ -336,8 +356,8 @@ fn run_unobstructed(
                 placed.seconds
             );
             if let Some(patches) = &placed.patches_csv {
-                super::wrote(patches);
-                say!("           {} (the display patches' footprints)", patches.display());
+                console.wrote(patches);
+                say!(console, "           {} (the display patches' footprints)", patches.display());
             }
         }
         Ok(())
@@ -346,27 +366,27 @@ fn run_unobstructed(
 }
 
 /// `--placement`, `--display`, `--patch-spacing` as the measure's options.
-fn placement_options(common: &Common) -> anyhow::Result<Option<ufcsr_capture::PlacementCandidates>> {
-    if !common.placement {
+fn placement_options(args: &CaptureArgs) -> anyhow::Result<Option<ufcsr_capture::PlacementCandidates>> {
+    if !args.placement {
         return Ok(None);
     }
-    let display_m = common.display.as_deref().map(ufcsr_capture::parse_display).transpose()?;
-    Ok(Some(ufcsr_capture::PlacementCandidates { display_m, spacing_m: common.patch_spacing }))
+    let display_m = args.display.as_deref().map(ufcsr_capture::parse_display).transpose()?;
+    Ok(Some(ufcsr_capture::PlacementCandidates { display_m, spacing_m: args.patch_spacing }))
 }
 
 /// For `--json`: the archive's files and the scenario's facts.
-fn record_archive(s: &Summary) {
+fn record_archive(s: &Summary, console: &Console) {
     for name in ["manifest.json", "pidt.png", "parts.csv", "palette.png", "vehicle.glb", "scene.glb"] {
         let path = s.out.join(name);
         if path.is_file() {
-            super::wrote(&path);
+            console.wrote(&path);
         }
     }
-    super::fact_item(
+    console.fact_item(
         "scenarios",
         serde_json::json!({
             "scenario": s.scenario,
-            "out": s.out,
+            "out": crate::console::shown(&s.out),
             "frames": s.frames,
             "seconds": s.seconds,
             "tiles": s.tiles,
@@ -384,10 +404,11 @@ enum Sink {
     Counted,
 }
 
-fn report(s: &Summary, sink: Sink) {
-    record_archive(s);
+fn report(s: &Summary, sink: Sink, console: &Console) {
+    record_archive(s, console);
     let work = if sink == Sink::Counted { "counting included, no PNGs" } else { "encoding included" };
     say!(
+        console,
         "scenario {}: {} frames in {:.2} s ({:.2} s setup; {:.2} frames/s, both eyes, {work}) → {}",
         s.scenario,
         s.frames,
@@ -401,6 +422,7 @@ fn report(s: &Summary, sink: Sink) {
         Sink::Counted => "counted from the readback, none written".to_string(),
     };
     say!(
+        console,
         "  tiles: {} total, {} rendered ({kept}), {} culled (outside the vehicle's bounds), {} background only, {} resumed",
         s.tiles,
         s.tally.rendered,
@@ -417,6 +439,7 @@ fn report(s: &Summary, sink: Sink) {
         s.tally.hidden
     );
     say!(
+        console,
         "  unwrap: {} triangles, {} parts, {:.1} texels/m² ({:.1} mm texels), {:.1}% of the palette used",
         s.triangles,
         s.parts,
@@ -429,22 +452,21 @@ fn report(s: &Summary, sink: Sink) {
     }
 }
 
-fn report_counted(counted: &CountedCapture) {
+fn report_counted(counted: &CountedCapture, console: &Console) {
     let result = &counted.analysis.result;
     say!(
+        console,
         "  counted: {} tiles, {:.1} Mpixels straight from the renderer (no PNGs); {} texels seen, grand total {}",
         result.images.decoded,
         counted.pixels_counted as f64 / 1e6,
         result.texels_seen,
         result.grand_total
     );
-    if !super::quiet() {
-        print!("{}", ufcsr::format_counted_table(result));
-    }
+    console.print(&ufcsr::format_counted_table(result));
     let out = counted.written.result_json.parent().unwrap_or(std::path::Path::new("."));
     for (n, file) in counted.written.all(out).iter().enumerate() {
-        super::wrote(file);
-        say!("  {}{}", if n == 0 { "results: " } else { "         " }, file.display());
+        console.wrote(file);
+        say!(console, "  {}{}", if n == 0 { "results: " } else { "         " }, file.display());
     }
-    super::fact_item("grand_totals", result.grand_total);
+    console.fact_item("grand_totals", result.grand_total);
 }
