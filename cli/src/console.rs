@@ -147,6 +147,7 @@ impl Console {
     }
 
     /// Text for people as it is, e.g. a table that ends in its own newline.
+    #[cfg_attr(not(feature = "capture"), allow(dead_code))] // the captures' tables
     pub fn print(&self, text: &str) {
         if self.style == Style::Text {
             self.write(text.as_bytes());
@@ -174,6 +175,7 @@ impl Console {
     }
 
     /// Records one entry of the list `key` (e.g. one per scenario).
+    #[cfg_attr(not(feature = "capture"), allow(dead_code))] // the captures' scenarios
     pub fn fact_item(&self, key: &str, value: impl Serialize) {
         let value = to_value(value);
         match self.record().facts.entry(key).or_insert_with(|| Value::Array(Vec::new())) {

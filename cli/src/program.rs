@@ -7,6 +7,10 @@
 //! one options model ([`Global`]), one `--json` design ([`Console`]), one
 //! exit-code map, one interrupt handler.
 
+// The command enums are parsed once per process: their size does not matter,
+// and boxing their variants would cost clap's derive its flattening.
+#![allow(clippy::large_enum_variant)]
+
 use std::ffi::OsString;
 use std::process::ExitCode;
 

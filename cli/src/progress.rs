@@ -24,6 +24,7 @@ impl Bar {
     }
 
     /// A capture's bar: tiles rendered.
+    #[cfg(feature = "capture")]
     pub fn capturing(console: &Console) -> Bar {
         Bar::new("capturing [{elapsed_precise}] {wide_bar} {pos}/{len} tiles ({per_sec}, eta {eta})", console)
     }
