@@ -8,9 +8,7 @@
 mod common;
 
 mod bad_input;
-mod colour_damage;
 mod doc_links;
-mod external_manifest;
 mod frames;
 mod fuzz_regressions;
 mod golden_example;
@@ -21,7 +19,6 @@ mod module_graph;
 mod order_and_saturation;
 mod placement;
 mod reliability;
-mod reliability_inputs;
 mod reliability_merge;
 mod scenario_map;
 mod schemas;

@@ -22,13 +22,16 @@ mod common {
 // The one front door (ufcsr and its two aliases).
 mod front_door;
 
-// The analyzer's command line.
+// The analyzer's command line (and the library tests beside them in their files).
 mod atomic_results;
 mod cli;
 mod cli_grammar;
+mod colour_damage;
 mod comparison_page;
+mod external_manifest;
 mod missing_vehicle;
 mod placement_pages;
+mod reliability_inputs;
 mod reliability_outputs;
 mod result_validation;
 

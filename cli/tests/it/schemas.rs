@@ -12,7 +12,7 @@ use std::process::Command;
 use serde_json::Value;
 
 #[path = "../../../docs/schemas/validator.rs"]
-mod validator;
+pub mod validator;
 
 use validator::{Schema, read_json};
 

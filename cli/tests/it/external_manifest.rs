@@ -19,7 +19,7 @@ use ufcsr::{AnalyzeOptions, Dedupe, analyze, write_results};
 const UNITY: &str = r"(?P<eye>Left|Right)_(?P<frame>\d+)_(?P<row>\d+)_(?P<col>\d+)\.png$";
 
 fn example() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example")
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example")
 }
 
 /// `ufcsr-analyze manifest ARGS` run in `cwd`.
@@ -104,7 +104,7 @@ fn unity_named_tiles_renamed_from_a_capture_give_the_captures_totals() {
     assert_eq!((summary["tiles"].as_u64(), summary["eye_frames"].as_u64()), (Some(500), Some(20)));
     assert_eq!(summary["grid_columns_rows"], serde_json::json!([5, 5]));
     let written = read_json(&unity.join("manifest.json"));
-    Schema::load(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/schemas/manifest.schema.json"))
+    Schema::load(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../docs/schemas/manifest.schema.json"))
         .assert_valid(&written, "the manifest of ufcsr-analyze manifest");
     assert_eq!(written["pidt"], "pidt.png", "relative to the manifest, not the working directory");
 
@@ -346,7 +346,7 @@ fn each_bad_input_is_refused_naming_the_file_and_the_problem() {
 #[test]
 fn the_schema_takes_a_partial_rig_only_from_manifests_without_a_capture_record() {
     let schema =
-        Schema::load(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/schemas/manifest.schema.json"));
+        Schema::load(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../docs/schemas/manifest.schema.json"));
     let mut external = serde_json::json!({
         "schema": "ufcsr-manifest/1",
         "tiles": [{"file": "f0000_left.png", "frame": 0, "eye": "left", "row": 0, "col": 0, "time_s": 0.0}],
