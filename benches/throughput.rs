@@ -545,6 +545,22 @@ fn counting_stage_against_decoding(options: &AnalyzeOptions, [decode_rate, own_r
     );
 }
 
+/// The `ufcsr-analyze` binary of the same profile (built by the command-line
+/// crate, which this bench's package cannot name: `scripts/bench.sh` builds it
+/// first with `cargo build --release -p ufcsr-cli`): beside `deps/`, where
+/// this bench runs from.
+fn analyzer_binary() -> PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    let profile_dir = exe.parent().and_then(Path::parent).unwrap();
+    let binary = profile_dir.join(format!("ufcsr-analyze{}", std::env::consts::EXE_SUFFIX));
+    assert!(
+        binary.is_file(),
+        "{} is missing: build it first (cargo build --release -p ufcsr-cli, as scripts/bench.sh does)",
+        binary.display()
+    );
+    binary
+}
+
 /// The whole `ufcsr-analyze` process (default options, result set
 /// written) against a whole process that decodes the same tiles and nothing
 /// else, alternated, 3 pairs; median of the pairs' ratios. Peak memory from
@@ -555,7 +571,7 @@ fn whole_processes(archive: &Path, files: &[PathBuf], scratch: &Path) {
     std::fs::write(&list, names.join("\n")).unwrap();
     let out = scratch.join("results");
     let ufcsr = [
-        env!("CARGO_BIN_EXE_ufcsr-analyze").to_string(),
+        analyzer_binary().display().to_string(),
         archive.display().to_string(),
         "--out".into(),
         out.display().to_string(),

@@ -23,12 +23,14 @@ for arg in "$@"; do
 done
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
+# The binaries (ufcsr-analyze for the whole-process figures, ufcsr-capture
+# for the capture) come from the command-line crate.
+cargo build --release -q -p ufcsr-cli
 if [[ $capture == 1 ]]; then
-    cargo build --release -q -p ufcsr-capture
     export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$work}"
     "${CARGO_TARGET_DIR:-target}/release/ufcsr-capture" demo --scenario A --out "$work/A" -q > /dev/null
     # The generated archive first, then the capture.
-    cargo bench --bench throughput -- "${args[@]}" --also "$work/A"
+    cargo bench -p ufcsr --bench throughput -- "${args[@]}" --also "$work/A"
 else
-    cargo bench --bench throughput -- "${args[@]}"
+    cargo bench -p ufcsr --bench throughput -- "${args[@]}"
 fi

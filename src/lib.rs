@@ -40,8 +40,6 @@ pub use count::{
 };
 pub use describe::{DEFAULT_PATTERN, DescribeOptions, Described, describe, parse_fov};
 pub use error::{Error, Result};
-#[cfg(feature = "cli")]
-pub use files::remove_temporaries_on_interrupt;
 pub use files::{
     GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, PngEncoding, SMALL_INPUT_LIMIT, check_accessors,
     check_coordinates, encode_rgb_png, parse_gltf, read_gltf, read_limited, real_dir,
@@ -58,8 +56,6 @@ pub use output::{
     write_comparison, write_heatmap, write_parts_csv, write_results, write_results_with, write_scenario_map,
     write_scene_glb, write_views, write_views_with,
 };
-#[cfg(feature = "cli")]
-pub use output::{Shell, print_completions, write_man_pages};
 pub use placement::report::{WrittenPlacement, format_placement};
 pub use placement::{
     CandidateKind, CandidateSummary, Combination, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Mark, Method,

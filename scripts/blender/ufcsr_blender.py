@@ -6,7 +6,7 @@ archive describes itself (``manifest.json`` with every frame's vehicle pose and 
 and projection, ``vehicle.glb`` with the palette, ``scene.glb`` with the occluders, ``pidt.png``,
 ``parts.csv``), so Blender can render the very same frames. The result is an archive that
 ``ufcsr-analyze OUT`` reads alone -- tiles, manifest with rig, fps, pixels per degree, projection,
-poses, PIdT and legend -- and that ``tests/external/blender.rs`` holds to ufcsr-capture's own.
+poses, PIdT and legend -- and that ``cli/tests/external/blender.rs`` holds to ufcsr-capture's own.
 
 The colour recipe (docs/guide.md, "Unity and Blender captures") keeps every palette colour
 unchanged on its way to the PNG: palette image ``sRGB`` with view transform ``Standard``, look

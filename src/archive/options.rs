@@ -23,7 +23,6 @@ pub enum PaletteChoice {
 
 /// What one count means.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Dedupe {
     /// A texel counts once per image (tile) that shows it.
@@ -147,7 +146,6 @@ pub const MEASURE_PIXELS: &str = "pixels";
 
 /// How counts map onto the colormap.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "lowercase")]
 pub enum Scale {
     /// `count / max`.

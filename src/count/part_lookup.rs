@@ -15,8 +15,8 @@ use crate::archive::palette::Fcsp;
 use crate::color::COLOR_COUNT;
 use crate::color::sets::{SeenSet, key_color};
 use crate::count::slot_table::SlotTable;
-use crate::png::rows::PixelLayout;
 use crate::optics::solid_angle::{RowWeights, TileView};
+use crate::png::rows::PixelLayout;
 use crate::simd::SlotSpans;
 
 /// The part name used for texels whose PIdT colour is in no legend entry.

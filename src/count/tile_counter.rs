@@ -23,8 +23,8 @@ use crate::count::part_lookup::{PartLookup, PartPixels};
 use crate::count::scan::{Classifier, ImageTally, PixelClass};
 use crate::count::scan::{PartRows, row_scan};
 use crate::error::{Error, Result};
-use crate::png::rows::PixelLayout;
 use crate::optics::solid_angle::{EyeProjection, TileView};
+use crate::png::rows::PixelLayout;
 
 /// One tile handed to [`TileCounter::count_tile`].
 #[derive(Debug, Clone, Copy)]

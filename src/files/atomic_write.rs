@@ -96,20 +96,6 @@ fn remove_path(path: &Path) -> bool {
     false
 }
 
-/// For the binaries: on SIGINT/SIGTERM, remove this process's temporary files
-/// and staging folders (previous outputs stay whole), say so, and exit 130.
-#[cfg(feature = "cli")]
-pub fn remove_temporaries_on_interrupt() {
-    let installed = ctrlc::set_handler(|| {
-        let removed = remove_temporaries();
-        eprintln!("interrupted: {removed} temporary files removed; earlier outputs are untouched");
-        std::process::exit(130);
-    });
-    if let Err(error) = installed {
-        eprintln!("warning: no interrupt handler ({error}); an interrupted run may leave temporary files");
-    }
-}
-
 /// Staging folders are named `.ufcsr-staging-<pid>-<n>`.
 const STAGING_PREFIX: &str = ".ufcsr-staging-";
 

@@ -13,8 +13,6 @@ mod model_input;
 mod output_guard;
 mod png_encode;
 
-#[cfg(feature = "cli")]
-pub use atomic_write::remove_temporaries_on_interrupt;
 pub use atomic_write::{
     Staging, interrupted_commit, remove_on_interrupt, remove_stale_staging, remove_temporaries,
     write_atomically, write_bytes_atomically,

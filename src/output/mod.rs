@@ -4,11 +4,8 @@
 //! vehicle model with it (`heatmap.glb`, the archive's [`crate::VehicleModel`]
 //! with the heatmap as its texture), the eight views (drawn with the CPU
 //! rasterizer [`raster`], which the capture's inspect pictures share), the
-//! plots and the HTML pages ([`html`]); with the `cli` feature, shell
-//! completions and man pages for both binaries.
+//! plots and the HTML pages ([`html`]).
 
-#[cfg(feature = "cli")]
-pub(crate) mod command_docs;
 pub(crate) mod console_table;
 pub(crate) mod csv;
 pub(crate) mod frame_strip;
@@ -24,8 +21,6 @@ pub(crate) mod scene_model;
 pub(crate) mod view_sheet;
 pub(crate) mod written_files;
 
-#[cfg(feature = "cli")]
-pub use command_docs::{Shell, print_completions, write_man_pages};
 pub use console_table::{format_counted_table, format_table};
 pub use csv::{CsvStyle, csv_field, write_parts_csv};
 pub use frame_strip::{FRAME_STRIP_FILE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED};

@@ -53,7 +53,6 @@ pub const DECISION_WINDOW_SOURCE: &str = "about the HCM pedestrian critical head
 
 /// Which eyes must read a candidate for a frame to count.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum EyeRule {
     /// Either eye (the default).
     Any,

@@ -148,8 +148,3 @@ pub fn failure(options: &ufcsr::AnalyzeOptions) -> String {
         Err(error) => error.to_string(),
     }
 }
-
-/// Path of the built `ufcsr-analyze` binary.
-pub fn analyzer() -> std::process::Command {
-    std::process::Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
-}

@@ -102,7 +102,6 @@ pub fn transform_point(m: &DMat4, p: DVec3) -> DVec4 {
 
 /// Where to run the exact measure.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum MeasureDevice {
     /// Every core of the CPU (the reference).
     Cpu,

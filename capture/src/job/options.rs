@@ -9,15 +9,12 @@ use crate::texture::pidt::own::OwnLabelFiles;
 
 /// PNG compression of tiles.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Compression {
     Fastest,
     /// The default: much faster to encode than `balanced`, for somewhat larger files.
     #[default]
     Fast,
-    #[cfg_attr(feature = "cli", value(alias = "default"))]
     Balanced,
-    #[cfg_attr(feature = "cli", value(alias = "best"))]
     High,
 }
 
@@ -36,7 +33,6 @@ impl Compression {
 /// the time of the Paeth rows an adaptive encoder picks (issue 22; figures in
 /// `docs/performance.md`), so tiles are Up-filtered unless asked otherwise.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum TileFilter {
     /// Every row Up-filtered: fast to decode, a little larger.
     #[default]

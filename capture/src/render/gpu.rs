@@ -31,18 +31,15 @@ pub struct Gpu {
 
 /// Which backend to try.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum Backend {
     /// Vulkan, then GL.
     #[default]
     Auto,
-    #[cfg_attr(feature = "cli", value(alias = "vk"))]
     Vulkan,
-    #[cfg_attr(feature = "cli", value(aliases = ["gles", "opengl"]))]
     Gl,
 }
 
-// Parsing text stays for the `UFCSR_BACKEND` variable, which clap never sees.
+// Parsing text is for the `UFCSR_BACKEND` variable (the command line has its own choice).
 
 impl std::str::FromStr for Backend {
     type Err = CaptureError;

@@ -328,7 +328,6 @@ pub fn scenario(name: &str) -> Option<Scenario> {
 /// Traffic for the demo (`ufcsr-capture demo --traffic`): a second pickup,
 /// the truck's twin, driving with the truck.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum DemoTraffic {
     /// Beside the truck, [`ADJACENT_LANE_M`] to the side of the pedestrian
     /// and [`ADJACENT_LANE_AHEAD_M`] ahead (the multiple-threat crossing:

@@ -33,7 +33,6 @@ use crate::scene::Scene;
 
 /// What a study compares.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 #[serde(rename_all = "kebab-case")]
 pub enum StudyMeasure {
     /// The paper's count, once per eye-frame (texels seen per eye-frame) ↔

@@ -1,8 +1,7 @@
 //! The observer study against known answers: each observer of two facing
 //! plates sees their analytic solid angle from where it stands, the summary
-//! is the mean over the observers, and the command line writes its tables.
-
-use std::process::Command;
+//! is the mean over the observers (the command line's test is in
+//! `cli/tests/it/observers_command.rs`).
 
 use ufcsr_capture::{
     CaptureOptions, ObserverOptions, ValueOrTrack, run_observer_study, write_observer_study,
@@ -68,33 +67,4 @@ fn each_observer_sees_the_plates_analytic_solid_angle_from_where_it_stands() {
     assert_eq!(rows.lines().count(), 1 + 4 * 2);
     let parts = std::fs::read_to_string(dir.path().join("observer-parts.csv")).unwrap();
     assert_eq!(parts.lines().count(), 1 + 2);
-}
-
-#[test]
-fn the_observers_command_writes_its_tables_and_names_a_bad_kerb() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("observers");
-    let run = |extra: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
-            .args(["observers", "demo", "--scenario", "A", "--ppd", "2", "--palette-size", "128"])
-            .args(["--frame-step", "90", "--heights", "2", "--out"])
-            .arg(&out)
-            .args(extra)
-            .env("XDG_RUNTIME_DIR", dir.path())
-            .output()
-            .unwrap()
-    };
-    let output = run(&["--kerb", "-6.5,-4.5:-4.5,-6.5", "--positions", "2"]);
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    assert!(output.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&output.stderr));
-    assert!(stdout.contains("4 observers") && stdout.contains("angular area"), "{stdout}");
-    for file in ["observers.json", "observers.csv", "observer-parts.csv"] {
-        assert!(out.join(file).is_file(), "{file}");
-    }
-    let bad = run(&["--kerb", "-6.5,-4.5"]);
-    assert_eq!(bad.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&bad.stderr).contains("--kerb"));
-    let no_kerb = run(&["--positions", "3"]);
-    assert_ne!(no_kerb.status.code(), Some(0));
-    assert!(String::from_utf8_lossy(&no_kerb.stderr).contains("--kerb"));
 }

@@ -1,0 +1,109 @@
+//! `ufcsr placement` (`ufcsr-analyze placement`): the command line of the
+//! eHMI placement search (docs/placement.md), a page of options of its own
+//! beside the other commands' (`args`), sharing their `--quiet`/`--json`/`-j`
+//! words.
+
+use std::path::PathBuf;
+
+use anyhow::Result;
+use clap::Args;
+
+use super::run::{Done, finish};
+use crate::choices::EyeRule;
+use crate::console::{Completion, Console};
+
+/// Options of `ufcsr-analyze placement`.
+#[derive(Args)]
+pub struct PlacementArgs {
+    /// Result folders of `ufcsr-capture … --measure unobstructed --placement` (or archives, or their
+    /// placement-frames.csv); several: scenarios or traffic conditions, scored by mean and worst case.
+    #[arg(required = true)]
+    results: Vec<PathBuf>,
+
+    /// Sets of 1 to K placements are searched.
+    #[arg(long, default_value_t = 3)]
+    k: usize,
+
+    /// Legible only when the visible angular height reaches this, arcmin (default: ISO 9241-3's
+    /// minimum character height, 16; MUTCD's road-sign 1 in per 40 ft is 7.16).
+    #[arg(long, default_value_t = ufcsr::Thresholds::default().min_angular_height_arcmin)]
+    min_angular_height_arcmin: f64,
+
+    /// Legible only when at least this share of the candidate's area is visible (0-1).
+    #[arg(long, default_value_t = ufcsr::Thresholds::default().min_visible_fraction)]
+    min_visible_fraction: f64,
+
+    /// Legible only when the mean angle between line of sight and surface normal is at most this, degrees.
+    #[arg(long, default_value_t = ufcsr::Thresholds::default().max_view_angle_deg)]
+    max_view_angle_deg: f64,
+
+    /// Seconds before the vehicle is nearest the pedestrian that count as the decision window.
+    #[arg(long, default_value_t = ufcsr::Thresholds::default().decision_window_s)]
+    decision_window_s: f64,
+
+    /// A frame is legible when either eye (`any`) or both (`both`) can read the candidate.
+    #[arg(long, value_enum, default_value_t = EyeRule::Any)]
+    eyes: EyeRule,
+
+    /// The solid-angle rule instead of the three thresholds: legible when the visible solid angle
+    /// reaches this many steradians; needed to score a rendered frames.csv (solid angles only) and
+    /// to compare it with the exact measure (docs/placement.md §5).
+    #[arg(long, value_name = "SR")]
+    min_solid_angle_sr: Option<f64>,
+
+    /// A left/right pair (front_fender_left + front_fender_right, mirrored patches) is one choice.
+    #[arg(long)]
+    symmetric: bool,
+
+    /// The vehicle model the chosen placements are drawn on (placement.png); default: the first
+    /// archive's vehicle.glb (written by ufcsr-capture).
+    #[arg(long, value_name = "GLB")]
+    mesh: Option<PathBuf>,
+
+    /// Output folder for placement.json, placement.csv and placement-combinations.csv.
+    #[arg(long, short, value_name = "DIR")]
+    out: PathBuf,
+
+    /// Candidates shown on the console.
+    #[arg(long, default_value_t = 15)]
+    top: usize,
+}
+
+/// Runs the search and writes its files.
+pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completion> {
+    let options = ufcsr::PlacementOptions {
+        thresholds: ufcsr::Thresholds {
+            min_angular_height_arcmin: args.min_angular_height_arcmin,
+            min_visible_fraction: args.min_visible_fraction,
+            max_view_angle_deg: args.max_view_angle_deg,
+            decision_window_s: args.decision_window_s,
+            eyes: args.eyes.into(),
+            min_solid_angle_sr: args.min_solid_angle_sr,
+        },
+        k: args.k,
+        symmetric: args.symmetric,
+        mesh: args.mesh,
+        ..ufcsr::PlacementOptions::new(args.results)
+    };
+    let placement = ufcsr::placement(&options)?;
+    let written = ufcsr::write_placement(&placement, &args.out)?;
+    let picture = match &written.picture {
+        Some(picture) => format!("\nthe chosen placements on the vehicle: {}", picture.overview.display()),
+        None => "\nno vehicle model (no vehicle.glb in the archive): give --mesh for placement.png".into(),
+    };
+    let text = format!(
+        "{}\nwrote {}, {} and {}{picture}",
+        ufcsr::format_placement(&placement, args.top).trim_end(),
+        written.json.display(),
+        written.csv.display(),
+        written.combinations_csv.display()
+    );
+    let mut files = vec![written.json.clone(), written.csv.clone(), written.combinations_csv.clone()];
+    files.extend(
+        written.picture.iter().flat_map(|p| std::iter::once(p.overview.clone()).chain(p.views.clone())),
+    );
+    Ok(finish(
+        console,
+        Done { completion: Completion::Done, written: files, text, facts: serde_json::json!({}) },
+    ))
+}

@@ -1,0 +1,472 @@
+//! The captures (`demo`, `scene`, `unity`): their arguments ([`CaptureArgs`]) and
+//! [`run_capture`] (and [`run_demo_with_traffic`] for `demo --traffic`), which builds the options, creates the device and runs the
+//! capture to PNG tiles, the fused count (`--count`) or the exact measure
+//! (`--measure unobstructed`), then prints what each scenario gave.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use anyhow::Context;
+use clap::{Args, ValueEnum};
+use ufcsr_capture::{
+    CaptureOptions, CaptureProgress, CountedCapture, DemoTraffic, FrameSelection, Gpu, OwnLabelFiles, Scene,
+    Summary, parse_palette_size,
+};
+
+use crate::choices::{Backend, Compression, Dedupe, MeasureDevice, TileFilter};
+use crate::console::{Console, say};
+use crate::progress::Bar;
+
+/// What `--measure` counts instead of rendered pixels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub enum Measure {
+    /// Per texel, the eye-frames in which its point is in view, faces the eye and is not hidden
+    /// (exact ray casts).
+    Unobstructed,
+}
+
+/// What a capture records, and how: the options of `demo`, `scene` and `unity`.
+#[derive(Args, Clone)]
+pub struct CaptureArgs {
+    /// Output folder (one archive; with --scenario all, one sub-folder per scenario).
+    #[arg(long, default_value = "archive")]
+    out: PathBuf,
+    /// Scenario name, or `all` (default: the first, A for the demo).
+    #[arg(long)]
+    scenario: Option<String>,
+    /// Pixels per degree (60 = the paper's 6420×8100 per eye); rounded to whole tiles.
+    #[arg(long)]
+    ppd: Option<f64>,
+    /// Rig overrides as JSON, e.g. '{"eye_height_m": 1.6, "pedestrian": [-6, -6, 0]}' (applied before --ppd).
+    #[arg(long, value_name = "JSON")]
+    rig: Option<String>,
+    /// Canonical palette size, W or WxH (default 4096).
+    #[arg(long, value_name = "W|WxH", default_value = "4096")]
+    palette_size: String,
+    /// An external palette PNG (unique colours) instead of the canonical palette.
+    #[arg(long, value_name = "PNG")]
+    palette: Option<PathBuf>,
+    /// Keep the mesh's own UVs (checked to be unique and non-overlapping).
+    #[arg(long)]
+    keep_uvs: bool,
+    /// With --keep-uvs: a PIdT painted for the mesh's own UVs (e.g. in Blender), used as is.
+    #[arg(long, value_name = "PNG", requires_all = ["keep_uvs", "parts"])]
+    pidt: Option<PathBuf>,
+    /// The legend (name,color CSV or JSON) of --pidt.
+    #[arg(long, value_name = "FILE", requires = "pidt")]
+    parts: Option<PathBuf>,
+    /// Frames to capture: `all` or a list like 0,30,60-90/10.
+    #[arg(long, default_value = "all")]
+    frames: String,
+    /// Tile PNG compression.
+    #[arg(long, value_enum, default_value_t = Compression::Fast)]
+    png_compression: Compression,
+    /// Tile PNG row filter: `up` decodes about twice as fast as `adaptive` (mostly Paeth).
+    #[arg(long, value_enum, default_value_t = TileFilter::Up)]
+    tile_filter: TileFilter,
+    /// Skip tiles already on disk (readable PNGs of the tile size; others are rendered again).
+    #[arg(long)]
+    resume: bool,
+    /// Write rendered tiles even when they are pure background.
+    #[arg(long)]
+    keep_background_tiles: bool,
+    /// Render every tile, even those the vehicle's projected bounds do not touch.
+    #[arg(long)]
+    no_cull: bool,
+    /// Render whole tiles: no scissor to the vehicle's projected bounds, no skipping of
+    /// tiles occluders hide (same tiles either way; for benchmarks and checks).
+    #[arg(long)]
+    no_scissor: bool,
+    /// GPU backend: auto (Vulkan, then GL; UFCSR_BACKEND overrides auto), vulkan or gl.
+    #[arg(long, value_enum, default_value_t = Backend::Auto)]
+    backend: Backend,
+    /// Count each rendered tile straight from the GPU readback with the analyzer (no PNGs):
+    /// writes the manifest, PIdT, legend and the analyzer's results/ (same result.json as
+    /// capturing PNGs and running `ufcsr-analyze --trim off`).
+    #[arg(long)]
+    count: bool,
+    /// With --count: what one count means, image (once per tile), frame (once per eye-frame) or
+    /// eye-pair (once per frame over both eyes).
+    #[arg(long, value_enum, default_value_t = Dedupe::Image, requires = "count")]
+    dedupe: Dedupe,
+    /// With --count: size of the heatmap views in results/, each 400×300 pixels times this (1–8).
+    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE, requires = "count",
+          value_parser = clap::value_parser!(u32).range(1..=8))]
+    views_scale: u32,
+    /// `unobstructed`: instead of rendering pixels, count per texel the eye-frames in which its
+    /// point is in view, faces the eye and is not hidden (exact ray casts; writes results/).
+    #[arg(long, value_enum)]
+    measure: Option<Measure>,
+    /// With --measure unobstructed: the share of texels to measure, e.g. 1/16 or 0.25 (seeded).
+    #[arg(long, default_value = "1", requires = "measure")]
+    sample: String,
+    /// Seed of the texel sample.
+    #[arg(long, default_value_t = 1, requires = "measure")]
+    seed: u64,
+    /// With --measure unobstructed: K, each texel's footprint is sampled on K×K sub-cells (a texel
+    /// counts when any sample is visible; the solid angle sums them). 1: one sample per texel piece.
+    #[arg(long, default_value_t = ufcsr_capture::DEFAULT_TEXEL_SAMPLES, requires = "measure")]
+    texel_samples: u32,
+    /// Where the unobstructed measure runs: cpu (every core; the reference) or gpu (wgpu compute
+    /// in f64; needs SHADER_F64, which Mesa's lavapipe and data-centre GPUs have).
+    #[arg(long, value_enum, default_value_t = MeasureDevice::Cpu, requires = "measure")]
+    measure_on: MeasureDevice,
+    /// With --measure unobstructed: also measure every part as a candidate eHMI placement (and,
+    /// with --display, display patches): writes results/placement-frames.csv for
+    /// `ufcsr-analyze placement` (docs/placement.md). Runs on the CPU; about doubles the ray casts.
+    #[arg(long, requires = "measure")]
+    placement: bool,
+    /// With --placement: candidate display patches of this size, width x height in metres (e.g.
+    /// 0.40x0.15), centred every --patch-spacing over the outward-facing surface.
+    #[arg(long, value_name = "WxH", requires = "placement")]
+    display: Option<String>,
+    /// With --display: how far apart candidate patch centres are, metres.
+    #[arg(long, value_name = "M", default_value_t = ufcsr_capture::DEFAULT_PATCH_SPACING_M, requires = "display")]
+    patch_spacing: f64,
+    /// Render only shard I of N (0 ≤ I < N) of the selected frames into --out, with the other
+    /// shards; then `ufcsr-capture assemble OUT`. `auto`: from the job array (SLURM_ARRAY_TASK_ID
+    /// and _COUNT, or JOB_COMPLETION_INDEX / AWS_BATCH_JOB_ARRAY_INDEX with UFCSR_SHARD_COUNT).
+    #[arg(long, value_name = "I/N|auto")]
+    shard: Option<String>,
+}
+
+/// `I/N`, or `auto`: the job array's index (an error outside one). Unlike the
+/// analyzer, the capture does not read a job array unasked: batch tasks run as
+/// array tasks too, each a whole capture.
+fn parse_shard(text: &str) -> anyhow::Result<ufcsr::Shard> {
+    if text == "auto" {
+        return ufcsr::Shard::from_job_array(|name| std::env::var(name).ok())?.context(
+            "--shard auto: no job array index in the environment (SLURM_ARRAY_TASK_ID, JOB_COMPLETION_INDEX \
+             or AWS_BATCH_JOB_ARRAY_INDEX)",
+        );
+    }
+    Ok(text.parse()?)
+}
+
+/// `1/16`, `0.25` or `1`.
+pub fn parse_fraction(text: &str) -> anyhow::Result<f64> {
+    let value = match text.split_once('/') {
+        Some((a, b)) => a.trim().parse::<f64>()? / b.trim().parse::<f64>()?,
+        None => text.trim().parse::<f64>()?,
+    };
+    anyhow::ensure!(value > 0.0 && value <= 1.0, "--sample {text}: must be a fraction in (0, 1]");
+    Ok(value)
+}
+
+/// A capture of `scene` as `args` say: to PNG tiles, counted (`--count`)
+/// or measured (`--measure`), one scenario or all.
+pub fn run_capture(
+    mut scene: Scene,
+    args: &CaptureArgs,
+    threads: usize,
+    console: &Console,
+) -> anyhow::Result<()> {
+    for warning in &scene.warnings {
+        eprintln!("warning: {warning}");
+    }
+    if let Some(json) = &args.rig {
+        scene.rig = scene.rig.override_with(json)?;
+    }
+    if let Some(ppd) = args.ppd {
+        scene.rig.set_pixels_per_degree(ppd)?;
+    }
+    let options = capture_options(args, threads, console)?;
+    let all = args.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
+    let names = scenario_names(&scene, args.scenario.as_deref())?;
+    let gpu = Gpu::create(args.backend.into()).context("creating the GPU device")?;
+    eprintln!("adapter: {}", gpu.describe());
+    describe_rig(&scene, &options);
+    if let Some(Measure::Unobstructed) = args.measure {
+        return run_unobstructed(&gpu, &scene, &names, all, &options, args, console);
+    }
+    if args.count {
+        let dedupe = args.dedupe.into();
+        ufcsr_capture::for_each_scenario(&scene, &names, all, &options, |scenario, options| {
+            let counted =
+                ufcsr_capture::capture_counted(&gpu.device, &gpu.queue, &scene, scenario, options, dedupe)?;
+            report(&counted.summary, Sink::Counted, console);
+            report_counted(&counted, console);
+            Ok(())
+        })?;
+        return Ok(());
+    }
+    let summaries = ufcsr_capture::capture_all(&gpu.device, &gpu.queue, &scene, &names, all, &options)?;
+    for summary in &summaries {
+        report(summary, Sink::Png, console);
+        if let Some(shard) = options.shard {
+            say!(
+                console,
+                "  shard {shard}: wrote its part of the manifest; once every shard has finished, run \
+                 `ufcsr-capture assemble {}`",
+                summary.out.display()
+            );
+        }
+    }
+    Ok(())
+}
+
+/// `demo --traffic`: each selected scenario with the truck's twin in
+/// traffic (its side depends on the scenario), one capture each, into
+/// `--out` or, with `--scenario all`, `--out/NAME`.
+pub fn run_demo_with_traffic(
+    traffic: DemoTraffic,
+    args: &CaptureArgs,
+    threads: usize,
+    console: &Console,
+) -> anyhow::Result<()> {
+    let all = args.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
+    for name in scenario_names(&Scene::demo(), args.scenario.as_deref())? {
+        let scene = Scene::demo_with_traffic(traffic, &name)?;
+        let out = if all { args.out.join(&name) } else { args.out.clone() };
+        run_capture(scene, &CaptureArgs { out, scenario: Some(name), ..args.clone() }, threads, console)?;
+    }
+    Ok(())
+}
+
+/// The library's options from the command line's.
+/// `threads`: PNG encoders (0: one per core).
+fn capture_options(args: &CaptureArgs, threads: usize, console: &Console) -> anyhow::Result<CaptureOptions> {
+    Ok(CaptureOptions {
+        out: args.out.clone(),
+        palette: parse_palette_size(&args.palette_size)?,
+        palette_file: args.palette.clone(),
+        keep_uvs: args.keep_uvs,
+        own_labels: match (args.pidt.clone(), args.parts.clone()) {
+            (Some(pidt), Some(parts)) => Some(OwnLabelFiles { pidt, parts }),
+            _ => None,
+        },
+        frames: args.frames.parse::<FrameSelection>()?,
+        compression: args.png_compression.into(),
+        tile_filter: args.tile_filter.into(),
+        resume: args.resume,
+        keep_background_tiles: args.keep_background_tiles,
+        no_cull: args.no_cull,
+        no_scissor: args.no_scissor,
+        progress: if console.quiet() {
+            CaptureProgress::default()
+        } else {
+            CaptureProgress::to(Arc::new(Bar::capturing(console)))
+        },
+        encoder_threads: threads,
+        shard: args.shard.as_deref().map(parse_shard).transpose()?,
+        views_scale: args.views_scale,
+    })
+}
+
+/// The scenarios `--scenario` names: one, `all`, or (without it) the first.
+fn scenario_names(scene: &Scene, scenario: Option<&str>) -> anyhow::Result<Vec<String>> {
+    Ok(match scenario {
+        Some(all) if all.eq_ignore_ascii_case("all") => {
+            scene.scenarios.iter().map(|s| s.name.clone()).collect()
+        }
+        Some(name) => vec![scene.scenario(name)?.name.clone()],
+        None => scene.scenarios.iter().take(1).map(|s| s.name.clone()).collect(),
+    })
+}
+
+/// On stderr: the eye's pixels and tiles, the resolution and the palette.
+fn describe_rig(scene: &Scene, options: &CaptureOptions) {
+    let rig = &scene.rig;
+    eprintln!(
+        "eye {}×{} px in {}×{} tiles of {}×{}, {:.2} px/°, palette {}",
+        rig.eye_pixels[0],
+        rig.eye_pixels[1],
+        rig.tiles[0],
+        rig.tiles[1],
+        rig.tile_pixels()[0],
+        rig.tile_pixels()[1],
+        rig.pixels_per_degree(),
+        match &options.palette_file {
+            Some(file) => file.display().to_string(),
+            None => format!("{}×{} (canonical)", options.palette[0], options.palette[1]),
+        }
+    );
+}
+
+/// `--measure unobstructed`: the exact measure of each scenario, printed.
+fn run_unobstructed(
+    gpu: &Gpu,
+    scene: &Scene,
+    names: &[String],
+    all: bool,
+    options: &CaptureOptions,
+    args: &CaptureArgs,
+    console: &Console,
+) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        options.shard.is_none(),
+        "--measure unobstructed with --shard is not supported: sample fewer texels (--sample) instead"
+    );
+    let sample = parse_fraction(&args.sample)?;
+    let placement = placement_options(args)?;
+    ufcsr_capture::for_each_scenario(scene, names, all, options, |scenario, options| {
+        let measured = ufcsr_capture::measure_unobstructed(
+            &gpu.device,
+            &gpu.queue,
+            scene,
+            scenario,
+            options,
+            &ufcsr_capture::MeasureOptions {
+                sample,
+                seed: args.seed,
+                texel_samples: args.texel_samples,
+                on: args.measure_on.into(),
+                placement,
+            },
+        )?;
+        say!(
+            console,
+            "scenario {}: unobstructed measure of {} of {} texels ({} surface samples) over {} eye-frames in {:.2} s",
+            scenario.name,
+            measured.sampled_texels,
+            measured.labelled_texels,
+            measured.surface_samples,
+            measured.eye_frames,
+            measured.seconds
+        );
+        say!(
+            console,
+            "  ray casts: {:.2} s, {:.3e} sample-eye-frame tests per second (each up to two segment queries)",
+            measured.visibility_seconds,
+            (measured.surface_samples * measured.eye_frames) as f64 / measured.visibility_seconds.max(1e-9)
+        );
+        console.print(&ufcsr::format_table(&measured.analysis.result));
+        let out = measured.written.result_json.parent().unwrap_or(std::path::Path::new("."));
+        measured.written.all(out).iter().for_each(|file| console.wrote(file));
+        console.wrote(&measured.estimates_csv);
+        console.fact_item("grand_totals", measured.analysis.result.grand_total);
+        for warning in &measured.analysis.result.warnings {
+            eprintln!("  warning: {warning}");
+        }
+        say!(console, "  results: {}", measured.written.result_json.display());
+        say!(
+            console,
+            "           {} (per-part estimates, standard errors)",
+            measured.estimates_csv.display()
+        );
+        if let Some(placed) = &measured.placement {
+            console.wrote(&placed.csv);
+            say!(
+                console,
+                "           {} (placement: {} parts and {} display patches, {} rows, {:.2} s)",
+                placed.csv.display(),
+                placed.parts,
+                placed.patches,
+                placed.rows,
+                placed.seconds
+            );
+            if let Some(patches) = &placed.patches_csv {
+                console.wrote(patches);
+                say!(console, "           {} (the display patches' footprints)", patches.display());
+            }
+        }
+        Ok(())
+    })?;
+    Ok(())
+}
+
+/// `--placement`, `--display`, `--patch-spacing` as the measure's options.
+fn placement_options(args: &CaptureArgs) -> anyhow::Result<Option<ufcsr_capture::PlacementCandidates>> {
+    if !args.placement {
+        return Ok(None);
+    }
+    let display_m = args.display.as_deref().map(ufcsr_capture::parse_display).transpose()?;
+    Ok(Some(ufcsr_capture::PlacementCandidates { display_m, spacing_m: args.patch_spacing }))
+}
+
+/// For `--json`: the archive's files and the scenario's facts.
+fn record_archive(s: &Summary, console: &Console) {
+    for name in ["manifest.json", "pidt.png", "parts.csv", "palette.png", "vehicle.glb", "scene.glb"] {
+        let path = s.out.join(name);
+        if path.is_file() {
+            console.wrote(&path);
+        }
+    }
+    console.fact_item(
+        "scenarios",
+        serde_json::json!({
+            "scenario": s.scenario,
+            "out": crate::console::shown(&s.out),
+            "frames": s.frames,
+            "seconds": s.seconds,
+            "tiles": s.tiles,
+            "tiles_rendered": s.tally.rendered,
+            "tiles_written": s.tally.written,
+            "tiles_culled": s.tally.culled,
+        }),
+    );
+}
+
+/// Where a capture's tiles went: PNG files, or counted from the readback.
+#[derive(Clone, Copy, PartialEq)]
+enum Sink {
+    Png,
+    Counted,
+}
+
+fn report(s: &Summary, sink: Sink, console: &Console) {
+    record_archive(s, console);
+    let work = if sink == Sink::Counted { "counting included, no PNGs" } else { "encoding included" };
+    say!(
+        console,
+        "scenario {}: {} frames in {:.2} s ({:.2} s setup; {:.2} frames/s, both eyes, {work}) → {}",
+        s.scenario,
+        s.frames,
+        s.seconds,
+        s.setup_seconds,
+        s.frames_per_second(),
+        s.out.display()
+    );
+    let kept = match sink {
+        Sink::Png => format!("{} written", s.tally.written),
+        Sink::Counted => "counted from the readback, none written".to_string(),
+    };
+    say!(
+        console,
+        "  tiles: {} total, {} rendered ({kept}), {} culled (outside the vehicle's bounds), {} background only, {} resumed",
+        s.tiles,
+        s.tally.rendered,
+        s.tally.culled,
+        s.tally.background,
+        s.tally.resumed
+    );
+    // On stderr: how the run was done, not what it found.
+    eprintln!(
+        "  left out: {} of the {} pixels of tiles the vehicle's bounds touch ({:.1}%, scissor), {} tiles hidden by occluders (not rendered)",
+        s.tally.pixels_scissored,
+        s.pixels,
+        if s.pixels > 0 { s.tally.pixels_scissored as f64 * 100.0 / s.pixels as f64 } else { 0.0 },
+        s.tally.hidden
+    );
+    say!(
+        console,
+        "  unwrap: {} triangles, {} parts, {:.1} texels/m² ({:.1} mm texels), {:.1}% of the palette used",
+        s.triangles,
+        s.parts,
+        s.texels_per_m2,
+        1000.0 / s.texels_per_m2.sqrt(),
+        s.palette_share * 100.0
+    );
+    for warning in &s.warnings {
+        eprintln!("  warning: {warning}");
+    }
+}
+
+fn report_counted(counted: &CountedCapture, console: &Console) {
+    let result = &counted.analysis.result;
+    say!(
+        console,
+        "  counted: {} tiles, {:.1} Mpixels straight from the renderer (no PNGs); {} texels seen, grand total {}",
+        result.images.decoded,
+        counted.pixels_counted as f64 / 1e6,
+        result.texels_seen,
+        result.grand_total
+    );
+    console.print(&ufcsr::format_counted_table(result));
+    let out = counted.written.result_json.parent().unwrap_or(std::path::Path::new("."));
+    for (n, file) in counted.written.all(out).iter().enumerate() {
+        console.wrote(file);
+        say!(console, "  {}{}", if n == 0 { "results: " } else { "         " }, file.display());
+    }
+    console.fact_item("grand_totals", result.grand_total);
+}

@@ -1,0 +1,199 @@
+//! The capture's commands: the captures (`ufcsr capture demo|scene|unity`,
+//! or `ufcsr-capture demo|scene|unity`; [`captures`], with their `--count`
+//! and `--measure` variants), the resolution study ([`study`]), the observer
+//! study ([`observers`]) and the tools around a capture ([`tools`]: inspect,
+//! views, batch plan, assemble, verify), and the private runtime folder Mesa
+//! wants ([`runtime_dir`]). Each parses into the capture library's plain
+//! options; only the command line draws on the terminal.
+
+mod captures;
+mod observers;
+mod runtime_dir;
+mod study;
+mod tools;
+
+use std::path::PathBuf;
+
+use clap::Subcommand;
+use ufcsr_capture::{Scene, ViewsOptions};
+
+use crate::choices::{Backend, DemoTraffic};
+use crate::console::{Completion, Console};
+use crate::options::Global;
+
+pub use runtime_dir::PrivateRuntimeDir;
+
+use captures::CaptureArgs;
+use observers::ObserversArgs;
+use study::StudyArgs;
+
+/// The captures: a scene recorded into an archive.
+#[derive(Subcommand)]
+pub enum CaptureCommand {
+    /// The built-in demo: pickup truck, intersection, scenarios A–D.
+    Demo {
+        /// A second pickup in traffic: alongside the truck in the lane on the pedestrian's side
+        /// (adjacent-lane), or ahead of it in its lane (lead-car); see docs/scene-file.md.
+        #[arg(long, value_enum)]
+        traffic: Option<DemoTraffic>,
+        #[command(flatten)]
+        capture: CaptureArgs,
+    },
+    /// A scene file (see capture/README.md).
+    Scene {
+        /// The scene JSON file.
+        scene: PathBuf,
+        #[command(flatten)]
+        capture: CaptureArgs,
+    },
+    /// Replay a Unity export (unity-intersection.json) with the demo truck.
+    Unity {
+        /// The Unity scenario export.
+        file: PathBuf,
+        #[command(flatten)]
+        capture: CaptureArgs,
+    },
+}
+
+/// The commands around a capture.
+#[derive(Subcommand)]
+pub enum CaptureToolCommand {
+    /// Join the parts the shards of a capture (`--shard I/N`) wrote into the archive's
+    /// manifest.json, once all have finished (checks that every shard is there, once).
+    Assemble {
+        /// The archive folder the shards wrote into (their --out).
+        archive: PathBuf,
+    },
+    /// Plan a batch (batch.json: scenes × scenarios × ppd × frame steps): prints one
+    /// `ufcsr-capture ... --count` command per task, task i on line i (for job arrays, xargs -P).
+    Batch {
+        #[command(subcommand)]
+        action: BatchAction,
+    },
+    /// Capture and count one scenario at several ppd and frame steps, compare each with the
+    /// finest, and plot error against run time (writes study.csv, study.json, study.svg/.png).
+    Study(StudyArgs),
+    /// Capture one scenario from a grid of pedestrians (positions along a kerb × eye heights)
+    /// and report per part the mean, its 95 % interval and the spread over them
+    /// (writes observers.json, observers.csv, observer-parts.csv).
+    Observers(ObserversArgs),
+    /// Check an archive without the analyzer: tile pixels are background or
+    /// palette colours the PIdT labels.
+    Verify {
+        /// The archive folder.
+        archive: PathBuf,
+    },
+    /// Look at a vehicle before capturing: size and origin after `axes`,
+    /// triangle quality, UVs, parts and their areas, and pictures of it.
+    Inspect {
+        /// A scene file (.json) or a mesh (.glb, .gltf, .obj; default axes).
+        input: PathBuf,
+        /// Folder for inspect-side/top/front.png and inspect-parts.csv.
+        #[arg(long, default_value = "inspect")]
+        out: PathBuf,
+        /// Picture scale (default: the longest picture about 1200 pixels).
+        #[arg(long)]
+        pixels_per_metre: Option<f64>,
+    },
+    /// Draw a result's eight heatmap views with the GPU renderer (the analyzer draws them on
+    /// the CPU): views/*.png and views.png, from RESULTS/result.json and heatmap.glb.
+    Views {
+        /// A result folder written by ufcsr-analyze (or --count).
+        results: PathBuf,
+        /// The vehicle model with its palette UVs (default RESULTS/heatmap.glb).
+        #[arg(long)]
+        model: Option<PathBuf>,
+        /// Where views/ and views.png go (default: the result folder).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Size of the views: each is 400×300 pixels times this (1–8), as the analyzer's.
+        #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+              value_parser = clap::value_parser!(u32).range(1..=8))]
+        views_scale: u32,
+        /// GPU backend.
+        #[arg(long, value_enum, default_value_t = Backend::Auto)]
+        backend: Backend,
+    },
+}
+
+#[derive(Subcommand)]
+pub enum BatchAction {
+    /// Print the tasks' commands, one per line.
+    Plan {
+        /// The batch file.
+        batch: PathBuf,
+        /// The ufcsr-capture the commands call (default: the ufcsr-capture beside this program).
+        #[arg(long)]
+        program: Option<String>,
+    },
+}
+
+impl CaptureCommand {
+    /// The command's name, as `--json` reports it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            CaptureCommand::Demo { .. } => "demo",
+            CaptureCommand::Scene { .. } => "scene",
+            CaptureCommand::Unity { .. } => "unity",
+        }
+    }
+}
+
+impl CaptureToolCommand {
+    /// The command's name, as `--json` reports it.
+    pub fn name(&self) -> &'static str {
+        match self {
+            CaptureToolCommand::Assemble { .. } => "assemble",
+            CaptureToolCommand::Batch { .. } => "batch plan",
+            CaptureToolCommand::Study(_) => "study",
+            CaptureToolCommand::Observers(_) => "observers",
+            CaptureToolCommand::Verify { .. } => "verify",
+            CaptureToolCommand::Inspect { .. } => "inspect",
+            CaptureToolCommand::Views { .. } => "views",
+        }
+    }
+}
+
+/// Runs one capture.
+pub fn run_capture_command(
+    command: CaptureCommand,
+    global: &Global,
+    console: &Console,
+) -> anyhow::Result<Completion> {
+    let threads = usize::from(global.threads);
+    match command {
+        CaptureCommand::Demo { traffic: None, capture } => {
+            captures::run_capture(Scene::demo(), &capture, threads, console)
+        }
+        CaptureCommand::Demo { traffic: Some(traffic), capture } => {
+            captures::run_demo_with_traffic(traffic.into(), &capture, threads, console)
+        }
+        CaptureCommand::Scene { scene, capture } => {
+            captures::run_capture(Scene::load(&scene)?, &capture, threads, console)
+        }
+        CaptureCommand::Unity { file, capture } => {
+            captures::run_capture(Scene::unity(&file)?, &capture, threads, console)
+        }
+    }?;
+    Ok(Completion::Done)
+}
+
+/// Runs one of the commands around a capture.
+pub fn run_tool(command: CaptureToolCommand, console: &Console) -> anyhow::Result<Completion> {
+    match command {
+        CaptureToolCommand::Assemble { archive } => tools::run_assemble(&archive, console),
+        CaptureToolCommand::Batch { action: BatchAction::Plan { batch, program } } => {
+            tools::run_batch_plan(&batch, program, console)
+        }
+        CaptureToolCommand::Study(args) => study::run_study(args, console),
+        CaptureToolCommand::Observers(args) => observers::run_observers(args, console),
+        CaptureToolCommand::Verify { archive } => return tools::run_verify(&archive, console),
+        CaptureToolCommand::Inspect { input, out, pixels_per_metre } => {
+            tools::run_inspect(input, out, pixels_per_metre, console)
+        }
+        CaptureToolCommand::Views { results, model, out, views_scale, backend } => {
+            tools::run_views(ViewsOptions { results, model, out, views_scale }, backend.into(), console)
+        }
+    }?;
+    Ok(Completion::Done)
+}

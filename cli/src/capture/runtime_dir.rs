@@ -1,0 +1,46 @@
+//! The capture's runtime folder: Mesa wants a valid `XDG_RUNTIME_DIR`, and a
+//! headless capture gets a private one when there is none (the commands
+//! that render create it before anything else runs; it is removed when the
+//! run ends, or by the interrupt handler).
+
+/// A private runtime folder for Mesa, removed when the program ends.
+///
+/// Mesa's window-system probe prints `error: XDG_RUNTIME_DIR is invalid or
+/// not set` (twice) while it looks for a display, which a headless capture
+/// never uses; a run without a valid `XDG_RUNTIME_DIR` gets its own 0700
+/// folder, so the message a user sees is only ever about their capture.
+pub struct PrivateRuntimeDir(Option<std::path::PathBuf>);
+
+impl PrivateRuntimeDir {
+    /// The folder, when the run needs one (see above); call it before any
+    /// other thread starts.
+    #[allow(unsafe_code)] // std::env::set_var, before any other thread exists
+    pub fn create() -> PrivateRuntimeDir {
+        let valid =
+            std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|dir| std::path::Path::new(&dir).is_dir());
+        if valid || cfg!(not(unix)) {
+            return PrivateRuntimeDir(None);
+        }
+        let dir = std::env::temp_dir().join(format!("ufcsr-runtime-{}", std::process::id()));
+        let mut builder = std::fs::DirBuilder::new();
+        #[cfg(unix)]
+        std::os::unix::fs::DirBuilderExt::mode(&mut builder, 0o700);
+        if builder.create(&dir).is_err() {
+            return PrivateRuntimeDir(None);
+        }
+        // SAFETY: `crate::program::main` calls this right after parsing the
+        // command line, before any other thread exists (the interrupt
+        // handler, the worker threads and the GPU's threads start later).
+        unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
+        ufcsr::remove_on_interrupt(&dir);
+        PrivateRuntimeDir(Some(dir))
+    }
+}
+
+impl Drop for PrivateRuntimeDir {
+    fn drop(&mut self) {
+        if let Some(dir) = &self.0 {
+            let _ = std::fs::remove_dir_all(dir);
+        }
+    }
+}

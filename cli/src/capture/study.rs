@@ -1,0 +1,183 @@
+//! `ufcsr study` (`ufcsr-capture study`): its arguments and [`run_study`], which runs the
+//! library's resolution study and prints its table.
+
+use std::path::PathBuf;
+
+use anyhow::Context;
+use clap::Args;
+use ufcsr_capture::{CaptureOptions, Gpu, Scene, parse_palette_size};
+
+use super::captures::parse_fraction;
+use crate::choices::{Backend, Dedupe, StudyMeasure};
+
+use crate::console::{Console, say};
+
+/// A resolution study (see `ufcsr_capture::run_study`).
+#[derive(Args)]
+pub struct StudyArgs {
+    /// `demo`, or a scene JSON file.
+    scene: String,
+    /// Scenario name (default: the first, A for the demo).
+    #[arg(long)]
+    scenario: Option<String>,
+    /// Pixels per degree to try; the highest is the precision reference.
+    #[arg(long, value_delimiter = ',', default_value = "60,40,30,20,15,10,6")]
+    ppd: Vec<f64>,
+    /// Every n-th frame to try; the smallest is the precision reference.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,4,6,10")]
+    frame_step: Vec<u32>,
+    /// Largest acceptable share L1 error against the exact measure (its 95 % interval's upper
+    /// end), percentage points.
+    #[arg(long, default_value_t = 1.0)]
+    tolerance: f64,
+    /// What is studied: angular-area (solid angle of the pixels ↔ ray-traced solid angle) or
+    /// count (texels seen per eye-frame ↔ any-part visibility).
+    #[arg(long, value_enum, default_value_t = StudyMeasure::AngularArea)]
+    measure: StudyMeasure,
+    /// What one count of the settings' results means: image (once per tile), frame (once per
+    /// eye-frame, as the exact count) or eye-pair (once per frame over both eyes).
+    #[arg(long, value_enum, default_value_t = Dedupe::Frame)]
+    dedupe: Dedupe,
+    /// Canonical palette size, W or WxH.
+    #[arg(long, value_name = "W|WxH", default_value = "4096")]
+    palette_size: String,
+    /// Study folder: study.csv, study.json, study.svg/.png and one folder per setting.
+    #[arg(long, default_value = "study")]
+    out: PathBuf,
+    /// GPU backend.
+    #[arg(long, value_enum, default_value_t = Backend::Auto)]
+    backend: Backend,
+    /// Size of the heatmap views in each setting's results, each 400×300 pixels times this (1–8):
+    /// 1 draws a quarter of the pixels, for a quicker study; the numbers do not change.
+    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+          value_parser = clap::value_parser!(u32).range(1..=8))]
+    views_scale: u32,
+    /// Measure the exact reference on this share of the texels, e.g. 1/16 (default: all).
+    #[arg(long, value_name = "FRACTION", conflicts_with = "no_exact")]
+    exact_sample: Option<String>,
+    /// Skip the exact reference: compare with the finest setting only (precision).
+    #[arg(long)]
+    no_exact: bool,
+}
+
+/// `demo`, or a scene file.
+pub fn load_scene(name: &str) -> anyhow::Result<Scene> {
+    Ok(if name == "demo" { Scene::demo() } else { Scene::load(std::path::Path::new(name))? })
+}
+
+/// The scenario asked for, or the scene's first.
+pub fn scenario_name(scene: &Scene, asked: Option<&str>) -> anyhow::Result<String> {
+    Ok(match asked {
+        Some(name) => scene.scenario(name)?.name.clone(),
+        None => scene.scenarios.first().map(|s| s.name.clone()).context("the scene has no scenario")?,
+    })
+}
+
+pub fn run_study(args: StudyArgs, console: &Console) -> anyhow::Result<()> {
+    let scene = load_scene(&args.scene)?;
+    let options = ufcsr_capture::StudyOptions {
+        scenario: scenario_name(&scene, args.scenario.as_deref())?,
+        ppds: args.ppd,
+        frame_steps: args.frame_step,
+        tolerance_pp: args.tolerance,
+        dedupe: args.dedupe.into(),
+        measure: args.measure.into(),
+        capture: CaptureOptions {
+            out: args.out.clone(),
+            palette: parse_palette_size(&args.palette_size)?,
+            views_scale: args.views_scale,
+            ..CaptureOptions::default()
+        },
+        exact_sample: match (args.no_exact, args.exact_sample.as_deref()) {
+            (true, _) => None,
+            (false, None) => Some(1.0),
+            (false, Some(text)) => Some(parse_fraction(text)?),
+        },
+    };
+    let gpu = Gpu::create(args.backend.into()).context("creating the GPU device")?;
+    eprintln!("adapter: {}", gpu.describe());
+    let study = ufcsr_capture::run_study(&gpu.device, &gpu.queue, &scene, &options)?;
+    print_study(&study, console);
+    for file in ufcsr_capture::write_study(&study, &args.out)? {
+        console.wrote(&file);
+        say!(console, "wrote {}", file.display());
+    }
+    console.fact("recommended", &study.recommended);
+    console.fact("closest", &study.closest);
+    Ok(())
+}
+
+fn print_study(study: &ufcsr_capture::Study, console: &Console) {
+    say!(
+        console,
+        "scenario {}, measure {}: error = share L1 (pp) against the exact measure on the same eye-frames, \
+         95 % interval; precision = against the finest setting ({})",
+        study.scenario,
+        study.measure,
+        study.reference
+    );
+    if let Some(exact) = &study.exact {
+        say!(
+            console,
+            "exact reference: {} of {} texels (sample {}), {} eye-frames, {:.1} s",
+            exact.sampled_texels,
+            exact.labelled_texels,
+            exact.sample,
+            exact.eye_frames,
+            exact.seconds
+        );
+    }
+    say!(
+        console,
+        "set-up shared by the settings (unwrap, PIdT, archive files, renderer): {:.2} s, once; \
+         seconds below are each setting's own",
+        study.setup_seconds
+    );
+    say!(
+        console,
+        "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12} {:>6}",
+        "ppd",
+        "step",
+        "frames",
+        "seconds",
+        "error pp",
+        "95 % pp",
+        "tau",
+        "top5",
+        "step pp",
+        "precision pp",
+        "pareto"
+    );
+    for row in &study.rows {
+        let exact = row.error_vs_exact.as_ref();
+        say!(
+            console,
+            "{:>6} {:>5} {:>6} {:>9.2} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12.3} {:>6}",
+            row.ppd,
+            row.frame_step,
+            row.frames,
+            row.seconds,
+            exact.map_or("-".into(), |e| format!("{:.3}", e.error.share_l1_pp)),
+            exact.map_or("-".into(), |e| format!("{:.3}–{:.3}", e.ci95_pp[0], e.ci95_pp[1])),
+            exact.map_or("-".into(), |e| format!("{:.3}", e.error.kendall_tau_b)),
+            exact.map_or("-".into(), |e| e.error.top5_overlap.to_string()),
+            exact.map_or("-".into(), |e| format!("{:.3}", e.frame_step_pp)),
+            row.precision.share_l1_pp,
+            if row.pareto { "*" } else { "" },
+        );
+    }
+    match (&study.recommended, &study.reason) {
+        (Some(pick), _) => say!(
+            console,
+            "recommended (cheapest within {} pp of the {}): {} ({:.2} s, share L1 {:.3} pp{})",
+            study.tolerance_pp,
+            if pick.against == "exact" { "exact measure at 95 %" } else { "finest setting" },
+            pick.setting,
+            pick.seconds,
+            pick.share_l1_pp,
+            pick.ci95_pp.map_or(String::new(), |[lo, hi]| format!(", 95 % {lo:.3}–{hi:.3}"))
+        ),
+        (None, Some(reason)) => say!(console, "{reason}"),
+        (None, None) => say!(console, "no recommendation"),
+    }
+}

@@ -1,0 +1,52 @@
+//! The tests that run the command line's binaries (`ufcsr`, `ufcsr-analyze`,
+//! `ufcsr-capture`, which only this crate builds: `CARGO_BIN_EXE_*` reaches a
+//! package's own binaries), in one binary: each module is one file moved
+//! here from `tests/it` (the analyzer's) or `capture/tests/it` (the
+//! capture's), named as it was, so `cargo test -p ufcsr-cli --test it
+//! cli_grammar::` runs one of them. The libraries' own tests stay beside
+//! them; tests that need outside tools are in `tests/external`.
+
+#[path = "../../../tests/it/common.rs"]
+mod analyzer_helpers;
+
+/// The analyzer's test helpers, and the analyzer's binary.
+mod common {
+    pub use super::analyzer_helpers::*;
+
+    /// The built `ufcsr-analyze` binary.
+    pub fn analyzer() -> std::process::Command {
+        std::process::Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+    }
+}
+
+// The one front door (ufcsr and its two aliases).
+mod front_door;
+
+// The analyzer's command line (and the library tests beside them in their files).
+mod atomic_results;
+mod cli;
+mod cli_grammar;
+mod colour_damage;
+mod comparison_page;
+mod external_manifest;
+mod missing_vehicle;
+mod placement_pages;
+mod reliability_inputs;
+mod reliability_outputs;
+mod result_validation;
+
+// The capture's command line (and the library tests that share their helpers).
+mod archive_models;
+mod bad_capture;
+mod capture_shards;
+mod exit_codes;
+mod fused_count;
+mod hardening;
+mod observers_command;
+mod reliability;
+mod round_trip;
+mod schemas;
+mod traffic;
+mod umbrella;
+mod unobstructed;
+mod views_gpu;
