@@ -11,6 +11,7 @@ mod count;
 mod describe;
 mod error;
 mod files;
+mod format;
 mod input;
 mod kernel;
 mod output;
@@ -35,6 +36,7 @@ pub use files::{
     remove_stale_staging, remove_temporaries, resolve_inside, same_path, write_atomically,
     write_bytes_atomically, write_rgb_png,
 };
+pub use format::{ErrorVsExact, ExactReference, ShareError, Study, StudyPick, StudyRow};
 pub use input::{
     AnalyzeOptions, Archive, CaptureGeometry, Dedupe, EyeProjection, Fcsp, HeatmapOptions, ImageSource,
     Legend, LoadedLabels, MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice,

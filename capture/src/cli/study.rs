@@ -25,8 +25,8 @@ pub struct StudyArgs {
     /// Every n-th frame to try; the smallest is the precision reference.
     #[arg(long, value_delimiter = ',', default_value = "1,2,4,6,10")]
     frame_step: Vec<u32>,
-    /// Largest acceptable share L1 error against the exact measure (its 95 % interval's upper
-    /// end), percentage points.
+    /// Largest acceptable share L1 error against the exact measure of every frame (the upper end
+    /// of its 95 % interval over frame offsets), percentage points.
     #[arg(long, default_value_t = 1.0)]
     tolerance: f64,
     /// What is studied: angular-area (solid angle of the pixels ↔ ray-traced solid angle) or
@@ -51,7 +51,8 @@ pub struct StudyArgs {
     #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
           value_parser = clap::value_parser!(u32).range(1..=8))]
     views_scale: u32,
-    /// Measure the exact reference on this share of the texels, e.g. 1/16 (default: all).
+    /// Measure the exact reference (on every frame) on this share of the texels, e.g. 1/16
+    /// (default: all); its sampling error widens every interval.
     #[arg(long, value_name = "FRACTION", conflicts_with = "no_exact")]
     exact_sample: Option<String>,
     /// Skip the exact reference: compare with the finest setting only (precision).
@@ -108,8 +109,9 @@ pub fn run_study(args: StudyArgs) -> anyhow::Result<()> {
 
 fn print_study(study: &ufcsr_capture::Study) {
     say!(
-        "scenario {}, measure {}: error = share L1 (pp) against the exact measure on the same eye-frames, \
-         95 % interval; precision = against the finest setting ({})",
+        "scenario {}, measure {}: error = share L1 (pp) of the setting against the exact measure of every \
+         frame; 95 % = over the step's frame offsets; step pp = the frame step alone (at offset 0 and \
+         over offsets); precision = against the finest setting ({})",
         study.scenario,
         study.measure,
         study.reference
@@ -130,7 +132,7 @@ fn print_study(study: &ufcsr_capture::Study) {
         study.setup_seconds
     );
     say!(
-        "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12} {:>6}",
+        "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>15} {:>12} {:>6}",
         "ppd",
         "step",
         "frames",
@@ -140,13 +142,14 @@ fn print_study(study: &ufcsr_capture::Study) {
         "tau",
         "top5",
         "step pp",
+        "step range pp",
         "precision pp",
         "pareto"
     );
     for row in &study.rows {
         let exact = row.error_vs_exact.as_ref();
         say!(
-            "{:>6} {:>5} {:>6} {:>9.2} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12.3} {:>6}",
+            "{:>6} {:>5} {:>6} {:>9.2} {:>10} {:>17} {:>7} {:>5} {:>10} {:>15} {:>12.3} {:>6}",
             row.ppd,
             row.frame_step,
             row.frames,
@@ -156,6 +159,10 @@ fn print_study(study: &ufcsr_capture::Study) {
             exact.map_or("-".into(), |e| format!("{:.3}", e.error.kendall_tau_b)),
             exact.map_or("-".into(), |e| e.error.top5_overlap.to_string()),
             exact.map_or("-".into(), |e| format!("{:.3}", e.frame_step_pp)),
+            exact.map_or("-".into(), |e| format!(
+                "{:.3}–{:.3}",
+                e.frame_step_range_pp[0], e.frame_step_range_pp[1]
+            )),
             row.precision.share_l1_pp,
             if row.pareto { "*" } else { "" },
         );

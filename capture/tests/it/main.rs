@@ -23,6 +23,7 @@ mod scenes;
 mod schemas;
 mod scissor;
 mod study_accuracy;
+mod study_coverage;
 mod study_setup;
 mod tile_filter;
 mod traffic;
