@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """The convergence table and figure from `scripts/convergence`'s study folders.
 
-For every OUT/<scenario>-<measure>/study.json it takes each setting's share L1
-against the exact counterpart (`error_vs_exact.share_l1_pp`, with its 95 %
-interval) over pixels per degree, fits error ≈ c · ppd^rate by least squares
-on log–log (every point), prints a Markdown table, and, when matplotlib is
-installed, draws one panel per measure with a line per scenario.
+For every OUT/<scenario>-<measure>/study.json it takes each setting's
+resolution error: its share L1 against the exact counterpart on the same
+eye-frames (`error_vs_exact.resolution_pp`: every texel of those frames, so
+no sampling error; the frame step's own error, against every frame, is the
+study's `share_l1_pp` and is not what converges in ppd) over pixels per
+degree, fits error ≈ c · ppd^rate by least squares on log–log (every point),
+prints a Markdown table, and, when matplotlib is installed, draws one panel
+per measure with a line per scenario.
 
     scripts/convergence-plot.py OUT [FIGURE.png]
 """
@@ -17,8 +20,7 @@ from pathlib import Path
 
 def error_of(row):
     exact = row.get("error_vs_exact") or {}
-    error = exact.get("error", exact)
-    return error.get("share_l1_pp"), exact.get("ci95_pp")
+    return exact.get("resolution_pp"), None
 
 
 def curves(out):
@@ -80,11 +82,8 @@ def figure(found, path):
                 continue
             ppd = [p for p, *_ in points]
             error = [e for _, e, _, _ in points]
-            low = [e - (ci[0] if ci else e) for _, e, ci, _ in points]
-            high = [(ci[1] if ci else e) - e for _, e, ci, _ in points]
             rate = fitted_rate(points)
-            axis.errorbar(ppd, error, yerr=[low, high], marker="o", capsize=3,
-                          label=f"scenario {scenario} (∝ ppd^{rate:.2f})")
+            axis.plot(ppd, error, marker="o", label=f"scenario {scenario} (∝ ppd^{rate:.2f})")
         axis.set_xscale("log")
         axis.set_yscale("log")
         # Plain numbers at the measured ppds and at 1-2-3-5 steps of the error, not 10^x labels.
@@ -98,7 +97,7 @@ def figure(found, path):
         axis.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
         axis.yaxis.set_minor_formatter(NullFormatter())
         axis.set_xlabel("pixels per degree")
-        axis.set_ylabel("share L1 against the exact counterpart (pp)")
+        axis.set_ylabel("share L1 against the exact counterpart, same frames (pp)")
         axis.set_title(titles.get(measure, measure), fontsize=10)
         axis.grid(True, which="major", alpha=0.3)
         axis.legend(fontsize=8, loc="best")

@@ -16,6 +16,7 @@ mod count;
 mod describe;
 mod error;
 mod files;
+mod format;
 mod optics;
 mod output;
 mod placement;
@@ -46,6 +47,7 @@ pub use files::{
     refuse_overwriting_inputs, remove_on_interrupt, remove_stale_staging, remove_temporaries, resolve_inside,
     same_path, write_atomically, write_bytes_atomically, write_rgb_png,
 };
+pub use format::{ErrorVsExact, ExactReference, ShareError, Study, StudyPick, StudyRow};
 pub use optics::{EyeProjection, TileView};
 pub use output::{
     CsvStyle, DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, MAP_FILE, MAP_SIZE, MapContent, MapFrame,

@@ -63,7 +63,11 @@ pub use study::observers::{
     MAX_OBSERVERS, Observer, ObserverOptions, ObserverStudy, PartSpread, Spread, run_observer_study,
     write_observer_study,
 };
-pub use study::{Study, StudyMeasure, StudyOptions, StudyRow, run_study, write_study};
+pub use study::offsets::{FrameValues, IntervalOptions, error_at_offset, setting_error};
+pub use study::{
+    ErrorVsExact, Study, StudyMeasure, StudyOptions, StudyRow, StudyTables, run_study, run_study_with_tables,
+    write_study,
+};
 pub use texture::{
     OwnLabelFiles, PidtImage, UNLABELLED_COLOR, Unwrapped, background_texel, footprint, keep_uvs, paint_pidt,
     unwrap_islands, unwrap_islands_avoiding,

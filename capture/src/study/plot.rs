@@ -1,7 +1,7 @@
 //! The study's plot: error against run time, one point per setting.
 //!
 //! Log time axis, share L1 error (percentage points) against the exact
-//! measure with its 95 % interval as a bar (or, without it, against the
+//! measure of every frame with its 95 % interval over frame offsets as a bar (or, without it, against the
 //! finest setting), the precision against the finest setting as hollow grey
 //! points, the Pareto front as a line, the recommended setting circled, the
 //! tolerance dashed, each point labelled `ppd/step`, and a legend. Labels need a TrueType font, looked up at run
@@ -62,7 +62,7 @@ where
     let mut builder = ChartBuilder::on(root);
     builder.margin(20);
     if text {
-        let against = if exact { "the exact measure" } else { "the finest setting" };
+        let against = if exact { "the exact measure of every frame" } else { "the finest setting" };
         builder
             .caption(
                 format!(

@@ -15,6 +15,7 @@ mod scenes;
 mod scissor;
 mod silent_numbers;
 mod study_accuracy;
+mod study_coverage;
 mod study_setup;
 mod tile_filter;
 mod vehicles;

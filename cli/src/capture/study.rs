@@ -26,8 +26,8 @@ pub struct StudyArgs {
     /// Every n-th frame to try; the smallest is the precision reference.
     #[arg(long, value_delimiter = ',', default_value = "1,2,4,6,10")]
     frame_step: Vec<u32>,
-    /// Largest acceptable share L1 error against the exact measure (its 95 % interval's upper
-    /// end), percentage points.
+    /// Largest acceptable share L1 error against the exact measure of every frame (the upper end
+    /// of its 95 % interval over frame offsets), percentage points.
     #[arg(long, default_value_t = 1.0)]
     tolerance: f64,
     /// What is studied: angular-area (solid angle of the pixels ↔ ray-traced solid angle) or
@@ -52,7 +52,8 @@ pub struct StudyArgs {
     #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
           value_parser = clap::value_parser!(u32).range(1..=8))]
     views_scale: u32,
-    /// Measure the exact reference on this share of the texels, e.g. 1/16 (default: all).
+    /// Measure the exact reference (on every frame) on this share of the texels, e.g. 1/16
+    /// (default: all); its sampling error widens every interval.
     #[arg(long, value_name = "FRACTION", conflicts_with = "no_exact")]
     exact_sample: Option<String>,
     /// Skip the exact reference: compare with the finest setting only (precision).
@@ -110,8 +111,9 @@ pub fn run_study(args: StudyArgs, console: &Console) -> anyhow::Result<()> {
 fn print_study(study: &ufcsr_capture::Study, console: &Console) {
     say!(
         console,
-        "scenario {}, measure {}: error = share L1 (pp) against the exact measure on the same eye-frames, \
-         95 % interval; precision = against the finest setting ({})",
+        "scenario {}, measure {}: error = share L1 (pp) of the setting against the exact measure of every \
+         frame; 95 % = over the step's frame offsets; step pp = the frame step alone (at offset 0 and \
+         over offsets); precision = against the finest setting ({})",
         study.scenario,
         study.measure,
         study.reference
@@ -135,7 +137,7 @@ fn print_study(study: &ufcsr_capture::Study, console: &Console) {
     );
     say!(
         console,
-        "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12} {:>6}",
+        "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>15} {:>12} {:>6}",
         "ppd",
         "step",
         "frames",
@@ -145,6 +147,7 @@ fn print_study(study: &ufcsr_capture::Study, console: &Console) {
         "tau",
         "top5",
         "step pp",
+        "step range pp",
         "precision pp",
         "pareto"
     );
@@ -152,7 +155,7 @@ fn print_study(study: &ufcsr_capture::Study, console: &Console) {
         let exact = row.error_vs_exact.as_ref();
         say!(
             console,
-            "{:>6} {:>5} {:>6} {:>9.2} {:>10} {:>17} {:>7} {:>5} {:>10} {:>12.3} {:>6}",
+            "{:>6} {:>5} {:>6} {:>9.2} {:>10} {:>17} {:>7} {:>5} {:>10} {:>15} {:>12.3} {:>6}",
             row.ppd,
             row.frame_step,
             row.frames,
@@ -162,6 +165,10 @@ fn print_study(study: &ufcsr_capture::Study, console: &Console) {
             exact.map_or("-".into(), |e| format!("{:.3}", e.error.kendall_tau_b)),
             exact.map_or("-".into(), |e| e.error.top5_overlap.to_string()),
             exact.map_or("-".into(), |e| format!("{:.3}", e.frame_step_pp)),
+            exact.map_or("-".into(), |e| format!(
+                "{:.3}–{:.3}",
+                e.frame_step_range_pp[0], e.frame_step_range_pp[1]
+            )),
             row.precision.share_l1_pp,
             if row.pareto { "*" } else { "" },
         );
