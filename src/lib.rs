@@ -11,6 +11,7 @@ mod count;
 mod describe;
 mod error;
 mod files;
+mod format;
 mod input;
 mod kernel;
 mod output;
@@ -35,6 +36,18 @@ pub use files::{
     remove_stale_staging, remove_temporaries, resolve_inside, same_path, write_atomically,
     write_bytes_atomically, write_rgb_png,
 };
+pub use format::manifest::{
+    CaptureRecord, DemoScenario, EyePose, EyeProjectionRecord, FollowRecord, FrameEntry, LabelsRecord,
+    OccluderPose, PaintedByPart, PedestrianSetting, PoseRecord, RigRecord, RigSettings, ScenarioRecord,
+    SceneRecord, ShardRecord, TrackKey, TrafficRecord, UnwrapRecord,
+};
+pub use format::placement_csv::{PLACEMENT_FRAMES_OPTIONAL, PlacementFrameRow};
+pub use format::result::{
+    ColorTexels, DedupeReport, FailedImage, ImageCounts, PartMeasure, PixelCounts, ResultFile, Settings,
+    StrayImage, TexelCountsJson, TrimReport, UnlabelledReport,
+};
+pub use format::timings::{TIMINGS_SCHEMA, TimingsFile};
+pub use format::{Format, SCHEMAS, check_version};
 pub use input::{
     AnalyzeOptions, Archive, CaptureGeometry, Dedupe, EyeProjection, Fcsp, HeatmapOptions, ImageSource,
     Legend, LoadedLabels, MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice,
