@@ -40,7 +40,21 @@ pub const MANIFEST_SCHEMA: &str = "ufcsr-manifest/1";
 /// prose: docs/archive-format.md. Generated from the types in
 /// src/format/manifest.rs.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[schemars(title = "ufcsr archive manifest (ufcsr-manifest/1)")]
+#[schemars(
+    title = "ufcsr archive manifest (ufcsr-manifest/1)",
+    extend(
+        "if" = {"required": ["capture"]},
+        "then" = {
+            "description": "A manifest of ufcsr-capture records its whole rig.",
+            "properties": {"rig": {
+                "required": ["settings", "vertical_fov_deg", "pixels_per_degree", "tile_pixels", "frame_count",
+                    "eye_offset", "projection"],
+                "properties": {"settings": {"required": ["pedestrian", "eye_height_m", "ipd_m",
+                    "horizontal_fov_deg", "eye_pixels", "tiles", "fps", "near_m", "far_m", "look_at_vehicle"]}}
+            }}
+        }
+    )
+)]
 pub struct Manifest {
     /// Schema version, `ufcsr-manifest/1`. Absent in some hand-written
     /// manifests; any other value is refused.

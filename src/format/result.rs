@@ -42,6 +42,7 @@ fn is_zero(value: &u64) -> bool {
 
 /// Image bookkeeping: `found = trimmed + decoded + failed`.
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct ImageCounts {
     /// Tiles found: image files plus tiles the manifest lists as empty.
     pub found: u64,
@@ -60,6 +61,7 @@ pub struct ImageCounts {
 
 /// Pixel bookkeeping over the decoded images.
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct PixelCounts {
     pub decoded: u64,
     /// Pixels showing a palette texel.
@@ -71,6 +73,7 @@ pub struct PixelCounts {
 
 /// A failed image.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct FailedImage {
     pub file: String,
     pub error: String,
@@ -78,6 +81,7 @@ pub struct FailedImage {
 
 /// An image with stray pixels.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct StrayImage {
     pub file: String,
     pub stray_pixels: u64,
@@ -85,6 +89,7 @@ pub struct StrayImage {
 
 /// How trimming was configured and what it found.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct TrimReport {
     /// `auto`, `off` or a byte threshold.
     pub mode: String,
@@ -94,6 +99,7 @@ pub struct TrimReport {
 
 /// The settings a result was computed with.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct Settings {
     pub archive: String,
     /// True when the archive's manifest was used.
@@ -117,6 +123,7 @@ pub struct Settings {
 
 /// Unlabelled texels: PIdT colours that no legend entry names.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct UnlabelledReport {
     pub texels: u64,
     pub total: u64,
@@ -130,6 +137,7 @@ pub struct UnlabelledReport {
 
 /// A colour and how many texels carry it.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct ColorTexels {
     pub color: Color,
     pub texels: u64,
@@ -137,6 +145,7 @@ pub struct ColorTexels {
 
 /// What eye-frame deduplication changed.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct DedupeReport {
     /// Grand total when counting once per image.
     pub grand_total_per_image: u64,
@@ -149,6 +158,8 @@ pub struct DedupeReport {
 /// The summary part of `result.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct AnalysisResult {
+    /// `ufcsr-result/1`.
+    #[schemars(extend("const" = "ufcsr-result/1"))]
     pub schema: String,
     /// What a count is: `"pixels"` (the paper's: once per image whose pixels
     /// show the texel) or `"unobstructed"` (eye-frames in which the texel's
@@ -195,15 +206,19 @@ pub struct AnalysisResult {
 /// indices (`y * width + x`) ascending and delta-coded (the first delta is the
 /// first index), counts in the same order.
 #[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct TexelCountsJson {
     pub encoding: String,
     pub texels: u64,
     pub texel_delta: Vec<u32>,
+    /// Only seen texels are listed: every count is 1 or more.
+    #[schemars(inner(range(min = 1)))]
     pub count: Vec<u32>,
 }
 
 /// Statistics of one part (or of the unlabelled texels).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct PartStats {
     pub name: String,
     pub color: Option<Color>,
@@ -225,6 +240,7 @@ pub struct PartStats {
 
 /// The resolution diagnostics of one result.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct ResolutionReport {
     /// Pixels that showed a texel, per count (per-image counts over all
     /// texels). About 1: each count is one pixel. Well above 1: texels covered
@@ -247,6 +263,7 @@ pub struct ResolutionReport {
 
 /// The measures of one part.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct PartMeasure {
     pub name: String,
     /// Pixels showing the part, summed over all eye-frames (both eyes).
@@ -265,6 +282,7 @@ pub struct PartMeasure {
 
 /// The measures of every part (see the module documentation).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct Measures {
     pub definition: String,
     pub pixels_per_degree: Option<f64>,
@@ -280,6 +298,7 @@ pub struct Measures {
 /// What the checks measured and what they warn about (`result.json`'s
 /// `colour_checks`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct ColourChecks {
     /// Counts on unlabelled texels / all counts (legend parts and
     /// unlabelled); absent without a PIdT or without counts.
@@ -298,6 +317,7 @@ pub struct ColourChecks {
 
 /// One failed check.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct ColourWarning {
     /// `unlabelled-counts`, `no-background` or `texel-jumps`.
     pub check: String,
@@ -315,6 +335,7 @@ pub struct ColourWarning {
 
 /// What the sample found: triples of adjacent texel pixels.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct NeighbourSample {
     /// Triples of adjacent pixels (in a row or a column) that all show texels.
     pub triples: u64,
@@ -327,6 +348,7 @@ pub struct NeighbourSample {
 
 /// One candidate empty file: a tile size and a file size.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct EmptyTile {
     pub width: u32,
     pub height: u32,
@@ -343,6 +365,7 @@ pub struct EmptyTile {
 /// The palette as `result.json`'s `settings.palette` records it
 /// ([`Fcsp::describe`]).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct PaletteSetting {
     /// `"canonical"` or `"image"`.
     pub kind: String,
@@ -355,6 +378,7 @@ pub struct PaletteSetting {
 
 /// Shard `index` of `count`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
 pub struct Shard {
     pub index: u32,
     pub count: u32,
