@@ -160,7 +160,7 @@ impl ScenarioTrack {
         frames.sort_by_key(|frame| frame.frame);
         let name = manifest.scenario.as_ref().map(|scenario| scenario.name.clone());
         let summary = summary_rows(manifest, &frames);
-        (!frames.is_empty()).then(|| ScenarioTrack { name, frames, summary })
+        (!frames.is_empty()).then_some(ScenarioTrack { name, frames, summary })
     }
 
     /// The track of the archive at `archive` (its manifest), when it has one
