@@ -47,7 +47,19 @@ pub use files::{
     refuse_overwriting_inputs, remove_on_interrupt, remove_stale_staging, remove_temporaries, resolve_inside,
     same_path, write_atomically, write_bytes_atomically, write_rgb_png,
 };
+pub use format::manifest::{
+    CaptureRecord, DemoScenario, EyePose, EyeProjectionRecord, FollowRecord, FrameEntry, LabelsRecord,
+    OccluderPose, PaintedByPart, PedestrianSetting, PoseRecord, RigRecord, RigSettings, ScenarioRecord,
+    SceneRecord, ShardRecord, TrackKey, TrafficRecord, UnwrapRecord,
+};
+pub use format::placement_csv::{PLACEMENT_FRAMES_OPTIONAL, PlacementFrameRow};
+pub use format::result::{
+    ColorTexels, DedupeReport, FailedImage, ImageCounts, PartMeasure, PixelCounts, ResultFile, Settings,
+    StrayImage, TexelCountsJson, TrimReport, UnlabelledReport,
+};
+pub use format::timings::{TIMINGS_SCHEMA, TimingsFile};
 pub use format::{ErrorVsExact, ExactReference, ShareError, Study, StudyPick, StudyRow};
+pub use format::{Format, SCHEMAS, check_version};
 pub use optics::{EyeProjection, TileView};
 pub use output::{
     CsvStyle, DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, MAP_FILE, MAP_SIZE, MapContent, MapFrame,

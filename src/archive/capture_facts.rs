@@ -5,7 +5,7 @@
 
 use std::collections::BTreeMap;
 
-use crate::archive::manifest::Manifest;
+use crate::format::manifest::{FrameEntry, Manifest};
 use crate::optics::solid_angle::{EyeProjection, TileView};
 
 /// One eye-frame of a manifest (group ids as [`crate::Archive`] numbers them).
@@ -20,26 +20,17 @@ pub struct EyeFrame {
 /// The eye-frames of `manifest`, indexed by eye-frame group: sorted by
 /// `(frame, eye)`, as [`crate::Archive::from_manifest`] numbers them.
 pub fn eye_frames(manifest: &Manifest) -> Vec<EyeFrame> {
-    let records: BTreeMap<u64, &serde_json::Value> = manifest
-        .extra
-        .get("frames")
-        .and_then(|frames| frames.as_array())
-        .map(|frames| frames.iter().filter_map(|f| Some((f.get("frame")?.as_u64()?, f))).collect())
-        .unwrap_or_default();
+    let records: BTreeMap<u32, &FrameEntry> =
+        manifest.frame_records().iter().map(|record| (record.frame, record)).collect();
     let mut groups: BTreeMap<(u32, String), EyeFrame> = BTreeMap::new();
     for tile in &manifest.tiles {
         groups.entry((tile.frame, tile.eye.clone())).or_insert_with(|| {
-            let number = |key: &str| {
-                tile.extra
-                    .get(key)
-                    .and_then(serde_json::Value::as_f64)
-                    .or_else(|| records.get(&u64::from(tile.frame))?.get(key)?.as_f64())
-            };
+            let record = records.get(&tile.frame);
             EyeFrame {
                 frame: tile.frame,
                 eye: tile.eye.clone(),
-                time_s: number("time_s"),
-                distance_m: number("distance_m"),
+                time_s: tile.time_s.or_else(|| record?.time_s),
+                distance_m: tile.distance_m.or_else(|| record?.distance_m),
             }
         });
     }
@@ -63,10 +54,9 @@ impl FrameClock {
     /// Reads the clock from a capture's manifest (`rig.settings.fps`,
     /// `rig.pixels_per_degree` and the tiles' frame numbers).
     pub fn from_manifest(manifest: &Manifest) -> FrameClock {
-        let rig = manifest.extra.get("rig");
-        let fps = rig.and_then(|rig| rig.get("settings")?.get("fps")?.as_f64()).filter(|fps| *fps > 0.0);
+        let fps = manifest.rig_settings().and_then(|settings| settings.fps).filter(|fps| *fps > 0.0);
         let pixels_per_degree =
-            rig.and_then(|rig| rig.get("pixels_per_degree")?.as_f64()).filter(|ppd| *ppd > 0.0);
+            manifest.rig.as_ref().and_then(|rig| rig.pixels_per_degree).filter(|ppd| *ppd > 0.0);
         let mut frames: Vec<u32> = manifest.tiles.iter().map(|tile| tile.frame).collect();
         frames.sort_unstable();
         frames.dedup();
@@ -95,14 +85,9 @@ pub struct EyeOptics {
 impl EyeOptics {
     /// `None` for a manifest without these settings (hand-written ones).
     pub fn from_manifest(manifest: &Manifest) -> Option<EyeOptics> {
-        let settings = manifest.extra.get("rig")?.get("settings")?;
-        let pair = |key: &str| -> Option<[u32; 2]> {
-            let values = settings.get(key)?.as_array()?;
-            let number = |i: usize| u32::try_from(values.get(i)?.as_u64()?).ok();
-            Some([number(0)?, number(1)?])
-        };
-        let fov = settings.get("horizontal_fov_deg")?.as_f64()?;
-        let (eye, tiles) = (pair("eye_pixels")?, pair("tiles")?);
+        let settings = manifest.rig_settings()?;
+        let fov = settings.horizontal_fov_deg?;
+        let (eye, tiles) = (settings.eye_pixels?, settings.tiles?);
         if tiles[0] == 0 || tiles[1] == 0 || eye[0] % tiles[0] != 0 || eye[1] % tiles[1] != 0 {
             return None;
         }
@@ -134,17 +119,14 @@ impl CaptureGeometry {
     /// Reads the `rig`, `unwrap` and `frames` records `ufcsr-capture` writes
     /// (absent for hand-written manifests: then only pixels per count is known).
     pub fn from_manifest(manifest: &Manifest) -> CaptureGeometry {
-        let number = |section: &str, key: &str| manifest.extra.get(section)?.get(key)?.as_f64();
-        let frame_distances_m = manifest
-            .extra
-            .get("frames")
-            .and_then(|frames| frames.as_array())
-            .map(|frames| frames.iter().filter_map(|f| f.get("distance_m")?.as_f64()).collect())
-            .unwrap_or_default();
         CaptureGeometry {
-            pixels_per_degree: number("rig", "pixels_per_degree"),
-            texel_size_mm: number("unwrap", "texel_size_mm"),
-            frame_distances_m,
+            pixels_per_degree: manifest.rig.as_ref().and_then(|rig| rig.pixels_per_degree),
+            texel_size_mm: manifest.unwrap.as_ref().map(|unwrap| unwrap.texel_size_mm),
+            frame_distances_m: manifest
+                .frame_records()
+                .iter()
+                .filter_map(|record| record.distance_m)
+                .collect(),
         }
     }
 

@@ -6,8 +6,6 @@
 
 use std::path::PathBuf;
 
-use serde::{Deserialize, Serialize};
-
 use crate::archive::shard::Shard;
 use crate::color::Color;
 use crate::error::{Error, Result};
@@ -21,20 +19,7 @@ pub enum PaletteChoice {
     Image(PathBuf),
 }
 
-/// What one count means.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Dedupe {
-    /// A texel counts once per image (tile) that shows it.
-    #[default]
-    Image,
-    /// A texel counts once per eye-frame, however many of its tiles show it
-    /// (each eye counts separately).
-    Frame,
-    /// A texel counts once per frame, over both eyes and all their tiles.
-    #[serde(rename = "eye-pair")]
-    EyePair,
-}
+pub use crate::format::result::Dedupe;
 
 impl Dedupe {
     /// Its name, as `--dedupe` takes it.
@@ -113,47 +98,11 @@ pub struct AnalyzeOptions {
     pub loaded_labels: Option<crate::archive::labels::LoadedLabels>,
 }
 
-/// Wall-clock seconds per stage, and the thread count (kept out of
-/// `result.json`, which must not change from run to run). The heatmap
-/// (`heatmap_seconds`), the tables (`write_seconds`), the frame strip and
-/// the views (`figure_seconds["frames_strip"]`, `["views"]`) are written
-/// side by side, so their seconds overlap; `total_seconds` is the wall
-/// clock.
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
-pub struct Timings {
-    pub threads: usize,
-    /// The row kernels used ([`crate::count::scan::Kernel::name`]).
-    pub kernel: String,
-    pub load_seconds: f64,
-    pub trim_seconds: f64,
-    pub count_seconds: f64,
-    pub join_seconds: f64,
-    pub heatmap_seconds: f64,
-    pub write_seconds: f64,
-    /// Seconds of each figure and the report page (`heatmap_glb`, `views`,
-    /// `map`, `frames_strip`, `plots`, `report`).
-    #[serde(default)]
-    pub figure_seconds: std::collections::BTreeMap<String, f64>,
-    /// From the start of the analysis to the last file of the result set
-    /// written (moving the set into place, a rename per file, is after it).
-    pub total_seconds: f64,
-    /// Decoded pixels per second during counting, in millions.
-    pub decoded_megapixels_per_second: f64,
-}
+pub use crate::format::timings::Timings;
 
-/// The paper's measure: a texel counts once per image (or eye-frame) whose pixels show it.
-pub const MEASURE_PIXELS: &str = "pixels";
+pub use crate::format::result::MEASURE_PIXELS;
 
-/// How counts map onto the colormap.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Scale {
-    /// `count / max`.
-    #[default]
-    Linear,
-    /// `ln(1 + count) / ln(1 + max)`: shows rarely seen texels too.
-    Log,
-}
+pub use crate::format::result::Scale;
 
 impl std::str::FromStr for Scale {
     type Err = Error;

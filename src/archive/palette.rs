@@ -7,8 +7,6 @@
 
 use std::path::{Path, PathBuf};
 
-use serde::Serialize;
-
 use crate::color::ColorSet;
 use crate::color::{COLOR_COUNT, Color};
 use crate::error::{Error, Result};
@@ -30,18 +28,7 @@ pub enum Fcsp {
     Image { width: u32, height: u32, path: PathBuf, colors: Vec<u32>, members: ColorSet },
 }
 
-/// The palette as `result.json`'s `settings.palette` records it
-/// ([`Fcsp::describe`]).
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, serde::Deserialize)]
-pub struct PaletteSetting {
-    /// `"canonical"` or `"image"`.
-    pub kind: String,
-    pub width: u32,
-    pub height: u32,
-    /// The palette image, for `"image"` palettes.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub file: Option<String>,
-}
+pub use crate::format::result::PaletteSetting;
 
 impl Fcsp {
     /// The canonical W×H palette.

@@ -2,7 +2,7 @@
 //! every input loaded once (palette, backgrounds, labels, the archive's
 //! images, the vehicle model) into [`Inputs`], before anything is counted.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use crate::archive::archive_reader::Archive;
 use crate::archive::capture_facts::{CaptureGeometry, EyeFrame, EyeOptics, FrameClock, eye_frames};
@@ -250,11 +250,7 @@ fn check_dedupe(options: &AnalyzeOptions, archive: &Archive) -> Result<()> {
 /// False for a capture counted while rendering (`--count`), whose manifest
 /// says its tiles were never written.
 fn tiles_written(manifest: Option<&Manifest>) -> bool {
-    manifest
-        .and_then(|m| m.extra.get("capture"))
-        .and_then(|capture| capture.get("tiles_written"))
-        .and_then(serde_json::Value::as_bool)
-        .unwrap_or(true)
+    manifest.is_none_or(Manifest::tiles_written)
 }
 
 /// The first five names, comma-separated, with "…" when there are more.
@@ -311,8 +307,8 @@ fn vehicle_model(
         return Ok(Some(mesh.clone()));
     }
     let named = manifest
-        .and_then(|m| m.extra.get("vehicle")?.as_str())
-        .map(|file| inside_archive(&options.archive, "vehicle", Path::new(file)))
+        .and_then(|m| m.vehicle.as_deref())
+        .map(|file| inside_archive(&options.archive, "vehicle", file))
         .transpose()?;
     Ok(named.and_then(|path| match crate::files::open_regular(&path) {
         Ok(_) => Some(path),
@@ -343,11 +339,6 @@ pub(crate) const UNREADABLE_VEHICLE_WARNING: &str =
 pub(crate) const CAPTURE_WARNING: &str = "the capture warned: ";
 
 fn capture_warnings(manifest: Option<&Manifest>) -> Vec<String> {
-    let listed = manifest.and_then(|m| m.extra.get("warnings")).and_then(serde_json::Value::as_array);
-    listed
-        .into_iter()
-        .flatten()
-        .filter_map(serde_json::Value::as_str)
-        .map(|warning| format!("{CAPTURE_WARNING}{warning}"))
-        .collect()
+    let listed = manifest.map(|m| m.warnings.as_slice()).unwrap_or_default();
+    listed.iter().map(|warning| format!("{CAPTURE_WARNING}{warning}")).collect()
 }

@@ -5,7 +5,7 @@
 //! the views' pedestrian marker and the top-down map — so they say what the
 //! manifest says and nothing else.
 
-use serde_json::Value;
+use crate::format::manifest::{FrameEntry, Manifest, PedestrianSetting};
 
 /// One frame of the scenario (world metres, z up).
 #[derive(Debug, Clone, PartialEq)]
@@ -65,19 +65,16 @@ fn metres(point: [f64; 3]) -> String {
 
 /// The scenario and the rig in words: what the manifest's `scenario`,
 /// `scene` and `rig.settings` say, and where the pedestrian was.
-pub fn summary_rows(extra: &serde_json::Map<String, Value>, frames: &[TrackFrame]) -> Vec<(String, String)> {
+pub fn summary_rows(manifest: &Manifest, frames: &[TrackFrame]) -> Vec<(String, String)> {
     let mut rows = Vec::new();
-    let text = |value: Option<&Value>| value.and_then(Value::as_str).map(str::to_string);
-    let number = |value: Option<&Value>| value.and_then(Value::as_f64);
-    let scenario = extra.get("scenario");
-    if let Some(name) = text(scenario.and_then(|s| s.get("name"))) {
-        let duration = number(scenario.and_then(|s| s.get("duration_s")));
-        rows.push(("scenario".into(), duration.map_or(name.clone(), |d| format!("{name}, {d:.1} s"))));
+    if let Some(scenario) = &manifest.scenario {
+        rows.push(("scenario".into(), format!("{}, {:.1} s", scenario.name, scenario.duration_s)));
     }
-    let scene = extra.get("scene");
-    for key in ["environment", "vehicle"] {
-        if let Some(value) = text(scene.and_then(|s| s.get(key))) {
-            rows.push((key.into(), value));
+    if let Some(scene) = &manifest.scene {
+        for (key, value) in [("environment", &scene.environment), ("vehicle", &scene.vehicle)] {
+            if let Some(value) = value {
+                rows.push((key.into(), value.clone()));
+            }
         }
     }
     if let (Some(first), Some(last)) = (frames.first(), frames.last()) {
@@ -106,84 +103,64 @@ pub fn summary_rows(extra: &serde_json::Map<String, Value>, frames: &[TrackFrame
             rows.push(("moving occluders".into(), moving.join(", ")));
         }
     }
-    let settings = extra.get("rig").and_then(|rig| rig.get("settings"));
-    let setting = |key: &str| number(settings.and_then(|s| s.get(key)));
-    let pixels = settings.and_then(|s| s.get("eye_pixels")).and_then(Value::as_array).map(|size| {
-        size.iter().filter_map(Value::as_u64).map(|n| n.to_string()).collect::<Vec<_>>().join("×")
-    });
-    if let (Some(fov), Some(pixels)) = (setting("horizontal_fov_deg"), pixels) {
-        rows.push(("eyes".into(), format!("{fov:.0}° wide, {pixels} pixels each")));
+    rows.extend(rig_rows(manifest));
+    rows
+}
+
+/// The rig in words: the eyes, pixels per degree and eye separation.
+fn rig_rows(manifest: &Manifest) -> Vec<(String, String)> {
+    let mut rows = Vec::new();
+    let settings = manifest.rig_settings();
+    if let Some((fov, [width, height])) = settings.and_then(|s| Some((s.horizontal_fov_deg?, s.eye_pixels?)))
+    {
+        rows.push(("eyes".into(), format!("{fov:.0}° wide, {width}×{height} pixels each")));
     }
-    let ppd = number(extra.get("rig").and_then(|rig| rig.get("pixels_per_degree")));
-    if let Some(ppd) = ppd {
+    if let Some(ppd) = manifest.rig.as_ref().and_then(|rig| rig.pixels_per_degree) {
         rows.push(("pixels per degree".into(), format!("{ppd:.2}")));
     }
-    if let Some(ipd) = setting("ipd_m") {
+    if let Some(ipd) = settings.and_then(|s| s.ipd_m) {
         rows.push(("eye separation".into(), format!("{:.1} mm", ipd * 1000.0)));
     }
     rows
 }
 
-fn point(value: Option<&Value>) -> Option<[f64; 3]> {
-    let items = value?.as_array()?;
-    let coordinate = |k: usize| items.get(k).and_then(Value::as_f64).filter(|v| v.is_finite());
-    Some([coordinate(0)?, coordinate(1)?, coordinate(2).unwrap_or(0.0)])
-}
-
 /// The rig's standing pedestrian at eye height (`rig.settings`), for
 /// manifests whose frames carry no eyes.
-fn standing_eye(extra: &serde_json::Map<String, Value>) -> Option<[f64; 3]> {
-    let settings = extra.get("rig")?.get("settings")?;
-    let [x, y, z] = point(settings.get("pedestrian"))?;
-    let height = settings.get("eye_height_m").and_then(Value::as_f64).unwrap_or(1.75);
-    Some([x, y, z + height])
+fn standing_eye(manifest: &Manifest) -> Option<[f64; 3]> {
+    let settings = manifest.rig_settings()?;
+    let Some(PedestrianSetting::Point([x, y, z])) = settings.pedestrian else { return None };
+    Some([x, y, z + settings.eye_height_m.unwrap_or(1.75)])
 }
 
-fn track_frame(record: &Value, standing: Option<[f64; 3]>) -> Option<TrackFrame> {
-    let vehicle = record.get("vehicle")?;
-    let eyes: Vec<[f64; 3]> = match record.get("eyes").and_then(Value::as_object) {
-        Some(eyes) => eyes.values().filter_map(|eye| point(eye.get("position"))).collect(),
+fn track_frame(record: &FrameEntry, standing: Option<[f64; 3]>) -> Option<TrackFrame> {
+    let vehicle = record.vehicle?;
+    let eyes: Vec<[f64; 3]> = match &record.eyes {
+        Some(eyes) => eyes.values().map(|eye| eye.position).collect(),
         None => standing.into_iter().collect(),
     };
-    let occluders = record.get("occluders").and_then(Value::as_array).map_or_else(Vec::new, |list| {
-        list.iter()
-            .filter_map(|o| {
-                let name = o.get("name").and_then(Value::as_str).unwrap_or("occluder").to_string();
-                Some((
-                    name,
-                    point(o.get("position"))?,
-                    o.get("yaw_deg").and_then(Value::as_f64).unwrap_or(0.0),
-                ))
-            })
-            .collect()
-    });
+    let occluders = record.occluders.iter().flatten();
     Some(TrackFrame {
-        frame: record.get("frame")?.as_u64()?,
-        time_s: record.get("time_s").and_then(Value::as_f64).filter(|t| t.is_finite())?,
-        vehicle_position: point(vehicle.get("position"))?,
-        vehicle_yaw_deg: vehicle.get("yaw_deg").and_then(Value::as_f64).filter(|y| y.is_finite())?,
+        frame: u64::from(record.frame),
+        time_s: record.time_s?,
+        vehicle_position: vehicle.position,
+        vehicle_yaw_deg: vehicle.yaw_deg,
         eyes,
-        pedestrian: point(record.get("pedestrian")),
-        occluders,
+        pedestrian: record.pedestrian,
+        occluders: occluders.map(|o| (o.name.clone(), o.position, o.yaw_deg)).collect(),
     })
 }
 
 impl ScenarioTrack {
     /// The track of a manifest's `frames` (records without a vehicle pose or
     /// time are left out); `None` when no frame has one.
-    pub fn from_manifest(manifest: &crate::Manifest) -> Option<ScenarioTrack> {
-        let standing = standing_eye(&manifest.extra);
-        let mut frames: Vec<TrackFrame> = manifest
-            .extra
-            .get("frames")?
-            .as_array()?
-            .iter()
-            .filter_map(|record| track_frame(record, standing))
-            .collect();
+    pub fn from_manifest(manifest: &Manifest) -> Option<ScenarioTrack> {
+        let standing = standing_eye(manifest);
+        let mut frames: Vec<TrackFrame> =
+            manifest.frame_records().iter().filter_map(|record| track_frame(record, standing)).collect();
         frames.sort_by_key(|frame| frame.frame);
-        let name = manifest.extra.get("scenario").and_then(|s| s.get("name")).and_then(Value::as_str);
-        let summary = summary_rows(&manifest.extra, &frames);
-        (!frames.is_empty()).then(|| ScenarioTrack { name: name.map(str::to_string), frames, summary })
+        let name = manifest.scenario.as_ref().map(|scenario| scenario.name.clone());
+        let summary = summary_rows(manifest, &frames);
+        (!frames.is_empty()).then_some(ScenarioTrack { name, frames, summary })
     }
 
     /// The track of the archive at `archive` (its manifest), when it has one
@@ -217,7 +194,7 @@ mod tests {
     #[test]
     fn frames_without_eyes_use_the_rigs_standing_pedestrian_at_eye_height() {
         let text = r#"{"tiles": [], "rig": {"settings": {"pedestrian": [1, 2, 0], "eye_height_m": 1.5}},
-            "scenario": {"name": "A"},
+            "scenario": {"name": "A", "duration_s": 2.0},
             "frames": [{"frame": 1, "time_s": 0.5, "vehicle": {"position": [0, 0, 0], "yaw_deg": 0}},
                        {"frame": 0, "time_s": 0.0, "vehicle": {"position": [0, 0, 0], "yaw_deg": 0}},
                        {"frame": 2}]}"#;
@@ -231,7 +208,7 @@ mod tests {
         assert_eq!(
             summary,
             [
-                "scenario: A",
+                "scenario: A, 2.0 s",
                 "frames in the manifest: 2 (frame 0 at 0.00 s to frame 1 at 0.50 s)",
                 "pedestrian: standing, eyes at (1.0, 2.0) m, 1.50 m high"
             ]

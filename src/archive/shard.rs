@@ -11,16 +11,9 @@
 //! (`AWS_BATCH_JOB_ARRAY_INDEX` of `UFCSR_SHARD_COUNT`). `ufcsr-analyze merge`
 //! adds the shards' results back together.
 
-use serde::{Deserialize, Serialize};
-
 use crate::error::{Error, Result};
 
-/// Shard `index` of `count`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Shard {
-    pub index: u32,
-    pub count: u32,
-}
+pub use crate::format::result::Shard;
 
 /// Most shards an archive may be split into.
 pub const MAX_SHARDS: u32 = 1_000_000;

@@ -10,8 +10,6 @@
 //! [`crate::checks::neighbours`] samples. `--strict-colors` turns any of
 //! these warnings into a failure.
 
-use serde::{Deserialize, Serialize};
-
 use crate::checks::neighbours::NeighbourSample;
 
 /// Warn above this share of counts on unlabelled texels.
@@ -48,41 +46,9 @@ const RECIPE: &str = "Blender: view transform Standard, look None, exposure 0, g
     denoising; Unity: point filtering, no mipmaps, no MSAA, no post-processing, and a colour space that \
     passes the texture through (docs/guide.md#colour-damage)";
 
-/// What the checks measured and what they warn about (`result.json`'s
-/// `colour_checks`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ColourChecks {
-    /// Counts on unlabelled texels / all counts (legend parts and
-    /// unlabelled); absent without a PIdT or without counts.
-    pub unlabelled_count_share: Option<f64>,
-    /// Background pixels / decoded pixels; absent when nothing was decoded.
-    pub background_pixel_share: Option<f64>,
-    /// Tiles trimmed as all background or listed empty by the manifest.
-    pub background_tiles: u64,
-    /// The neighbour sample; absent for image palettes (no layout).
-    pub neighbours: Option<NeighbourSample>,
-    /// `neighbours.jumps / neighbours.varying`, when anything varied.
-    pub jump_share: Option<f64>,
-    /// One per failed check, in the order above.
-    pub warnings: Vec<ColourWarning>,
-}
+pub use crate::format::result::ColourChecks;
 
-/// One failed check.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ColourWarning {
-    /// `unlabelled-counts`, `no-background` or `texel-jumps`.
-    pub check: String,
-    /// The measured share, in percent.
-    pub percent: f64,
-    /// The threshold it crossed, in percent.
-    pub threshold_percent: f64,
-    /// What was measured, with its number and the threshold.
-    pub message: String,
-    /// What usually causes it.
-    pub causes: String,
-    /// How to render the palette unchanged.
-    pub fix: String,
-}
+pub use crate::format::result::ColourWarning;
 
 impl ColourWarning {
     /// The one-line warning for `result.json`'s `warnings`, stderr and the report.

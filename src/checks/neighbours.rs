@@ -18,8 +18,6 @@
 //! does not touch. Only the canonical palette has a layout to measure
 //! distances in; image palettes are not sampled.
 
-use serde::{Deserialize, Serialize};
-
 use crate::archive::palette::Fcsp;
 use crate::png::rows::PixelLayout;
 
@@ -33,17 +31,7 @@ const JUMP_FACTOR: u32 = 4;
 /// ... and further than this many texels (Chebyshev distance).
 const JUMP_MIN: u32 = 32;
 
-/// What the sample found: triples of adjacent texel pixels.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct NeighbourSample {
-    /// Triples of adjacent pixels (in a row or a column) that all show texels.
-    pub triples: u64,
-    /// Of those, the triples whose three texels are not all the same.
-    pub varying: u64,
-    /// Of the varying ones, those whose middle texel is far from both
-    /// neighbours while they are close to each other.
-    pub jumps: u64,
-}
+pub use crate::format::result::NeighbourSample;
 
 impl NeighbourSample {
     /// Adds `other`'s triples to these.

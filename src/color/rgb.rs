@@ -78,6 +78,20 @@ impl Serialize for Color {
     }
 }
 
+/// `#RRGGBB` in capitals, as ufcsr writes a colour.
+impl schemars::JsonSchema for Color {
+    fn schema_name() -> std::borrow::Cow<'static, str> {
+        "Color".into()
+    }
+    fn json_schema(_: &mut schemars::SchemaGenerator) -> schemars::Schema {
+        schemars::json_schema!({
+            "description": "#RRGGBB, upper case.",
+            "type": "string",
+            "pattern": "^#[0-9A-F]{6}$"
+        })
+    }
+}
+
 impl<'de> Deserialize<'de> for Color {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Color, D::Error> {
         let text = String::deserialize(deserializer)?;

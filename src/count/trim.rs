@@ -11,7 +11,6 @@ use std::collections::BTreeMap;
 use std::io::Read;
 
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
 use crate::archive::archive_reader::ImageSource;
 use crate::archive::options::TrimMode;
@@ -19,20 +18,7 @@ use crate::color::{AtomicColorSet, SeenSet};
 use crate::count::scan::{Classifier, scan_image};
 use crate::png::rows::{FileBytes, HEADER_BYTES, parse_header, read_file};
 
-/// One candidate empty file: a tile size and a file size.
-#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
-pub struct EmptyTile {
-    pub width: u32,
-    pub height: u32,
-    /// File size in bytes.
-    pub bytes: u64,
-    /// The file that was decoded to verify it.
-    pub reference: String,
-    /// True when the reference decoded as pure background.
-    pub verified: bool,
-    /// Files of this size (the reference included).
-    pub candidates: u64,
-}
+pub use crate::format::result::EmptyTile;
 
 /// The trimming decision for an archive.
 pub struct TrimPlan {

@@ -8,7 +8,9 @@
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use serde_json::{Map, Value, json};
+use serde_json::Value;
+
+use crate::format::manifest::{RigRecord, RigSettings};
 
 use crate::error::{Error, Result};
 
@@ -29,7 +31,7 @@ pub const RIG_FIELDS: [&str; 10] = [
 /// A rig file's fields: `{"rig": {...}}` (a scene file), a manifest's
 /// `{"settings": {...}}`, or the fields themselves. Unknown fields and wrong
 /// types are errors naming the file and the field.
-pub fn read_rig(path: &Path) -> Result<Map<String, Value>> {
+pub fn read_rig(path: &Path) -> Result<RigSettings> {
     let bytes = crate::files::read_limited(path, crate::files::SMALL_INPUT_LIMIT)?;
     let value: Value = serde_json::from_slice(&bytes)
         .map_err(|error| Error::bad_file(path, format!("not a JSON rig description: {error}")))?;
@@ -68,7 +70,8 @@ pub fn read_rig(path: &Path) -> Result<Map<String, Value>> {
             ));
         }
     }
-    Ok(fields)
+    let text = Value::Object(fields).to_string();
+    crate::format::parse_json(path, text.as_bytes(), "rig")
 }
 
 fn numbers(value: &Value, count: usize, whole: bool) -> bool {
@@ -164,19 +167,15 @@ pub fn read_frame_times(path: &Path) -> Result<BTreeMap<u32, FrameTime>> {
 }
 
 /// The manifest's `rig`: the settings as known and what follows from them.
-pub fn rig_record(settings: &Map<String, Value>, tile_pixels: [u32; 2]) -> Value {
-    let mut rig = Map::new();
-    rig.insert("settings".into(), Value::Object(settings.clone()));
-    let fov = settings.get("horizontal_fov_deg").and_then(Value::as_f64);
-    let eye = settings.get("eye_pixels").and_then(Value::as_array).and_then(|pair| {
-        Some([u32::try_from(pair.first()?.as_u64()?).ok()?, u32::try_from(pair.get(1)?.as_u64()?).ok()?])
-    });
-    if let (Some(fov), Some(eye)) = (fov, eye) {
-        rig.insert("vertical_fov_deg".into(), json!(vertical_fov_deg(fov, eye)));
-        rig.insert("pixels_per_degree".into(), json!(f64::from(eye[0]) / fov));
+pub fn rig_record(settings: &RigSettings, tile_pixels: [u32; 2]) -> RigRecord {
+    let optics = settings.horizontal_fov_deg.zip(settings.eye_pixels);
+    RigRecord {
+        settings: settings.clone(),
+        vertical_fov_deg: optics.map(|(fov, eye)| vertical_fov_deg(fov, eye)),
+        pixels_per_degree: optics.map(|(fov, eye)| f64::from(eye[0]) / fov),
+        tile_pixels: Some(tile_pixels),
+        ..RigRecord::default()
     }
-    rig.insert("tile_pixels".into(), json!(tile_pixels));
-    Value::Object(rig)
 }
 
 #[cfg(test)]

@@ -16,11 +16,10 @@ pub mod scan;
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-use serde_json::{Map, Value, json};
-
 use crate::archive::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteChoice, PaletteRecord, TileEntry};
 use crate::color::Color;
 use crate::error::{Error, Result};
+use crate::format::manifest::{FrameEntry, RigRecord, RigSettings};
 
 pub use metadata::{FrameTime, parse_fov};
 pub use names::{DEFAULT_PATTERN, NamePattern};
@@ -94,13 +93,10 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
     };
     let rig = match &options.rig {
         Some(path) => metadata::read_rig(path)?,
-        None => Map::new(),
+        None => RigSettings::default(),
     };
     // With empty tiles left out, the largest row and column seen may fall short of the grid.
-    let given =
-        rig.get("tiles").filter(|_| options.missing_tiles_empty).and_then(Value::as_array).and_then(|pair| {
-            Some([u32::try_from(pair.first()?.as_u64()?).ok()?, u32::try_from(pair.get(1)?.as_u64()?).ok()?])
-        });
+    let given = rig.tiles.filter(|_| options.missing_tiles_empty);
     let grid = Grid { given, missing_empty: options.missing_tiles_empty };
     let capture = find_capture(&options.dir, &pattern, &excluded, grid)?;
     let dir = canonical(&options.dir)?;
@@ -110,11 +106,12 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
         Some(path) => Some(times_of_frames(path, &capture.frames)?),
         None => None,
     };
-    let fps = settings.get("fps").and_then(Value::as_f64);
+    let fps = settings.fps;
     let tiles = tile_entries(&capture, [&options.dir, &dir], &base, times.as_ref(), fps)?;
-    let extra = extra_fields(&settings, capture.tile_pixels, options.pixels_per_degree, times.as_ref());
-    let pixels_per_degree = extra["rig"].get("pixels_per_degree").and_then(Value::as_f64);
-    let distances = extra.contains_key("frames");
+    let rig = rig_with_ppd(&settings, capture.tile_pixels, options.pixels_per_degree);
+    let pixels_per_degree = rig.pixels_per_degree;
+    let frames = frame_entries(times.as_ref());
+    let distances = frames.is_some();
     let manifest = Manifest {
         schema: Some(MANIFEST_SCHEMA.to_string()),
         palette,
@@ -122,7 +119,10 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
         parts: legend,
         background: (!options.background.is_empty()).then(|| options.background.clone()),
         tiles,
-        extra,
+        frames,
+        generator: Some(format!("ufcsr-analyze manifest {}", env!("CARGO_PKG_VERSION"))),
+        rig: Some(rig),
+        ..Manifest::default()
     };
     let times_from = if times.is_some() { Some("--frame-times") } else { fps.map(|_| "--fps") };
     lacking(&manifest, fps, pixels_per_degree, distances, &mut notes);
@@ -136,7 +136,7 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
         tile_pixels: capture.tile_pixels,
         eye_pixels: capture.eye_pixels(),
         fps,
-        horizontal_fov_deg: settings.get("horizontal_fov_deg").and_then(Value::as_f64),
+        horizontal_fov_deg: settings.horizontal_fov_deg,
         pixels_per_degree,
         times_from,
         distances,
@@ -169,28 +169,29 @@ fn layout_notes(
     notes
 }
 
-/// `generator`, `rig` and, when every frame has its distance, the `frames` records.
-fn extra_fields(
-    settings: &Map<String, Value>,
-    tile_pixels: [u32; 2],
-    pixels_per_degree: Option<f64>,
-    times: Option<&BTreeMap<u32, FrameTime>>,
-) -> Map<String, Value> {
-    let mut extra = Map::new();
-    extra.insert("generator".into(), json!(format!("ufcsr-analyze manifest {}", env!("CARGO_PKG_VERSION"))));
+/// The manifest's `rig`, with `--pixels-per-degree` where the settings give none.
+fn rig_with_ppd(settings: &RigSettings, tile_pixels: [u32; 2], pixels_per_degree: Option<f64>) -> RigRecord {
     let mut rig = metadata::rig_record(settings, tile_pixels);
-    if let (Some(ppd), Some(object)) = (pixels_per_degree, rig.as_object_mut()) {
-        object.entry("pixels_per_degree").or_insert(json!(ppd));
+    if let Some(ppd) = pixels_per_degree {
+        rig.pixels_per_degree.get_or_insert(ppd);
     }
-    extra.insert("rig".into(), rig);
-    if let Some(times) = times.filter(|t| t.values().all(|t| t.distance_m.is_some())) {
-        let records: Vec<Value> = times
-            .iter()
-            .map(|(frame, t)| json!({"frame": frame, "time_s": t.time_s, "distance_m": t.distance_m}))
-            .collect();
-        extra.insert("frames".into(), Value::Array(records));
-    }
-    extra
+    rig
+}
+
+/// The `frames` records, when every frame has its distance.
+fn frame_entries(times: Option<&BTreeMap<u32, FrameTime>>) -> Option<Vec<FrameEntry>> {
+    let times = times.filter(|t| t.values().all(|t| t.distance_m.is_some()))?;
+    let entry = |(&frame, time): (&u32, &FrameTime)| FrameEntry {
+        distance_m: time.distance_m,
+        eyes: None,
+        frame,
+        occluders: None,
+        pedestrian: None,
+        tiles_with_vehicle: None,
+        time_s: Some(time.time_s),
+        vehicle: None,
+    };
+    Some(times.iter().map(entry).collect())
 }
 
 /// The manifest's path and its folder with links resolved; the folder of
@@ -242,40 +243,41 @@ fn relative_to(full: &Path, base: &Path, given: &Path, what: &str) -> Result<Pat
 /// then the image size and tiling found, checked against each other.
 fn settings(
     options: &DescribeOptions,
-    mut settings: Map<String, Value>,
+    mut settings: RigSettings,
     capture: &Capture,
     notes: &mut Vec<String>,
-) -> Result<Map<String, Value>> {
+) -> Result<RigSettings> {
     let rig_name = options.rig.as_deref().unwrap_or(Path::new("--rig"));
     let eye = capture.eye_pixels();
-    if let Some(given) = settings.get("eye_pixels").filter(|given| **given != json!(eye)) {
+    if let Some([width, height]) = settings.eye_pixels.filter(|given| *given != eye) {
         return Err(Error::bad_file(
             rig_name,
             format!(
-                "eye_pixels {given} disagrees with the frames: their eye images are {}×{} pixels",
+                "eye_pixels [{width},{height}] disagrees with the frames: their eye images are {}×{} pixels",
                 eye[0], eye[1]
             ),
         ));
     }
-    if let Some(given) = settings.get("tiles").filter(|given| **given != json!(capture.grid)) {
+    if let Some([columns, rows]) = settings.tiles.filter(|given| *given != capture.grid) {
         notes.push(format!(
-            "the rig's tiles {given} replaced by the frames' grid [{}, {}] ([columns, rows])",
+            "the rig's tiles [{columns},{rows}] replaced by the frames' grid [{}, {}] ([columns, rows])",
             capture.grid[0], capture.grid[1]
         ));
     }
-    settings.insert("eye_pixels".into(), json!(eye));
-    settings.insert("tiles".into(), json!(capture.grid));
-    for (key, given, flag) in
-        [("fps", options.fps, "--fps"), ("horizontal_fov_deg", options.fov.map(|f| f.0), "--fov")]
+    settings.eye_pixels = Some(eye);
+    settings.tiles = Some(capture.grid);
+    let given = [(options.fps, "--fps", "fps"), (options.fov.map(|f| f.0), "--fov", "horizontal_fov_deg")];
+    for ((given, flag, key), setting) in
+        given.into_iter().zip([&mut settings.fps, &mut settings.horizontal_fov_deg])
     {
         let Some(given) = given else { continue };
         if !(given.is_finite() && given > 0.0) {
             return Err(Error::BadOptions(format!("{flag} {given}: must be a number above 0")));
         }
-        if let Some(old) = settings.get(key).and_then(Value::as_f64).filter(|old| *old != given) {
+        if let Some(old) = setting.filter(|old| *old != given) {
             notes.push(format!("{flag} {given} replaces the rig file's {key} {old}"));
         }
-        settings.insert(key.into(), json!(given));
+        *setting = Some(given);
     }
     if let Some(ppd) = options.pixels_per_degree.filter(|ppd| !(ppd.is_finite() && *ppd > 0.0)) {
         return Err(Error::BadOptions(format!("--pixels-per-degree {ppd}: must be a number above 0")));
@@ -285,8 +287,8 @@ fn settings(
 }
 
 /// `--fov HxV` and `--pixels-per-degree` must agree with square pixels over the eye image.
-fn check_optics(options: &DescribeOptions, settings: &Map<String, Value>, eye: [u32; 2]) -> Result<()> {
-    let Some(fov) = settings.get("horizontal_fov_deg").and_then(Value::as_f64) else { return Ok(()) };
+fn check_optics(options: &DescribeOptions, settings: &RigSettings, eye: [u32; 2]) -> Result<()> {
+    let Some(fov) = settings.horizontal_fov_deg else { return Ok(()) };
     let vertical = metadata::vertical_fov_deg(fov, eye);
     if let Some((_, Some(given))) = options.fov
         && (given - vertical).abs() > 0.1
@@ -343,21 +345,11 @@ fn tile_entries(
             }
             None => None,
         };
-        let mut extra = Map::new();
         let frame = name.frame;
-        match times.and_then(|times| times.get(&frame)) {
-            Some(time) => {
-                extra.insert("time_s".into(), json!(time.time_s));
-                if let Some(distance) = time.distance_m {
-                    extra.insert("distance_m".into(), json!(distance));
-                }
-            }
-            None => {
-                if let Some(fps) = fps {
-                    extra.insert("time_s".into(), json!(f64::from(frame) / fps));
-                }
-            }
-        }
+        let (time_s, distance_m) = match times.and_then(|times| times.get(&frame)) {
+            Some(time) => (Some(time.time_s), time.distance_m),
+            None => (fps.map(|fps| f64::from(frame) / fps), None),
+        };
         let empty = file.is_none();
         tiles.push(TileEntry {
             file,
@@ -366,7 +358,8 @@ fn tile_entries(
             row: name.row,
             col: name.col,
             empty,
-            extra,
+            distance_m,
+            time_s,
         });
     }
     tiles.sort_by(|a, b| (a.frame, &a.eye, a.row, a.col).cmp(&(b.frame, &b.eye, b.row, b.col)));
@@ -390,7 +383,7 @@ fn lacking(
              and the resolution diagnostics stay empty"
                 .into(),
         );
-    } else if !manifest.extra["rig"]["settings"].get("horizontal_fov_deg").is_some_and(Value::is_number) {
+    } else if manifest.rig_settings().and_then(|settings| settings.horizontal_fov_deg).is_none() {
         notes.push("no field of view (--fov): frames.csv's solid_angle_sr stays empty".into());
     }
     if !distances {

@@ -20,6 +20,7 @@ use crate::archive::manifest::{Manifest, TileEntry};
 use crate::archive::palette::Fcsp;
 use crate::count::part_lookup::PartLookup;
 use crate::error::Result;
+use crate::format::manifest::FrameEntry;
 use crate::png::rows::{RowReader, read_file};
 
 /// The strip's file name in a result set.
@@ -48,24 +49,23 @@ impl EyeFrameTiles<'_> {
         self.tiles.values().filter(|tile| tile.file.is_some()).count()
     }
 
-    /// A number of the tiles' records, else of the manifest's frame record.
-    fn number(&self, manifest: &Manifest, key: &str) -> Option<f64> {
-        let from_tiles = self.tiles.values().find_map(|tile| tile.extra.get(key)?.as_f64());
-        from_tiles.or_else(|| {
-            let frames = manifest.extra.get("frames")?.as_array()?;
-            let record = frames
-                .iter()
-                .find(|f| f.get("frame").and_then(|n| n.as_u64()) == Some(u64::from(self.frame)))?;
-            record.get(key)?.as_f64()
+    /// A number of the tiles' records, else of the manifest's frame record
+    /// (`time_s` or `distance_m`, chosen by `tile` and `frame`).
+    fn number(
+        &self,
+        manifest: &Manifest,
+        tile: fn(&TileEntry) -> Option<f64>,
+        frame: fn(&FrameEntry) -> Option<f64>,
+    ) -> Option<f64> {
+        self.tiles.values().find_map(|entry| tile(entry)).or_else(|| {
+            manifest.frame_records().iter().find(|record| record.frame == self.frame).and_then(frame)
         })
     }
 }
 
 /// Why an archive gives no strip, or `None` when it can give one.
 pub fn frame_strip_skipped(manifest: &Manifest, canonical_palette: bool) -> Option<&'static str> {
-    let written =
-        manifest.extra.get("capture").and_then(|c| c.get("tiles_written")).and_then(|w| w.as_bool());
-    if written == Some(false) || !manifest.tiles.iter().any(|tile| tile.file.is_some()) {
+    if !manifest.tiles_written() || !manifest.tiles.iter().any(|tile| tile.file.is_some()) {
         Some("the archive has no tile images (a --count capture), so there is no frame strip")
     } else if !canonical_palette {
         Some("the archive uses an image palette; the frame strip is drawn for canonical palettes only")
@@ -351,10 +351,10 @@ pub fn write_frame_strip(path: &Path, inputs: &StripInputs) -> Result<Vec<u32>> 
         let scaled = shown.panel(crop, STRIP_FRAME_HEIGHT, &texels);
         let unreadable = shown.unreadable;
         let mut label = format!("{} eye, frame {}", frame.eye, frame.frame);
-        if let Some(time) = frame.number(inputs.manifest, "time_s") {
+        if let Some(time) = frame.number(inputs.manifest, |t| t.time_s, |f| f.time_s) {
             label.push_str(&format!(" · {time:.2} s"));
         }
-        if let Some(distance) = frame.number(inputs.manifest, "distance_m") {
+        if let Some(distance) = frame.number(inputs.manifest, |t| t.distance_m, |f| f.distance_m) {
             label.push_str(&format!(" · {distance:.1} m"));
         }
         if unreadable > 0 {

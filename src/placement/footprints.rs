@@ -12,26 +12,7 @@ use std::path::Path;
 use crate::error::{Error, Result};
 use crate::files::{SMALL_INPUT_LIMIT, read_limited};
 
-/// The file the capture writes beside `placement-frames.csv`.
-pub const PLACEMENT_PATCHES_FILE: &str = "placement-patches.csv";
-
-/// The columns of `placement-patches.csv`, in the capture's order; all but
-/// `mirror` (the mirror image's name, may be empty) are read.
-pub const PLACEMENT_PATCHES_COLUMNS: [&str; 13] = [
-    "candidate",
-    "centre_x_m",
-    "centre_y_m",
-    "centre_z_m",
-    "normal_x",
-    "normal_y",
-    "normal_z",
-    "up_x",
-    "up_y",
-    "up_z",
-    "width_m",
-    "height_m",
-    "mirror",
-];
+pub use crate::format::placement_csv::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE};
 
 /// The columns read: all but `mirror`.
 const READ_COLUMNS: usize = 12;

@@ -21,22 +21,7 @@ use std::path::{Path, PathBuf};
 use crate::error::{Error, Result};
 use crate::files::{SMALL_INPUT_LIMIT, read_limited};
 
-/// The file name the capture writes into an archive's results folder.
-pub const PLACEMENT_FRAMES_FILE: &str = "placement-frames.csv";
-
-/// The columns every table must have, in the capture's order.
-pub const PLACEMENT_FRAMES_COLUMNS: [&str; 10] = [
-    "frame",
-    "time_s",
-    "eye",
-    "distance_m",
-    "candidate",
-    "kind",
-    "solid_angle_sr",
-    "visible_fraction",
-    "view_angle_deg",
-    "angular_height_deg",
-];
+pub use crate::format::placement_csv::{PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE};
 
 /// Whether a candidate is a whole part of the vehicle or a display patch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]

@@ -21,8 +21,6 @@
 //! end, so shard results add up ([`Measures::merged`]; the integer sums
 //! exactly, the steradians to rounding).
 
-use serde::{Deserialize, Serialize};
-
 use crate::{archive::capture_facts::FrameClock, result::frames::FrameTable};
 
 /// How the measures are defined, recorded in every result.
@@ -40,37 +38,9 @@ pub const DEFINITION_CENTRE_PPD: &str = "angular_area_deg2_s = sum over eye-fram
 /// Square degrees per steradian.
 const DEG2_PER_SR: f64 = (180.0 / std::f64::consts::PI) * (180.0 / std::f64::consts::PI);
 
-/// The measures of one part.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct PartMeasure {
-    pub name: String,
-    /// Pixels showing the part, summed over all eye-frames (both eyes).
-    pub pixels: u64,
-    /// Eye-frames with at least one pixel of the part (both eyes).
-    pub eye_frames_seen: u64,
-    /// The solid angle of its pixels summed over all eye-frames (both
-    /// eyes), sr; absent without the eyes' projection.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub solid_angle_sr: Option<f64>,
-    /// Visible angular area summed over time, deg²·s (per eye).
-    pub angular_area_deg2_s: Option<f64>,
-    /// Seconds the part is seen (per eye).
-    pub exposure_s: Option<f64>,
-}
+pub use crate::format::result::PartMeasure;
 
-/// The measures of every part (see the module documentation).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct Measures {
-    pub definition: String,
-    pub pixels_per_degree: Option<f64>,
-    pub seconds_per_frame: Option<f64>,
-    pub eyes: usize,
-    /// Eye-frames (or images) tallied.
-    pub eye_frames: u64,
-    pub parts: Vec<PartMeasure>,
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub notes: Vec<String>,
-}
+pub use crate::format::result::Measures;
 
 impl Measures {
     /// Sums the per-eye-frame tallies of `frames` and derives the measures.

@@ -260,7 +260,7 @@ fn archive_vehicle(settings: &crate::result::model::Settings) -> Option<PathBuf>
     }
     let root = PathBuf::from(&settings.archive);
     let manifest = crate::archive::manifest::Manifest::load_from_dir(&root).ok()??;
-    let path = root.join(manifest.extra.get("vehicle")?.as_str()?);
+    let path = root.join(manifest.vehicle?);
     crate::files::open_regular(&path).ok().map(|_| path)
 }
 

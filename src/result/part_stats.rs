@@ -2,31 +2,11 @@
 //! legend ([`join_parts`]), and which parts the headlines show.
 
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
 
 use crate::archive::labels::{Legend, Pidt, UNLABELLED};
 use crate::color::Color;
 
-/// Statistics of one part (or of the unlabelled texels).
-#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
-pub struct PartStats {
-    pub name: String,
-    pub color: Option<Color>,
-    /// Texels of this part in the PIdT.
-    pub texels: u64,
-    /// Sum of the counts of its texels.
-    pub total: u64,
-    /// Largest count of one of its texels.
-    pub peak: u32,
-    /// `total / texels`, 0 for a part without texels.
-    pub average: f64,
-    /// Percentage of the grand total (sum of totals over legend parts).
-    pub share: f64,
-    /// Percentage of its texels seen at least once.
-    pub coverage: f64,
-    /// Texels with count ≥ 1.
-    pub texels_seen: u64,
-}
+pub use crate::format::result::PartStats;
 
 /// Raw sums gathered per part during the join.
 #[derive(Debug, Clone, Copy, Default)]

@@ -11,8 +11,6 @@
 //! says when the counts should not be compared across resolutions (run
 //! `ufcsr-capture study`, or use a resolution-independent measure).
 
-use serde::{Deserialize, Serialize};
-
 use crate::archive::capture_facts::CaptureGeometry;
 
 /// Pixels per count above which counts are called saturated.
@@ -20,27 +18,7 @@ pub const SATURATION_WARNING: f64 = 1.5;
 /// Share of frames with sub-pixel texels above which sampling is called sparse.
 pub const SUB_PIXEL_WARNING: f64 = 0.1;
 
-/// The resolution diagnostics of one result.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ResolutionReport {
-    /// Pixels that showed a texel, per count (per-image counts over all
-    /// texels). About 1: each count is one pixel. Well above 1: texels covered
-    /// by many pixels counted once — the count saturates with resolution.
-    pub pixels_per_count: f64,
-    /// The counts behind it: per-image counts summed over all texels (kept
-    /// so that the results of shards can be merged exactly).
-    #[serde(default)]
-    pub per_image_counts: u64,
-    /// The pixels behind it: pixels that showed a texel.
-    #[serde(default)]
-    pub texel_pixels: u64,
-    pub pixels_per_degree: Option<f64>,
-    pub texel_size_mm: Option<f64>,
-    /// Beyond this distance a texel is smaller than a pixel.
-    pub sub_pixel_distance_m: Option<f64>,
-    /// Share of captured frames with the vehicle beyond that distance (0–1).
-    pub sub_pixel_frame_share: Option<f64>,
-}
+pub use crate::format::result::ResolutionReport;
 
 impl ResolutionReport {
     /// `texel_pixels` pixels showed texels; `per_image_total` counts (each

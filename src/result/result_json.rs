@@ -8,7 +8,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use serde::{Deserialize, Serialize};
+use serde::Deserialize;
 
 use crate::archive::options::{Scale, Timings};
 use crate::archive::palette::PaletteSetting;
@@ -16,16 +16,7 @@ use crate::error::{Error, Result};
 use crate::files::write_atomically;
 use crate::result::model::{AnalysisResult, default_measure};
 
-/// Per-texel counts as stored in `result.json`: only seen texels, texel
-/// indices (`y * width + x`) ascending and delta-coded (the first delta is the
-/// first index), counts in the same order.
-#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub struct TexelCountsJson {
-    pub encoding: String,
-    pub texels: u64,
-    pub texel_delta: Vec<u32>,
-    pub count: Vec<u32>,
-}
+pub use crate::format::result::TexelCountsJson;
 
 impl TexelCountsJson {
     /// Expands into dense per-texel counts of `texel_count` texels.
@@ -232,7 +223,8 @@ pub fn read_result_summary(path: &Path) -> Result<AnalysisResult> {
 /// Writes `timings.json`.
 pub fn write_timings_json(path: &Path, timings: &Timings) -> Result<()> {
     write_atomically(path, |writer| {
-        serde_json::to_writer_pretty(&mut *writer, timings).map_err(std::io::Error::other)?;
+        let file = crate::format::timings::TimingsFile::new(timings.clone());
+        serde_json::to_writer_pretty(&mut *writer, &file).map_err(std::io::Error::other)?;
         writer.write_all(b"\n")
     })
 }

@@ -214,7 +214,8 @@ pub fn write_archive(dir: &Path, spec: &ArchiveSpec) -> Result<ArchiveSummary> {
                         row,
                         col,
                         empty: false,
-                        extra: Default::default(),
+                        distance_m: None,
+                        time_s: None,
                     });
                 }
             }
@@ -228,10 +229,8 @@ pub fn write_archive(dir: &Path, spec: &ArchiveSpec) -> Result<ArchiveSummary> {
         parts: Some("parts.csv".into()),
         background: Some(vec![background]),
         tiles,
-        extra: serde_json::json!({"generator": "ufcsr::synthetic", "seed": spec.seed})
-            .as_object()
-            .cloned()
-            .unwrap_or_default(),
+        generator: Some(format!("ufcsr::synthetic, seed {}", spec.seed)),
+        ..Manifest::default()
     };
     manifest.write_to_dir(dir)?;
     Ok(summary)

@@ -177,3 +177,34 @@ fn manifest_schema_agrees_with_the_analyzer_on_hand_written_manifests() {
         );
     }
 }
+
+/// The command that regenerates `docs/schemas/` from the types in `src/format/`.
+const REGENERATE: &str = "UFCSR_WRITE_SCHEMAS=1 cargo test -p ufcsr --test it schemas::committed";
+
+#[test]
+fn committed_schemas_equal_the_generated_ones() {
+    let write = std::env::var_os("UFCSR_WRITE_SCHEMAS").is_some_and(|v| v == "1");
+    let mut stale = Vec::new();
+    for format in ufcsr::SCHEMAS {
+        let path = workspace_file("docs/schemas").join(format.schema_file);
+        let generated = format.text();
+        if write {
+            std::fs::write(&path, &generated).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        } else if std::fs::read_to_string(&path).ok().as_deref() != Some(generated.as_str()) {
+            stale.push(format.schema_file);
+        }
+    }
+    assert!(
+        stale.is_empty(),
+        "docs/schemas/{} differ from the schemas generated from src/format/ (never edit them by hand); \
+         regenerate them with\n    {REGENERATE}",
+        stale.join(", docs/schemas/")
+    );
+}
+
+#[test]
+fn every_generated_schema_compiles_as_draft_2020_12() {
+    for format in ufcsr::SCHEMAS {
+        Schema::load(&workspace_file("docs/schemas").join(format.schema_file));
+    }
+}

@@ -9,7 +9,6 @@
 //! so the coordinates a ray meets are metres, not ten thousands of them.
 
 use glam::{DMat4, DVec3};
-use serde_json::Value;
 
 use super::bvh::TriangleBvh;
 use super::types::{EyeFrame, SURFACE_LIFT_RELATIVE, transform_point};
@@ -93,7 +92,7 @@ pub fn eye_frames(
     scenario: &Scenario,
     frames: &[u32],
     obstacles: &Obstacles,
-) -> Result<(Vec<EyeFrame>, Vec<serde_json::Value>)> {
+) -> Result<(Vec<EyeFrame>, Vec<ufcsr::FrameEntry>)> {
     let rig = &scene.rig;
     let mut eye_frames = Vec::with_capacity(frames.len() * 2);
     let mut records = Vec::with_capacity(frames.len());
@@ -104,8 +103,7 @@ pub fn eye_frames(
         for camera in rig.cameras(state.time_s, &state.vehicle) {
             eye_frames.push(eye_frame(obstacles, &to_world, &moving, camera.position, &camera.view_proj));
         }
-        let record = crate::job::manifest_builder::frame_record(scene, &state);
-        records.push(Value::Object(record));
+        records.push(crate::job::manifest_builder::frame_record(scene, &state));
     }
     Ok((eye_frames, records))
 }

@@ -9,8 +9,6 @@
 use std::path::PathBuf;
 use std::time::Instant;
 
-use serde_json::json;
-
 use super::cpu::texel_visibility;
 use super::estimator::{PartEstimate, estimate_parts};
 use super::geometry::{Obstacles, eye_frames, seconds_per_frame};
@@ -230,7 +228,7 @@ fn measures_block(
 ) -> Result<ufcsr::Measures> {
     let eyes = 2.0;
     let seconds = measured.seconds_per_frame;
-    let parts: Vec<serde_json::Value> = estimates
+    let parts: Vec<ufcsr::PartMeasure> = estimates
         .iter()
         .enumerate()
         .map(|(part, estimate)| {
@@ -239,13 +237,14 @@ fn measures_block(
                 .iter()
                 .filter(|&&seen| seen)
                 .count() as u64;
-            json!({
-                "name": estimate.part,
-                "pixels": estimate.sampled_total,
-                "eye_frames_seen": seen,
-                "angular_area_deg2_s": estimate.estimated_solid_angle_sr * DEG2_PER_SR * seconds / eyes,
-                "exposure_s": seen as f64 * seconds / eyes,
-            })
+            ufcsr::PartMeasure {
+                name: estimate.part.clone(),
+                pixels: estimate.sampled_total,
+                eye_frames_seen: seen,
+                solid_angle_sr: None,
+                angular_area_deg2_s: Some(estimate.estimated_solid_angle_sr * DEG2_PER_SR * seconds / eyes),
+                exposure_s: Some(seen as f64 * seconds / eyes),
+            }
         })
         .collect();
     let mut notes = Vec::new();
@@ -257,16 +256,15 @@ fn measures_block(
             measure.sample
         ));
     }
-    let block = json!({
-        "definition": EXACT_DEFINITION,
-        "pixels_per_degree": null,
-        "seconds_per_frame": seconds,
-        "eyes": eyes as usize,
-        "eye_frames": measured.eye_frames,
-        "parts": parts,
-        "notes": notes,
-    });
-    serde_json::from_value(block).map_err(|e| CaptureError::BadOptions(format!("the measures block: {e}")))
+    Ok(ufcsr::Measures {
+        definition: EXACT_DEFINITION.into(),
+        pixels_per_degree: None,
+        seconds_per_frame: Some(seconds),
+        eyes: eyes as usize,
+        eye_frames: measured.eye_frames as u64,
+        parts,
+        notes,
+    })
 }
 
 fn write_estimates(path: &std::path::Path, estimates: &[PartEstimate]) -> Result<()> {

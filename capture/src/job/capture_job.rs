@@ -252,7 +252,7 @@ fn vehicle_model(scene: &Scene, vertices: &[crate::render::Vertex]) -> ufcsr::Ve
 /// The tiles of a whole capture, as the frame loop produced them.
 pub struct CapturedTiles {
     pub entries: Vec<ufcsr::TileEntry>,
-    pub frame_records: Vec<serde_json::Value>,
+    pub frame_records: Vec<ufcsr::FrameEntry>,
     pub tally: TileTally,
     pub frames: u32,
     pub tiles: u64,
@@ -445,8 +445,8 @@ pub fn write_manifest(
             // What assemble accounts for: the whole selection and this shard's tiles.
             let selected = crate::job::scene_checks::selected_frames(scene, scenario, options)?;
             let record = capture_shard::shard_record(shard, &selected, manifest.tiles.len());
-            if let Some(serde_json::Value::Object(capture)) = manifest.extra.get_mut("capture") {
-                capture.insert("shard".into(), record);
+            if let Some(capture) = &mut manifest.capture {
+                capture.shard = Some(record);
             }
             let path = capture_shard::partial_manifest_path(&options.out, shard);
             let dir = options.out.join(capture_shard::SHARDS_DIR);

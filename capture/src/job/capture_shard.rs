@@ -17,10 +17,9 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use serde_json::Value;
-use ufcsr::{MANIFEST_FILE, Manifest, Shard};
+use ufcsr::{CaptureRecord, FrameEntry, MANIFEST_FILE, Manifest, Shard, ShardRecord};
 
 use crate::error::{CaptureError, Result};
-use crate::job::manifest_builder::CAPTURE_TALLIES;
 
 /// Folder of the shards' partial manifests, inside the archive.
 pub const SHARDS_DIR: &str = "shards";
@@ -44,8 +43,13 @@ pub fn frames_of_shard(selected: &[u32], shard: Option<Shard>) -> Vec<(usize, u3
 /// A shard's `capture.shard` record: which shard it is, the frames the
 /// whole capture selected and how many tiles this shard listed, so that
 /// [`assemble`] can account for every frame and tile.
-pub fn shard_record(shard: Shard, selected: &[u32], tiles: usize) -> Value {
-    serde_json::json!({"index": shard.index, "count": shard.count, "selected_frames": selected, "tiles": tiles})
+pub fn shard_record(shard: Shard, selected: &[u32], tiles: usize) -> ShardRecord {
+    ShardRecord {
+        index: shard.index,
+        count: shard.count,
+        selected_frames: selected.to_vec(),
+        tiles: tiles as u64,
+    }
 }
 
 /// What [`assemble`] did.
@@ -97,8 +101,8 @@ pub fn assemble(archive: &Path) -> Result<Assembled> {
     });
     let frames = joined_frames(&dir, &parts)?;
     let frame_count = frames.len();
-    manifest.extra.insert("frames".into(), Value::Array(frames));
-    manifest.extra.insert("capture".into(), joined_capture(first, &parts));
+    manifest.frames = Some(frames);
+    manifest.capture = joined_capture(&parts);
     // The joined manifest must pass the same checks as any other (no tile twice).
     let manifest_path = archive.join(MANIFEST_FILE);
     let tiles = manifest.tiles.len();
@@ -136,25 +140,20 @@ fn read_parts(dir: &Path) -> Result<Vec<ShardPart>> {
         };
         let bytes = ufcsr::read_limited(&path, ufcsr::SMALL_INPUT_LIMIT)?;
         let manifest = Manifest::parse(&path, &bytes)?;
-        let recorded = manifest.extra.get("capture").and_then(|c| c.get("shard"));
-        let field = |name: &str| recorded.and_then(|r| r.get(name)).and_then(Value::as_u64);
-        if (field("index"), field("count")) != (Some(shard.index.into()), Some(shard.count.into())) {
+        let Some(recorded) = manifest.capture.as_ref().and_then(|capture| capture.shard.clone()) else {
+            return Err(CaptureError::bad_input(
+                &path,
+                "has no capture.shard (an older ufcsr-capture, or edited): capture the shards again",
+            ));
+        };
+        if (recorded.index, recorded.count) != (shard.index, shard.count) {
             return Err(CaptureError::bad_input(
                 &path,
                 format!("its capture.shard does not say {shard}, as its name does"),
             ));
         }
-        let selected: Option<Vec<u32>> = recorded
-            .and_then(|r| r.get("selected_frames"))
-            .and_then(|frames| serde_json::from_value(frames.clone()).ok());
-        let (Some(selected), Some(tiles)) = (selected, field("tiles")) else {
-            return Err(CaptureError::bad_input(
-                &path,
-                "its capture.shard lacks selected_frames and tiles (an older ufcsr-capture, or edited): \
-                 capture the shards again",
-            ));
-        };
-        parts.push(ShardPart { path, manifest, shard, selected, tiles: tiles as usize });
+        let (selected, tiles) = (recorded.selected_frames, recorded.tiles as usize);
+        parts.push(ShardPart { path, manifest, shard, selected, tiles });
     }
     parts.sort_by_key(|part| part.shard.index);
     if parts.is_empty() {
@@ -222,12 +221,7 @@ fn check_accounted(part: &ShardPart, first: &ShardPart) -> Result<()> {
     }
     let expected: Vec<u64> =
         frames_of_shard(&part.selected, Some(part.shard)).into_iter().map(|(_, f)| f.into()).collect();
-    let frames: Vec<u64> = match part.manifest.extra.get("frames") {
-        Some(Value::Array(records)) => {
-            records.iter().map(|r| r.get("frame").and_then(Value::as_u64).unwrap_or(u64::MAX)).collect()
-        }
-        _ => Vec::new(),
-    };
+    let frames: Vec<u64> = part.manifest.frame_records().iter().map(|r| u64::from(r.frame)).collect();
     if frames != expected {
         let missing: Vec<String> =
             expected.iter().filter(|f| !frames.contains(f)).take(8).map(u64::to_string).collect();
@@ -258,17 +252,16 @@ fn check_accounted(part: &ShardPart, first: &ShardPart) -> Result<()> {
 }
 
 /// The parts' frame records in frame order; an error if a frame is in two.
-fn joined_frames(dir: &Path, parts: &[ShardPart]) -> Result<Vec<Value>> {
-    let mut frames: Vec<Value> = Vec::new();
+fn joined_frames(dir: &Path, parts: &[ShardPart]) -> Result<Vec<FrameEntry>> {
+    let mut frames: Vec<FrameEntry> = Vec::new();
     for part in parts {
-        match part.manifest.extra.get("frames") {
-            Some(Value::Array(records)) => frames.extend(records.iter().cloned()),
-            _ => return Err(CaptureError::bad_input(&part.path, "has no frames list")),
+        match &part.manifest.frames {
+            Some(records) => frames.extend(records.iter().cloned()),
+            None => return Err(CaptureError::bad_input(&part.path, "has no frames list")),
         }
     }
-    frames.sort_by_key(|record| record.get("frame").and_then(Value::as_u64).unwrap_or(u64::MAX));
-    let numbers: BTreeSet<u64> =
-        frames.iter().filter_map(|r| r.get("frame").and_then(Value::as_u64)).collect();
+    frames.sort_by_key(|record| record.frame);
+    let numbers: BTreeSet<u32> = frames.iter().map(|r| r.frame).collect();
     if numbers.len() != frames.len() {
         return Err(CaptureError::bad_input(
             dir,
@@ -280,21 +273,12 @@ fn joined_frames(dir: &Path, parts: &[ShardPart]) -> Result<Vec<Value>> {
 
 /// The first part's `capture` record without its shard, with the tile
 /// tallies summed over the parts.
-fn joined_capture(first: &Manifest, parts: &[ShardPart]) -> Value {
-    let mut capture = first.extra.get("capture").cloned().unwrap_or(Value::Null);
-    if let Value::Object(fields) = &mut capture {
-        fields.remove("shard");
-        for tally in CAPTURE_TALLIES {
-            let sum: u64 = parts
-                .iter()
-                .filter_map(|part| {
-                    part.manifest.extra.get("capture").and_then(|c| c.get(tally)).and_then(Value::as_u64)
-                })
-                .sum();
-            fields.insert(tally.into(), Value::from(sum));
-        }
+fn joined_capture(parts: &[ShardPart]) -> Option<CaptureRecord> {
+    let mut joined = parts[0].manifest.capture.as_ref()?.without_tallies();
+    for capture in parts.iter().filter_map(|part| part.manifest.capture.as_ref()) {
+        joined.add_tallies(capture);
     }
-    capture
+    Some(joined)
 }
 
 /// `manifest-I-of-N.json` → shard I/N.
@@ -309,13 +293,8 @@ fn shard_of_file_name(name: &str) -> Option<Shard> {
 fn without_shard_fields(manifest: &Manifest) -> Value {
     let mut manifest = manifest.clone();
     manifest.tiles.clear();
-    manifest.extra.remove("frames");
-    if let Some(Value::Object(capture)) = manifest.extra.get_mut("capture") {
-        capture.remove("shard");
-        for field in CAPTURE_TALLIES {
-            capture.remove(field);
-        }
-    }
+    manifest.frames = None;
+    manifest.capture = manifest.capture.as_ref().map(CaptureRecord::without_tallies);
     serde_json::to_value(manifest).unwrap_or(Value::Null)
 }
 

@@ -12,8 +12,9 @@
 //! becomes.
 
 use glam::{DMat4, DVec3};
-use serde_json::{Map, Value, json};
-use ufcsr::{Color, TileEntry};
+use std::collections::BTreeMap;
+
+use ufcsr::{Color, FrameEntry, TileEntry};
 
 use crate::error::Result;
 use crate::job::manifest_builder::round6;
@@ -49,7 +50,7 @@ pub struct CapturedFrame {
     /// One manifest entry per tile, in archive order (eye, row, column).
     pub entries: Vec<TileEntry>,
     /// The frame's record for the manifest's `frames` list.
-    pub record: Value,
+    pub record: FrameEntry,
     pub tally: TileTally,
 }
 
@@ -79,9 +80,9 @@ impl<'a> FrameCapture<'a> {
         let to_world = vehicle_to_world(&pose);
         let world_box = self.vehicle_box.map(|c| to_world.transform_point3(c));
         let moving = MovingFrame::new(self.scene, &state);
-        let mut captured =
-            CapturedFrame { entries: Vec::new(), record: Value::Null, tally: TileTally::default() };
-        let mut tiles_with_vehicle = Map::new();
+        let mut entries = Vec::new();
+        let mut tally = TileTally::default();
+        let mut tiles_with_vehicle = BTreeMap::new();
         for (eye, camera) in Eye::BOTH.into_iter().zip(rig.cameras(time_s, &pose)) {
             let touched = if self.no_cull { rig.all_tiles() } else { rig.tiles_touched(&camera, &world_box) };
             let bounds = if self.no_scissor {
@@ -90,41 +91,39 @@ impl<'a> FrameCapture<'a> {
                 EyeBounds::project(rig, &camera, &world_box)
             };
             let test_hidden = !self.no_scissor && wholly_in_front(rig, &camera, &world_box);
-            let mut with_vehicle = 0u32;
+            let mut with_vehicle = 0u64;
             let tile_pixels = PixelRect::whole(self.renderer.tile_size()).pixels();
             for tile in rig.all_tiles() {
                 on_tile();
                 let address = TileAddress { frame, eye, row: tile.row, col: tile.col };
                 let mut entry = tile_entry(&address, time_s, distance_m);
-                let index = first_index + captured.entries.len();
+                let index = first_index + entries.len();
                 let shows_vehicle = if !touched.contains(&tile) {
-                    captured.tally.culled += 1;
+                    tally.culled += 1;
                     false
                 } else if sink.is_done(&address) {
-                    captured.tally.resumed += 1;
+                    tally.resumed += 1;
                     // Counted as if rendered, so a resumed capture's manifest is the same.
-                    captured.tally.pixels_scissored +=
-                        scissored_pixels(tile_pixels, bounds.region(rig, tile));
+                    tally.pixels_scissored += scissored_pixels(tile_pixels, bounds.region(rig, tile));
                     true
                 } else {
                     let clip_from_world = rig.tile_matrix(tile) * camera.view_proj;
                     let job = TileJob { address, index, region: bounds.region(rig, tile), test_hidden };
                     let transforms = TileTransforms { clip_from_world, to_world, moving: &moving };
-                    self.render_into(sink, job, transforms, &mut captured.tally)?
+                    self.render_into(sink, job, transforms, &mut tally)?
                 };
                 if shows_vehicle {
                     with_vehicle += 1;
                     entry.file = Some(address.file());
                     entry.empty = false;
                 }
-                captured.entries.push(entry);
+                entries.push(entry);
             }
-            tiles_with_vehicle.insert(eye.name().into(), json!(with_vehicle));
+            tiles_with_vehicle.insert(eye.name().into(), with_vehicle);
         }
         let mut record = crate::job::manifest_builder::frame_record(self.scene, &state);
-        record.insert("tiles_with_vehicle".into(), Value::Object(tiles_with_vehicle));
-        captured.record = Value::Object(record);
-        Ok(captured)
+        record.tiles_with_vehicle = Some(tiles_with_vehicle);
+        Ok(CapturedFrame { entries, record, tally })
     }
 
     /// Renders the `region` of one tile the vehicle may cover (see
@@ -267,9 +266,6 @@ fn scissored_pixels(tile_pixels: u64, region: Option<PixelRect>) -> u64 {
 
 /// The manifest entry of a tile, empty until the sink takes it.
 fn tile_entry(address: &TileAddress, time_s: f64, distance_m: f64) -> TileEntry {
-    let mut extra = Map::new();
-    extra.insert("time_s".into(), json!(round6(time_s)));
-    extra.insert("distance_m".into(), json!(round6(distance_m)));
     TileEntry {
         file: None,
         frame: address.frame,
@@ -277,6 +273,7 @@ fn tile_entry(address: &TileAddress, time_s: f64, distance_m: f64) -> TileEntry 
         row: address.row,
         col: address.col,
         empty: true,
-        extra,
+        distance_m: Some(round6(distance_m)),
+        time_s: Some(round6(time_s)),
     }
 }

@@ -9,7 +9,6 @@ use std::path::{Path, PathBuf};
 
 use glam::{DMat4, DVec3};
 use serde::{Deserialize, Serialize};
-use serde_json::json;
 
 use crate::error::{CaptureError, Result};
 use crate::scene::demo;
@@ -247,7 +246,7 @@ pub struct Scene {
     pub rig: Rig,
     pub scenarios: Vec<Scenario>,
     /// What the manifest records about the scene.
-    pub info: serde_json::Value,
+    pub info: ufcsr::SceneRecord,
     /// Doubts about the vehicle (size, axes, origin, part rules) to show the user.
     pub warnings: Vec<String>,
     /// Every file the scene was read from (scene file, meshes and the files
@@ -262,12 +261,20 @@ impl Scene {
         let vehicle = demo::truck();
         Scene {
             name: "demo".into(),
-            info: json!({
-                "name": "demo",
-                "vehicle": "built-in pickup truck (5.9 × 2.0 × 1.9 m)",
-                "environment": "four-way intersection with corner buildings; pedestrian at the south-west corner",
-                "scenarios": demo::SCENARIOS.iter().map(|(n, _, d)| json!({"name": n, "arrives": d})).collect::<Vec<_>>(),
-            }),
+            info: ufcsr::SceneRecord {
+                name: "demo".into(),
+                vehicle: Some("built-in pickup truck (5.9 × 2.0 × 1.9 m)".into()),
+                environment: Some(
+                    "four-way intersection with corner buildings; pedestrian at the south-west corner".into(),
+                ),
+                scenarios: Some(
+                    demo::SCENARIOS
+                        .iter()
+                        .map(|(n, _, d)| ufcsr::DemoScenario { name: (*n).into(), arrives: (*d).into() })
+                        .collect(),
+                ),
+                ..ufcsr::SceneRecord::default()
+            },
             vehicle,
             occluders: demo::intersection(),
             rig: demo::rig(),
@@ -285,10 +292,15 @@ impl Scene {
         let chosen = scene.scenario(scenario)?.clone();
         scene.occluders.moving.push(traffic.occluder(&chosen));
         scene.name = format!("demo, {}", traffic.name());
-        if let serde_json::Value::Object(info) = &mut scene.info {
-            let offset = serde_json::to_value(traffic.offset(&chosen)).unwrap_or_default();
-            info.insert("traffic".into(), json!({"name": traffic.name(), "follow": offset}));
-        }
+        let offset = traffic.offset(&chosen);
+        scene.info.traffic = Some(ufcsr::TrafficRecord {
+            name: traffic.name().into(),
+            follow: ufcsr::FollowRecord {
+                ahead_m: offset.ahead_m,
+                left_m: offset.left_m,
+                yaw_deg: offset.yaw_deg,
+            },
+        });
         scene.scenarios = vec![chosen];
         Ok(scene)
     }
@@ -302,12 +314,13 @@ impl Scene {
         add_ground(&mut occluders, rig.anchor().z, rig.anchor());
         Ok(Scene {
             name: "unity".into(),
-            info: json!({
-                "name": "unity",
-                "source": path.display().to_string(),
-                "vehicle": "built-in pickup truck standing in for the Unity F-150",
-                "environment": "ground plane only (MCity not available)",
-            }),
+            info: ufcsr::SceneRecord {
+                name: "unity".into(),
+                source: Some(path.display().to_string()),
+                vehicle: Some("built-in pickup truck standing in for the Unity F-150".into()),
+                environment: Some("ground plane only (MCity not available)".into()),
+                ..ufcsr::SceneRecord::default()
+            },
             vehicle: demo::truck(),
             occluders,
             rig,
@@ -364,13 +377,14 @@ impl Scene {
             path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into())
         });
         Ok(Scene {
-            info: json!({
-                "name": name,
-                "file": path.display().to_string(),
-                "vehicle": file.vehicle.mesh,
-                "occluder_objects": occluders.objects.len(),
-                "moving_occluders": occluders.moving.iter().map(|m| m.name.as_str()).collect::<Vec<_>>(),
-            }),
+            info: ufcsr::SceneRecord {
+                name: name.clone(),
+                file: Some(path.display().to_string()),
+                vehicle: Some(file.vehicle.mesh.clone()),
+                occluder_objects: Some(occluders.objects.len() as u64),
+                moving_occluders: Some(occluders.moving.iter().map(|m| m.name.clone()).collect()),
+                ..ufcsr::SceneRecord::default()
+            },
             name,
             vehicle,
             occluders,

@@ -35,7 +35,7 @@ fn scene(vehicle: Mesh, occluders: Occluders, rig: Rig, scenario: Scenario) -> S
         occluders,
         rig,
         scenarios: vec![scenario],
-        info: serde_json::json!({"name": "extreme"}),
+        info: ufcsr::SceneRecord { name: "extreme".into(), ..Default::default() },
         warnings: Vec::new(),
         input_files: Vec::new(),
     }

@@ -98,7 +98,8 @@ fn check_backend(gpu: &Gpu) {
         assert_eq!(cut.tally.written, full.tally.written, "{name}");
         same_archives(&scissored, &whole);
         let manifest = Manifest::load_from_dir(&scissored).unwrap().unwrap();
-        assert_eq!(manifest.extra["capture"]["pixels_scissored"], cut.tally.pixels_scissored, "{name}");
-        assert_eq!(manifest.extra["capture"]["tiles_hidden"], cut.tally.hidden, "{name}");
+        let capture = manifest.capture.expect("a capture record");
+        assert_eq!(capture.pixels_scissored, Some(cut.tally.pixels_scissored), "{name}");
+        assert_eq!(capture.tiles_hidden, Some(cut.tally.hidden), "{name}");
     }
 }

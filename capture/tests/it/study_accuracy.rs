@@ -52,7 +52,7 @@ pub(crate) fn plates_scene() -> Scene {
         occluders: Occluders::default(),
         rig,
         scenarios: vec![scenario],
-        info: serde_json::json!({"name": "plates"}),
+        info: ufcsr::SceneRecord { name: "plates".into(), ..Default::default() },
         warnings: Vec::new(),
         input_files: Vec::new(),
     }

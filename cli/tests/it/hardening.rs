@@ -94,10 +94,7 @@ fn static_scene(dir: &Path, vehicle: &str, extra: &str) -> PathBuf {
 /// The manifest's `warnings` (empty when it has none).
 fn manifest_warnings(out: &Path) -> Vec<String> {
     let manifest = ufcsr::Manifest::load_from_dir(out).unwrap().expect("a manifest");
-    match manifest.extra.get("warnings") {
-        None => Vec::new(),
-        Some(list) => serde_json::from_value(list.clone()).unwrap(),
-    }
+    manifest.warnings
 }
 
 // ---- glTF files for the tests ----
@@ -468,6 +465,6 @@ fn the_demo_scenarios_warn_about_nothing_and_their_manifests_have_no_warnings() 
         let ran = tiny_capture(&["demo", "--scenario", scenario], &out, &[]);
         assert!(ran.success && !ran.stderr.contains("warning"), "{scenario}: {}", ran.stderr);
         let manifest = ufcsr::Manifest::load_from_dir(&out).unwrap().unwrap();
-        assert!(!manifest.extra.contains_key("warnings"), "{scenario}");
+        assert!(manifest.warnings.is_empty(), "{scenario}");
     }
 }

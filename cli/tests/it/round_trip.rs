@@ -91,9 +91,9 @@ fn demo_capture_round_trips_through_the_checks_and_the_analyzer() {
         let first: Vec<_> = manifest.tiles.iter().filter(|t| t.frame == 0).collect();
         assert_eq!(first.len(), 50);
         assert!(first.iter().all(|t| t.empty), "scenario {scenario}: frame 0 has vehicle tiles");
-        let frames = manifest.extra["frames"].as_array().unwrap();
+        let frames = manifest.frame_records();
         assert_eq!(frames.len(), 10);
-        assert_eq!(frames[9]["time_s"], 3.0);
+        assert_eq!(frames[9].time_s, Some(3.0));
 
         let totals = part_totals(&archive);
         let (front, rear) = (sum(&totals, &FRONT), sum(&totals, &REAR));

@@ -20,6 +20,7 @@ use std::path::Path;
 
 use glam::{DMat4, DVec3};
 use rayon::prelude::*;
+use ufcsr::PlacementFrameRow;
 
 use super::ExactInputs;
 use super::labels::{LabelKind, LabelSet};
@@ -112,23 +113,6 @@ pub fn measure_eye_frame(inputs: &ExactInputs, labels: &LabelSet, eye_frame: &Ey
         .collect()
 }
 
-/// One row of the table.
-#[derive(serde::Serialize)]
-struct Row<'a> {
-    frame: u64,
-    time_s: f64,
-    eye: &'static str,
-    distance_m: f64,
-    candidate: &'a str,
-    kind: &'static str,
-    solid_angle_sr: f64,
-    visible_fraction: f64,
-    view_angle_deg: f64,
-    angular_height_deg: f64,
-    frame_s: f64,
-    mirror: &'a str,
-}
-
 /// Eye-frames measured at once (in parallel) before their rows are written.
 const EYE_FRAMES_PER_BATCH: usize = 32;
 
@@ -167,8 +151,8 @@ fn write_rows<W: std::io::Write>(
     index: usize,
     per_label: &[Option<Seen>],
 ) -> std::result::Result<u64, csv::Error> {
+    // The capture's own records ([`crate::job::manifest_builder::frame_record`]) always carry time and distance.
     let record = &inputs.frame_records[index / 2];
-    let number = |key: &str| record[key].as_f64().unwrap_or(0.0);
     let none =
         Seen { solid_angle_sr: 0.0, visible_fraction: 0.0, view_angle_deg: 0.0, angular_height_deg: 0.0 };
     let mut rows = 0;
@@ -178,19 +162,19 @@ fn write_rows<W: std::io::Write>(
             continue;
         }
         let seen = seen.unwrap_or(none);
-        table.serialize(Row {
-            frame: record["frame"].as_u64().unwrap_or(0),
-            time_s: number("time_s"),
-            eye: if index.is_multiple_of(2) { "left" } else { "right" },
-            distance_m: number("distance_m"),
-            candidate: &labels.names[label],
-            kind: kind.name(),
+        table.serialize(PlacementFrameRow {
+            frame: u64::from(record.frame),
+            time_s: record.time_s.unwrap_or(0.0),
+            eye: (if index.is_multiple_of(2) { "left" } else { "right" }).into(),
+            distance_m: record.distance_m.unwrap_or(0.0),
+            candidate: labels.names[label].as_str().into(),
+            kind: kind.name().into(),
             solid_angle_sr: seen.solid_angle_sr,
             visible_fraction: seen.visible_fraction,
             view_angle_deg: seen.view_angle_deg,
             angular_height_deg: seen.angular_height_deg,
             frame_s: inputs.frame_s,
-            mirror: labels.mirrors[label].as_deref().unwrap_or(""),
+            mirror: labels.mirrors[label].as_deref().unwrap_or("").into(),
         })?;
         rows += 1;
     }

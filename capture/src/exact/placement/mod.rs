@@ -28,8 +28,8 @@ use super::types::{EyeFrame, PlacementCandidates, SurfaceSamples};
 use crate::error::{CaptureError, Result};
 use crate::scene::Scene;
 
-/// The file written into the results folder.
-pub const PLACEMENT_FRAMES_FILE: &str = "placement-frames.csv";
+/// The file written into the results folder (the analyzer's, which reads it).
+pub use ufcsr::PLACEMENT_FRAMES_FILE;
 
 pub use patches::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE};
 
@@ -53,8 +53,8 @@ pub struct ExactInputs<'a> {
     pub samples: &'a SurfaceSamples,
     /// Both eyes per frame, in frame order (left, right).
     pub eye_frames: &'a [EyeFrame],
-    /// Per frame: `{"frame", "time_s", "distance_m"}` as in the manifest.
-    pub frame_records: &'a [serde_json::Value],
+    /// Per frame: its record as in the manifest (frame, time, distance).
+    pub frame_records: &'a [ufcsr::FrameEntry],
     pub obstacles: &'a Obstacles,
     /// `--sample`: the share of texels measured.
     pub sample_fraction: f64,
