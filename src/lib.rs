@@ -11,6 +11,7 @@ mod count;
 mod describe;
 mod error;
 mod files;
+mod format;
 mod input;
 mod kernel;
 mod output;
@@ -35,6 +36,10 @@ pub use files::{
     remove_stale_staging, remove_temporaries, resolve_inside, same_path, write_atomically,
     write_bytes_atomically, write_rgb_png,
 };
+pub use format::placement::{
+    ArchiveRecord, CandidateRecord, CombinationRecord, ExposureRecord, MemberRecord, PlacementDocument,
+    RunnerUpRecord, SensitivityRecord, SensitivitySet, ThresholdsRecord, UncertaintyRecord,
+};
 pub use input::{
     AnalyzeOptions, Archive, CaptureGeometry, Dedupe, EyeProjection, Fcsp, HeatmapOptions, ImageSource,
     Legend, LoadedLabels, MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, PaletteChoice,
@@ -55,11 +60,12 @@ pub use output::{
 pub use output::{Shell, print_completions, write_man_pages};
 pub use placement::report::{WrittenPlacement, format_placement};
 pub use placement::{
-    CandidateKind, CandidateSummary, Combination, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Mark, Method,
-    Objective, PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS,
-    PLACEMENT_PATCHES_FILE, PLACEMENT_PICTURE_FILE, PLACEMENT_SCHEMA, PLACEMENT_VIEWS_DIR, PatchFootprint,
-    PicturedSet, Placement, PlacementOptions, PlacementTable, Thresholds, brute_force_best, placement,
-    read_footprints, read_table, render_marked, resolve_table, write_placement,
+    CandidateKind, CharacterHeight, DEFAULT_EPSILON_S, DEFAULT_NOT_MOUNTABLE, DEFAULT_REGION_RADIUS_M,
+    DEFAULT_REPLICATES, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Mark, Method, Objective,
+    PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE,
+    PLACEMENT_PICTURE_FILE, PLACEMENT_SCHEMA, PLACEMENT_VIEWS_DIR, PatchFootprint, PicturedSet, Placement,
+    PlacementOptions, PlacementTable, Resampling, Thresholds, brute_force_best, parse_character_height,
+    placement, read_footprints, read_table, render_marked, resolve_table, write_placement,
 };
 pub use result::{
     Analysis, AnalysisResult, Comparison, FrameTable, Measures, PartStats, PartTable, RESULT_SCHEMA,

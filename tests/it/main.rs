@@ -25,6 +25,7 @@ mod module_graph;
 mod order_and_saturation;
 mod placement;
 mod placement_pages;
+mod placement_uncertainty;
 mod reliability;
 mod reliability_inputs;
 mod reliability_merge;
