@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 use crate::error::{Error, Result};
 use crate::files::write_atomically;
 pub use crate::format::placement::{
-    ArchiveRecord, CandidateRecord, CombinationRecord, MemberRecord, PLACEMENT_SCHEMA, PlacementDocument,
-    SensitivityRecord, Sources, ThresholdsRecord, UncertaintyRecord,
+    ArchiveRecord, CandidateKind, CandidateRecord, CombinationRecord, MemberRecord, PLACEMENT_SCHEMA,
+    PlacementDocument, SensitivityRecord, Sources, ThresholdsRecord, UncertaintyRecord,
 };
 use crate::placement::footprints::PatchFootprint;
 use crate::placement::legibility::{
@@ -362,7 +362,9 @@ pub fn format_placement(placement: &Placement, top: usize) -> String {
     let mut out = String::from(
         "candidate                                            kind   legible s  visible s  first legible s  (mean over archives)\n",
     );
-    for c in document.candidates.iter().filter(|c| c.region.is_none()).take(top) {
+    // One line per place: a region's first patch; not-mountable patches only in placement.csv.
+    let listed = |c: &&CandidateRecord| c.region.is_none() && (c.mountable || c.kind == CandidateKind::Part);
+    for c in document.candidates.iter().filter(listed).take(top) {
         let first = c.first_legible_s.map_or("never".to_string(), |s| format!("{s:.3}"));
         let note = match (c.mountable, c.region_members) {
             (false, _) => " (not mountable)".to_string(),

@@ -207,20 +207,19 @@ impl Leaders {
     /// Offers a set; one that only adds members to a kept set scoring as
     /// well is no new place and is not kept.
     fn offer(&mut self, score: (f64, f64), set: &[usize]) {
-        if self.sets.len() > RUNNERS_UP && self.sets.last().is_some_and(|(s, _)| score <= *s) {
+        // Strictly better ranks first, and so does a tie with fewer members
+        // (a member that adds nothing is left out); other ties stay behind
+        // the sets found before them.
+        let ahead = |kept_score: (f64, f64), kept: &[usize]| {
+            score > kept_score || (score == kept_score && set.len() < kept.len())
+        };
+        if self.sets.len() > RUNNERS_UP && self.sets.last().is_some_and(|(s, kept)| !ahead(*s, kept)) {
             return;
         }
         if self.sets.iter().any(|(s, kept)| *s >= score && kept.iter().all(|c| set.contains(c))) {
             return;
         }
-        // Strictly better goes first, and so does a tie with fewer members (a
-        // member that adds nothing is left out); other ties stay behind the
-        // sets found before them.
-        let at = self
-            .sets
-            .iter()
-            .position(|(s, kept)| score > *s || (score == *s && set.len() < kept.len()))
-            .unwrap_or(self.sets.len());
+        let at = self.sets.iter().position(|(s, kept)| ahead(*s, kept)).unwrap_or(self.sets.len());
         self.sets.insert(at, (score, set.to_vec()));
         self.sets.truncate(RUNNERS_UP + 1);
     }

@@ -21,7 +21,9 @@
 //!   the reported set is at most ε seconds below the replicate's best.
 //! * **Runners-up**: the other sets the search met (exhaustive: the next
 //!   best of all; greedy: single-member swaps) whose mean lies inside the
-//!   interval, sets that only add or drop members of the answer left out.
+//!   interval, sets that only add or drop members of the answer and sets
+//!   with a member that adds nothing left out (none when nothing is
+//!   legible).
 //!
 //! `tests/it/placement_uncertainty.rs` measures the interval's coverage and
 //! P(best)'s calibration on synthetic tables with a known answer.
@@ -142,10 +144,19 @@ pub fn assess(
         |set: &[usize]| set.iter().all(|c| reported.contains(c)) || reported.iter().all(|c| set.contains(c));
     let value = universe.mean(&seconds);
     let low = interval_s.map_or(value - resampling.epsilon_s, |[low, _]| low.min(value - 1e-12));
+    // Every member of a runner-up adds time: a set padded with a member that
+    // adds nothing is the smaller set again, not another place.
+    let minimal = |set: &[usize]| {
+        let whole = universe.score(choices, set, objective).0;
+        set.iter().all(|&m| {
+            let without: Vec<usize> = set.iter().copied().filter(|&c| c != m).collect();
+            universe.score(choices, &without, objective).0 < whole
+        })
+    };
     let runners: Vec<(Vec<usize>, f64)> = found
         .runners_up
         .iter()
-        .filter(|(set, v)| *v >= low && !nested(&sorted(set)))
+        .filter(|(set, v)| value > 0.0 && *v >= low && !nested(&sorted(set)) && minimal(set))
         .map(|(set, v)| (sorted(set), *v))
         .collect();
     if archives < 2 || resampling.replicates == 0 {

@@ -262,13 +262,16 @@ fn candidates(page: &mut String, candidates: &[CandidateRecord]) {
     let _ = writeln!(
         page,
         "<h3>Candidates ranked by legible seconds</h3>\n<p>Every part, and the {LISTED} best display regions \
-         (placement.csv lists every patch); <em>not mountable</em> candidates are scored, never chosen.</p>\n\
+         (placement.csv lists every patch, not-mountable ones too); <em>not mountable</em> parts are scored, never \
+         chosen.</p>\n\
          <table><tr><th>candidate</th><th>kind</th><th>region of</th><th>mountable</th><th>legible s</th>\
          <th>visible s</th><th>first legible s</th><th>first legible at m</th>\
          <th>legible s in the decision window</th><th>worst case legible s</th></tr>"
     );
     let mut patches = 0;
-    for c in candidates.iter().filter(|c| c.region.is_none()) {
+    for c in
+        candidates.iter().filter(|c| c.region.is_none() && (c.mountable || c.kind == CandidateKind::Part))
+    {
         if c.kind == CandidateKind::Patch {
             patches += 1;
             if patches > LISTED {
