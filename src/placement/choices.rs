@@ -104,6 +104,11 @@ pub fn choices(
         if taken.contains(name) || representatives.get(name) != Some(name) {
             continue;
         }
+        // Paired, a candidate whose mirror is already in another pair is that
+        // pair's place again, not a single display of its own.
+        if pairing == Pairing::Symmetric && mirror.as_ref().is_some_and(|m| taken.contains(m)) {
+            continue;
+        }
         let mut members = vec![name.clone()];
         taken.insert(name.clone());
         if pairing == Pairing::Symmetric
