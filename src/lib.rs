@@ -52,6 +52,10 @@ pub use format::manifest::{
     OccluderPose, PaintedByPart, PedestrianSetting, PoseRecord, RigRecord, RigSettings, ScenarioRecord,
     SceneRecord, ShardRecord, TrackKey, TrafficRecord, UnwrapRecord,
 };
+pub use format::placement::{
+    ArchiveRecord, CandidateRecord, CombinationRecord, ExposureRecord, MemberRecord, PlacementDocument,
+    RunnerUpRecord, SensitivityRecord, SensitivitySet, ThresholdsRecord, UncertaintyRecord,
+};
 pub use format::placement_csv::{PLACEMENT_FRAMES_OPTIONAL, PlacementFrameRow};
 pub use format::result::{
     ColorTexels, DedupeReport, FailedImage, ImageCounts, PartMeasure, PixelCounts, ResultFile, Settings,
@@ -72,11 +76,12 @@ pub use output::{
 };
 pub use placement::report::{WrittenPlacement, format_placement};
 pub use placement::{
-    CandidateKind, CandidateSummary, Combination, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Mark, Method,
-    Objective, PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS,
-    PLACEMENT_PATCHES_FILE, PLACEMENT_PICTURE_FILE, PLACEMENT_SCHEMA, PLACEMENT_VIEWS_DIR, PatchFootprint,
-    PicturedSet, Placement, PlacementOptions, PlacementTable, Thresholds, brute_force_best, placement,
-    read_footprints, read_table, render_marked, resolve_table, write_placement,
+    CandidateKind, CharacterHeight, DEFAULT_EPSILON_S, DEFAULT_NOT_MOUNTABLE, DEFAULT_REGION_RADIUS_M,
+    DEFAULT_REPLICATES, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Mark, Method, Objective,
+    PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE,
+    PLACEMENT_PICTURE_FILE, PLACEMENT_SCHEMA, PLACEMENT_VIEWS_DIR, PatchFootprint, PicturedSet, Placement,
+    PlacementOptions, PlacementTable, Resampling, Thresholds, brute_force_best, parse_character_height,
+    placement, read_footprints, read_table, render_marked, resolve_table, write_placement,
 };
 pub use result::{
     Analysis, AnalysisResult, Comparison, FrameTable, Measures, PartStats, PartTable, RESULT_SCHEMA,

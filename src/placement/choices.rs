@@ -7,6 +7,11 @@
 //! vehicle's centre plane), else its name with the words `left` and `right`
 //! swapped (`front_fender_left` ↔ `front_fender_right`), when that names a
 //! candidate. Candidates without a mirror stay single choices.
+//!
+//! Only the candidates [`crate::placement::regions`] lets through are
+//! choices: mountable ones, one per region of near patches. A pair is the
+//! region's patch and its mirror (when that is mountable); the mirror's
+//! own region is then taken by the pair.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -69,12 +74,24 @@ fn names_of(archives: &[ArchiveTimelines], kind: CandidateKind) -> BTreeMap<Stri
     names
 }
 
-/// The choices of `kind`, in name order (pairs named by their first member).
+/// Whether a left/right pair is one choice (two displays).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Pairing {
+    /// Every candidate is a choice of its own.
+    Single,
+    /// A candidate and its mirror image are chosen together (`--symmetric`).
+    Symmetric,
+}
+
+/// The choices of `kind`, in name order (pairs named by their first
+/// member), among the candidates `representatives` lets through (each
+/// mountable candidate's region's; see the module documentation).
 pub fn choices(
     archives: &[ArchiveTimelines],
     universe: &Universe,
     kind: CandidateKind,
-    symmetric: bool,
+    pairing: Pairing,
+    representatives: &BTreeMap<String, String>,
 ) -> Vec<Choice> {
     let names = names_of(archives, kind);
     let by_name: Vec<BTreeMap<&str, &[bool]>> = archives
@@ -84,14 +101,25 @@ pub fn choices(
     let mut taken: BTreeSet<String> = BTreeSet::new();
     let mut out = Vec::new();
     for (name, mirror) in &names {
-        if taken.contains(name) {
+        if taken.contains(name) || representatives.get(name) != Some(name) {
+            continue;
+        }
+        // Paired, a candidate whose mirror is already in another pair is that
+        // pair's place again, not a single display of its own.
+        if pairing == Pairing::Symmetric && mirror.as_ref().is_some_and(|m| taken.contains(m)) {
             continue;
         }
         let mut members = vec![name.clone()];
-        if symmetric && let Some(mirror) = mirror {
+        taken.insert(name.clone());
+        if pairing == Pairing::Symmetric
+            && let Some(mirror) = mirror
+            && let Some(region) = representatives.get(mirror)
+            && !taken.contains(mirror)
+        {
             members.push(mirror.clone());
+            taken.insert(mirror.clone());
+            taken.insert(region.clone());
         }
-        taken.extend(members.iter().cloned());
         let mut bits = vec![0u64; universe.words];
         for member in &members {
             let flags = by_name.iter().map(|timelines| timelines.get(member.as_str()).copied());

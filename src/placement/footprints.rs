@@ -5,6 +5,11 @@
 //! back to the centre in the patch's name (`PART@xX.XXyY.YYzZ.ZZ`), drawn
 //! as a disc. A bad table is an error naming the file, the line and the
 //! problem.
+//!
+//! A patch's name carries its display size and centre
+//! (`PART@0.40x0.15@x1.20y-0.45z0.80`), so runs with different sizes are
+//! never scored as one candidate; [`label_sizes`] puts the size into the
+//! names of older tables from their footprints.
 
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -43,6 +48,64 @@ impl PatchFootprint {
         let [w, h] = self.size_m;
         dot(d, across).abs() <= w / 2.0 && dot(d, u).abs() <= h / 2.0 && dot(d, n).abs() <= h / 2.0
     }
+}
+
+/// The display size a patch's name carries (`PART@0.40x0.15@x1.20y-0.45z0.80`:
+/// width x height, m), if any.
+pub fn size_in_name(name: &str) -> Option<[f64; 2]> {
+    let mut pieces = name.split('@');
+    pieces.next()?;
+    let size = pieces.next()?;
+    pieces.next()?;
+    let (w, h) = size.split_once('x')?;
+    let size = [w.parse().ok()?, h.parse().ok()?];
+    size.iter().all(|s: &f64| s.is_finite() && *s > 0.0).then_some(size)
+}
+
+/// `PART@xX.XXyY.YYzZ.ZZ` with the display size put in
+/// (`PART@0.40x0.15@x…`); names that already carry one are kept.
+pub fn name_with_size(name: &str, size: [f64; 2]) -> String {
+    if size_in_name(name).is_some() {
+        return name.to_string();
+    }
+    match name.rsplit_once('@') {
+        Some((part, place)) => format!("{part}@{:.2}x{:.2}@{place}", size[0], size[1]),
+        None => name.to_string(),
+    }
+}
+
+/// Puts the display size into the names of `table`'s patches that lack it
+/// (tables from captures before names carried it), from their footprints,
+/// and renames the footprints alike, so patches of different sizes are
+/// never scored as one candidate. Patches without a footprint keep their
+/// name and have no known size.
+pub fn label_sizes(
+    table: &mut crate::placement::table::PlacementTable,
+    footprints: &mut BTreeMap<String, PatchFootprint>,
+) {
+    let renamed = |name: &str| match footprints.get(name) {
+        Some(f) if size_in_name(name).is_none() => name_with_size(name, f.size_m),
+        _ => name.to_string(),
+    };
+    let candidates = std::mem::take(&mut table.candidates);
+    for (name, mut rows) in candidates {
+        let new_name = renamed(&name);
+        rows.size_m = rows.size_m.or_else(|| footprints.get(&name).map(|f| f.size_m));
+        rows.mirror = rows.mirror.as_deref().map(renamed);
+        rows.name = new_name.clone();
+        table.candidates.insert(new_name, rows);
+    }
+    let old = std::mem::take(footprints);
+    for (name, footprint) in old {
+        let new_name =
+            if size_in_name(&name).is_none() { name_with_size(&name, footprint.size_m) } else { name };
+        footprints.insert(new_name, footprint);
+    }
+}
+
+/// The part a candidate belongs to: a patch's name before its first `@`.
+pub fn part_of(name: &str) -> &str {
+    name.split('@').next().unwrap_or(name)
 }
 
 /// The centre a patch's name carries (`PART@x1.20y-0.45z0.80`), if any.

@@ -2,32 +2,61 @@
 //! defaults and where each default comes from, and each candidate's
 //! timeline of legible and visible frames in one archive.
 //!
-//! A candidate is legible in an eye-frame when all three hold: its visible
-//! angular height reaches [`Thresholds::min_angular_height_arcmin`], its
-//! visible share reaches [`Thresholds::min_visible_fraction`], and the mean
-//! angle between the line of sight and its surface normal is at most
+//! A candidate is legible in an eye-frame when all of these hold: its
+//! *characters* reach [`Thresholds::min_character_height_arcmin`] (the
+//! measured visible angular height times the share of the display's height
+//! the characters fill, [`CharacterHeight`]); for a display of known size,
+//! its width foreshortened by the view angle holds
+//! [`Thresholds::min_characters`] characters; its visible share reaches
+//! [`Thresholds::min_visible_fraction`]; and the mean angle between the line
+//! of sight and its surface normal is at most
 //! [`Thresholds::max_view_angle_deg`]. A *frame* (one time step) counts as
 //! legible when the candidate is legible to either eye (`--eyes any`, the
 //! default: one eye reads a sign as well as two do) or to both
-//! (`--eyes both`). `docs/placement.md` gives the sources.
+//! (`--eyes both`), and only inside a run of legible frames lasting at least
+//! [`Thresholds::min_dwell_s`] (a message glimpsed for one frame is not
+//! read). `docs/placement.md` gives the sources.
 //!
 //! The *solid-angle rule* ([`Thresholds::min_solid_angle_sr`]) replaces the
-//! three with one: a visible solid angle of at least so many steradians. It
-//! is the rule a rendered `frames.csv` (solid angles only) can be scored by,
-//! so the rendered and the exact measure can be compared on the same sets.
+//! geometric rules with one: a visible solid angle of at least so many
+//! steradians. It is the rule a rendered `frames.csv` (solid angles only)
+//! can be scored by, so the rendered and the exact measure can be compared
+//! on the same sets (the dwell still applies).
+
+use std::sync::Arc;
 
 use crate::error::{Error, Result};
+pub use crate::format::placement::{CharacterHeight, EyeRule};
 use crate::placement::table::{CandidateKind, PlacementTable, Sighting};
 
 /// ISO 9241-3 (1992) §5.6, restated in ISO 9241-303: "the minimum character
-/// height shall be 16 minutes of arc" (20–22' preferred for reading). The
-/// candidate's visible angular height stands for the height of one line of
-/// characters filling the display.
-pub const DEFAULT_MIN_ANGULAR_HEIGHT_ARCMIN: f64 = 16.0;
-/// Where [`DEFAULT_MIN_ANGULAR_HEIGHT_ARCMIN`] comes from.
-pub const ANGULAR_HEIGHT_SOURCE: &str = "ISO 9241-3:1992 / ISO 9241-303 minimum character height 16 arcmin \
-     (20-22 arcmin preferred); the road-sign alternative, MUTCD 2009 Sec. 2A.14 (1 in of letter height per \
-     40 ft of legibility distance), is 7.16 arcmin";
+/// height shall be 16 minutes of arc" (20–22' preferred for reading). It is
+/// applied to the characters, whose height is [`CharacterHeight`] of the
+/// display's.
+pub const DEFAULT_MIN_CHARACTER_HEIGHT_ARCMIN: f64 = 16.0;
+/// Where [`DEFAULT_MIN_CHARACTER_HEIGHT_ARCMIN`] comes from.
+pub const CHARACTER_ARCMIN_SOURCE: &str = "ISO 9241-3:1992 / ISO 9241-303 minimum character height 16 arcmin \
+     (20-22 arcmin preferred), applied to the characters; the road-sign alternative, MUTCD 2009 Sec. 2A.14 \
+     (1 in of letter height per 40 ft of legibility distance), is 7.16 arcmin";
+/// One line of capitals half as tall as the display: a quarter of the
+/// height above and below for the border and margins. A design assumption,
+/// no standard fixes it.
+pub const DEFAULT_CHARACTER_FRACTION: f64 = 0.5;
+/// Where [`DEFAULT_CHARACTER_FRACTION`] comes from.
+pub const CHARACTER_HEIGHT_SOURCE: &str = "design assumption (no standard): one line of capitals half the display \
+     height, a quarter above and below for border and margins; for a part (height unknown) the characters are \
+     this share of its visible angular height";
+/// A one-word message ("WALK", "STOP", "GO AHEAD" is two): four characters.
+pub const DEFAULT_MIN_CHARACTERS: u32 = 4;
+/// A character's width plus the space after it, per unit of its height: ISO
+/// 9241-3 / ANSI-HFES 100 width-to-height 0.7 (lower end of the preferred
+/// 0.7-0.9) and a stroke's width of spacing (about 1/7 of the height).
+pub const CHARACTER_PITCH: f64 = 0.85;
+/// Where [`DEFAULT_MIN_CHARACTERS`] and [`CHARACTER_PITCH`] come from.
+pub const CHARACTERS_SOURCE: &str = "one short word (4 characters, e.g. WALK/STOP) at a pitch of 0.85 character \
+     heights (ISO 9241-3 / ANSI-HFES 100 width-to-height 0.7 plus about one stroke of spacing); the display's \
+     width is foreshortened by cos(view angle), its height not (measured); parts (size unknown) are not \
+     width-checked";
 /// No standard sets how much of an eHMI may be hidden; a design assumption:
 /// four fifths of its face unobstructed.
 pub const DEFAULT_MIN_VISIBLE_FRACTION: f64 = 0.8;
@@ -41,6 +70,13 @@ pub const DEFAULT_MAX_VIEW_ANGLE_DEG: f64 = 60.0;
 /// Where [`DEFAULT_MAX_VIEW_ANGLE_DEG`] comes from.
 pub const VIEW_ANGLE_SOURCE: &str = "common LED/LCD datasheet half-luminance viewing angle of +-60 deg from \
      the normal (not a standard; cos 60 = 1/2 foreshortening)";
+/// FHWA's changeable-message-sign guidance (Dudek 2004, *Changeable Message
+/// Sign Operation and Messaging Handbook*, FHWA-OP-03-070): a message needs
+/// at least one second of exposure per word; an eHMI message is one word.
+pub const DEFAULT_MIN_DWELL_S: f64 = 1.0;
+/// Where [`DEFAULT_MIN_DWELL_S`] comes from.
+pub const DWELL_SOURCE: &str = "FHWA changeable message sign guidance (Dudek 2004, FHWA-OP-03-070): at least \
+     1 s of exposure per word; a one-word message; runs of legible frames shorter than this do not count";
 /// The seconds before the vehicle reaches the pedestrian in which the
 /// crossing decision is made: about the Highway Capacity Manual's pedestrian
 /// critical headway for one 3.5 m lane (L / S_p + t_s = 3.5 m / 1.07 m/s + 3 s
@@ -51,47 +87,70 @@ pub const DECISION_WINDOW_SOURCE: &str = "about the HCM pedestrian critical head
      (lane width / 3.5 ft/s walking speed + 3 s start-up), rounded to 6 s; the window ends at the frame of \
      the smallest vehicle-pedestrian distance";
 
-/// Which eyes must read a candidate for a frame to count.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum EyeRule {
-    /// Either eye (the default).
-    Any,
-    /// Every eye of the archive.
-    Both,
-}
-
-impl EyeRule {
-    pub fn name(self) -> &'static str {
-        match self {
-            EyeRule::Any => "any",
-            EyeRule::Both => "both",
-        }
-    }
-}
-
 /// The legibility rule (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Thresholds {
-    pub min_angular_height_arcmin: f64,
+    /// The characters' visible angular height must reach this, arcmin.
+    pub min_character_height_arcmin: f64,
+    pub character_height: CharacterHeight,
+    /// A display of known size must hold this many characters across (0: no width check).
+    pub min_characters: u32,
     pub min_visible_fraction: f64,
     pub max_view_angle_deg: f64,
+    /// Legible runs shorter than this many seconds do not count (0: every frame counts).
+    pub min_dwell_s: f64,
     pub decision_window_s: f64,
     pub eyes: EyeRule,
     /// The solid-angle rule: legible when the visible solid angle reaches
-    /// this (sr), the other three thresholds not applied; `None`: off.
+    /// this (sr), the geometric rules not applied; `None`: off.
     pub min_solid_angle_sr: Option<f64>,
 }
 
 impl Default for Thresholds {
     fn default() -> Thresholds {
         Thresholds {
-            min_angular_height_arcmin: DEFAULT_MIN_ANGULAR_HEIGHT_ARCMIN,
+            min_character_height_arcmin: DEFAULT_MIN_CHARACTER_HEIGHT_ARCMIN,
+            character_height: CharacterHeight::Fraction(DEFAULT_CHARACTER_FRACTION),
+            min_characters: DEFAULT_MIN_CHARACTERS,
             min_visible_fraction: DEFAULT_MIN_VISIBLE_FRACTION,
             max_view_angle_deg: DEFAULT_MAX_VIEW_ANGLE_DEG,
+            min_dwell_s: DEFAULT_MIN_DWELL_S,
             decision_window_s: DEFAULT_DECISION_WINDOW_S,
             eyes: EyeRule::Any,
             min_solid_angle_sr: None,
         }
+    }
+}
+
+/// `0.5` (a share of the display's height) or `0.05m` (metres).
+pub fn parse_character_height(text: &str) -> Result<CharacterHeight> {
+    let bad = || {
+        Error::BadOptions(format!(
+            "--character-height {text:?}: expected a share of the display height (0.5) or metres (0.05m)"
+        ))
+    };
+    let trimmed = text.trim();
+    let (number, metres) = match trimmed.strip_suffix('m') {
+        Some(number) => (number, true),
+        None => (trimmed, false),
+    };
+    let value: f64 = number.trim().parse().map_err(|_| bad())?;
+    let height = if metres { CharacterHeight::Metres(value) } else { CharacterHeight::Fraction(value) };
+    check_character_height(height)?;
+    Ok(height)
+}
+
+fn check_character_height(height: CharacterHeight) -> Result<()> {
+    let ok = match height {
+        CharacterHeight::Fraction(f) => f.is_finite() && f > 0.0 && f <= 1.0,
+        CharacterHeight::Metres(m) => m.is_finite() && m > 0.0 && m <= 20.0,
+    };
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::BadOptions(format!(
+            "--character-height {height:?}: a share must be in (0, 1], metres in (0, 20]"
+        )))
     }
 }
 
@@ -101,14 +160,21 @@ impl Thresholds {
         let bad = |name: &str, value: f64, range: &str| {
             Err(Error::BadOptions(format!("--{name} {value}: must be {range}")))
         };
-        if !(self.min_angular_height_arcmin.is_finite() && self.min_angular_height_arcmin >= 0.0) {
-            return bad("min-angular-height-arcmin", self.min_angular_height_arcmin, "a number ≥ 0");
+        if !(self.min_character_height_arcmin.is_finite() && self.min_character_height_arcmin >= 0.0) {
+            return bad("min-character-height-arcmin", self.min_character_height_arcmin, "a number ≥ 0");
+        }
+        check_character_height(self.character_height)?;
+        if self.min_characters > 1000 {
+            return bad("min-characters", f64::from(self.min_characters), "at most 1000");
         }
         if !(0.0..=1.0).contains(&self.min_visible_fraction) {
             return bad("min-visible-fraction", self.min_visible_fraction, "from 0 to 1");
         }
         if !(0.0..=90.0).contains(&self.max_view_angle_deg) {
             return bad("max-view-angle-deg", self.max_view_angle_deg, "from 0 to 90");
+        }
+        if !(self.min_dwell_s.is_finite() && self.min_dwell_s >= 0.0) {
+            return bad("min-dwell-s", self.min_dwell_s, "0 seconds or more");
         }
         if !(self.decision_window_s.is_finite() && self.decision_window_s > 0.0) {
             return bad("decision-window-s", self.decision_window_s, "more than 0 seconds");
@@ -119,16 +185,54 @@ impl Thresholds {
         }
     }
 
-    /// Is one eye's sighting legible?
-    pub fn legible(&self, sighting: &Sighting) -> bool {
+    /// The share of the visible height the characters fill, for a display
+    /// of `size` (width, height m; `None` for a part).
+    pub fn character_fraction(&self, size: Option<[f64; 2]>) -> f64 {
+        match (self.character_height, size) {
+            (CharacterHeight::Fraction(f), _) => f,
+            (CharacterHeight::Metres(m), Some([_, h])) => (m / h).min(1.0),
+            (CharacterHeight::Metres(_), None) => DEFAULT_CHARACTER_FRACTION,
+        }
+    }
+
+    /// Is one eye's sighting of a candidate (a display of `size`, `None`
+    /// for a part) legible?
+    pub fn legible(&self, sighting: &Sighting, size: Option<[f64; 2]>) -> bool {
         if let Some(min) = self.min_solid_angle_sr {
             return sighting.solid_angle_sr > 0.0 && sighting.solid_angle_sr >= min;
         }
+        let fraction = self.character_fraction(size);
+        let wide_enough = size.is_none_or(|[w, h]| {
+            let across = w * sighting.view_angle_deg.to_radians().cos();
+            across >= f64::from(self.min_characters) * CHARACTER_PITCH * fraction * h - 1e-12
+        });
         sighting.solid_angle_sr > 0.0
-            && sighting.angular_height_deg * 60.0 >= self.min_angular_height_arcmin
+            && sighting.angular_height_deg * 60.0 * fraction >= self.min_character_height_arcmin
             && sighting.visible_fraction >= self.min_visible_fraction
             && sighting.view_angle_deg <= self.max_view_angle_deg
+            && wide_enough
     }
+}
+
+/// `legible` with the runs shorter than `min_frames` frames cleared.
+pub fn apply_dwell(legible: &mut [bool], min_frames: usize) {
+    let mut start = 0;
+    while start < legible.len() {
+        if !legible[start] {
+            start += 1;
+            continue;
+        }
+        let end = legible[start..].iter().position(|&l| !l).map_or(legible.len(), |n| start + n);
+        if end - start < min_frames {
+            legible[start..end].iter_mut().for_each(|l| *l = false);
+        }
+        start = end;
+    }
+}
+
+/// The frames a dwell of `dwell_s` needs at `frame_s` seconds per frame.
+pub fn dwell_frames(dwell_s: f64, frame_s: f64) -> usize {
+    if dwell_s <= 0.0 || frame_s <= 0.0 { 1 } else { ((dwell_s / frame_s) - 1e-9).ceil().max(1.0) as usize }
 }
 
 /// One candidate's frames in one archive.
@@ -137,6 +241,8 @@ pub struct Timeline {
     pub name: String,
     pub kind: CandidateKind,
     pub mirror: Option<String>,
+    /// A display's width and height, m (`None` for a part).
+    pub size_m: Option<[f64; 2]>,
     /// Per frame: legible under the eye rule.
     pub legible: Vec<bool>,
     /// Per frame: visible to any eye (any solid angle at all).
@@ -144,24 +250,12 @@ pub struct Timeline {
 }
 
 /// What one candidate scored in one archive.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-pub struct Exposure {
-    /// Seconds legible (frames × seconds per frame).
-    pub legible_s: f64,
-    /// Seconds visible at all.
-    pub visible_s: f64,
-    /// Time of the first legible frame, s; `None` when never legible.
-    pub first_legible_s: Option<f64>,
-    /// Vehicle-pedestrian distance at that frame, m.
-    pub first_legible_distance_m: Option<f64>,
-    /// Seconds legible inside the decision window.
-    pub decision_window_legible_s: f64,
-}
+pub use crate::format::placement::ExposureRecord as Exposure;
 
 /// One archive, ready for the search: its frames' clock and every timeline.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ArchiveTimelines {
-    pub table: PlacementTable,
+    pub table: Arc<PlacementTable>,
     pub timelines: Vec<Timeline>,
     /// Per frame: inside the decision window.
     pub in_window: Vec<bool>,
@@ -192,9 +286,10 @@ impl ArchiveTimelines {
 }
 
 /// Every candidate's timeline in `table` under `thresholds`.
-pub fn timelines(table: PlacementTable, thresholds: &Thresholds) -> ArchiveTimelines {
+pub fn timelines(table: Arc<PlacementTable>, thresholds: &Thresholds) -> ArchiveTimelines {
     let frames = table.frames.len();
     let eyes = table.eyes.len();
+    let dwell = dwell_frames(thresholds.min_dwell_s, table.frame_s);
     let timelines = table
         .candidates
         .values()
@@ -203,19 +298,21 @@ pub fn timelines(table: PlacementTable, thresholds: &Thresholds) -> ArchiveTimel
             let mut visible = vec![false; frames];
             for (&(frame, _eye), sighting) in &candidate.sightings {
                 visible[frame] |= sighting.solid_angle_sr > 0.0;
-                legible_eyes[frame] += usize::from(thresholds.legible(sighting));
+                legible_eyes[frame] += usize::from(thresholds.legible(sighting, candidate.size_m));
             }
-            let legible = legible_eyes
+            let mut legible: Vec<bool> = legible_eyes
                 .iter()
                 .map(|&n| match thresholds.eyes {
                     EyeRule::Any => n > 0,
                     EyeRule::Both => n == eyes && n > 0,
                 })
                 .collect();
+            apply_dwell(&mut legible, dwell);
             Timeline {
                 name: candidate.name.clone(),
                 kind: candidate.kind,
                 mirror: candidate.mirror.clone(),
+                size_m: candidate.size_m,
                 legible,
                 visible,
             }

@@ -3,8 +3,9 @@
 //! solid angle, visible fraction, viewing angle, visible angular height;
 //! written by the capture's exact measure), which candidates are *legible*
 //! for how long, and the best one, two, three … placements across
-//! scenarios. `ufcsr-analyze placement RESULTS… --out DIR` writes
-//! `placement.json` (schema `ufcsr-placement/1`), `placement.csv` and
+//! scenarios, with how sure that answer is. `ufcsr-analyze placement
+//! RESULTS… --out DIR` writes `placement.json` (schema `ufcsr-placement/2`,
+//! the type [`crate::format::placement::PlacementDocument`]), `placement.csv` and
 //! `placement-combinations.csv`, and with a vehicle model (the archive's
 //! `vehicle.glb`, or `--mesh`) `placement.png`, the chosen placements on the
 //! vehicle; `docs/placement.md` says what every number means and where the
@@ -12,32 +13,45 @@
 //!
 //! The folder: [`table`] reads and checks a table, [`legibility`] the
 //! thresholds and per-candidate timelines, [`choices`] what is chosen among
-//! (pairs with `--symmetric`), [`search`] exhaustive and greedy search with
-//! its bound, [`report`] the files written, [`footprints`] where each patch
-//! lies and [`picture`] the chosen placements drawn on the vehicle.
+//! (pairs with `--symmetric`), [`regions`] which candidates may be chosen
+//! (mountable surfaces, one patch per region of near patches), [`search`]
+//! exhaustive and greedy search of at most k physical displays with its
+//! bound, [`uncertainty`] the interval, P(best) and runners-up,
+//! [`sensitivity`] the answer with each threshold one step off, [`report`]
+//! the files written, [`footprints`] where each patch lies and [`picture`]
+//! the chosen placements drawn on the vehicle.
 
 pub mod choices;
 pub mod footprints;
 pub mod legibility;
 pub mod picture;
+pub mod regions;
 pub mod report;
 pub mod search;
+pub mod sensitivity;
 pub mod table;
+pub mod uncertainty;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use crate::error::{Error, Result};
+use crate::format::placement::{CombinationRecord, SensitivitySet};
 pub use footprints::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PatchFootprint, read_footprints};
-pub use legibility::{Exposure, EyeRule, Thresholds, timelines};
+use legibility::ArchiveTimelines;
+pub use legibility::{CharacterHeight, Exposure, EyeRule, Thresholds, parse_character_height, timelines};
 pub use picture::{Mark, PLACEMENT_PICTURE_FILE, PLACEMENT_VIEWS_DIR, PicturedSet, render_marked};
-pub use report::{CandidateSummary, PLACEMENT_SCHEMA, Placement, write_placement};
-pub use search::{Combination, EXHAUSTIVE_LIMIT, Method, Objective, brute_force_best};
+pub use regions::{DEFAULT_NOT_MOUNTABLE, DEFAULT_REGION_RADIUS_M};
+pub use report::{PLACEMENT_SCHEMA, Placement, write_placement};
+use search::{Choice, Found, Universe};
+pub use search::{EXHAUSTIVE_LIMIT, Method, Objective, brute_force_best};
 pub use table::{
     CandidateKind, PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE, PlacementTable, read_table, resolve_table,
 };
+pub use uncertainty::{DEFAULT_EPSILON_S, DEFAULT_REPLICATES, Resampling};
 
-/// The most placements in one set (`--k`).
+/// The most physical displays in one set (`--k`).
 pub const MAX_K: usize = 8;
 
 /// What `ufcsr-analyze placement` is asked.
@@ -46,20 +60,26 @@ pub struct PlacementOptions {
     /// Tables, or folders holding `placement-frames.csv` (or `results/` of one).
     pub inputs: Vec<PathBuf>,
     pub thresholds: Thresholds,
-    /// Sets of 1 to k placements are searched.
+    /// Sets of at most 1 to k physical displays are searched.
     pub k: usize,
-    /// A left/right pair counts as one choice.
+    /// A left/right pair is chosen together (two displays).
     pub symmetric: bool,
-    /// At most this many k-sets are searched exhaustively, beyond it greedy
+    /// At most this many sets are searched exhaustively, beyond it greedy
     /// with a bound ([`EXHAUSTIVE_LIMIT`]; 0 forces greedy).
     pub exhaustive_limit: u128,
+    /// Head nouns of surfaces where no display is mounted ([`regions`]).
+    pub not_mountable: Vec<String>,
+    /// Patches of one part within this many metres are one region (0: off).
+    pub region_radius_m: f64,
+    /// The bootstrap behind P(best).
+    pub resampling: Resampling,
     /// The vehicle model for the picture; `None`: the archive's `vehicle.glb`
     /// when there is one.
     pub mesh: Option<PathBuf>,
 }
 
 impl PlacementOptions {
-    /// `inputs` with the default thresholds, k = 3, no symmetry.
+    /// `inputs` with the default thresholds and rules, k = 3, no symmetry.
     pub fn new(inputs: Vec<PathBuf>) -> PlacementOptions {
         PlacementOptions {
             inputs,
@@ -67,28 +87,118 @@ impl PlacementOptions {
             k: 3,
             symmetric: false,
             exhaustive_limit: EXHAUSTIVE_LIMIT,
+            not_mountable: DEFAULT_NOT_MOUNTABLE.iter().map(|s| s.to_string()).collect(),
+            region_radius_m: DEFAULT_REGION_RADIUS_M,
+            resampling: Resampling::default(),
             mesh: None,
         }
     }
+
+    fn pairing(&self) -> choices::Pairing {
+        if self.symmetric { choices::Pairing::Symmetric } else { choices::Pairing::Single }
+    }
+
+    fn check(&self) -> Result<()> {
+        self.thresholds.check()?;
+        if !(1..=MAX_K).contains(&self.k) {
+            return Err(Error::BadOptions(format!("--k {}: must be 1 to {MAX_K} displays", self.k)));
+        }
+        if self.inputs.is_empty() {
+            return Err(Error::BadOptions("placement needs at least one result folder or table".into()));
+        }
+        if !(self.region_radius_m.is_finite() && (0.0..=10.0).contains(&self.region_radius_m)) {
+            return Err(Error::BadOptions(format!(
+                "--region-radius-m {}: must be 0 to 10",
+                self.region_radius_m
+            )));
+        }
+        if !(self.resampling.epsilon_s.is_finite() && self.resampling.epsilon_s >= 0.0)
+            || self.resampling.replicates > 100_000
+        {
+            return Err(Error::BadOptions(
+                "--epsilon-s must be 0 or more and --replicates at most 100000".into(),
+            ));
+        }
+        Ok(())
+    }
 }
 
-/// Reads every table, scores every candidate and searches the best sets.
+/// One search: its kind, k and objective, what it chose among and found.
+pub(crate) struct Searched {
+    pub kind: CandidateKind,
+    pub k: usize,
+    pub objective: Objective,
+    pub choices: Vec<Choice>,
+    pub found: Found,
+}
+
+/// The tables scored under one set of thresholds and searched.
+pub(crate) struct Scoring {
+    pub archives: Vec<ArchiveTimelines>,
+    pub universe: Universe,
+    /// Per mountable candidate, its region's ([`regions::representatives`]).
+    pub regions: BTreeMap<String, String>,
+    pub searched: Vec<Searched>,
+}
+
+/// Mean legible seconds per candidate over the archives.
+fn mean_legible(archives: &[ArchiveTimelines]) -> BTreeMap<&str, (CandidateKind, f64)> {
+    let mut out: BTreeMap<&str, (CandidateKind, f64)> = BTreeMap::new();
+    for archive in archives {
+        for t in &archive.timelines {
+            let seconds = t.legible.iter().filter(|&&l| l).count() as f64 * archive.table.frame_s;
+            out.entry(&t.name).or_insert((t.kind, 0.0)).1 += seconds / archives.len() as f64;
+        }
+    }
+    out
+}
+
+fn score_and_search(
+    tables: &[Arc<PlacementTable>],
+    thresholds: &Thresholds,
+    options: &PlacementOptions,
+    footprints: &BTreeMap<String, PatchFootprint>,
+    objectives: &[Objective],
+) -> Scoring {
+    let archives: Vec<ArchiveTimelines> = tables.iter().map(|t| timelines(t.clone(), thresholds)).collect();
+    let universe = Universe::of(&archives);
+    let legible = mean_legible(&archives);
+    let scored: Vec<regions::Scored> = legible
+        .iter()
+        .map(|(name, (kind, legible_s))| regions::Scored { name, kind: *kind, legible_s: *legible_s })
+        .collect();
+    let regions =
+        regions::representatives(&scored, footprints, &options.not_mountable, options.region_radius_m);
+    let mut searched = Vec::new();
+    for kind in [CandidateKind::Part, CandidateKind::Patch] {
+        let choices = choices::choices(&archives, &universe, kind, options.pairing(), &regions);
+        for k in 1..=options.k {
+            for &objective in objectives {
+                if let Some(found) =
+                    search::best_set(&universe, &choices, k, objective, options.exhaustive_limit)
+                {
+                    searched.push(Searched { kind, k, objective, choices: choices.clone(), found });
+                }
+            }
+        }
+    }
+    Scoring { archives, universe, regions, searched }
+}
+
+/// Reads every table, scores every candidate, searches the best sets and
+/// says how sure each is (interval, P(best), runners-up, sensitivity).
 pub fn placement(options: &PlacementOptions) -> Result<Placement> {
-    options.thresholds.check()?;
-    if !(1..=MAX_K).contains(&options.k) {
-        return Err(Error::BadOptions(format!("--k {}: must be 1 to {MAX_K}", options.k)));
-    }
-    if options.inputs.is_empty() {
-        return Err(Error::BadOptions("placement needs at least one result folder or table".into()));
-    }
-    let mut archives = Vec::with_capacity(options.inputs.len());
+    options.check()?;
+    let mut tables = Vec::with_capacity(options.inputs.len());
     let mut footprints = BTreeMap::new();
     let mut vehicle_model = options.mesh.clone();
     for input in &options.inputs {
         let path = resolve_table(input)?;
-        footprints.extend(read_footprints(&path)?);
+        let mut own = read_footprints(&path)?;
         vehicle_model = vehicle_model.or_else(|| vehicle_beside(&path));
-        let table = read_table(&path)?;
+        let mut table = read_table(&path)?;
+        footprints::label_sizes(&mut table, &mut own);
+        footprints.extend(own);
         if table.rendered && options.thresholds.min_solid_angle_sr.is_none() {
             return Err(Error::bad_file(
                 &path,
@@ -96,31 +206,78 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
                  height): score it with --min-solid-angle-sr (docs/placement.md §5)",
             ));
         }
-        archives.push(timelines(table, &options.thresholds));
+        tables.push(Arc::new(table));
     }
-    let universe = search::Universe::of(&archives);
-    let mut combinations = Vec::new();
-    for kind in [CandidateKind::Part, CandidateKind::Patch] {
-        let choices = choices::choices(&archives, &universe, kind, options.symmetric);
-        for k in 1..=options.k.min(choices.len()) {
-            for objective in [Objective::Mean, Objective::WorstCase] {
-                if objective == Objective::WorstCase && archives.len() == 1 {
-                    continue;
-                }
-                combinations.extend(search::best_set(
-                    &universe,
-                    &choices,
-                    k,
-                    objective,
-                    options.exhaustive_limit,
-                ));
-            }
-        }
+    let objectives: &[Objective] =
+        if tables.len() > 1 { &[Objective::Mean, Objective::WorstCase] } else { &[Objective::Mean] };
+    let main = score_and_search(&tables, &options.thresholds, options, &footprints, objectives);
+    let combinations: Vec<CombinationRecord> =
+        main.searched.iter().map(|s| report::combination_record(&main.universe, s, options)).collect();
+    let mut sensitivity = Vec::new();
+    for step in sensitivity::steps(&options.thresholds) {
+        let moved = score_and_search(&tables, &step.thresholds, options, &footprints, &[Objective::Mean]);
+        sensitivity.push(sensitivity::record(&step, moved_sets(&main, &moved)));
     }
-    let mut placement = report::assemble(options, archives, combinations);
+    let mut placement = report::assemble(options, &main, combinations, sensitivity);
     placement.footprints = footprints;
     placement.vehicle_model = vehicle_model;
     Ok(placement)
+}
+
+/// The best sets by the mean under moved thresholds against the reported.
+fn moved_sets(main: &Scoring, moved: &Scoring) -> Vec<SensitivitySet> {
+    let place = |name: &String| main.regions.get(name).unwrap_or(name).clone();
+    let places = |names: &[String]| {
+        let mut p: Vec<String> = names.iter().map(place).collect();
+        p.sort();
+        p.dedup();
+        p
+    };
+    let names = |s: &Searched| -> Vec<String> {
+        s.found.picked.iter().flat_map(|&c| s.choices[c].names.clone()).collect()
+    };
+    moved
+        .searched
+        .iter()
+        .filter_map(|m| {
+            let reported = main
+                .searched
+                .iter()
+                .find(|r| r.kind == m.kind && r.k == m.k && r.objective == Objective::Mean)?;
+            let candidates = names(m);
+            let reported_names = names(reported);
+            Some(SensitivitySet {
+                kind: m.kind,
+                k: m.k,
+                same_set: places(&candidates) == places(&reported_names),
+                legible_s: m.universe_value(&moved.universe),
+                reported_set_legible_s: seconds_of(moved, &reported_names),
+                candidates,
+            })
+        })
+        .collect()
+}
+
+impl Searched {
+    /// The mean legible seconds of the set found.
+    pub(crate) fn universe_value(&self, universe: &Universe) -> f64 {
+        universe.score(&self.choices, &self.found.picked, Objective::Mean).0
+    }
+}
+
+/// The mean seconds at least one of `names` is legible in `scoring`.
+fn seconds_of(scoring: &Scoring, names: &[String]) -> f64 {
+    let flags = |archive: &ArchiveTimelines| -> Vec<bool> {
+        let frames = archive.table.frames.len();
+        let mut any = vec![false; frames];
+        for t in archive.timelines.iter().filter(|t| names.contains(&t.name)) {
+            any.iter_mut().zip(&t.legible).for_each(|(a, &l)| *a |= l);
+        }
+        any
+    };
+    let all: Vec<Vec<bool>> = scoring.archives.iter().map(flags).collect();
+    let bits = scoring.universe.bits(all.iter().map(|f| Some(f.as_slice())));
+    scoring.universe.mean(&scoring.universe.seconds(&bits))
 }
 
 /// The capture's `vehicle.glb` of the archive whose table is `table`: beside

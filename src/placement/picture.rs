@@ -16,9 +16,10 @@ use std::path::{Path, PathBuf};
 
 use crate::archive::VehicleModel;
 use crate::error::Result;
+use crate::format::placement::CombinationRecord;
 use crate::output::{ViewCamera, ZBuffer, view_cameras};
 use crate::placement::footprints::{PatchFootprint, centre_in_name};
-use crate::placement::search::{Combination, Objective};
+use crate::placement::search::Objective;
 
 /// The overview picture written beside placement.json.
 pub const PLACEMENT_PICTURE_FILE: &str = "placement.png";
@@ -80,60 +81,39 @@ pub struct PicturedSet {
     pub name: String,
     pub caption: String,
     pub marks: Vec<Mark>,
-    /// Per mark, its colour's index ([`colour_groups`]).
+    /// Per mark, its colour's index: one per member, so a pair shares one.
     pub colours: Vec<usize>,
 }
 
-/// The sets to draw: per kind, the best 1 to [`PICTURED_SETS`] by the mean.
+/// The sets to draw: per kind, the best sets of 1 to [`PICTURED_SETS`]
+/// displays by the mean; a pair's two displays share a colour.
 pub fn pictured_sets(
-    combinations: &[Combination],
+    combinations: &[CombinationRecord],
     footprints: &BTreeMap<String, PatchFootprint>,
 ) -> Vec<PicturedSet> {
     combinations
         .iter()
         .filter(|c| c.objective == Objective::Mean && c.k <= PICTURED_SETS)
-        .map(|c| PicturedSet {
-            name: format!("{}-best-{}", c.kind, c.k),
-            caption: format!(
-                "best {} {}: {} ({:.2} s legible, {:.0} % of the time)",
-                c.k,
-                match (c.kind, c.k) {
-                    (kind, 1) => kind,
-                    ("patch", _) => "patches",
-                    _ => "parts",
-                },
-                c.candidates.join(" + "),
-                c.legible_s,
-                100.0 * c.share_of_time
-            ),
-            marks: c.candidates.iter().filter_map(|name| Mark::of(name, c.kind, footprints)).collect(),
-            colours: colour_groups(&c.candidates),
+        .map(|c| {
+            let kind = c.kind.name();
+            let candidates = c.candidates();
+            let colours = c.members.iter().enumerate().flat_map(|(i, m)| m.candidates.iter().map(move |_| i));
+            PicturedSet {
+                name: format!("{kind}-best-{}", c.k),
+                caption: format!(
+                    "best {kind}s, at most {} display{} ({} used): {} ({:.2} s legible, {:.0} % of the time)",
+                    c.k,
+                    if c.k == 1 { "" } else { "s" },
+                    c.displays,
+                    c.members_text(),
+                    c.legible_s,
+                    100.0 * c.share_of_time
+                ),
+                marks: candidates.iter().filter_map(|name| Mark::of(name, kind, footprints)).collect(),
+                colours: colours.collect(),
+            }
         })
         .collect()
-}
-
-/// Per member, its colour's index: a left/right mirror image (the name with
-/// `left`/`right` swapped, or a patch centred within 6 cm of the mirrored
-/// centre) shares the colour of its pair, so a symmetric choice is one colour.
-pub fn colour_groups(names: &[String]) -> Vec<usize> {
-    let mirrors = |a: &str, b: &str| {
-        crate::placement::choices::mirrored_name(a).is_some_and(|m| m == b)
-            || matches!((centre_in_name(a), centre_in_name(b)), (Some(p), Some(q))
-                if (p[0] - q[0]).abs() <= 0.06 && (p[1] + q[1]).abs() <= 0.06 && (p[2] - q[2]).abs() <= 0.06)
-    };
-    let mut colours: Vec<usize> = Vec::with_capacity(names.len());
-    let mut next = 0;
-    for (index, name) in names.iter().enumerate() {
-        let pair = (0..index).find(|&earlier| mirrors(&names[earlier], name));
-        colours.push(pair.map_or_else(
-            || {
-                next += 1;
-                next - 1
-            },
-            |earlier| colours[earlier],
-        ));
-    }
-    colours
 }
 
 /// Draws one view: grey body shaded by how squarely it faces the viewer,
@@ -364,10 +344,33 @@ mod tests {
 
     #[test]
     fn a_left_right_pair_shares_one_colour() {
-        let names: Vec<String> =
-            ["b_pillar_left", "b_pillar_right", "grill", "door@x1.00y0.90z1.00", "door@x1.00y-0.88z1.02"]
-                .map(String::from)
-                .to_vec();
-        assert_eq!(colour_groups(&names), vec![0, 0, 1, 2, 2]);
+        use crate::format::placement::{CandidateKind, MemberRecord, Method};
+        let member = |names: &[&str]| MemberRecord {
+            candidates: names.iter().map(|n| n.to_string()).collect(),
+            displays: names.len(),
+            adds_s: 0.5,
+            adds_no_time: false,
+        };
+        let set = CombinationRecord {
+            k: 3,
+            displays: 3,
+            kind: CandidateKind::Part,
+            objective: Objective::Mean,
+            method: Method::Exhaustive,
+            members: vec![member(&["b_pillar_left", "b_pillar_right"]), member(&["grill"])],
+            legible_s: 1.0,
+            interval_s: None,
+            p_best: None,
+            p_within_epsilon: None,
+            share_of_time: 0.5,
+            worst_case_s: 1.0,
+            per_archive_s: vec![1.0],
+            upper_bound_s: 1.0,
+            gap_s: 0.0,
+            runners_up: Vec::new(),
+        };
+        let pictured = pictured_sets(&[set], &BTreeMap::new());
+        assert_eq!(pictured[0].colours, vec![0, 0, 1]);
+        assert!(pictured[0].caption.contains("at most 3 displays (3 used)"), "{}", pictured[0].caption);
     }
 }

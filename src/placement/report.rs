@@ -1,69 +1,66 @@
-//! The placement files: `placement.json` (schema `ufcsr-placement/1`,
+//! The placement files: `placement.json` (the typed
+//! [`PlacementDocument`], schema `ufcsr-placement/2`,
 //! `docs/schemas/placement.schema.json`), `placement.csv` (one row per
 //! candidate, best first) and `placement-combinations.csv` (one row per
 //! chosen set), and the console summary. Every number says what it is in
-//! its name and unit; `docs/placement.md` defines them.
+//! its name and unit; `docs/placement.md` defines them. In every output a
+//! set states `k` as physical displays and marks the members that add no
+//! legible time.
 
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use serde::Serialize;
-use serde_json::json;
-
 use crate::error::{Error, Result};
 use crate::files::write_atomically;
-use crate::placement::PlacementOptions;
+pub use crate::format::placement::{
+    ArchiveRecord, CandidateKind, CandidateRecord, CombinationRecord, MemberRecord, PLACEMENT_SCHEMA,
+    PlacementDocument, SensitivityRecord, Sources, ThresholdsRecord, UncertaintyRecord,
+};
 use crate::placement::footprints::PatchFootprint;
 use crate::placement::legibility::{
-    ANGULAR_HEIGHT_SOURCE, ArchiveTimelines, DECISION_WINDOW_SOURCE, Exposure, VIEW_ANGLE_SOURCE,
-    VISIBLE_FRACTION_SOURCE,
+    ArchiveTimelines, CHARACTER_ARCMIN_SOURCE, CHARACTER_HEIGHT_SOURCE, CHARACTER_PITCH, CHARACTERS_SOURCE,
+    DECISION_WINDOW_SOURCE, DWELL_SOURCE, Exposure, VIEW_ANGLE_SOURCE, VISIBLE_FRACTION_SOURCE,
 };
 use crate::placement::picture::{WrittenPicture, pictured_sets, write_placement_picture};
-use crate::placement::search::{Combination, Objective};
-
-/// The `schema` field of placement.json.
-pub const PLACEMENT_SCHEMA: &str = "ufcsr-placement/1";
-
-/// One candidate over all archives.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct CandidateSummary {
-    pub name: String,
-    pub kind: &'static str,
-    /// Mean over the archives of the seconds it is legible.
-    pub legible_s: f64,
-    /// Mean over the archives of the seconds it is visible at all.
-    pub visible_s: f64,
-    /// The latest first legible sighting over the archives, s (null when it
-    /// is never legible in some archive).
-    pub first_legible_s: Option<f64>,
-    /// The smallest distance at first legible sighting over the archives, m.
-    pub first_legible_distance_m: Option<f64>,
-    /// Mean over the archives of the seconds legible in the decision window.
-    pub decision_window_legible_s: f64,
-    /// The smallest legible seconds of any archive.
-    pub worst_case_legible_s: f64,
-    /// Per archive, in input order.
-    pub per_archive: Vec<Exposure>,
-}
+use crate::placement::regions::{NOT_MOUNTABLE_SOURCE, REGION_RADIUS_SOURCE};
+use crate::placement::search::{Objective, Universe, displays, union_of};
+use crate::placement::uncertainty::{CONFIDENCE, assess};
+use crate::placement::{PlacementOptions, Scoring, Searched};
 
 /// Everything `ufcsr-analyze placement` found.
 #[derive(Debug, Clone)]
 pub struct Placement {
-    pub document: serde_json::Value,
-    pub candidates: Vec<CandidateSummary>,
-    pub combinations: Vec<Combination>,
+    pub document: PlacementDocument,
     /// The patches' footprints the capture recorded, by name.
     pub footprints: BTreeMap<String, PatchFootprint>,
     /// The vehicle model the picture is drawn on, when one is known.
     pub vehicle_model: Option<PathBuf>,
 }
 
-fn candidate_summaries(archives: &[ArchiveTimelines]) -> Vec<CandidateSummary> {
-    let mut per_name: BTreeMap<String, (&'static str, Vec<Exposure>)> = BTreeMap::new();
+impl CombinationRecord {
+    /// Every candidate of the set (a pair gives both), in member order.
+    pub fn candidates(&self) -> Vec<String> {
+        self.members.iter().flat_map(|m| m.candidates.clone()).collect()
+    }
+
+    /// The members joined by " + ", each that adds no legible time marked.
+    pub fn members_text(&self) -> String {
+        let member = |m: &MemberRecord| {
+            let names = m.candidates.join(" & ");
+            if m.adds_no_time { format!("{names} [adds 0 s]") } else { names }
+        };
+        self.members.iter().map(member).collect::<Vec<_>>().join(" + ")
+    }
+}
+
+fn candidate_records(main: &Scoring, options: &PlacementOptions) -> Vec<CandidateRecord> {
+    let archives = &main.archives;
+    let mut per_name: BTreeMap<String, (&crate::placement::legibility::Timeline, Vec<Exposure>)> =
+        BTreeMap::new();
     for archive in archives {
         for timeline in &archive.timelines {
-            per_name.entry(timeline.name.clone()).or_insert((timeline.kind.name(), Vec::new()));
+            per_name.entry(timeline.name.clone()).or_insert((timeline, Vec::new()));
         }
     }
     let never = Exposure {
@@ -74,23 +71,31 @@ fn candidate_summaries(archives: &[ArchiveTimelines]) -> Vec<CandidateSummary> {
         decision_window_legible_s: 0.0,
     };
     for archive in archives {
-        let mut seen: BTreeMap<&str, Exposure> = BTreeMap::new();
-        for timeline in &archive.timelines {
-            seen.insert(&timeline.name, archive.exposure(timeline));
-        }
+        let seen: BTreeMap<&str, Exposure> =
+            archive.timelines.iter().map(|t| (t.name.as_str(), archive.exposure(t))).collect();
         for (name, (_, exposures)) in per_name.iter_mut() {
             exposures.push(seen.get(name.as_str()).copied().unwrap_or(never));
         }
     }
+    let mut members: BTreeMap<&str, usize> = BTreeMap::new();
+    for representative in main.regions.values() {
+        *members.entry(representative).or_default() += 1;
+    }
     let n = archives.len().max(1) as f64;
-    let mut out: Vec<CandidateSummary> = per_name
+    let mut out: Vec<CandidateRecord> = per_name
         .into_iter()
-        .map(|(name, (kind, per_archive))| {
+        .map(|(name, (timeline, per_archive))| {
             let sum = |f: fn(&Exposure) -> f64| per_archive.iter().map(f).sum::<f64>() / n;
             let all_legible = per_archive.iter().all(|e| e.first_legible_s.is_some());
-            CandidateSummary {
-                name,
-                kind,
+            let region = main.regions.get(&name).filter(|r| **r != name).cloned();
+            let region_members =
+                if region.is_some() { 0 } else { members.get(name.as_str()).copied().unwrap_or(1) };
+            CandidateRecord {
+                kind: timeline.kind,
+                display_size_m: timeline.size_m,
+                mountable: crate::placement::regions::mountable(&name, &options.not_mountable),
+                region,
+                region_members: region_members.max(1),
                 legible_s: sum(|e| e.legible_s),
                 visible_s: sum(|e| e.visible_s),
                 first_legible_s: all_legible
@@ -101,6 +106,7 @@ fn candidate_summaries(archives: &[ArchiveTimelines]) -> Vec<CandidateSummary> {
                 decision_window_legible_s: sum(|e| e.decision_window_legible_s),
                 worst_case_legible_s: per_archive.iter().map(|e| e.legible_s).fold(f64::MAX, f64::min),
                 per_archive,
+                name,
             }
         })
         .collect();
@@ -108,61 +114,146 @@ fn candidate_summaries(archives: &[ArchiveTimelines]) -> Vec<CandidateSummary> {
     out
 }
 
-fn archive_records(archives: &[ArchiveTimelines], window_s: f64) -> Vec<serde_json::Value> {
+fn archive_records(archives: &[ArchiveTimelines], window_s: f64) -> Vec<ArchiveRecord> {
     archives
         .iter()
-        .map(|a| {
-            json!({
-                "table": a.table.path.display().to_string(),
-                "frames": a.table.frames.len(),
-                "eyes": a.table.eyes,
-                "seconds_per_frame": a.table.frame_s,
-                "duration_s": a.duration_s(),
-                "arrival_s": a.arrival_s,
-                "decision_window_s": [a.arrival_s - window_s, a.arrival_s],
-            })
+        .map(|a| ArchiveRecord {
+            table: a.table.path.display().to_string(),
+            frames: a.table.frames.len(),
+            eyes: a.table.eyes.clone(),
+            seconds_per_frame: a.table.frame_s,
+            duration_s: a.duration_s(),
+            arrival_s: a.arrival_s,
+            decision_window_s: [a.arrival_s - window_s, a.arrival_s],
         })
         .collect()
 }
 
-/// The report from the scored archives and the chosen sets.
-pub fn assemble(
+/// A found set as a record: members with what each adds, the scores and,
+/// for the mean, the interval, P(best) and runners-up.
+pub(crate) fn combination_record(
+    universe: &Universe,
+    searched: &Searched,
     options: &PlacementOptions,
-    archives: Vec<ArchiveTimelines>,
-    combinations: Vec<Combination>,
-) -> Placement {
+) -> CombinationRecord {
+    let Searched { kind, k, objective, choices, found } = searched;
+    let picked = &found.picked;
+    let seconds = universe.seconds(&union_of(universe, choices, picked));
+    let shares: Vec<f64> =
+        seconds.iter().zip(&universe.duration_s).map(|(&s, &d)| if d > 0.0 { s / d } else { 0.0 }).collect();
+    let total = universe.mean(&seconds);
+    let members = picked
+        .iter()
+        .map(|&member| {
+            let others: Vec<usize> = picked.iter().copied().filter(|&c| c != member).collect();
+            let adds_s = total - universe.score(choices, &others, Objective::Mean).0;
+            MemberRecord {
+                candidates: choices[member].names.clone(),
+                displays: choices[member].displays(),
+                adds_s,
+                adds_no_time: adds_s <= 1e-12,
+            }
+        })
+        .collect();
+    let achieved = universe.value(*objective, &seconds).0;
+    let upper = found.bound.unwrap_or(achieved).max(achieved);
+    let assessment = (*objective == Objective::Mean)
+        .then(|| assess(universe, choices, found, *k, options.exhaustive_limit, &options.resampling));
+    CombinationRecord {
+        k: *k,
+        displays: displays(choices, picked),
+        kind: *kind,
+        objective: *objective,
+        method: found.method,
+        members,
+        legible_s: total,
+        interval_s: assessment.as_ref().and_then(|a| a.interval_s),
+        p_best: assessment.as_ref().and_then(|a| a.p_best),
+        p_within_epsilon: assessment.as_ref().and_then(|a| a.p_within_epsilon),
+        share_of_time: universe.mean(&shares),
+        worst_case_s: universe.worst(&seconds),
+        per_archive_s: seconds,
+        upper_bound_s: upper,
+        gap_s: upper - achieved,
+        runners_up: assessment.map(|a| a.runners_up).unwrap_or_default(),
+    }
+}
+
+fn thresholds_record(options: &PlacementOptions) -> ThresholdsRecord {
     let t = &options.thresholds;
-    let candidates = candidate_summaries(&archives);
-    let document = json!({
-        "schema": PLACEMENT_SCHEMA,
-        "archives": archive_records(&archives, t.decision_window_s),
-        "thresholds": {
-            "min_angular_height_arcmin": t.min_angular_height_arcmin,
-            "min_visible_fraction": t.min_visible_fraction,
-            "max_view_angle_deg": t.max_view_angle_deg,
-            "decision_window_s": t.decision_window_s,
-            "eyes": t.eyes.name(),
-            "min_solid_angle_sr": t.min_solid_angle_sr,
-            "symmetric": options.symmetric,
-            "sources": {
-                "min_angular_height_arcmin": ANGULAR_HEIGHT_SOURCE,
-                "min_visible_fraction": VISIBLE_FRACTION_SOURCE,
-                "max_view_angle_deg": VIEW_ANGLE_SOURCE,
-                "decision_window_s": DECISION_WINDOW_SOURCE,
-            },
+    ThresholdsRecord {
+        min_character_height_arcmin: t.min_character_height_arcmin,
+        character_height: t.character_height,
+        min_characters: t.min_characters,
+        character_pitch: CHARACTER_PITCH,
+        min_visible_fraction: t.min_visible_fraction,
+        max_view_angle_deg: t.max_view_angle_deg,
+        min_dwell_s: t.min_dwell_s,
+        decision_window_s: t.decision_window_s,
+        eyes: t.eyes,
+        min_solid_angle_sr: t.min_solid_angle_sr,
+        symmetric: options.symmetric,
+        not_mountable: options.not_mountable.clone(),
+        region_radius_m: options.region_radius_m,
+        sources: Sources {
+            min_character_height_arcmin: CHARACTER_ARCMIN_SOURCE.into(),
+            character_height: CHARACTER_HEIGHT_SOURCE.into(),
+            min_characters: CHARACTERS_SOURCE.into(),
+            min_visible_fraction: VISIBLE_FRACTION_SOURCE.into(),
+            max_view_angle_deg: VIEW_ANGLE_SOURCE.into(),
+            min_dwell_s: DWELL_SOURCE.into(),
+            decision_window_s: DECISION_WINDOW_SOURCE.into(),
+            not_mountable: NOT_MOUNTABLE_SOURCE.into(),
+            region_radius_m: REGION_RADIUS_SOURCE.into(),
         },
-        "candidates": candidates,
-        "combinations": combinations,
-        "notes": [
-            "legible_s, visible_s and decision_window_legible_s are means over the archives of seconds \
-             (legible frames x seconds per frame); a frame is legible when the candidate is legible to the eyes \
-             the 'eyes' threshold names; first_legible_s is the latest first legible sighting over the archives",
-            "combinations: the set of k candidates of one kind maximizing the objective (mean over the archives, \
-             or the worst archive) of the seconds at least one is legible; upper_bound_s bounds every k-set's \
-             objective (equal to it when exhaustive), gap_s = upper_bound_s - the set's objective",
+    }
+}
+
+/// What placement.json says of the intervals and probabilities.
+pub const UNCERTAINTY_METHOD: &str = "interval_s: Student's t 95 % interval of the mean over the archives of the \
+     set's legible seconds (the archives are the random units: scenarios, observers, texel-sample seeds; frames \
+     and eyes inside an archive are not); p_best: share of bootstrap replicates over the archives (n drawn with \
+     replacement) whose re-run search gives this set; p_within_epsilon: share in which it is at most epsilon_s \
+     below the replicate's best; runners_up: other sets of at most k displays with legible_s inside the \
+     interval (docs/placement.md section 2)";
+
+/// The report from the scored archives and the chosen sets.
+pub(crate) fn assemble(
+    options: &PlacementOptions,
+    main: &Scoring,
+    combinations: Vec<CombinationRecord>,
+    sensitivity: Vec<SensitivityRecord>,
+) -> Placement {
+    let document = PlacementDocument {
+        schema: PLACEMENT_SCHEMA.to_string(),
+        archives: archive_records(&main.archives, options.thresholds.decision_window_s),
+        thresholds: thresholds_record(options),
+        uncertainty: UncertaintyRecord {
+            units: "archives".into(),
+            archives: main.archives.len(),
+            confidence: CONFIDENCE,
+            replicates: options.resampling.replicates,
+            seed: options.resampling.seed,
+            epsilon_s: options.resampling.epsilon_s,
+            method: UNCERTAINTY_METHOD.into(),
+        },
+        candidates: candidate_records(main, options),
+        combinations,
+        sensitivity,
+        notes: vec![
+            "legible_s, visible_s and decision_window_legible_s are means over the archives of seconds (legible \
+             frames x seconds per frame); a frame is legible when the candidate's characters are legible to the \
+             eyes the 'eyes' threshold names, inside a run of at least min_dwell_s; first_legible_s is the latest \
+             first legible sighting over the archives"
+                .into(),
+            "combinations: per kind, the set of at most k physical displays (a symmetric pair is two) of mountable \
+             candidates, one per region, maximizing the objective (mean over the archives, or the worst archive) \
+             of the seconds at least one is legible; members with adds_no_time add nothing to the others; \
+             upper_bound_s bounds every such set's objective (equal to it when exhaustive)"
+                .into(),
         ],
-    });
-    Placement { document, candidates, combinations, footprints: BTreeMap::new(), vehicle_model: None }
+    };
+    Placement { document, footprints: BTreeMap::new(), vehicle_model: None }
 }
 
 /// The files written.
@@ -188,12 +279,12 @@ pub fn write_placement(placement: &Placement, out: &Path) -> Result<WrittenPlace
     let text = serde_json::to_string_pretty(&placement.document)
         .map_err(|e| Error::bad_file(&written.json, format!("cannot write JSON: {e}")))?;
     write_atomically(&written.json, |w| writeln!(w, "{text}"))?;
-    write_atomically(&written.csv, |w| write_candidates(w, &placement.candidates))?;
-    write_atomically(&written.combinations_csv, |w| write_combinations(w, &placement.combinations))?;
+    write_atomically(&written.csv, |w| write_candidates(w, &placement.document.candidates))?;
+    write_atomically(&written.combinations_csv, |w| write_combinations(w, &placement.document.combinations))?;
     let picture = match &placement.vehicle_model {
         Some(path) => {
             let model = crate::archive::VehicleModel::read(path)?;
-            let sets = pictured_sets(&placement.combinations, &placement.footprints);
+            let sets = pictured_sets(&placement.document.combinations, &placement.footprints);
             Some(write_placement_picture(&model, &sets, out)?)
         }
         None => None,
@@ -205,7 +296,7 @@ fn optional(value: Option<f64>) -> String {
     value.map(|v| v.to_string()).unwrap_or_default()
 }
 
-fn write_candidates(w: &mut impl Write, candidates: &[CandidateSummary]) -> std::io::Result<()> {
+fn write_candidates(w: &mut impl Write, candidates: &[CandidateRecord]) -> std::io::Result<()> {
     writeln!(
         w,
         "rank,candidate,kind,legible_s,visible_s,first_legible_s,first_legible_distance_m,\
@@ -217,7 +308,7 @@ fn write_candidates(w: &mut impl Write, candidates: &[CandidateSummary]) -> std:
             "{},{},{},{},{},{},{},{},{}",
             rank + 1,
             crate::output::csv_field(&c.name),
-            c.kind,
+            c.kind.name(),
             c.legible_s,
             c.visible_s,
             optional(c.first_legible_s),
@@ -229,7 +320,7 @@ fn write_candidates(w: &mut impl Write, candidates: &[CandidateSummary]) -> std:
     Ok(())
 }
 
-fn write_combinations(w: &mut impl Write, combinations: &[Combination]) -> std::io::Result<()> {
+fn write_combinations(w: &mut impl Write, combinations: &[CombinationRecord]) -> std::io::Result<()> {
     writeln!(
         w,
         "k,kind,objective,method,candidates,legible_s,share_of_time,worst_case_s,upper_bound_s,gap_s"
@@ -239,10 +330,10 @@ fn write_combinations(w: &mut impl Write, combinations: &[Combination]) -> std::
             w,
             "{},{},{},{},{},{},{},{},{},{}",
             c.k,
-            c.kind,
-            objective_name(c.objective),
-            if c.method == crate::placement::Method::Exhaustive { "exhaustive" } else { "greedy" },
-            crate::output::csv_field(&c.candidates.join(" + ")),
+            c.kind.name(),
+            c.objective.name(),
+            c.method.name(),
+            crate::output::csv_field(&c.members_text()),
             c.legible_s,
             c.share_of_time,
             c.worst_case_s,
@@ -253,39 +344,107 @@ fn write_combinations(w: &mut impl Write, combinations: &[Combination]) -> std::
     Ok(())
 }
 
-fn objective_name(objective: Objective) -> &'static str {
-    match objective {
-        Objective::Mean => "mean",
-        Objective::WorstCase => "worst_case",
+fn interval_text(c: &CombinationRecord) -> String {
+    match (c.interval_s, c.p_best, c.p_within_epsilon) {
+        (Some([low, high]), Some(p), Some(within)) => {
+            format!("95 % {low:.2}-{high:.2} s, P(best) {p:.2}, P(within eps) {within:.2}")
+        }
+        (Some([low, high]), _, _) => format!("95 % {low:.2}-{high:.2} s"),
+        _ => "one archive: no interval".into(),
     }
 }
 
-/// The console summary: the `top` best candidates and every chosen set.
+/// The console summary: the `top` best candidates, every chosen set (k in
+/// physical displays, members adding nothing marked, the interval and
+/// P(best) with the runners-up), and the thresholds whose step changes a set.
 pub fn format_placement(placement: &Placement, top: usize) -> String {
+    let document = &placement.document;
     let mut out = String::from(
-        "candidate                                  kind   legible s  visible s  first legible s  (mean over archives)\n",
+        "candidate                                            kind   legible s  visible s  first legible s  (mean over archives)\n",
     );
-    for c in placement.candidates.iter().take(top) {
+    // One line per place: a region's first patch; not-mountable patches only in placement.csv.
+    let listed = |c: &&CandidateRecord| c.region.is_none() && (c.mountable || c.kind == CandidateKind::Part);
+    for c in document.candidates.iter().filter(listed).take(top) {
         let first = c.first_legible_s.map_or("never".to_string(), |s| format!("{s:.3}"));
+        let note = match (c.mountable, c.region_members) {
+            (false, _) => " (not mountable)".to_string(),
+            (true, n) if n > 1 => format!(" (region of {n})"),
+            _ => String::new(),
+        };
         out += &format!(
-            "{:<42} {:<6} {:>9.3}  {:>9.3}  {:>15}\n",
-            c.name, c.kind, c.legible_s, c.visible_s, first
+            "{:<52} {:<6} {:>9.3}  {:>9.3}  {:>15}{note}\n",
+            c.name,
+            c.kind.name(),
+            c.legible_s,
+            c.visible_s,
+            first
         );
     }
-    out += "\nbest sets (seconds at least one is legible; share of the archive's time; bound on any k-set)\n";
-    for c in &placement.combinations {
+    out += &format!(
+        "\nbest sets of at most k physical displays (a symmetric pair is two); seconds at least one is legible, \
+         mean over {} archive(s); [adds 0 s]: a member that adds no legible time\n",
+        document.archives.len()
+    );
+    for c in &document.combinations {
         out += &format!(
-            "k={} {:<5} {:<10} {:<10} {:>8.3} s  {:>5.1} %  worst {:>7.3} s  bound {:>7.3} s  {}\n",
+            "k={} ({} displays) {:<5} {:<10} {:<10} {:>7.3} s  {:>5.1} %  worst {:>6.3} s  bound {:>6.3} s  {}\n",
             c.k,
-            c.kind,
-            objective_name(c.objective),
-            if c.method == crate::placement::Method::Exhaustive { "exhaustive" } else { "greedy" },
+            c.displays,
+            c.kind.name(),
+            c.objective.name(),
+            c.method.name(),
             c.legible_s,
             100.0 * c.share_of_time,
             c.worst_case_s,
             c.upper_bound_s,
-            c.candidates.join(" + ")
+            c.members_text()
         );
+        if c.objective == Objective::Mean {
+            out += &format!("    {}\n", interval_text(c));
+            for r in &c.runners_up {
+                let p = r.p_best.map_or(String::new(), |p| format!(", P(best) {p:.2}"));
+                out += &format!(
+                    "    runner-up {:.3} s ({} displays{p}): {}\n",
+                    r.legible_s,
+                    r.displays,
+                    r.candidates.join(" + ")
+                );
+            }
+        }
     }
+    out += &sensitivity_text(document);
     out
+}
+
+fn sensitivity_text(document: &PlacementDocument) -> String {
+    let flips: Vec<String> = document
+        .sensitivity
+        .iter()
+        .flat_map(|step| {
+            step.sets.iter().filter(|s| !s.same_set).map(move |s| {
+                format!(
+                    "    {} = {}: best {} of {} changes to {} ({:.3} s; the reported set {:.3} s)\n",
+                    step.threshold,
+                    step.value,
+                    s.kind.name(),
+                    s.k,
+                    s.candidates.join(" + "),
+                    s.legible_s,
+                    s.reported_set_legible_s
+                )
+            })
+        })
+        .collect();
+    let steps = document.sensitivity.len();
+    if flips.is_empty() {
+        format!(
+            "\nsensitivity: with each of {steps} threshold steps (one step down and up) every best set stays\n"
+        )
+    } else {
+        format!(
+            "\nsensitivity: {} of the best sets change under one threshold step:\n{}",
+            flips.len(),
+            flips.concat()
+        )
+    }
 }

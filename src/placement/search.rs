@@ -1,58 +1,55 @@
-//! The best one, two, three … placements: the set of k choices that
+//! The best placements of at most k *physical displays*: the set of choices
+//! (a candidate is one display, a symmetric left/right pair two) that
 //! maximizes the time at least one of them is legible, by the mean over the
 //! archives and by the worst archive.
 //!
 //! Coverage ("at least one legible") is a monotone submodular set function,
-//! so: exhaustive search where the number of k-sets is small (always for
-//! the parts of a vehicle), else greedy with the data-dependent bound of
-//! Nemhauser, Wolsey and Fisher (1978): for any set S,
-//! OPT ≤ f(S) + (sum of the k largest marginal gains over S), taken at every
-//! greedy prefix; the gap to it is reported. (Greedy is also within
-//! 1 − 1/e of OPT, which the bound is never looser than at S = greedy's
-//! result… and usually much tighter.) For the worst case (a minimum over
-//! archives, not submodular) greedy is a heuristic and the bound is the
-//! smallest per-archive bound.
+//! so: exhaustive search where the number of sets is small (always for the
+//! parts of a vehicle), else greedy with a data-dependent bound after
+//! Nemhauser, Wolsey and Fisher (1978): for any set S and any feasible T,
+//! f(T) ≤ f(S) + Σ_{t∈T} gain(t | S), so OPT ≤ f(S) + the largest sum of
+//! marginal gains that fits in k displays (the k largest gains when every
+//! choice is one display), taken at every greedy prefix; the gap to it is
+//! reported. Greedy is run once per order of choice sizes (1 and 2 displays)
+//! and the best result is kept. For the worst case (a minimum over archives,
+//! not submodular) greedy is a heuristic and the bound is the smallest
+//! per-archive bound.
 //!
-//! Frames are bitsets, one run of 64-bit words per archive, so a union is an
-//! OR and a score a popcount per archive.
+//! The archives carry weights (all 1 for the answer; bootstrap counts for
+//! the probabilities of [`crate::placement::uncertainty`]). Frames are
+//! bitsets, one run of 64-bit words per archive, so a union is an OR and a
+//! score a popcount per archive.
 
 use std::ops::Range;
 
+pub use crate::format::placement::{Method, Objective};
 use crate::placement::legibility::ArchiveTimelines;
 use crate::placement::table::CandidateKind;
 
-/// At most this many k-sets are searched exhaustively; beyond, greedy.
+/// At most this many sets are searched exhaustively; beyond, greedy.
 pub const EXHAUSTIVE_LIMIT: u128 = 2_000_000;
 
-/// What a set is chosen for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Objective {
-    /// The mean legible seconds over the archives.
-    Mean,
-    /// The legible seconds of the worst archive.
-    WorstCase,
-}
-
-/// How a set was found.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Method {
-    Exhaustive,
-    Greedy,
-}
+/// How many of the next-best sets the search keeps for the runners-up.
+pub const RUNNERS_UP: usize = 8;
 
 /// One choice: a candidate, or with `--symmetric` a left/right pair.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Choice {
-    /// The candidates it is made of (one, or a mirror pair).
+    /// The candidates it is made of (one, or a mirror pair): its displays.
     pub names: Vec<String>,
     pub kind: CandidateKind,
     /// Legible frames of all archives, [`Universe::ranges`] words each.
     pub bits: Vec<u64>,
 }
 
-/// The archives' frames as bit ranges.
+impl Choice {
+    /// Physical displays: one per candidate.
+    pub fn displays(&self) -> usize {
+        self.names.len()
+    }
+}
+
+/// The archives' frames as bit ranges, and their weights.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Universe {
     /// Per archive: its words of a bitset.
@@ -61,6 +58,8 @@ pub struct Universe {
     pub frame_s: Vec<f64>,
     /// Per archive: seconds its frames cover.
     pub duration_s: Vec<f64>,
+    /// Per archive: its weight in the mean (1; a bootstrap's count).
+    pub weights: Vec<f64>,
     pub words: usize,
 }
 
@@ -77,8 +76,14 @@ impl Universe {
             ranges,
             frame_s: archives.iter().map(|a| a.table.frame_s).collect(),
             duration_s: archives.iter().map(ArchiveTimelines::duration_s).collect(),
+            weights: vec![1.0; archives.len()],
             words,
         }
+    }
+
+    /// The same frames with other weights.
+    pub fn weighted(&self, weights: Vec<f64>) -> Universe {
+        Universe { weights, ..self.clone() }
     }
 
     /// Seconds covered per archive.
@@ -102,191 +107,281 @@ impl Universe {
         }
         bits
     }
+
+    /// The weighted mean of per-archive values.
+    pub fn mean(&self, values: &[f64]) -> f64 {
+        let total: f64 = self.weights.iter().sum();
+        if total <= 0.0 {
+            return 0.0;
+        }
+        values.iter().zip(&self.weights).map(|(v, w)| v * w).sum::<f64>() / total
+    }
+
+    /// The least value of an archive with weight.
+    pub fn worst(&self, values: &[f64]) -> f64 {
+        values
+            .iter()
+            .zip(&self.weights)
+            .filter(|(_, w)| **w > 0.0)
+            .map(|(v, _)| *v)
+            .fold(f64::INFINITY, f64::min)
+            .min(f64::MAX)
+    }
+
+    /// The objective's value of per-archive seconds, ties broken by the mean.
+    pub fn value(&self, objective: Objective, seconds: &[f64]) -> (f64, f64) {
+        match objective {
+            Objective::Mean => (self.mean(seconds), 0.0),
+            Objective::WorstCase => (self.worst(seconds), self.mean(seconds)),
+        }
+    }
+
+    /// The objective's value of the union of `picked`.
+    pub fn score(&self, choices: &[Choice], picked: &[usize], objective: Objective) -> (f64, f64) {
+        self.value(objective, &self.seconds(&union_of(self, choices, picked)))
+    }
 }
 
-/// A chosen set and its scores.
-#[derive(Debug, Clone, PartialEq, serde::Serialize)]
-pub struct Combination {
-    pub k: usize,
-    pub kind: &'static str,
-    pub objective: Objective,
-    pub method: Method,
-    /// The candidates (a symmetric choice contributes both of its pair).
-    pub candidates: Vec<String>,
-    /// Mean over the archives of the seconds at least one is legible.
-    pub legible_s: f64,
-    /// Mean over the archives of legible_s / the archive's duration.
-    pub share_of_time: f64,
-    /// The smallest legible_s of any archive.
-    pub worst_case_s: f64,
-    /// Per archive, in input order.
-    pub per_archive_s: Vec<f64>,
-    /// No k-set can do better than this on the objective (= the objective's
-    /// value when exhaustive).
-    pub upper_bound_s: f64,
-    /// upper_bound_s minus the objective's value.
-    pub gap_s: f64,
+/// The frames any of `picked` is legible in.
+pub fn union_of(universe: &Universe, choices: &[Choice], picked: &[usize]) -> Vec<u64> {
+    picked.iter().fold(vec![0u64; universe.words], |acc, &c| union(&acc, &choices[c].bits))
 }
 
 fn union(a: &[u64], b: &[u64]) -> Vec<u64> {
     a.iter().zip(b).map(|(x, y)| x | y).collect()
 }
 
-fn mean(values: &[f64]) -> f64 {
-    if values.is_empty() { 0.0 } else { values.iter().sum::<f64>() / values.len() as f64 }
+/// Physical displays of `picked`.
+pub fn displays(choices: &[Choice], picked: &[usize]) -> usize {
+    picked.iter().map(|&c| choices[c].displays()).sum()
 }
 
-fn worst(values: &[f64]) -> f64 {
-    values.iter().copied().fold(f64::INFINITY, f64::min).min(f64::MAX)
-}
-
-/// The objective's value of per-archive seconds (ties broken by the mean).
-fn value(objective: Objective, seconds: &[f64]) -> (f64, f64) {
-    match objective {
-        Objective::Mean => (mean(seconds), 0.0),
-        Objective::WorstCase => (worst(seconds), mean(seconds)),
-    }
-}
-
-/// The number of k-subsets of n.
+/// The number of k-subsets of n (of all n when k ≥ n).
 pub fn binomial(n: usize, k: usize) -> u128 {
-    (0..k as u128).fold(1u128, |acc, i| acc.saturating_mul(n as u128 - i) / (i + 1))
+    (0..k.min(n) as u128).fold(1u128, |acc, i| acc.saturating_mul(n as u128 - i) / (i + 1))
 }
 
-/// The best k-set of `choices` for `objective`, by the rule above:
-/// exhaustive when there are at most `exhaustive_limit` k-sets.
+/// What the search found: the set (choice indices), how, the bound on any
+/// set of k displays and the next-best sets it met (with their values).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Found {
+    pub picked: Vec<usize>,
+    pub method: Method,
+    /// `None` when exhaustive (the value is the optimum).
+    pub bound: Option<f64>,
+    /// Other sets, best first (exhaustive: the next best of all; greedy:
+    /// the best single-member swaps of the answer).
+    pub runners_up: Vec<(Vec<usize>, f64)>,
+}
+
+/// The best set of at most `k` displays among `choices` for `objective`:
+/// exhaustive when there are at most `exhaustive_limit` sets.
 pub fn best_set(
     universe: &Universe,
     choices: &[Choice],
     k: usize,
     objective: Objective,
     exhaustive_limit: u128,
-) -> Option<Combination> {
-    if choices.is_empty() || k == 0 {
+) -> Option<Found> {
+    if choices.is_empty() || k == 0 || choices.iter().all(|c| c.displays() > k) {
         return None;
     }
-    let k = k.min(choices.len());
-    let (picked, method, bound) = if binomial(choices.len(), k) <= exhaustive_limit {
-        let picked = exhaustive(universe, choices, k, objective);
-        (picked, Method::Exhaustive, None)
+    let found = if binomial(choices.len(), k) <= exhaustive_limit {
+        let (picked, runners_up) = exhaustive(universe, choices, k, objective);
+        Found { picked, method: Method::Exhaustive, bound: None, runners_up }
     } else {
         let (picked, bound) = greedy(universe, choices, k, objective);
-        (picked, Method::Greedy, Some(bound))
+        let runners_up = swaps(universe, choices, &picked, k, objective);
+        Found { picked, method: Method::Greedy, bound: Some(bound), runners_up }
     };
-    Some(combination(universe, choices, &picked, k, objective, method, bound))
+    (!found.picked.is_empty()).then_some(found)
 }
 
-fn combination(
+/// Keeps the best `RUNNERS_UP + 1` sets seen, best first.
+#[derive(Default)]
+struct Leaders {
+    sets: Vec<((f64, f64), Vec<usize>)>,
+}
+
+impl Leaders {
+    /// Offers a set; one that only adds members to a kept set scoring as
+    /// well is no new place and is not kept.
+    fn offer(&mut self, score: (f64, f64), set: &[usize]) {
+        // Strictly better ranks first, and so does a tie with fewer members
+        // (a member that adds nothing is left out); other ties stay behind
+        // the sets found before them.
+        let ahead = |kept_score: (f64, f64), kept: &[usize]| {
+            score > kept_score || (score == kept_score && set.len() < kept.len())
+        };
+        if self.sets.len() > RUNNERS_UP && self.sets.last().is_some_and(|(s, kept)| !ahead(*s, kept)) {
+            return;
+        }
+        if self.sets.iter().any(|(s, kept)| *s >= score && kept.iter().all(|c| set.contains(c))) {
+            return;
+        }
+        let at = self.sets.iter().position(|(s, kept)| ahead(*s, kept)).unwrap_or(self.sets.len());
+        self.sets.insert(at, (score, set.to_vec()));
+        self.sets.truncate(RUNNERS_UP + 1);
+    }
+}
+
+/// Every set of at most k displays in lexicographic order (a set before
+/// its extensions); the first best (so the smallest in that order) wins
+/// ties.
+fn exhaustive(
     universe: &Universe,
     choices: &[Choice],
-    picked: &[usize],
     k: usize,
     objective: Objective,
-    method: Method,
-    bound: Option<f64>,
-) -> Combination {
-    let bits = picked.iter().fold(vec![0u64; universe.words], |acc, &c| union(&acc, &choices[c].bits));
-    let seconds = universe.seconds(&bits);
-    let shares: Vec<f64> =
-        seconds.iter().zip(&universe.duration_s).map(|(&s, &d)| if d > 0.0 { s / d } else { 0.0 }).collect();
-    let achieved = value(objective, &seconds).0;
-    let upper = bound.unwrap_or(achieved).max(achieved);
-    Combination {
-        k,
-        kind: choices[picked[0]].kind.name(),
-        objective,
-        method,
-        candidates: picked.iter().flat_map(|&c| choices[c].names.clone()).collect(),
-        legible_s: mean(&seconds),
-        share_of_time: mean(&shares),
-        worst_case_s: worst(&seconds),
-        per_archive_s: seconds,
-        upper_bound_s: upper,
-        gap_s: upper - achieved,
+) -> (Vec<usize>, Vec<(Vec<usize>, f64)>) {
+    struct Walk<'a> {
+        universe: &'a Universe,
+        choices: &'a [Choice],
+        k: usize,
+        objective: Objective,
+        leaders: Leaders,
+        stack: Vec<usize>,
     }
+    fn visit(walk: &mut Walk, start: usize, used: usize, covered: &[u64]) {
+        for c in start..walk.choices.len() {
+            let size = walk.choices[c].displays();
+            if used + size > walk.k {
+                continue;
+            }
+            let bits = union(covered, &walk.choices[c].bits);
+            walk.stack.push(c);
+            let score = walk.universe.value(walk.objective, &walk.universe.seconds(&bits));
+            walk.leaders.offer(score, &walk.stack);
+            visit(walk, c + 1, used + size, &bits);
+            walk.stack.pop();
+        }
+    }
+    let mut walk =
+        Walk { universe, choices, k, objective, leaders: Leaders::default(), stack: Vec::with_capacity(k) };
+    visit(&mut walk, 0, 0, &vec![0u64; universe.words]);
+    let mut sets = walk.leaders.sets.into_iter();
+    let best = sets.next().map(|(_, set)| set).unwrap_or_default();
+    (best, sets.map(|(score, set)| (set, score.0)).collect())
 }
 
-/// Every k-set in lexicographic order; the first best wins ties.
-fn exhaustive(universe: &Universe, choices: &[Choice], k: usize, objective: Objective) -> Vec<usize> {
-    let mut best: Option<((f64, f64), Vec<usize>)> = None;
-    let mut stack: Vec<usize> = Vec::with_capacity(k);
-    let mut unions: Vec<Vec<u64>> = vec![vec![0u64; universe.words]];
-    let mut next = 0usize;
-    loop {
-        if stack.len() == k {
-            let score = value(objective, &universe.seconds(unions.last().unwrap()));
-            if best.as_ref().is_none_or(|(b, _)| score > *b) {
-                best = Some((score, stack.clone()));
+/// The sequences of choice sizes (1 or 2 displays) summing to `k`, each
+/// greedy run's order.
+fn size_orders(k: usize) -> Vec<Vec<usize>> {
+    if k == 0 {
+        return vec![Vec::new()];
+    }
+    let mut out = Vec::new();
+    for first in [1usize, 2] {
+        if first <= k {
+            for mut rest in size_orders(k - first) {
+                rest.insert(0, first);
+                out.push(rest);
             }
-        }
-        if stack.len() < k && next < choices.len() && choices.len() - next >= k - stack.len() {
-            let bits = union(unions.last().unwrap(), &choices[next].bits);
-            unions.push(bits);
-            stack.push(next);
-            next += 1;
-            continue;
-        }
-        // Back up: the last pick moves one on.
-        match stack.pop() {
-            Some(last) => {
-                unions.pop();
-                next = last + 1;
-            }
-            None => break,
         }
     }
-    best.map(|(_, set)| set).unwrap_or_default()
+    out
+}
+
+/// The largest sum of `gains` (one per choice) that fits in k displays.
+fn fitting_sum(gains: &[f64], choices: &[Choice], k: usize) -> f64 {
+    let mut by_size: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+    for (gain, choice) in gains.iter().zip(choices) {
+        if (1..=2).contains(&choice.displays()) {
+            by_size[choice.displays() - 1].push(gain.max(0.0));
+        }
+    }
+    for list in &mut by_size {
+        list.sort_by(|a, b| b.total_cmp(a));
+    }
+    (0..=k / 2)
+        .map(|pairs| {
+            let two: f64 = by_size[1].iter().take(pairs).sum();
+            let one: f64 = by_size[0].iter().take(k - 2 * pairs).sum();
+            two + one
+        })
+        .fold(0.0, f64::max)
 }
 
 /// Greedy picks and the upper bound on the optimum (see the module doc).
 fn greedy(universe: &Universe, choices: &[Choice], k: usize, objective: Objective) -> (Vec<usize>, f64) {
     let archives = universe.ranges.len();
-    let mut picked: Vec<usize> = Vec::new();
-    let mut covered = vec![0u64; universe.words];
-    // Per archive (and for the mean): the smallest bound seen at any prefix.
     let mut archive_bounds = vec![f64::INFINITY; archives];
     let mut mean_bound = f64::INFINITY;
-    for step in 0..=k {
-        let base = universe.seconds(&covered);
-        let gains: Vec<Vec<f64>> = choices
-            .iter()
-            .map(|c| {
-                let with = universe.seconds(&union(&covered, &c.bits));
-                with.iter().zip(&base).map(|(w, b)| w - b).collect()
-            })
-            .collect();
-        for archive in 0..archives {
-            let top = top_k_sum(gains.iter().map(|g| g[archive]), k);
-            archive_bounds[archive] = archive_bounds[archive].min(base[archive] + top);
+    let mut best: Option<((f64, f64), Vec<usize>)> = None;
+    for order in size_orders(k) {
+        let mut picked: Vec<usize> = Vec::new();
+        let mut covered = vec![0u64; universe.words];
+        for step in 0..=order.len() {
+            let base = universe.seconds(&covered);
+            let gains: Vec<Vec<f64>> = choices
+                .iter()
+                .map(|c| {
+                    let with = universe.seconds(&union(&covered, &c.bits));
+                    with.iter().zip(&base).map(|(w, b)| w - b).collect()
+                })
+                .collect();
+            for (archive, bound) in archive_bounds.iter_mut().enumerate() {
+                let column: Vec<f64> = gains.iter().map(|g| g[archive]).collect();
+                *bound = bound.min(base[archive] + fitting_sum(&column, choices, k));
+            }
+            let mean_gains: Vec<f64> = gains.iter().map(|g| universe.mean(g)).collect();
+            mean_bound = mean_bound.min(universe.mean(&base) + fitting_sum(&mean_gains, choices, k));
+            if !picked.is_empty() {
+                let score = universe.value(objective, &base);
+                if best.as_ref().is_none_or(|(b, _)| score > *b) {
+                    best = Some((score, picked.clone()));
+                }
+            }
+            let Some(&size) = order.get(step) else { break };
+            let next = (0..choices.len())
+                .filter(|c| !picked.contains(c) && choices[*c].displays() == size)
+                .max_by(|&a, &b| {
+                    let score = |c: usize| {
+                        universe.value(objective, &universe.seconds(&union(&covered, &choices[c].bits)))
+                    };
+                    score(a).partial_cmp(&score(b)).unwrap_or(std::cmp::Ordering::Equal).then(b.cmp(&a))
+                });
+            let Some(next) = next else { break };
+            covered = union(&covered, &choices[next].bits);
+            picked.push(next);
         }
-        mean_bound = mean_bound.min(mean(&base) + top_k_sum(gains.iter().map(|g| mean(g)), k));
-        if step == k {
-            break;
-        }
-        let best = (0..choices.len()).filter(|c| !picked.contains(c)).max_by(|&a, &b| {
-            let score = |c: usize| value(objective, &universe.seconds(&union(&covered, &choices[c].bits)));
-            score(a).partial_cmp(&score(b)).unwrap_or(std::cmp::Ordering::Equal).then(b.cmp(&a))
-        });
-        let Some(best) = best else { break };
-        covered = union(&covered, &choices[best].bits);
-        picked.push(best);
     }
     let bound = match objective {
         Objective::Mean => mean_bound,
-        Objective::WorstCase => worst(&archive_bounds).min(mean_bound),
+        Objective::WorstCase => universe.worst(&archive_bounds).min(mean_bound),
     };
-    (picked, bound)
+    (best.map(|(_, set)| set).unwrap_or_default(), bound)
 }
 
-fn top_k_sum(values: impl Iterator<Item = f64>, k: usize) -> f64 {
-    let mut all: Vec<f64> = values.collect();
-    all.sort_by(|a, b| b.total_cmp(a));
-    all.iter().take(k).sum()
+/// The sets that swap one member of `picked` for another choice of the
+/// same size, best first (at most [`RUNNERS_UP`]).
+fn swaps(
+    universe: &Universe,
+    choices: &[Choice],
+    picked: &[usize],
+    k: usize,
+    objective: Objective,
+) -> Vec<(Vec<usize>, f64)> {
+    let mut leaders = Leaders::default();
+    for (slot, &member) in picked.iter().enumerate() {
+        for other in (0..choices.len()).filter(|c| !picked.contains(c)) {
+            if choices[other].displays() != choices[member].displays() {
+                continue;
+            }
+            let mut set = picked.to_vec();
+            set[slot] = other;
+            set.sort_unstable();
+            if displays(choices, &set) <= k {
+                leaders.offer(universe.score(choices, &set, objective), &set);
+            }
+        }
+    }
+    leaders.sets.into_iter().take(RUNNERS_UP).map(|(score, set)| (set, score.0)).collect()
 }
 
 /// The definition, without bitsets or pruning (for tests): every k-subset of
-/// `choices` scored frame by frame from the timelines' flags; the best
-/// value of the objective.
+/// `choices` (one display each) scored frame by frame from the timelines'
+/// flags; the best value of the objective.
 pub fn brute_force_best(
     per_archive_flags: &[Vec<Vec<bool>>],
     frame_s: &[f64],
@@ -294,6 +389,13 @@ pub fn brute_force_best(
     objective: Objective,
 ) -> f64 {
     let n = per_archive_flags.first().map_or(0, Vec::len);
+    let plain = Universe {
+        ranges: Vec::new(),
+        frame_s: frame_s.to_vec(),
+        duration_s: Vec::new(),
+        weights: vec![1.0; per_archive_flags.len()],
+        words: 0,
+    };
     let mut best = f64::NEG_INFINITY;
     for mask in 0u64..(1u64 << n) {
         if mask.count_ones() as usize != k.min(n) {
@@ -308,7 +410,7 @@ pub fn brute_force_best(
                     * frame_s
             })
             .collect();
-        best = best.max(value(objective, &seconds).0);
+        best = best.max(plain.value(objective, &seconds).0);
     }
     best
 }

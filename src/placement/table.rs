@@ -23,22 +23,7 @@ use crate::files::{SMALL_INPUT_LIMIT, read_limited};
 
 pub use crate::format::placement_csv::{PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE};
 
-/// Whether a candidate is a whole part of the vehicle or a display patch.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum CandidateKind {
-    Part,
-    Patch,
-}
-
-impl CandidateKind {
-    /// `"part"` or `"patch"`, as the tables spell it.
-    pub fn name(self) -> &'static str {
-        match self {
-            CandidateKind::Part => "part",
-            CandidateKind::Patch => "patch",
-        }
-    }
-}
+pub use crate::format::placement::CandidateKind;
 
 /// What one eye saw of one candidate in one frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,6 +48,8 @@ pub struct CandidateRows {
     pub name: String,
     pub kind: CandidateKind,
     pub mirror: Option<String>,
+    /// A display's width and height, m (from its name; `None` for a part).
+    pub size_m: Option<[f64; 2]>,
     pub sightings: BTreeMap<(usize, usize), Sighting>,
 }
 
@@ -363,6 +350,10 @@ fn candidates_of(
             name: row.candidate.clone(),
             kind: row.kind,
             mirror: row.mirror.clone(),
+            size_m: match row.kind {
+                CandidateKind::Patch => crate::placement::footprints::size_in_name(&row.candidate),
+                CandidateKind::Part => None,
+            },
             sightings: BTreeMap::new(),
         });
         if entry.kind != row.kind {

@@ -19,6 +19,7 @@ mod loaded_labels;
 mod module_graph;
 mod order_and_saturation;
 mod placement;
+mod placement_uncertainty;
 mod reliability;
 mod reliability_merge;
 mod scenario_map;

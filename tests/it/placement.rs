@@ -6,7 +6,10 @@
 
 use std::path::{Path, PathBuf};
 
-use ufcsr::{EyeRule, Method, Objective, PlacementOptions, Thresholds, brute_force_best, placement};
+use ufcsr::{
+    CharacterHeight, EyeRule, Method, Objective, PlacementOptions, Resampling, Thresholds, brute_force_best,
+    placement,
+};
 
 use crate::schemas::validator;
 
@@ -48,6 +51,26 @@ fn write_table(dir: &Path, name: &str, rows: &[Row]) -> PathBuf {
     path
 }
 
+/// The rule these tests were written for: characters as tall as the
+/// candidate, no width check, every legible frame counts (no dwell).
+pub fn plain() -> Thresholds {
+    Thresholds {
+        character_height: CharacterHeight::Fraction(1.0),
+        min_characters: 0,
+        min_dwell_s: 0.0,
+        ..Thresholds::default()
+    }
+}
+
+/// `paths` under [`plain`], with a small bootstrap.
+pub fn options(paths: Vec<PathBuf>) -> PlacementOptions {
+    PlacementOptions {
+        thresholds: plain(),
+        resampling: Resampling { replicates: 50, ..Resampling::default() },
+        ..PlacementOptions::new(paths)
+    }
+}
+
 fn row<'a>(frame: u32, candidate: &'a str, legible: bool) -> Row<'a> {
     Row {
         frame,
@@ -84,9 +107,9 @@ fn a_facing_plate_becomes_legible_at_the_distance_the_threshold_implies() {
         })
         .collect();
     let table = write_table(dir.path(), "plate.csv", &rows);
-    let found = placement(&PlacementOptions::new(vec![table])).unwrap();
-    let plate = &found.candidates[0];
-    let threshold = Thresholds::default().min_angular_height_arcmin;
+    let found = placement(&options(vec![table])).unwrap();
+    let plate = &found.document.candidates[0];
+    let threshold = Thresholds::default().min_character_height_arcmin;
     let implied = h / (2.0 * (threshold / 2.0 / 60.0).to_radians().tan());
     assert!((implied - 32.23).abs() < 0.01, "{implied}");
     let first = plate.first_legible_distance_m.expect("legible at last");
@@ -121,13 +144,13 @@ fn a_frame_is_legible_only_when_height_share_and_angle_all_pass_and_the_eye_rule
     rows.push(Row { eye: "left", ..row(4, "door", true) });
     rows.push(Row { eye: "right", height_deg: 0.1, ..row(4, "door", true) });
     let table = write_table(dir.path(), "t.csv", &rows);
-    let any = placement(&PlacementOptions::new(vec![table.clone()])).unwrap();
-    assert!((any.candidates[0].legible_s - 0.2).abs() < 1e-9, "frames 0 and 4");
-    assert!((any.candidates[0].visible_s - 0.5).abs() < 1e-9, "frames 0 to 4");
-    let mut options = PlacementOptions::new(vec![table]);
+    let any = placement(&options(vec![table.clone()])).unwrap();
+    assert!((any.document.candidates[0].legible_s - 0.2).abs() < 1e-9, "frames 0 and 4");
+    assert!((any.document.candidates[0].visible_s - 0.5).abs() < 1e-9, "frames 0 to 4");
+    let mut options = options(vec![table]);
     options.thresholds.eyes = EyeRule::Both;
     let both = placement(&options).unwrap();
-    assert!((both.candidates[0].legible_s - 0.1).abs() < 1e-9, "frame 0 only");
+    assert!((both.document.candidates[0].legible_s - 0.1).abs() < 1e-9, "frame 0 only");
 }
 
 #[test]
@@ -141,14 +164,14 @@ fn the_decision_window_counts_only_the_seconds_before_the_nearest_frame() {
         rows.push(row(frame, "late", frame >= 40));
     }
     let table = write_table(dir.path(), "t.csv", &rows);
-    let mut options = PlacementOptions::new(vec![table]);
+    let mut options = options(vec![table]);
     options.thresholds.decision_window_s = 1.0;
     let found = placement(&options).unwrap();
-    let by_name = |name: &str| found.candidates.iter().find(|c| c.name == name).unwrap().clone();
+    let by_name = |name: &str| found.document.candidates.iter().find(|c| c.name == name).unwrap().clone();
     assert!((by_name("early").legible_s - 2.0).abs() < 1e-9);
     assert_eq!(by_name("early").decision_window_legible_s, 0.0);
     assert!((by_name("late").decision_window_legible_s - 1.0).abs() < 1e-9);
-    assert_eq!(found.document["archives"][0]["arrival_s"], 4.9);
+    assert_eq!(found.document.archives[0].arrival_s, 4.9);
 }
 
 #[test]
@@ -163,14 +186,17 @@ fn a_symmetric_pair_is_one_choice_and_covers_both_sides() {
         rows.push(row(frame, "hood", frame < 15));
     }
     let table = write_table(dir.path(), "t.csv", &rows);
-    let single = placement(&PlacementOptions::new(vec![table.clone()])).unwrap();
-    let best1 = single.combinations.iter().find(|c| c.k == 1).unwrap();
-    assert_eq!(best1.candidates, ["hood"]);
-    let options = PlacementOptions { symmetric: true, ..PlacementOptions::new(vec![table]) };
-    let paired = placement(&options).unwrap();
-    let best1 = paired.combinations.iter().find(|c| c.k == 1).unwrap();
-    assert_eq!(best1.candidates, ["front_fender_left", "front_fender_right"]);
-    assert!((best1.legible_s - 2.0).abs() < 1e-9 && (best1.share_of_time - 1.0).abs() < 1e-12);
+    let single = placement(&options(vec![table.clone()])).unwrap();
+    let best1 = single.document.combinations.iter().find(|c| c.k == 1).unwrap();
+    assert_eq!(best1.candidates(), ["hood"]);
+    let paired = placement(&PlacementOptions { symmetric: true, ..options(vec![table]) }).unwrap();
+    // k counts physical displays: the pair is two, so one display is still the hood.
+    let best1 = paired.document.combinations.iter().find(|c| c.k == 1).unwrap();
+    assert_eq!((best1.candidates(), best1.displays), (vec!["hood".to_string()], 1));
+    let best2 = paired.document.combinations.iter().find(|c| c.k == 2).unwrap();
+    assert_eq!(best2.candidates(), ["front_fender_left", "front_fender_right"]);
+    assert_eq!((best2.displays, best2.members.len()), (2, 1), "one choice, two displays");
+    assert!((best2.legible_s - 2.0).abs() < 1e-9 && (best2.share_of_time - 1.0).abs() < 1e-12);
 }
 
 /// A deterministic pseudo-random instance: `archives` tables of `frames`
@@ -211,8 +237,8 @@ fn the_exhaustive_search_equals_brute_force_for_one_two_and_three() {
     let dir = tempfile::tempdir().unwrap();
     for seed in 1..=4 {
         let (paths, flags) = random_instance(dir.path(), seed, 3, 9, 40);
-        let found = placement(&PlacementOptions::new(paths)).unwrap();
-        for c in &found.combinations {
+        let found = placement(&options(paths)).unwrap();
+        for c in &found.document.combinations {
             assert_eq!(c.method, Method::Exhaustive);
             let objective_value = match c.objective {
                 Objective::Mean => c.legible_s,
@@ -235,9 +261,9 @@ fn the_greedy_bound_holds_and_greedy_is_within_one_minus_one_over_e() {
     let dir = tempfile::tempdir().unwrap();
     for seed in 11..=16 {
         let (paths, flags) = random_instance(dir.path(), seed, 2, 10, 30);
-        let options = PlacementOptions { exhaustive_limit: 0, ..PlacementOptions::new(paths) };
+        let options = PlacementOptions { exhaustive_limit: 0, ..options(paths) };
         let found = placement(&options).unwrap();
-        for c in &found.combinations {
+        for c in &found.document.combinations {
             assert_eq!(c.method, Method::Greedy);
             let value = match c.objective {
                 Objective::Mean => c.legible_s,
@@ -260,18 +286,23 @@ fn the_greedy_bound_holds_and_greedy_is_within_one_minus_one_over_e() {
 }
 
 #[test]
-fn placement_json_matches_its_schema() {
+fn placement_json_matches_its_schema_which_is_its_types_schema() {
+    // docs/schemas/placement.schema.json is generated from the type placement.json is written
+    // through (ufcsr::SCHEMAS; schemas::committed_schemas_equal_the_generated_ones holds it).
+    let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/schemas/placement.schema.json");
+    let entry = ufcsr::SCHEMAS.iter().find(|f| f.schema_file == "placement.schema.json").unwrap();
+    assert_eq!(std::fs::read_to_string(&file).unwrap(), entry.text());
     let dir = tempfile::tempdir().unwrap();
     let (paths, _) = random_instance(dir.path(), 7, 2, 5, 20);
-    let found = placement(&PlacementOptions { symmetric: true, ..PlacementOptions::new(paths) }).unwrap();
+    let found = placement(&PlacementOptions { symmetric: true, ..options(paths) }).unwrap();
     let out = dir.path().join("out");
     let written = ufcsr::write_placement(&found, &out).unwrap();
-    let schema = validator::Schema::load(
-        &PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/schemas/placement.schema.json"),
-    );
+    let schema = validator::Schema::load(&file);
     let document = validator::read_json(&written.json);
     schema.assert_valid(&document, "placement.json");
-    assert_eq!(document["schema"], "ufcsr-placement/1");
+    assert_eq!(document["schema"], "ufcsr-placement/2");
+    let read: ufcsr::PlacementDocument = serde_json::from_value(document.clone()).unwrap();
+    assert_eq!(read, found.document, "placement.json reads back to what was written");
     let csv = std::fs::read_to_string(&written.csv).unwrap();
     assert!(csv.starts_with("rank,candidate,kind,legible_s"));
     assert_eq!(csv.lines().count(), 6, "a header and five candidates");
@@ -298,13 +329,12 @@ fn bad_tables_are_errors_naming_the_file_line_and_problem() {
     for (name, content, expected) in cases {
         let path = dir.path().join(name);
         std::fs::write(&path, content).unwrap();
-        let error = placement(&PlacementOptions::new(vec![path.clone()])).unwrap_err().to_string();
+        let error = placement(&options(vec![path.clone()])).unwrap_err().to_string();
         assert!(error.contains(name) && error.contains(expected), "{name}: {error}");
     }
-    let missing =
-        placement(&PlacementOptions::new(vec![dir.path().join("nowhere")])).unwrap_err().to_string();
+    let missing = placement(&options(vec![dir.path().join("nowhere")])).unwrap_err().to_string();
     assert!(missing.contains("no placement-frames.csv"), "{missing}");
-    let options = PlacementOptions { k: 0, ..PlacementOptions::new(vec![good]) };
+    let options = PlacementOptions { k: 0, ..options(vec![good]) };
     assert!(placement(&options).unwrap_err().to_string().contains("--k 0"));
 }
 
@@ -367,22 +397,21 @@ fn a_rendered_frames_table_scored_by_solid_angle_chooses_what_the_exact_table_do
         })
         .collect();
     std::fs::write(&exact, text).unwrap();
-    let rule = Thresholds { min_solid_angle_sr: Some(5e-5), ..Thresholds::default() };
+    let rule = Thresholds { min_solid_angle_sr: Some(5e-5), ..plain() };
     let score = |path: &Path| {
-        let options =
-            PlacementOptions { thresholds: rule, k: 2, ..PlacementOptions::new(vec![path.to_path_buf()]) };
+        let options = PlacementOptions { thresholds: rule, k: 2, ..options(vec![path.to_path_buf()]) };
         placement(&options).unwrap()
     };
     let (from_rendered, from_exact) = (score(&rendered), score(&exact));
     for found in [&from_rendered, &from_exact] {
         let legible: Vec<(&str, f64)> =
-            found.candidates.iter().map(|c| (c.name.as_str(), c.legible_s)).collect();
+            found.document.candidates.iter().map(|c| (c.name.as_str(), c.legible_s)).collect();
         assert_eq!(legible.len(), 2);
         assert!((legible[0].1 - 0.6).abs() < 1e-9 && legible[0].0 == "hood", "{legible:?}");
         assert!((legible[1].1 - 0.4).abs() < 1e-9 && legible[1].0 == "grill", "{legible:?}");
     }
     let sets = |found: &ufcsr::Placement| -> Vec<(Vec<String>, f64)> {
-        found.combinations.iter().map(|c| (c.candidates.clone(), c.legible_s)).collect()
+        found.document.combinations.iter().map(|c| (c.candidates(), c.legible_s)).collect()
     };
     // The same sets, covering the same seconds (the rendered table's frame length is its time step).
     for (a, b) in sets(&from_rendered).iter().zip(sets(&from_exact)) {
@@ -391,6 +420,6 @@ fn a_rendered_frames_table_scored_by_solid_angle_chooses_what_the_exact_table_do
     assert_eq!(sets(&from_exact)[1].0, ["grill", "hood"]);
     assert!((sets(&from_exact)[1].1 - 1.0).abs() < 1e-9);
     // Without the rule, a rendered table cannot be scored: it has no heights or angles.
-    let error = placement(&PlacementOptions::new(vec![rendered.clone()])).unwrap_err().to_string();
+    let error = placement(&options(vec![rendered.clone()])).unwrap_err().to_string();
     assert!(error.contains("frames.csv") && error.contains("--min-solid-angle-sr"), "{error}");
 }

@@ -20,14 +20,45 @@ pub struct PlacementArgs {
     #[arg(required = true)]
     results: Vec<PathBuf>,
 
-    /// Sets of 1 to K placements are searched.
+    /// Sets of at most K physical displays are searched (a symmetric pair is two).
     #[arg(long, default_value_t = 3)]
     k: usize,
 
-    /// Legible only when the visible angular height reaches this, arcmin (default: ISO 9241-3's
-    /// minimum character height, 16; MUTCD's road-sign 1 in per 40 ft is 7.16).
-    #[arg(long, default_value_t = ufcsr::Thresholds::default().min_angular_height_arcmin)]
-    min_angular_height_arcmin: f64,
+    /// Legible only when the characters' visible angular height reaches this, arcmin (default: ISO
+    /// 9241-3's minimum character height, 16; MUTCD's road-sign 1 in per 40 ft is 7.16).
+    #[arg(long, alias = "min-angular-height-arcmin", default_value_t = ufcsr::Thresholds::default().min_character_height_arcmin)]
+    min_character_height_arcmin: f64,
+
+    /// The characters' height: a share of the display's height (0.5, the default: one line of
+    /// capitals with margins) or metres (0.06m; parts, whose height is unknown, use 0.5).
+    #[arg(long, value_name = "SHARE|METRESm", default_value = "0.5", value_parser = character_height)]
+    character_height: ufcsr::CharacterHeight,
+
+    /// A display of known size is legible only when its width, foreshortened by the view angle,
+    /// holds this many characters (0: no width check).
+    #[arg(long, default_value_t = ufcsr::Thresholds::default().min_characters)]
+    min_characters: u32,
+
+    /// Legible runs shorter than this many seconds do not count (FHWA: 1 s per word).
+    #[arg(long, default_value_t = ufcsr::Thresholds::default().min_dwell_s)]
+    min_dwell_s: f64,
+
+    /// Surfaces where no display is mounted, by the head noun of the part's name (comma-separated;
+    /// default: wheels, tyres, rims and glass; '' allows every surface).
+    #[arg(long, value_name = "NOUNS", value_delimiter = ',', default_values_t = ufcsr::DEFAULT_NOT_MOUNTABLE.map(String::from))]
+    not_mountable: Vec<String>,
+
+    /// Patches of one part whose centres are within this many metres are one place (0: off).
+    #[arg(long, default_value_t = ufcsr::DEFAULT_REGION_RADIUS_M)]
+    region_radius_m: f64,
+
+    /// Bootstrap replicates over the archives behind P(best) (0: none).
+    #[arg(long, default_value_t = ufcsr::DEFAULT_REPLICATES)]
+    replicates: usize,
+
+    /// P(within EPSILON): how often a set is at most this many seconds below the best.
+    #[arg(long, default_value_t = ufcsr::DEFAULT_EPSILON_S)]
+    epsilon_s: f64,
 
     /// Legible only when at least this share of the candidate's area is visible (0-1).
     #[arg(long, default_value_t = ufcsr::Thresholds::default().min_visible_fraction)]
@@ -51,7 +82,8 @@ pub struct PlacementArgs {
     #[arg(long, value_name = "SR")]
     min_solid_angle_sr: Option<f64>,
 
-    /// A left/right pair (front_fender_left + front_fender_right, mirrored patches) is one choice.
+    /// A left/right pair (front_fender_left + front_fender_right, mirrored patches) is chosen
+    /// together: one choice, two displays.
     #[arg(long)]
     symmetric: bool,
 
@@ -73,7 +105,10 @@ pub struct PlacementArgs {
 pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completion> {
     let options = ufcsr::PlacementOptions {
         thresholds: ufcsr::Thresholds {
-            min_angular_height_arcmin: args.min_angular_height_arcmin,
+            min_character_height_arcmin: args.min_character_height_arcmin,
+            character_height: args.character_height,
+            min_characters: args.min_characters,
+            min_dwell_s: args.min_dwell_s,
             min_visible_fraction: args.min_visible_fraction,
             max_view_angle_deg: args.max_view_angle_deg,
             decision_window_s: args.decision_window_s,
@@ -82,6 +117,13 @@ pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completio
         },
         k: args.k,
         symmetric: args.symmetric,
+        not_mountable: args.not_mountable.into_iter().filter(|n| !n.trim().is_empty()).collect(),
+        region_radius_m: args.region_radius_m,
+        resampling: ufcsr::Resampling {
+            replicates: args.replicates,
+            epsilon_s: args.epsilon_s,
+            ..ufcsr::Resampling::default()
+        },
         mesh: args.mesh,
         ..ufcsr::PlacementOptions::new(args.results)
     };
@@ -106,4 +148,8 @@ pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completio
         console,
         Done { completion: Completion::Done, written: files, text, facts: serde_json::json!({}) },
     ))
+}
+
+fn character_height(text: &str) -> std::result::Result<ufcsr::CharacterHeight, String> {
+    ufcsr::parse_character_height(text).map_err(|e| e.to_string())
 }

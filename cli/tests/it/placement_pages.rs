@@ -66,13 +66,16 @@ fn the_best_sets_are_drawn_on_the_vehicle_and_shown_on_both_pages() {
     analyze(&[
         "placement".as_ref(),
         archive.as_os_str(),
+        // Runs of 0.7 and 0.3 s: every legible frame counts.
+        "--min-dwell-s".as_ref(),
+        "0".as_ref(),
         "-q".as_ref(),
         "--out".as_ref(),
         placement.as_os_str(),
     ]);
     let document: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(placement.join("placement.json")).unwrap()).unwrap();
-    assert_eq!(document["combinations"][0]["candidates"], serde_json::json!(["hood"]));
+    assert_eq!(document["combinations"][0]["members"][0]["candidates"], serde_json::json!(["hood"]));
     let (orange, blue) = orange_and_blue(&placement.join("placement-views/part-best-1.png"));
     assert!(
         orange > 500 && blue == 0,

@@ -479,9 +479,18 @@ fn the_cli_measures_placements_that_the_analyzer_ranks() {
         assert!(rows.iter().any(|row| row[0] == name), "{name} has no footprint");
     }
     let placement = ufcsr::placement(&ufcsr::PlacementOptions::new(vec![out.clone()])).unwrap();
-    assert!(placement.candidates.len() > parts, "parts and patches are candidates");
-    assert!(placement.combinations.iter().any(|c| c.kind == "part" && c.k == 1));
-    assert!(placement.combinations.iter().any(|c| c.kind == "patch" && c.k == 1));
+    let document = &placement.document;
+    assert!(document.candidates.len() > parts, "parts and patches are candidates");
+    assert!(document.combinations.iter().any(|c| c.kind == ufcsr::CandidateKind::Part && c.k == 1));
+    assert!(document.combinations.iter().any(|c| c.kind == ufcsr::CandidateKind::Patch && c.k == 1));
+    // Names carry the display size.
+    assert!(
+        document
+            .candidates
+            .iter()
+            .filter(|c| c.kind == ufcsr::CandidateKind::Patch)
+            .all(|c| c.name.contains("@0.40x0.15@x"))
+    );
 }
 
 #[test]

@@ -23,8 +23,9 @@
 //!    sample fraction, is at least 90 % of W × H. A display overhanging an
 //!    edge of the body is no candidate.
 //!
-//! Names: `PART@xX.XXyY.YYzZ.ZZ` (the centre in the vehicle frame, metres,
-//! x forward, y left, z up); the mirror of a patch is the kept patch
+//! Names: `PART@W.WWxH.HH@xX.XXyY.YYzZ.ZZ` (the display's width and height
+//! and the centre in the vehicle frame, metres, x forward, y left, z up), so
+//! runs with different display sizes never share a candidate; the mirror of a patch is the kept patch
 //! nearest its centre mirrored in the plane y = 0, within half a spacing.
 //!
 //! Each kept patch's footprint (centre, normal, height axis, W and H) is
@@ -175,7 +176,8 @@ pub fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> V
         }
         let p = sample.position;
         let part = &inputs.scene.vehicle.parts[part_of[centre as usize] as usize];
-        let name = format!("{part}@x{:.2}y{:.2}z{:.2}", p.x, p.y, p.z);
+        // The display size in the name: runs with different sizes are never one candidate.
+        let name = format!("{part}@{:.2}x{:.2}@x{:.2}y{:.2}z{:.2}", display[0], display[1], p.x, p.y, p.z);
         // Two centres on either side of a cube's face can round to one name:
         // they are within a centimetre, so the first stands for both (a name
         // twice would make the table ambiguous).

@@ -234,6 +234,8 @@ fn patch_names_are_unique_where_the_surface_crosses_a_cube_face() {
     let patches = place_patches(&inputs(&scene, &samples, &obstacles), [0.40, 0.15], 0.10);
     let mut names: Vec<&str> = patches.iter().map(|p| p.name.as_str()).collect();
     assert!(names.iter().any(|name| name.contains("z1.95")), "{names:?}");
+    // The display's size is in every name, so runs with other sizes are other candidates.
+    assert!(names.iter().all(|name| name.starts_with("plate@0.40x0.15@x")), "{names:?}");
     names.sort_unstable();
     let count = names.len();
     names.dedup();
