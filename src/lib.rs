@@ -11,6 +11,7 @@ mod count;
 mod describe;
 mod error;
 mod files;
+mod format;
 mod input;
 mod kernel;
 mod output;
@@ -34,6 +35,11 @@ pub use files::{
     parse_gltf, read_gltf, read_limited, real_dir, refuse_overwriting_inputs, remove_on_interrupt,
     remove_stale_staging, remove_temporaries, resolve_inside, same_path, write_atomically,
     write_bytes_atomically, write_rgb_png,
+};
+pub use format::observers::{
+    CoarserCapture, DEFAULT_TRUNCATE_SD, OBSERVERS_SCHEMA, ObserverPlace, ObserverPopulation, ObserverRecord,
+    ObserverSampling, ObserverStudy, PartOverObservers, PopulationValue, ResolutionCheck, StatureGroup,
+    US_ADULTS_SOURCE,
 };
 pub use input::{
     AnalyzeOptions, Archive, CaptureGeometry, Dedupe, EyeProjection, Fcsp, HeatmapOptions, ImageSource,
