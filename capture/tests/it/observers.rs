@@ -50,8 +50,9 @@ fn each_sampled_observer_sees_the_plates_analytic_solid_angle_within_its_resolut
     };
     let study = run_observer_study(&gpu.device, &gpu.queue, &scene, &options).unwrap();
     assert_eq!(study.observers.len(), 4);
-    // deg²·s per eye of one frame's solid angle summed over both eyes.
-    let to_deg2_s = (180.0 / std::f64::consts::PI).powi(2) / scene.rig.fps / 2.0;
+    // deg²·s per eye of every frame's solid angle summed over both eyes (the plates stand still).
+    let frames = f64::from(scene.rig.frame_count(scene.scenarios[0].duration_s));
+    let to_deg2_s = (180.0 / std::f64::consts::PI).powi(2) / scene.rig.fps / 2.0 * frames;
     for observer in &study.observers {
         let want = seen_from(&scene, observer.position, observer.eye_height_m);
         let bound = observer.angular_area_bound_deg2_s.as_ref().unwrap();
