@@ -54,8 +54,8 @@ pub fn percentile(sorted: &[f64], q: f64) -> f64 {
 }
 
 /// The value over the observers: mean, 95 % interval of the population
-/// mean (with `bounds`, each observer's resolution bound, folded in) and
-/// the spread. `values` must not be empty.
+/// mean (with `bounds`, each observer's resolution bound, folded in; cut
+/// at 0 when no value is negative) and the spread. `values` must not be empty.
 pub fn population_value(values: &[f64], bounds: Option<&[f64]>, kind: IntervalKind) -> PopulationValue {
     let n = values.len() as f64;
     let mean = values.iter().sum::<f64>() / n;
@@ -69,9 +69,11 @@ pub fn population_value(values: &[f64], bounds: Option<&[f64]>, kind: IntervalKi
         }
         _ => None,
     };
+    // The mean of values that cannot be negative cannot be: such an interval starts at 0 at the lowest.
+    let floor = if sorted[0] >= 0.0 { 0.0 } else { f64::NEG_INFINITY };
     let mean_ci95 = monte_carlo_half_width.map(|h| {
         let half = h + resolution_bound.unwrap_or(0.0);
-        [mean - half, mean + half]
+        [(mean - half).max(floor), mean + half]
     });
     PopulationValue {
         mean,
@@ -113,6 +115,11 @@ mod tests {
         assert!((bounded.resolution_bound.unwrap() - 0.2).abs() < 1e-12);
         let [low, high] = bounded.mean_ci95.unwrap();
         assert!((low - (2.5 - half - 0.2)).abs() < 1e-12 && (high - (2.5 + half + 0.2)).abs() < 1e-12);
+        // Values that cannot be negative: the interval starts at 0 at the lowest.
+        let wide = population_value(&[0.0, 10.0], None, IntervalKind::MonteCarlo);
+        assert_eq!(wide.mean_ci95.unwrap()[0], 0.0);
+        let signed = population_value(&[-1.0, 10.0], None, IntervalKind::MonteCarlo);
+        assert!(signed.mean_ci95.unwrap()[0] < -50.0);
         // A grid, or one observer: no interval claimed.
         let grid = population_value(&values, None, IntervalKind::None);
         assert_eq!((grid.mean_ci95, grid.monte_carlo_half_width), (None, None));
