@@ -52,6 +52,11 @@ pub use format::manifest::{
     OccluderPose, PaintedByPart, PedestrianSetting, PoseRecord, RigRecord, RigSettings, ScenarioRecord,
     SceneRecord, ShardRecord, TrackKey, TrafficRecord, UnwrapRecord,
 };
+pub use format::observers::{
+    CoarserCapture, DEFAULT_TRUNCATE_SD, OBSERVERS_SCHEMA, ObserverPlace, ObserverPopulation, ObserverRecord,
+    ObserverSampling, ObserverStudy, PartOverObservers, PopulationValue, ResolutionCheck, StatureGroup,
+    US_ADULTS_SOURCE,
+};
 pub use format::placement::{
     ArchiveRecord, CandidateRecord, CombinationRecord, ExposureRecord, MemberRecord, PlacementDocument,
     RunnerUpRecord, SensitivityRecord, SensitivitySet, ThresholdsRecord, UncertaintyRecord,

@@ -59,8 +59,12 @@ pub use scene::{
     Track, ValueOrTrack, VehicleSpec, box_corners, box_outside, degenerate_vehicle, load_vehicle, look_to,
     pedestrian_body, reversed_z_perspective, triangle_area, vehicle_to_world,
 };
+pub use study::observers::interval::{IntervalKind, percentile, population_value, t975};
+pub use study::observers::population::{
+    MAX_OBSERVERS, SampledObserver, check_population, eye_height_quantile, normal_cdf, sample_observers,
+};
 pub use study::observers::{
-    MAX_OBSERVERS, Observer, ObserverOptions, ObserverStudy, PartSpread, Spread, run_observer_study,
+    DEFAULT_SAFETY_FACTOR, ObserverOptions, run_observer_study, summarize as summarize_observers,
     write_observer_study,
 };
 pub use study::offsets::{FrameValues, IntervalOptions, error_at_offset, setting_error};

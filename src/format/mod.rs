@@ -31,6 +31,7 @@
 //! the schemas with the command above.
 
 pub mod manifest;
+pub mod observers;
 pub mod placement;
 pub mod placement_csv;
 pub mod result;
@@ -77,6 +78,7 @@ pub const SCHEMAS: &[Format] = &[
     Format::of::<timings::TimingsFile>("timings.schema.json"),
     Format::of::<study::Study>("study.schema.json"),
     Format::of::<placement::PlacementDocument>("placement.schema.json"),
+    Format::of::<observers::ObserverStudy>("observers.schema.json"),
 ];
 
 /// The schema of `T`, draft 2020-12, with `$id` under the project's docs.

@@ -119,10 +119,12 @@ fn each_observer_is_byte_for_byte_the_capture_of_that_observer_alone() {
         // Two pedestrians 3.5 m apart, every 30th frame (the buildings hide part of the truck in
         // some): the occluders are placed relative to each one's head, and a renderer that kept the
         // first one's placement fails here.
-        kerb: Some([[-9.5, -4.5], [-4.5, -9.5]]),
-        positions: 2,
-        eye_heights_m: [1.5, 1.9],
-        heights: 1,
+        population: ufcsr::ObserverPopulation::us_adults(ufcsr::ObserverPlace::Kerb {
+            from: [-9.5, -4.5],
+            to: [-4.5, -9.5],
+        }),
+        sampling: ufcsr::ObserverSampling::Grid { positions: 2, heights: 1, eye_heights_m: [1.5, 1.9] },
+        resolution_check: ufcsr::ResolutionCheck::None,
         ppd: 2.0,
         frame_step: 30,
         capture: base_options(&out),

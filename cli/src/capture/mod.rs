@@ -73,8 +73,9 @@ pub enum CaptureToolCommand {
     /// Capture and count one scenario at several ppd and frame steps, compare each with the
     /// finest, and plot error against run time (writes study.csv, study.json, study.svg/.png).
     Study(StudyArgs),
-    /// Capture one scenario from a grid of pedestrians (positions along a kerb × eye heights)
-    /// and report per part the mean, its 95 % interval and the spread over them
+    /// Capture one scenario from pedestrians drawn from a declared population (kerb or area,
+    /// statures of a named source) and report per part the population mean, its 95 % interval
+    /// (each observer's resolution error folded in) and the spread over people
     /// (writes observers.json, observers.csv, observer-parts.csv).
     Observers(ObserversArgs),
     /// Check an archive without the analyzer: tile pixels are background or

@@ -1,17 +1,37 @@
 //! `ufcsr observers` (`ufcsr-capture observers`): its arguments and [`run_observers`], which
-//! captures a scenario from a grid of pedestrians (positions along a kerb ×
-//! eye heights) and prints each part's mean, interval and spread.
+//! draws pedestrians from a declared population (or, with `--sampling
+//! grid`, the old grid), captures a scenario from each and prints each
+//! part's population mean, its 95 % interval and the spread over people.
 
 use std::path::PathBuf;
 
 use anyhow::Context;
-use clap::Args;
+use clap::{Args, ValueEnum};
+use ufcsr::{ObserverPlace, ObserverPopulation, ObserverSampling, ResolutionCheck, StatureGroup};
 use ufcsr_capture::{CaptureOptions, Gpu, parse_palette_size};
 
 use super::study::{load_scene, scenario_name};
 use crate::choices::Backend;
 
 use crate::console::{Console, say};
+
+/// How the observers are chosen.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Sampling {
+    /// Independent draws from the population: the mean gets a 95 % interval.
+    Random,
+    /// A grid of `--positions` × `--heights` cell midpoints: no interval is claimed.
+    Grid,
+}
+
+/// How each observer's own resolution error is bounded.
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum Resolution {
+    /// A second capture at half the ppd and twice the frame step; bound = safety factor × difference.
+    Coarser,
+    /// Not bounded: the intervals leave it out (and say so).
+    None,
+}
 
 /// Uncertainty over the observer (see `ufcsr_capture::run_observer_study`).
 #[derive(Args)]
@@ -21,19 +41,46 @@ pub struct ObserversArgs {
     /// Scenario name (default: the first, A for the demo).
     #[arg(long)]
     scenario: Option<String>,
-    /// The kerb segment the pedestrians stand on, world metres: X0,Y0:X1,Y1 (default: the
-    /// rig's pedestrian only).
-    #[arg(long, value_parser = parse_kerb, allow_hyphen_values = true)]
+    /// The population, a JSON file (place, groups, truncate_sd; docs/science.md); instead of
+    /// --kerb, --area and --group.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["kerb", "area", "group"])]
+    population: Option<PathBuf>,
+    /// People stand uniformly along this kerb segment, world metres: X0,Y0:X1,Y1 (default: the
+    /// rig's pedestrian, standing or walking).
+    #[arg(long, value_parser = parse_kerb, allow_hyphen_values = true, conflicts_with = "area")]
     kerb: Option<[[f64; 2]; 2]>,
-    /// Positions along the kerb, each at the middle of an equal piece.
+    /// People stand uniformly over this axis-aligned rectangle, world metres: X0,Y0:X1,Y1.
+    #[arg(long, value_parser = parse_kerb, allow_hyphen_values = true)]
+    area: Option<[[f64; 2]; 2]>,
+    /// A group of the population, NAME:WEIGHT:STATURE_MEAN_M:STATURE_SD_M[:EYE_OFFSET_M] (offset
+    /// default 0.11), repeated for a mixture; replaces the default (US adults ≥ 20 y, women
+    /// 1.613 ± 0.071 m and men 1.753 ± 0.076 m in equal weight, CDC/NCHS 2021).
+    #[arg(long, value_parser = parse_group)]
+    group: Vec<StatureGroup>,
+    /// How the observers are chosen.
+    #[arg(long, value_enum, default_value_t = Sampling::Random)]
+    sampling: Sampling,
+    /// Observers drawn (random sampling).
+    #[arg(long, default_value_t = 16)]
+    observers: u32,
+    /// Seed of the draws (random sampling): the same seed gives the same observers.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Grid: positions along the kerb, each at the middle of an equal piece.
     #[arg(long, default_value_t = 1)]
     positions: u32,
-    /// Eye heights LOW:HIGH, metres.
-    #[arg(long, value_parser = parse_range, default_value = "1.50:1.90")]
-    eye_heights: [f64; 2],
-    /// Eye heights over the range, each at the middle of an equal piece.
+    /// Grid: eye heights LOW:HIGH, metres (default: the population's 5th–95th percentile).
+    #[arg(long, value_parser = parse_range)]
+    eye_heights: Option<[f64; 2]>,
+    /// Grid: eye heights over the range, each at the middle of an equal piece.
     #[arg(long, default_value_t = 5)]
     heights: u32,
+    /// How each observer's resolution error is bounded and folded into the intervals.
+    #[arg(long, value_enum, default_value_t = Resolution::Coarser)]
+    resolution_check: Resolution,
+    /// Safety factor of the coarser-capture bound (Roache's 3 for two grids).
+    #[arg(long, default_value_t = ufcsr_capture::DEFAULT_SAFETY_FACTOR)]
+    safety_factor: f64,
     /// Pixels per degree of every observer's capture.
     #[arg(long, default_value_t = 10.0)]
     ppd: f64,
@@ -50,7 +97,7 @@ pub struct ObserversArgs {
     #[arg(long, value_enum, default_value_t = Backend::Auto)]
     backend: Backend,
     /// Size of the heatmap views in each observer's results, each 400×300 pixels times this (1–8):
-    /// 1 draws a quarter of the pixels, for a quicker grid; the numbers do not change.
+    /// 1 draws a quarter of the pixels, for a quicker study; the numbers do not change.
     #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
           value_parser = clap::value_parser!(u32).range(1..=8))]
     views_scale: u32,
@@ -73,14 +120,67 @@ fn parse_kerb(text: &str) -> Result<[[f64; 2]; 2], String> {
     Ok([parse_pair(from, ',', "kerb")?, parse_pair(to, ',', "kerb")?])
 }
 
+fn parse_group(text: &str) -> Result<StatureGroup, String> {
+    let fields: Vec<&str> = text.split(':').collect();
+    if !(4..=5).contains(&fields.len()) || fields[0].is_empty() {
+        return Err(format!(
+            "group: expected NAME:WEIGHT:STATURE_MEAN_M:STATURE_SD_M[:EYE_OFFSET_M], got {text:?}"
+        ));
+    }
+    let number = |s: &str| s.trim().parse::<f64>().map_err(|e| format!("group {text:?}: {s:?}: {e}"));
+    Ok(StatureGroup {
+        name: fields[0].into(),
+        weight: number(fields[1])?,
+        stature_mean_m: number(fields[2])?,
+        stature_sd_m: number(fields[3])?,
+        eye_offset_m: fields.get(4).map_or(Ok(0.11), |s| number(s))?,
+        source: "--group on the command line".into(),
+    })
+}
+
+/// The population from `--population`, or from `--kerb`/`--area` and `--group` with the defaults.
+fn population(args: &ObserversArgs) -> anyhow::Result<ObserverPopulation> {
+    if let Some(path) = &args.population {
+        // Through the analyzer's reader: a regular file, size-capped, never a FIFO that hangs.
+        let bytes = ufcsr::read_limited(path, ufcsr::SMALL_INPUT_LIMIT)
+            .with_context(|| format!("reading the population {}", path.display()))?;
+        return serde_json::from_slice(&bytes)
+            .with_context(|| format!("{}: not a population", path.display()));
+    }
+    let place = match (args.kerb, args.area) {
+        (Some([from, to]), _) => ObserverPlace::Kerb { from, to },
+        (None, Some([corner, opposite])) => ObserverPlace::Area { corner, opposite },
+        (None, None) => ObserverPlace::Rig,
+    };
+    let mut population = ObserverPopulation::us_adults(place);
+    if !args.group.is_empty() {
+        population.groups = args.group.clone();
+    }
+    Ok(population)
+}
+
 pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<()> {
     let scene = load_scene(&args.scene)?;
+    let population = population(&args)?;
+    ufcsr_capture::check_population(&population)?;
+    let sampling = match args.sampling {
+        Sampling::Random => ObserverSampling::Random { observers: args.observers, seed: args.seed },
+        Sampling::Grid => ObserverSampling::Grid {
+            positions: args.positions,
+            heights: args.heights,
+            eye_heights_m: args
+                .eye_heights
+                .unwrap_or_else(|| [0.05, 0.95].map(|q| ufcsr_capture::eye_height_quantile(&population, q))),
+        },
+    };
     let options = ufcsr_capture::ObserverOptions {
         scenario: scenario_name(&scene, args.scenario.as_deref())?,
-        kerb: args.kerb,
-        positions: args.positions,
-        eye_heights_m: args.eye_heights,
-        heights: args.heights,
+        population,
+        sampling,
+        resolution_check: match args.resolution_check {
+            Resolution::Coarser => ResolutionCheck::Coarser { safety_factor: args.safety_factor },
+            Resolution::None => ResolutionCheck::None,
+        },
         ppd: args.ppd,
         frame_step: args.frame_step,
         capture: CaptureOptions {
@@ -103,48 +203,65 @@ pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<(
     Ok(())
 }
 
-fn print_observers(study: &ufcsr_capture::ObserverStudy, console: &Console) {
+/// `mean [interval] (spread)`, the interval left out on a grid.
+fn value_text(v: &ufcsr::PopulationValue, digits: usize) -> String {
+    let interval =
+        v.mean_ci95.map_or_else(String::new, |[low, high]| format!(" [{low:.digits$}–{high:.digits$}]"));
+    format!("{:.digits$}{interval} ({:.digits$}–{:.digits$})", v.mean, v.p2_5, v.p97_5)
+}
+
+fn print_observers(study: &ufcsr::ObserverStudy, console: &Console) {
     let n = study.observers.len();
+    let how = match study.sampling {
+        ObserverSampling::Random { seed, .. } => format!("drawn from the population (seed {seed})"),
+        ObserverSampling::Grid { eye_heights_m: [low, high], .. } => {
+            format!("on a grid (eye heights {low:.3}–{high:.3} m; no interval claimed)")
+        }
+    };
     say!(
         console,
-        "scenario {}, {n} observers at {} px/°, every {} frame(s), eye heights {}–{} m, in {:.1} s ({:.2} s of \
-         shared set-up, then {:.2} s per observer)",
+        "scenario {}, {n} observers {how} at {} px/°, every {} frame(s), in {:.1} s ({:.2} s of shared set-up, then \
+         {:.2} s per observer)",
         study.scenario,
         study.ppd,
         study.frame_step,
-        study.eye_heights_m[0],
-        study.eye_heights_m[1],
         study.seconds,
         study.setup_seconds,
         (study.seconds - study.setup_seconds) / n as f64
     );
+    for group in &study.population.groups {
+        say!(
+            console,
+            "  group {}: weight {}, stature {} ± {} m, eye height = stature − {} m ({})",
+            group.name,
+            group.weight,
+            group.stature_mean_m,
+            group.stature_sd_m,
+            group.eye_offset_m,
+            group.source
+        );
+    }
+    say!(console, "{}", study.interval);
     say!(
         console,
-        "per part over the observers: mean [95 % interval of the mean] (2.5–97.5 % of observers); top-5 = share of \
-         observers with the part among the five largest angular areas"
+        "per part: population mean [95 % interval of the mean] (2.5–97.5 % of observers); top-5 = share of observers \
+         with the part among the five largest angular areas"
     );
     say!(
         console,
-        "{:<24} {:>34} {:>34} {:>6}",
+        "{:<24} {:>40} {:>34} {:>6}",
         "part",
         "angular area, deg²·s",
         "share of angular area, %",
         "top-5"
     );
     for part in study.summary.iter().take(15) {
-        let (a, s) = (&part.angular_area_deg2_s, &part.angular_area_share_percent);
         say!(
             console,
-            "{:<24} {:>34} {:>34} {:>6.2}",
+            "{:<24} {:>40} {:>34} {:>6.2}",
             part.part,
-            format!(
-                "{:.3} [{:.3}–{:.3}] ({:.3}–{:.3})",
-                a.mean, a.mean_ci95[0], a.mean_ci95[1], a.p2_5, a.p97_5
-            ),
-            format!(
-                "{:.2} [{:.2}–{:.2}] ({:.2}–{:.2})",
-                s.mean, s.mean_ci95[0], s.mean_ci95[1], s.p2_5, s.p97_5
-            ),
+            value_text(&part.angular_area_deg2_s, 3),
+            value_text(&part.angular_area_share_percent, 2),
             part.top5_frequency
         );
     }

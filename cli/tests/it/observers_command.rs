@@ -1,34 +1,44 @@
-//! The observer study's command line writes its tables and names a bad
-//! kerb (moved from `capture/tests/it/observers.rs`, whose other test runs the
-//! library).
+//! The observer study's command line writes its tables and names bad
+//! options (the library's tests are in `capture/tests/it/observers.rs`).
 
 use std::process::Command;
 
 #[test]
-fn the_observers_command_writes_its_tables_and_names_a_bad_kerb() {
+fn the_observers_command_writes_its_tables_and_names_bad_options() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("observers");
     let run = |extra: &[&str]| {
         Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
             .args(["observers", "demo", "--scenario", "A", "--ppd", "2", "--palette-size", "128"])
-            .args(["--frame-step", "90", "--heights", "2", "--out"])
+            .args(["--frame-step", "90", "--out"])
             .arg(&out)
             .args(extra)
             .env("XDG_RUNTIME_DIR", dir.path())
             .output()
             .unwrap()
     };
-    let output = run(&["--kerb", "-6.5,-4.5:-4.5,-6.5", "--positions", "2"]);
+    let output = run(&["--kerb", "-6.5,-4.5:-4.5,-6.5", "--observers", "3", "--seed", "7"]);
     let stdout = String::from_utf8_lossy(&output.stdout);
     assert!(output.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&output.stderr));
-    assert!(stdout.contains("4 observers") && stdout.contains("angular area"), "{stdout}");
+    assert!(
+        stdout.contains("3 observers drawn from the population (seed 7)") && stdout.contains("CDC/NCHS"),
+        "{stdout}"
+    );
     for file in ["observers.json", "observers.csv", "observer-parts.csv"] {
         assert!(out.join(file).is_file(), "{file}");
     }
     let bad = run(&["--kerb", "-6.5,-4.5"]);
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--kerb"));
-    let no_kerb = run(&["--positions", "3"]);
+    let no_kerb = run(&["--sampling", "grid", "--positions", "3"]);
     assert_ne!(no_kerb.status.code(), Some(0));
     assert!(String::from_utf8_lossy(&no_kerb.stderr).contains("--kerb"));
+    let file = dir.path().join("population.json");
+    std::fs::write(&file, r#"{"place": {"kind": "rig"}, "groups": []}"#).unwrap();
+    let empty = run(&["--population", file.to_str().unwrap()]);
+    assert_ne!(empty.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&empty.stderr).contains("--group"));
+    std::fs::write(&file, r#"{"place": {"kind": "moon"}}"#).unwrap();
+    let malformed = run(&["--population", file.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&malformed.stderr).contains("population.json"), "{malformed:?}");
 }
