@@ -161,9 +161,9 @@ pub struct ObserverRecord {
 pub struct PopulationValue {
     /// Mean over the observers.
     pub mean: f64,
-    /// 95 % interval of the population mean: `mean` ± (`monte_carlo_half_width`
-    /// + `resolution_bound`), its low end cut at 0 when no observer's value is
-    /// negative. `None` on a grid, or with one observer.
+    /// 95 % interval of the population mean: `mean` ± the sum of
+    /// `monte_carlo_half_width` and `resolution_bound`, its low end cut at 0
+    /// when no observer's value is negative. `None` on a grid, or with one observer.
     pub mean_ci95: Option<[f64; 2]>,
     /// Student-t half-width t(0.975, n−1) · s / √n (`None` on a grid).
     pub monte_carlo_half_width: Option<f64>,
