@@ -305,9 +305,11 @@ mod tests {
 
     #[test]
     fn an_old_z_up_vehicle_glb_still_reads_in_the_vehicle_frame() {
-        // The bundled example archive's vehicle.glb predates the axis rule:
-        // generator "ufcsr 0.1.0", no mark, positions in the vehicle frame.
-        let old = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/fixtures/example/vehicle.glb"));
+        // The bundled example archive's vehicle.glb as it was before it was
+        // regenerated upright: it predates the axis rule (generator "ufcsr
+        // 0.1.0", no mark, positions in the vehicle frame).
+        let old =
+            Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/reference/vehicle-z-up-ufcsr-0.1.0.glb"));
         let gltf = gltf::Gltf::open(old).unwrap();
         assert_eq!(FileAxes::of(&gltf.document), FileAxes::OldUfcsrFrame);
         let model = VehicleModel::read(old).unwrap();

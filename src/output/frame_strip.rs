@@ -429,7 +429,8 @@ mod tests {
         assert!(frame_strip_skipped(&manifest, true).unwrap().contains("--count"));
         // A --count capture names its tiles but writes none.
         let tile = r#"[{"file": "t.png", "frame": 0, "eye": "left", "row": 0, "col": 0}]"#;
-        let text = format!(r#"{{"tiles": {tile}, "capture": {{"tiles_written": false}}}}"#);
+        let capture = r#"{"tool": "t", "tiles_rendered": 1, "tiles_culled": 0, "tiles_background_only": 0, "tiles_written": false}"#;
+        let text = format!(r#"{{"tiles": {tile}, "capture": {capture}}}"#);
         let manifest = Manifest::parse(Path::new("m.json"), text.as_bytes()).unwrap();
         assert!(frame_strip_skipped(&manifest, true).unwrap().contains("--count"));
         let text = format!(r#"{{"tiles": {tile}}}"#);
