@@ -8,7 +8,7 @@
 //!
 //! A patch's name carries its display size and centre
 //! (`PART@0.40x0.15@x1.20y-0.45z0.80`), so runs with different sizes are
-//! never scored as one candidate; [`label_sizes`] puts the size into the
+//! never scored as one candidate; `table::label_sizes` puts the size into the
 //! names of older tables from their footprints.
 
 use std::collections::BTreeMap;
@@ -71,35 +71,6 @@ pub fn name_with_size(name: &str, size: [f64; 2]) -> String {
     match name.rsplit_once('@') {
         Some((part, place)) => format!("{part}@{:.2}x{:.2}@{place}", size[0], size[1]),
         None => name.to_string(),
-    }
-}
-
-/// Puts the display size into the names of `table`'s patches that lack it
-/// (tables from captures before names carried it), from their footprints,
-/// and renames the footprints alike, so patches of different sizes are
-/// never scored as one candidate. Patches without a footprint keep their
-/// name and have no known size.
-pub fn label_sizes(
-    table: &mut crate::placement::table::PlacementTable,
-    footprints: &mut BTreeMap<String, PatchFootprint>,
-) {
-    let renamed = |name: &str| match footprints.get(name) {
-        Some(f) if size_in_name(name).is_none() => name_with_size(name, f.size_m),
-        _ => name.to_string(),
-    };
-    let candidates = std::mem::take(&mut table.candidates);
-    for (name, mut rows) in candidates {
-        let new_name = renamed(&name);
-        rows.size_m = rows.size_m.or_else(|| footprints.get(&name).map(|f| f.size_m));
-        rows.mirror = rows.mirror.as_deref().map(renamed);
-        rows.name = new_name.clone();
-        table.candidates.insert(new_name, rows);
-    }
-    let old = std::mem::take(footprints);
-    for (name, footprint) in old {
-        let new_name =
-            if size_in_name(&name).is_none() { name_with_size(&name, footprint.size_m) } else { name };
-        footprints.insert(new_name, footprint);
     }
 }
 

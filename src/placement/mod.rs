@@ -197,7 +197,7 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
         let mut own = read_footprints(&path)?;
         vehicle_model = vehicle_model.or_else(|| vehicle_beside(&path));
         let mut table = read_table(&path)?;
-        footprints::label_sizes(&mut table, &mut own);
+        table::label_sizes(&mut table, &mut own);
         footprints.extend(own);
         if table.rendered && options.thresholds.min_solid_angle_sr.is_none() {
             return Err(Error::bad_file(

@@ -378,3 +378,37 @@ fn candidates_of(
     }
     Ok(candidates)
 }
+
+/// Puts the display size into the names of `table`'s patches that lack it
+/// (tables from captures before names carried it), from their footprints,
+/// and renames the footprints alike, so patches of different sizes are
+/// never scored as one candidate. Patches without a footprint keep their
+/// name and have no known size.
+pub fn label_sizes(
+    table: &mut PlacementTable,
+    footprints: &mut BTreeMap<String, crate::placement::footprints::PatchFootprint>,
+) {
+    let renamed = |name: &str| match footprints.get(name) {
+        Some(f) if crate::placement::footprints::size_in_name(name).is_none() => {
+            crate::placement::footprints::name_with_size(name, f.size_m)
+        }
+        _ => name.to_string(),
+    };
+    let candidates = std::mem::take(&mut table.candidates);
+    for (name, mut rows) in candidates {
+        let new_name = renamed(&name);
+        rows.size_m = rows.size_m.or_else(|| footprints.get(&name).map(|f| f.size_m));
+        rows.mirror = rows.mirror.as_deref().map(renamed);
+        rows.name = new_name.clone();
+        table.candidates.insert(new_name, rows);
+    }
+    let old = std::mem::take(footprints);
+    for (name, footprint) in old {
+        let new_name = if crate::placement::footprints::size_in_name(&name).is_none() {
+            crate::placement::footprints::name_with_size(&name, footprint.size_m)
+        } else {
+            name
+        };
+        footprints.insert(new_name, footprint);
+    }
+}
