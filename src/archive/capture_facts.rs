@@ -121,7 +121,7 @@ impl CaptureGeometry {
     pub fn from_manifest(manifest: &Manifest) -> CaptureGeometry {
         CaptureGeometry {
             pixels_per_degree: manifest.rig.as_ref().and_then(|rig| rig.pixels_per_degree),
-            texel_size_mm: manifest.unwrap.as_ref().map(|unwrap| unwrap.texel_size_mm),
+            texel_size_mm: manifest.unwrap.as_ref().and_then(|unwrap| unwrap.texel_size_mm),
             frame_distances_m: manifest
                 .frame_records()
                 .iter()

@@ -481,9 +481,10 @@ pub struct UnwrapRecord {
     pub palette_share_used: f64,
     /// Surface per part, to turn per-part totals into counts per square metre.
     pub part_area_m2: BTreeMap<String, f64>,
-    /// One texel's side, millimetres.
+    /// One texel's side, millimetres; null when no texel has an area (a
+    /// palette too small for the surface gives 0 texels per square metre).
     #[schemars(range(min = 0.0))]
-    pub texel_size_mm: f64,
+    pub texel_size_mm: Option<f64>,
     /// Texels per square metre of surface.
     #[schemars(range(min = 0.0))]
     pub texels_per_m2: f64,

@@ -182,7 +182,8 @@ fn unwrap_record(parts: &ManifestParts) -> UnwrapRecord {
         palette: parts.palette_size,
         background_texel: parts.background_texel.map(|(x, y)| [x, y]),
         texels_per_m2: round6(unwrapped.texels_per_m2),
-        texel_size_mm: round6(1000.0 / unwrapped.texels_per_m2.sqrt()),
+        texel_size_mm: (unwrapped.texels_per_m2 > 0.0)
+            .then(|| round6(1000.0 / unwrapped.texels_per_m2.sqrt())),
         palette_share_used: round6(pidt.share()),
         labelled_texels: pidt.labelled,
         label_conflicts: pidt.conflicts,
