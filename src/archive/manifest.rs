@@ -85,6 +85,9 @@ mod tests {
         let twice = EXAMPLE.replace(r#""eye": 1"#, r#""eye": "left""#);
         let error = Manifest::parse(Path::new("m.json"), twice.as_bytes()).unwrap_err();
         assert!(error.to_string().contains("listed twice"), "{error}");
+        // Twice with both written (neither empty) as well.
+        let both_written = twice.replace(r#", "empty": true"#, "");
+        assert!(Manifest::parse(Path::new("m.json"), both_written.as_bytes()).is_err());
         let escaping = EXAMPLE.replace("tiles/f0000", "../f0000");
         let error = Manifest::parse(Path::new("m.json"), escaping.as_bytes()).unwrap_err();
         assert!(error.to_string().contains("inside the archive"), "{error}");
@@ -98,6 +101,7 @@ mod tests {
         assert!(error.contains("m.json") && error.contains("does not know"), "{error}");
         let foreign = EXAMPLE.replace("ufcsr-manifest/1", "unity-capture/1");
         assert!(parse(&foreign).unwrap_err().to_string().contains("not a ufcsr manifest"));
+        assert!(parse(&EXAMPLE.replace(r#""eye": 1"#, r#""eye": 2"#)).is_err());
         let three = EXAMPLE.replace(r#""eye": 1"#, r#""eye": 3"#);
         assert!(parse(&three).unwrap_err().to_string().contains("eye \"3\""));
         let third = EXAMPLE.replace(r#""eye": 1"#, r#""eye": "right""#).replace(
