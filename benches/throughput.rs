@@ -468,7 +468,7 @@ fn main() {
 fn bench_archive(args: &Args, archive: &Path, scratch: &Path) {
     let files = object_tiles(archive);
     let pixels: u64 = files.iter().map(|p| pixels_of(p)).sum();
-    let palette = Fcsp::canonical(4096, 4096).unwrap();
+    let palette = Fcsp::canonical([4096, 4096]).unwrap();
     let classifier = Classifier::new(&palette, &[0x000FFF]).unwrap();
     let lookup = archive_lookup(archive, &palette);
     if args.kernels_only {
@@ -503,7 +503,7 @@ fn bench_archive(args: &Args, archive: &Path, scratch: &Path) {
 /// where it has no PIdT).
 fn archive_lookup(archive: &Path, palette: &Fcsp) -> Option<PartLookup> {
     let legend = Legend::load(&archive.join("parts.csv")).ok()?;
-    let pidt = Pidt::load(&archive.join("pidt.png"), &legend, 4096, 4096).ok()?;
+    let pidt = Pidt::load(&archive.join("pidt.png"), &legend, [4096, 4096]).ok()?;
     Some(PartLookup::new(palette, Some((&legend, &pidt)), &[0x000FFF]))
 }
 

@@ -11,7 +11,7 @@ use std::time::Instant;
 use crate::archive::capture_facts::EyeFrame;
 use crate::archive::manifest::MANIFEST_FILE;
 use crate::archive::options::{AnalyzeOptions, Progress, Timings};
-use crate::archive::resolve::{resolve_inputs, resolve_inputs_allowing_no_images};
+use crate::archive::resolve::{Images, resolve_inputs, resolve_inputs_with};
 use crate::count::part_lookup::{FrameLabel, FrameRecord};
 use crate::count::scan::{Classifier, Kernel};
 use crate::count::tile_counter::{PartTallies, TileCounter};
@@ -19,6 +19,7 @@ use crate::count::trim::TrimPlan;
 use crate::count::work::{CountJob, CountedImages, Outcome, count_images};
 use crate::count::work::{FrameTallies, eye_frame_label};
 use crate::error::{Error, Result};
+use crate::format::result::CountMeasure;
 use crate::result::frames::FrameTable;
 use crate::result::measures::Measures;
 use crate::result::model::Analysis;
@@ -134,11 +135,11 @@ fn counted_frame_table(tallies: PartTallies, inputs: &crate::archive::resolve::I
 pub fn analyze_texel_counts(
     options: &AnalyzeOptions,
     texel_counts: Vec<u32>,
-    measure: &'static str,
+    measure: CountMeasure,
     notes: Vec<String>,
 ) -> Result<Analysis> {
     let started = Instant::now();
-    let inputs = resolve_inputs_allowing_no_images(options, true)?;
+    let inputs = resolve_inputs_with(options, Images::Optional)?;
     if texel_counts.len() != inputs.palette.texel_count() {
         return Err(Error::BadOptions(format!(
             "{} per-texel counts for a palette of {} texels",

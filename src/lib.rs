@@ -29,11 +29,11 @@ pub use self::png::{PixelLayout, RowReader, read_color_image, read_file, verify_
 pub use analyze::{analyze, analyze_counted, analyze_texel_counts};
 pub use archive::{
     AnalyzeOptions, Archive, CaptureGeometry, Dedupe, Fcsp, HeatmapOptions, ImageSource, Legend,
-    LoadedLabels, MANIFEST_FILE, MANIFEST_SCHEMA, MEASURE_PIXELS, Manifest, ModelPart, PaletteChoice,
-    PaletteRecord, PaletteSetting, Part, Pidt, Progress, Scale, ScenarioTrack, Shard, TileEntry, Timings,
-    TrackFrame, TrimMode, UNLABELLED, VehicleModel, inside_archive, parse_palette_size, write_canonical_png,
+    LoadedLabels, MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, ModelPart, PaletteChoice, PaletteRecord,
+    PaletteSetting, Part, Pidt, Progress, Scale, ScenarioTrack, Shard, TileEntry, Timings, TrackFrame,
+    TrimMode, UNLABELLED, VehicleModel, inside_archive, parse_palette_size, write_canonical_png,
 };
-pub use checks::{ColourChecks, ColourWarning, NeighbourSample};
+pub use checks::{ColorChecks, ColorWarning, NeighbourSample};
 pub use color::{AtomicColorSet, COLOR_COUNT, Color, ParseColorError, SeenSet, color_key};
 pub use count::{
     Classifier, CountedTile, Counts, EmptyTile, FrameLabel, FrameRecord, ImageTally, KERNEL_ENV, Kernel,
@@ -63,8 +63,8 @@ pub use format::placement::{
 };
 pub use format::placement_csv::{PLACEMENT_FRAMES_OPTIONAL, PlacementFrameRow};
 pub use format::result::{
-    ColorTexels, DedupeReport, FailedImage, ImageCounts, PartMeasure, PixelCounts, ResultFile, Settings,
-    StrayImage, TexelCountsJson, TrimReport, UnlabelledReport,
+    ColorTexels, CountMeasure, DedupeReport, FailedImage, ImageCounts, PartMeasure, PixelCounts, ResultFile,
+    Settings, StrayImage, TexelCountsJson, TrimReport, UnlabelledReport,
 };
 pub use format::timings::{TIMINGS_SCHEMA, TimingsFile};
 pub use format::{ErrorVsExact, ExactReference, ShareError, Study, StudyPick, StudyRow};
@@ -75,7 +75,7 @@ pub use output::{
     NEVER_SEEN, ResultSetOptions, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED, SceneObject,
     SceneShapes, VIEW_BASE, ViewCamera, ViewTexture, WrittenFiles, WrittenViews, ZBuffer, bar_ticks,
     csv_field, default_output_dir, format_counted_table, format_table, measure_unit, plasma,
-    plot_font_available, render_heatmap, render_view, time_colour, view_cameras, views_caption,
+    plot_font_available, render_heatmap, render_view, time_color, view_cameras, views_caption,
     write_comparison, write_heatmap, write_parts_csv, write_results, write_results_with, write_scenario_map,
     write_scene_glb, write_views, write_views_with,
 };

@@ -30,12 +30,12 @@ mod texture;
 pub use error::{CaptureError, Result};
 pub use exact::{
     DEFAULT_PATCH_SPACING_M, DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE,
-    EyeFrame, MAX_TEXEL_SAMPLES, MEASURE_UNOBSTRUCTED, MeasureDevice, MeasureOptions, Obstacles,
-    PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PartEstimate,
-    PlacementCandidates, PlacementWritten, SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample,
-    SurfaceSamples, TexelVisibility, Tracer, TriangleBvh, UnobstructedCapture, estimate_parts, eye_frame,
-    eye_frames, is_sampled, measure_unobstructed, parse_display, seconds_per_frame, surface_samples,
-    texel_visibility, texel_visibility_gpu, visible_solid_angle,
+    EyeFrame, MAX_TEXEL_SAMPLES, MeasureDevice, MeasureOptions, Obstacles, PLACEMENT_FRAMES_FILE,
+    PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PartEstimate, PlacementCandidates, PlacementWritten,
+    SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample, SurfaceSamples, TexelVisibility, Tracer, TriangleBvh,
+    UnobstructedCapture, estimate_parts, eye_frame, eye_frames, is_sampled, measure_unobstructed,
+    parse_display, seconds_per_frame, surface_samples, texel_visibility, texel_visibility_gpu,
+    visible_solid_angle,
 };
 pub use inspect::{
     InspectOptions, Inspection, PartInfo, Sliver, TriangleQuality, UvState, ViewsOptions, inspect,

@@ -25,6 +25,15 @@ pub const AXES_MARK: &str = "ufcsr_axes";
 /// The mark's value, saying what the axes are (for people reading the JSON).
 pub const AXES_NOTE: &str = "glTF: +Y up, front +Z; ufcsr frame (x, y, z) is glTF (y, z, x)";
 
+/// Whether an accessor records its values' bounds (`min`/`max`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Bounds {
+    /// Recorded: glTF requires them for positions.
+    Written,
+    /// Left out (UVs and other attributes).
+    Omitted,
+}
+
 /// A ufcsr frame point (z up) in glTF's axes.
 pub fn to_gltf_axes([x, y, z]: [f32; 3]) -> [f32; 3] {
     [y, z, x]
@@ -114,16 +123,17 @@ impl GlbBuilder {
         })
     }
 
-    /// A float vertex attribute (`N` = 2 or 3 components); positions get their bounds.
+    /// A float vertex attribute (`N` = 2 or 3 components); positions get their bounds
+    /// (glTF requires them there).
     pub fn attribute<const N: usize>(
         &mut self,
         values: &[[f32; N]],
-        with_bounds: bool,
+        bounds_record: Bounds,
     ) -> json::Index<json::Accessor> {
         let bytes: Vec<u8> = values.iter().flatten().flat_map(|v| v.to_le_bytes()).collect();
         let view = self.view(&bytes, Some(4 * N));
         let kind = if N == 2 { json::accessor::Type::Vec2 } else { json::accessor::Type::Vec3 };
-        let (min, max) = if with_bounds {
+        let (min, max) = if bounds_record == Bounds::Written {
             let (min, max) = bounds(values);
             (Some(json::Value::from(min.to_vec())), Some(json::Value::from(max.to_vec())))
         } else {

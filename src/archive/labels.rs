@@ -168,10 +168,10 @@ pub struct Pidt {
 }
 
 impl Pidt {
-    /// Reads the PIdT at `path`, which must be `width`×`height` texels.
-    pub fn load(path: &Path, legend: &Legend, width: u32, height: u32) -> Result<Pidt> {
-        let image = read_color_image(path, |found_width, found_height| {
-            if (found_width, found_height) == (width, height) {
+    /// Reads the PIdT at `path`, which must be `[width, height]` texels.
+    pub fn load(path: &Path, legend: &Legend, [width, height]: [u32; 2]) -> Result<Pidt> {
+        let image = read_color_image(path, |[found_width, found_height]| {
+            if [found_width, found_height] == [width, height] {
                 Ok(())
             } else {
                 Err(Error::WrongSize {
@@ -184,11 +184,11 @@ impl Pidt {
                 })
             }
         })?;
-        Ok(Pidt::from_colors(width, height, &image.colors, legend))
+        Ok(Pidt::from_colors([width, height], &image.colors, legend))
     }
 
     /// Resolves packed PIdT colours (row-major) against a legend.
-    pub fn from_colors(width: u32, height: u32, colors: &[u32], legend: &Legend) -> Pidt {
+    pub fn from_colors([width, height]: [u32; 2], colors: &[u32], legend: &Legend) -> Pidt {
         // A legend holds tens of parts: a sorted list searched only when the
         // colour changes is as fast as a hash map here, with std alone.
         let mut index: Vec<(u32, u16)> =
@@ -246,7 +246,7 @@ mod tests {
         // 4×3: runs that end at a row's end, an unlabelled run in the
         // middle of a row, a one-texel run.
         let colors = [hood, hood, stray, roof, roof, roof, roof, roof, stray, stray, hood, stray];
-        let pidt = Pidt::from_colors(4, 3, &colors, &legend);
+        let pidt = Pidt::from_colors([4, 3], &colors, &legend);
         assert_eq!(
             pidt.part_of_texel,
             [0, 0, UNLABELLED, 1, 1, 1, 1, 1, UNLABELLED, UNLABELLED, 0, UNLABELLED]
@@ -272,7 +272,7 @@ mod tests {
     }
 
     #[test]
-    fn rejects_shared_colours() {
+    fn rejects_shared_colors() {
         let parts = vec![
             Part { name: "A".into(), color: Color::from_packed(1) },
             Part { name: "B".into(), color: Color::from_packed(1) },

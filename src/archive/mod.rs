@@ -29,7 +29,7 @@ pub use capture_facts::CaptureGeometry;
 pub use labels::{Legend, LoadedLabels, Part, Pidt, UNLABELLED};
 pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry, inside_archive};
 pub use options::{
-    AnalyzeOptions, Dedupe, HeatmapOptions, MEASURE_PIXELS, PaletteChoice, Progress, Scale, Timings, TrimMode,
+    AnalyzeOptions, Dedupe, HeatmapOptions, PaletteChoice, Progress, Scale, Timings, TrimMode,
 };
 pub use palette::{Fcsp, PaletteSetting, parse_size as parse_palette_size, write_canonical_png};
 pub use scenario_track::{ScenarioTrack, TrackFrame};

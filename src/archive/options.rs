@@ -100,8 +100,6 @@ pub struct AnalyzeOptions {
 
 pub use crate::format::timings::Timings;
 
-pub use crate::format::result::MEASURE_PIXELS;
-
 pub use crate::format::result::Scale;
 
 impl std::str::FromStr for Scale {

@@ -32,7 +32,7 @@ pub use crate::format::result::PaletteSetting;
 
 impl Fcsp {
     /// The canonical W×H palette.
-    pub fn canonical(width: u32, height: u32) -> Result<Fcsp> {
+    pub fn canonical([width, height]: [u32; 2]) -> Result<Fcsp> {
         let texels = u64::from(width) * u64::from(height);
         if width == 0 || height == 0 || texels > COLOR_COUNT as u64 {
             return Err(Error::BadOptions(format!(
@@ -44,7 +44,7 @@ impl Fcsp {
 
     /// Loads a palette image and checks that its colours are unique.
     pub fn from_png(path: &Path) -> Result<Fcsp> {
-        let image = read_color_image(path, |width, height| {
+        let image = read_color_image(path, |[width, height]| {
             let texels = u64::from(width) * u64::from(height);
             if texels > COLOR_COUNT as u64 {
                 return Err(Error::bad_file(
@@ -168,9 +168,9 @@ impl Fcsp {
 
 /// Writes the canonical W×H palette as an 8-bit RGB PNG, for putting on a
 /// mesh in Unity or Blender (texel `(x, y)` has colour `y * W + x`).
-pub fn write_canonical_png(path: &Path, width: u32, height: u32) -> Result<()> {
-    let rgb = Fcsp::canonical(width, height)?.texel_rgb();
-    crate::files::write_rgb_png(path, width, height, &rgb, png::Compression::Fast)
+pub fn write_canonical_png(path: &Path, size: [u32; 2]) -> Result<()> {
+    let rgb = Fcsp::canonical(size)?.texel_rgb();
+    crate::files::write_rgb_png(path, size, &rgb, png::Compression::Fast)
 }
 
 /// Parses `W`, `WxH` or `W×H` into a palette size `[W, H]` (W alone:
@@ -201,20 +201,20 @@ mod tests {
     use super::*;
 
     #[test]
-    fn canonical_maps_index_to_colour() {
-        let palette = Fcsp::canonical(16, 4).unwrap();
+    fn canonical_maps_index_to_color() {
+        let palette = Fcsp::canonical([16, 4]).unwrap();
         assert_eq!(palette.color_of(17), 17);
         assert!(palette.contains(63));
         assert!(!palette.contains(64));
-        assert!(Fcsp::canonical(4097, 4096).is_err());
-        assert!(Fcsp::canonical(0, 4).is_err());
+        assert!(Fcsp::canonical([4097, 4096]).is_err());
+        assert!(Fcsp::canonical([0, 4]).is_err());
     }
 
     #[test]
     fn written_canonical_palette_loads_as_an_image_palette() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("fcsp.png");
-        write_canonical_png(&path, 64, 32).unwrap();
+        write_canonical_png(&path, [64, 32]).unwrap();
         let palette = Fcsp::from_png(&path).unwrap();
         assert_eq!((palette.width(), palette.height()), (64, 32));
         assert!((0..64 * 32).all(|texel| palette.color_of(texel) == texel as u32));

@@ -58,17 +58,22 @@ pub(crate) struct Inputs {
     pub optics: Option<EyeOptics>,
 }
 
-/// Resolves options against the manifest and loads every input once.
-pub(crate) fn resolve_inputs(options: &AnalyzeOptions) -> Result<Inputs> {
-    resolve_inputs_allowing_no_images(options, false)
+/// Whether an archive must hold images to be resolved.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Images {
+    /// Counting reads them: none is an error.
+    Required,
+    /// The counts were measured another way ([`crate::analyze_texel_counts`]).
+    Optional,
 }
 
-/// [`resolve_inputs`], where an archive without images is not an error when
-/// `allow_no_images` (counts measured another way, [`crate::analyze_texel_counts`]).
-pub(crate) fn resolve_inputs_allowing_no_images(
-    options: &AnalyzeOptions,
-    allow_no_images: bool,
-) -> Result<Inputs> {
+/// Resolves options against the manifest and loads every input once.
+pub(crate) fn resolve_inputs(options: &AnalyzeOptions) -> Result<Inputs> {
+    resolve_inputs_with(options, Images::Required)
+}
+
+/// [`resolve_inputs`], saying whether the archive must hold images.
+pub(crate) fn resolve_inputs_with(options: &AnalyzeOptions, images: Images) -> Result<Inputs> {
     let root = &options.archive;
     if !root.is_dir() {
         return Err(Error::bad_file(root, "not a folder (expected an archive folder of PNG tiles)"));
@@ -76,7 +81,7 @@ pub(crate) fn resolve_inputs_allowing_no_images(
     let manifest = if options.ignore_manifest { None } else { Manifest::load_from_dir(root)? };
     let palette_choice = palette_choice(options, manifest.as_ref())?;
     let palette = match &palette_choice {
-        PaletteChoice::Canonical { width, height } => Fcsp::canonical(*width, *height)?,
+        PaletteChoice::Canonical { width, height } => Fcsp::canonical([*width, *height])?,
         PaletteChoice::Image(path) => Fcsp::from_png(path)?,
     };
     let backgrounds = options
@@ -86,7 +91,7 @@ pub(crate) fn resolve_inputs_allowing_no_images(
         .unwrap_or_else(|| vec![Color::DEFAULT_BACKGROUND]);
     let parts = load_labels(options, manifest.as_ref(), &palette)?;
     let archive = read_archive(options, manifest.as_ref(), &palette_choice, &palette)?;
-    if archive.found() == 0 && !allow_no_images {
+    if archive.found() == 0 && images == Images::Required {
         return Err(Error::NoImages { path: root.to_path_buf() });
     }
     check_dedupe(options, &archive)?;
@@ -162,7 +167,7 @@ fn load_labels(
                 return loaded_labels(loaded, legend_path, pidt_path, palette).map(Some);
             }
             let legend = Legend::load(&legend_path)?;
-            let pidt = Pidt::load(&pidt_path, &legend, palette.width(), palette.height())?;
+            let pidt = Pidt::load(&pidt_path, &legend, [palette.width(), palette.height()])?;
             Ok(Some(LabelFiles { legend_path, legend, pidt_path, pidt: pidt.into() }))
         }
         (Some(pidt_path), None) => Err(Error::BadOptions(format!(

@@ -14,7 +14,7 @@ use std::path::Path;
 
 use gltf_json as json;
 
-use crate::archive::glb::{FileAxes, GlbBuilder, IDENTITY, multiply, to_gltf_axes, transform_point};
+use crate::archive::glb::{Bounds, FileAxes, GlbBuilder, IDENTITY, multiply, to_gltf_axes, transform_point};
 use crate::error::{Error, Result};
 
 /// One part: a triangle list (three vertices per triangle).
@@ -59,8 +59,8 @@ impl VehicleModel {
         for part in &self.parts {
             check_triangle_list(part)?;
             let positions: Vec<[f32; 3]> = part.positions.iter().map(|&p| to_gltf_axes(p)).collect();
-            let position = glb.attribute(&positions, true);
-            let uv = glb.attribute(&part.uvs, false);
+            let position = glb.attribute(&positions, Bounds::Written);
+            let uv = glb.attribute(&part.uvs, Bounds::Omitted);
             let attributes =
                 vec![(json::mesh::Semantic::Positions, position), (json::mesh::Semantic::TexCoords(0), uv)];
             nodes.push(glb.mesh_node(&part.name, attributes, material, None));

@@ -174,7 +174,7 @@ mod tests {
 
     #[test]
     fn magnified_and_minified_islands_have_no_jumps() {
-        let grid = TexelGrid::new(&Fcsp::canonical(4096, 4096).unwrap(), &[0x000FFF]).unwrap();
+        let grid = TexelGrid::new(&Fcsp::canonical([4096, 4096]).unwrap(), &[0x000FFF]).unwrap();
         // 3 pixels per texel, and 20 texels per pixel.
         let magnified = sample_of(&grid, 30, 3, |x, y| (100 + y / 3) * 4096 + 50 + x / 3);
         assert_eq!(magnified, NeighbourSample { triples: 28 + 30, varying: 18, jumps: 0 });
@@ -184,7 +184,7 @@ mod tests {
 
     #[test]
     fn a_blend_of_vertical_neighbours_is_a_jump() {
-        let grid = TexelGrid::new(&Fcsp::canonical(4096, 4096).unwrap(), &[0x000FFF]).unwrap();
+        let grid = TexelGrid::new(&Fcsp::canonical([4096, 4096]).unwrap(), &[0x000FFF]).unwrap();
         let (t, below) = (100 * 4096 + 50, 101 * 4096 + 50);
         // The byte-wise average of t and the texel below it: green + 8.
         let blend = t + 0x0800;
@@ -203,11 +203,11 @@ mod tests {
 
     #[test]
     fn background_and_rows_outside_the_windows_are_not_sampled() {
-        let grid = TexelGrid::new(&Fcsp::canonical(64, 64).unwrap(), &[5]).unwrap();
+        let grid = TexelGrid::new(&Fcsp::canonical([64, 64]).unwrap(), &[5]).unwrap();
         // Texel 5 is the background here; rows 3..64 and 67.. are outside
         // the two windows, each with 1 horizontal and 3 vertical triples.
         let sample = sample_of(&grid, 4, 70, |x, _| if x == 0 { 5 } else { 6 });
         assert_eq!(sample, NeighbourSample { triples: 2 * (1 + 3), varying: 0, jumps: 0 });
-        assert!(TexelGrid::new(&Fcsp::canonical(64, 64).unwrap(), &[]).is_some());
+        assert!(TexelGrid::new(&Fcsp::canonical([64, 64]).unwrap(), &[]).is_some());
     }
 }

@@ -439,7 +439,7 @@ mod tests {
 
     #[test]
     fn rows_are_tallied_by_part_with_background_and_strays_apart() {
-        let palette = Fcsp::canonical(4, 4).unwrap();
+        let palette = Fcsp::canonical([4, 4]).unwrap();
         let legend = Legend::new(
             Path::new("parts.csv"),
             vec![
@@ -452,7 +452,7 @@ mod tests {
         let mut colors = vec![0x010101; 8];
         colors.extend(vec![0x020202; 7]);
         colors.push(0x030303);
-        let pidt = Pidt::from_colors(4, 4, &colors, &legend);
+        let pidt = Pidt::from_colors([4, 4], &colors, &legend);
         // Texel 3 is background.
         let lookup = PartLookup::new(&palette, Some((&legend, &pidt)), &[3]);
         assert_eq!(lookup.names, ["a", "b", UNLABELLED_NAME]);

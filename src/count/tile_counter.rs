@@ -119,21 +119,8 @@ impl<'a> TileCounter<'a> {
         });
     }
 
-    /// Counts one tile: `rgba` holds `width × height` pixels, row 0 at the
-    /// top, no row padding. `name` is the file the tile would have been.
-    pub fn count_rgba(
-        &mut self,
-        name: &str,
-        frame: u32,
-        eye: &str,
-        width: u32,
-        height: u32,
-        rgba: &[u8],
-    ) -> Result<ImageTally> {
-        self.count_tile(&CountedTile { name, frame, eye, size: [width, height], origin: [0, 0] }, rgba)
-    }
-
-    /// Counts one tile (see [`TileCounter::count_rgba`]), placed in its eye.
+    /// Counts one tile, placed in its eye: `rgba` holds the tile's pixels, row 0 at the top,
+    /// no row padding. `tile.name` is the file the tile would have been.
     pub fn count_tile(&mut self, tile: &CountedTile, rgba: &[u8]) -> Result<ImageTally> {
         let CountedTile { name, frame, eye, size: [width, height], origin } = *tile;
         let row_bytes = width as usize * 4;

@@ -50,8 +50,8 @@ pub fn read_rig(path: &Path) -> Result<RigSettings> {
     }
     for (name, value) in &fields {
         let ok = match name.as_str() {
-            "pedestrian" | "look_at_vehicle" => numbers(value, 3, false),
-            "eye_pixels" | "tiles" => numbers(value, 2, true),
+            "pedestrian" | "look_at_vehicle" => numbers(value, 3),
+            "eye_pixels" | "tiles" => whole_numbers(value, 2),
             "eye_height_m" => value.as_f64().is_some_and(f64::is_finite),
             "ipd_m" => value.as_f64().is_some_and(|v| v.is_finite() && v >= 0.0),
             "horizontal_fov_deg" => value.as_f64().is_some_and(|v| v > 0.0 && v < 180.0),
@@ -74,11 +74,16 @@ pub fn read_rig(path: &Path) -> Result<RigSettings> {
     crate::format::parse_json(path, text.as_bytes(), "rig")
 }
 
-fn numbers(value: &Value, count: usize, whole: bool) -> bool {
-    value.as_array().is_some_and(|items| {
-        items.len() == count
-            && items.iter().all(|v| if whole { v.as_u64().is_some_and(|n| n > 0) } else { v.is_number() })
-    })
+/// `count` numbers.
+fn numbers(value: &Value, count: usize) -> bool {
+    value.as_array().is_some_and(|items| items.len() == count && items.iter().all(Value::is_number))
+}
+
+/// `count` whole numbers above 0.
+fn whole_numbers(value: &Value, count: usize) -> bool {
+    value
+        .as_array()
+        .is_some_and(|items| items.len() == count && items.iter().all(|v| v.as_u64().is_some_and(|n| n > 0)))
 }
 
 fn expected(name: &str) -> &'static str {

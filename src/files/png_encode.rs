@@ -53,13 +53,12 @@ pub fn encode_rgb_png(
 /// Writes an 8-bit RGB PNG atomically (`rgb` holds `width * height * 3` bytes).
 pub fn write_rgb_png(
     path: &Path,
-    width: u32,
-    height: u32,
+    size: [u32; 2],
     rgb: &[u8],
     encoding: impl Into<PngEncoding>,
 ) -> Result<()> {
     let encoding = encoding.into();
     write_atomically(path, |writer| {
-        encode_rgb_png(writer, [width, height], rgb, encoding).map_err(std::io::Error::other)
+        encode_rgb_png(writer, size, rgb, encoding).map_err(std::io::Error::other)
     })
 }

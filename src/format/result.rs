@@ -14,8 +14,34 @@ use crate::color::Color;
 /// Schema string of `result.json`.
 pub const RESULT_SCHEMA: &str = "ufcsr-result/1";
 
-/// The paper's measure: a texel counts once per image (or eye-frame) whose pixels show it.
-pub const MEASURE_PIXELS: &str = "pixels";
+/// What a count of `result.json` is (its `measure` field). "Measure" names several things in
+/// ufcsr (docs/architecture.md, Vocabulary); this is the one a per-texel count is of.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum CountMeasure {
+    /// The paper's: a texel counts once per image (or eye-frame) whose pixels show it.
+    #[default]
+    Pixels,
+    /// The capture's exact measure: eye-frames in which the texel's point is in view, faces
+    /// the eye and nothing is in between.
+    Unobstructed,
+}
+
+impl CountMeasure {
+    /// The name in files and on the command line (`pixels`, `unobstructed`).
+    pub fn name(self) -> &'static str {
+        match self {
+            CountMeasure::Pixels => "pixels",
+            CountMeasure::Unobstructed => "unobstructed",
+        }
+    }
+}
+
+impl std::fmt::Display for CountMeasure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
 
 /// ufcsr result (`ufcsr-result/1`): `result.json` as written by
 /// ufcsr-analyze, ufcsr-analyze merge and ufcsr-capture --count /
@@ -30,10 +56,6 @@ pub struct ResultFile {
     pub summary: AnalysisResult,
     /// The per-texel counts.
     pub texel_counts: TexelCountsJson,
-}
-
-pub(crate) fn default_measure() -> String {
-    MEASURE_PIXELS.to_string()
 }
 
 fn is_zero(value: &u64) -> bool {
@@ -164,8 +186,8 @@ pub struct AnalysisResult {
     /// What a count is: `"pixels"` (the paper's: once per image whose pixels
     /// show the texel) or `"unobstructed"` (eye-frames in which the texel's
     /// point is in view, faces the eye and nothing is in between).
-    #[serde(default = "default_measure")]
-    pub measure: String,
+    #[serde(default)]
+    pub measure: CountMeasure,
     pub images: ImageCounts,
     /// Texels with count ≥ 1.
     pub texels_seen: u64,
@@ -198,8 +220,9 @@ pub struct AnalysisResult {
     pub measures: Option<Measures>,
     /// Signs of colour-management and filtering damage (pixel counts only;
     /// absent in older results). Its warnings are in `warnings` too.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub colour_checks: Option<ColourChecks>,
+    // The file keeps the name it was published with (British spelling).
+    #[serde(rename = "colour_checks", default, skip_serializing_if = "Option::is_none")]
+    pub color_checks: Option<ColorChecks>,
 }
 
 /// Per-texel counts as stored in `result.json`: only seen texels, texel
@@ -299,7 +322,7 @@ pub struct Measures {
 /// `colour_checks`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[schemars(deny_unknown_fields)]
-pub struct ColourChecks {
+pub struct ColorChecks {
     /// Counts on unlabelled texels / all counts (legend parts and
     /// unlabelled); absent without a PIdT or without counts.
     pub unlabelled_count_share: Option<f64>,
@@ -312,13 +335,13 @@ pub struct ColourChecks {
     /// `neighbours.jumps / neighbours.varying`, when anything varied.
     pub jump_share: Option<f64>,
     /// One per failed check, in the order above.
-    pub warnings: Vec<ColourWarning>,
+    pub warnings: Vec<ColorWarning>,
 }
 
 /// One failed check.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[schemars(deny_unknown_fields)]
-pub struct ColourWarning {
+pub struct ColorWarning {
     /// `unlabelled-counts`, `no-background` or `texel-jumps`.
     pub check: String,
     /// The measured share, in percent.

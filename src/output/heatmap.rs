@@ -61,7 +61,7 @@ pub fn write_heatmap(
     options: HeatmapOptions,
 ) -> Result<()> {
     let rgb = render(texel_counts, width, options);
-    write_rgb_png(path, width, height, &rgb, png::Compression::Fast)
+    write_rgb_png(path, [width, height], &rgb, png::Compression::Fast)
 }
 
 #[cfg(test)]

@@ -21,6 +21,7 @@
 use std::path::Path;
 
 use crate::archive::vehicle_model::VehicleModel;
+use crate::format::result::CountMeasure;
 use crate::output::raster::ZBuffer;
 use crate::{
     archive::options::HeatmapOptions,
@@ -202,24 +203,24 @@ impl ViewTexture<'_> {
 
 /// What one count is, in words, for the colour bar: `images` for the
 /// paper's measure, `eye-frames` for the unobstructed one.
-pub fn measure_unit(measure: &str) -> &str {
+pub fn measure_unit(measure: CountMeasure) -> &'static str {
     match measure {
-        crate::archive::options::MEASURE_PIXELS => "images",
-        "unobstructed" => "eye-frames",
-        other => other,
+        CountMeasure::Pixels => "images",
+        CountMeasure::Unobstructed => "eye-frames",
     }
 }
 
 /// The contact sheet's caption: the measure in words and the scenario
 /// (its name from the manifest, else the archive's folder name).
-pub fn views_caption(measure: &str, archive: &str, scenario: Option<&str>) -> String {
+pub fn views_caption(measure: CountMeasure, archive: &str, scenario: Option<&str>) -> String {
     let folder = Path::new(archive)
         .file_name()
         .map_or_else(|| archive.to_string(), |n| n.to_string_lossy().into_owned());
     let what = match measure {
-        crate::archive::options::MEASURE_PIXELS => "Images in which each point of the vehicle was seen",
-        "unobstructed" => "Eye-frames in which each point of the vehicle was in unobstructed view",
-        other => return format!("{other} per texel · {folder}"),
+        CountMeasure::Pixels => "Images in which each point of the vehicle was seen",
+        CountMeasure::Unobstructed => {
+            "Eye-frames in which each point of the vehicle was in unobstructed view"
+        }
     };
     match scenario {
         Some(name) if name != folder => format!("{what} · scenario {name} ({folder})"),

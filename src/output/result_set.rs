@@ -267,7 +267,7 @@ fn view_texture<'a>(
     options: &ResultSetOptions,
 ) -> ViewTexture<'a> {
     let settings = &analysis.result.settings;
-    let measure = &analysis.result.measure;
+    let measure = analysis.result.measure;
     ViewTexture {
         counts: &analysis.texel_counts,
         width: settings.palette.width,
@@ -391,7 +391,7 @@ fn write_strip(path: &Path, manifest: &Manifest, analysis: &Analysis) -> Result<
         None => {
             let legend = Legend::load(Path::new(legend))?;
             let (width, height) = (settings.palette.width, settings.palette.height);
-            let pidt = Pidt::load(Path::new(pidt), &legend, width, height)?;
+            let pidt = Pidt::load(Path::new(pidt), &legend, [width, height])?;
             LoadedLabels { legend, pidt: pidt.into() }
         }
     };

@@ -14,7 +14,7 @@ use std::path::Path;
 
 use gltf_json as json;
 
-use crate::archive::glb::{GlbBuilder, to_gltf_axes};
+use crate::archive::glb::{Bounds, GlbBuilder, to_gltf_axes};
 use crate::error::{Error, Result};
 
 /// One occluder: a triangle list around its origin.
@@ -49,7 +49,7 @@ fn scene_glb(objects: &[SceneObject], color: [f32; 4]) -> std::result::Result<Ve
             ));
         }
         let positions: Vec<[f32; 3]> = object.triangles.iter().map(|&p| to_gltf_axes(p)).collect();
-        let position = glb.attribute(&positions, true);
+        let position = glb.attribute(&positions, Bounds::Written);
         let origin = to_gltf_axes(object.origin.map(|v| v as f32));
         let attributes = vec![(json::mesh::Semantic::Positions, position)];
         nodes.push(glb.mesh_node(&object.name, attributes, material, Some(origin)));

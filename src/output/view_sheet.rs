@@ -189,7 +189,7 @@ pub fn contact_sheet(
             sheet[to..to + (width * 3) as usize].copy_from_slice(&rgb[from..from + (width * 3) as usize]);
         }
     }
-    let bar = ColourBar::new(sheet_width, height * 2, scale);
+    let bar = ColorBar::new(sheet_width, height * 2, scale);
     bar.paint(&mut sheet, sheet_width);
     if crate::output::plots::font_available() {
         label_sheet(&mut sheet, [sheet_width, sheet_height], [width, height], texture, &bar);
@@ -198,7 +198,7 @@ pub fn contact_sheet(
 }
 
 /// Where the colour bar lies on the sheet.
-struct ColourBar {
+struct ColorBar {
     scale: u32,
     top: u32,
     /// The never-seen swatch: from the margin to here.
@@ -208,11 +208,11 @@ struct ColourBar {
     end: u32,
 }
 
-impl ColourBar {
-    fn new(sheet_width: u32, top: u32, scale: u32) -> ColourBar {
+impl ColorBar {
+    fn new(sheet_width: u32, top: u32, scale: u32) -> ColorBar {
         let margin = 12 * scale;
         let grey_end = margin + sheet_width / 14;
-        ColourBar {
+        ColorBar {
             scale,
             top: top + 8 * scale,
             grey_end,
@@ -247,7 +247,7 @@ impl ColourBar {
 }
 
 /// Each view's name, the bar's ticks and numbers, its unit and the caption.
-fn label_sheet(sheet: &mut [u8], size: [u32; 2], view: [u32; 2], texture: &ViewTexture, bar: &ColourBar) {
+fn label_sheet(sheet: &mut [u8], size: [u32; 2], view: [u32; 2], texture: &ViewTexture, bar: &ColorBar) {
     let scale = bar.scale;
     let root = BitMapBackend::with_buffer(sheet, (size[0], size[1])).into_drawing_area();
     let style = ("sans-serif", 15 * scale).into_font().color(&BLACK);
@@ -363,14 +363,14 @@ fn finish_views(
             finish_view(&mut rgb, model, camera, texture);
             let path = views_dir.join(format!("{}.png", camera.name));
             let [width, height] = camera.size;
-            crate::files::write_rgb_png(&path, width, height, &rgb, png::Compression::Fast)?;
+            crate::files::write_rgb_png(&path, [width, height], &rgb, png::Compression::Fast)?;
             Ok((path, rgb))
         })
         .collect::<Result<_>>()?;
     let (views, pictures): (Vec<PathBuf>, Vec<Vec<u8>>) = finished.into_iter().unzip();
     let (sheet, [sheet_width, sheet_height]) = contact_sheet(&pictures, cameras, texture);
     let contact_sheet = dir.join("views.png");
-    crate::files::write_rgb_png(&contact_sheet, sheet_width, sheet_height, &sheet, png::Compression::Fast)?;
+    crate::files::write_rgb_png(&contact_sheet, [sheet_width, sheet_height], &sheet, png::Compression::Fast)?;
     Ok(WrittenViews { contact_sheet, views })
 }
 

@@ -210,7 +210,7 @@ fn check_palette_indices(path: &Path, bytes: &[u8]) -> Result<()> {
     }
     // Row by row: a header may claim billions of rows that the data does not hold.
     let (width, height) = (info.width, info.height);
-    let mut rows = decoded_rows(width, height, info.interlaced);
+    let mut rows = decoded_rows([width, height], info.interlaced);
     let per_byte = 8 / usize::from(depth);
     let mask = ((1u16 << depth) - 1) as u8;
     while let Some(row) = reader.next_row().map_err(|e| png_error(path, e))? {
@@ -240,7 +240,7 @@ fn check_palette_indices(path: &Path, bytes: &[u8]) -> Result<()> {
 /// The image row, first column and column step of each row the decoder
 /// returns, in order: raster order, or the rows of the seven Adam7 passes
 /// in turn (passes without pixels have no rows).
-fn decoded_rows(width: u32, height: u32, interlaced: bool) -> Box<dyn Iterator<Item = (u32, u32, u32)>> {
+fn decoded_rows([width, height]: [u32; 2], interlaced: bool) -> Box<dyn Iterator<Item = (u32, u32, u32)>> {
     if !interlaced {
         return Box::new((0..height).map(|y| (y, 0, 1)));
     }
@@ -272,12 +272,12 @@ pub struct ColorImage {
 }
 
 /// Decodes a texture (palette or PIdT) completely. `check_size` sees the
-/// width and height from the header first, so a wrong or absurd size is
+/// `[width, height]` from the header first, so a wrong or absurd size is
 /// rejected before anything is allocated.
-pub fn read_color_image(path: &Path, check_size: impl FnOnce(u32, u32) -> Result<()>) -> Result<ColorImage> {
+pub fn read_color_image(path: &Path, check_size: impl FnOnce([u32; 2]) -> Result<()>) -> Result<ColorImage> {
     let bytes = read_file(path)?;
     let header = parse_header(path, &bytes)?;
-    check_size(header.width, header.height)?;
+    check_size([header.width, header.height])?;
     let reader = RowReader::new(path, &bytes)?;
     let (width, height) = (reader.width(), reader.height());
     let colors = reader.into_colors()?;

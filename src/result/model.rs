@@ -65,8 +65,6 @@ impl DedupeReport {
 
 pub use crate::format::result::AnalysisResult;
 
-pub(crate) use crate::format::result::default_measure;
-
 /// The outcome of an analysis.
 pub struct Analysis {
     /// Everything that goes into `result.json` except the per-texel counts.

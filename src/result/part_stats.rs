@@ -128,7 +128,7 @@ mod tests {
         let legend = legend();
         // 2×3 PIdT: Hood, Hood, Roof, Roof, unlabelled, unlabelled.
         let pidt =
-            Pidt::from_colors(2, 3, &[0xFF0000, 0xFF0000, 0x00FF00, 0x00FF00, 0x0A0000, 0x0A0000], &legend);
+            Pidt::from_colors([2, 3], &[0xFF0000, 0xFF0000, 0x00FF00, 0x00FF00, 0x0A0000, 0x0A0000], &legend);
         assert_eq!(pidt.part_texels, vec![2, 2, 0]);
         assert_eq!(pidt.unlabelled_colors[&Color::from_packed(0x0A0000)], 2);
         let table = join_parts(&[3, 1, 0, 4, 5, 0], &pidt, &legend);

@@ -14,7 +14,8 @@ use crate::archive::options::{Scale, Timings};
 use crate::archive::palette::PaletteSetting;
 use crate::error::{Error, Result};
 use crate::files::write_atomically;
-use crate::result::model::{AnalysisResult, default_measure};
+use crate::format::result::CountMeasure;
+use crate::result::model::AnalysisResult;
 
 pub use crate::format::result::TexelCountsJson;
 
@@ -106,8 +107,8 @@ pub fn write_result_json(path: &Path, result: &AnalysisResult, texel_counts: &[u
 #[derive(Deserialize)]
 struct HeatmapSource {
     schema: String,
-    #[serde(default = "default_measure")]
-    measure: String,
+    #[serde(default)]
+    measure: CountMeasure,
     settings: HeatmapSettings,
     texel_counts: TexelCountsJson,
 }
@@ -128,7 +129,7 @@ pub struct StoredCounts {
     pub scale: Scale,
     pub max: Option<u32>,
     /// What the counts are (`result.json`'s `measure`) and of which archive.
-    pub measure: String,
+    pub measure: CountMeasure,
     pub archive: String,
 }
 

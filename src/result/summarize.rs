@@ -9,15 +9,15 @@ use rayon::prelude::*;
 
 use crate::archive::archive_reader::Archive;
 use crate::archive::manifest::MANIFEST_FILE;
-use crate::archive::options::{AnalyzeOptions, MEASURE_PIXELS, Timings};
+use crate::archive::options::{AnalyzeOptions, Timings};
 use crate::archive::palette::Fcsp;
 use crate::archive::resolve::{
     CAPTURE_WARNING, Inputs, LabelFiles, MISSING_VEHICLE_WARNING, SKIPPED_FILES_WARNING,
     UNREADABLE_VEHICLE_WARNING,
 };
 use crate::archive::shard::Shard;
-use crate::checks::colour_damage::{ColourFacts, UNLABELLED_CHECK};
-use crate::checks::{ColourChecks, ColourWarning, NeighbourSample};
+use crate::checks::color_damage::{ColorFacts, UNLABELLED_CHECK};
+use crate::checks::{ColorChecks, ColorWarning, NeighbourSample};
 use crate::color::Color;
 use crate::color::sets::AtomicColorSet;
 use crate::count::counts::Counts;
@@ -25,6 +25,7 @@ use crate::count::part_lookup::{FrameLabel, FrameRecord};
 use crate::count::trim::EmptyTile;
 use crate::count::work::{CountedImages, FrameTallies, Outcome, eye_frame_label, in_shard};
 use crate::error::{Error, Result};
+use crate::format::result::CountMeasure;
 use crate::result::frames::FrameTable;
 use crate::result::model::{
     Analysis, AnalysisResult, DedupeReport, FailedImage, ImageCounts, PixelCounts, RESULT_SCHEMA,
@@ -64,7 +65,7 @@ pub(crate) fn summarize(summary: Summary, counted: CountedImages) -> Result<Anal
         None => (texel_counts, None),
     };
     let per_texel =
-        PerTexel { texel_counts, per_image_counts, measure: MEASURE_PIXELS, resolution_report: true };
+        PerTexel { texel_counts, per_image_counts, measure: CountMeasure::Pixels, resolution_report: true };
     finish(summary, tally, per_texel, &strays, stage)
 }
 
@@ -73,7 +74,7 @@ pub(crate) fn summarize(summary: Summary, counted: CountedImages) -> Result<Anal
 pub(crate) fn summarize_texel_counts(
     summary: Summary,
     texel_counts: Vec<u32>,
-    measure: &'static str,
+    measure: CountMeasure,
 ) -> Result<Analysis> {
     let tally = Tally { images: ImageCounts::default(), ..Tally::default() };
     let per_texel = PerTexel { texel_counts, per_image_counts: None, measure, resolution_report: false };
@@ -190,7 +191,7 @@ fn finish(
         .resolution_report
         .then(|| ResolutionReport::new(tally.texel_pixels, per_image_total, &inputs.geometry));
     warnings.extend(resolution.iter().flat_map(ResolutionReport::warnings));
-    let colour_facts = ColourFacts {
+    let color_facts = ColorFacts {
         unlabelled_counts: unlabelled.as_ref().map(|u| u.total),
         labelled_counts: table.as_ref().map_or(grand_total, |t| t.grand_total),
         decoded_pixels,
@@ -198,10 +199,10 @@ fn finish(
         background_tiles: tally.images.trimmed,
         neighbours: tally.neighbours,
     };
-    let colour_checks = per_texel.resolution_report.then(|| colour_checks(&colour_facts, &mut warnings));
+    let color_checks = per_texel.resolution_report.then(|| color_checks(&color_facts, &mut warnings));
     let result = AnalysisResult {
         schema: RESULT_SCHEMA.to_string(),
-        measure: per_texel.measure.to_string(),
+        measure: per_texel.measure,
         images: tally.images,
         texels_seen,
         pixels: PixelCounts {
@@ -226,7 +227,7 @@ fn finish(
         notes,
         resolution,
         measures: None,
-        colour_checks,
+        color_checks,
     };
     Ok(Analysis {
         result,
@@ -322,9 +323,9 @@ pub(crate) fn saturation_warning(texel_counts: &[u32]) -> Option<String> {
 /// Judges the colour checks and adds their warnings to `warnings`, with,
 /// when no check warned about them, the plain fact of counts on unlabelled
 /// texels (a PIdT that misses a part, perhaps).
-pub(crate) fn colour_checks(facts: &ColourFacts, warnings: &mut Vec<String>) -> ColourChecks {
-    let checks = ColourChecks::judge(facts);
-    warnings.extend(checks.warnings.iter().map(ColourWarning::line));
+pub(crate) fn color_checks(facts: &ColorFacts, warnings: &mut Vec<String>) -> ColorChecks {
+    let checks = ColorChecks::judge(facts);
+    warnings.extend(checks.warnings.iter().map(ColorWarning::line));
     let unlabelled_warned = checks.warnings.iter().any(|w| w.check == UNLABELLED_CHECK);
     if let (Some(total), Some(share)) = (facts.unlabelled_counts, checks.unlabelled_count_share)
         && total > 0
@@ -437,7 +438,7 @@ struct PerTexel {
     texel_counts: Vec<u32>,
     /// The once-per-image counts when `texel_counts` are per eye-frame.
     per_image_counts: Option<Vec<u32>>,
-    measure: &'static str,
+    measure: CountMeasure,
     /// Whether pixel-based resolution diagnostics apply.
     resolution_report: bool,
 }

@@ -19,7 +19,7 @@ pub fn tile(bytes: &[u8]) {
     thread_local! {
         static SEEN: std::cell::RefCell<crate::color::SeenSet> = std::cell::RefCell::new(crate::color::SeenSet::new());
     }
-    let Some(palette) = PALETTE.get_or_init(|| Fcsp::canonical(4096, 4096).ok()) else { return };
+    let Some(palette) = PALETTE.get_or_init(|| Fcsp::canonical([4096, 4096]).ok()) else { return };
     let Ok(classifier) = crate::count::scan::Classifier::new(palette, &[Color::DEFAULT_BACKGROUND.packed()])
     else {
         return;

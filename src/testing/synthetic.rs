@@ -48,9 +48,8 @@ impl Rng {
 
 /// Paints one object tile (RGB bytes): background plus 1–3 surfaces.
 pub fn object_tile(
-    width: u32,
-    height: u32,
-    palette: (u32, u32),
+    [width, height]: [u32; 2],
+    palette: [u32; 2],
     background: Color,
     texels_per_pixel: (f64, f64),
     rng: &mut Rng,
@@ -77,7 +76,7 @@ pub fn object_tile(
         let scale = rng.uniform(texels_per_pixel.0, texels_per_pixel.1).sqrt();
         let theta = rng.uniform(0.0, std::f64::consts::TAU);
         let (sin, cos) = theta.sin_cos();
-        let origin = (rng.uniform(0.0, f64::from(palette.0)), rng.uniform(0.0, f64::from(palette.1)));
+        let origin = (rng.uniform(0.0, f64::from(palette[0])), rng.uniform(0.0, f64::from(palette[1])));
         for y in 0..height {
             for x in 0..width {
                 let (px, py) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
@@ -86,11 +85,11 @@ pub fn object_tile(
                 }
                 let u = origin.0 + scale * (cos * px - sin * py);
                 let v = origin.1 + scale * (sin * px + cos * py);
-                let tx = u.floor().rem_euclid(f64::from(palette.0)) as u32;
-                let ty = v.floor().rem_euclid(f64::from(palette.1)) as u32;
-                let mut index = ty * palette.0 + tx;
+                let tx = u.floor().rem_euclid(f64::from(palette[0])) as u32;
+                let ty = v.floor().rem_euclid(f64::from(palette[1])) as u32;
+                let mut index = ty * palette[0] + tx;
                 if index == background.packed() {
-                    index = (index + 1) % (palette.0 * palette.1);
+                    index = (index + 1) % (palette[0] * palette[1]);
                 }
                 let at = (y as usize * width as usize + x as usize) * 3;
                 rgb[at..at + 3].copy_from_slice(&Color::from_packed(index).rgb());
@@ -125,7 +124,7 @@ pub struct ArchiveSpec {
     pub cols: u32,
     pub tile_width: u32,
     pub tile_height: u32,
-    pub palette: (u32, u32),
+    pub palette: [u32; 2],
     /// Side of the square block of tiles the vehicle covers in each eye-frame.
     pub object_block: u32,
     pub texels_per_pixel: (f64, f64),
@@ -144,7 +143,7 @@ impl Default for ArchiveSpec {
             cols: 5,
             tile_width: 1284,
             tile_height: 1620,
-            palette: (4096, 4096),
+            palette: [4096, 4096],
             object_block: 2,
             texels_per_pixel: (0.2, 2.0),
             parts: 8,
@@ -172,8 +171,8 @@ pub fn write_archive(dir: &Path, spec: &ArchiveSpec) -> Result<ArchiveSummary> {
     std::fs::create_dir_all(&tiles_dir).map_err(|e| Error::io(&tiles_dir, e))?;
     let background = Color::DEFAULT_BACKGROUND;
     let empty_path = dir.join(".empty.png");
-    let empty_rgb = object_free_tile(spec.tile_width, spec.tile_height, background);
-    write_rgb_png(&empty_path, spec.tile_width, spec.tile_height, &empty_rgb, spec.compression)?;
+    let empty_rgb = object_free_tile([spec.tile_width, spec.tile_height], background);
+    write_rgb_png(&empty_path, [spec.tile_width, spec.tile_height], &empty_rgb, spec.compression)?;
     let empty_bytes = std::fs::read(&empty_path).map_err(|e| Error::io(&empty_path, e))?;
     std::fs::remove_file(&empty_path).map_err(|e| Error::io(&empty_path, e))?;
 
@@ -193,14 +192,13 @@ pub fn write_archive(dir: &Path, spec: &ArchiveSpec) -> Result<ArchiveSummary> {
                     let covered = (top..top + block).contains(&row) && (left..left + block).contains(&col);
                     if covered {
                         let rgb = object_tile(
-                            spec.tile_width,
-                            spec.tile_height,
+                            [spec.tile_width, spec.tile_height],
                             spec.palette,
                             background,
                             spec.texels_per_pixel,
                             &mut rng,
                         );
-                        write_rgb_png(&path, spec.tile_width, spec.tile_height, &rgb, spec.compression)?;
+                        write_rgb_png(&path, [spec.tile_width, spec.tile_height], &rgb, spec.compression)?;
                         summary.object_tiles += 1;
                     } else {
                         write_bytes_atomically(&path, &empty_bytes)?;
@@ -224,7 +222,7 @@ pub fn write_archive(dir: &Path, spec: &ArchiveSpec) -> Result<ArchiveSummary> {
     write_parts(dir, spec)?;
     let manifest = Manifest {
         schema: Some(MANIFEST_SCHEMA.to_string()),
-        palette: Some(PaletteRecord::Canonical { canonical: [spec.palette.0, spec.palette.1] }),
+        palette: Some(PaletteRecord::Canonical { canonical: spec.palette }),
         pidt: Some("pidt.png".into()),
         parts: Some("parts.csv".into()),
         background: Some(vec![background]),
@@ -236,7 +234,7 @@ pub fn write_archive(dir: &Path, spec: &ArchiveSpec) -> Result<ArchiveSummary> {
     Ok(summary)
 }
 
-fn object_free_tile(width: u32, height: u32, background: Color) -> Vec<u8> {
+fn object_free_tile([width, height]: [u32; 2], background: Color) -> Vec<u8> {
     background.rgb().iter().copied().cycle().take(width as usize * height as usize * 3).collect()
 }
 
@@ -247,7 +245,7 @@ pub fn part_color(k: u32) -> Color {
 
 /// Writes `pidt.png` (horizontal bands, one per part) and `parts.csv`.
 fn write_parts(dir: &Path, spec: &ArchiveSpec) -> Result<()> {
-    let (width, height) = spec.palette;
+    let [width, height] = spec.palette;
     let parts = spec.parts.max(1);
     let mut rgb = Vec::with_capacity(width as usize * height as usize * 3);
     for y in 0..height {
@@ -257,7 +255,7 @@ fn write_parts(dir: &Path, spec: &ArchiveSpec) -> Result<()> {
             rgb.extend_from_slice(&color);
         }
     }
-    write_rgb_png(&dir.join("pidt.png"), width, height, &rgb, png::Compression::Balanced)?;
+    write_rgb_png(&dir.join("pidt.png"), [width, height], &rgb, png::Compression::Balanced)?;
     let mut csv = String::from("name,color\n");
     for k in 0..parts {
         let base = PART_NAMES[k as usize % PART_NAMES.len()];

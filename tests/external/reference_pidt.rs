@@ -17,7 +17,7 @@ pub fn f150_part_texel_counts_match_an_independent_count() -> Outcome {
     }
     let legend = Legend::load(&dir.join("parts.csv")).unwrap();
     assert_eq!(legend.parts.len(), 68);
-    let pidt = Pidt::load(&dir.join("pidt.png"), &legend, 4096, 4096).unwrap();
+    let pidt = Pidt::load(&dir.join("pidt.png"), &legend, [4096, 4096]).unwrap();
 
     // Independent count: decode to RGB(A) bytes and tally colours.
     let file = std::io::BufReader::new(std::fs::File::open(dir.join("pidt.png")).unwrap());

@@ -17,7 +17,7 @@ fn labels_loaded_by_the_caller_give_what_the_files_give_and_another_size_is_refu
     let from_files = analyze(&options, None).unwrap();
     let palette = &from_files.result.settings.palette;
     let legend = Legend::load(&example().join("parts.csv")).unwrap();
-    let pidt = Pidt::load(&example().join("pidt.png"), &legend, palette.width, palette.height).unwrap();
+    let pidt = Pidt::load(&example().join("pidt.png"), &legend, [palette.width, palette.height]).unwrap();
     let loaded = LoadedLabels { legend: legend.clone(), pidt: Arc::new(pidt) };
     let with_loaded = AnalyzeOptions { loaded_labels: Some(loaded), ..options.clone() };
     let from_loaded = analyze(&with_loaded, None).unwrap();
@@ -27,7 +27,7 @@ fn labels_loaded_by_the_caller_give_what_the_files_give_and_another_size_is_refu
     );
     assert_eq!(from_loaded.frames, from_files.frames);
     // A PIdT loaded at another size than the palette's is no PIdT of this archive.
-    let small = Pidt::from_colors(2, 2, &[0; 4], &legend);
+    let small = Pidt::from_colors([2, 2], &[0; 4], &legend);
     let wrong = AnalyzeOptions {
         loaded_labels: Some(LoadedLabels { legend, pidt: Arc::new(small) }),
         ..options.clone()

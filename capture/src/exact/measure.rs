@@ -17,11 +17,12 @@ use super::placement::{ExactInputs, PlacementWritten, write_placement_frames};
 use super::points::surface_samples;
 use super::rules::Tracer;
 use super::types::{
-    DEG2_PER_SR, MEASURE_UNOBSTRUCTED, MeasureDevice, MeasureOptions, PartEyeFrames, SurfaceSamples,
-    TexelVisibility,
+    DEG2_PER_SR, MeasureDevice, MeasureOptions, PartEyeFrames, SurfaceSamples, TexelVisibility,
 };
 use crate::error::{CaptureError, Result};
-use crate::job::{CaptureOptions, CapturedTiles, TileTally, prepare_archive, summarize, write_manifest};
+use crate::job::{
+    CaptureOptions, CapturedTiles, TileFiles, TileTally, prepare_archive, summarize, write_manifest,
+};
 use crate::scene::Scene;
 use crate::scene::scenario::Scenario;
 
@@ -121,7 +122,7 @@ pub fn measure_unobstructed(
         warnings,
     };
     let _ = summarize(scene, scenario, options, &prepared, &captured, 0.0);
-    write_manifest(scene, scenario, options, &prepared, captured, false)?;
+    write_manifest(scene, scenario, options, &prepared, captured, TileFiles::NotWritten)?;
     let measured = Measured {
         frames: frames.clone(),
         samples,
@@ -166,8 +167,12 @@ fn write_results(
     let notes = vec![describe(measure, measured, labelled)];
     let analyze_options =
         ufcsr::AnalyzeOptions { archive: options.out.clone(), ..ufcsr::AnalyzeOptions::default() };
-    let mut analysis =
-        ufcsr::analyze_texel_counts(&analyze_options, texel_counts, MEASURE_UNOBSTRUCTED, notes)?;
+    let mut analysis = ufcsr::analyze_texel_counts(
+        &analyze_options,
+        texel_counts,
+        ufcsr::CountMeasure::Unobstructed,
+        notes,
+    )?;
     analysis.result.measures = Some(measures_block(measure, measured, &estimates)?);
     let results = ufcsr::default_output_dir(&options.out);
     let written = ufcsr::write_results(&mut analysis, &results)?;
@@ -269,9 +274,9 @@ fn measures_block(
 
 fn write_estimates(path: &std::path::Path, estimates: &[PartEstimate]) -> Result<()> {
     let mut table = csv::Writer::from_path(path)
-        .map_err(|e| CaptureError::bad_input(path, format!("writing CSV: {e}")))?;
+        .map_err(|e| CaptureError::bad_file(path, format!("writing CSV: {e}")))?;
     for estimate in estimates {
-        table.serialize(estimate).map_err(|e| CaptureError::bad_input(path, format!("writing CSV: {e}")))?;
+        table.serialize(estimate).map_err(|e| CaptureError::bad_file(path, format!("writing CSV: {e}")))?;
     }
     table.flush().map_err(|e| CaptureError::io(path, e))
 }

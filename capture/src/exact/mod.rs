@@ -49,6 +49,6 @@ pub use points::{is_sampled, surface_samples};
 pub use rules::{Tracer, visible_solid_angle};
 pub use types::{
     DEFAULT_PATCH_SPACING_M, DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE,
-    EyeFrame, MEASURE_UNOBSTRUCTED, MeasureDevice, MeasureOptions, PlacementCandidates,
-    SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample, SurfaceSamples, TexelVisibility,
+    EyeFrame, MeasureDevice, MeasureOptions, PlacementCandidates, SURFACE_LIFT_RELATIVE, SampledTexel,
+    SurfaceSample, SurfaceSamples, TexelVisibility,
 };

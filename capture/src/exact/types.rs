@@ -5,9 +5,6 @@
 
 use glam::{DMat4, DVec3, DVec4};
 
-/// The measure's name in result.json.
-pub const MEASURE_UNOBSTRUCTED: &str = "unobstructed";
-
 /// Edge-on, relative part: the eye is edge-on to a surface when its height
 /// above the surface's plane is at most this share of its distance (plus the
 /// geometry's own f32 uncertainty, [`EDGE_ON_F32_ULPS`]). 1e-6 rad ≈ 0.2″: a

@@ -93,7 +93,7 @@ pub fn views_from_results(
     let counts = ufcsr::read_texel_counts(&options.results.join("result.json"))?;
     let model_path = options.model.clone().unwrap_or_else(|| options.results.join("heatmap.glb"));
     if !model_path.is_file() {
-        return Err(CaptureError::BadInput {
+        return Err(CaptureError::BadFile {
             path: model_path,
             message: "no vehicle model here (the result has no heatmap.glb; name the model with --model)"
                 .into(),
@@ -108,8 +108,8 @@ pub fn views_from_results(
         width: counts.width,
         height: counts.height,
         options: ufcsr::HeatmapOptions { scale: counts.scale, max: counts.max },
-        caption: format!("{} · wgpu", ufcsr::views_caption(&counts.measure, &counts.archive, scenario)),
-        unit: ufcsr::measure_unit(&counts.measure).to_string(),
+        caption: format!("{} · wgpu", ufcsr::views_caption(counts.measure, &counts.archive, scenario)),
+        unit: ufcsr::measure_unit(counts.measure).to_string(),
         views_scale: options.views_scale,
         pedestrian_azimuths_deg: track.map_or_else(Vec::new, |track| {
             track.frames.iter().filter_map(ufcsr::TrackFrame::pedestrian_azimuth_deg).collect()

@@ -173,7 +173,7 @@ pub fn write_views(mesh: &Mesh, colors: &[Color], dir: &Path, pixels_per_metre: 
     for view in [View::Side, View::Top, View::Front] {
         let canvas = draw(mesh, colors, view, pixels_per_metre);
         let path = dir.join(format!("inspect-{}.png", view.name()));
-        ufcsr::write_rgb_png(&path, canvas.width, canvas.height, &canvas.rgb, png::Compression::Fast)?;
+        ufcsr::write_rgb_png(&path, [canvas.width, canvas.height], &canvas.rgb, png::Compression::Fast)?;
         written.push(path);
     }
     Ok(written)

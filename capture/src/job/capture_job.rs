@@ -18,7 +18,7 @@ use crate::error::{CaptureError, Result};
 use crate::job::capture_shard;
 use crate::job::encoder_pool::{EncoderPool, OldTiles};
 use crate::job::frame_capture::FrameCapture;
-use crate::job::manifest_builder::{ManifestParts, build_manifest};
+use crate::job::manifest_builder::{ManifestParts, TileFiles, build_manifest};
 use crate::job::options::{CaptureOptions, Summary, TileTally};
 use crate::job::tile_sink::TileSink;
 use crate::job::{ARCHIVE_FILES, ARCHIVE_FOLDERS, SCENE_FILE, VEHICLE_FILE};
@@ -35,7 +35,7 @@ use crate::texture::uv_islands::{self, Unwrapped};
 /// colour and both places).
 pub fn load_palette(options: &CaptureOptions) -> Result<Fcsp> {
     Ok(match &options.palette_file {
-        None => Fcsp::canonical(options.palette[0], options.palette[1])?,
+        None => Fcsp::canonical([options.palette[0], options.palette[1]])?,
         Some(path) => Fcsp::from_png(path)?,
     })
 }
@@ -115,8 +115,7 @@ pub fn prepare_archive(
             let path = out.join("palette.png");
             ufcsr::write_rgb_png(
                 &path,
-                palette_size[0],
-                palette_size[1],
+                [palette_size[0], palette_size[1]],
                 &texel_rgb,
                 png::Compression::Fast,
             )?;
@@ -371,7 +370,7 @@ pub fn capture(
     )?;
     let captured = capture_frames(device, queue, scene, scenario, options, &prepared, &mut pool)?;
     let summary = summarize(scene, scenario, options, &prepared, &captured, setup_seconds);
-    write_manifest(scene, scenario, options, &prepared, captured, true)?;
+    write_manifest(scene, scenario, options, &prepared, captured, TileFiles::Written)?;
     Ok(Summary { seconds: start.elapsed().as_secs_f64(), ..summary })
 }
 
@@ -420,7 +419,7 @@ pub fn write_manifest(
     options: &CaptureOptions,
     prepared: &PreparedCapture,
     captured: CapturedTiles,
-    tiles_written: bool,
+    tiles: TileFiles,
 ) -> Result<Manifest> {
     let manifest = build_manifest(ManifestParts {
         scene,
@@ -435,7 +434,7 @@ pub fn write_manifest(
         tiles: captured.entries,
         frame_records: captured.frame_records,
         tally: captured.tally,
-        tiles_written,
+        tile_files: tiles,
         warnings: prepared.warnings.iter().chain(&captured.warnings).cloned().collect(),
     });
     match options.shard {
@@ -452,7 +451,7 @@ pub fn write_manifest(
             let dir = options.out.join(capture_shard::SHARDS_DIR);
             std::fs::create_dir_all(&dir).map_err(|e| CaptureError::io(&dir, e))?;
             let bytes = serde_json::to_vec_pretty(&manifest)
-                .map_err(|e| CaptureError::bad_input(&path, e.to_string()))?;
+                .map_err(|e| CaptureError::bad_file(&path, e.to_string()))?;
             ufcsr::write_bytes_atomically(&path, &bytes)?;
         }
     }
@@ -499,7 +498,7 @@ pub fn capture_all(
 /// Returns `(vehicle pixels, stray pixels)`.
 pub fn verify(dir: &Path) -> Result<(u64, u64)> {
     let manifest =
-        Manifest::load_from_dir(dir)?.ok_or_else(|| CaptureError::bad_input(dir, "no manifest.json"))?;
+        Manifest::load_from_dir(dir)?.ok_or_else(|| CaptureError::bad_file(dir, "no manifest.json"))?;
     // Colour → texel index: computed for the canonical palette, looked up otherwise.
     let (w, h, lookup) = match &manifest.palette {
         Some(PaletteRecord::Canonical { canonical: [w, h] }) => (*w, *h, None),
@@ -514,7 +513,7 @@ pub fn verify(dir: &Path) -> Result<(u64, u64)> {
     };
     let (size, pidt) = read_rgb_png(&dir.join("pidt.png"))?;
     if size != [w, h] {
-        return Err(CaptureError::bad_input(dir, "pidt.png does not match the palette size"));
+        return Err(CaptureError::bad_file(dir, "pidt.png does not match the palette size"));
     }
     let (mut vehicle, mut stray) = (0u64, 0u64);
     for tile in &manifest.tiles {
@@ -546,7 +545,7 @@ pub fn verify(dir: &Path) -> Result<(u64, u64)> {
 /// Reads a PNG (any 8-bit format; alpha dropped) as RGB bytes, with the
 /// analyzer's texture reader so both crates accept and reject the same files.
 pub fn read_rgb_png(path: &Path) -> Result<([u32; 2], Vec<u8>)> {
-    let image = ufcsr::read_color_image(path, |_, _| Ok(()))?;
+    let image = ufcsr::read_color_image(path, |_| Ok(()))?;
     let rgb = image.colors.iter().flat_map(|&color| Color::from_packed(color).rgb()).collect();
     Ok(([image.width, image.height], rgb))
 }

@@ -22,7 +22,7 @@ use crate::job::capture_job::{
 };
 use crate::job::count_sink::{Counted, count_while};
 use crate::job::options::{CaptureOptions, Summary};
-use crate::job::{SCENE_FILE, VEHICLE_FILE};
+use crate::job::{SCENE_FILE, TileFiles, VEHICLE_FILE};
 use crate::scene::Scene;
 use crate::scene::scenario::Scenario;
 
@@ -73,11 +73,11 @@ impl CaptureSetup {
         let prepared = prepare_archive(device, queue, scene, options)?;
         let out = &options.out;
         let palette = match &prepared.palette {
-            PaletteRecord::Canonical { canonical: [width, height] } => Fcsp::canonical(*width, *height)?,
+            PaletteRecord::Canonical { canonical: [width, height] } => Fcsp::canonical([*width, *height])?,
             PaletteRecord::File(file) => Fcsp::from_png(&out.join(file))?,
         };
         let legend = Legend::load(&out.join("parts.csv"))?;
-        let pidt = Pidt::load(&out.join("pidt.png"), &legend, palette.width(), palette.height())?;
+        let pidt = Pidt::load(&out.join("pidt.png"), &legend, [palette.width(), palette.height()])?;
         Ok(CaptureSetup {
             prepared,
             palette,
@@ -163,7 +163,7 @@ impl CaptureSetup {
             capture_frames(device, queue, scene, scenario, options, prepared, sink)
         })?;
         let summary = summarize(scene, scenario, options, prepared, &captured, setup_seconds);
-        write_manifest(scene, scenario, options, prepared, captured, false)?;
+        write_manifest(scene, scenario, options, prepared, captured, TileFiles::NotWritten)?;
         let analyze_options = ufcsr::AnalyzeOptions {
             archive: options.out.clone(),
             dedupe,

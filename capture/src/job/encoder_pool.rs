@@ -162,7 +162,7 @@ pub(crate) fn rgba_to_rgb(rgba: &[u8], rgb: &mut Vec<u8>) {
 /// Writes one RGB tile atomically with the capture's deflate level and row
 /// filter (`format`), through the one encoder.
 fn write_tile_png(path: &Path, size: [u32; 2], rgb: &[u8], format: PngEncoding) -> Result<()> {
-    ufcsr::write_rgb_png(path, size[0], size[1], rgb, format)?;
+    ufcsr::write_rgb_png(path, [size[0], size[1]], rgb, format)?;
     Ok(())
 }
 
@@ -193,7 +193,7 @@ fn remove_old_tiles_where(dir: &Path, remove: impl Fn(u32) -> bool) -> Result<()
 /// tile size: a header alone is not enough, since an interrupted write
 /// leaves a valid header over missing image data.
 fn is_complete_tile(path: &Path, tile_size: [u32; 2]) -> bool {
-    ufcsr::read_color_image(path, |width, height| {
+    ufcsr::read_color_image(path, |[width, height]| {
         if [width, height] == tile_size {
             Ok(())
         } else {
@@ -208,7 +208,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn rgb_keeps_every_pixel_s_colour_in_order_and_drops_alpha() {
+    fn rgb_keeps_every_pixel_s_color_in_order_and_drops_alpha() {
         let mut rgb = vec![7; 100];
         rgba_to_rgb(&[1, 2, 3, 255, 4, 5, 6, 0, 7, 8, 9, 128], &mut rgb);
         assert_eq!(rgb, [1, 2, 3, 4, 5, 6, 7, 8, 9]);
@@ -225,8 +225,7 @@ mod tests {
             let format = PngEncoding { compression: png::Compression::Fast, filter: Some(filter) };
             write_tile_png(&dir.path().join(name), [64, 32], &rgb, format).unwrap();
         }
-        let read =
-            |name: &str| ufcsr::read_color_image(&dir.path().join(name), |_, _| Ok(())).unwrap().colors;
+        let read = |name: &str| ufcsr::read_color_image(&dir.path().join(name), |_| Ok(())).unwrap().colors;
         assert_eq!(read("up.png"), read("adaptive.png"));
         let packed: Vec<u32> =
             rgb.chunks_exact(3).map(|p| u32::from_be_bytes([0, p[0], p[1], p[2]])).collect();

@@ -39,8 +39,9 @@ pub struct ManifestParts<'a> {
     pub tiles: Vec<TileEntry>,
     pub frame_records: Vec<FrameEntry>,
     pub tally: TileTally,
-    /// False when the tiles were counted while rendering (`--count`) and never written.
-    pub tiles_written: bool,
+    /// Whether the tiles were written, or counted while rendering (`--count`, the exact
+    /// measure) and never written.
+    pub tile_files: TileFiles,
     /// What the capture warned about; written as `warnings` only when there is any.
     pub warnings: Vec<String>,
 }
@@ -201,8 +202,17 @@ fn unwrap_record(parts: &ManifestParts) -> UnwrapRecord {
     }
 }
 
+/// Whether a capture's tiles were written as PNG files.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TileFiles {
+    /// Written: the analyzer can read them.
+    Written,
+    /// Counted while rendering (`--count`) or measured another way, never written.
+    NotWritten,
+}
+
 /// The manifest's `capture`: the tool and what it left out.
-fn capture_record(tally: &TileTally, tiles_written: bool) -> CaptureRecord {
+fn capture_record(tally: &TileTally, tiles: TileFiles) -> CaptureRecord {
     CaptureRecord {
         tool: concat!("ufcsr-capture ", env!("CARGO_PKG_VERSION")).into(),
         tiles_rendered: tally.rendered + tally.resumed,
@@ -214,7 +224,7 @@ fn capture_record(tally: &TileTally, tiles_written: bool) -> CaptureRecord {
         tiles_hidden: Some(tally.hidden),
         // The analyzer refuses to read tiles of such an archive (they do not
         // exist); the manifest still names them, as the results do.
-        tiles_written: (!tiles_written).then_some(false),
+        tiles_written: (tiles == TileFiles::NotWritten).then_some(false),
         shard: None,
     }
 }
@@ -230,7 +240,7 @@ pub fn build_manifest(parts: ManifestParts) -> Manifest {
         parts: Some(PathBuf::from("parts.csv")),
         background: Some(vec![parts.background]),
         tiles: parts.tiles,
-        capture: Some(capture_record(&tally, parts.tiles_written)),
+        capture: Some(capture_record(&tally, parts.tile_files)),
         frames: Some(parts.frame_records),
         generator: None,
         occluders: Some(crate::job::SCENE_FILE.into()),

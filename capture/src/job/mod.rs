@@ -30,6 +30,7 @@ pub use capture_job::{
 };
 pub use capture_shard::{Assembled, assemble};
 pub use counted_capture::{CaptureSetup, CountedCapture, capture_counted};
+pub use manifest_builder::TileFiles;
 pub use options::{
     CaptureOptions, CaptureProgress, Compression, FrameSelection, MAX_SELECTED_FRAMES, Summary, TileFilter,
     TileTally,

@@ -62,8 +62,8 @@ impl PalettePipeline {
         moving: usize,
     ) -> Result<PalettePipeline> {
         let layout = bind_group_layout(device);
-        let pipeline = render_pipeline(device, &layout, true);
-        let bounds_test = render_pipeline(device, &layout, false);
+        let pipeline = render_pipeline(device, &layout, Writes::ColorAndDepth);
+        let bounds_test = render_pipeline(device, &layout, Writes::Nothing);
         let (mode, palette_view) = palette_texture(device, queue, palette)?;
         let uniforms = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("uniforms"),
@@ -116,13 +116,21 @@ fn bind_group_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     })
 }
 
+/// What a pipeline writes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Writes {
+    /// Colour and depth: the frame.
+    ColorAndDepth,
+    /// Nothing: it only tests depth (for occlusion queries).
+    Nothing,
+}
+
 /// The unlit palette pipeline: no culling, reversed-Z depth, no blending,
-/// one sample, an `Rgba8Unorm` target; with `writes` false it only tests
-/// depth (for occlusion queries).
+/// one sample, an `Rgba8Unorm` target.
 fn render_pipeline(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
-    writes: bool,
+    writes: Writes,
 ) -> wgpu::RenderPipeline {
     let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("palette shader"),
@@ -143,7 +151,11 @@ fn render_pipeline(
         ],
     };
     device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(if writes { "palette pipeline" } else { "bounds test pipeline" }),
+        label: Some(if writes == Writes::ColorAndDepth {
+            "palette pipeline"
+        } else {
+            "bounds test pipeline"
+        }),
         layout: Some(&pipeline_layout),
         vertex: wgpu::VertexState {
             module: &shader,
@@ -160,7 +172,7 @@ fn render_pipeline(
         },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: wgpu::TextureFormat::Depth32Float,
-            depth_write_enabled: Some(writes),
+            depth_write_enabled: Some(writes == Writes::ColorAndDepth),
             // Reversed Z: nearer is larger.
             depth_compare: Some(wgpu::CompareFunction::Greater),
             stencil: Default::default(),
@@ -174,7 +186,11 @@ fn render_pipeline(
             targets: &[Some(wgpu::ColorTargetState {
                 format: wgpu::TextureFormat::Rgba8Unorm,
                 blend: None,
-                write_mask: if writes { wgpu::ColorWrites::ALL } else { wgpu::ColorWrites::empty() },
+                write_mask: if writes == Writes::ColorAndDepth {
+                    wgpu::ColorWrites::ALL
+                } else {
+                    wgpu::ColorWrites::empty()
+                },
             })],
         }),
         multiview_mask: None,

@@ -48,10 +48,7 @@ impl StudyTables {
         let mut fresh = vec![None::<Vec<f64>>; frames];
         for (frame, _, row) in &values.rows {
             let slot = fresh.get_mut(*frame as usize).ok_or_else(|| {
-                CaptureError::bad_input(
-                    out,
-                    format!("frame {frame} is beyond the scenario's {frames} frames"),
-                )
+                CaptureError::bad_file(out, format!("frame {frame} is beyond the scenario's {frames} frames"))
             })?;
             let sum = slot.get_or_insert_with(|| vec![0.0; row.len()]);
             sum.iter_mut().zip(row).for_each(|(s, v)| *s += v);

@@ -176,14 +176,34 @@ pub fn unwrap_islands_avoiding(
     let at = shelf_pack(&sizes_at(scale), &order, palette, background)
         .ok_or_else(|| CaptureError::Unwrap("packing failed at the density that fitted".into()))?;
     let offset = f64::from(MARGIN_BEFORE);
-    let texel_uvs = flat
+    let texel_uvs: Vec<[DVec2; 3]> = flat
         .iter()
         .zip(&at)
         .map(|(tri, &(x, y))| {
             tri.map(|p| dvec2(f64::from(x) + offset + p.x * scale, f64::from(y) + offset + p.y * scale))
         })
         .collect();
+    refuse_no_texels(&texel_uvs, palette)?;
     Ok(Unwrapped { palette, texel_uvs, texels_per_m2: scale * scale, method: "islands" })
+}
+
+/// Refuses an unwrap in which no triangle covers a texel centre (a palette so small that only
+/// the gutters fit): nothing could be counted or measured, and a study would score every
+/// setting 100 pp off instead of saying why.
+fn refuse_no_texels(texel_uvs: &[[DVec2; 3]], palette: [u32; 2]) -> Result<()> {
+    let mut covered = 0u64;
+    for tri in texel_uvs {
+        for_texel_centres(tri, palette, |_, _| covered += 1);
+    }
+    if covered > 0 {
+        return Ok(());
+    }
+    Err(CaptureError::Unwrap(format!(
+        "{} triangles fit a {}×{} palette only so small that no texel centre lies on the surface; use a larger --palette-size",
+        texel_uvs.len(),
+        palette[0],
+        palette[1]
+    )))
 }
 
 /// Keeps the mesh's own UVs after checking that they are inside the palette,
@@ -374,6 +394,12 @@ mod tests {
         assert!(unwrapped.texels_per_m2 > 0.0);
         let blocked = shelf_pack(&[(128, 10)], &[0], [128, 64], Some((5, 3)));
         assert_eq!(blocked, Some(vec![(0, 4)]));
+    }
+
+    #[test]
+    fn a_palette_where_no_texel_lies_on_the_truck_is_refused_naming_the_option() {
+        let error = unwrap_islands(&demo::truck(), [128, 128]).unwrap_err().to_string();
+        assert!(error.contains("no texel centre") && error.contains("--palette-size"), "{error}");
     }
 
     #[test]

@@ -28,9 +28,9 @@ fn external_palettes_render_through_texture_load() {
     let dir = tempfile::tempdir().unwrap();
 
     // The canonical palette as an image: same tiles, byte for byte.
-    let canonical = Fcsp::canonical(256, 256).unwrap();
+    let canonical = Fcsp::canonical([256, 256]).unwrap();
     let image = dir.path().join("canonical.png");
-    write_rgb_png(&image, 256, 256, &canonical.texel_rgb(), png::Compression::Fast).unwrap();
+    write_rgb_png(&image, [256, 256], &canonical.texel_rgb(), png::Compression::Fast).unwrap();
     demo_capture(&gpu, &dir.path().join("computed"), None);
     demo_capture(&gpu, &dir.path().join("loaded"), Some(&image));
     let manifest = Manifest::load_from_dir(&dir.path().join("computed")).unwrap().unwrap();
@@ -54,7 +54,7 @@ fn external_palettes_render_through_texture_load() {
     }
     let rgb: Vec<u8> = colors.iter().flat_map(|&c| Color::from_packed(c).rgb()).collect();
     let shuffled = dir.path().join("shuffled.png");
-    write_rgb_png(&shuffled, 256, 256, &rgb, png::Compression::Fast).unwrap();
+    write_rgb_png(&shuffled, [256, 256], &rgb, png::Compression::Fast).unwrap();
     let out = dir.path().join("shuffled");
     demo_capture(&gpu, &out, Some(&shuffled));
     let manifest = Manifest::load_from_dir(&out).unwrap().unwrap();

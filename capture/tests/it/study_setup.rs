@@ -57,9 +57,9 @@ fn assert_same_files(shared: &Path, alone: &Path) {
     assert!(shared_files.contains_key(Path::new("results/frames.csv")));
 }
 
-/// The demo, 3 frames of scenario A, a 128² palette: quick, with occluders.
+/// The demo, 3 frames of scenario A, a 256² palette (the smallest the truck covers texels of): quick, with occluders.
 fn base_options(out: &Path) -> CaptureOptions {
-    CaptureOptions { out: out.to_path_buf(), palette: [128, 128], ..CaptureOptions::default() }
+    CaptureOptions { out: out.to_path_buf(), palette: [256, 256], ..CaptureOptions::default() }
 }
 
 /// Moves the folder `out` a study wrote aside, captures each `(folder,
@@ -192,7 +192,7 @@ fn a_capture_set_up_refuses_another_vehicle_or_palette_instead_of_counting_wrong
             setup.capture_counted(&gpu.device, &gpu.queue, scene, &scenario, options, Dedupe::Frame);
         counted.err().expect("refused").to_string()
     };
-    let other_palette = CaptureOptions { palette: [256, 256], ..base_options(&dir.path().join("second")) };
+    let other_palette = CaptureOptions { palette: [512, 256], ..base_options(&dir.path().join("second")) };
     assert!(refused(&scene, &other_palette).contains("same palette"));
     let mut other_vehicle = scene.clone();
     other_vehicle.vehicle.parts[0] = "renamed".into();

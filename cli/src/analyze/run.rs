@@ -64,7 +64,7 @@ pub fn run_heatmap(args: HeatmapArgs, console: &Console) -> Result<Completion> {
 
 pub fn run_palette(args: PaletteArgs, console: &Console) -> Result<Completion> {
     let [width, height] = ufcsr::parse_palette_size(&args.size)?;
-    ufcsr::write_canonical_png(&args.out, width, height)?;
+    ufcsr::write_canonical_png(&args.out, [width, height])?;
     Ok(finish(
         console,
         Done {

@@ -18,7 +18,7 @@ fn result_json_is_byte_identical_whatever_the_thread_count() {
         cols: 3,
         tile_width: 64,
         tile_height: 80,
-        palette: (256, 256),
+        palette: [256, 256],
         ..Default::default()
     };
     let archive = dir.path().join("archive");

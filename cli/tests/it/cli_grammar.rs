@@ -223,7 +223,7 @@ fn a_folder_of_several_archives_is_refused_or_analysed_each_with_each() {
         cols: 2,
         tile_width: 16,
         tile_height: 16,
-        palette: (64, 64),
+        palette: [64, 64],
         ..Default::default()
     };
     for name in ["A", "B"] {

@@ -15,16 +15,16 @@ fn the_capture_exits_0_when_done_1_with_failures_and_2_when_nothing_was_done() {
     let dir = tempfile::tempdir().unwrap();
     let archive = dir.path().join("archive");
     let archive_text = archive.to_str().unwrap();
-    let small = ["--ppd", "2", "--palette-size", "128", "--frames", "180", "--out", archive_text];
+    let small = ["--ppd", "2", "--palette-size", "256", "--frames", "180", "--out", archive_text];
     let done = capture(dir.path(), &[&["demo", "--scenario", "A"][..], &small].concat());
     assert_eq!(done.status.code(), Some(0), "{}", String::from_utf8_lossy(&done.stderr));
     assert_eq!(capture(dir.path(), &["verify", archive_text]).status.code(), Some(0));
 
-    // One pixel of one tile turned to a colour outside the 128² palette: verify finishes, with failures.
+    // One pixel of one tile turned to a colour outside the 256² palette: verify finishes, with failures.
     let tile = std::fs::read_dir(archive.join("tiles")).unwrap().next().unwrap().unwrap().path();
     let ([width, height], mut rgb) = read_rgb_png(&tile).unwrap();
     rgb[..3].copy_from_slice(&[255, 255, 255]);
-    ufcsr::write_rgb_png(&tile, width, height, &rgb, png::Compression::Fast).unwrap();
+    ufcsr::write_rgb_png(&tile, [width, height], &rgb, png::Compression::Fast).unwrap();
     let failed = capture(dir.path(), &["verify", archive_text]);
     assert_eq!(failed.status.code(), Some(1), "{}", String::from_utf8_lossy(&failed.stderr));
     assert!(String::from_utf8_lossy(&failed.stderr).contains("1 pixels are neither background"));
@@ -55,7 +55,7 @@ fn a_capture_without_a_runtime_folder_prints_no_mesa_noise() {
     let dir = tempfile::tempdir().unwrap();
     let archive = dir.path().join("archive");
     let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
-        .args(["demo", "--ppd", "2", "--palette-size", "128", "--frames", "180", "--quiet", "--out"])
+        .args(["demo", "--ppd", "2", "--palette-size", "256", "--frames", "180", "--quiet", "--out"])
         .arg(&archive)
         .env_remove("XDG_RUNTIME_DIR")
         .output()
@@ -89,7 +89,7 @@ fn every_capture_command_takes_quiet_and_threads_and_quiet_keeps_stdout_empty() 
     }
     let archive = dir.path().join("archive");
     let archive_text = archive.to_str().unwrap();
-    let small = ["--ppd", "2", "--palette-size", "128", "--frames", "180", "--out", archive_text];
+    let small = ["--ppd", "2", "--palette-size", "256", "--frames", "180", "--out", archive_text];
     let quiet = capture(dir.path(), &[&["demo", "-q", "-j", "1"][..], &small].concat());
     assert!(quiet.status.success(), "{}", String::from_utf8_lossy(&quiet.stderr));
     assert!(quiet.stdout.is_empty(), "{}", String::from_utf8_lossy(&quiet.stdout));
@@ -112,7 +112,7 @@ fn a_counted_capture_says_it_wrote_no_pngs_and_lists_every_result_file() {
             "--ppd",
             "2",
             "--palette-size",
-            "128",
+            "256",
             "--frames",
             "150,180",
             "--out",
@@ -156,7 +156,7 @@ fn json_says_what_each_command_did_and_wrote() {
     let dir = tempfile::tempdir().unwrap();
     let archive = dir.path().join("archive");
     let archive_text = archive.to_str().unwrap();
-    let small = ["--ppd", "2", "--palette-size", "128", "--frames", "150,180", "--out", archive_text];
+    let small = ["--ppd", "2", "--palette-size", "256", "--frames", "150,180", "--out", archive_text];
     let counted = capture(dir.path(), &[&["demo", "--count", "--json"][..], &small].concat());
     let summary = json_of(&counted);
     assert_eq!((summary["command"].as_str(), summary["exit_code"].as_u64()), (Some("demo"), Some(0)));
@@ -179,7 +179,7 @@ fn json_says_what_each_command_did_and_wrote() {
             "--ppd",
             "2",
             "--palette-size",
-            "128",
+            "256",
             "--frames",
             "180",
             "--out",

@@ -49,7 +49,7 @@ fn example_eye_frames() -> BTreeMap<(u32, String), Tiles> {
     let mut eye_frames: BTreeMap<(u32, String), Tiles> = BTreeMap::new();
     for tile in &manifest.tiles {
         let colors = match &tile.file {
-            Some(file) => ufcsr::read_color_image(&example().join(file), |_, _| Ok(())).unwrap().colors,
+            Some(file) => ufcsr::read_color_image(&example().join(file), |_| Ok(())).unwrap().colors,
             None => vec![BG; 128 * 162],
         };
         eye_frames.entry((tile.frame, tile.eye.clone())).or_default().insert((tile.row, tile.col), colors);

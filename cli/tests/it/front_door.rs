@@ -91,7 +91,7 @@ fn ufcsr_analyze_and_ufcsr_dash_analyze_write_the_same_files() {
         cols: 2,
         tile_width: 32,
         tile_height: 32,
-        palette: (64, 64),
+        palette: [64, 64],
         ..Default::default()
     };
     ufcsr::synthetic::write_archive(&archive, &spec).unwrap();

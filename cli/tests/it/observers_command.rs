@@ -9,7 +9,7 @@ fn the_observers_command_writes_its_tables_and_names_bad_options() {
     let out = dir.path().join("observers");
     let run = |extra: &[&str]| {
         Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
-            .args(["observers", "demo", "--scenario", "A", "--ppd", "2", "--palette-size", "128"])
+            .args(["observers", "demo", "--scenario", "A", "--ppd", "2", "--palette-size", "256"])
             .args(["--frame-step", "90", "--out"])
             .arg(&out)
             .args(extra)

@@ -67,7 +67,7 @@ fn inputs_inside_the_folders_a_capture_owns_or_named_like_its_files_are_refused(
     refused(&ran, &["manifest.json would overwrite the input"], "scene file as manifest.json");
     // An external palette kept as the archive's own palette.png.
     let palette = dir.path().join("archive").join("palette.png");
-    ufcsr::write_canonical_png(&palette, 256, 256).unwrap();
+    ufcsr::write_canonical_png(&palette, [256, 256]).unwrap();
     let before = std::fs::read(&palette).unwrap();
     let ran = tiny_capture(&["demo"], manifest.parent().unwrap(), &["--palette", palette.to_str().unwrap()]);
     refused(&ran, &["palette.png would overwrite the input"], "--palette");
@@ -387,7 +387,7 @@ fn obj_face_indices_beyond_any_model_are_an_error_naming_the_line() {
 }
 
 #[test]
-fn an_mtl_colour_with_two_numbers_is_an_error_naming_the_line_not_a_panic_in_tobj() {
+fn an_mtl_color_with_two_numbers_is_an_error_naming_the_line_not_a_panic_in_tobj() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("short.mtl"), "newmtl paint\nKd 0.5 0.5\n").unwrap();
     let obj = dir.path().join("truck.obj");

@@ -365,7 +365,7 @@ fn the_map_draws_the_moving_box_on_its_path_across_the_line_of_sight() {
     let map = dir.path().join("map.png");
     let content = ufcsr::MapContent { track: &track, scene, vehicle: None, title: "moving box".into() };
     let frame = ufcsr::write_scenario_map(&map, &content).unwrap();
-    let image = ufcsr::read_color_image(&map, |_, _| Ok(())).unwrap();
+    let image = ufcsr::read_color_image(&map, |_| Ok(())).unwrap();
     let (x, y) = frame.pixel([8.5, 3.0]);
     let drawn = image.colors[y as usize * image.width as usize + x as usize];
     assert_eq!(drawn, 0x46_6EC8, "the box's path is not blue at (8.5, 3): {drawn:06X}");

@@ -416,7 +416,7 @@ pub(crate) mod kernel_checks {
 
     fn vector_kernel_equals_the_portable_kernel(kernel: Kernel) {
         // 4096 × 3000 texels: colours from 12,288,000 up are strays.
-        let palette = Fcsp::canonical(4096, 3000).unwrap();
+        let palette = Fcsp::canonical([4096, 3000]).unwrap();
         for backgrounds in [vec![0x000FFF], vec![0x000FFF, 0x000010, 0xFFFFFF]] {
             let classifier = Classifier::new(&palette, &backgrounds).unwrap();
             for (layout, bytes) in [(PixelLayout::Rgb, 3), (PixelLayout::Rgba, 4)] {
@@ -465,7 +465,7 @@ pub(crate) mod kernel_checks {
                 }
             })
             .collect();
-        let pidt = Pidt::from_colors(width, height, &colors, &legend);
+        let pidt = Pidt::from_colors([width, height], &colors, &legend);
         PartLookup::new(palette, Some((&legend, &pidt)), backgrounds)
     }
 
@@ -529,7 +529,7 @@ pub(crate) mod kernel_checks {
         // Widths of 512 and 4 texels: blocks of the slot table inside and
         // (4 × 4) wider than the grid; 100 is no power of two (separate pass).
         for (width, height) in [(512u32, 256u32), (4, 4), (100, 37)] {
-            let palette = Fcsp::canonical(width, height).unwrap();
+            let palette = Fcsp::canonical([width, height]).unwrap();
             for backgrounds in [vec![0x000FFF], vec![0x000FFF, 0x000010, 5]] {
                 let classifier = Classifier::new(&palette, &backgrounds).unwrap();
                 let lookups =
@@ -592,7 +592,7 @@ mod tests {
 
     #[test]
     fn runs_of_every_length_are_counted_exactly() {
-        let palette = Fcsp::canonical(16, 16).unwrap();
+        let palette = Fcsp::canonical([16, 16]).unwrap();
         let classifier = Classifier::new(&palette, &[0x000FFF]).unwrap();
         for scan in
             [portable_row_scan(PixelLayout::Rgb, &classifier), row_scan(PixelLayout::Rgb, &classifier)]

@@ -223,7 +223,7 @@ fn render_settings(page: &mut String, entries: &[Entry], header: &str) {
     let _ = writeln!(page, "<h2>Settings</h2>\n<table>{header}");
     let rows: [(&str, &Setting); 12] = [
         ("archive", &|r| escape(&r.settings.archive)),
-        ("measure", &|r| escape(&r.measure)),
+        ("measure", &|r| escape(r.measure.name())),
         ("palette", &|r| {
             format!(
                 "{} {}×{}",

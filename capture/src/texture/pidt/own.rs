@@ -44,7 +44,7 @@ pub fn load(labels: &OwnLabelFiles, unwrapped: &Unwrapped) -> Result<LoadedOwnLa
     }
     let legend = Legend::load(&labels.parts)?;
     let [w, h] = unwrapped.palette;
-    let image = ufcsr::read_color_image(&labels.pidt, |found_w, found_h| {
+    let image = ufcsr::read_color_image(&labels.pidt, |[found_w, found_h]| {
         if [found_w, found_h] == [w, h] {
             Ok(())
         } else {
@@ -59,12 +59,12 @@ pub fn load(labels: &OwnLabelFiles, unwrapped: &Unwrapped) -> Result<LoadedOwnLa
         }
     })?;
     if legend.parts.iter().any(|p| p.color == UNLABELLED_COLOR) {
-        return Err(CaptureError::bad_input(
+        return Err(CaptureError::bad_file(
             &labels.parts,
             format!("{UNLABELLED_COLOR} marks unlabelled texels; no part may use it"),
         ));
     }
-    let resolved = ufcsr::Pidt::from_colors(w, h, &image.colors, &legend);
+    let resolved = ufcsr::Pidt::from_colors([w, h], &image.colors, &legend);
     let mut warnings = Vec::new();
     let unknown: Vec<(&Color, &u64)> =
         resolved.unlabelled_colors.iter().filter(|(c, _)| **c != UNLABELLED_COLOR).collect();

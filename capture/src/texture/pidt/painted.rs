@@ -106,7 +106,7 @@ pub fn paint(mesh: &Mesh, unwrapped: &Unwrapped) -> PidtImage {
 
 /// Writes the PIdT as an 8-bit RGB PNG.
 pub fn write_png(pidt: &PidtImage, path: &Path) -> Result<()> {
-    ufcsr::write_rgb_png(path, pidt.size[0], pidt.size[1], &pidt.rgb, png::Compression::Fast)?;
+    ufcsr::write_rgb_png(path, [pidt.size[0], pidt.size[1]], &pidt.rgb, png::Compression::Fast)?;
     Ok(())
 }
 
