@@ -69,8 +69,8 @@ pub use study::observers::{
 };
 pub use study::offsets::{FrameValues, IntervalOptions, error_at_offset, setting_error};
 pub use study::{
-    ErrorVsExact, Study, StudyMeasure, StudyOptions, StudyRow, StudyTables, run_study, run_study_with_tables,
-    write_study,
+    ErrorVsExact, Study, StudyMeasure, StudyOptions, StudyRow, StudyTables, exact_tables, run_study,
+    run_study_with_tables, write_study,
 };
 pub use texture::{
     OwnLabelFiles, PidtImage, UNLABELLED_COLOR, Unwrapped, background_texel, footprint, keep_uvs, paint_pidt,

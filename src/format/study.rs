@@ -56,8 +56,8 @@ pub struct ErrorVsExact {
     /// Offsets with a frame this resolution did not render, whose resolution
     /// error is imputed by the block bootstrap.
     pub imputed_offsets: u32,
-    /// How far the exact reference's texel sampling may move a share L1 (95 %;
-    /// 0 with every texel): the interval is widened by it on both ends.
+    /// The most the exact reference's texel sampling moves an end of the interval
+    /// (a basic bootstrap of the reference, 2.5–97.5 %; 0 with every texel).
     pub texel_sampling_pp: f64,
 }
 

@@ -33,7 +33,7 @@ use crate::exact::accuracy::{PerEyeFrame, share_error, totals};
 use crate::job::{CaptureOptions, CaptureProgress, CaptureSetup, CountedCapture, FrameSelection};
 use crate::scene::Scene;
 use offsets::{IntervalOptions, setting_error};
-pub use reference::StudyTables;
+pub use reference::{StudyTables, exact_tables};
 
 /// What a study compares.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]

@@ -94,7 +94,7 @@ pub(crate) fn measure_exact(
 
 /// The tables of the exact measure (by the rendered table's parts, by name,
 /// each part scaled by its texels / sampled texels), before any render is added.
-pub(crate) fn exact_tables(
+pub fn exact_tables(
     exact: &UnobstructedCapture,
     measure: StudyMeasure,
     parts: &[String],
