@@ -34,6 +34,7 @@ mod placement_pages;
 mod reliability_inputs;
 mod reliability_outputs;
 mod result_validation;
+mod solo_manifest;
 
 // The capture's command line (and the library tests that share their helpers).
 mod archive_models;
