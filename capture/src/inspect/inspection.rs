@@ -81,8 +81,10 @@ pub struct TriangleQuality {
 /// Whether the mesh has UVs of its own (for `--keep-uvs`).
 #[derive(Debug, Clone, PartialEq)]
 pub enum UvState {
-    /// Every primitive has UVs.
+    /// Every primitive has UVs, no two triangles sharing a texel.
     Complete,
+    /// Every primitive has UVs, but some overlap (where: by pair of parts).
+    Overlapping(crate::texture::UvOverlaps),
     /// No UVs at all (or the built-in demo truck).
     None,
     /// Some primitives lack UVs; they are named.
@@ -107,6 +109,8 @@ pub struct Inspection {
     pub uvs: UvState,
     pub parts: Vec<PartInfo>,
     pub regions: RegionReport,
+    /// What labelling through a part map found (`parts_from.part_map`).
+    pub part_map: Option<crate::scene::PartMapReport>,
     pub warnings: Vec<String>,
     /// Pictures and legend written.
     pub files: Vec<PathBuf>,
@@ -180,6 +184,10 @@ fn check_picture_size(mesh: &Mesh, pixels_per_metre: f64) -> Result<()> {
     Ok(())
 }
 
+/// The palette on which inspect looks for overlapping own UVs (a capture's
+/// default is 4096²; a finer palette finds at least these overlaps).
+pub const OVERLAP_CHECK_PALETTE: [u32; 2] = [1024, 1024];
+
 /// The files [`inspect`] writes into its folder.
 const INSPECT_FILES: [&str; 4] =
     ["inspect-side.png", "inspect-top.png", "inspect-front.png", "inspect-parts.csv"];
@@ -207,7 +215,10 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
         })
         .collect();
     let uvs = match (&mesh.uvs, mesh.missing_uvs.is_empty()) {
-        (Some(_), _) => UvState::Complete,
+        (Some(_), _) => match crate::texture::uv_overlaps(mesh, OVERLAP_CHECK_PALETTE) {
+            Some(overlaps) if overlaps.texels > 0 => UvState::Overlapping(overlaps),
+            _ => UvState::Complete,
+        },
         (None, true) => UvState::None,
         (None, false) => UvState::Partial(mesh.missing_uvs.clone()),
     };
@@ -257,6 +268,7 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
         uvs,
         parts,
         regions: built.regions,
+        part_map: built.part_map,
         warnings: built.warnings,
         files,
     })
@@ -330,7 +342,23 @@ impl Inspection {
             )?;
         }
         match &self.uvs {
-            UvState::Complete => writeln!(f, "UVs: every primitive has its own (--keep-uvs can use them)")?,
+            UvState::Complete => writeln!(
+                f,
+                "UVs: every primitive has its own, without overlaps at {}×{} (--keep-uvs can use them)",
+                OVERLAP_CHECK_PALETTE[0], OVERLAP_CHECK_PALETTE[1]
+            )?,
+            UvState::Overlapping(overlaps) => {
+                writeln!(
+                    f,
+                    "UVs: every primitive has its own, but {} texels of a {}×{} palette are covered by more than one \
+                     triangle: --keep-uvs would refuse them (a part map painted over them still labels parts: \
+                     parts_from.part_map). Where:",
+                    overlaps.texels, overlaps.palette[0], overlaps.palette[1]
+                )?;
+                for line in overlaps.lines() {
+                    writeln!(f, "  {line}")?;
+                }
+            }
             UvState::None => writeln!(f, "UVs: none (captures unwrap the mesh themselves)")?,
             UvState::Partial(missing) => {
                 writeln!(f, "UVs: partial, --keep-uvs would fail; without UVs:")?;
@@ -344,6 +372,19 @@ impl Inspection {
 
     /// The part rules' matches, and the parts with their colours and areas.
     fn fmt_parts(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(map) = &self.part_map {
+            writeln!(
+                f,
+                "parts from the part map {} (legend {}) through the model's own UVs: {} texels sampled, {} \
+                 triangles split between parts, {} unmapped, {} samples in unlisted colours",
+                map.part_map.display(),
+                map.legend.display(),
+                map.samples,
+                map.split_triangles,
+                map.unmapped_triangles,
+                map.unknown_colors.values().sum::<u64>()
+            )?;
+        }
         if !self.regions.rules.is_empty() {
             writeln!(f, "part rules (first match wins):")?;
             for rule in &self.regions.rules {

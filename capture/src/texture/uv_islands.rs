@@ -240,8 +240,15 @@ pub fn keep_uvs_avoiding(
         }
     }
     if overlaps > 0 {
+        let lines =
+            crate::texture::uv_overlaps::uv_overlaps(mesh, palette).map(|o| o.lines()).unwrap_or_default();
         return Err(CaptureError::Unwrap(format!(
-            "--keep-uvs: {overlaps} texels are covered by more than one triangle; the UVs must not overlap (unwrap without --keep-uvs)"
+            "--keep-uvs: {overlaps} texels of the {w}×{h} palette are covered by more than one triangle; the UVs must \
+             not overlap. Where (parts, texels, example triangle numbers):\n  {}\nCapture without --keep-uvs (the \
+             capture unwraps the mesh itself) and, to label parts by a map painted over these UVs, give the scene's \
+             vehicle \"parts_from\": {{\"part_map\": PNG, \"legend\": CSV}}; or remove the duplicate faces and \
+             separate the overlapping islands in Blender",
+            lines.join("\n  ")
         )));
     }
     Ok(Unwrapped { palette, texel_uvs, texels_per_m2: uv_area / mesh.area(), method: "kept" })
