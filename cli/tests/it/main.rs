@@ -44,6 +44,7 @@ mod exit_codes;
 mod fused_count;
 mod hardening;
 mod observers_command;
+mod own_models;
 mod reliability;
 mod round_trip;
 mod schemas;
