@@ -17,7 +17,9 @@
 //! not list do not vote; a triangle with no listed colour gets the part
 //! [`UNMAPPED_PART`]. Both are counted and reported, as are the triangles
 //! whose votes were split between parts (they straddle a boundary of the
-//! map, which the triangle-level labelling cannot follow).
+//! map, which the triangle-level labelling cannot follow). Triangles of
+//! primitives without UVs (glass often has none) keep the part their name
+//! gives (`names`: node by default), reported with the primitives.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -27,7 +29,7 @@ use serde::{Deserialize, Serialize};
 use ufcsr::{Color, Legend};
 
 use crate::error::{CaptureError, Result};
-use crate::scene::mesh::{Mesh, triangle_area};
+use crate::scene::mesh::{Mesh, PartSource, triangle_area};
 
 /// The part of triangles on which the map shows no legend colour.
 pub const UNMAPPED_PART: &str = "unmapped";
@@ -45,6 +47,9 @@ pub struct PartMapSpec {
     pub part_map: String,
     /// Its legend: CSV `name,color` or JSON `[{"name", "color"}]`, as the analyzer reads.
     pub legend: String,
+    /// What names the triangles of primitives without UVs: `node` (default), `mesh` or `material`.
+    #[serde(default)]
+    pub names: PartSource,
 }
 
 /// What labelling through the map found.
@@ -61,6 +66,9 @@ pub struct PartMapReport {
     pub split_area_share: f64,
     /// Triangles on which the map shows no legend colour ([`UNMAPPED_PART`]).
     pub unmapped_triangles: usize,
+    /// Triangles without own UVs (they keep their name's part), and the primitives they belong to.
+    pub without_uvs: usize,
+    pub primitives_without_uvs: Vec<String>,
 }
 
 impl PartMapReport {
@@ -86,6 +94,13 @@ impl PartMapReport {
             warnings.push(format!(
                 "{map}: {} triangles show no legend colour under their UVs: they form the part {UNMAPPED_PART:?}",
                 self.unmapped_triangles
+            ));
+        }
+        if self.without_uvs > 0 {
+            warnings.push(format!(
+                "{map}: {} triangles have no UVs of their own and keep the part their name gives ({})",
+                self.without_uvs,
+                self.primitives_without_uvs.join("; ")
             ));
         }
         if self.split_triangles > 0 {
@@ -155,24 +170,32 @@ impl PartMap {
 /// Names every triangle of `mesh` by the part map of `spec` (paths
 /// relative to `base`; `scene` names the scene file in messages).
 pub fn apply(mesh: &mut Mesh, spec: &PartMapSpec, base: &Path, scene: &Path) -> Result<PartMapReport> {
-    let Some(uvs) = mesh.uvs.clone() else {
-        let missing =
-            if mesh.missing_uvs.is_empty() { "the model".to_string() } else { mesh.missing_uvs.join("; ") };
+    let uvs = own_uvs(mesh);
+    let has_uvs =
+        |triangle: &[u32; 3]| triangle.iter().all(|&i| uvs.get(i as usize).is_some_and(|uv| uv.is_finite()));
+    if !mesh.triangles.iter().any(has_uvs) {
         return Err(CaptureError::bad_input(
             scene,
-            format!(
-                "vehicle.parts_from.part_map is painted over the model's own UVs, but {missing} has none \
-                 (TEXCOORD_0 / vt)"
-            ),
+            "vehicle.parts_from.part_map is painted over the model's own UVs, but the model has none (TEXCOORD_0 / vt)",
         ));
-    };
+    }
     let (map, part_map, legend) = PartMap::load(spec, base, scene)?;
-    let mut report = PartMapReport { part_map, legend, ..PartMapReport::default() };
+    let mut report = PartMapReport {
+        part_map,
+        legend,
+        primitives_without_uvs: mesh.missing_uvs.clone(),
+        ..PartMapReport::default()
+    };
     let size = DVec2::new(f64::from(map.width), f64::from(map.height));
     let mut assigned = Vec::with_capacity(mesh.triangles.len());
     let mut split_area = 0.0;
     for (t, triangle) in mesh.triangles.iter().enumerate() {
-        let uv = triangle.map(|i| uvs.get(i as usize).map_or(DVec2::ZERO, |uv| uv.as_dvec2() * size));
+        if !has_uvs(triangle) {
+            report.without_uvs += 1;
+            assigned.push(mesh.parts[mesh.triangle_part[t] as usize].clone());
+            continue;
+        }
+        let uv = triangle.map(|i| uvs[i as usize].as_dvec2() * size);
         let mut votes = vec![0u64; map.names.len()];
         sample(&uv, |x, y| {
             report.samples += 1;
@@ -200,6 +223,16 @@ pub fn apply(mesh: &mut Mesh, spec: &PartMapSpec, base: &Path, scene: &Path) -> 
     let parts: Vec<u32> = assigned.iter().map(|name| mesh.part(name)).collect();
     mesh.triangle_part = parts;
     Ok(report)
+}
+
+/// Every vertex's own UV (NaN where its primitive has none): a loaded
+/// model's `own_uvs`, else its `uvs`, else none.
+fn own_uvs(mesh: &Mesh) -> Vec<glam::Vec2> {
+    if mesh.own_uvs.len() == mesh.positions.len() {
+        mesh.own_uvs.clone()
+    } else {
+        mesh.uvs.clone().unwrap_or_default()
+    }
 }
 
 /// Calls `f` with the texels (unwrapped indices, any integer) whose centres
@@ -276,7 +309,8 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         write_map(dir.path());
         let mut mesh = overlapping_mesh();
-        let spec = PartMapSpec { part_map: "map.png".into(), legend: "parts.csv".into() };
+        let spec =
+            PartMapSpec { part_map: "map.png".into(), legend: "parts.csv".into(), names: PartSource::Node };
         let report = apply(&mut mesh, &spec, dir.path(), Path::new("scene.json")).unwrap();
         let parts: Vec<&str> = mesh.triangle_part.iter().map(|&p| mesh.parts[p as usize].as_str()).collect();
         assert_eq!(parts, ["door", "door", "door", "door", "plate", "plate"]);
@@ -311,17 +345,29 @@ mod tests {
             Vec2::new(-0.3, 0.0),
             Vec2::new(-0.5, 0.4),
         ]);
-        let spec = PartMapSpec { part_map: "map.png".into(), legend: "parts.csv".into() };
+        let spec =
+            PartMapSpec { part_map: "map.png".into(), legend: "parts.csv".into(), names: PartSource::Node };
         let report = apply(&mut mesh, &spec, dir.path(), Path::new("scene.json")).unwrap();
         let parts: Vec<&str> = mesh.triangle_part.iter().map(|&p| mesh.parts[p as usize].as_str()).collect();
         assert_eq!(parts, ["door", UNMAPPED_PART, "plate"]);
         assert_eq!((report.split_triangles, report.unmapped_triangles), (1, 1));
         assert!((report.split_area_share - 1.0 / 3.0).abs() < 1e-9);
-        // Without UVs: refused naming what lacks them.
-        let mut bare =
-            Mesh { missing_uvs: vec!["object \"hood\" (no vt texture coordinates)".into()], ..mesh };
-        bare.uvs = None;
+        // A primitive without UVs keeps its name's part; none with UVs is refused.
+        let mut partial = mesh.clone();
+        partial.uvs = None;
+        partial.parts = vec!["body".into(), "glass".into()];
+        partial.triangle_part = vec![0, 0, 1];
+        partial.own_uvs = partial.positions.iter().map(|_| Vec2::new(0.1, 0.1)).collect();
+        partial.own_uvs[6..9].fill(Vec2::NAN);
+        partial.missing_uvs = vec!["primitive 0 of mesh 1 (\"glass\")".into()];
+        let report = apply(&mut partial, &spec, dir.path(), Path::new("scene.json")).unwrap();
+        let parts: Vec<&str> =
+            partial.triangle_part.iter().map(|&p| partial.parts[p as usize].as_str()).collect();
+        assert_eq!(parts, ["door", "door", "glass"]);
+        assert_eq!(report.without_uvs, 1);
+        assert!(report.warnings().iter().any(|w| w.contains("\"glass\"") && w.contains("keep the part")));
+        let mut bare = Mesh { uvs: None, ..mesh };
         let error = apply(&mut bare, &spec, dir.path(), Path::new("scene.json")).unwrap_err().to_string();
-        assert!(error.contains("hood") && error.contains("own UVs"), "{error}");
+        assert!(error.contains("scene.json") && error.contains("own UVs"), "{error}");
     }
 }

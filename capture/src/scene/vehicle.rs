@@ -100,7 +100,7 @@ pub struct Vehicle {
 pub fn build(spec: &VehicleSpec, base: &Path, scene: &Path) -> Result<Vehicle> {
     let names = match &spec.parts_from {
         PartsFrom::Names(source) => *source,
-        PartsFrom::PartMap(_) => PartSource::Node,
+        PartsFrom::PartMap(map) => map.names,
     };
     let (mut mesh, mut files) = if spec.mesh == "demo" {
         (demo::truck(), Vec::new())
