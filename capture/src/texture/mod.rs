@@ -12,6 +12,6 @@ pub(crate) mod uv_overlaps;
 
 pub use pidt::{OwnLabelFiles, PidtImage, UNLABELLED_COLOR, paint_pidt};
 pub use uv_islands::{
-    Unwrapped, background_texel, footprint, keep_uvs, unwrap_islands, unwrap_islands_avoiding,
+    Unwrapped, background_texel, footprint, keep_uvs, unwrap_islands, unwrap_islands_avoiding, uv_overlaps,
 };
-pub use uv_overlaps::{PartOverlap, UvOverlaps, uv_overlaps};
+pub use uv_overlaps::{PartOverlap, UvOverlaps};

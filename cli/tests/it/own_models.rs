@@ -27,8 +27,11 @@ fn data_uri(bytes: &[u8]) -> String {
     text
 }
 
+/// A triangle's corners and their own UVs.
+type UvTriangle = ([[f32; 3]; 3], [[f32; 2]; 3]);
+
 /// A glTF of one node "body": triangles with their own UVs (glTF axes: +Y up, front +Z).
-fn write_gltf(path: &Path, triangles: &[([[f32; 3]; 3], [[f32; 2]; 3])]) {
+fn write_gltf(path: &Path, triangles: &[UvTriangle]) {
     let mut bytes: Vec<u8> =
         triangles.iter().flat_map(|(p, _)| p.iter().flatten()).flat_map(|v| v.to_le_bytes()).collect();
     let uv_offset = bytes.len();
@@ -140,4 +143,36 @@ fn inspect_says_where_own_uvs_overlap_by_parts_and_triangles() {
         "{stdout}"
     );
     assert!(stdout.contains("0 & 2"), "the rear door (triangles 2, 3) over the front door (0, 1): {stdout}");
+}
+
+#[test]
+fn a_wrong_parts_from_or_a_missing_part_map_is_refused_naming_it() {
+    let dir = tempfile::tempdir().unwrap();
+    model(dir.path());
+    let scene = dir.path().join("scene.json");
+    let cases = [
+        (r#""colour""#, vec!["scene.json", "parts_from must be", "part_map"]),
+        (r#"{"part_map": "partmap.png"}"#, vec!["scene.json", "missing field `legend`"]),
+        (r#"{"part_map": "nowhere.png", "legend": "parts.csv"}"#, vec!["parts.csv"]),
+    ];
+    for (parts_from, expected) in cases {
+        std::fs::write(
+            &scene,
+            format!(r#"{{"vehicle": {{"mesh": "car.gltf", "parts_from": {parts_from}}}}}"#),
+        )
+        .unwrap();
+        let output = inspect(&scene, &dir.path().join("out"));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(2), "{parts_from}: {stderr}");
+        for part in expected {
+            assert!(stderr.contains(part), "{parts_from}: expected {part:?} in {stderr}");
+        }
+    }
+    part_map(dir.path());
+    std::fs::write(&scene, r#"{"vehicle": {"mesh": "car.gltf", "parts_from": {"part_map": "nowhere.png", "legend": "parts.csv"}}}"#)
+        .unwrap();
+    let output = inspect(&scene, &dir.path().join("out"));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("nowhere.png"), "{stderr}");
 }
