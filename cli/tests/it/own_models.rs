@@ -143,6 +143,13 @@ fn inspect_says_where_own_uvs_overlap_by_parts_and_triangles() {
         "{stdout}"
     );
     assert!(stdout.contains("0 & 2"), "the rear door (triangles 2, 3) over the front door (0, 1): {stdout}");
+    // The picture: the 1024² palette, red where the doors share texels (the left half), the plate in its colour.
+    let picture =
+        ufcsr::read_color_image(&dir.path().join("out/inspect-uv-overlaps.png"), |_, _| Ok(())).unwrap();
+    assert_eq!((picture.width, picture.height), (1024, 1024));
+    let at = |x: usize, y: usize| picture.colors[y * 1024 + x];
+    assert_eq!((at(256, 700), at(300, 200)), (0xE60000, 0xE60000), "the doors' shared texels are red");
+    assert!(![0xE60000, 0xFFFFFF].contains(&at(800, 500)), "the plate's own texels: {:06X}", at(800, 500));
 }
 
 #[test]
