@@ -183,3 +183,34 @@ fn a_wrong_parts_from_or_a_missing_part_map_is_refused_naming_it() {
     assert_eq!(output.status.code(), Some(2), "{stderr}");
     assert!(stderr.contains("nowhere.png"), "{stderr}");
 }
+
+#[test]
+fn a_capture_of_overlapping_own_uvs_measures_on_its_own_unwrap_with_the_part_maps_parts() {
+    let dir = tempfile::tempdir().unwrap();
+    model(dir.path());
+    part_map(dir.path());
+    let scene = serde_json::json!({
+        "vehicle": {"mesh": "car.gltf", "parts_from": {"part_map": "partmap.png", "legend": "parts.csv"}},
+        "rig": {"pedestrian": [0.0, -4.0, 0.0], "eye_pixels": [80, 100], "look_at_vehicle": [0.0, 0.0, 0.8]},
+        "scenarios": {"pass": {"duration_s": 1.0,
+            "position": [{"t": 0.0, "value": [-1.0, 0.0, 0.0]}, {"t": 1.0, "value": [1.0, 0.0, 0.0]}],
+            "yaw_deg": [{"t": 0.0, "value": 0}]}}
+    });
+    std::fs::write(dir.path().join("scene.json"), serde_json::to_vec(&scene).unwrap()).unwrap();
+    let archive = dir.path().join("archive");
+    let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .args(["scene", dir.path().join("scene.json").to_str().unwrap(), "--out", archive.to_str().unwrap()])
+        .args(["--ppd", "1", "--palette-size", "256", "--frames", "0,30", "--count"])
+        .output()
+        .unwrap();
+    let said =
+        format!("{}{}", String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr));
+    assert!(output.status.success(), "{said}");
+    // The capture's own unwrap (no --keep-uvs), labelled door and plate from the texture.
+    let legend = std::fs::read_to_string(archive.join("parts.csv")).unwrap();
+    let names: Vec<&str> = legend.lines().skip(1).map(|line| line.split(',').next().unwrap()).collect();
+    assert_eq!(names, ["door", "plate"], "{legend}");
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(archive.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["unwrap"]["method"], "islands", "{}", manifest["unwrap"]);
+}
