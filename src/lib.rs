@@ -33,7 +33,7 @@ pub use archive::{
     PaletteRecord, PaletteSetting, Part, Pidt, Progress, Scale, ScenarioTrack, Shard, TileEntry, Timings,
     TrackFrame, TrimMode, UNLABELLED, VehicleModel, inside_archive, parse_palette_size, write_canonical_png,
 };
-pub use checks::{ColourChecks, ColourWarning, NeighbourSample};
+pub use checks::{ColorChecks, ColorWarning, NeighbourSample};
 pub use color::{AtomicColorSet, COLOR_COUNT, Color, ParseColorError, SeenSet, color_key};
 pub use count::{
     Classifier, CountedTile, Counts, EmptyTile, FrameLabel, FrameRecord, ImageTally, KERNEL_ENV, Kernel,
@@ -75,7 +75,7 @@ pub use output::{
     NEVER_SEEN, ResultSetOptions, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED, SceneObject,
     SceneShapes, VIEW_BASE, ViewCamera, ViewTexture, WrittenFiles, WrittenViews, ZBuffer, bar_ticks,
     csv_field, default_output_dir, format_counted_table, format_table, measure_unit, plasma,
-    plot_font_available, render_heatmap, render_view, time_colour, view_cameras, views_caption,
+    plot_font_available, render_heatmap, render_view, time_color, view_cameras, views_caption,
     write_comparison, write_heatmap, write_parts_csv, write_results, write_results_with, write_scenario_map,
     write_scene_glb, write_views, write_views_with,
 };

@@ -18,7 +18,7 @@ pub enum CaptureError {
 
     /// A scene, scenario or mesh file has bad content.
     #[error("{}: {message}", path.display())]
-    BadInput { path: PathBuf, message: String },
+    BadFile { path: PathBuf, message: String },
 
     /// Options or scene settings that cannot work.
     #[error("{0}")]
@@ -44,8 +44,8 @@ impl CaptureError {
     }
 
     /// A content problem in `path`.
-    pub fn bad_input(path: impl Into<PathBuf>, message: impl Into<String>) -> CaptureError {
-        CaptureError::BadInput { path: path.into(), message: message.into() }
+    pub fn bad_file(path: impl Into<PathBuf>, message: impl Into<String>) -> CaptureError {
+        CaptureError::BadFile { path: path.into(), message: message.into() }
     }
 }
 

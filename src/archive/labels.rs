@@ -272,7 +272,7 @@ mod tests {
     }
 
     #[test]
-    fn rejects_shared_colours() {
+    fn rejects_shared_colors() {
         let parts = vec![
             Part { name: "A".into(), color: Color::from_packed(1) },
             Part { name: "B".into(), color: Color::from_packed(1) },

@@ -201,7 +201,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn canonical_maps_index_to_colour() {
+    fn canonical_maps_index_to_color() {
         let palette = Fcsp::canonical(16, 4).unwrap();
         assert_eq!(palette.color_of(17), 17);
         assert!(palette.contains(63));

@@ -12,8 +12,8 @@
 //! with their causes and fixes. It depends on the inputs only, so counting
 //! can feed it and the result can report it.
 
-pub(crate) mod colour_damage;
+pub(crate) mod color_damage;
 pub(crate) mod neighbours;
 
-pub use colour_damage::{ColourChecks, ColourWarning};
+pub use color_damage::{ColorChecks, ColorWarning};
 pub use neighbours::NeighbourSample;

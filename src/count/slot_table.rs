@@ -158,7 +158,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn every_colour_gets_the_slot_a_flat_table_gives() {
+    fn every_color_gets_the_slot_a_flat_table_gives() {
         // Grids whose sides end inside a block, charts of one slot with
         // ragged edges, a few lone colours, and colours far past the grid.
         for [width, height] in [[100u32, 37], [64, 64], [4096, 3]] {
@@ -180,7 +180,7 @@ mod tests {
     }
 
     #[test]
-    fn runs_of_32_colours_add_what_colour_by_colour_look_ups_add() {
+    fn runs_of_32_colors_add_what_color_by_color_look_ups_add() {
         let mut state = 0x2545_F491_4F6C_DD1D_u64;
         let mut random = move || {
             state ^= state << 13;

@@ -199,7 +199,7 @@ pub struct AnalysisResult {
     /// Signs of colour-management and filtering damage (pixel counts only;
     /// absent in older results). Its warnings are in `warnings` too.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub colour_checks: Option<ColourChecks>,
+    pub color_checks: Option<ColorChecks>,
 }
 
 /// Per-texel counts as stored in `result.json`: only seen texels, texel
@@ -299,7 +299,7 @@ pub struct Measures {
 /// `colour_checks`).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[schemars(deny_unknown_fields)]
-pub struct ColourChecks {
+pub struct ColorChecks {
     /// Counts on unlabelled texels / all counts (legend parts and
     /// unlabelled); absent without a PIdT or without counts.
     pub unlabelled_count_share: Option<f64>,
@@ -312,13 +312,13 @@ pub struct ColourChecks {
     /// `neighbours.jumps / neighbours.varying`, when anything varied.
     pub jump_share: Option<f64>,
     /// One per failed check, in the order above.
-    pub warnings: Vec<ColourWarning>,
+    pub warnings: Vec<ColorWarning>,
 }
 
 /// One failed check.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[schemars(deny_unknown_fields)]
-pub struct ColourWarning {
+pub struct ColorWarning {
     /// `unlabelled-counts`, `no-background` or `texel-jumps`.
     pub check: String,
     /// The measured share, in percent.

@@ -121,7 +121,7 @@ struct TexelsShown {
     /// What each of the lookup's slots shows: the legend's parts, then
     /// unlabelled, then neither.
     shown_of_slot: Vec<Shown>,
-    colours: Vec<[u8; 3]>,
+    colors: Vec<[u8; 3]>,
 }
 
 impl TexelsShown {
@@ -129,23 +129,23 @@ impl TexelsShown {
     /// [`STRIP_UNLABELLED`] when none does; the capture's `background`
     /// colours (which may name texels) are not the vehicle.
     fn new(labels: &LoadedLabels, background: &[crate::Color]) -> Self {
-        let mut colours = vec![STRIP_BACKGROUND, STRIP_UNLABELLED];
-        colours.extend(labels.legend.parts.iter().map(|part| part.color.rgb()));
-        let backgrounds: Vec<u32> = background.iter().map(|colour| colour.packed()).collect();
+        let mut colors = vec![STRIP_BACKGROUND, STRIP_UNLABELLED];
+        colors.extend(labels.legend.parts.iter().map(|part| part.color.rgb()));
+        let backgrounds: Vec<u32> = background.iter().map(|color| color.packed()).collect();
         let palette = Fcsp::Canonical { width: labels.pidt.width, height: labels.pidt.height };
         let parts = PartLookup::new(&palette, Some((&labels.legend, &labels.pidt)), &backgrounds);
         let legend_parts = labels.legend.parts.len() as Shown;
         let shown_of_slot = (2..legend_parts + 2).chain([UNLABELLED, NOT_VEHICLE]).collect();
-        TexelsShown { parts, shown_of_slot, colours }
+        TexelsShown { parts, shown_of_slot, colors }
     }
 
     /// What a pixel of colour `colour` shows.
-    fn of_colour(&self, colour: u32) -> Shown {
-        self.shown_of_slot[usize::from(self.parts.slot_table().get(colour))]
+    fn of_color(&self, color: u32) -> Shown {
+        self.shown_of_slot[usize::from(self.parts.slot_table().get(color))]
     }
 
     fn is_vehicle(&self, shown: Shown) -> bool {
-        self.colours[usize::from(shown)] != STRIP_BACKGROUND
+        self.colors[usize::from(shown)] != STRIP_BACKGROUND
     }
 }
 
@@ -167,8 +167,8 @@ impl ShownTile {
         let layout = reader.layout();
         let mut tile = ShownTile { size, row_starts: vec![0], runs: Vec::new() };
         if reader.interlaced() {
-            let colours = reader.into_colors()?;
-            for row in colours.chunks_exact(size[0].max(1) as usize) {
+            let colors = reader.into_colors()?;
+            for row in colors.chunks_exact(size[0].max(1) as usize) {
                 tile.push_row(row.iter().copied(), texels);
             }
         } else {
@@ -181,12 +181,12 @@ impl ShownTile {
     }
 
     /// Adds a row of pixel colours as its runs of what they show.
-    fn push_row(&mut self, colours: impl Iterator<Item = u32>, texels: &TexelsShown) {
+    fn push_row(&mut self, colors: impl Iterator<Item = u32>, texels: &TexelsShown) {
         let first = self.runs.len();
         let mut last = (u32::MAX, NOT_VEHICLE);
-        for (x, colour) in colours.enumerate() {
-            if colour != last.0 {
-                last = (colour, texels.of_colour(colour));
+        for (x, color) in colors.enumerate() {
+            if color != last.0 {
+                last = (color, texels.of_color(color));
             }
             let in_row = self.runs.len() > first;
             match self.runs.last_mut() {
@@ -321,7 +321,7 @@ impl ShownFrame {
                     at += 1;
                 }
                 let shown = runs.get(at).map_or(NOT_VEHICLE, |run| run.1);
-                out.extend_from_slice(&texels.colours[usize::from(shown)]);
+                out.extend_from_slice(&texels.colors[usize::from(shown)]);
             }
         }
         (out, [out_width, out_height])
@@ -455,10 +455,10 @@ mod tests {
         let legend = crate::Legend::new(Path::new("p.csv"), parts.to_vec()).unwrap();
         let labels = LoadedLabels { legend, pidt: Arc::new(pidt) };
         let texels = TexelsShown::new(&labels, &[crate::Color::from_packed(3)]);
-        assert_eq!(texels.colours, [STRIP_BACKGROUND, STRIP_UNLABELLED, [1; 3], [2; 3]]);
+        assert_eq!(texels.colors, [STRIP_BACKGROUND, STRIP_UNLABELLED, [1; 3], [2; 3]]);
         // Past the palette is no texel either.
         assert_eq!(
-            [0, 1, 2, 3, 4].map(|colour| texels.of_colour(colour)),
+            [0, 1, 2, 3, 4].map(|color| texels.of_color(color)),
             [2, 2, 3, NOT_VEHICLE, NOT_VEHICLE]
         );
         let tile = |runs: Vec<(u32, Shown)>| {

@@ -33,7 +33,7 @@ pub use html::write_comparison;
 pub use plots::font_available as plot_font_available;
 pub use raster::ZBuffer;
 pub use result_set::{MAP_FILE, ResultSetOptions, default_output_dir, write_results, write_results_with};
-pub use scenario_map::{MAP_SIZE, MapContent, MapFrame, SceneShapes, time_colour, write_scenario_map};
+pub use scenario_map::{MAP_SIZE, MapContent, MapFrame, SceneShapes, time_color, write_scenario_map};
 pub use scene_model::{SceneObject, write_scene_glb};
 pub use view_sheet::{WrittenViews, bar_ticks, write_views, write_views_with};
 pub use written_files::WrittenFiles;

@@ -216,8 +216,8 @@ impl VisibilitySeries {
 }
 
 /// Line colours of the top parts.
-fn series_colour(index: usize) -> RGBColor {
-    const COLOURS: [RGBColor; TOP_PARTS] = [
+fn series_color(index: usize) -> RGBColor {
+    const COLORS: [RGBColor; TOP_PARTS] = [
         RGBColor(31, 119, 180),
         RGBColor(255, 127, 14),
         RGBColor(44, 160, 44),
@@ -227,7 +227,7 @@ fn series_colour(index: usize) -> RGBColor {
         RGBColor(227, 119, 194),
         RGBColor(127, 127, 127),
     ];
-    COLOURS[index % TOP_PARTS]
+    COLORS[index % TOP_PARTS]
 }
 
 struct Visibility<'a> {
@@ -248,8 +248,8 @@ where
 {
     for (index, name) in names.iter().enumerate() {
         let y = 60 + 22 * index as i32;
-        let colour = series_colour(index);
-        panel.draw(&PathElement::new(vec![(8, y), (32, y)], colour.stroke_width(3)))?;
+        let color = series_color(index);
+        panel.draw(&PathElement::new(vec![(8, y), (32, y)], color.stroke_width(3)))?;
         panel.draw(&Text::new(name.to_string(), (40, y - 7), ("sans-serif", 13)))?;
     }
     Ok(())
@@ -306,14 +306,14 @@ impl Visibility<'_> {
         }
         mesh.draw()?;
         for (index, (_, ys)) in self.series.parts.iter().enumerate() {
-            let colour = series_colour(index);
+            let color = series_color(index);
             let mut points: Vec<(f64, f64)> = xs.iter().copied().zip(ys.iter().copied()).collect();
             if self.against_distance {
                 // Distance need not change monotonically: points, joined in distance order.
                 points.sort_by(|a, b| a.0.total_cmp(&b.0));
             }
             // A plain line: per-frame markers thicken it into a band at 181 frames.
-            chart.draw_series(LineSeries::new(points, colour.stroke_width(2)))?;
+            chart.draw_series(LineSeries::new(points, color.stroke_width(2)))?;
         }
         if text {
             let names: Vec<&str> = self.series.parts.iter().map(|(name, _)| name.as_str()).collect();
@@ -410,10 +410,10 @@ impl PartBars<'_> {
             }
             mesh.draw()?;
             chart.draw_series(order.iter().enumerate().map(|(row, &part)| {
-                let colour = if marked[part] { RGBColor(245, 140, 20) } else { RGBColor(70, 110, 180) };
+                let color = if marked[part] { RGBColor(245, 140, 20) } else { RGBColor(70, 110, 180) };
                 let mut bar = Rectangle::new(
                     [(0.0, SegmentValue::Exact(row)), (value(&parts[part]), SegmentValue::Exact(row + 1))],
-                    colour.filled(),
+                    color.filled(),
                 );
                 bar.set_margin(2, 2, 0, 0);
                 bar

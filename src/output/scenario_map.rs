@@ -29,7 +29,7 @@ const MOVING: RGBColor = RGBColor(70, 110, 200);
 const PEDESTRIAN: RGBColor = RGBColor(0, 150, 60);
 
 /// The trajectory's colour at `share` of the scenario's duration (0–1).
-pub fn time_colour(share: f64) -> [u8; 3] {
+pub fn time_color(share: f64) -> [u8; 3] {
     let color = colorous::VIRIDIS.eval_continuous(share.clamp(0.0, 1.0));
     [color.r, color.g, color.b]
 }
@@ -274,12 +274,12 @@ fn draw_footprint(
     root: &DrawingArea<BitMapBackend, Shift>,
     frame: &MapFrame,
     (shape, position, yaw_deg): (&[[f32; 3]], [f64; 3], f64),
-    colour: RGBColor,
+    color: RGBColor,
 ) -> Drawn {
     if let Some(corners) = footprint(shape, position, yaw_deg) {
         let mut points: Vec<(i32, i32)> = corners.iter().map(|c| frame.pixel(*c)).collect();
         points.push(points[0]);
-        root.draw(&PathElement::new(points, colour.stroke_width(2)))?;
+        root.draw(&PathElement::new(points, color.stroke_width(2)))?;
     }
     Ok(())
 }
@@ -291,8 +291,8 @@ fn draw_vehicle(layer: &Layer<'_, '_>) -> Drawn {
     let frames = &content.track.frames;
     let (start, end) = (frames[0].time_s, frames[frames.len() - 1].time_s);
     let share = |time: f64| if end > start { (time - start) / (end - start) } else { 0.0 };
-    let colour = |time: f64| {
-        let [r, g, b] = time_colour(share(time));
+    let color = |time: f64| {
+        let [r, g, b] = time_color(share(time));
         RGBColor(r, g, b)
     };
     let shape: Vec<[f32; 3]> = content
@@ -303,19 +303,19 @@ fn draw_vehicle(layer: &Layer<'_, '_>) -> Drawn {
         let at = frame.pixel([here.vehicle_position[0], here.vehicle_position[1]]);
         if let Some(eye) = here.eye_centre() {
             let eye = frame.pixel([eye[0], eye[1]]);
-            root.draw(&PathElement::new(vec![eye, at], colour(here.time_s).stroke_width(1)))?;
+            root.draw(&PathElement::new(vec![eye, at], color(here.time_s).stroke_width(1)))?;
         }
         draw_footprint(
             root,
             frame,
             (&shape, here.vehicle_position, here.vehicle_yaw_deg),
-            colour(here.time_s),
+            color(here.time_s),
         )?;
     }
     for pair in frames.windows(2) {
         let ends: Vec<(i32, i32)> =
             pair.iter().map(|f| frame.pixel([f.vehicle_position[0], f.vehicle_position[1]])).collect();
-        root.draw(&PathElement::new(ends, colour((pair[0].time_s + pair[1].time_s) / 2.0).stroke_width(5)))?;
+        root.draw(&PathElement::new(ends, color((pair[0].time_s + pair[1].time_s) / 2.0).stroke_width(5)))?;
     }
     Ok(())
 }
@@ -370,7 +370,7 @@ fn draw_words(layer: &Layer<'_, '_>) -> Drawn {
     // The time scale: viridis from the first frame's time to the last's.
     let (left, top) = (frame.plot[0], bottom + 30);
     for k in 0..300 {
-        let [r, g, b] = time_colour(f64::from(k) / 299.0);
+        let [r, g, b] = time_color(f64::from(k) / 299.0);
         root.draw(&PathElement::new(vec![(left + k, top), (left + k, top + 14)], RGBColor(r, g, b)))?;
     }
     let (start, end) = (frames[0].time_s, frames[frames.len() - 1].time_s);

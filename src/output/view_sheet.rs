@@ -189,7 +189,7 @@ pub fn contact_sheet(
             sheet[to..to + (width * 3) as usize].copy_from_slice(&rgb[from..from + (width * 3) as usize]);
         }
     }
-    let bar = ColourBar::new(sheet_width, height * 2, scale);
+    let bar = ColorBar::new(sheet_width, height * 2, scale);
     bar.paint(&mut sheet, sheet_width);
     if crate::output::plots::font_available() {
         label_sheet(&mut sheet, [sheet_width, sheet_height], [width, height], texture, &bar);
@@ -198,7 +198,7 @@ pub fn contact_sheet(
 }
 
 /// Where the colour bar lies on the sheet.
-struct ColourBar {
+struct ColorBar {
     scale: u32,
     top: u32,
     /// The never-seen swatch: from the margin to here.
@@ -208,11 +208,11 @@ struct ColourBar {
     end: u32,
 }
 
-impl ColourBar {
-    fn new(sheet_width: u32, top: u32, scale: u32) -> ColourBar {
+impl ColorBar {
+    fn new(sheet_width: u32, top: u32, scale: u32) -> ColorBar {
         let margin = 12 * scale;
         let grey_end = margin + sheet_width / 14;
-        ColourBar {
+        ColorBar {
             scale,
             top: top + 8 * scale,
             grey_end,
@@ -247,7 +247,7 @@ impl ColourBar {
 }
 
 /// Each view's name, the bar's ticks and numbers, its unit and the caption.
-fn label_sheet(sheet: &mut [u8], size: [u32; 2], view: [u32; 2], texture: &ViewTexture, bar: &ColourBar) {
+fn label_sheet(sheet: &mut [u8], size: [u32; 2], view: [u32; 2], texture: &ViewTexture, bar: &ColorBar) {
     let scale = bar.scale;
     let root = BitMapBackend::with_buffer(sheet, (size[0], size[1])).into_drawing_area();
     let style = ("sans-serif", 15 * scale).into_font().color(&BLACK);

@@ -34,7 +34,7 @@ const PAPER: [u8; 3] = [255, 255, 255];
 const BODY: [u8; 3] = [205, 205, 205];
 const OUTLINE: [u8; 3] = [20, 20, 20];
 /// One colour per member of a set (Okabe–Ito, distinguishable with colour blindness).
-const MEMBER_COLOURS: [[u8; 3]; 6] =
+const MEMBER_COLORS: [[u8; 3]; 6] =
     [[230, 159, 0], [0, 114, 178], [0, 158, 115], [204, 121, 167], [213, 94, 0], [86, 180, 233]];
 /// Height of a row's caption in `placement.png`.
 const CAPTION: u32 = 22;
@@ -82,7 +82,7 @@ pub struct PicturedSet {
     pub caption: String,
     pub marks: Vec<Mark>,
     /// Per mark, its colour's index: one per member, so a pair shares one.
-    pub colours: Vec<usize>,
+    pub colors: Vec<usize>,
 }
 
 /// The sets to draw: per kind, the best sets of 1 to [`PICTURED_SETS`]
@@ -97,7 +97,7 @@ pub fn pictured_sets(
         .map(|c| {
             let kind = c.kind.name();
             let candidates = c.candidates();
-            let colours = c.members.iter().enumerate().flat_map(|(i, m)| m.candidates.iter().map(move |_| i));
+            let colors = c.members.iter().enumerate().flat_map(|(i, m)| m.candidates.iter().map(move |_| i));
             PicturedSet {
                 name: format!("{kind}-best-{}", c.k),
                 caption: format!(
@@ -110,7 +110,7 @@ pub fn pictured_sets(
                     100.0 * c.share_of_time
                 ),
                 marks: candidates.iter().filter_map(|name| Mark::of(name, kind, footprints)).collect(),
-                colours: colours.collect(),
+                colors: colors.collect(),
             }
         })
         .collect()
@@ -123,7 +123,7 @@ pub fn render_marked(
     model: &VehicleModel,
     camera: &ViewCamera,
     marks: &[Mark],
-    colours: &[usize],
+    colors: &[usize],
 ) -> Vec<u8> {
     let [width, height] = camera.size;
     let mut rgb = PAPER.repeat((width * height) as usize);
@@ -140,8 +140,8 @@ pub fn render_marked(
                     (0..3).map(|corner| w[corner] * f64::from(corners[corner][axis])).sum()
                 });
                 let member = marks.iter().position(|mark| mark.covers(&part.name, p));
-                let colour = member.map(|m| colours.get(m).copied().unwrap_or(m) % MEMBER_COLOURS.len());
-                let base = colour.map_or(BODY, |c| MEMBER_COLOURS[c]);
+                let color = member.map(|m| colors.get(m).copied().unwrap_or(m) % MEMBER_COLORS.len());
+                let base = color.map_or(BODY, |c| MEMBER_COLORS[c]);
                 owner[pixel] = member.map_or(1, |m| 2 + m.min(250) as u8);
                 let lit = base.map(|c| (f64::from(c) * (0.55 + 0.45 * shade)).round() as u8);
                 rgb[pixel * 3..pixel * 3 + 3].copy_from_slice(&lit);
@@ -213,7 +213,7 @@ pub fn write_placement_picture(
     let mut views = Vec::with_capacity(sets.len());
     for (row, set) in sets.iter().enumerate() {
         let full: Vec<Vec<u8>> =
-            cameras.iter().map(|c| render_marked(model, c, &set.marks, &set.colours)).collect();
+            cameras.iter().map(|c| render_marked(model, c, &set.marks, &set.colors)).collect();
         let (sheet_w, sheet_h) = (view_w * 4, view_h * 2);
         let mut sheet = PAPER.repeat((sheet_w * sheet_h) as usize);
         for (index, picture) in full.iter().enumerate() {
@@ -229,7 +229,7 @@ pub fn write_placement_picture(
         crate::files::write_rgb_png(&path, sheet_w, sheet_h, &sheet, png::Compression::Fast)?;
         views.push(path);
         for (index, camera) in small.iter().enumerate() {
-            let picture = render_marked(model, camera, &set.marks, &set.colours);
+            let picture = render_marked(model, camera, &set.marks, &set.colors);
             let at = (index as u32 * view_w / 2, row as u32 * row_h + CAPTION);
             paste(&mut overview, overview_size.0, &picture, (view_w / 2, view_h / 2), at);
         }
@@ -294,13 +294,13 @@ mod tests {
         VehicleModel { parts: vec![part("front", front), part("body", body)] }
     }
 
-    fn count(rgb: &[u8], colour: [u8; 3], shade: f64) -> usize {
-        let lit = colour.map(|c| (f64::from(c) * (0.55 + 0.45 * shade)).round() as u8);
+    fn count(rgb: &[u8], color: [u8; 3], shade: f64) -> usize {
+        let lit = color.map(|c| (f64::from(c) * (0.55 + 0.45 * shade)).round() as u8);
         rgb.chunks_exact(3).filter(|p| *p == lit).count()
     }
 
     #[test]
-    fn a_chosen_part_is_coloured_only_where_it_faces_the_view() {
+    fn a_chosen_part_is_colored_only_where_it_faces_the_view() {
         let model = cube();
         let cameras = view_cameras(&model, 1);
         let marks = [Mark::Part("front".into())];
@@ -310,10 +310,10 @@ mod tests {
         let camera = &cameras[0];
         let expected = 2.0 * 2.0 * 15f64.to_radians().cos() * camera.pixels_per_metre.powi(2);
         let shade = 15f64.to_radians().cos();
-        let coloured = count(&front, MEMBER_COLOURS[0], shade) as f64;
+        let colored = count(&front, MEMBER_COLORS[0], shade) as f64;
         // Interior pixels only: the rim is outlined.
-        assert!(coloured < expected && coloured > 0.9 * expected, "{coloured} of {expected}");
-        assert_eq!(count(&rear, MEMBER_COLOURS[0], shade), 0, "hidden behind the body from the rear");
+        assert!(colored < expected && colored > 0.9 * expected, "{colored} of {expected}");
+        assert_eq!(count(&rear, MEMBER_COLORS[0], shade), 0, "hidden behind the body from the rear");
     }
 
     #[test]
@@ -328,13 +328,13 @@ mod tests {
         };
         let shade = 15f64.to_radians().cos();
         let drawn =
-            count(&render_marked(&model, camera, &[Mark::Patch(patch)], &[]), MEMBER_COLOURS[0], shade)
+            count(&render_marked(&model, camera, &[Mark::Patch(patch)], &[]), MEMBER_COLORS[0], shade)
                 as f64;
         let expected = 0.8 * 0.4 * shade * camera.pixels_per_metre.powi(2);
         assert!(drawn < expected && drawn > 0.8 * expected, "{drawn} of {expected}");
         let disc = count(
             &render_marked(&model, camera, &[Mark::Centre([1.0, 0.0, 1.0])], &[]),
-            MEMBER_COLOURS[0],
+            MEMBER_COLORS[0],
             shade,
         ) as f64;
         let expected =
@@ -343,7 +343,7 @@ mod tests {
     }
 
     #[test]
-    fn a_left_right_pair_shares_one_colour() {
+    fn a_left_right_pair_shares_one_color() {
         use crate::format::placement::{CandidateKind, MemberRecord, Method};
         let member = |names: &[&str]| MemberRecord {
             candidates: names.iter().map(|n| n.to_string()).collect(),
@@ -370,7 +370,7 @@ mod tests {
             runners_up: Vec::new(),
         };
         let pictured = pictured_sets(&[set], &BTreeMap::new());
-        assert_eq!(pictured[0].colours, vec![0, 0, 1]);
+        assert_eq!(pictured[0].colors, vec![0, 0, 1]);
         assert!(pictured[0].caption.contains("at most 3 displays (3 used)"), "{}", pictured[0].caption);
     }
 }

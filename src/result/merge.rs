@@ -21,7 +21,7 @@ use crate::error::{Error, Result};
 use crate::result::model::Analysis;
 use crate::result::resolution::ResolutionReport;
 use crate::result::summarize::{
-    colour_checks, is_input_warning, join_with_legend, saturation_warning, stray_warning,
+    color_checks, is_input_warning, join_with_legend, saturation_warning, stray_warning,
 };
 use crate::{
     result::model::{AnalysisResult, DedupeReport, ImageCounts, PixelCounts, RESULT_SCHEMA},
@@ -63,10 +63,10 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         warnings.extend(resolution.warnings());
     }
     let (images, pixels) = summed_images_and_pixels(paths, &summaries)?;
-    let colour_checks =
-        merged_colour_checks(&summaries, &images, &pixels, &table, &unlabelled, &mut warnings);
+    let color_checks =
+        merged_color_checks(&summaries, &images, &pixels, &table, &unlabelled, &mut warnings);
     let mut notes = first.notes.clone();
-    notes.extend(stray_colours_note(&summaries));
+    notes.extend(stray_colors_note(&summaries));
     let sum = |what: &str, field: fn(&AnalysisResult) -> u64| checked_sum(paths, &summaries, what, field);
     let mut result = AnalysisResult {
         schema: RESULT_SCHEMA.to_string(),
@@ -76,7 +76,7 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         pixels,
         stray_pixels,
         stray_colors: sum("stray_colors", |s| s.stray_colors)?,
-        stray_color_examples: stray_colour_examples(&summaries),
+        stray_color_examples: stray_color_examples(&summaries),
         background_pixels: sum("background_pixels", |s| s.background_pixels)?,
         grand_total,
         max_count: texel_counts.iter().copied().max().unwrap_or(0),
@@ -93,7 +93,7 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         notes,
         resolution,
         measures: None,
-        colour_checks,
+        color_checks,
     };
     let frames = merged_frames(paths)?;
     let vehicle_model = archive_vehicle(&result.settings);
@@ -181,7 +181,7 @@ fn summed_images_and_pixels(
 }
 
 /// Why `stray_colors` is an upper bound, when more than one shard saw strays.
-fn stray_colours_note(summaries: &[AnalysisResult]) -> Option<String> {
+fn stray_colors_note(summaries: &[AnalysisResult]) -> Option<String> {
     let shards_with_strays = summaries.iter().filter(|s| s.stray_colors > 0).count();
     (shards_with_strays > 1).then(|| {
         format!(
@@ -193,7 +193,7 @@ fn stray_colours_note(summaries: &[AnalysisResult]) -> Option<String> {
 
 /// The shards' stray colour examples, sorted, without repeats, at most
 /// [`EXAMPLES`].
-fn stray_colour_examples(summaries: &[AnalysisResult]) -> Vec<Color> {
+fn stray_color_examples(summaries: &[AnalysisResult]) -> Vec<Color> {
     let mut examples: Vec<Color> =
         summaries.iter().flat_map(|s| s.stray_color_examples.iter().copied()).collect();
     examples.sort_by_key(|c| c.packed());
@@ -227,21 +227,21 @@ fn merge_input_files(
 /// The colour checks of the shards together: judged again from their summed
 /// pixels, trimmed tiles and neighbour samples and the merged counts (absent
 /// when a shard has none, e.g. an older result or an exact measure).
-fn merged_colour_checks(
+fn merged_color_checks(
     summaries: &[AnalysisResult],
     images: &ImageCounts,
     pixels: &PixelCounts,
     table: &Option<crate::result::part_stats::PartTable>,
     unlabelled: &Option<crate::result::model::UnlabelledReport>,
     warnings: &mut Vec<String>,
-) -> Option<crate::checks::ColourChecks> {
-    let shards: Vec<&crate::checks::ColourChecks> =
-        summaries.iter().map(|s| s.colour_checks.as_ref()).collect::<Option<_>>()?;
+) -> Option<crate::checks::ColorChecks> {
+    let shards: Vec<&crate::checks::ColorChecks> =
+        summaries.iter().map(|s| s.color_checks.as_ref()).collect::<Option<_>>()?;
     let neighbours = shards.iter().try_fold(crate::checks::NeighbourSample::default(), |mut sum, c| {
         sum.add(c.neighbours.as_ref()?);
         Some(sum)
     });
-    let facts = crate::checks::colour_damage::ColourFacts {
+    let facts = crate::checks::color_damage::ColorFacts {
         unlabelled_counts: unlabelled.as_ref().map(|u| u.total),
         labelled_counts: table.as_ref().map_or(0, |t| t.grand_total),
         decoded_pixels: pixels.decoded,
@@ -249,7 +249,7 @@ fn merged_colour_checks(
         background_tiles: images.trimmed,
         neighbours,
     };
-    Some(colour_checks(&facts, warnings))
+    Some(color_checks(&facts, warnings))
 }
 
 /// The vehicle model the archive's manifest names (as the whole analysis

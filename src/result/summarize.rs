@@ -16,8 +16,8 @@ use crate::archive::resolve::{
     UNREADABLE_VEHICLE_WARNING,
 };
 use crate::archive::shard::Shard;
-use crate::checks::colour_damage::{ColourFacts, UNLABELLED_CHECK};
-use crate::checks::{ColourChecks, ColourWarning, NeighbourSample};
+use crate::checks::color_damage::{ColorFacts, UNLABELLED_CHECK};
+use crate::checks::{ColorChecks, ColorWarning, NeighbourSample};
 use crate::color::Color;
 use crate::color::sets::AtomicColorSet;
 use crate::count::counts::Counts;
@@ -190,7 +190,7 @@ fn finish(
         .resolution_report
         .then(|| ResolutionReport::new(tally.texel_pixels, per_image_total, &inputs.geometry));
     warnings.extend(resolution.iter().flat_map(ResolutionReport::warnings));
-    let colour_facts = ColourFacts {
+    let color_facts = ColorFacts {
         unlabelled_counts: unlabelled.as_ref().map(|u| u.total),
         labelled_counts: table.as_ref().map_or(grand_total, |t| t.grand_total),
         decoded_pixels,
@@ -198,7 +198,7 @@ fn finish(
         background_tiles: tally.images.trimmed,
         neighbours: tally.neighbours,
     };
-    let colour_checks = per_texel.resolution_report.then(|| colour_checks(&colour_facts, &mut warnings));
+    let color_checks = per_texel.resolution_report.then(|| color_checks(&color_facts, &mut warnings));
     let result = AnalysisResult {
         schema: RESULT_SCHEMA.to_string(),
         measure: per_texel.measure.to_string(),
@@ -226,7 +226,7 @@ fn finish(
         notes,
         resolution,
         measures: None,
-        colour_checks,
+        color_checks,
     };
     Ok(Analysis {
         result,
@@ -322,9 +322,9 @@ pub(crate) fn saturation_warning(texel_counts: &[u32]) -> Option<String> {
 /// Judges the colour checks and adds their warnings to `warnings`, with,
 /// when no check warned about them, the plain fact of counts on unlabelled
 /// texels (a PIdT that misses a part, perhaps).
-pub(crate) fn colour_checks(facts: &ColourFacts, warnings: &mut Vec<String>) -> ColourChecks {
-    let checks = ColourChecks::judge(facts);
-    warnings.extend(checks.warnings.iter().map(ColourWarning::line));
+pub(crate) fn color_checks(facts: &ColorFacts, warnings: &mut Vec<String>) -> ColorChecks {
+    let checks = ColorChecks::judge(facts);
+    warnings.extend(checks.warnings.iter().map(ColorWarning::line));
     let unlabelled_warned = checks.warnings.iter().any(|w| w.check == UNLABELLED_CHECK);
     if let (Some(total), Some(share)) = (facts.unlabelled_counts, checks.unlabelled_count_share)
         && total > 0

@@ -82,7 +82,7 @@ fn heatmap_pixels_follow_plasma() {
 }
 
 #[test]
-fn background_colour_that_is_a_palette_colour_is_ignored() {
+fn background_color_that_is_a_palette_color_is_ignored() {
     let dir = tempfile::tempdir().unwrap();
     let archive = dir.path().join("archive");
     rgb_png(&archive.join("a.png"), 2, 1, &[7, 3]);
@@ -120,7 +120,7 @@ fn custom_palette_in_any_layout() {
 }
 
 #[test]
-fn palette_with_repeated_colour_is_rejected_with_position() {
+fn palette_with_repeated_color_is_rejected_with_position() {
     let dir = tempfile::tempdir().unwrap();
     rgb_png(&dir.path().join("palette.png"), 2, 2, &[1, 2, 3, 2]);
     std::fs::create_dir(dir.path().join("archive")).unwrap();

@@ -28,7 +28,7 @@ fn rgb(path: &Path) -> (u32, Vec<u8>) {
 }
 
 #[test]
-fn the_trajectory_is_drawn_where_the_manifest_puts_the_vehicle_in_its_times_colour() {
+fn the_trajectory_is_drawn_where_the_manifest_puts_the_vehicle_in_its_times_color() {
     if !ufcsr::plot_font_available() {
         // Without a font the map is not written; the analysis test below checks that.
         return;
@@ -50,7 +50,7 @@ fn the_trajectory_is_drawn_where_the_manifest_puts_the_vehicle_in_its_times_colo
         let (x, y) = frame.pixel(middle);
         let i = (y as usize * width as usize + x as usize) * 3;
         let share = ((pair[0].time_s + pair[1].time_s) / 2.0 - start) / (end - start);
-        if pixels[i..i + 3] == ufcsr::time_colour(share) {
+        if pixels[i..i + 3] == ufcsr::time_color(share) {
             matching += 1;
         }
     }
@@ -78,7 +78,7 @@ fn an_analysis_with_a_manifest_writes_the_map() {
 }
 
 #[test]
-fn the_frame_strip_shows_frames_of_one_eye_in_part_colours() {
+fn the_frame_strip_shows_frames_of_one_eye_in_part_colors() {
     let (dir, analysis, written) = example_results();
     let strip = dir.path().join(ufcsr::FRAME_STRIP_FILE);
     assert_eq!(written.frames_strip_png.as_deref(), Some(strip.as_path()));
@@ -87,15 +87,15 @@ fn the_frame_strip_shows_frames_of_one_eye_in_part_colours() {
     // One row of frames, scaled to the strip's height, under a row of labels.
     assert_eq!(height, ufcsr::STRIP_FRAME_HEIGHT + 34);
     let mut allowed: Vec<[u8; 3]> =
-        analysis.result.parts.iter().filter_map(|part| part.color).map(|colour| colour.rgb()).collect();
+        analysis.result.parts.iter().filter_map(|part| part.color).map(|color| color.rgb()).collect();
     allowed.extend([ufcsr::STRIP_BACKGROUND, ufcsr::STRIP_UNLABELLED, [255, 255, 255]]);
     let below_labels = &pixels[(34 * width * 3) as usize..];
     let mut parts_shown = std::collections::BTreeSet::new();
     for pixel in below_labels.chunks(3) {
-        let colour = [pixel[0], pixel[1], pixel[2]];
-        assert!(allowed.contains(&colour), "{colour:?} is no part's colour");
-        if colour != ufcsr::STRIP_BACKGROUND && colour != [255, 255, 255] {
-            parts_shown.insert(colour);
+        let color = [pixel[0], pixel[1], pixel[2]];
+        assert!(allowed.contains(&color), "{color:?} is no part's colour");
+        if color != ufcsr::STRIP_BACKGROUND && color != [255, 255, 255] {
+            parts_shown.insert(color);
         }
     }
     // Scenario A's frames show the truck's front and right: many parts.

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 /// everything not white is the vehicle, except the compass in the top-right
 /// corner; never-seen grey stays grey (r = g = b) when shaded or outlined,
 /// while the plasma scale has no grey.
-fn coloured_pixels(path: &Path) -> (usize, usize) {
+fn colored_pixels(path: &Path) -> (usize, usize) {
     let (width, _, pixels) = rgb(path);
     let compass = 68 * ufcsr::DEFAULT_VIEWS_SCALE as usize;
     let (mut seen, mut vehicle) = (0, 0);
@@ -41,14 +41,14 @@ fn eight_views_show_the_heatmap_where_the_pedestrian_looked() {
     let written = ufcsr::write_results(&mut analysis, dir.path()).unwrap();
     assert_eq!(written.views_png.as_deref(), Some(dir.path().join("views.png").as_path()));
     let share = |name: &str| {
-        let (seen, vehicle) = coloured_pixels(&dir.path().join(format!("views/{name}.png")));
+        let (seen, vehicle) = colored_pixels(&dir.path().join(format!("views/{name}.png")));
         assert!(vehicle > 20_000, "{name}: the vehicle covers only {vehicle} pixels");
         seen as f64 / vehicle as f64
     };
     let (front, right, rear, left) = (share("front"), share("right"), share("rear"), share("left"));
     assert!(front > 0.5 && right > 0.3, "front {front:.2}, right {right:.2}");
     assert!(rear < 0.05 && left < 0.1, "rear {rear:.2}, left {left:.2}");
-    let (seen, vehicle) = coloured_pixels(&dir.path().join("views.png"));
+    let (seen, vehicle) = colored_pixels(&dir.path().join("views.png"));
     assert!(seen > 0 && vehicle > seen);
 }
 

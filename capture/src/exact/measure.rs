@@ -269,9 +269,9 @@ fn measures_block(
 
 fn write_estimates(path: &std::path::Path, estimates: &[PartEstimate]) -> Result<()> {
     let mut table = csv::Writer::from_path(path)
-        .map_err(|e| CaptureError::bad_input(path, format!("writing CSV: {e}")))?;
+        .map_err(|e| CaptureError::bad_file(path, format!("writing CSV: {e}")))?;
     for estimate in estimates {
-        table.serialize(estimate).map_err(|e| CaptureError::bad_input(path, format!("writing CSV: {e}")))?;
+        table.serialize(estimate).map_err(|e| CaptureError::bad_file(path, format!("writing CSV: {e}")))?;
     }
     table.flush().map_err(|e| CaptureError::io(path, e))
 }

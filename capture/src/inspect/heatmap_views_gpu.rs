@@ -93,7 +93,7 @@ pub fn views_from_results(
     let counts = ufcsr::read_texel_counts(&options.results.join("result.json"))?;
     let model_path = options.model.clone().unwrap_or_else(|| options.results.join("heatmap.glb"));
     if !model_path.is_file() {
-        return Err(CaptureError::BadInput {
+        return Err(CaptureError::BadFile {
             path: model_path,
             message: "no vehicle model here (the result has no heatmap.glb; name the model with --model)"
                 .into(),

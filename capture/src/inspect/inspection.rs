@@ -151,11 +151,11 @@ fn vehicle_spec(input: &Path) -> Result<(VehicleSpec, PathBuf)> {
     if is_scene {
         let bytes = ufcsr::read_limited(input, ufcsr::SMALL_INPUT_LIMIT)?;
         let file: SceneFile = serde_json::from_slice(&bytes)
-            .map_err(|e| CaptureError::bad_input(input, format!("invalid scene file: {e}")))?;
+            .map_err(|e| CaptureError::bad_file(input, format!("invalid scene file: {e}")))?;
         return Ok((file.vehicle, base));
     }
     let Some(name) = input.file_name() else {
-        return Err(CaptureError::bad_input(input, "not a scene file or mesh"));
+        return Err(CaptureError::bad_file(input, "not a scene file or mesh"));
     };
     let spec = VehicleSpec {
         mesh: name.to_string_lossy().into_owned(),

@@ -85,9 +85,9 @@ fn shell_quote(text: &str) -> String {
 pub fn load(path: &Path) -> Result<Batch> {
     let bytes = ufcsr::read_limited(path, 16 << 20)?;
     let mut batch: Batch = serde_json::from_slice(&bytes)
-        .map_err(|e| CaptureError::bad_input(path, format!("invalid batch file: {e}")))?;
+        .map_err(|e| CaptureError::bad_file(path, format!("invalid batch file: {e}")))?;
     batch.path = path.to_path_buf();
-    check(&batch).map_err(|message| CaptureError::bad_input(path, message))?;
+    check(&batch).map_err(|message| CaptureError::bad_file(path, message))?;
     Ok(batch)
 }
 
@@ -142,7 +142,7 @@ fn one_line(field: &str, text: &str) -> std::result::Result<(), String> {
 /// error names the batch file and the scene; two tasks writing into one
 /// folder are an error too.
 pub fn plan(batch: &Batch, base: &Path, program: &str) -> Result<Vec<Task>> {
-    let in_batch = |message: String| CaptureError::bad_input(&batch.path, message);
+    let in_batch = |message: String| CaptureError::bad_file(&batch.path, message);
     check(batch).and_then(|()| one_line("program", program)).map_err(in_batch)?;
     let mut tasks: Vec<Task> = Vec::new();
     for (scene_index, scene_name) in batch.scenes.iter().enumerate() {

@@ -452,7 +452,7 @@ pub fn write_manifest(
             let dir = options.out.join(capture_shard::SHARDS_DIR);
             std::fs::create_dir_all(&dir).map_err(|e| CaptureError::io(&dir, e))?;
             let bytes = serde_json::to_vec_pretty(&manifest)
-                .map_err(|e| CaptureError::bad_input(&path, e.to_string()))?;
+                .map_err(|e| CaptureError::bad_file(&path, e.to_string()))?;
             ufcsr::write_bytes_atomically(&path, &bytes)?;
         }
     }
@@ -499,7 +499,7 @@ pub fn capture_all(
 /// Returns `(vehicle pixels, stray pixels)`.
 pub fn verify(dir: &Path) -> Result<(u64, u64)> {
     let manifest =
-        Manifest::load_from_dir(dir)?.ok_or_else(|| CaptureError::bad_input(dir, "no manifest.json"))?;
+        Manifest::load_from_dir(dir)?.ok_or_else(|| CaptureError::bad_file(dir, "no manifest.json"))?;
     // Colour → texel index: computed for the canonical palette, looked up otherwise.
     let (w, h, lookup) = match &manifest.palette {
         Some(PaletteRecord::Canonical { canonical: [w, h] }) => (*w, *h, None),
@@ -514,7 +514,7 @@ pub fn verify(dir: &Path) -> Result<(u64, u64)> {
     };
     let (size, pidt) = read_rgb_png(&dir.join("pidt.png"))?;
     if size != [w, h] {
-        return Err(CaptureError::bad_input(dir, "pidt.png does not match the palette size"));
+        return Err(CaptureError::bad_file(dir, "pidt.png does not match the palette size"));
     }
     let (mut vehicle, mut stray) = (0u64, 0u64);
     for tile in &manifest.tiles {

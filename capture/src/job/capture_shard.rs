@@ -81,7 +81,7 @@ pub fn assemble(archive: &Path) -> Result<Assembled> {
     let dir = archive.join(SHARDS_DIR);
     if std::fs::symlink_metadata(&dir).is_ok_and(|m| m.file_type().is_symlink()) {
         // Assembling removes the parts: through a link, from another folder.
-        return Err(CaptureError::bad_input(
+        return Err(CaptureError::bad_file(
             &dir,
             "is a link: the shards' manifests must be in a real folder inside the archive",
         ));
@@ -107,7 +107,7 @@ pub fn assemble(archive: &Path) -> Result<Assembled> {
     let manifest_path = archive.join(MANIFEST_FILE);
     let tiles = manifest.tiles.len();
     let text =
-        serde_json::to_vec(&manifest).map_err(|e| CaptureError::bad_input(&manifest_path, e.to_string()))?;
+        serde_json::to_vec(&manifest).map_err(|e| CaptureError::bad_file(&manifest_path, e.to_string()))?;
     Manifest::parse(&manifest_path, &text)?;
     manifest.write_to_dir(archive)?;
     for part in &parts {
@@ -123,7 +123,7 @@ pub fn assemble(archive: &Path) -> Result<Assembled> {
 fn read_parts(dir: &Path) -> Result<Vec<ShardPart>> {
     let mut parts = Vec::new();
     let entries = std::fs::read_dir(dir).map_err(|e| {
-        CaptureError::bad_input(dir, format!("no shard manifests to assemble ({e}); run the shards first"))
+        CaptureError::bad_file(dir, format!("no shard manifests to assemble ({e}); run the shards first"))
     })?;
     for entry in entries {
         let entry = entry.map_err(|e| CaptureError::io(dir, e))?;
@@ -133,7 +133,7 @@ fn read_parts(dir: &Path) -> Result<Vec<ShardPart>> {
             if name.starts_with('.') {
                 continue; // an atomic write's temporary file
             }
-            return Err(CaptureError::bad_input(
+            return Err(CaptureError::bad_file(
                 &path,
                 "is not a shard manifest (manifest-I-of-N.json): remove it or move it out of shards/",
             ));
@@ -141,13 +141,13 @@ fn read_parts(dir: &Path) -> Result<Vec<ShardPart>> {
         let bytes = ufcsr::read_limited(&path, ufcsr::SMALL_INPUT_LIMIT)?;
         let manifest = Manifest::parse(&path, &bytes)?;
         let Some(recorded) = manifest.capture.as_ref().and_then(|capture| capture.shard.clone()) else {
-            return Err(CaptureError::bad_input(
+            return Err(CaptureError::bad_file(
                 &path,
                 "has no capture.shard (an older ufcsr-capture, or edited): capture the shards again",
             ));
         };
         if (recorded.index, recorded.count) != (shard.index, shard.count) {
-            return Err(CaptureError::bad_input(
+            return Err(CaptureError::bad_file(
                 &path,
                 format!("its capture.shard does not say {shard}, as its name does"),
             ));
@@ -157,7 +157,7 @@ fn read_parts(dir: &Path) -> Result<Vec<ShardPart>> {
     }
     parts.sort_by_key(|part| part.shard.index);
     if parts.is_empty() {
-        return Err(CaptureError::bad_input(dir, "holds no shard manifest (manifest-I-of-N.json)"));
+        return Err(CaptureError::bad_file(dir, "holds no shard manifest (manifest-I-of-N.json)"));
     }
     Ok(parts)
 }
@@ -170,7 +170,7 @@ fn check_complete(dir: &Path, parts: &[ShardPart]) -> Result<u32> {
     let mut seen = vec![false; count as usize];
     for part in parts {
         if part.shard.count != count {
-            return Err(CaptureError::bad_input(
+            return Err(CaptureError::bad_file(
                 &part.path,
                 format!("is shard {}, but {} is of {count} shards", part.shard, first.path.display()),
             ));
@@ -178,7 +178,7 @@ fn check_complete(dir: &Path, parts: &[ShardPart]) -> Result<u32> {
         seen[part.shard.index as usize] = true;
     }
     if let Some(missing) = seen.iter().position(|&s| !s) {
-        return Err(CaptureError::bad_input(
+        return Err(CaptureError::bad_file(
             dir,
             format!(
                 "shard {missing}/{count} is missing (no manifest-{missing}-of-{count}.json): it has not \
@@ -197,7 +197,7 @@ fn check_agreement(parts: &[ShardPart]) -> Result<()> {
         let other = without_shard_fields(&part.manifest);
         if other != reference {
             let field = differing_field(&reference, &other);
-            return Err(CaptureError::bad_input(
+            return Err(CaptureError::bad_file(
                 &part.path,
                 format!(
                     "its {field} differs from {}'s: only shards of one capture (same scene, scenario, rig, \
@@ -215,7 +215,7 @@ fn check_agreement(parts: &[ShardPart]) -> Result<()> {
 /// of one of its frames: an emptied or edited part manifest would drop
 /// frames from the archive without a word.
 fn check_accounted(part: &ShardPart, first: &ShardPart) -> Result<()> {
-    let refuse = |message: String| Err(CaptureError::bad_input(&part.path, message));
+    let refuse = |message: String| Err(CaptureError::bad_file(&part.path, message));
     if part.selected != first.selected {
         return refuse(format!("its selected frames differ from {}'s", first.path.display()));
     }
@@ -257,13 +257,13 @@ fn joined_frames(dir: &Path, parts: &[ShardPart]) -> Result<Vec<FrameEntry>> {
     for part in parts {
         match &part.manifest.frames {
             Some(records) => frames.extend(records.iter().cloned()),
-            None => return Err(CaptureError::bad_input(&part.path, "has no frames list")),
+            None => return Err(CaptureError::bad_file(&part.path, "has no frames list")),
         }
     }
     frames.sort_by_key(|record| record.frame);
     let numbers: BTreeSet<u32> = frames.iter().map(|r| r.frame).collect();
     if numbers.len() != frames.len() {
-        return Err(CaptureError::bad_input(
+        return Err(CaptureError::bad_file(
             dir,
             "two shards captured the same frame: they are not of one split",
         ));

@@ -208,7 +208,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn rgb_keeps_every_pixel_s_colour_in_order_and_drops_alpha() {
+    fn rgb_keeps_every_pixel_s_color_in_order_and_drops_alpha() {
         let mut rgb = vec![7; 100];
         rgba_to_rgb(&[1, 2, 3, 255, 4, 5, 6, 0, 7, 8, 9, 128], &mut rgb);
         assert_eq!(rgb, [1, 2, 3, 4, 5, 6, 7, 8, 9]);

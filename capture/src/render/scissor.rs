@@ -144,12 +144,12 @@ mod tests {
     }
 
     #[test]
-    fn a_background_tile_is_the_colour_repeated_for_any_size() {
+    fn a_background_tile_is_the_color_repeated_for_any_size() {
         for size in [[0, 0], [1, 1], [3, 2], [7, 5], [512, 3]] {
-            let colour = [10, 20, 30, 255];
+            let color = [10, 20, 30, 255];
             let expected: Vec<u8> =
-                colour.iter().copied().cycle().take((size[0] * size[1] * 4) as usize).collect();
-            assert_eq!(background_tile(size, colour), expected, "{size:?}");
+                color.iter().copied().cycle().take((size[0] * size[1] * 4) as usize).collect();
+            assert_eq!(background_tile(size, color), expected, "{size:?}");
         }
     }
 

@@ -265,7 +265,7 @@ pub(crate) fn load_model(path: &Path, source: PartSource, axes: &Axes) -> Result
             (gltf_mesh(path, &gltf, source, axes)?, gltf_files(path, &gltf)?)
         }
         "obj" => load_obj(path, source, axes)?,
-        _ => return Err(CaptureError::bad_input(path, "vehicle mesh must be .glb, .gltf or .obj")),
+        _ => return Err(CaptureError::bad_file(path, "vehicle mesh must be .glb, .gltf or .obj")),
     };
     check_model(path, &mesh)?;
     Ok((mesh, files))
@@ -306,7 +306,7 @@ pub(crate) fn gltf_mesh(
     let convert = axes.converter()?;
     let scene = gltf.document.default_scene().or_else(|| gltf.document.scenes().next());
     let Some(scene) = scene else {
-        return Err(CaptureError::bad_input(path, "glTF has no scene"));
+        return Err(CaptureError::bad_file(path, "glTF has no scene"));
     };
     let mut mesh = Mesh { uvs: Some(Vec::new()), ..Mesh::default() };
     let mut stack: Vec<(gltf::Node, glam::Mat4)> = scene.nodes().map(|n| (n, glam::Mat4::IDENTITY)).collect();
@@ -315,7 +315,7 @@ pub(crate) fn gltf_mesh(
     let mut visited = vec![false; gltf.document.nodes().len()];
     while let Some((node, parent)) = stack.pop() {
         if std::mem::replace(&mut visited[node.index()], true) {
-            return Err(CaptureError::bad_input(
+            return Err(CaptureError::bad_file(
                 path,
                 format!(
                     "glTF node {} appears twice in the node tree (a cycle or a shared child)",

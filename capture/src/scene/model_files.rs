@@ -61,7 +61,7 @@ pub fn obj_from_bytes(
     if let Some(error) = refused.into_inner() {
         return Err(error.into());
     }
-    let (models, materials) = loaded.map_err(|e| CaptureError::bad_input(path, format!("OBJ: {e}")))?;
+    let (models, materials) = loaded.map_err(|e| CaptureError::bad_file(path, format!("OBJ: {e}")))?;
     Ok((models, materials.unwrap_or_default()))
 }
 
@@ -112,7 +112,7 @@ fn check_obj_indices(path: &Path, bytes: &[u8]) -> Result<()> {
                             .parse::<i64>()
                             .is_ok_and(|i| (1..=MAX_OBJ_INDEX).contains(&i) || (-known..0).contains(&i));
                         if !fits {
-                            return Err(CaptureError::bad_input(
+                            return Err(CaptureError::bad_file(
                                 path,
                                 format!(
                                     "line {}: index {index:?} is neither from 1 to {MAX_OBJ_INDEX} nor a relative \

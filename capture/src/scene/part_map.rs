@@ -130,7 +130,7 @@ impl PartMap {
         let (map_path, legend_path) = (base.join(&spec.part_map), base.join(&spec.legend));
         let legend = Legend::load(&legend_path)?;
         if legend.parts.is_empty() {
-            return Err(CaptureError::bad_input(&legend_path, "the part map's legend lists no part"));
+            return Err(CaptureError::bad_file(&legend_path, "the part map's legend lists no part"));
         }
         let image = ufcsr::read_color_image(&map_path, |width, height| {
             if width <= MAX_SIDE && height <= MAX_SIDE {
@@ -145,7 +145,7 @@ impl PartMap {
         let mut parts = BTreeMap::new();
         for (index, part) in legend.parts.iter().enumerate() {
             if part.name == UNMAPPED_PART {
-                return Err(CaptureError::bad_input(
+                return Err(CaptureError::bad_file(
                     scene,
                     format!(
                         "vehicle.parts_from: the legend may not name a part {UNMAPPED_PART:?} (it is ufcsr's)"
@@ -174,7 +174,7 @@ pub fn apply(mesh: &mut Mesh, spec: &PartMapSpec, base: &Path, scene: &Path) -> 
     let has_uvs =
         |triangle: &[u32; 3]| triangle.iter().all(|&i| uvs.get(i as usize).is_some_and(|uv| uv.is_finite()));
     if !mesh.triangles.iter().any(has_uvs) {
-        return Err(CaptureError::bad_input(
+        return Err(CaptureError::bad_file(
             scene,
             "vehicle.parts_from.part_map is painted over the model's own UVs, but the model has none (TEXCOORD_0 / vt)",
         ));
@@ -305,7 +305,7 @@ mod tests {
     }
 
     #[test]
-    fn overlapping_uvs_take_their_parts_from_the_map_and_unlisted_colours_are_counted() {
+    fn overlapping_uvs_take_their_parts_from_the_map_and_unlisted_colors_are_counted() {
         let dir = tempfile::tempdir().unwrap();
         write_map(dir.path());
         let mut mesh = overlapping_mesh();

@@ -340,7 +340,7 @@ impl Scene {
     /// messages; meshes and the `unity` file are read relative to its folder).
     pub fn parse(path: &Path, bytes: &[u8]) -> Result<Scene> {
         let file: SceneFile = serde_json::from_slice(bytes)
-            .map_err(|e| CaptureError::bad_input(path, format!("invalid scene file: {e}")))?;
+            .map_err(|e| CaptureError::bad_file(path, format!("invalid scene file: {e}")))?;
         let base = path.parent().unwrap_or(Path::new("."));
         let crate::scene::vehicle::Vehicle { mesh: vehicle, warnings, files, .. } =
             crate::scene::vehicle::build(&file.vehicle, base, path)?;
@@ -356,19 +356,19 @@ impl Scene {
         if let Some(own) = &file.rig {
             rig = own.clone();
         }
-        rig.check().map_err(|e| CaptureError::bad_input(path, format!("rig: {e}")))?;
+        rig.check().map_err(|e| CaptureError::bad_file(path, format!("rig: {e}")))?;
         if !file.scenarios.is_empty() {
             scenarios = own_scenarios(path, &file)?;
         }
         if scenarios.is_empty() {
-            return Err(CaptureError::bad_input(
+            return Err(CaptureError::bad_file(
                 path,
                 "the scene has no scenarios (give \"scenarios\" or \"unity\")",
             ));
         }
         for scenario in &scenarios {
             crate::scene::scenario::check_frame_time(scenario, rig.fps, "rig.fps")
-                .map_err(|message| CaptureError::bad_input(path, message))?;
+                .map_err(|message| CaptureError::bad_file(path, message))?;
         }
 
         let (occluders, occluder_files) = build_occluders(&file.occluders, path, &vehicle, &rig)?;
@@ -409,9 +409,9 @@ fn own_scenarios(path: &Path, file: &SceneFile) -> Result<Vec<Scenario>> {
     let mut scenarios = Vec::new();
     for (name, spec) in &file.scenarios {
         let motion = Motion { position: spec.position.clone(), yaw_deg: spec.yaw_deg.clone() };
-        motion.check().map_err(|e| CaptureError::bad_input(path, format!("scenario {name}: {e}")))?;
+        motion.check().map_err(|e| CaptureError::bad_file(path, format!("scenario {name}: {e}")))?;
         crate::scene::scenario::check_duration(spec.duration_s)
-            .map_err(|message| CaptureError::bad_input(path, format!("scenario {name}: {message}")))?;
+            .map_err(|message| CaptureError::bad_file(path, format!("scenario {name}: {message}")))?;
         scenarios.push(Scenario { name: name.clone(), duration_s: spec.duration_s, motion });
     }
     Ok(scenarios)
@@ -433,7 +433,7 @@ fn build_occluders(
         let name = spec.name(number);
         spec.check().map_err(|message| {
             let which = name.clone().unwrap_or_else(|| format!("#{number}"));
-            CaptureError::bad_input(path, format!("occluders[{number}] ({which}): {message}"))
+            CaptureError::bad_file(path, format!("occluders[{number}] ({which}): {message}"))
         })?;
         let own: Mesh = match &spec.shape {
             OccluderShape::Box { min, max } => {

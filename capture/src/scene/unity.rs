@@ -77,7 +77,7 @@ pub fn load(path: &Path) -> Result<(Rig, Vec<Scenario>)> {
 /// messages. The rig, tracks and durations get the scene file's bounds.
 pub fn parse(path: &Path, bytes: &[u8]) -> Result<(Rig, Vec<Scenario>)> {
     let file: File = serde_json::from_slice(bytes)
-        .map_err(|e| CaptureError::bad_input(path, format!("not a Unity scenario export: {e}")))?;
+        .map_err(|e| CaptureError::bad_file(path, format!("not a Unity scenario export: {e}")))?;
     let ped = &file.pedestrian;
     let eye = position_from_unity(ped.eyes_position);
     let [w, h] = file.capture.eye_resolution;
@@ -94,15 +94,15 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<(Rig, Vec<Scenario>)> {
         far_m: ped.far,
         look_at_vehicle: [0.0, 0.0, 0.0],
     };
-    rig.check().map_err(|e| CaptureError::bad_input(path, format!("rig: {e}")))?;
+    rig.check().map_err(|e| CaptureError::bad_file(path, format!("rig: {e}")))?;
     let mut scenarios = Vec::new();
     for (name, scenario) in file.scenarios {
-        let in_scenario = |e: CaptureError| CaptureError::bad_input(path, format!("scenario {name}: {e}"));
+        let in_scenario = |e: CaptureError| CaptureError::bad_file(path, format!("scenario {name}: {e}"));
         crate::scene::scenario::check_duration(scenario.duration_s)
-            .map_err(|message| CaptureError::bad_input(path, format!("scenario {name}: {message}")))?;
+            .map_err(|message| CaptureError::bad_file(path, format!("scenario {name}: {message}")))?;
         let track = |property: &str| {
             scenario.vehicle.iter().find(|t| t.property == property).ok_or_else(|| {
-                CaptureError::bad_input(path, format!("scenario {name} has no {property:?} track"))
+                CaptureError::bad_file(path, format!("scenario {name} has no {property:?} track"))
             })
         };
         let position = Track::new(
@@ -134,11 +134,11 @@ pub fn parse(path: &Path, bytes: &[u8]) -> Result<(Rig, Vec<Scenario>)> {
         let scenario =
             Scenario { name, duration_s: scenario.duration_s, motion: Motion { position, yaw_deg } };
         crate::scene::scenario::check_frame_time(&scenario, rig.fps, "capture.fps")
-            .map_err(|message| CaptureError::bad_input(path, message))?;
+            .map_err(|message| CaptureError::bad_file(path, message))?;
         scenarios.push(scenario);
     }
     if scenarios.is_empty() {
-        return Err(CaptureError::bad_input(path, "the Unity export has no scenarios"));
+        return Err(CaptureError::bad_file(path, "the Unity export has no scenarios"));
     }
     Ok((rig, scenarios))
 }

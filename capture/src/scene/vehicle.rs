@@ -117,11 +117,11 @@ pub fn build(spec: &VehicleSpec, base: &Path, scene: &Path) -> Result<Vehicle> {
     };
     mesh.rename_parts(&spec.rename);
     let regions = regions::apply(&mut mesh, &spec.parts)
-        .map_err(|message| CaptureError::bad_input(scene, format!("vehicle.parts: {message}")))?;
+        .map_err(|message| CaptureError::bad_file(scene, format!("vehicle.parts: {message}")))?;
     if let Some(expected) = spec.expect_length_m
         && !(expected.is_finite() && expected > 0.0)
     {
-        return Err(CaptureError::bad_input(
+        return Err(CaptureError::bad_file(
             scene,
             format!("vehicle.expect_length_m must be positive, not {expected}"),
         ));

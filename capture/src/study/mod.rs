@@ -233,7 +233,7 @@ fn compare_runs(
 /// over frame offsets ([`offsets`]).
 fn compare_with_exact(run: &Run, tables: &StudyTables, measure: StudyMeasure) -> Result<ErrorVsExact> {
     let missing = || {
-        CaptureError::bad_input(
+        CaptureError::bad_file(
             &run.results,
             format!("{} px/°: frames missing from the study's tables", run.ppd),
         )
@@ -345,7 +345,7 @@ fn rendered_per_eye_frame(
     let mut rows = Vec::with_capacity(table.records.len());
     for record in &table.records {
         let ufcsr::FrameLabel::EyeFrame(eye_frame) = &record.label else {
-            return Err(CaptureError::bad_input(
+            return Err(CaptureError::bad_file(
                 out,
                 "the study's capture has eye-frames without a manifest",
             ));
@@ -354,7 +354,7 @@ fn rendered_per_eye_frame(
             StudyMeasure::Count => keep.iter().map(|&p| record.texels[p] as f64).collect(),
             StudyMeasure::AngularArea => {
                 let solid = record.solid_angle_sr.as_ref().ok_or_else(|| {
-                    CaptureError::bad_input(out, "no solid angles per pixel (the manifest has no projection)")
+                    CaptureError::bad_file(out, "no solid angles per pixel (the manifest has no projection)")
                 })?;
                 keep.iter().map(|&p| solid[p]).collect()
             }
@@ -430,7 +430,7 @@ pub fn write_study(study: &Study, dir: &Path) -> Result<Vec<PathBuf>> {
     write_csv(study, &csv_path)?;
     let json_path = dir.join("study.json");
     let json =
-        serde_json::to_vec_pretty(study).map_err(|e| CaptureError::bad_input(&json_path, e.to_string()))?;
+        serde_json::to_vec_pretty(study).map_err(|e| CaptureError::bad_file(&json_path, e.to_string()))?;
     ufcsr::write_bytes_atomically(&json_path, &json)?;
     let svg_path = dir.join("study.svg");
     crate::study::plot::plot_svg(study, &svg_path)?;
@@ -509,7 +509,7 @@ fn write_csv(study: &Study, path: &Path) -> Result<()> {
 }
 
 fn csv_error(path: &Path, error: csv::Error) -> CaptureError {
-    CaptureError::bad_input(path, format!("writing CSV: {error}"))
+    CaptureError::bad_file(path, format!("writing CSV: {error}"))
 }
 
 #[cfg(test)]

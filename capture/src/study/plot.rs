@@ -28,7 +28,7 @@ pub fn plot_svg(study: &Study, path: &Path) -> Result<()> {
     let text = font_available();
     let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
     draw(study, &root, text)
-        .map_err(|e| CaptureError::bad_input(path, format!("drawing the study plot: {e}")))
+        .map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))
 }
 
 /// Writes the plot as PNG; returns false (and writes nothing) without a font.
@@ -38,7 +38,7 @@ pub fn plot_png(study: &Study, path: &Path) -> Result<bool> {
     }
     let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
     draw(study, &root, true)
-        .map_err(|e| CaptureError::bad_input(path, format!("drawing the study plot: {e}")))?;
+        .map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))?;
     Ok(true)
 }
 
@@ -168,8 +168,8 @@ where
     let against = if study.exact.is_some() { "vs exact" } else { "vs finest" };
     chart
         .draw_series(study.rows.iter().zip(times).map(|(r, &t)| {
-            let colour = if r.pareto { RED.filled() } else { BLUE.mix(0.7).filled() };
-            Circle::new((t, r.ranking_error()), 4, colour)
+            let color = if r.pareto { RED.filled() } else { BLUE.mix(0.7).filled() };
+            Circle::new((t, r.ranking_error()), 4, color)
         }))?
         .label(format!("setting, {against} (label ppd/step)"))
         .legend(|(x, y)| Circle::new((x + 9, y), 4, BLUE.mix(0.7).filled()));

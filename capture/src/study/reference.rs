@@ -48,7 +48,7 @@ impl StudyTables {
         let mut fresh = vec![None::<Vec<f64>>; frames];
         for (frame, _, row) in &values.rows {
             let slot = fresh.get_mut(*frame as usize).ok_or_else(|| {
-                CaptureError::bad_input(
+                CaptureError::bad_file(
                     out,
                     format!("frame {frame} is beyond the scenario's {frames} frames"),
                 )

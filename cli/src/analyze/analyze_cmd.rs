@@ -112,9 +112,9 @@ fn report_problems(result: &ufcsr::AnalysisResult) {
 
 /// `--strict-colors`: the colour-damage warnings as the error, before
 /// anything is written.
-fn refuse_colour_damage(archive: &Path, result: &ufcsr::AnalysisResult) -> Result<()> {
+fn refuse_color_damage(archive: &Path, result: &ufcsr::AnalysisResult) -> Result<()> {
     let damage: Vec<String> =
-        result.colour_checks.iter().flat_map(|c| c.warnings.iter().map(|w| w.line())).collect();
+        result.color_checks.iter().flat_map(|c| c.warnings.iter().map(|w| w.line())).collect();
     anyhow::ensure!(
         damage.is_empty(),
         "{}: the capture shows colour damage (--strict-colors; nothing written):\n  {}",
@@ -129,7 +129,7 @@ fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf, console: 
     let options = analyze_options(args, archive, out_dir.clone())?;
     let mut analysis = analyze(&options, Some(&Bar::counting(console)))?;
     if args.strict_colors {
-        refuse_colour_damage(&options.archive, &analysis.result)?;
+        refuse_color_damage(&options.archive, &analysis.result)?;
     }
     let written = ufcsr::write_results_with(
         &mut analysis,

@@ -166,8 +166,8 @@ pub fn blender_rerenders_a_capture_with_its_silhouettes_pixels_and_part_totals()
     let expected = read_json(&ours.join("results/result.json"));
     let result = read_json(&blender.join("results/result.json"));
     assert_eq!(result["stray_pixels"], 0, "stray pixels in Blender's frames");
-    let colour_warnings = &result["colour_checks"]["warnings"];
-    assert_eq!(colour_warnings.as_array().map(Vec::len), Some(0), "colour damage: {colour_warnings}");
+    let color_warnings = &result["colour_checks"]["warnings"];
+    assert_eq!(color_warnings.as_array().map(Vec::len), Some(0), "colour damage: {color_warnings}");
     assert_eq!(part_totals(&result), part_totals(&expected));
     // The manifest carried fps and pixels per degree: the measures have their units.
     assert_eq!(result["measures"]["pixels_per_degree"], expected["measures"]["pixels_per_degree"]);

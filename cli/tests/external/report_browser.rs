@@ -70,12 +70,12 @@ pub fn the_report_of_the_bundled_example_renders_in_chromium() -> Outcome {
     // (visibility against time and distance, the parts' bars).
     assert_eq!(probe(binary, &report), "images=1111111;errors=0");
     for figure in ["map.png", "frames-strip.png", "views.png"] {
-        let colours = distinct_colours(&out.join(figure));
-        assert!(colours > 8, "{figure} is blank ({colours} colours)");
+        let colors = distinct_colors(&out.join(figure));
+        assert!(colors > 8, "{figure} is blank ({colors} colours)");
     }
     for plot in ["visibility-time", "visibility-distance", "parts"] {
-        let colours = distinct_colours(&out.join(format!("plots/{plot}.png")));
-        assert!(colours > 8, "plots/{plot}.png is blank ({colours} colours)");
+        let colors = distinct_colors(&out.join(format!("plots/{plot}.png")));
+        assert!(colors > 8, "plots/{plot}.png is blank ({colors} colours)");
         assert!(
             std::fs::read_to_string(report.with_file_name(format!("plots/{plot}.svg")))
                 .unwrap()
@@ -85,8 +85,8 @@ pub fn the_report_of_the_bundled_example_renders_in_chromium() -> Outcome {
 
     let screenshot = dir.path().join("report.png");
     browser(binary, &["--window-size=1000,1400", &format!("--screenshot={}", screenshot.display())], &report);
-    let colours = distinct_colours(&screenshot);
-    assert!(colours > 50, "the screenshot is blank ({colours} colours)");
+    let colors = distinct_colors(&screenshot);
+    assert!(colors > 50, "the screenshot is blank ({colors} colours)");
 
     // The probe bites: without the heatmap image it reports it. (Only the
     // image flags: a missing file's error event may fire before the probe's
@@ -98,16 +98,16 @@ pub fn the_report_of_the_bundled_example_renders_in_chromium() -> Outcome {
 }
 
 /// Distinct pixel values of a PNG (1 for a blank image).
-fn distinct_colours(path: &Path) -> usize {
+fn distinct_colors(path: &Path) -> usize {
     let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
     let mut reader = decoder.read_info().unwrap();
     let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
     let frame = reader.next_frame(&mut pixels).unwrap();
     let step = frame.color_type.samples();
-    let mut colours: Vec<&[u8]> = pixels[..frame.buffer_size()].chunks(step).collect();
-    colours.sort_unstable();
-    colours.dedup();
-    colours.len()
+    let mut colors: Vec<&[u8]> = pixels[..frame.buffer_size()].chunks(step).collect();
+    colors.sort_unstable();
+    colors.dedup();
+    colors.len()
 }
 
 pub fn the_comparison_page_of_two_results_renders_in_chromium() -> Outcome {
@@ -142,8 +142,8 @@ pub fn the_comparison_page_of_two_results_renders_in_chromium() -> Outcome {
     assert_eq!(probe(binary, &report), "images=11;errors=0");
     let screenshot = dir.path().join("compared.png");
     browser(binary, &["--window-size=1000,1400", &format!("--screenshot={}", screenshot.display())], &report);
-    let colours = distinct_colours(&screenshot);
-    assert!(colours > 50, "the screenshot is blank ({colours} colours)");
+    let colors = distinct_colors(&screenshot);
+    assert!(colors > 50, "the screenshot is blank ({colors} colours)");
     Ok(Completion::Completed)
 }
 

@@ -26,7 +26,7 @@ mod front_door;
 mod atomic_results;
 mod cli;
 mod cli_grammar;
-mod colour_damage;
+mod color_damage;
 mod comparison_page;
 mod external_manifest;
 mod missing_vehicle;

@@ -387,7 +387,7 @@ fn obj_face_indices_beyond_any_model_are_an_error_naming_the_line() {
 }
 
 #[test]
-fn an_mtl_colour_with_two_numbers_is_an_error_naming_the_line_not_a_panic_in_tobj() {
+fn an_mtl_color_with_two_numbers_is_an_error_naming_the_line_not_a_panic_in_tobj() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("short.mtl"), "newmtl paint\nKd 0.5 0.5\n").unwrap();
     let obj = dir.path().join("truck.obj");

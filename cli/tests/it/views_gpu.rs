@@ -37,7 +37,7 @@ fn gpu_views_are_the_cpu_views() {
     let printed = String::from_utf8_lossy(&output.stdout);
     assert!(printed.contains("views.png"), "{printed}");
     let white = 0xFF_FFFF;
-    let mut coloured = 0;
+    let mut colored = 0;
     for (name, _) in DIRECTIONS {
         let cpu = colors(&results.join("views").join(format!("{name}.png")));
         let gpu = colors(&gpu_out.join("views").join(format!("{name}.png")));
@@ -50,9 +50,9 @@ fn gpu_views_are_the_cpu_views() {
         assert!(differ * 200 <= cpu.len(), "{name}: {differ} pixels differ");
         assert!(outline * 1000 <= cpu.len(), "{name}: {outline} pixels differ in coverage");
         // Shaded never-seen grey stays grey (r = g = b); the plasma scale has none.
-        coloured += gpu.iter().filter(|&&c| !(c >> 16 == c & 0xFF && (c >> 8) & 0xFF == c & 0xFF)).count();
+        colored += gpu.iter().filter(|&&c| !(c >> 16 == c & 0xFF && (c >> 8) & 0xFF == c & 0xFF)).count();
     }
-    assert!(coloured > 10_000, "the GPU views show almost no heatmap ({coloured} pixels)");
+    assert!(colored > 10_000, "the GPU views show almost no heatmap ({colored} pixels)");
     assert!(gpu_out.join("views.png").is_file());
 }
 

@@ -361,7 +361,7 @@ pub fn write_observer_study(study: &ObserverStudy, dir: &Path) -> Result<Vec<Pat
     std::fs::create_dir_all(dir).map_err(|e| CaptureError::io(dir, e))?;
     let json_path = dir.join("observers.json");
     let json =
-        serde_json::to_vec_pretty(study).map_err(|e| CaptureError::bad_input(&json_path, e.to_string()))?;
+        serde_json::to_vec_pretty(study).map_err(|e| CaptureError::bad_file(&json_path, e.to_string()))?;
     ufcsr::write_bytes_atomically(&json_path, &json)?;
     let mut per_observer = String::from(
         "observer,x_m,y_m,group,stature_m,eye_height_m,part,angular_area_deg2_s,angular_area_bound_deg2_s,count\n",

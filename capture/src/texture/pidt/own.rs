@@ -59,7 +59,7 @@ pub fn load(labels: &OwnLabelFiles, unwrapped: &Unwrapped) -> Result<LoadedOwnLa
         }
     })?;
     if legend.parts.iter().any(|p| p.color == UNLABELLED_COLOR) {
-        return Err(CaptureError::bad_input(
+        return Err(CaptureError::bad_file(
             &labels.parts,
             format!("{UNLABELLED_COLOR} marks unlabelled texels; no part may use it"),
         ));

@@ -171,10 +171,10 @@ fn options(dir: &Path, archive: &Path) -> ufcsr::AnalyzeOptions {
 }
 
 /// The checks of an analysis of `frames`, and its warnings.
-fn checks(dir: &Path, name: &str, frames: &[Vec<u32>]) -> (ufcsr::ColourChecks, Vec<String>) {
+fn checks(dir: &Path, name: &str, frames: &[Vec<u32>]) -> (ufcsr::ColorChecks, Vec<String>) {
     let archive = archive(dir, name, frames);
     let analysis = ufcsr::analyze(&options(dir, &archive), None).unwrap();
-    let checks = analysis.result.colour_checks.clone().expect("a pixel count has colour checks");
+    let checks = analysis.result.color_checks.clone().expect("a pixel count has colour checks");
     eprintln!(
         "{name}: unlabelled {:?}, background {:?}, {:?}, jumps {:?}; stray {}",
         checks.unlabelled_count_share,
@@ -186,7 +186,7 @@ fn checks(dir: &Path, name: &str, frames: &[Vec<u32>]) -> (ufcsr::ColourChecks, 
     (checks, analysis.result.warnings)
 }
 
-fn named(checks: &ufcsr::ColourChecks) -> Vec<&str> {
+fn named(checks: &ufcsr::ColorChecks) -> Vec<&str> {
     checks.warnings.iter().map(|w| w.check.as_str()).collect()
 }
 
@@ -195,7 +195,7 @@ fn correct_frames() -> Vec<Vec<u32>> {
 }
 
 #[test]
-fn correct_frames_give_no_colour_warning() {
+fn correct_frames_give_no_color_warning() {
     let dir = tempfile::tempdir().unwrap();
     let (checks, warnings) = checks(dir.path(), "correct", &correct_frames());
     assert_eq!(checks.warnings, [], "{warnings:?}");

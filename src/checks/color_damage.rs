@@ -38,7 +38,7 @@ pub const BACKGROUND_CHECK: &str = "no-background";
 pub const JUMP_CHECK: &str = "texel-jumps";
 
 /// Every warning about colour damage starts with this (stderr, report).
-pub const COLOUR_WARNING: &str = "colour damage";
+pub const COLOR_WARNING: &str = "colour damage";
 
 /// The settings that render the palette unchanged (every fix ends so).
 const RECIPE: &str = "Blender: view transform Standard, look None, exposure 0, gamma 1, dither 0, Image \
@@ -46,15 +46,15 @@ const RECIPE: &str = "Blender: view transform Standard, look None, exposure 0, g
     denoising; Unity: point filtering, no mipmaps, no MSAA, no post-processing, and a colour space that \
     passes the texture through (docs/guide.md#colour-damage)";
 
-pub use crate::format::result::ColourChecks;
+pub use crate::format::result::ColorChecks;
 
-pub use crate::format::result::ColourWarning;
+pub use crate::format::result::ColorWarning;
 
-impl ColourWarning {
+impl ColorWarning {
     /// The one-line warning for `result.json`'s `warnings`, stderr and the report.
     pub fn line(&self) -> String {
         format!(
-            "{COLOUR_WARNING} ({}): {}; likely causes: {}; fix: {}",
+            "{COLOR_WARNING} ({}): {}; likely causes: {}; fix: {}",
             self.check, self.message, self.causes, self.fix
         )
     }
@@ -62,7 +62,7 @@ impl ColourWarning {
 
 /// What the checks are judged from.
 #[derive(Debug, Clone, Copy, Default)]
-pub(crate) struct ColourFacts {
+pub(crate) struct ColorFacts {
     /// Counts on unlabelled texels, with a PIdT.
     pub unlabelled_counts: Option<u64>,
     /// Counts on legend parts (the grand total).
@@ -74,9 +74,9 @@ pub(crate) struct ColourFacts {
     pub neighbours: Option<NeighbourSample>,
 }
 
-impl ColourChecks {
+impl ColorChecks {
     /// Measures the shares of `facts` and warns about those past their thresholds.
-    pub(crate) fn judge(facts: &ColourFacts) -> ColourChecks {
+    pub(crate) fn judge(facts: &ColorFacts) -> ColorChecks {
         let share = |part: u64, whole: u64| (whole > 0).then(|| part as f64 / whole as f64);
         let unlabelled_count_share =
             facts.unlabelled_counts.and_then(|u| share(u, u + facts.labelled_counts));
@@ -102,7 +102,7 @@ impl ColourChecks {
         {
             warnings.push(jump_warning(share, &sample));
         }
-        ColourChecks {
+        ColorChecks {
             unlabelled_count_share,
             background_pixel_share,
             background_tiles: facts.background_tiles,
@@ -120,8 +120,8 @@ fn warning(
     message: String,
     causes: &str,
     fix: &str,
-) -> ColourWarning {
-    ColourWarning {
+) -> ColorWarning {
+    ColorWarning {
         check: check.to_string(),
         percent: 100.0 * share,
         threshold_percent: 100.0 * threshold,
@@ -131,7 +131,7 @@ fn warning(
     }
 }
 
-fn unlabelled_warning(share: f64) -> ColourWarning {
+fn unlabelled_warning(share: f64) -> ColorWarning {
     warning(
         UNLABELLED_CHECK,
         share,
@@ -149,7 +149,7 @@ fn unlabelled_warning(share: f64) -> ColourWarning {
     )
 }
 
-fn background_warning(share: f64, decoded: u64) -> ColourWarning {
+fn background_warning(share: f64, decoded: u64) -> ColorWarning {
     warning(
         BACKGROUND_CHECK,
         share,
@@ -168,7 +168,7 @@ fn background_warning(share: f64, decoded: u64) -> ColourWarning {
     )
 }
 
-fn jump_warning(share: f64, sample: &NeighbourSample) -> ColourWarning {
+fn jump_warning(share: f64, sample: &NeighbourSample) -> ColorWarning {
     warning(
         JUMP_CHECK,
         share,
@@ -190,8 +190,8 @@ fn jump_warning(share: f64, sample: &NeighbourSample) -> ColourWarning {
 mod tests {
     use super::*;
 
-    fn facts() -> ColourFacts {
-        ColourFacts {
+    fn facts() -> ColorFacts {
+        ColorFacts {
             unlabelled_counts: Some(0),
             labelled_counts: 35_811,
             decoded_pixels: 10_000_000,
@@ -203,7 +203,7 @@ mod tests {
 
     #[test]
     fn a_correct_capture_gets_no_warning() {
-        let checks = ColourChecks::judge(&facts());
+        let checks = ColorChecks::judge(&facts());
         assert_eq!(checks.warnings, []);
         assert_eq!(checks.unlabelled_count_share, Some(0.0));
         assert_eq!(checks.background_pixel_share, Some(0.8));
@@ -213,35 +213,35 @@ mod tests {
     #[test]
     fn each_signature_is_named_with_its_number() {
         // The issue's sRGB/Raw case: 18,238 unlabelled of 12,801 + 18,238 counts.
-        let raw = ColourFacts { unlabelled_counts: Some(18_238), labelled_counts: 12_801, ..facts() };
-        let warning = &ColourChecks::judge(&raw).warnings[0];
+        let raw = ColorFacts { unlabelled_counts: Some(18_238), labelled_counts: 12_801, ..facts() };
+        let warning = &ColorChecks::judge(&raw).warnings[0];
         assert_eq!(warning.check, UNLABELLED_CHECK);
         assert!(
             warning.message.starts_with("58.8 % of counts on unlabelled texels (threshold 1 %)"),
             "{warning:?}"
         );
-        let filmic = ColourFacts { background_pixels: 0, ..facts() };
-        assert_eq!(ColourChecks::judge(&filmic).warnings[0].check, BACKGROUND_CHECK);
-        let blended = ColourFacts {
+        let filmic = ColorFacts { background_pixels: 0, ..facts() };
+        assert_eq!(ColorChecks::judge(&filmic).warnings[0].check, BACKGROUND_CHECK);
+        let blended = ColorFacts {
             neighbours: Some(NeighbourSample { triples: 100_000, varying: 10_000, jumps: 1_500 }),
             ..facts()
         };
-        let warning = &ColourChecks::judge(&blended).warnings[0];
+        let warning = &ColorChecks::judge(&blended).warnings[0];
         assert_eq!((warning.check.as_str(), warning.percent), (JUMP_CHECK, 15.0));
         assert!(warning.line().starts_with("colour damage (texel-jumps): 15.0 % of 10000 sampled"));
     }
 
     #[test]
     fn small_or_legitimately_background_free_captures_are_not_judged() {
-        let few = ColourFacts { unlabelled_counts: Some(50), labelled_counts: 50, ..facts() };
-        let covered = ColourFacts { background_pixels: 0, background_tiles: 3, ..facts() };
-        let tiny = ColourFacts { background_pixels: 0, decoded_pixels: 1000, ..facts() };
-        let sparse = ColourFacts {
+        let few = ColorFacts { unlabelled_counts: Some(50), labelled_counts: 50, ..facts() };
+        let covered = ColorFacts { background_pixels: 0, background_tiles: 3, ..facts() };
+        let tiny = ColorFacts { background_pixels: 0, decoded_pixels: 1000, ..facts() };
+        let sparse = ColorFacts {
             neighbours: Some(NeighbourSample { triples: 900, varying: 900, jumps: 900 }),
             ..facts()
         };
         for facts in [few, covered, tiny, sparse] {
-            assert_eq!(ColourChecks::judge(&facts).warnings, [], "{facts:?}");
+            assert_eq!(ColorChecks::judge(&facts).warnings, [], "{facts:?}");
         }
     }
 }
