@@ -39,7 +39,7 @@ pub use count::{
     Classifier, CountedTile, Counts, EmptyTile, FrameLabel, FrameRecord, ImageTally, KERNEL_ENV, Kernel,
     PartLookup, PartPixels, PartRows, PixelClass, RowScan, TileCounter, scan_image, scan_image_by_part,
 };
-pub use describe::{DEFAULT_PATTERN, DescribeOptions, Described, describe, parse_fov};
+pub use describe::{DEFAULT_PATTERN, DescribeOptions, Described, SoloSummary, describe, parse_fov};
 pub use error::{Error, Result};
 pub use files::{
     GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, PngEncoding, SMALL_INPUT_LIMIT, check_accessors,

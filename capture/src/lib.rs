@@ -55,9 +55,10 @@ pub use scene::fuzz_entry;
 pub use scene::{
     ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, Axes, DemoTraffic, Eye, EyeCamera, FollowOffset, FrameState, Key,
     LEAD_CAR_AHEAD_M, Mesh, Motion, MovingOccluder, OccluderObject, OccluderPath, Occluders,
-    PEDESTRIAN_BODY_M, PartRule, PartSource, Pose, RegionReport, Rig, Scenario, Scene, SceneFile, TileId,
-    Track, ValueOrTrack, VehicleSpec, box_corners, box_outside, degenerate_vehicle, load_vehicle, look_to,
-    pedestrian_body, reversed_z_perspective, triangle_area, vehicle_to_world,
+    PEDESTRIAN_BODY_M, PartMapReport, PartMapSpec, PartRule, PartSource, PartsFrom, Pose, RegionReport, Rig,
+    Scenario, Scene, SceneFile, TileId, Track, UNMAPPED_PART, ValueOrTrack, VehicleSpec, box_corners,
+    box_outside, degenerate_vehicle, load_vehicle, look_to, pedestrian_body, reversed_z_perspective,
+    triangle_area, vehicle_to_world,
 };
 pub use study::observers::interval::{IntervalKind, percentile, population_value, t975};
 pub use study::observers::population::{
@@ -73,8 +74,8 @@ pub use study::{
     run_study_with_tables, write_study,
 };
 pub use texture::{
-    OwnLabelFiles, PidtImage, UNLABELLED_COLOR, Unwrapped, background_texel, footprint, keep_uvs, paint_pidt,
-    unwrap_islands, unwrap_islands_avoiding,
+    OwnLabelFiles, PartOverlap, PidtImage, UNLABELLED_COLOR, Unwrapped, UvOverlaps, background_texel,
+    footprint, keep_uvs, paint_pidt, unwrap_islands, unwrap_islands_avoiding, uv_overlaps,
 };
 /// The analyzer's one `--palette-size` parser, for the capture's commands.
 pub use ufcsr::parse_palette_size;

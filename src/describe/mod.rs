@@ -12,6 +12,8 @@
 pub mod metadata;
 pub mod names;
 pub mod scan;
+pub mod solo;
+pub mod solo_camera;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -19,11 +21,12 @@ use std::path::{Path, PathBuf};
 use crate::archive::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteChoice, PaletteRecord, TileEntry};
 use crate::color::Color;
 use crate::error::{Error, Result};
-use crate::format::manifest::{FrameEntry, RigRecord, RigSettings};
+use crate::format::manifest::{EyePose, FrameEntry, RigRecord, RigSettings};
 
 pub use metadata::{FrameTime, parse_fov};
 pub use names::{DEFAULT_PATTERN, NamePattern};
-use scan::{Capture, Grid, canonical, find_capture, slash_path};
+use scan::{Capture, Grid, canonical, check_capture, find_capture, slash_path};
+use solo::Solo;
 
 /// What to describe and what is known about it.
 #[derive(Debug, Clone, Default)]
@@ -48,6 +51,10 @@ pub struct DescribeOptions {
     pub frame_times: Option<PathBuf>,
     /// List grid positions no file fills as empty tiles (all background, not written) instead of refusing.
     pub missing_tiles_empty: bool,
+    /// Unity Perception SOLO output: only these sensor ids' RGB captures are frames (empty: every RGB camera).
+    pub solo_cameras: Vec<String>,
+    /// Read frames by their names even where SOLO frame files are present.
+    pub ignore_solo: bool,
 }
 
 /// What was written.
@@ -70,27 +77,30 @@ pub struct Described {
     pub distances: bool,
     /// What the manifest still lacks and what stays empty because of it.
     pub notes: Vec<String>,
+    /// What Unity Perception's SOLO frame files gave, when the folder had them.
+    pub solo: Option<SoloSummary>,
+}
+
+/// What was read from a SOLO sequence and what was skipped.
+#[derive(Debug, Clone)]
+pub struct SoloSummary {
+    /// The sequence folder.
+    pub folder: PathBuf,
+    pub frame_files: usize,
+    pub sequence: Option<u64>,
+    /// Sensor id → eye name.
+    pub cameras: BTreeMap<String, String>,
+    /// Files that are not FCSP frames, by kind → count.
+    pub skipped: BTreeMap<String, usize>,
+    /// Whether each frame's eye poses went into the manifest's `frames`.
+    pub poses: bool,
 }
 
 /// Reads the folder, checks it and writes the manifest (atomically; nothing on error).
 pub fn describe(options: &DescribeOptions) -> Result<Described> {
     let (manifest_path, base) = manifest_place(options)?;
     let pattern = NamePattern::new(options.pattern.as_deref().unwrap_or(DEFAULT_PATTERN))?;
-    let mut excluded = BTreeSet::new();
-    let mut inside = |path: &Path, what: &str| -> Result<PathBuf> {
-        let full = canonical(path)?;
-        excluded.insert(full.clone());
-        relative_to(&full, &base, path, what)
-    };
-    let pidt = options.pidt.as_deref().map(|p| inside(p, "--pidt")).transpose()?;
-    let legend = options.legend.as_deref().map(|p| inside(p, "--legend")).transpose()?;
-    let palette = match &options.palette {
-        Some(PaletteChoice::Image(path)) => Some(PaletteRecord::File(inside(path, "--fcsp")?)),
-        Some(PaletteChoice::Canonical { width, height }) => {
-            Some(PaletteRecord::Canonical { canonical: [*width, *height] })
-        }
-        None => None,
-    };
+    let Labels { pidt, legend, palette, excluded } = labels(options, &base)?;
     let rig = match &options.rig {
         Some(path) => metadata::read_rig(path)?,
         None => RigSettings::default(),
@@ -98,20 +108,28 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
     // With empty tiles left out, the largest row and column seen may fall short of the grid.
     let given = rig.tiles.filter(|_| options.missing_tiles_empty);
     let grid = Grid { given, missing_empty: options.missing_tiles_empty };
-    let capture = find_capture(&options.dir, &pattern, &excluded, grid)?;
+    let solo = read_solo(options)?;
+    let capture = match &solo {
+        Some(solo) => check_capture(solo.tiles.clone(), grid)?,
+        None => find_capture(&options.dir, &pattern, &excluded, grid)?,
+    };
     let dir = canonical(&options.dir)?;
     let mut notes = layout_notes(options, &manifest_path, given.is_some(), capture.grid);
+    let mut rig = rig;
+    if let Some(solo) = &solo {
+        solo_settings(&mut rig, solo, options.rig.is_some(), &mut notes);
+    }
     let settings = settings(options, rig, &capture, &mut notes)?;
-    let times = match &options.frame_times {
-        Some(path) => Some(times_of_frames(path, &capture.frames)?),
-        None => None,
-    };
+    let (times, times_from) = frame_times(options, solo.as_ref(), &capture)?;
     let fps = settings.fps;
     let tiles = tile_entries(&capture, [&options.dir, &dir], &base, times.as_ref(), fps)?;
     let rig = rig_with_ppd(&settings, capture.tile_pixels, options.pixels_per_degree);
     let pixels_per_degree = rig.pixels_per_degree;
-    let frames = frame_entries(times.as_ref());
-    let distances = frames.is_some();
+    let poses = solo.as_ref().map(|solo| &solo.poses).filter(|poses| !poses.is_empty());
+    let poses_written = poses.is_some();
+    let frames = frame_entries(times.as_ref(), poses);
+    let distances =
+        times.as_ref().is_some_and(|t| !t.is_empty() && t.values().all(|t| t.distance_m.is_some()));
     let manifest = Manifest {
         schema: Some(MANIFEST_SCHEMA.to_string()),
         palette,
@@ -124,7 +142,7 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
         rig: Some(rig),
         ..Manifest::default()
     };
-    let times_from = if times.is_some() { Some("--frame-times") } else { fps.map(|_| "--fps") };
+    let times_from = times_from.or(fps.map(|_| "--fps"));
     lacking(&manifest, fps, pixels_per_degree, distances, &mut notes);
     write_checked(&manifest, &manifest_path)?;
     Ok(Described {
@@ -142,7 +160,108 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
         distances,
         notes,
         manifest,
+        solo: solo.map(|solo| solo_summary(solo, poses_written)),
     })
+}
+
+fn solo_summary(solo: Solo, poses: bool) -> SoloSummary {
+    SoloSummary {
+        folder: solo.folder,
+        frame_files: solo.frame_files,
+        sequence: solo.sequence,
+        cameras: solo.cameras,
+        skipped: solo.skipped,
+        poses,
+    }
+}
+
+/// The SOLO sequence below the folder, unless `--ignore-solo`; its notes go
+/// out with the manifest's. `--pattern` and SOLO frame files exclude each other.
+fn read_solo(options: &DescribeOptions) -> Result<Option<Solo>> {
+    if options.ignore_solo {
+        return Ok(None);
+    }
+    let Some((folder, files)) = solo::find(&options.dir)? else {
+        if !options.solo_cameras.is_empty() {
+            return Err(Error::bad_file(&options.dir, "--solo-camera: the folder holds no SOLO frame files"));
+        }
+        return Ok(None);
+    };
+    if let Some(pattern) = &options.pattern {
+        return Err(Error::BadOptions(format!(
+            "--pattern {pattern:?}: {} holds Unity Perception SOLO frame files ({} in {}), which name the frames              themselves; leave --pattern out, or give --ignore-solo to read the frames by their names",
+            options.dir.display(),
+            files.len(),
+            folder.display()
+        )));
+    }
+    solo::read(&folder, &files, &options.solo_cameras).map(Some)
+}
+
+/// The fps and field of view SOLO gives, into the rig settings: they win
+/// over a rig file's (with a note), and --fps/--fov win over them.
+fn solo_settings(rig: &mut RigSettings, solo: &Solo, rig_file: bool, notes: &mut Vec<String>) {
+    notes.extend(solo.notes.iter().cloned());
+    let found = [
+        (solo.fps, &mut rig.fps, "fps"),
+        (solo.horizontal_fov_deg, &mut rig.horizontal_fov_deg, "horizontal_fov_deg"),
+    ];
+    for (value, setting, key) in found {
+        let Some(value) = value else { continue };
+        if rig_file && let Some(old) = setting.filter(|old| (old - value).abs() > 1e-9 * value) {
+            notes.push(format!("the SOLO data's {key} {value} replaces the rig file's {old}"));
+        }
+        *setting = Some(value);
+    }
+}
+
+/// Frame number → its time (and distance).
+type FrameTimes = BTreeMap<u32, FrameTime>;
+
+/// Each frame's time: `--frame-times`, else SOLO's timestamps, else none.
+fn frame_times(
+    options: &DescribeOptions,
+    solo: Option<&Solo>,
+    capture: &Capture,
+) -> Result<(Option<FrameTimes>, Option<&'static str>)> {
+    if let Some(path) = &options.frame_times {
+        return Ok((Some(times_of_frames(path, &capture.frames)?), Some("--frame-times")));
+    }
+    match solo.filter(|solo| !solo.times.is_empty()) {
+        Some(solo) => {
+            let times =
+                solo.times.iter().map(|(&frame, &time_s)| (frame, FrameTime { time_s, distance_m: None }));
+            Ok((Some(times.collect()), Some("SOLO timestamps")))
+        }
+        None => Ok((None, None)),
+    }
+}
+
+/// The label files as the manifest names them, and their paths (not frames).
+struct Labels {
+    pidt: Option<PathBuf>,
+    legend: Option<PathBuf>,
+    palette: Option<PaletteRecord>,
+    excluded: BTreeSet<PathBuf>,
+}
+
+fn labels(options: &DescribeOptions, base: &Path) -> Result<Labels> {
+    let mut excluded = BTreeSet::new();
+    let mut inside = |path: &Path, what: &str| -> Result<PathBuf> {
+        let full = canonical(path)?;
+        excluded.insert(full.clone());
+        relative_to(&full, base, path, what)
+    };
+    let pidt = options.pidt.as_deref().map(|p| inside(p, "--pidt")).transpose()?;
+    let legend = options.legend.as_deref().map(|p| inside(p, "--legend")).transpose()?;
+    let palette = match &options.palette {
+        Some(PaletteChoice::Image(path)) => Some(PaletteRecord::File(inside(path, "--fcsp")?)),
+        Some(PaletteChoice::Canonical { width, height }) => {
+            Some(PaletteRecord::Canonical { canonical: [*width, *height] })
+        }
+        None => None,
+    };
+    Ok(Labels { pidt, legend, palette, excluded })
 }
 
 /// What the reader should know about the manifest's name and the tile grid.
@@ -178,20 +297,31 @@ fn rig_with_ppd(settings: &RigSettings, tile_pixels: [u32; 2], pixels_per_degree
     rig
 }
 
-/// The `frames` records, when every frame has its distance.
-fn frame_entries(times: Option<&BTreeMap<u32, FrameTime>>) -> Option<Vec<FrameEntry>> {
-    let times = times.filter(|t| t.values().all(|t| t.distance_m.is_some()))?;
-    let entry = |(&frame, time): (&u32, &FrameTime)| FrameEntry {
-        distance_m: time.distance_m,
-        eyes: None,
+/// The `frames` records: each frame's eye poses where SOLO gave them (with
+/// its time and distance where known), else each frame's time and distance
+/// when every frame has its distance.
+fn frame_entries(
+    times: Option<&BTreeMap<u32, FrameTime>>,
+    poses: Option<&BTreeMap<u32, BTreeMap<String, EyePose>>>,
+) -> Option<Vec<FrameEntry>> {
+    let entry = |frame: u32, time: Option<&FrameTime>, eyes: Option<BTreeMap<String, EyePose>>| FrameEntry {
+        distance_m: time.and_then(|t| t.distance_m),
+        eyes,
         frame,
         occluders: None,
         pedestrian: None,
         tiles_with_vehicle: None,
-        time_s: Some(time.time_s),
+        time_s: time.map(|t| t.time_s),
         vehicle: None,
     };
-    Some(times.iter().map(entry).collect())
+    if let Some(poses) = poses {
+        let time = |frame: &u32| times.and_then(|t| t.get(frame));
+        return Some(
+            poses.iter().map(|(frame, eyes)| entry(*frame, time(frame), Some(eyes.clone()))).collect(),
+        );
+    }
+    let times = times.filter(|t| t.values().all(|t| t.distance_m.is_some()))?;
+    Some(times.iter().map(|(&frame, time)| entry(frame, Some(time), None)).collect())
 }
 
 /// The manifest's path and its folder with links resolved; the folder of
@@ -275,7 +405,7 @@ fn settings(
             return Err(Error::BadOptions(format!("{flag} {given}: must be a number above 0")));
         }
         if let Some(old) = setting.filter(|old| *old != given) {
-            notes.push(format!("{flag} {given} replaces the rig file's {key} {old}"));
+            notes.push(format!("{flag} {given} replaces the {key} {old} of the rig file or SOLO data"));
         }
         *setting = Some(given);
     }

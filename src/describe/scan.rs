@@ -121,7 +121,7 @@ pub fn canonical(path: &Path) -> Result<PathBuf> {
 }
 
 /// Each tile once, one size, at most two eyes, every grid position in every eye-frame.
-fn check_capture(tiles: Vec<FoundTile>, layout: Grid) -> Result<Capture> {
+pub fn check_capture(tiles: Vec<FoundTile>, layout: Grid) -> Result<Capture> {
     let first = &tiles[0];
     for pair in tiles.windows(2) {
         if key(&pair[0].name) == key(&pair[1].name) {

@@ -81,8 +81,10 @@ pub struct TriangleQuality {
 /// Whether the mesh has UVs of its own (for `--keep-uvs`).
 #[derive(Debug, Clone, PartialEq)]
 pub enum UvState {
-    /// Every primitive has UVs.
+    /// Every primitive has UVs, no two triangles sharing a texel.
     Complete,
+    /// Every primitive has UVs, but some overlap (where: by pair of parts).
+    Overlapping(crate::texture::UvOverlaps),
     /// No UVs at all (or the built-in demo truck).
     None,
     /// Some primitives lack UVs; they are named.
@@ -107,6 +109,8 @@ pub struct Inspection {
     pub uvs: UvState,
     pub parts: Vec<PartInfo>,
     pub regions: RegionReport,
+    /// What labelling through a part map found (`parts_from.part_map`).
+    pub part_map: Option<crate::scene::PartMapReport>,
     pub warnings: Vec<String>,
     /// Pictures and legend written.
     pub files: Vec<PathBuf>,
@@ -180,9 +184,53 @@ fn check_picture_size(mesh: &Mesh, pixels_per_metre: f64) -> Result<()> {
     Ok(())
 }
 
+/// The palette on which inspect looks for overlapping own UVs (a capture's
+/// default is 4096²; a finer palette finds at least these overlaps).
+pub const OVERLAP_CHECK_PALETTE: [u32; 2] = [1024, 1024];
+
 /// The files [`inspect`] writes into its folder.
-const INSPECT_FILES: [&str; 4] =
-    ["inspect-side.png", "inspect-top.png", "inspect-front.png", "inspect-parts.csv"];
+const INSPECT_FILES: [&str; 5] =
+    ["inspect-side.png", "inspect-top.png", "inspect-front.png", "inspect-parts.csv", OVERLAP_PICTURE];
+
+/// Where the own UVs overlap, as a picture of the check's palette (only
+/// written when they do).
+pub const OVERLAP_PICTURE: &str = "inspect-uv-overlaps.png";
+
+/// Whether the mesh has own UVs, and where they overlap.
+fn uv_state(mesh: &Mesh) -> UvState {
+    match (&mesh.uvs, mesh.missing_uvs.is_empty()) {
+        (Some(_), _) => match crate::texture::uv_overlaps(mesh, OVERLAP_CHECK_PALETTE) {
+            Some(overlaps) if overlaps.texels > 0 => UvState::Overlapping(overlaps),
+            _ => UvState::Complete,
+        },
+        (None, true) => UvState::None,
+        (None, false) => UvState::Partial(mesh.missing_uvs.clone()),
+    }
+}
+
+/// [`OVERLAP_PICTURE`]: the own UVs on the check's palette, each texel
+/// centre a triangle covers in its part's colour, red where two or more
+/// cover it, white where none does (row 0 = v 0, the top, as glTF).
+fn write_overlap_picture(mesh: &Mesh, colors: &[Color], out: &Path) -> Result<Option<PathBuf>> {
+    let Some(uvs) = &mesh.uvs else { return Ok(None) };
+    let [w, h] = OVERLAP_CHECK_PALETTE;
+    let size = glam::DVec2::new(f64::from(w), f64::from(h));
+    let mut rgb = vec![255u8; (w * h * 3) as usize];
+    let mut count = vec![0u8; (w * h) as usize];
+    for (t, triangle) in mesh.triangles.iter().enumerate() {
+        let uv = triangle.map(|i| uvs.get(i as usize).map_or(glam::DVec2::ZERO, |uv| uv.as_dvec2() * size));
+        let color = colors[mesh.triangle_part[t] as usize].rgb();
+        crate::texture::uv_islands::for_texel_centres(&uv, OVERLAP_CHECK_PALETTE, |x, y| {
+            let i = (y * w + x) as usize;
+            count[i] = count[i].saturating_add(1);
+            let shown = if count[i] > 1 { [230, 0, 0] } else { color };
+            rgb[i * 3..i * 3 + 3].copy_from_slice(&shown);
+        });
+    }
+    let path = out.join(OVERLAP_PICTURE);
+    ufcsr::write_rgb_png(&path, [w, h], &rgb, png::Compression::Fast)?;
+    Ok(Some(path))
+}
 
 /// Inspects the vehicle of a scene file or mesh and writes its pictures.
 pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
@@ -206,11 +254,7 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
             area_m2: areas[i],
         })
         .collect();
-    let uvs = match (&mesh.uvs, mesh.missing_uvs.is_empty()) {
-        (Some(_), _) => UvState::Complete,
-        (None, true) => UvState::None,
-        (None, false) => UvState::Partial(mesh.missing_uvs.clone()),
-    };
+    let uvs = uv_state(mesh);
 
     let out = &options.out;
     let mut inputs = vec![options.input.clone()];
@@ -228,6 +272,9 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
     };
     check_picture_size(mesh, pixels_per_metre)?;
     let mut files = pictures::write_views(mesh, &colors, out, pixels_per_metre)?;
+    if matches!(uvs, UvState::Overlapping(_)) {
+        files.extend(write_overlap_picture(mesh, &colors, out)?);
+    }
     let legend = out.join("inspect-parts.csv");
     ufcsr::write_atomically(&legend, |w| {
         writeln!(w, "name,color,triangles,area_m2")?;
@@ -257,6 +304,7 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
         uvs,
         parts,
         regions: built.regions,
+        part_map: built.part_map,
         warnings: built.warnings,
         files,
     })
@@ -330,7 +378,23 @@ impl Inspection {
             )?;
         }
         match &self.uvs {
-            UvState::Complete => writeln!(f, "UVs: every primitive has its own (--keep-uvs can use them)")?,
+            UvState::Complete => writeln!(
+                f,
+                "UVs: every primitive has its own, without overlaps at {}×{} (--keep-uvs can use them)",
+                OVERLAP_CHECK_PALETTE[0], OVERLAP_CHECK_PALETTE[1]
+            )?,
+            UvState::Overlapping(overlaps) => {
+                writeln!(
+                    f,
+                    "UVs: every primitive has its own, but {} texels of a {}×{} palette are covered by more than one \
+                     triangle: --keep-uvs would refuse them (a part map painted over them still labels parts: \
+                     parts_from.part_map). Where (red in {OVERLAP_PICTURE}):",
+                    overlaps.texels, overlaps.palette[0], overlaps.palette[1]
+                )?;
+                for line in overlaps.lines() {
+                    writeln!(f, "  {line}")?;
+                }
+            }
             UvState::None => writeln!(f, "UVs: none (captures unwrap the mesh themselves)")?,
             UvState::Partial(missing) => {
                 writeln!(f, "UVs: partial, --keep-uvs would fail; without UVs:")?;
@@ -344,6 +408,19 @@ impl Inspection {
 
     /// The part rules' matches, and the parts with their colours and areas.
     fn fmt_parts(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some(map) = &self.part_map {
+            writeln!(
+                f,
+                "parts from the part map {} (legend {}) through the model's own UVs: {} texels sampled, {} \
+                 triangles split between parts, {} unmapped, {} samples in unlisted colours",
+                map.part_map.display(),
+                map.legend.display(),
+                map.samples,
+                map.split_triangles,
+                map.unmapped_triangles,
+                map.unknown_colors.values().sum::<u64>()
+            )?;
+        }
         if !self.regions.rules.is_empty() {
             writeln!(f, "part rules (first match wins):")?;
             for rule in &self.regions.rules {

@@ -27,6 +27,10 @@ pub struct Mesh {
     /// Primitives (glTF) or objects (OBJ) that came without UVs, named for
     /// the `--keep-uvs` error; `uvs` is `None` when this is not empty.
     pub missing_uvs: Vec<String>,
+    /// Loaded models only: every vertex's own UV as the file has it, NaN
+    /// where its primitive has none (a part map labels the triangles that
+    /// have them, [`crate::scene::part_map`]). Empty for meshes built here.
+    pub own_uvs: Vec<Vec2>,
 }
 
 impl Mesh {
@@ -87,6 +91,11 @@ impl Mesh {
             _ => self.uvs = None,
         }
         self.missing_uvs.extend(other.missing_uvs.iter().cloned());
+        if !(self.own_uvs.is_empty() && other.own_uvs.is_empty()) {
+            self.own_uvs.resize(base as usize, Vec2::NAN);
+            self.own_uvs.extend(&other.own_uvs);
+            self.own_uvs.resize(self.positions.len(), Vec2::NAN);
+        }
         self.triangles.extend(other.triangles.iter().map(|t| t.map(|i| i + base)));
         self.triangle_part.extend(other.triangle_part.iter().map(|&p| map[p as usize]));
     }
@@ -349,6 +358,10 @@ pub(crate) fn gltf_mesh(
             let base = mesh.positions.len() as u32;
             let count = positions.len();
             mesh.positions.extend(positions);
+            match &uvs {
+                Some(uvs) if uvs.len() == count => mesh.own_uvs.extend(uvs),
+                _ => mesh.own_uvs.extend(std::iter::repeat_n(Vec2::NAN, count)),
+            }
             match (&mut mesh.uvs, uvs) {
                 (Some(all), Some(uvs)) if uvs.len() == count => all.extend(uvs),
                 (_, uvs) => {
@@ -421,6 +434,11 @@ pub(crate) fn obj_mesh(
         let base = mesh.positions.len() as u32;
         let count = m.positions.len() / 3;
         mesh.positions.extend(m.positions.chunks_exact(3).map(|p| convert([p[0], p[1], p[2]])));
+        if m.texcoords.len() == count * 2 {
+            mesh.own_uvs.extend(m.texcoords.chunks_exact(2).map(|t| Vec2::new(t[0], 1.0 - t[1])));
+        } else {
+            mesh.own_uvs.extend(std::iter::repeat_n(Vec2::NAN, count));
+        }
         match &mut mesh.uvs {
             // OBJ puts v = 0 at the bottom of the texture; the palette's row 0 is the top.
             Some(all) if m.texcoords.len() == count * 2 => {

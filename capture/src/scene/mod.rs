@@ -1,7 +1,8 @@
 //! What is captured: the scene file ([`scene_file`]: vehicle, occluders, rig,
 //! scenarios), the meshes and their loaders ([`mesh`], with [`model_files`]
 //! reading OBJ/MTL safely), the occluders ([`occluders`] still and
-//! [`moving`] traffic and other pedestrians), the vehicle's spec and checks ([`vehicle`]) and
+//! [`moving`] traffic and other pedestrians), the vehicle's spec and checks ([`vehicle`]),
+//! parts from a part map painted over the model's own UVs ([`part_map`]) and
 //! parts by region ([`regions`]), the pedestrian's eyes and tiles ([`rig`]),
 //! the scene at one frame ([`frame_state`]: everything that moves, once),
 //! the vehicle's motion ([`track`] keyframes, [`scenario`] a timed motion,
@@ -22,6 +23,7 @@ pub(crate) mod mesh;
 pub(crate) mod model_files;
 pub(crate) mod moving;
 pub(crate) mod occluders;
+pub(crate) mod part_map;
 pub(crate) mod ray_triangle;
 pub(crate) mod regions;
 pub(crate) mod rig;
@@ -37,6 +39,7 @@ pub use frame_state::FrameState;
 pub use mesh::{Axes, Mesh, PartSource, load_vehicle, triangle_area};
 pub use moving::{FollowOffset, MovingOccluder, OccluderPath, PEDESTRIAN_BODY_M, pedestrian_body};
 pub use occluders::{OccluderObject, Occluders};
+pub use part_map::{PartMapReport, PartMapSpec, UNMAPPED_PART};
 pub use regions::{PartRule, RegionReport};
 pub use rig::{
     Eye, EyeCamera, Rig, TileId, box_corners, box_outside, look_to, reversed_z_perspective, vehicle_to_world,
@@ -44,4 +47,4 @@ pub use rig::{
 pub use scenario::Scenario;
 pub use scene_file::{Scene, SceneFile};
 pub use track::{Key, Motion, Pose, Track, ValueOrTrack};
-pub use vehicle::VehicleSpec;
+pub use vehicle::{PartsFrom, VehicleSpec};

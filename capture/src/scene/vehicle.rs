@@ -1,7 +1,8 @@
 //! The vehicle of a scene file, built one way for `capture` and `inspect`:
-//! load the mesh (with `axes`: origin, scale, forward and up), apply
-//! `rename`, then the region rules of `parts`, then check its size and
-//! origin.
+//! load the mesh (with `axes`: origin, scale, forward and up), name its
+//! parts (by node, mesh or material, or through a part map painted over its
+//! own UVs: [`crate::scene::part_map`]), apply `rename`, then the region
+//! rules of `parts`, then check its size and origin.
 //!
 //! The checks only warn: a 40 s capture of a vehicle that is ten times too
 //! small, lies on its side or pivots at its front bumper is wasted, but the
@@ -16,6 +17,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{CaptureError, Result};
 use crate::scene::demo;
 use crate::scene::mesh::{Axes, Mesh, PartSource, load_model};
+use crate::scene::part_map::{self, PartMapReport, PartMapSpec};
 use crate::scene::regions::{self, PartRule, RegionReport};
 
 /// The vehicle: a mesh file, or the demo truck.
@@ -24,9 +26,10 @@ use crate::scene::regions::{self, PartRule, RegionReport};
 pub struct VehicleSpec {
     /// `.glb`, `.gltf` or `.obj`, or `"demo"` for the built-in truck.
     pub mesh: String,
-    /// What names the parts: `node` (default), `mesh` or `material`.
+    /// What names the parts: `node` (default), `mesh` or `material`, or
+    /// `{"part_map": PNG, "legend": CSV}` painted over the model's own UVs.
     #[serde(default)]
-    pub parts_from: PartSource,
+    pub parts_from: PartsFrom,
     /// Renames parts (`from → to`); several names may map to one part.
     #[serde(default)]
     pub rename: BTreeMap<String, String>,
@@ -41,6 +44,39 @@ pub struct VehicleSpec {
     pub expect_length_m: Option<f64>,
 }
 
+/// What names the vehicle's parts.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(untagged, try_from = "serde_json::Value")]
+pub enum PartsFrom {
+    /// A name of the file: node, mesh or material.
+    Names(PartSource),
+    /// A part map over the model's own UVs ([`crate::scene::part_map`]).
+    PartMap(PartMapSpec),
+}
+
+impl Default for PartsFrom {
+    fn default() -> PartsFrom {
+        PartsFrom::Names(PartSource::default())
+    }
+}
+
+impl TryFrom<serde_json::Value> for PartsFrom {
+    type Error = String;
+
+    fn try_from(value: serde_json::Value) -> std::result::Result<PartsFrom, String> {
+        let shape = "\"node\", \"mesh\", \"material\" or {\"part_map\": \"PNG\", \"legend\": \"CSV\"}";
+        match value {
+            serde_json::Value::String(_) => serde_json::from_value(value)
+                .map(PartsFrom::Names)
+                .map_err(|_| format!("parts_from must be {shape}")),
+            serde_json::Value::Object(_) => serde_json::from_value(value)
+                .map(PartsFrom::PartMap)
+                .map_err(|error| format!("parts_from: {error} (expected {shape})")),
+            other => Err(format!("parts_from must be {shape}, not {other}")),
+        }
+    }
+}
+
 /// How far the vehicle's length may be from `expect_length_m` before a warning.
 pub const LENGTH_TOLERANCE: f64 = 0.2;
 
@@ -53,17 +89,31 @@ pub struct Vehicle {
     /// Size, axes and origin doubts, rules that matched nothing.
     pub warnings: Vec<String>,
     /// The files read: the mesh and the buffers or MTL files it names
-    /// (none for the demo truck).
+    /// (none for the demo truck), and a part map and its legend.
     pub files: Vec<PathBuf>,
+    /// What labelling through a part map found (`parts_from.part_map`).
+    pub part_map: Option<PartMapReport>,
 }
 
 /// Builds the vehicle of `spec`; mesh paths are relative to `base`, and
 /// `scene` names the file in errors.
 pub fn build(spec: &VehicleSpec, base: &Path, scene: &Path) -> Result<Vehicle> {
-    let (mut mesh, files) = if spec.mesh == "demo" {
+    let names = match &spec.parts_from {
+        PartsFrom::Names(source) => *source,
+        PartsFrom::PartMap(map) => map.names,
+    };
+    let (mut mesh, mut files) = if spec.mesh == "demo" {
         (demo::truck(), Vec::new())
     } else {
-        load_model(&base.join(&spec.mesh), spec.parts_from, &spec.axes)?
+        load_model(&base.join(&spec.mesh), names, &spec.axes)?
+    };
+    let part_map = match &spec.parts_from {
+        PartsFrom::PartMap(map) => {
+            let report = part_map::apply(&mut mesh, map, base, scene)?;
+            files.extend([report.part_map.clone(), report.legend.clone()]);
+            Some(report)
+        }
+        PartsFrom::Names(_) => None,
     };
     mesh.rename_parts(&spec.rename);
     let regions = regions::apply(&mut mesh, &spec.parts)
@@ -76,9 +126,10 @@ pub fn build(spec: &VehicleSpec, base: &Path, scene: &Path) -> Result<Vehicle> {
             format!("vehicle.expect_length_m must be positive, not {expected}"),
         ));
     }
-    let mut warnings = regions.warnings();
+    let mut warnings = part_map.as_ref().map(PartMapReport::warnings).unwrap_or_default();
+    warnings.extend(regions.warnings());
     warnings.extend(checks(&mesh, &spec.axes, spec.expect_length_m)?);
-    Ok(Vehicle { mesh, regions, warnings, files })
+    Ok(Vehicle { mesh, regions, warnings, files, part_map })
 }
 
 /// The point the vehicle's origin should be at: on the ground (lowest

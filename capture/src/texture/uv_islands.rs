@@ -11,10 +11,13 @@
 //! The texel of the background colour (palette index 4095) is never used.
 //! A mesh whose UVs are already unique and non-overlapping can keep them.
 
+use std::collections::HashMap;
+
 use glam::{DVec2, dvec2};
 
 use crate::error::{CaptureError, Result};
 use crate::scene::mesh::{Mesh, triangle_area};
+use crate::texture::uv_overlaps::{UvOverlaps, summarize_overlaps};
 
 /// Palette index of the background colour `#000FFF`.
 pub const BACKGROUND_INDEX: u64 = 0x000FFF;
@@ -234,21 +237,12 @@ pub fn keep_uvs_avoiding(
     let texel_uvs: Vec<[DVec2; 3]> =
         mesh.triangles.iter().map(|tri| tri.map(|i| uvs[i as usize].as_dvec2() * size)).collect();
     let [w, h] = palette;
-    let mut owner = vec![u32::MAX; (w as usize) * (h as usize)];
-    let mut overlaps = 0u64;
     let mut uv_area = 0.0;
     for (number, tri) in texel_uvs.iter().enumerate() {
         if tri.iter().any(|p| !(p.x >= 0.0 && p.y >= 0.0 && p.x <= size.x && p.y <= size.y)) {
             return Err(CaptureError::Unwrap(format!("--keep-uvs: triangle {number} has UVs outside 0..1")));
         }
         uv_area += ((tri[1] - tri[0]).perp_dot(tri[2] - tri[0]) / 2.0).abs();
-        for_texel_centres(tri, palette, |x, y| {
-            let slot = &mut owner[(y as usize) * (w as usize) + x as usize];
-            if *slot != u32::MAX && *slot != number as u32 {
-                overlaps += 1;
-            }
-            *slot = number as u32;
-        });
         if let Some((bx, by)) = background {
             let mut covers = false;
             footprint(tri, palette, 0, |x, y| covers |= (x, y) == (bx, by));
@@ -259,12 +253,54 @@ pub fn keep_uvs_avoiding(
             }
         }
     }
+    let (overlaps, pairs) = overlap_pairs(&texel_uvs, palette);
     if overlaps > 0 {
+        let lines = summarize_overlaps(mesh, palette, overlaps, pairs).lines();
         return Err(CaptureError::Unwrap(format!(
-            "--keep-uvs: {overlaps} texels are covered by more than one triangle; the UVs must not overlap (unwrap without --keep-uvs)"
+            "--keep-uvs: {overlaps} texels of the {w}×{h} palette are covered by more than one triangle; the UVs must \
+             not overlap. Where (parts, texels, example triangle numbers):\n  {}\nCapture without --keep-uvs (the \
+             capture unwraps the mesh itself) and, to label parts by a map painted over these UVs, give the scene's \
+             vehicle \"parts_from\": {{\"part_map\": PNG, \"legend\": CSV}}; or remove the duplicate faces and \
+             separate the overlapping islands in Blender",
+            lines.join("\n  ")
         )));
     }
     Ok(Unwrapped { palette, texel_uvs, texels_per_m2: uv_area / mesh.area(), method: "kept" })
+}
+
+/// The triangles (texel-space UVs) that share texel centres on `palette`:
+/// the texels covered more than once, and per pair (earlier triangle, the
+/// one that covered it again) the texels they share.
+fn overlap_pairs(texel_uvs: &[[DVec2; 3]], palette: [u32; 2]) -> (u64, HashMap<(u32, u32), u64>) {
+    let width = palette[0] as usize;
+    let mut owner = vec![u32::MAX; width * palette[1] as usize];
+    let mut pairs: HashMap<(u32, u32), u64> = HashMap::new();
+    let mut texels = 0u64;
+    for (number, tri) in texel_uvs.iter().enumerate() {
+        for_texel_centres(tri, palette, |x, y| {
+            let slot = &mut owner[y as usize * width + x as usize];
+            if *slot != u32::MAX && *slot != number as u32 {
+                texels += 1;
+                *pairs.entry((*slot, number as u32)).or_default() += 1;
+            }
+            *slot = number as u32;
+        });
+    }
+    (texels, pairs)
+}
+
+/// Where the mesh's own UVs overlap on `palette`, by pair of parts (for
+/// `inspect`; `--keep-uvs` refuses with the same lines). `None` without UVs.
+pub fn uv_overlaps(mesh: &Mesh, palette: [u32; 2]) -> Option<UvOverlaps> {
+    let uvs = mesh.uvs.as_ref()?;
+    let size = dvec2(f64::from(palette[0]), f64::from(palette[1]));
+    let texel_uvs: Vec<[DVec2; 3]> = mesh
+        .triangles
+        .iter()
+        .map(|tri| tri.map(|i| uvs.get(i as usize).map_or(DVec2::ZERO, |uv| uv.as_dvec2() * size)))
+        .collect();
+    let (texels, pairs) = overlap_pairs(&texel_uvs, palette);
+    Some(summarize_overlaps(mesh, palette, texels, pairs))
 }
 
 /// Calls `f` for every texel whose centre lies strictly inside `tri`.
@@ -421,6 +457,48 @@ mod tests {
         assert_eq!(kept.method, "kept");
         mesh.uvs =
             Some(vec![v(0.0, 0.5), v(0.25, 0.5), v(0.0, 0.75), v(0.0, 0.5), v(0.25, 0.5), v(0.0, 0.75)]);
-        assert!(keep_uvs(&mesh, [64, 64]).is_err());
+        let refused = keep_uvs(&mesh, [64, 64]).unwrap_err().to_string();
+        // 16 × 16 texels under a right triangle: 120 centres strictly inside, shared by a and b.
+        assert!(
+            refused.contains("120 texels of the 64×64 palette") && refused.contains("a × b: 120 texels"),
+            "{refused}"
+        );
+        assert!(refused.contains("triangles 0 & 1") && refused.contains("part_map"), "{refused}");
+    }
+
+    #[test]
+    fn overlaps_are_named_by_part_pair_and_duplicate_faces_are_told_apart() {
+        use glam::{Vec2, vec3};
+        let mut mesh = Mesh { uvs: Some(Vec::new()), ..Mesh::default() };
+        let uv = |mesh: &mut Mesh, corners: [[f32; 2]; 3]| {
+            mesh.uvs.as_mut().unwrap().extend(corners.map(|[u, v]| Vec2::new(u, v)));
+        };
+        // 0: body over the left half of the palette; 1: a plate elsewhere in
+        // space mapped over the same texels; 2: an exact duplicate of 0.
+        mesh.add_triangle("body", vec3(0.0, 0.0, 0.0), vec3(1.0, 0.0, 0.0), vec3(0.0, 0.0, 1.0));
+        uv(&mut mesh, [[0.0, 0.0], [0.5, 0.0], [0.0, 0.5]]);
+        mesh.add_triangle("plate", vec3(5.0, 0.0, 0.0), vec3(6.0, 0.0, 0.0), vec3(5.0, 0.0, 1.0));
+        uv(&mut mesh, [[0.0, 0.0], [0.5, 0.0], [0.0, 0.5]]);
+        mesh.add_triangle("body", vec3(0.0, 0.0, 0.0), vec3(1.0, 0.0, 0.0), vec3(0.0, 0.0, 1.0));
+        uv(&mut mesh, [[0.0, 0.0], [0.5, 0.0], [0.0, 0.5]]);
+        // 3: its own texels.
+        mesh.add_triangle("roof", vec3(0.0, 2.0, 0.0), vec3(1.0, 2.0, 0.0), vec3(0.0, 2.0, 1.0));
+        uv(&mut mesh, [[0.6, 0.6], [1.0, 0.6], [0.6, 1.0]]);
+        let overlaps = uv_overlaps(&mesh, [16, 16]).unwrap();
+        // Texel centres strictly inside an 8-texel right triangle: 28.
+        let inside = 28;
+        assert_eq!(overlaps.texels, 2 * inside, "plate over body, then the duplicate over the plate");
+        let pairs: Vec<(&str, &str, u64, u64)> = overlaps
+            .by_parts
+            .iter()
+            .map(|o| (o.parts.0.as_str(), o.parts.1.as_str(), o.texels, o.duplicate_texels))
+            .collect();
+        assert_eq!(pairs, [("body", "plate", 2 * inside, inside)]);
+        let lines = overlaps.lines();
+        assert!(
+            lines[0].contains("body × plate: 56 texels, 28 of them made by coincident duplicate faces"),
+            "{lines:?}"
+        );
+        assert!(lines[0].contains("0 & 1") && lines[0].contains("1 & 2"), "{lines:?}");
     }
 }

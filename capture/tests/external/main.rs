@@ -38,6 +38,10 @@ fn trials() -> Vec<Trial> {
             milk_truck::milk_truck_keep_uvs_names_the_primitives_without_uvs_and_a_tiny_capture_verifies,
         ),
         trial(
+            "milk_truck::milk_truck_parts_from_a_part_map_over_its_own_uvs_are_its_materials",
+            milk_truck::milk_truck_parts_from_a_part_map_over_its_own_uvs_are_its_materials,
+        ),
+        trial(
             "milk_truck::every_pixel_of_the_milk_truck_names_a_labelled_texel",
             milk_truck::every_pixel_of_the_milk_truck_names_a_labelled_texel,
         ),

@@ -138,3 +138,98 @@ pub fn every_pixel_of_the_milk_truck_names_a_labelled_texel() -> Outcome {
     assert_eq!(stray, 0);
     Ok(Completion::Completed)
 }
+
+/// The milk truck's scene with `vehicle` replaced by `edit` of it (no rename, no region rules).
+fn scene_with_vehicle(scene: &Path, work: &Path, name: &str, edit: impl Fn(&mut serde_json::Value)) -> Scene {
+    let mut file: serde_json::Value = serde_json::from_slice(&std::fs::read(scene).unwrap()).unwrap();
+    let vehicle = file["vehicle"].as_object_mut().unwrap();
+    vehicle.remove("rename");
+    vehicle.remove("parts");
+    edit(&mut file["vehicle"]);
+    let path = work.join(name);
+    std::fs::write(&path, serde_json::to_vec_pretty(&file).unwrap()).unwrap();
+    Scene::load(&path).unwrap()
+}
+
+/// A model nobody here made, labelled through its own UVs: a part map
+/// painted (here, by the test) with each material's colour over that
+/// material's own UV triangles gives every triangle its material back —
+/// the truck's own texture atlas, its glass and window trim (no UVs) named
+/// by material as `names` says.
+pub fn milk_truck_parts_from_a_part_map_over_its_own_uvs_are_its_materials() -> Outcome {
+    let work = tempfile::tempdir().unwrap();
+    let scene = match milk_truck_scene(work.path()) {
+        Ok(scene) => scene,
+        Err(skipped) => return skipped,
+    };
+    let by_material =
+        scene_with_vehicle(&scene, work.path(), "materials.json", |v| v["parts_from"] = "material".into());
+    let truck = &by_material.vehicle;
+    let colors = [0xE69F00u32, 0x56B4E9, 0x009E73, 0xF0E442, 0x0072B2, 0xD55E00];
+    assert!(truck.parts.len() <= colors.len(), "{:?}", truck.parts);
+    // Paint each triangle's own UV triangle (texel centres inside, or the
+    // centroid's texel; the first material to reach a texel keeps it) on a 1024² map.
+    let side = 1024usize;
+    let mut map = vec![0u32; side * side];
+    for (t, triangle) in truck.triangles.iter().enumerate() {
+        let uv = triangle.map(|i| truck.own_uvs[i as usize] * side as f32);
+        if !uv.iter().all(|p| p.is_finite()) {
+            continue;
+        }
+        let color = colors[truck.triangle_part[t] as usize];
+        // A UV triangle too small to hold a texel centre: the texel under its centroid (a brush covers it).
+        let centroid = (uv[0] + uv[1] + uv[2]) / 3.0;
+        let at =
+            |x: i64, y: i64| y.rem_euclid(side as i64) as usize * side + x.rem_euclid(side as i64) as usize;
+        let texel = at(centroid.x.floor() as i64, centroid.y.floor() as i64);
+        if map[texel] == 0 {
+            map[texel] = color;
+        }
+        let (lo, hi) = (uv[0].min(uv[1]).min(uv[2]), uv[0].max(uv[1]).max(uv[2]));
+        let area = (uv[1] - uv[0]).perp_dot(uv[2] - uv[0]);
+        for y in (lo.y - 0.5).ceil() as i64..=(hi.y - 0.5).floor() as i64 {
+            for x in (lo.x - 0.5).ceil() as i64..=(hi.x - 0.5).floor() as i64 {
+                let p = glam::Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+                let inside =
+                    (0..3).all(|k| (uv[(k + 1) % 3] - uv[k]).perp_dot(p - uv[k]) * area.signum() >= 0.0);
+                let texel = at(x, y);
+                if inside && map[texel] == 0 {
+                    map[texel] = color;
+                }
+            }
+        }
+    }
+    let rgb: Vec<u8> = map.iter().flat_map(|&c| ufcsr::Color::from_packed(c).rgb()).collect();
+    ufcsr::write_rgb_png(
+        &work.path().join("partmap.png"),
+        [side as u32, side as u32],
+        &rgb,
+        png::Compression::Fast,
+    )
+    .unwrap();
+    let legend: String = truck
+        .parts
+        .iter()
+        .zip(colors)
+        .map(|(name, c)| format!("{name},{}\n", ufcsr::Color::from_packed(c)))
+        .collect();
+    std::fs::write(work.path().join("parts.csv"), format!("name,color\n{legend}")).unwrap();
+    let mapped = scene_with_vehicle(&scene, work.path(), "mapped.json", |v| {
+        v["parts_from"] =
+            serde_json::json!({"part_map": "partmap.png", "legend": "parts.csv", "names": "material"});
+    });
+    let name = |mesh: &ufcsr_capture::Mesh, t: usize| mesh.parts[mesh.triangle_part[t] as usize].clone();
+    let agree = (0..truck.triangles.len()).filter(|&t| name(truck, t) == name(&mapped.vehicle, t)).count();
+    let mut wrong = std::collections::BTreeMap::new();
+    for t in (0..truck.triangles.len()).filter(|&t| name(truck, t) != name(&mapped.vehicle, t)) {
+        *wrong.entry((name(truck, t), name(&mapped.vehicle, t))).or_insert(0) += 1;
+    }
+    // Every one of the 3624 triangles: no two materials share texels in the truck's atlas.
+    assert_eq!(agree, truck.triangles.len(), "triangles that did not get their material back: {wrong:?}");
+    let mut names = mapped.vehicle.parts.clone();
+    names.sort_unstable();
+    let mut materials = truck.parts.clone();
+    materials.sort_unstable();
+    assert_eq!(names, materials);
+    Ok(Completion::Completed)
+}

@@ -60,6 +60,15 @@ pub struct ManifestArgs {
     #[arg(long)]
     pub missing_tiles_empty: bool,
 
+    /// Unity Perception SOLO output (sequence.N/stepK.frame_data.json, read without --fps/--fov): only
+    /// this camera's RGB captures are frames (sensor id; twice for two eyes). Default: every RGB camera.
+    #[arg(long, value_name = "ID")]
+    pub solo_camera: Vec<String>,
+
+    /// Read frames by their file names (--pattern) even where SOLO frame files are present.
+    #[arg(long, conflicts_with = "solo_camera")]
+    pub ignore_solo: bool,
+
     /// The manifest to write (default DIR/manifest.json; a folder: FOLDER/manifest.json). It must lie
     /// in DIR or above it; the analyzer reads ARCHIVE/manifest.json.
     #[arg(long, short, value_name = "FILE")]
@@ -84,6 +93,8 @@ pub fn run_manifest(args: ManifestArgs, console: &Console) -> Result<Completion>
         rig: args.rig.clone(),
         frame_times: args.frame_times.clone(),
         missing_tiles_empty: args.missing_tiles_empty,
+        solo_cameras: args.solo_camera.clone(),
+        ignore_solo: args.ignore_solo,
     };
     let described = ufcsr::describe(&options)?;
     for note in &described.notes {
@@ -103,7 +114,8 @@ pub fn run_manifest(args: ManifestArgs, console: &Console) -> Result<Completion>
 fn summary(d: &ufcsr::Described) -> String {
     let optional =
         |value: Option<f64>, unit: &str| value.map_or("unknown".to_string(), |v| format!("{v}{unit}"));
-    format!(
+    let solo = d.solo.as_ref().map_or(String::new(), solo_summary);
+    solo + &format!(
         "wrote {}: {} tiles ({} listed empty) in {} eye-frames ({} frames, eyes {}); {} × {} tiles (columns × rows) \
          of {}×{} px, \
          eye images {}×{} px\nframes per second: {}; horizontal field of view: {}; pixels per degree: {}; \
@@ -128,6 +140,21 @@ fn summary(d: &ufcsr::Described) -> String {
     )
 }
 
+/// The SOLO line: where the frames came from and what was skipped.
+fn solo_summary(solo: &ufcsr::SoloSummary) -> String {
+    let cameras: Vec<String> = solo.cameras.iter().map(|(id, eye)| format!("{id} → {eye}")).collect();
+    let skipped: Vec<String> = solo.skipped.iter().map(|(kind, n)| format!("{n} {kind}")).collect();
+    format!(
+        "Unity Perception SOLO: {} frame files in {}{}; cameras {}; eye poses {}; skipped (not FCSP frames): {}\n",
+        solo.frame_files,
+        solo.folder.display(),
+        solo.sequence.map_or(String::new(), |s| format!(" (sequence {s})")),
+        cameras.join(", "),
+        if solo.poses { "written to frames" } else { "not recorded" },
+        if skipped.is_empty() { "none".to_string() } else { skipped.join(", ") },
+    )
+}
+
 fn facts(d: &ufcsr::Described) -> serde_json::Value {
     json!({
         "manifest": shown(&d.manifest_path),
@@ -145,5 +172,14 @@ fn facts(d: &ufcsr::Described) -> serde_json::Value {
         "times_from": d.times_from,
         "distances": d.distances,
         "notes": d.notes,
+        "solo": d.solo.as_ref().map(|solo| json!({
+            "folder": shown(&solo.folder),
+            "frame_files": solo.frame_files,
+            "sequence": solo.sequence,
+            "cameras": solo.cameras,
+            "skipped": solo.skipped,
+            "skipped_total": solo.skipped.values().sum::<usize>(),
+            "poses": solo.poses,
+        })),
     })
 }

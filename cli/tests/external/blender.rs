@@ -23,7 +23,7 @@ const FRAMES: &str = "130,180";
 
 /// The interpreter with `bpy`: `UFCSR_BPY_PYTHON`, else the venv `.ci/run` installs in
 /// `target/bpy-venv`, else `python3`; or the outcome saying what is missing.
-fn bpy_python() -> Result<String, Outcome> {
+pub(crate) fn bpy_python() -> Result<String, Outcome> {
     let installed = Path::new(env!("CARGO_MANIFEST_DIR")).join("../target/bpy-venv/bin/python");
     let python = std::env::var("UFCSR_BPY_PYTHON").unwrap_or_else(|_| {
         if installed.is_file() { installed.display().to_string() } else { "python3".to_string() }

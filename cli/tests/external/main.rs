@@ -23,6 +23,7 @@ mod validator;
 mod analyzer_umbrella;
 mod atomic_results;
 mod blender;
+mod fbx_conversion;
 mod gltf_validator;
 mod manifest_script;
 mod python_package;
@@ -55,6 +56,10 @@ fn trials() -> Vec<Trial> {
         trial(
             "blender::the_blender_scripts_file_rules_hold_without_blender",
             blender::the_blender_scripts_file_rules_hold_without_blender,
+        ),
+        trial(
+            "fbx_conversion::fbx_to_glb_keeps_units_axes_node_transforms_and_material_names",
+            fbx_conversion::fbx_to_glb_keeps_units_axes_node_transforms_and_material_names,
         ),
         trial(
             "gltf_validator::vehicle_heatmap_and_scene_glb_validate_with_no_error_or_warning",

@@ -18,20 +18,20 @@ use ufcsr::{AnalyzeOptions, Dedupe, analyze, write_results};
 
 const UNITY: &str = r"(?P<eye>Left|Right)_(?P<frame>\d+)_(?P<row>\d+)_(?P<col>\d+)\.png$";
 
-fn example() -> PathBuf {
+pub(crate) fn example() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example")
 }
 
 /// `ufcsr-analyze manifest ARGS` run in `cwd`.
-fn manifest(cwd: &Path, args: &[&str]) -> Output {
+pub(crate) fn manifest(cwd: &Path, args: &[&str]) -> Output {
     analyzer().current_dir(cwd).arg("manifest").args(args).output().unwrap()
 }
 
-fn stderr(output: &Output) -> String {
+pub(crate) fn stderr(output: &Output) -> String {
     String::from_utf8_lossy(&output.stderr).into_owned()
 }
 
-fn analysis(archive: &Path, dedupe: Dedupe, out: &Path) -> ufcsr::Analysis {
+pub(crate) fn analysis(archive: &Path, dedupe: Dedupe, out: &Path) -> ufcsr::Analysis {
     let options =
         AnalyzeOptions { archive: archive.to_path_buf(), dedupe, frames: true, ..Default::default() };
     let mut analysis = analyze(&options, None).expect("analysis");
@@ -42,9 +42,9 @@ fn analysis(archive: &Path, dedupe: Dedupe, out: &Path) -> ufcsr::Analysis {
 /// Every eye-frame of the bundled capture: (frame, eye) → its 5×5 tiles'
 /// colours by (row, col), background where the capture wrote no file.
 /// An eye-frame's tiles: (row, col) → packed colours.
-type Tiles = BTreeMap<(u32, u32), Vec<u32>>;
+pub(crate) type Tiles = BTreeMap<(u32, u32), Vec<u32>>;
 
-fn example_eye_frames() -> BTreeMap<(u32, String), Tiles> {
+pub(crate) fn example_eye_frames() -> BTreeMap<(u32, String), Tiles> {
     let manifest = ufcsr::Manifest::load_from_dir(&example()).unwrap().unwrap();
     let mut eye_frames: BTreeMap<(u32, String), Tiles> = BTreeMap::new();
     for tile in &manifest.tiles {
@@ -57,13 +57,13 @@ fn example_eye_frames() -> BTreeMap<(u32, String), Tiles> {
     eye_frames
 }
 
-fn copy_labels(into: &Path) {
+pub(crate) fn copy_labels(into: &Path) {
     for file in ["pidt.png", "parts.csv"] {
         std::fs::copy(example().join(file), into.join(file)).unwrap();
     }
 }
 
-fn assert_same_counts(ours: &ufcsr::Analysis, capture: &ufcsr::Analysis) {
+pub(crate) fn assert_same_counts(ours: &ufcsr::Analysis, capture: &ufcsr::Analysis) {
     assert_eq!(ours.result.grand_total, capture.result.grand_total);
     let totals =
         |a: &ufcsr::Analysis| a.result.parts.iter().map(|p| (p.name.clone(), p.total)).collect::<Vec<_>>();
@@ -72,7 +72,7 @@ fn assert_same_counts(ours: &ufcsr::Analysis, capture: &ufcsr::Analysis) {
 }
 
 /// exposure_s and angular_area_deg2_s of every part, equal to `relative`.
-fn assert_same_measures(ours: &Path, capture: &Path, relative: f64) {
+pub(crate) fn assert_same_measures(ours: &Path, capture: &Path, relative: f64) {
     let measures = |dir: &Path| read_json(&dir.join("result.json"))["measures"]["parts"].clone();
     let (ours, capture) = (measures(ours), measures(capture));
     let parts = capture.as_array().unwrap();
@@ -187,7 +187,7 @@ fn mono_sequence(dir: &Path) -> PathBuf {
     shots
 }
 
-fn csv_column(path: &Path, column: &str) -> Vec<String> {
+pub(crate) fn csv_column(path: &Path, column: &str) -> Vec<String> {
     let mut reader = csv::Reader::from_path(path).unwrap();
     let at = reader.headers().unwrap().iter().position(|h| h == column).unwrap();
     reader.records().map(|row| row.unwrap()[at].to_string()).collect()

@@ -34,6 +34,7 @@ mod placement_pages;
 mod reliability_inputs;
 mod reliability_outputs;
 mod result_validation;
+mod solo_manifest;
 
 // The capture's command line (and the library tests that share their helpers).
 mod archive_models;
@@ -43,6 +44,7 @@ mod exit_codes;
 mod fused_count;
 mod hardening;
 mod observers_command;
+mod own_models;
 mod reliability;
 mod round_trip;
 mod schemas;
