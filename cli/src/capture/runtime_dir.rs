@@ -39,8 +39,9 @@ impl PrivateRuntimeDir {
 
 impl Drop for PrivateRuntimeDir {
     fn drop(&mut self) {
-        if let Some(dir) = &self.0 {
-            let _ = std::fs::remove_dir_all(dir);
+        // Our own folder, made above inside the temporary folder.
+        if let Some((dir, parent)) = self.0.as_ref().and_then(|dir| Some((dir, dir.parent()?))) {
+            let _ = ufcsr::remove_inside(parent, dir);
         }
     }
 }

@@ -6,6 +6,10 @@
 //! cli_grammar::` runs one of them. The libraries' own tests stay beside
 //! them; tests that need outside tools are in `tests/external`.
 
+// Test code may use std::fs directly; production code goes through the file
+// layer (clippy.toml, docs/reliability.md).
+#![allow(clippy::disallowed_methods, clippy::disallowed_types)]
+
 #[path = "../../../tests/it/common.rs"]
 mod analyzer_helpers;
 
@@ -30,14 +34,18 @@ mod color_damage;
 mod comparison_page;
 mod external_manifest;
 mod missing_vehicle;
+mod output_paths;
 mod placement_pages;
+mod placement_tables;
 mod reliability_inputs;
 mod reliability_outputs;
 mod result_validation;
+mod stdout_failures;
 
 // The capture's command line (and the library tests that share their helpers).
 mod archive_models;
 mod bad_capture;
+mod capture_replaces_whole;
 mod capture_shards;
 mod exit_codes;
 mod fused_count;

@@ -228,7 +228,8 @@ fn capture_observer(
     (index, observer): (usize, &SampledObserver),
     setup: &mut Option<CaptureSetup>,
 ) -> Result<(ObserverRecord, Vec<String>)> {
-    let out = options.capture.out.join(format!("observer-{index:03}"));
+    // A link planted at observer-NNN is replaced by a real folder, never written through.
+    let out = ufcsr::output_sub_dir(&options.capture.out, Path::new(&format!("observer-{index:03}")))?;
     let fine_scene = observer_scene(scene, options, observer, options.ppd)?;
     let fine = capture_totals(device, queue, (&fine_scene, options), (&out, options.frame_step), setup)?;
     let mut seconds = fine.seconds;
@@ -358,7 +359,7 @@ fn cell(value: Option<f64>) -> String {
 /// Writes `observers.json`, `observers.csv` (one row per observer and part)
 /// and `observer-parts.csv` (one row per part); returns what was written.
 pub fn write_observer_study(study: &ObserverStudy, dir: &Path) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).map_err(|e| CaptureError::io(dir, e))?;
+    ufcsr::create_output_dir(dir)?;
     let json_path = dir.join("observers.json");
     let json =
         serde_json::to_vec_pretty(study).map_err(|e| CaptureError::bad_file(&json_path, e.to_string()))?;

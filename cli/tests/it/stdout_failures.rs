@@ -1,0 +1,89 @@
+//! Issue 34, output streams: a full device or a closed pipe on stdout ends
+//! a run with a message on stderr and a documented exit code, never a panic
+//! (exit 101): the analysis, with and without `--json`, and `palette
+//! --json`. Paths that are not UTF-8 work.
+
+use crate::common;
+
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+
+fn example() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example")
+}
+
+/// Runs `command` with stdout on `/dev/full`; returns its exit code and stderr.
+fn into_full_device(mut command: Command) -> (Option<i32>, String) {
+    let full = std::fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+    let output = command.stdout(Stdio::from(full)).output().unwrap();
+    (output.status.code(), String::from_utf8_lossy(&output.stderr).into_owned())
+}
+
+/// Runs `command` with stdout a pipe whose reader is gone before it writes.
+fn into_closed_pipe(mut command: Command) -> (Option<i32>, String) {
+    let mut child = command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().unwrap();
+    drop(child.stdout.take());
+    let output = child.wait_with_output().unwrap();
+    (output.status.code(), String::from_utf8_lossy(&output.stderr).into_owned())
+}
+
+#[cfg(unix)]
+#[test]
+fn a_full_device_or_a_closed_pipe_on_stdout_is_an_error_not_a_panic() {
+    if !std::path::Path::new("/dev/full").exists() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let commands: Vec<(&str, Box<dyn Fn() -> Command>)> = vec![
+        (
+            "analysis",
+            Box::new(|| {
+                let mut command = common::analyzer();
+                command.arg(example()).arg("--out").arg(dir.path().join("R"));
+                command
+            }),
+        ),
+        (
+            "analysis --json",
+            Box::new(|| {
+                let mut command = common::analyzer();
+                command.arg(example()).arg("--json").arg("--out").arg(dir.path().join("J"));
+                command
+            }),
+        ),
+        (
+            "palette --json",
+            Box::new(|| {
+                let mut command = common::analyzer();
+                command.args(["palette", "--size", "8", "--json", "--out"]).arg(dir.path().join("p.png"));
+                command
+            }),
+        ),
+    ];
+    for (what, command) in &commands {
+        for (how, (code, stderr)) in
+            [("full", into_full_device(command())), ("closed", into_closed_pipe(command()))]
+        {
+            assert!(code.is_some() && code != Some(101), "{what} into a {how} stdout: {code:?} {stderr}");
+            assert!(!stderr.contains("panicked"), "{what} into a {how} stdout panicked: {stderr}");
+        }
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn non_utf8_paths_work_or_are_refused_never_a_panic() {
+    use std::os::unix::ffi::OsStrExt;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join(std::ffi::OsStr::from_bytes(b"out-\xff"));
+    let analysed = common::analyzer().arg(example()).arg("--json").arg("--out").arg(&out).output().unwrap();
+    let stderr = String::from_utf8_lossy(&analysed.stderr);
+    assert!(analysed.status.success() && !stderr.contains("panicked"), "{stderr}");
+    assert!(out.join("result.json").is_file());
+    let png = dir.path().join(std::ffi::OsStr::from_bytes(b"palette-\xfe.png"));
+    let palette =
+        common::analyzer().args(["palette", "--size", "8", "--json", "--out"]).arg(&png).output().unwrap();
+    let stderr = String::from_utf8_lossy(&palette.stderr);
+    assert!(palette.status.success() && !stderr.contains("panicked"), "{stderr}");
+    assert!(png.is_file());
+}
