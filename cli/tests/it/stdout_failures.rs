@@ -34,40 +34,25 @@ fn a_full_device_or_a_closed_pipe_on_stdout_is_an_error_not_a_panic() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let commands: Vec<(&str, Box<dyn Fn() -> Command>)> = vec![
-        (
-            "analysis",
-            Box::new(|| {
-                let mut command = common::analyzer();
-                command.arg(example()).arg("--out").arg(dir.path().join("R"));
-                command
-            }),
-        ),
-        (
-            "analysis --json",
-            Box::new(|| {
-                let mut command = common::analyzer();
-                command.arg(example()).arg("--json").arg("--out").arg(dir.path().join("J"));
-                command
-            }),
-        ),
-        (
-            "palette --json",
-            Box::new(|| {
-                let mut command = common::analyzer();
-                command.args(["palette", "--size", "8", "--json", "--out"]).arg(dir.path().join("p.png"));
-                command
-            }),
-        ),
-    ];
-    for (what, command) in &commands {
-        for (how, (code, stderr)) in
-            [("full", into_full_device(command())), ("closed", into_closed_pipe(command()))]
-        {
+    for how in ["full", "closed"] {
+        for (what, command) in commands(dir.path()) {
+            let (code, stderr) =
+                if how == "full" { into_full_device(command) } else { into_closed_pipe(command) };
             assert!(code.is_some() && code != Some(101), "{what} into a {how} stdout: {code:?} {stderr}");
             assert!(!stderr.contains("panicked"), "{what} into a {how} stdout panicked: {stderr}");
         }
     }
+}
+
+/// The commands tried, each writing into `dir`.
+fn commands(dir: &std::path::Path) -> Vec<(&'static str, Command)> {
+    let mut analysis = common::analyzer();
+    analysis.arg(example()).arg("--out").arg(dir.join("R"));
+    let mut json = common::analyzer();
+    json.arg(example()).arg("--json").arg("--out").arg(dir.join("J"));
+    let mut palette = common::analyzer();
+    palette.args(["palette", "--size", "8", "--json", "--out"]).arg(dir.join("p.png"));
+    vec![("analysis", analysis), ("analysis --json", json), ("palette --json", palette)]
 }
 
 #[cfg(unix)]
