@@ -217,7 +217,13 @@ pub fn run_demo_with_traffic(
     let all = args.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
     for name in scenario_names(&Scene::demo(), args.scenario.as_deref())? {
         let scene = Scene::demo_with_traffic(traffic, &name)?;
-        let out = if all { args.out.join(&name) } else { args.out.clone() };
+        // --out/NAME a real folder: a link planted there is replaced, never written through.
+        let out = if all {
+            ufcsr::create_output_dir(&args.out)?;
+            ufcsr::output_sub_dir(&args.out, std::path::Path::new(&name))?
+        } else {
+            args.out.clone()
+        };
         run_capture(scene, &CaptureArgs { out, scenario: Some(name), ..args.clone() }, threads, console)?;
     }
     Ok(())

@@ -45,6 +45,7 @@ mod stdout_failures;
 // The capture's command line (and the library tests that share their helpers).
 mod archive_models;
 mod bad_capture;
+mod capture_inputs_kept;
 mod capture_replaces_whole;
 mod capture_shards;
 mod exit_codes;

@@ -106,6 +106,14 @@ pub fn run_observer_study(
     options: &ObserverOptions,
 ) -> Result<ObserverStudy> {
     check(options, scene)?;
+    // A scene file (or mesh) named observers.json, observers.csv or
+    // observer-parts.csv in --out is refused, never replaced (as study does).
+    crate::job::overwrite_guard::refuse_overwriting_inputs(
+        &options.capture.out,
+        &OBSERVER_FILES,
+        &[],
+        &crate::job::capture_inputs(scene, &options.capture),
+    )?;
     let scenario = scene.scenario(&options.scenario)?;
     let start = Instant::now();
     let sampled = sample_observers(&options.population, &options.sampling, scene.rig.anchor().to_array())?;
@@ -355,6 +363,9 @@ pub fn summarize(
 fn cell(value: Option<f64>) -> String {
     value.map_or_else(String::new, |v| format!("{v:.6}"))
 }
+
+/// The files [`write_observer_study`] writes into the study's folder.
+const OBSERVER_FILES: [&str; 3] = ["observers.json", "observers.csv", "observer-parts.csv"];
 
 /// Writes `observers.json`, `observers.csv` (one row per observer and part)
 /// and `observer-parts.csv` (one row per part); returns what was written.
