@@ -68,3 +68,21 @@ fn a_link_planted_where_a_scenario_sub_folder_goes_is_replaced_not_written_throu
     assert!(!std::fs::symlink_metadata(out.join("B")).unwrap().file_type().is_symlink());
     assert!(out.join("B/manifest.json").is_file());
 }
+
+#[test]
+fn a_recapture_without_placement_leaves_no_placement_table_of_the_earlier_capture() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("archive");
+    let first = crate::hardening::tiny_capture(&["demo", "--scenario", "A"], &out, &[]);
+    assert!(first.success, "{}", first.stderr);
+    // What a capture of A with --placement left in results/, and a file of the user's.
+    std::fs::create_dir_all(out.join("results")).unwrap();
+    for name in ["placement-frames.csv", "placement-patches.csv", "notes.txt"] {
+        std::fs::write(out.join("results").join(name), "scenario A").unwrap();
+    }
+    let again = crate::hardening::tiny_capture(&["demo", "--scenario", "B"], &out, &[]);
+    assert!(again.success, "{}", again.stderr);
+    assert!(!out.join("results/placement-frames.csv").exists(), "A's table is left beside B's archive");
+    assert!(!out.join("results/placement-patches.csv").exists());
+    assert!(out.join("results/notes.txt").is_file(), "a file of the user's was removed");
+}
