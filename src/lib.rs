@@ -65,7 +65,7 @@ pub use format::placement::{
     ArchiveRecord, CandidateRecord, CombinationRecord, ExposureRecord, MemberRecord, PlacementDocument,
     RunnerUpRecord, SensitivityRecord, SensitivitySet, ThresholdsRecord, UncertaintyRecord,
 };
-pub use format::placement_csv::{PLACEMENT_FRAMES_OPTIONAL, PlacementFrameRow};
+pub use format::placement_csv::{PLACEMENT_FRAMES_OPTIONAL, PLACEMENT_TABLE_LIMIT, PlacementFrameRow};
 pub use format::result::{
     ColorTexels, CountMeasure, DedupeReport, FailedImage, ImageCounts, PartMeasure, PixelCounts, ResultFile,
     Settings, StrayImage, TexelCountsJson, TrimReport, UnlabelledReport,

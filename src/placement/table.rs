@@ -19,7 +19,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::files::{SMALL_INPUT_LIMIT, read_limited};
+use crate::files::read_limited;
 
 pub use crate::format::placement_csv::{PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE};
 
@@ -144,7 +144,7 @@ impl Columns {
 
 /// Reads and checks one table (see the module documentation).
 pub fn read_table(path: &Path) -> Result<PlacementTable> {
-    let bytes = read_limited(path, SMALL_INPUT_LIMIT)?;
+    let bytes = read_limited(path, crate::format::placement_csv::PLACEMENT_TABLE_LIMIT)?;
     let mut reader = csv::ReaderBuilder::new().has_headers(true).from_reader(&bytes[..]);
     let header =
         reader.headers().map_err(|e| Error::bad_file(path, format!("line 1: not CSV: {e}")))?.clone();
