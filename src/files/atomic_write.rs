@@ -565,6 +565,12 @@ fn create_new(path: &Path) -> std::io::Result<File> {
     }
 }
 
+/// Copies the regular file `from` (at most `limit` bytes) to `to`,
+/// atomically, never through a link at `to` nor over a device.
+pub fn copy_into(from: &Path, to: &Path, limit: u64) -> Result<()> {
+    write_bytes_atomically(to, &crate::files::read_limited(from, limit)?)
+}
+
 /// Writes bytes to `path` atomically.
 pub fn write_bytes_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
     write_atomically(path, |writer| writer.write_all(bytes))

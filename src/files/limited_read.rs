@@ -96,12 +96,6 @@ pub fn read_limited_text(path: &Path, limit: u64) -> Result<String> {
         .map_err(|e| Error::bad_file(path, format!("is not UTF-8 text ({})", e.utf8_error())))
 }
 
-/// Copies the regular file `from` (at most `limit` bytes) to `to`,
-/// atomically, never through a link at `to` nor over a device.
-pub fn copy_into(from: &Path, to: &Path, limit: u64) -> Result<()> {
-    crate::files::write_bytes_atomically(to, &read_limited(from, limit)?)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -18,12 +18,10 @@ mod png_encode;
 
 pub(crate) use atomic_write::parse_journal;
 pub use atomic_write::{
-    Staging, interrupted_commit, refuse_replacing_non_file, remove_on_interrupt, remove_stale_staging,
-    remove_temporaries, write_atomically, write_bytes_atomically,
+    Staging, copy_into, interrupted_commit, refuse_replacing_non_file, remove_on_interrupt,
+    remove_stale_staging, remove_temporaries, write_atomically, write_bytes_atomically,
 };
-pub use limited_read::{
-    IMAGE_LIMIT, SMALL_INPUT_LIMIT, copy_into, open_regular, read_limited, read_limited_text,
-};
+pub use limited_read::{IMAGE_LIMIT, SMALL_INPUT_LIMIT, open_regular, read_limited, read_limited_text};
 pub use model_input::{
     GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, check_accessors, check_coordinates, parse_gltf, read_gltf,
     resolve_inside,

@@ -158,8 +158,5 @@ fn report_keeps_a_result_folder_that_also_holds_a_placement_and_a_placement_view
     ]);
     let page = std::fs::read_to_string(compared.join("report.html")).unwrap();
     assert!(page.contains("<th>R1</th><th>R2</th>"), "a result was dropped from the page");
-    assert!(
-        page.contains("Where should the eHMI go? (R1)"),
-        "the placement was dropped from the page"
-    );
+    assert!(page.contains("Where should the eHMI go? (R1)"), "the placement was dropped from the page");
 }
