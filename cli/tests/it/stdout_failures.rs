@@ -1,7 +1,7 @@
 //! Issue 34, output streams: a full device or a closed pipe on stdout ends
 //! a run with a message on stderr and a documented exit code, never a panic
-//! (exit 101): the analysis, with and without `--json`, and `palette
-//! --json`. Paths that are not UTF-8 work.
+//! (exit 101): the analysis, with and without `--json`, `palette --json`,
+//! `placement` and the capture's `inspect`. Paths that are not UTF-8 work.
 
 use crate::common;
 
@@ -52,7 +52,35 @@ fn commands(dir: &std::path::Path) -> Vec<(&'static str, Command)> {
     json.arg(example()).arg("--json").arg("--out").arg(dir.join("J"));
     let mut palette = common::analyzer();
     palette.args(["palette", "--size", "8", "--json", "--out"]).arg(dir.join("p.png"));
-    vec![("analysis", analysis), ("analysis --json", json), ("palette --json", palette)]
+    // placement on a two-candidate table; inspect on the example's model.
+    let archive = dir.join("archive");
+    std::fs::create_dir_all(archive.join("results")).unwrap();
+    let mut table = String::from(
+        "frame,time_s,eye,distance_m,candidate,kind,solid_angle_sr,visible_fraction,view_angle_deg,\
+         angular_height_deg,frame_s\n",
+    );
+    for frame in 0..10 {
+        for part in ["hood", "grill"] {
+            table += &format!(
+                "{frame},{},left,{},{part},part,1e-3,1,10,1,0.1\n",
+                f64::from(frame) / 10.0,
+                30 - frame
+            );
+        }
+    }
+    std::fs::write(archive.join("results/placement-frames.csv"), table).unwrap();
+    let mut placement = common::analyzer();
+    placement.arg("placement").arg(&archive).args(["--min-dwell-s", "0", "--out"]).arg(dir.join("P"));
+    let mut inspect = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"));
+    inspect.arg("inspect").arg(example().join("vehicle.glb")).arg("--out").arg(dir.join("I"));
+    inspect.env("XDG_RUNTIME_DIR", dir);
+    vec![
+        ("analysis", analysis),
+        ("analysis --json", json),
+        ("palette --json", palette),
+        ("placement", placement),
+        ("inspect", inspect),
+    ]
 }
 
 #[cfg(unix)]
