@@ -465,6 +465,35 @@ pub fn remove_stale_staging(out_dir: &Path) -> usize {
 
 /// Whether process `pid` runs (Linux: `/proc/<pid>` exists; elsewhere
 /// assumed running, so only the age rule applies).
+/// Removes the temporary files ([`write_atomically`]'s `.NAME.tmp-PID`)
+/// that killed processes left in `dir`: SIGKILL runs no handler, so a
+/// capture killed while it wrote tiles left `.f0001_….png.tmp-PID` files
+/// that `--resume` kept. Only plain files and links of that name whose
+/// process is gone are removed (never one of a process still running, nor
+/// what a link points to). Returns how many were removed.
+#[allow(clippy::disallowed_methods)] // the layer: only dead processes' temporaries, by name, links not followed
+pub fn remove_stale_temporaries(dir: &Path) -> usize {
+    let Ok(entries) = fs::read_dir(dir) else { return 0 };
+    let mut removed = 0;
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        let pid = name
+            .strip_prefix('.')
+            .and_then(|rest| rest.rsplit_once(".tmp-"))
+            .and_then(|(_, pid)| pid.parse::<u32>().ok());
+        let Some(pid) = pid else { continue };
+        let is_dir = fs::symlink_metadata(entry.path()).is_ok_and(|m| m.is_dir());
+        if is_dir || pid == std::process::id() || process_alive(pid) {
+            continue;
+        }
+        if fs::remove_file(entry.path()).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
+}
+
 fn process_alive(pid: u32) -> bool {
     if cfg!(target_os = "linux") { Path::new(&format!("/proc/{pid}")).exists() } else { true }
 }
@@ -710,6 +739,21 @@ mod tests {
         assert_eq!(fs::read_to_string(out.join("result.json")).unwrap(), "new");
         assert!(!out.join("frames.csv").exists() && !staging.exists());
         assert!(!finish_interrupted_commit(out, &set).unwrap(), "nothing left to finish");
+    }
+
+    #[test]
+    fn temporaries_of_killed_processes_are_removed_and_others_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let dir = dir.path();
+        let own = format!(".b.png.tmp-{}", std::process::id());
+        for name in [".a.png.tmp-999999999", own.as_str(), "c.png", ".d.png.tmp-x"] {
+            fs::write(dir.join(name), "x").unwrap();
+        }
+        assert_eq!(remove_stale_temporaries(dir), 1);
+        assert!(!dir.join(".a.png.tmp-999999999").exists());
+        for kept in [own.as_str(), "c.png", ".d.png.tmp-x"] {
+            assert!(dir.join(kept).exists(), "{kept}");
+        }
     }
 
     #[test]

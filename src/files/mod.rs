@@ -19,7 +19,8 @@ mod png_encode;
 pub(crate) use atomic_write::parse_journal;
 pub use atomic_write::{
     Staging, copy_into, interrupted_commit, refuse_replacing_non_file, remove_on_interrupt,
-    remove_stale_staging, remove_temporaries, write_atomically, write_bytes_atomically,
+    remove_stale_staging, remove_stale_temporaries, remove_temporaries, write_atomically,
+    write_bytes_atomically,
 };
 pub use limited_read::{IMAGE_LIMIT, SMALL_INPUT_LIMIT, open_regular, read_limited, read_limited_text};
 pub use model_input::{

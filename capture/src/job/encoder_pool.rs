@@ -58,6 +58,10 @@ impl EncoderPool {
     ) -> Result<EncoderPool> {
         let tiles_dir = archive.join("tiles");
         ufcsr::real_dir(&tiles_dir)?;
+        // Tiles half-written by a killed capture (SIGKILL runs no handler)
+        // go, so `--resume` keeps only whole tiles and nothing of theirs.
+        ufcsr::remove_stale_temporaries(&tiles_dir);
+        ufcsr::remove_stale_temporaries(archive);
         let resume = matches!(old_tiles, OldTiles::Keep);
         match &old_tiles {
             OldTiles::Keep => {}
