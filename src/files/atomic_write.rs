@@ -494,6 +494,27 @@ pub fn remove_stale_temporaries(dir: &Path) -> usize {
     removed
 }
 
+/// Removes the entries of `dir` named `PREFIX<pid>` (a killed run's own
+/// folder, e.g. the capture's `ufcsr-runtime-<pid>` in the temporary
+/// folder) whose process is gone, through [`crate::files::remove_inside`]
+/// (a link is removed itself, never followed). Returns how many were removed.
+pub fn remove_dead_runs(dir: &Path, prefix: &str) -> usize {
+    let Ok(entries) = fs::read_dir(dir) else { return 0 };
+    let mut removed = 0;
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let pid = name.to_str().and_then(|n| n.strip_prefix(prefix)).and_then(|pid| pid.parse::<u32>().ok());
+        let Some(pid) = pid else { continue };
+        if pid != std::process::id()
+            && !process_alive(pid)
+            && crate::files::remove_inside(dir, &entry.path()).unwrap_or(false)
+        {
+            removed += 1;
+        }
+    }
+    removed
+}
+
 fn process_alive(pid: u32) -> bool {
     if cfg!(target_os = "linux") { Path::new(&format!("/proc/{pid}")).exists() } else { true }
 }
@@ -753,6 +774,21 @@ mod tests {
         assert!(!dir.join(".a.png.tmp-999999999").exists());
         for kept in [own.as_str(), "c.png", ".d.png.tmp-x"] {
             assert!(dir.join(kept).exists(), "{kept}");
+        }
+    }
+
+    #[test]
+    fn folders_of_dead_runs_are_removed_and_live_ones_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let dir = dir.path();
+        let own = format!("run-{}", std::process::id());
+        for name in ["run-999999999", own.as_str(), "run-x", "other-999999999"] {
+            fs::create_dir_all(dir.join(name).join("inside")).unwrap();
+        }
+        assert_eq!(remove_dead_runs(dir, "run-"), 1);
+        assert!(!dir.join("run-999999999").exists());
+        for kept in [own.as_str(), "run-x", "other-999999999"] {
+            assert!(dir.join(kept).is_dir(), "{kept}");
         }
     }
 

@@ -18,7 +18,7 @@ mod png_encode;
 
 pub(crate) use atomic_write::parse_journal;
 pub use atomic_write::{
-    Staging, copy_into, interrupted_commit, refuse_replacing_non_file, remove_on_interrupt,
+    Staging, copy_into, interrupted_commit, refuse_replacing_non_file, remove_dead_runs, remove_on_interrupt,
     remove_stale_staging, remove_stale_temporaries, remove_temporaries, write_atomically,
     write_bytes_atomically,
 };
