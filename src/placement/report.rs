@@ -294,6 +294,12 @@ pub fn write_placement(placement: &Placement, out: &Path) -> Result<WrittenPlace
     write_atomically(&written.json, |w| writeln!(w, "{text}"))?;
     write_atomically(&written.csv, |w| write_candidates(w, &placement.document.candidates))?;
     write_atomically(&written.combinations_csv, |w| write_combinations(w, &placement.document.combinations))?;
+    // The picture of an earlier run (placement.png, placement-views/) goes:
+    // it showed sets this answer may not choose, or a run without a
+    // vehicle model would leave it beside the new files.
+    for stale in [crate::placement::PLACEMENT_PICTURE_FILE, crate::placement::PLACEMENT_VIEWS_DIR] {
+        crate::files::remove_inside(out, &out.join(stale))?;
+    }
     let picture = match &placement.vehicle_model {
         Some(path) => {
             let model = crate::archive::VehicleModel::read(path)?;

@@ -55,6 +55,7 @@ mod observers_command;
 mod reliability;
 mod round_trip;
 mod schemas;
+mod stale_outputs;
 mod traffic;
 mod umbrella;
 mod unobstructed;

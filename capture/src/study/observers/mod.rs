@@ -399,7 +399,25 @@ pub fn write_observer_study(study: &ObserverStudy, dir: &Path) -> Result<Vec<Pat
     ufcsr::write_bytes_atomically(&observers_path, per_observer.as_bytes())?;
     let parts_path = dir.join("observer-parts.csv");
     ufcsr::write_bytes_atomically(&parts_path, parts_table(study).as_bytes())?;
+    remove_stale_observers(dir, study.observers.len())?;
     Ok(vec![json_path, observers_path, parts_path])
+}
+
+/// Removes the `observer-NNN` folders of an earlier study into `dir` with
+/// more observers than this one (`observer-003` … after a study of 3): they
+/// describe observers the new tables do not list. Only inside `dir`, never
+/// through a link.
+fn remove_stale_observers(dir: &Path, observers: usize) -> Result<()> {
+    let Ok(entries) = std::fs::read_dir(dir) else { return Ok(()) };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let index =
+            name.to_str().and_then(|n| n.strip_prefix("observer-")).and_then(|n| n.parse::<usize>().ok());
+        if index.is_some_and(|index| index >= observers) {
+            ufcsr::remove_inside(dir, &entry.path())?;
+        }
+    }
+    Ok(())
 }
 
 /// `observer-parts.csv`: per part and measure, the mean, its interval (empty
