@@ -146,7 +146,7 @@ fn mean_legible(archives: &[ArchiveTimelines]) -> BTreeMap<&str, (CandidateKind,
     let mut out: BTreeMap<&str, (CandidateKind, f64)> = BTreeMap::new();
     for archive in archives {
         for t in &archive.timelines {
-            let seconds = t.legible.iter().filter(|&&l| l).count() as f64 * archive.table.frame_s;
+            let seconds = t.legible.len() as f64 * archive.table.frame_s;
             out.entry(&t.name).or_insert((t.kind, 0.0)).1 += seconds / archives.len() as f64;
         }
     }
@@ -297,15 +297,18 @@ impl Searched {
 
 /// The mean seconds at least one of `names` is legible in `scoring`.
 fn seconds_of(scoring: &Scoring, names: &[String]) -> f64 {
-    let flags = |archive: &ArchiveTimelines| -> Vec<bool> {
-        let frames = archive.table.frames.len();
-        let mut any = vec![false; frames];
-        for t in archive.timelines.iter().filter(|t| names.contains(&t.name)) {
-            any.iter_mut().zip(&t.legible).for_each(|(a, &l)| *a |= l);
-        }
+    let frames = |archive: &ArchiveTimelines| -> Vec<usize> {
+        let mut any: Vec<usize> = archive
+            .timelines
+            .iter()
+            .filter(|t| names.contains(&t.name))
+            .flat_map(|t| t.legible.iter().copied())
+            .collect();
+        any.sort_unstable();
+        any.dedup();
         any
     };
-    let all: Vec<Vec<bool>> = scoring.archives.iter().map(flags).collect();
+    let all: Vec<Vec<usize>> = scoring.archives.iter().map(frames).collect();
     let bits = scoring.universe.bits(all.iter().map(|f| Some(f.as_slice())));
     scoring.universe.mean(&scoring.universe.seconds(&bits))
 }
