@@ -33,6 +33,7 @@ mod cli_grammar;
 mod color_damage;
 mod comparison_page;
 mod external_manifest;
+mod manifest_links;
 mod missing_vehicle;
 mod output_paths;
 mod placement_pages;
