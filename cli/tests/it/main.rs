@@ -31,6 +31,7 @@ mod atomic_results;
 mod cli;
 mod cli_grammar;
 mod color_damage;
+mod commit_journal;
 mod comparison_page;
 mod external_manifest;
 mod manifest_links;
