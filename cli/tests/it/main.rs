@@ -49,6 +49,7 @@ mod archive_models;
 mod bad_capture;
 mod capture_inputs_kept;
 mod capture_replaces_whole;
+mod capture_sees_nothing;
 mod capture_shards;
 mod exit_codes;
 mod fused_count;
