@@ -95,7 +95,7 @@ mod tests {
     }
 
     #[test]
-    fn a_huge_count_paints_the_same_colours_without_a_table_of_its_size() {
+    fn a_huge_count_paints_the_same_colors_without_a_table_of_its_size() {
         let counts = [0, 1, TABLE_LIMIT + 1, 1_000_000_000, u32::MAX];
         for scale in [Scale::Linear, Scale::Log] {
             let rgb = render(&counts, 5, HeatmapOptions { scale, max: None });
