@@ -7,6 +7,9 @@
 //! No `unsafe` outside `simd/`, the vector kernels, which allows it under
 //! the rules its module doc states (docs/reliability.md, "Unsafe code").
 #![deny(unsafe_code)]
+// Unit tests may use std::fs directly (fixtures); production code goes through
+// the file layer (clippy.toml, docs/reliability.md).
+#![cfg_attr(test, allow(clippy::disallowed_methods, clippy::disallowed_types))]
 
 mod analyze;
 mod archive;
@@ -42,10 +45,12 @@ pub use count::{
 pub use describe::{DEFAULT_PATTERN, DescribeOptions, Described, SoloSummary, describe, parse_fov};
 pub use error::{Error, Result};
 pub use files::{
-    GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, PngEncoding, SMALL_INPUT_LIMIT, check_accessors,
-    check_coordinates, encode_rgb_png, parse_gltf, read_gltf, read_limited, real_dir,
-    refuse_overwriting_inputs, remove_on_interrupt, remove_stale_staging, remove_temporaries, resolve_inside,
-    same_path, write_atomically, write_bytes_atomically, write_rgb_png,
+    GltfModel, IMAGE_LIMIT, MAX_COORDINATE_M, MODEL_LIMIT, PngEncoding, SMALL_INPUT_LIMIT, check_accessors,
+    check_coordinates, copy_into, create_output_dir, encode_rgb_png, open_regular, output_sub_dir,
+    parse_gltf, read_gltf, read_limited, read_limited_text, real_dir, refuse_overwriting_inputs,
+    refuse_replacing_non_file, remove_dead_runs, remove_inside, remove_on_interrupt, remove_stale_staging,
+    remove_stale_temporaries, remove_temporaries, resolve_inside, same_path, write_atomically,
+    write_bytes_atomically, write_rgb_png,
 };
 pub use format::manifest::{
     CaptureRecord, DemoScenario, EyePose, EyeProjectionRecord, FollowRecord, FrameEntry, LabelsRecord,
@@ -61,7 +66,7 @@ pub use format::placement::{
     ArchiveRecord, CandidateRecord, CombinationRecord, ExposureRecord, MemberRecord, PlacementDocument,
     RunnerUpRecord, SensitivityRecord, SensitivitySet, ThresholdsRecord, UncertaintyRecord,
 };
-pub use format::placement_csv::{PLACEMENT_FRAMES_OPTIONAL, PlacementFrameRow};
+pub use format::placement_csv::{PLACEMENT_FRAMES_OPTIONAL, PLACEMENT_TABLE_LIMIT, PlacementFrameRow};
 pub use format::result::{
     ColorTexels, CountMeasure, DedupeReport, FailedImage, ImageCounts, PartMeasure, PixelCounts, ResultFile,
     Settings, StrayImage, TexelCountsJson, TrimReport, UnlabelledReport,

@@ -99,7 +99,7 @@ fn write_man_pages(
     dir: &Path,
     console: &Console,
 ) -> anyhow::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).with_context(|| format!("{}: cannot create the folder", dir.display()))?;
+    ufcsr::create_output_dir(dir)?;
     let mut written = Vec::new();
     for (name, page) in pages(&command, program) {
         let path = dir.join(format!("{name}.1"));

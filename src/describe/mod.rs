@@ -471,6 +471,20 @@ fn tile_entries(
         let file = match path {
             Some(path) => {
                 let below = path.strip_prefix(given).unwrap_or(path);
+                // A link inside the folder that leads out of it: the analysis
+                // refuses such a tile (`inside_archive`), so the manifest never names it.
+                let real = canonical(path)?;
+                if !real.starts_with(base) {
+                    return Err(Error::bad_file(
+                        path,
+                        format!(
+                            "a frame: is a link leading outside the manifest's folder {} (to {}), which the \
+                             analysis refuses; copy the file there",
+                            base.display(),
+                            real.display()
+                        ),
+                    ));
+                }
                 Some(relative_to(&dir.join(below), base, path, "a frame")?)
             }
             None => None,

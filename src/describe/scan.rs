@@ -222,7 +222,7 @@ fn check_grid(tiles: &[FoundTile], [columns, rows]: [u32; 2], missing_empty: boo
 /// `[width, height]` from the PNG signature and IHDR chunk (its CRC checked).
 pub fn png_size(path: &Path) -> Result<[u32; 2]> {
     let mut head = [0u8; 33];
-    let mut file = std::fs::File::open(path).map_err(|error| Error::io(path, error))?;
+    let mut file = crate::files::open_regular(path)?;
     let read = read_up_to(&mut file, &mut head).map_err(|error| Error::io(path, error))?;
     let bad = |message: &str| Error::Png { path: path.to_path_buf(), message: message.to_string() };
     if read < 8 || head[..8] != *b"\x89PNG\r\n\x1a\n" {

@@ -82,6 +82,7 @@ fn remove_registered(registry: &Mutex<Vec<PathBuf>>) -> usize {
 
 /// Removes a file or a folder tree; folders are retried, because worker
 /// threads may still be writing into them when an interrupt arrives.
+#[allow(clippy::disallowed_methods)] // the layer: removes only registered temporaries of this process (links not followed)
 fn remove_path(path: &Path) -> bool {
     let is_dir = fs::symlink_metadata(path).is_ok_and(|m| m.is_dir());
     if !is_dir {
@@ -113,6 +114,7 @@ impl Staging {
     /// A fresh staging folder inside `out_dir` (same file system: moves are
     /// renames). It is registered before it exists, so an interrupt at any
     /// moment removes it.
+    #[allow(clippy::disallowed_methods)] // the layer: a fresh folder of a new name, never an existing one
     pub fn new(out_dir: &Path) -> Result<Staging> {
         static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
         loop {
@@ -145,9 +147,10 @@ impl Staging {
     /// move fails, everything is put back: `out_dir` holds the old set or
     /// the new. An interrupt waits for the commit to end. Afterwards stale
     /// staging folders of killed runs are removed ([`remove_stale_staging`]).
+    #[allow(clippy::disallowed_methods)] // the layer: makes its own backup folder, removes its own journal
     pub fn commit(self, out_dir: &Path, set: &[&str]) -> Result<()> {
         let guard = COMMITTING.lock().unwrap_or_else(PoisonError::into_inner);
-        finish_interrupted_commit(out_dir)?;
+        finish_interrupted_commit(out_dir, set)?;
         let backups = self.dir.join(".replaced");
         let earlier_set = fs::symlink_metadata(out_dir.join("result.json")).is_ok_and(|m| m.is_file());
         let mut moves = Moves { backups: backups.clone(), counter: 0, done: Vec::new() };
@@ -192,6 +195,7 @@ enum Move {
 impl Moves {
     /// Moves whatever is at `target` (a file or a link, never followed) into
     /// the backups; returns where it went.
+    #[allow(clippy::disallowed_methods)] // the layer: moves a file or a link itself (never followed) into the run's own backups
     fn back_up(&mut self, target: &Path) -> Result<Option<PathBuf>> {
         if fs::symlink_metadata(target).is_err() {
             return Ok(None);
@@ -202,6 +206,7 @@ impl Moves {
         Ok(Some(backup))
     }
 
+    #[allow(clippy::disallowed_methods)] // the layer: puts back what this commit moved, inside the output folder
     fn undo(&self) {
         for change in self.done.iter().rev() {
             match change {
@@ -246,14 +251,50 @@ fn remove_stale_members(out_dir: &Path, set: &[&str], moves: &mut Moves) -> Resu
 /// folder still holds every file not yet moved.
 const COMMIT_JOURNAL: &str = ".ufcsr-commit.json";
 
+/// The most bytes a journal may have: it lists one result set's files (a
+/// few hundred names), so a larger one is not ours (a link to `/dev/zero`).
+const JOURNAL_LIMIT: u64 = 4 << 20;
+
 #[derive(serde::Serialize, serde::Deserialize)]
-struct Journal {
+#[serde(deny_unknown_fields)]
+pub(crate) struct Journal {
     /// The staging folder's name (inside the output folder).
     staging: String,
     /// Every file of the new set, relative to the output folder.
     files: Vec<String>,
     /// The set's members that the commit takes away when the new set lacks them.
     stale: Vec<String>,
+}
+
+/// A relative path of plain names only (no `..`, no root, not empty).
+fn plain(name: &str) -> bool {
+    !name.is_empty() && Path::new(name).components().all(|c| matches!(c, std::path::Component::Normal(_)))
+}
+
+/// Reads and checks the journal at `path` through the layer's reader (a
+/// regular file, at most [`JOURNAL_LIMIT`] bytes): a truncated, foreign or
+/// malformed journal is an error naming it, never ignored.
+fn read_journal(path: &Path) -> Result<Journal> {
+    parse_journal(path, &crate::files::read_limited(path, JOURNAL_LIMIT)?)
+}
+
+/// Parses and checks a journal's bytes (`path` for messages; the fuzz
+/// target `journal` calls this).
+pub(crate) fn parse_journal(path: &Path, bytes: &[u8]) -> Result<Journal> {
+    let bad = |why: String| {
+        Error::bad_file(
+            path,
+            format!("an unfinished commit's journal {why}; remove it if no run is writing here"),
+        )
+    };
+    let journal: Journal = serde_json::from_slice(bytes).map_err(|e| bad(format!("cannot be read ({e})")))?;
+    if !journal.staging.starts_with(STAGING_PREFIX) || !plain(&journal.staging) {
+        return Err(bad(format!("names {:?}, no staging folder of ours", journal.staging)));
+    }
+    if let Some(name) = journal.files.iter().chain(&journal.stale).find(|name| !plain(name)) {
+        return Err(bad(format!("names {name:?}, which is not a plain path inside the output folder")));
+    }
+    Ok(journal)
 }
 
 impl Journal {
@@ -289,28 +330,38 @@ impl Journal {
 }
 
 /// The journal of a commit into `dir` that a killed run left unfinished
-/// (`None` when there is none, or its run is still committing).
-pub fn interrupted_commit(dir: &Path) -> Option<PathBuf> {
+/// (`None` when there is none, or its run is still committing); an error
+/// naming the journal when it is there but unreadable (truncated, foreign,
+/// a FIFO, too large).
+pub fn interrupted_commit(dir: &Path) -> Result<Option<PathBuf>> {
     let path = dir.join(COMMIT_JOURNAL);
-    let text = fs::read(&path).ok()?;
-    let journal: Journal = serde_json::from_slice(&text).ok()?;
-    let pid = journal.staging.strip_prefix(STAGING_PREFIX)?.split('-').next()?.parse::<u32>().ok()?;
-    (pid == std::process::id() || !process_alive(pid)).then_some(path)
+    if fs::symlink_metadata(&path).is_err() {
+        return Ok(None);
+    }
+    let journal = read_journal(&path)?;
+    let pid = journal.staging.strip_prefix(STAGING_PREFIX).and_then(|rest| rest.split('-').next());
+    let Some(pid) = pid.and_then(|id| id.parse::<u32>().ok()) else { return Ok(Some(path)) };
+    Ok((pid == std::process::id() || !process_alive(pid)).then_some(path))
 }
 
 /// Finishes the commit a killed run left in `out_dir` (see [`COMMIT_JOURNAL`]):
 /// the files still in its staging folder are moved into place, the members
 /// the new set lacks are taken away, and the staging folder and journal are
-/// removed, so the folder holds the new set whole. Returns whether there was one.
-pub fn finish_interrupted_commit(out_dir: &Path) -> Result<bool> {
-    let Some(path) = interrupted_commit(out_dir) else { return Ok(false) };
-    let bad = |why: &str| Error::bad_file(&path, format!("an unfinished commit's journal {why}; remove it"));
-    let text = fs::read(&path).map_err(|e| Error::io(&path, e))?;
-    let journal: Journal = serde_json::from_slice(&text).map_err(|_| bad("cannot be read"))?;
-    let plain =
-        |name: &str| Path::new(name).components().all(|c| matches!(c, std::path::Component::Normal(_)));
-    if !journal.staging.starts_with(STAGING_PREFIX) || !plain(&journal.staging) {
-        return Err(bad("names no staging folder of ours"));
+/// removed, so the folder holds the new set whole. Only members of `set`
+/// (the files a result set owns) are ever taken away: a journal naming any
+/// other file is refused. Returns whether there was one.
+#[allow(clippy::disallowed_methods)] // the layer: moves only a validated journal's staging folder's files, removes only the set's members
+pub fn finish_interrupted_commit(out_dir: &Path, set: &[&str]) -> Result<bool> {
+    let Some(path) = interrupted_commit(out_dir)? else { return Ok(false) };
+    let journal = read_journal(&path)?;
+    if let Some(member) = journal.stale.iter().find(|m| !set.contains(&m.as_str())) {
+        return Err(Error::bad_file(
+            &path,
+            format!(
+                "an unfinished commit's journal would remove {member:?}, which is no file of a result set; \
+                 remove the journal if no run is writing here"
+            ),
+        ));
     }
     let staging = out_dir.join(&journal.staging);
     if fs::symlink_metadata(&staging).is_ok_and(|m| m.is_dir()) {
@@ -322,7 +373,7 @@ pub fn finish_interrupted_commit(out_dir: &Path) -> Result<bool> {
         move_tree(&staging, out_dir, &mut moves, true)?;
         fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
     }
-    for member in journal.stale.iter().filter(|m| plain(m)) {
+    for member in &journal.stale {
         let target = out_dir.join(member);
         let is_file = fs::symlink_metadata(&target).is_ok_and(|m| m.is_file());
         if is_file && !crate::files::crosses_link(out_dir, Path::new(member)) {
@@ -337,6 +388,7 @@ pub fn finish_interrupted_commit(out_dir: &Path) -> Result<bool> {
 /// where a folder goes replaced by a real folder), backing up each replaced
 /// file and recording every move. `top` skips the staging folder's own
 /// backup folder.
+#[allow(clippy::disallowed_methods)] // the layer: renames inside one output folder, a link where a folder goes set aside, never followed
 fn move_tree(from: &Path, to: &Path, moves: &mut Moves, top: bool) -> Result<()> {
     let mut entries: Vec<PathBuf> = fs::read_dir(from)
         .map_err(|e| Error::io(from, e))?
@@ -379,13 +431,12 @@ fn move_tree(from: &Path, to: &Path, moves: &mut Moves, top: bool) -> Result<()>
 /// is stale when the process whose id its name carries is gone (on Linux,
 /// no `/proc/<pid>`), when its name carries no id (an older version's
 /// name), or when it is older than a day. Returns how many were removed.
+#[allow(clippy::disallowed_methods)] // the layer: removes only staging folders (by name) of dead processes
 pub fn remove_stale_staging(out_dir: &Path) -> usize {
     let Ok(entries) = fs::read_dir(out_dir) else { return 0 };
     let mut own: Vec<PathBuf> = TEMPORARIES.lock().unwrap_or_else(PoisonError::into_inner).clone();
     // A killed commit's staging folder holds the files its journal still needs.
-    if let Some(journal) =
-        fs::read(out_dir.join(COMMIT_JOURNAL)).ok().and_then(|t| serde_json::from_slice::<Journal>(&t).ok())
-    {
+    if let Ok(journal) = read_journal(&out_dir.join(COMMIT_JOURNAL)) {
         own.push(out_dir.join(journal.staging));
     }
     let mut removed = 0;
@@ -414,11 +465,62 @@ pub fn remove_stale_staging(out_dir: &Path) -> usize {
 
 /// Whether process `pid` runs (Linux: `/proc/<pid>` exists; elsewhere
 /// assumed running, so only the age rule applies).
+/// Removes the temporary files ([`write_atomically`]'s `.NAME.tmp-PID`)
+/// that killed processes left in `dir`: SIGKILL runs no handler, so a
+/// capture killed while it wrote tiles left `.f0001_….png.tmp-PID` files
+/// that `--resume` kept. Only plain files and links of that name whose
+/// process is gone are removed (never one of a process still running, nor
+/// what a link points to). Returns how many were removed.
+#[allow(clippy::disallowed_methods)] // the layer: only dead processes' temporaries, by name, links not followed
+pub fn remove_stale_temporaries(dir: &Path) -> usize {
+    let Ok(entries) = fs::read_dir(dir) else { return 0 };
+    let mut removed = 0;
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        let pid = name
+            .strip_prefix('.')
+            .and_then(|rest| rest.rsplit_once(".tmp-"))
+            .and_then(|(_, pid)| pid.parse::<u32>().ok());
+        let Some(pid) = pid else { continue };
+        let is_dir = fs::symlink_metadata(entry.path()).is_ok_and(|m| m.is_dir());
+        if is_dir || pid == std::process::id() || process_alive(pid) {
+            continue;
+        }
+        if fs::remove_file(entry.path()).is_ok() {
+            removed += 1;
+        }
+    }
+    removed
+}
+
+/// Removes the entries of `dir` named `PREFIX<pid>` (a killed run's own
+/// folder, e.g. the capture's `ufcsr-runtime-<pid>` in the temporary
+/// folder) whose process is gone, through [`crate::files::remove_inside`]
+/// (a link is removed itself, never followed). Returns how many were removed.
+pub fn remove_dead_runs(dir: &Path, prefix: &str) -> usize {
+    let Ok(entries) = fs::read_dir(dir) else { return 0 };
+    let mut removed = 0;
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let pid = name.to_str().and_then(|n| n.strip_prefix(prefix)).and_then(|pid| pid.parse::<u32>().ok());
+        let Some(pid) = pid else { continue };
+        if pid != std::process::id()
+            && !process_alive(pid)
+            && crate::files::remove_inside(dir, &entry.path()).unwrap_or(false)
+        {
+            removed += 1;
+        }
+    }
+    removed
+}
+
 fn process_alive(pid: u32) -> bool {
     if cfg!(target_os = "linux") { Path::new(&format!("/proc/{pid}")).exists() } else { true }
 }
 
 impl Drop for Staging {
+    #[allow(clippy::disallowed_methods)] // the layer: removes the run's own staging folder
     fn drop(&mut self) {
         let _ = fs::remove_dir_all(&self.dir);
         unregister(&self.dir);
@@ -428,10 +530,12 @@ impl Drop for Staging {
 /// Writes `path` atomically: `fill` writes into a buffered temporary file in the
 /// same directory, which is flushed, synced and renamed over `path` only if
 /// `fill` succeeds. On failure the temporary file is removed.
+#[allow(clippy::disallowed_methods)] // the layer: renames a registered temporary over a regular file or nothing
 pub fn write_atomically<F>(path: &Path, fill: F) -> Result<()>
 where
     F: FnOnce(&mut BufWriter<BoundedWrites>) -> std::io::Result<()>,
 {
+    refuse_replacing_non_file(path)?;
     let temporary = temporary_path(path);
     let outcome = (|| {
         let file = create_registered(&temporary)?;
@@ -448,6 +552,28 @@ where
         let _ = fs::remove_file(&temporary);
         Error::io(path, source)
     })
+}
+
+/// Errors, naming `path`, when something is there that an output never
+/// replaces: a device (`--out /dev/null` would replace the machine's
+/// `/dev/null`), a FIFO, a socket, a folder, or a link (`--out /dev/stdout`
+/// would replace the link and write nothing). Only a regular file, or
+/// nothing, is replaced.
+pub fn refuse_replacing_non_file(path: &Path) -> Result<()> {
+    match fs::symlink_metadata(path) {
+        Ok(metadata) if metadata.file_type().is_symlink() => Err(Error::bad_file(
+            path,
+            "is a link: an output never replaces a link (nor writes through one); remove it or choose another path",
+        )),
+        Ok(metadata) if !metadata.is_file() => Err(Error::bad_file(
+            path,
+            format!(
+                "is {}: an output only replaces a regular file; choose another path",
+                crate::files::limited_read::kind(&metadata)
+            ),
+        )),
+        _ => Ok(()),
+    }
 }
 
 /// The most bytes [`BoundedWrites`] hands the system at once.
@@ -476,6 +602,7 @@ impl<W: Write> Write for BoundedWrites<W> {
 /// Creates `path` new (`O_EXCL`): whatever sits there already, a link
 /// planted there included, is removed (the link itself, never what it points
 /// to) and the file made afresh, so a write never follows a link.
+#[allow(clippy::disallowed_methods)] // the layer: O_EXCL: a link planted under the temporary's name is removed, never followed
 fn create_new(path: &Path) -> std::io::Result<File> {
     let mut options = fs::OpenOptions::new();
     options.write(true).create_new(true);
@@ -486,6 +613,12 @@ fn create_new(path: &Path) -> std::io::Result<File> {
         }
         other => other,
     }
+}
+
+/// Copies the regular file `from` (at most `limit` bytes) to `to`,
+/// atomically, never through a link at `to` nor over a device.
+pub fn copy_into(from: &Path, to: &Path, limit: u64) -> Result<()> {
+    write_bytes_atomically(to, &crate::files::read_limited(from, limit)?)
 }
 
 /// Writes bytes to `path` atomically.
@@ -592,7 +725,7 @@ mod tests {
         journal.write(out).unwrap();
         fs::rename(staging.join("parts.csv"), out.join("parts.csv")).unwrap();
         // Half old, half new: named as such, and its staging folder is kept for the finish.
-        assert!(interrupted_commit(out).is_some());
+        assert!(interrupted_commit(out).unwrap().is_some());
         assert_eq!(remove_stale_staging(out), 0);
         assert!(staging.is_dir());
         // The next commit into the folder finishes the killed one first, then commits its own.
@@ -606,7 +739,11 @@ mod tests {
             assert_eq!(fs::read_to_string(out.join(name)).unwrap(), "newer", "{name}");
         }
         assert!(!out.join("frames.csv").exists(), "the killed set lacked frames.csv");
-        assert!(!staging.exists() && !out.join(COMMIT_JOURNAL).exists() && interrupted_commit(out).is_none());
+        assert!(
+            !staging.exists()
+                && !out.join(COMMIT_JOURNAL).exists()
+                && interrupted_commit(out).unwrap().is_none()
+        );
 
         // Finishing alone (what the next commit does first) gives the killed run's set whole.
         fs::write(out.join("frames.csv"), "old").unwrap();
@@ -619,9 +756,71 @@ mod tests {
         }
         .write(out)
         .unwrap();
-        assert!(finish_interrupted_commit(out).unwrap());
+        assert!(finish_interrupted_commit(out, &set).unwrap());
         assert_eq!(fs::read_to_string(out.join("result.json")).unwrap(), "new");
         assert!(!out.join("frames.csv").exists() && !staging.exists());
-        assert!(!finish_interrupted_commit(out).unwrap(), "nothing left to finish");
+        assert!(!finish_interrupted_commit(out, &set).unwrap(), "nothing left to finish");
+    }
+
+    #[test]
+    fn temporaries_of_killed_processes_are_removed_and_others_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let dir = dir.path();
+        let own = format!(".b.png.tmp-{}", std::process::id());
+        for name in [".a.png.tmp-999999999", own.as_str(), "c.png", ".d.png.tmp-x"] {
+            fs::write(dir.join(name), "x").unwrap();
+        }
+        assert_eq!(remove_stale_temporaries(dir), 1);
+        assert!(!dir.join(".a.png.tmp-999999999").exists());
+        for kept in [own.as_str(), "c.png", ".d.png.tmp-x"] {
+            assert!(dir.join(kept).exists(), "{kept}");
+        }
+    }
+
+    #[test]
+    fn folders_of_dead_runs_are_removed_and_live_ones_kept() {
+        let dir = tempfile::tempdir().unwrap();
+        let dir = dir.path();
+        let own = format!("run-{}", std::process::id());
+        for name in ["run-999999999", own.as_str(), "run-x", "other-999999999"] {
+            fs::create_dir_all(dir.join(name).join("inside")).unwrap();
+        }
+        assert_eq!(remove_dead_runs(dir, "run-"), 1);
+        assert!(!dir.join("run-999999999").exists());
+        for kept in [own.as_str(), "run-x", "other-999999999"] {
+            assert!(dir.join(kept).is_dir(), "{kept}");
+        }
+    }
+
+    #[test]
+    fn a_truncated_or_foreign_journal_is_an_error_naming_it_and_removes_nothing() {
+        let out = tempfile::tempdir().unwrap();
+        let out = out.path();
+        fs::write(out.join("result.json"), "old").unwrap();
+        fs::write(out.join("precious.txt"), "mine").unwrap();
+        let set = ["result.json", "frames.csv"];
+        let journal = out.join(COMMIT_JOURNAL);
+        let staging = format!("{STAGING_PREFIX}999999999-0");
+        let cases = [
+            format!("{{\"staging\": \"{staging}\", \"files\": [\"result.json\"], \"sta"),
+            format!("{{\"staging\": \"{staging}\", \"files\": [], \"stale\": [\"precious.txt\"]}}"),
+            format!("{{\"staging\": \"{staging}\", \"files\": [], \"stale\": [\"../x\"]}}"),
+            "{\"staging\": \"../elsewhere\", \"files\": [], \"stale\": []}".to_string(),
+        ];
+        for text in cases {
+            fs::write(&journal, &text).unwrap();
+            let error = finish_interrupted_commit(out, &set).unwrap_err().to_string();
+            assert!(error.contains(COMMIT_JOURNAL), "{text}: {error}");
+            assert_eq!(fs::read_to_string(out.join("precious.txt")).unwrap(), "mine");
+            assert_eq!(fs::read_to_string(out.join("result.json")).unwrap(), "old");
+        }
+        // A journal that is a FIFO or a link to a device is refused, never read.
+        fs::remove_file(&journal).unwrap();
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink("/dev/zero", &journal).unwrap();
+            let error = interrupted_commit(out).unwrap_err().to_string();
+            assert!(error.contains("a device"), "{error}");
+        }
     }
 }

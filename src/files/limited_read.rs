@@ -20,7 +20,7 @@ pub const SMALL_INPUT_LIMIT: u64 = 256 << 20;
 pub const IMAGE_LIMIT: u64 = 2 << 30;
 
 /// What a path is, for messages.
-fn kind(metadata: &std::fs::Metadata) -> &'static str {
+pub(crate) fn kind(metadata: &std::fs::Metadata) -> &'static str {
     #[cfg(unix)]
     {
         use std::os::unix::fs::FileTypeExt;
@@ -39,6 +39,7 @@ fn kind(metadata: &std::fs::Metadata) -> &'static str {
 }
 
 /// Opens `path` for reading if it is a regular file (symbolic links followed).
+#[allow(clippy::disallowed_methods)] // the layer: type checked before and after a non-blocking open
 pub fn open_regular(path: &Path) -> Result<File> {
     let metadata = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if !metadata.is_file() {
@@ -87,6 +88,12 @@ pub fn read_limited(path: &Path, limit: u64) -> Result<Vec<u8>> {
         return Err(Error::bad_file(path, format!("grew past {limit} bytes while being read")));
     }
     Ok(bytes)
+}
+
+/// [`read_limited`] as UTF-8 text (an error names the file otherwise).
+pub fn read_limited_text(path: &Path, limit: u64) -> Result<String> {
+    String::from_utf8(read_limited(path, limit)?)
+        .map_err(|e| Error::bad_file(path, format!("is not UTF-8 text ({})", e.utf8_error())))
 }
 
 #[cfg(test)]

@@ -1,4 +1,7 @@
-//! Files, safely: opening inputs only when they are regular files and
+//! Files, safely — the one file layer of both crates and the command line
+//! (issue 34): clippy.toml forbids `std::fs`'s opening, reading, writing,
+//! renaming and removing everywhere else, so a new command cannot bypass it.
+//! Here: opening inputs only when they are regular files and
 //! reading them with a size limit ([`read_limited`]), and writing outputs
 //! atomically through temporaries that an interruption removes
 //! ([`write_atomically`], [`Staging`] for a whole result set), never over
@@ -13,14 +16,19 @@ mod model_input;
 mod output_guard;
 mod png_encode;
 
+pub(crate) use atomic_write::parse_journal;
 pub use atomic_write::{
-    Staging, interrupted_commit, remove_on_interrupt, remove_stale_staging, remove_temporaries,
-    write_atomically, write_bytes_atomically,
+    Staging, copy_into, interrupted_commit, refuse_replacing_non_file, remove_dead_runs, remove_on_interrupt,
+    remove_stale_staging, remove_stale_temporaries, remove_temporaries, write_atomically,
+    write_bytes_atomically,
 };
-pub use limited_read::{IMAGE_LIMIT, SMALL_INPUT_LIMIT, open_regular, read_limited};
+pub use limited_read::{IMAGE_LIMIT, SMALL_INPUT_LIMIT, open_regular, read_limited, read_limited_text};
 pub use model_input::{
     GltfModel, MAX_COORDINATE_M, MODEL_LIMIT, check_accessors, check_coordinates, parse_gltf, read_gltf,
     resolve_inside,
 };
-pub use output_guard::{crosses_link, real_dir, refuse_overwriting_inputs, resolved, same_path};
+pub use output_guard::{
+    create_output_dir, crosses_link, output_sub_dir, real_dir, refuse_overwriting_inputs, remove_inside,
+    resolved, same_path,
+};
 pub use png_encode::{PngEncoding, encode_rgb_png, write_rgb_png};

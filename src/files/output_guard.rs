@@ -58,6 +58,7 @@ pub fn refuse_overwriting_inputs(outputs: &[PathBuf], inputs: &[PathBuf]) -> Res
 /// (to a folder or anything else) is removed, the link itself and never
 /// what it points to, and a folder is made in its place. Returns whether a
 /// link was replaced.
+#[allow(clippy::disallowed_methods)] // the layer: removes only a link, never what it points to
 pub fn real_dir(dir: &Path) -> Result<bool> {
     let replaced = match std::fs::symlink_metadata(dir) {
         Ok(metadata) if metadata.file_type().is_symlink() => {
@@ -70,6 +71,74 @@ pub fn real_dir(dir: &Path) -> Result<bool> {
     };
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     Ok(replaced)
+}
+
+/// Makes the output folder `dir` (and its parents) that the user named. A
+/// link there is the user's own choice and is followed; anything that is
+/// not a folder (a file, a device, a FIFO, a link to one) is refused by name.
+#[allow(clippy::disallowed_methods)] // the layer: making a folder replaces nothing
+pub fn create_output_dir(dir: &Path) -> Result<()> {
+    match std::fs::metadata(dir) {
+        Ok(metadata) if metadata.is_dir() => return Ok(()),
+        Ok(metadata) => {
+            return Err(Error::bad_file(
+                dir,
+                format!(
+                    "is {} where a folder of outputs must go",
+                    crate::files::limited_read::kind(&metadata)
+                ),
+            ));
+        }
+        Err(_) => {}
+    }
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))
+}
+
+/// Makes the sub-folder `relative` of the output folder `out` (e.g.
+/// `placement-views`, `observer-000`) as a real folder: a link at it or at
+/// a folder on the way is removed (the link itself, never what it points
+/// to) and a real folder made, so nothing is written through a link.
+/// Returns the folder's path.
+pub fn output_sub_dir(out: &Path, relative: &Path) -> Result<PathBuf> {
+    let mut at = out.to_path_buf();
+    for component in relative.components() {
+        match component {
+            std::path::Component::Normal(name) => at.push(name),
+            _ => {
+                return Err(Error::bad_file(
+                    &out.join(relative),
+                    "is not a plain folder inside the output folder",
+                ));
+            }
+        }
+        real_dir(&at)?;
+    }
+    Ok(at)
+}
+
+/// Removes `path` (a file, a link, or a folder tree the run owns) when it
+/// lies inside the output folder `out` and no folder on the way is a link;
+/// a link is removed itself, never what it points to. Anything else is
+/// refused by name. Returns whether something was removed.
+#[allow(clippy::disallowed_methods)] // the layer: checked to be inside `out`, links not followed
+pub fn remove_inside(out: &Path, path: &Path) -> Result<bool> {
+    let relative = path.strip_prefix(out).unwrap_or(path);
+    let plain = relative.components().all(|c| matches!(c, std::path::Component::Normal(_)));
+    if relative.as_os_str().is_empty() || !plain || (path.is_absolute() && !path.starts_with(out)) {
+        return Err(Error::bad_file(path, format!("is not inside the output folder {}", out.display())));
+    }
+    if crosses_link(out, relative) {
+        return Err(Error::bad_file(path, "lies behind a link inside the output folder: not removed"));
+    }
+    let target = out.join(relative);
+    let outcome = match std::fs::symlink_metadata(&target) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(false),
+        Err(e) => Err(e),
+        // `remove_dir_all` does not follow links inside the tree.
+        Ok(metadata) if metadata.is_dir() => std::fs::remove_dir_all(&target),
+        Ok(_) => std::fs::remove_file(&target),
+    };
+    outcome.map(|()| true).map_err(|e| Error::io(&target, e))
 }
 
 /// True when some folder between `base` and `base/relative` is a link:

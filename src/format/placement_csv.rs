@@ -27,6 +27,11 @@ pub const PLACEMENT_FRAMES_COLUMNS: [&str; 10] = [
     "angular_height_deg",
 ];
 
+/// The most bytes a `placement-frames.csv` may have: `placement` reads no
+/// larger table, and the capture refuses to write one (it stops, naming the
+/// options that shrink it), so the two agree on what is readable.
+pub const PLACEMENT_TABLE_LIMIT: u64 = crate::files::SMALL_INPUT_LIMIT;
+
 /// The columns a reader takes when they are there: the seconds one frame
 /// stands for and the candidate's left/right mirror image.
 pub const PLACEMENT_FRAMES_OPTIONAL: [&str; 2] = ["frame_s", "mirror"];

@@ -41,16 +41,30 @@ pub fn render(texel_counts: &[u32], width: u32, options: HeatmapOptions) -> Vec<
     // math. Up to the largest count present, not to `max`: `--max 4000000000`
     // must not build a 12 GB table.
     let top = max.min(largest);
-    let table: Vec<[u8; 3]> = (0..=top).map(|count| plasma(position(count, max, options.scale))).collect();
     let mut rgb = vec![0u8; texel_counts.len() * 3];
     let row = width.max(1) as usize;
+    // A table sized by the largest count's value, not by how many texels
+    // there are: one count of 10⁹ would make it 3 GB (issue 34). Above
+    // TABLE_LIMIT each texel's colour is computed (the same colours).
+    let table: Vec<[u8; 3]> = if top <= TABLE_LIMIT {
+        (0..=top).map(|count| plasma(position(count, max, options.scale))).collect()
+    } else {
+        Vec::new()
+    };
     rgb.par_chunks_mut(row * 3).zip(texel_counts.par_chunks(row)).for_each(|(out, counts)| {
         for (pixel, &count) in out.chunks_exact_mut(3).zip(counts) {
-            pixel.copy_from_slice(&table[count.min(top) as usize]);
+            let count = count.min(top);
+            match table.get(count as usize) {
+                Some(color) => pixel.copy_from_slice(color),
+                None => pixel.copy_from_slice(&plasma(position(count, max, options.scale))),
+            }
         }
     });
     rgb
 }
+
+/// The largest count painted through the colour table (3 MiB of it).
+const TABLE_LIMIT: u32 = 1 << 20;
 
 /// Paints and writes the heatmap PNG atomically.
 pub fn write_heatmap(
@@ -78,5 +92,16 @@ mod tests {
         // Plasma runs from dark blue-violet to yellow.
         assert!(plasma(0.0)[2] > plasma(0.0)[0] && plasma(1.0)[0] > 200 && plasma(1.0)[1] > 200);
         assert!((position(3, 15, Scale::Log) - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_huge_count_paints_the_same_colors_without_a_table_of_its_size() {
+        let counts = [0, 1, TABLE_LIMIT + 1, 1_000_000_000, u32::MAX];
+        for scale in [Scale::Linear, Scale::Log] {
+            let rgb = render(&counts, 5, HeatmapOptions { scale, max: None });
+            for (pixel, &count) in rgb.chunks_exact(3).zip(&counts) {
+                assert_eq!(pixel, plasma(position(count, u32::MAX, scale)), "{count}");
+            }
+        }
     }
 }

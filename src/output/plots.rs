@@ -47,7 +47,7 @@ pub fn font_available() -> bool {
             std::env::var_os("UFCSR_FONT").map(PathBuf::from).into_iter().collect();
         candidates.extend(FONT_CANDIDATES.iter().map(PathBuf::from));
         for path in candidates {
-            if let Ok(bytes) = std::fs::read(&path) {
+            if let Ok(bytes) = crate::files::read_limited(&path, crate::files::SMALL_INPUT_LIMIT) {
                 // plotters keeps fonts for the life of the process.
                 let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
                 if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
@@ -83,7 +83,7 @@ trait Drawing {
 /// Writes `drawing` as `plots/NAME.svg` and, with a font, `plots/NAME.png`.
 fn write_plot(out_dir: &Path, name: &str, title: &str, drawing: &dyn Drawing) -> Result<Plot> {
     let dir = out_dir.join(PLOTS_DIR);
-    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    crate::files::real_dir(&dir)?;
     let text = font_available();
     let svg = dir.join(format!("{name}.svg"));
     {

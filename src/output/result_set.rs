@@ -9,7 +9,7 @@ use crate::archive::manifest::Manifest;
 use crate::archive::options::HeatmapOptions;
 use crate::archive::scenario_track::ScenarioTrack;
 use crate::archive::vehicle_model::VehicleModel;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::files::{IMAGE_LIMIT, Staging, read_limited, refuse_overwriting_inputs};
 use crate::output::csv::{CsvStyle, write_frames_csv, write_parts_table};
 use crate::output::frame_strip::{FRAME_STRIP_FILE, StripInputs, frame_strip_skipped, write_frame_strip};
@@ -81,7 +81,7 @@ pub fn write_results_with(
     out_dir: &Path,
     options: &ResultSetOptions,
 ) -> Result<WrittenFiles> {
-    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    crate::files::create_output_dir(out_dir)?;
     let mut files = planned_files(analysis, out_dir);
     let mut outputs = output_paths(&files);
     outputs.extend(result_set_members().iter().map(|name| out_dir.join(name)));

@@ -343,7 +343,7 @@ fn finish_views(
 ) -> Result<WrittenViews> {
     use rayon::prelude::*;
     let views_dir = dir.join("views");
-    std::fs::create_dir_all(&views_dir).map_err(|e| crate::error::Error::io(&views_dir, e))?;
+    crate::files::real_dir(&views_dir)?;
     let mut drawn = Vec::with_capacity(cameras.len());
     for camera in cameras {
         let [width, height] = camera.size;

@@ -94,7 +94,7 @@ pub fn choices(
     representatives: &BTreeMap<String, String>,
 ) -> Vec<Choice> {
     let names = names_of(archives, kind);
-    let by_name: Vec<BTreeMap<&str, &[bool]>> = archives
+    let by_name: Vec<BTreeMap<&str, &[usize]>> = archives
         .iter()
         .map(|a| a.timelines.iter().map(|t| (t.name.as_str(), t.legible.as_slice())).collect())
         .collect();

@@ -110,7 +110,13 @@ pub fn read_footprints(frames_table: &Path) -> Result<BTreeMap<String, PatchFoot
         let record = record.map_err(|e| Error::bad_file(&path, format!("line {line}: {e}")))?;
         let footprint = parse_footprint(&record, &positions)
             .map_err(|problem| Error::bad_file(&path, format!("line {line}: {problem}")))?;
-        footprints.insert(record[positions[0]].to_string(), footprint);
+        let name = record.get(positions[0]).unwrap_or("").trim();
+        if name.is_empty() {
+            return Err(Error::bad_file(&path, format!("line {line}: candidate is empty")));
+        }
+        if footprints.insert(name.to_string(), footprint).is_some() {
+            return Err(Error::bad_file(&path, format!("line {line}: candidate {name:?} is listed twice")));
+        }
     }
     Ok(footprints)
 }
@@ -142,6 +148,11 @@ fn parse_footprint(
         if (dot(v, v).sqrt() - 1.0).abs() > 1e-3 {
             return Err(format!("the {name} axis is not a unit vector"));
         }
+    }
+    // Axes that are not perpendicular give a rectangle of no width (the
+    // across axis is their cross product): a degenerate footprint.
+    if dot(footprint.normal, footprint.up).abs() > 1e-3 {
+        return Err("the normal and up axes are not perpendicular".into());
     }
     if footprint.size_m.iter().any(|&s| s <= 0.0) {
         return Err("width and height must be more than 0".into());
@@ -189,6 +200,11 @@ mod tests {
             ("p,0,0,0,2,0,0,0,0,1,0.4,0.15,", "line 2: the normal axis is not a unit vector"),
             ("p,0,0,NaN,1,0,0,0,0,1,0.4,0.15,", "line 2: centre_z_m \"NaN\" is not a finite number"),
             ("p,0,0,0,1,0,0,0,0,1,0,0.15,", "line 2: width and height must be more than 0"),
+            ("p,0,0,0,1,0,0,1,0,0,0.4,0.15,", "line 2: the normal and up axes are not perpendicular"),
+            (
+                "p,0,0,0,1,0,0,0,0,1,0.4,0.15,\np,0,0,0,1,0,0,0,0,1,0.4,0.15,",
+                "line 3: candidate \"p\" is listed twice",
+            ),
         ] {
             std::fs::write(&table, header.clone() + row + "\n").unwrap();
             let message = read_footprints(&frames).unwrap_err().to_string();

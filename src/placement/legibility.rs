@@ -214,20 +214,22 @@ impl Thresholds {
     }
 }
 
-/// `legible` with the runs shorter than `min_frames` frames cleared.
-pub fn apply_dwell(legible: &mut [bool], min_frames: usize) {
+/// The legible frames (ascending indices) without the runs of consecutive
+/// frames shorter than `min_frames`.
+pub fn apply_dwell(legible: Vec<usize>, min_frames: usize) -> Vec<usize> {
+    let mut kept = Vec::with_capacity(legible.len());
     let mut start = 0;
     while start < legible.len() {
-        if !legible[start] {
-            start += 1;
-            continue;
+        let mut end = start + 1;
+        while end < legible.len() && legible[end] == legible[end - 1] + 1 {
+            end += 1;
         }
-        let end = legible[start..].iter().position(|&l| !l).map_or(legible.len(), |n| start + n);
-        if end - start < min_frames {
-            legible[start..end].iter_mut().for_each(|l| *l = false);
+        if end - start >= min_frames {
+            kept.extend_from_slice(&legible[start..end]);
         }
         start = end;
     }
+    kept
 }
 
 /// The frames a dwell of `dwell_s` needs at `frame_s` seconds per frame.
@@ -243,10 +245,12 @@ pub struct Timeline {
     pub mirror: Option<String>,
     /// A display's width and height, m (`None` for a part).
     pub size_m: Option<[f64; 2]>,
-    /// Per frame: legible under the eye rule.
-    pub legible: Vec<bool>,
-    /// Per frame: visible to any eye (any solid angle at all).
-    pub visible: Vec<bool>,
+    /// The frames (ascending indices into the table's frames) where it is
+    /// legible under the eye rule: sparse, so memory goes with what is seen,
+    /// not with frames × candidates (issue 34: a 3 MB table took 1.2 GB).
+    pub legible: Vec<usize>,
+    /// The frames where any eye sees any of it (any solid angle at all).
+    pub visible: Vec<usize>,
 }
 
 /// What one candidate scored in one archive.
@@ -271,43 +275,49 @@ impl ArchiveTimelines {
 
     /// The exposure of `timeline` (one of this archive's).
     pub fn exposure(&self, timeline: &Timeline) -> Exposure {
-        let seconds = |flags: &[bool]| flags.iter().filter(|&&f| f).count() as f64 * self.table.frame_s;
-        let first = timeline.legible.iter().position(|&l| l).map(|i| self.table.frames[i]);
-        let in_window: Vec<bool> =
-            timeline.legible.iter().zip(&self.in_window).map(|(&l, &w)| l && w).collect();
+        let seconds = |frames: usize| frames as f64 * self.table.frame_s;
+        let first = timeline.legible.first().map(|&i| self.table.frames[i]);
+        let in_window = timeline.legible.iter().filter(|&&i| self.in_window[i]).count();
         Exposure {
-            legible_s: seconds(&timeline.legible),
-            visible_s: seconds(&timeline.visible),
+            legible_s: seconds(timeline.legible.len()),
+            visible_s: seconds(timeline.visible.len()),
             first_legible_s: first.map(|f| f.time_s),
             first_legible_distance_m: first.map(|f| f.distance_m),
-            decision_window_legible_s: seconds(&in_window),
+            decision_window_legible_s: seconds(in_window),
         }
     }
 }
 
 /// Every candidate's timeline in `table` under `thresholds`.
 pub fn timelines(table: Arc<PlacementTable>, thresholds: &Thresholds) -> ArchiveTimelines {
-    let frames = table.frames.len();
     let eyes = table.eyes.len();
     let dwell = dwell_frames(thresholds.min_dwell_s, table.frame_s);
     let timelines = table
         .candidates
         .values()
         .map(|candidate| {
-            let mut legible_eyes = vec![0usize; frames];
-            let mut visible = vec![false; frames];
+            // Sightings are keyed (frame, eye), in order: one pass, sparse.
+            let mut legible_eyes: Vec<(usize, usize)> = Vec::new();
+            let mut visible: Vec<usize> = Vec::new();
             for (&(frame, _eye), sighting) in &candidate.sightings {
-                visible[frame] |= sighting.solid_angle_sr > 0.0;
-                legible_eyes[frame] += usize::from(thresholds.legible(sighting, candidate.size_m));
+                if sighting.solid_angle_sr > 0.0 && visible.last() != Some(&frame) {
+                    visible.push(frame);
+                }
+                let legible = usize::from(thresholds.legible(sighting, candidate.size_m));
+                match legible_eyes.last_mut() {
+                    Some((last, n)) if *last == frame => *n += legible,
+                    _ => legible_eyes.push((frame, legible)),
+                }
             }
-            let mut legible: Vec<bool> = legible_eyes
-                .iter()
-                .map(|&n| match thresholds.eyes {
+            let legible: Vec<usize> = legible_eyes
+                .into_iter()
+                .filter(|&(_, n)| match thresholds.eyes {
                     EyeRule::Any => n > 0,
                     EyeRule::Both => n == eyes && n > 0,
                 })
+                .map(|(frame, _)| frame)
                 .collect();
-            apply_dwell(&mut legible, dwell);
+            let legible = apply_dwell(legible, dwell);
             Timeline {
                 name: candidate.name.clone(),
                 kind: candidate.kind,
@@ -324,4 +334,20 @@ pub fn timelines(table: Arc<PlacementTable>, thresholds: &Thresholds) -> Archive
     let in_window =
         table.frames.iter().map(|f| f.time_s > start + 1e-9 && f.time_s <= arrival_s + 1e-9).collect();
     ArchiveTimelines { table, timelines, in_window, arrival_s }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dwell_keeps_only_runs_of_consecutive_frames_at_least_as_long_as_the_dwell() {
+        // Runs 0–2 (3 frames), 5 (1), 7–8 (2), and 1_000_000 far away (1).
+        let legible = vec![0, 1, 2, 5, 7, 8, 1_000_000];
+        assert_eq!(apply_dwell(legible.clone(), 1), legible);
+        assert_eq!(apply_dwell(legible.clone(), 2), vec![0, 1, 2, 7, 8]);
+        assert_eq!(apply_dwell(legible.clone(), 3), vec![0, 1, 2]);
+        assert!(apply_dwell(legible, 4).is_empty());
+        assert!(apply_dwell(Vec::new(), 2).is_empty());
+    }
 }

@@ -146,7 +146,7 @@ fn mean_legible(archives: &[ArchiveTimelines]) -> BTreeMap<&str, (CandidateKind,
     let mut out: BTreeMap<&str, (CandidateKind, f64)> = BTreeMap::new();
     for archive in archives {
         for t in &archive.timelines {
-            let seconds = t.legible.iter().filter(|&&l| l).count() as f64 * archive.table.frame_s;
+            let seconds = t.legible.len() as f64 * archive.table.frame_s;
             out.entry(&t.name).or_insert((t.kind, 0.0)).1 += seconds / archives.len() as f64;
         }
     }
@@ -192,9 +192,14 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
     let mut tables = Vec::with_capacity(options.inputs.len());
     let mut footprints = BTreeMap::new();
     let mut vehicle_model = options.mesh.clone();
+    let mut seen: Vec<(PathBuf, &PathBuf)> = Vec::with_capacity(options.inputs.len());
+    let mut inputs = Vec::with_capacity(2 * options.inputs.len());
     for input in &options.inputs {
         let path = resolve_table(input)?;
+        refuse_table_twice(&path, input, &mut seen)?;
         let mut own = read_footprints(&path)?;
+        inputs.push(path.clone());
+        inputs.push(path.with_file_name(PLACEMENT_PATCHES_FILE));
         vehicle_model = vehicle_model.or_else(|| vehicle_beside(&path));
         let mut table = read_table(&path)?;
         table::label_sizes(&mut table, &mut own);
@@ -221,7 +226,32 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
     let mut placement = report::assemble(options, &main, combinations, sensitivity);
     placement.footprints = footprints;
     placement.vehicle_model = vehicle_model;
+    placement.inputs = inputs;
     Ok(placement)
+}
+
+/// Errors, naming both inputs, when `input`'s table `path` is one already
+/// read (the same path twice, a link to it, or `A` and `A/results`): one
+/// archive scored as two would weight it twice in the mean and could flip
+/// the ranking.
+fn refuse_table_twice<'a>(
+    path: &Path,
+    input: &'a PathBuf,
+    seen: &mut Vec<(PathBuf, &'a PathBuf)>,
+) -> Result<()> {
+    let real = crate::files::resolved(path).unwrap_or_else(|| path.to_path_buf());
+    if let Some((_, first)) = seen.iter().find(|(known, _)| *known == real) {
+        return Err(Error::bad_file(
+            path,
+            format!(
+                "is given twice ({} and {} are one table): each archive counts once",
+                first.display(),
+                input.display()
+            ),
+        ));
+    }
+    seen.push((real, input));
+    Ok(())
 }
 
 /// The best sets by the mean under moved thresholds against the reported.
@@ -267,15 +297,18 @@ impl Searched {
 
 /// The mean seconds at least one of `names` is legible in `scoring`.
 fn seconds_of(scoring: &Scoring, names: &[String]) -> f64 {
-    let flags = |archive: &ArchiveTimelines| -> Vec<bool> {
-        let frames = archive.table.frames.len();
-        let mut any = vec![false; frames];
-        for t in archive.timelines.iter().filter(|t| names.contains(&t.name)) {
-            any.iter_mut().zip(&t.legible).for_each(|(a, &l)| *a |= l);
-        }
+    let frames = |archive: &ArchiveTimelines| -> Vec<usize> {
+        let mut any: Vec<usize> = archive
+            .timelines
+            .iter()
+            .filter(|t| names.contains(&t.name))
+            .flat_map(|t| t.legible.iter().copied())
+            .collect();
+        any.sort_unstable();
+        any.dedup();
         any
     };
-    let all: Vec<Vec<bool>> = scoring.archives.iter().map(flags).collect();
+    let all: Vec<Vec<usize>> = scoring.archives.iter().map(frames).collect();
     let bits = scoring.universe.bits(all.iter().map(|f| Some(f.as_slice())));
     scoring.universe.mean(&scoring.universe.seconds(&bits))
 }

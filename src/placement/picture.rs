@@ -192,7 +192,8 @@ pub fn write_placement_picture(
     // At scale 1: the overview draws each view at half that size.
     let cameras = view_cameras(model, 1);
     let views_dir = out.join(PLACEMENT_VIEWS_DIR);
-    std::fs::create_dir_all(&views_dir).map_err(|e| crate::error::Error::io(&views_dir, e))?;
+    // A link planted at placement-views is replaced by a real folder, never written through.
+    crate::files::real_dir(&views_dir)?;
     let [view_w, view_h] = cameras[0].size;
     let small: Vec<ViewCamera> = cameras
         .iter()

@@ -36,6 +36,9 @@ pub struct Placement {
     pub footprints: BTreeMap<String, PatchFootprint>,
     /// The vehicle model the picture is drawn on, when one is known.
     pub vehicle_model: Option<PathBuf>,
+    /// Every file the answer was read from (the tables and their
+    /// footprints): [`write_placement`] never writes over one.
+    pub inputs: Vec<PathBuf>,
 }
 
 impl CombinationRecord {
@@ -253,7 +256,7 @@ pub(crate) fn assemble(
                 .into(),
         ],
     };
-    Placement { document, footprints: BTreeMap::new(), vehicle_model: None }
+    Placement { document, footprints: BTreeMap::new(), vehicle_model: None, inputs: Vec::new() }
 }
 
 /// The files written.
@@ -269,18 +272,34 @@ pub struct WrittenPlacement {
 /// Writes the three files into `out` (created if missing), and the
 /// picture of the chosen sets when a vehicle model is known.
 pub fn write_placement(placement: &Placement, out: &Path) -> Result<WrittenPlacement> {
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let written = WrittenPlacement {
         json: out.join("placement.json"),
         csv: out.join("placement.csv"),
         combinations_csv: out.join("placement-combinations.csv"),
         picture: None,
     };
+    // An input table named placement.csv, or a --mesh named placement.json,
+    // is refused before anything is written, never replaced.
+    let outputs = [
+        written.json.clone(),
+        written.csv.clone(),
+        written.combinations_csv.clone(),
+        out.join(crate::placement::PLACEMENT_PICTURE_FILE),
+    ];
+    let inputs: Vec<PathBuf> = placement.inputs.iter().chain(&placement.vehicle_model).cloned().collect();
+    crate::files::refuse_overwriting_inputs(&outputs, &inputs)?;
+    crate::files::create_output_dir(out)?;
     let text = serde_json::to_string_pretty(&placement.document)
         .map_err(|e| Error::bad_file(&written.json, format!("cannot write JSON: {e}")))?;
     write_atomically(&written.json, |w| writeln!(w, "{text}"))?;
     write_atomically(&written.csv, |w| write_candidates(w, &placement.document.candidates))?;
     write_atomically(&written.combinations_csv, |w| write_combinations(w, &placement.document.combinations))?;
+    // The picture of an earlier run (placement.png, placement-views/) goes:
+    // it showed sets this answer may not choose, or a run without a
+    // vehicle model would leave it beside the new files.
+    for stale in [crate::placement::PLACEMENT_PICTURE_FILE, crate::placement::PLACEMENT_VIEWS_DIR] {
+        crate::files::remove_inside(out, &out.join(stale))?;
+    }
     let picture = match &placement.vehicle_model {
         Some(path) => {
             let model = crate::archive::VehicleModel::read(path)?;

@@ -97,11 +97,12 @@ impl Universe {
             .collect()
     }
 
-    /// The bits of per-archive legible flags (`None`: the candidate is not in that archive).
-    pub fn bits<'a>(&self, flags: impl Iterator<Item = Option<&'a [bool]>>) -> Vec<u64> {
+    /// The bits of per-archive legible frames (ascending indices; `None`:
+    /// the candidate is not in that archive).
+    pub fn bits<'a>(&self, legible: impl Iterator<Item = Option<&'a [usize]>>) -> Vec<u64> {
         let mut bits = vec![0u64; self.words];
-        for (range, flags) in self.ranges.iter().zip(flags) {
-            for (frame, _) in flags.into_iter().flatten().enumerate().filter(|&(_, &legible)| legible) {
+        for (range, frames) in self.ranges.iter().zip(legible) {
+            for &frame in frames.into_iter().flatten() {
                 bits[range.start + frame / 64] |= 1u64 << (frame % 64);
             }
         }

@@ -19,7 +19,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::files::{SMALL_INPUT_LIMIT, read_limited};
+use crate::files::read_limited;
 
 pub use crate::format::placement_csv::{PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE};
 
@@ -92,6 +92,8 @@ pub fn resolve_table(input: &Path) -> Result<PathBuf> {
 
 /// One parsed row.
 struct Row {
+    /// The row's line in the file (the header is line 1), for messages.
+    line: usize,
     frame: FrameInfo,
     eye: String,
     candidate: String,
@@ -142,7 +144,7 @@ impl Columns {
 
 /// Reads and checks one table (see the module documentation).
 pub fn read_table(path: &Path) -> Result<PlacementTable> {
-    let bytes = read_limited(path, SMALL_INPUT_LIMIT)?;
+    let bytes = read_limited(path, crate::format::placement_csv::PLACEMENT_TABLE_LIMIT)?;
     let mut reader = csv::ReaderBuilder::new().has_headers(true).from_reader(&bytes[..]);
     let header =
         reader.headers().map_err(|e| Error::bad_file(path, format!("line 1: not CSV: {e}")))?.clone();
@@ -155,7 +157,8 @@ pub fn read_table(path: &Path) -> Result<PlacementTable> {
         let record = record.map_err(|e| Error::bad_file(path, format!("line {line}: not CSV: {e}")))?;
         let parsed =
             if rendered { rendered_row(&record, &columns) } else { parse_row(&record, &columns).map(Some) };
-        if let Some(row) = parsed.map_err(|m| Error::bad_file(path, format!("line {line}: {m}")))? {
+        if let Some(mut row) = parsed.map_err(|m| Error::bad_file(path, format!("line {line}: {m}")))? {
+            row.line = line;
             rows.push(row);
         }
     }
@@ -201,12 +204,15 @@ fn rendered_row(record: &csv::StringRecord, columns: &Columns) -> std::result::R
         angular_height_deg: 0.0,
     };
     check_sighting(&sighting)?;
+    let frame = FrameInfo {
+        frame: frame.parse().map_err(|_| format!("frame {frame:?} is not a whole number ≥ 0"))?,
+        time_s: number("time_s", time)?,
+        distance_m: number("distance_m", distance)?,
+    };
+    check_frame(&frame)?;
     Ok(Some(Row {
-        frame: FrameInfo {
-            frame: frame.parse().map_err(|_| format!("frame {frame:?} is not a whole number ≥ 0"))?,
-            time_s: number("time_s", time)?,
-            distance_m: number("distance_m", distance)?,
-        },
+        line: 0,
+        frame,
         eye: eye.to_string(),
         candidate: part.to_string(),
         kind: CandidateKind::Part,
@@ -243,19 +249,21 @@ fn parse_row(record: &csv::StringRecord, columns: &Columns) -> std::result::Resu
     let frame_s = match columns.frame_s.map(field).filter(|t| !t.is_empty()) {
         Some(text) => {
             let seconds = number("frame_s", text)?;
-            if seconds <= 0.0 {
-                return Err(format!("frame_s {text:?} must be more than 0 seconds"));
+            if seconds <= 0.0 || seconds > MAX_SECONDS {
+                return Err(format!(
+                    "frame_s {text:?} must be more than 0 and at most {MAX_SECONDS} seconds"
+                ));
             }
             Some(seconds)
         }
         None => None,
     };
+    let frame =
+        FrameInfo { frame, time_s: number("time_s", time)?, distance_m: number("distance_m", distance)? };
+    check_frame(&frame)?;
     Ok(Row {
-        frame: FrameInfo {
-            frame,
-            time_s: number("time_s", time)?,
-            distance_m: number("distance_m", distance)?,
-        },
+        line: 0,
+        frame,
         eye: eye.to_string(),
         candidate: candidate.to_string(),
         kind,
@@ -263,6 +271,26 @@ fn parse_row(record: &csv::StringRecord, columns: &Columns) -> std::result::Resu
         frame_s,
         mirror: columns.mirror.map(field).filter(|t| !t.is_empty()).map(str::to_string),
     })
+}
+
+/// The longest time a table may name, s: a scenario's duration is at most
+/// 10⁶ s (docs/scene-file.md), so a larger time or `frame_s` is no capture's
+/// and would overflow the seconds summed over frames.
+pub const MAX_SECONDS: f64 = 1e6;
+
+/// The farthest distance a table may name, m (the tracks' ±10⁶ m bound).
+pub const MAX_DISTANCE_M: f64 = 1e6;
+
+/// A frame's time and distance: a distance from 0 to [`MAX_DISTANCE_M`], a
+/// time within ±[`MAX_SECONDS`].
+fn check_frame(frame: &FrameInfo) -> std::result::Result<(), String> {
+    if !(0.0..=MAX_DISTANCE_M).contains(&frame.distance_m) {
+        return Err(format!("distance_m {} must be 0 to {MAX_DISTANCE_M} m", frame.distance_m));
+    }
+    if frame.time_s.abs() > MAX_SECONDS {
+        return Err(format!("time_s {} is beyond ±{MAX_SECONDS} s", frame.time_s));
+    }
+    Ok(())
 }
 
 fn check_sighting(s: &Sighting) -> std::result::Result<(), String> {
@@ -283,33 +311,47 @@ fn check_sighting(s: &Sighting) -> std::result::Result<(), String> {
 
 /// Frames, eyes and candidates from the rows, with the consistency checks.
 fn assemble(path: &Path, rows: Vec<Row>) -> Result<PlacementTable> {
-    let mut frames: BTreeMap<u64, FrameInfo> = BTreeMap::new();
+    let mut frames: BTreeMap<u64, (FrameInfo, usize)> = BTreeMap::new();
     let mut eyes: Vec<String> = Vec::new();
     let mut frame_s: Option<f64> = None;
     for row in &rows {
-        let known = *frames.entry(row.frame.frame).or_insert(row.frame);
+        let (known, _) = *frames.entry(row.frame.frame).or_insert((row.frame, row.line));
         if known != row.frame {
             return Err(Error::bad_file(
                 path,
                 format!(
-                    "frame {} has two times or distances ({:?} and {:?})",
-                    row.frame.frame, known, row.frame
+                    "line {}: frame {} has two times or distances ({:?} and {:?})",
+                    row.line, row.frame.frame, known, row.frame
                 ),
             ));
         }
         if !eyes.contains(&row.eye) {
+            if eyes.len() == 2 {
+                return Err(Error::bad_file(
+                    path,
+                    format!(
+                        "line {}: eye {:?} is a third eye (the table already has {:?} and {:?}); an \
+                         eye-frame is seen by two eyes at most",
+                        row.line, row.eye, eyes[0], eyes[1]
+                    ),
+                ));
+            }
             eyes.push(row.eye.clone());
         }
         if let Some(seconds) = row.frame_s {
             match frame_s {
                 Some(known) if (known - seconds).abs() > 1e-9 * known.max(seconds) => {
-                    return Err(Error::bad_file(path, format!("frame_s is both {known} and {seconds}")));
+                    return Err(Error::bad_file(
+                        path,
+                        format!("line {}: frame_s is both {known} and {seconds}", row.line),
+                    ));
                 }
                 _ => frame_s = Some(seconds),
             }
         }
     }
-    let frame_list: Vec<FrameInfo> = frames.values().copied().collect();
+    refuse_backwards_clock(path, &frames)?;
+    let frame_list: Vec<FrameInfo> = frames.values().map(|(frame, _)| *frame).collect();
     let frame_s = match frame_s {
         Some(seconds) => seconds,
         None => smallest_time_step(path, &frame_list)?,
@@ -324,6 +366,27 @@ fn assemble(path: &Path, rows: Vec<Row>) -> Result<PlacementTable> {
         candidates,
         rendered: false,
     })
+}
+
+/// Errors, naming the line, when a later frame has an earlier time than the
+/// frame before it (a clock that runs backwards would make the legible
+/// stretches and dwell times wrong).
+fn refuse_backwards_clock(path: &Path, frames: &BTreeMap<u64, (FrameInfo, usize)>) -> Result<()> {
+    let ordered: Vec<&(FrameInfo, usize)> = frames.values().collect();
+    for pair in ordered.windows(2) {
+        let ((before, _), (after, line)) = (pair[0], pair[1]);
+        if after.time_s < before.time_s {
+            return Err(Error::bad_file(
+                path,
+                format!(
+                    "line {line}: time_s {} of frame {} is before time_s {} of frame {}: the clock runs \
+                     backwards",
+                    after.time_s, after.frame, before.time_s, before.frame
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Without `frame_s`: the smallest positive step between the frames' times.
@@ -362,8 +425,18 @@ fn candidates_of(
                 format!("candidate {:?} is both a part and a patch", row.candidate),
             ));
         }
-        if entry.mirror.is_none() {
-            entry.mirror = row.mirror.clone();
+        match (&entry.mirror, &row.mirror) {
+            (Some(known), Some(mirror)) if known != mirror => {
+                return Err(Error::bad_file(
+                    path,
+                    format!(
+                        "line {}: mirror of candidate {:?} is both {known:?} and {mirror:?}",
+                        row.line, row.candidate
+                    ),
+                ));
+            }
+            (None, Some(_)) => entry.mirror = row.mirror.clone(),
+            _ => {}
         }
         let key = (index[&row.frame.frame], eyes.iter().position(|e| *e == row.eye).unwrap_or(0));
         if entry.sightings.insert(key, row.sighting).is_some() {
@@ -376,7 +449,36 @@ fn candidates_of(
             ));
         }
     }
+    refuse_one_sided_mirrors(path, &candidates)?;
     Ok(candidates)
+}
+
+/// Errors when a candidate is its own mirror image, or when its mirror
+/// names another mirror (or none): a pair chosen together would then hold
+/// one candidate twice, or three candidates would form no pair.
+fn refuse_one_sided_mirrors(path: &Path, candidates: &BTreeMap<String, CandidateRows>) -> Result<()> {
+    for (name, rows) in candidates {
+        let Some(mirror) = &rows.mirror else { continue };
+        if mirror == name {
+            return Err(Error::bad_file(
+                path,
+                format!("mirror of candidate {name:?} is the candidate itself"),
+            ));
+        }
+        if let Some(other) = candidates.get(mirror)
+            && other.mirror.as_deref() != Some(name.as_str())
+        {
+            return Err(Error::bad_file(
+                path,
+                format!(
+                    "mirror of candidate {name:?} is {mirror:?}, but the mirror of {mirror:?} is {}: mirrors \
+                     must name each other",
+                    other.mirror.as_deref().map_or("none".to_string(), |m| format!("{m:?}"))
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Puts the display size into the names of `table`'s patches that lack it

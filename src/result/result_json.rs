@@ -198,7 +198,7 @@ fn check_result_schema(path: &Path, schema: &str) -> Result<()> {
 /// part new: refused until a run into its folder finishes it.
 fn refuse_half_written(path: &Path) -> Result<()> {
     let folder = path.parent().filter(|p| !p.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    match crate::files::interrupted_commit(folder) {
+    match crate::files::interrupted_commit(folder)? {
         Some(journal) => Err(Error::bad_file(
             path,
             format!(

@@ -52,6 +52,34 @@ pub fn legend(bytes: &[u8]) {
     let _ = Legend::parse(Path::new("parts.json"), bytes.to_vec());
 }
 
+/// The commit journal `.ufcsr-commit.json`, as `heatmap`, `merge`, `report`
+/// and the next commit read it.
+pub fn commit_journal(bytes: &[u8]) {
+    let _ = crate::files::parse_journal(Path::new(".ufcsr-commit.json"), bytes);
+}
+
+/// A placement table (`placement-frames.csv`), as `placement` reads it. The
+/// reader takes a file, so the bytes go into one private temporary file per
+/// thread (a few microseconds per input).
+pub fn placement_table(bytes: &[u8]) {
+    thread_local! {
+        static FILE: std::path::PathBuf = std::env::temp_dir().join(format!(
+            "ufcsr-fuzz-{}-{:?}",
+            std::process::id(),
+            std::thread::current().id()
+        ));
+    }
+    FILE.with(|folder| {
+        if crate::files::create_output_dir(folder).is_err() {
+            return;
+        }
+        let path = folder.join(crate::format::placement_csv::PLACEMENT_FRAMES_FILE);
+        if crate::files::write_bytes_atomically(&path, bytes).is_ok() {
+            let _ = crate::placement::read_table(&path);
+        }
+    });
+}
+
 /// A fuzz target's name (its folder under `seeds/` and `regressions/`) and
 /// its entry point.
 pub type Target = (&'static str, fn(&[u8]));
@@ -66,8 +94,8 @@ pub fn replay_saved_inputs(fuzz_dir: &Path, targets: &[Target]) -> std::result::
         for folder in ["seeds", "regressions"] {
             let Ok(files) = std::fs::read_dir(fuzz_dir.join(folder).join(target)) else { continue };
             for file in files.flatten() {
-                let bytes =
-                    std::fs::read(file.path()).map_err(|e| format!("{}: {e}", file.path().display()))?;
+                let bytes = crate::files::read_limited(&file.path(), crate::files::SMALL_INPUT_LIMIT)
+                    .map_err(|e| e.to_string())?;
                 if std::panic::catch_unwind(|| entry(&bytes)).is_err() {
                     return Err(format!("fuzz target {target} panics on {}", file.path().display()));
                 }

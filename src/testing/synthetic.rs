@@ -168,13 +168,13 @@ pub struct ArchiveSummary {
 /// Writes an archive with `manifest.json`, `pidt.png` and `parts.csv` into `dir`.
 pub fn write_archive(dir: &Path, spec: &ArchiveSpec) -> Result<ArchiveSummary> {
     let tiles_dir = dir.join("tiles");
-    std::fs::create_dir_all(&tiles_dir).map_err(|e| Error::io(&tiles_dir, e))?;
+    crate::files::create_output_dir(&tiles_dir)?;
     let background = Color::DEFAULT_BACKGROUND;
     let empty_path = dir.join(".empty.png");
     let empty_rgb = object_free_tile([spec.tile_width, spec.tile_height], background);
     write_rgb_png(&empty_path, [spec.tile_width, spec.tile_height], &empty_rgb, spec.compression)?;
-    let empty_bytes = std::fs::read(&empty_path).map_err(|e| Error::io(&empty_path, e))?;
-    std::fs::remove_file(&empty_path).map_err(|e| Error::io(&empty_path, e))?;
+    let empty_bytes = crate::files::read_limited(&empty_path, crate::files::IMAGE_LIMIT)?;
+    crate::files::remove_inside(dir, &empty_path)?;
 
     let mut rng = Rng::new(spec.seed);
     let mut summary = ArchiveSummary::default();

@@ -5,11 +5,16 @@
 //! are in `tests/external`, whose harness reports a missing tool as ignored;
 //! those that run the binaries are in `cli/tests` (the crate that builds them).
 
+// Test code may use std::fs directly; production code goes through the file
+// layer (clippy.toml, docs/reliability.md).
+#![allow(clippy::disallowed_methods, clippy::disallowed_types)]
+
 mod common;
 
 mod architecture_page;
 mod bad_input;
 mod doc_links;
+mod file_layer;
 mod frames;
 mod fuzz_regressions;
 mod golden_example;

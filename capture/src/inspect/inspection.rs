@@ -260,7 +260,7 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
     let mut inputs = vec![options.input.clone()];
     inputs.extend(built.files.iter().cloned());
     crate::job::overwrite_guard::refuse_overwriting_inputs(out, &INSPECT_FILES, &[], &inputs)?;
-    std::fs::create_dir_all(out).map_err(|e| CaptureError::io(out, e))?;
+    ufcsr::create_output_dir(out)?;
     let pixels_per_metre = match options.pixels_per_metre {
         Some(ppm) if ppm.is_finite() && ppm > 0.0 && ppm <= 2000.0 => ppm,
         Some(ppm) => {

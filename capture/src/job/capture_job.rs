@@ -159,8 +159,24 @@ pub(crate) fn prepare_folder(scene: &Scene, options: &CaptureOptions) -> Result<
         &ARCHIVE_FOLDERS,
         &capture_inputs(scene, options),
     )?;
-    std::fs::create_dir_all(out).map_err(|e| CaptureError::io(out, e))?;
-    crate::job::overwrite_guard::unlink_owned_folders(out, &ARCHIVE_FOLDERS)
+    ufcsr::create_output_dir(out)?;
+    crate::job::overwrite_guard::unlink_owned_folders(out, &ARCHIVE_FOLDERS)?;
+    // Issue 34: an earlier archive's manifest goes before anything of the
+    // new one is written, so a capture interrupted (or out of disk) from
+    // here on never leaves it over a mix of old and new tiles, which the
+    // analyzer would count under it; the manifest is written last. The
+    // placement tables in results/ describe that archive too: a capture
+    // without --placement leaves none beside its own results.
+    let mut stale = vec![ufcsr::MANIFEST_FILE.to_string()];
+    if options.shard.is_none() {
+        stale.extend(
+            [ufcsr::PLACEMENT_FRAMES_FILE, ufcsr::PLACEMENT_PATCHES_FILE].map(|f| format!("results/{f}")),
+        );
+    }
+    for name in stale {
+        ufcsr::remove_inside(out, &out.join(name))?;
+    }
+    Ok(())
 }
 
 /// Every file a capture of `scene` with `options` reads: the scene's files,
@@ -355,7 +371,7 @@ pub fn capture(
         Some(_) => {
             // The whole archive's manifest, if one is left from an earlier
             // capture, no longer describes it: `assemble` writes a new one.
-            remove_if_there(&options.out.join(ufcsr::MANIFEST_FILE))?;
+            ufcsr::remove_inside(&options.out, &options.out.join(ufcsr::MANIFEST_FILE))?;
             let frames = frames_to_capture(scene, scenario, options)?;
             OldTiles::OfFrames(frames.into_iter().map(|(_, frame)| frame).collect())
         }
@@ -403,14 +419,6 @@ pub fn summarize(
     }
 }
 
-/// Removes `path` unless it is not there.
-fn remove_if_there(path: &Path) -> Result<()> {
-    match std::fs::remove_file(path) {
-        Err(error) if error.kind() != std::io::ErrorKind::NotFound => Err(CaptureError::io(path, error)),
-        _ => Ok(()),
-    }
-}
-
 /// Stage three: writes `manifest.json` for the captured tiles (a shard: its
 /// part of it, `shards/manifest-I-of-N.json`).
 pub fn write_manifest(
@@ -449,7 +457,7 @@ pub fn write_manifest(
             }
             let path = capture_shard::partial_manifest_path(&options.out, shard);
             let dir = options.out.join(capture_shard::SHARDS_DIR);
-            std::fs::create_dir_all(&dir).map_err(|e| CaptureError::io(&dir, e))?;
+            ufcsr::real_dir(&dir)?;
             let bytes = serde_json::to_vec_pretty(&manifest)
                 .map_err(|e| CaptureError::bad_file(&path, e.to_string()))?;
             ufcsr::write_bytes_atomically(&path, &bytes)?;
@@ -473,7 +481,12 @@ pub fn for_each_scenario<T>(
     let mut done = Vec::new();
     for name in names {
         let scenario = scene.scenario(name)?;
-        let out: PathBuf = if subfolders { options.out.join(&scenario.name) } else { options.out.clone() };
+        // A link planted at OUT/NAME is replaced by a real folder, never written through.
+        let out: PathBuf = if subfolders {
+            ufcsr::output_sub_dir(&options.out, Path::new(&scenario.name))?
+        } else {
+            options.out.clone()
+        };
         done.push(job(scenario, &CaptureOptions { out, ..options.clone() })?);
     }
     Ok(done)

@@ -111,9 +111,12 @@ pub fn assemble(archive: &Path) -> Result<Assembled> {
     Manifest::parse(&manifest_path, &text)?;
     manifest.write_to_dir(archive)?;
     for part in &parts {
-        std::fs::remove_file(&part.path).map_err(|e| CaptureError::io(&part.path, e))?;
+        ufcsr::remove_inside(archive, &part.path)?;
     }
-    let _ = std::fs::remove_dir(&dir);
+    // The shards folder goes once empty (a file of the user's in it stays).
+    if std::fs::read_dir(&dir).is_ok_and(|mut entries| entries.next().is_none()) {
+        ufcsr::remove_inside(archive, &dir)?;
+    }
     Ok(Assembled { manifest_path, shards: count, frames: frame_count, tiles })
 }
 

@@ -121,7 +121,7 @@ impl CaptureSetup {
             if self.files.is_empty() {
                 for name in self.file_names() {
                     let path = self.built_in.join(&name);
-                    let bytes = std::fs::read(&path).map_err(|e| CaptureError::io(&path, e))?;
+                    let bytes = ufcsr::read_limited(&path, ufcsr::MODEL_LIMIT)?;
                     self.files.push((name, bytes));
                 }
             }

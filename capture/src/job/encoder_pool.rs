@@ -57,7 +57,11 @@ impl EncoderPool {
         old_tiles: OldTiles,
     ) -> Result<EncoderPool> {
         let tiles_dir = archive.join("tiles");
-        std::fs::create_dir_all(&tiles_dir).map_err(|e| CaptureError::io(&tiles_dir, e))?;
+        ufcsr::real_dir(&tiles_dir)?;
+        // Tiles half-written by a killed capture (SIGKILL runs no handler)
+        // go, so `--resume` keeps only whole tiles and nothing of theirs.
+        ufcsr::remove_stale_temporaries(&tiles_dir);
+        ufcsr::remove_stale_temporaries(archive);
         let resume = matches!(old_tiles, OldTiles::Keep);
         match &old_tiles {
             OldTiles::Keep => {}
@@ -183,7 +187,7 @@ fn remove_old_tiles_where(dir: &Path, remove: impl Fn(u32) -> bool) -> Result<()
         let name = name.to_string_lossy();
         let frame = name.get(1..).and_then(|rest| rest.split('_').next()).and_then(|n| n.parse().ok());
         if is_tile_name(&name) && frame.is_some_and(&remove) {
-            std::fs::remove_file(entry.path()).map_err(|e| CaptureError::io(entry.path(), e))?;
+            ufcsr::remove_inside(dir, &entry.path())?;
         }
     }
     Ok(())

@@ -268,7 +268,8 @@ fn capture_setting(
     let SettingRun { ppd, step, setup } = run;
     let mut scene = scene.clone();
     scene.rig.set_pixels_per_degree(ppd)?;
-    let out = options.capture.out.join(format!("ppd{ppd}-step{step}"));
+    // A link planted at ppdN-stepM is replaced by a real folder, never written through.
+    let out = ufcsr::output_sub_dir(&options.capture.out, Path::new(&format!("ppd{ppd}-step{step}")))?;
     let setting = Setting { name: &options.scenario, out: &out, step, dedupe: options.dedupe };
     let (counted, frames) = count_every_nth_frame(device, queue, &scene, &options.capture, &setting, setup)?;
     eprintln!(
@@ -422,7 +423,7 @@ const STUDY_FILES: [&str; 4] = ["study.csv", "study.json", "study.svg", "study.p
 /// Writes `study.csv`, `study.json`, `study.svg` and, when a TrueType font
 /// is found for its labels, `study.png` into `dir`. Returns the files written.
 pub fn write_study(study: &Study, dir: &Path) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).map_err(|e| CaptureError::io(dir, e))?;
+    ufcsr::create_output_dir(dir)?;
     let csv_path = dir.join("study.csv");
     write_csv(study, &csv_path)?;
     let json_path = dir.join("study.json");

@@ -192,8 +192,23 @@ fn run_each(args: &AnalyzeArgs, parent: &Path, console: &Console) -> Result<Comp
     let mut analysed = 0;
     for archive in archives {
         let out_dir = match &args.out {
-            Some(out) => out.join(archive.strip_prefix(parent).unwrap_or(&archive)),
-            None => default_output_dir(&archive),
+            // DIR/A a real folder: a link planted at DIR/A (or on the way) is
+            // replaced, never written through into the folder it names.
+            Some(out) => {
+                let relative = archive.strip_prefix(parent).unwrap_or(&archive);
+                ufcsr::create_output_dir(out).and_then(|()| ufcsr::output_sub_dir(out, relative))
+            }
+            None => Ok(default_output_dir(&archive)),
+        };
+        let out_dir = match out_dir {
+            Ok(out_dir) => out_dir,
+            Err(error) => {
+                let error = anyhow::Error::from(error);
+                eprintln!("error: {}: {error:#}", archive.display());
+                done.completion = Completion::WithFailures;
+                each.push(json!({ "archive": shown(&archive), "error": crate::console::message(&error) }));
+                continue;
+            }
         };
         match analyse_one(args, archive.clone(), out_dir, console) {
             Ok(one) => {

@@ -217,7 +217,13 @@ pub fn run_demo_with_traffic(
     let all = args.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
     for name in scenario_names(&Scene::demo(), args.scenario.as_deref())? {
         let scene = Scene::demo_with_traffic(traffic, &name)?;
-        let out = if all { args.out.join(&name) } else { args.out.clone() };
+        // --out/NAME a real folder: a link planted there is replaced, never written through.
+        let out = if all {
+            ufcsr::create_output_dir(&args.out)?;
+            ufcsr::output_sub_dir(&args.out, std::path::Path::new(&name))?
+        } else {
+            args.out.clone()
+        };
         run_capture(scene, &CaptureArgs { out, scenario: Some(name), ..args.clone() }, threads, console)?;
     }
     Ok(())
@@ -450,6 +456,27 @@ fn report(s: &Summary, sink: Sink, console: &Console) {
     for warning in &s.warnings {
         eprintln!("  warning: {warning}");
     }
+    if let Some(warning) = saw_nothing(s) {
+        eprintln!("warning: {warning}");
+    }
+}
+
+/// A warning when no tile shows any of the vehicle (every one culled, hidden
+/// by occluders or background only, none resumed): such an archive counts
+/// nothing, and a capture that exits 0 without a word hides a wrong rig,
+/// track, `--frames` or occluder.
+fn saw_nothing(s: &Summary) -> Option<String> {
+    let t = &s.tally;
+    // `background` holds the tiles hidden by occluders (not rendered) and
+    // the rendered ones that came out pure background.
+    let showing = t.rendered.saturating_sub(t.background.saturating_sub(t.hidden));
+    (s.tiles > 0 && showing == 0 && t.resumed == 0).then(|| {
+        format!(
+            "scenario {}: no tile of the {} shows any of the vehicle ({} culled, {} hidden by occluders, {} \
+             background only): the archive counts nothing; check the rig, the tracks, --frames and the occluders",
+            s.scenario, s.tiles, t.culled, t.hidden, t.background
+        )
+    })
 }
 
 fn report_counted(counted: &CountedCapture, console: &Console) {

@@ -3,6 +3,9 @@
 //! that render create it before anything else runs; it is removed when the
 //! run ends, or by the interrupt handler).
 
+/// The runtime folder's name before the process id.
+const RUNTIME_PREFIX: &str = "ufcsr-runtime-";
+
 /// A private runtime folder for Mesa, removed when the program ends.
 ///
 /// Mesa's window-system probe prints `error: XDG_RUNTIME_DIR is invalid or
@@ -21,7 +24,9 @@ impl PrivateRuntimeDir {
         if valid || cfg!(not(unix)) {
             return PrivateRuntimeDir(None);
         }
-        let dir = std::env::temp_dir().join(format!("ufcsr-runtime-{}", std::process::id()));
+        // Those of killed captures (SIGKILL runs no handler) go first.
+        ufcsr::remove_dead_runs(&std::env::temp_dir(), RUNTIME_PREFIX);
+        let dir = std::env::temp_dir().join(format!("{RUNTIME_PREFIX}{}", std::process::id()));
         let mut builder = std::fs::DirBuilder::new();
         #[cfg(unix)]
         std::os::unix::fs::DirBuilderExt::mode(&mut builder, 0o700);
@@ -39,8 +44,9 @@ impl PrivateRuntimeDir {
 
 impl Drop for PrivateRuntimeDir {
     fn drop(&mut self) {
-        if let Some(dir) = &self.0 {
-            let _ = std::fs::remove_dir_all(dir);
+        // Our own folder, made above inside the temporary folder.
+        if let Some((dir, parent)) = self.0.as_ref().and_then(|dir| Some((dir, dir.parent()?))) {
+            let _ = ufcsr::remove_inside(parent, dir);
         }
     }
 }

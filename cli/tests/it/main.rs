@@ -6,6 +6,10 @@
 //! cli_grammar::` runs one of them. The libraries' own tests stay beside
 //! them; tests that need outside tools are in `tests/external`.
 
+// Test code may use std::fs directly; production code goes through the file
+// layer (clippy.toml, docs/reliability.md).
+#![allow(clippy::disallowed_methods, clippy::disallowed_types)]
+
 #[path = "../../../tests/it/common.rs"]
 mod analyzer_helpers;
 
@@ -27,18 +31,26 @@ mod atomic_results;
 mod cli;
 mod cli_grammar;
 mod color_damage;
+mod commit_journal;
 mod comparison_page;
 mod external_manifest;
+mod manifest_links;
 mod missing_vehicle;
+mod output_paths;
 mod placement_pages;
+mod placement_tables;
 mod reliability_inputs;
 mod reliability_outputs;
 mod result_validation;
 mod solo_manifest;
+mod stdout_failures;
 
 // The capture's command line (and the library tests that share their helpers).
 mod archive_models;
 mod bad_capture;
+mod capture_inputs_kept;
+mod capture_replaces_whole;
+mod capture_sees_nothing;
 mod capture_shards;
 mod exit_codes;
 mod fused_count;
@@ -48,6 +60,7 @@ mod own_models;
 mod reliability;
 mod round_trip;
 mod schemas;
+mod stale_outputs;
 mod traffic;
 mod umbrella;
 mod unobstructed;

@@ -120,3 +120,43 @@ fn an_unreadable_placement_beside_a_result_is_a_warning_on_its_page() {
     let page = std::fs::read_to_string(results.join("report.html")).unwrap();
     assert!(page.contains("class=\"warn\">") && page.contains("not a placement result"), "{page}");
 }
+
+#[cfg(unix)]
+#[test]
+fn report_keeps_a_result_folder_that_also_holds_a_placement_and_a_placement_views_link_is_not_followed() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = archive(dir.path());
+    let first = dir.path().join("R1");
+    let second = dir.path().join("R2");
+    for results in [&first, &second] {
+        analyze(&[example().as_os_str(), "-q".as_ref(), "--out".as_ref(), results.as_os_str()]);
+    }
+    // placement.json written into R1 itself, through a planted placement-views link.
+    let elsewhere = dir.path().join("elsewhere");
+    std::fs::create_dir(&elsewhere).unwrap();
+    std::os::unix::fs::symlink(&elsewhere, first.join("placement-views")).unwrap();
+    analyze(&[
+        "placement".as_ref(),
+        archive.as_os_str(),
+        "--min-dwell-s".as_ref(),
+        "0".as_ref(),
+        "-q".as_ref(),
+        "--mesh".as_ref(),
+        example().join("vehicle.glb").as_os_str(),
+        "--out".as_ref(),
+        first.as_os_str(),
+    ]);
+    assert_eq!(std::fs::read_dir(&elsewhere).unwrap().count(), 0, "written through the placement-views link");
+    assert!(!std::fs::symlink_metadata(first.join("placement-views")).unwrap().file_type().is_symlink());
+    let compared = dir.path().join("compared");
+    analyze(&[
+        "report".as_ref(),
+        first.as_os_str(),
+        second.as_os_str(),
+        "--out".as_ref(),
+        compared.as_os_str(),
+    ]);
+    let page = std::fs::read_to_string(compared.join("report.html")).unwrap();
+    assert!(page.contains("<th>R1</th><th>R2</th>"), "a result was dropped from the page");
+    assert!(page.contains("Where should the eHMI go? (R1)"), "the placement was dropped from the page");
+}

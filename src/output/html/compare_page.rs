@@ -58,8 +58,16 @@ fn label_of(json: &Path) -> String {
 /// ([`crate::output::html::placement_section`]) with its picture copied
 /// beside the page; then one result is enough.
 pub fn write_comparison(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
-    let (placement_paths, paths): (Vec<PathBuf>, Vec<PathBuf>) =
-        paths.iter().cloned().partition(|path| placement_folder(path).is_some());
+    // A folder holding both a result and placement.json is both (issue 34:
+    // `report R1 R2` used to drop R1 silently when it held a placement).
+    let is_result = |path: &Path| {
+        (path.is_dir() && path.join("result.json").is_file())
+            || path.file_name().is_some_and(|n| n == "result.json")
+    };
+    let placement_paths: Vec<PathBuf> =
+        paths.iter().filter(|p| placement_folder(p).is_some()).cloned().collect();
+    let paths: Vec<PathBuf> =
+        paths.iter().filter(|p| placement_folder(p).is_none() || is_result(p)).cloned().collect();
     if paths.len() < 2 && (paths.is_empty() || placement_paths.is_empty()) {
         return Err(Error::BadOptions(
             "report needs at least two results to compare, or a result and a placement folder".into(),
@@ -67,7 +75,7 @@ pub fn write_comparison(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
     }
     let paths = &paths[..];
     refuse_result_folders(paths, out_dir)?;
-    std::fs::create_dir_all(out_dir).map_err(|e| Error::io(out_dir, e))?;
+    crate::files::create_output_dir(out_dir)?;
     let mut entries = Vec::with_capacity(paths.len());
     let mut inputs: Vec<PathBuf> = paths.iter().map(|path| result_json(path)).collect();
     let placements = copy_placements(&placement_paths, out_dir, &mut inputs)?;

@@ -43,7 +43,8 @@ fn shell_word(word: &str) -> String {
 
 /// The provenance paragraph of a page, HTML.
 pub fn paragraph() -> String {
-    let command: Vec<String> = std::env::args().map(|arg| shell_word(&arg)).collect();
+    // args_os: `std::env::args` panics on an argument that is not UTF-8 (a path).
+    let command: Vec<String> = std::env::args_os().map(|arg| shell_word(&arg.to_string_lossy())).collect();
     let folder = std::env::current_dir().map(|dir| dir.display().to_string()).unwrap_or_default();
     format!(
         "<p class=\"provenance\">Written {} by ufcsr {}, command line <code>{}</code> in <code>{}</code>.</p>",

@@ -128,6 +128,7 @@ pub fn write_table(inputs: &ExactInputs, labels: &LabelSet, path: &Path) -> Resu
     }
     let mut rows = 0u64;
     ufcsr::write_atomically(path, |writer| {
+        let writer = LimitedWriter { inner: writer, left: ufcsr::PLACEMENT_TABLE_LIMIT };
         let mut table = csv::Writer::from_writer(writer);
         for (batch, eye_frames) in inputs.eye_frames.chunks(EYE_FRAMES_PER_BATCH).enumerate() {
             let seen: Vec<Vec<Option<Seen>>> =
@@ -141,6 +142,35 @@ pub fn write_table(inputs: &ExactInputs, labels: &LabelSet, path: &Path) -> Resu
         table.flush()
     })?;
     Ok(rows)
+}
+
+/// A writer that fails once more than `left` bytes are written: the table
+/// stops at [`ufcsr::PLACEMENT_TABLE_LIMIT`], the most `placement` reads, so
+/// the capture never writes (and keeps) a table `placement` would refuse
+/// (a 40 s scenario with `--display` used to write 420 MB).
+struct LimitedWriter<W> {
+    inner: W,
+    left: u64,
+}
+
+impl<W: std::io::Write> std::io::Write for LimitedWriter<W> {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        let size = bytes.len() as u64;
+        if size > self.left {
+            return Err(std::io::Error::other(format!(
+                "the placement table would be larger than {} MiB, the most `ufcsr-analyze placement` \
+                 reads: measure fewer frames (--frames 0-END/STEP), larger or fewer displays (--display, \
+                 --patch-spacing) or a sample (--sample)",
+                ufcsr::PLACEMENT_TABLE_LIMIT >> 20
+            )));
+        }
+        self.left -= size;
+        self.inner.write(bytes).inspect(|&written| self.left += size - written as u64)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.inner.flush()
+    }
 }
 
 /// The rows of eye-frame `index`.
@@ -179,4 +209,18 @@ fn write_rows<W: std::io::Write>(
         rows += 1;
     }
     Ok(rows)
+}
+
+#[cfg(test)]
+mod limit_tests {
+    use std::io::Write;
+
+    #[test]
+    fn a_table_beyond_the_limit_fails_instead_of_being_written() {
+        let mut writer = super::LimitedWriter { inner: Vec::new(), left: 10 };
+        writer.write_all(b"0123456789").unwrap();
+        let error = writer.write_all(b"x").unwrap_err().to_string();
+        assert!(error.contains("MiB") && error.contains("--frames"), "{error}");
+        assert_eq!(writer.inner.len(), 10);
+    }
 }

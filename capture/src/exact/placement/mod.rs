@@ -85,7 +85,8 @@ pub fn write_placement_frames(
     options.check()?;
     let mut labels = labels::LabelSet::parts(&inputs.scene.vehicle.parts, inputs.samples);
     let parts = labels.count();
-    std::fs::create_dir_all(results_dir).map_err(|e| CaptureError::io(results_dir, e))?;
+    // A link at results/ is replaced by a real folder, never written through.
+    ufcsr::real_dir(results_dir)?;
     let mut patches_csv = None;
     if let Some(display) = options.display_m {
         let placed = patches::place_patches(inputs, display, options.spacing_m);

@@ -213,7 +213,20 @@ fn pair_mirrors(placed: &mut [PlacedPatch], spacing: f64) {
                 .map(|(_, other)| other.name.clone())
         })
         .collect();
-    for (patch, mirror) in placed.iter_mut().zip(mirrors) {
+    // Only mutual pairs: A's nearest mirror image may be B while B's is C
+    // (near the centre plane), and a one-sided mirror would put one patch
+    // in a symmetric pair twice; `placement` refuses such a table.
+    let index: std::collections::HashMap<&str, usize> =
+        placed.iter().enumerate().map(|(i, patch)| (patch.name.as_str(), i)).collect();
+    let mutual: Vec<Option<String>> = mirrors
+        .iter()
+        .enumerate()
+        .map(|(i, mirror)| {
+            let other = *index.get(mirror.as_deref()?)?;
+            (mirrors[other].as_deref() == Some(placed[i].name.as_str())).then(|| mirror.clone()).flatten()
+        })
+        .collect();
+    for (patch, mirror) in placed.iter_mut().zip(mutual) {
         patch.mirror = mirror;
     }
 }

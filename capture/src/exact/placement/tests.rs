@@ -216,6 +216,13 @@ fn patches_fit_inside_the_surface_hold_their_area_and_pair_with_their_mirrors() 
             );
         }
     }
+    // Mirrors name each other (issue 34: `placement` refuses one-sided ones).
+    for patch in &patches {
+        if let Some(mirror) = &patch.mirror {
+            let other = patches.iter().find(|p| &p.name == mirror).unwrap();
+            assert_eq!(other.mirror.as_deref(), Some(patch.name.as_str()), "{} ↔ {mirror}", patch.name);
+        }
+    }
     assert!(parse_display("0.4").is_err() && parse_display("0x1").is_err() && parse_display("ax1").is_err());
     assert_eq!(PlacementCandidates::default().spacing_m, 0.10);
 }

@@ -106,6 +106,14 @@ pub fn run_observer_study(
     options: &ObserverOptions,
 ) -> Result<ObserverStudy> {
     check(options, scene)?;
+    // A scene file (or mesh) named observers.json, observers.csv or
+    // observer-parts.csv in --out is refused, never replaced (as study does).
+    crate::job::overwrite_guard::refuse_overwriting_inputs(
+        &options.capture.out,
+        &OBSERVER_FILES,
+        &[],
+        &crate::job::capture_inputs(scene, &options.capture),
+    )?;
     let scenario = scene.scenario(&options.scenario)?;
     let start = Instant::now();
     let sampled = sample_observers(&options.population, &options.sampling, scene.rig.anchor().to_array())?;
@@ -228,7 +236,8 @@ fn capture_observer(
     (index, observer): (usize, &SampledObserver),
     setup: &mut Option<CaptureSetup>,
 ) -> Result<(ObserverRecord, Vec<String>)> {
-    let out = options.capture.out.join(format!("observer-{index:03}"));
+    // A link planted at observer-NNN is replaced by a real folder, never written through.
+    let out = ufcsr::output_sub_dir(&options.capture.out, Path::new(&format!("observer-{index:03}")))?;
     let fine_scene = observer_scene(scene, options, observer, options.ppd)?;
     let fine = capture_totals(device, queue, (&fine_scene, options), (&out, options.frame_step), setup)?;
     let mut seconds = fine.seconds;
@@ -355,10 +364,13 @@ fn cell(value: Option<f64>) -> String {
     value.map_or_else(String::new, |v| format!("{v:.6}"))
 }
 
+/// The files [`write_observer_study`] writes into the study's folder.
+const OBSERVER_FILES: [&str; 3] = ["observers.json", "observers.csv", "observer-parts.csv"];
+
 /// Writes `observers.json`, `observers.csv` (one row per observer and part)
 /// and `observer-parts.csv` (one row per part); returns what was written.
 pub fn write_observer_study(study: &ObserverStudy, dir: &Path) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).map_err(|e| CaptureError::io(dir, e))?;
+    ufcsr::create_output_dir(dir)?;
     let json_path = dir.join("observers.json");
     let json =
         serde_json::to_vec_pretty(study).map_err(|e| CaptureError::bad_file(&json_path, e.to_string()))?;
@@ -387,7 +399,25 @@ pub fn write_observer_study(study: &ObserverStudy, dir: &Path) -> Result<Vec<Pat
     ufcsr::write_bytes_atomically(&observers_path, per_observer.as_bytes())?;
     let parts_path = dir.join("observer-parts.csv");
     ufcsr::write_bytes_atomically(&parts_path, parts_table(study).as_bytes())?;
+    remove_stale_observers(dir, study.observers.len())?;
     Ok(vec![json_path, observers_path, parts_path])
+}
+
+/// Removes the `observer-NNN` folders of an earlier study into `dir` with
+/// more observers than this one (`observer-003` … after a study of 3): they
+/// describe observers the new tables do not list. Only inside `dir`, never
+/// through a link.
+fn remove_stale_observers(dir: &Path, observers: usize) -> Result<()> {
+    let Ok(entries) = std::fs::read_dir(dir) else { return Ok(()) };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let index =
+            name.to_str().and_then(|n| n.strip_prefix("observer-")).and_then(|n| n.parse::<usize>().ok());
+        if index.is_some_and(|index| index >= observers) {
+            ufcsr::remove_inside(dir, &entry.path())?;
+        }
+    }
+    Ok(())
 }
 
 /// `observer-parts.csv`: per part and measure, the mean, its interval (empty
