@@ -109,7 +109,6 @@ pub struct BodyDimsOverride {
 
 /// A scenario level.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
 pub struct ScenarioLevel {
     /// The level's name, unique in the factor.
     pub name: String,
@@ -131,7 +130,6 @@ pub enum ScenarioSource {
 
 /// One vehicle position of the street design.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
 pub struct StreetScenario {
     /// Vehicle position 1–8 (1–3 near lane, 4–6 far lane, 7–8 alleyways).
     pub position: u32,
@@ -145,7 +143,6 @@ pub struct StreetScenario {
 
 /// A traffic level.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
-#[serde(deny_unknown_fields)]
 pub struct TrafficLevel {
     /// The level's name, unique in the factor.
     pub name: String,

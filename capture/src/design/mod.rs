@@ -21,6 +21,8 @@ pub mod plan;
 pub mod report;
 pub mod run;
 pub mod stats;
+#[cfg(test)]
+mod tests;
 
 use std::path::Path;
 

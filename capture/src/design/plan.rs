@@ -13,7 +13,7 @@ use ufcsr::{CellLevels, Crossing, DESIGN_SCHEMA, Design, ScenarioSource, Traffic
 
 use crate::error::{CaptureError, Result};
 use crate::scene::family::BodyType;
-use crate::scene::street::{MAX_OTHER_VEHICLES, POSITIONS};
+use crate::scene::street::{MAX_OTHER_VEHICLES, POSITIONS, StreetOptions, other_positions};
 
 /// The most tasks one design may plan (a Slurm array's usual ceiling is far above; this bounds a typo).
 pub const MAX_TASKS: usize = 100_000;
@@ -209,20 +209,39 @@ fn traffic_fits(design: &Design, cell: &CellLevels) -> std::result::Result<(), S
     let scenario = design.scenarios.iter().find(|s| s.name == cell.scenario);
     let traffic = design.traffic.iter().find(|t| t.name == cell.traffic);
     let (Some(scenario), Some(traffic)) = (scenario, traffic) else { return Ok(()) };
-    let fits = match (&scenario.source, &traffic.kind) {
-        (_, TrafficKind::None) => true,
-        (ScenarioSource::Demo { .. }, TrafficKind::AdjacentLane | TrafficKind::LeadCar) => true,
-        (ScenarioSource::Street(_), TrafficKind::Generated { .. }) => true,
-        _ => false,
-    };
-    if fits {
-        return Ok(());
+    if !kind_fits(design, cell) {
+        return Err(format!(
+            "cell {cell}: traffic level {:?} does not fit scenario level {:?} (adjacent-lane and lead-car go with \
+             demo scenarios, generated with street scenarios, scene files carry their own occluders)",
+            traffic.name, scenario.name
+        ));
     }
-    Err(format!(
-        "cell {cell}: traffic level {:?} does not fit scenario level {:?} (adjacent-lane and lead-car go with demo \
-         scenarios, generated with street scenarios, scene files carry their own occluders)",
-        traffic.name, scenario.name
-    ))
+    if let (ScenarioSource::Street(street), TrafficKind::Generated { vehicles }) =
+        (&scenario.source, &traffic.kind)
+    {
+        let options = StreetOptions {
+            position: street.position,
+            pedestrian: street.pedestrian,
+            speed_mps: street.speed_mps,
+            others: *vehicles,
+            seed: 0,
+        };
+        other_positions(&options).map_err(|e| format!("cell {cell}: {e}"))?;
+    }
+    Ok(())
+}
+
+/// Whether a traffic level's kind goes with a scenario level's (a full crossing leaves out the others).
+fn kind_fits(design: &Design, cell: &CellLevels) -> bool {
+    let scenario = design.scenarios.iter().find(|s| s.name == cell.scenario);
+    let traffic = design.traffic.iter().find(|t| t.name == cell.traffic);
+    let (Some(scenario), Some(traffic)) = (scenario, traffic) else { return true };
+    matches!(
+        (&scenario.source, &traffic.kind),
+        (_, TrafficKind::None)
+            | (ScenarioSource::Demo { .. }, TrafficKind::AdjacentLane | TrafficKind::LeadCar)
+            | (ScenarioSource::Street(_), TrafficKind::Generated { .. })
+    )
 }
 
 /// The cells of the crossing, each level named in its factor.
@@ -240,7 +259,7 @@ fn cells_of(design: &Design) -> std::result::Result<Vec<CellLevels>, String> {
                     })
                 })
             })
-            .filter(|cell| traffic_fits(design, cell).is_ok())
+            .filter(|cell| kind_fits(design, cell))
             .collect(),
         Crossing::Cells(cells) => cells.clone(),
     };
