@@ -39,6 +39,7 @@ mod result_validation;
 mod archive_models;
 mod bad_capture;
 mod capture_shards;
+mod design_command;
 mod exit_codes;
 mod fused_count;
 mod hardening;
