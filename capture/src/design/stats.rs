@@ -138,7 +138,7 @@ pub fn group_summary(group: String, cells: &[&CellData], seed: u64) -> GroupSumm
         per_unit.iter().map(|row| row.iter().map(|p| p.legible_s).collect()).collect();
     let mut best = Vec::new();
     for kind in ["part", "patch"] {
-        let mut among: Vec<usize> = (0..names.len()).filter(|&c| candidates[c].kind == kind).collect();
+        let among: Vec<usize> = (0..names.len()).filter(|&c| candidates[c].kind == kind).collect();
         if among.is_empty() {
             continue;
         }
@@ -159,16 +159,18 @@ pub fn group_summary(group: String, cells: &[&CellData], seed: u64) -> GroupSumm
                 p_best: p[o],
             });
         }
-        among.clear();
     }
     candidates.sort_by(|a, b| b.legible_s.mean.total_cmp(&a.legible_s.mean).then(a.name.cmp(&b.name)));
     GroupSummary { group, cells: cells.len() as u32, candidates, best }
 }
 
+/// A cell's level of one factor.
+type LevelOf = fn(&CellLevels) -> &str;
+
 /// Per factor with more than one level and per candidate in `names`: the
 /// mean legible time over the cells at each level, and the range.
 pub fn main_effects(cells: &[CellData], names: &[String]) -> Vec<MainEffect> {
-    let factors: [(&str, fn(&CellLevels) -> &str); 3] =
+    let factors: [(&str, LevelOf); 3] =
         [("vehicle", |c| &c.vehicle), ("scenario", |c| &c.scenario), ("traffic", |c| &c.traffic)];
     let mut effects = Vec::new();
     for (factor, level_of) in factors {
