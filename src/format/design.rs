@@ -41,9 +41,8 @@ pub struct Design {
     /// Factor `traffic` (default: one level, `none`).
     #[serde(default = "default_traffic")]
     pub traffic: Vec<TrafficLevel>,
-    /// Who looks (default: the scenario's own pedestrian, one observer of
-    /// the US adult population's mean stature is NOT assumed: see
-    /// [`DesignPopulation`]).
+    /// Who looks: observers drawn in every task (absent: one observer, the
+    /// scenario's own pedestrian at the rig's eye height).
     #[serde(default)]
     pub population: Option<DesignPopulation>,
     /// How each run is measured.
