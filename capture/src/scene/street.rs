@@ -97,7 +97,8 @@ pub fn pedestrian_at(place: u32) -> Result<[f64; 3]> {
     let x = *PEDESTRIAN_X_M
         .get((place as usize).wrapping_sub(1))
         .ok_or_else(|| CaptureError::BadOptions(format!("street pedestrian {place}: must be 1 to 3")))?;
-    Ok([x, -LANE_WIDTH_M - PEDESTRIAN_FROM_KERB_M, 0.0])
+    // On the walkway, whose top is the kerb's height.
+    Ok([x, -LANE_WIDTH_M - PEDESTRIAN_FROM_KERB_M, KERB_HEIGHT_M])
 }
 
 /// The scenario: standing at the position, or approaching it.
