@@ -60,15 +60,16 @@ pub use job::{
 pub use render::{
     Backend, Gpu, GpuPalette, PixelRect, RenderSetup, Renderer, TileDraw, Vertex, vehicle_vertices,
 };
+pub use scene::family::{BodyDims, BodyType, body_mesh};
 #[doc(hidden)]
 pub use scene::fuzz_entry;
 pub use scene::{
-    ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, Axes, BodyDims, BodyType, DemoTraffic, Eye, EyeCamera,
-    FollowOffset, FrameState, Key, LEAD_CAR_AHEAD_M, Mesh, Motion, MovingOccluder, OccluderObject,
-    OccluderPath, Occluders, PEDESTRIAN_BODY_M, PartRule, PartSource, Pose, RegionReport, Rig, Scenario,
-    Scene, SceneFile, StreetOptions, TileId, Track, ValueOrTrack, VehicleSpec, body_mesh, box_corners,
-    box_outside, degenerate_vehicle, load_vehicle, look_to, pedestrian_body, reversed_z_perspective,
-    street_scene, triangle_area, vehicle_to_world,
+    ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, Axes, DemoTraffic, Eye, EyeCamera, FollowOffset, FrameState, Key,
+    LEAD_CAR_AHEAD_M, Mesh, Motion, MovingOccluder, OccluderObject, OccluderPath, Occluders,
+    PEDESTRIAN_BODY_M, PartRule, PartSource, Pose, RegionReport, Rig, Scenario, Scene, SceneFile,
+    StreetOptions, TileId, Track, ValueOrTrack, VehicleSpec, box_corners, box_outside, degenerate_vehicle,
+    load_vehicle, look_to, pedestrian_body, reversed_z_perspective, street_scene, triangle_area,
+    vehicle_to_world,
 };
 pub use study::observers::interval::{IntervalKind, percentile, population_value, t975};
 pub use study::observers::population::{

@@ -36,7 +36,6 @@ pub(crate) mod vehicle;
 
 pub use degenerate_mesh::degenerate_vehicle;
 pub use demo::{ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, DemoTraffic, LEAD_CAR_AHEAD_M};
-pub use family::{BodyDims, BodyType, body_mesh};
 pub use frame_state::FrameState;
 pub use mesh::{Axes, Mesh, PartSource, load_vehicle, triangle_area};
 pub use moving::{FollowOffset, MovingOccluder, OccluderPath, PEDESTRIAN_BODY_M, pedestrian_body};
