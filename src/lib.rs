@@ -52,6 +52,12 @@ pub use files::{
     remove_stale_temporaries, remove_temporaries, resolve_inside, same_path, write_atomically,
     write_bytes_atomically, write_rgb_png,
 };
+pub use format::design::{
+    BestPlacement, BodyDimsOverride, CandidateSummary, CandidateValue, CellLevels, Crossing,
+    DESIGN_RESULT_SCHEMA, DESIGN_SCHEMA, DESIGN_TASK_SCHEMA, Design, DesignMeasure, DesignPopulation,
+    DesignResult, DesignTask, GroupSummary, MainEffect, MeanInterval, ScenarioLevel, ScenarioSource,
+    StreetScenario, TrafficKind, TrafficLevel, UnitValues, VehicleLevel,
+};
 pub use format::manifest::{
     CaptureRecord, DemoScenario, EyePose, EyeProjectionRecord, FollowRecord, FrameEntry, LabelsRecord,
     OccluderPose, PaintedByPart, PedestrianSetting, PoseRecord, RigRecord, RigSettings, ScenarioRecord,
@@ -73,8 +79,9 @@ pub use format::result::{
 };
 pub use format::timings::{TIMINGS_SCHEMA, TimingsFile};
 pub use format::{ErrorVsExact, ExactReference, ShareError, Study, StudyPick, StudyRow};
-pub use format::{Format, SCHEMAS, check_version};
+pub use format::{Format, SCHEMAS, check_version, parse_json};
 pub use optics::{EyeProjection, TileView};
+pub use output::html_escape;
 pub use output::{
     CsvStyle, DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, MAP_FILE, MAP_SIZE, MapContent, MapFrame,
     NEVER_SEEN, ResultSetOptions, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED, SceneObject,
@@ -84,14 +91,16 @@ pub use output::{
     write_comparison, write_heatmap, write_parts_csv, write_results, write_results_with, write_scenario_map,
     write_scene_glb, write_views, write_views_with,
 };
+pub use placement::legibility::{ArchiveTimelines, Timeline};
 pub use placement::report::{WrittenPlacement, format_placement};
+pub use placement::uncertainty::{bootstrap_weights, t_interval};
 pub use placement::{
     CandidateKind, CharacterHeight, DEFAULT_EPSILON_S, DEFAULT_NOT_MOUNTABLE, DEFAULT_REGION_RADIUS_M,
     DEFAULT_REPLICATES, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Mark, Method, Objective,
     PLACEMENT_FRAMES_COLUMNS, PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE,
     PLACEMENT_PICTURE_FILE, PLACEMENT_SCHEMA, PLACEMENT_VIEWS_DIR, PatchFootprint, PicturedSet, Placement,
     PlacementOptions, PlacementTable, Resampling, Thresholds, brute_force_best, parse_character_height,
-    placement, read_footprints, read_table, render_marked, resolve_table, write_placement,
+    placement, read_footprints, read_table, render_marked, resolve_table, timelines, write_placement,
 };
 pub use result::{
     Analysis, AnalysisResult, Comparison, FrameTable, Measures, PartStats, PartTable, RESULT_SCHEMA,

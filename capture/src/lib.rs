@@ -11,7 +11,8 @@
 //! vehicle, rig, motion, the demo), `texture` the unwrap, palettes and PIdT,
 //! `render` the GPU device and renderer, `job` the capture job (options,
 //! frames, tile sinks, manifest, shards, batches, the overwrite guard), `exact`
-//! the exact ray-traced measure, `study` the resolution study, `inspect` looking at a
+//! the exact ray-traced measure, `study` the resolution study, `design` the
+//! factorial study (plan, run, merge), `inspect` looking at a
 //! vehicle or a result. The API is the flat list below: [`capture`],
 //! [`capture_counted`] and [`measure_unobstructed`] are the entry points,
 //! with a [`Scene`], [`CaptureOptions`] and a [`Gpu`]. The library draws no
@@ -21,6 +22,7 @@
 // the file layer (clippy.toml, docs/reliability.md).
 #![cfg_attr(test, allow(clippy::disallowed_methods, clippy::disallowed_types))]
 
+mod design;
 mod error;
 mod exact;
 mod inspect;
@@ -30,6 +32,14 @@ mod scene;
 mod study;
 mod texture;
 
+pub use design::merge::{merge_design, read_tasks};
+pub use design::plan::{MAX_TASKS, Plan, PlannedTask, plan_checked, plan_design};
+pub use design::report::write_result as write_design_result;
+pub use design::run::{TASK_FILE, candidate_values, derived_seed, run_task, task_dir, write_task};
+pub use design::stats::{
+    CellData, INTERVAL_METHOD, Pair, cell_data, group_summary, main_effects, mean_interval, p_best,
+};
+pub use design::{TaskOutcome, run_design};
 pub use error::{CaptureError, Result};
 pub use exact::{
     DEFAULT_PATCH_SPACING_M, DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE,
@@ -53,15 +63,16 @@ pub use job::{
 pub use render::{
     Backend, Gpu, GpuPalette, PixelRect, RenderSetup, Renderer, TileDraw, Vertex, vehicle_vertices,
 };
+pub use scene::family::{BodyDims, BodyType, body_mesh};
 #[doc(hidden)]
 pub use scene::fuzz_entry;
 pub use scene::{
     ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, Axes, DemoTraffic, Eye, EyeCamera, FollowOffset, FrameState, Key,
     LEAD_CAR_AHEAD_M, Mesh, Motion, MovingOccluder, OccluderObject, OccluderPath, Occluders,
     PEDESTRIAN_BODY_M, PartMapReport, PartMapSpec, PartRule, PartSource, PartsFrom, Pose, RegionReport, Rig,
-    Scenario, Scene, SceneFile, TileId, Track, UNMAPPED_PART, ValueOrTrack, VehicleSpec, box_corners,
-    box_outside, degenerate_vehicle, load_vehicle, look_to, pedestrian_body, reversed_z_perspective,
-    triangle_area, vehicle_to_world,
+    Scenario, Scene, SceneFile, StreetOptions, TileId, Track, UNMAPPED_PART, ValueOrTrack, VehicleSpec,
+    box_corners, box_outside, degenerate_vehicle, load_vehicle, look_to, pedestrian_body,
+    reversed_z_perspective, street_scene, triangle_area, vehicle_to_world,
 };
 pub use study::observers::interval::{IntervalKind, percentile, population_value, t975};
 pub use study::observers::population::{

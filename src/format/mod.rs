@@ -30,6 +30,7 @@
 //! `Format::of::<study::StudyFile>("study.schema.json"),`; then regenerate
 //! the schemas with the command above.
 
+pub mod design;
 pub mod manifest;
 pub mod observers;
 pub mod placement;
@@ -79,6 +80,9 @@ pub const SCHEMAS: &[Format] = &[
     Format::of::<study::Study>("study.schema.json"),
     Format::of::<placement::PlacementDocument>("placement.schema.json"),
     Format::of::<observers::ObserverStudy>("observers.schema.json"),
+    Format::of::<design::Design>("design.schema.json"),
+    Format::of::<design::DesignTask>("design-task.schema.json"),
+    Format::of::<design::DesignResult>("design-result.schema.json"),
 ];
 
 /// The schema of `T`, draft 2020-12, with `$id` under the project's docs.

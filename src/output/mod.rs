@@ -29,6 +29,7 @@ pub use heatmap_views::{
     DEFAULT_VIEWS_SCALE, DIRECTIONS, NEVER_SEEN, VIEW_BASE, ViewCamera, ViewTexture, measure_unit,
     render_view, view_cameras, views_caption,
 };
+pub use html::escape::escape as html_escape;
 pub use html::write_comparison;
 pub use plots::font_available as plot_font_available;
 pub use raster::ZBuffer;

@@ -10,13 +10,15 @@
 //! shared by the exact measure and the scene checks), surfaces lying on one
 //! another ([`coincident`], found for the scene checks and the exact
 //! measure), and the built-in scenes
-//! ([`demo`] the truck and intersection, [`degenerate_mesh`] a vehicle of bad
+//! ([`demo`] the truck and intersection, [`street`] the raycasting study's
+//! street, [`family`] the parametric vehicle bodies, [`degenerate_mesh`] a vehicle of bad
 //! triangles), and the fuzzing entry points ([`fuzz_entry`]). Nothing here
 //! renders or writes an archive.
 
 pub(crate) mod coincident;
 pub(crate) mod degenerate_mesh;
 pub(crate) mod demo;
+pub(crate) mod family;
 pub(crate) mod frame_state;
 pub mod fuzz_entry;
 pub(crate) mod mesh;
@@ -29,6 +31,7 @@ pub(crate) mod regions;
 pub(crate) mod rig;
 pub(crate) mod scenario;
 pub(crate) mod scene_file;
+pub(crate) mod street;
 pub(crate) mod track;
 pub(crate) mod unity;
 pub(crate) mod vehicle;
@@ -46,5 +49,6 @@ pub use rig::{
 };
 pub use scenario::Scenario;
 pub use scene_file::{Scene, SceneFile};
+pub use street::{StreetOptions, street_scene};
 pub use track::{Key, Motion, Pose, Track, ValueOrTrack};
 pub use vehicle::{PartsFrom, VehicleSpec};

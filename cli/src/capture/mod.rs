@@ -1,12 +1,13 @@
 //! The capture's commands: the captures (`ufcsr capture demo|scene|unity`,
 //! or `ufcsr-capture demo|scene|unity`; [`captures`], with their `--count`
 //! and `--measure` variants), the resolution study ([`study`]), the observer
-//! study ([`observers`]) and the tools around a capture ([`tools`]: inspect,
+//! study ([`observers`]), the factorial study ([`design`]) and the tools around a capture ([`tools`]: inspect,
 //! views, batch plan, assemble, verify), and the private runtime folder Mesa
 //! wants ([`runtime_dir`]). Each parses into the capture library's plain
 //! options; only the command line draws on the terminal.
 
 mod captures;
+mod design;
 mod observers;
 mod runtime_dir;
 mod study;
@@ -24,6 +25,7 @@ use crate::options::Global;
 pub use runtime_dir::PrivateRuntimeDir;
 
 use captures::CaptureArgs;
+use design::DesignAction;
 use observers::ObserversArgs;
 use study::StudyArgs;
 
@@ -78,6 +80,13 @@ pub enum CaptureToolCommand {
     /// (each observer's resolution error folded in) and the spread over people
     /// (writes observers.json, observers.csv, observer-parts.csv).
     Observers(ObserversArgs),
+    /// The factorial study: plan a design file (vehicles × scenarios × traffic × pedestrians)
+    /// into independent tasks, run them (one, or all, resumable) and merge them into one
+    /// placement answer per body type (design.json, design.csv, design.html; docs/design.md).
+    Design {
+        #[command(subcommand)]
+        action: DesignAction,
+    },
     /// Check an archive without the analyzer: tile pixels are background or
     /// palette colours the PIdT labels.
     Verify {
@@ -148,6 +157,7 @@ impl CaptureToolCommand {
             CaptureToolCommand::Batch { .. } => "batch plan",
             CaptureToolCommand::Study(_) => "study",
             CaptureToolCommand::Observers(_) => "observers",
+            CaptureToolCommand::Design { action } => action.name(),
             CaptureToolCommand::Verify { .. } => "verify",
             CaptureToolCommand::Inspect { .. } => "inspect",
             CaptureToolCommand::Views { .. } => "views",
@@ -188,6 +198,7 @@ pub fn run_tool(command: CaptureToolCommand, console: &Console) -> anyhow::Resul
         }
         CaptureToolCommand::Study(args) => study::run_study(args, console),
         CaptureToolCommand::Observers(args) => observers::run_observers(args, console),
+        CaptureToolCommand::Design { action } => design::run_design_action(action, console),
         CaptureToolCommand::Verify { archive } => return tools::run_verify(&archive, console),
         CaptureToolCommand::Inspect { input, out, pixels_per_metre } => {
             tools::run_inspect(input, out, pixels_per_metre, console)

@@ -34,6 +34,7 @@ mod python_package;
 mod report_browser;
 mod slurm;
 mod slurm_batch;
+mod slurm_design;
 mod unity_reference;
 
 use libtest_mimic::{Arguments, Trial};
@@ -100,6 +101,10 @@ fn trials() -> Vec<Trial> {
         trial(
             "slurm_batch::a_sharded_capture_assembles_and_analyses_through_slurm_equal_to_one_process",
             slurm_batch::a_sharded_capture_assembles_and_analyses_through_slurm_equal_to_one_process,
+        ),
+        trial(
+            "slurm_design::a_design_runs_as_a_slurm_array_and_its_afterok_merge_equals_one_process",
+            slurm_design::a_design_runs_as_a_slurm_array_and_its_afterok_merge_equals_one_process,
         ),
         trial(
             "unity_reference::unity_scenarios_replay_with_the_demo_truck",

@@ -52,6 +52,7 @@ mod capture_inputs_kept;
 mod capture_replaces_whole;
 mod capture_sees_nothing;
 mod capture_shards;
+mod design_command;
 mod exit_codes;
 mod fused_count;
 mod hardening;

@@ -1,0 +1,159 @@
+//! Merging: every planned task's `task.json`, exact or refused.
+//!
+//! A task of another design (its hash differs), a task file in the wrong
+//! folder, a task outside the plan, or any missing task is refused, naming
+//! the task and the cell, so a result set is always the whole design. The
+//! arithmetic is in [`super::stats`]; the files written in [`super::report`].
+
+use std::path::Path;
+
+use ufcsr::{DESIGN_RESULT_SCHEMA, DESIGN_TASK_SCHEMA, DesignResult, DesignTask, GroupSummary};
+
+use super::plan::Plan;
+use super::run::{TASK_FILE, task_dir};
+use super::stats::{INTERVAL_METHOD, cell_data, group_summary, main_effects};
+use crate::error::{CaptureError, Result};
+
+/// The most missing cells named in one message.
+const NAMED_MISSING: usize = 20;
+
+/// Reads one task file, refusing one of another design or place.
+fn read_task(plan: &Plan, out: &Path, index: u32) -> Result<Option<DesignTask>> {
+    let path = task_dir(out, index).join(TASK_FILE);
+    if !path.exists() {
+        return Ok(None);
+    }
+    let bytes = ufcsr::read_limited(&path, ufcsr::SMALL_INPUT_LIMIT)?;
+    let task: DesignTask = ufcsr::parse_json(&path, &bytes, "design task")?;
+    ufcsr::check_version(&path, &task.schema, DESIGN_TASK_SCHEMA)?;
+    if task.design_hash != plan.hash {
+        return Err(CaptureError::bad_file(
+            &path,
+            format!(
+                "task {} is of another design (hash {}), not of {:?} (hash {}): refused; run it again for this \
+                 design or merge it with its own",
+                task.task, task.design_hash, plan.design.name, plan.hash
+            ),
+        ));
+    }
+    let planned = &plan.tasks[index as usize];
+    if task.task != index || task.cell != planned.cell || task.replicate != planned.replicate {
+        return Err(CaptureError::bad_file(
+            &path,
+            format!(
+                "holds task {} ({}), but this folder is task {index} ({})",
+                task.task, task.cell, planned.cell
+            ),
+        ));
+    }
+    Ok(Some(task))
+}
+
+/// Task folders beyond the plan (left by a larger design in the same folder).
+fn refuse_unplanned(plan: &Plan, out: &Path) -> Result<()> {
+    let dir = out.join("tasks");
+    let Ok(entries) = std::fs::read_dir(&dir) else { return Ok(()) };
+    for entry in entries.flatten() {
+        let name = entry.file_name().to_string_lossy().into_owned();
+        let index = name.strip_prefix("task-").and_then(|n| n.parse::<usize>().ok());
+        if let Some(index) = index
+            && index >= plan.tasks.len()
+            && entry.path().join(TASK_FILE).exists()
+        {
+            return Err(CaptureError::bad_file(
+                entry.path(),
+                format!("task {index} is not in this design's plan of {} tasks: refused", plan.tasks.len()),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Every task of `plan` in `out`, or an error naming the missing cells.
+pub fn read_tasks(plan: &Plan, out: &Path) -> Result<Vec<DesignTask>> {
+    refuse_unplanned(plan, out)?;
+    let mut tasks = Vec::with_capacity(plan.tasks.len());
+    let mut missing = Vec::new();
+    for planned in &plan.tasks {
+        match read_task(plan, out, planned.index)? {
+            Some(task) => tasks.push(task),
+            None => missing.push(format!(
+                "task {} (cell {}, replicate {})",
+                planned.index, planned.cell, planned.replicate
+            )),
+        }
+    }
+    if !missing.is_empty() {
+        let more = missing.len().saturating_sub(NAMED_MISSING);
+        missing.truncate(NAMED_MISSING);
+        let tail = if more > 0 { format!("; and {more} more") } else { String::new() };
+        return Err(CaptureError::BadOptions(format!(
+            "{}: {} missing, not merged: {}{tail} (run them: `ufcsr design run DESIGN --task I`)",
+            out.display(),
+            missing.len() + more,
+            missing.join("; ")
+        )));
+    }
+    Ok(tasks)
+}
+
+/// The best of `kind` in a group, as a phrase.
+fn best_phrase(group: &GroupSummary, kind: &str) -> Option<String> {
+    let best = group.best.iter().find(|b| b.kind == kind && b.rank == 1)?;
+    let interval = best.legible_s.ci95.map_or_else(
+        || format!(" (n = {}, no interval)", best.legible_s.n),
+        |[lo, hi]| format!(" [{lo:.2}–{hi:.2}]"),
+    );
+    Some(format!("{} {:.2} s{interval}, P(best) {:.2}", best.name, best.legible_s.mean, best.p_best))
+}
+
+/// The answer, first: per vehicle and across all, the best part and display.
+fn answer(vehicles: &[GroupSummary], overall: &GroupSummary) -> Vec<String> {
+    let line = |who: &str, group: &GroupSummary| {
+        let parts = best_phrase(group, "part").unwrap_or_else(|| "no part legible".into());
+        let display = best_phrase(group, "patch").map_or_else(String::new, |d| format!("; best display {d}"));
+        format!("{who}: best part {parts}{display}")
+    };
+    let mut lines: Vec<String> = vehicles
+        .iter()
+        .map(|v| line(&format!("for a {}", v.group.trim_start_matches("vehicle ")), v))
+        .collect();
+    lines.push(line("across all", overall));
+    lines
+}
+
+/// Merges every task of `plan` in `out` into one result.
+pub fn merge_design(plan: &Plan, out: &Path) -> Result<DesignResult> {
+    let tasks = read_tasks(plan, out)?;
+    let data = cell_data(&plan.cells, &tasks);
+    let seed = plan.design.seed;
+    let cells = data.iter().map(|c| group_summary(format!("cell {}", c.cell), &[c], seed)).collect();
+    let vehicles: Vec<GroupSummary> = plan
+        .design
+        .vehicles
+        .iter()
+        .filter_map(|v| {
+            let of: Vec<_> = data.iter().filter(|c| c.cell.vehicle == v.name).collect();
+            (!of.is_empty()).then(|| group_summary(format!("vehicle {}", v.name), &of, seed))
+        })
+        .collect();
+    let all: Vec<_> = data.iter().collect();
+    let overall = group_summary("all".into(), &all, seed);
+    let mut named: Vec<String> = overall.best.iter().map(|b| b.name.clone()).collect();
+    named.extend(overall.candidates.iter().filter(|c| c.kind == "part").take(5).map(|c| c.name.clone()));
+    named.dedup();
+    named.sort();
+    named.dedup();
+    Ok(DesignResult {
+        schema: DESIGN_RESULT_SCHEMA.into(),
+        design: plan.design.name.clone(),
+        design_hash: plan.hash.clone(),
+        tasks: tasks.len() as u32,
+        interval: INTERVAL_METHOD.into(),
+        answer: answer(&vehicles, &overall),
+        main_effects: main_effects(&data, &named),
+        cells,
+        vehicles,
+        overall,
+    })
+}

@@ -1,0 +1,71 @@
+//! Studies, not runs (issue 36): one design file for vehicles × scenarios ×
+//! traffic × pedestrians, planned into independent tasks, run locally or as
+//! a Slurm array, merged into one placement answer per body type.
+//!
+//! The folder: [`plan`] reads and checks the design (every refusal names
+//! the factor and level) and lists its tasks (cell × replicate) under the
+//! design's hash; [`build`] makes one cell's scene (the demo intersection
+//! with its traffic, the street generator, a scene file; the level's
+//! vehicle from a model or the parametric family); [`run`] measures a task
+//! from each drawn observer with the exact measure and candidate placements
+//! and scores them with the placement rules, writing `task.json` last, so a
+//! re-run skips complete tasks; [`stats`] the merge's arithmetic (intervals
+//! over the random units, P(best), main effects); [`merge`] reads every task,
+//! refusing another design's and naming missing cells; [`report`] writes
+//! `design.json`, `design.csv` and `design.html`. `docs/design.md` is the
+//! user's page.
+
+pub mod build;
+pub mod merge;
+pub mod plan;
+pub mod report;
+pub mod run;
+pub mod stats;
+#[cfg(test)]
+mod tests;
+
+use std::path::Path;
+
+use ufcsr::DesignTask;
+
+use crate::error::Result;
+use plan::Plan;
+
+/// What [`run_design`] did with each task.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TaskOutcome {
+    /// Already complete in the output folder: skipped.
+    Skipped(u32),
+    /// Measured now.
+    Ran(DesignTask),
+}
+
+/// Runs `only` one task, or every task of `plan`, into `out`, skipping the
+/// complete ones (resumable); `report` hears of each as it finishes.
+pub fn run_design(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    plan: &Plan,
+    only: Option<u32>,
+    out: &Path,
+    mut report: impl FnMut(&TaskOutcome),
+) -> Result<Vec<TaskOutcome>> {
+    if let Some(index) = only
+        && index as usize >= plan.tasks.len()
+    {
+        return Err(crate::error::CaptureError::BadOptions(format!(
+            "--task {index}: the design has tasks 0 to {}",
+            plan.tasks.len().saturating_sub(1)
+        )));
+    }
+    let mut outcomes = Vec::new();
+    for task in plan.tasks.iter().filter(|t| only.is_none_or(|i| i == t.index)) {
+        let outcome = match run::completed(plan, out, task.index) {
+            Some(_) => TaskOutcome::Skipped(task.index),
+            None => TaskOutcome::Ran(run::run_task(device, queue, plan, task, out)?),
+        };
+        report(&outcome);
+        outcomes.push(outcome);
+    }
+    Ok(outcomes)
+}

@@ -1,0 +1,287 @@
+//! Planning a design: read and check the file, name its cells and tasks.
+//!
+//! Every refusal happens here, before anything is measured, and names the
+//! factor and level at fault (`vehicles[1] "bus": unknown body "buss"…`), so
+//! a Slurm array never starts on a design that would fail in task 37. The
+//! design hash (FNV-1a 64 of the file's canonical JSON) ties every task
+//! file to the design it was run for: merge refuses any other.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use ufcsr::{CellLevels, Crossing, DESIGN_SCHEMA, Design, ScenarioSource, TrafficKind};
+
+use crate::error::{CaptureError, Result};
+use crate::scene::family::BodyType;
+use crate::scene::street::{MAX_OTHER_VEHICLES, POSITIONS, StreetOptions, other_positions};
+
+/// The most tasks one design may plan (a Slurm array's usual ceiling is far above; this bounds a typo).
+pub const MAX_TASKS: usize = 100_000;
+/// The most observers per task.
+pub const MAX_OBSERVERS_PER_TASK: u32 = 1000;
+
+/// One independent task: a cell and a replicate.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PlannedTask {
+    pub index: u32,
+    pub cell: CellLevels,
+    pub replicate: u32,
+}
+
+/// A checked design and its tasks.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    pub design: Design,
+    /// The design file (model and scene paths are relative to its folder).
+    pub path: PathBuf,
+    pub hash: String,
+    pub cells: Vec<CellLevels>,
+    pub tasks: Vec<PlannedTask>,
+}
+
+impl Plan {
+    /// The folder the design's relative paths start from.
+    pub fn base(&self) -> &Path {
+        self.path.parent().unwrap_or(Path::new("."))
+    }
+}
+
+/// FNV-1a, 64 bits, as 16 hex digits: a fingerprint, not a security measure.
+pub fn fnv1a_hex(bytes: &[u8]) -> String {
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    for &b in bytes {
+        hash ^= u64::from(b);
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    format!("{hash:016x}")
+}
+
+/// Reads, checks and plans the design file `path`.
+pub fn plan_design(path: &Path) -> Result<Plan> {
+    let bytes = ufcsr::read_limited(path, ufcsr::SMALL_INPUT_LIMIT)?;
+    let design: Design = ufcsr::parse_json(path, &bytes, "design")?;
+    ufcsr::check_version(path, &design.schema, DESIGN_SCHEMA)?;
+    plan_checked(design, path)
+}
+
+/// Plans a parsed design (`path` names it in messages and roots its relative paths).
+pub fn plan_checked(design: Design, path: &Path) -> Result<Plan> {
+    let bad = |message: String| CaptureError::bad_file(path, message);
+    check_levels(&design).map_err(bad)?;
+    let cells = cells_of(&design).map_err(bad)?;
+    let replicates = design.replicates;
+    if cells.len().saturating_mul(replicates as usize) > MAX_TASKS {
+        return Err(bad(format!(
+            "{} cells × {replicates} replicates: more than {MAX_TASKS} tasks",
+            cells.len()
+        )));
+    }
+    let mut tasks = Vec::new();
+    for cell in &cells {
+        for replicate in 0..replicates {
+            tasks.push(PlannedTask { index: tasks.len() as u32, cell: cell.clone(), replicate });
+        }
+    }
+    let canonical = serde_json::to_vec(&design).map_err(|e| bad(e.to_string()))?;
+    Ok(Plan { hash: fnv1a_hex(&canonical), design, path: path.to_path_buf(), cells, tasks })
+}
+
+/// Names unique and present in every factor.
+fn check_names<'a>(factor: &str, names: impl Iterator<Item = &'a String>) -> std::result::Result<(), String> {
+    let mut seen = BTreeSet::new();
+    for (i, name) in names.enumerate() {
+        if name.trim().is_empty() || !seen.insert(name.as_str()) {
+            return Err(format!("{factor}[{i}] {name:?}: each level needs its own, non-empty name"));
+        }
+    }
+    if seen.is_empty() {
+        return Err(format!("{factor}: the factor needs at least one level"));
+    }
+    Ok(())
+}
+
+fn check_vehicles(design: &Design) -> std::result::Result<(), String> {
+    check_names("vehicles", design.vehicles.iter().map(|v| &v.name))?;
+    for (i, v) in design.vehicles.iter().enumerate() {
+        let at = format!("vehicles[{i}] {:?}", v.name);
+        match (&v.model, &v.body) {
+            (Some(_), None) if v.dims.is_some() => {
+                return Err(format!("{at}: dims go with a body, not a model"));
+            }
+            (Some(_), None) => {}
+            (None, Some(body)) if BodyType::parse(body).is_none() => {
+                let names: Vec<&str> = BodyType::ALL.iter().map(|b| b.name()).collect();
+                return Err(format!("{at}: unknown body {body:?} (one of {})", names.join(", ")));
+            }
+            (None, Some(_)) => {}
+            _ => return Err(format!("{at}: give exactly one of \"model\" and \"body\"")),
+        }
+        let dims = v.dims.unwrap_or_default();
+        let given = [dims.length_m, dims.width_m, dims.height_m, dims.bonnet_length_m, dims.bonnet_height_m]
+            .into_iter()
+            .chain([dims.wheelbase_m])
+            .flatten();
+        if given.into_iter().any(|d| !(d.is_finite() && d > 0.0 && d < 30.0)) {
+            return Err(format!("{at}: every dimension must be more than 0 and under 30 m"));
+        }
+        if let Some(rake) = dims.windshield_rake_deg
+            && !(rake.is_finite() && (0.0..90.0).contains(&rake))
+        {
+            return Err(format!("{at}: windshield_rake_deg {rake} must be 0 to 90"));
+        }
+        if let Some([w, h]) = v.display_m
+            && !(w.is_finite() && h.is_finite() && w > 0.0 && h > 0.0 && w <= 20.0 && h <= 20.0)
+        {
+            return Err(format!("{at}: display_m [{w}, {h}] must be more than 0 and at most 20 m"));
+        }
+    }
+    Ok(())
+}
+
+fn check_scenarios(design: &Design) -> std::result::Result<(), String> {
+    check_names("scenarios", design.scenarios.iter().map(|s| &s.name))?;
+    for (i, s) in design.scenarios.iter().enumerate() {
+        let at = format!("scenarios[{i}] {:?}", s.name);
+        match &s.source {
+            ScenarioSource::Demo { scenario } if crate::scene::demo::scenario(scenario).is_none() => {
+                return Err(format!("{at}: the demo has scenarios A, B, C and D, not {scenario:?}"));
+            }
+            ScenarioSource::Street(street) => {
+                if !(1..=POSITIONS).contains(&street.position) || !(1..=3).contains(&street.pedestrian) {
+                    return Err(format!("{at}: position must be 1 to {POSITIONS} and pedestrian 1 to 3"));
+                }
+                if !(street.speed_mps.is_finite() && (0.0..=40.0).contains(&street.speed_mps)) {
+                    return Err(format!("{at}: speed_mps {} must be 0 to 40", street.speed_mps));
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+fn check_traffic(design: &Design) -> std::result::Result<(), String> {
+    check_names("traffic", design.traffic.iter().map(|t| &t.name))?;
+    for (i, t) in design.traffic.iter().enumerate() {
+        if let TrafficKind::Generated { vehicles } = t.kind
+            && vehicles > MAX_OTHER_VEHICLES
+        {
+            return Err(format!(
+                "traffic[{i}] {:?}: at most {MAX_OTHER_VEHICLES} generated vehicles",
+                t.name
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Every level of every factor, and the measure.
+fn check_levels(design: &Design) -> std::result::Result<(), String> {
+    check_vehicles(design)?;
+    check_scenarios(design)?;
+    check_traffic(design)?;
+    let m = &design.measure;
+    if !(m.sample > 0.0 && m.sample <= 1.0) {
+        return Err(format!("measure.sample {}: must be in (0, 1]", m.sample));
+    }
+    if !(16..=8192).contains(&m.palette) || m.frame_step == 0 {
+        return Err("measure: palette must be 16 to 8192 texels and frame_step at least 1".into());
+    }
+    if m.patch_spacing_m.is_some_and(|s| !(s.is_finite() && s >= 0.01)) {
+        return Err("measure.patch_spacing_m: must be at least 0.01 m".into());
+    }
+    if m.rendered_ppd.is_some() {
+        return Err("measure.rendered_ppd: designs run the exact measure only (leave it out)".into());
+    }
+    if design.replicates == 0 {
+        return Err("replicates: at least 1".into());
+    }
+    if let Some(p) = &design.population
+        && !(1..=MAX_OBSERVERS_PER_TASK).contains(&p.observers)
+    {
+        return Err(format!("population.observers {}: must be 1 to {MAX_OBSERVERS_PER_TASK}", p.observers));
+    }
+    Ok(())
+}
+
+/// Traffic a scenario cannot carry, by name.
+fn traffic_fits(design: &Design, cell: &CellLevels) -> std::result::Result<(), String> {
+    let scenario = design.scenarios.iter().find(|s| s.name == cell.scenario);
+    let traffic = design.traffic.iter().find(|t| t.name == cell.traffic);
+    let (Some(scenario), Some(traffic)) = (scenario, traffic) else { return Ok(()) };
+    if !kind_fits(design, cell) {
+        return Err(format!(
+            "cell {cell}: traffic level {:?} does not fit scenario level {:?} (adjacent-lane and lead-car go with \
+             demo scenarios, generated with street scenarios, scene files carry their own occluders)",
+            traffic.name, scenario.name
+        ));
+    }
+    if let (ScenarioSource::Street(street), TrafficKind::Generated { vehicles }) =
+        (&scenario.source, &traffic.kind)
+    {
+        let options = StreetOptions {
+            position: street.position,
+            pedestrian: street.pedestrian,
+            speed_mps: street.speed_mps,
+            others: *vehicles,
+            seed: 0,
+        };
+        other_positions(&options).map_err(|e| format!("cell {cell}: {e}"))?;
+    }
+    Ok(())
+}
+
+/// Whether a traffic level's kind goes with a scenario level's (a full crossing leaves out the others).
+fn kind_fits(design: &Design, cell: &CellLevels) -> bool {
+    let scenario = design.scenarios.iter().find(|s| s.name == cell.scenario);
+    let traffic = design.traffic.iter().find(|t| t.name == cell.traffic);
+    let (Some(scenario), Some(traffic)) = (scenario, traffic) else { return true };
+    matches!(
+        (&scenario.source, &traffic.kind),
+        (_, TrafficKind::None)
+            | (ScenarioSource::Demo { .. }, TrafficKind::AdjacentLane | TrafficKind::LeadCar)
+            | (ScenarioSource::Street(_), TrafficKind::Generated { .. })
+    )
+}
+
+/// The cells of the crossing, each level named in its factor.
+fn cells_of(design: &Design) -> std::result::Result<Vec<CellLevels>, String> {
+    let cells: Vec<CellLevels> = match &design.crossing {
+        Crossing::Full => design
+            .vehicles
+            .iter()
+            .flat_map(|v| {
+                design.scenarios.iter().flat_map(move |s| {
+                    design.traffic.iter().map(move |t| CellLevels {
+                        vehicle: v.name.clone(),
+                        scenario: s.name.clone(),
+                        traffic: t.name.clone(),
+                    })
+                })
+            })
+            .filter(|cell| kind_fits(design, cell))
+            .collect(),
+        Crossing::Cells(cells) => cells.clone(),
+    };
+    let mut seen = BTreeSet::new();
+    for (i, cell) in cells.iter().enumerate() {
+        let missing = |factor: &str, name: &str| format!("cells[{i}]: no {factor} level {name:?}");
+        if !design.vehicles.iter().any(|v| v.name == cell.vehicle) {
+            return Err(missing("vehicle", &cell.vehicle));
+        }
+        if !design.scenarios.iter().any(|s| s.name == cell.scenario) {
+            return Err(missing("scenario", &cell.scenario));
+        }
+        if !design.traffic.iter().any(|t| t.name == cell.traffic) {
+            return Err(missing("traffic", &cell.traffic));
+        }
+        traffic_fits(design, cell)?;
+        if !seen.insert(cell.clone()) {
+            return Err(format!("cells[{i}]: cell {cell} listed twice"));
+        }
+    }
+    if cells.is_empty() {
+        return Err("the crossing has no cell (does any traffic level fit any scenario?)".into());
+    }
+    Ok(cells)
+}

@@ -1,0 +1,211 @@
+//! The merge's arithmetic, on plain numbers (no files, no scenes), so its
+//! intervals can be tested for coverage against a known answer.
+//!
+//! The random unit is one drawn observer with its own texel sample (and,
+//! with generated traffic, its replicate's traffic): unit `u` of every cell
+//! is drawn alike. A group of cells (one cell, one vehicle, all) is scored
+//! per unit as the equal-weight mean over its cells (the fixed factors
+//! averaged within each draw), then over the units: the mean with its 95 %
+//! Student-t interval over the units, and P(best) by the bootstrap over
+//! units (`ufcsr::bootstrap_weights`, the placement's own resampler).
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use ufcsr::{
+    BestPlacement, CandidateSummary, CellLevels, DesignTask, GroupSummary, MainEffect, MeanInterval,
+};
+
+/// What the intervals are, written into the result.
+pub const INTERVAL_METHOD: &str = "95 % Student-t interval of the mean over the random units (one unit = one \
+     drawn observer with its own texel sample seed and its replicate's generated traffic; units are independent \
+     and drawn alike in every cell); a group of cells is averaged with equal weight over its cells within each \
+     unit first. It covers the observers, the texel sample and the traffic draws, not the fixed factors' choice \
+     of levels, the placement rules' thresholds or the population's declared figures. P(best) is the share of \
+     1000 bootstrap resamples of the units in which the candidate has the largest mean legible time of its kind \
+     (optimistic for small n, as the placement's own P(best), docs/placement.md)";
+
+/// Bootstrap resamples behind P(best).
+pub const P_BEST_REPLICATES: usize = 1000;
+
+/// One candidate's two numbers in one unit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pair {
+    pub legible_s: f64,
+    pub angular_area_deg2_s: f64,
+}
+
+/// One cell: per unit, per candidate name, its kind and numbers.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellData {
+    pub cell: CellLevels,
+    pub units: BTreeMap<u32, BTreeMap<String, Pair>>,
+    pub kinds: BTreeMap<String, String>,
+}
+
+/// The tasks grouped by cell, in the order of `cells`.
+pub fn cell_data(cells: &[CellLevels], tasks: &[DesignTask]) -> Vec<CellData> {
+    cells
+        .iter()
+        .map(|cell| {
+            let mut data = CellData { cell: cell.clone(), units: BTreeMap::new(), kinds: BTreeMap::new() };
+            for task in tasks.iter().filter(|t| &t.cell == cell) {
+                for unit in &task.units {
+                    let values = data.units.entry(unit.unit).or_default();
+                    for c in &unit.candidates {
+                        data.kinds.insert(c.name.clone(), c.kind.clone());
+                        let pair =
+                            Pair { legible_s: c.legible_s, angular_area_deg2_s: c.angular_area_deg2_s };
+                        values.insert(c.name.clone(), pair);
+                    }
+                }
+            }
+            data
+        })
+        .collect()
+}
+
+/// The mean and its 95 % t interval.
+pub fn mean_interval(values: &[f64]) -> MeanInterval {
+    let n = values.len();
+    let mean = if n == 0 { 0.0 } else { values.iter().sum::<f64>() / n as f64 };
+    MeanInterval { mean, ci95: ufcsr::t_interval(values), n: n as u32 }
+}
+
+/// Per unit of the group (units every cell has), per candidate every cell
+/// has, the equal-weight mean over the cells.
+fn unit_means(cells: &[&CellData]) -> (Vec<String>, Vec<Vec<Pair>>) {
+    let Some(first) = cells.first() else { return (Vec::new(), Vec::new()) };
+    let units: Vec<u32> =
+        first.units.keys().copied().filter(|u| cells.iter().all(|c| c.units.contains_key(u))).collect();
+    let names: Vec<String> = first
+        .kinds
+        .keys()
+        .filter(|name| cells.iter().all(|c| units.iter().all(|u| c.units[u].contains_key(*name))))
+        .cloned()
+        .collect();
+    let k = cells.len() as f64;
+    let per_unit = units
+        .iter()
+        .map(|u| {
+            names
+                .iter()
+                .map(|name| {
+                    let (mut legible, mut area) = (0.0, 0.0);
+                    for cell in cells {
+                        let pair = cell.units[u][name];
+                        legible += pair.legible_s / k;
+                        area += pair.angular_area_deg2_s / k;
+                    }
+                    Pair { legible_s: legible, angular_area_deg2_s: area }
+                })
+                .collect()
+        })
+        .collect();
+    (names, per_unit)
+}
+
+/// Per candidate of `among`: the share of bootstrap resamples of the units in which it has the largest mean.
+pub fn p_best(per_unit: &[Vec<f64>], among: &[usize], seed: u64) -> Vec<f64> {
+    let resampling = ufcsr::Resampling { replicates: P_BEST_REPLICATES, seed, epsilon_s: 0.0 };
+    let mut wins = vec![0usize; among.len()];
+    let weights = ufcsr::bootstrap_weights(per_unit.len(), &resampling);
+    for w in &weights {
+        let score = |&c: &usize| -> f64 { per_unit.iter().zip(w).map(|(row, w)| row[c] * w).sum() };
+        let best =
+            (0..among.len()).max_by(|&a, &b| score(&among[a]).total_cmp(&score(&among[b])).then(b.cmp(&a)));
+        if let Some(best) = best {
+            wins[best] += 1;
+        }
+    }
+    wins.iter().map(|&w| w as f64 / weights.len().max(1) as f64).collect()
+}
+
+/// One group of cells scored (see the module documentation).
+pub fn group_summary(group: String, cells: &[&CellData], seed: u64) -> GroupSummary {
+    let (names, per_unit) = unit_means(cells);
+    let kinds = cells.first().map(|c| c.kinds.clone()).unwrap_or_default();
+    let column =
+        |c: usize, f: fn(&Pair) -> f64| -> Vec<f64> { per_unit.iter().map(|row| f(&row[c])).collect() };
+    let mut candidates: Vec<CandidateSummary> = (0..names.len())
+        .map(|c| CandidateSummary {
+            name: names[c].clone(),
+            kind: kinds.get(&names[c]).cloned().unwrap_or_default(),
+            legible_s: mean_interval(&column(c, |p| p.legible_s)),
+            angular_area_deg2_s: mean_interval(&column(c, |p| p.angular_area_deg2_s)),
+        })
+        .collect();
+    let legible: Vec<Vec<f64>> =
+        per_unit.iter().map(|row| row.iter().map(|p| p.legible_s).collect()).collect();
+    let mut best = Vec::new();
+    for kind in ["part", "patch"] {
+        let among: Vec<usize> = (0..names.len()).filter(|&c| candidates[c].kind == kind).collect();
+        if among.is_empty() {
+            continue;
+        }
+        let p = p_best(&legible, &among, seed);
+        let mut order: Vec<usize> = (0..among.len()).collect();
+        order.sort_by(|&a, &b| {
+            let (ca, cb) = (&candidates[among[a]], &candidates[among[b]]);
+            cb.legible_s.mean.total_cmp(&ca.legible_s.mean).then(ca.name.cmp(&cb.name))
+        });
+        order.truncate(3);
+        for (rank, &o) in order.iter().enumerate() {
+            let c = &candidates[among[o]];
+            best.push(BestPlacement {
+                rank: rank as u32 + 1,
+                name: c.name.clone(),
+                kind: kind.into(),
+                legible_s: c.legible_s,
+                p_best: p[o],
+            });
+        }
+    }
+    candidates.sort_by(|a, b| b.legible_s.mean.total_cmp(&a.legible_s.mean).then(a.name.cmp(&b.name)));
+    GroupSummary { group, cells: cells.len() as u32, candidates, best }
+}
+
+/// A cell's level of one factor.
+type LevelOf = fn(&CellLevels) -> &str;
+
+/// Per factor with more than one level and per candidate in `names`: the
+/// mean legible time over the cells at each level, and the range.
+pub fn main_effects(cells: &[CellData], names: &[String]) -> Vec<MainEffect> {
+    let factors: [(&str, LevelOf); 3] =
+        [("vehicle", |c| &c.vehicle), ("scenario", |c| &c.scenario), ("traffic", |c| &c.traffic)];
+    let mut effects = Vec::new();
+    for (factor, level_of) in factors {
+        let levels: BTreeSet<&str> = cells.iter().map(|c| level_of(&c.cell)).collect();
+        if levels.len() < 2 {
+            continue;
+        }
+        for name in names {
+            let mut level_means_s = Vec::new();
+            for level in &levels {
+                let at: Vec<&CellData> = cells.iter().filter(|c| level_of(&c.cell) == *level).collect();
+                let means: Vec<f64> = at.iter().filter_map(|c| cell_mean(c, name)).collect();
+                if means.len() == at.len() && !means.is_empty() {
+                    level_means_s.push((level.to_string(), means.iter().sum::<f64>() / means.len() as f64));
+                }
+            }
+            if level_means_s.len() == levels.len() {
+                let (lo, hi) = level_means_s
+                    .iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (_, m)| (lo.min(*m), hi.max(*m)));
+                effects.push(MainEffect {
+                    factor: factor.into(),
+                    candidate: name.clone(),
+                    level_means_s,
+                    range_s: hi - lo,
+                });
+            }
+        }
+    }
+    effects
+}
+
+/// A candidate's mean legible time over a cell's units.
+fn cell_mean(cell: &CellData, name: &str) -> Option<f64> {
+    let values: Vec<f64> =
+        cell.units.values().map(|u| u.get(name).map(|p| p.legible_s)).collect::<Option<_>>()?;
+    (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
+}

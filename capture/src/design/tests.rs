@@ -1,0 +1,224 @@
+//! The design folder's tests without a GPU: planning refuses bad designs by
+//! factor and level and counts the shipped designs' tasks; merging refuses a
+//! task of another design and names a missing cell; a re-run knows a
+//! complete task from a partial one; the intervals cover a known mean.
+
+use std::path::{Path, PathBuf};
+
+use ufcsr::{CandidateValue, DESIGN_TASK_SCHEMA, Design, DesignTask, UnitValues};
+
+use super::merge::merge_design;
+use super::plan::{Plan, plan_checked, plan_design};
+use super::run::{completed, task_dir, write_task};
+use super::stats::{cell_data, group_summary, p_best};
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/designs").join(name)
+}
+
+fn tiny() -> Design {
+    let bytes = std::fs::read(fixture("tiny-2x2.json")).unwrap();
+    serde_json::from_slice(&bytes).unwrap()
+}
+
+fn refusal(edit: impl Fn(&mut serde_json::Value)) -> String {
+    let mut value = serde_json::to_value(tiny()).unwrap();
+    edit(&mut value);
+    let design: Design = serde_json::from_value(value).unwrap();
+    plan_checked(design, Path::new("bad.json")).unwrap_err().to_string()
+}
+
+#[test]
+fn the_shipped_designs_plan_into_their_tasks() {
+    let count = |name: &str| plan_design(&fixture(name)).unwrap();
+    let tiny = count("tiny-2x2.json");
+    assert_eq!((tiny.cells.len(), tiny.tasks.len()), (4, 8));
+    assert_eq!(tiny.tasks[3].replicate, 1);
+    assert_eq!(count("intersection.json").tasks.len(), 4 * 3 * 2);
+    // 5 bodies × 14 street scenarios × 3 traffic levels (generated traffic goes with street scenarios).
+    assert_eq!(count("street.json").cells.len(), 5 * 14 * 3);
+    // The hash is the design's: the same file plans alike, an edit changes it.
+    assert_eq!(tiny.hash, count("tiny-2x2.json").hash);
+    let mut other = tiny.design.clone();
+    other.seed += 1;
+    assert_ne!(plan_checked(other, Path::new("x.json")).unwrap().hash, tiny.hash);
+}
+
+#[test]
+fn invalid_designs_are_refused_naming_the_factor_and_level() {
+    let body = refusal(|v| v["vehicles"][1]["body"] = "buss".into());
+    assert!(
+        body.contains("vehicles[1] \"van\"") && body.contains("buss") && body.contains("sedan"),
+        "{body}"
+    );
+    let both = refusal(|v| v["vehicles"][0]["body"] = "van".into());
+    assert!(both.contains("vehicles[0] \"pickup\"") && both.contains("exactly one"), "{both}");
+    let demo = refusal(|v| v["scenarios"][0]["scenario"] = "E".into());
+    assert!(demo.contains("scenarios[0] \"A\"") && demo.contains("\"E\""), "{demo}");
+    let position = refusal(|v| v["scenarios"][1]["position"] = 9.into());
+    assert!(position.contains("scenarios[1] \"street-2\"") && position.contains("1 to 8"), "{position}");
+    let twice = refusal(|v| v["vehicles"][1]["name"] = "pickup".into());
+    assert!(twice.contains("vehicles[1] \"pickup\""), "{twice}");
+    let cell = refusal(|v| {
+        v["crossing"] = serde_json::json!({"cells": [{"vehicle": "van", "scenario": "A", "traffic": "rush"}]})
+    });
+    assert!(cell.contains("cells[0]") && cell.contains("traffic level \"rush\""), "{cell}");
+    let misfit = refusal(|v| {
+        v["traffic"] = serde_json::json!([{"name": "lead", "kind": "lead-car"}]);
+        v["crossing"] =
+            serde_json::json!({"cells": [{"vehicle": "van", "scenario": "street-2", "traffic": "lead"}]});
+    });
+    assert!(misfit.contains("\"lead\" does not fit scenario level \"street-2\""), "{misfit}");
+    let crowd = refusal(|v| {
+        v["scenarios"][1]["speed_mps"] = 8.0.into();
+        v["traffic"] = serde_json::json!([{"name": "six", "kind": "generated", "vehicles": 6}]);
+    });
+    assert!(crowd.contains("traffic=six") && crowd.contains("6 other vehicles"), "{crowd}");
+    assert!(refusal(|v| v["measure"]["sample"] = 0.0.into()).contains("measure.sample"));
+    assert!(refusal(|v| v["measure"]["rendered_ppd"] = 8.0.into()).contains("measure.rendered_ppd"));
+}
+
+/// A synthetic task of `plan`: every unit sees candidates "a" and "b" with the given legible times.
+fn synthetic(plan: &Plan, index: u32, a: f64, b: f64) -> DesignTask {
+    let planned = &plan.tasks[index as usize];
+    let value = |name: &str, s: f64| CandidateValue {
+        name: name.into(),
+        kind: "part".into(),
+        legible_s: s,
+        angular_area_deg2_s: 10.0 * s,
+    };
+    DesignTask {
+        schema: DESIGN_TASK_SCHEMA.into(),
+        design_hash: plan.hash.clone(),
+        task: index,
+        cell: planned.cell.clone(),
+        replicate: planned.replicate,
+        units: vec![UnitValues {
+            unit: planned.replicate,
+            eye_height_m: 1.6,
+            position: [0.0; 3],
+            seed: 1,
+            candidates: vec![value("a", a), value("b", b)],
+        }],
+        seconds: 0.0,
+    }
+}
+
+#[test]
+fn merge_refuses_a_task_of_another_design_and_names_a_missing_cell() {
+    let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for i in 0..plan.tasks.len() as u32 {
+        write_task(&synthetic(&plan, i, 2.0 + f64::from(i), 1.0), &task_dir(dir.path(), i)).unwrap();
+    }
+    let merged = merge_design(&plan, dir.path()).unwrap();
+    assert_eq!(merged.tasks, 8);
+    assert_eq!(merged.overall.best[0].name, "a");
+    assert!(merged.answer.last().unwrap().starts_with("across all: best part a"), "{:?}", merged.answer);
+    // Candidate a's vehicle effect: pickup tasks 0–3 (mean 3.5), van tasks 4–7 (mean 7.5).
+    let effect = merged.main_effects.iter().find(|e| e.factor == "vehicle" && e.candidate == "a").unwrap();
+    assert!((effect.range_s - 4.0).abs() < 1e-12, "{effect:?}");
+    // A task of another design.
+    let mut foreign = synthetic(&plan, 5, 1.0, 1.0);
+    foreign.design_hash = "0123456789abcdef".into();
+    write_task(&foreign, &task_dir(dir.path(), 5)).unwrap();
+    let refused = merge_design(&plan, dir.path()).unwrap_err().to_string();
+    assert!(refused.contains("task-0005") && refused.contains("another design"), "{refused}");
+    // A missing task names its cell.
+    std::fs::remove_file(task_dir(dir.path(), 5).join("task.json")).unwrap();
+    let missing = merge_design(&plan, dir.path()).unwrap_err().to_string();
+    let cell = &plan.tasks[5].cell;
+    assert!(
+        missing.contains("1 missing") && missing.contains(&format!("cell {cell}, replicate 1")),
+        "{missing}"
+    );
+}
+
+#[test]
+fn a_rerun_skips_complete_tasks_and_redoes_partial_or_foreign_ones() {
+    let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    assert!(completed(&plan, dir.path(), 0).is_none());
+    write_task(&synthetic(&plan, 0, 1.0, 1.0), &task_dir(dir.path(), 0)).unwrap();
+    assert!(completed(&plan, dir.path(), 0).is_some());
+    // A partial task: its folder and an archive, no task.json.
+    std::fs::create_dir_all(task_dir(dir.path(), 1).join("unit-000")).unwrap();
+    assert!(completed(&plan, dir.path(), 1).is_none());
+    // A truncated task.json (a run killed while writing would leave none, but a copy may).
+    std::fs::write(task_dir(dir.path(), 1).join("task.json"), b"{\"schema\": ").unwrap();
+    assert!(completed(&plan, dir.path(), 1).is_none());
+    let mut foreign = synthetic(&plan, 2, 1.0, 1.0);
+    foreign.design_hash = "ffffffffffffffff".into();
+    write_task(&foreign, &task_dir(dir.path(), 2)).unwrap();
+    assert!(completed(&plan, dir.path(), 2).is_none());
+}
+
+/// SplitMix64 and Box–Muller: normal draws for the coverage test.
+struct Normal(u64);
+
+impl Normal {
+    fn uniform(&mut self) -> f64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn draw(&mut self) -> f64 {
+        let (u, v) = (self.uniform().max(1e-300), self.uniform());
+        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+    }
+}
+
+#[test]
+fn the_interval_of_a_vehicle_and_of_all_covers_the_known_mean_about_95_percent_of_the_time() {
+    // Two vehicles × two scenarios, 8 units: cell means 2, 3, 4, 5 s; each
+    // unit has an effect shared by its cells (an observer's height) plus
+    // cell noise. Truth: vehicle "v0" 2.5 s, all 3.5 s.
+    let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
+    let (trials, units) = (400, 8u32);
+    let mut normal = Normal(11);
+    let (mut covered_vehicle, mut covered_all) = (0, 0);
+    for trial in 0..trials {
+        let shared: Vec<f64> = (0..units).map(|_| 0.8 * normal.draw()).collect();
+        let mut tasks = Vec::new();
+        for (c, cell) in plan.cells.iter().enumerate() {
+            let mut task = synthetic(&plan, 0, 0.0, 0.0);
+            task.cell = cell.clone();
+            task.units = (0..units)
+                .map(|u| {
+                    let value = 2.0 + c as f64 + shared[u as usize] + 0.5 * normal.draw();
+                    let mut unit = synthetic(&plan, 0, value, 0.0).units.remove(0);
+                    unit.unit = u;
+                    unit
+                })
+                .collect();
+            tasks.push(task);
+        }
+        let data = cell_data(&plan.cells, &tasks);
+        let vehicle: Vec<_> = data.iter().filter(|d| d.cell.vehicle == plan.cells[0].vehicle).collect();
+        let all: Vec<_> = data.iter().collect();
+        let inside = |group: ufcsr::GroupSummary, truth: f64| {
+            let a = group.candidates.iter().find(|c| c.name == "a").unwrap();
+            let [lo, hi] = a.legible_s.ci95.unwrap();
+            lo <= truth && truth <= hi
+        };
+        covered_vehicle += usize::from(inside(group_summary("v".into(), &vehicle, trial), 2.5));
+        covered_all += usize::from(inside(group_summary("all".into(), &all, trial), 3.5));
+    }
+    let rate = |n: usize| n as f64 / trials as f64;
+    eprintln!("coverage: vehicle {:.3}, all {:.3}", rate(covered_vehicle), rate(covered_all));
+    assert!((0.90..=0.99).contains(&rate(covered_vehicle)), "{}", rate(covered_vehicle));
+    assert!((0.90..=0.99).contains(&rate(covered_all)), "{}", rate(covered_all));
+}
+
+#[test]
+fn p_best_is_one_for_a_candidate_larger_in_every_unit() {
+    let rows: Vec<Vec<f64>> =
+        (0..10).map(|i| vec![5.0 + f64::from(i % 2), 1.0, 1.0 + f64::from(i % 2)]).collect();
+    let p = p_best(&rows, &[0, 1], 3);
+    assert_eq!(p, vec![1.0, 0.0]);
+    let tie = p_best(&rows, &[1, 2], 3);
+    assert!(tie[1] > 0.9, "{tie:?}");
+}

@@ -1,0 +1,51 @@
+//! `ufcsr design plan|run|merge` end to end on a 2 × 2 design (one
+//! replicate, the exact measure at 1/256 of a 256² palette): the plan's
+//! lines are the tasks, a re-run skips complete tasks and redoes a removed
+//! one, merge writes the result set with the answer first and names a
+//! missing cell. (Refusals by factor and level, another design's task and
+//! the interval's coverage are the library's tests, `design::tests`.)
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn ufcsr(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ufcsr")).args(args).env("XDG_RUNTIME_DIR", dir).output().unwrap()
+}
+
+fn text(output: &Output) -> String {
+    format!("{}\n{}", String::from_utf8_lossy(&output.stdout), String::from_utf8_lossy(&output.stderr))
+}
+
+#[test]
+fn a_design_plans_runs_resumes_and_merges() {
+    let dir = tempfile::tempdir().unwrap();
+    let fixture = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/designs/tiny-2x2.json");
+    let mut design: serde_json::Value = serde_json::from_slice(&std::fs::read(fixture).unwrap()).unwrap();
+    design["replicates"] = 1.into();
+    let file = dir.path().join("design.json");
+    std::fs::write(&file, serde_json::to_vec(&design).unwrap()).unwrap();
+    let (file, out) = (file.to_str().unwrap(), dir.path().join("out"));
+    let out = out.to_str().unwrap();
+    let plan = ufcsr(dir.path(), &["design", "plan", file, "--out", out, "--program", "ufcsr"]);
+    let lines: Vec<String> = String::from_utf8_lossy(&plan.stdout).lines().map(str::to_string).collect();
+    assert_eq!(lines.len(), 4, "{}", text(&plan));
+    assert!(lines[3].starts_with("ufcsr design run") && lines[3].contains("--task 3"), "{}", lines[3]);
+    // Merging before running names the missing cells.
+    let early = ufcsr(dir.path(), &["design", "merge", file, "--out", out]);
+    assert_ne!(early.status.code(), Some(0));
+    assert!(text(&early).contains("4 missing") && text(&early).contains("vehicle=van scenario=street-2"));
+    let run = ufcsr(dir.path(), &["design", "run", file, "--out", out]);
+    assert!(run.status.success() && text(&run).contains("4 task(s) run, 0 skipped"), "{}", text(&run));
+    // Resumable: complete tasks are skipped, a removed one is measured again.
+    std::fs::remove_file(Path::new(out).join("tasks/task-0002/task.json")).unwrap();
+    let again = ufcsr(dir.path(), &["design", "run", file, "--out", out]);
+    assert!(text(&again).contains("1 task(s) run, 3 skipped"), "{}", text(&again));
+    let merge = ufcsr(dir.path(), &["design", "merge", file, "--out", out]);
+    assert!(merge.status.success(), "{}", text(&merge));
+    assert!(text(&merge).contains("for a pickup: best part") && text(&merge).contains("across all:"));
+    let result: ufcsr::DesignResult =
+        serde_json::from_slice(&std::fs::read(Path::new(out).join("design.json")).unwrap()).unwrap();
+    assert_eq!((result.tasks, result.cells.len(), result.vehicles.len()), (4, 4, 2));
+    let page = std::fs::read_to_string(Path::new(out).join("design.html")).unwrap();
+    assert!(page.find("Answer").unwrap() < page.find("Main effects").unwrap());
+}

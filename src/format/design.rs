@@ -1,0 +1,334 @@
+//! The factorial study's three files as typed values (issue 36): the
+//! **design file** a user writes (`ufcsr design plan|run|merge DESIGN`:
+//! vehicles × scenarios × traffic, a pedestrian population, measure
+//! settings, replicates and seeds), the **task file** each task writes when
+//! it is complete (`tasks/task-NNNN/task.json`: per drawn observer, each
+//! candidate's legible time and angular area) and the **result** the merge
+//! writes (`design.json`: per cell, per vehicle and overall, each candidate
+//! with its interval, the best placements with P(best), the main effects).
+//! One type per file, so the capture that writes them and any reader agree
+//! by construction and the JSON Schemas come from the same definitions;
+//! `docs/design.md` says what every field and number means.
+//!
+//! The analyzer cannot depend on the capture, so a body type is a plain name
+//! here ("sedan", "van", …) and its dimension overrides plain numbers; the
+//! capture checks and converts them when it plans.
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+use crate::format::observers::ObserverPopulation;
+
+/// The design file's `schema` value.
+pub const DESIGN_SCHEMA: &str = "ufcsr-design/1";
+/// A task file's `schema` value.
+pub const DESIGN_TASK_SCHEMA: &str = "ufcsr-design-task/1";
+/// The merged result's `schema` value.
+pub const DESIGN_RESULT_SCHEMA: &str = "ufcsr-design-result/1";
+
+/// A study design: the factors, their levels, how they are crossed.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Design {
+    /// [`DESIGN_SCHEMA`].
+    pub schema: String,
+    /// A name for the report.
+    pub name: String,
+    /// Factor `vehicle`: at least one level.
+    pub vehicles: Vec<VehicleLevel>,
+    /// Factor `scenario`: at least one level.
+    pub scenarios: Vec<ScenarioLevel>,
+    /// Factor `traffic` (default: one level, `none`).
+    #[serde(default = "default_traffic")]
+    pub traffic: Vec<TrafficLevel>,
+    /// Who looks: observers drawn in every task (absent: one observer, the
+    /// scenario's own pedestrian at the rig's eye height).
+    #[serde(default)]
+    pub population: Option<DesignPopulation>,
+    /// How each run is measured.
+    pub measure: DesignMeasure,
+    /// `full` (every combination) or listed cells.
+    #[serde(default)]
+    pub crossing: Crossing,
+    /// Independent repetitions of every cell (new observers, new texel sample), at least 1.
+    #[serde(default = "one")]
+    pub replicates: u32,
+    /// The seed every random draw of the study derives from.
+    #[serde(default = "one_u64")]
+    pub seed: u64,
+}
+
+fn default_traffic() -> Vec<TrafficLevel> {
+    vec![TrafficLevel { name: "none".into(), kind: TrafficKind::None }]
+}
+
+fn one() -> u32 {
+    1
+}
+
+fn one_u64() -> u64 {
+    1
+}
+
+/// A vehicle: a model file, or a body of the parametric family.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VehicleLevel {
+    /// The level's name, unique in the factor (used in cells and the report).
+    pub name: String,
+    /// A vehicle model (glTF/GLB/OBJ), relative to the design file; or
+    /// `demo` for the demo pickup. Exactly one of `model` and `body`.
+    #[serde(default)]
+    pub model: Option<String>,
+    /// A body type of the parametric family: sedan, suv, van, pickup or bus.
+    #[serde(default)]
+    pub body: Option<String>,
+    /// Overrides of the body type's typical dimensions (only with `body`).
+    #[serde(default)]
+    pub dims: Option<BodyDimsOverride>,
+    /// Display candidates of this size, width × height in metres (none:
+    /// the parts only).
+    #[serde(default)]
+    pub display_m: Option<[f64; 2]>,
+}
+
+/// Dimensions of a family body, metres and degrees; each absent one keeps
+/// the body type's typical value.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct BodyDimsOverride {
+    pub length_m: Option<f64>,
+    pub width_m: Option<f64>,
+    pub height_m: Option<f64>,
+    pub bonnet_length_m: Option<f64>,
+    pub bonnet_height_m: Option<f64>,
+    pub windshield_rake_deg: Option<f64>,
+    pub wheelbase_m: Option<f64>,
+}
+
+/// A scenario level.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct ScenarioLevel {
+    /// The level's name, unique in the factor.
+    pub name: String,
+    #[serde(flatten)]
+    pub source: ScenarioSource,
+}
+
+/// Where a scenario comes from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum ScenarioSource {
+    /// The demo intersection's scenario A, B, C or D.
+    Demo { scenario: String },
+    /// The street design of the raycasting study (`docs/design.md`).
+    Street(StreetScenario),
+    /// A scene file's scenario (the scene's own vehicle is replaced by the level's).
+    Scene { file: String, scenario: String },
+}
+
+/// One vehicle position of the street design.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct StreetScenario {
+    /// Vehicle position 1–8 (1–3 near lane, 4–6 far lane, 7–8 alleyways).
+    pub position: u32,
+    /// The pedestrian's place on the near sidewalk, 1–3 (`docs/design.md`).
+    #[serde(default = "one")]
+    pub pedestrian: u32,
+    /// Metres per second: 0 = static, more = approaching the position along its lane.
+    #[serde(default)]
+    pub speed_mps: f64,
+}
+
+/// A traffic level.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct TrafficLevel {
+    /// The level's name, unique in the factor.
+    pub name: String,
+    #[serde(flatten)]
+    pub kind: TrafficKind,
+}
+
+/// What else is on the road.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum TrafficKind {
+    /// Nothing.
+    None,
+    /// The demo's twin alongside (demo scenarios only).
+    AdjacentLane,
+    /// The demo's twin ahead in the lane (demo scenarios only).
+    LeadCar,
+    /// `vehicles` other vehicles of the same model, placed by the street
+    /// generator from a seed derived from the design's (street scenarios only; at most 7).
+    Generated { vehicles: u32 },
+}
+
+/// Who looks: observers drawn from a population in every task.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DesignPopulation {
+    /// As the observer study's population file (`place`, `groups`, `truncate_sd`).
+    pub population: ObserverPopulation,
+    /// Observers drawn per task, at least 1.
+    pub observers: u32,
+}
+
+/// How each run is measured: the exact measure, sampled.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DesignMeasure {
+    /// Share of texels measured, in (0, 1].
+    pub sample: f64,
+    /// Canonical palette side, texels (e.g. 256, 1024).
+    pub palette: u32,
+    /// Every n-th frame, at least 1.
+    #[serde(default = "one")]
+    pub frame_step: u32,
+    /// Candidate patch spacing, metres (default 0.10).
+    #[serde(default)]
+    pub patch_spacing_m: Option<f64>,
+    /// The rendered measure at this ppd: not run by designs yet (refused when set).
+    #[serde(default)]
+    pub rendered_ppd: Option<f64>,
+}
+
+/// How the factors are crossed.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum Crossing {
+    /// Every vehicle × scenario × traffic.
+    #[default]
+    Full,
+    /// Only these cells.
+    Cells(Vec<CellLevels>),
+}
+
+/// One cell: a level of each factor, by name.
+#[derive(Debug, Clone, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct CellLevels {
+    pub vehicle: String,
+    pub scenario: String,
+    #[serde(default = "none_name")]
+    pub traffic: String,
+}
+
+fn none_name() -> String {
+    "none".into()
+}
+
+impl std::fmt::Display for CellLevels {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "vehicle={} scenario={} traffic={}", self.vehicle, self.scenario, self.traffic)
+    }
+}
+
+/// One candidate's values in one observer's run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct CandidateValue {
+    pub name: String,
+    /// `part` or `patch`.
+    pub kind: String,
+    /// Seconds legible under the placement rules (docs/placement.md).
+    pub legible_s: f64,
+    /// Visible angular area, deg²·s per eye.
+    pub angular_area_deg2_s: f64,
+}
+
+/// One drawn observer's run of a task.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct UnitValues {
+    /// The unit's index within the cell (replicate × observers + observer).
+    pub unit: u32,
+    pub eye_height_m: f64,
+    pub position: [f64; 3],
+    /// The texel sample's seed.
+    pub seed: u64,
+    pub candidates: Vec<CandidateValue>,
+}
+
+/// `task.json`: one finished task (one cell, one replicate).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct DesignTask {
+    /// [`DESIGN_TASK_SCHEMA`].
+    pub schema: String,
+    /// The design's hash (merge refuses a task of another design).
+    pub design_hash: String,
+    pub task: u32,
+    pub cell: CellLevels,
+    pub replicate: u32,
+    pub units: Vec<UnitValues>,
+    pub seconds: f64,
+}
+
+/// A mean over the random units with its interval.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct MeanInterval {
+    pub mean: f64,
+    /// 95 % t interval of the mean (`None` with fewer than two units).
+    pub ci95: Option<[f64; 2]>,
+    /// Units behind it.
+    pub n: u32,
+}
+
+/// One candidate over the units of a group of cells.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct CandidateSummary {
+    pub name: String,
+    pub kind: String,
+    pub legible_s: MeanInterval,
+    pub angular_area_deg2_s: MeanInterval,
+}
+
+/// One of the best placements.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct BestPlacement {
+    pub rank: u32,
+    pub name: String,
+    pub kind: String,
+    pub legible_s: MeanInterval,
+    /// Share of bootstrap resamples of the units in which it is the best of its kind.
+    pub p_best: f64,
+}
+
+/// A group of cells: one cell, one vehicle, or all.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct GroupSummary {
+    /// `cell …`, `vehicle NAME` or `all`.
+    pub group: String,
+    pub cells: u32,
+    /// Largest mean legible time first.
+    pub candidates: Vec<CandidateSummary>,
+    /// The best 1–3 parts and the best 1–3 displays, each with P(best).
+    pub best: Vec<BestPlacement>,
+}
+
+/// How much one factor moves one candidate's legible time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct MainEffect {
+    pub factor: String,
+    pub candidate: String,
+    /// Per level: the mean legible time over the cells at that level.
+    pub level_means_s: Vec<(String, f64)>,
+    /// Largest minus smallest level mean, seconds.
+    pub range_s: f64,
+}
+
+/// `design.json`: the merged result.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct DesignResult {
+    /// [`DESIGN_RESULT_SCHEMA`].
+    pub schema: String,
+    pub design: String,
+    pub design_hash: String,
+    pub tasks: u32,
+    /// What the intervals are, in one sentence.
+    pub interval: String,
+    /// The answer first: per body type and across all.
+    pub answer: Vec<String>,
+    pub cells: Vec<GroupSummary>,
+    pub vehicles: Vec<GroupSummary>,
+    pub overall: GroupSummary,
+    pub main_effects: Vec<MainEffect>,
+}
