@@ -50,6 +50,7 @@ pub use job::{
 pub use render::{
     Backend, Gpu, GpuPalette, PixelRect, RenderSetup, Renderer, TileDraw, Vertex, vehicle_vertices,
 };
+pub use scene::family::{BodyDims, BodyType, body_mesh};
 #[doc(hidden)]
 pub use scene::fuzz_entry;
 pub use scene::{

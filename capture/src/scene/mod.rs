@@ -9,13 +9,15 @@
 //! shared by the exact measure and the scene checks), surfaces lying on one
 //! another ([`coincident`], found for the scene checks and the exact
 //! measure), and the built-in scenes
-//! ([`demo`] the truck and intersection, [`degenerate_mesh`] a vehicle of bad
-//! triangles), and the fuzzing entry points ([`fuzz_entry`]). Nothing here
+//! ([`demo`] the truck and intersection, [`family`] the parametric sedan,
+//! SUV, van, pickup and bus, with [`shapes`] the building blocks they share,
+//! [`degenerate_mesh`] a vehicle of bad triangles), and the fuzzing entry points ([`fuzz_entry`]). Nothing here
 //! renders or writes an archive.
 
 pub(crate) mod coincident;
 pub(crate) mod degenerate_mesh;
 pub(crate) mod demo;
+pub(crate) mod family;
 pub(crate) mod frame_state;
 pub mod fuzz_entry;
 pub(crate) mod mesh;
@@ -27,6 +29,7 @@ pub(crate) mod regions;
 pub(crate) mod rig;
 pub(crate) mod scenario;
 pub(crate) mod scene_file;
+pub(crate) mod shapes;
 pub(crate) mod track;
 pub(crate) mod unity;
 pub(crate) mod vehicle;
