@@ -155,6 +155,8 @@ fn vehicle_spec(input: &Path) -> Result<(VehicleSpec, PathBuf)> {
     };
     let spec = VehicleSpec {
         mesh: name.to_string_lossy().into_owned(),
+        body: None,
+        dims: None,
         parts_from: Default::default(),
         rename: Default::default(),
         axes: Axes::default(),

@@ -256,12 +256,18 @@ pub const SCENARIOS: [(&str, f64, &str); 4] = [
 
 /// The demo scenario `name` (A–D).
 pub fn scenario(name: &str) -> Option<Scenario> {
+    scenario_for_length(name, TRUCK_SIZE[0])
+}
+
+/// The demo scenario `name` (A–D) for a vehicle `length_m` long: the same
+/// path, shifted so that its front bumper stops at the stop line.
+pub fn scenario_for_length(name: &str, length_m: f64) -> Option<Scenario> {
     let &(name, rotation, _) = SCENARIOS.iter().find(|(n, _, _)| n.eq_ignore_ascii_case(name))?;
     // Scenario A: north up the cross street at x = -29.35, right turn into
     // the eastbound lane (y = -2), straight at 8 m/s, then braking at a
     // constant 11.4 m/s² to stop with the front bumper at the stop line
-    // (x = -9), 2.95 m ahead of the truck's centre.
-    let stop = -9.0 - TRUCK_SIZE[0] / 2.0;
+    // (x = -9), half the vehicle's length (2.95 m for the truck) ahead of its centre.
+    let stop = -9.0 - length_m / 2.0;
     let brake_start = stop - 2.8;
     let straight_start = brake_start - 8.0;
     let keys: [(f64, DVec2, DVec2, f64); 4] = [
