@@ -78,6 +78,56 @@ pub fn facing(m: &mut Mesh, name: &str, corners: [Vec3; 4], outward: Vec3) {
     }
 }
 
+/// Splits every triangle at the corners of other triangles that lie inside
+/// one of its edges (T-junctions), so that neighbouring triangles share
+/// whole edges, vertex for vertex. A rasterizer is watertight only along
+/// shared edges: where one panel's edge runs past another's corner, pixel
+/// centres on the line can fall between the two and show the body's inside
+/// (a back face, a part the pedestrian cannot see). Positions, parts,
+/// areas and the bounding box do not change.
+pub fn split_t_junctions(mesh: &mut Mesh) {
+    let mut corners: Vec<Vec3> = mesh.positions.clone();
+    corners.sort_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap_or(std::cmp::Ordering::Equal));
+    corners.dedup();
+    let mut split = Mesh { parts: mesh.parts.clone(), ..Mesh::default() };
+    let mut queue: Vec<([Vec3; 3], u32)> =
+        (0..mesh.triangles.len()).map(|t| (mesh.corners(t), mesh.triangle_part[t])).collect();
+    while let Some((tri, part)) = queue.pop() {
+        let inside = (0..3).find_map(|k| {
+            let (a, b) = (tri[k], tri[(k + 1) % 3]);
+            corners.iter().find(|&&p| inside_edge(a, b, p)).map(|&p| (k, p))
+        });
+        match inside {
+            Some((k, p)) => {
+                let (a, b, c) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
+                queue.push(([a, p, c], part));
+                queue.push(([p, b, c], part));
+            }
+            None => {
+                let base = split.positions.len() as u32;
+                split.positions.extend(tri);
+                split.triangles.push([base, base + 1, base + 2]);
+                split.triangle_part.push(part);
+            }
+        }
+    }
+    *mesh = split;
+}
+
+/// Whether `p` lies on the open segment `a`–`b` (within 1 µm of it, and
+/// not at either end).
+fn inside_edge(a: Vec3, b: Vec3, p: Vec3) -> bool {
+    let lo = a.min(b) - Vec3::splat(1e-6);
+    let hi = a.max(b) + Vec3::splat(1e-6);
+    if p.cmplt(lo).any() || p.cmpgt(hi).any() || p == a || p == b {
+        return false;
+    }
+    let (a, b, p) = (a.as_dvec3(), b.as_dvec3(), p.as_dvec3());
+    let ab = b - a;
+    let t = (p - a).dot(ab) / ab.length_squared();
+    t > 1e-9 && t < 1.0 - 1e-9 && (a + ab * t - p).length() < 1e-6
+}
+
 /// Pairs of parts with two triangles that lie in one plane and overlap
 /// (share more than an edge): each such pair would fight in the depth buffer.
 #[cfg(test)]
@@ -125,6 +175,29 @@ pub fn coplanar_overlaps(mesh: &Mesh) -> Vec<(String, String)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_corner_inside_a_neighbours_edge_splits_that_edge() {
+        // A 2 m square beside two 1 m squares: its right edge runs past their shared corner.
+        let mut m = Mesh::default();
+        let q = |x0: f32, x1: f32, y0: f32, y1: f32| {
+            [vec3(x0, y0, 0.0), vec3(x1, y0, 0.0), vec3(x1, y1, 0.0), vec3(x0, y1, 0.0)]
+        };
+        facing(&mut m, "big", q(0.0, 2.0, 0.0, 2.0), Vec3::Z);
+        facing(&mut m, "low", q(2.0, 3.0, 0.0, 1.0), Vec3::Z);
+        facing(&mut m, "high", q(2.0, 3.0, 1.0, 2.0), Vec3::Z);
+        let area = m.area();
+        split_t_junctions(&mut m);
+        assert!((m.area() - area).abs() < 1e-9);
+        assert_eq!(m.triangles.len(), 7, "the big square's edge is split at (2, 1)");
+        let corner = vec3(2.0, 1.0, 0.0);
+        let big = m.parts.iter().position(|p| p == "big").unwrap() as u32;
+        let touching = (0..m.triangles.len())
+            .filter(|&t| m.triangle_part[t] == big && m.corners(t).contains(&corner))
+            .count();
+        assert_eq!(touching, 2);
+        assert!(coplanar_overlaps(&m).is_empty());
+    }
 
     #[test]
     fn facing_orders_corners_to_face_the_given_way_and_overlaps_are_found() {

@@ -4,14 +4,16 @@
 //! trim that stands proud (bumpers, grill, lights, plates, mirrors) and the
 //! wheels. Every panel is a planar quad given with the side it faces
 //! ([`facing`]); panels in one plane meet along edges only, which the
-//! family's tests check triangle by triangle.
+//! family's tests check triangle by triangle, and every edge that runs past
+//! another panel's corner is split there ([`split_t_junctions`]), so that
+//! no pixel falls through a crack into the body.
 
 use glam::{Vec3, vec3};
 
 use crate::scene::family::BodyType;
 use crate::scene::family::layout::{BUMPER_DEPTH_M, GREENHOUSE_INSET_M, Layout, PLATE_DEPTH_M};
 use crate::scene::mesh::Mesh;
-use crate::scene::shapes::{WheelSize, facing, wheel};
+use crate::scene::shapes::{WheelSize, facing, split_t_junctions, wheel};
 
 /// Per side: the suffix of its parts and the sign of y.
 const SIDES: [(&str, f64); 2] = [("left", 1.0), ("right", -1.0)];
@@ -46,6 +48,7 @@ pub fn mesh(l: &Layout) -> Mesh {
         bed(&mut m, l);
     }
     wheels_and_mirrors(&mut m, l);
+    split_t_junctions(&mut m);
     m
 }
 
