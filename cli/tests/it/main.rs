@@ -40,6 +40,7 @@ mod archive_models;
 mod bad_capture;
 mod capture_shards;
 mod exit_codes;
+mod family_bodies;
 mod fused_count;
 mod hardening;
 mod observers_command;
