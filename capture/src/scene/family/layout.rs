@@ -99,33 +99,10 @@ impl Layout {
             windshield_rake_deg,
             wheelbase_m,
         } = *dims;
-        let [radius, _, half_tyre] = proportions.wheel;
         let half_length = length_m / 2.0;
         let front_face = half_length - PLATE_DEPTH_M - BUMPER_DEPTH_M;
         let rear_face = -front_face;
-        let arch_top = 2.0 * radius + ARCH_CLEARANCE_M;
-        if bonnet_height_m < arch_top + 0.1 {
-            return Err(format!(
-                "bonnet_height_m {bonnet_height_m} is too low: a {}'s wheel arches reach {arch_top:.3} m, and the belt must be at least 0.1 m above them",
-                body.name()
-            ));
-        }
-        if height_m - bonnet_height_m < 0.3 {
-            return Err(format!(
-                "bonnet_height_m {bonnet_height_m} leaves less than 0.3 m of windows below height_m {height_m}"
-            ));
-        }
-        if 4.0 * half_tyre + 0.4 > width_m {
-            return Err(format!("width_m {width_m} is too narrow for a {}'s wheels", body.name()));
-        }
-        let overhang = (length_m - wheelbase_m) / 2.0;
-        let needed = radius + ARCH_CLEARANCE_M + PLATE_DEPTH_M + BUMPER_DEPTH_M + 0.1;
-        if overhang < needed {
-            return Err(format!(
-                "wheelbase_m {wheelbase_m} leaves {overhang:.3} m from an axle to the end of length_m {length_m}; a {}'s wheels need {needed:.3} m",
-                body.name()
-            ));
-        }
+        let arch_top = check_wheels(body, dims, &proportions)?;
         let windshield_base = half_length - bonnet_length_m;
         if windshield_base <= rear_face + 1.0 {
             return Err(format!(
@@ -195,6 +172,37 @@ impl Layout {
     pub fn arch_depth(&self) -> f64 {
         2.0 * self.proportions.wheel[2] + 0.08
     }
+}
+
+/// The belt above the wheel arches and below the roof, the wheels within the
+/// width and the length; the arches' height.
+fn check_wheels(body: BodyType, dims: &BodyDims, proportions: &Proportions) -> Result<f64, String> {
+    let BodyDims { length_m, width_m, height_m, bonnet_height_m, wheelbase_m, .. } = *dims;
+    let [radius, _, half_tyre] = proportions.wheel;
+    let arch_top = 2.0 * radius + ARCH_CLEARANCE_M;
+    if bonnet_height_m < arch_top + 0.1 {
+        return Err(format!(
+            "bonnet_height_m {bonnet_height_m} is too low: a {}'s wheel arches reach {arch_top:.3} m, and the belt must be at least 0.1 m above them",
+            body.name()
+        ));
+    }
+    if height_m - bonnet_height_m < 0.3 {
+        return Err(format!(
+            "bonnet_height_m {bonnet_height_m} leaves less than 0.3 m of windows below height_m {height_m}"
+        ));
+    }
+    if 4.0 * half_tyre + 0.4 > width_m {
+        return Err(format!("width_m {width_m} is too narrow for a {}'s wheels", body.name()));
+    }
+    let overhang = (length_m - wheelbase_m) / 2.0;
+    let needed = radius + ARCH_CLEARANCE_M + PLATE_DEPTH_M + BUMPER_DEPTH_M + 0.1;
+    if overhang < needed {
+        return Err(format!(
+            "wheelbase_m {wheelbase_m} leaves {overhang:.3} m from an axle to the end of length_m {length_m}; a {}'s wheels need {needed:.3} m",
+            body.name()
+        ));
+    }
+    Ok(arch_top)
 }
 
 /// Each field finite and within what a road vehicle can have.
