@@ -249,7 +249,7 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
 
     Ok(Inspection {
         input: options.input.clone(),
-        mesh: spec.mesh.clone(),
+        mesh: spec.body.as_ref().map_or_else(|| spec.mesh.clone(), |body| format!("body: {body}")),
         axes: spec.axes.clone(),
         expect_length_m: spec.expect_length_m,
         triangles: mesh.triangles.len(),
