@@ -127,6 +127,17 @@ mod capture {
     }
 
     mirror! {
+        /// A body of the parametric family ([`ufcsr_capture::BodyType`]; docs/vehicles.md).
+        BodyType => ufcsr_capture::BodyType {
+            Sedan,
+            Suv,
+            Van,
+            Pickup,
+            Bus,
+        }
+    }
+
+    mirror! {
         /// What a study compares ([`ufcsr_capture::StudyMeasure`]).
         StudyMeasure => ufcsr_capture::StudyMeasure {
             /// The paper's count, once per eye-frame (texels seen per eye-frame) ↔

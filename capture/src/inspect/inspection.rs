@@ -159,6 +159,8 @@ fn vehicle_spec(input: &Path) -> Result<(VehicleSpec, PathBuf)> {
     };
     let spec = VehicleSpec {
         mesh: name.to_string_lossy().into_owned(),
+        body: None,
+        dims: None,
         parts_from: Default::default(),
         rename: Default::default(),
         axes: Axes::default(),
@@ -294,7 +296,7 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
 
     Ok(Inspection {
         input: options.input.clone(),
-        mesh: spec.mesh.clone(),
+        mesh: spec.body.as_ref().map_or_else(|| spec.mesh.clone(), |body| format!("body: {body}")),
         axes: spec.axes.clone(),
         expect_length_m: spec.expect_length_m,
         triangles: mesh.triangles.len(),

@@ -20,6 +20,7 @@ use crate::scene::moving::{FollowOffset, MovingOccluder, OccluderPath};
 use crate::scene::occluders::Occluders;
 use crate::scene::rig::Rig;
 use crate::scene::scenario::Scenario;
+use crate::scene::shapes::{TRUCK_WHEEL, wheel};
 use crate::scene::track::{Key, Motion, Track, ValueOrTrack};
 
 /// Truck dimensions: length, width (body), height.
@@ -201,53 +202,11 @@ pub fn truck() -> Mesh {
     // stand 2 cm proud of the body so that no sidewall lies in a body panel's plane.
     for (axle, x) in [("front", 1.85_f32), ("rear", -1.85_f32)] {
         for (side, s) in sides {
-            wheel(
-                &mut m,
-                vec3(x, 0.88 * s, 0.42),
-                s,
-                &format!("tyre_{axle}_{side}"),
-                &format!("rim_{axle}_{side}"),
-            );
+            let (tyre, rim) = (format!("tyre_{axle}_{side}"), format!("rim_{axle}_{side}"));
+            wheel(&mut m, vec3(x, 0.88 * s, 0.42), s, [&tyre, &rim], TRUCK_WHEEL);
         }
     }
     m
-}
-
-/// A wheel at `centre`; `s` = +1 on the left (outer face towards +y).
-fn wheel(m: &mut Mesh, centre: Vec3, s: f32, tyre: &str, rim: &str) {
-    const SEGMENTS: usize = 12;
-    let (radius, rim_radius, half_width) = (0.42_f32, 0.27_f32, 0.14_f32);
-    let at = |angle: f32, r: f32, y: f32| centre + vec3(r * angle.cos(), y, r * angle.sin());
-    let outer = half_width * s;
-    for i in 0..SEGMENTS {
-        let a0 = i as f32 / SEGMENTS as f32 * std::f32::consts::TAU;
-        // Wrap the last angle to 0 exactly, so the seam's vertices match bit for bit.
-        let a1 = ((i + 1) % SEGMENTS) as f32 / SEGMENTS as f32 * std::f32::consts::TAU;
-        // Tread: outward normal.
-        let (p, q) = if s > 0.0 { (a1, a0) } else { (a0, a1) };
-        m.add_quad(
-            tyre,
-            at(p, radius, -outer),
-            at(q, radius, -outer),
-            at(q, radius, outer),
-            at(p, radius, outer),
-        );
-        // Outer sidewall ring and rim disc, facing ±y.
-        let (p, q) = if s > 0.0 { (a0, a1) } else { (a1, a0) };
-        m.add_quad(
-            tyre,
-            at(p, rim_radius, outer),
-            at(p, radius, outer),
-            at(q, radius, outer),
-            at(q, rim_radius, outer),
-        );
-        m.add_triangle(
-            rim,
-            centre + vec3(0.0, outer + 0.01 * s, 0.0),
-            at(q, rim_radius, outer + 0.01 * s),
-            at(p, rim_radius, outer + 0.01 * s),
-        );
-    }
 }
 
 /// The intersection's occluders: ground, and the corner buildings.
@@ -297,12 +256,18 @@ pub const SCENARIOS: [(&str, f64, &str); 4] = [
 
 /// The demo scenario `name` (A–D).
 pub fn scenario(name: &str) -> Option<Scenario> {
+    scenario_for_length(name, TRUCK_SIZE[0])
+}
+
+/// The demo scenario `name` (A–D) for a vehicle `length_m` long: the same
+/// path, shifted so that its front bumper stops at the stop line.
+pub fn scenario_for_length(name: &str, length_m: f64) -> Option<Scenario> {
     let &(name, rotation, _) = SCENARIOS.iter().find(|(n, _, _)| n.eq_ignore_ascii_case(name))?;
     // Scenario A: north up the cross street at x = -29.35, right turn into
     // the eastbound lane (y = -2), straight at 8 m/s, then braking at a
     // constant 11.4 m/s² to stop with the front bumper at the stop line
-    // (x = -9), 2.95 m ahead of the truck's centre.
-    let stop = -9.0 - TRUCK_SIZE[0] / 2.0;
+    // (x = -9), half the vehicle's length (2.95 m for the truck) ahead of its centre.
+    let stop = -9.0 - length_m / 2.0;
     let brake_start = stop - 2.8;
     let straight_start = brake_start - 8.0;
     let keys: [(f64, DVec2, DVec2, f64); 4] = [
@@ -444,43 +409,7 @@ mod tests {
     /// buffer, and which one a pixel shows would depend on the driver.
     #[test]
     fn truck_has_no_overlapping_coplanar_triangles() {
-        let truck = truck();
-        let n = truck.triangles.len();
-        let tris: Vec<[DVec3; 3]> = (0..n).map(|t| truck.corners(t).map(|c| c.as_dvec3())).collect();
-        let normal = |t: &[DVec3; 3]| (t[1] - t[0]).cross(t[2] - t[0]).normalize();
-        let mut overlaps = Vec::new();
-        for a in 0..n {
-            let na = normal(&tris[a]);
-            for b in a + 1..n {
-                let nb = normal(&tris[b]);
-                if na.cross(nb).length() > 1e-6 || (tris[b][0] - tris[a][0]).dot(na).abs() > 1e-6 {
-                    continue;
-                }
-                // Project both into the plane and look for a separating axis.
-                let u = na.any_orthonormal_vector();
-                let w = na.cross(u);
-                let flat = |t: &[DVec3; 3]| t.map(|p| dvec2(p.dot(u), p.dot(w)));
-                let (pa, pb) = (flat(&tris[a]), flat(&tris[b]));
-                let separated = [pa, pb].iter().any(|tri| {
-                    (0..3).any(|k| {
-                        let edge = tri[(k + 1) % 3] - tri[k];
-                        let axis = dvec2(-edge.y, edge.x);
-                        let range = |t: &[DVec2; 3]| {
-                            let d = t.map(|p| p.dot(axis));
-                            (d[0].min(d[1]).min(d[2]), d[0].max(d[1]).max(d[2]))
-                        };
-                        let (ra, rb) = (range(&pa), range(&pb));
-                        ra.1 <= rb.0 + 1e-9 || rb.1 <= ra.0 + 1e-9
-                    })
-                });
-                if !separated {
-                    overlaps.push((
-                        truck.parts[truck.triangle_part[a] as usize].clone(),
-                        truck.parts[truck.triangle_part[b] as usize].clone(),
-                    ));
-                }
-            }
-        }
+        let overlaps = crate::scene::shapes::coplanar_overlaps(&truck());
         assert!(
             overlaps.is_empty(),
             "{} coplanar overlaps, e.g. {:?}",

@@ -11,8 +11,9 @@
 //! another ([`coincident`], found for the scene checks and the exact
 //! measure), and the built-in scenes
 //! ([`demo`] the truck and intersection, [`street`] the raycasting study's
-//! street, [`family`] the parametric vehicle bodies, [`degenerate_mesh`] a vehicle of bad
-//! triangles), and the fuzzing entry points ([`fuzz_entry`]). Nothing here
+//! street, [`family`] the parametric sedan, SUV, van, pickup and bus, with
+//! [`shapes`] the building blocks they share, [`degenerate_mesh`] a vehicle of
+//! bad triangles), and the fuzzing entry points ([`fuzz_entry`]). Nothing here
 //! renders or writes an archive.
 
 pub(crate) mod coincident;
@@ -31,6 +32,7 @@ pub(crate) mod regions;
 pub(crate) mod rig;
 pub(crate) mod scenario;
 pub(crate) mod scene_file;
+pub(crate) mod shapes;
 pub(crate) mod street;
 pub(crate) mod track;
 pub(crate) mod unity;

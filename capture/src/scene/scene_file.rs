@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{CaptureError, Result};
 use crate::scene::demo;
+use crate::scene::family::{BodyDims, BodyType, body_mesh};
 use crate::scene::mesh::{Axes, Mesh, PartSource, load_model};
 use crate::scene::moving::{FollowOffset, MovingOccluder, OccluderPath, PEDESTRIAN_BODY_M};
 use crate::scene::occluders::Occluders;
@@ -284,6 +285,30 @@ impl Scene {
         }
     }
 
+    /// The demo with a body of the family ([`crate::scene::family`]) in
+    /// place of the truck: the scenarios stop it with its front bumper at
+    /// the stop line, as they stop the truck, and the head turns to its
+    /// middle. Dimensions no such body can have are refused naming the field.
+    pub fn demo_with_body(body: BodyType, dims: &BodyDims) -> Result<Scene> {
+        let vehicle = body_mesh(body, dims)?;
+        let mut scene = Scene::demo();
+        scene.scenarios = demo::SCENARIOS
+            .iter()
+            .filter_map(|(name, _, _)| demo::scenario_for_length(name, dims.length_m))
+            .collect();
+        scene.rig.look_at_vehicle = [0.0, 0.0, dims.height_m / 2.0];
+        scene.vehicle = vehicle;
+        scene.name = format!("demo, {}", body.name());
+        scene.info.vehicle = Some(format!(
+            "built-in {} ({} × {} × {} m; docs/vehicles.md)",
+            body.name(),
+            dims.length_m,
+            dims.width_m,
+            dims.height_m
+        ));
+        Ok(scene)
+    }
+
     /// The demo with traffic, for one scenario (the adjacent lane's side
     /// depends on it): the demo scene holding only `scenario`, with the
     /// truck's twin following it ([`demo::DemoTraffic`]).
@@ -380,7 +405,10 @@ impl Scene {
             info: ufcsr::SceneRecord {
                 name: name.clone(),
                 file: Some(path.display().to_string()),
-                vehicle: Some(file.vehicle.mesh.clone()),
+                vehicle: Some(match &file.vehicle.body {
+                    Some(body) => format!("built-in {body} (docs/vehicles.md)"),
+                    None => file.vehicle.mesh.clone(),
+                }),
                 occluder_objects: Some(occluders.objects.len() as u64),
                 moving_occluders: Some(occluders.moving.iter().map(|m| m.name.clone()).collect()),
                 ..ufcsr::SceneRecord::default()

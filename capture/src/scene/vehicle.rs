@@ -1,8 +1,9 @@
 //! The vehicle of a scene file, built one way for `capture` and `inspect`:
-//! load the mesh (with `axes`: origin, scale, forward and up), name its
-//! parts (by node, mesh or material, or through a part map painted over its
-//! own UVs: [`crate::scene::part_map`]), apply `rename`, then the region
-//! rules of `parts`, then check its size and origin.
+//! load the mesh (or build the body of the family that `body` and `dims`
+//! name; with `axes`: origin, scale, forward and up), name its parts (by
+//! node, mesh or material, or through a part map painted over its own UVs:
+//! [`crate::scene::part_map`]), apply `rename`, then the region rules of
+//! `parts`, then check its size and origin.
 //!
 //! The checks only warn: a 40 s capture of a vehicle that is ten times too
 //! small, lies on its side or pivots at its front bumper is wasted, but the
@@ -16,16 +17,26 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{CaptureError, Result};
 use crate::scene::demo;
+use crate::scene::family::{BodyDims, BodyType, body_mesh};
 use crate::scene::mesh::{Axes, Mesh, PartSource, load_model};
 use crate::scene::part_map::{self, PartMapReport, PartMapSpec};
 use crate::scene::regions::{self, PartRule, RegionReport};
 
-/// The vehicle: a mesh file, or the demo truck.
+/// The vehicle: a mesh file, the demo truck, or a body of the family.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct VehicleSpec {
-    /// `.glb`, `.gltf` or `.obj`, or `"demo"` for the built-in truck.
+    /// `.glb`, `.gltf` or `.obj`, or `"demo"` for the built-in truck; left
+    /// out when `body` names a body of the family.
+    #[serde(default, skip_serializing_if = "String::is_empty")]
     pub mesh: String,
+    /// A body of the parametric family (`sedan`, `suv`, `van`, `pickup`,
+    /// `bus`; docs/vehicles.md) instead of a mesh.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body: Option<String>,
+    /// The body's dimensions; those left out take the body's typical values.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dims: Option<DimsSpec>,
     /// What names the parts: `node` (default), `mesh` or `material`, or
     /// `{"part_map": PNG, "legend": CSV}` painted over the model's own UVs.
     #[serde(default)]
@@ -77,6 +88,60 @@ impl TryFrom<serde_json::Value> for PartsFrom {
     }
 }
 
+/// A body's dimensions in a scene file, each optional ([`BodyDims`]).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DimsSpec {
+    pub length_m: Option<f64>,
+    pub width_m: Option<f64>,
+    pub height_m: Option<f64>,
+    pub bonnet_length_m: Option<f64>,
+    pub bonnet_height_m: Option<f64>,
+    pub windshield_rake_deg: Option<f64>,
+    pub wheelbase_m: Option<f64>,
+}
+
+impl DimsSpec {
+    /// `typical` with the given fields in place of its own.
+    pub fn over(&self, typical: BodyDims) -> BodyDims {
+        BodyDims {
+            length_m: self.length_m.unwrap_or(typical.length_m),
+            width_m: self.width_m.unwrap_or(typical.width_m),
+            height_m: self.height_m.unwrap_or(typical.height_m),
+            bonnet_length_m: self.bonnet_length_m.unwrap_or(typical.bonnet_length_m),
+            bonnet_height_m: self.bonnet_height_m.unwrap_or(typical.bonnet_height_m),
+            windshield_rake_deg: self.windshield_rake_deg.unwrap_or(typical.windshield_rake_deg),
+            wheelbase_m: self.wheelbase_m.unwrap_or(typical.wheelbase_m),
+        }
+    }
+}
+
+/// The body of the family `spec` names, with its dimensions (`None`: a
+/// mesh); `scene` names the file in errors.
+pub fn family_body(spec: &VehicleSpec, scene: &Path) -> Result<Option<(BodyType, BodyDims)>> {
+    let Some(name) = &spec.body else {
+        if spec.dims.is_some() {
+            return Err(CaptureError::bad_file(scene, "vehicle.dims needs vehicle.body"));
+        }
+        if spec.mesh.is_empty() {
+            return Err(CaptureError::bad_file(scene, "the vehicle needs a mesh or a body"));
+        }
+        return Ok(None);
+    };
+    if !spec.mesh.is_empty() {
+        return Err(CaptureError::bad_file(scene, "the vehicle has a mesh and a body: give one"));
+    }
+    let Some(body) = BodyType::parse(name) else {
+        let names: Vec<&str> = BodyType::ALL.iter().map(|b| b.name()).collect();
+        return Err(CaptureError::bad_file(
+            scene,
+            format!("vehicle.body {name:?} is not one of {}", names.join(", ")),
+        ));
+    };
+    let dims = spec.dims.clone().unwrap_or_default().over(BodyDims::typical(body));
+    Ok(Some((body, dims)))
+}
+
 /// How far the vehicle's length may be from `expect_length_m` before a warning.
 pub const LENGTH_TOLERANCE: f64 = 0.2;
 
@@ -102,7 +167,11 @@ pub fn build(spec: &VehicleSpec, base: &Path, scene: &Path) -> Result<Vehicle> {
         PartsFrom::Names(source) => *source,
         PartsFrom::PartMap(map) => map.names,
     };
-    let (mut mesh, mut files) = if spec.mesh == "demo" {
+    let (mut mesh, mut files) = if let Some((body, dims)) = family_body(spec, scene)? {
+        let mesh = body_mesh(body, &dims)
+            .map_err(|e| CaptureError::bad_file(scene, format!("vehicle.dims: {e}")))?;
+        (mesh, Vec::new())
+    } else if spec.mesh == "demo" {
         (demo::truck(), Vec::new())
     } else {
         load_model(&base.join(&spec.mesh), names, &spec.axes)?

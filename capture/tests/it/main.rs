@@ -11,6 +11,7 @@
 mod degenerate;
 mod exactness;
 mod extremes;
+mod family;
 mod fuzz_regressions;
 mod observers;
 mod palette;

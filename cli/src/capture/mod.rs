@@ -18,7 +18,7 @@ use std::path::PathBuf;
 use clap::Subcommand;
 use ufcsr_capture::{Scene, ViewsOptions};
 
-use crate::choices::{Backend, DemoTraffic};
+use crate::choices::{Backend, BodyType, DemoTraffic};
 use crate::console::{Completion, Console};
 use crate::options::Global;
 
@@ -38,6 +38,10 @@ pub enum CaptureCommand {
         /// (adjacent-lane), or ahead of it in its lane (lead-car); see docs/scene-file.md.
         #[arg(long, value_enum)]
         traffic: Option<DemoTraffic>,
+        /// A body of the parametric family, with its typical dimensions, in place of the truck
+        /// (docs/vehicles.md); a scene file can give other dimensions.
+        #[arg(long, value_enum, conflicts_with = "traffic")]
+        body: Option<BodyType>,
         #[command(flatten)]
         capture: CaptureArgs,
     },
@@ -173,10 +177,15 @@ pub fn run_capture_command(
 ) -> anyhow::Result<Completion> {
     let threads = usize::from(global.threads);
     match command {
-        CaptureCommand::Demo { traffic: None, capture } => {
+        CaptureCommand::Demo { traffic: None, body: None, capture } => {
             captures::run_capture(Scene::demo(), &capture, threads, console)
         }
-        CaptureCommand::Demo { traffic: Some(traffic), capture } => {
+        CaptureCommand::Demo { body: Some(body), capture, .. } => {
+            let body = ufcsr_capture::BodyType::from(body);
+            let scene = Scene::demo_with_body(body, &ufcsr_capture::BodyDims::typical(body))?;
+            captures::run_capture(scene, &capture, threads, console)
+        }
+        CaptureCommand::Demo { traffic: Some(traffic), capture, .. } => {
             captures::run_demo_with_traffic(traffic.into(), &capture, threads, console)
         }
         CaptureCommand::Scene { scene, capture } => {

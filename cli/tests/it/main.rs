@@ -54,6 +54,7 @@ mod capture_sees_nothing;
 mod capture_shards;
 mod design_command;
 mod exit_codes;
+mod family_bodies;
 mod fused_count;
 mod hardening;
 mod observers_command;
