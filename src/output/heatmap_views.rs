@@ -28,8 +28,7 @@ use crate::{
     output::heatmap::{plasma, position},
 };
 
-/// Colour of texels on the vehicle that were never seen.
-pub const NEVER_SEEN: [u8; 3] = [160, 160, 160];
+pub use crate::output::heatmap::NEVER_SEEN;
 const PAPER: [u8; 3] = [255, 255, 255];
 /// Size of one view at `--views-scale 1`.
 pub const VIEW_BASE: (u32, u32) = (400, 300);
