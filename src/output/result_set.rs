@@ -18,7 +18,7 @@ use crate::output::heatmap_views::{
 };
 use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::html::report_page::ScenarioPage;
-use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, font_available, write_plots};
+use crate::output::plots::{PLOTS_DIR, Plot, font_available, plot_file_names, write_plots};
 use crate::output::scenario_map::{MapContent, SceneShapes, write_scenario_map};
 use crate::output::view_sheet::write_views;
 use crate::output::written_files::WrittenFiles;
@@ -122,9 +122,7 @@ pub fn result_set_members() -> Vec<String> {
     .map(|name| (*name).to_string())
     .collect();
     members.push(FRAMES_FILE.to_string());
-    for plot in PLOT_NAMES {
-        members.extend(["svg", "png"].iter().map(|ext| format!("{PLOTS_DIR}/{plot}.{ext}")));
-    }
+    members.extend(plot_file_names().iter().map(|name| format!("{PLOTS_DIR}/{name}")));
     members.extend(DIRECTIONS.iter().map(|(name, _)| format!("views/{name}.png")));
     members
 }
@@ -356,7 +354,12 @@ fn write_figures(
     if strip_skipped.is_some() || manifest.is_none() {
         files.frames_strip_png = None;
     }
-    files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref(), &scenario)?;
+    files.plots = write_plots(
+        out_dir,
+        &analysis.result.parts,
+        analysis.frames.as_ref(),
+        analysis.result.measures.as_ref(),
+    )?;
     clock.lap("plots");
     let scenario_page = ScenarioPage { track: track.as_ref(), strip_skipped };
     crate::output::html::report_page::write_report(

@@ -10,6 +10,7 @@ mod common;
 mod architecture_page;
 mod bad_input;
 mod doc_links;
+mod figures;
 mod frames;
 mod fuzz_regressions;
 mod golden_example;
