@@ -72,7 +72,7 @@ pub use format::{Format, SCHEMAS, check_version};
 pub use optics::{EyeProjection, TileView};
 pub use output::{
     CsvStyle, DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, FigureSize, MAP_FILE, MAP_SIZE, MIN_TEXT_PT, MM_PER_PT,
-    MapContent, MapFrame, OKABE_ITO,
+    MapContent, MapFrame, NEEDS_ITS_FOLDER, OKABE_ITO, QUOTED_HEADING,
     NEVER_SEEN, ResultSetOptions, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED, SceneObject,
     SceneShapes, VIEW_BASE, ViewCamera, ViewTexture, WrittenFiles, WrittenViews, ZBuffer, bar_ticks,
     csv_field, default_output_dir, format_counted_table, format_table, measure_unit, plasma,

@@ -104,3 +104,25 @@ fn the_series_are_okabe_ito_colours_and_every_axis_says_quantity_and_unit() {
         assert!(!texts.iter().any(|t| t.contains(", s") || t.contains(", m") || t.contains(", deg")), "{texts:?}");
     }
 }
+
+#[test]
+fn the_report_leads_with_the_quoted_measures_and_says_it_needs_its_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = example_results(dir.path());
+    let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let first_table = page.find("<table").unwrap();
+    let heading = page.find(ufcsr::QUOTED_HEADING).expect("no table of the quoted measures");
+    assert!(heading < first_table, "the first table is not the quoted measures");
+    let table = &page[first_table..page[first_table..].find("</table>").unwrap() + first_table];
+    assert!(table.contains("angular area (deg²·s)") && table.contains("exposure (s)"), "{table}");
+    // Largest angular area first: the example's windshield (the time plot's top curve).
+    let first_row = table.split("<tr><td>").nth(1).unwrap();
+    assert!(first_row.starts_with("windshield<"), "{first_row}");
+    // The paper's count is kept, labelled as such, below.
+    let paper = page.find("Paper-compatible: the per-texel count per part").expect("no paper-compatible table");
+    assert!(paper > first_table);
+    // Pictures are linked, not embedded: the page says it needs its folder.
+    assert!(page.find(ufcsr::NEEDS_ITS_FOLDER).unwrap() < first_table);
+    assert!(page.contains("src=\"views.png\"") || page.contains("src=\"heatmap.png\""));
+    assert!(!page.contains("src=\"data:"));
+}

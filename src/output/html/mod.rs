@@ -12,3 +12,4 @@ pub(crate) mod provenance;
 pub(crate) mod report_page;
 
 pub use compare_page::write_comparison;
+pub use report_page::{NEEDS_ITS_FOLDER, QUOTED_HEADING};
