@@ -32,7 +32,10 @@ pub use heatmap_views::{
     DEFAULT_VIEWS_SCALE, DIRECTIONS, NEVER_SEEN, VIEW_BASE, ViewCamera, ViewTexture, measure_unit,
     render_view, view_cameras, views_caption,
 };
-pub use html::{NEEDS_ITS_FOLDER, QUOTED_HEADING, write_comparison};
+pub use html::{
+    ComparisonOptions, NEEDS_ITS_FOLDER, OWN_SCALES, QUOTED_HEADING, RANKED_HEADING, SHARED_SCALE, write_comparison,
+    write_comparison_with,
+};
 pub use figure::{FigureSize, MIN_TEXT_PT, MM_PER_PT, OKABE_ITO};
 pub use plots::font_available as plot_font_available;
 pub use raster::ZBuffer;
