@@ -122,7 +122,7 @@ pub fn marker_shape(index: usize, radius: i32) -> (Vec<(i32, i32)>, bool) {
         2 => polygon(4, 45.0),
         _ => polygon(4, 0.0),
     };
-    (shape, (index / 4) % 2 == 0)
+    (shape, (index / 4).is_multiple_of(2))
 }
 
 /// Draws series `index`'s marker at `at` (backend pixels) on `area`.
@@ -158,7 +158,8 @@ pub fn dashed(points: &[(i32, i32)], dash: Option<(f64, f64)>) -> Vec<Vec<(i32, 
     // Position inside the pattern, and whether the pen is down.
     let (mut left, mut down) = (on, true);
     for pair in points.windows(2) {
-        let (a, b) = ((f64::from(pair[0].0), f64::from(pair[0].1)), (f64::from(pair[1].0), f64::from(pair[1].1)));
+        let (a, b) =
+            ((f64::from(pair[0].0), f64::from(pair[0].1)), (f64::from(pair[1].0), f64::from(pair[1].1)));
         let length = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
         let at = |t: f64| ((a.0 + (b.0 - a.0) * t).round() as i32, (a.1 + (b.1 - a.1) * t).round() as i32);
         let mut travelled = 0.0;
@@ -282,7 +283,11 @@ impl DrawingBackend for KernedBitmap<'_> {
     fn present(&mut self) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
         self.0.present()
     }
-    fn draw_pixel(&mut self, at: BackendCoord, color: BackendColor) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+    fn draw_pixel(
+        &mut self,
+        at: BackendCoord,
+        color: BackendColor,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
         self.0.draw_pixel(at, color)
     }
     fn draw_line<S: BackendStyle>(
@@ -377,8 +382,9 @@ mod tests {
 
     #[test]
     fn every_series_of_the_eight_has_its_own_colour_and_marker_or_dash() {
-        let styles: Vec<_> =
-            (0..8).map(|i| (series_color(i), marker_shape(i, 10), series_dash(i).map(|d| d.0 as i32))).collect();
+        let styles: Vec<_> = (0..8)
+            .map(|i| (series_color(i), marker_shape(i, 10), series_dash(i).map(|d| d.0 as i32)))
+            .collect();
         for (i, a) in styles.iter().enumerate() {
             for b in &styles[i + 1..] {
                 assert_ne!(a.0, b.0, "colours repeat");

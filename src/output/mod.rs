@@ -26,6 +26,7 @@ pub(crate) mod written_files;
 
 pub use console_table::{format_counted_table, format_table};
 pub use csv::{CsvStyle, csv_field, write_parts_csv};
+pub use figure::{FigureSize, MIN_TEXT_PT, MM_PER_PT, OKABE_ITO};
 pub use frame_strip::{FRAME_STRIP_FILE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED};
 pub use heatmap::{plasma, render as render_heatmap, write_heatmap};
 pub use heatmap_views::{
@@ -33,10 +34,9 @@ pub use heatmap_views::{
     render_view, view_cameras, views_caption,
 };
 pub use html::{
-    ComparisonOptions, NEEDS_ITS_FOLDER, OWN_SCALES, QUOTED_HEADING, RANKED_HEADING, SHARED_SCALE, write_comparison,
-    write_comparison_with,
+    ComparisonOptions, NEEDS_ITS_FOLDER, OWN_SCALES, QUOTED_HEADING, RANKED_HEADING, SHARED_SCALE,
+    write_comparison, write_comparison_with,
 };
-pub use figure::{FigureSize, MIN_TEXT_PT, MM_PER_PT, OKABE_ITO};
 pub use plots::font_available as plot_font_available;
 pub use raster::ZBuffer;
 pub use result_set::{MAP_FILE, ResultSetOptions, default_output_dir, write_results, write_results_with};

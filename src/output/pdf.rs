@@ -91,7 +91,13 @@ impl DrawingBackend for PdfBackend<'_> {
     fn draw_line<S: BackendStyle>(&mut self, from: BackendCoord, to: BackendCoord, style: &S) -> Drawn {
         self.draw_path([from, to], style)
     }
-    fn draw_rect<S: BackendStyle>(&mut self, a: BackendCoord, b: BackendCoord, style: &S, fill: bool) -> Drawn {
+    fn draw_rect<S: BackendStyle>(
+        &mut self,
+        a: BackendCoord,
+        b: BackendCoord,
+        style: &S,
+        fill: bool,
+    ) -> Drawn {
         if style.color().alpha == 0.0 {
             return Ok(());
         }
@@ -107,7 +113,11 @@ impl DrawingBackend for PdfBackend<'_> {
         }
         Ok(())
     }
-    fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(&mut self, path: I, style: &S) -> Drawn {
+    fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        path: I,
+        style: &S,
+    ) -> Drawn {
         if style.color().alpha == 0.0 {
             return Ok(());
         }
@@ -146,7 +156,11 @@ impl DrawingBackend for PdfBackend<'_> {
         );
         Ok(())
     }
-    fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(&mut self, vert: I, style: &S) -> Drawn {
+    fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        vert: I,
+        style: &S,
+    ) -> Drawn {
         if style.color().alpha == 0.0 {
             return Ok(());
         }
@@ -267,7 +281,8 @@ mod tests {
     fn the_cross_reference_table_points_at_each_object() {
         let pdf = pdf_document("0 0 m 1 1 l S\n", (300, 300), "t");
         let text = String::from_utf8_lossy(&pdf).into_owned();
-        let xref_at: usize = text.rsplit("startxref\n").next().unwrap().lines().next().unwrap().parse().unwrap();
+        let xref_at: usize =
+            text.rsplit("startxref\n").next().unwrap().lines().next().unwrap().parse().unwrap();
         assert!(text[xref_at..].starts_with("xref"));
         for (index, line) in text[xref_at..].lines().skip(3).take(6).enumerate() {
             let offset: usize = line[..10].parse().unwrap();

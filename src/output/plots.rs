@@ -28,8 +28,8 @@ use plotters::style::text_anchor;
 
 use crate::error::{Error, Result};
 use crate::output::figure::{
-    DrawResult, FONT_BYTES, FigureSize, KernedBitmap, draw_marker, draw_series_line, mm, pt, series_color, stroke, text_width,
-    svg_in_millimetres,
+    DrawResult, FONT_BYTES, FigureSize, KernedBitmap, draw_marker, draw_series_line, mm, pt, series_color,
+    stroke, svg_in_millimetres, text_width,
 };
 use crate::output::numbers::tick;
 use crate::output::pdf::{PdfBackend, pdf_document};
@@ -118,7 +118,12 @@ macro_rules! drawing {
                 #[allow(clippy::redundant_closure_call)]
                 ($size)(self, size)
             }
-            fn draw_svg(&self, root: &DrawingArea<SVGBackend, Shift>, size: FigureSize, text: bool) -> DrawResult {
+            fn draw_svg(
+                &self,
+                root: &DrawingArea<SVGBackend, Shift>,
+                size: FigureSize,
+                text: bool,
+            ) -> DrawResult {
                 self.draw(root, size, text)
             }
             fn draw_png(&self, root: &DrawingArea<KernedBitmap, Shift>, size: FigureSize) -> DrawResult {
@@ -327,10 +332,8 @@ where
         let y = mm(6.0) + row * index as i32;
         draw_series_line(panel, index, &[(mm(1.0), y), (mm(8.0), y)])?;
         draw_marker(panel, index, (mm(4.5), y), mm(0.8))?;
-        let style = TextStyle::from(("sans-serif", pt(LABEL_PT)).into_font()).pos(text_anchor::Pos::new(
-            text_anchor::HPos::Left,
-            text_anchor::VPos::Center,
-        ));
+        let style = TextStyle::from(("sans-serif", pt(LABEL_PT)).into_font())
+            .pos(text_anchor::Pos::new(text_anchor::HPos::Left, text_anchor::VPos::Center));
         panel.draw(&Text::new(name.to_string(), (mm(10.0), y), style))?;
     }
     Ok(())
@@ -352,7 +355,12 @@ where
 }
 
 impl Visibility<'_> {
-    fn draw<B: DrawingBackend>(&self, root: &DrawingArea<B, Shift>, size: FigureSize, text: bool) -> DrawResult
+    fn draw<B: DrawingBackend>(
+        &self,
+        root: &DrawingArea<B, Shift>,
+        size: FigureSize,
+        text: bool,
+    ) -> DrawResult
     where
         B::ErrorType: 'static,
     {
@@ -491,7 +499,12 @@ impl PartBars {
         mm(if size == FigureSize::OneColumn { 3.4 } else { 3.8 })
     }
 
-    fn draw<B: DrawingBackend>(&self, root: &DrawingArea<B, Shift>, size: FigureSize, text: bool) -> DrawResult
+    fn draw<B: DrawingBackend>(
+        &self,
+        root: &DrawingArea<B, Shift>,
+        size: FigureSize,
+        text: bool,
+    ) -> DrawResult
     where
         B::ErrorType: 'static,
     {
@@ -556,9 +569,11 @@ where
     let mut builder = ChartBuilder::on(area);
     builder.margin_top(mm(1.0)).margin_right(mm(3.0)).margin_bottom(mm(1.0)).margin_left(mm(0.5));
     if layout.text {
-        builder
-            .x_label_area_size(mm(9.0))
-            .y_label_area_size(if layout.first { layout.names_width } else { mm(0.5) });
+        builder.x_label_area_size(mm(9.0)).y_label_area_size(if layout.first {
+            layout.names_width
+        } else {
+            mm(0.5)
+        });
     }
     let mut chart = builder.build_cartesian_2d(0.0..max, (0..order.len()).into_segmented())?;
     let label = |v: &SegmentValue<usize>| match v {
@@ -569,7 +584,10 @@ where
     let x_tick = move |v: &f64| tick(*v, max);
     let mut mesh = chart.configure_mesh();
     style_mesh(&mut mesh);
-    mesh.disable_y_mesh().x_labels(3).x_label_formatter(&x_tick).axis_desc_style(("sans-serif", pt(LABEL_PT)));
+    mesh.disable_y_mesh()
+        .x_labels(3)
+        .x_label_formatter(&x_tick)
+        .axis_desc_style(("sans-serif", pt(LABEL_PT)));
     // plotters overflows on zero labels of a segmented axis: empty ones instead.
     mesh.y_labels(order.len());
     if layout.text && layout.first {

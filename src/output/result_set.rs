@@ -342,10 +342,9 @@ fn write_figures(
         model.write_glb(glb, Some(("heatmap", &png)))?;
     }
     clock.lap("heatmap_glb");
-    let scenario = archive_name(&analysis.result.settings.archive);
     files.map_png = match (track, files.map_png) {
         (Some(track), Some(path)) if font_available() => {
-            write_map(&path, track, model.as_ref(), archive, &scenario)?;
+            write_map(&path, track, model.as_ref(), archive)?;
             Some(path)
         }
         _ => None,
@@ -415,7 +414,6 @@ fn write_map(
     track: &ScenarioTrack,
     vehicle: Option<&VehicleModel>,
     archive: &Path,
-    folder: &str,
 ) -> Result<()> {
     let scene_file = archive.join("scene.glb");
     let scene = if scene_file.is_file() {
@@ -423,10 +421,10 @@ fn write_map(
     } else {
         Ok(SceneShapes { occluders: Vec::new() })
     };
+    // No folder name in a figure (issue 35): the page's caption says the scenario.
     let title = match &track.name {
-        Some(name) if name != folder => format!("Scenario {name} ({folder}) from above"),
         Some(name) => format!("Scenario {name} from above"),
-        None => format!("{folder} from above"),
+        None => "The scenario from above".to_string(),
     };
     write_scenario_map(path, &MapContent { track, scene, vehicle, title })?;
     Ok(())
@@ -437,11 +435,4 @@ pub(crate) fn pedestrian_azimuths(track: Option<&ScenarioTrack>) -> Vec<f64> {
     track.map_or_else(Vec::new, |track| {
         track.frames.iter().filter_map(|f| f.pedestrian_azimuth_deg()).collect()
     })
-}
-
-/// The archive's folder name (the scenario's, for a capture of one), for titles.
-fn archive_name(archive: &str) -> String {
-    Path::new(archive)
-        .file_name()
-        .map_or_else(|| archive.to_string(), |name| name.to_string_lossy().into_owned())
 }

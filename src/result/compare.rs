@@ -139,7 +139,15 @@ pub fn compare_angular_areas(
     };
     let (top_a, top_b) = (top(&a), top(&b));
     let top_k_overlap = top_a.iter().filter(|name| top_b.contains(name)).count();
-    Some(AreaComparison { share_l1_pp, share_max_pp, share_max_part, kendall_tau, tied_pairs, top_k_overlap, top_k })
+    Some(AreaComparison {
+        share_l1_pp,
+        share_max_pp,
+        share_max_part,
+        kendall_tau,
+        tied_pairs,
+        top_k_overlap,
+        top_k,
+    })
 }
 
 /// Kendall's τ-b of paired values, and the number of pairs tied in either

@@ -26,7 +26,8 @@ fn attribute<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
 fn printed_font_sizes_pt(svg: &str) -> (f64, Vec<f64>) {
     let root = &svg[svg.find("<svg").unwrap()..];
     let root = &root[..root.find('>').unwrap()];
-    let width_mm: f64 = attribute(root, "width").unwrap().strip_suffix("mm").expect("width in mm").parse().unwrap();
+    let width_mm: f64 =
+        attribute(root, "width").unwrap().strip_suffix("mm").expect("width in mm").parse().unwrap();
     let view_box: Vec<f64> =
         attribute(root, "viewBox").unwrap().split(' ').map(|v| v.parse().unwrap()).collect();
     let mm_per_unit = width_mm / view_box[2];
@@ -60,14 +61,24 @@ fn every_plot_is_svg_pdf_and_png_at_both_column_widths_with_text_of_at_least_7_p
             assert_eq!(width_mm, width, "{plot}{suffix}.svg");
             assert!(sizes.len() > 5, "{plot}{suffix}.svg has {} texts", sizes.len());
             let smallest = sizes.iter().copied().fold(f64::MAX, f64::min);
-            assert!(smallest >= ufcsr::MIN_TEXT_PT - 1e-6, "{plot}{suffix}.svg: {smallest:.2} pt at {width} mm");
+            assert!(
+                smallest >= ufcsr::MIN_TEXT_PT - 1e-6,
+                "{plot}{suffix}.svg: {smallest:.2} pt at {width} mm"
+            );
             let pdf = std::fs::read(stem.with_extension("pdf")).unwrap();
             let pdf = String::from_utf8_lossy(&pdf);
             assert!(pdf.starts_with("%PDF-1.4") && pdf.trim_end().ends_with("%%EOF"));
             assert!(pdf.contains(") Tj"), "{plot}{suffix}.pdf has no real text");
-            assert!(pdf.contains(&format!("/MediaBox [0 0 {:.2}", (width / 25.4 * 300.0_f64).round() * 72.0 / 300.0)));
+            assert!(pdf.contains(&format!(
+                "/MediaBox [0 0 {:.2}",
+                (width / 25.4 * 300.0_f64).round() * 72.0 / 300.0
+            )));
             let png = image_size(&stem.with_extension("png"));
-            assert_eq!(png[0], (width / 25.4 * 300.0_f64).round() as u32, "{plot}{suffix}.png is not 300 dpi");
+            assert_eq!(
+                png[0],
+                (width / 25.4 * 300.0_f64).round() as u32,
+                "{plot}{suffix}.png is not 300 dpi"
+            );
             assert!(!svg.contains("example"), "{plot}{suffix}.svg names the archive's folder");
         }
     }
@@ -97,11 +108,17 @@ fn the_series_are_okabe_ito_colours_and_every_axis_says_quantity_and_unit() {
     }
     for plot in ["visibility-time", "visibility-distance", "parts"] {
         let svg = std::fs::read_to_string(out.join("plots").join(format!("{plot}.svg"))).unwrap();
-        let texts: Vec<&str> =
-            svg.split("<text").skip(1).map(|t| t[t.find('>').unwrap() + 1..].split('<').next().unwrap().trim()).collect();
+        let texts: Vec<&str> = svg
+            .split("<text")
+            .skip(1)
+            .map(|t| t[t.find('>').unwrap() + 1..].split('<').next().unwrap().trim())
+            .collect();
         let axis_titles: Vec<&&str> = texts.iter().filter(|t| t.contains('(') && t.ends_with(')')).collect();
         assert!(axis_titles.len() >= 2, "{plot}.svg: no \"quantity (unit)\" axis titles in {texts:?}");
-        assert!(!texts.iter().any(|t| t.contains(", s") || t.contains(", m") || t.contains(", deg")), "{texts:?}");
+        assert!(
+            !texts.iter().any(|t| t.contains(", s") || t.contains(", m") || t.contains(", deg")),
+            "{texts:?}"
+        );
     }
 }
 
@@ -119,7 +136,8 @@ fn the_report_leads_with_the_quoted_measures_and_says_it_needs_its_folder() {
     let first_row = table.split("<tr><td>").nth(1).unwrap();
     assert!(first_row.starts_with("windshield<"), "{first_row}");
     // The paper's count is kept, labelled as such, below.
-    let paper = page.find("Paper-compatible: the per-texel count per part").expect("no paper-compatible table");
+    let paper =
+        page.find("Paper-compatible: the per-texel count per part").expect("no paper-compatible table");
     assert!(paper > first_table);
     // Pictures are linked, not embedded: the page says it needs its folder.
     assert!(page.find(ufcsr::NEEDS_ITS_FOLDER).unwrap() < first_table);

@@ -86,7 +86,11 @@ pub fn write_comparison(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
 /// `ufcsr-analyze placement`) or that file adds the placement section
 /// ([`crate::output::html::placement_section`]) with its picture copied
 /// beside the page; then one result is enough.
-pub fn write_comparison_with(paths: &[PathBuf], out_dir: &Path, options: &ComparisonOptions) -> Result<PathBuf> {
+pub fn write_comparison_with(
+    paths: &[PathBuf],
+    out_dir: &Path,
+    options: &ComparisonOptions,
+) -> Result<PathBuf> {
     let (placement_paths, paths): (Vec<PathBuf>, Vec<PathBuf>) =
         paths.iter().cloned().partition(|path| placement_folder(path).is_some());
     if paths.len() < 2 && (paths.is_empty() || placement_paths.is_empty()) {
@@ -132,9 +136,15 @@ pub fn write_comparison_with(paths: &[PathBuf], out_dir: &Path, options: &Compar
 
 /// The result's own picture (the heatmap on the vehicle when it was
 /// rendered, else the texture), copied beside the page as `result-N-NAME`.
-fn copy_image(json: &Path, index: usize, out_dir: &Path, inputs: &mut Vec<PathBuf>) -> Result<Option<String>> {
+fn copy_image(
+    json: &Path,
+    index: usize,
+    out_dir: &Path,
+    inputs: &mut Vec<PathBuf>,
+) -> Result<Option<String>> {
     let dir = json.parent().unwrap_or(Path::new("."));
-    let Some(source) = ["views.png", "heatmap.png"].into_iter().map(|name| dir.join(name)).find(|p| p.is_file())
+    let Some(source) =
+        ["views.png", "heatmap.png"].into_iter().map(|name| dir.join(name)).find(|p| p.is_file())
     else {
         return Ok(None);
     };
@@ -160,7 +170,8 @@ fn shared_scale_image(
     inputs: &[PathBuf],
 ) -> Result<Option<String>> {
     let stored = crate::result::result_json::read_texel_counts(json)?;
-    let options = crate::archive::options::HeatmapOptions { scale: result.settings.heatmap_scale, max: Some(max) };
+    let options =
+        crate::archive::options::HeatmapOptions { scale: result.settings.heatmap_scale, max: Some(max) };
     let had_views = json.parent().unwrap_or(Path::new(".")).join("views.png").is_file();
     if let Some((model, manifest)) = had_views.then(|| vehicle_of(result)).flatten() {
         let folder = out_dir.join(format!("result-{}", index + 1));
@@ -383,7 +394,10 @@ fn render_shares(page: &mut String, entries: &[Entry], header: &str) {
         }
     }
     if names.is_empty() {
-        let _ = writeln!(page, "<h2>Paper-compatible: count shares</h2>\n<p>No result has a parts table (no PIdT).</p>");
+        let _ = writeln!(
+            page,
+            "<h2>Paper-compatible: count shares</h2>\n<p>No result has a parts table (no PIdT).</p>"
+        );
         return;
     }
     let share =
