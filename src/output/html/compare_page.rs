@@ -337,6 +337,16 @@ fn render(entries: &[Entry], placements: &[PlacementOnPage], scale: Option<u32>)
     page
 }
 
+/// `value` for a result of the pixel path; a dash for the exact measure,
+/// which reads no images (its own settings are its measure and definition).
+fn pixel_path_only(result: &AnalysisResult, value: String) -> String {
+    if result.measure == crate::format::result::CountMeasure::Unobstructed {
+        "– (exact)".to_string()
+    } else {
+        value
+    }
+}
+
 /// One row of the settings table: a result's value, as HTML.
 type Setting = dyn Fn(&AnalysisResult) -> String;
 
@@ -359,10 +369,10 @@ fn render_settings(page: &mut String, entries: &[Entry], header: &str) {
             )
         }),
         ("one count means", &|r| format!("{:?}", r.settings.dedupe)),
-        ("trimming", &|r| escape(&r.settings.trim.mode)),
+        ("trimming", &|r| pixel_path_only(r, escape(&r.settings.trim.mode))),
         ("pixels per degree", &|r| optional(r.resolution.as_ref().and_then(|s| s.pixels_per_degree), 2)),
         ("texel size (mm)", &|r| optional(r.resolution.as_ref().and_then(|s| s.texel_size_mm), 2)),
-        ("images decoded", &|r| r.images.decoded.to_string()),
+        ("images decoded", &|r| pixel_path_only(r, r.images.decoded.to_string())),
         ("texels seen", &|r| r.texels_seen.to_string()),
         ("grand total", &|r| r.grand_total.to_string()),
         ("largest count", &|r| r.max_count.to_string()),

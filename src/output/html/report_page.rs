@@ -172,20 +172,35 @@ fn scenario(page: &mut String, inputs: &PageInputs) {
     }
 }
 
-/// Tiles found, decoded, trimmed and failed; texels seen and the totals.
+/// Tiles found, decoded, trimmed and failed (the pixel path's); texels seen
+/// and the totals. A result of the exact measure read no images: it shows
+/// its eye-frames and its definition instead of tile counts.
 fn summary(page: &mut String, inputs: &PageInputs) {
     let result = inputs.result;
     let images = &result.images;
+    let _ = writeln!(page, "<h2>Summary</h2>\n<table>");
+    if result.measure == crate::format::result::CountMeasure::Unobstructed {
+        let eye_frames = result.measures.as_ref().map_or("–".to_string(), |m| grouped(m.eye_frames));
+        let _ = writeln!(
+            page,
+            "<tr><th>measure</th><td>unobstructed (exact: ray traced, no images read)</td></tr>\
+             <tr><th>eye-frames</th><td>{eye_frames}</td></tr>"
+        );
+    } else {
+        let _ = writeln!(
+            page,
+            "<tr><th>tiles found</th><td>{}</td></tr><tr><th>decoded</th><td>{}</td></tr>\
+             <tr><th>trimmed (all background)</th><td>{}</td></tr><tr><th>failed</th><td>{}</td></tr>",
+            grouped(images.found),
+            grouped(images.decoded),
+            grouped(images.trimmed),
+            grouped(images.failed),
+        );
+    }
     let _ = writeln!(
         page,
-        "<h2>Summary</h2>\n<table><tr><th>tiles found</th><td>{}</td></tr><tr><th>decoded</th><td>{}</td></tr>\
-         <tr><th>trimmed (all background)</th><td>{}</td></tr><tr><th>failed</th><td>{}</td></tr>\
-         <tr><th>texels seen</th><td>{}</td></tr><tr><th>grand total</th><td>{}</td></tr>\
+        "<tr><th>texels seen</th><td>{}</td></tr><tr><th>grand total</th><td>{}</td></tr>\
          <tr><th>largest count of a texel</th><td>{}</td></tr></table>",
-        grouped(images.found),
-        grouped(images.decoded),
-        grouped(images.trimmed),
-        grouped(images.failed),
         grouped(result.texels_seen),
         grouped(result.grand_total),
         grouped(u64::from(result.max_count))
@@ -427,28 +442,94 @@ fn files(page: &mut String, inputs: &PageInputs) {
     let _ = writeln!(page, "</ul>");
 }
 
-/// The settings the counts were made with.
+/// The settings the counts were made with: the pixel path's (background,
+/// dedupe, trimming), or the exact measure's (its definition and notes).
 fn settings(page: &mut String, inputs: &PageInputs) {
     let settings = &inputs.result.settings;
     let _ = writeln!(
         page,
         "<h2>Settings</h2>\n<table><tr><th>archive</th><td>{}</td></tr><tr><th>palette</th><td>{} {}×{}</td></tr>\
-         <tr><th>background</th><td>{}</td></tr><tr><th>PIdT</th><td>{}</td></tr><tr><th>legend</th><td>{}</td></tr>\
-         <tr><th>one count means</th><td>{:?}</td></tr><tr><th>trimming</th><td>{}</td></tr><tr><th>shard</th><td>{}</td></tr></table>",
+         <tr><th>PIdT</th><td>{}</td></tr><tr><th>legend</th><td>{}</td></tr>",
         escape(&settings.archive),
         escape(&settings.palette.kind),
         settings.palette.width,
         settings.palette.height,
-        settings.background.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(", "),
         escape(settings.pidt.as_deref().unwrap_or("–")),
         escape(settings.parts.as_deref().unwrap_or("–")),
-        settings.dedupe,
-        escape(&settings.trim.mode),
-        settings.shard.map_or("whole archive".to_string(), |s| s.to_string()),
+    );
+    if inputs.result.measure == crate::format::result::CountMeasure::Unobstructed {
+        let measures = inputs.result.measures.as_ref();
+        let _ = writeln!(
+            page,
+            "<tr><th>one count means</th><td>an eye-frame in which the texel's point is in view, faces the eye \
+             and nothing is in between</td></tr><tr><th>definition</th><td>{}</td></tr>",
+            escape(measures.map_or("–", |m| m.definition.as_str()))
+        );
+        for note in measures.map(|m| m.notes.as_slice()).unwrap_or_default() {
+            let _ = writeln!(page, "<tr><th>note</th><td>{}</td></tr>", escape(note));
+        }
+    } else {
+        let _ = writeln!(
+            page,
+            "<tr><th>background</th><td>{}</td></tr><tr><th>one count means</th><td>{:?}</td></tr>\
+             <tr><th>trimming</th><td>{}</td></tr>",
+            settings.background.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(", "),
+            settings.dedupe,
+            escape(&settings.trim.mode),
+        );
+    }
+    let _ = writeln!(
+        page,
+        "<tr><th>shard</th><td>{}</td></tr></table>",
+        settings.shard.map_or("whole archive".to_string(), |s| s.to_string())
     );
 }
 
 /// The version line and the end of the document.
 fn foot(page: &mut String, _inputs: &PageInputs) {
     let _ = writeln!(page, "<p><small>ufcsr {}</small></p>\n</body></html>", env!("CARGO_PKG_VERSION"));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    fn example_result() -> AnalysisResult {
+        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference/example-result.json");
+        crate::result::result_json::read_result_summary(&path).unwrap()
+    }
+
+    fn page_of(result: &AnalysisResult) -> String {
+        let files = WrittenFiles {
+            result_json: "result.json".into(),
+            parts_csv: None,
+            heatmap_png: "heatmap.png".into(),
+            timings_json: "timings.json".into(),
+            heatmap_glb: None,
+            report_html: "report.html".into(),
+            views_png: None,
+            frames_csv: None,
+            map_png: None,
+            frames_strip_png: None,
+            plots: Vec::new(),
+        };
+        let scenario = ScenarioPage::default();
+        render(&PageInputs { result, files: &files, scenario: &scenario, placement: None })
+    }
+
+    #[test]
+    fn an_exact_measure_result_shows_its_own_settings_not_the_pixel_paths() {
+        let mut result = example_result();
+        let pixel_page = page_of(&result);
+        assert!(pixel_page.contains("<th>trimming</th>") && pixel_page.contains("<th>decoded</th>"));
+        result.measure = crate::format::result::CountMeasure::Unobstructed;
+        let page = page_of(&result);
+        for pixel_only in
+            ["<th>trimming</th>", "<th>decoded</th>", "trimmed (all background)", "<th>background</th>"]
+        {
+            assert!(!page.contains(pixel_only), "an exact result's page shows {pixel_only}");
+        }
+        assert!(page.contains("no images read") && page.contains("<th>definition</th>"));
+    }
 }
