@@ -198,6 +198,7 @@ pub fn write_plots(
     parts: &[PartStats],
     frames: Option<&FrameTable>,
     measures: Option<&Measures>,
+    count_unit: &str,
 ) -> Result<Vec<Plot>> {
     let mut plots = Vec::new();
     if let Some(series) = frames.and_then(VisibilitySeries::new) {
@@ -220,7 +221,7 @@ pub fn write_plots(
         }
     }
     if !parts.is_empty() {
-        let bars = PartBars::new(parts, measures);
+        let bars = PartBars::new(parts, measures, count_unit);
         let title = if bars.quoted {
             "angular area, exposure and the paper's total count per part, the paper's top-5 union marked"
         } else {
@@ -457,10 +458,10 @@ struct PartBars {
 }
 
 impl PartBars {
-    fn new(parts: &[PartStats], measures: Option<&Measures>) -> PartBars {
+    fn new(parts: &[PartStats], measures: Option<&Measures>, unit: &str) -> PartBars {
         let marked = crate::result::part_stats::top_five_union(parts);
         let totals = parts.iter().map(|p| p.total as f64).collect();
-        let total = BarPanel { label: "paper's count, total".into(), values: totals };
+        let total = BarPanel { label: format!("paper's count, total ({unit})"), values: totals };
         let measure = |value: fn(&crate::result::measures::PartMeasure) -> Option<f64>| -> Option<Vec<f64>> {
             let measures = measures?;
             parts
@@ -481,11 +482,11 @@ impl PartBars {
                 vec![
                     total,
                     BarPanel {
-                        label: "paper's count, average".into(),
+                        label: format!("paper's count, average ({unit})"),
                         values: parts.iter().map(|p| p.average).collect(),
                     },
                     BarPanel {
-                        label: "paper's count, peak".into(),
+                        label: format!("paper's count, peak ({unit})"),
                         values: parts.iter().map(|p| f64::from(p.peak)).collect(),
                     },
                 ],

@@ -358,6 +358,7 @@ fn write_figures(
         &analysis.result.parts,
         analysis.frames.as_ref(),
         analysis.result.measures.as_ref(),
+        measure_unit(analysis.result.measure),
     )?;
     clock.lap("plots");
     let scenario_page = ScenarioPage { track: track.as_ref(), strip_skipped };
