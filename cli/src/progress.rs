@@ -133,7 +133,7 @@ mod tests {
     #[test]
     fn rates_and_times_are_rounded_to_what_they_mean() {
         assert_eq!(rate_text(1234.5678), "1235/s");
-        assert_eq!(rate_text(3.14159), "3.1/s");
+        assert_eq!(rate_text(3.0625), "3.1/s");
         assert_eq!(rate_text(f64::NAN), "–/s");
         assert_eq!(left_text(4.2), "5 s left");
         assert_eq!(left_text(600.0), "10 min left");
