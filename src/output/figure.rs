@@ -381,7 +381,7 @@ mod tests {
     }
 
     #[test]
-    fn every_series_of_the_eight_has_its_own_colour_and_marker_or_dash() {
+    fn every_series_of_the_eight_has_its_own_color_and_marker_or_dash() {
         let styles: Vec<_> = (0..8)
             .map(|i| (series_color(i), marker_shape(i, 10), series_dash(i).map(|d| d.0 as i32)))
             .collect();

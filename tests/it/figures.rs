@@ -91,7 +91,7 @@ fn image_size(path: &Path) -> [u32; 2] {
 }
 
 #[test]
-fn the_series_are_okabe_ito_colours_and_every_axis_says_quantity_and_unit() {
+fn the_series_are_okabe_ito_colors_and_every_axis_says_quantity_and_unit() {
     if !ufcsr::plot_font_available() {
         eprintln!("skipped: no TrueType font (UFCSR_FONT or DejaVu Sans) to draw labels with");
         return;
