@@ -158,7 +158,7 @@ impl Staging {
         let outcome = (|| -> Result<()> {
             fs::create_dir_all(&backups).map_err(|e| Error::io(&backups, e))?;
             journal.write(out_dir)?;
-            move_tree(&self.dir, out_dir, &mut moves, true)?;
+            move_tree(&self.dir, out_dir, &mut moves)?;
             if earlier_set {
                 remove_stale_members(out_dir, set, &mut moves)?;
             }
@@ -370,7 +370,7 @@ pub fn finish_interrupted_commit(out_dir: &Path, set: &[&str]) -> Result<bool> {
         // Numbered past what the killed run backed up (its backups go with the folder).
         let counter = fs::read_dir(&backups).map_or(0, |entries| entries.count()) + 1_000_000;
         let mut moves = Moves { backups, counter, done: Vec::new() };
-        move_tree(&staging, out_dir, &mut moves, true)?;
+        move_tree(&staging, out_dir, &mut moves)?;
         fs::remove_dir_all(&staging).map_err(|e| Error::io(&staging, e))?;
     }
     for member in &journal.stale {
@@ -386,10 +386,10 @@ pub fn finish_interrupted_commit(out_dir: &Path, set: &[&str]) -> Result<bool> {
 
 /// Moves the files under `from` into `to` (folders created or merged; a link
 /// where a folder goes replaced by a real folder), backing up each replaced
-/// file and recording every move. `top` skips the staging folder's own
-/// backup folder.
+/// file and recording every move. The staging folder's own backup folder is
+/// skipped (only the top level can hold it: a path deeper down is never it).
 #[allow(clippy::disallowed_methods)] // the layer: renames inside one output folder, a link where a folder goes set aside, never followed
-fn move_tree(from: &Path, to: &Path, moves: &mut Moves, top: bool) -> Result<()> {
+fn move_tree(from: &Path, to: &Path, moves: &mut Moves) -> Result<()> {
     let mut entries: Vec<PathBuf> = fs::read_dir(from)
         .map_err(|e| Error::io(from, e))?
         .map(|entry| entry.map(|e| e.path()).map_err(|e| Error::io(from, e)))
@@ -397,7 +397,7 @@ fn move_tree(from: &Path, to: &Path, moves: &mut Moves, top: bool) -> Result<()>
     entries.sort();
     for entry in entries {
         let Some(name) = entry.file_name() else { continue };
-        if top && entry == moves.backups {
+        if entry == moves.backups {
             continue;
         }
         let target = to.join(name);
@@ -415,7 +415,7 @@ fn move_tree(from: &Path, to: &Path, moves: &mut Moves, top: bool) -> Result<()>
                 }
                 Err(_) => fs::create_dir_all(&target).map_err(|e| Error::io(&target, e))?,
             }
-            move_tree(&entry, &target, moves, false)?;
+            move_tree(&entry, &target, moves)?;
             continue;
         }
         let backup = moves.back_up(&target)?;

@@ -2,7 +2,10 @@
 //!
 //! The image has the palette's size and layout, so it can replace the FCSP on
 //! the unwrapped mesh. Texel `p` gets `plasma(count(p) / max)` (or the log
-//! scale); unseen texels get `plasma(0)`. Counts are integers, so the colour of
+//! scale); never-seen texels (count 0) get the neutral no-data grey
+//! [`NEVER_SEEN`] of the views, so an unseen vehicle is not a navy silhouette in
+//! Blender (`heatmap.glb`) and "never seen" is not confused with "seen a
+//! little" (plasma's dark end). Counts are integers, so the colour of
 //! every possible count is computed once into a table and texels only look it
 //! up — exact, and fast enough to paint 2^24 texels in a blink.
 
@@ -13,6 +16,10 @@ use rayon::prelude::*;
 use crate::archive::options::{HeatmapOptions, Scale};
 use crate::error::Result;
 use crate::files::write_rgb_png;
+
+/// The neutral no-data colour of texels that were never seen (count 0), in
+/// `heatmap.png`, `heatmap.glb` and the views: a grey outside plasma's hues.
+pub const NEVER_SEEN: [u8; 3] = [160, 160, 160];
 
 /// The colormap position in `[0, 1]` of `count` given `max`.
 pub fn position(count: u32, max: u32, scale: Scale) -> f64 {
@@ -41,22 +48,21 @@ pub fn render(texel_counts: &[u32], width: u32, options: HeatmapOptions) -> Vec<
     // math. Up to the largest count present, not to `max`: `--max 4000000000`
     // must not build a 12 GB table.
     let top = max.min(largest);
+    // Never seen: the neutral no-data grey; seen: plasma.
+    let color_of =
+        |count: u32| if count == 0 { NEVER_SEEN } else { plasma(position(count, max, options.scale)) };
     let mut rgb = vec![0u8; texel_counts.len() * 3];
     let row = width.max(1) as usize;
     // A table sized by the largest count's value, not by how many texels
     // there are: one count of 10⁹ would make it 3 GB (issue 34). Above
     // TABLE_LIMIT each texel's colour is computed (the same colours).
-    let table: Vec<[u8; 3]> = if top <= TABLE_LIMIT {
-        (0..=top).map(|count| plasma(position(count, max, options.scale))).collect()
-    } else {
-        Vec::new()
-    };
+    let table: Vec<[u8; 3]> = if top <= TABLE_LIMIT { (0..=top).map(color_of).collect() } else { Vec::new() };
     rgb.par_chunks_mut(row * 3).zip(texel_counts.par_chunks(row)).for_each(|(out, counts)| {
         for (pixel, &count) in out.chunks_exact_mut(3).zip(counts) {
             let count = count.min(top);
             match table.get(count as usize) {
                 Some(color) => pixel.copy_from_slice(color),
-                None => pixel.copy_from_slice(&plasma(position(count, max, options.scale))),
+                None => pixel.copy_from_slice(&color_of(count)),
             }
         }
     });
@@ -83,9 +89,9 @@ mod tests {
     use super::*;
 
     #[test]
-    fn endpoints_are_plasma_ends_and_scale_clamps() {
+    fn never_seen_is_grey_and_seen_texels_follow_plasma_clamped() {
         let rgb = render(&[0, 2, 4, 9], 4, HeatmapOptions { scale: Scale::Linear, max: Some(4) });
-        assert_eq!(&rgb[0..3], &plasma(0.0));
+        assert_eq!(&rgb[0..3], &NEVER_SEEN, "never seen is the no-data grey, not plasma's navy");
         assert_eq!(&rgb[3..6], &plasma(0.5));
         assert_eq!(&rgb[6..9], &plasma(1.0));
         assert_eq!(&rgb[9..12], &plasma(1.0), "counts above --max clamp");
@@ -100,7 +106,8 @@ mod tests {
         for scale in [Scale::Linear, Scale::Log] {
             let rgb = render(&counts, 5, HeatmapOptions { scale, max: None });
             for (pixel, &count) in rgb.chunks_exact(3).zip(&counts) {
-                assert_eq!(pixel, plasma(position(count, u32::MAX, scale)), "{count}");
+                let expected = if count == 0 { NEVER_SEEN } else { plasma(position(count, u32::MAX, scale)) };
+                assert_eq!(pixel, expected, "{count}");
             }
         }
     }

@@ -18,8 +18,6 @@
 //! two) with a colour bar underneath; the shading, outlines, compass and
 //! the sheet's words are [`crate::output::view_sheet`]'s.
 
-use std::path::Path;
-
 use crate::archive::vehicle_model::VehicleModel;
 use crate::format::result::CountMeasure;
 use crate::output::raster::ZBuffer;
@@ -28,8 +26,7 @@ use crate::{
     output::heatmap::{plasma, position},
 };
 
-/// Colour of texels on the vehicle that were never seen.
-pub const NEVER_SEEN: [u8; 3] = [160, 160, 160];
+pub use crate::output::heatmap::NEVER_SEEN;
 const PAPER: [u8; 3] = [255, 255, 255];
 /// Size of one view at `--views-scale 1`.
 pub const VIEW_BASE: (u32, u32) = (400, 300);
@@ -210,12 +207,11 @@ pub fn measure_unit(measure: CountMeasure) -> &'static str {
     }
 }
 
-/// The contact sheet's caption: the measure in words and the scenario
-/// (its name from the manifest, else the archive's folder name).
-pub fn views_caption(measure: CountMeasure, archive: &str, scenario: Option<&str>) -> String {
-    let folder = Path::new(archive)
-        .file_name()
-        .map_or_else(|| archive.to_string(), |n| n.to_string_lossy().into_owned());
+/// The contact sheet's caption: the measure in words and the scenario's
+/// name from the manifest. The archive's folder name is not a figure's to
+/// carry (issue 35: the page's captions say the scenario); `_archive` is
+/// kept for callers.
+pub fn views_caption(measure: CountMeasure, _archive: &str, scenario: Option<&str>) -> String {
     let what = match measure {
         CountMeasure::Pixels => "Images in which each point of the vehicle was seen",
         CountMeasure::Unobstructed => {
@@ -223,9 +219,8 @@ pub fn views_caption(measure: CountMeasure, archive: &str, scenario: Option<&str
         }
     };
     match scenario {
-        Some(name) if name != folder => format!("{what} · scenario {name} ({folder})"),
-        Some(name) => format!("{what} · scenario {name}"),
-        None => format!("{what} · {folder}"),
+        Some(name) => format!("{what} (paper-compatible count) · scenario {name}"),
+        None => format!("{what} (paper-compatible count)"),
     }
 }
 

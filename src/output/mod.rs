@@ -4,15 +4,18 @@
 //! vehicle model with it (`heatmap.glb`, the archive's [`crate::VehicleModel`]
 //! with the heatmap as its texture), the eight views (drawn with the CPU
 //! rasterizer [`raster`], which the capture's inspect pictures share), the
-//! plots and the HTML pages ([`html`]).
+//! plots ([`plots`], drawn for journal columns as PNG, SVG and PDF by
+//! [`figure`] and [`pdf`]) and the HTML pages ([`html`]).
 
 pub(crate) mod console_table;
 pub(crate) mod csv;
+pub(crate) mod figure;
 pub(crate) mod frame_strip;
 pub(crate) mod heatmap;
 pub(crate) mod heatmap_views;
 pub(crate) mod html;
 pub(crate) mod numbers;
+pub(crate) mod pdf;
 pub(crate) mod plots;
 pub(crate) mod raster;
 pub(crate) mod result_set;
@@ -23,6 +26,7 @@ pub(crate) mod written_files;
 
 pub use console_table::{format_counted_table, format_table};
 pub use csv::{CsvStyle, csv_field, write_parts_csv};
+pub use figure::{FigureSize, MIN_TEXT_PT, MM_PER_PT, OKABE_ITO};
 pub use frame_strip::{FRAME_STRIP_FILE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED};
 pub use heatmap::{plasma, render as render_heatmap, write_heatmap};
 pub use heatmap_views::{
@@ -30,7 +34,10 @@ pub use heatmap_views::{
     render_view, view_cameras, views_caption,
 };
 pub use html::escape::escape as html_escape;
-pub use html::write_comparison;
+pub use html::{
+    ComparisonOptions, NEEDS_ITS_FOLDER, OWN_SCALES, QUOTED_HEADING, RANKED_HEADING, SHARED_SCALE,
+    write_comparison, write_comparison_with,
+};
 pub use plots::font_available as plot_font_available;
 pub use raster::ZBuffer;
 pub use result_set::{MAP_FILE, ResultSetOptions, default_output_dir, write_results, write_results_with};

@@ -1,33 +1,59 @@
-//! Plots for people, under `--out/plots/` (PNG and SVG each): the
-//! visibility of the most visible parts against time and against the
-//! vehicle's distance (from `frames.csv`), and the paper's per-part bar
-//! chart — total, average and peak count, the paper's top-5 union marked.
-//! Each title names the archive (the scenario); ticks of counts are whole
-//! numbers with thousands separators, lines carry no per-frame markers, and
-//! the legend sits beside the plot, never over a curve.
+//! Plots for people and papers, under `--out/plots/`: the visibility of
+//! the most visible parts against time and against the vehicle's distance
+//! (from `frames.csv`), and the per-part bar chart — the measures to quote
+//! (angular area, exposure) when the result has them, else the paper's
+//! counts, the paper's top-5 union marked.
+//!
+//! Each plot is written for two journal column widths (`NAME.*` two
+//! columns, 183 mm; `NAME-1col.*` one column, 89 mm; see
+//! [`crate::output::figure`]) as PNG (300 dpi, kerned text), SVG and PDF
+//! (vector, real text), all text ≥ 7 pt at the printed size. Series carry
+//! the Okabe–Ito colours plus a marker and a dash each; every axis says
+//! "quantity (unit)"; no figure carries the archive's folder name (the
+//! page's captions say the scenario). Ticks of counts are whole numbers
+//! with thousands separators, and the legend sits beside the plot, never
+//! over a curve.
 //!
 //! Labels need a TrueType font, looked up at run time (`UFCSR_FONT`, else
 //! DejaVu Sans where Debian and most distributions put it) so that building
 //! needs no fontconfig; without one the SVGs are drawn without text and no
-//! PNG is written (the report then shows the SVGs).
+//! PNG or PDF is written (the report then shows the SVGs).
 
 use std::path::{Path, PathBuf};
-use std::sync::OnceLock;
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::SegmentValue;
 use plotters::prelude::*;
+use plotters::style::text_anchor;
 
 use crate::error::{Error, Result};
+use crate::output::figure::{
+    DrawResult, FONT_BYTES, FigureSize, KernedBitmap, draw_marker, draw_series_line, mm, pt, series_color,
+    stroke, svg_in_millimetres, text_width,
+};
 use crate::output::numbers::tick;
+use crate::output::pdf::{PdfBackend, pdf_document};
+use crate::result::measures::Measures;
 use crate::result::part_stats::PartStats;
 use crate::{count::part_lookup::FrameLabel, result::frames::FrameTable};
 
 /// Folder of the plots inside the output folder.
 pub const PLOTS_DIR: &str = "plots";
 
-/// Every plot a result set can have (`plots/NAME.svg`, `.png`).
+/// Every plot a result set can have (`plots/NAME.svg`, `.png`, `.pdf`, and
+/// the same with `-1col`).
 pub const PLOT_NAMES: [&str; 3] = ["visibility-time", "visibility-distance", "parts"];
+
+/// Every file name a plot can have, relative to [`PLOTS_DIR`].
+pub fn plot_file_names() -> Vec<String> {
+    let mut names = Vec::new();
+    for plot in PLOT_NAMES {
+        for size in FigureSize::ALL {
+            names.extend(["svg", "png", "pdf"].iter().map(|ext| format!("{plot}{}.{ext}", size.suffix())));
+        }
+    }
+    names
+}
 
 /// Parts drawn in the time and distance plots.
 pub const TOP_PARTS: usize = 8;
@@ -41,78 +67,142 @@ const FONT_CANDIDATES: [&str; 3] = [
 /// Registers a sans-serif font with plotters once; false when none is found
 /// (`ufcsr-capture`'s study plot uses it too).
 pub fn font_available() -> bool {
-    static FOUND: OnceLock<bool> = OnceLock::new();
-    *FOUND.get_or_init(|| {
-        let mut candidates: Vec<PathBuf> =
-            std::env::var_os("UFCSR_FONT").map(PathBuf::from).into_iter().collect();
-        candidates.extend(FONT_CANDIDATES.iter().map(PathBuf::from));
-        for path in candidates {
-            if let Ok(bytes) = crate::files::read_limited(&path, crate::files::SMALL_INPUT_LIMIT) {
-                // plotters keeps fonts for the life of the process.
-                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-                if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
-                    return true;
+    FONT_BYTES
+        .get_or_init(|| {
+            let mut candidates: Vec<PathBuf> =
+                std::env::var_os("UFCSR_FONT").map(PathBuf::from).into_iter().collect();
+            candidates.extend(FONT_CANDIDATES.iter().map(PathBuf::from));
+            for path in candidates {
+                if let Ok(bytes) = crate::files::read_limited(&path, crate::files::SMALL_INPUT_LIMIT) {
+                    // plotters keeps fonts for the life of the process.
+                    let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+                    if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
+                        return Some(bytes);
+                    }
                 }
             }
-        }
-        false
-    })
+            None
+        })
+        .is_some()
 }
 
 /// One plot as written: its name and the image to show (PNG when a font
 /// was found, else SVG).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plot {
-    /// What it shows, for the report's alt text.
+    /// What it shows, for the report's alt text and caption.
     pub title: String,
     /// The image to show, relative to the output folder (`plots/NAME.png`).
     pub shown: String,
-    /// The SVG, relative to the output folder.
+    /// The two-column SVG, relative to the output folder.
     pub svg: String,
+    /// The two-column PDF, relative to the output folder (with a font).
+    pub pdf: Option<String>,
+    /// Every file written for the plot, relative to the output folder.
+    pub files: Vec<String>,
 }
 
-type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
-
-/// A plot drawn on any backend (`text`: whether labels can be drawn).
+/// A plot drawn on any backend at a printed size (`text`: whether labels can be drawn).
 trait Drawing {
-    fn size(&self) -> (u32, u32);
-    fn draw_svg(&self, root: &DrawingArea<SVGBackend, Shift>, text: bool) -> DrawResult;
-    fn draw_png(&self, root: &DrawingArea<BitMapBackend, Shift>) -> DrawResult;
+    fn size(&self, size: FigureSize) -> (u32, u32);
+    fn draw_svg(&self, root: &DrawingArea<SVGBackend, Shift>, size: FigureSize, text: bool) -> DrawResult;
+    fn draw_png(&self, root: &DrawingArea<KernedBitmap, Shift>, size: FigureSize) -> DrawResult;
+    fn draw_pdf(&self, root: &DrawingArea<PdfBackend, Shift>, size: FigureSize) -> DrawResult;
 }
 
-/// Writes `drawing` as `plots/NAME.svg` and, with a font, `plots/NAME.png`.
+/// Implements [`Drawing`] for a type with a generic `draw(root, size, text)`.
+macro_rules! drawing {
+    ($type:ty, $size:expr) => {
+        impl Drawing for $type {
+            fn size(&self, size: FigureSize) -> (u32, u32) {
+                #[allow(clippy::redundant_closure_call)]
+                ($size)(self, size)
+            }
+            fn draw_svg(
+                &self,
+                root: &DrawingArea<SVGBackend, Shift>,
+                size: FigureSize,
+                text: bool,
+            ) -> DrawResult {
+                self.draw(root, size, text)
+            }
+            fn draw_png(&self, root: &DrawingArea<KernedBitmap, Shift>, size: FigureSize) -> DrawResult {
+                self.draw(root, size, true)
+            }
+            fn draw_pdf(&self, root: &DrawingArea<PdfBackend, Shift>, size: FigureSize) -> DrawResult {
+                self.draw(root, size, true)
+            }
+        }
+    };
+}
+
+fn drawing_error(path: &Path, error: impl std::fmt::Display) -> Error {
+    Error::bad_file(path, format!("drawing the plot: {error}"))
+}
+
+/// Writes `drawing` at both column widths as `plots/NAME[-1col].svg` and,
+/// with a font, `.png` and `.pdf`.
 fn write_plot(out_dir: &Path, name: &str, title: &str, drawing: &dyn Drawing) -> Result<Plot> {
     let dir = out_dir.join(PLOTS_DIR);
     crate::files::real_dir(&dir)?;
     let text = font_available();
-    let svg = dir.join(format!("{name}.svg"));
-    {
-        let root = SVGBackend::new(&svg, drawing.size()).into_drawing_area();
-        drawing.draw_svg(&root, text).map_err(|e| Error::bad_file(&svg, format!("drawing the plot: {e}")))?;
+    let mut files = Vec::new();
+    for size in FigureSize::ALL {
+        let (w, h) = drawing.size(size);
+        let stem = format!("{name}{}", size.suffix());
+        let path = dir.join(format!("{stem}.svg"));
+        let mut svg = String::new();
+        {
+            let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+            drawing.draw_svg(&root, size, text).map_err(|e| drawing_error(&path, e))?;
+            root.present().map_err(|e| drawing_error(&path, e))?;
+        }
+        crate::files::write_bytes_atomically(&path, svg_in_millimetres(&svg, size, h).as_bytes())?;
+        files.push(format!("{PLOTS_DIR}/{stem}.svg"));
+        if !text {
+            continue;
+        }
+        let path = dir.join(format!("{stem}.png"));
+        let mut rgb = vec![255u8; w as usize * h as usize * 3];
+        {
+            let root = KernedBitmap(BitMapBackend::with_buffer(&mut rgb, (w, h))).into_drawing_area();
+            drawing.draw_png(&root, size).map_err(|e| drawing_error(&path, e))?;
+            root.present().map_err(|e| drawing_error(&path, e))?;
+        }
+        crate::files::write_rgb_png(&path, [w, h], &rgb, png::Compression::Fast)?;
+        files.push(format!("{PLOTS_DIR}/{stem}.png"));
+        let path = dir.join(format!("{stem}.pdf"));
+        let mut content = String::new();
+        {
+            let root = PdfBackend::new(&mut content, (w, h)).into_drawing_area();
+            drawing.draw_pdf(&root, size).map_err(|e| drawing_error(&path, e))?;
+        }
+        crate::files::write_bytes_atomically(&path, &pdf_document(&content, (w, h), title))?;
+        files.push(format!("{PLOTS_DIR}/{stem}.pdf"));
     }
-    let mut shown = format!("{PLOTS_DIR}/{name}.svg");
-    if text {
-        let png = dir.join(format!("{name}.png"));
-        let root = BitMapBackend::new(&png, drawing.size()).into_drawing_area();
-        drawing.draw_png(&root).map_err(|e| Error::bad_file(&png, format!("drawing the plot: {e}")))?;
-        shown = format!("{PLOTS_DIR}/{name}.png");
-    }
-    Ok(Plot { title: title.to_string(), shown, svg: format!("{PLOTS_DIR}/{name}.svg") })
+    let ext = if text { "png" } else { "svg" };
+    Ok(Plot {
+        title: title.to_string(),
+        shown: format!("{PLOTS_DIR}/{name}.{ext}"),
+        svg: format!("{PLOTS_DIR}/{name}.svg"),
+        pdf: text.then(|| format!("{PLOTS_DIR}/{name}.pdf")),
+        files,
+    })
 }
 
 /// Writes every plot the data allows into `out_dir/plots/`: the time and
 /// distance plots need `frames` with eye-frames (a manifest), the bar chart
-/// needs parts.
-/// `scenario` (the archive's name) goes into every title.
+/// needs parts (and shows `measures` when the result has them).
 pub fn write_plots(
     out_dir: &Path,
     parts: &[PartStats],
     frames: Option<&FrameTable>,
-    scenario: &str,
+    measures: Option<&Measures>,
+    count_unit: &str,
 ) -> Result<Vec<Plot>> {
     let mut plots = Vec::new();
     if let Some(series) = frames.and_then(VisibilitySeries::new) {
-        let by_time = Visibility { series: &series, against_distance: false, scenario };
+        let by_time = Visibility { series: &series, against_distance: false };
         let what = series.quantity();
         plots.push(write_plot(
             out_dir,
@@ -121,7 +211,7 @@ pub fn write_plots(
             &by_time,
         )?);
         if series.has_distance {
-            let by_distance = Visibility { series: &series, against_distance: true, scenario };
+            let by_distance = Visibility { series: &series, against_distance: true };
             plots.push(write_plot(
                 out_dir,
                 "visibility-distance",
@@ -131,13 +221,13 @@ pub fn write_plots(
         }
     }
     if !parts.is_empty() {
-        let bars = PartBars { parts, scenario };
-        plots.push(write_plot(
-            out_dir,
-            "parts",
-            "total, average and peak count per part, the paper's top-5 union marked",
-            &bars,
-        )?);
+        let bars = PartBars::new(parts, measures, count_unit);
+        let title = if bars.quoted {
+            "angular area, exposure and the paper's total count per part, the paper's top-5 union marked"
+        } else {
+            "the paper's total, average and peak count per part, its top-5 union marked"
+        };
+        plots.push(write_plot(out_dir, "parts", title, &bars)?);
     }
     Ok(plots)
 }
@@ -215,55 +305,71 @@ impl VisibilitySeries {
     }
 }
 
-/// Line colours of the top parts.
-fn series_color(index: usize) -> RGBColor {
-    const COLORS: [RGBColor; TOP_PARTS] = [
-        RGBColor(31, 119, 180),
-        RGBColor(255, 127, 14),
-        RGBColor(44, 160, 44),
-        RGBColor(214, 39, 40),
-        RGBColor(148, 103, 189),
-        RGBColor(140, 86, 75),
-        RGBColor(227, 119, 194),
-        RGBColor(127, 127, 127),
-    ];
-    COLORS[index % TOP_PARTS]
-}
-
 struct Visibility<'a> {
     series: &'a VisibilitySeries,
     against_distance: bool,
-    /// The archive's name, for the title.
-    scenario: &'a str,
 }
 
-/// Width of the legend panel right of the time and distance plots.
-const LEGEND_WIDTH: u32 = 230;
+/// Width of the legend panel right of the time and distance plots: room
+/// for the longest name (never cut), at most half the figure.
+fn legend_width(names: &[&str], figure_width: i32) -> i32 {
+    let longest = names.iter().map(|n| text_width(n, pt(LABEL_PT))).max().unwrap_or(0);
+    (longest + mm(12.0)).min(figure_width / 2)
+}
+
+/// Tick labels and legend entries, in points.
+const LABEL_PT: f64 = 7.5;
+/// Axis titles, in points.
+const AXIS_PT: f64 = 8.5;
 
 /// The legend of the top parts in its own panel (beside the data, so it
-/// never hides a curve): a coloured line and the part's name per row.
+/// never hides a curve): each series' line, dash and marker, and the part's name.
 fn draw_legend<B: DrawingBackend>(panel: &DrawingArea<B, Shift>, names: &[&str]) -> DrawResult
 where
     B::ErrorType: 'static,
 {
+    let row = (pt(LABEL_PT) * 1.3) as i32;
     for (index, name) in names.iter().enumerate() {
-        let y = 60 + 22 * index as i32;
-        let color = series_color(index);
-        panel.draw(&PathElement::new(vec![(8, y), (32, y)], color.stroke_width(3)))?;
-        panel.draw(&Text::new(name.to_string(), (40, y - 7), ("sans-serif", 13)))?;
+        let y = mm(6.0) + row * index as i32;
+        draw_series_line(panel, index, &[(mm(1.0), y), (mm(8.0), y)])?;
+        draw_marker(panel, index, (mm(4.5), y), mm(0.8))?;
+        let style = TextStyle::from(("sans-serif", pt(LABEL_PT)).into_font())
+            .pos(text_anchor::Pos::new(text_anchor::HPos::Left, text_anchor::VPos::Center));
+        panel.draw(&Text::new(name.to_string(), (mm(10.0), y), style))?;
     }
     Ok(())
 }
 
+/// Mesh lines, axes and labels in print sizes.
+fn style_mesh<X, Y, B>(mesh: &mut plotters::chart::MeshStyle<'_, '_, X, Y, B>)
+where
+    X: plotters::coord::ranged1d::Ranged,
+    Y: plotters::coord::ranged1d::Ranged,
+    B: DrawingBackend,
+{
+    mesh.label_style(("sans-serif", pt(LABEL_PT)))
+        .axis_desc_style(("sans-serif", pt(AXIS_PT)))
+        .light_line_style(RGBColor(238, 238, 238).stroke_width(stroke(0.3)))
+        .bold_line_style(RGBColor(210, 210, 210).stroke_width(stroke(0.4)))
+        .axis_style(BLACK.stroke_width(stroke(0.6)))
+        .set_all_tick_mark_size(mm(1.0));
+}
+
 impl Visibility<'_> {
-    fn draw<B: DrawingBackend>(&self, root: &DrawingArea<B, Shift>, text: bool) -> DrawResult
+    fn draw<B: DrawingBackend>(
+        &self,
+        root: &DrawingArea<B, Shift>,
+        size: FigureSize,
+        text: bool,
+    ) -> DrawResult
     where
         B::ErrorType: 'static,
     {
         root.fill(&WHITE)?;
+        let names: Vec<&str> = self.series.parts.iter().map(|(name, _)| name.as_str()).collect();
         let (plot_area, legend_area) = if text {
-            let width = root.dim_in_pixel().0;
-            root.split_horizontally(width.saturating_sub(LEGEND_WIDTH))
+            let width = root.dim_in_pixel().0 as i32;
+            root.split_horizontally(width - legend_width(&names, width))
         } else {
             (root.clone(), root.clone())
         };
@@ -278,45 +384,49 @@ impl Visibility<'_> {
         let y_max =
             self.series.parts.iter().flat_map(|(_, ys)| ys.iter().copied()).fold(1.0, f64::max) * 1.08;
         let mut builder = ChartBuilder::on(&plot_area);
-        builder.margin(20);
+        builder.margin(mm(2.5));
         if text {
-            let caption = if self.against_distance {
-                format!("{}: visibility of the top parts against distance", self.scenario)
-            } else {
-                format!("{}: visibility of the top parts over time", self.scenario)
-            };
-            builder.caption(caption, ("sans-serif", 20)).x_label_area_size(45).y_label_area_size(80);
+            builder.x_label_area_size(mm(10.0)).y_label_area_size(mm(13.0));
         }
         let mut chart = builder.build_cartesian_2d(x_min..x_max, 0.0..y_max)?;
         let mut mesh = chart.configure_mesh();
         let x_span = x_max - x_min;
         let x_tick = move |v: &f64| tick(*v, x_span);
         let y_tick = move |v: &f64| tick(*v, y_max);
+        style_mesh(&mut mesh);
+        let ticks = if size == FigureSize::OneColumn { 5 } else { 9 };
         if text {
-            mesh.x_desc(if self.against_distance { "vehicle distance, m" } else { "time, s" })
+            mesh.x_desc(if self.against_distance { "vehicle distance (m)" } else { "time (s)" })
                 .y_desc(if self.series.angular {
-                    "angular area of the part, deg² (per eye)"
+                    "angular area per eye (deg²)"
                 } else {
-                    "pixels showing the part (per eye)"
+                    "part's pixels per eye (px)"
                 })
+                .x_labels(ticks)
+                .y_labels(6)
                 .x_label_formatter(&x_tick)
                 .y_label_formatter(&y_tick);
         } else {
             mesh.x_labels(0).y_labels(0);
         }
         mesh.draw()?;
+        let markers = if size == FigureSize::OneColumn { 6 } else { 10 };
         for (index, (_, ys)) in self.series.parts.iter().enumerate() {
-            let color = series_color(index);
             let mut points: Vec<(f64, f64)> = xs.iter().copied().zip(ys.iter().copied()).collect();
             if self.against_distance {
                 // Distance need not change monotonically: points, joined in distance order.
                 points.sort_by(|a, b| a.0.total_cmp(&b.0));
             }
-            // A plain line: per-frame markers thicken it into a band at 181 frames.
-            chart.draw_series(LineSeries::new(points, color.stroke_width(2)))?;
+            let pixels: Vec<(i32, i32)> = points.iter().map(|p| chart.backend_coord(p)).collect();
+            draw_series_line(root, index, &pixels)?;
+            // A few markers per curve (offset per series so they do not stack):
+            // one per frame would thicken it into a band at 181 frames.
+            let step = (pixels.len() / markers).max(1);
+            for at in pixels.iter().skip((index * step) / TOP_PARTS).step_by(step) {
+                draw_marker(root, index, *at, mm(0.8))?;
+            }
         }
         if text {
-            let names: Vec<&str> = self.series.parts.iter().map(|(name, _)| name.as_str()).collect();
             draw_legend(&legend_area, &names)?;
         }
         root.present()?;
@@ -324,117 +434,190 @@ impl Visibility<'_> {
     }
 }
 
-impl Drawing for Visibility<'_> {
-    fn size(&self) -> (u32, u32) {
-        (900 + LEGEND_WIDTH, 520)
-    }
-    fn draw_svg(&self, root: &DrawingArea<SVGBackend, Shift>, text: bool) -> DrawResult {
-        self.draw(root, text)
-    }
-    fn draw_png(&self, root: &DrawingArea<BitMapBackend, Shift>) -> DrawResult {
-        self.draw(root, true)
-    }
+drawing!(Visibility<'_>, |_: &Visibility<'_>, size: FigureSize| {
+    let width = size.width_px();
+    (width, (f64::from(width) * if size == FigureSize::OneColumn { 0.75 } else { 0.5 }) as u32)
+});
+
+/// One panel of the bar chart: its axis title and a value per part.
+struct BarPanel {
+    label: String,
+    values: Vec<f64>,
 }
 
-/// One measure of a part, as a bar length.
-type PartValue = fn(&PartStats) -> f64;
-
-/// Horizontal bars per part (sorted by total): total, average, peak.
-struct PartBars<'a> {
-    parts: &'a [PartStats],
-    /// The archive's name, for the title.
-    scenario: &'a str,
+/// Horizontal bars per part (sorted by the first panel): angular area,
+/// exposure and the paper's total count when the result has measures; else
+/// the paper's total, average and peak count.
+struct PartBars {
+    names: Vec<String>,
+    /// The paper's top-5 union, per part.
+    marked: Vec<bool>,
+    panels: Vec<BarPanel>,
+    /// Whether the first panels are the measures to quote.
+    quoted: bool,
 }
 
-impl PartBars<'_> {
-    fn draw<B: DrawingBackend>(&self, root: &DrawingArea<B, Shift>, text: bool) -> DrawResult
+impl PartBars {
+    fn new(parts: &[PartStats], measures: Option<&Measures>, unit: &str) -> PartBars {
+        let marked = crate::result::part_stats::top_five_union(parts);
+        let totals = parts.iter().map(|p| p.total as f64).collect();
+        let total = BarPanel { label: format!("paper's count, total ({unit})"), values: totals };
+        let measure = |value: fn(&crate::result::measures::PartMeasure) -> Option<f64>| -> Option<Vec<f64>> {
+            let measures = measures?;
+            parts
+                .iter()
+                .map(|p| measures.parts.iter().find(|m| m.name == p.name).map_or(Some(0.0), value))
+                .collect()
+        };
+        let (panels, quoted) = match (measure(|m| m.angular_area_deg2_s), measure(|m| m.exposure_s)) {
+            (Some(area), Some(exposure)) => (
+                vec![
+                    BarPanel { label: "angular area (deg²·s)".into(), values: area },
+                    BarPanel { label: "exposure (s)".into(), values: exposure },
+                    total,
+                ],
+                true,
+            ),
+            _ => (
+                vec![
+                    total,
+                    BarPanel {
+                        label: format!("paper's count, average ({unit})"),
+                        values: parts.iter().map(|p| p.average).collect(),
+                    },
+                    BarPanel {
+                        label: format!("paper's count, peak ({unit})"),
+                        values: parts.iter().map(|p| f64::from(p.peak)).collect(),
+                    },
+                ],
+                false,
+            ),
+        };
+        PartBars { names: parts.iter().map(|p| p.name.clone()).collect(), marked, panels, quoted }
+    }
+
+    fn row_height(size: FigureSize) -> i32 {
+        mm(if size == FigureSize::OneColumn { 3.4 } else { 3.8 })
+    }
+
+    fn draw<B: DrawingBackend>(
+        &self,
+        root: &DrawingArea<B, Shift>,
+        size: FigureSize,
+        text: bool,
+    ) -> DrawResult
     where
         B::ErrorType: 'static,
     {
         root.fill(&WHITE)?;
-        let parts = self.parts;
-        let marked = crate::result::part_stats::top_five_union(parts);
-        let mut order: Vec<usize> = (0..parts.len()).collect();
-        // Bottom up: the part with the highest total ends up on top.
-        order.sort_by(|&a, &b| parts[a].total.cmp(&parts[b].total).then(b.cmp(&a)));
+        let first = &self.panels[0].values;
+        let mut order: Vec<usize> = (0..self.names.len()).collect();
+        // Bottom up: the part with the largest first value ends up on top.
+        order.sort_by(|&a, &b| first[a].total_cmp(&first[b]).then(b.cmp(&a)));
         let names: Vec<String> = order
             .iter()
-            .map(|&i| if marked[i] { format!("* {}", parts[i].name) } else { parts[i].name.clone() })
+            .map(|&i| if self.marked[i] { format!("* {}", self.names[i]) } else { self.names[i].clone() })
             .collect();
         let root = if text {
-            let (top, rest) = root.split_vertically(40);
-            top.titled(
-                &format!(
-                    "{}: total, average and peak count per part (orange, *: the paper's top-5 union)",
-                    self.scenario
-                ),
-                ("sans-serif", 18),
-            )?;
+            let (top, rest) = root.split_vertically(mm(6.0));
+            let key = "orange, *: the paper's top-5 union (by count)";
+            top.draw(&Text::new(key, (mm(2.0), mm(1.5)), ("sans-serif", pt(LABEL_PT))))?;
             rest
         } else {
             root.clone()
         };
-        let panels = root.split_evenly((1, 3));
-        let measures: [(&str, PartValue); 3] =
-            [("total", |p| p.total as f64), ("average", |p| p.average), ("peak", |p| f64::from(p.peak))];
-        for (panel_index, (panel, (label, value))) in panels.iter().zip(measures.iter()).enumerate() {
-            let max = order.iter().map(|&i| value(&parts[i])).fold(0.0, f64::max).max(1e-9) * 1.05;
-            let mut builder = ChartBuilder::on(panel);
-            builder.margin(8);
-            if text {
-                builder
-                    .caption(*label, ("sans-serif", 15))
-                    .x_label_area_size(30)
-                    .y_label_area_size(if panel_index == 0 { 170 } else { 8 });
-            }
-            let mut chart = builder.build_cartesian_2d(0.0..max, (0..order.len()).into_segmented())?;
-            let label = |v: &SegmentValue<usize>| match v {
-                SegmentValue::CenterOf(i) | SegmentValue::Exact(i) => {
-                    names.get(*i).cloned().unwrap_or_default()
-                }
-                SegmentValue::Last => String::new(),
-            };
-            let mut mesh = chart.configure_mesh();
-            let x_tick = move |v: &f64| tick(*v, max);
-            mesh.disable_y_mesh().x_labels(4).x_label_formatter(&x_tick);
-            let no_label = |_: &SegmentValue<usize>| String::new();
-            // plotters overflows on zero labels of a segmented axis: empty ones instead.
-            mesh.y_labels(order.len());
-            if text && panel_index == 0 {
-                mesh.y_label_style(("sans-serif", 11)).y_label_formatter(&label);
-            } else {
-                mesh.y_label_formatter(&no_label);
-            }
-            if !text {
-                mesh.x_labels(0);
-            }
-            mesh.draw()?;
-            chart.draw_series(order.iter().enumerate().map(|(row, &part)| {
-                let color = if marked[part] { RGBColor(245, 140, 20) } else { RGBColor(70, 110, 180) };
-                let mut bar = Rectangle::new(
-                    [(0.0, SegmentValue::Exact(row)), (value(&parts[part]), SegmentValue::Exact(row + 1))],
-                    color.filled(),
-                );
-                bar.set_margin(2, 2, 0, 0);
-                bar
-            }))?;
+        // Room for the longest name (a name is never cut).
+        let names_width = names.iter().map(|n| text_width(n, pt(LABEL_PT))).max().unwrap_or(0) + mm(2.5);
+        let width = root.dim_in_pixel().0 as i32;
+        // One column has room for the first two panels (the quoted measures, or
+        // the paper's total and average); two columns show all three.
+        let shown = if size == FigureSize::OneColumn { 2 } else { 3 };
+        let count = self.panels.len().min(shown) as i32;
+        let panel_width = (width - names_width) / count.max(1);
+        let breaks: Vec<i32> = (1..count).map(|k| names_width + k * panel_width).collect();
+        let areas = root.split_by_breakpoints(breaks, Vec::<i32>::new());
+        for (panel_index, (area, panel)) in areas.iter().zip(&self.panels).enumerate() {
+            let first = panel_index == 0;
+            let layout = PanelLayout { first, text, names_width };
+            draw_panel(area, panel, &order, &names, &self.marked, layout)?;
         }
         root.present()?;
         Ok(())
     }
 }
 
-impl Drawing for PartBars<'_> {
-    fn size(&self) -> (u32, u32) {
-        (1100, 120 + 16 * self.parts.len().max(1) as u32)
-    }
-    fn draw_svg(&self, root: &DrawingArea<SVGBackend, Shift>, text: bool) -> DrawResult {
-        self.draw(root, text)
-    }
-    fn draw_png(&self, root: &DrawingArea<BitMapBackend, Shift>) -> DrawResult {
-        self.draw(root, true)
-    }
+/// Where a bar panel sits: the first carries the part names (`names_width` wide).
+#[derive(Clone, Copy)]
+struct PanelLayout {
+    first: bool,
+    text: bool,
+    names_width: i32,
 }
+
+/// One panel of the bar chart, rows in `order` (bottom up).
+fn draw_panel<B: DrawingBackend>(
+    area: &DrawingArea<B, Shift>,
+    panel: &BarPanel,
+    order: &[usize],
+    names: &[String],
+    marked: &[bool],
+    layout: PanelLayout,
+) -> DrawResult
+where
+    B::ErrorType: 'static,
+{
+    let max = order.iter().map(|&i| panel.values[i]).fold(0.0, f64::max).max(1e-9) * 1.05;
+    let mut builder = ChartBuilder::on(area);
+    builder.margin_top(mm(1.0)).margin_right(mm(3.0)).margin_bottom(mm(1.0)).margin_left(mm(0.5));
+    if layout.text {
+        builder.x_label_area_size(mm(9.0)).y_label_area_size(if layout.first {
+            layout.names_width
+        } else {
+            mm(0.5)
+        });
+    }
+    let mut chart = builder.build_cartesian_2d(0.0..max, (0..order.len()).into_segmented())?;
+    let label = |v: &SegmentValue<usize>| match v {
+        SegmentValue::CenterOf(i) | SegmentValue::Exact(i) => names.get(*i).cloned().unwrap_or_default(),
+        SegmentValue::Last => String::new(),
+    };
+    let no_label = |_: &SegmentValue<usize>| String::new();
+    let x_tick = move |v: &f64| tick(*v, max);
+    let mut mesh = chart.configure_mesh();
+    style_mesh(&mut mesh);
+    mesh.disable_y_mesh()
+        .x_labels(3)
+        .x_label_formatter(&x_tick)
+        .axis_desc_style(("sans-serif", pt(LABEL_PT)));
+    // plotters overflows on zero labels of a segmented axis: empty ones instead.
+    mesh.y_labels(order.len());
+    if layout.text && layout.first {
+        mesh.y_label_formatter(&label);
+    } else {
+        mesh.y_label_formatter(&no_label);
+    }
+    if layout.text {
+        mesh.x_desc(panel.label.as_str());
+    } else {
+        mesh.x_labels(0);
+    }
+    mesh.draw()?;
+    chart.draw_series(order.iter().enumerate().map(|(row, &part)| {
+        // Okabe–Ito orange and blue: apart in hue and in lightness (greyscale).
+        let color = if marked[part] { series_color(4) } else { series_color(0) };
+        let mut bar = Rectangle::new(
+            [(0.0, SegmentValue::Exact(row)), (panel.values[part], SegmentValue::Exact(row + 1))],
+            color.filled(),
+        );
+        bar.set_margin(2, 2, 0, 0);
+        bar
+    }))?;
+    Ok(())
+}
+
+drawing!(PartBars, |bars: &PartBars, size: FigureSize| {
+    (size.width_px(), (mm(18.0) + PartBars::row_height(size) * bars.names.len().max(1) as i32) as u32)
+});
 
 #[cfg(test)]
 mod tests {

@@ -18,7 +18,7 @@ use crate::output::heatmap_views::{
 };
 use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::html::report_page::ScenarioPage;
-use crate::output::plots::{PLOT_NAMES, PLOTS_DIR, Plot, font_available, write_plots};
+use crate::output::plots::{PLOTS_DIR, Plot, font_available, plot_file_names, write_plots};
 use crate::output::scenario_map::{MapContent, SceneShapes, write_scenario_map};
 use crate::output::view_sheet::write_views;
 use crate::output::written_files::WrittenFiles;
@@ -122,9 +122,7 @@ pub fn result_set_members() -> Vec<String> {
     .map(|name| (*name).to_string())
     .collect();
     members.push(FRAMES_FILE.to_string());
-    for plot in PLOT_NAMES {
-        members.extend(["svg", "png"].iter().map(|ext| format!("{PLOTS_DIR}/{plot}.{ext}")));
-    }
+    members.extend(plot_file_names().iter().map(|name| format!("{PLOTS_DIR}/{name}")));
     members.extend(DIRECTIONS.iter().map(|(name, _)| format!("views/{name}.png")));
     members
 }
@@ -344,10 +342,9 @@ fn write_figures(
         model.write_glb(glb, Some(("heatmap", &png)))?;
     }
     clock.lap("heatmap_glb");
-    let scenario = archive_name(&analysis.result.settings.archive);
     files.map_png = match (track, files.map_png) {
         (Some(track), Some(path)) if font_available() => {
-            write_map(&path, track, model.as_ref(), archive, &scenario)?;
+            write_map(&path, track, model.as_ref(), archive)?;
             Some(path)
         }
         _ => None,
@@ -356,7 +353,13 @@ fn write_figures(
     if strip_skipped.is_some() || manifest.is_none() {
         files.frames_strip_png = None;
     }
-    files.plots = write_plots(out_dir, &analysis.result.parts, analysis.frames.as_ref(), &scenario)?;
+    files.plots = write_plots(
+        out_dir,
+        &analysis.result.parts,
+        analysis.frames.as_ref(),
+        analysis.result.measures.as_ref(),
+        measure_unit(analysis.result.measure),
+    )?;
     clock.lap("plots");
     let scenario_page = ScenarioPage { track: track.as_ref(), strip_skipped };
     crate::output::html::report_page::write_report(
@@ -412,7 +415,6 @@ fn write_map(
     track: &ScenarioTrack,
     vehicle: Option<&VehicleModel>,
     archive: &Path,
-    folder: &str,
 ) -> Result<()> {
     let scene_file = archive.join("scene.glb");
     let scene = if scene_file.is_file() {
@@ -420,10 +422,10 @@ fn write_map(
     } else {
         Ok(SceneShapes { occluders: Vec::new() })
     };
+    // No folder name in a figure (issue 35): the page's caption says the scenario.
     let title = match &track.name {
-        Some(name) if name != folder => format!("Scenario {name} ({folder}) from above"),
         Some(name) => format!("Scenario {name} from above"),
-        None => format!("{folder} from above"),
+        None => "The scenario from above".to_string(),
     };
     write_scenario_map(path, &MapContent { track, scene, vehicle, title })?;
     Ok(())
@@ -434,11 +436,4 @@ pub(crate) fn pedestrian_azimuths(track: Option<&ScenarioTrack>) -> Vec<f64> {
     track.map_or_else(Vec::new, |track| {
         track.frames.iter().filter_map(|f| f.pedestrian_azimuth_deg()).collect()
     })
-}
-
-/// The archive's folder name (the scenario's, for a capture of one), for titles.
-fn archive_name(archive: &str) -> String {
-    Path::new(archive)
-        .file_name()
-        .map_or_else(|| archive.to_string(), |name| name.to_string_lossy().into_owned())
 }

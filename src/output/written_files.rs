@@ -43,8 +43,7 @@ impl WrittenFiles {
         files.extend(self.frames_strip_png.clone());
         files.push(self.report_html.clone());
         for plot in &self.plots {
-            files.push(out_dir.join(&plot.shown));
-            files.push(out_dir.join(&plot.svg));
+            files.extend(plot.files.iter().map(|file| out_dir.join(file)));
         }
         files
     }

@@ -92,6 +92,64 @@ pub fn compare_parts(reference: &[PartStats], candidate: &[PartStats], top_k: us
     })
 }
 
+/// The error of `candidate` against `reference` in the measure docs/science.md
+/// says to quote (angular area, deg²·s, per part, matched by name): the L1
+/// and largest difference of the parts' shares of the angular area,
+/// percentage points; Kendall's τ-b of the rankings (tied pairs left out);
+/// the overlap of the top-k. `None` when either lacks angular areas.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AreaComparison {
+    pub share_l1_pp: f64,
+    pub share_max_pp: f64,
+    pub share_max_part: String,
+    pub kendall_tau: f64,
+    pub tied_pairs: u64,
+    pub top_k_overlap: usize,
+    pub top_k: usize,
+}
+
+/// Compares the angular areas of two results' measures ([`AreaComparison`]).
+pub fn compare_angular_areas(
+    reference: &crate::result::measures::Measures,
+    candidate: &crate::result::measures::Measures,
+    top_k: usize,
+) -> Option<AreaComparison> {
+    let areas = |m: &crate::result::measures::Measures| -> Option<Vec<(String, f64)>> {
+        m.parts.iter().map(|p| p.angular_area_deg2_s.map(|a| (p.name.clone(), a))).collect()
+    };
+    let (a, b) = (areas(reference)?, areas(candidate)?);
+    let total = |parts: &[(String, f64)]| parts.iter().map(|p| p.1).sum::<f64>().max(f64::MIN_POSITIVE);
+    let (total_a, total_b) = (total(&a), total(&b));
+    let mut pairs = Vec::with_capacity(a.len());
+    let (mut share_l1_pp, mut share_max_pp, mut share_max_part) = (0.0f64, 0.0f64, String::new());
+    for (name, value) in &a {
+        let other = b.iter().find(|(n, _)| n == name).map_or(0.0, |p| p.1);
+        let difference = 100.0 * (value / total_a - other / total_b).abs();
+        share_l1_pp += difference;
+        if difference > share_max_pp {
+            (share_max_pp, share_max_part) = (difference, name.clone());
+        }
+        pairs.push((*value, other));
+    }
+    let (kendall_tau, tied_pairs) = kendall_tau_b(&pairs);
+    let top = |parts: &[(String, f64)]| {
+        let mut sorted: Vec<&(String, f64)> = parts.iter().collect();
+        sorted.sort_by(|x, y| y.1.total_cmp(&x.1).then_with(|| x.0.cmp(&y.0)));
+        sorted.into_iter().take(top_k).map(|p| p.0.clone()).collect::<Vec<_>>()
+    };
+    let (top_a, top_b) = (top(&a), top(&b));
+    let top_k_overlap = top_a.iter().filter(|name| top_b.contains(name)).count();
+    Some(AreaComparison {
+        share_l1_pp,
+        share_max_pp,
+        share_max_part,
+        kendall_tau,
+        tied_pairs,
+        top_k_overlap,
+        top_k,
+    })
+}
+
 /// Kendall's τ-b of paired values, and the number of pairs tied in either
 /// variable. τ-b = (C − D) / √((n₀ − n₁)(n₀ − n₂)); 1 when no pair can be
 /// ranked (everything tied), so "no information" never reads as disagreement.

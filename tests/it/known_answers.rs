@@ -72,7 +72,7 @@ fn a_json_legend_gives_the_same_table_as_the_csv() {
 fn heatmap_pixels_follow_plasma() {
     let counts = [0, 2, 2, 1, 0, 1];
     let linear = ufcsr::render_heatmap(&counts, 3, HeatmapOptions::default());
-    assert_eq!(&linear[0..3], &plasma(0.0));
+    assert_eq!(&linear[0..3], &ufcsr::NEVER_SEEN, "never-seen texels are the no-data grey");
     assert_eq!(&linear[3..6], &plasma(1.0));
     assert_eq!(&linear[9..12], &plasma(0.5));
     let log = ufcsr::render_heatmap(&counts, 3, HeatmapOptions { scale: Scale::Log, max: None });

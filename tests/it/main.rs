@@ -14,6 +14,7 @@ mod common;
 mod architecture_page;
 mod bad_input;
 mod doc_links;
+mod figures;
 mod file_layer;
 mod frames;
 mod fuzz_regressions;

@@ -161,7 +161,7 @@ fn a_huge_heatmap_maximum_builds_no_huge_table() {
     let rgb = ufcsr::render_heatmap(&counts, 2, options);
     assert_eq!(rgb.len(), 12);
     // Every count is far below the maximum: all at the bottom of the scale.
-    assert_eq!(&rgb[0..3], &ufcsr::plasma(0.0));
+    assert_eq!(&rgb[3..6], &ufcsr::plasma(0.0));
 }
 
 #[test]

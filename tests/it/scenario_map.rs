@@ -73,7 +73,7 @@ fn an_analysis_with_a_manifest_writes_the_map() {
     );
     assert_eq!(page.contains("<img src=\"map.png\""), ufcsr::plot_font_available());
     let position = |text: &str| page.find(text).unwrap_or_else(|| panic!("no {text} in the report"));
-    assert!(position("<h2>The scenario") < position("<h2>Parts"));
+    assert!(position("<h2>The scenario") < position("<h2>Paper-compatible"));
     assert!(position("<h2>The heatmap on the vehicle") < position("<h2>The heatmap texture"));
 }
 

@@ -104,6 +104,16 @@ pub struct ReportArgs {
     /// Output folder for report.html and the images it shows.
     #[arg(long, short, value_name = "DIR")]
     pub out: PathBuf,
+
+    /// The label of a result in the page's columns, once per result in order (else the result
+    /// folder's name, or its parent's for ARCHIVE/results).
+    #[arg(long = "label", value_name = "TEXT")]
+    pub labels: Vec<String>,
+
+    /// Show each result's own pictures, each on its own colour scale (by default the heatmaps are
+    /// drawn again on one scale, 0 to the largest count of any result, so colours compare).
+    #[arg(long)]
+    pub own_scales: bool,
 }
 
 #[derive(Args)]

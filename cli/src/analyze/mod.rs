@@ -28,13 +28,22 @@ use placement::PlacementArgs;
 pub enum AnalyzerCommand {
     /// Add up the results of every shard (`--shard I/N`) of one archive (their folders or
     /// result.json files): the same files as analysing it whole.
+    ///
+    /// Example: `ufcsr-analyze merge shard-1/results shard-2/results --out whole/`
     Merge(MergeArgs),
     /// Write one report.html comparing several results (result folders or result.json files;
     /// the first is the reference for the ranking differences).
+    ///
+    /// Example: `ufcsr-analyze report capA/results capB/results --label "scenario A" --label
+    /// "scenario B" --out compared/`
     Report(ReportArgs),
     /// Re-render the heatmap from a result (its folder or its result.json), without the archive.
+    ///
+    /// Example: `ufcsr-analyze heatmap capA/results --out heat.png --scale log --max 40`
     Heatmap(HeatmapArgs),
     /// Write the canonical Full Color Space Palette as a PNG (to texture a mesh in Unity/Blender).
+    ///
+    /// Example: `ufcsr-analyze palette --size 4096 --out palette.png`
     Palette(PaletteArgs),
     /// Describe a folder of frames rendered elsewhere (Unity, Blender) as an archive: write its
     /// manifest.json with tiles, palette, PIdT, legend and what fps, field of view, rig and frame

@@ -77,14 +77,20 @@ pub fn run_palette(args: PaletteArgs, console: &Console) -> Result<Completion> {
 }
 
 pub fn run_report(args: ReportArgs, console: &Console) -> Result<Completion> {
-    let page = ufcsr::write_comparison(&args.results, &args.out)?;
+    let options = ufcsr::ComparisonOptions { labels: args.labels.clone(), own_scales: args.own_scales };
+    let page = ufcsr::write_comparison_with(&args.results, &args.out, &options)?;
     Ok(finish(
         console,
         Done {
             completion: Completion::Done,
             written: vec![page.clone()],
             text: format!("wrote {} ({} inputs)", page.display(), args.results.len()),
-            facts: json!({ "results": shown_all(&args.results), "out": shown(&args.out) }),
+            facts: json!({
+                "results": shown_all(&args.results),
+                "out": shown(&args.out),
+                "labels": args.labels,
+                "shared_scale": !args.own_scales,
+            }),
         },
     ))
 }

@@ -35,11 +35,23 @@ fn the_comparison_page_names_both_results_and_ranks_the_second_against_the_first
     let report = compared.join("report.html");
     let page = std::fs::read_to_string(&report).unwrap();
     // Labelled by the result folders' parents; both compared, the second against the first.
-    for text in
-        ["per-image", "per-frame", "Kendall", "Ranking differences against per-image", "5 / 5", "deg²·s"]
-    {
+    for text in [
+        "per-image",
+        "per-frame",
+        "Kendall",
+        "count ranking differences against per-image",
+        "Ranking by angular area against per-image",
+        "5 / 5",
+        "deg²·s",
+    ] {
         assert!(page.contains(text), "the page lacks {text:?}");
     }
+    // The quoted measure leads: its table comes before the paper-compatible count shares.
+    let at = |text: &str| page.find(text).unwrap_or_else(|| panic!("the page lacks {text:?}"));
+    assert!(at(ufcsr::RANKED_HEADING) < at("Paper-compatible: count shares"));
+    // One colour scale by default, and the page says so; the pictures are drawn again for it.
+    assert!(page.contains(ufcsr::SHARED_SCALE) && !page.contains(ufcsr::OWN_SCALES));
+    assert!(compared.join("result-1/views.png").is_file() && compared.join("result-2/views.png").is_file());
     // One result alone is no comparison.
     let alone = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
         .arg("report")
@@ -49,4 +61,44 @@ fn the_comparison_page_names_both_results_and_ranks_the_second_against_the_first
         .output()
         .unwrap();
     assert!(!alone.status.success());
+}
+
+#[test]
+fn labels_name_the_columns_and_own_scales_keeps_each_results_pictures() {
+    let dir = tempfile::tempdir().unwrap();
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
+    let out = dir.path().join("capA").join("results");
+    let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+        .arg(&example)
+        .args(["-q", "--views-scale", "1", "--out"])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let compared = dir.path().join("compared");
+    let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+        .arg("report")
+        .arg(&out)
+        .arg(&out)
+        .args(["--label", "60 px/°", "--label", "baseline", "--own-scales", "--out"])
+        .arg(&compared)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let page = std::fs::read_to_string(compared.join("report.html")).unwrap();
+    assert!(page.contains("<th>60 px/°</th><th>baseline</th>"), "the labels are not the column headers");
+    assert!(!page.contains("<th>capA</th>"), "the folder name is still a label");
+    assert!(page.contains(ufcsr::OWN_SCALES) && !page.contains(ufcsr::SHARED_SCALE));
+    assert!(compared.join("result-1-views.png").is_file());
+    // More labels than results is a mistake, said before anything is written.
+    let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+        .arg("report")
+        .arg(&out)
+        .arg(&out)
+        .args(["--label", "a", "--label", "b", "--label", "c", "--out"])
+        .arg(dir.path().join("three"))
+        .output()
+        .unwrap();
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("3 labels"));
 }

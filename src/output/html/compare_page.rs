@@ -1,13 +1,20 @@
 //! The comparison page: one `report.html` for several results (scenarios,
 //! resolutions, dedupe rules) side by side — `ufcsr-analyze report A B ...`.
 //!
-//! Settings side by side, each part's share in every result (the paper's
-//! top-5 union of each marked), the ranking differences of every result
-//! against the first ([`crate::compare_parts`]: share L1 and largest
-//! difference, Kendall τ-b by total and by average with ties, top-5 overlap),
-//! the resolution-independent measures where the results have them, and the
-//! heatmaps on the vehicle (`views.png`, else the texture) side by side.
-//! The images are copied next to the page, so the folder is self-contained
+//! Settings side by side; first the measure docs/science.md says to quote —
+//! each part's angular area and exposure in every result, ranked by the
+//! first result's angular area, and every result's ranking against the
+//! first's by angular area ([`crate::result::compare::compare_angular_areas`])
+//! — then, labelled paper-compatible, each part's share of the count (the
+//! paper's top-5 union of each marked) and the count's ranking differences
+//! ([`crate::compare_parts`]: share L1 and largest difference, Kendall τ-b by
+//! total and by average with ties, top-5 overlap); and the heatmaps on the
+//! vehicle (`views.png`, else the texture) side by side, by default drawn
+//! again on ONE colour scale (0 to the largest count of any result; the page
+//! says so), with `--own-scales` as each result drew them. Columns are
+//! labelled by `--label` (else the result folders' names).
+//!
+//! The images are written next to the page, so the folder is self-contained
 //! like a single result's. Placement folders among the inputs add the
 //! placement section (thresholds, ranking, best sets, picture).
 
@@ -18,6 +25,11 @@ use crate::error::{Error, Result};
 use crate::output::html::placement_section::{PLACEMENT_PNG, PlacementOnPage, on_page, placement_folder};
 use crate::{output::html::escape::escape, result::part_stats::top_five_union};
 use crate::{result::model::AnalysisResult, result::result_json::read_result_summary};
+
+/// What the page says when the heatmaps share one colour scale.
+pub const SHARED_SCALE: &str = "All heatmaps share one colour scale";
+/// What the page says when each heatmap keeps its own scale (`--own-scales`).
+pub const OWN_SCALES: &str = "Each heatmap is on its own colour scale";
 
 /// Parts in each top list compared ([`crate::Comparison::top_k`]).
 const TOP_K: usize = 5;
@@ -49,6 +61,23 @@ fn label_of(json: &Path) -> String {
     }
 }
 
+/// How the comparison page is written (`ufcsr-analyze report`).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct ComparisonOptions {
+    /// Column labels, one per result in order (`--label`); results beyond
+    /// them are labelled by their folders' names.
+    pub labels: Vec<String>,
+    /// Show each result's pictures as it drew them, each on its own colour
+    /// scale (`--own-scales`); by default they are drawn again on one.
+    pub own_scales: bool,
+}
+
+/// [`write_comparison_with`] with the default options (one colour scale,
+/// folder names as labels).
+pub fn write_comparison(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
+    write_comparison_with(paths, out_dir, &ComparisonOptions::default())
+}
+
 /// Writes `out_dir/report.html` comparing the results at `paths` (result
 /// folders or `result.json` files; the first is the reference of the ranking
 /// comparison). Returns the page's path.
@@ -57,7 +86,11 @@ fn label_of(json: &Path) -> String {
 /// `ufcsr-analyze placement`) or that file adds the placement section
 /// ([`crate::output::html::placement_section`]) with its picture copied
 /// beside the page; then one result is enough.
-pub fn write_comparison(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
+pub fn write_comparison_with(
+    paths: &[PathBuf],
+    out_dir: &Path,
+    options: &ComparisonOptions,
+) -> Result<PathBuf> {
     // A folder holding both a result and placement.json is both (issue 34:
     // `report R1 R2` used to drop R1 silently when it held a placement).
     let is_result = |path: &Path| {
@@ -76,42 +109,121 @@ pub fn write_comparison(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
     let paths = &paths[..];
     refuse_result_folders(paths, out_dir)?;
     crate::files::create_output_dir(out_dir)?;
+    if options.labels.len() > paths.len() {
+        return Err(Error::BadOptions(format!(
+            "{} labels (--label) for {} results: give at most one label per result, in order",
+            options.labels.len(),
+            paths.len()
+        )));
+    }
     let mut entries = Vec::with_capacity(paths.len());
     let mut inputs: Vec<PathBuf> = paths.iter().map(|path| result_json(path)).collect();
     let placements = copy_placements(&placement_paths, out_dir, &mut inputs)?;
     for (index, path) in paths.iter().enumerate() {
         let json = result_json(path);
         let result = read_result_summary(&json)?;
-        let mut label = label_of(&json);
+        let mut label = options.labels.get(index).cloned().unwrap_or_else(|| label_of(&json));
         if entries.iter().any(|e: &Entry| e.label == label) {
             label = format!("{label} ({})", index + 1);
         }
-        // The heatmap on the vehicle when it was rendered, else the texture.
-        let dir = json.parent().unwrap_or(Path::new("."));
-        let source =
-            ["views.png", "heatmap.png"].into_iter().map(|name| dir.join(name)).find(|p| p.is_file());
-        let image = match source {
-            Some(source) => {
-                let name = format!(
-                    "result-{}-{}",
-                    index + 1,
-                    source.file_name().unwrap_or_default().to_string_lossy()
-                );
-                let target = out_dir.join(&name);
-                inputs.push(source.clone());
-                crate::files::refuse_overwriting_inputs(std::slice::from_ref(&target), &inputs)?;
-                let bytes = crate::files::read_limited(&source, crate::files::IMAGE_LIMIT)?;
-                crate::files::write_bytes_atomically(&target, &bytes)?;
-                Some(name)
-            }
-            None => None,
+        entries.push(Entry { label, result, image: None });
+    }
+    let scale = (!options.own_scales).then(|| entries.iter().map(|e| e.result.max_count).max().unwrap_or(0));
+    for (index, (path, entry)) in paths.iter().zip(&mut entries).enumerate() {
+        let json = result_json(path);
+        entry.image = match scale {
+            Some(max) => shared_scale_image(&json, &entry.result, index, out_dir, max, &inputs)?,
+            None => copy_image(&json, index, out_dir, &mut inputs)?,
         };
-        entries.push(Entry { label, result, image });
     }
     let page = out_dir.join("report.html");
     crate::files::refuse_overwriting_inputs(std::slice::from_ref(&page), &inputs)?;
-    crate::files::write_bytes_atomically(&page, render(&entries, &placements).as_bytes())?;
+    crate::files::write_bytes_atomically(&page, render(&entries, &placements, scale).as_bytes())?;
     Ok(page)
+}
+
+/// The result's own picture (the heatmap on the vehicle when it was
+/// rendered, else the texture), copied beside the page as `result-N-NAME`.
+fn copy_image(
+    json: &Path,
+    index: usize,
+    out_dir: &Path,
+    inputs: &mut Vec<PathBuf>,
+) -> Result<Option<String>> {
+    let dir = json.parent().unwrap_or(Path::new("."));
+    let Some(source) =
+        ["views.png", "heatmap.png"].into_iter().map(|name| dir.join(name)).find(|p| p.is_file())
+    else {
+        return Ok(None);
+    };
+    let name = format!("result-{}-{}", index + 1, source.file_name().unwrap_or_default().to_string_lossy());
+    let target = out_dir.join(&name);
+    inputs.push(source.clone());
+    crate::files::refuse_overwriting_inputs(std::slice::from_ref(&target), inputs)?;
+    let bytes = crate::files::read_limited(&source, crate::files::IMAGE_LIMIT)?;
+    crate::files::write_bytes_atomically(&target, &bytes)?;
+    Ok(Some(name))
+}
+
+/// The result's heatmap drawn again with the colour scale's top at `max`
+/// (shared by every result on the page): the views on the vehicle
+/// (`result-N/views.png`) when the result has views and its archive's
+/// vehicle model is found, else the texture (`result-N-heatmap.png`).
+fn shared_scale_image(
+    json: &Path,
+    result: &AnalysisResult,
+    index: usize,
+    out_dir: &Path,
+    max: u32,
+    inputs: &[PathBuf],
+) -> Result<Option<String>> {
+    let stored = crate::result::result_json::read_texel_counts(json)?;
+    let options =
+        crate::archive::options::HeatmapOptions { scale: result.settings.heatmap_scale, max: Some(max) };
+    let had_views = json.parent().unwrap_or(Path::new(".")).join("views.png").is_file();
+    if let Some((model, manifest)) = had_views.then(|| vehicle_of(result)).flatten() {
+        let folder = out_dir.join(format!("result-{}", index + 1));
+        crate::files::refuse_overwriting_inputs(&[folder.join("views.png")], inputs)?;
+        let track = manifest.as_ref().and_then(crate::archive::scenario_track::ScenarioTrack::from_manifest);
+        let texture = crate::output::heatmap_views::ViewTexture {
+            counts: &stored.texel_counts,
+            width: stored.width,
+            height: stored.height,
+            options,
+            caption: crate::output::heatmap_views::views_caption(
+                result.measure,
+                &result.settings.archive,
+                track.as_ref().and_then(|t| t.name.as_deref()),
+            ),
+            unit: crate::output::heatmap_views::measure_unit(result.measure).to_string(),
+            views_scale: crate::output::heatmap_views::DEFAULT_VIEWS_SCALE,
+            pedestrian_azimuths_deg: track.map_or_else(Vec::new, |t| {
+                t.frames.iter().filter_map(|f| f.pedestrian_azimuth_deg()).collect()
+            }),
+        };
+        crate::output::view_sheet::write_views(&model, &texture, &folder)?;
+        return Ok(Some(format!("result-{}/views.png", index + 1)));
+    }
+    let name = format!("result-{}-heatmap.png", index + 1);
+    let target = out_dir.join(&name);
+    crate::files::refuse_overwriting_inputs(std::slice::from_ref(&target), inputs)?;
+    let rgb = crate::output::heatmap::render(&stored.texel_counts, stored.width, options);
+    crate::files::write_rgb_png(&target, [stored.width, stored.height], &rgb, png::Compression::Fast)?;
+    Ok(Some(name))
+}
+
+/// The vehicle model the result's archive manifest names, with the manifest.
+fn vehicle_of(
+    result: &AnalysisResult,
+) -> Option<(crate::archive::vehicle_model::VehicleModel, Option<crate::archive::manifest::Manifest>)> {
+    if !result.settings.manifest {
+        return None;
+    }
+    let root = PathBuf::from(&result.settings.archive);
+    let manifest = crate::archive::manifest::Manifest::load_from_dir(&root).ok()??;
+    let path = root.join(manifest.vehicle.as_ref()?);
+    let model = crate::archive::vehicle_model::VehicleModel::read(&path).ok()?;
+    Some((model, Some(manifest)))
 }
 
 /// Each placement folder's document, its picture copied beside the page as
@@ -162,7 +274,7 @@ fn refuse_result_folders(paths: &[PathBuf], out_dir: &Path) -> Result<()> {
     Ok(())
 }
 
-fn render(entries: &[Entry], placements: &[PlacementOnPage]) -> String {
+fn render(entries: &[Entry], placements: &[PlacementOnPage], scale: Option<u32>) -> String {
     let mut page = String::new();
     let title = format!(
         "UFCSR comparison: {}",
@@ -187,11 +299,25 @@ fn render(entries: &[Entry], placements: &[PlacementOnPage]) -> String {
         row
     };
     render_settings(&mut page, entries, &header("setting"));
-    render_shares(&mut page, entries, &header("part (share %)"));
-    render_rankings(&mut page, entries);
     render_measures(&mut page, entries, &header("part (deg²·s / exposure s)"));
+    render_area_rankings(&mut page, entries);
+    render_shares(&mut page, entries, &header("part (count share %)"));
+    render_rankings(&mut page, entries);
 
-    let _ = writeln!(page, "<h2>The heatmaps side by side</h2>\n<div class=\"sheets\">");
+    let _ = writeln!(page, "<h2>The heatmaps side by side (paper-compatible count)</h2>");
+    let _ = match scale {
+        Some(max) => writeln!(
+            page,
+            "<p>{SHARED_SCALE}: plasma from 0 to {max} (the largest count of any result), never-seen texels grey; \
+             colours compare across results. (<code>--own-scales</code> shows each result's own pictures.)</p>"
+        ),
+        None => writeln!(
+            page,
+            "<p>{OWN_SCALES}: each runs from 0 to that result's own largest count, so the same colour means \
+             different counts in different results.</p>"
+        ),
+    };
+    let _ = writeln!(page, "<div class=\"sheets\">");
     for entry in entries {
         match &entry.image {
             Some(image) => {
@@ -219,6 +345,16 @@ fn render(entries: &[Entry], placements: &[PlacementOnPage]) -> String {
     page
 }
 
+/// `value` for a result of the pixel path; a dash for the exact measure,
+/// which reads no images (its own settings are its measure and definition).
+fn pixel_path_only(result: &AnalysisResult, value: String) -> String {
+    if result.measure == crate::format::result::CountMeasure::Unobstructed {
+        "– (exact)".to_string()
+    } else {
+        value
+    }
+}
+
 /// One row of the settings table: a result's value, as HTML.
 type Setting = dyn Fn(&AnalysisResult) -> String;
 
@@ -241,10 +377,10 @@ fn render_settings(page: &mut String, entries: &[Entry], header: &str) {
             )
         }),
         ("one count means", &|r| format!("{:?}", r.settings.dedupe)),
-        ("trimming", &|r| escape(&r.settings.trim.mode)),
+        ("trimming", &|r| pixel_path_only(r, escape(&r.settings.trim.mode))),
         ("pixels per degree", &|r| optional(r.resolution.as_ref().and_then(|s| s.pixels_per_degree), 2)),
         ("texel size (mm)", &|r| optional(r.resolution.as_ref().and_then(|s| s.texel_size_mm), 2)),
-        ("images decoded", &|r| r.images.decoded.to_string()),
+        ("images decoded", &|r| pixel_path_only(r, r.images.decoded.to_string())),
         ("texels seen", &|r| r.texels_seen.to_string()),
         ("grand total", &|r| r.grand_total.to_string()),
         ("largest count", &|r| r.max_count.to_string()),
@@ -276,7 +412,10 @@ fn render_shares(page: &mut String, entries: &[Entry], header: &str) {
         }
     }
     if names.is_empty() {
-        let _ = writeln!(page, "<h2>Shares</h2>\n<p>No result has a parts table (no PIdT).</p>");
+        let _ = writeln!(
+            page,
+            "<h2>Paper-compatible: count shares</h2>\n<p>No result has a parts table (no PIdT).</p>"
+        );
         return;
     }
     let share =
@@ -288,7 +427,8 @@ fn render_shares(page: &mut String, entries: &[Entry], header: &str) {
     let marked: Vec<Vec<bool>> = entries.iter().map(|e| top_five_union(&e.result.parts)).collect();
     let _ = writeln!(
         page,
-        "<h2>Shares</h2>\n<p>Share of the grand total per part, percent. Highlighted: the paper's table of each \
+        "<h2>Paper-compatible: count shares</h2>\n<p>The paper's per-texel count (it depends on resolution: \
+         quote the measures above). Share of the grand total per part, percent. Highlighted: the paper's table of each \
          result (the union of its top five by total, peak and average).</p>\n<table>{header}"
     );
     for name in names {
@@ -313,7 +453,7 @@ fn render_rankings(page: &mut String, entries: &[Entry]) {
     let reference = &entries[0];
     let _ = writeln!(
         page,
-        "<h2>Ranking differences against {}</h2>\n<p>Share L1 = Σ |share difference| (percentage points); \
+        "<h2>Paper-compatible: count ranking differences against {}</h2>\n<p>Share L1 = Σ |share difference| (percentage points); \
          Kendall τ-b of the part rankings (1 = same order), with the pairs tied in either ranking left out; \
          top-{TOP_K} overlap by total.</p>\n<table><tr><th>result</th><th>share L1 (pp)</th><th>largest (pp)</th>\
          <th>of part</th><th>τ by total (ties)</th><th>τ by average (ties)</th><th>top-{TOP_K} overlap</th>\
@@ -353,6 +493,56 @@ fn render_rankings(page: &mut String, entries: &[Entry]) {
     let _ = writeln!(page, "</table>");
 }
 
+/// The heading of the comparison's first table of parts.
+pub const RANKED_HEADING: &str = "Ranked by angular area: the measures to quote";
+
+/// Every result against the first by angular area
+/// ([`crate::result::compare::compare_angular_areas`]), where all have it.
+fn render_area_rankings(page: &mut String, entries: &[Entry]) {
+    let Some(measures): Option<Vec<_>> = entries.iter().map(|e| e.result.measures.as_ref()).collect() else {
+        let _ = writeln!(
+            page,
+            "<h2>{RANKED_HEADING}</h2>\n<div class=\"warn\">Not every result has angular areas (a manifest \
+             with the eyes' projection and fps): only the paper-compatible count compares below.</div>"
+        );
+        return;
+    };
+    let _ = writeln!(
+        page,
+        "<h3>Ranking by angular area against {}</h3>\n<p>Share L1 = Σ |difference of the parts' shares of the \
+         angular area| (percentage points); Kendall τ-b of the rankings by angular area (pairs tied in either \
+         left out); top-{TOP_K} overlap.</p>\n<table><tr><th>result</th><th>share L1 (pp)</th><th>largest (pp)</th>\
+         <th>of part</th><th>τ (ties)</th><th>top-{TOP_K} overlap</th></tr>",
+        escape(&entries[0].label)
+    );
+    for (entry, measure) in entries.iter().zip(&measures).skip(1) {
+        match crate::result::compare::compare_angular_areas(measures[0], measure, TOP_K) {
+            Some(c) => {
+                let _ = writeln!(
+                    page,
+                    "<tr><td>{}</td><td>{:.2}</td><td>{:.2}</td><td>{}</td><td>{:.3} ({})</td><td>{} / {}</td></tr>",
+                    escape(&entry.label),
+                    c.share_l1_pp,
+                    c.share_max_pp,
+                    escape(&c.share_max_part),
+                    c.kendall_tau,
+                    c.tied_pairs,
+                    c.top_k_overlap,
+                    c.top_k
+                );
+            }
+            None => {
+                let _ = writeln!(
+                    page,
+                    "<tr><td>{}</td><td colspan=\"5\">no angular areas (no fps or projection)</td></tr>",
+                    escape(&entry.label)
+                );
+            }
+        }
+    }
+    let _ = writeln!(page, "</table>");
+}
+
 /// The resolution-independent measures, where every result has them.
 fn render_measures(page: &mut String, entries: &[Entry], header: &str) {
     let Some(measures): Option<Vec<_>> = entries.iter().map(|e| e.result.measures.as_ref()).collect() else {
@@ -360,14 +550,16 @@ fn render_measures(page: &mut String, entries: &[Entry], header: &str) {
     };
     let _ = writeln!(
         page,
-        "<h2>Resolution-independent measures</h2>\n<p>Per part: visible angular area over time (deg²·s) / seconds \
-         seen, per eye (see the README). These do not change meaning with pixels per degree, unlike the counts.</p>\n\
+        "<h2>{RANKED_HEADING}</h2>\n<p>The measures docs/science.md says to quote, ranked by the first result's \
+         angular area. Per part: visible angular area over time (deg²·s) / seconds seen (exposure), per eye. \
+         These do not change meaning with pixels per degree, unlike the counts.</p>\n\
          <table>{header}"
     );
     let optional = |value: Option<f64>| value.map_or("–".to_string(), |v| format!("{v:.2}"));
     let mut names: Vec<&str> =
         measures[0].parts.iter().filter(|p| p.pixels > 0).map(|p| p.name.as_str()).collect();
-    names.sort_by_key(|name| std::cmp::Reverse(measures[0].part(name).map_or(0, |p| p.pixels)));
+    let area = |name: &str| measures[0].part(name).and_then(|p| p.angular_area_deg2_s).unwrap_or(-1.0);
+    names.sort_by(|a, b| area(b).total_cmp(&area(a)).then(a.cmp(b)));
     for name in names {
         let _ = write!(page, "<tr><td>{}</td>", escape(name));
         for measure in &measures {

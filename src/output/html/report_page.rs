@@ -2,11 +2,16 @@
 //!
 //! What a researcher checks first — the result's warnings (stray pixels,
 //! unlabelled texels, colour damage, resolution dependence) and failed
-//! files — then the summary, the scenario and rig with the map, the
-//! parts table with the paper's top-5 union marked, the views, the heatmap texture and
-//! links to the vehicle with the heatmap on it (`heatmap.glb`) and the
-//! machine-readable files, and the settings. No script, no network: the page
-//! links only files beside it, so the results folder can be zipped and sent.
+//! files — then the numbers docs/science.md says to quote (angular area and
+//! exposure per part; legible time where a placement result lies beside),
+//! then the summary, the scenario and rig with the map, the paper-compatible
+//! per-texel count table (the paper's top-5 union marked), the views, the
+//! heatmap texture and links to the vehicle with the heatmap on it
+//! (`heatmap.glb`) and the machine-readable files, and the settings.
+//!
+//! No script, no network: the page links only files beside it (its
+//! pictures are not embedded: the heatmap alone can be tens of megabytes),
+//! and says so at its top — send the results folder (zipped), not the page.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -62,20 +67,33 @@ type Section = fn(&mut String, &PageInputs);
 /// function here (one line).
 const SECTIONS: &[Section] = &[
     head,
+    needs_its_folder,
     warnings,
+    measures,
+    placement,
     summary,
     resolution,
     scenario,
+    plots,
     parts,
     vehicle_views,
     heatmap,
-    plots,
-    measures,
-    placement,
     files,
     settings,
     foot,
 ];
+
+/// The words that say the page shows pictures from its folder.
+pub const NEEDS_ITS_FOLDER: &str = "This page shows pictures and links files from its own folder";
+
+/// The page is not a single file: it says so before anything else.
+fn needs_its_folder(page: &mut String, _inputs: &PageInputs) {
+    let _ = writeln!(
+        page,
+        "<p class=\"provenance\">{NEEDS_ITS_FOLDER} (<code>views.png</code>, <code>heatmap.png</code>, \
+         <code>plots/</code>, …): keep it there, and send the whole results folder (zipped), not the page alone.</p>"
+    );
+}
 
 fn render(inputs: &PageInputs) -> String {
     let mut page = String::new();
@@ -154,20 +172,35 @@ fn scenario(page: &mut String, inputs: &PageInputs) {
     }
 }
 
-/// Tiles found, decoded, trimmed and failed; texels seen and the totals.
+/// Tiles found, decoded, trimmed and failed (the pixel path's); texels seen
+/// and the totals. A result of the exact measure read no images: it shows
+/// its eye-frames and its definition instead of tile counts.
 fn summary(page: &mut String, inputs: &PageInputs) {
     let result = inputs.result;
     let images = &result.images;
+    let _ = writeln!(page, "<h2>Summary</h2>\n<table>");
+    if result.measure == crate::format::result::CountMeasure::Unobstructed {
+        let eye_frames = result.measures.as_ref().map_or("–".to_string(), |m| grouped(m.eye_frames));
+        let _ = writeln!(
+            page,
+            "<tr><th>measure</th><td>unobstructed (exact: ray traced, no images read)</td></tr>\
+             <tr><th>eye-frames</th><td>{eye_frames}</td></tr>"
+        );
+    } else {
+        let _ = writeln!(
+            page,
+            "<tr><th>tiles found</th><td>{}</td></tr><tr><th>decoded</th><td>{}</td></tr>\
+             <tr><th>trimmed (all background)</th><td>{}</td></tr><tr><th>failed</th><td>{}</td></tr>",
+            grouped(images.found),
+            grouped(images.decoded),
+            grouped(images.trimmed),
+            grouped(images.failed),
+        );
+    }
     let _ = writeln!(
         page,
-        "<h2>Summary</h2>\n<table><tr><th>tiles found</th><td>{}</td></tr><tr><th>decoded</th><td>{}</td></tr>\
-         <tr><th>trimmed (all background)</th><td>{}</td></tr><tr><th>failed</th><td>{}</td></tr>\
-         <tr><th>texels seen</th><td>{}</td></tr><tr><th>grand total</th><td>{}</td></tr>\
+        "<tr><th>texels seen</th><td>{}</td></tr><tr><th>grand total</th><td>{}</td></tr>\
          <tr><th>largest count of a texel</th><td>{}</td></tr></table>",
-        grouped(images.found),
-        grouped(images.decoded),
-        grouped(images.trimmed),
-        grouped(images.failed),
         grouped(result.texels_seen),
         grouped(result.grand_total),
         grouped(u64::from(result.max_count))
@@ -204,9 +237,12 @@ fn parts(page: &mut String, inputs: &PageInputs) {
     order.sort_by(|&a, &b| result.parts[b].total.cmp(&result.parts[a].total).then(a.cmp(&b)));
     let _ = writeln!(
         page,
-        "<h2>Parts</h2>\n<p>Highlighted: the paper's table, the union of the five parts with the highest total, \
-         peak and average.</p>\n<table><tr><th>part</th><th>texels</th><th>total</th><th>peak</th><th>average</th>\
-         <th>share %</th><th>coverage %</th></tr>"
+        "<h2>Paper-compatible: the per-texel count per part</h2>\n<p>The paper's measure (a texel counts once per \
+         image or eye-frame that shows it). It depends on resolution (docs/science.md: 27–59 pp from its exact \
+         counterpart at 80 px/°): quote it only to compare with the paper, with its pixels per degree; quote the \
+         measures above. Highlighted: the paper's table, the union of the five parts with the highest total, \
+         peak and average.</p>\n<table><tr><th>part</th><th>texels</th><th>count total</th><th>count peak</th>\
+         <th>count average</th><th>count share %</th><th>coverage %</th></tr>"
     );
     for index in order {
         let part = &result.parts[index];
@@ -235,8 +271,9 @@ fn heatmap(page: &mut String, inputs: &PageInputs) {
     let (settings, files) = (&inputs.result.settings, inputs.files);
     let _ = writeln!(
         page,
-        "<h2>The heatmap texture</h2>\n<p>The same counts as a texture laid out like the palette, for putting on \
-         the model in other tools: plasma scale ({:?}{}).{}</p>\n\
+        "<h2>The heatmap texture (paper-compatible count)</h2>\n<p>The paper's per-texel counts as a texture laid out \
+         like the palette, for putting on the model in other tools: plasma scale ({:?}{}), texels never seen in \
+         neutral grey.{}</p>\n\
          <img src=\"{}\" alt=\"heatmap texture\" width=\"384\">",
         settings.heatmap_scale,
         settings.heatmap_max.map(|m| format!(", top of scale {m}")).unwrap_or_default(),
@@ -258,7 +295,9 @@ fn vehicle_views(page: &mut String, inputs: &PageInputs) {
     let (result, settings) = (inputs.result, &inputs.result.settings);
     let _ = writeln!(
         page,
-        "<h2>The heatmap on the vehicle</h2>\n<p>Front, front-left, left, rear-left (top row); rear, rear-right, \
+        "<h2>The heatmap on the vehicle (paper-compatible count)</h2>\n<p>The paper's per-texel count (the \
+         analyzer measures angular area and exposure per part, not per texel: see the table of measures \
+         above). Front, front-left, left, rear-left (top row); rear, rear-right, \
          right, front-right (bottom row); seen from 15° above, one scale for all, shaded by a light from the upper \
          left. Colour bar: grey = never seen, then plasma from 0 to {} ({:?} scale). The compass in each view's \
          corner shows where the pedestrian was (green) and the view's line of sight (black). Each view is also \
@@ -280,13 +319,17 @@ fn plots(page: &mut String, inputs: &PageInputs) {
         page,
         "<h2>Plots</h2>\n<p>The angular area (deg², from the eyes' projection; pixels when the manifest gives none) \
          of each of the {} most visible parts per eye, by frame (both in <code>frames.csv</code>), \
-         and the per-part bar chart. Each plot is also in <code>plots/</code> as SVG.</p>",
+         and the per-part bar chart (angular area and exposure when measured, then the paper's count). For a paper, \
+         each plot is also in <code>plots/</code> as PDF and SVG (vector, real text) and PNG (300 dpi), for two \
+         columns (183 mm, <code>NAME.*</code>) and one (89 mm, <code>NAME-1col.*</code>), text at least 7 pt.</p>",
         crate::output::plots::TOP_PARTS
     );
     for plot in plots {
         let _ = writeln!(
             page,
-            "<p><a href=\"{svg}\"><img src=\"{shown}\" alt=\"{title}\" class=\"plot\"></a></p>",
+            "<figure><a href=\"{svg}\"><img src=\"{shown}\" alt=\"{title}\" class=\"plot\"></a>\
+             <figcaption>{scenario}: {title}.</figcaption></figure>",
+            scenario = escape(&scenario_name(inputs)),
             svg = escape(&plot.svg),
             shown = escape(&plot.shown),
             title = escape(&plot.title)
@@ -294,16 +337,38 @@ fn plots(page: &mut String, inputs: &PageInputs) {
     }
 }
 
-/// The resolution-independent measures of the parts with the largest
-/// angular area (see [`crate::result::measures`]), when there are measures.
+/// The scenario's name for captions: the manifest's, else the archive's folder.
+fn scenario_name(inputs: &PageInputs) -> String {
+    let folder = Path::new(&inputs.result.settings.archive)
+        .file_name()
+        .map_or_else(|| inputs.result.settings.archive.clone(), |n| n.to_string_lossy().into_owned());
+    inputs.scenario.track.and_then(|t| t.name.clone()).unwrap_or(folder)
+}
+
+/// The heading of the first table: the measures docs/science.md says to quote.
+pub const QUOTED_HEADING: &str = "What to quote: angular area and exposure per part";
+
+/// The resolution-independent measures per part, largest angular area first
+/// (see [`crate::result::measures`]): the page's first table. Without them
+/// (no manifest), the section says why and where the counts are.
 fn measures(page: &mut String, inputs: &PageInputs) {
     let result = inputs.result;
-    let Some(measures) = &result.measures else { return };
+    let _ = writeln!(page, "<h2>{QUOTED_HEADING}</h2>");
+    let Some(measures) = &result.measures else {
+        let _ = writeln!(
+            page,
+            "<div class=\"warn\">No angular area or exposure: the archive has no manifest with the eyes' \
+             projection and frame rate (capture with <code>ufcsr-capture</code>, or write one with \
+             <code>ufcsr-analyze manifest</code>). Only the paper-compatible count below is available.</div>"
+        );
+        return;
+    };
     let optional = |value: Option<f64>| value.map_or("–".to_string(), |v| format!("{v:.3}"));
     let _ = writeln!(
         page,
-        "<h2>Resolution-independent measures</h2>\n<p>Per eye, averaged over {} eyes: visible angular area summed \
-         over time (deg²·s) and seconds seen; {} eye-frames, {} s per captured frame, {} pixels per degree. \
+        "<p>The measures docs/science.md says to quote for eHMI placement (they do not depend on resolution). \
+         Per eye, averaged over {} eyes: visible angular area summed over time (deg²·s) and seconds seen \
+         (exposure); {} eye-frames, {} s per captured frame, {} pixels per degree. \
          Definition: <code>{}</code>.</p>",
         measures.eyes,
         measures.eye_frames,
@@ -319,21 +384,22 @@ fn measures(page: &mut String, inputs: &PageInputs) {
         .iter()
         .filter(|p| p.pixels > 0 || result.parts.iter().any(|q| q.name == p.name))
         .collect();
-    order.sort_by(|a, b| b.pixels.cmp(&a.pixels).then(a.name.cmp(&b.name)));
+    let area = |p: &crate::result::measures::PartMeasure| p.angular_area_deg2_s.unwrap_or(-1.0);
+    order.sort_by(|a, b| area(b).total_cmp(&area(a)).then(b.pixels.cmp(&a.pixels)).then(a.name.cmp(&b.name)));
     let _ = writeln!(
         page,
-        "<table><tr><th>part</th><th>pixels (all eye-frames)</th><th>eye-frames seen</th><th>deg²·s</th>\
-         <th>exposure s</th></tr>"
+        "<table class=\"quoted\"><tr><th>part</th><th>angular area (deg²·s)</th><th>exposure (s)</th>\
+         <th>eye-frames seen</th><th>pixels (all eye-frames)</th></tr>"
     );
     for part in order {
         let _ = writeln!(
             page,
             "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
             escape(&part.name),
-            grouped(part.pixels),
-            grouped(part.eye_frames_seen),
             optional(part.angular_area_deg2_s),
-            optional(part.exposure_s)
+            optional(part.exposure_s),
+            grouped(part.eye_frames_seen),
+            grouped(part.pixels)
         );
     }
     let _ = writeln!(page, "</table>");
@@ -376,28 +442,94 @@ fn files(page: &mut String, inputs: &PageInputs) {
     let _ = writeln!(page, "</ul>");
 }
 
-/// The settings the counts were made with.
+/// The settings the counts were made with: the pixel path's (background,
+/// dedupe, trimming), or the exact measure's (its definition and notes).
 fn settings(page: &mut String, inputs: &PageInputs) {
     let settings = &inputs.result.settings;
     let _ = writeln!(
         page,
         "<h2>Settings</h2>\n<table><tr><th>archive</th><td>{}</td></tr><tr><th>palette</th><td>{} {}×{}</td></tr>\
-         <tr><th>background</th><td>{}</td></tr><tr><th>PIdT</th><td>{}</td></tr><tr><th>legend</th><td>{}</td></tr>\
-         <tr><th>one count means</th><td>{:?}</td></tr><tr><th>trimming</th><td>{}</td></tr><tr><th>shard</th><td>{}</td></tr></table>",
+         <tr><th>PIdT</th><td>{}</td></tr><tr><th>legend</th><td>{}</td></tr>",
         escape(&settings.archive),
         escape(&settings.palette.kind),
         settings.palette.width,
         settings.palette.height,
-        settings.background.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(", "),
         escape(settings.pidt.as_deref().unwrap_or("–")),
         escape(settings.parts.as_deref().unwrap_or("–")),
-        settings.dedupe,
-        escape(&settings.trim.mode),
-        settings.shard.map_or("whole archive".to_string(), |s| s.to_string()),
+    );
+    if inputs.result.measure == crate::format::result::CountMeasure::Unobstructed {
+        let measures = inputs.result.measures.as_ref();
+        let _ = writeln!(
+            page,
+            "<tr><th>one count means</th><td>an eye-frame in which the texel's point is in view, faces the eye \
+             and nothing is in between</td></tr><tr><th>definition</th><td>{}</td></tr>",
+            escape(measures.map_or("–", |m| m.definition.as_str()))
+        );
+        for note in measures.map(|m| m.notes.as_slice()).unwrap_or_default() {
+            let _ = writeln!(page, "<tr><th>note</th><td>{}</td></tr>", escape(note));
+        }
+    } else {
+        let _ = writeln!(
+            page,
+            "<tr><th>background</th><td>{}</td></tr><tr><th>one count means</th><td>{:?}</td></tr>\
+             <tr><th>trimming</th><td>{}</td></tr>",
+            settings.background.iter().map(|c| c.to_string()).collect::<Vec<_>>().join(", "),
+            settings.dedupe,
+            escape(&settings.trim.mode),
+        );
+    }
+    let _ = writeln!(
+        page,
+        "<tr><th>shard</th><td>{}</td></tr></table>",
+        settings.shard.map_or("whole archive".to_string(), |s| s.to_string())
     );
 }
 
 /// The version line and the end of the document.
 fn foot(page: &mut String, _inputs: &PageInputs) {
     let _ = writeln!(page, "<p><small>ufcsr {}</small></p>\n</body></html>", env!("CARGO_PKG_VERSION"));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+
+    fn example_result() -> AnalysisResult {
+        let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference/example-result.json");
+        crate::result::result_json::read_result_summary(&path).unwrap()
+    }
+
+    fn page_of(result: &AnalysisResult) -> String {
+        let files = WrittenFiles {
+            result_json: "result.json".into(),
+            parts_csv: None,
+            heatmap_png: "heatmap.png".into(),
+            timings_json: "timings.json".into(),
+            heatmap_glb: None,
+            report_html: "report.html".into(),
+            views_png: None,
+            frames_csv: None,
+            map_png: None,
+            frames_strip_png: None,
+            plots: Vec::new(),
+        };
+        let scenario = ScenarioPage::default();
+        render(&PageInputs { result, files: &files, scenario: &scenario, placement: None })
+    }
+
+    #[test]
+    fn an_exact_measure_result_shows_its_own_settings_not_the_pixel_paths() {
+        let mut result = example_result();
+        let pixel_page = page_of(&result);
+        assert!(pixel_page.contains("<th>trimming</th>") && pixel_page.contains("<th>decoded</th>"));
+        result.measure = crate::format::result::CountMeasure::Unobstructed;
+        let page = page_of(&result);
+        for pixel_only in
+            ["<th>trimming</th>", "<th>decoded</th>", "trimmed (all background)", "<th>background</th>"]
+        {
+            assert!(!page.contains(pixel_only), "an exact result's page shows {pixel_only}");
+        }
+        assert!(page.contains("no images read") && page.contains("<th>definition</th>"));
+    }
 }

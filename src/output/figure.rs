@@ -1,0 +1,401 @@
+//! Figures for a paper (issue 35 item 2): the plots are drawn once, in
+//! figure pixels at 300 dpi, for a journal column width ([`FigureSize`]:
+//! one column 89 mm, two columns 183 mm) with every text size given in
+//! points, so that text is ≥ 7 pt at the size the figure is printed; and
+//! written three ways — PNG (300 dpi, kerned text: plotters' own ab_glyph
+//! drawing drops each glyph's side bearing, "fen der_righ t"), SVG (real
+//! text, its width in millimetres) and PDF (vector, real text, through
+//! [`crate::output::pdf`]).
+//!
+//! Series are told apart by the Okabe–Ito palette (colour-blind safe) AND
+//! by a marker shape and a dash pattern each, so they survive greyscale.
+
+use std::sync::OnceLock;
+
+use ab_glyph::{Font as _, FontRef, PxScale, ScaleFont as _, point};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters_backend::{
+    BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingErrorKind, text_anchor::HPos,
+    text_anchor::VPos,
+};
+
+/// Figure pixels per inch (the PNG's resolution at the printed size).
+pub const DPI: f64 = 300.0;
+/// Millimetres per point (1/72 inch).
+pub const MM_PER_PT: f64 = 25.4 / 72.0;
+/// The smallest text a figure may have at its printed size, in points.
+pub const MIN_TEXT_PT: f64 = 7.0;
+
+/// A printed figure width: one or two journal columns.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FigureSize {
+    /// 89 mm.
+    OneColumn,
+    /// 183 mm.
+    TwoColumns,
+}
+
+impl FigureSize {
+    /// Both sizes, the default (two columns) first.
+    pub const ALL: [FigureSize; 2] = [FigureSize::TwoColumns, FigureSize::OneColumn];
+
+    /// The printed width.
+    pub fn width_mm(self) -> f64 {
+        match self {
+            FigureSize::OneColumn => 89.0,
+            FigureSize::TwoColumns => 183.0,
+        }
+    }
+
+    /// The file name's suffix (`parts.svg`, `parts-1col.svg`).
+    pub fn suffix(self) -> &'static str {
+        match self {
+            FigureSize::OneColumn => "-1col",
+            FigureSize::TwoColumns => "",
+        }
+    }
+
+    /// The width in figure pixels.
+    pub fn width_px(self) -> u32 {
+        mm(self.width_mm()) as u32
+    }
+}
+
+/// Figure pixels in `mm` millimetres.
+pub fn mm(mm: f64) -> i32 {
+    (mm / 25.4 * DPI).round() as i32
+}
+
+/// The plotters font size that prints at `points` (plotters draws a size
+/// `s` at an em of `s / 1.24` pixels, as its SVG's `font-size` says).
+pub fn pt(points: f64) -> f64 {
+    points / 72.0 * DPI * 1.24
+}
+
+/// A line `points` wide, in figure pixels.
+pub fn stroke(points: f64) -> u32 {
+    (points / 72.0 * DPI).round().max(1.0) as u32
+}
+
+/// The Okabe–Ito palette (Okabe & Ito 2008), ordered for lines on white:
+/// blue, vermillion, bluish green, reddish purple, orange, sky blue, black,
+/// yellow.
+pub const OKABE_ITO: [[u8; 3]; 8] = [
+    [0, 114, 178],
+    [213, 94, 0],
+    [0, 158, 115],
+    [204, 121, 167],
+    [230, 159, 0],
+    [86, 180, 233],
+    [0, 0, 0],
+    [240, 228, 66],
+];
+
+/// The colour of series `index`.
+pub fn series_color(index: usize) -> RGBColor {
+    let [r, g, b] = OKABE_ITO[index % OKABE_ITO.len()];
+    RGBColor(r, g, b)
+}
+
+/// The dash pattern of series `index`: (dash, gap) in points, `None` solid.
+pub fn series_dash(index: usize) -> Option<(f64, f64)> {
+    [None, Some((5.0, 2.5)), Some((1.5, 1.5)), Some((8.0, 2.0))][index % 4]
+}
+
+/// The marker outline of series `index` around the origin, `radius` pixels:
+/// circle, triangle, square, diamond; filled for the first four series,
+/// hollow for the next four.
+pub fn marker_shape(index: usize, radius: i32) -> (Vec<(i32, i32)>, bool) {
+    let r = f64::from(radius);
+    let polygon = |corners: usize, start_deg: f64| -> Vec<(i32, i32)> {
+        (0..corners)
+            .map(|k| {
+                let angle = (start_deg + 360.0 * k as f64 / corners as f64).to_radians();
+                ((r * angle.cos()).round() as i32, (r * angle.sin()).round() as i32)
+            })
+            .collect()
+    };
+    let shape = match index % 4 {
+        0 => polygon(16, 0.0),
+        1 => polygon(3, -90.0),
+        2 => polygon(4, 45.0),
+        _ => polygon(4, 0.0),
+    };
+    (shape, (index / 4).is_multiple_of(2))
+}
+
+/// Draws series `index`'s marker at `at` (backend pixels) on `area`.
+pub fn draw_marker<B: DrawingBackend>(
+    area: &DrawingArea<B, Shift>,
+    index: usize,
+    at: (i32, i32),
+    radius: i32,
+) -> DrawResult
+where
+    B::ErrorType: 'static,
+{
+    let (shape, filled) = marker_shape(index, radius);
+    let color = series_color(index);
+    let points: Vec<(i32, i32)> = shape.iter().map(|&(x, y)| (at.0 + x, at.1 + y)).collect();
+    if filled {
+        area.draw(&Polygon::new(points, color.filled()))?;
+    } else {
+        area.draw(&Polygon::new(points.clone(), WHITE.filled()))?;
+        let mut closed = points;
+        closed.push(closed[0]);
+        area.draw(&PathElement::new(closed, Color::stroke_width(&color, stroke(0.8))))?;
+    }
+    Ok(())
+}
+
+/// The dashed pieces of the polyline `points` (backend pixels) for a
+/// (dash, gap) pattern in pixels; the whole line when `dash` is `None`.
+pub fn dashed(points: &[(i32, i32)], dash: Option<(f64, f64)>) -> Vec<Vec<(i32, i32)>> {
+    let Some((on, off)) = dash else { return vec![points.to_vec()] };
+    let mut pieces = Vec::new();
+    let mut current: Vec<(i32, i32)> = Vec::new();
+    // Position inside the pattern, and whether the pen is down.
+    let (mut left, mut down) = (on, true);
+    for pair in points.windows(2) {
+        let (a, b) =
+            ((f64::from(pair[0].0), f64::from(pair[0].1)), (f64::from(pair[1].0), f64::from(pair[1].1)));
+        let length = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
+        let at = |t: f64| ((a.0 + (b.0 - a.0) * t).round() as i32, (a.1 + (b.1 - a.1) * t).round() as i32);
+        let mut travelled = 0.0;
+        if down && current.is_empty() {
+            current.push(at(0.0));
+        }
+        while length - travelled > left {
+            travelled += left;
+            let t = travelled / length.max(1e-9);
+            if down {
+                current.push(at(t));
+                pieces.push(std::mem::take(&mut current));
+            } else {
+                current.push(at(t));
+            }
+            down = !down;
+            left = if down { on } else { off };
+        }
+        left -= length - travelled;
+        if down {
+            current.push(at(1.0));
+        }
+    }
+    if current.len() > 1 {
+        pieces.push(current);
+    }
+    pieces
+}
+
+/// Draws series `index`'s line through `points` (backend pixels).
+pub fn draw_series_line<B: DrawingBackend>(
+    area: &DrawingArea<B, Shift>,
+    index: usize,
+    points: &[(i32, i32)],
+) -> DrawResult
+where
+    B::ErrorType: 'static,
+{
+    let px = DPI / 72.0;
+    let dash = series_dash(index).map(|(on, off)| (on * px, off * px));
+    let style = Color::stroke_width(&series_color(index), stroke(1.2));
+    for piece in dashed(points, dash) {
+        area.draw(&PathElement::new(piece, style))?;
+    }
+    Ok(())
+}
+
+/// What drawing a figure returns.
+pub type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
+
+/// The TrueType font the figures' text is drawn and measured with, once
+/// found (see [`crate::output::plots::font_available`]).
+pub(crate) static FONT_BYTES: OnceLock<Option<&'static [u8]>> = OnceLock::new();
+
+fn font() -> Option<FontRef<'static>> {
+    FONT_BYTES.get().copied().flatten().and_then(|bytes| FontRef::try_from_slice(bytes).ok())
+}
+
+/// The glyph coverage of `text` at plotters size `size`, kerned and with each
+/// glyph's side bearing, calling `plot(x, y, coverage)` with pixels relative to
+/// the left end of the baseline.
+pub fn rasterize_text(text: &str, size: f64, mut plot: impl FnMut(i32, i32, f32)) {
+    let Some(font) = font() else { return };
+    let scale = PxScale::from(size as f32);
+    let scaled = font.as_scaled(scale);
+    let mut caret = 0.0f32;
+    let mut previous = None;
+    for c in text.chars() {
+        let id = font.glyph_id(c);
+        if let Some(before) = previous {
+            caret += scaled.kern(before, id);
+        }
+        previous = Some(id);
+        let glyph = id.with_scale_and_position(scale, point(caret, 0.0));
+        if let Some(outline) = font.outline_glyph(glyph) {
+            let bounds = outline.px_bounds();
+            outline.draw(|x, y, coverage| {
+                plot(bounds.min.x as i32 + x as i32, bounds.min.y as i32 + y as i32, coverage);
+            });
+        }
+        caret += scaled.h_advance(id);
+    }
+}
+
+/// The advance width of `text` at plotters size `size`, kerned, in figure
+/// pixels (0 without a font).
+pub fn text_width(text: &str, size: f64) -> i32 {
+    let Some(font) = font() else { return 0 };
+    let scaled = font.as_scaled(PxScale::from(size as f32));
+    let mut width = 0.0f32;
+    let mut previous = None;
+    for c in text.chars() {
+        let id = font.glyph_id(c);
+        if let Some(before) = previous {
+            width += scaled.kern(before, id);
+        }
+        previous = Some(id);
+        width += scaled.h_advance(id);
+    }
+    width.ceil() as i32
+}
+
+/// Where the baseline lies below the top of plotters' text box, as a share
+/// of the plotters size (the box is `size / 1.24` high; this keeps
+/// descenders inside it and capitals at its top).
+pub const BASELINE: f64 = 0.6;
+
+/// A bitmap backend whose text is kerned and keeps side bearings (plotters'
+/// own ab_glyph drawing drops them); everything else is the bitmap's.
+pub struct KernedBitmap<'a>(pub BitMapBackend<'a>);
+
+impl DrawingBackend for KernedBitmap<'_> {
+    type ErrorType = <BitMapBackend<'static> as DrawingBackend>::ErrorType;
+
+    fn get_size(&self) -> (u32, u32) {
+        self.0.get_size()
+    }
+    fn ensure_prepared(&mut self) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.0.ensure_prepared()
+    }
+    fn present(&mut self) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.0.present()
+    }
+    fn draw_pixel(
+        &mut self,
+        at: BackendCoord,
+        color: BackendColor,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.0.draw_pixel(at, color)
+    }
+    fn draw_line<S: BackendStyle>(
+        &mut self,
+        from: BackendCoord,
+        to: BackendCoord,
+        style: &S,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.0.draw_line(from, to, style)
+    }
+    fn draw_rect<S: BackendStyle>(
+        &mut self,
+        upper_left: BackendCoord,
+        bottom_right: BackendCoord,
+        style: &S,
+        fill: bool,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.0.draw_rect(upper_left, bottom_right, style, fill)
+    }
+    fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        vertices: I,
+        style: &S,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        self.0.fill_polygon(vertices, style)
+    }
+    fn draw_text<T: BackendTextStyle>(
+        &mut self,
+        text: &str,
+        style: &T,
+        at: BackendCoord,
+    ) -> Result<(), DrawingErrorKind<Self::ErrorType>> {
+        let color = style.color();
+        let (width, height) = self.estimate_text_size(text, style)?;
+        let (dx, dy) = anchor_offset(style, width, height);
+        let baseline = (BASELINE * style.size()) as i32;
+        let transform = style.transform();
+        let mut pixels = Vec::new();
+        rasterize_text(text, style.size(), |x, y, coverage| pixels.push((x, y, coverage)));
+        let (w, h) = self.get_size();
+        for (x, y, coverage) in pixels {
+            let (x, y) = transform.transform(x + dx, y + dy + baseline);
+            let (x, y) = (at.0 + x, at.1 + y);
+            if x >= 0 && y >= 0 && (x as u32) < w && (y as u32) < h && coverage > 0.0 {
+                self.0.draw_pixel((x, y), color.mix(f64::from(coverage.min(1.0))))?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The offset of a text box's top left from its anchor point.
+pub fn anchor_offset<T: BackendTextStyle>(style: &T, width: u32, height: u32) -> (i32, i32) {
+    let (width, height) = (width as i32, height as i32);
+    let dx = match style.anchor().h_pos {
+        HPos::Left => 0,
+        HPos::Right => -width,
+        HPos::Center => -width / 2,
+    };
+    let dy = match style.anchor().v_pos {
+        VPos::Top => 0,
+        VPos::Center => -height / 2,
+        VPos::Bottom => -height,
+    };
+    (dx, dy)
+}
+
+/// Gives an SVG of `size` its printed size: the root's `width` and `height`
+/// in millimetres (its viewBox stays in figure pixels), and a font list
+/// that names the drawing font first.
+pub fn svg_in_millimetres(svg: &str, size: FigureSize, height_px: u32) -> String {
+    let width_mm = size.width_mm();
+    let height_mm = f64::from(height_px) * width_mm / f64::from(size.width_px());
+    let header = format!("width=\"{}\" height=\"{}\"", size.width_px(), height_px);
+    svg.replacen(&header, &format!("width=\"{width_mm}mm\" height=\"{height_mm:.1}mm\""), 1)
+        .replace("font-family=\"sans-serif\"", "font-family=\"DejaVu Sans, Helvetica, Arial, sans-serif\"")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dashes_alternate_along_a_straight_line() {
+        let pieces = dashed(&[(0, 0), (100, 0)], Some((10.0, 5.0)));
+        // 0–10, 15–25, … 90–100: seven dashes.
+        assert_eq!(pieces.len(), 7);
+        assert_eq!(pieces[0], [(0, 0), (10, 0)]);
+        assert_eq!(pieces[1], [(15, 0), (25, 0)]);
+        assert_eq!(dashed(&[(0, 0), (5, 5)], None), [[(0, 0), (5, 5)]]);
+    }
+
+    #[test]
+    fn every_series_of_the_eight_has_its_own_color_and_marker_or_dash() {
+        let styles: Vec<_> = (0..8)
+            .map(|i| (series_color(i), marker_shape(i, 10), series_dash(i).map(|d| d.0 as i32)))
+            .collect();
+        for (i, a) in styles.iter().enumerate() {
+            for b in &styles[i + 1..] {
+                assert_ne!(a.0, b.0, "colours repeat");
+                assert!(a.1 != b.1 || a.2 != b.2, "two series differ by colour alone");
+            }
+        }
+    }
+
+    #[test]
+    fn two_column_width_is_183_mm_at_300_dpi() {
+        assert_eq!(FigureSize::TwoColumns.width_px(), 2161);
+        assert!((pt(7.0) / 1.24 * 183.0 / 2161.0 / MM_PER_PT - 7.0).abs() < 0.01);
+    }
+}

@@ -1,0 +1,294 @@
+//! A vector PDF of a figure: a plotters backend that writes PDF drawing
+//! operators (lines, rectangles, polygons, circles as Bézier curves) and
+//! real text in Helvetica, one of PDF's standard fonts, so no font is
+//! embedded and the text stays text (searchable, editable in a journal's
+//! workflow). Small by design — one page, no compression, no transparency
+//! (a colour with alpha is mixed with the white paper, as on screen) —
+//! so the figures need no PDF crate.
+//!
+//! Figure pixels (300 dpi, y down) become points (y up) on a page of the
+//! figure's printed size.
+
+use std::fmt::Write as _;
+
+use plotters::prelude::DrawingBackend;
+use plotters_backend::{
+    BackendColor, BackendCoord, BackendStyle, BackendTextStyle, DrawingErrorKind, FontTransform,
+};
+
+use crate::output::figure::{BASELINE, DPI, anchor_offset};
+
+/// The page being drawn: its size in figure pixels and its content stream.
+pub struct PdfBackend<'a> {
+    size: (u32, u32),
+    content: &'a mut String,
+}
+
+/// Drawing into a string cannot fail.
+#[derive(Debug)]
+pub struct NoError;
+
+impl std::fmt::Display for NoError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("no error")
+    }
+}
+
+impl std::error::Error for NoError {}
+
+/// Points per figure pixel.
+const K: f64 = 72.0 / DPI;
+
+impl<'a> PdfBackend<'a> {
+    /// A page of `size` figure pixels drawing into `content`.
+    pub fn new(content: &'a mut String, size: (u32, u32)) -> PdfBackend<'a> {
+        PdfBackend { size, content }
+    }
+
+    fn x(&self, x: i32) -> f64 {
+        f64::from(x) * K
+    }
+
+    fn y(&self, y: i32) -> f64 {
+        f64::from(self.size.1 as i32 - y) * K
+    }
+
+    /// Sets the fill (`rg`) or stroke (`RG`) colour, mixed with white paper.
+    fn color(&mut self, color: BackendColor, operator: &str) {
+        let mix = |c: u8| (f64::from(c) / 255.0 * color.alpha + (1.0 - color.alpha)).clamp(0.0, 1.0);
+        let (r, g, b) = color.rgb;
+        let _ = writeln!(self.content, "{:.3} {:.3} {:.3} {operator}", mix(r), mix(g), mix(b));
+    }
+
+    fn path(&mut self, points: &[BackendCoord], close: bool) {
+        for (index, &(x, y)) in points.iter().enumerate() {
+            let op = if index == 0 { "m" } else { "l" };
+            let _ = writeln!(self.content, "{:.2} {:.2} {op}", self.x(x), self.y(y));
+        }
+        if close {
+            self.content.push_str("h\n");
+        }
+    }
+}
+
+type Drawn = Result<(), DrawingErrorKind<NoError>>;
+
+impl DrawingBackend for PdfBackend<'_> {
+    type ErrorType = NoError;
+
+    fn get_size(&self) -> (u32, u32) {
+        self.size
+    }
+    fn ensure_prepared(&mut self) -> Drawn {
+        Ok(())
+    }
+    fn present(&mut self) -> Drawn {
+        Ok(())
+    }
+    fn draw_pixel(&mut self, at: BackendCoord, color: BackendColor) -> Drawn {
+        self.draw_rect(at, (at.0 + 1, at.1 + 1), &color, true)
+    }
+    fn draw_line<S: BackendStyle>(&mut self, from: BackendCoord, to: BackendCoord, style: &S) -> Drawn {
+        self.draw_path([from, to], style)
+    }
+    fn draw_rect<S: BackendStyle>(
+        &mut self,
+        a: BackendCoord,
+        b: BackendCoord,
+        style: &S,
+        fill: bool,
+    ) -> Drawn {
+        if style.color().alpha == 0.0 {
+            return Ok(());
+        }
+        let (x, y) = (self.x(a.0.min(b.0)), self.y(a.1.max(b.1)));
+        let (w, h) = (f64::from((b.0 - a.0).abs()) * K, f64::from((b.1 - a.1).abs()) * K);
+        if fill {
+            self.color(style.color(), "rg");
+            let _ = writeln!(self.content, "{x:.2} {y:.2} {w:.2} {h:.2} re f");
+        } else {
+            self.color(style.color(), "RG");
+            let width = f64::from(style.stroke_width()) * K;
+            let _ = writeln!(self.content, "{width:.2} w {x:.2} {y:.2} {w:.2} {h:.2} re S");
+        }
+        Ok(())
+    }
+    fn draw_path<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        path: I,
+        style: &S,
+    ) -> Drawn {
+        if style.color().alpha == 0.0 {
+            return Ok(());
+        }
+        let points: Vec<BackendCoord> = path.into_iter().collect();
+        if points.len() < 2 {
+            return Ok(());
+        }
+        self.color(style.color(), "RG");
+        let _ = writeln!(self.content, "{:.2} w 1 J 1 j", f64::from(style.stroke_width()) * K);
+        self.path(&points, false);
+        self.content.push_str("S\n");
+        Ok(())
+    }
+    fn draw_circle<S: BackendStyle>(&mut self, c: BackendCoord, radius: u32, style: &S, fill: bool) -> Drawn {
+        if style.color().alpha == 0.0 {
+            return Ok(());
+        }
+        // Four Bézier quarters (κ = 0.5523).
+        let (x, y, r) = (self.x(c.0), self.y(c.1), f64::from(radius) * K);
+        let k = 0.5523 * r;
+        self.color(style.color(), if fill { "rg" } else { "RG" });
+        let _ = writeln!(
+            self.content,
+            "{:.2} w {a:.2} {y:.2} m {a:.2} {b:.2} {c1:.2} {t:.2} {x:.2} {t:.2} c {c2:.2} {t:.2} {l:.2} {b:.2} {l:.2} {y:.2} c \
+             {l:.2} {d:.2} {c2:.2} {u:.2} {x:.2} {u:.2} c {c1:.2} {u:.2} {a:.2} {d:.2} {a:.2} {y:.2} c {}",
+            f64::from(style.stroke_width()) * K,
+            if fill { "f" } else { "S" },
+            a = x + r,
+            b = y + k,
+            c1 = x + k,
+            t = y + r,
+            c2 = x - k,
+            l = x - r,
+            d = y - k,
+            u = y - r,
+        );
+        Ok(())
+    }
+    fn fill_polygon<S: BackendStyle, I: IntoIterator<Item = BackendCoord>>(
+        &mut self,
+        vert: I,
+        style: &S,
+    ) -> Drawn {
+        if style.color().alpha == 0.0 {
+            return Ok(());
+        }
+        let points: Vec<BackendCoord> = vert.into_iter().collect();
+        if points.len() < 3 {
+            return Ok(());
+        }
+        self.color(style.color(), "rg");
+        self.path(&points, true);
+        self.content.push_str("f\n");
+        Ok(())
+    }
+    fn draw_text<T: BackendTextStyle>(&mut self, text: &str, style: &T, at: BackendCoord) -> Drawn {
+        if style.color().alpha == 0.0 || text.is_empty() {
+            return Ok(());
+        }
+        let (width, height) = self.estimate_text_size(text, style)?;
+        let (dx, dy) = anchor_offset(style, width, height);
+        let baseline = (BASELINE * style.size()) as i32;
+        let transform = style.transform();
+        let (ox, oy) = transform.transform(dx, dy + baseline);
+        let (x, y) = (self.x(at.0 + ox), self.y(at.1 + oy));
+        // Figure-pixel rotations are clockwise on screen: counter-clockwise in PDF's y-up.
+        let (cos, sin) = match transform {
+            FontTransform::Rotate90 => (0.0, -1.0),
+            FontTransform::Rotate180 => (-1.0, 0.0),
+            FontTransform::Rotate270 => (0.0, 1.0),
+            _ => (1.0, 0.0),
+        };
+        // The em is `size / 1.24` figure pixels, as in the SVG.
+        let em = style.size() / 1.24 * K;
+        self.color(style.color(), "rg");
+        let _ = writeln!(
+            self.content,
+            "BT /F1 {em:.2} Tf {cos} {sin} {} {cos} {x:.2} {y:.2} Tm ({}) Tj ET",
+            -sin,
+            win_ansi(text)
+        );
+        Ok(())
+    }
+}
+
+/// `text` as a PDF string in WinAnsiEncoding (Latin-1 and a few more;
+/// other characters become `?`), with `(`, `)` and `\` escaped.
+fn win_ansi(text: &str) -> String {
+    let mut out = String::new();
+    for c in text.chars() {
+        let code: u32 = match c {
+            '(' | ')' | '\\' => {
+                out.push('\\');
+                c as u32
+            }
+            '\u{20}'..='\u{7e}' | '\u{a0}'..='\u{ff}' => c as u32,
+            '–' => 0x96,
+            '—' => 0x97,
+            '’' => 0x92,
+            '‘' => 0x91,
+            '•' => 0x95,
+            '…' => 0x85,
+            _ => u32::from(b'?'),
+        };
+        if (0x20..0x7f).contains(&code) {
+            out.push(char::from_u32(code).unwrap_or('?'));
+        } else {
+            let _ = write!(out, "\\{code:03o}");
+        }
+    }
+    out
+}
+
+/// A one-page PDF of `content` (drawn by [`PdfBackend`]) on a page of
+/// `size` figure pixels, with `title` in its document information.
+pub fn pdf_document(content: &str, size: (u32, u32), title: &str) -> Vec<u8> {
+    let (w, h) = (f64::from(size.0) * K, f64::from(size.1) * K);
+    let objects = [
+        "<< /Type /Catalog /Pages 2 0 R >>".to_string(),
+        "<< /Type /Pages /Kids [3 0 R] /Count 1 >>".to_string(),
+        format!(
+            "<< /Type /Page /Parent 2 0 R /MediaBox [0 0 {w:.2} {h:.2}] /Resources << /Font << /F1 4 0 R >> >> /Contents 5 0 R >>"
+        ),
+        "<< /Type /Font /Subtype /Type1 /BaseFont /Helvetica /Encoding /WinAnsiEncoding >>".to_string(),
+        format!("<< /Length {} >>\nstream\n{content}endstream", content.len()),
+        format!("<< /Title ({}) /Producer (ufcsr {}) >>", win_ansi(title), env!("CARGO_PKG_VERSION")),
+    ];
+    let mut pdf = "%PDF-1.4\n%\u{e2}\u{e3}\u{cf}\u{d3}\n".as_bytes().to_vec();
+    let mut offsets = Vec::new();
+    for (index, object) in objects.iter().enumerate() {
+        offsets.push(pdf.len());
+        pdf.extend_from_slice(format!("{} 0 obj\n{object}\nendobj\n", index + 1).as_bytes());
+    }
+    let xref = pdf.len();
+    let mut table = format!("xref\n0 {}\n0000000000 65535 f \n", objects.len() + 1);
+    for offset in offsets {
+        let _ = writeln!(table, "{offset:010} 00000 n ");
+    }
+    let _ = write!(
+        table,
+        "trailer\n<< /Size {} /Root 1 0 R /Info {} 0 R >>\nstartxref\n{xref}\n%%EOF\n",
+        objects.len() + 1,
+        objects.len()
+    );
+    pdf.extend_from_slice(table.as_bytes());
+    pdf
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_is_win_ansi_with_escapes() {
+        assert_eq!(win_ansi("a (b) \\"), "a \\(b\\) \\\\");
+        assert_eq!(win_ansi("deg²·s"), "deg\\262\\267s");
+        assert_eq!(win_ansi("→"), "?");
+    }
+
+    #[test]
+    fn the_cross_reference_table_points_at_each_object() {
+        let pdf = pdf_document("0 0 m 1 1 l S\n", (300, 300), "t");
+        let text = String::from_utf8_lossy(&pdf).into_owned();
+        let xref_at: usize =
+            text.rsplit("startxref\n").next().unwrap().lines().next().unwrap().parse().unwrap();
+        assert!(text[xref_at..].starts_with("xref"));
+        for (index, line) in text[xref_at..].lines().skip(3).take(6).enumerate() {
+            let offset: usize = line[..10].parse().unwrap();
+            assert!(text[offset..].starts_with(&format!("{} 0 obj", index + 1)), "object {}", index + 1);
+        }
+        // 300 figure pixels at 300 dpi: one inch, 72 points.
+        assert!(text.contains("/MediaBox [0 0 72.00 72.00]"));
+    }
+}

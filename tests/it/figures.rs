@@ -1,0 +1,146 @@
+//! Figures for a paper (issue 35 item 2), on the bundled example: every
+//! plot exists as SVG, PDF and PNG at one and two journal columns; the SVG
+//! printed at its stated width (183 mm or 89 mm) has no text under 7 pt;
+//! the series use the Okabe–Ito palette; no figure names the archive's
+//! folder; every axis title says "quantity (unit)".
+
+use std::path::{Path, PathBuf};
+
+fn example_results(dir: &Path) -> PathBuf {
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let options = ufcsr::AnalyzeOptions { archive: example, frames: true, ..Default::default() };
+    let mut analysis = ufcsr::analyze(&options, None).unwrap();
+    let out = dir.join("results");
+    ufcsr::write_results(&mut analysis, &out).unwrap();
+    out
+}
+
+/// The value of attribute `name` in the first tag of `svg` that has it.
+fn attribute<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
+    let start = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+    tag[start..].split('"').next()
+}
+
+/// Every `<text>` element's font size, in points, when the SVG is printed
+/// at the width its root states (in millimetres).
+fn printed_font_sizes_pt(svg: &str) -> (f64, Vec<f64>) {
+    let root = &svg[svg.find("<svg").unwrap()..];
+    let root = &root[..root.find('>').unwrap()];
+    let width_mm: f64 =
+        attribute(root, "width").unwrap().strip_suffix("mm").expect("width in mm").parse().unwrap();
+    let view_box: Vec<f64> =
+        attribute(root, "viewBox").unwrap().split(' ').map(|v| v.parse().unwrap()).collect();
+    let mm_per_unit = width_mm / view_box[2];
+    let sizes = svg
+        .split("<text")
+        .skip(1)
+        .map(|tag| {
+            let size: f64 = attribute(&tag[..tag.find('>').unwrap()], "font-size").unwrap().parse().unwrap();
+            size * mm_per_unit / ufcsr::MM_PER_PT
+        })
+        .collect();
+    (width_mm, sizes)
+}
+
+#[test]
+fn every_plot_is_svg_pdf_and_png_at_both_column_widths_with_text_of_at_least_7_pt() {
+    if !ufcsr::plot_font_available() {
+        eprintln!("skipped: no TrueType font (UFCSR_FONT or DejaVu Sans) to draw labels with");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = example_results(dir.path());
+    if let Some(keep) = std::env::var_os("UFCSR_KEEP_FIGURES") {
+        let _ = std::process::Command::new("cp").arg("-r").arg(&out).arg(keep).status();
+    }
+    for plot in ["visibility-time", "visibility-distance", "parts"] {
+        for (suffix, width) in [("", 183.0), ("-1col", 89.0)] {
+            let stem = out.join("plots").join(format!("{plot}{suffix}"));
+            let svg = std::fs::read_to_string(stem.with_extension("svg")).unwrap();
+            let (width_mm, sizes) = printed_font_sizes_pt(&svg);
+            assert_eq!(width_mm, width, "{plot}{suffix}.svg");
+            assert!(sizes.len() > 5, "{plot}{suffix}.svg has {} texts", sizes.len());
+            let smallest = sizes.iter().copied().fold(f64::MAX, f64::min);
+            assert!(
+                smallest >= ufcsr::MIN_TEXT_PT - 1e-6,
+                "{plot}{suffix}.svg: {smallest:.2} pt at {width} mm"
+            );
+            let pdf = std::fs::read(stem.with_extension("pdf")).unwrap();
+            let pdf = String::from_utf8_lossy(&pdf);
+            assert!(pdf.starts_with("%PDF-1.4") && pdf.trim_end().ends_with("%%EOF"));
+            assert!(pdf.contains(") Tj"), "{plot}{suffix}.pdf has no real text");
+            assert!(pdf.contains(&format!(
+                "/MediaBox [0 0 {:.2}",
+                (width / 25.4 * 300.0_f64).round() * 72.0 / 300.0
+            )));
+            let png = image_size(&stem.with_extension("png"));
+            assert_eq!(
+                png[0],
+                (width / 25.4 * 300.0_f64).round() as u32,
+                "{plot}{suffix}.png is not 300 dpi"
+            );
+            assert!(!svg.contains("example"), "{plot}{suffix}.svg names the archive's folder");
+        }
+    }
+}
+
+fn image_size(path: &Path) -> [u32; 2] {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let reader = decoder.read_info().unwrap();
+    [reader.info().width, reader.info().height]
+}
+
+#[test]
+fn the_series_are_okabe_ito_colors_and_every_axis_says_quantity_and_unit() {
+    if !ufcsr::plot_font_available() {
+        eprintln!("skipped: no TrueType font (UFCSR_FONT or DejaVu Sans) to draw labels with");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = example_results(dir.path());
+    let svg = std::fs::read_to_string(out.join("plots/visibility-time.svg")).unwrap();
+    let hex = |c: &[u8; 3]| format!("#{:02X}{:02X}{:02X}", c[0], c[1], c[2]);
+    let used: Vec<String> = ufcsr::OKABE_ITO.iter().map(hex).filter(|c| svg.contains(c.as_str())).collect();
+    assert!(used.len() >= 3, "the series use {used:?} of the Okabe–Ito palette");
+    // matplotlib's default cycle (tab10) is gone.
+    for old in ["#1F77B4", "#FF7F0E", "#2CA02C"] {
+        assert!(!svg.contains(old), "{old} of the old cycle is still drawn");
+    }
+    for plot in ["visibility-time", "visibility-distance", "parts"] {
+        let svg = std::fs::read_to_string(out.join("plots").join(format!("{plot}.svg"))).unwrap();
+        let texts: Vec<&str> = svg
+            .split("<text")
+            .skip(1)
+            .map(|t| t[t.find('>').unwrap() + 1..].split('<').next().unwrap().trim())
+            .collect();
+        let axis_titles: Vec<&&str> = texts.iter().filter(|t| t.contains('(') && t.ends_with(')')).collect();
+        assert!(axis_titles.len() >= 2, "{plot}.svg: no \"quantity (unit)\" axis titles in {texts:?}");
+        assert!(
+            !texts.iter().any(|t| t.contains(", s") || t.contains(", m") || t.contains(", deg")),
+            "{texts:?}"
+        );
+    }
+}
+
+#[test]
+fn the_report_leads_with_the_quoted_measures_and_says_it_needs_its_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = example_results(dir.path());
+    let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let first_table = page.find("<table").unwrap();
+    let heading = page.find(ufcsr::QUOTED_HEADING).expect("no table of the quoted measures");
+    assert!(heading < first_table, "the first table is not the quoted measures");
+    let table = &page[first_table..page[first_table..].find("</table>").unwrap() + first_table];
+    assert!(table.contains("angular area (deg²·s)") && table.contains("exposure (s)"), "{table}");
+    // Largest angular area first: the example's windshield (the time plot's top curve).
+    let first_row = table.split("<tr><td>").nth(1).unwrap();
+    assert!(first_row.starts_with("windshield<"), "{first_row}");
+    // The paper's count is kept, labelled as such, below.
+    let paper =
+        page.find("Paper-compatible: the per-texel count per part").expect("no paper-compatible table");
+    assert!(paper > first_table);
+    // Pictures are linked, not embedded: the page says it needs its folder.
+    assert!(page.find(ufcsr::NEEDS_ITS_FOLDER).unwrap() < first_table);
+    assert!(page.contains("src=\"views.png\"") || page.contains("src=\"heatmap.png\""));
+    assert!(!page.contains("src=\"data:"));
+}
