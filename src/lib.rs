@@ -85,7 +85,7 @@ pub use output::html_escape;
 pub use output::{
     ComparisonOptions, CsvStyle, DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, FigureSize, MAP_FILE,
     MAP_SIZE, MIN_TEXT_PT, MM_PER_PT, MapContent, MapFrame, NEEDS_ITS_FOLDER, NEVER_SEEN, OKABE_ITO,
-    OWN_SCALES, QUOTED_HEADING, RANKED_HEADING, ResultSetOptions, SHARED_SCALE, STRIP_BACKGROUND,
+    OWN_SCALES, PlotText, QUOTED_HEADING, RANKED_HEADING, ResultSetOptions, SHARED_SCALE, STRIP_BACKGROUND,
     STRIP_FRAME_HEIGHT, STRIP_UNLABELLED, SceneObject, SceneShapes, VIEW_BASE, ViewCamera, ViewTexture,
     WrittenFiles, WrittenViews, ZBuffer, bar_ticks, csv_field, default_output_dir, format_counted_table,
     format_table, measure_unit, plasma, plot_font_available, render_heatmap, render_view, time_color,

@@ -38,7 +38,7 @@ pub use html::{
     ComparisonOptions, NEEDS_ITS_FOLDER, OWN_SCALES, QUOTED_HEADING, RANKED_HEADING, SHARED_SCALE,
     write_comparison, write_comparison_with,
 };
-pub use plots::font_available as plot_font_available;
+pub use plots::{PlotText, font_available as plot_font_available};
 pub use raster::ZBuffer;
 pub use result_set::{MAP_FILE, ResultSetOptions, default_output_dir, write_results, write_results_with};
 pub use scenario_map::{MAP_SIZE, MapContent, MapFrame, SceneShapes, time_color, write_scenario_map};

@@ -60,18 +60,25 @@ impl<'a> PdfBackend<'a> {
         let _ = writeln!(self.content, "{:.3} {:.3} {:.3} {operator}", mix(r), mix(g), mix(b));
     }
 
-    fn path(&mut self, points: &[BackendCoord], close: bool) {
+    fn path(&mut self, points: &[BackendCoord], end: PathEnd) {
         for (index, &(x, y)) in points.iter().enumerate() {
             let op = if index == 0 { "m" } else { "l" };
             let _ = writeln!(self.content, "{:.2} {:.2} {op}", self.x(x), self.y(y));
         }
-        if close {
+        if end == PathEnd::Closed {
             self.content.push_str("h\n");
         }
     }
 }
 
 type Drawn = Result<(), DrawingErrorKind<NoError>>;
+
+/// Whether a path ends where it started (a polygon) or stays open (a line).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PathEnd {
+    Open,
+    Closed,
+}
 
 impl DrawingBackend for PdfBackend<'_> {
     type ErrorType = NoError;
@@ -127,7 +134,7 @@ impl DrawingBackend for PdfBackend<'_> {
         }
         self.color(style.color(), "RG");
         let _ = writeln!(self.content, "{:.2} w 1 J 1 j", f64::from(style.stroke_width()) * K);
-        self.path(&points, false);
+        self.path(&points, PathEnd::Open);
         self.content.push_str("S\n");
         Ok(())
     }
@@ -169,7 +176,7 @@ impl DrawingBackend for PdfBackend<'_> {
             return Ok(());
         }
         self.color(style.color(), "rg");
-        self.path(&points, true);
+        self.path(&points, PathEnd::Closed);
         self.content.push_str("f\n");
         Ok(())
     }

@@ -102,10 +102,26 @@ pub struct Plot {
     pub files: Vec<String>,
 }
 
+/// Whether a plot's labels are drawn: they need a font, and without one the SVGs are drawn
+/// without text and no PNG or PDF is written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlotText {
+    Drawn,
+    Omitted,
+}
+
+impl PlotText {
+    /// Drawn when a font was found ([`font_available`]).
+    pub fn available() -> PlotText {
+        if font_available() { PlotText::Drawn } else { PlotText::Omitted }
+    }
+}
+
 /// A plot drawn on any backend at a printed size (`text`: whether labels can be drawn).
 trait Drawing {
     fn size(&self, size: FigureSize) -> (u32, u32);
-    fn draw_svg(&self, root: &DrawingArea<SVGBackend, Shift>, size: FigureSize, text: bool) -> DrawResult;
+    fn draw_svg(&self, root: &DrawingArea<SVGBackend, Shift>, size: FigureSize, text: PlotText)
+    -> DrawResult;
     fn draw_png(&self, root: &DrawingArea<KernedBitmap, Shift>, size: FigureSize) -> DrawResult;
     fn draw_pdf(&self, root: &DrawingArea<PdfBackend, Shift>, size: FigureSize) -> DrawResult;
 }
@@ -122,15 +138,15 @@ macro_rules! drawing {
                 &self,
                 root: &DrawingArea<SVGBackend, Shift>,
                 size: FigureSize,
-                text: bool,
+                text: PlotText,
             ) -> DrawResult {
                 self.draw(root, size, text)
             }
             fn draw_png(&self, root: &DrawingArea<KernedBitmap, Shift>, size: FigureSize) -> DrawResult {
-                self.draw(root, size, true)
+                self.draw(root, size, PlotText::Drawn)
             }
             fn draw_pdf(&self, root: &DrawingArea<PdfBackend, Shift>, size: FigureSize) -> DrawResult {
-                self.draw(root, size, true)
+                self.draw(root, size, PlotText::Drawn)
             }
         }
     };
@@ -145,7 +161,7 @@ fn drawing_error(path: &Path, error: impl std::fmt::Display) -> Error {
 fn write_plot(out_dir: &Path, name: &str, title: &str, drawing: &dyn Drawing) -> Result<Plot> {
     let dir = out_dir.join(PLOTS_DIR);
     crate::files::real_dir(&dir)?;
-    let text = font_available();
+    let text = PlotText::available();
     let mut files = Vec::new();
     for size in FigureSize::ALL {
         let (w, h) = drawing.size(size);
@@ -159,7 +175,7 @@ fn write_plot(out_dir: &Path, name: &str, title: &str, drawing: &dyn Drawing) ->
         }
         crate::files::write_bytes_atomically(&path, svg_in_millimetres(&svg, size, h).as_bytes())?;
         files.push(format!("{PLOTS_DIR}/{stem}.svg"));
-        if !text {
+        if text == PlotText::Omitted {
             continue;
         }
         let path = dir.join(format!("{stem}.png"));
@@ -180,12 +196,12 @@ fn write_plot(out_dir: &Path, name: &str, title: &str, drawing: &dyn Drawing) ->
         crate::files::write_bytes_atomically(&path, &pdf_document(&content, (w, h), title))?;
         files.push(format!("{PLOTS_DIR}/{stem}.pdf"));
     }
-    let ext = if text { "png" } else { "svg" };
+    let ext = if text == PlotText::Drawn { "png" } else { "svg" };
     Ok(Plot {
         title: title.to_string(),
         shown: format!("{PLOTS_DIR}/{name}.{ext}"),
         svg: format!("{PLOTS_DIR}/{name}.svg"),
-        pdf: text.then(|| format!("{PLOTS_DIR}/{name}.pdf")),
+        pdf: (text == PlotText::Drawn).then(|| format!("{PLOTS_DIR}/{name}.pdf")),
         files,
     })
 }
@@ -360,14 +376,14 @@ impl Visibility<'_> {
         &self,
         root: &DrawingArea<B, Shift>,
         size: FigureSize,
-        text: bool,
+        text: PlotText,
     ) -> DrawResult
     where
         B::ErrorType: 'static,
     {
         root.fill(&WHITE)?;
         let names: Vec<&str> = self.series.parts.iter().map(|(name, _)| name.as_str()).collect();
-        let (plot_area, legend_area) = if text {
+        let (plot_area, legend_area) = if text == PlotText::Drawn {
             let width = root.dim_in_pixel().0 as i32;
             root.split_horizontally(width - legend_width(&names, width))
         } else {
@@ -385,7 +401,7 @@ impl Visibility<'_> {
             self.series.parts.iter().flat_map(|(_, ys)| ys.iter().copied()).fold(1.0, f64::max) * 1.08;
         let mut builder = ChartBuilder::on(&plot_area);
         builder.margin(mm(2.5));
-        if text {
+        if text == PlotText::Drawn {
             builder.x_label_area_size(mm(10.0)).y_label_area_size(mm(13.0));
         }
         let mut chart = builder.build_cartesian_2d(x_min..x_max, 0.0..y_max)?;
@@ -395,7 +411,7 @@ impl Visibility<'_> {
         let y_tick = move |v: &f64| tick(*v, y_max);
         style_mesh(&mut mesh);
         let ticks = if size == FigureSize::OneColumn { 5 } else { 9 };
-        if text {
+        if text == PlotText::Drawn {
             mesh.x_desc(if self.against_distance { "vehicle distance (m)" } else { "time (s)" })
                 .y_desc(if self.series.angular {
                     "angular area per eye (deg²)"
@@ -426,7 +442,7 @@ impl Visibility<'_> {
                 draw_marker(root, index, *at, mm(0.8))?;
             }
         }
-        if text {
+        if text == PlotText::Drawn {
             draw_legend(&legend_area, &names)?;
         }
         root.present()?;
@@ -504,7 +520,7 @@ impl PartBars {
         &self,
         root: &DrawingArea<B, Shift>,
         size: FigureSize,
-        text: bool,
+        text: PlotText,
     ) -> DrawResult
     where
         B::ErrorType: 'static,
@@ -518,7 +534,7 @@ impl PartBars {
             .iter()
             .map(|&i| if self.marked[i] { format!("* {}", self.names[i]) } else { self.names[i].clone() })
             .collect();
-        let root = if text {
+        let root = if text == PlotText::Drawn {
             let (top, rest) = root.split_vertically(mm(6.0));
             let key = "orange, *: the paper's top-5 union (by count)";
             top.draw(&Text::new(key, (mm(2.0), mm(1.5)), ("sans-serif", pt(LABEL_PT))))?;
@@ -550,7 +566,7 @@ impl PartBars {
 #[derive(Clone, Copy)]
 struct PanelLayout {
     first: bool,
-    text: bool,
+    text: PlotText,
     names_width: i32,
 }
 
@@ -569,7 +585,7 @@ where
     let max = order.iter().map(|&i| panel.values[i]).fold(0.0, f64::max).max(1e-9) * 1.05;
     let mut builder = ChartBuilder::on(area);
     builder.margin_top(mm(1.0)).margin_right(mm(3.0)).margin_bottom(mm(1.0)).margin_left(mm(0.5));
-    if layout.text {
+    if layout.text == PlotText::Drawn {
         builder.x_label_area_size(mm(9.0)).y_label_area_size(if layout.first {
             layout.names_width
         } else {
@@ -591,12 +607,12 @@ where
         .axis_desc_style(("sans-serif", pt(LABEL_PT)));
     // plotters overflows on zero labels of a segmented axis: empty ones instead.
     mesh.y_labels(order.len());
-    if layout.text && layout.first {
+    if layout.text == PlotText::Drawn && layout.first {
         mesh.y_label_formatter(&label);
     } else {
         mesh.y_label_formatter(&no_label);
     }
-    if layout.text {
+    if layout.text == PlotText::Drawn {
         mesh.x_desc(panel.label.as_str());
     } else {
         mesh.x_labels(0);

@@ -78,6 +78,13 @@ struct OccluderGeometry {
     moving: Vec<Option<(wgpu::Buffer, u32)>>,
 }
 
+/// Whether a render pass counts samples for the occlusion query (the bounds test of hidden tiles).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Occlusion {
+    Counted,
+    NotCounted,
+}
+
 impl OccluderGeometry {
     /// Uploads `occluders`, the standing ones relative to `origin` (see [`RenderSetup::origin`]).
     fn upload(device: &wgpu::Device, queue: &wgpu::Queue, occluders: &Occluders, origin: DVec3) -> Self {
@@ -257,7 +264,8 @@ impl Renderer {
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("tile") });
         {
-            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Clear(()), false);
+            let mut pass =
+                self.begin_pass(&mut encoder, region, wgpu::LoadOp::Clear(()), Occlusion::NotCounted);
             self.draw_occluders(&mut pass, draw);
             self.draw_vehicle(&mut pass);
         }
@@ -286,7 +294,7 @@ impl Renderer {
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("occluders") });
         {
-            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Clear(()), true);
+            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Clear(()), Occlusion::Counted);
             self.draw_occluders(&mut pass, draw);
             pass.set_pipeline(&self.pipeline.bounds_test);
             pass.set_bind_group(0, &self.pipeline.vehicle_group, &[]);
@@ -304,7 +312,7 @@ impl Renderer {
         let mut encoder =
             device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some("vehicle") });
         {
-            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Load, false);
+            let mut pass = self.begin_pass(&mut encoder, region, wgpu::LoadOp::Load, Occlusion::NotCounted);
             self.draw_vehicle(&mut pass);
         }
         self.target.copy_to_readback(&mut encoder, region);
@@ -350,13 +358,13 @@ impl Renderer {
 
     /// Begins the tile's render pass, scissored to `region`: colour and
     /// depth cleared (to the background and to "infinitely far") or loaded
-    /// from the previous pass, with the occlusion query set when `query`.
+    /// from the previous pass, with the occlusion query set when `query` counts.
     fn begin_pass<'e>(
         &'e self,
         encoder: &'e mut wgpu::CommandEncoder,
         region: PixelRect,
         load: wgpu::LoadOp<()>,
-        query: bool,
+        query: Occlusion,
     ) -> wgpu::RenderPass<'e> {
         let [r, g, b] = self.background.rgb().map(|c| f64::from(c) / 255.0);
         let (color_load, depth_load) = match load {
@@ -379,7 +387,7 @@ impl Renderer {
                 stencil_ops: None,
             }),
             timestamp_writes: None,
-            occlusion_query_set: query.then_some(&self.occlusion.query_set),
+            occlusion_query_set: (query == Occlusion::Counted).then_some(&self.occlusion.query_set),
             multiview_mask: None,
         });
         pass.set_scissor_rect(region.x, region.y, region.width, region.height);

@@ -25,7 +25,7 @@ fn font_available() -> bool {
 
 /// Writes the plot as SVG.
 pub fn plot_svg(study: &Study, path: &Path) -> Result<()> {
-    let text = font_available();
+    let text = ufcsr::PlotText::available();
     let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
     draw(study, &root, text).map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))
 }
@@ -36,7 +36,7 @@ pub fn plot_png(study: &Study, path: &Path) -> Result<bool> {
         return Ok(false);
     }
     let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
-    draw(study, &root, true)
+    draw(study, &root, ufcsr::PlotText::Drawn)
         .map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))?;
     Ok(true)
 }
@@ -44,7 +44,7 @@ pub fn plot_png(study: &Study, path: &Path) -> Result<bool> {
 fn draw<B: DrawingBackend>(
     study: &Study,
     root: &DrawingArea<B, Shift>,
-    text: bool,
+    text: ufcsr::PlotText,
 ) -> std::result::Result<(), Box<dyn std::error::Error>>
 where
     B::ErrorType: 'static,
@@ -60,7 +60,7 @@ where
     let exact = study.exact.is_some();
     let mut builder = ChartBuilder::on(root);
     builder.margin(20);
-    if text {
+    if text == ufcsr::PlotText::Drawn {
         let against = if exact { "the exact measure of every frame" } else { "the finest setting" };
         builder
             .caption(
@@ -76,7 +76,7 @@ where
     let (x0, x1) = (t_min * 0.8, t_max * 1.25);
     let mut chart = builder.build_cartesian_2d((x0..x1).log_scale(), 0.0..e_max)?;
     let mut mesh = chart.configure_mesh();
-    if text {
+    if text == ufcsr::PlotText::Drawn {
         let y =
             if exact { "share L1 error vs exact, pp (bars: 95 %)" } else { "share L1 vs finest setting, pp" };
         mesh.x_desc("capture + count, seconds (log scale)")
@@ -101,7 +101,7 @@ where
         draw_precision_and_intervals(study, &mut chart, &times)?;
     }
     draw_front_and_points(study, &mut chart, &times, text)?;
-    if text {
+    if text == ufcsr::PlotText::Drawn {
         chart
             .configure_series_labels()
             .position(SeriesLabelPosition::UpperRight)
@@ -147,7 +147,7 @@ fn draw_front_and_points<B: DrawingBackend>(
     study: &Study,
     chart: &mut Chart<'_, B>,
     times: &[f64],
-    text: bool,
+    text: ufcsr::PlotText,
 ) -> std::result::Result<(), Box<dyn std::error::Error>>
 where
     B::ErrorType: 'static,
@@ -179,7 +179,7 @@ where
             .label(format!("recommended: {}", pick.setting))
             .legend(|(x, y)| Circle::new((x + 9, y), 6, GREEN.stroke_width(3)));
     }
-    if text {
+    if text == ufcsr::PlotText::Drawn {
         for (row, &time) in study.rows.iter().zip(times) {
             chart.draw_series(std::iter::once(Text::new(
                 format!("{}/{}", row.ppd, row.frame_step),
