@@ -26,17 +26,7 @@ pub fn vehicle_mesh(level: &VehicleLevel, base: &Path) -> Result<Mesh> {
     let body = BodyType::parse(name).ok_or_else(|| {
         CaptureError::BadOptions(format!("vehicle {:?}: unknown body {name:?}", level.name))
     })?;
-    let mut dims = BodyDims::typical(body);
-    if let Some(o) = level.dims {
-        let set = |field: &mut f64, value: Option<f64>| *field = value.unwrap_or(*field);
-        set(&mut dims.length_m, o.length_m);
-        set(&mut dims.width_m, o.width_m);
-        set(&mut dims.height_m, o.height_m);
-        set(&mut dims.bonnet_length_m, o.bonnet_length_m);
-        set(&mut dims.bonnet_height_m, o.bonnet_height_m);
-        set(&mut dims.windshield_rake_deg, o.windshield_rake_deg);
-        set(&mut dims.wheelbase_m, o.wheelbase_m);
-    }
+    let dims = BodyDims::typical(body).with(&level.dims.unwrap_or_default());
     body_mesh(body, &dims)
 }
 

@@ -36,7 +36,7 @@ pub struct VehicleSpec {
     pub body: Option<String>,
     /// The body's dimensions; those left out take the body's typical values.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub dims: Option<DimsSpec>,
+    pub dims: Option<ufcsr::BodyDimsOverride>,
     /// What names the parts: `node` (default), `mesh` or `material`, or
     /// `{"part_map": PNG, "legend": CSV}` painted over the model's own UVs.
     #[serde(default)]
@@ -88,34 +88,6 @@ impl TryFrom<serde_json::Value> for PartsFrom {
     }
 }
 
-/// A body's dimensions in a scene file, each optional ([`BodyDims`]).
-#[derive(Debug, Clone, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct DimsSpec {
-    pub length_m: Option<f64>,
-    pub width_m: Option<f64>,
-    pub height_m: Option<f64>,
-    pub bonnet_length_m: Option<f64>,
-    pub bonnet_height_m: Option<f64>,
-    pub windshield_rake_deg: Option<f64>,
-    pub wheelbase_m: Option<f64>,
-}
-
-impl DimsSpec {
-    /// `typical` with the given fields in place of its own.
-    pub fn over(&self, typical: BodyDims) -> BodyDims {
-        BodyDims {
-            length_m: self.length_m.unwrap_or(typical.length_m),
-            width_m: self.width_m.unwrap_or(typical.width_m),
-            height_m: self.height_m.unwrap_or(typical.height_m),
-            bonnet_length_m: self.bonnet_length_m.unwrap_or(typical.bonnet_length_m),
-            bonnet_height_m: self.bonnet_height_m.unwrap_or(typical.bonnet_height_m),
-            windshield_rake_deg: self.windshield_rake_deg.unwrap_or(typical.windshield_rake_deg),
-            wheelbase_m: self.wheelbase_m.unwrap_or(typical.wheelbase_m),
-        }
-    }
-}
-
 /// The body of the family `spec` names, with its dimensions (`None`: a
 /// mesh); `scene` names the file in errors.
 pub fn family_body(spec: &VehicleSpec, scene: &Path) -> Result<Option<(BodyType, BodyDims)>> {
@@ -138,7 +110,7 @@ pub fn family_body(spec: &VehicleSpec, scene: &Path) -> Result<Option<(BodyType,
             format!("vehicle.body {name:?} is not one of {}", names.join(", ")),
         ));
     };
-    let dims = spec.dims.clone().unwrap_or_default().over(BodyDims::typical(body));
+    let dims = BodyDims::typical(body).with(&spec.dims.unwrap_or_default());
     Ok(Some((body, dims)))
 }
 

@@ -79,6 +79,20 @@ pub struct BodyDims {
 }
 
 impl BodyDims {
+    /// These dimensions with the ones `overrides` gives in their place (the one type a scene
+    /// file's `vehicle.dims` and a design's vehicle level both use).
+    pub fn with(self, overrides: &ufcsr::BodyDimsOverride) -> BodyDims {
+        BodyDims {
+            length_m: overrides.length_m.unwrap_or(self.length_m),
+            width_m: overrides.width_m.unwrap_or(self.width_m),
+            height_m: overrides.height_m.unwrap_or(self.height_m),
+            bonnet_length_m: overrides.bonnet_length_m.unwrap_or(self.bonnet_length_m),
+            bonnet_height_m: overrides.bonnet_height_m.unwrap_or(self.bonnet_height_m),
+            windshield_rake_deg: overrides.windshield_rake_deg.unwrap_or(self.windshield_rake_deg),
+            wheelbase_m: overrides.wheelbase_m.unwrap_or(self.wheelbase_m),
+        }
+    }
+
     /// Typical dimensions of the class (sources and which figures are ours: `docs/vehicles.md`).
     pub fn typical(body: BodyType) -> BodyDims {
         let dims = |length_m,
