@@ -11,7 +11,7 @@ use ufcsr::{DESIGN_RESULT_SCHEMA, DESIGN_TASK_SCHEMA, DesignResult, DesignTask, 
 
 use super::plan::Plan;
 use super::run::{TASK_FILE, task_dir};
-use super::stats::{INTERVAL_METHOD, cell_data, group_summary, main_effects};
+use super::stats::{CellData, INTERVAL_METHOD, cell_data, group_summary, main_effects};
 use crate::error::{CaptureError, Result};
 
 /// The most missing cells named in one message.
@@ -122,6 +122,30 @@ fn answer(vehicles: &[GroupSummary], overall: &GroupSummary) -> Vec<String> {
     lines
 }
 
+/// [`answer`], plus a line saying so when display patches were measured but a group of the
+/// answer names none: patch positions follow the vehicle and each unit's texel sample, so a
+/// patch is compared only where it lies at the same place in every unit and cell of the group;
+/// elsewhere the answer is about whole parts only (said, not a silent omission).
+fn answer_with_displays(vehicles: &[GroupSummary], overall: &GroupSummary, data: &[CellData]) -> Vec<String> {
+    let mut lines = answer(vehicles, overall);
+    let measured = data.iter().any(|c| c.kinds.values().any(|kind| kind == "patch"));
+    let has_patch = |group: &GroupSummary| group.candidates.iter().any(|c| c.kind == "patch");
+    let without: Vec<&str> = vehicles
+        .iter()
+        .filter(|v| !has_patch(v))
+        .map(|v| v.group.trim_start_matches("vehicle "))
+        .chain((!has_patch(overall)).then_some("across all"))
+        .collect();
+    if measured && !without.is_empty() {
+        lines.push(format!(
+            "displays: not compared for {} (patches were measured, but none lies at the same place in every \
+             unit and cell: their positions follow the vehicle and each unit's texel sample), whole parts only",
+            without.join(", ")
+        ));
+    }
+    lines
+}
+
 /// Merges every task of `plan` in `out` into one result.
 pub fn merge_design(plan: &Plan, out: &Path) -> Result<DesignResult> {
     let tasks = read_tasks(plan, out)?;
@@ -150,7 +174,7 @@ pub fn merge_design(plan: &Plan, out: &Path) -> Result<DesignResult> {
         design_hash: plan.hash.clone(),
         tasks: tasks.len() as u32,
         interval: INTERVAL_METHOD.into(),
-        answer: answer(&vehicles, &overall),
+        answer: answer_with_displays(&vehicles, &overall, &data),
         main_effects: main_effects(&data, &named),
         cells,
         vehicles,

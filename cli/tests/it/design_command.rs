@@ -46,6 +46,11 @@ fn a_design_plans_runs_resumes_and_merges() {
     let result: ufcsr::DesignResult =
         serde_json::from_slice(&std::fs::read(Path::new(out).join("design.json")).unwrap()).unwrap();
     assert_eq!((result.tasks, result.cells.len(), result.vehicles.len()), (4, 4, 2));
+    // Display patches were measured but are not comparable across units: said, not dropped silently.
+    let displays_compared = result.overall.candidates.iter().any(|c| c.kind == "patch");
+    let said =
+        result.answer.iter().any(|line| line.starts_with("displays: ") && line.contains("not compared"));
+    assert!(displays_compared || said, "{:?}", result.answer);
     let page = std::fs::read_to_string(Path::new(out).join("design.html")).unwrap();
     assert!(page.find("Answer").unwrap() < page.find("Main effects").unwrap());
 }
