@@ -21,6 +21,34 @@ mod common {
     pub fn analyzer() -> std::process::Command {
         std::process::Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
     }
+
+    /// An archive `dir/name` whose placement table has `hood` legible in frames 0–6 and
+    /// `grill` in 7–9 (10 frames at 10 per second, one eye), with the example's vehicle.glb
+    /// when `vehicle`: the placement tests' shared fixture.
+    pub fn placement_archive(dir: &std::path::Path, name: &str, vehicle: bool) -> std::path::PathBuf {
+        let archive = dir.join(name);
+        std::fs::create_dir_all(archive.join("results")).unwrap();
+        if vehicle {
+            let example = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
+            std::fs::copy(example.join("vehicle.glb"), archive.join("vehicle.glb")).unwrap();
+        }
+        let mut table = String::from(
+            "frame,time_s,eye,distance_m,candidate,kind,solid_angle_sr,visible_fraction,view_angle_deg,\
+             angular_height_deg,frame_s\n",
+        );
+        for frame in 0..10 {
+            for (part, legible) in [("hood", frame < 7), ("grill", frame >= 7)] {
+                let fraction = if legible { 1.0 } else { 0.0 };
+                table += &format!(
+                    "{frame},{},left,{},{part},part,1e-3,{fraction},10,1,0.1\n",
+                    f64::from(frame) / 10.0,
+                    30 - frame
+                );
+            }
+        }
+        std::fs::write(archive.join("results/placement-frames.csv"), table).unwrap();
+        archive
+    }
 }
 
 // The one front door (ufcsr and its two aliases).

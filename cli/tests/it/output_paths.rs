@@ -131,31 +131,9 @@ fn each_out_never_writes_through_a_link_at_an_archive_s_folder() {
     assert!(out.join("A/result.json").is_file() && out.join("B/result.json").is_file());
 }
 
-/// An archive folder with `results/placement-frames.csv` (`hood` legible in
-/// frames 0–6, `grill` in 7–9) and, when asked, the example's vehicle.
+/// The placement tests' archive (`common::placement_archive`) at `dir/archive`.
 fn placement_archive(dir: &Path, vehicle: bool) -> PathBuf {
-    let archive = dir.join("archive");
-    std::fs::create_dir_all(archive.join("results")).unwrap();
-    if vehicle {
-        let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
-        std::fs::copy(example.join("vehicle.glb"), archive.join("vehicle.glb")).unwrap();
-    }
-    let mut table = String::from(
-        "frame,time_s,eye,distance_m,candidate,kind,solid_angle_sr,visible_fraction,view_angle_deg,\
-         angular_height_deg,frame_s\n",
-    );
-    for frame in 0..10 {
-        for (part, legible) in [("hood", frame < 7), ("grill", frame >= 7)] {
-            let fraction = if legible { 1.0 } else { 0.0 };
-            table += &format!(
-                "{frame},{},left,{},{part},part,1e-3,{fraction},10,1,0.1\n",
-                f64::from(frame) / 10.0,
-                30 - frame
-            );
-        }
-    }
-    std::fs::write(archive.join("results/placement-frames.csv"), table).unwrap();
-    archive
+    crate::common::placement_archive(dir, "archive", vehicle)
 }
 
 #[test]

@@ -15,27 +15,9 @@ fn example() -> PathBuf {
 }
 
 /// An archive with the example's vehicle.glb and a table where `hood` is
-/// legible in frames 0–6 and `grill` in 7–9 (10 frames at 10 per second).
+/// legible in frames 0–6 and `grill` in 7–9 (`common::placement_archive`).
 fn archive(dir: &Path) -> PathBuf {
-    let archive = dir.join("archive");
-    std::fs::create_dir_all(archive.join("results")).unwrap();
-    std::fs::copy(example().join("vehicle.glb"), archive.join("vehicle.glb")).unwrap();
-    let mut table = String::from(
-        "frame,time_s,eye,distance_m,candidate,kind,solid_angle_sr,visible_fraction,view_angle_deg,\
-         angular_height_deg,frame_s\n",
-    );
-    for frame in 0..10 {
-        for (part, legible) in [("hood", frame < 7), ("grill", frame >= 7)] {
-            let fraction = if legible { 1.0 } else { 0.0 };
-            table += &format!(
-                "{frame},{},left,{},{part},part,1e-3,{fraction},10,1,0.1\n",
-                f64::from(frame) / 10.0,
-                30 - frame
-            );
-        }
-    }
-    std::fs::write(archive.join("results/placement-frames.csv"), table).unwrap();
-    archive
+    crate::common::placement_archive(dir, "archive", true)
 }
 
 /// Pixels of a PNG that are strongly orange (the first colour) and blue (the second).

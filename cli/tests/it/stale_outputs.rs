@@ -39,30 +39,9 @@ fn observers_remove_the_folders_of_observers_an_earlier_study_had() {
     }
 }
 
-/// An archive whose table has `hood` legible in frames 0–6 and `grill` in 7–9.
+/// The placement tests' archive (`common::placement_archive`).
 fn archive(dir: &Path, name: &str, vehicle: bool) -> PathBuf {
-    let archive = dir.join(name);
-    std::fs::create_dir_all(archive.join("results")).unwrap();
-    if vehicle {
-        let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
-        std::fs::copy(example.join("vehicle.glb"), archive.join("vehicle.glb")).unwrap();
-    }
-    let mut table = String::from(
-        "frame,time_s,eye,distance_m,candidate,kind,solid_angle_sr,visible_fraction,view_angle_deg,\
-         angular_height_deg,frame_s\n",
-    );
-    for frame in 0..10 {
-        for (part, legible) in [("hood", frame < 7), ("grill", frame >= 7)] {
-            let fraction = if legible { 1.0 } else { 0.0 };
-            table += &format!(
-                "{frame},{},left,{},{part},part,1e-3,{fraction},10,1,0.1\n",
-                f64::from(frame) / 10.0,
-                30 - frame
-            );
-        }
-    }
-    std::fs::write(archive.join("results/placement-frames.csv"), table).unwrap();
-    archive
+    crate::common::placement_archive(dir, name, vehicle)
 }
 
 #[test]
