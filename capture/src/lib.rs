@@ -74,6 +74,10 @@ pub use scene::{
     box_corners, box_outside, degenerate_vehicle, load_vehicle, look_to, pedestrian_body,
     reversed_z_perspective, street_scene, triangle_area, vehicle_to_world,
 };
+pub use study::observers::displays::{
+    DisplayOptions, DisplayOverObservers, DisplayStudy, OBSERVER_DISPLAYS_FILE, ObserverLegible,
+    run_observer_displays, summarize_displays, write_display_study,
+};
 pub use study::observers::interval::{IntervalKind, percentile, population_value, t975};
 pub use study::observers::population::{
     MAX_OBSERVERS, SampledObserver, check_population, eye_height_quantile, normal_cdf, sample_observers,

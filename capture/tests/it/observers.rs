@@ -11,8 +11,9 @@ use std::path::PathBuf;
 
 use ufcsr::{ObserverPlace, ObserverPopulation, ObserverRecord, ObserverSampling, ResolutionCheck};
 use ufcsr_capture::{
-    CaptureOptions, IntervalKind, ObserverOptions, SampledObserver, Scene, ValueOrTrack, normal_cdf,
-    run_observer_study, sample_observers, summarize_observers, write_observer_study,
+    CaptureOptions, DisplayOptions, IntervalKind, ObserverLegible, ObserverOptions, SampledObserver, Scene,
+    ValueOrTrack, normal_cdf, run_observer_displays, run_observer_study, sample_observers,
+    summarize_displays, summarize_observers, write_display_study, write_observer_study,
 };
 
 use crate::study_accuracy::{PLATES, analytic_sr, gpu, plates_scene};
@@ -188,4 +189,168 @@ fn the_population_interval_covers_the_known_population_mean_in_90_to_99_percent_
     }
     // The interval shrinks like 1/√n: four times the observers, about half the width (t: 0.469).
     assert!((0.40..0.55).contains(&(half_64 / half_16)), "{}", half_64 / half_16);
+}
+
+/// The display test's wall: its top edge nearest the plate (world x, height).
+const WALL_TOP: (f64, f64) = (2.0, 1.25);
+/// The plate the displays go on: world x of its plane, and its z range.
+const PLATE_X: f64 = 4.0;
+/// A 0.40 × 0.15 m display centred this high (a row of the 0.10 m patch grid on the plate).
+const LOW_PATCH_Z: f64 = 0.95;
+
+/// A 1 m × 1 m plate (y −0.5…0.5, z 0.5…1.5) facing the kerb 4 m away behind a
+/// wall (x 1.9…2.0, top 1.25 m): for an eye at height e (x ≈ 0) the wall's
+/// shadow on the plate reaches z0 = e + (1.25 − e)·(4 − x)/(2 − x), so a
+/// patch is 80 % visible, the placement rule's threshold, from some eye
+/// heights and not others; still for 2 s at 10 fps.
+fn wall_scene() -> Scene {
+    use glam::{dvec3, vec3};
+    let mut scene = crate::study_accuracy::plates_scene();
+    let mut mesh = ufcsr_capture::Mesh::default();
+    mesh.add_quad(
+        "plate",
+        vec3(0.0, -0.5, 0.5),
+        vec3(0.0, 0.5, 0.5),
+        vec3(0.0, 0.5, 1.5),
+        vec3(0.0, -0.5, 1.5),
+    );
+    scene.vehicle = mesh;
+    scene.occluders.add_box(dvec3(1.9, -3.0, 0.0), dvec3(WALL_TOP.0, 3.0, WALL_TOP.1));
+    scene.rig.look_at_vehicle = [0.0, 0.0, 1.0];
+    scene.rig.fps = 10.0;
+    scene.scenarios[0].duration_s = 2.0;
+    scene
+}
+
+/// The visible share of the low patch (z 0.875…1.025) for the better eye.
+fn low_patch_visible(scene: &Scene, position: [f64; 3], eye_height_m: f64) -> f64 {
+    let mut scene = scene.clone();
+    scene.rig.pedestrian = ValueOrTrack::Fixed(position);
+    scene.rig.eye_height_m = eye_height_m;
+    let pose = scene.scenarios[0].motion.pose(0.0);
+    let (bottom, top) = (LOW_PATCH_Z - 0.075, LOW_PATCH_Z + 0.075);
+    scene
+        .rig
+        .cameras(0.0, &pose)
+        .iter()
+        .map(|camera| {
+            let eye = camera.position;
+            let shadow = eye.z + (WALL_TOP.1 - eye.z) * (PLATE_X - eye.x) / (WALL_TOP.0 - eye.x);
+            ((top - shadow.max(bottom)) / (top - bottom)).clamp(0.0, 1.0)
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn each_observer_reads_a_display_behind_a_wall_exactly_when_the_wall_leaves_four_fifths_of_it() {
+    let gpu = gpu();
+    let scene = wall_scene();
+    let dir = tempfile::tempdir().unwrap();
+    let options = ObserverOptions {
+        scenario: "still".into(),
+        population: ObserverPopulation::us_adults(KERB),
+        sampling: ObserverSampling::Random { observers: 6, seed: 5 },
+        resolution_check: ResolutionCheck::Coarser { safety_factor: 3.0 },
+        ppd: 4.0,
+        frame_step: 2,
+        capture: CaptureOptions {
+            out: dir.path().to_path_buf(),
+            palette: [256, 256],
+            ..CaptureOptions::default()
+        },
+    };
+    let displays = DisplayOptions { display_m: [0.40, 0.15], spacing_m: 0.10, sample: 1.0 };
+    let study = run_observer_displays(&gpu.device, &gpu.queue, &scene, &options, &displays).unwrap();
+    let sampled = sample_observers(&options.population, &options.sampling, [0.0; 3]).unwrap();
+    assert_eq!(study.observers.len(), sampled.len());
+    let low = "plate@0.40x0.15@x0.00y0.05z0.95";
+    let high = "plate@0.40x0.15@x0.00y0.05z1.35";
+    // Frames 0, 2, … 20 of 21, 0.2 s each: a display legible throughout scores 2.2 s.
+    let whole = 11.0 * 0.2;
+    let (mut read, mut not_read) = (0, 0);
+    for (observer, legible) in sampled.iter().zip(&study.observers) {
+        assert!((legible.fine[high] - whole).abs() < 1e-9, "{observer:?}: {:?}", legible.fine.get(high));
+        let visible = low_patch_visible(&scene, observer.position, observer.eye_height_m);
+        let got = legible.fine.get(low).copied().unwrap_or(0.0);
+        // Sample points stand for 4 mm texels: 0.03 of the patch's height either side is undecided.
+        if visible >= 0.83 {
+            assert!((got - whole).abs() < 1e-9, "{observer:?}: {visible:.3} visible, {got} s");
+            read += 1;
+        } else if visible <= 0.77 {
+            assert_eq!(got, 0.0, "{observer:?}: {visible:.3} visible");
+            not_read += 1;
+        }
+    }
+    assert!(read > 0 && not_read > 0, "the draws fall on both sides of the wall's line: {read} {not_read}");
+    // The summary: the parts' path, with each observer's frame-step bound (3 × |2.2 − 2.4| s).
+    let summary = study.summary.iter().find(|s| s.candidate == high).unwrap().legible_s;
+    assert!((summary.mean - whole).abs() < 1e-9);
+    assert!((summary.resolution_bound.unwrap() - 3.0 * 0.2).abs() < 1e-9, "{summary:?}");
+    let [from, to] = summary.mean_ci95.unwrap();
+    assert!((from - (whole - 0.6)).abs() < 1e-9 && (to - (whole + 0.6)).abs() < 1e-9, "{from} {to}");
+    let written = write_display_study(&study, dir.path()).unwrap();
+    let table = std::fs::read_to_string(written).unwrap();
+    assert_eq!(table.lines().count(), 1 + study.summary.len());
+    assert!(table.lines().any(|line| line.starts_with(&format!("{high},patch,2.2"))), "{table}");
+}
+
+/// The population share of eye heights at least `eye_m`, from each group's
+/// truncated normal stature (closed form).
+fn share_at_least(population: &ObserverPopulation, eye_m: f64) -> f64 {
+    let t = population.truncate_sd;
+    let kept = normal_cdf(t) - normal_cdf(-t);
+    let total: f64 = population.groups.iter().map(|g| g.weight).sum();
+    population
+        .groups
+        .iter()
+        .map(|g| {
+            let z = ((eye_m + g.eye_offset_m - g.stature_mean_m) / g.stature_sd_m).clamp(-t, t);
+            g.weight / total * (normal_cdf(t) - normal_cdf(z)) / kept
+        })
+        .sum()
+}
+
+#[test]
+fn the_display_interval_covers_the_known_population_mean_of_legible_seconds_in_90_to_99_percent_of_seeds() {
+    // The wall's display read for 2 s by eyes above e* and not at all below (the
+    // test above; its eyes stand at x ≈ 0): the population mean is 2 s × P(eye ≥ e*),
+    // a share of one mixture of truncated normals; e* from z0 = bottom + 0.2 H.
+    let population = ObserverPopulation::us_adults(KERB);
+    let threshold_z = LOW_PATCH_Z - 0.075 + 0.2 * 0.15;
+    // z0 = e + (w − e)·4/2 = 2w − e ≤ threshold_z.
+    let e_star = 2.0 * WALL_TOP.1 - threshold_z;
+    let known = 2.0 * share_at_least(&population, e_star);
+    assert!((0.2..0.8).contains(&(known / 2.0)), "{known}");
+    let patch = "plate@0.40x0.15@x0.00y0.05z0.95";
+    let kinds: std::collections::BTreeMap<String, String> = [(patch.to_string(), "patch".to_string())].into();
+    let coverage = |n: u32, seeds: u64| {
+        let mut covered = 0;
+        for seed in 0..seeds {
+            let sampled =
+                sample_observers(&population, &ObserverSampling::Random { observers: n, seed }, [0.0; 3])
+                    .unwrap();
+            let observers: Vec<ObserverLegible> = sampled
+                .iter()
+                .map(|o| {
+                    let seconds = if o.eye_height_m >= e_star { 2.0 } else { 0.0 };
+                    ObserverLegible { fine: [(patch.to_string(), seconds)].into(), coarse: None }
+                })
+                .collect();
+            let summary =
+                summarize_displays(&kinds, &observers, IntervalKind::MonteCarlo, ResolutionCheck::None);
+            let [low, high] = summary[0].legible_s.mean_ci95.unwrap();
+            covered += usize::from(low <= known && known <= high);
+        }
+        covered as f64 / seeds as f64
+    };
+    let (at_16, at_64) = (coverage(16, 400), coverage(64, 400));
+    println!(
+        "coverage of the 95 % interval of a display's mean legible seconds over 400 seeds: 16 observers {:.1} %, \
+         64 observers {:.1} %",
+        100.0 * at_16,
+        100.0 * at_64
+    );
+    for coverage in [at_16, at_64] {
+        assert!((0.90..=0.99).contains(&coverage), "coverage {coverage}");
+    }
 }

@@ -12,6 +12,7 @@
 //! convergence index. The old grid stays as an explicit option, with no
 //! interval claimed for its mean.
 
+pub mod displays;
 pub mod interval;
 pub mod population;
 
@@ -308,19 +309,26 @@ impl Measure {
     ) -> Measure {
         let values =
             observers.iter().map(|o| of(o.angular_area_deg2_s.as_slice(), o.count.as_slice())).collect();
+        let coarse: Vec<Option<Vec<f64>>> = observers
+            .iter()
+            .map(|o| {
+                let coarse = o.coarser.as_ref()?;
+                Some(of(coarse.angular_area_deg2_s.as_slice(), coarse.count.as_slice()))
+            })
+            .collect();
+        Measure::from_rows(values, &coarse, check)
+    }
+
+    /// Per observer the values (one per column) and, where it was
+    /// captured, the coarser setting's: the one path parts and displays
+    /// ([`displays`]) take to their bounds.
+    fn from_rows(values: Vec<Vec<f64>>, coarse: &[Option<Vec<f64>>], check: ResolutionCheck) -> Measure {
         let bounds = match check {
             ResolutionCheck::None => None,
-            ResolutionCheck::Coarser { safety_factor } => observers
+            ResolutionCheck::Coarser { safety_factor } => values
                 .iter()
-                .map(|o| {
-                    let coarse = o.coarser.as_ref()?;
-                    let fine = of(o.angular_area_deg2_s.as_slice(), o.count.as_slice());
-                    Some(bounds(
-                        &fine,
-                        &of(coarse.angular_area_deg2_s.as_slice(), coarse.count.as_slice()),
-                        safety_factor,
-                    ))
-                })
+                .zip(coarse)
+                .map(|(fine, coarse)| Some(bounds(fine, coarse.as_deref()?, safety_factor)))
                 .collect(),
         };
         Measure { values, bounds }
