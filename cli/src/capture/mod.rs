@@ -82,7 +82,8 @@ pub enum CaptureToolCommand {
     /// Capture one scenario from pedestrians drawn from a declared population (kerb or area,
     /// statures of a named source) and report per part the population mean, its 95 % interval
     /// (each observer's resolution error folded in) and the spread over people
-    /// (writes observers.json, observers.csv, observer-parts.csv).
+    /// (writes observers.json, observers.csv, observer-parts.csv); with --display WxH, the same
+    /// per candidate display (and part) for its legible seconds (observer-displays.csv).
     Observers(ObserversArgs),
     /// The factorial study: plan a design file (vehicles × scenarios × traffic × pedestrians)
     /// into independent tasks, run them (one, or all, resumable) and merge them into one

@@ -1,7 +1,9 @@
 //! `ufcsr observers` (`ufcsr-capture observers`): its arguments and [`run_observers`], which
 //! draws pedestrians from a declared population (or, with `--sampling
 //! grid`, the old grid), captures a scenario from each and prints each
-//! part's population mean, its 95 % interval and the spread over people.
+//! part's population mean, its 95 % interval and the spread over people;
+//! with `--display WxH`, the same for every candidate display's (and
+//! part's) legible seconds, from an exact measure of each observer.
 
 use std::path::PathBuf;
 
@@ -96,6 +98,19 @@ pub struct ObserversArgs {
     /// GPU backend.
     #[arg(long, value_enum, default_value_t = Backend::Auto)]
     backend: Backend,
+    /// Also report per candidate display of this size (width x height in metres, e.g. 0.40x0.15)
+    /// and per part the legible seconds under the placement answer's default rule: each observer
+    /// is also measured exactly (CPU) with placement candidates at --frame-step, the resolution
+    /// check at twice it (writes observer-displays.csv; docs/science.md).
+    #[arg(long, value_name = "WxH")]
+    display: Option<String>,
+    /// With --display: how far apart candidate patch centres are, metres.
+    #[arg(long, value_name = "M", default_value_t = ufcsr_capture::DEFAULT_PATCH_SPACING_M, requires = "display")]
+    patch_spacing: f64,
+    /// With --display: the share of texels each observer's exact measure samples, e.g. 1/16
+    /// (below 1 every observer draws its own texels, and the interval covers that noise too).
+    #[arg(long, value_name = "FRACTION", default_value = "1", requires = "display")]
+    display_sample: String,
     /// Size of the heatmap views in each observer's results, each 400×300 pixels times this (1–8):
     /// 1 draws a quarter of the pixels, for a quicker study; the numbers do not change.
     #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
@@ -190,6 +205,21 @@ pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<(
             ..CaptureOptions::default()
         },
     };
+    let displays = match &args.display {
+        Some(text) => Some(ufcsr_capture::DisplayOptions {
+            display_m: ufcsr_capture::parse_display(text)?,
+            spacing_m: args.patch_spacing,
+            sample: super::captures::parse_fraction(&args.display_sample).map_err(|_| {
+                anyhow::anyhow!(
+                    "--display-sample {}: must be a fraction in (0, 1], e.g. 1/16",
+                    args.display_sample
+                )
+            })?,
+        }),
+        None => None,
+    };
+    // Refused before the observers are captured, not after.
+    displays.as_ref().map(ufcsr_capture::DisplayOptions::check).transpose()?;
     let gpu = Gpu::create(args.backend.into()).context("creating the GPU device")?;
     eprintln!("adapter: {}", gpu.describe());
     let study = ufcsr_capture::run_observer_study(&gpu.device, &gpu.queue, &scene, &options)?;
@@ -200,7 +230,44 @@ pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<(
     }
     console.fact("observers", study.observers.len());
     console.fact("parts", &study.summary);
+    if let Some(displays) = displays {
+        let study =
+            ufcsr_capture::run_observer_displays(&gpu.device, &gpu.queue, &scene, &options, &displays)?;
+        print_displays(&study, console);
+        let file = ufcsr_capture::write_display_study(&study, &args.out)?;
+        console.wrote(&file);
+        say!(console, "wrote {}", file.display());
+        console.fact("display_candidates", study.summary.len());
+    }
     Ok(())
+}
+
+fn print_displays(study: &ufcsr_capture::DisplayStudy, console: &Console) {
+    let [w, h] = study.options.display_m;
+    say!(
+        console,
+        "displays {w:.2} × {h:.2} m every {:.2} m, {} texels per observer, in {:.1} s: {}",
+        study.options.spacing_m,
+        study.options.sample,
+        study.seconds,
+        study.interval
+    );
+    say!(
+        console,
+        "per candidate: legible s, population mean [95 % interval of the mean] (2.5–97.5 % of observers)"
+    );
+    for candidate in study.summary.iter().take(15) {
+        say!(
+            console,
+            "{:<44} {:<5} {:>34}",
+            candidate.candidate,
+            candidate.kind,
+            value_text(&candidate.legible_s, 2)
+        );
+    }
+    if study.summary.len() > 15 {
+        say!(console, "… {} more candidates in observer-displays.csv", study.summary.len() - 15);
+    }
 }
 
 /// `mean [interval] (spread)`, the interval left out on a grid.

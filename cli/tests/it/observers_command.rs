@@ -27,6 +27,19 @@ fn the_observers_command_writes_its_tables_and_names_bad_options() {
     for file in ["observers.json", "observers.csv", "observer-parts.csv"] {
         assert!(out.join(file).is_file(), "{file}");
     }
+    // Per display: two observers, each also measured exactly on a quarter of the texels.
+    let displays = ["--display", "0.40x0.15", "--display-sample", "1/4"];
+    let output = run(&[&["--observers", "2", "--resolution-check", "none"], &displays[..]].concat());
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    assert!(output.status.success(), "{stdout}\n{}", String::from_utf8_lossy(&output.stderr));
+    assert!(stdout.contains("per candidate: legible s") && stdout.contains("0.25 texels"), "{stdout}");
+    let table = std::fs::read_to_string(out.join("observer-displays.csv")).unwrap();
+    assert!(table.starts_with("candidate,kind,legible_s_mean,"), "{table}");
+    assert!(table.lines().any(|line| line.contains("@0.40x0.15@x") && line.contains(",patch,")), "{table}");
+    // A bad sample is refused before anyone is captured.
+    let refused = run(&["--display", "0.40x0.15", "--display-sample", "2"]);
+    assert_ne!(refused.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("--display-sample"), "{refused:?}");
     let bad = run(&["--kerb", "-6.5,-4.5"]);
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--kerb"));

@@ -57,6 +57,19 @@ pub struct DisplayOptions {
     pub sample: f64,
 }
 
+impl DisplayOptions {
+    /// Refuses a sample outside (0, 1] or a spacing under 1 cm, naming the option.
+    pub fn check(&self) -> Result<()> {
+        if !(self.sample > 0.0 && self.sample <= 1.0) {
+            return Err(CaptureError::BadOptions(format!(
+                "--display-sample must be in (0, 1], not {}",
+                self.sample
+            )));
+        }
+        PlacementCandidates { display_m: Some(self.display_m), spacing_m: self.spacing_m }.check()
+    }
+}
+
 /// One observer's legible seconds per candidate, and at twice the frame step.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct ObserverLegible {
@@ -139,13 +152,7 @@ pub fn run_observer_displays(
     displays: &DisplayOptions,
 ) -> Result<DisplayStudy> {
     super::check(options, scene)?;
-    if !(displays.sample > 0.0 && displays.sample <= 1.0) {
-        return Err(CaptureError::BadOptions(format!(
-            "--display-sample must be in (0, 1], not {}",
-            displays.sample
-        )));
-    }
-    PlacementCandidates { display_m: Some(displays.display_m), spacing_m: displays.spacing_m }.check()?;
+    displays.check()?;
     crate::job::overwrite_guard::refuse_overwriting_inputs(
         &options.capture.out,
         &[OBSERVER_DISPLAYS_FILE],

@@ -10,7 +10,9 @@
 //! each observer's own resolution error folded in: a second, coarser
 //! capture (half the ppd, twice the frame step) bounds it by a two-grid
 //! convergence index. The old grid stays as an explicit option, with no
-//! interval claimed for its mean.
+//! interval claimed for its mean. With a display size, [`displays`] does
+//! the same per candidate display (and part) for its legible seconds, from
+//! an exact measure of each observer.
 
 pub mod displays;
 pub mod interval;
