@@ -82,7 +82,11 @@ fn units(plan: &Plan, task: &PlannedTask, scene: &Scene) -> Result<Vec<Unit>> {
         .collect())
 }
 
-/// Per candidate: legible seconds under the default rules and angular area, deg²·s per eye.
+/// Per candidate: legible seconds under the default rules, in all and inside the decision window,
+/// and angular area, deg²·s per eye. The seconds are the placement's own, from the same code
+/// (`ufcsr::timelines` and `ArchiveTimelines::exposure`, which `ufcsr-analyze placement` reports
+/// as `legible_s` and `decision_window_legible_s`): the dwell applies, and the window ends at the
+/// frame of the smallest vehicle–pedestrian distance.
 pub fn candidate_values(table: ufcsr::PlacementTable) -> Vec<CandidateValue> {
     let table = Arc::new(table);
     let eyes = table.eyes.len().max(1) as f64;
@@ -93,10 +97,12 @@ pub fn candidate_values(table: ufcsr::PlacementTable) -> Vec<CandidateValue> {
         .map(|t| {
             let rows = &table.candidates[&t.name];
             let sr: f64 = rows.sightings.values().map(|s| s.solid_angle_sr).sum();
+            let exposure = scored.exposure(t);
             CandidateValue {
                 name: t.name.clone(),
                 kind: t.kind.name().to_string(),
-                legible_s: t.legible.len() as f64 * table.frame_s,
+                legible_s: exposure.legible_s,
+                decision_window_legible_s: exposure.decision_window_legible_s,
                 angular_area_deg2_s: sr * DEG2_PER_SR * table.frame_s / eyes,
             }
         })
