@@ -23,7 +23,9 @@ pub const INTERVAL_METHOD: &str = "95 % Student-t interval of the mean over the 
      unit first. It covers the observers, the texel sample and the traffic draws, not the fixed factors' choice \
      of levels, the placement rules' thresholds or the population's declared figures. P(best) is the share of \
      1000 bootstrap resamples of the units in which the candidate has the largest mean legible time of its kind \
-     (optimistic for small n, as the placement's own P(best), docs/placement.md)";
+     (optimistic for small n, as the placement's own P(best), docs/placement.md). A main effect's level means, \
+     effects (level mean minus the mean over the levels) and range (highest minus lowest level) are per-unit \
+     contrasts with the same t interval (an effect and the range signed, they may be negative)";
 
 /// Bootstrap resamples behind P(best).
 pub const P_BEST_REPLICATES: usize = 1000;
