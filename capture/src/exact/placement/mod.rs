@@ -11,12 +11,15 @@
 //! loop ([`frames`]) measures both.
 //!
 //! The folder: [`labels`] the label set, [`patches`] where patches go,
-//! which samples they hold and their footprints (`placement-patches.csv`), [`frames`] the per-eye-frame numbers and the
+//! which samples they hold and their footprints (`placement-patches.csv`),
+//! [`surface`] the mesh queries the layout is made of (so it does not
+//! depend on the texel sample), [`frames`] the per-eye-frame numbers and the
 //! CSV.
 
 mod frames;
 mod labels;
 mod patches;
+mod surface;
 #[cfg(test)]
 mod tests;
 

@@ -1,32 +1,51 @@
 //! Where display patches of a given size can go, and which surface samples
 //! each one covers.
 //!
-//! 1. **Centres.** The vehicle's bounding box is cut into cubes of the
-//!    spacing (10 cm by default); in every cube holding surface samples the
-//!    sample nearest the cube's centre is a candidate centre.
+//! The layout (which patches exist, their centres, normals, height axes,
+//! names and mirrors) is read from the vehicle's mesh alone, with the
+//! display size and the spacing ([`super::surface`]): never from the texel
+//! samples. Two measures of one vehicle with another seed, `--exact-sample`
+//! fraction or palette therefore name the same patches at the same places,
+//! and tables of different units can be compared display by display.
+//!
+//! 1. **Centres.** The vehicle's space is cut into cubes of the spacing
+//!    (10 cm by default); for every cube, the point of the vehicle's
+//!    surface nearest the cube's centre is a candidate centre when it lies
+//!    in that cube (so each cube the surface passes through near its middle
+//!    gives one centre, and no point is claimed by two cubes). Its face's
+//!    normal is the patch's, its face's part names it.
 //! 2. **Outward-facing.** A centre is kept when a ray from it along its
-//!    triangle's normal (or, failing that, against it) leaves the vehicle
+//!    face's normal (or, failing that, against it) leaves the vehicle
 //!    without hitting it again; that direction is the patch's outward
 //!    normal. Surfaces enclosed by the vehicle (a face between two boxes,
 //!    the floor of a recess both ways blocked) cannot carry a display.
 //! 3. **Footprint (an approximation).** The patch is a W × H rectangle in
 //!    the centre's tangent plane: H along the world-vertical direction
 //!    projected into that plane (along the vehicle's length on surfaces
-//!    within 25° of horizontal, e.g. the hood), W across it. A sample
-//!    belongs to the patch when its projection onto the plane lies inside
-//!    the rectangle, it lies within H/2 of the plane, and its surface faces
-//!    within 45° of the patch's normal (either side: surfaces are
-//!    two-sided). On curved surfaces this projected footprint is a little
-//!    larger than the geodesic one (by 1 − cos of the curvature angle).
-//! 4. **Fit.** A patch is kept only if the surface covers its rectangle:
-//!    the members' area projected onto the plane, scaled by 1 / the texel
-//!    sample fraction, is at least 90 % of W × H. A display overhanging an
-//!    edge of the body is no candidate.
+//!    within 25° of horizontal, e.g. the hood), W across it. Its footprint
+//!    is the box of the rectangle and H/2 either side of its plane; surface
+//!    in it that faces within 45° of the patch's normal (either side:
+//!    surfaces are two-sided) is the patch's. On curved surfaces this
+//!    projected footprint is a little larger than the geodesic one (by
+//!    1 − cos of the curvature angle).
+//! 4. **Fit, exact.** A patch is kept only if the surface covers its
+//!    rectangle: the area of the footprint's faces inside the box (each
+//!    triangle clipped by the box), projected onto the patch's plane, is at
+//!    least 90 % of W × H. A display overhanging an edge of the body is no
+//!    candidate. This is the mesh's area, not the samples': an estimate from
+//!    a texel sample would keep or drop a patch near the 90 % line by the
+//!    luck of the sample (with `--exact-sample 1/16`, by a few per cent
+//!    either way), and the set of candidates would differ between units.
+//! 5. **Members.** The samples of a measure that lie in the footprint
+//!    (centre inside the box, facing within 45°) are the patch's: its
+//!    visible area is measured on them. With a texel sample a patch may hold
+//!    few samples (or none, then it is never seen); its place and name stay.
 //!
 //! Names: `PART@W.WWxH.HH@xX.XXyY.YYzZ.ZZ` (the display's width and height
 //! and the centre in the vehicle frame, metres, x forward, y left, z up), so
-//! runs with different display sizes never share a candidate; the mirror of a patch is the kept patch
-//! nearest its centre mirrored in the plane y = 0, within half a spacing.
+//! runs with different display sizes never share a candidate; the mirror of
+//! a patch is the kept patch nearest its centre mirrored in the plane y = 0,
+//! within half a spacing, when each is the other's.
 //!
 //! Each kept patch's footprint (centre, normal, height axis, W and H) is
 //! written as `placement-patches.csv` ([`write_patch_table`]), so the
@@ -37,6 +56,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use super::ExactInputs;
+use super::surface::{Cell, Surface, area_in_box, cell_of};
 use crate::exact::types::{SURFACE_LIFT_RELATIVE, SurfaceSample};
 
 /// The footprint table's name and columns: the analyzer's, which reads it.
@@ -62,37 +82,14 @@ pub struct PlacedPatch {
     pub members: Vec<u32>,
 }
 
-type Cell = [i64; 3];
-
-fn cell_of(p: DVec3, size: f64) -> Cell {
-    [(p.x / size).floor() as i64, (p.y / size).floor() as i64, (p.z / size).floor() as i64]
-}
-
-/// The sample index nearest the centre of each occupied cube.
-fn centres(samples: &[SurfaceSample], spacing: f64) -> Vec<u32> {
-    let mut best: HashMap<Cell, (f64, u32)> = HashMap::new();
-    for (index, sample) in samples.iter().enumerate() {
-        let cell = cell_of(sample.position, spacing);
-        let middle = DVec3::new(cell[0] as f64 + 0.5, cell[1] as f64 + 0.5, cell[2] as f64 + 0.5) * spacing;
-        let d = (sample.position - middle).length_squared();
-        let entry = best.entry(cell).or_insert((f64::INFINITY, index as u32));
-        if d < entry.0 || (d == entry.0 && (index as u32) < entry.1) {
-            *entry = (d, index as u32);
-        }
-    }
-    let mut out: Vec<u32> = best.into_values().map(|(_, index)| index).collect();
-    out.sort_unstable();
-    out
-}
-
-/// The outward normal at `sample`, if either side escapes the vehicle.
-fn outward(inputs: &ExactInputs, sample: &SurfaceSample) -> Option<DVec3> {
+/// The outward normal at `point` of a face with normal `normal`, if either
+/// side escapes the vehicle.
+fn outward(inputs: &ExactInputs, point: DVec3, normal: DVec3) -> Option<DVec3> {
     let lift = inputs.obstacles.lift_m;
     let far = 4.0 * lift / SURFACE_LIFT_RELATIVE; // four bounding-box diagonals
-    [sample.normal, -sample.normal].into_iter().find(|&n| {
-        let from = sample.position + n * lift;
-        !inputs.obstacles.vehicle.blocks(from, sample.position + n * far)
-    })
+    [normal, -normal]
+        .into_iter()
+        .find(|&n| !inputs.obstacles.vehicle.blocks(point + n * lift, point + n * far))
 }
 
 /// The height direction of a patch with outward `normal`.
@@ -128,74 +125,118 @@ impl Grid {
     }
 }
 
-/// The members of a W × H patch and the share of W × H they cover.
-fn footprint(
-    samples: &[SurfaceSample],
-    grid: &Grid,
+/// A patch's footprint: the box of its W × H rectangle, H/2 either side.
+#[derive(Debug, Clone, Copy)]
+struct Footprint {
     centre: DVec3,
     normal: DVec3,
     up: DVec3,
-    [w, h]: [f64; 2],
-) -> (Vec<u32>, f64) {
-    let across = up.cross(normal);
-    let min_facing = MAX_MEMBER_TILT_DEG.to_radians().cos();
-    let radius = 0.5 * (w * w + h * h).sqrt() + h;
-    let mut members: Vec<u32> = grid
-        .near(centre, radius)
-        .filter(|&index| {
-            let s = &samples[index as usize];
-            let d = s.position - centre;
-            d.dot(across).abs() <= w / 2.0
-                && d.dot(up).abs() <= h / 2.0
-                && d.dot(normal).abs() <= h / 2.0
-                && s.normal.dot(normal).abs() >= min_facing
-        })
-        .collect();
-    members.sort_unstable();
-    let projected: f64 = members
-        .iter()
-        .map(|&i| samples[i as usize].area_m2 * samples[i as usize].normal.dot(normal).abs())
-        .sum();
-    (members, projected / (w * h))
+    across: DVec3,
+    half: [f64; 3],
 }
 
-/// Every patch of size `display` that fits on the outward-facing surface.
-pub fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<PlacedPatch> {
-    let samples = &inputs.samples.samples;
-    let grid = Grid::new(samples, spacing.max(display[0].max(display[1]) / 4.0));
-    let part_of = part_of_samples(inputs);
+impl Footprint {
+    fn new(centre: DVec3, normal: DVec3, [w, h]: [f64; 2]) -> Footprint {
+        let up = up_of(normal);
+        Footprint { centre, normal, up, across: up.cross(normal), half: [w / 2.0, h / 2.0, h / 2.0] }
+    }
+
+    /// Half the box's diagonal: every point of it is this near the centre.
+    fn radius(&self) -> f64 {
+        DVec3::from(self.half).length()
+    }
+
+    fn faces(&self, normal: DVec3) -> bool {
+        normal.dot(self.normal).abs() >= MAX_MEMBER_TILT_DEG.to_radians().cos()
+    }
+
+    fn holds(&self, point: DVec3) -> bool {
+        let d = point - self.centre;
+        d.dot(self.across).abs() <= self.half[0]
+            && d.dot(self.up).abs() <= self.half[1]
+            && d.dot(self.normal).abs() <= self.half[2]
+    }
+
+    /// The share of W × H the facing surface in the box covers, projected
+    /// onto the patch's plane (exact: each face clipped by the box).
+    fn cover(&self, surface: &Surface) -> f64 {
+        let reach = DVec3::splat(self.radius());
+        let axes = [self.across, self.up, self.normal];
+        let projected: f64 = surface
+            .near(self.centre - reach, self.centre + reach)
+            .into_iter()
+            .map(|index| &surface.faces[index as usize])
+            .filter(|face| self.faces(face.normal))
+            .map(|face| {
+                area_in_box(face.corners, self.centre, axes, self.half) * face.normal.dot(self.normal).abs()
+            })
+            .sum();
+        projected / (4.0 * self.half[0] * self.half[1])
+    }
+
+    /// The samples in the box that face the patch, ascending.
+    fn members(&self, samples: &[SurfaceSample], grid: &Grid) -> Vec<u32> {
+        let mut members: Vec<u32> = grid
+            .near(self.centre, self.radius())
+            .filter(|&index| {
+                let s = &samples[index as usize];
+                self.holds(s.position) && self.faces(s.normal)
+            })
+            .collect();
+        members.sort_unstable();
+        members
+    }
+}
+
+/// The layout: every patch of size `display` that fits on the
+/// outward-facing surface, from the mesh alone (members left empty).
+fn lay_out(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<(String, Footprint)> {
+    let mesh = &inputs.scene.vehicle;
+    let centres = Surface::new(mesh, spacing);
+    let fits = Surface::new(mesh, spacing.max(display[0].max(display[1]) / 4.0));
+    let mut cubes: Vec<Cell> = centres.cells.keys().copied().collect();
+    cubes.sort_unstable();
     let mut placed = Vec::new();
     let mut names = std::collections::HashSet::new();
-    for centre in centres(samples, spacing) {
-        let sample = &samples[centre as usize];
-        let Some(normal) = outward(inputs, sample) else { continue };
-        let up = up_of(normal);
-        let (members, cover) = footprint(samples, &grid, sample.position, normal, up, display);
-        if cover / inputs.sample_fraction < MIN_COVER {
+    for cube in cubes {
+        let Some((p, face)) = centres.nearest_in_cube(cube) else { continue };
+        let face = &centres.faces[face as usize];
+        let Some(normal) = outward(inputs, p, face.normal) else { continue };
+        let footprint = Footprint::new(p, normal, display);
+        if footprint.cover(&fits) < MIN_COVER {
             continue;
         }
-        let p = sample.position;
-        let part = &inputs.scene.vehicle.parts[part_of[centre as usize] as usize];
+        let part = &mesh.parts[face.part as usize];
         // The display size in the name: runs with different sizes are never one candidate.
         let name = format!("{part}@{:.2}x{:.2}@x{:.2}y{:.2}z{:.2}", display[0], display[1], p.x, p.y, p.z);
         // Two centres on either side of a cube's face can round to one name:
         // they are within a centimetre, so the first stands for both (a name
         // twice would make the table ambiguous).
-        if !names.insert(name.clone()) {
-            continue;
+        if names.insert(name.clone()) {
+            placed.push((name, footprint));
         }
-        placed.push(PlacedPatch { name, mirror: None, centre: p, normal, up, members });
     }
-    pair_mirrors(&mut placed, spacing);
     placed
 }
 
-fn part_of_samples(inputs: &ExactInputs) -> Vec<u32> {
-    let mut part_of = vec![0u32; inputs.samples.samples.len()];
-    for texel in &inputs.samples.texels {
-        part_of[texel.first as usize..(texel.first + texel.count) as usize].fill(texel.part);
-    }
-    part_of
+/// Every patch of size `display` that fits on the outward-facing surface,
+/// with the samples it holds.
+pub fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<PlacedPatch> {
+    let samples = &inputs.samples.samples;
+    let grid = Grid::new(samples, spacing.max(display[0].max(display[1]) / 4.0));
+    let mut placed: Vec<PlacedPatch> = lay_out(inputs, display, spacing)
+        .into_iter()
+        .map(|(name, footprint)| PlacedPatch {
+            name,
+            mirror: None,
+            centre: footprint.centre,
+            normal: footprint.normal,
+            up: footprint.up,
+            members: footprint.members(samples, &grid),
+        })
+        .collect();
+    pair_mirrors(&mut placed, spacing);
+    placed
 }
 
 /// Each patch's mirror: the patch nearest its centre mirrored in y = 0.

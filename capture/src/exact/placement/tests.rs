@@ -248,3 +248,56 @@ fn patch_names_are_unique_where_the_surface_crosses_a_cube_face() {
     names.dedup();
     assert_eq!(names.len(), count, "a name given twice");
 }
+
+#[test]
+fn a_flat_plate_holds_the_patches_that_fit_on_it_exactly() {
+    // A 1 m × 1 m plate in x = 0 (y −0.5 to 0.5, z 1.5 to 2.5), cubes of 0.10 m:
+    // centres at the cube middles, y and z = ±0.05, ±0.15, … ±0.45. A 0.40 × 0.15
+    // display fits (≥ 90 % covered) where it overhangs by at most 0.04 m across
+    // and 0.015 m in height: |y| ≤ 0.25 (6 columns), |z − 2| ≤ 0.35 (8 rows).
+    let scene = scene_with(plate(1.0, 1.0, 2.0), Occluders::default());
+    let samples = samples_of(&scene.vehicle, [256, 256]);
+    let obstacles = Obstacles::new(&scene);
+    let patches = place_patches(&inputs(&scene, &samples, &obstacles), [0.40, 0.15], 0.10);
+    assert_eq!(patches.len(), 48, "{:?}", patches.iter().map(|p| &p.name).collect::<Vec<_>>());
+    for patch in &patches {
+        let [y, z] = [patch.centre.y, patch.centre.z - 2.0];
+        let on_grid = |v: f64| ((v / 0.1 - 0.5).round() - (v / 0.1 - 0.5)).abs() < 1e-6;
+        assert!(patch.centre.x == 0.0 && on_grid(y) && on_grid(z), "{}", patch.name);
+        assert!(y.abs() < 0.26 && z.abs() < 0.36, "{}", patch.name);
+        let mirror = patch.mirror.as_deref().expect("every patch has its mirror image");
+        assert!(mirror.contains(&format!("y{:.2}z", -y)), "{} ↔ {mirror}", patch.name);
+    }
+}
+
+/// The demo truck's samples: `fraction` of the texels of a `palette`
+/// unwrap, seeded `seed`, K × K per texel.
+fn demo_samples(mesh: &Mesh, palette: [u32; 2], fraction: f64, seed: u64, k: u32) -> SurfaceSamples {
+    let unwrapped = unwrap_islands_avoiding(mesh, palette, background_texel(palette)).unwrap();
+    surface_samples(mesh, &unwrapped, fraction, seed, k)
+}
+
+#[test]
+fn the_patch_layout_is_the_same_whatever_the_texel_sample() {
+    // Issue 36: units of a design each measure their own texel sample; their
+    // displays are one candidate only if the layout follows the mesh alone.
+    let scene = scene_with(Scene::demo().vehicle, Occluders::default());
+    let obstacles = Obstacles::new(&scene);
+    let layout = |samples: &SurfaceSamples| {
+        let patches = place_patches(&inputs(&scene, samples, &obstacles), [0.40, 0.15], 0.10);
+        let members: usize = patches.iter().map(|p| p.members.len()).sum();
+        let layout: Vec<_> =
+            patches.into_iter().map(|p| (p.name, p.mirror, p.centre, p.normal, p.up)).collect();
+        (layout, members)
+    };
+    let (all, all_members) = layout(&demo_samples(&scene.vehicle, [512, 512], 1.0, 1, 1));
+    assert!(all.len() > 100, "{} patches", all.len());
+    assert!(all.iter().filter(|p| p.1.is_some()).count() > all.len() / 2, "most patches have a mirror");
+    for (palette, fraction, seed, k) in
+        [([512, 512], 0.25, 7, 1), ([1024, 1024], 0.5, 3, 2), ([256, 256], 1.0, 1, 1)]
+    {
+        let (other, members) = layout(&demo_samples(&scene.vehicle, palette, fraction, seed, k));
+        assert_eq!(other, all, "{palette:?} at {fraction} seeded {seed}, K = {k}");
+        assert_ne!(members, all_members, "the members do follow the sample");
+    }
+}
