@@ -146,7 +146,27 @@ fn measure_unit(
     };
     let measured = measure_unobstructed(device, queue, &scene, &scenario, &options, &measure_options)?;
     let written = measured.placement.ok_or_else(|| CaptureError::BadOptions("no placement table".into()))?;
-    Ok(candidate_values(ufcsr::read_table(&written.csv)?))
+    let mut values = candidate_values(ufcsr::read_table(&written.csv)?);
+    let laid_out = ufcsr::read_footprints(&written.csv)?;
+    add_unseen_patches(&mut values, laid_out.keys());
+    Ok(values)
+}
+
+/// Adds a zero for every display patch of the layout (`placement-patches.csv`) that the table
+/// lacks: the table has rows only for patches some eye saw, but the layout is the vehicle's alone
+/// (not the unit's texel sample), so a patch this unit never saw is there with 0 s, and every unit
+/// of a vehicle names the same patches.
+pub fn add_unseen_patches<'a>(values: &mut Vec<CandidateValue>, laid_out: impl Iterator<Item = &'a String>) {
+    let seen: std::collections::BTreeSet<String> = values.iter().map(|v| v.name.clone()).collect();
+    for name in laid_out.filter(|name| !seen.contains(*name)) {
+        values.push(CandidateValue {
+            name: name.clone(),
+            kind: "patch".into(),
+            legible_s: 0.0,
+            decision_window_legible_s: 0.0,
+            angular_area_deg2_s: 0.0,
+        });
+    }
 }
 
 /// Runs task `task` of `plan` into `out` and writes its `task.json`.

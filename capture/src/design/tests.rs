@@ -9,7 +9,7 @@ use ufcsr::{CandidateValue, DESIGN_TASK_SCHEMA, Design, DesignTask, UnitValues};
 
 use super::merge::merge_design;
 use super::plan::{Plan, plan_checked, plan_design};
-use super::run::{candidate_values, completed, task_dir, write_task};
+use super::run::{add_unseen_patches, candidate_values, completed, task_dir, write_task};
 use super::stats::{cell_data, group_summary, main_effects, p_best};
 
 fn fixture(name: &str) -> PathBuf {
@@ -115,7 +115,13 @@ fn merge_refuses_a_task_of_another_design_and_names_a_missing_cell() {
     let merged = merge_design(&plan, dir.path()).unwrap();
     assert_eq!(merged.tasks, 8);
     assert_eq!(merged.overall.best[0].name, "a");
-    assert!(merged.answer.last().unwrap().starts_with("across all: best part a"), "{:?}", merged.answer);
+    assert!(merged.answer.iter().any(|l| l.starts_with("across all: best part a")), "{:?}", merged.answer);
+    // The pickup has a display size but no patch in these tasks: said, not dropped silently.
+    assert!(
+        merged.answer.iter().any(|l| l.starts_with("displays: not compared for pickup")),
+        "{:?}",
+        merged.answer
+    );
     // Candidate a's vehicle effect: pickup tasks 0–3 (mean 3.5), van tasks 4–7 (mean 7.5).
     let effect = merged.main_effects.iter().find(|e| e.factor == "vehicle" && e.candidate == "a").unwrap();
     assert!((effect.range_s.mean - 4.0).abs() < 1e-12, "{effect:?}");
@@ -332,4 +338,40 @@ fn a_tasks_legible_seconds_are_the_placement_commands_for_the_same_table() {
             task.decision_window_legible_s
         );
     }
+}
+
+#[test]
+fn displays_are_compared_within_a_vehicle_and_said_where_not_measured() {
+    // Pickup (with a display size): two patches laid out, "p@front" seen by
+    // every unit, "p@side" by none (the table has no rows for it; the layout
+    // names it, so it is there with 0 s). Van: no display size, no patches.
+    let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let layout = ["p@front".to_string(), "p@side".to_string()];
+    for i in 0..plan.tasks.len() as u32 {
+        let mut task = synthetic(&plan, i, 2.0, 1.0);
+        if task.cell.vehicle == "pickup" {
+            let values = &mut task.units[0].candidates;
+            let mut front = values[0].clone();
+            (front.name, front.kind, front.legible_s) =
+                ("p@front".into(), "patch".into(), 1.0 + f64::from(i));
+            values.push(front);
+            add_unseen_patches(values, layout.iter());
+            assert_eq!(values.len(), 4, "{values:?}");
+        }
+        write_task(&task, &task_dir(dir.path(), i)).unwrap();
+    }
+    let merged = merge_design(&plan, dir.path()).unwrap();
+    let pickup = merged.vehicles.iter().find(|v| v.group == "vehicle pickup").unwrap();
+    let displays: Vec<_> = pickup.best.iter().filter(|b| b.kind == "patch").collect();
+    assert_eq!(displays.len(), 2, "{:?}", pickup.best);
+    assert_eq!((displays[0].name.as_str(), displays[0].p_best), ("p@front", 1.0));
+    assert_eq!(displays[1].legible_s.mean, 0.0);
+    // Tasks 0–3 are the pickup's: p@front 1, 2, 3, 4 s, mean 2.5 s over its two units.
+    assert!((displays[0].legible_s.mean - 2.5).abs() < 1e-12, "{:?}", displays[0]);
+    assert!(merged.answer[0].contains("best display p@front 2.50 s"), "{:?}", merged.answer);
+    let none = merged.answer.iter().find(|l| l.starts_with("displays: none measured for van")).unwrap();
+    assert!(none.contains("across all"), "{none}");
+    assert!(!merged.answer.iter().any(|l| l.contains("not compared")), "{:?}", merged.answer);
+    assert!(!merged.overall.candidates.iter().any(|c| c.kind == "patch"));
 }
