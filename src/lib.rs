@@ -55,8 +55,8 @@ pub use files::{
 pub use format::design::{
     BestPlacement, BodyDimsOverride, CandidateSummary, CandidateValue, CellLevels, Crossing,
     DESIGN_RESULT_SCHEMA, DESIGN_SCHEMA, DESIGN_TASK_SCHEMA, Design, DesignMeasure, DesignPopulation,
-    DesignResult, DesignTask, GroupSummary, MainEffect, MeanInterval, ScenarioLevel, ScenarioSource,
-    StreetScenario, TrafficKind, TrafficLevel, UnitValues, VehicleLevel,
+    DesignResult, DesignTask, GroupSummary, LevelEffect, MainEffect, MeanInterval, ScenarioLevel,
+    ScenarioSource, StreetScenario, TrafficKind, TrafficLevel, UnitValues, VehicleLevel,
 };
 pub use format::manifest::{
     CaptureRecord, DemoScenario, EyePose, EyeProjectionRecord, FollowRecord, FrameEntry, LabelsRecord,
@@ -94,7 +94,7 @@ pub use output::{
 };
 pub use placement::legibility::{ArchiveTimelines, Timeline};
 pub use placement::report::{WrittenPlacement, format_placement};
-pub use placement::uncertainty::{bootstrap_weights, t_interval};
+pub use placement::uncertainty::{bootstrap_weights, t_interval, t_interval_signed};
 pub use placement::{
     CandidateKind, CharacterHeight, DEFAULT_EPSILON_S, DEFAULT_NOT_MOUNTABLE, DEFAULT_REGION_RADIUS_M,
     DEFAULT_REPLICATES, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Mark, Method, Objective,

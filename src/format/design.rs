@@ -22,9 +22,9 @@ use crate::format::observers::ObserverPopulation;
 /// The design file's `schema` value.
 pub const DESIGN_SCHEMA: &str = "ufcsr-design/1";
 /// A task file's `schema` value.
-pub const DESIGN_TASK_SCHEMA: &str = "ufcsr-design-task/1";
+pub const DESIGN_TASK_SCHEMA: &str = "ufcsr-design-task/2";
 /// The merged result's `schema` value.
-pub const DESIGN_RESULT_SCHEMA: &str = "ufcsr-design-result/1";
+pub const DESIGN_RESULT_SCHEMA: &str = "ufcsr-design-result/2";
 
 /// A study design: the factors, their levels, how they are crossed.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -230,8 +230,12 @@ pub struct CandidateValue {
     pub name: String,
     /// `part` or `patch`.
     pub kind: String,
-    /// Seconds legible under the placement rules (docs/placement.md).
+    /// Seconds legible under the placement rules (docs/placement.md): legible frames, each inside a run
+    /// of at least the dwell, × seconds per frame; `ufcsr-analyze placement`'s `legible_s`.
     pub legible_s: f64,
+    /// Of those, the seconds inside the decision window (the window ending at the smallest
+    /// vehicle–pedestrian distance); `ufcsr-analyze placement`'s `decision_window_legible_s`.
+    pub decision_window_legible_s: f64,
     /// Visible angular area, deg²·s per eye.
     pub angular_area_deg2_s: f64,
 }
@@ -278,6 +282,8 @@ pub struct CandidateSummary {
     pub name: String,
     pub kind: String,
     pub legible_s: MeanInterval,
+    /// Legible seconds inside the decision window.
+    pub decision_window_legible_s: MeanInterval,
     pub angular_area_deg2_s: MeanInterval,
 }
 
@@ -304,15 +310,31 @@ pub struct GroupSummary {
     pub best: Vec<BestPlacement>,
 }
 
+/// One level of a factor in a main effect.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct LevelEffect {
+    pub level: String,
+    /// The candidate's mean legible time over the cells at this level (equal weight per cell), s,
+    /// with its interval over the random units.
+    pub mean_s: MeanInterval,
+    /// That mean minus the mean over all the factor's levels, s, with its interval over the units.
+    pub effect_s: MeanInterval,
+}
+
 /// How much one factor moves one candidate's legible time.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct MainEffect {
     pub factor: String,
     pub candidate: String,
-    /// Per level: the mean legible time over the cells at that level.
-    pub level_means_s: Vec<(String, f64)>,
-    /// Largest minus smallest level mean, seconds.
-    pub range_s: f64,
+    /// Per level, in the levels' order: its mean and its effect.
+    pub levels: Vec<LevelEffect>,
+    /// The largest level mean minus the smallest, s, with the interval of the per-unit difference
+    /// between those two levels (picked by the means, so with close levels it is the interval of
+    /// that pair, not of the range).
+    pub range_s: MeanInterval,
+    /// The level with the largest mean and the one with the smallest.
+    pub highest: String,
+    pub lowest: String,
 }
 
 /// `design.json`: the merged result.

@@ -70,8 +70,14 @@ pub fn t_975(df: usize) -> f64 {
     z + (z.powi(3) + z) / (4.0 * v) + (5.0 * z.powi(5) + 16.0 * z.powi(3) + 3.0 * z) / (96.0 * v * v)
 }
 
-/// The 95 % t interval of the mean of `values`; `None` with fewer than two.
+/// The 95 % t interval of the mean of `values` (seconds, so not below 0); `None` with fewer than two.
 pub fn t_interval(values: &[f64]) -> Option<[f64; 2]> {
+    t_interval_signed(values).map(|[lo, hi]| [lo.max(0.0), hi])
+}
+
+/// The 95 % t interval of the mean of `values` that may be negative (a difference, an effect);
+/// `None` with fewer than two.
+pub fn t_interval_signed(values: &[f64]) -> Option<[f64; 2]> {
     let n = values.len();
     if n < 2 {
         return None;
@@ -79,7 +85,7 @@ pub fn t_interval(values: &[f64]) -> Option<[f64; 2]> {
     let mean = values.iter().sum::<f64>() / n as f64;
     let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
     let half = t_975(n - 1) * (variance / n as f64).sqrt();
-    Some([(mean - half).max(0.0), mean + half])
+    Some([mean - half, mean + half])
 }
 
 /// A small deterministic generator (SplitMix64): the probabilities must

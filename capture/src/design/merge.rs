@@ -11,7 +11,7 @@ use ufcsr::{DESIGN_RESULT_SCHEMA, DESIGN_TASK_SCHEMA, DesignResult, DesignTask, 
 
 use super::plan::Plan;
 use super::run::{TASK_FILE, task_dir};
-use super::stats::{CellData, INTERVAL_METHOD, cell_data, group_summary, main_effects};
+use super::stats::{INTERVAL_METHOD, cell_data, group_summary, main_effects};
 use crate::error::{CaptureError, Result};
 
 /// The most missing cells named in one message.
@@ -122,25 +122,41 @@ fn answer(vehicles: &[GroupSummary], overall: &GroupSummary) -> Vec<String> {
     lines
 }
 
-/// [`answer`], plus a line saying so when display patches were measured but a group of the
-/// answer names none: patch positions follow the vehicle and each unit's texel sample, so a
-/// patch is compared only where it lies at the same place in every unit and cell of the group;
-/// elsewhere the answer is about whole parts only (said, not a silent omission).
-fn answer_with_displays(vehicles: &[GroupSummary], overall: &GroupSummary, data: &[CellData]) -> Vec<String> {
+/// [`answer`], plus what the answer says of displays where it names none. Display patches are
+/// laid out from the vehicle's mesh and display size alone, so every unit and cell of one vehicle
+/// names the same patches (a patch a unit never saw is there with 0 s) and a vehicle's displays are
+/// compared; a patch's name carries its place on the body, so across bodies only patches at the
+/// same place on every body are common, and a group with none is answered for whole parts (said,
+/// not a silent omission). A vehicle without a display size has no patches (said, when another
+/// has one).
+fn answer_with_displays(plan: &Plan, vehicles: &[GroupSummary], overall: &GroupSummary) -> Vec<String> {
     let mut lines = answer(vehicles, overall);
-    let measured = data.iter().any(|c| c.kinds.values().any(|kind| kind == "patch"));
+    let sized = |name: &str| plan.design.vehicles.iter().any(|v| v.name == name && v.display_m.is_some());
+    let name_of = |v: &GroupSummary| v.group.trim_start_matches("vehicle ").to_string();
     let has_patch = |group: &GroupSummary| group.candidates.iter().any(|c| c.kind == "patch");
-    let without: Vec<&str> = vehicles
-        .iter()
-        .filter(|v| !has_patch(v))
-        .map(|v| v.group.trim_start_matches("vehicle "))
-        .chain((!has_patch(overall)).then_some("across all"))
-        .collect();
-    if measured && !without.is_empty() {
+    let without_size: Vec<String> = vehicles.iter().map(name_of).filter(|v| !sized(v)).collect();
+    if without_size.len() == vehicles.len() {
+        return lines;
+    }
+    let mut uncommon: Vec<String> =
+        vehicles.iter().filter(|v| sized(&name_of(v)) && !has_patch(v)).map(name_of).collect();
+    if without_size.is_empty() && !has_patch(overall) {
+        uncommon.push("across all".into());
+    }
+    if !uncommon.is_empty() {
         lines.push(format!(
-            "displays: not compared for {} (patches were measured, but none lies at the same place in every \
-             unit and cell: their positions follow the vehicle and each unit's texel sample), whole parts only",
-            without.join(", ")
+            "displays: not compared for {} (no patch of the display size lies at the same place on every body \
+             and in every unit of the group, or none fits on the body: a patch's name carries its place), whole \
+             parts only",
+            uncommon.join(", ")
+        ));
+    }
+    if !without_size.is_empty() {
+        lines.push(format!(
+            "displays: none measured for {} (no display size, `display_m`, in the design), so for {} and across \
+             all whole parts only",
+            without_size.join(", "),
+            if without_size.len() == 1 { "it" } else { "them" }
         ));
     }
     lines
@@ -174,7 +190,7 @@ pub fn merge_design(plan: &Plan, out: &Path) -> Result<DesignResult> {
         design_hash: plan.hash.clone(),
         tasks: tasks.len() as u32,
         interval: INTERVAL_METHOD.into(),
-        answer: answer_with_displays(&vehicles, &overall, &data),
+        answer: answer_with_displays(plan, &vehicles, &overall),
         main_effects: main_effects(&data, &named),
         cells,
         vehicles,

@@ -1,5 +1,5 @@
 //! The merged result's files: `design.json` (the typed
-//! `ufcsr-design-result/1`), `design.csv` (one row per group and
+//! `ufcsr-design-result/2`), `design.csv` (one row per group and
 //! candidate) and `design.html`, the report page: the answer first ("for a
 //! sedan: …; across all: …"), then the best placements with P(best), the
 //! main effects and every group's table, each text through the analyzer's
@@ -22,20 +22,26 @@ fn interval_text(v: &MeanInterval) -> String {
     }
 }
 
+/// ` [lo–hi]` with signs, or nothing without an interval.
+fn bracket(v: &MeanInterval) -> String {
+    v.ci95.map_or_else(String::new, |[lo, hi]| format!(" [{lo:+.2} to {hi:+.2}]"))
+}
+
 fn group_table(page: &mut String, group: &GroupSummary) {
     let _ = write!(
         page,
         "<h3>{}</h3><table><tr><th>candidate</th><th>kind</th><th>legible s [95 %]</th>\
-         <th>angular area deg²·s [95 %]</th></tr>",
+         <th>in the decision window, s [95 %]</th><th>angular area deg²·s [95 %]</th></tr>",
         esc(&group.group)
     );
     for c in group.candidates.iter().take(PAGE_ROWS) {
         let _ = write!(
             page,
-            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
             esc(&c.name),
             esc(&c.kind),
             interval_text(&c.legible_s),
+            interval_text(&c.decision_window_legible_s),
             interval_text(&c.angular_area_deg2_s)
         );
     }
@@ -68,16 +74,36 @@ pub fn page(result: &DesignResult) -> String {
             );
         }
     }
-    page.push_str("</table><h2>Main effects</h2><table><tr><th>factor</th><th>candidate</th><th>range s</th><th>mean per level, s</th></tr>");
+    page.push_str(
+        "</table><h2>Main effects</h2><p>Per factor and candidate: the range (largest level mean minus \
+         smallest, with the interval of the per-unit difference of those two levels) and each level's mean \
+         legible time with its effect (the level's mean minus the mean over the levels), each with its 95 % \
+         interval over the random units.</p><table><tr><th>factor</th><th>candidate</th><th>range s [95 %]</th>\
+         <th>per level: mean s [95 %]; effect s [95 %]</th></tr>",
+    );
     for e in &result.main_effects {
-        let levels: Vec<String> = e.level_means_s.iter().map(|(l, m)| format!("{l}: {m:.2}")).collect();
+        let levels: Vec<String> = e
+            .levels
+            .iter()
+            .map(|l| {
+                format!(
+                    "{}: {}; {:+.2}{}",
+                    l.level,
+                    interval_text(&l.mean_s),
+                    l.effect_s.mean,
+                    bracket(&l.effect_s)
+                )
+            })
+            .collect();
         let _ = write!(
             page,
-            "<tr><td>{}</td><td>{}</td><td>{:.2}</td><td>{}</td></tr>",
+            "<tr><td>{}</td><td>{}</td><td>{} ({} − {})</td><td>{}</td></tr>",
             esc(&e.factor),
             esc(&e.candidate),
-            e.range_s,
-            esc(&levels.join(", "))
+            interval_text(&e.range_s),
+            esc(&e.highest),
+            esc(&e.lowest),
+            esc(&levels.join(" | "))
         );
     }
     page.push_str("</table><h2>Groups</h2>");
@@ -88,28 +114,51 @@ pub fn page(result: &DesignResult) -> String {
     page
 }
 
-/// One row per group and candidate.
+/// One value with its interval and n as CSV fields: `mean,low,high`.
+fn csv_interval(v: &MeanInterval) -> String {
+    let end = |i: usize| v.ci95.map_or_else(String::new, |c| format!("{:.6}", c[i]));
+    format!("{:.6},{},{}", v.mean, end(0), end(1))
+}
+
+/// The CSV's columns: the legible, decision-window and angular-area triples (mean, 95 % low, high) and n.
+const CSV_HEADER: &str = "group,candidate,kind,legible_s,legible_s_low,legible_s_high,decision_window_legible_s,\
+     decision_window_low,decision_window_high,angular_area_deg2_s,angular_area_low,angular_area_high,n\n";
+
+/// One row per group and candidate; then the main effects, one row per factor, candidate and
+/// level (`kind` `level-mean` or `level-effect`, `group` `FACTOR=LEVEL`) and one for the range
+/// (`kind` `range`, `group` `FACTOR: HIGHEST - LOWEST`), their seconds in the legible columns.
 pub fn csv(result: &DesignResult) -> String {
-    let mut text = String::from(
-        "group,candidate,kind,legible_s,legible_s_low,legible_s_high,angular_area_deg2_s,angular_area_low,angular_area_high,n\n",
-    );
-    let cell = |v: Option<[f64; 2]>, i: usize| v.map_or_else(String::new, |c| format!("{:.6}", c[i]));
+    let mut text = String::from(CSV_HEADER);
     for group in result.cells.iter().chain(&result.vehicles).chain([&result.overall]) {
         for c in &group.candidates {
             let _ = writeln!(
                 text,
-                "{},{},{},{:.6},{},{},{:.6},{},{},{}",
+                "{},{},{},{},{},{},{}",
                 ufcsr::csv_field(&group.group),
                 ufcsr::csv_field(&c.name),
                 c.kind,
-                c.legible_s.mean,
-                cell(c.legible_s.ci95, 0),
-                cell(c.legible_s.ci95, 1),
-                c.angular_area_deg2_s.mean,
-                cell(c.angular_area_deg2_s.ci95, 0),
-                cell(c.angular_area_deg2_s.ci95, 1),
+                csv_interval(&c.legible_s),
+                csv_interval(&c.decision_window_legible_s),
+                csv_interval(&c.angular_area_deg2_s),
                 c.legible_s.n
             );
+        }
+    }
+    for e in &result.main_effects {
+        let mut row = |group: String, kind: &str, v: &MeanInterval| {
+            let _ = writeln!(
+                text,
+                "{},{},{kind},{},,,,,,,{}",
+                ufcsr::csv_field(&group),
+                ufcsr::csv_field(&e.candidate),
+                csv_interval(v),
+                v.n
+            );
+        };
+        row(format!("{}: {} - {}", e.factor, e.highest, e.lowest), "range", &e.range_s);
+        for l in &e.levels {
+            row(format!("{}={}", e.factor, l.level), "level-mean", &l.mean_s);
+            row(format!("{}={}", e.factor, l.level), "level-effect", &l.effect_s);
         }
     }
     text

@@ -82,7 +82,11 @@ fn units(plan: &Plan, task: &PlannedTask, scene: &Scene) -> Result<Vec<Unit>> {
         .collect())
 }
 
-/// Per candidate: legible seconds under the default rules and angular area, deg²·s per eye.
+/// Per candidate: legible seconds under the default rules, in all and inside the decision window,
+/// and angular area, deg²·s per eye. The seconds are the placement's own, from the same code
+/// (`ufcsr::timelines` and `ArchiveTimelines::exposure`, which `ufcsr-analyze placement` reports
+/// as `legible_s` and `decision_window_legible_s`): the dwell applies, and the window ends at the
+/// frame of the smallest vehicle–pedestrian distance.
 pub fn candidate_values(table: ufcsr::PlacementTable) -> Vec<CandidateValue> {
     let table = Arc::new(table);
     let eyes = table.eyes.len().max(1) as f64;
@@ -93,10 +97,12 @@ pub fn candidate_values(table: ufcsr::PlacementTable) -> Vec<CandidateValue> {
         .map(|t| {
             let rows = &table.candidates[&t.name];
             let sr: f64 = rows.sightings.values().map(|s| s.solid_angle_sr).sum();
+            let exposure = scored.exposure(t);
             CandidateValue {
                 name: t.name.clone(),
                 kind: t.kind.name().to_string(),
-                legible_s: t.legible.len() as f64 * table.frame_s,
+                legible_s: exposure.legible_s,
+                decision_window_legible_s: exposure.decision_window_legible_s,
                 angular_area_deg2_s: sr * DEG2_PER_SR * table.frame_s / eyes,
             }
         })
@@ -140,7 +146,27 @@ fn measure_unit(
     };
     let measured = measure_unobstructed(device, queue, &scene, &scenario, &options, &measure_options)?;
     let written = measured.placement.ok_or_else(|| CaptureError::BadOptions("no placement table".into()))?;
-    Ok(candidate_values(ufcsr::read_table(&written.csv)?))
+    let mut values = candidate_values(ufcsr::read_table(&written.csv)?);
+    let laid_out = ufcsr::read_footprints(&written.csv)?;
+    add_unseen_patches(&mut values, laid_out.keys());
+    Ok(values)
+}
+
+/// Adds a zero for every display patch of the layout (`placement-patches.csv`) that the table
+/// lacks: the table has rows only for patches some eye saw, but the layout is the vehicle's alone
+/// (not the unit's texel sample), so a patch this unit never saw is there with 0 s, and every unit
+/// of a vehicle names the same patches.
+pub fn add_unseen_patches<'a>(values: &mut Vec<CandidateValue>, laid_out: impl Iterator<Item = &'a String>) {
+    let seen: std::collections::BTreeSet<String> = values.iter().map(|v| v.name.clone()).collect();
+    for name in laid_out.filter(|name| !seen.contains(*name)) {
+        values.push(CandidateValue {
+            name: name.clone(),
+            kind: "patch".into(),
+            legible_s: 0.0,
+            decision_window_legible_s: 0.0,
+            angular_area_deg2_s: 0.0,
+        });
+    }
 }
 
 /// Runs task `task` of `plan` into `out` and writes its `task.json`.

@@ -12,7 +12,8 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use ufcsr::{
-    BestPlacement, CandidateSummary, CellLevels, DesignTask, GroupSummary, MainEffect, MeanInterval,
+    BestPlacement, CandidateSummary, CellLevels, DesignTask, GroupSummary, LevelEffect, MainEffect,
+    MeanInterval,
 };
 
 /// What the intervals are, written into the result.
@@ -22,15 +23,18 @@ pub const INTERVAL_METHOD: &str = "95 % Student-t interval of the mean over the 
      unit first. It covers the observers, the texel sample and the traffic draws, not the fixed factors' choice \
      of levels, the placement rules' thresholds or the population's declared figures. P(best) is the share of \
      1000 bootstrap resamples of the units in which the candidate has the largest mean legible time of its kind \
-     (optimistic for small n, as the placement's own P(best), docs/placement.md)";
+     (optimistic for small n, as the placement's own P(best), docs/placement.md). A main effect's level means, \
+     effects (level mean minus the mean over the levels) and range (highest minus lowest level) are per-unit \
+     contrasts with the same t interval (an effect and the range signed, they may be negative)";
 
 /// Bootstrap resamples behind P(best).
 pub const P_BEST_REPLICATES: usize = 1000;
 
-/// One candidate's two numbers in one unit.
+/// One candidate's numbers in one unit.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Pair {
     pub legible_s: f64,
+    pub decision_window_legible_s: f64,
     pub angular_area_deg2_s: f64,
 }
 
@@ -53,8 +57,11 @@ pub fn cell_data(cells: &[CellLevels], tasks: &[DesignTask]) -> Vec<CellData> {
                     let values = data.units.entry(unit.unit).or_default();
                     for c in &unit.candidates {
                         data.kinds.insert(c.name.clone(), c.kind.clone());
-                        let pair =
-                            Pair { legible_s: c.legible_s, angular_area_deg2_s: c.angular_area_deg2_s };
+                        let pair = Pair {
+                            legible_s: c.legible_s,
+                            decision_window_legible_s: c.decision_window_legible_s,
+                            angular_area_deg2_s: c.angular_area_deg2_s,
+                        };
                         values.insert(c.name.clone(), pair);
                     }
                 }
@@ -90,18 +97,25 @@ fn unit_means(cells: &[&CellData]) -> (Vec<String>, Vec<Vec<Pair>>) {
             names
                 .iter()
                 .map(|name| {
-                    let (mut legible, mut area) = (0.0, 0.0);
+                    let mut mean =
+                        Pair { legible_s: 0.0, decision_window_legible_s: 0.0, angular_area_deg2_s: 0.0 };
                     for cell in cells {
                         let pair = cell.units[u][name];
-                        legible += pair.legible_s / k;
-                        area += pair.angular_area_deg2_s / k;
+                        mean.legible_s += pair.legible_s / k;
+                        mean.decision_window_legible_s += pair.decision_window_legible_s / k;
+                        mean.angular_area_deg2_s += pair.angular_area_deg2_s / k;
                     }
-                    Pair { legible_s: legible, angular_area_deg2_s: area }
+                    mean
                 })
                 .collect()
         })
         .collect();
     (names, per_unit)
+}
+
+/// The mean of a difference or an effect (may be negative) and its 95 % t interval.
+pub fn signed_interval(values: &[f64]) -> MeanInterval {
+    MeanInterval { ci95: ufcsr::t_interval_signed(values), ..mean_interval(values) }
 }
 
 /// Per candidate of `among`: the share of bootstrap resamples of the units in which it has the largest mean.
@@ -131,6 +145,7 @@ pub fn group_summary(group: String, cells: &[&CellData], seed: u64) -> GroupSumm
             name: names[c].clone(),
             kind: kinds.get(&names[c]).cloned().unwrap_or_default(),
             legible_s: mean_interval(&column(c, |p| p.legible_s)),
+            decision_window_legible_s: mean_interval(&column(c, |p| p.decision_window_legible_s)),
             angular_area_deg2_s: mean_interval(&column(c, |p| p.angular_area_deg2_s)),
         })
         .collect();
@@ -167,8 +182,13 @@ pub fn group_summary(group: String, cells: &[&CellData], seed: u64) -> GroupSumm
 /// A cell's level of one factor.
 type LevelOf = fn(&CellLevels) -> &str;
 
-/// Per factor with more than one level and per candidate in `names`: the
-/// mean legible time over the cells at each level, and the range.
+/// Per factor with more than one level and per candidate in `names` (every
+/// unit of every cell has it): each level's mean legible time and its effect
+/// (the level's mean minus the mean over the levels), and the range, each
+/// with its 95 % t interval over the random units. Within a unit, a level's
+/// value is the equal-weight mean over the level's cells, so each effect is
+/// a per-unit contrast and its t interval covers it as the group means'
+/// does (tested against a known effect).
 pub fn main_effects(cells: &[CellData], names: &[String]) -> Vec<MainEffect> {
     let factors: [(&str, LevelOf); 3] =
         [("vehicle", |c| &c.vehicle), ("scenario", |c| &c.scenario), ("traffic", |c| &c.traffic)];
@@ -178,34 +198,66 @@ pub fn main_effects(cells: &[CellData], names: &[String]) -> Vec<MainEffect> {
         if levels.len() < 2 {
             continue;
         }
+        let levels: Vec<&str> = levels.into_iter().collect();
         for name in names {
-            let mut level_means_s = Vec::new();
-            for level in &levels {
-                let at: Vec<&CellData> = cells.iter().filter(|c| level_of(&c.cell) == *level).collect();
-                let means: Vec<f64> = at.iter().filter_map(|c| cell_mean(c, name)).collect();
-                if means.len() == at.len() && !means.is_empty() {
-                    level_means_s.push((level.to_string(), means.iter().sum::<f64>() / means.len() as f64));
-                }
-            }
-            if level_means_s.len() == levels.len() {
-                let (lo, hi) = level_means_s
-                    .iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (_, m)| (lo.min(*m), hi.max(*m)));
-                effects.push(MainEffect {
-                    factor: factor.into(),
-                    candidate: name.clone(),
-                    level_means_s,
-                    range_s: hi - lo,
-                });
+            if let Some(per_level) = per_level_units(cells, level_of, &levels, name) {
+                effects.push(main_effect(factor, name, &levels, &per_level));
             }
         }
     }
     effects
 }
 
-/// A candidate's mean legible time over a cell's units.
-fn cell_mean(cell: &CellData, name: &str) -> Option<f64> {
-    let values: Vec<f64> =
-        cell.units.values().map(|u| u.get(name).map(|p| p.legible_s)).collect::<Option<_>>()?;
-    (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
+/// Per level, per unit (the units every cell has): the candidate's mean
+/// legible time over the level's cells; `None` when a cell or unit lacks it.
+fn per_level_units(
+    cells: &[CellData],
+    level_of: LevelOf,
+    levels: &[&str],
+    name: &str,
+) -> Option<Vec<Vec<f64>>> {
+    let first = cells.first()?;
+    let units: Vec<u32> =
+        first.units.keys().copied().filter(|u| cells.iter().all(|c| c.units.contains_key(u))).collect();
+    if units.is_empty() || !cells.iter().all(|c| units.iter().all(|u| c.units[u].contains_key(name))) {
+        return None;
+    }
+    let per_level = levels
+        .iter()
+        .map(|level| {
+            let at: Vec<&CellData> = cells.iter().filter(|c| level_of(&c.cell) == *level).collect();
+            let k = at.len() as f64;
+            units.iter().map(|u| at.iter().map(|c| c.units[u][name].legible_s).sum::<f64>() / k).collect()
+        })
+        .collect();
+    Some(per_level)
+}
+
+/// One factor's effect on one candidate from its per-level, per-unit values.
+fn main_effect(factor: &str, name: &str, levels: &[&str], per_level: &[Vec<f64>]) -> MainEffect {
+    let units = per_level.first().map_or(0, Vec::len);
+    let grand: Vec<f64> =
+        (0..units).map(|u| per_level.iter().map(|l| l[u]).sum::<f64>() / per_level.len() as f64).collect();
+    let means: Vec<MeanInterval> = per_level.iter().map(|values| mean_interval(values)).collect();
+    let level_effects = levels
+        .iter()
+        .zip(per_level)
+        .zip(&means)
+        .map(|((level, values), mean)| {
+            let effect: Vec<f64> = values.iter().zip(&grand).map(|(v, g)| v - g).collect();
+            LevelEffect { level: level.to_string(), mean_s: *mean, effect_s: signed_interval(&effect) }
+        })
+        .collect();
+    let by_mean = |a: &usize, b: &usize| means[*a].mean.total_cmp(&means[*b].mean).then(b.cmp(a));
+    let high = (0..means.len()).max_by(by_mean).unwrap_or(0);
+    let low = (0..means.len()).min_by(by_mean).unwrap_or(0);
+    let difference: Vec<f64> = per_level[high].iter().zip(&per_level[low]).map(|(h, l)| h - l).collect();
+    MainEffect {
+        factor: factor.into(),
+        candidate: name.into(),
+        levels: level_effects,
+        range_s: signed_interval(&difference),
+        highest: levels[high].into(),
+        lowest: levels[low].into(),
+    }
 }

@@ -9,8 +9,8 @@ use ufcsr::{CandidateValue, DESIGN_TASK_SCHEMA, Design, DesignTask, UnitValues};
 
 use super::merge::merge_design;
 use super::plan::{Plan, plan_checked, plan_design};
-use super::run::{completed, task_dir, write_task};
-use super::stats::{cell_data, group_summary, p_best};
+use super::run::{add_unseen_patches, candidate_values, completed, task_dir, write_task};
+use super::stats::{cell_data, group_summary, main_effects, p_best};
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/designs").join(name)
@@ -85,6 +85,7 @@ fn synthetic(plan: &Plan, index: u32, a: f64, b: f64) -> DesignTask {
         name: name.into(),
         kind: "part".into(),
         legible_s: s,
+        decision_window_legible_s: 0.5 * s,
         angular_area_deg2_s: 10.0 * s,
     };
     DesignTask {
@@ -114,10 +115,23 @@ fn merge_refuses_a_task_of_another_design_and_names_a_missing_cell() {
     let merged = merge_design(&plan, dir.path()).unwrap();
     assert_eq!(merged.tasks, 8);
     assert_eq!(merged.overall.best[0].name, "a");
-    assert!(merged.answer.last().unwrap().starts_with("across all: best part a"), "{:?}", merged.answer);
+    assert!(merged.answer.iter().any(|l| l.starts_with("across all: best part a")), "{:?}", merged.answer);
+    // The pickup has a display size but no patch in these tasks: said, not dropped silently.
+    assert!(
+        merged.answer.iter().any(|l| l.starts_with("displays: not compared for pickup")),
+        "{:?}",
+        merged.answer
+    );
     // Candidate a's vehicle effect: pickup tasks 0–3 (mean 3.5), van tasks 4–7 (mean 7.5).
     let effect = merged.main_effects.iter().find(|e| e.factor == "vehicle" && e.candidate == "a").unwrap();
-    assert!((effect.range_s - 4.0).abs() < 1e-12, "{effect:?}");
+    assert!((effect.range_s.mean - 4.0).abs() < 1e-12, "{effect:?}");
+    assert_eq!((effect.highest.as_str(), effect.lowest.as_str()), ("van", "pickup"));
+    // The effects are in design.csv with the groups, under one header.
+    let csv = super::report::csv(&merged);
+    let fields = |line: &str| line.split(',').count();
+    assert!(csv.lines().all(|line| fields(line) == 13), "{csv}");
+    assert!(csv.contains("vehicle: van - pickup,a,range,4.000000,"), "{csv}");
+    assert!(csv.contains("vehicle=van,a,level-effect,2.000000,"), "{csv}");
     // A task of another design.
     let mut foreign = synthetic(&plan, 5, 1.0, 1.0);
     foreign.design_hash = "0123456789abcdef".into();
@@ -213,6 +227,64 @@ fn the_interval_of_a_vehicle_and_of_all_covers_the_known_mean_about_95_percent_o
     assert!((0.90..=0.99).contains(&rate(covered_all)), "{}", rate(covered_all));
 }
 
+/// One trial's tasks: every cell of `plan` with `units` units, candidate "a" valued `value(cell, unit)`.
+fn tasks_of(plan: &Plan, units: u32, mut value: impl FnMut(usize, u32) -> f64) -> Vec<DesignTask> {
+    plan.cells
+        .iter()
+        .enumerate()
+        .map(|(c, cell)| {
+            let mut task = synthetic(plan, 0, 0.0, 0.0);
+            task.cell = cell.clone();
+            task.units = (0..units)
+                .map(|u| {
+                    let mut unit = synthetic(plan, 0, value(c, u), 0.0).units.remove(0);
+                    unit.unit = u;
+                    unit
+                })
+                .collect();
+            task
+        })
+        .collect()
+}
+
+#[test]
+fn the_main_effects_intervals_cover_a_known_effect_about_95_percent_of_the_time() {
+    // Two vehicles × two scenarios, 8 units. Candidate a: 2 s, +1.5 s on the
+    // second vehicle, no scenario effect; per unit an effect shared by its
+    // cells (an observer's height), a unit × vehicle effect (how a body suits
+    // that observer) and cell noise. Truth: the vehicle range 1.5 s (second
+    // vehicle highest), its levels' effects −0.75 and +0.75 s, the scenario
+    // levels' effects 0.
+    let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
+    let vehicles: Vec<String> = plan.design.vehicles.iter().map(|v| v.name.clone()).collect();
+    let (trials, units) = (400, 8u32);
+    let mut normal = Normal(29);
+    let mut covered = [0usize; 4];
+    for _ in 0..trials {
+        let shared: Vec<f64> = (0..units).map(|_| 0.8 * normal.draw()).collect();
+        let suits: Vec<[f64; 2]> = (0..units).map(|_| [0.4 * normal.draw(), 0.4 * normal.draw()]).collect();
+        let tasks = tasks_of(&plan, units, |c, u| {
+            let second = usize::from(plan.cells[c].vehicle == vehicles[1]);
+            2.0 + 1.5 * second as f64 + shared[u as usize] + suits[u as usize][second] + 0.5 * normal.draw()
+        });
+        let effects = main_effects(&cell_data(&plan.cells, &tasks), &["a".to_string()]);
+        let of = |factor: &str| effects.iter().find(|e| e.factor == factor).unwrap();
+        let inside =
+            |v: &ufcsr::MeanInterval, truth: f64| v.ci95.is_some_and(|[lo, hi]| lo <= truth && truth <= hi);
+        let vehicle = of("vehicle");
+        covered[0] += usize::from(vehicle.highest == vehicles[1] && inside(&vehicle.range_s, 1.5));
+        let level = |name: &str| vehicle.levels.iter().find(|l| l.level == name).unwrap();
+        covered[1] += usize::from(inside(&level(&vehicles[0]).effect_s, -0.75));
+        covered[2] += usize::from(inside(&level(&vehicles[1]).mean_s, 2.0 + 1.5));
+        covered[3] += usize::from(of("scenario").levels.iter().all(|l| inside(&l.effect_s, 0.0)));
+    }
+    let rates = covered.map(|n| n as f64 / trials as f64);
+    eprintln!("coverage: vehicle range, level effect, level mean, scenario effects {rates:?}");
+    for rate in rates {
+        assert!((0.90..=0.99).contains(&rate), "{rates:?}");
+    }
+}
+
 #[test]
 fn p_best_is_one_for_a_candidate_larger_in_every_unit() {
     let rows: Vec<Vec<f64>> =
@@ -221,4 +293,85 @@ fn p_best_is_one_for_a_candidate_larger_in_every_unit() {
     assert_eq!(p, vec![1.0, 0.0]);
     let tie = p_best(&rows, &[1, 2], 3);
     assert!(tie[1] > 0.9, "{tie:?}");
+}
+
+#[test]
+fn a_tasks_legible_seconds_are_the_placement_commands_for_the_same_table() {
+    // 100 frames of 0.1 s; the vehicle is closest at frame 80 (8.0 s), so the
+    // 6 s decision window holds frames 21–80. Part a is legible in frames
+    // 0–49, 60–63 (0.4 s, under the 1 s dwell: not counted) and 70–99; part
+    // b in 10–40. Known answer: a 8.0 s, 4.0 s of it in the window; b 3.1 s
+    // and 2.0 s.
+    let dir = tempfile::tempdir().unwrap();
+    let mut text = String::from(
+        "frame,time_s,eye,distance_m,candidate,kind,solid_angle_sr,visible_fraction,view_angle_deg,\
+         angular_height_deg,frame_s\n",
+    );
+    let legible = |name: &str, f: u32| match name {
+        "a" => f < 50 || (60..64).contains(&f) || f >= 70,
+        _ => (10..=40).contains(&f),
+    };
+    for frame in 0..100u32 {
+        let distance = 5.0 + (f64::from(frame) - 80.0).abs();
+        for name in ["a", "b"] {
+            let (sr, fraction) = if legible(name, frame) { (1e-3, 1.0) } else { (0.0, 0.0) };
+            let time = f64::from(frame) / 10.0;
+            text += &format!("{frame},{time},left,{distance},{name},part,{sr},{fraction},10,2,0.1\n");
+        }
+    }
+    let path = dir.path().join("placement-frames.csv");
+    std::fs::write(&path, text).unwrap();
+    let ours = candidate_values(ufcsr::read_table(&path).unwrap());
+    let theirs = ufcsr::placement(&ufcsr::PlacementOptions::new(vec![path])).unwrap().document.candidates;
+    for (name, legible_s, window_s) in [("a", 8.0, 4.0), ("b", 3.1, 2.0)] {
+        let task = ours.iter().find(|c| c.name == name).unwrap();
+        let placement = theirs.iter().find(|c| c.name == name).unwrap();
+        assert_eq!(
+            (task.legible_s, task.decision_window_legible_s),
+            (placement.legible_s, placement.decision_window_legible_s),
+            "{name}"
+        );
+        assert!((task.legible_s - legible_s).abs() < 1e-9, "{name}: {}", task.legible_s);
+        assert!(
+            (task.decision_window_legible_s - window_s).abs() < 1e-9,
+            "{name}: {}",
+            task.decision_window_legible_s
+        );
+    }
+}
+
+#[test]
+fn displays_are_compared_within_a_vehicle_and_said_where_not_measured() {
+    // Pickup (with a display size): two patches laid out, "p@front" seen by
+    // every unit, "p@side" by none (the table has no rows for it; the layout
+    // names it, so it is there with 0 s). Van: no display size, no patches.
+    let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let layout = ["p@front".to_string(), "p@side".to_string()];
+    for i in 0..plan.tasks.len() as u32 {
+        let mut task = synthetic(&plan, i, 2.0, 1.0);
+        if task.cell.vehicle == "pickup" {
+            let values = &mut task.units[0].candidates;
+            let mut front = values[0].clone();
+            (front.name, front.kind, front.legible_s) =
+                ("p@front".into(), "patch".into(), 1.0 + f64::from(i));
+            values.push(front);
+            add_unseen_patches(values, layout.iter());
+            assert_eq!(values.len(), 4, "{values:?}");
+        }
+        write_task(&task, &task_dir(dir.path(), i)).unwrap();
+    }
+    let merged = merge_design(&plan, dir.path()).unwrap();
+    let pickup = merged.vehicles.iter().find(|v| v.group == "vehicle pickup").unwrap();
+    let displays: Vec<_> = pickup.best.iter().filter(|b| b.kind == "patch").collect();
+    assert_eq!(displays.len(), 2, "{:?}", pickup.best);
+    assert_eq!((displays[0].name.as_str(), displays[0].p_best), ("p@front", 1.0));
+    assert_eq!(displays[1].legible_s.mean, 0.0);
+    // Tasks 0–3 are the pickup's: p@front 1, 2, 3, 4 s, mean 2.5 s over its two units.
+    assert!((displays[0].legible_s.mean - 2.5).abs() < 1e-12, "{:?}", displays[0]);
+    assert!(merged.answer[0].contains("best display p@front 2.50 s"), "{:?}", merged.answer);
+    let none = merged.answer.iter().find(|l| l.starts_with("displays: none measured for van")).unwrap();
+    assert!(none.contains("across all"), "{none}");
+    assert!(!merged.answer.iter().any(|l| l.contains("not compared")), "{:?}", merged.answer);
+    assert!(!merged.overall.candidates.iter().any(|c| c.kind == "patch"));
 }

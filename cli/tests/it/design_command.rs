@@ -1,9 +1,10 @@
 //! `ufcsr design plan|run|merge` end to end on a 2 × 2 design (one
 //! replicate, the exact measure at 1/256 of a 256² palette): the plan's
 //! lines are the tasks, a re-run skips complete tasks and redoes a removed
-//! one, merge writes the result set with the answer first and names a
-//! missing cell. (Refusals by factor and level, another design's task and
-//! the interval's coverage are the library's tests, `design::tests`.)
+//! one, merge writes the result set with the answer first (the pickup's
+//! displays compared across its cells) and names a missing cell. (Refusals
+//! by factor and level, another design's task and the intervals' coverage
+//! are the library's tests, `design::tests`.)
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -46,11 +47,18 @@ fn a_design_plans_runs_resumes_and_merges() {
     let result: ufcsr::DesignResult =
         serde_json::from_slice(&std::fs::read(Path::new(out).join("design.json")).unwrap()).unwrap();
     assert_eq!((result.tasks, result.cells.len(), result.vehicles.len()), (4, 4, 2));
-    // Display patches were measured but are not comparable across units: said, not dropped silently.
-    let displays_compared = result.overall.candidates.iter().any(|c| c.kind == "patch");
-    let said =
-        result.answer.iter().any(|line| line.starts_with("displays: ") && line.contains("not compared"));
-    assert!(displays_compared || said, "{:?}", result.answer);
+    // The pickup's display patches are laid out from its mesh alone, so its cells name the same ones
+    // and its displays are compared (best 1–3 with P(best)); the van has no display size: said.
+    let pickup = result.vehicles.iter().find(|v| v.group == "vehicle pickup").unwrap();
+    let displays: Vec<_> = pickup.best.iter().filter(|b| b.kind == "patch").collect();
+    assert!(!displays.is_empty() && displays[0].rank == 1, "{:?}", pickup.best);
+    assert!(text(&merge).contains("for a pickup: best part") && text(&merge).contains("best display"));
+    assert!(
+        result.answer.iter().any(|l| l.starts_with("displays: none measured for van")),
+        "{:?}",
+        result.answer
+    );
+    assert!(!result.answer.iter().any(|l| l.contains("not compared")), "{:?}", result.answer);
     let page = std::fs::read_to_string(Path::new(out).join("design.html")).unwrap();
     assert!(page.find("Answer").unwrap() < page.find("Main effects").unwrap());
 }
