@@ -99,7 +99,7 @@ fn check_backend(gpu: &Gpu) {
         // The summary's kinds partition the tiles: hidden ones are not also
         // "background only", and background-only tiles are rendered ones.
         for summary in [&cut, &full] {
-            assert_eq!(summary.tally.accounted(), summary.tiles as u64, "{name}: {:?}", summary.tally);
+            assert_eq!(summary.tally.accounted(), summary.tiles, "{name}: {:?}", summary.tally);
             assert!(summary.tally.background <= summary.tally.rendered, "{name}: {:?}", summary.tally);
             assert_eq!(summary.tally.written + summary.tally.background, summary.tally.rendered, "{name}");
         }
