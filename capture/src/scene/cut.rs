@@ -7,11 +7,13 @@
 //! the rule's planes first, every piece lies on one side of each of them, and
 //! the centroid test is exact: a part's area is the area inside its region.
 //!
-//! Every triangle the plane crosses is cut, whatever its part, and the point
-//! on a crossed edge is computed from the edge's two positions in a fixed
-//! order: the two triangles sharing an edge (even of different parts, whose
-//! vertices a glTF file keeps apart) get the same new corner, so cutting
-//! leaves no T-junction along the plane. New corners interpolate the UVs
+//! Every triangle the plane crosses near the region ([`CutPlane::within`])
+//! is cut, whatever its part, and the point on a crossed edge is computed
+//! from the edge's two positions in a fixed order: two triangles sharing an
+//! edge (even of different parts, whose vertices a glTF file keeps apart)
+//! get the same new corner, so cutting leaves no T-junction along the plane
+//! (only a neighbour lying wholly outside `within` stays whole, at the
+//! region's far edge). New corners interpolate the UVs
 //! (kept and own) linearly, as the rasteriser would; the pieces keep the
 //! triangle's part and winding.
 
