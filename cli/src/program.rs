@@ -362,6 +362,50 @@ mod tests {
         after.split_once('`').map(|(example, _)| example.to_string())
     }
 
+    /// The words of an example's first command (up to `|`, `&&` or `>`),
+    /// quotes removed as a shell would.
+    fn first_command(example: &str) -> Vec<String> {
+        let (mut words, mut word, mut quote, mut any) = (Vec::new(), String::new(), None, false);
+        for c in example.chars() {
+            match (quote, c) {
+                (Some(q), c) if c == q => quote = None,
+                (Some(_), c) => word.push(c),
+                (None, '"' | '\'') => (quote, any) = (Some(c), true),
+                (None, '|' | '&' | '>') => break,
+                (None, c) if c.is_whitespace() => {
+                    if any || !word.is_empty() {
+                        words.push(std::mem::take(&mut word));
+                    }
+                    any = false;
+                }
+                (None, c) => word.push(c),
+            }
+        }
+        if any || !word.is_empty() {
+            words.push(word);
+        }
+        words
+    }
+
+    /// Whether `example`'s first command parses (asked for `--help` after
+    /// its arguments, so that no file is needed): a typo in an option fails.
+    fn parses(example: &str) -> Result<(), String> {
+        let words = first_command(example);
+        let program = match words.first().map(String::as_str) {
+            Some("ufcsr") => Program::Ufcsr,
+            Some("ufcsr-analyze") => Program::Analyze,
+            #[cfg(feature = "capture")]
+            Some("ufcsr-capture") => Program::Capture,
+            other => return Err(format!("names no program: {other:?}")),
+        };
+        let args = words.iter().map(String::as_str).chain(["--help"]);
+        match program.command().try_get_matches_from(args) {
+            Err(error) if error.kind() == clap::error::ErrorKind::DisplayHelp => Ok(()),
+            Err(error) => Err(error.render().to_string()),
+            Ok(_) => Err("parsed without showing help".into()),
+        }
+    }
+
     #[test]
     fn every_command_has_its_own_help_example() {
         let mut programs = vec![Program::Ufcsr, Program::Analyze];
@@ -372,6 +416,7 @@ mod tests {
             main.build();
             let main_example =
                 example(&main).unwrap_or_else(|| panic!("{} --help has no example", program.name()));
+            assert_eq!(parses(&main_example), Ok(()), "{main_example}");
             let mut commands = Vec::new();
             subcommands(&main, "", &mut commands);
             assert!(commands.len() >= 8, "{}: {} commands", program.name(), commands.len());
@@ -380,6 +425,9 @@ mod tests {
                 let Some(own) = example(command) else { panic!("`{shown} --help` has no example") };
                 // Its own: it names the command (`ufcsr-capture demo` names `capture demo`).
                 assert!(own.contains(path.as_str()), "`{shown} --help`'s example does not run it: {own}");
+                if let Err(error) = parses(&own) {
+                    panic!("`{shown} --help`'s example does not parse: {own}\n{error}");
+                }
                 assert!(
                     !texts(command).contains(&main_example),
                     "`{shown} --help` repeats the main example: {main_example}"
