@@ -411,9 +411,14 @@ fn record_archive(s: &Summary, console: &Console) {
             "frames": s.frames,
             "seconds": s.seconds,
             "tiles": s.tiles,
+            // tiles = rendered + culled + hidden + resumed; background_only and
+            // written count among the rendered.
             "tiles_rendered": s.tally.rendered,
             "tiles_written": s.tally.written,
+            "tiles_background_only": s.tally.background,
             "tiles_culled": s.tally.culled,
+            "tiles_hidden": s.tally.hidden,
+            "tiles_resumed": s.tally.resumed,
         }),
     );
 }
