@@ -15,12 +15,17 @@ use crate::console::{Completion, Console};
 #[derive(Subcommand)]
 pub enum DocsCommand {
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell) on stdout.
+    ///
+    /// Example: `ufcsr-analyze completions bash > ~/.local/share/bash-completion/completions/ufcsr-analyze`
+    /// (the same for ufcsr and ufcsr-capture)
     Completions {
         /// The shell: bash, zsh, fish, elvish or powershell.
         #[arg(value_enum)]
         shell: clap_complete::Shell,
     },
     /// Print the man page (roff) on stdout, or write one page per command into --out.
+    ///
+    /// Example: `ufcsr-analyze man --out ~/.local/share/man/man1` (then `man ufcsr-analyze-merge`)
     Man {
         /// Write PROGRAM.1 and one PROGRAM-COMMAND.1 per command (PROGRAM-COMMAND-SUBCOMMAND.1
         /// below it) into this folder (default: print the main page on stdout).

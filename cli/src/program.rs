@@ -42,6 +42,8 @@ pub enum Program {
 /// `ufcsr analyze ARCHIVE` analyses an archive (a folder of PNG tiles rendered with a Full Color
 /// Space Palette); `ufcsr capture demo` records one. `ufcsr-analyze` and `ufcsr-capture` are the
 /// same commands under their own names.
+///
+/// Example: `ufcsr capture demo --scenario A --preview --out capA && ufcsr analyze capA`
 #[derive(Parser)]
 #[command(name = "ufcsr", version, subcommand_required = true, arg_required_else_help = true)]
 struct UfcsrLine {
@@ -55,11 +57,15 @@ struct UfcsrLine {
 enum UfcsrCommand {
     /// Count an archive: per-part statistics, heatmap, views, plots and report.html
     /// (`ufcsr-analyze ARCHIVE`).
+    ///
+    /// Example: `ufcsr analyze capA --out capA/results`
     Analyze(AnalyzeArgs),
     #[command(flatten)]
     Analyzer(AnalyzerCommand),
     /// Record an archive with the headless wgpu renderer: the built-in demo, a scene file or a
     /// Unity export (`ufcsr-capture demo|scene|unity`).
+    ///
+    /// Example: `ufcsr capture scene fixtures/scenes/milk-truck.json --preview --out truck`
     #[cfg(feature = "capture")]
     Capture {
         #[command(subcommand)]
@@ -79,6 +85,8 @@ enum UfcsrCommand {
 /// With a manifest.json in it (written by ufcsr-capture), no other option is
 /// needed. Writes result.json, parts.csv, heatmap.png, report.html and
 /// timings.json to --out (default: ARCHIVE/results). The same as `ufcsr analyze`.
+///
+/// Example: `ufcsr-analyze capA` (then open capA/results/report.html)
 #[derive(Parser)]
 #[command(
     name = "ufcsr-analyze",
@@ -105,6 +113,8 @@ enum AnalyzeLineCommand {
 
 /// Record UFCSR archives with a headless, exact wgpu renderer (the same as `ufcsr capture …`,
 /// `ufcsr study …` and the other capture commands of `ufcsr`).
+///
+/// Example: `ufcsr-capture scene my-scene.json --preview --out look && ufcsr-analyze look`
 #[cfg(feature = "capture")]
 #[derive(Parser)]
 #[command(name = "ufcsr-capture", version)]
@@ -316,4 +326,113 @@ fn usage_end(program: Program, args: &[OsString], error: &clap::Error) -> ExitCo
         }
     }
     console.end_with(code, None)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every command below `command` (`help` left out), depth first, with
+    /// its path of names below the program.
+    fn subcommands(command: &clap::Command, path: &str, out: &mut Vec<(String, clap::Command)>) {
+        for sub in command.get_subcommands().filter(|sub| sub.get_name() != "help") {
+            let name = if path.is_empty() {
+                sub.get_name().to_string()
+            } else {
+                format!("{path} {}", sub.get_name())
+            };
+            out.push((name.clone(), sub.clone()));
+            subcommands(sub, &name, out);
+        }
+    }
+
+    /// Everything a command's `--help` says besides its options, unwrapped.
+    fn texts(command: &clap::Command) -> String {
+        [command.get_long_about(), command.get_about(), command.get_before_help(), command.get_after_help()]
+            .into_iter()
+            .flatten()
+            .map(|text| format!("{text}\n"))
+            .collect()
+    }
+
+    /// The example a command's `--help` gives (`Example: `…``), if any.
+    fn example(command: &clap::Command) -> Option<String> {
+        let help = texts(command);
+        let (_, after) = help.split_once("Example: `")?;
+        after.split_once('`').map(|(example, _)| example.to_string())
+    }
+
+    /// The words of an example's first command (up to `|`, `&&` or `>`),
+    /// quotes removed as a shell would.
+    fn first_command(example: &str) -> Vec<String> {
+        let (mut words, mut word, mut quote, mut any) = (Vec::new(), String::new(), None, false);
+        for c in example.chars() {
+            match (quote, c) {
+                (Some(q), c) if c == q => quote = None,
+                (Some(_), c) => word.push(c),
+                (None, '"' | '\'') => (quote, any) = (Some(c), true),
+                (None, '|' | '&' | '>') => break,
+                (None, c) if c.is_whitespace() => {
+                    if any || !word.is_empty() {
+                        words.push(std::mem::take(&mut word));
+                    }
+                    any = false;
+                }
+                (None, c) => word.push(c),
+            }
+        }
+        if any || !word.is_empty() {
+            words.push(word);
+        }
+        words
+    }
+
+    /// Whether `example`'s first command parses (asked for `--help` after
+    /// its arguments, so that no file is needed): a typo in an option fails.
+    fn parses(example: &str) -> Result<(), String> {
+        let words = first_command(example);
+        let program = match words.first().map(String::as_str) {
+            Some("ufcsr") => Program::Ufcsr,
+            Some("ufcsr-analyze") => Program::Analyze,
+            #[cfg(feature = "capture")]
+            Some("ufcsr-capture") => Program::Capture,
+            other => return Err(format!("names no program: {other:?}")),
+        };
+        let args = words.iter().map(String::as_str).chain(["--help"]);
+        match program.command().try_get_matches_from(args) {
+            Err(error) if error.kind() == clap::error::ErrorKind::DisplayHelp => Ok(()),
+            Err(error) => Err(error.render().to_string()),
+            Ok(_) => Err("parsed without showing help".into()),
+        }
+    }
+
+    #[test]
+    fn every_command_has_its_own_help_example() {
+        let mut programs = vec![Program::Ufcsr, Program::Analyze];
+        #[cfg(feature = "capture")]
+        programs.push(Program::Capture);
+        for program in programs {
+            let mut main = program.command();
+            main.build();
+            let main_example =
+                example(&main).unwrap_or_else(|| panic!("{} --help has no example", program.name()));
+            assert_eq!(parses(&main_example), Ok(()), "{main_example}");
+            let mut commands = Vec::new();
+            subcommands(&main, "", &mut commands);
+            assert!(commands.len() >= 8, "{}: {} commands", program.name(), commands.len());
+            for (path, command) in &commands {
+                let shown = format!("{} {path}", program.name());
+                let Some(own) = example(command) else { panic!("`{shown} --help` has no example") };
+                // Its own: it names the command (`ufcsr-capture demo` names `capture demo`).
+                assert!(own.contains(path.as_str()), "`{shown} --help`'s example does not run it: {own}");
+                if let Err(error) = parses(&own) {
+                    panic!("`{shown} --help`'s example does not parse: {own}\n{error}");
+                }
+                assert!(
+                    !texts(command).contains(&main_example),
+                    "`{shown} --help` repeats the main example: {main_example}"
+                );
+            }
+        }
+    }
 }

@@ -577,6 +577,10 @@ mod tests {
         assert_eq!(frames.frames(40), vec![0, 5, 30]);
         assert_eq!("all".parse::<FrameSelection>().unwrap().frames(3), vec![0, 1, 2]);
         assert!("5-1".parse::<FrameSelection>().is_err());
+        // Every Nth frame, whatever the scenario's length (--preview's selection).
+        assert_eq!("all/10".parse::<FrameSelection>().unwrap().frames(25), vec![0, 10, 20]);
+        assert_eq!(FrameSelection::every(10), "ALL/10".parse().unwrap());
+        assert!("all/0".parse::<FrameSelection>().is_err() && "all/x".parse::<FrameSelection>().is_err());
         assert_eq!(tile_file(7, Eye::Right, 1, 4), PathBuf::from("tiles/f0007_right_r1_c4.png"));
         assert!(is_tile_name("f0007_right_r1_c4.png"));
         assert!(

@@ -140,8 +140,12 @@ impl<'a> FrameCapture<'a> {
         let size = self.renderer.tile_size();
         let tile_pixels = PixelRect::whole(size).pixels();
         let pixels = match region {
-            // The bounds touch the tile only within the culling's slack.
-            None => Vec::new(),
+            // The bounds touch the tile only within the culling's slack:
+            // outside the vehicle's projected bounds, so culled.
+            None => {
+                tally.culled += 1;
+                Vec::new()
+            }
             Some(region) => {
                 let visible: Vec<usize> = self
                     .scene
@@ -183,7 +187,11 @@ impl<'a> FrameCapture<'a> {
         let [r, g, b] = self.background.rgb();
         let all_background = pixels.chunks_exact(4).all(|p| p[0] == r && p[1] == g && p[2] == b);
         if all_background && !self.keep_background_tiles {
-            tally.background += 1;
+            // Only a rendered tile is "background only": a culled or hidden
+            // one is already counted as such (the tally partitions the tiles).
+            if !pixels.is_empty() {
+                tally.background += 1;
+            }
             return Ok(false);
         }
         let rgba = match region {

@@ -53,20 +53,37 @@ impl TileFilter {
 /// Most frames a `--frames` list may name (a day at 100 frames/s is 8.6 million).
 pub const MAX_SELECTED_FRAMES: u64 = 10_000_000;
 
-/// Which frames to capture: all, or a list such as `0,30,60-90/10`.
-#[derive(Debug, Clone, PartialEq, Eq, Default)]
-pub struct FrameSelection(Option<Vec<u32>>);
+/// Which frames to capture: all, every Nth (`all/N`), or a list such as
+/// `0,30,60-90/10`.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct FrameSelection {
+    /// The frames named, or `None`: every `every`-th frame from 0.
+    list: Option<Vec<u32>>,
+    every: u32,
+}
+
+impl Default for FrameSelection {
+    fn default() -> FrameSelection {
+        FrameSelection::all()
+    }
+}
 
 impl FrameSelection {
     /// Every frame.
     pub fn all() -> FrameSelection {
-        FrameSelection(None)
+        FrameSelection { list: None, every: 1 }
+    }
+
+    /// Every `step`-th frame (0, step, 2·step, …) of whatever length the
+    /// scenario has; `step` 0 counts as 1.
+    pub fn every(step: u32) -> FrameSelection {
+        FrameSelection { list: None, every: step.max(1) }
     }
 
     /// The frames of a scenario with `count` frames.
     pub fn frames(&self, count: u32) -> Vec<u32> {
-        match &self.0 {
-            None => (0..count).collect(),
+        match &self.list {
+            None => (0..count).step_by(self.every as usize).collect(),
             Some(list) => list.iter().copied().filter(|&f| f < count).collect(),
         }
     }
@@ -75,14 +92,27 @@ impl FrameSelection {
 impl std::str::FromStr for FrameSelection {
     type Err = CaptureError;
 
-    /// Parses `all` or comma-separated frames and inclusive ranges `a-b`,
-    /// optionally with a step `a-b/s`.
+    /// Parses `all`, `all/N` (every Nth frame) or comma-separated frames and
+    /// inclusive ranges `a-b`, optionally with a step `a-b/s`.
     fn from_str(text: &str) -> Result<FrameSelection> {
         if text.trim().eq_ignore_ascii_case("all") {
-            return Ok(FrameSelection(None));
+            return Ok(FrameSelection::all());
         }
-        let bad =
-            || CaptureError::BadOptions(format!("frames must look like 0,30,60-90/10 or all, not {text:?}"));
+        if let Some((all, step)) = text.split_once('/')
+            && all.trim().eq_ignore_ascii_case("all")
+        {
+            return match step.trim().parse::<u32>() {
+                Ok(step) if step > 0 => Ok(FrameSelection::every(step)),
+                _ => Err(CaptureError::BadOptions(format!(
+                    "frames all/N needs a whole number N ≥ 1 (every Nth frame), not {text:?}"
+                ))),
+            };
+        }
+        let bad = || {
+            CaptureError::BadOptions(format!(
+                "frames must look like 0,30,60-90/10, all or all/N, not {text:?}"
+            ))
+        };
         let mut frames = Vec::new();
         for item in text.split(',') {
             let (range, step) = match item.split_once('/') {
@@ -112,7 +142,7 @@ impl std::str::FromStr for FrameSelection {
         }
         frames.sort_unstable();
         frames.dedup();
-        Ok(FrameSelection(Some(frames)))
+        Ok(FrameSelection { list: Some(frames), every: 1 })
     }
 }
 
@@ -212,6 +242,12 @@ impl std::fmt::Debug for CaptureProgress {
 }
 
 /// What the frame loop did with the tiles of a capture.
+///
+/// Every tile of every eye-frame is exactly one of `culled`, `hidden`,
+/// `resumed` and `rendered` ([`TileTally::accounted`] is their sum);
+/// `background` and `written` count among the rendered ones (with
+/// `--keep-background-tiles`, `written` also takes the culled-by-slack and
+/// hidden tiles, written as background).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct TileTally {
     /// Rendered by the GPU.
@@ -222,7 +258,7 @@ pub struct TileTally {
     pub resumed: u64,
     /// Not rendered: outside the vehicle's projected bounds.
     pub culled: u64,
-    /// Rendered but pure background.
+    /// Rendered but pure background (left out).
     pub background: u64,
     /// Pixels of rendered tiles outside the scissor rectangle: neither
     /// rendered nor read back, filled with the background.
@@ -232,6 +268,12 @@ pub struct TileTally {
 }
 
 impl TileTally {
+    /// Tiles in one of the four disjoint kinds (culled, hidden, resumed,
+    /// rendered): the capture's whole tile count.
+    pub fn accounted(&self) -> u64 {
+        self.culled + self.hidden + self.resumed + self.rendered
+    }
+
     pub fn add(&mut self, other: TileTally) {
         self.rendered += other.rendered;
         self.written += other.written;

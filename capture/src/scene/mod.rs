@@ -3,7 +3,8 @@
 //! reading OBJ/MTL safely), the occluders ([`occluders`] still and
 //! [`moving`] traffic and other pedestrians), the vehicle's spec and checks ([`vehicle`]),
 //! parts from a part map painted over the model's own UVs ([`part_map`]) and
-//! parts by region ([`regions`]), the pedestrian's eyes and tiles ([`rig`]),
+//! parts by region ([`regions`], cutting triangles along their boundaries:
+//! [`cut`]), the pedestrian's eyes and tiles ([`rig`]),
 //! the scene at one frame ([`frame_state`]: everything that moves, once),
 //! the vehicle's motion ([`track`] keyframes, [`scenario`] a timed motion,
 //! [`unity`] Unity exports), the one ray–triangle test ([`ray_triangle`],
@@ -17,6 +18,7 @@
 //! renders or writes an archive.
 
 pub(crate) mod coincident;
+pub(crate) mod cut;
 pub(crate) mod degenerate_mesh;
 pub(crate) mod demo;
 pub(crate) mod family;

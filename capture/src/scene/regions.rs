@@ -22,9 +22,12 @@
 //!   the `box` (bounds inclusive) *and* on the positive side of every
 //!   half-space in `where` (`normal · p ≥ offset`; the normal is normalised,
 //!   so `offset` is in metres). `from` (a name or a list) limits the rule to
-//!   triangles whose part, after `rename`, is listed. A rule with neither box
-//!   nor `where` matches every triangle of its `from` parts (or every
-//!   triangle: `{"name": "others"}` as the last rule collects the rest).
+//!   triangles whose part, after `rename`, is listed. A rule without `from`
+//!   takes only triangles of parts that `rename` did not name: what a
+//!   researcher named by hand is never swallowed by a region (list the
+//!   renamed part in `from` to cut it). A rule with neither box nor `where`
+//!   matches every triangle of its `from` parts (or every triangle not
+//!   renamed: `{"name": "others"}` as the last rule collects the rest).
 //! * A **split rule** (`split`) cuts one part by a plane: centroids on the
 //!   normal's side (`normal · p ≥ offset`) go to `names[0]`, the others to
 //!   `names[1]`.
@@ -35,10 +38,24 @@
 //! `{"name": "others"}` last to put them in an `others` part instead. Parts
 //! left with no triangles disappear. Every rule reports how many triangles
 //! and how much surface it took, so that a rule matching nothing is noticed.
+//!
+//! Before the rules are tried, every triangle that a rule's boundary (a face
+//! of its box, a `where` plane, a split's plane) crosses is cut along it
+//! ([`crate::scene::cut`]): a region's area is the surface inside it, not the
+//! triangles whose centroid happens to be (a model of few large triangles
+//! would otherwise give a "roof" box wedges of the side walls). The report
+//! counts the triangles cut.
+
+use std::collections::{BTreeMap, BTreeSet};
 
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
+use crate::scene::cut::{CutPlane, ON_PLANE_M, cut_mesh};
+
+/// The most triangles cutting may add (beyond it, crossed triangles stay
+/// whole and a warning names them): a bound on memory whatever the rules.
+pub const MAX_NEW_TRIANGLES: usize = 4_000_000;
 use crate::scene::mesh::{Mesh, triangle_area};
 
 /// One value or a list of them (`"from": "body"` or `"from": ["a", "b"]`).
@@ -127,11 +144,40 @@ impl Rule {
         }
     }
 
-    /// The part a triangle of `part` with centroid `c` gets, if this rule matches.
-    fn assign<'a>(&'a self, part: &str, c: DVec3) -> Option<&'a str> {
+    /// The planes that bound this rule's region (a box's six faces, the
+    /// `where` half-spaces, a split's plane), each with the box beyond which
+    /// it bounds nothing.
+    fn boundaries(&self) -> Vec<CutPlane> {
+        let everywhere = (DVec3::NEG_INFINITY, DVec3::INFINITY);
+        match self {
+            Rule::Region { region_box, half_spaces, .. } => {
+                let within = region_box.map_or(everywhere, |(min, max)| {
+                    (min - DVec3::splat(ON_PLANE_M), max + DVec3::splat(ON_PLANE_M))
+                });
+                let mut planes: Vec<CutPlane> =
+                    half_spaces.iter().map(|&(normal, offset)| CutPlane { normal, offset, within }).collect();
+                if let Some((min, max)) = region_box {
+                    for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+                        planes.push(CutPlane { normal: axis, offset: axis.dot(*min), within });
+                        planes.push(CutPlane { normal: -axis, offset: -axis.dot(*max), within });
+                    }
+                }
+                planes
+            }
+            Rule::Split { plane: (normal, offset), .. } => {
+                vec![CutPlane { normal: *normal, offset: *offset, within: everywhere }]
+            }
+        }
+    }
+
+    /// The part a triangle of `part` with centroid `c` gets, if this rule
+    /// matches; `renamed` are the parts `rename` named, which only a rule
+    /// listing them in `from` may take.
+    fn assign<'a>(&'a self, part: &str, c: DVec3, renamed: &BTreeSet<&str>) -> Option<&'a str> {
         match self {
             Rule::Region { name, from, region_box, half_spaces } => {
-                let in_from = from.is_empty() || from.iter().any(|f| f == part);
+                let in_from =
+                    if from.is_empty() { !renamed.contains(part) } else { from.iter().any(|f| f == part) };
                 let in_box = region_box.is_none_or(|(min, max)| c.cmpge(min).all() && c.cmple(max).all());
                 let in_half_spaces = half_spaces.iter().all(|(n, d)| n.dot(c) >= *d);
                 (in_from && in_box && in_half_spaces).then_some(name.as_str())
@@ -159,16 +205,30 @@ pub struct RegionReport {
     pub rules: Vec<RuleReport>,
     /// Triangles no rule matched (they kept their part).
     pub unmatched_triangles: usize,
+    /// Triangles cut along a rule's boundary before the rules were tried
+    /// (each became two or three).
+    pub cut_triangles: usize,
+    /// Rules whose boundary crosses triangles left whole (the budget of
+    /// [`MAX_NEW_TRIANGLES`] ran out), with those triangles' parts.
+    pub left_whole: Vec<(String, Vec<String>)>,
 }
 
 impl RegionReport {
-    /// One line per rule that matched no triangle.
+    /// One line per rule that matched no triangle, and per rule whose
+    /// boundary crosses triangles that could not be cut.
     pub fn warnings(&self) -> Vec<String> {
-        self.rules
+        let unmatched = self
+            .rules
             .iter()
             .filter(|rule| rule.triangles == 0)
-            .map(|rule| format!("part rule {:?} matched no triangle", rule.label))
-            .collect()
+            .map(|rule| format!("part rule {:?} matched no triangle", rule.label));
+        let whole = self.left_whole.iter().map(|(rule, parts)| {
+            format!(
+                "part rule {rule:?} crosses triangles of {} that were not cut (more than {MAX_NEW_TRIANGLES} new triangles): each goes wholly to the side of its centroid, so that rule's parts are approximate; use fewer rules or cut the mesh in a modelling tool",
+                parts.join(", ")
+            )
+        });
+        unmatched.chain(whole).collect()
     }
 }
 
@@ -278,13 +338,46 @@ fn compile_split(
     Ok(Rule::Split { part: part.to_string(), plane, names })
 }
 
-/// Relabels `mesh`'s triangles by the rules; an error names the bad rule.
-/// Without rules the mesh is left exactly as it was.
-pub fn apply(mesh: &mut Mesh, rules: &[PartRule]) -> Result<RegionReport, String> {
+/// Cuts the triangles that the rules' boundaries cross (within
+/// [`MAX_NEW_TRIANGLES`]); returns how many were cut, and the rules (labels)
+/// that left crossed triangles whole, with those triangles' parts.
+fn cut_along(mesh: &mut Mesh, compiled: &[Rule]) -> (usize, Vec<(String, Vec<String>)>) {
+    let mut budget = MAX_NEW_TRIANGLES;
+    let (mut cut, mut left_whole) = (0, Vec::new());
+    for rule in compiled {
+        let mut whole: Vec<String> = Vec::new();
+        for plane in rule.boundaries() {
+            let done = cut_mesh(mesh, &plane, &mut budget);
+            cut += done.cut;
+            for part in done.left_whole {
+                let name = &mesh.parts[part as usize];
+                if !whole.contains(name) {
+                    whole.push(name.clone());
+                }
+            }
+        }
+        if !whole.is_empty() {
+            left_whole.push((rule.label(), whole));
+        }
+    }
+    (cut, left_whole)
+}
+
+/// Relabels `mesh`'s triangles by the rules, after cutting the triangles
+/// their boundaries cross; `rename` is the map already applied (its targets
+/// are taken only by rules that list them in `from`). An error names the bad
+/// rule. Without rules the mesh is left exactly as it was.
+pub fn apply(
+    mesh: &mut Mesh,
+    rules: &[PartRule],
+    rename: &BTreeMap<String, String>,
+) -> Result<RegionReport, String> {
     if rules.is_empty() {
-        return Ok(RegionReport { rules: Vec::new(), unmatched_triangles: mesh.triangles.len() });
+        return Ok(RegionReport { unmatched_triangles: mesh.triangles.len(), ..RegionReport::default() });
     }
     let compiled = compile(rules, &mesh.parts)?;
+    let renamed: BTreeSet<&str> = rename.values().map(String::as_str).collect();
+    let (cut_triangles, left_whole) = cut_along(mesh, &compiled);
     let mut reports: Vec<RuleReport> =
         compiled.iter().map(|rule| RuleReport { label: rule.label(), triangles: 0, area_m2: 0.0 }).collect();
     // New names: those the rules give, in rule order, then the parts kept.
@@ -316,8 +409,10 @@ pub fn apply(mesh: &mut Mesh, rules: &[PartRule]) -> Result<RegionReport, String
         let corners = mesh.corners(t);
         let centroid = (corners[0].as_dvec3() + corners[1].as_dvec3() + corners[2].as_dvec3()) / 3.0;
         let part = mesh.parts[mesh.triangle_part[t] as usize].as_str();
-        let hit =
-            compiled.iter().enumerate().find_map(|(r, rule)| rule.assign(part, centroid).map(|n| (r, n)));
+        let hit = compiled
+            .iter()
+            .enumerate()
+            .find_map(|(r, rule)| rule.assign(part, centroid, &renamed).map(|n| (r, n)));
         let name = match hit {
             Some((r, name)) => {
                 reports[r].triangles += 1;
@@ -346,7 +441,7 @@ pub fn apply(mesh: &mut Mesh, rules: &[PartRule]) -> Result<RegionReport, String
     }
     mesh.parts = parts;
     mesh.triangle_part = assigned.into_iter().map(|i| remap[i]).collect();
-    Ok(RegionReport { rules: reports, unmatched_triangles: unmatched })
+    Ok(RegionReport { rules: reports, unmatched_triangles: unmatched, cut_triangles, left_whole })
 }
 
 #[cfg(test)]
@@ -358,9 +453,13 @@ mod tests {
     /// two parts: `body` (sides, top, bottom) and `ends` (front and back),
     /// each face split into a 4 × 4 grid so that regions cut through faces.
     fn boxy() -> Mesh {
+        boxy_grid(4)
+    }
+
+    /// [`boxy`] with each face an `n` × `n` grid of quads.
+    fn boxy_grid(n: usize) -> Mesh {
         let mut mesh = Mesh::default();
         let (min, max) = (vec3(-2.0, -1.0, 0.0), vec3(2.0, 1.0, 2.0));
-        let n = 4;
         let lerp = |a: f32, b: f32, i: usize| a + (b - a) * i as f32 / n as f32;
         // Faces as (part, origin corner, u edge, v edge).
         let size = max - min;
@@ -409,26 +508,32 @@ mod tests {
                  "where": [{"normal": [0, 1, 0], "offset": 0.1}, {"normal": [-1, 0, 0], "offset": 0.0}]}
             ]"#,
             ),
+            &BTreeMap::new(),
         )
         .unwrap();
         // Front: centroids with x ≥ 1 — the front end (2 × 2 m²) and the
         // front quarter of each of the body's four 8 m² faces.
         let front = 4.0 + 4.0 * 8.0 / 4.0;
         assert!((area_of(&mesh, "front") - front).abs() < 1e-6, "{}", area_of(&mesh, "front"));
-        // Roof: the top face minus its front quarter (already front); the
-        // normal [0, 0, 2] is normalised, so the offset is 1.9 m.
-        assert!((area_of(&mesh, "roof") - 6.0).abs() < 1e-6);
-        // Left rear: centroids with y ≥ 0.1 and x ≤ 0 among `body`: the left
-        // side's rear half (4 m²) and the top/bottom's rear-left quarter
-        // (top already roof; bottom: 2 m²).
-        assert!((area_of(&mesh, "left_rear") - 6.0).abs() < 1e-6, "{}", area_of(&mesh, "left_rear"));
+        // Roof: z ≥ 1.9 (the normal [0, 0, 2] is normalised, so the offset
+        // is in metres) outside the front: the top face minus its front
+        // quarter (6 m²) and the 0.1 m strips the plane cuts off the sides
+        // (2 × 3 m × 0.1 m) and the rear end (2 m × 0.1 m).
+        let roof = 6.0 + 2.0 * 0.3 + 0.2;
+        assert!((area_of(&mesh, "roof") - roof).abs() < 1e-6, "{}", area_of(&mesh, "roof"));
+        // Left rear: y ≥ 0.1 and x ≤ 0 among `body`: the left side's rear
+        // half below the roof strip (2 m × 1.9 m) and the bottom's rear-left
+        // part cut at y = 0.1 (2 m × 0.9 m); the top is already roof.
+        let left_rear = 2.0 * 1.9 + 2.0 * 0.9;
+        assert!((area_of(&mesh, "left_rear") - left_rear).abs() < 1e-6, "{}", area_of(&mesh, "left_rear"));
         // The rest keep their parts; nothing is lost.
-        assert!((area_of(&mesh, "ends") - 4.0).abs() < 1e-6);
+        assert!((area_of(&mesh, "ends") - 3.8).abs() < 1e-6);
         let sum: f64 = mesh.parts.iter().map(|p| area_of(&mesh, p)).sum();
         assert!((sum - total).abs() < 1e-6);
         assert_eq!(mesh.parts, ["front", "roof", "left_rear", "ends", "body"]);
         assert_eq!(report.rules.len(), 3);
-        assert!((report.rules[1].area_m2 - 6.0).abs() < 1e-6);
+        assert!((report.rules[1].area_m2 - roof).abs() < 1e-6);
+        assert!(report.cut_triangles > 0);
         let matched: usize = report.rules.iter().map(|r| r.triangles).sum();
         assert_eq!(matched + report.unmatched_triangles, mesh.triangles.len());
         assert!(report.warnings().is_empty());
@@ -446,6 +551,7 @@ mod tests {
                 {"name": "others"}
             ]"#,
             ),
+            &BTreeMap::new(),
         )
         .unwrap();
         assert!((area_of(&mesh, "body_front") - 16.0).abs() < 1e-6);
@@ -458,10 +564,76 @@ mod tests {
     }
 
     #[test]
+    fn a_catch_all_rule_leaves_renamed_parts_alone() {
+        let mut mesh = boxy();
+        let rename = BTreeMap::from([("body".to_string(), "shell".to_string())]);
+        mesh.rename_parts(&rename);
+        let report = apply(
+            &mut mesh,
+            &rules(
+                r#"[
+                {"name": "front", "box": {"min": [1.0, -5, -5], "max": [5, 5, 5]}},
+                {"name": "roof", "from": "shell", "box": {"min": [-5, -5, 2.0], "max": [5, 5, 5]}},
+                {"name": "others"}
+            ]"#,
+            ),
+            &rename,
+        )
+        .unwrap();
+        // Neither the box without `from` nor the catch-all takes the renamed
+        // shell; only the rule that lists it does (the 4 × 2 m² top).
+        assert!((area_of(&mesh, "front") - 4.0).abs() < 1e-6, "{}", area_of(&mesh, "front"));
+        assert!((area_of(&mesh, "roof") - 8.0).abs() < 1e-6);
+        assert!((area_of(&mesh, "shell") - 24.0).abs() < 1e-6);
+        assert!((area_of(&mesh, "others") - 4.0).abs() < 1e-6, "the rear end, not renamed");
+        assert_eq!(report.rules[2].triangles, 32, "the rear end's 4 × 4 × 2 triangles");
+    }
+
+    #[test]
+    fn boundaries_cut_large_triangles_so_regions_get_their_exact_area() {
+        // Each face two triangles: the centroid test alone would give whole
+        // half-walls to whichever side their centroid falls.
+        let mut mesh = boxy_grid(1);
+        let total = mesh.area();
+        let report = apply(
+            &mut mesh,
+            &rules(
+                r#"[
+                {"name": "roof", "box": {"min": [-5, -5, 1.5], "max": [5, 5, 5]}},
+                {"split": "body", "plane": {"normal": [1, 0, 0], "offset": 0.3}, "names": ["front", "rear"]},
+                {"name": "others"}
+            ]"#,
+            ),
+            &BTreeMap::new(),
+        )
+        .unwrap();
+        // Roof: the top (4 × 2) and a 0.5 m band around the walls (perimeter 12 m).
+        assert!((area_of(&mesh, "roof") - (8.0 + 12.0 * 0.5)).abs() < 1e-5, "{}", area_of(&mesh, "roof"));
+        // The body's sides below 1.5 m and its bottom, cut at x = 0.3:
+        // front 1.7 m of x, rear 2.3 m.
+        let front = 2.0 * 1.7 * 1.5 + 1.7 * 2.0;
+        let rear = 2.0 * 2.3 * 1.5 + 2.3 * 2.0;
+        assert!((area_of(&mesh, "front") - front).abs() < 1e-5, "{}", area_of(&mesh, "front"));
+        assert!((area_of(&mesh, "rear") - rear).abs() < 1e-5, "{}", area_of(&mesh, "rear"));
+        assert!((area_of(&mesh, "others") - 2.0 * 2.0 * 1.5).abs() < 1e-5, "the ends below the roof");
+        assert!((mesh.area() - total).abs() < 1e-5, "cutting keeps the surface");
+        // Every piece lies on one side of every boundary: no triangle spans z = 1.5 or x = 0.3.
+        for t in 0..mesh.triangles.len() {
+            let c = mesh.corners(t);
+            for (value, axis) in [(1.5, 2), (0.3, 0)] {
+                let above = c.iter().any(|p| f64::from(p[axis]) > value + 1e-4);
+                let below = c.iter().any(|p| f64::from(p[axis]) < value - 1e-4);
+                assert!(!(above && below), "triangle {t} spans {value} on axis {axis}: {c:?}");
+            }
+        }
+        assert!(report.cut_triangles >= 8, "{}", report.cut_triangles);
+    }
+
+    #[test]
     fn no_rules_change_nothing() {
         let mut mesh = boxy();
         let before = mesh.clone();
-        let report = apply(&mut mesh, &[]).unwrap();
+        let report = apply(&mut mesh, &[], &BTreeMap::new()).unwrap();
         assert_eq!(mesh, before);
         assert_eq!(report.unmatched_triangles, mesh.triangles.len());
     }
@@ -481,7 +653,7 @@ mod tests {
         ];
         for (json, expected) in cases {
             let mut mesh = boxy();
-            let error = apply(&mut mesh, &rules(json)).unwrap_err();
+            let error = apply(&mut mesh, &rules(json), &BTreeMap::new()).unwrap_err();
             assert!(error.contains(expected), "{json}: {error}");
             assert_eq!(mesh, boxy(), "a failed rule set must leave the mesh alone");
         }

@@ -157,7 +157,7 @@ pub fn build(spec: &VehicleSpec, base: &Path, scene: &Path) -> Result<Vehicle> {
         PartsFrom::Names(_) => None,
     };
     mesh.rename_parts(&spec.rename);
-    let regions = regions::apply(&mut mesh, &spec.parts)
+    let regions = regions::apply(&mut mesh, &spec.parts, &spec.rename)
         .map_err(|message| CaptureError::bad_file(scene, format!("vehicle.parts: {message}")))?;
     if let Some(expected) = spec.expect_length_m
         && !(expected.is_finite() && expected > 0.0)

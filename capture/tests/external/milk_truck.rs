@@ -42,9 +42,11 @@ pub fn milk_truck_inspects_and_labels_into_named_parts() -> Outcome {
         pixels_per_metre: Some(40.0),
     })
     .unwrap();
-    // SOURCE.md: about 3.6k triangles. Y up, +Z forward: 4.87 m long, 2.79 m
-    // wide, 2.58 m high, standing on the ground under its centre.
-    assert_eq!(inspection.triangles, 3624);
+    // SOURCE.md: about 3.6k triangles (3624), more once the region rules'
+    // boundaries cut the body's large triangles. Y up, +Z forward: 4.87 m
+    // long, 2.79 m wide, 2.58 m high, standing on the ground under its centre.
+    let cut = inspection.regions.cut_triangles;
+    assert!(cut > 0 && (3624 + cut..=3624 + 2 * cut).contains(&inspection.triangles), "{cut}");
     let (min, max) = inspection.bounds;
     let size = max - min;
     assert!(
@@ -52,7 +54,10 @@ pub fn milk_truck_inspects_and_labels_into_named_parts() -> Outcome {
         "{size}"
     );
     assert!(inspection.ground_centre.length() < 0.01, "{}", inspection.ground_centre);
-    assert_eq!((inspection.quality.degenerate, inspection.quality.slivers), (0, 0));
+    // The model has no slivers; cutting along the rules' boundaries near
+    // the sharp ends of long triangles leaves a few, below a square centimetre.
+    assert_eq!(inspection.quality.degenerate, 0);
+    assert!(inspection.quality.sliver_area_m2 < 1e-4, "{:?}", inspection.quality);
     assert!(inspection.warnings.is_empty(), "{:?}", inspection.warnings);
     // The glass and trim primitives have no TEXCOORD_0.
     let UvState::Partial(missing) = &inspection.uvs else { panic!("{:?}", inspection.uvs) };

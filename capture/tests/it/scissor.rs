@@ -96,6 +96,13 @@ fn check_backend(gpu: &Gpu) {
             "{name}"
         );
         assert_eq!(cut.tally.written, full.tally.written, "{name}");
+        // The summary's kinds partition the tiles: hidden ones are not also
+        // "background only", and background-only tiles are rendered ones.
+        for summary in [&cut, &full] {
+            assert_eq!(summary.tally.accounted(), summary.tiles, "{name}: {:?}", summary.tally);
+            assert!(summary.tally.background <= summary.tally.rendered, "{name}: {:?}", summary.tally);
+            assert_eq!(summary.tally.written + summary.tally.background, summary.tally.rendered, "{name}");
+        }
         same_archives(&scissored, &whole);
         let manifest = Manifest::load_from_dir(&scissored).unwrap().unwrap();
         let capture = manifest.capture.expect("a capture record");

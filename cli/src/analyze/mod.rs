@@ -48,9 +48,15 @@ pub enum AnalyzerCommand {
     /// Describe a folder of frames rendered elsewhere (Unity, Blender) as an archive: write its
     /// manifest.json with tiles, palette, PIdT, legend and what fps, field of view, rig and frame
     /// times are known, so `ufcsr-analyze DIR` needs no options (docs/archive-format.md).
+    ///
+    /// Example: `ufcsr-analyze manifest dataset --pidt dataset/pidt.png --legend dataset/parts.csv
+    /// --palette-size 4096`
     Manifest(ManifestArgs),
     /// Where to put an eHMI: legible exposure per candidate placement and the best 1..k placements
     /// from the exact measure's placement-frames.csv (docs/placement.md).
+    ///
+    /// Example: `ufcsr-analyze placement runs/A runs/B runs/C runs/D --k 3 --symmetric --out
+    /// placement/`
     Placement(PlacementArgs),
 }
 

@@ -25,6 +25,11 @@ pub enum Measure {
     Unobstructed,
 }
 
+/// `--preview`'s pixels per degree (the paper's 60 / 6).
+pub const PREVIEW_PPD: f64 = 10.0;
+/// `--preview`'s frame step: every 10th frame (6 a second at 60 fps).
+pub const PREVIEW_FRAME_STEP: u32 = 10;
+
 /// What a capture records, and how: the options of `demo`, `scene` and `unity`.
 #[derive(Args, Clone)]
 pub struct CaptureArgs {
@@ -37,6 +42,12 @@ pub struct CaptureArgs {
     /// Pixels per degree (60 = the paper's 6420×8100 per eye); rounded to whole tiles.
     #[arg(long)]
     ppd: Option<f64>,
+    /// A quick look: 10 px/° and every 10th frame (`--ppd 10 --frames all/10`; either option,
+    /// given too, wins). About 1/360 of the full capture's pixels: texels smaller than a pixel
+    /// are undercounted and glimpses shorter than 10 frames missed, so quote no number from it
+    /// (docs/guide.md#a-quick-look-first).
+    #[arg(long)]
+    preview: bool,
     /// Rig overrides as JSON, e.g. '{"eye_height_m": 1.6, "pedestrian": [-6, -6, 0]}' (applied before --ppd).
     #[arg(long, value_name = "JSON")]
     rig: Option<String>,
@@ -55,9 +66,9 @@ pub struct CaptureArgs {
     /// The legend (name,color CSV or JSON) of --pidt.
     #[arg(long, value_name = "FILE", requires = "pidt")]
     parts: Option<PathBuf>,
-    /// Frames to capture: `all` or a list like 0,30,60-90/10.
-    #[arg(long, default_value = "all")]
-    frames: String,
+    /// Frames to capture: `all` (default), every Nth (`all/N`) or a list like 0,30,60-90/10.
+    #[arg(long)]
+    frames: Option<String>,
     /// Tile PNG compression.
     #[arg(long, value_enum, default_value_t = Compression::Fast)]
     png_compression: Compression,
@@ -167,7 +178,7 @@ pub fn run_capture(
     if let Some(json) = &args.rig {
         scene.rig = scene.rig.override_with(json)?;
     }
-    if let Some(ppd) = args.ppd {
+    if let Some(ppd) = args.ppd.or(args.preview.then_some(PREVIEW_PPD)) {
         scene.rig.set_pixels_per_degree(ppd)?;
     }
     let options = capture_options(args, threads, console)?;
@@ -241,7 +252,11 @@ fn capture_options(args: &CaptureArgs, threads: usize, console: &Console) -> any
             (Some(pidt), Some(parts)) => Some(OwnLabelFiles { pidt, parts }),
             _ => None,
         },
-        frames: args.frames.parse::<FrameSelection>()?,
+        frames: match (&args.frames, args.preview) {
+            (Some(frames), _) => frames.parse::<FrameSelection>()?,
+            (None, true) => FrameSelection::every(PREVIEW_FRAME_STEP),
+            (None, false) => FrameSelection::all(),
+        },
         compression: args.png_compression.into(),
         tile_filter: args.tile_filter.into(),
         resume: args.resume,
@@ -396,9 +411,14 @@ fn record_archive(s: &Summary, console: &Console) {
             "frames": s.frames,
             "seconds": s.seconds,
             "tiles": s.tiles,
+            // tiles = rendered + culled + hidden + resumed; background_only and
+            // written count among the rendered.
             "tiles_rendered": s.tally.rendered,
             "tiles_written": s.tally.written,
+            "tiles_background_only": s.tally.background,
             "tiles_culled": s.tally.culled,
+            "tiles_hidden": s.tally.hidden,
+            "tiles_resumed": s.tally.resumed,
         }),
     );
 }
@@ -427,22 +447,23 @@ fn report(s: &Summary, sink: Sink, console: &Console) {
         Sink::Png => format!("{} written", s.tally.written),
         Sink::Counted => "counted from the readback, none written".to_string(),
     };
+    // The four kinds partition the tiles (TileTally::accounted).
     say!(
         console,
-        "  tiles: {} total, {} rendered ({kept}), {} culled (outside the vehicle's bounds), {} background only, {} resumed",
+        "  tiles: {} total = {} rendered ({} of them background only; {kept}) + {} culled (outside the vehicle's bounds) + {} hidden by occluders + {} resumed",
         s.tiles,
         s.tally.rendered,
-        s.tally.culled,
         s.tally.background,
+        s.tally.culled,
+        s.tally.hidden,
         s.tally.resumed
     );
     // On stderr: how the run was done, not what it found.
     eprintln!(
-        "  left out: {} of the {} pixels of tiles the vehicle's bounds touch ({:.1}%, scissor), {} tiles hidden by occluders (not rendered)",
+        "  left out: {} of the {} pixels of tiles the vehicle's bounds touch ({:.1}%, scissor)",
         s.tally.pixels_scissored,
         s.pixels,
         if s.pixels > 0 { s.tally.pixels_scissored as f64 * 100.0 / s.pixels as f64 } else { 0.0 },
-        s.tally.hidden
     );
     say!(
         console,

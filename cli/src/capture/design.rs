@@ -19,6 +19,9 @@ use crate::console::{Console, say};
 #[derive(Subcommand)]
 pub enum DesignAction {
     /// Check the design and print its tasks, one command per line (task I on line I+1).
+    ///
+    /// Example: `ufcsr design plan fixtures/designs/tiny-2x2.json --out runs/tiny | xargs -P 2 -I{} sh
+    /// -c '{}'`
     Plan {
         /// The design file (ufcsr-design/1).
         design: PathBuf,
@@ -30,6 +33,8 @@ pub enum DesignAction {
         program: Option<String>,
     },
     /// Run one task (--task I) or all, skipping tasks already complete in --out.
+    ///
+    /// Example: `ufcsr design run fixtures/designs/tiny-2x2.json --out runs/tiny --task 3`
     Run {
         /// The design file.
         design: PathBuf,
@@ -44,6 +49,8 @@ pub enum DesignAction {
         backend: Backend,
     },
     /// Merge every task of the design in --out into design.json, design.csv and design.html.
+    ///
+    /// Example: `ufcsr design merge fixtures/designs/tiny-2x2.json --out runs/tiny`
     Merge {
         /// The design file.
         design: PathBuf,

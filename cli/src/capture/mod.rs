@@ -33,6 +33,9 @@ use study::StudyArgs;
 #[derive(Subcommand)]
 pub enum CaptureCommand {
     /// The built-in demo: pickup truck, intersection, scenarios A–D.
+    ///
+    /// Example: `ufcsr-capture demo --scenario A --preview --out capA` (a quick look; drop
+    /// --preview for the paper's 60 px/° and every frame)
     Demo {
         /// A second pickup in traffic: alongside the truck in the lane on the pedestrian's side
         /// (adjacent-lane), or ahead of it in its lane (lead-car); see docs/scene-file.md.
@@ -46,6 +49,9 @@ pub enum CaptureCommand {
         capture: CaptureArgs,
     },
     /// A scene file (see capture/README.md).
+    ///
+    /// Example: `ufcsr-capture scene fixtures/scenes/milk-truck.json --palette-size 1024 --ppd 10 --out
+    /// truck`
     Scene {
         /// The scene JSON file.
         scene: PathBuf,
@@ -53,6 +59,8 @@ pub enum CaptureCommand {
         capture: CaptureArgs,
     },
     /// Replay a Unity export (unity-intersection.json) with the demo truck.
+    ///
+    /// Example: `ufcsr-capture unity unity-intersection.json --scenario all --ppd 10 --out unity/`
     Unity {
         /// The Unity scenario export.
         file: PathBuf,
@@ -66,40 +74,58 @@ pub enum CaptureCommand {
 pub enum CaptureToolCommand {
     /// Join the parts the shards of a capture (`--shard I/N`) wrote into the archive's
     /// manifest.json, once all have finished (checks that every shard is there, once).
+    ///
+    /// Example: `ufcsr-capture assemble capA` (after `ufcsr-capture demo --shard 0/2 --out capA` and
+    /// `--shard 1/2`)
     Assemble {
         /// The archive folder the shards wrote into (their --out).
         archive: PathBuf,
     },
     /// Plan a batch (batch.json: scenes × scenarios × ppd × frame steps): prints one
     /// `ufcsr-capture ... --count` command per task, task i on line i (for job arrays, xargs -P).
+    ///
+    /// Example: `ufcsr-capture batch plan batch.json | xargs -P 4 -I{} sh -c '{}'`
     Batch {
         #[command(subcommand)]
         action: BatchAction,
     },
     /// Capture and count one scenario at several ppd and frame steps, compare each with the
     /// finest, and plot error against run time (writes study.csv, study.json, study.svg/.png).
+    ///
+    /// Example: `ufcsr-capture study demo --scenario A --ppd 40,20,10 --frame-step 1,2,4 --out
+    /// study-A`
     Study(StudyArgs),
     /// Capture one scenario from pedestrians drawn from a declared population (kerb or area,
     /// statures of a named source) and report per part the population mean, its 95 % interval
     /// (each observer's resolution error folded in) and the spread over people
     /// (writes observers.json, observers.csv, observer-parts.csv); with --display WxH, the same
     /// per candidate display (and part) for its legible seconds (observer-displays.csv).
+    ///
+    /// Example: `ufcsr-capture observers demo --scenario A --kerb=-6.5,-4.5:-4.5,-6.5 --observers 16
+    /// --seed 1 --out observers-A`
     Observers(ObserversArgs),
     /// The factorial study: plan a design file (vehicles × scenarios × traffic × pedestrians)
     /// into independent tasks, run them (one, or all, resumable) and merge them into one
     /// placement answer per body type (design.json, design.csv, design.html; docs/design.md).
+    ///
+    /// Example: `ufcsr design run fixtures/designs/tiny-2x2.json --out runs/tiny && ufcsr design merge
+    /// fixtures/designs/tiny-2x2.json --out runs/tiny`
     Design {
         #[command(subcommand)]
         action: DesignAction,
     },
     /// Check an archive without the analyzer: tile pixels are background or
     /// palette colours the PIdT labels.
+    ///
+    /// Example: `ufcsr-capture verify capA`
     Verify {
         /// The archive folder.
         archive: PathBuf,
     },
     /// Look at a vehicle before capturing: size and origin after `axes`,
     /// triangle quality, UVs, parts and their areas, and pictures of it.
+    ///
+    /// Example: `ufcsr-capture inspect fixtures/scenes/milk-truck.json --out truck-inspect`
     Inspect {
         /// A scene file (.json) or a mesh (.glb, .gltf, .obj; default axes).
         input: PathBuf,
@@ -112,6 +138,8 @@ pub enum CaptureToolCommand {
     },
     /// Draw a result's eight heatmap views with the GPU renderer (the analyzer draws them on
     /// the CPU): views/*.png and views.png, from RESULTS/result.json and heatmap.glb.
+    ///
+    /// Example: `ufcsr-capture views capA/results --views-scale 2`
     Views {
         /// A result folder written by ufcsr-analyze (or --count).
         results: PathBuf,
@@ -134,6 +162,8 @@ pub enum CaptureToolCommand {
 #[derive(Subcommand)]
 pub enum BatchAction {
     /// Print the tasks' commands, one per line.
+    ///
+    /// Example: `ufcsr-capture batch plan batch.json --program /opt/ufcsr/bin/ufcsr-capture`
     Plan {
         /// The batch file.
         batch: PathBuf,
