@@ -176,6 +176,11 @@ fn print_study(study: &ufcsr_capture::Study, console: &Console) {
             if row.pareto { "*" } else { "" },
         );
     }
+    print_pick(study, console);
+}
+
+/// The recommendation, or why there is none.
+fn print_pick(study: &ufcsr_capture::Study, console: &Console) {
     match (&study.recommended, &study.reason) {
         (Some(pick), _) => say!(
             console,
