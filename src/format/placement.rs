@@ -225,6 +225,11 @@ pub struct CandidateRecord {
     pub first_legible_distance_m: Option<f64>,
     pub decision_window_legible_s: f64,
     pub worst_case_legible_s: f64,
+    /// The texel sample's bracket of `legible_s`: the mean over the archives
+    /// of each archive's `texel_sample_interval_s` (null unless every archive
+    /// has one). What it means: `docs/placement.md` ("One archive's texel sample").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texel_sample_interval_s: Option<[f64; 2]>,
     pub per_archive: Vec<ExposureRecord>,
 }
 
@@ -242,6 +247,13 @@ pub struct ExposureRecord {
     pub first_legible_distance_m: Option<f64>,
     /// Seconds legible inside the decision window.
     pub decision_window_legible_s: f64,
+    /// `[low, high]` legible seconds this archive's texel sample allows
+    /// (`--sample` below 1: the visible fraction ± 1.96 standard errors and
+    /// the angular height widened; equal to `legible_s` with every texel);
+    /// null when the archive's sample counts (`unobstructed-parts.csv`) are
+    /// not beside its table or the solid-angle rule scores it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texel_sample_interval_s: Option<[f64; 2]>,
 }
 
 /// One choice in a set: a candidate, or a left/right pair (two displays).

@@ -68,8 +68,17 @@ pub struct StudyRow {
     pub frame_step: u32,
     pub frames: u32,
     /// Wall seconds to capture, count and write this setting's results (the
-    /// set-up every setting shares is [`Study::setup_seconds`]).
+    /// set-up every setting shares is [`Study::setup_seconds`]). Reported, not
+    /// ranked by: it moves with the machine's load.
     pub seconds: f64,
+    /// The cost the recommendation and the front rank by: pixels rendered
+    /// over every tile the vehicle's bounds touch, every eye and frame of the
+    /// setting (≈ ppd² × field area × eye-frames; culled tiles left out). A
+    /// function of the scene and the setting alone, so two runs of one study
+    /// rank alike however loaded the machine was (0 in studies written
+    /// before it was recorded).
+    #[serde(default)]
+    pub pixels_rendered: u64,
     pub grand_total: u64,
     pub texels_seen: u64,
     /// Against the finest setting (highest ppd, smallest step), same measure:
@@ -77,7 +86,8 @@ pub struct StudyRow {
     pub precision: ShareError,
     /// Against the exact measure of the whole scenario, when the study computed it.
     pub error_vs_exact: Option<ErrorVsExact>,
-    /// No other setting is both faster and closer (by the error the study ranks by).
+    /// No other setting is both cheaper ([`StudyRow::pixels_rendered`]) and
+    /// closer (by the error the study ranks by).
     pub pareto: bool,
     /// The setting's `result.json`.
     pub results: PathBuf,
@@ -107,7 +117,11 @@ pub struct StudyPick {
     pub setting: String,
     pub ppd: f64,
     pub frame_step: u32,
+    /// Measured, reported only.
     pub seconds: f64,
+    /// The cost it was picked by ([`StudyRow::pixels_rendered`]).
+    #[serde(default)]
+    pub pixels_rendered: u64,
     /// `exact` (against the exact measure) or `precision` (against the finest setting).
     pub against: String,
     pub share_l1_pp: f64,
@@ -140,8 +154,9 @@ pub struct Study {
     /// archive's files, renderer), built once and left out of each row's `seconds`.
     pub setup_seconds: f64,
     pub rows: Vec<StudyRow>,
-    /// The cheapest setting whose error (its 95 % interval's upper end,
-    /// against the exact measure when computed) is within the tolerance.
+    /// The cheapest setting (fewest [`StudyRow::pixels_rendered`]; ties: the
+    /// smaller error) whose error (its 95 % interval's upper end, against the
+    /// exact measure when computed) is within the tolerance.
     pub recommended: Option<StudyPick>,
     /// Why nothing is recommended.
     #[serde(default, skip_serializing_if = "Option::is_none")]

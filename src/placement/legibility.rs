@@ -284,6 +284,7 @@ impl ArchiveTimelines {
             first_legible_s: first.map(|f| f.time_s),
             first_legible_distance_m: first.map(|f| f.distance_m),
             decision_window_legible_s: seconds(in_window),
+            texel_sample_interval_s: None,
         }
     }
 }

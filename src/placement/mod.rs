@@ -17,7 +17,9 @@
 //! (mountable surfaces, one patch per region of near patches), [`search`]
 //! exhaustive and greedy search of at most k physical displays with its
 //! bound, [`uncertainty`] the interval, P(best) and runners-up,
-//! [`sensitivity`] the answer with each threshold one step off, [`report`]
+//! [`sensitivity`] the answer with each threshold one step off,
+//! [`texel_sample`] the bracket one archive's texel sample puts on each
+//! candidate's legible seconds, [`report`]
 //! the files written, [`footprints`] where each patch lies and [`picture`]
 //! the chosen placements drawn on the vehicle.
 
@@ -30,6 +32,7 @@ pub mod report;
 pub mod search;
 pub mod sensitivity;
 pub mod table;
+pub mod texel_sample;
 pub mod uncertainty;
 
 use std::collections::BTreeMap;
@@ -139,6 +142,9 @@ pub(crate) struct Scoring {
     /// Per mountable candidate, its region's ([`regions::representatives`]).
     pub regions: BTreeMap<String, String>,
     pub searched: Vec<Searched>,
+    /// Per archive, each candidate's texel-sample bracket of its legible
+    /// seconds ([`texel_sample`]); filled for the reported scoring only.
+    pub brackets: Vec<Option<BTreeMap<String, [f64; 2]>>>,
 }
 
 /// Mean legible seconds per candidate over the archives.
@@ -182,7 +188,7 @@ fn score_and_search(
             }
         }
     }
-    Scoring { archives, universe, regions, searched }
+    Scoring { archives, universe, regions, searched, brackets: Vec::new() }
 }
 
 /// Reads every table, scores every candidate, searches the best sets and
@@ -194,6 +200,7 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
     let mut vehicle_model = options.mesh.clone();
     let mut seen: Vec<(PathBuf, &PathBuf)> = Vec::with_capacity(options.inputs.len());
     let mut inputs = Vec::with_capacity(2 * options.inputs.len());
+    let mut counts = Vec::with_capacity(options.inputs.len());
     for input in &options.inputs {
         let path = resolve_table(input)?;
         refuse_table_twice(&path, input, &mut seen)?;
@@ -201,6 +208,8 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
         inputs.push(path.clone());
         inputs.push(path.with_file_name(PLACEMENT_PATCHES_FILE));
         vehicle_model = vehicle_model.or_else(|| vehicle_beside(&path));
+        counts.push(texel_sample::read_sample_counts(&path)?);
+        inputs.push(path.with_file_name(texel_sample::UNOBSTRUCTED_PARTS_FILE));
         let mut table = read_table(&path)?;
         table::label_sizes(&mut table, &mut own);
         footprints.extend(own);
@@ -215,7 +224,14 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
     }
     let objectives: &[Objective] =
         if tables.len() > 1 { &[Objective::Mean, Objective::WorstCase] } else { &[Objective::Mean] };
-    let main = score_and_search(&tables, &options.thresholds, options, &footprints, objectives);
+    let mut main = score_and_search(&tables, &options.thresholds, options, &footprints, objectives);
+    main.brackets = tables
+        .iter()
+        .zip(&counts)
+        .map(|(table, counts)| {
+            counts.as_ref().map(|c| texel_sample::legible_brackets(table, c, &options.thresholds))
+        })
+        .collect();
     let combinations: Vec<CombinationRecord> =
         main.searched.iter().map(|s| report::combination_record(&main.universe, s, options)).collect();
     let mut sensitivity = Vec::new();

@@ -72,10 +72,16 @@ fn candidate_records(main: &Scoring, options: &PlacementOptions) -> Vec<Candidat
         first_legible_s: None,
         first_legible_distance_m: None,
         decision_window_legible_s: 0.0,
+        texel_sample_interval_s: None,
     };
-    for archive in archives {
+    for (index, archive) in archives.iter().enumerate() {
+        let brackets = main.brackets.get(index).and_then(Option::as_ref);
+        let exposure = |t: &crate::placement::legibility::Timeline| Exposure {
+            texel_sample_interval_s: brackets.and_then(|b| b.get(&t.name)).copied(),
+            ..archive.exposure(t)
+        };
         let seen: BTreeMap<&str, Exposure> =
-            archive.timelines.iter().map(|t| (t.name.as_str(), archive.exposure(t))).collect();
+            archive.timelines.iter().map(|t| (t.name.as_str(), exposure(t))).collect();
         for (name, (_, exposures)) in per_name.iter_mut() {
             exposures.push(seen.get(name.as_str()).copied().unwrap_or(never));
         }
@@ -108,6 +114,7 @@ fn candidate_records(main: &Scoring, options: &PlacementOptions) -> Vec<Candidat
                 }),
                 decision_window_legible_s: sum(|e| e.decision_window_legible_s),
                 worst_case_legible_s: per_archive.iter().map(|e| e.legible_s).fold(f64::MAX, f64::min),
+                texel_sample_interval_s: mean_bracket(&per_archive),
                 per_archive,
                 name,
             }
@@ -115,6 +122,14 @@ fn candidate_records(main: &Scoring, options: &PlacementOptions) -> Vec<Candidat
         .collect();
     out.sort_by(|a, b| b.legible_s.total_cmp(&a.legible_s).then_with(|| a.name.cmp(&b.name)));
     out
+}
+
+/// The mean of the archives' texel-sample brackets, when every archive has one.
+fn mean_bracket(per_archive: &[Exposure]) -> Option<[f64; 2]> {
+    let brackets: Option<Vec<[f64; 2]>> = per_archive.iter().map(|e| e.texel_sample_interval_s).collect();
+    let brackets = brackets.filter(|b| !b.is_empty())?;
+    let n = brackets.len() as f64;
+    Some([brackets.iter().map(|b| b[0]).sum::<f64>() / n, brackets.iter().map(|b| b[1]).sum::<f64>() / n])
 }
 
 fn archive_records(archives: &[ArchiveTimelines], window_s: f64) -> Vec<ArchiveRecord> {
@@ -381,15 +396,20 @@ pub fn format_placement(placement: &Placement, top: usize) -> String {
     let mut out = String::from(
         "candidate                                            kind   legible s  visible s  first legible s  (mean over archives)\n",
     );
+    let sampled =
+        document.candidates.iter().any(|c| c.texel_sample_interval_s.is_some_and(|[lo, hi]| hi > lo));
     // One line per place: a region's first patch; not-mountable patches only in placement.csv.
     let listed = |c: &&CandidateRecord| c.region.is_none() && (c.mountable || c.kind == CandidateKind::Part);
     for c in document.candidates.iter().filter(listed).take(top) {
         let first = c.first_legible_s.map_or("never".to_string(), |s| format!("{s:.3}"));
-        let note = match (c.mountable, c.region_members) {
+        let mut note = match (c.mountable, c.region_members) {
             (false, _) => " (not mountable)".to_string(),
             (true, n) if n > 1 => format!(" (region of {n})"),
             _ => String::new(),
         };
+        if let (true, Some([lo, hi])) = (sampled, c.texel_sample_interval_s) {
+            note += &format!(" texel sample {lo:.3}–{hi:.3} s");
+        }
         out += &format!(
             "{:<52} {:<6} {:>9.3}  {:>9.3}  {:>15}{note}\n",
             c.name,

@@ -8,9 +8,12 @@
 //! the ray-traced solid angle), computed once by the ray tracer on every
 //! frame any setting uses: each setting on its own eye-frames, with a 95 %
 //! interval ([`crate::exact::accuracy`]). The Pareto front of error
-//! against run time and the recommendation (the cheapest setting whose
+//! against cost and the recommendation (the cheapest setting whose
 //! interval lies within the tolerance) use that error; when no setting is
-//! within it the study says so and names the closest. The comparison with
+//! within it the study says so and names the closest. *Cost* is the pixels
+//! rendered ([`StudyRow::pixels_rendered`]), a function of the scene and the
+//! setting, so the pick does not swap between two near-equal settings with
+//! the machine's load; the measured seconds are reported beside it. The comparison with
 //! the finest setting stays, as *precision* (self-consistency, not
 //! accuracy), and is what the front uses only with `--no-exact`.
 //!
@@ -84,6 +87,7 @@ struct Run {
     step: u32,
     frames: Vec<u32>,
     seconds: f64,
+    pixels_rendered: u64,
     grand_total: u64,
     texels_seen: u64,
     values: PerEyeFrame,
@@ -218,6 +222,7 @@ fn compare_runs(
             frame_step: run.step,
             frames: run.frames.len() as u32,
             seconds: run.seconds,
+            pixels_rendered: run.pixels_rendered,
             grand_total: run.grand_total,
             texels_seen: run.texels_seen,
             precision: share_error(parts, &reference, &candidate),
@@ -281,6 +286,7 @@ fn capture_setting(
         step,
         frames,
         seconds: counted.summary.seconds,
+        pixels_rendered: counted.summary.pixels,
         grand_total: counted.analysis.result.grand_total,
         texels_seen: counted.analysis.result.texels_seen,
         values: rendered_per_eye_frame(frame_table(&counted, &out)?, options.measure, &out)?,
@@ -362,10 +368,11 @@ fn rendered_per_eye_frame(
     Ok(PerEyeFrame { parts: keep.iter().map(|&p| table.parts[p].clone()).collect(), rows })
 }
 
-/// A row is on the front when no other row is at least as fast and at least
-/// as close, and strictly better in one of the two.
+/// A row is on the front when no other row is at least as cheap (pixels
+/// rendered) and at least as close, and strictly better in one of the two.
 fn mark_pareto_front(rows: &mut [StudyRow]) {
-    let points: Vec<(f64, f64)> = rows.iter().map(|r| (r.seconds, r.ranking_error())).collect();
+    let points: Vec<(f64, f64)> =
+        rows.iter().map(|r| (r.pixels_rendered as f64, r.ranking_error())).collect();
     for (i, row) in rows.iter_mut().enumerate() {
         let (time, error) = points[i];
         row.pareto = !points
@@ -382,6 +389,7 @@ fn pick(row: &StudyRow) -> StudyPick {
         ppd: row.ppd,
         frame_step: row.frame_step,
         seconds: row.seconds,
+        pixels_rendered: row.pixels_rendered,
         against: if exact.is_some() { "exact" } else { "precision" }.into(),
         share_l1_pp: row.ranking_error(),
         ci95_pp: exact.map(|e| e.ci95_pp),
@@ -390,13 +398,18 @@ fn pick(row: &StudyRow) -> StudyPick {
 
 /// The cheapest setting within the tolerance (by the upper end of its 95 %
 /// interval against the exact measure, or its precision without one).
+/// Cheapest by pixels rendered, a deterministic cost, not by measured
+/// seconds (which swap two near-equal settings under load); between equal
+/// costs the smaller error, then the earlier row.
 fn recommend(study: &mut Study) {
     let tolerance = study.tolerance_pp;
     study.recommended = study
         .rows
         .iter()
         .filter(|row| row.upper_error() <= tolerance)
-        .min_by(|a, b| a.seconds.total_cmp(&b.seconds))
+        .min_by(|a, b| {
+            a.pixels_rendered.cmp(&b.pixels_rendered).then(a.upper_error().total_cmp(&b.upper_error()))
+        })
         .map(pick);
     if study.recommended.is_some() {
         return;
@@ -440,12 +453,13 @@ pub fn write_study(study: &Study, dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(written)
 }
 
-const CSV_HEADER: [&str; 24] = [
+const CSV_HEADER: [&str; 25] = [
     "measure",
     "ppd",
     "frame_step",
     "frames",
     "seconds",
+    "pixels_rendered",
     "share_l1_vs_exact_pp",
     "ci95_low_pp",
     "ci95_high_pp",
@@ -481,6 +495,7 @@ fn write_csv(study: &Study, path: &Path) -> Result<()> {
                 row.frame_step.to_string(),
                 row.frames.to_string(),
                 format!("{:.3}", row.seconds),
+                row.pixels_rendered.to_string(),
                 field(&|e| format!("{:.4}", e.error.share_l1_pp)),
                 field(&|e| format!("{:.4}", e.ci95_pp[0])),
                 field(&|e| format!("{:.4}", e.ci95_pp[1])),
@@ -515,6 +530,7 @@ mod tests {
     use super::*;
     use ufcsr::ShareError;
 
+    /// A setting whose cost is `seconds` million pixels (and `seconds` seconds).
     fn row(ppd: f64, seconds: f64, precision: f64, exact: Option<(f64, [f64; 2])>) -> StudyRow {
         let error = |l1: f64| ShareError {
             share_l1_pp: l1,
@@ -528,6 +544,7 @@ mod tests {
             frame_step: 1,
             frames: 10,
             seconds,
+            pixels_rendered: (seconds * 1e6) as u64,
             grand_total: 0,
             texels_seen: 0,
             precision: error(precision),
@@ -619,6 +636,36 @@ mod tests {
         let s = study(vec![row(60.0, 10.0, 0.0, None), row(30.0, 4.0, 0.7, None)], false);
         let recommended = s.recommended.unwrap();
         assert_eq!((recommended.ppd, recommended.against.as_str()), (30.0, "precision"));
+    }
+
+    #[test]
+    fn the_pick_is_the_cheapest_by_pixels_rendered_whatever_seconds_were_measured() {
+        // Two near-equal settings both within 1 pp: 20 px/° every 4th renders fewer pixels
+        // than 30 px/° every 2nd. Under load the measured seconds may come out either way;
+        // the pick and the front must not move.
+        let rows = |fast_is_coarse: bool| {
+            let (coarse_s, fine_s) = if fast_is_coarse { (1.0, 1.1) } else { (1.1, 1.0) };
+            let mut coarse = row(20.0, coarse_s, 0.5, Some((0.5, [0.3, 0.8])));
+            let mut fine = row(30.0, fine_s, 0.3, Some((0.3, [0.2, 0.5])));
+            coarse.pixels_rendered = 1_000_000;
+            fine.pixels_rendered = 1_125_000;
+            vec![row(60.0, 10.0, 0.0, Some((0.1, [0.05, 0.2]))), fine, coarse]
+        };
+        let picks: Vec<StudyPick> =
+            [true, false].map(|fast| study(rows(fast), true).recommended.unwrap()).into_iter().collect();
+        assert_eq!((picks[0].ppd, picks[1].ppd), (20.0, 20.0));
+        assert_eq!(picks[0].pixels_rendered, 1_000_000);
+        // The measured seconds are kept as reported.
+        assert_eq!((picks[0].seconds, picks[1].seconds), (1.0, 1.1));
+        let fronts = [true, false]
+            .map(|fast| study(rows(fast), true).rows.iter().map(|r| r.pareto).collect::<Vec<_>>());
+        assert_eq!(fronts[0], fronts[1]);
+        // Equal cost: the smaller upper end wins, whatever the order of the rows.
+        let mut tie = rows(true);
+        tie[1].pixels_rendered = 1_000_000;
+        assert_eq!(study(tie.clone(), true).recommended.unwrap().ppd, 30.0);
+        tie.reverse();
+        assert_eq!(study(tie, true).recommended.unwrap().ppd, 30.0);
     }
 
     #[test]

@@ -22,5 +22,6 @@ mod silent_numbers;
 mod study_accuracy;
 mod study_coverage;
 mod study_setup;
+mod texel_sample;
 mod tile_filter;
 mod vehicles;

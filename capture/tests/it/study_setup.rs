@@ -110,6 +110,46 @@ fn a_studys_settings_are_byte_for_byte_the_captures_of_each_setting_alone() {
 }
 
 #[test]
+fn a_study_run_twice_costs_and_recommends_alike_by_pixels_rendered() {
+    // The pick is by pixels rendered, not by measured seconds: two runs of one study give the
+    // same costs, front and pick, and the pick is the cheapest within the tolerance. Without
+    // the exact measure every setting is held to its precision; 100 pp lets every one through.
+    let gpu = gpu();
+    let scene = Scene::demo();
+    let dir = tempfile::tempdir().unwrap();
+    let run = |name: &str| {
+        let options = StudyOptions {
+            ppds: vec![4.0, 3.0, 2.0],
+            frame_steps: vec![30, 90],
+            exact_sample: None,
+            capture: CaptureOptions { views_scale: 1, ..base_options(&dir.path().join(name)) },
+            scenario: "A".into(),
+            measure: StudyMeasure::AngularArea,
+            dedupe: Dedupe::Frame,
+            tolerance_pp: 100.0,
+        };
+        run_study(&gpu.device, &gpu.queue, &scene, &options).unwrap()
+    };
+    let (first, second) = (run("first"), run("second"));
+    let costs = |s: &ufcsr_capture::Study| -> Vec<(f64, u32, u64, bool)> {
+        s.rows.iter().map(|r| (r.ppd, r.frame_step, r.pixels_rendered, r.pareto)).collect()
+    };
+    assert_eq!(costs(&first), costs(&second));
+    let pick = first.recommended.clone().unwrap();
+    assert_eq!(Some((pick.ppd, pick.frame_step)), second.recommended.map(|p| (p.ppd, p.frame_step)));
+    let cheapest = first.rows.iter().map(|r| r.pixels_rendered).min().unwrap();
+    assert_eq!((pick.ppd, pick.frame_step, pick.pixels_rendered), (2.0, 90, cheapest));
+    // The cost follows the model: about ppd² × eye-frames (whole tiles, culled tiles out).
+    for row in &first.rows {
+        assert!(row.pixels_rendered > 0, "{}", row.label());
+        let model = row.ppd * row.ppd * f64::from(row.frames);
+        let per = row.pixels_rendered as f64 / model;
+        let base = cheapest as f64 / (4.0 * f64::from(first.rows.last().unwrap().frames));
+        assert!((per / base - 1.0).abs() < 0.5, "{}: {per} vs {base}", row.label());
+    }
+}
+
+#[test]
 fn each_observer_is_byte_for_byte_the_capture_of_that_observer_alone() {
     let gpu = gpu();
     let dir = tempfile::tempdir().unwrap();

@@ -113,7 +113,8 @@ fn print_study(study: &ufcsr_capture::Study, console: &Console) {
         console,
         "scenario {}, measure {}: error = share L1 (pp) of the setting against the exact measure of every \
          frame; 95 % = over the step's frame offsets; step pp = the frame step alone (at offset 0 and \
-         over offsets); precision = against the finest setting ({})",
+         over offsets); precision = against the finest setting ({}); Mpixels = pixels rendered, the cost the pick and \
+         the front (*) rank by (seconds are measured, reported only)",
         study.scenario,
         study.measure,
         study.reference
@@ -137,11 +138,12 @@ fn print_study(study: &ufcsr_capture::Study, console: &Console) {
     );
     say!(
         console,
-        "{:>6} {:>5} {:>6} {:>9} {:>10} {:>17} {:>7} {:>5} {:>10} {:>15} {:>12} {:>6}",
+        "{:>6} {:>5} {:>6} {:>9} {:>10} {:>10} {:>17} {:>7} {:>5} {:>10} {:>15} {:>12} {:>6}",
         "ppd",
         "step",
         "frames",
         "seconds",
+        "Mpixels",
         "error pp",
         "95 % pp",
         "tau",
@@ -155,11 +157,12 @@ fn print_study(study: &ufcsr_capture::Study, console: &Console) {
         let exact = row.error_vs_exact.as_ref();
         say!(
             console,
-            "{:>6} {:>5} {:>6} {:>9.2} {:>10} {:>17} {:>7} {:>5} {:>10} {:>15} {:>12.3} {:>6}",
+            "{:>6} {:>5} {:>6} {:>9.2} {:>10.2} {:>10} {:>17} {:>7} {:>5} {:>10} {:>15} {:>12.3} {:>6}",
             row.ppd,
             row.frame_step,
             row.frames,
             row.seconds,
+            row.pixels_rendered as f64 / 1e6,
             exact.map_or("-".into(), |e| format!("{:.3}", e.error.share_l1_pp)),
             exact.map_or("-".into(), |e| format!("{:.3}–{:.3}", e.ci95_pp[0], e.ci95_pp[1])),
             exact.map_or("-".into(), |e| format!("{:.3}", e.error.kendall_tau_b)),
@@ -173,13 +176,20 @@ fn print_study(study: &ufcsr_capture::Study, console: &Console) {
             if row.pareto { "*" } else { "" },
         );
     }
+    print_pick(study, console);
+}
+
+/// The recommendation, or why there is none.
+fn print_pick(study: &ufcsr_capture::Study, console: &Console) {
     match (&study.recommended, &study.reason) {
         (Some(pick), _) => say!(
             console,
-            "recommended (cheapest within {} pp of the {}): {} ({:.2} s, share L1 {:.3} pp{})",
+            "recommended (fewest pixels rendered within {} pp of the {}): {} ({:.2} Mpixels, {:.2} s, share \
+             L1 {:.3} pp{})",
             study.tolerance_pp,
             if pick.against == "exact" { "exact measure at 95 %" } else { "finest setting" },
             pick.setting,
+            pick.pixels_rendered as f64 / 1e6,
             pick.seconds,
             pick.share_l1_pp,
             pick.ci95_pp.map_or(String::new(), |[lo, hi]| format!(", 95 % {lo:.3}–{hi:.3}"))

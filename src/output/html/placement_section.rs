@@ -383,6 +383,7 @@ mod tests {
                 first_legible_distance_m: None,
                 decision_window_legible_s: 0.0,
                 worst_case_legible_s: 0.0,
+                texel_sample_interval_s: None,
                 per_archive: Vec::new(),
             }],
             combinations: vec![CombinationRecord {
