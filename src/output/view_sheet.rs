@@ -246,6 +246,18 @@ impl ColorBar {
     }
 }
 
+/// A colour-bar number of a measured quantity: four significant digits at
+/// most, trailing zeros dropped (the ticks are round values, the maximum
+/// is not).
+pub fn tick_value(value: f64) -> String {
+    if value == 0.0 {
+        return "0".to_string();
+    }
+    let decimals = (3 - value.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    let text = format!("{value:.decimals$}");
+    if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.').to_string() } else { text }
+}
+
 /// Each view's name, the bar's ticks and numbers, its unit and the caption.
 fn label_sheet(sheet: &mut [u8], size: [u32; 2], view: [u32; 2], texture: &ViewTexture, bar: &ColorBar) {
     let scale = bar.scale;
@@ -267,10 +279,15 @@ fn label_sheet(sheet: &mut [u8], size: [u32; 2], view: [u32; 2], texture: &ViewT
             vec![(x, strip_end as i32), (x, (strip_end + 4 * scale) as i32)],
             BLACK.stroke_width(scale),
         );
+        let number = match texture.quantum {
+            Some(quantum) => tick_value(f64::from(count) * quantum),
+            None => grouped(u64::from(count)),
+        };
         drawn = drawn.and(root.draw(&tick)).and(root.draw(&Text::new(
-            grouped(u64::from(count)),
+            number,
             (x, numbers_y),
-            centred.clone(),
+            // The top's number ends at the bar's end, inside the sheet.
+            if count == max && count > 0 { style.clone().pos(Pos::new(HPos::Right, VPos::Top)) } else { centred.clone() },
         )));
     }
     let scale_name = match texture.options.scale {
@@ -377,6 +394,15 @@ fn finish_views(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tick_values_of_a_measure_have_four_significant_digits_at_most() {
+        assert_eq!(tick_value(0.0), "0");
+        assert_eq!(tick_value(0.002), "0.002");
+        assert_eq!(tick_value(0.0137049), "0.0137");
+        assert_eq!(tick_value(12.5), "12.5");
+        assert_eq!(tick_value(24_000.0), "24000");
+    }
 
     #[test]
     fn bar_ticks_are_round_counts_ending_at_the_maximum() {

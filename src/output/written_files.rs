@@ -10,7 +10,12 @@ use crate::output::plots::Plot;
 pub struct WrittenFiles {
     pub result_json: PathBuf,
     pub parts_csv: Option<PathBuf>,
+    /// The paper-compatible heatmap: the per-texel count.
     pub heatmap_png: PathBuf,
+    /// The default heatmap, per-texel angular area over time (deg²·s), when
+    /// measured ([`crate::Analysis::texel_angular_area`]); `heatmap.glb` and
+    /// the views show it.
+    pub heatmap_area_png: Option<PathBuf>,
     pub timings_json: PathBuf,
     /// The vehicle with the heatmap on it, when the analysis had a vehicle model.
     pub heatmap_glb: Option<PathBuf>,
@@ -34,6 +39,7 @@ impl WrittenFiles {
     pub fn all(&self, out_dir: &Path) -> Vec<PathBuf> {
         let mut files = vec![self.result_json.clone()];
         files.extend(self.parts_csv.clone());
+        files.extend(self.heatmap_area_png.clone());
         files.push(self.heatmap_png.clone());
         files.push(self.timings_json.clone());
         files.extend(self.frames_csv.clone());

@@ -110,6 +110,7 @@ pub fn views_from_results(
         options: ufcsr::HeatmapOptions { scale: counts.scale, max: counts.max },
         caption: format!("{} · wgpu", ufcsr::views_caption(counts.measure, &counts.archive, scenario)),
         unit: ufcsr::measure_unit(counts.measure).to_string(),
+        quantum: None,
         views_scale: options.views_scale,
         pedestrian_azimuths_deg: track.map_or_else(Vec::new, |track| {
             track.frames.iter().filter_map(ufcsr::TrackFrame::pedestrian_azimuth_deg).collect()

@@ -36,6 +36,8 @@ use std::path::Path;
 
 use crate::archive::palette::Fcsp;
 use crate::checks::neighbours::NeighbourSampler;
+use crate::count::texel_area::TexelSolidAngles;
+use crate::optics::solid_angle::TileView;
 use crate::color::{AtomicColorSet, SeenSet, color_key};
 use crate::count::part_lookup::{PartLookup, PartPixels, RowSpans};
 use crate::error::{Error, Result};
@@ -740,14 +742,16 @@ pub fn scan_image_by_part(
     strays: &AtomicColorSet,
     parts: Option<(&PartLookup, &mut PartPixels)>,
 ) -> Result<ImageTally> {
-    scan_image_with(path, bytes, classifier, seen, strays, RowPasses { parts, neighbours: None })
+    scan_image_with(path, bytes, classifier, seen, strays, RowPasses { parts, neighbours: None, texel_area: None })
 }
 
 /// The optional passes over each decoded row beside the counting kernel:
-/// pixels by part, and the neighbour sample of the colour checks.
+/// pixels by part, the neighbour sample of the colour checks, and the
+/// per-texel solid angles (with where the image lies in its eye).
 pub(crate) struct RowPasses<'p, 'l> {
     pub parts: Option<(&'l PartLookup, &'p mut PartPixels)>,
     pub neighbours: Option<&'p mut NeighbourSampler>,
+    pub texel_area: Option<(&'l TexelSolidAngles, TileView)>,
 }
 
 /// [`scan_image_by_part`] with every optional row pass (on error the
@@ -776,7 +780,7 @@ fn scan_rows(
     strays: &AtomicColorSet,
     passes: RowPasses,
 ) -> Result<ImageTally> {
-    let RowPasses { parts, mut neighbours } = passes;
+    let RowPasses { parts, mut neighbours, texel_area } = passes;
     if let Some(sampler) = neighbours.as_mut() {
         sampler.start_image();
     }
@@ -793,6 +797,9 @@ fn scan_rows(
         }
         if let Some(sampler) = neighbours.as_mut() {
             sampler.row(y, row, layout);
+        }
+        if let Some((sums, view)) = &texel_area {
+            sums.add_row(row, layout, view, y);
         }
         y += 1;
     }
