@@ -126,7 +126,11 @@ fn counted_frame_table(tallies: PartTallies, inputs: &crate::archive::resolve::I
             FrameRecord::from_parts(label, pixels, texels, weighted)
         })
         .collect();
-    frame_table(FrameTallies { parts: tallies.lookup.names, records, texel_solid_angle_sr: None }, inputs, None)
+    frame_table(
+        FrameTallies { parts: tallies.lookup.names, records, texel_solid_angle_sr: None },
+        inputs,
+        None,
+    )
 }
 
 /// A result for per-texel counts measured some other way than by counting

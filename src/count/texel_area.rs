@@ -116,8 +116,10 @@ mod tests {
         let projection = EyeProjection::new(90.0, [8, 2]).unwrap();
         let view = TileView { projection, origin: [0, 0] };
         // Texels 1,1,5 then background 3, a stray, texel 5, texel 1.
-        let row: Vec<u8> =
-            [1u32, 1, 5, 3, 0xFFFFFF, 5, 1, 1].iter().flat_map(|&c| [(c >> 16) as u8, (c >> 8) as u8, c as u8]).collect();
+        let row: Vec<u8> = [1u32, 1, 5, 3, 0xFFFFFF, 5, 1, 1]
+            .iter()
+            .flat_map(|&c| [(c >> 16) as u8, (c >> 8) as u8, c as u8])
+            .collect();
         sums.add_row(&row, PixelLayout::Rgb, &view, 0);
         let sr = sums.into_sr();
         let pixel = |x: u32| projection.pixel_sr(x, 0);

@@ -86,12 +86,25 @@ pub struct AreaLevels {
 impl AreaLevels {
     /// The levels of `values` (deg²·s per texel; NaN and values ≤ 0 as 0).
     pub fn new(values: &[f32]) -> AreaLevels {
-        let largest = values.par_iter().copied().filter(|v| v.is_finite()).fold(|| 0f32, f32::max).reduce(|| 0f32, f32::max);
-        let quantum = if largest > 0.0 { 10f64.powf((f64::from(largest)).log10().floor() - 4.0) } else { 1.0 };
-        let levels = values
+        let largest = values
             .par_iter()
-            .map(|&v| if v > 0.0 && v.is_finite() { ((f64::from(v) / quantum).round() as u32).max(1) } else { 0 })
-            .collect();
+            .copied()
+            .filter(|v| v.is_finite())
+            .fold(|| 0f32, f32::max)
+            .reduce(|| 0f32, f32::max);
+        let quantum =
+            if largest > 0.0 { 10f64.powf((f64::from(largest)).log10().floor() - 4.0) } else { 1.0 };
+        let levels =
+            values
+                .par_iter()
+                .map(|&v| {
+                    if v > 0.0 && v.is_finite() {
+                        ((f64::from(v) / quantum).round() as u32).max(1)
+                    } else {
+                        0
+                    }
+                })
+                .collect();
         AreaLevels { levels, quantum }
     }
 }

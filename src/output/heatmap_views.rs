@@ -216,7 +216,8 @@ pub const AREA_UNIT: &str = "deg²·s per texel";
 
 /// The contact sheet's caption when the views show per-texel angular area.
 pub fn area_views_caption(scenario: Option<&str>) -> String {
-    let what = "Visible angular area over time of each point of the vehicle (deg²·s per texel, the quoted measure)";
+    let what =
+        "Visible angular area over time of each point of the vehicle (deg²·s per texel, the quoted measure)";
     match scenario {
         Some(name) => format!("{what} · scenario {name}"),
         None => what.to_string(),

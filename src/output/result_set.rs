@@ -12,8 +12,8 @@ use crate::archive::vehicle_model::VehicleModel;
 use crate::error::Result;
 use crate::files::{IMAGE_LIMIT, Staging, read_limited, refuse_overwriting_inputs};
 use crate::output::csv::{CsvStyle, write_frames_csv, write_parts_table};
-use crate::output::heatmap::{AREA_HEATMAP_FILE, AreaLevels};
 use crate::output::frame_strip::{FRAME_STRIP_FILE, StripInputs, frame_strip_skipped, write_frame_strip};
+use crate::output::heatmap::{AREA_HEATMAP_FILE, AreaLevels};
 use crate::output::heatmap_views::{
     AREA_UNIT, DEFAULT_VIEWS_SCALE, DIRECTIONS, ViewTexture, area_views_caption, measure_unit, views_caption,
 };
@@ -257,12 +257,7 @@ fn write_side_by_side(
         }
     };
     let ((heatmap, tables), (strip, views)) = rayon::join(
-        || {
-            rayon::join(
-                || timed(heatmaps),
-                || timed(|| write_tables(analysis, files, options)),
-            )
-        },
+        || rayon::join(|| timed(heatmaps), || timed(|| write_tables(analysis, files, options))),
         || rayon::join(|| timed(strip), || timed(views)),
     );
     let ((), heatmap_seconds) = heatmap?;

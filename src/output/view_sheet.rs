@@ -287,7 +287,11 @@ fn label_sheet(sheet: &mut [u8], size: [u32; 2], view: [u32; 2], texture: &ViewT
             number,
             (x, numbers_y),
             // The top's number ends at the bar's end, inside the sheet.
-            if count == max && count > 0 { style.clone().pos(Pos::new(HPos::Right, VPos::Top)) } else { centred.clone() },
+            if count == max && count > 0 {
+                style.clone().pos(Pos::new(HPos::Right, VPos::Top))
+            } else {
+                centred.clone()
+            },
         )));
     }
     let scale_name = match texture.options.scale {

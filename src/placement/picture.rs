@@ -6,8 +6,12 @@
 //! [`MARKER_RADIUS_M`] at the centre the name carries), for the best 1, 2
 //! and 3 of each kind (by the mean over the archives).
 //!
-//! `placement.png`: one row of eight small views per chosen set, captioned;
-//! `placement-views/KIND-best-K.png` (`part-best-2.png`): each set at full size (four by two).
+//! `placement.png`: a key line, then per chosen set its caption (wrapped to
+//! the picture's width with the kerned text layout the figures use, so it
+//! is never cut off), a legend (a swatch per member, its displays' names)
+//! and a row of eight small views, each named by its direction
+//! ([`OverviewLayout`]); `placement-views/KIND-best-K.png`
+//! (`part-best-2.png`): each set at full size (four by two), views named.
 //! Marks are tested per pixel on the surface point the pixel shows, so what
 //! is hidden behind the body stays hidden.
 
@@ -36,8 +40,6 @@ const OUTLINE: [u8; 3] = [20, 20, 20];
 /// One colour per member of a set (Okabe–Ito, distinguishable with colour blindness).
 const MEMBER_COLORS: [[u8; 3]; 6] =
     [[230, 159, 0], [0, 114, 178], [0, 158, 115], [204, 121, 167], [213, 94, 0], [86, 180, 233]];
-/// Height of a row's caption in `placement.png`.
-const CAPTION: u32 = 22;
 
 /// What one member of a set marks on the vehicle.
 #[derive(Debug, Clone, PartialEq)]
@@ -83,6 +85,8 @@ pub struct PicturedSet {
     pub marks: Vec<Mark>,
     /// Per mark, its colour's index: one per member, so a pair shares one.
     pub colors: Vec<usize>,
+    /// The legend: per member (colour index = position), its displays' names.
+    pub legend: Vec<String>,
 }
 
 /// The sets to draw: per kind, the best sets of 1 to [`PICTURED_SETS`]
@@ -101,16 +105,23 @@ pub fn pictured_sets(
             PicturedSet {
                 name: format!("{kind}-best-{}", c.k),
                 caption: format!(
-                    "best {kind}s, at most {} display{} ({} used): {} ({:.2} s legible, {:.0} % of the time)",
+                    "best {kind}s, at most {} display{} ({} used): {:.2} s legible, {:.0} % of the time",
                     c.k,
                     if c.k == 1 { "" } else { "s" },
                     c.displays,
-                    c.members_text(),
                     c.legible_s,
                     100.0 * c.share_of_time
                 ),
                 marks: candidates.iter().filter_map(|name| Mark::of(name, kind, footprints)).collect(),
                 colors: colors.collect(),
+                legend: c
+                    .members
+                    .iter()
+                    .map(|m| {
+                        let names = m.candidates.join(" & ");
+                        if m.adds_no_time { format!("{names} [adds 0 s]") } else { names }
+                    })
+                    .collect(),
             }
         })
         .collect()
@@ -203,47 +214,162 @@ pub fn write_placement_picture(
             ..*c
         })
         .collect();
-    let row_h = view_h / 2 + CAPTION;
-    let overview_size = (view_w / 2 * 8, row_h * sets.len().max(1) as u32);
-    let mut overview = PAPER.repeat((overview_size.0 * overview_size.1) as usize);
+    let layout = OverviewLayout::new(sets, [view_w / 2, view_h / 2]);
+    let [width, height] = layout.size;
+    let mut overview = PAPER.repeat((width * height) as usize);
     let mut views = Vec::with_capacity(sets.len());
     for (row, set) in sets.iter().enumerate() {
-        let full: Vec<Vec<u8>> =
-            cameras.iter().map(|c| render_marked(model, c, &set.marks, &set.colors)).collect();
         let (sheet_w, sheet_h) = (view_w * 4, view_h * 2);
         let mut sheet = PAPER.repeat((sheet_w * sheet_h) as usize);
-        for (index, picture) in full.iter().enumerate() {
-            paste(
-                &mut sheet,
-                sheet_w,
-                picture,
-                (view_w, view_h),
-                (index as u32 % 4 * view_w, index as u32 / 4 * view_h),
-            );
+        let mut names = Vec::with_capacity(cameras.len());
+        for (index, camera) in cameras.iter().enumerate() {
+            let picture = render_marked(model, camera, &set.marks, &set.colors);
+            let at = (index as u32 % 4 * view_w, index as u32 / 4 * view_h);
+            paste(&mut sheet, sheet_w, &picture, (view_w, view_h), at);
+            names.push(((at.0 + 6) as i32, (at.1 + 4) as i32, camera.name.to_string()));
         }
+        draw_texts(&mut sheet, [sheet_w, sheet_h], &names, TEXT_PX, &[]);
         let path = views_dir.join(format!("{}.png", set.name));
         crate::files::write_rgb_png(&path, [sheet_w, sheet_h], &sheet, png::Compression::Fast)?;
         views.push(path);
         for (index, camera) in small.iter().enumerate() {
             let picture = render_marked(model, camera, &set.marks, &set.colors);
-            let at = (index as u32 * view_w / 2, row as u32 * row_h + CAPTION);
-            paste(&mut overview, overview_size.0, &picture, (view_w / 2, view_h / 2), at);
+            let at = (index as u32 * view_w / 2, layout.views_y[row]);
+            paste(&mut overview, width, &picture, (view_w / 2, view_h / 2), at);
         }
     }
-    let captions: Vec<(i32, String)> = sets
-        .iter()
-        .enumerate()
-        .map(|(row, set)| ((row as u32 * row_h + 4) as i32, set.caption.clone()))
-        .collect();
-    caption_rows(&mut overview, overview_size, &captions);
+    draw_texts(&mut overview, layout.size, &layout.texts, TEXT_PX, &layout.swatches);
+    draw_texts(&mut overview, layout.size, &layout.view_names, VIEW_NAME_PX, &[]);
     let path = out.join(PLACEMENT_PICTURE_FILE);
-    crate::files::write_rgb_png(
-        &path,
-        [overview_size.0, overview_size.1],
-        &overview,
-        png::Compression::Fast,
-    )?;
+    crate::files::write_rgb_png(&path, layout.size, &overview, png::Compression::Fast)?;
     Ok(WrittenPicture { overview: path, views })
+}
+
+/// Text size of captions and legends, plotters pixels (about 11 px capitals).
+pub const TEXT_PX: f64 = 15.0;
+/// Text size of the direction names in the overview's small views.
+const VIEW_NAME_PX: f64 = 13.0;
+/// Line height of captions and legends.
+const LINE: u32 = 20;
+/// Side of a legend swatch, and the gap after it and after each entry.
+const SWATCH: u32 = 12;
+const SWATCH_GAP: u32 = 5;
+const ENTRY_GAP: u32 = 18;
+/// Left and right margin of the overview's text.
+const MARGIN: u32 = 6;
+
+/// What the overview says where: the key line at the top, per set its
+/// caption (wrapped to the width) and legend (a swatch per member, its
+/// displays' names), and each small view's direction name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OverviewLayout {
+    pub size: [u32; 2],
+    /// Captions, key and legend labels: `(x, y of the line's top, text)`.
+    pub texts: Vec<(i32, i32, String)>,
+    /// Legend swatches: `(x, y, colour)` of a [`SWATCH`]-pixel square.
+    pub swatches: Vec<(i32, i32, [u8; 3])>,
+    /// Direction names of the small views: `(x, y, name)`.
+    pub view_names: Vec<(i32, i32, String)>,
+    /// Top of each set's row of views.
+    pub views_y: Vec<u32>,
+}
+
+/// The key at the top of the overview.
+pub const OVERVIEW_KEY: &str = "Each row: the vehicle from front, front-left, left, rear-left, rear, rear-right, \
+     right and front-right (15° from above); coloured = the chosen displays (one colour per member of the \
+     set, a left/right pair shares one), outlined at their rims; grey = the rest of the vehicle.";
+
+impl OverviewLayout {
+    /// The layout of `sets` over rows of eight `view`-sized pictures.
+    pub fn new(sets: &[PicturedSet], view: [u32; 2]) -> OverviewLayout {
+        let width = view[0] * 8;
+        let room = f64::from(width - 2 * MARGIN);
+        let mut layout = OverviewLayout {
+            size: [width, 0],
+            texts: Vec::new(),
+            swatches: Vec::new(),
+            view_names: Vec::new(),
+            views_y: Vec::new(),
+        };
+        let mut y = 4u32;
+        for line in wrap(OVERVIEW_KEY, TEXT_PX, room) {
+            layout.texts.push((MARGIN as i32, y as i32, line));
+            y += LINE;
+        }
+        for set in sets {
+            y += LINE / 2;
+            for line in wrap(&set.caption, TEXT_PX, room) {
+                layout.texts.push((MARGIN as i32, y as i32, line));
+                y += LINE;
+            }
+            y = layout.legend(set, y, room);
+            layout.views_y.push(y);
+            for (index, (name, _)) in crate::output::DIRECTIONS.iter().enumerate() {
+                let x = (index as u32 * view[0] + 4) as i32;
+                layout.view_names.push((x, (y + 2) as i32, (*name).to_string()));
+            }
+            y += view[1];
+        }
+        layout.size[1] = y.max(1);
+        layout
+    }
+
+    /// Lays out `set`'s legend from line top `y`, entries flowing left to
+    /// right and onto new lines; returns the top of what follows.
+    fn legend(&mut self, set: &PicturedSet, mut y: u32, room: f64) -> u32 {
+        let mut x = f64::from(MARGIN);
+        for (index, label) in set.legend.iter().enumerate() {
+            let label = fit(label, TEXT_PX, room - f64::from(SWATCH + SWATCH_GAP));
+            let entry = f64::from(SWATCH + SWATCH_GAP) + label_width(&label);
+            if x > f64::from(MARGIN) && x + entry > f64::from(MARGIN) + room {
+                x = f64::from(MARGIN);
+                y += LINE;
+            }
+            let color = MEMBER_COLORS[index % MEMBER_COLORS.len()];
+            self.swatches.push((x as i32, (y + 3) as i32, color));
+            self.texts.push(((x as u32 + SWATCH + SWATCH_GAP) as i32, y as i32, label));
+            x += entry + f64::from(ENTRY_GAP);
+        }
+        if set.legend.is_empty() { y } else { y + LINE }
+    }
+}
+
+/// The width of `text` at the overview's text size, figure pixels (the
+/// kerned layout the PNG is drawn with).
+pub fn label_width(text: &str) -> f64 {
+    f64::from(crate::output::figure::text_width(text, TEXT_PX))
+}
+
+/// `text` broken at spaces into lines no wider than `room` at `size`
+/// (a word wider than the room is cut to fit, see [`fit`]).
+fn wrap(text: &str, size: f64, room: f64) -> Vec<String> {
+    let width = |t: &str| f64::from(crate::output::figure::text_width(t, size));
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for word in text.split(' ') {
+        let candidate = if line.is_empty() { word.to_string() } else { format!("{line} {word}") };
+        if width(&candidate) <= room || line.is_empty() {
+            line = candidate;
+        } else {
+            lines.push(std::mem::take(&mut line));
+            line = word.to_string();
+        }
+    }
+    lines.push(line);
+    lines.into_iter().map(|line| fit(&line, size, room)).collect()
+}
+
+/// `text`, cut and ended with "…" where it is wider than `room` at `size`.
+fn fit(text: &str, size: f64, room: f64) -> String {
+    let width = |t: &str| f64::from(crate::output::figure::text_width(t, size));
+    if width(text) <= room {
+        return text.to_string();
+    }
+    let mut chars: Vec<char> = text.chars().collect();
+    while !chars.is_empty() && width(&format!("{}…", chars.iter().collect::<String>())) > room {
+        chars.pop();
+    }
+    format!("{}…", chars.into_iter().collect::<String>())
 }
 
 /// Copies a `size` picture into `sheet` (`sheet_w` wide) at `at`.
@@ -256,18 +382,33 @@ fn paste(sheet: &mut [u8], sheet_w: u32, picture: &[u8], size: (u32, u32), at: (
     }
 }
 
-/// Writes each row's caption when a font is found (a courtesy: the page and
-/// placement.json say the same).
-fn caption_rows(sheet: &mut [u8], (width, height): (u32, u32), captions: &[(i32, String)]) {
+/// Draws `texts` (kerned, at `size`) and the legend's `swatches` (each
+/// outlined) when a font is found (a courtesy: the page and placement.json
+/// say the same).
+fn draw_texts(
+    sheet: &mut [u8],
+    [width, height]: [u32; 2],
+    texts: &[(i32, i32, String)],
+    size: f64,
+    swatches: &[(i32, i32, [u8; 3])],
+) {
     use plotters::prelude::*;
     if !crate::output::plot_font_available() {
         return;
     }
-    let root = BitMapBackend::with_buffer(sheet, (width, height)).into_drawing_area();
-    let style = ("sans-serif", 15).into_font().color(&BLACK);
+    let backend = crate::output::figure::KernedBitmap(BitMapBackend::with_buffer(sheet, (width, height)));
+    let root = backend.into_drawing_area();
+    let style = ("sans-serif", size).into_font().color(&BLACK);
     let mut drawn: std::result::Result<(), _> = Ok(());
-    for (y, caption) in captions {
-        drawn = drawn.and(root.draw(&Text::new(caption.clone(), (6, *y), style.clone())));
+    for &(x, y, color) in swatches {
+        let corners = [(x, y), (x + SWATCH as i32, y + SWATCH as i32)];
+        let [r, g, b] = color;
+        drawn = drawn
+            .and(root.draw(&Rectangle::new(corners, RGBColor(r, g, b).filled())))
+            .and(root.draw(&Rectangle::new(corners, RGBColor(OUTLINE[0], OUTLINE[1], OUTLINE[2]))));
+    }
+    for (x, y, text) in texts {
+        drawn = drawn.and(root.draw(&Text::new(text.clone(), (*x, *y), style.clone())));
     }
     let _ = drawn.and(root.present());
 }
@@ -342,6 +483,83 @@ mod tests {
         assert!(disc < expected && disc > 0.5 * expected, "{disc} of {expected}");
     }
 
+    fn long_set() -> PicturedSet {
+        PicturedSet {
+            name: "patch-best-3".into(),
+            caption: format!(
+                "best patches, at most 3 displays (6 used): {}",
+                "front_bumper@x2.95y-0.76z0.46 ".repeat(8)
+            ),
+            marks: vec![Mark::Part("front".into()), Mark::Part("body".into())],
+            colors: vec![0, 1],
+            legend: vec![
+                "front".into(),
+                "windshield@x1.02y0.76z1.82 & windshield@x1.03y-0.76z1.82".into(),
+                "front_fender_right@x2.45y-1.00z0.65 ".repeat(9),
+            ],
+        }
+    }
+
+    #[test]
+    fn the_overview_caption_fits_and_every_view_is_named_and_every_member_in_the_legend() {
+        if !crate::output::plot_font_available() {
+            eprintln!("skipped: no font (set UFCSR_FONT)");
+            return;
+        }
+        let sets = [long_set(), long_set()];
+        let layout = OverviewLayout::new(&sets, [200, 150]);
+        let width = layout.size[0];
+        assert_eq!(width, 1600);
+        for (x, _, text) in &layout.texts {
+            let right = f64::from(*x) + label_width(text);
+            assert!(right <= f64::from(width - MARGIN), "{right} > {width}: {text}");
+        }
+        // The long caption was wrapped, not cut: every word is on some line.
+        let lines: Vec<&str> = layout.texts.iter().map(|(_, _, t)| t.as_str()).collect();
+        assert!(lines.iter().filter(|l| l.contains("front_bumper@")).count() >= 2, "{lines:?}");
+        assert!(lines.contains(&"front") && lines.iter().any(|l| l.starts_with("windshield@x1.02")));
+        // The over-long legend entry is cut with an ellipsis.
+        assert!(lines.iter().any(|l| l.starts_with("front_fender_right@") && l.ends_with('…')));
+        assert_eq!(layout.swatches.len(), 6, "a swatch per member per set");
+        assert_eq!(layout.swatches[1].2, MEMBER_COLORS[1]);
+        let names: Vec<&str> = layout.view_names.iter().map(|(_, _, n)| n.as_str()).collect();
+        assert_eq!(names.len(), 16);
+        assert_eq!(
+            &names[..8],
+            ["front", "front-left", "left", "rear-left", "rear", "rear-right", "right", "front-right"]
+        );
+        // Views start below their set's legend, rows do not overlap.
+        assert!(layout.views_y[1] >= layout.views_y[0] + 150);
+        assert_eq!(layout.size[1], layout.views_y[1] + 150);
+    }
+
+    #[test]
+    fn the_overview_draws_the_legend_swatches_and_the_direction_names() {
+        if !crate::output::plot_font_available() {
+            eprintln!("skipped: no font (set UFCSR_FONT)");
+            return;
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let sets = [long_set()];
+        let written = write_placement_picture(&cube(), &sets, dir.path()).unwrap();
+        let image = crate::png::rows::read_color_image(&written.overview, |_| Ok(())).unwrap();
+        let layout = OverviewLayout::new(&sets, [200, 150]);
+        assert_eq!([image.width, image.height], layout.size);
+        let at = |x: i32, y: i32| image.colors[y as usize * image.width as usize + x as usize];
+        let packed = |[r, g, b]: [u8; 3]| u32::from(r) << 16 | u32::from(g) << 8 | u32::from(b);
+        for &(x, y, color) in &layout.swatches {
+            assert_eq!(at(x + 6, y + 6), packed(color), "swatch at {x},{y}");
+        }
+        // Dark text pixels where each view's name is (the views are paper and grey there).
+        for (x, y, name) in &layout.view_names {
+            let dark = (0..60)
+                .flat_map(|dx| (0..14).map(move |dy| (x + dx, y + dy)))
+                .filter(|&(px, py)| at(px, py) & 0xFF < 100)
+                .count();
+            assert!(dark > 10, "no label {name} at {x},{y}");
+        }
+    }
+
     #[test]
     fn a_left_right_pair_shares_one_color() {
         use crate::format::placement::{CandidateKind, MemberRecord, Method};
@@ -371,6 +589,7 @@ mod tests {
         };
         let pictured = pictured_sets(&[set], &BTreeMap::new());
         assert_eq!(pictured[0].colors, vec![0, 0, 1]);
+        assert_eq!(pictured[0].legend, ["b_pillar_left & b_pillar_right", "grill"]);
         assert!(pictured[0].caption.contains("at most 3 displays (3 used)"), "{}", pictured[0].caption);
     }
 }

@@ -102,7 +102,16 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
     // Per-texel angular area is not kept in a result set: a merge shows
     // the paper's count in its heatmap and views.
     let texel_angular_area = None;
-    Ok(Analysis { result, texel_counts, timings, input_files, vehicle_model, frames, texel_angular_area, labels: None })
+    Ok(Analysis {
+        result,
+        texel_counts,
+        timings,
+        input_files,
+        vehicle_model,
+        frames,
+        texel_angular_area,
+        labels: None,
+    })
 }
 
 /// Every result's summary, and their per-texel counts added (saturating, as

@@ -180,7 +180,8 @@ fn per_texel_angular_area_adds_up_to_each_parts_angular_area() {
     ufcsr::write_results(&mut analysis, &out).unwrap();
     assert_eq!(image_size(&out.join("heatmap-area.png")), image_size(&out.join("heatmap.png")));
     let page = std::fs::read_to_string(out.join("report.html")).unwrap();
-    let area_section = page.find("The heatmap on the vehicle: angular area per texel").expect("views not area");
+    let area_section =
+        page.find("The heatmap on the vehicle: angular area per texel").expect("views not area");
     assert!(area_section < page.find("The heatmap texture (paper-compatible count)").unwrap());
     assert!(page.contains("src=\"heatmap-area.png\""));
 }

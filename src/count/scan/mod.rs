@@ -36,11 +36,11 @@ use std::path::Path;
 
 use crate::archive::palette::Fcsp;
 use crate::checks::neighbours::NeighbourSampler;
-use crate::count::texel_area::TexelSolidAngles;
-use crate::optics::solid_angle::TileView;
 use crate::color::{AtomicColorSet, SeenSet, color_key};
 use crate::count::part_lookup::{PartLookup, PartPixels, RowSpans};
+use crate::count::texel_area::TexelSolidAngles;
 use crate::error::{Error, Result};
+use crate::optics::solid_angle::TileView;
 use crate::png::rows::{PixelLayout, RowReader};
 use crate::simd::{Classes, FusedScan, RowTally, VectorScan};
 
@@ -742,7 +742,14 @@ pub fn scan_image_by_part(
     strays: &AtomicColorSet,
     parts: Option<(&PartLookup, &mut PartPixels)>,
 ) -> Result<ImageTally> {
-    scan_image_with(path, bytes, classifier, seen, strays, RowPasses { parts, neighbours: None, texel_area: None })
+    scan_image_with(
+        path,
+        bytes,
+        classifier,
+        seen,
+        strays,
+        RowPasses { parts, neighbours: None, texel_area: None },
+    )
 }
 
 /// The optional passes over each decoded row beside the counting kernel:
