@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 use crate::archive::VehicleModel;
 use crate::error::Result;
 use crate::format::placement::CombinationRecord;
+use crate::output::legend::{LEGEND_LINE, LEGEND_TEXT_PX, LegendEntry, TextLayout, draw_texts};
 use crate::output::{ViewCamera, ZBuffer, view_cameras};
 use crate::placement::footprints::{PatchFootprint, centre_in_name};
 use crate::placement::search::Objective;
@@ -228,7 +229,7 @@ pub fn write_placement_picture(
             paste(&mut sheet, sheet_w, &picture, (view_w, view_h), at);
             names.push(((at.0 + 6) as i32, (at.1 + 4) as i32, camera.name.to_string()));
         }
-        draw_texts(&mut sheet, [sheet_w, sheet_h], &names, TEXT_PX, &[]);
+        draw_texts(&mut sheet, [sheet_w, sheet_h], &names, LEGEND_TEXT_PX);
         let path = views_dir.join(format!("{}.png", set.name));
         crate::files::write_rgb_png(&path, [sheet_w, sheet_h], &sheet, png::Compression::Fast)?;
         views.push(path);
@@ -238,23 +239,15 @@ pub fn write_placement_picture(
             paste(&mut overview, width, &picture, (view_w / 2, view_h / 2), at);
         }
     }
-    draw_texts(&mut overview, layout.size, &layout.texts, TEXT_PX, &layout.swatches);
-    draw_texts(&mut overview, layout.size, &layout.view_names, VIEW_NAME_PX, &[]);
+    layout.text.draw(&mut overview, layout.size, LEGEND_TEXT_PX);
+    draw_texts(&mut overview, layout.size, &layout.view_names, VIEW_NAME_PX);
     let path = out.join(PLACEMENT_PICTURE_FILE);
     crate::files::write_rgb_png(&path, layout.size, &overview, png::Compression::Fast)?;
     Ok(WrittenPicture { overview: path, views })
 }
 
-/// Text size of captions and legends, plotters pixels (about 11 px capitals).
-pub const TEXT_PX: f64 = 15.0;
 /// Text size of the direction names in the overview's small views.
 const VIEW_NAME_PX: f64 = 13.0;
-/// Line height of captions and legends.
-const LINE: u32 = 20;
-/// Side of a legend swatch, and the gap after it and after each entry.
-const SWATCH: u32 = 12;
-const SWATCH_GAP: u32 = 5;
-const ENTRY_GAP: u32 = 18;
 /// Left and right margin of the overview's text.
 const MARGIN: u32 = 6;
 
@@ -264,10 +257,8 @@ const MARGIN: u32 = 6;
 #[derive(Debug, Clone, PartialEq)]
 pub struct OverviewLayout {
     pub size: [u32; 2],
-    /// Captions, key and legend labels: `(x, y of the line's top, text)`.
-    pub texts: Vec<(i32, i32, String)>,
-    /// Legend swatches: `(x, y, colour)` of a [`SWATCH`]-pixel square.
-    pub swatches: Vec<(i32, i32, [u8; 3])>,
+    /// Key, captions and legends ([`crate::output::legend`]).
+    pub text: TextLayout,
     /// Direction names of the small views: `(x, y, name)`.
     pub view_names: Vec<(i32, i32, String)>,
     /// Top of each set's row of views.
@@ -284,92 +275,31 @@ impl OverviewLayout {
     pub fn new(sets: &[PicturedSet], view: [u32; 2]) -> OverviewLayout {
         let width = view[0] * 8;
         let room = f64::from(width - 2 * MARGIN);
-        let mut layout = OverviewLayout {
-            size: [width, 0],
-            texts: Vec::new(),
-            swatches: Vec::new(),
-            view_names: Vec::new(),
-            views_y: Vec::new(),
-        };
-        let mut y = 4u32;
-        for line in wrap(OVERVIEW_KEY, TEXT_PX, room) {
-            layout.texts.push((MARGIN as i32, y as i32, line));
-            y += LINE;
-        }
+        let mut text = TextLayout::default();
+        let mut view_names = Vec::new();
+        let mut views_y = Vec::new();
+        let mut y = text.paragraph(OVERVIEW_KEY, MARGIN, 4, room);
         for set in sets {
-            y += LINE / 2;
-            for line in wrap(&set.caption, TEXT_PX, room) {
-                layout.texts.push((MARGIN as i32, y as i32, line));
-                y += LINE;
-            }
-            y = layout.legend(set, y, room);
-            layout.views_y.push(y);
+            y = text.paragraph(&set.caption, MARGIN, y + LEGEND_LINE / 2, room);
+            let entries: Vec<LegendEntry> = set
+                .legend
+                .iter()
+                .enumerate()
+                .map(|(i, label)| LegendEntry {
+                    color: MEMBER_COLORS[i % MEMBER_COLORS.len()],
+                    label: label.clone(),
+                })
+                .collect();
+            y = text.entries(&entries, MARGIN, y, room);
+            views_y.push(y);
             for (index, (name, _)) in crate::output::DIRECTIONS.iter().enumerate() {
                 let x = (index as u32 * view[0] + 4) as i32;
-                layout.view_names.push((x, (y + 2) as i32, (*name).to_string()));
+                view_names.push((x, (y + 2) as i32, (*name).to_string()));
             }
             y += view[1];
         }
-        layout.size[1] = y.max(1);
-        layout
+        OverviewLayout { size: [width, y.max(1)], text, view_names, views_y }
     }
-
-    /// Lays out `set`'s legend from line top `y`, entries flowing left to
-    /// right and onto new lines; returns the top of what follows.
-    fn legend(&mut self, set: &PicturedSet, mut y: u32, room: f64) -> u32 {
-        let mut x = f64::from(MARGIN);
-        for (index, label) in set.legend.iter().enumerate() {
-            let label = fit(label, TEXT_PX, room - f64::from(SWATCH + SWATCH_GAP));
-            let entry = f64::from(SWATCH + SWATCH_GAP) + label_width(&label);
-            if x > f64::from(MARGIN) && x + entry > f64::from(MARGIN) + room {
-                x = f64::from(MARGIN);
-                y += LINE;
-            }
-            let color = MEMBER_COLORS[index % MEMBER_COLORS.len()];
-            self.swatches.push((x as i32, (y + 3) as i32, color));
-            self.texts.push(((x as u32 + SWATCH + SWATCH_GAP) as i32, y as i32, label));
-            x += entry + f64::from(ENTRY_GAP);
-        }
-        if set.legend.is_empty() { y } else { y + LINE }
-    }
-}
-
-/// The width of `text` at the overview's text size, figure pixels (the
-/// kerned layout the PNG is drawn with).
-pub fn label_width(text: &str) -> f64 {
-    f64::from(crate::output::figure::text_width(text, TEXT_PX))
-}
-
-/// `text` broken at spaces into lines no wider than `room` at `size`
-/// (a word wider than the room is cut to fit, see [`fit`]).
-fn wrap(text: &str, size: f64, room: f64) -> Vec<String> {
-    let width = |t: &str| f64::from(crate::output::figure::text_width(t, size));
-    let mut lines: Vec<String> = Vec::new();
-    let mut line = String::new();
-    for word in text.split(' ') {
-        let candidate = if line.is_empty() { word.to_string() } else { format!("{line} {word}") };
-        if width(&candidate) <= room || line.is_empty() {
-            line = candidate;
-        } else {
-            lines.push(std::mem::take(&mut line));
-            line = word.to_string();
-        }
-    }
-    lines.push(line);
-    lines.into_iter().map(|line| fit(&line, size, room)).collect()
-}
-
-/// `text`, cut and ended with "…" where it is wider than `room` at `size`.
-fn fit(text: &str, size: f64, room: f64) -> String {
-    let width = |t: &str| f64::from(crate::output::figure::text_width(t, size));
-    if width(text) <= room {
-        return text.to_string();
-    }
-    let mut chars: Vec<char> = text.chars().collect();
-    while !chars.is_empty() && width(&format!("{}…", chars.iter().collect::<String>())) > room {
-        chars.pop();
-    }
-    format!("{}…", chars.into_iter().collect::<String>())
 }
 
 /// Copies a `size` picture into `sheet` (`sheet_w` wide) at `at`.
@@ -380,37 +310,6 @@ fn paste(sheet: &mut [u8], sheet_w: u32, picture: &[u8], size: (u32, u32), at: (
         let to = (((at.1 + y) * sheet_w + at.0) * 3) as usize;
         sheet[to..to + row_bytes].copy_from_slice(&picture[from..from + row_bytes]);
     }
-}
-
-/// Draws `texts` (kerned, at `size`) and the legend's `swatches` (each
-/// outlined) when a font is found (a courtesy: the page and placement.json
-/// say the same).
-fn draw_texts(
-    sheet: &mut [u8],
-    [width, height]: [u32; 2],
-    texts: &[(i32, i32, String)],
-    size: f64,
-    swatches: &[(i32, i32, [u8; 3])],
-) {
-    use plotters::prelude::*;
-    if !crate::output::plot_font_available() {
-        return;
-    }
-    let backend = crate::output::figure::KernedBitmap(BitMapBackend::with_buffer(sheet, (width, height)));
-    let root = backend.into_drawing_area();
-    let style = ("sans-serif", size).into_font().color(&BLACK);
-    let mut drawn: std::result::Result<(), _> = Ok(());
-    for &(x, y, color) in swatches {
-        let corners = [(x, y), (x + SWATCH as i32, y + SWATCH as i32)];
-        let [r, g, b] = color;
-        drawn = drawn
-            .and(root.draw(&Rectangle::new(corners, RGBColor(r, g, b).filled())))
-            .and(root.draw(&Rectangle::new(corners, RGBColor(OUTLINE[0], OUTLINE[1], OUTLINE[2]))));
-    }
-    for (x, y, text) in texts {
-        drawn = drawn.and(root.draw(&Text::new(text.clone(), (*x, *y), style.clone())));
-    }
-    let _ = drawn.and(root.present());
 }
 
 #[cfg(test)]
@@ -510,18 +409,18 @@ mod tests {
         let layout = OverviewLayout::new(&sets, [200, 150]);
         let width = layout.size[0];
         assert_eq!(width, 1600);
-        for (x, _, text) in &layout.texts {
-            let right = f64::from(*x) + label_width(text);
+        for (x, _, text) in &layout.text.texts {
+            let right = f64::from(*x) + crate::output::label_width(text);
             assert!(right <= f64::from(width - MARGIN), "{right} > {width}: {text}");
         }
         // The long caption was wrapped, not cut: every word is on some line.
-        let lines: Vec<&str> = layout.texts.iter().map(|(_, _, t)| t.as_str()).collect();
+        let lines: Vec<&str> = layout.text.texts.iter().map(|(_, _, t)| t.as_str()).collect();
         assert!(lines.iter().filter(|l| l.contains("front_bumper@")).count() >= 2, "{lines:?}");
         assert!(lines.contains(&"front") && lines.iter().any(|l| l.starts_with("windshield@x1.02")));
         // The over-long legend entry is cut with an ellipsis.
         assert!(lines.iter().any(|l| l.starts_with("front_fender_right@") && l.ends_with('…')));
-        assert_eq!(layout.swatches.len(), 6, "a swatch per member per set");
-        assert_eq!(layout.swatches[1].2, MEMBER_COLORS[1]);
+        assert_eq!(layout.text.swatches.len(), 6, "a swatch per member per set");
+        assert_eq!(layout.text.swatches[1].2, MEMBER_COLORS[1]);
         let names: Vec<&str> = layout.view_names.iter().map(|(_, _, n)| n.as_str()).collect();
         assert_eq!(names.len(), 16);
         assert_eq!(
@@ -547,8 +446,9 @@ mod tests {
         assert_eq!([image.width, image.height], layout.size);
         let at = |x: i32, y: i32| image.colors[y as usize * image.width as usize + x as usize];
         let packed = |[r, g, b]: [u8; 3]| u32::from(r) << 16 | u32::from(g) << 8 | u32::from(b);
-        for &(x, y, color) in &layout.swatches {
-            assert_eq!(at(x + 6, y + 6), packed(color), "swatch at {x},{y}");
+        for &(x, y, color) in &layout.text.swatches {
+            let (cx, cy) = crate::output::swatch_centre((x, y));
+            assert_eq!(at(cx, cy), packed(color), "swatch at {x},{y}");
         }
         // Dark text pixels where each view's name is (the views are paper and grey there).
         for (x, y, name) in &layout.view_names {
