@@ -7,15 +7,19 @@
 
 use crate::output::figure::{KernedBitmap, text_width};
 
-/// Text size of captions and legends, plotters pixels (about 11 px capitals).
+/// Text size of captions and legends on screen-sized pictures, plotters
+/// pixels (about 11 px capitals).
 pub const LEGEND_TEXT_PX: f64 = 15.0;
-/// Line height of captions and legends, pixels.
+/// Line height of captions and legends at [`LEGEND_TEXT_PX`], pixels.
 pub const LEGEND_LINE: u32 = 20;
-/// Side of a legend swatch, and the gaps after it and after each entry.
-const SWATCH: u32 = 12;
-const SWATCH_GAP: u32 = 5;
-const ENTRY_GAP: u32 = 18;
 const INK: [u8; 3] = [20, 20, 20];
+
+/// The plotters text size that prints at `points` when a picture
+/// `width_px` wide is printed `width_mm` wide (plotters draws size `s` at
+/// an em of `s / 1.24` pixels, see [`crate::output::figure::pt`]).
+pub fn text_px_for(points: f64, width_px: u32, width_mm: f64) -> f64 {
+    points * crate::output::figure::MM_PER_PT / width_mm * f64::from(width_px) * 1.24
+}
 
 /// One legend entry: a colour and what it means.
 #[derive(Debug, Clone, PartialEq)]
@@ -24,23 +28,52 @@ pub struct LegendEntry {
     pub label: String,
 }
 
-/// Texts and swatches placed on a picture.
-#[derive(Debug, Clone, Default, PartialEq)]
+/// Texts and swatches placed on a picture, at one text size.
+#[derive(Debug, Clone, PartialEq)]
 pub struct TextLayout {
-    /// `(x, y of the line's top, text)`, drawn at [`LEGEND_TEXT_PX`].
+    /// Plotters text size ([`LEGEND_TEXT_PX`] on screen-sized pictures).
+    pub size: f64,
+    /// `(x, y of the line's top, text)`.
     pub texts: Vec<(i32, i32, String)>,
-    /// `(x, y, colour)` of a swatch square.
+    /// `(x, y, colour)` of a swatch square ([`TextLayout::swatch`] pixels).
     pub swatches: Vec<(i32, i32, [u8; 3])>,
 }
 
 impl TextLayout {
+    /// An empty layout for text of plotters size `size`.
+    pub fn new(size: f64) -> TextLayout {
+        TextLayout { size, texts: Vec::new(), swatches: Vec::new() }
+    }
+
+    /// Line height, pixels (4/3 of the size: [`LEGEND_LINE`] at 15).
+    pub fn line(&self) -> u32 {
+        (self.size * 4.0 / 3.0).round() as u32
+    }
+
+    /// Side of a swatch, pixels (12 at 15).
+    pub fn swatch(&self) -> u32 {
+        (self.size * 0.8).round() as u32
+    }
+
+    /// The kerned width of `text` at this size, pixels (0 without a font).
+    pub fn width(&self, text: &str) -> f64 {
+        f64::from(text_width(text, self.size))
+    }
+
+    /// The middle of swatch `index`, where its colour shows.
+    pub fn swatch_centre(&self, index: usize) -> (i32, i32) {
+        let (x, y, _) = self.swatches[index];
+        let half = (self.swatch() / 2) as i32;
+        (x + half, y + half)
+    }
+
     /// Wraps `text` to `room` pixels from `(x, y)`; returns the top of
     /// the line after it.
     pub fn paragraph(&mut self, text: &str, x: u32, y: u32, room: f64) -> u32 {
         let mut y = y;
-        for line in wrap(text, LEGEND_TEXT_PX, room) {
+        for line in wrap(text, self.size, room) {
             self.texts.push((x as i32, y as i32, line));
-            y += LEGEND_LINE;
+            y += self.line();
         }
         y
     }
@@ -50,28 +83,30 @@ impl TextLayout {
     /// "…"); returns the top of the line after them.
     pub fn entries(&mut self, entries: &[LegendEntry], x0: u32, y: u32, room: f64) -> u32 {
         let (left, mut y) = (f64::from(x0), y);
+        let (swatch, gap, entry_gap) = (self.swatch(), self.swatch() / 2 - 1, self.swatch() * 3 / 2);
         let mut x = left;
         for entry in entries {
-            let label = fit(&entry.label, LEGEND_TEXT_PX, room - f64::from(SWATCH + SWATCH_GAP));
-            let width = f64::from(SWATCH + SWATCH_GAP) + label_width(&label);
+            let label = fit(&entry.label, self.size, room - f64::from(swatch + gap));
+            let width = f64::from(swatch + gap) + self.width(&label);
             if x > left && x + width > left + room {
                 x = left;
-                y += LEGEND_LINE;
+                y += self.line();
             }
-            self.swatches.push((x as i32, (y + 3) as i32, entry.color));
-            self.texts.push(((x as u32 + SWATCH + SWATCH_GAP) as i32, y as i32, label));
-            x += width + f64::from(ENTRY_GAP);
+            self.swatches.push((x as i32, (y + self.line() / 7) as i32, entry.color));
+            self.texts.push(((x as u32 + swatch + gap) as i32, y as i32, label));
+            x += width + f64::from(entry_gap);
         }
-        if entries.is_empty() { y } else { y + LEGEND_LINE }
+        if entries.is_empty() { y } else { y + self.line() }
     }
 
     /// Draws the swatches (outlined) and, when a font is found, the texts
-    /// at `size` onto `rgb` (`[width, height]`).
-    pub fn draw(&self, rgb: &mut [u8], [width, height]: [u32; 2], size: f64) {
+    /// onto `rgb` (`[width, height]`).
+    pub fn draw(&self, rgb: &mut [u8], [width, height]: [u32; 2]) {
+        let side = self.swatch() as i32;
         for &(x, y, color) in &self.swatches {
-            for dy in 0..SWATCH as i32 {
-                for dx in 0..SWATCH as i32 {
-                    let edge = dx == 0 || dy == 0 || dx + 1 == SWATCH as i32 || dy + 1 == SWATCH as i32;
+            for dy in 0..side {
+                for dx in 0..side {
+                    let edge = dx == 0 || dy == 0 || dx + 1 == side || dy + 1 == side;
                     let (px, py) = (x + dx, y + dy);
                     if px >= 0 && py >= 0 && (px as u32) < width && (py as u32) < height {
                         let i = (py as usize * width as usize + px as usize) * 3;
@@ -80,19 +115,8 @@ impl TextLayout {
                 }
             }
         }
-        draw_texts(rgb, [width, height], &self.texts, size);
+        draw_texts(rgb, [width, height], &self.texts, self.size);
     }
-}
-
-/// The middle of a swatch placed at `(x, y)`, where its colour shows.
-pub fn swatch_centre((x, y): (i32, i32)) -> (i32, i32) {
-    (x + SWATCH as i32 / 2, y + SWATCH as i32 / 2)
-}
-
-/// The width of `text` at [`LEGEND_TEXT_PX`], figure pixels (the kerned
-/// layout the pictures are drawn with; 0 without a font).
-pub fn label_width(text: &str) -> f64 {
-    f64::from(text_width(text, LEGEND_TEXT_PX))
 }
 
 /// `text` broken at spaces into lines no wider than `room` at `size` (a
@@ -157,8 +181,8 @@ mod tests {
         let lines = wrap(text, LEGEND_TEXT_PX, 300.0);
         assert!(lines.len() >= 2, "{lines:?}");
         assert_eq!(lines.join(" "), text, "wrapping loses no word");
-        assert!(lines.iter().all(|l| label_width(l) <= 300.0));
-        let mut layout = TextLayout::default();
+        let mut layout = TextLayout::new(LEGEND_TEXT_PX);
+        assert!(lines.iter().all(|l| layout.width(l) <= 300.0));
         let entries: Vec<LegendEntry> = ["door", "a_very_long_part_name_that_is_wider_than_the_room_given"]
             .iter()
             .map(|l| LegendEntry { color: [200, 0, 0], label: l.to_string() })
@@ -166,6 +190,8 @@ mod tests {
         let next = layout.entries(&entries, 6, 10, 200.0);
         assert_eq!(next, 10 + 2 * LEGEND_LINE, "the long entry goes onto its own line");
         assert!(layout.texts[1].2.ends_with('…'));
-        assert!(layout.texts.iter().all(|(x, _, t)| f64::from(*x) + label_width(t) <= 206.0));
+        assert!(layout.texts.iter().all(|(x, _, t)| f64::from(*x) + layout.width(t) <= 206.0));
+        // 7 pt at 183 mm on a 1600-pixel picture: plotters size 26.8.
+        assert!((text_px_for(7.0, 1600, 183.0) - 26.77).abs() < 0.01);
     }
 }

@@ -40,7 +40,7 @@ pub use html::{
     ComparisonOptions, NEEDS_ITS_FOLDER, OWN_SCALES, QUOTED_HEADING, RANKED_HEADING, SHARED_SCALE,
     write_comparison, write_comparison_with,
 };
-pub use legend::{LEGEND_LINE, LEGEND_TEXT_PX, LegendEntry, TextLayout, label_width, swatch_centre};
+pub use legend::{LEGEND_LINE, LEGEND_TEXT_PX, LegendEntry, TextLayout, text_px_for};
 pub use plots::{PlotText, font_available as plot_font_available};
 pub use raster::ZBuffer;
 pub use result_set::{MAP_FILE, ResultSetOptions, default_output_dir, write_results, write_results_with};

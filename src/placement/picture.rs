@@ -21,7 +21,8 @@ use std::path::{Path, PathBuf};
 use crate::archive::VehicleModel;
 use crate::error::Result;
 use crate::format::placement::CombinationRecord;
-use crate::output::legend::{LEGEND_LINE, LEGEND_TEXT_PX, LegendEntry, TextLayout, draw_texts};
+use crate::output::figure::{FigureSize, MIN_TEXT_PT};
+use crate::output::legend::{LEGEND_TEXT_PX, LegendEntry, TextLayout, draw_texts, text_px_for};
 use crate::output::{ViewCamera, ZBuffer, view_cameras};
 use crate::placement::footprints::{PatchFootprint, centre_in_name};
 use crate::placement::search::Objective;
@@ -193,6 +194,8 @@ fn outline(rgb: &mut [u8], owner: &[u8], width: usize) {
 pub struct WrittenPicture {
     pub overview: PathBuf,
     pub views: Vec<PathBuf>,
+    /// `placement.pdf`: the overview at two journal columns (183 mm).
+    pub pdf: PathBuf,
 }
 
 /// Writes `out/placement.png` and `out/placement-views/NAME.png` for `sets`.
@@ -239,15 +242,24 @@ pub fn write_placement_picture(
             paste(&mut overview, width, &picture, (view_w / 2, view_h / 2), at);
         }
     }
-    layout.text.draw(&mut overview, layout.size, LEGEND_TEXT_PX);
-    draw_texts(&mut overview, layout.size, &layout.view_names, VIEW_NAME_PX);
+    layout.text.draw(&mut overview, layout.size);
+    draw_texts(&mut overview, layout.size, &layout.view_names, layout.text.size);
     let path = out.join(PLACEMENT_PICTURE_FILE);
     crate::files::write_rgb_png(&path, layout.size, &overview, png::Compression::Fast)?;
-    Ok(WrittenPicture { overview: path, views })
+    let pdf = out.join(PLACEMENT_PDF_FILE);
+    let title = "The chosen eHMI placements on the vehicle";
+    crate::output::pdf::write_image_pdf(
+        &pdf,
+        &overview,
+        layout.size,
+        FigureSize::TwoColumns.width_mm(),
+        title,
+    )?;
+    Ok(WrittenPicture { overview: path, views, pdf })
 }
 
-/// Text size of the direction names in the overview's small views.
-const VIEW_NAME_PX: f64 = 13.0;
+/// The overview as a PDF, printed two journal columns (183 mm) wide.
+pub const PLACEMENT_PDF_FILE: &str = "placement.pdf";
 /// Left and right margin of the overview's text.
 const MARGIN: u32 = 6;
 
@@ -275,12 +287,16 @@ impl OverviewLayout {
     pub fn new(sets: &[PicturedSet], view: [u32; 2]) -> OverviewLayout {
         let width = view[0] * 8;
         let room = f64::from(width - 2 * MARGIN);
-        let mut text = TextLayout::default();
+        // Text at least 7 pt where the picture is printed two columns wide
+        // (placement.pdf), never under the screen size.
+        let size =
+            text_px_for(MIN_TEXT_PT, width, FigureSize::TwoColumns.width_mm()).max(LEGEND_TEXT_PX).ceil();
+        let mut text = TextLayout::new(size);
         let mut view_names = Vec::new();
         let mut views_y = Vec::new();
         let mut y = text.paragraph(OVERVIEW_KEY, MARGIN, 4, room);
         for set in sets {
-            y = text.paragraph(&set.caption, MARGIN, y + LEGEND_LINE / 2, room);
+            y = text.paragraph(&set.caption, MARGIN, y + text.line() / 2, room);
             let entries: Vec<LegendEntry> = set
                 .legend
                 .iter()
@@ -410,7 +426,7 @@ mod tests {
         let width = layout.size[0];
         assert_eq!(width, 1600);
         for (x, _, text) in &layout.text.texts {
-            let right = f64::from(*x) + crate::output::label_width(text);
+            let right = f64::from(*x) + layout.text.width(text);
             assert!(right <= f64::from(width - MARGIN), "{right} > {width}: {text}");
         }
         // The long caption was wrapped, not cut: every word is on some line.
@@ -446,14 +462,23 @@ mod tests {
         assert_eq!([image.width, image.height], layout.size);
         let at = |x: i32, y: i32| image.colors[y as usize * image.width as usize + x as usize];
         let packed = |[r, g, b]: [u8; 3]| u32::from(r) << 16 | u32::from(g) << 8 | u32::from(b);
-        for &(x, y, color) in &layout.text.swatches {
-            let (cx, cy) = crate::output::swatch_centre((x, y));
+        for (index, &(x, y, color)) in layout.text.swatches.iter().enumerate() {
+            let (cx, cy) = layout.text.swatch_centre(index);
             assert_eq!(at(cx, cy), packed(color), "swatch at {x},{y}");
         }
+        // placement.pdf: the picture at 183 mm, its text at least 7 pt there.
+        let pdf = std::fs::read(&written.pdf).unwrap();
+        assert!(pdf.starts_with(b"%PDF-1.4") && pdf.ends_with(b"%%EOF\n"));
+        assert!(
+            String::from_utf8_lossy(&pdf)
+                .contains(&format!("/Width {} /Height {}", image.width, image.height))
+        );
+        let em_mm = layout.text.size / 1.24 / f64::from(image.width) * 183.0;
+        assert!(em_mm / crate::output::figure::MM_PER_PT >= 7.0, "{em_mm} mm");
         // Dark text pixels where each view's name is (the views are paper and grey there).
         for (x, y, name) in &layout.view_names {
             let dark = (0..60)
-                .flat_map(|dx| (0..14).map(move |dy| (x + dx, y + dy)))
+                .flat_map(|dx| (0..20).map(move |dy| (x + dx, y + dy)))
                 .filter(|&(px, py)| at(px, py) & 0xFF < 100)
                 .count();
             assert!(dark > 10, "no label {name} at {x},{y}");

@@ -206,7 +206,7 @@ pub fn with_legend(
 ) -> (Vec<u8>, [u32; 2], TextLayout) {
     let wide = width.max(LEGEND_MIN_WIDTH);
     let room = f64::from(wide - 16);
-    let mut layout = TextLayout::default();
+    let mut layout = TextLayout::new(LEGEND_TEXT_PX);
     let y = layout.paragraph(title, 8, height + 6, room);
     let tall = layout.entries(entries, 8, y, room) + 6;
     let mut out = PAPER.repeat((wide * tall) as usize);
@@ -215,7 +215,7 @@ pub fn with_legend(
         let to = y * wide as usize * 3;
         out[to..to + row].copy_from_slice(&rgb[y * row..(y + 1) * row]);
     }
-    layout.draw(&mut out, [wide, tall], LEGEND_TEXT_PX);
+    layout.draw(&mut out, [wide, tall]);
     (out, [wide, tall], layout)
 }
 
@@ -287,13 +287,12 @@ mod tests {
         assert_eq!(at(MARGIN as i32 + 5, MARGIN as i32 + 5), [200, 0, 0]);
         // A swatch in each part's colour, below the drawing, and its name.
         assert_eq!(layout.swatches.len(), mesh.parts.len());
-        for ((x, y, color), (part, expected)) in layout.swatches.iter().zip(mesh.parts.iter().zip(&colors)) {
-            assert!(*y as u32 >= canvas.height);
-            assert_eq!(
-                at(ufcsr::swatch_centre((*x, *y)).0, ufcsr::swatch_centre((*x, *y)).1),
-                expected.rgb()
-            );
-            assert_eq!(*color, expected.rgb());
+        for (index, (part, expected)) in mesh.parts.iter().zip(&colors).enumerate() {
+            let (_, y, color) = layout.swatches[index];
+            assert!(y as u32 >= canvas.height);
+            assert_eq!(color, expected.rgb());
+            let (cx, cy) = layout.swatch_centre(index);
+            assert_eq!(at(cx, cy), expected.rgb());
             assert!(layout.texts.iter().any(|(_, _, t)| t == part), "{part} not in the legend");
         }
     }
