@@ -21,7 +21,7 @@ use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::html::report_page::ScenarioPage;
 use crate::output::plots::{PLOTS_DIR, Plot, font_available, plot_file_names, write_plots};
 use crate::output::scenario_map::{MapContent, SceneShapes, write_scenario_map};
-use crate::output::view_sheet::write_views;
+use crate::output::view_sheet::{VIEWS_PDF_FILE, write_views};
 use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
 use crate::result::model::Analysis;
@@ -39,10 +39,12 @@ fn output_paths(files: &WrittenFiles) -> Vec<PathBuf> {
         Some(&files.result_json),
         files.parts_csv.as_ref(),
         Some(&files.heatmap_png),
+        files.heatmap_area_png.as_ref(),
         Some(&files.timings_json),
         files.heatmap_glb.as_ref(),
         Some(&files.report_html),
         files.views_png.as_ref(),
+        files.views_pdf.as_ref(),
         files.frames_csv.as_ref(),
         files.map_png.as_ref(),
         files.frames_strip_png.as_ref(),
@@ -117,6 +119,7 @@ pub fn result_set_members() -> Vec<String> {
         "heatmap.glb",
         "report.html",
         "views.png",
+        VIEWS_PDF_FILE,
         MAP_FILE,
         FRAME_STRIP_FILE,
     ]
@@ -140,6 +143,7 @@ fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
         heatmap_glb: analysis.vehicle_model.as_ref().map(|_| out_dir.join("heatmap.glb")),
         report_html: out_dir.join("report.html"),
         views_png: analysis.vehicle_model.as_ref().map(|_| out_dir.join("views.png")),
+        views_pdf: analysis.vehicle_model.as_ref().map(|_| out_dir.join(VIEWS_PDF_FILE)),
         frames_csv: analysis.frames.as_ref().map(|_| out_dir.join(FRAMES_FILE)),
         map_png: analysis.result.settings.manifest.then(|| out_dir.join(MAP_FILE)),
         frames_strip_png: analysis.result.settings.manifest.then(|| out_dir.join(FRAME_STRIP_FILE)),

@@ -23,6 +23,8 @@ pub struct WrittenFiles {
     pub report_html: PathBuf,
     /// `views.png`, the contact sheet of the eight views (with a vehicle model).
     pub views_png: Option<PathBuf>,
+    /// `views.pdf`, the contact sheet for a paper (183 mm wide), beside it.
+    pub views_pdf: Option<PathBuf>,
     /// `frames.csv`, when frames were tallied.
     pub frames_csv: Option<PathBuf>,
     /// `map.png`, the scenario from above (with a manifest that places the vehicle).
@@ -45,6 +47,7 @@ impl WrittenFiles {
         files.extend(self.frames_csv.clone());
         files.extend(self.heatmap_glb.clone());
         files.extend(self.views_png.clone());
+        files.extend(self.views_pdf.clone());
         files.extend(self.map_png.clone());
         files.extend(self.frames_strip_png.clone());
         files.push(self.report_html.clone());

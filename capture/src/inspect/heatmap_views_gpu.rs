@@ -120,6 +120,7 @@ pub fn views_from_results(
     let mut outputs: Vec<String> =
         ufcsr::DIRECTIONS.iter().map(|(name, _)| format!("views/{name}.png")).collect();
     outputs.push("views.png".into());
+    outputs.push("views.pdf".into());
     crate::job::overwrite_guard::refuse_overwriting_inputs(
         &out,
         &outputs.iter().map(String::as_str).collect::<Vec<_>>(),

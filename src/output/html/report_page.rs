@@ -463,6 +463,7 @@ fn files(page: &mut String, inputs: &PageInputs) {
         Some(&files.timings_json),
         files.frames_csv.as_ref(),
         files.views_png.as_ref(),
+        files.views_pdf.as_ref(),
         files.map_png.as_ref(),
         files.frames_strip_png.as_ref(),
     ];
@@ -536,6 +537,7 @@ mod tests {
             parts_csv: None,
             heatmap_png: "heatmap.png".into(),
             heatmap_area_png: None,
+            views_pdf: None,
             timings_json: "timings.json".into(),
             heatmap_glb: None,
             report_html: "report.html".into(),
