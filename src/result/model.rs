@@ -85,8 +85,9 @@ pub struct Analysis {
     /// texel (its pixels' solid angles × seconds per frame / eyes), so the
     /// texels of a part add up to the part's. The default heatmap
     /// (`heatmap-area.png`) and the views show it; `None` without the eyes'
-    /// projection or fps, without [`AnalyzeOptions::frames`], and for a
-    /// merge (not kept in the result set).
+    /// projection or fps, without [`AnalyzeOptions::frames`], for a merge
+    /// (not kept in the result set) and for tiles counted in memory (the
+    /// capture's `--count`, [`crate::analyze_counted`]: not yet tallied).
     pub texel_angular_area: Option<Vec<f32>>,
     /// The legend and PIdT the counts were joined with, for the figures
     /// drawn after (the frame strip), so they are not read again; `None`
