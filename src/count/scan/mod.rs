@@ -795,6 +795,8 @@ fn scan_rows(
     let layout = reader.layout();
     let scan = row_scan(layout, classifier);
     let mut parts = parts.map(|(lookup, tally)| PartRows::new(scan, layout, classifier, lookup, tally));
+    let size = [reader.width(), reader.height()];
+    let texel_area = texel_area.and_then(|(sums, view)| Some((sums, sums.pixel_weights(&view, size)?)));
     let mut by_class = [0u64; 3];
     let mut y = 0;
     while let Some(row) = reader.next_row()? {
@@ -805,8 +807,10 @@ fn scan_rows(
         if let Some(sampler) = neighbours.as_mut() {
             sampler.row(y, row, layout);
         }
-        if let Some((sums, view)) = &texel_area {
-            sums.add_row(row, layout, view, y);
+        if let Some((sums, weights)) = &texel_area {
+            let width = size[0] as usize;
+            let start = (y as usize * width).min(weights.len());
+            sums.add_row(row, layout, &weights[start..(start + width).min(weights.len())]);
         }
         y += 1;
     }
