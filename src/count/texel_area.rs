@@ -53,8 +53,12 @@ pub struct TexelSolidAngles {
     backgrounds: Vec<u32>,
     /// Per tile position and size, every pixel's solid angle (sr), rows top
     /// to bottom ([`TexelSolidAngles::pixel_weights`]).
-    weights: Mutex<HashMap<([u32; 2], [u32; 2]), Arc<Vec<f32>>>>,
+    weights: Mutex<HashMap<TilePlace, Arc<Vec<f32>>>>,
 }
+
+/// A tile position in its eye and its size in pixels: what a table of
+/// pixel solid angles is for.
+type TilePlace = ([u32; 2], [u32; 2]);
 
 /// Every pixel's solid angle (sr) of an image of `size` pixels lying at
 /// `view` in its eye, rows top to bottom: each the difference of its two
