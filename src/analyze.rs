@@ -51,7 +51,8 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
 
     let stage = Instant::now();
     let job = CountJob { options, inputs: &inputs, plan: &plan, classifier: &classifier, progress };
-    let (counted, frame_tallies) = count_images(&job);
+    let (counted, mut frame_tallies) = count_images(&job);
+    let texel_sr = frame_tallies.as_mut().and_then(|tallies| tallies.texel_solid_angle_sr.take());
     let frames = frame_tallies.map(|tallies| frame_table(tallies, &inputs, options.shard));
     timings.count_seconds = stage.elapsed().as_secs_f64();
 
@@ -62,6 +63,7 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
         analysis.result.measures = Some(Measures::from_frames(frames, &inputs.clock));
     }
     analysis.frames = frames;
+    analysis.texel_angular_area = texel_sr.and_then(|sr| Measures::texel_angular_areas(&sr, &inputs.clock));
     Ok(analysis)
 }
 
@@ -124,7 +126,11 @@ fn counted_frame_table(tallies: PartTallies, inputs: &crate::archive::resolve::I
             FrameRecord::from_parts(label, pixels, texels, weighted)
         })
         .collect();
-    frame_table(FrameTallies { parts: tallies.lookup.names, records }, inputs, None)
+    frame_table(
+        FrameTallies { parts: tallies.lookup.names, records, texel_solid_angle_sr: None },
+        inputs,
+        None,
+    )
 }
 
 /// A result for per-texel counts measured some other way than by counting

@@ -3,12 +3,14 @@
 //! ([`scan`], with AVX2 and AVX-512 versions held to the portable one's
 //! answers), per-colour counts, trimming of empty tiles, tallies by part
 //! ([`part_lookup`], pixels weighted by their solid angle) and the counter for tiles held in memory
-//! ([`TileCounter`], the capture's `--count`).
+//! ([`TileCounter`], the capture's `--count`) and the solid angle each
+//! texel subtends summed over the images ([`texel_area`], the default heatmap's measure).
 
 pub(crate) mod counts;
 pub(crate) mod part_lookup;
 pub(crate) mod scan;
 pub(crate) mod slot_table;
+pub(crate) mod texel_area;
 pub(crate) mod tile_counter;
 pub(crate) mod trim;
 pub(crate) mod work;

@@ -261,7 +261,7 @@ impl SlotSpans for RowSpans<'_> {
 /// a run of background or of a magnified texel costs a few word compares, not
 /// one per pixel, and the runs are exactly those a pixel-by-pixel comparison
 /// gives (the solid-angle sums depend on where runs end).
-struct Runs<'r, const BYTES: usize, const GRAY: bool> {
+pub(crate) struct Runs<'r, const BYTES: usize, const GRAY: bool> {
     row: &'r [u8],
     /// Pixels in the row.
     pixels: usize,
@@ -279,7 +279,7 @@ impl<'r, const BYTES: usize, const GRAY: bool> Runs<'r, BYTES, GRAY> {
         _ => u128::MAX,
     };
 
-    fn new(row: &'r [u8]) -> Self {
+    pub(crate) fn new(row: &'r [u8]) -> Self {
         Runs { row, pixels: row.len() / BYTES, next: 0 }
     }
 

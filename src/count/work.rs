@@ -20,6 +20,7 @@ use crate::color::sets::{AtomicColorSet, SeenSet};
 use crate::count::counts::Counts;
 use crate::count::part_lookup::{FrameLabel, FrameRecord, PartLookup, PartPixels};
 use crate::count::scan::{Classifier, ImageTally, RowPasses, scan_image_with};
+use crate::count::texel_area::TexelSolidAngles;
 use crate::count::trim::TrimPlan;
 use crate::error::Error;
 use crate::png::rows::read_file;
@@ -39,6 +40,11 @@ pub(crate) struct FrameTallies {
     /// Part names ([`PartLookup::names`]).
     pub parts: Vec<String>,
     pub records: Vec<FrameRecord>,
+    /// Per texel, the solid angle (sr) its pixels subtended, summed over the
+    /// images counted, when the eyes' projection is known. A failed image's
+    /// rows read before the failure stay in it (the result is incomplete
+    /// then anyway, and says so).
+    pub texel_solid_angle_sr: Option<Vec<f64>>,
 }
 
 /// Everything the workers share while counting: the job, and the counts and
@@ -51,6 +57,8 @@ struct Workers<'a> {
     image_counts: Counts,
     frame_counts: Option<Counts>,
     strays: AtomicColorSet,
+    /// Per-texel solid angles, when frames are tallied and the projection known.
+    texel_area: Option<TexelSolidAngles>,
     /// Set by the first failure (`--strict` skips the rest).
     stop: AtomicBool,
 }
@@ -81,6 +89,8 @@ pub(crate) fn count_images(job: &CountJob) -> (CountedImages, Option<FrameTallie
         image_counts: Counts::new(),
         frame_counts: inputs.dedupe.per_frame().then(Counts::new),
         strays: AtomicColorSet::new(),
+        texel_area: (options.frames && inputs.optics.is_some())
+            .then(|| TexelSolidAngles::new(&inputs.palette, job.classifier.backgrounds())),
         stop: AtomicBool::new(false),
     };
     // Per worker thread a 2 MiB set for the image, one for the eye-frame
@@ -130,8 +140,9 @@ pub(crate) fn count_images(job: &CountJob) -> (CountedImages, Option<FrameTallie
         }
         sum
     });
-    let Workers { lookup, image_counts, frame_counts, strays, .. } = workers;
-    let frames = lookup.map(|lookup| FrameTallies { parts: lookup.names, records });
+    let Workers { lookup, image_counts, frame_counts, strays, texel_area, .. } = workers;
+    let texel_solid_angle_sr = texel_area.map(TexelSolidAngles::into_sr);
+    let frames = lookup.map(|lookup| FrameTallies { parts: lookup.names, records, texel_solid_angle_sr });
     (CountedImages { outcomes: by_image, image_counts, frame_counts, strays, neighbours }, frames)
 }
 
@@ -192,12 +203,14 @@ impl Workers<'_> {
                 outcomes.push((index, Outcome::Skipped));
                 continue;
             }
+            let view = optics.zip(job.inputs.archive.images[index].tile).map(|(o, tile)| o.view(tile));
             if let Some(image) = image_pixels.as_mut() {
-                image.view = optics.zip(job.inputs.archive.images[index].tile).map(|(o, tile)| o.view(tile));
+                image.view = view;
             }
             let parts = lookup.zip(image_pixels.as_mut());
             let sampled = neighbours.as_ref().map(|n| n.sample);
-            let passes = RowPasses { parts, neighbours: neighbours.as_mut() };
+            let texel_area = self.texel_area.as_ref().zip(view);
+            let passes = RowPasses { parts, neighbours: neighbours.as_mut(), texel_area };
             let outcome =
                 count_one(index, &job.inputs.archive, job.plan, job.classifier, seen, &self.strays, passes);
             if let (Some(sampler), Some(sampled), Outcome::Failed(_)) =

@@ -69,6 +69,50 @@ pub fn render(texel_counts: &[u32], width: u32, options: HeatmapOptions) -> Vec<
     rgb
 }
 
+/// Per-texel angular area (deg²·s) as whole levels the count painters take:
+/// `level = round(value / quantum)`, at least 1 for any value above 0 (a
+/// texel seen a little is not painted as never seen). The quantum is a
+/// power of ten putting the largest value between 10⁴ and 10⁵ levels, so the
+/// colour bar's round ticks in levels are round values, and the rounding
+/// (≤ half a quantum, under 5·10⁻⁵ of the largest value) is far below one
+/// colour step of the 256 the PNG holds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AreaLevels {
+    pub levels: Vec<u32>,
+    /// Value (deg²·s) of one level.
+    pub quantum: f64,
+}
+
+impl AreaLevels {
+    /// The levels of `values` (deg²·s per texel; NaN and values ≤ 0 as 0).
+    pub fn new(values: &[f32]) -> AreaLevels {
+        let largest = values
+            .par_iter()
+            .copied()
+            .filter(|v| v.is_finite())
+            .fold(|| 0f32, f32::max)
+            .reduce(|| 0f32, f32::max);
+        let quantum =
+            if largest > 0.0 { 10f64.powf((f64::from(largest)).log10().floor() - 4.0) } else { 1.0 };
+        let levels =
+            values
+                .par_iter()
+                .map(|&v| {
+                    if v > 0.0 && v.is_finite() {
+                        ((f64::from(v) / quantum).round() as u32).max(1)
+                    } else {
+                        0
+                    }
+                })
+                .collect();
+        AreaLevels { levels, quantum }
+    }
+}
+
+/// The per-texel angular-area heatmap's file name (the default heatmap;
+/// `heatmap.png` keeps the paper's count).
+pub const AREA_HEATMAP_FILE: &str = "heatmap-area.png";
+
 /// The largest count painted through the colour table (3 MiB of it).
 const TABLE_LIMIT: u32 = 1 << 20;
 
@@ -98,6 +142,15 @@ mod tests {
         // Plasma runs from dark blue-violet to yellow.
         assert!(plasma(0.0)[2] > plasma(0.0)[0] && plasma(1.0)[0] > 200 && plasma(1.0)[1] > 200);
         assert!((position(3, 15, Scale::Log) - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn area_levels_keep_round_ticks_and_never_paint_a_seen_texel_as_unseen() {
+        let levels = AreaLevels::new(&[0.0, 0.0137, 1e-9, f32::NAN, -1.0, 0.00685]);
+        // Largest 0.0137 → quantum 1e-6: 13 700 levels.
+        assert!((levels.quantum - 1e-6).abs() < 1e-18, "{}", levels.quantum);
+        assert_eq!(levels.levels, [0, 13_700, 1, 0, 0, 6_850]);
+        assert_eq!(AreaLevels::new(&[0.0]).levels, [0]);
     }
 
     #[test]

@@ -160,6 +160,10 @@ pub struct ViewTexture<'a> {
     pub caption: String,
     /// What one count is, for the colour bar ([`measure_unit`]).
     pub unit: String,
+    /// The value of one count when the counts are levels of a measured
+    /// quantity ([`crate::output::heatmap::AreaLevels`]): the colour bar's
+    /// numbers are counts × this. `None`: counts.
+    pub quantum: Option<f64>,
     /// Pixels per view are 400×300 times this (`--views-scale`, default 2).
     pub views_scale: u32,
     /// Where the pedestrian was seen from the vehicle, one azimuth per frame
@@ -204,6 +208,19 @@ pub fn measure_unit(measure: CountMeasure) -> &'static str {
     match measure {
         CountMeasure::Pixels => "images",
         CountMeasure::Unobstructed => "eye-frames",
+    }
+}
+
+/// The colour bar's unit for per-texel angular area.
+pub const AREA_UNIT: &str = "deg²·s per texel";
+
+/// The contact sheet's caption when the views show per-texel angular area.
+pub fn area_views_caption(scenario: Option<&str>) -> String {
+    let what =
+        "Visible angular area over time of each point of the vehicle (deg²·s per texel, the quoted measure)";
+    match scenario {
+        Some(name) => format!("{what} · scenario {name}"),
+        None => what.to_string(),
     }
 }
 

@@ -5,7 +5,8 @@
 //! with the heatmap as its texture), the eight views (drawn with the CPU
 //! rasterizer [`raster`], which the capture's inspect pictures share), the
 //! plots ([`plots`], drawn for journal columns as PNG, SVG and PDF by
-//! [`figure`] and [`pdf`]) and the HTML pages ([`html`]).
+//! [`figure`] and [`pdf`]), the legends and captions of raster pictures
+//! ([`legend`], also the capture's inspect pictures') and the HTML pages ([`html`]).
 
 pub(crate) mod console_table;
 pub(crate) mod csv;
@@ -14,6 +15,7 @@ pub(crate) mod frame_strip;
 pub(crate) mod heatmap;
 pub(crate) mod heatmap_views;
 pub(crate) mod html;
+pub(crate) mod legend;
 pub(crate) mod numbers;
 pub(crate) mod pdf;
 pub(crate) mod plots;
@@ -38,10 +40,11 @@ pub use html::{
     ComparisonOptions, NEEDS_ITS_FOLDER, OWN_SCALES, QUOTED_HEADING, RANKED_HEADING, SHARED_SCALE,
     write_comparison, write_comparison_with,
 };
+pub use legend::{LEGEND_LINE, LEGEND_TEXT_PX, LegendEntry, TextLayout, text_px_for};
 pub use plots::{PlotText, font_available as plot_font_available};
 pub use raster::ZBuffer;
 pub use result_set::{MAP_FILE, ResultSetOptions, default_output_dir, write_results, write_results_with};
 pub use scenario_map::{MAP_SIZE, MapContent, MapFrame, SceneShapes, time_color, write_scenario_map};
 pub use scene_model::{SceneObject, write_scene_glb};
-pub use view_sheet::{WrittenViews, bar_ticks, write_views, write_views_with};
+pub use view_sheet::{VIEWS_PDF_FILE, WrittenViews, bar_ticks, sheet_text_px, write_views, write_views_with};
 pub use written_files::WrittenFiles;

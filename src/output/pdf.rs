@@ -8,6 +8,11 @@
 //!
 //! Figure pixels (300 dpi, y down) become points (y up) on a page of the
 //! figure's printed size.
+//!
+//! Raster figures (the views, the placement overview) become PDFs too
+//! ([`pdf_image_document`]): the picture as one image XObject, compressed
+//! with Flate over PNG row predictors (fdeflate, as the PNGs), on a page of
+//! the journal width.
 
 use std::fmt::Write as _;
 
@@ -243,20 +248,34 @@ fn win_ansi(text: &str) -> String {
 pub fn pdf_document(content: &str, size: (u32, u32), title: &str) -> Vec<u8> {
     let (w, h) = (f64::from(size.0) * K, f64::from(size.1) * K);
     let objects = [
-        "<< /Type /Catalog /Pages 2 0 R >>".to_string(),
-        "<< /Type /Pages /Kids [3 0 R] /Count 1 >>".to_string(),
+        "<< /Type /Catalog /Pages 2 0 R >>".as_bytes().to_vec(),
+        "<< /Type /Pages /Kids [3 0 R] /Count 1 >>".as_bytes().to_vec(),
         format!(
             "<< /Type /Page /Parent 2 0 R /MediaBox [0 0 {w:.2} {h:.2}] /Resources << /Font << /F1 4 0 R >> >> /Contents 5 0 R >>"
-        ),
-        "<< /Type /Font /Subtype /Type1 /BaseFont /Helvetica /Encoding /WinAnsiEncoding >>".to_string(),
-        format!("<< /Length {} >>\nstream\n{content}endstream", content.len()),
-        format!("<< /Title ({}) /Producer (ufcsr {}) >>", win_ansi(title), env!("CARGO_PKG_VERSION")),
+        )
+        .into_bytes(),
+        "<< /Type /Font /Subtype /Type1 /BaseFont /Helvetica /Encoding /WinAnsiEncoding >>".as_bytes().to_vec(),
+        format!("<< /Length {} >>\nstream\n{content}endstream", content.len()).into_bytes(),
+        info(title),
     ];
+    assemble(&objects)
+}
+
+/// The document information object.
+fn info(title: &str) -> Vec<u8> {
+    format!("<< /Title ({}) /Producer (ufcsr {}) >>", win_ansi(title), env!("CARGO_PKG_VERSION")).into_bytes()
+}
+
+/// The file: header, `objects` numbered from 1 (the last is the document
+/// information), the cross-reference table and the trailer.
+fn assemble(objects: &[Vec<u8>]) -> Vec<u8> {
     let mut pdf = "%PDF-1.4\n%\u{e2}\u{e3}\u{cf}\u{d3}\n".as_bytes().to_vec();
     let mut offsets = Vec::new();
     for (index, object) in objects.iter().enumerate() {
         offsets.push(pdf.len());
-        pdf.extend_from_slice(format!("{} 0 obj\n{object}\nendobj\n", index + 1).as_bytes());
+        pdf.extend_from_slice(format!("{} 0 obj\n", index + 1).as_bytes());
+        pdf.extend_from_slice(object);
+        pdf.extend_from_slice(b"\nendobj\n");
     }
     let xref = pdf.len();
     let mut table = format!("xref\n0 {}\n0000000000 65535 f \n", objects.len() + 1);
@@ -273,6 +292,70 @@ pub fn pdf_document(content: &str, size: (u32, u32), title: &str) -> Vec<u8> {
     pdf
 }
 
+/// A one-page PDF of an RGB picture (`size` pixels, rows top to bottom)
+/// printed `width_mm` wide (its height in proportion), with `title` in its
+/// document information. The pixels are kept exactly: PNG row predictors
+/// (Sub or Up, whichever leaves more zeros) and Flate, which every PDF
+/// reader decodes.
+pub fn pdf_image_document(rgb: &[u8], [width, height]: [u32; 2], width_mm: f64, title: &str) -> Vec<u8> {
+    let w_pt = width_mm / 25.4 * 72.0;
+    let h_pt = w_pt * f64::from(height) / f64::from(width.max(1));
+    let stream = fdeflate::compress_to_vec(&predicted_rows(rgb, width as usize));
+    let mut image = format!(
+        "<< /Type /XObject /Subtype /Image /Width {width} /Height {height} /ColorSpace /DeviceRGB \
+         /BitsPerComponent 8 /Filter /FlateDecode /DecodeParms << /Predictor 15 /Colors 3 \
+         /BitsPerComponent 8 /Columns {width} >> /Length {} >>\nstream\n",
+        stream.len()
+    )
+    .into_bytes();
+    image.extend_from_slice(&stream);
+    image.extend_from_slice(b"\nendstream");
+    let content = format!("q {w_pt:.3} 0 0 {h_pt:.3} 0 0 cm /Im1 Do Q\n");
+    let objects = [
+        "<< /Type /Catalog /Pages 2 0 R >>".as_bytes().to_vec(),
+        "<< /Type /Pages /Kids [3 0 R] /Count 1 >>".as_bytes().to_vec(),
+        format!(
+            "<< /Type /Page /Parent 2 0 R /MediaBox [0 0 {w_pt:.2} {h_pt:.2}] /Resources << /XObject << /Im1 4 0 R >> >> /Contents 5 0 R >>"
+        )
+        .into_bytes(),
+        image,
+        format!("<< /Length {} >>\nstream\n{content}endstream", content.len()).into_bytes(),
+        info(title),
+    ];
+    assemble(&objects)
+}
+
+/// The rows of `rgb` (`width` pixels each) as PNG-predicted rows: a filter
+/// byte (1 Sub, 2 Up) and the differences, so that flat areas are zeros.
+fn predicted_rows(rgb: &[u8], width: usize) -> Vec<u8> {
+    let stride = width * 3;
+    let mut out = Vec::with_capacity(rgb.len() + rgb.len() / stride.max(1) + 1);
+    let mut sub = vec![0u8; stride];
+    let mut up = vec![0u8; stride];
+    for (y, row) in rgb.chunks_exact(stride.max(1)).enumerate() {
+        for x in 0..stride {
+            sub[x] = row[x].wrapping_sub(if x >= 3 { row[x - 3] } else { 0 });
+            up[x] = row[x].wrapping_sub(if y > 0 { rgb[(y - 1) * stride + x] } else { 0 });
+        }
+        let zeros = |bytes: &[u8]| bytes.iter().filter(|&&b| b == 0).count();
+        let (filter, bytes) = if zeros(&up) > zeros(&sub) { (2u8, &up) } else { (1u8, &sub) };
+        out.push(filter);
+        out.extend_from_slice(bytes);
+    }
+    out
+}
+
+/// Writes the picture `rgb` as `path` (a PDF `width_mm` wide), atomically.
+pub fn write_image_pdf(
+    path: &std::path::Path,
+    rgb: &[u8],
+    size: [u32; 2],
+    width_mm: f64,
+    title: &str,
+) -> crate::error::Result<()> {
+    crate::files::write_bytes_atomically(path, &pdf_image_document(rgb, size, width_mm, title))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -282,6 +365,50 @@ mod tests {
         assert_eq!(win_ansi("a (b) \\"), "a \\(b\\) \\\\");
         assert_eq!(win_ansi("deg²·s"), "deg\\262\\267s");
         assert_eq!(win_ansi("→"), "?");
+    }
+
+    #[test]
+    fn an_image_pdf_keeps_every_pixel_at_the_journal_width() {
+        use std::io::Read as _;
+        let (width, height) = (37u32, 5u32);
+        let rgb: Vec<u8> =
+            (0..width * height * 3).map(|i| if i % 7 == 0 { 255 } else { (i / 40) as u8 }).collect();
+        let pdf = pdf_image_document(&rgb, [width, height], 183.0, "views");
+        let text = String::from_utf8_lossy(&pdf).into_owned();
+        // 183 mm = 518.74 pt; the height in proportion.
+        assert!(text.contains("/MediaBox [0 0 518.74 70.10]"), "{}", &text[..400]);
+        // The table and trailer are ASCII; the image stream before them is not.
+        let tail_at = pdf.windows(4).rposition(|w| w == b"xref").unwrap() - 5;
+        let tail = std::str::from_utf8(&pdf[tail_at..]).unwrap();
+        let xref_at: usize =
+            tail.rsplit("startxref\n").next().unwrap().lines().next().unwrap().parse().unwrap();
+        let table = std::str::from_utf8(&pdf[xref_at..]).unwrap();
+        for (index, line) in table.lines().skip(3).take(6).enumerate() {
+            let offset: usize = line[..10].parse().unwrap();
+            assert!(
+                pdf[offset..].starts_with(format!("{} 0 obj", index + 1).as_bytes()),
+                "object {}",
+                index + 1
+            );
+        }
+        // The stream inflates to predicted rows that give the pixels back.
+        let start = pdf.windows(7).position(|w| w == b"stream\n").unwrap() + 7;
+        let length: usize =
+            text.split("/Length ").nth(1).unwrap().split(' ').next().unwrap().parse().unwrap();
+        let mut rows = Vec::new();
+        flate2::read::ZlibDecoder::new(&pdf[start..start + length]).read_to_end(&mut rows).unwrap();
+        let stride = (width * 3) as usize;
+        let mut pixels: Vec<u8> = Vec::new();
+        for (y, row) in rows.chunks_exact(stride + 1).enumerate() {
+            for x in 0..stride {
+                let left = if x >= 3 { pixels[y * stride + x - 3] } else { 0 };
+                let above = if y > 0 { pixels[(y - 1) * stride + x] } else { 0 };
+                let base = if row[0] == 1 { left } else { above };
+                assert!(row[0] == 1 || row[0] == 2);
+                pixels.push(row[1 + x].wrapping_add(base));
+            }
+        }
+        assert_eq!(pixels, rgb);
     }
 
     #[test]

@@ -13,14 +13,15 @@ use crate::error::Result;
 use crate::files::{IMAGE_LIMIT, Staging, read_limited, refuse_overwriting_inputs};
 use crate::output::csv::{CsvStyle, write_frames_csv, write_parts_table};
 use crate::output::frame_strip::{FRAME_STRIP_FILE, StripInputs, frame_strip_skipped, write_frame_strip};
+use crate::output::heatmap::{AREA_HEATMAP_FILE, AreaLevels};
 use crate::output::heatmap_views::{
-    DEFAULT_VIEWS_SCALE, DIRECTIONS, ViewTexture, measure_unit, views_caption,
+    AREA_UNIT, DEFAULT_VIEWS_SCALE, DIRECTIONS, ViewTexture, area_views_caption, measure_unit, views_caption,
 };
 use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::html::report_page::ScenarioPage;
 use crate::output::plots::{PLOTS_DIR, Plot, font_available, plot_file_names, write_plots};
 use crate::output::scenario_map::{MapContent, SceneShapes, write_scenario_map};
-use crate::output::view_sheet::write_views;
+use crate::output::view_sheet::{VIEWS_PDF_FILE, write_views};
 use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
 use crate::result::model::Analysis;
@@ -38,10 +39,12 @@ fn output_paths(files: &WrittenFiles) -> Vec<PathBuf> {
         Some(&files.result_json),
         files.parts_csv.as_ref(),
         Some(&files.heatmap_png),
+        files.heatmap_area_png.as_ref(),
         Some(&files.timings_json),
         files.heatmap_glb.as_ref(),
         Some(&files.report_html),
         files.views_png.as_ref(),
+        files.views_pdf.as_ref(),
         files.frames_csv.as_ref(),
         files.map_png.as_ref(),
         files.frames_strip_png.as_ref(),
@@ -111,10 +114,12 @@ pub fn result_set_members() -> Vec<String> {
         "result.json",
         "parts.csv",
         "heatmap.png",
+        AREA_HEATMAP_FILE,
         "timings.json",
         "heatmap.glb",
         "report.html",
         "views.png",
+        VIEWS_PDF_FILE,
         MAP_FILE,
         FRAME_STRIP_FILE,
     ]
@@ -133,10 +138,12 @@ fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
         result_json: out_dir.join("result.json"),
         parts_csv: (!analysis.result.parts.is_empty()).then(|| out_dir.join("parts.csv")),
         heatmap_png: out_dir.join("heatmap.png"),
+        heatmap_area_png: analysis.texel_angular_area.as_ref().map(|_| out_dir.join(AREA_HEATMAP_FILE)),
         timings_json: out_dir.join("timings.json"),
         heatmap_glb: analysis.vehicle_model.as_ref().map(|_| out_dir.join("heatmap.glb")),
         report_html: out_dir.join("report.html"),
         views_png: analysis.vehicle_model.as_ref().map(|_| out_dir.join("views.png")),
+        views_pdf: analysis.vehicle_model.as_ref().map(|_| out_dir.join(VIEWS_PDF_FILE)),
         frames_csv: analysis.frames.as_ref().map(|_| out_dir.join(FRAMES_FILE)),
         map_png: analysis.result.settings.manifest.then(|| out_dir.join(MAP_FILE)),
         frames_strip_png: analysis.result.settings.manifest.then(|| out_dir.join(FRAME_STRIP_FILE)),
@@ -236,19 +243,25 @@ fn write_side_by_side(
         (Some(manifest), Some(path)) => write_strip(path, manifest, analysis),
         _ => Ok(None),
     };
+    // The default heatmap and the views show per-texel angular area when
+    // it was measured; `heatmap.png` keeps the paper's count.
+    let area = analysis.texel_angular_area.as_deref().map(AreaLevels::new);
     let views = || match (&inputs.model, &files.views_png) {
         (Some(model), Some(_)) => {
-            write_views(model, &view_texture(analysis, inputs.track.as_ref(), options), out_dir).map(drop)
+            let texture = view_texture(analysis, area.as_ref(), inputs.track.as_ref(), options);
+            write_views(model, &texture, out_dir).map(drop)
         }
         _ => Ok(()),
     };
+    let heatmaps = || {
+        write_heatmap_file(analysis, &files.heatmap_png)?;
+        match (&area, &files.heatmap_area_png) {
+            (Some(area), Some(path)) => write_area_heatmap(analysis, area, path),
+            _ => Ok(()),
+        }
+    };
     let ((heatmap, tables), (strip, views)) = rayon::join(
-        || {
-            rayon::join(
-                || timed(|| write_heatmap_file(analysis, &files.heatmap_png)),
-                || timed(|| write_tables(analysis, files, options)),
-            )
-        },
+        || rayon::join(|| timed(heatmaps), || timed(|| write_tables(analysis, files, options))),
         || rayon::join(|| timed(strip), || timed(views)),
     );
     let ((), heatmap_seconds) = heatmap?;
@@ -258,21 +271,37 @@ fn write_side_by_side(
     Ok(SideBySide { heatmap_seconds, tables_seconds, strip_seconds, views_seconds, strip_skipped })
 }
 
-/// The heatmap as the views paint it, captioned for this analysis.
+/// The heatmap as the views paint it, captioned for this analysis: the
+/// per-texel angular area (`area`) when measured, else the paper's count.
 fn view_texture<'a>(
     analysis: &'a Analysis,
+    area: Option<&'a AreaLevels>,
     track: Option<&ScenarioTrack>,
     options: &ResultSetOptions,
 ) -> ViewTexture<'a> {
     let settings = &analysis.result.settings;
     let measure = analysis.result.measure;
+    let scenario = track.and_then(|t| t.name.as_deref());
+    let (counts, max, caption, unit, quantum) = match area {
+        Some(area) => {
+            (&area.levels[..], None, area_views_caption(scenario), AREA_UNIT.to_string(), Some(area.quantum))
+        }
+        None => (
+            &analysis.texel_counts[..],
+            settings.heatmap_max,
+            views_caption(measure, &settings.archive, scenario),
+            measure_unit(measure).to_string(),
+            None,
+        ),
+    };
     ViewTexture {
-        counts: &analysis.texel_counts,
+        counts,
         width: settings.palette.width,
         height: settings.palette.height,
-        options: HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max },
-        caption: views_caption(measure, &settings.archive, track.and_then(|t| t.name.as_deref())),
-        unit: measure_unit(measure).to_string(),
+        options: HeatmapOptions { scale: settings.heatmap_scale, max },
+        caption,
+        unit,
+        quantum,
         views_scale: options.views_scale,
         pedestrian_azimuths_deg: pedestrian_azimuths(track),
     }
@@ -284,6 +313,16 @@ fn write_heatmap_file(analysis: &Analysis, path: &Path) -> Result<()> {
     let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
     let (width, height) = (settings.palette.width, settings.palette.height);
     crate::output::heatmap::write_heatmap(path, &analysis.texel_counts, width, height, heatmap)
+}
+
+/// Writes `heatmap-area.png`: the per-texel angular area on the result's
+/// scale (linear or log), from 0 to the largest texel's (`--max`, a count,
+/// is the paper heatmap's).
+fn write_area_heatmap(analysis: &Analysis, area: &AreaLevels, path: &Path) -> Result<()> {
+    let settings = &analysis.result.settings;
+    let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: None };
+    let (width, height) = (settings.palette.width, settings.palette.height);
+    crate::output::heatmap::write_heatmap(path, &area.levels, width, height, heatmap)
 }
 
 /// Writes `result.json`, `parts.csv` (with parts) and `frames.csv` (with
@@ -338,7 +377,8 @@ fn write_figures(
     let archive = Path::new(&analysis.result.settings.archive);
     let FigureInputs { manifest, track, model } = inputs;
     if let (Some(model), Some(glb)) = (model, &files.heatmap_glb) {
-        let png = read_limited(&files.heatmap_png, IMAGE_LIMIT)?;
+        // The default heatmap: angular area when measured, else the count.
+        let png = read_limited(files.heatmap_area_png.as_ref().unwrap_or(&files.heatmap_png), IMAGE_LIMIT)?;
         model.write_glb(glb, Some(("heatmap", &png)))?;
     }
     clock.lap("heatmap_glb");

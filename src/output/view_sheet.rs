@@ -17,10 +17,12 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use crate::archive::options::Scale;
 use crate::archive::vehicle_model::VehicleModel;
 use crate::error::Result;
+use crate::output::figure::{FigureSize, MIN_TEXT_PT};
 use crate::output::heatmap::{plasma, position};
 use crate::output::heatmap_views::{
     DIRECTIONS, NEVER_SEEN, ViewCamera, ViewTexture, render_view, view_cameras,
 };
+use crate::output::legend::TextLayout;
 use crate::output::numbers::grouped;
 use crate::output::raster::ZBuffer;
 
@@ -31,8 +33,6 @@ const AMBIENT: f64 = 0.62;
 const OUTLINE: f64 = 0.4;
 /// Faces meeting at more than this many degrees draw a crease line.
 const CREASE_DEG: f64 = 35.0;
-/// Height of the colour bar, its ticks, numbers and the caption, at scale 1.
-const BAR_HEIGHT: u32 = 96;
 /// The pedestrian's marks in the compass.
 const PEDESTRIAN: [u8; 3] = [0, 150, 60];
 
@@ -172,6 +172,8 @@ pub fn bar_ticks(max: u32, scale: Scale) -> Vec<u32> {
 
 /// The contact sheet: the views four by two, each named, and the colour
 /// bar with ticks, units and the caption underneath. Returns RGB and size.
+/// Its text is sized to print at least 7 pt when the sheet is printed two
+/// journal columns (183 mm) wide, as `views.pdf` is ([`sheet_text_px`]).
 pub fn contact_sheet(
     pictures: &[Vec<u8>],
     cameras: &[ViewCamera],
@@ -179,7 +181,10 @@ pub fn contact_sheet(
 ) -> (Vec<u8>, [u32; 2]) {
     let [width, height] = cameras.first().map_or([1, 1], |camera| camera.size);
     let scale = texture.views_scale.max(1);
-    let [sheet_width, sheet_height] = [width * 4, height * 2 + BAR_HEIGHT * scale];
+    let sheet_width = width * 4;
+    let bar = ColorBar::new(sheet_width, height * 2, scale);
+    let band = band_text(sheet_width, texture, &bar);
+    let sheet_height = band.bottom;
     let mut sheet = PAPER.repeat((sheet_width * sheet_height) as usize);
     for (index, rgb) in pictures.iter().enumerate() {
         let (column, row) = (index as u32 % 4, index as u32 / 4);
@@ -189,12 +194,46 @@ pub fn contact_sheet(
             sheet[to..to + (width * 3) as usize].copy_from_slice(&rgb[from..from + (width * 3) as usize]);
         }
     }
-    let bar = ColorBar::new(sheet_width, height * 2, scale);
     bar.paint(&mut sheet, sheet_width);
     if crate::output::plots::font_available() {
-        label_sheet(&mut sheet, [sheet_width, sheet_height], [width, height], texture, &bar);
+        label_sheet(&mut sheet, [sheet_width, sheet_height], [width, height], texture, &bar, &band);
     }
     (sheet, [sheet_width, sheet_height])
+}
+
+/// The plotters text size of a contact sheet `sheet_width` pixels wide:
+/// 7 pt when printed 183 mm wide (27 at the default 1600 × scale pixels).
+pub fn sheet_text_px(sheet_width: u32) -> f64 {
+    crate::output::legend::text_px_for(MIN_TEXT_PT, sheet_width, FigureSize::TwoColumns.width_mm()).ceil()
+}
+
+/// The paragraphs under the colour bar's numbers (caption with the bar's
+/// unit, the compass key), wrapped to the sheet's width, and where the
+/// sheet ends.
+struct BandText {
+    numbers_y: u32,
+    text: TextLayout,
+    bottom: u32,
+}
+
+fn band_text(sheet_width: u32, texture: &ViewTexture, bar: &ColorBar) -> BandText {
+    let scale = bar.scale;
+    let mut text = TextLayout::new(sheet_text_px(sheet_width));
+    let numbers_y = bar.strip().end + 6 * scale;
+    let margin = 12 * scale;
+    let room = f64::from(sheet_width - 2 * margin);
+    let scale_name = match texture.options.scale {
+        Scale::Linear => "linear",
+        Scale::Log => "log",
+    };
+    let caption = format!("{}. Colour bar: {} ({scale_name} scale).", texture.caption, texture.unit);
+    let mut y = text.paragraph(&caption, margin, numbers_y + text.line() + 4 * scale, room);
+    if !texture.pedestrian_azimuths_deg.is_empty() {
+        let key = "Compass (top right of each view): the vehicle from above, front up; black = this view's line \
+                   of sight, green = where the pedestrian was, one dot per frame.";
+        y = text.paragraph(key, margin, y, room);
+    }
+    BandText { numbers_y, text, bottom: y + 8 * scale }
 }
 
 /// Where the colour bar lies on the sheet.
@@ -211,7 +250,8 @@ struct ColorBar {
 impl ColorBar {
     fn new(sheet_width: u32, top: u32, scale: u32) -> ColorBar {
         let margin = 12 * scale;
-        let grey_end = margin + sheet_width / 14;
+        // Wide enough for "never seen" under it at the sheet's text size.
+        let grey_end = margin + sheet_width / 9;
         ColorBar {
             scale,
             top: top + 8 * scale,
@@ -246,57 +286,69 @@ impl ColorBar {
     }
 }
 
-/// Each view's name, the bar's ticks and numbers, its unit and the caption.
-fn label_sheet(sheet: &mut [u8], size: [u32; 2], view: [u32; 2], texture: &ViewTexture, bar: &ColorBar) {
+/// A colour-bar number of a measured quantity: four significant digits at
+/// most, trailing zeros dropped (the ticks are round values, the maximum
+/// is not).
+pub fn tick_value(value: f64) -> String {
+    if value == 0.0 {
+        return "0".to_string();
+    }
+    let decimals = (3 - value.abs().log10().floor() as i32).clamp(0, 12) as usize;
+    let text = format!("{value:.decimals$}");
+    if text.contains('.') { text.trim_end_matches('0').trim_end_matches('.').to_string() } else { text }
+}
+
+/// Each view's name, the bar's ticks and numbers, and the band's
+/// paragraphs (kerned text, [`crate::output::figure::KernedBitmap`]).
+fn label_sheet(
+    sheet: &mut [u8],
+    size: [u32; 2],
+    view: [u32; 2],
+    texture: &ViewTexture,
+    bar: &ColorBar,
+    band: &BandText,
+) {
     let scale = bar.scale;
-    let root = BitMapBackend::with_buffer(sheet, (size[0], size[1])).into_drawing_area();
-    let style = ("sans-serif", 15 * scale).into_font().color(&BLACK);
-    let mut drawn: std::result::Result<(), _> = Ok(());
-    for (index, (name, _)) in DIRECTIONS.iter().enumerate() {
-        let (column, row) = (index as u32 % 4, index as u32 / 4);
-        let at = ((column * view[0] + 6 * scale) as i32, (row * view[1] + 4 * scale) as i32);
-        drawn = drawn.and(root.draw(&Text::new((*name).to_string(), at, style.clone())));
+    {
+        let backend =
+            crate::output::figure::KernedBitmap(BitMapBackend::with_buffer(sheet, (size[0], size[1])));
+        let root = backend.into_drawing_area();
+        let style = ("sans-serif", band.text.size).into_font().color(&BLACK);
+        let mut drawn: std::result::Result<(), _> = Ok(());
+        for (index, (name, _)) in DIRECTIONS.iter().enumerate() {
+            let (column, row) = (index as u32 % 4, index as u32 / 4);
+            let at = ((column * view[0] + 6 * scale) as i32, (row * view[1] + 4 * scale) as i32);
+            drawn = drawn.and(root.draw(&Text::new((*name).to_string(), at, style.clone())));
+        }
+        let max = texture.max();
+        let strip_end = bar.strip().end;
+        let numbers_y = band.numbers_y as i32;
+        let centred = style.clone().pos(Pos::new(HPos::Center, VPos::Top));
+        for count in bar_ticks(max, texture.options.scale) {
+            let x = bar.x_of(position(count, max, texture.options.scale)) as i32;
+            let tick = PathElement::new(
+                vec![(x, strip_end as i32), (x, (strip_end + 4 * scale) as i32)],
+                BLACK.stroke_width(scale),
+            );
+            let number = match texture.quantum {
+                Some(quantum) => tick_value(f64::from(count) * quantum),
+                None => grouped(u64::from(count)),
+            };
+            // The top's number ends at the bar's end, inside the sheet.
+            let anchor = if count == max && count > 0 {
+                style.clone().pos(Pos::new(HPos::Right, VPos::Top))
+            } else {
+                centred.clone()
+            };
+            drawn = drawn.and(root.draw(&tick)).and(root.draw(&Text::new(number, (x, numbers_y), anchor)));
+        }
+        drawn = drawn
+            .and(root.draw(&Text::new("never seen", ((12 * scale) as i32, numbers_y), style.clone())))
+            .and(root.present());
+        // Labels are a courtesy: a drawing error leaves the colours as they are.
+        let _ = drawn;
     }
-    let max = texture.max();
-    let strip_end = bar.strip().end;
-    let numbers_y = (strip_end + 6 * scale) as i32;
-    let centred = style.clone().pos(Pos::new(HPos::Center, VPos::Top));
-    for count in bar_ticks(max, texture.options.scale) {
-        let x = bar.x_of(position(count, max, texture.options.scale)) as i32;
-        let tick = PathElement::new(
-            vec![(x, strip_end as i32), (x, (strip_end + 4 * scale) as i32)],
-            BLACK.stroke_width(scale),
-        );
-        drawn = drawn.and(root.draw(&tick)).and(root.draw(&Text::new(
-            grouped(u64::from(count)),
-            (x, numbers_y),
-            centred.clone(),
-        )));
-    }
-    let scale_name = match texture.options.scale {
-        Scale::Linear => "linear",
-        Scale::Log => "log",
-    };
-    let caption_y = numbers_y + (22 * scale) as i32;
-    let unit = format!("{} ({scale_name} scale)", texture.unit);
-    if !texture.pedestrian_azimuths_deg.is_empty() {
-        let legend = "compass (top right of each view): the vehicle from above, front up; \
-                      black = this view's line of sight, green = where the pedestrian was, one dot per frame";
-        let at = ((12 * scale) as i32, caption_y + (20 * scale) as i32);
-        drawn = drawn.and(root.draw(&Text::new(legend, at, style.clone())));
-    }
-    let caption = texture.caption.clone();
-    drawn = drawn
-        .and(root.draw(&Text::new("never seen", ((12 * scale) as i32, numbers_y), style.clone())))
-        .and(root.draw(&Text::new(
-            unit,
-            (size[0] as i32 - (12 * scale) as i32, caption_y),
-            style.clone().pos(Pos::new(HPos::Right, VPos::Top)),
-        )))
-        .and(root.draw(&Text::new(caption, ((12 * scale) as i32, caption_y), style.clone())))
-        .and(root.present());
-    // Labels are a courtesy: a drawing error leaves the colours as they are.
-    let _ = drawn;
+    band.text.draw(sheet, size);
 }
 
 /// The files [`write_views`] wrote.
@@ -304,7 +356,13 @@ fn label_sheet(sheet: &mut [u8], size: [u32; 2], view: [u32; 2], texture: &ViewT
 pub struct WrittenViews {
     pub contact_sheet: PathBuf,
     pub views: Vec<PathBuf>,
+    /// `views.pdf`: the contact sheet for a paper, 183 mm wide.
+    pub pdf: PathBuf,
 }
+
+/// The contact sheet as a PDF, printed two journal columns (183 mm) wide,
+/// its text ≥ 7 pt there.
+pub const VIEWS_PDF_FILE: &str = "views.pdf";
 
 /// Writes `dir/views/NAME.png` for the eight directions and `dir/views.png`,
 /// drawn with the CPU renderer ([`render_view`]).
@@ -371,12 +429,25 @@ fn finish_views(
     let (sheet, [sheet_width, sheet_height]) = contact_sheet(&pictures, cameras, texture);
     let contact_sheet = dir.join("views.png");
     crate::files::write_rgb_png(&contact_sheet, [sheet_width, sheet_height], &sheet, png::Compression::Fast)?;
-    Ok(WrittenViews { contact_sheet, views })
+    let pdf = dir.join(VIEWS_PDF_FILE);
+    let title = "The heatmap on the vehicle from eight directions";
+    let width_mm = FigureSize::TwoColumns.width_mm();
+    crate::output::pdf::write_image_pdf(&pdf, &sheet, [sheet_width, sheet_height], width_mm, title)?;
+    Ok(WrittenViews { contact_sheet, views, pdf })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tick_values_of_a_measure_have_four_significant_digits_at_most() {
+        assert_eq!(tick_value(0.0), "0");
+        assert_eq!(tick_value(0.002), "0.002");
+        assert_eq!(tick_value(0.0137049), "0.0137");
+        assert_eq!(tick_value(12.5), "12.5");
+        assert_eq!(tick_value(24_000.0), "24000");
+    }
 
     #[test]
     fn bar_ticks_are_round_counts_ending_at_the_maximum() {

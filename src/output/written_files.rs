@@ -10,7 +10,12 @@ use crate::output::plots::Plot;
 pub struct WrittenFiles {
     pub result_json: PathBuf,
     pub parts_csv: Option<PathBuf>,
+    /// The paper-compatible heatmap: the per-texel count.
     pub heatmap_png: PathBuf,
+    /// The default heatmap, per-texel angular area over time (deg²·s), when
+    /// measured ([`crate::Analysis::texel_angular_area`]); `heatmap.glb` and
+    /// the views show it.
+    pub heatmap_area_png: Option<PathBuf>,
     pub timings_json: PathBuf,
     /// The vehicle with the heatmap on it, when the analysis had a vehicle model.
     pub heatmap_glb: Option<PathBuf>,
@@ -18,6 +23,8 @@ pub struct WrittenFiles {
     pub report_html: PathBuf,
     /// `views.png`, the contact sheet of the eight views (with a vehicle model).
     pub views_png: Option<PathBuf>,
+    /// `views.pdf`, the contact sheet for a paper (183 mm wide), beside it.
+    pub views_pdf: Option<PathBuf>,
     /// `frames.csv`, when frames were tallied.
     pub frames_csv: Option<PathBuf>,
     /// `map.png`, the scenario from above (with a manifest that places the vehicle).
@@ -34,11 +41,13 @@ impl WrittenFiles {
     pub fn all(&self, out_dir: &Path) -> Vec<PathBuf> {
         let mut files = vec![self.result_json.clone()];
         files.extend(self.parts_csv.clone());
+        files.extend(self.heatmap_area_png.clone());
         files.push(self.heatmap_png.clone());
         files.push(self.timings_json.clone());
         files.extend(self.frames_csv.clone());
         files.extend(self.heatmap_glb.clone());
         files.extend(self.views_png.clone());
+        files.extend(self.views_pdf.clone());
         files.extend(self.map_png.clone());
         files.extend(self.frames_strip_png.clone());
         files.push(self.report_html.clone());

@@ -6,8 +6,12 @@
 //! [`MARKER_RADIUS_M`] at the centre the name carries), for the best 1, 2
 //! and 3 of each kind (by the mean over the archives).
 //!
-//! `placement.png`: one row of eight small views per chosen set, captioned;
-//! `placement-views/KIND-best-K.png` (`part-best-2.png`): each set at full size (four by two).
+//! `placement.png`: a key line, then per chosen set its caption (wrapped to
+//! the picture's width with the kerned text layout the figures use, so it
+//! is never cut off), a legend (a swatch per member, its displays' names)
+//! and a row of eight small views, each named by its direction
+//! ([`OverviewLayout`]); `placement-views/KIND-best-K.png`
+//! (`part-best-2.png`): each set at full size (four by two), views named.
 //! Marks are tested per pixel on the surface point the pixel shows, so what
 //! is hidden behind the body stays hidden.
 
@@ -17,6 +21,8 @@ use std::path::{Path, PathBuf};
 use crate::archive::VehicleModel;
 use crate::error::Result;
 use crate::format::placement::CombinationRecord;
+use crate::output::figure::{FigureSize, MIN_TEXT_PT};
+use crate::output::legend::{LEGEND_TEXT_PX, LegendEntry, TextLayout, draw_texts, text_px_for};
 use crate::output::{ViewCamera, ZBuffer, view_cameras};
 use crate::placement::footprints::{PatchFootprint, centre_in_name};
 use crate::placement::search::Objective;
@@ -36,8 +42,6 @@ const OUTLINE: [u8; 3] = [20, 20, 20];
 /// One colour per member of a set (Okabe–Ito, distinguishable with colour blindness).
 const MEMBER_COLORS: [[u8; 3]; 6] =
     [[230, 159, 0], [0, 114, 178], [0, 158, 115], [204, 121, 167], [213, 94, 0], [86, 180, 233]];
-/// Height of a row's caption in `placement.png`.
-const CAPTION: u32 = 22;
 
 /// What one member of a set marks on the vehicle.
 #[derive(Debug, Clone, PartialEq)]
@@ -83,6 +87,8 @@ pub struct PicturedSet {
     pub marks: Vec<Mark>,
     /// Per mark, its colour's index: one per member, so a pair shares one.
     pub colors: Vec<usize>,
+    /// The legend: per member (colour index = position), its displays' names.
+    pub legend: Vec<String>,
 }
 
 /// The sets to draw: per kind, the best sets of 1 to [`PICTURED_SETS`]
@@ -101,16 +107,23 @@ pub fn pictured_sets(
             PicturedSet {
                 name: format!("{kind}-best-{}", c.k),
                 caption: format!(
-                    "best {kind}s, at most {} display{} ({} used): {} ({:.2} s legible, {:.0} % of the time)",
+                    "best {kind}s, at most {} display{} ({} used): {:.2} s legible, {:.0} % of the time",
                     c.k,
                     if c.k == 1 { "" } else { "s" },
                     c.displays,
-                    c.members_text(),
                     c.legible_s,
                     100.0 * c.share_of_time
                 ),
                 marks: candidates.iter().filter_map(|name| Mark::of(name, kind, footprints)).collect(),
                 colors: colors.collect(),
+                legend: c
+                    .members
+                    .iter()
+                    .map(|m| {
+                        let names = m.candidates.join(" & ");
+                        if m.adds_no_time { format!("{names} [adds 0 s]") } else { names }
+                    })
+                    .collect(),
             }
         })
         .collect()
@@ -181,6 +194,8 @@ fn outline(rgb: &mut [u8], owner: &[u8], width: usize) {
 pub struct WrittenPicture {
     pub overview: PathBuf,
     pub views: Vec<PathBuf>,
+    /// `placement.pdf`: the overview at two journal columns (183 mm).
+    pub pdf: PathBuf,
 }
 
 /// Writes `out/placement.png` and `out/placement-views/NAME.png` for `sets`.
@@ -203,47 +218,104 @@ pub fn write_placement_picture(
             ..*c
         })
         .collect();
-    let row_h = view_h / 2 + CAPTION;
-    let overview_size = (view_w / 2 * 8, row_h * sets.len().max(1) as u32);
-    let mut overview = PAPER.repeat((overview_size.0 * overview_size.1) as usize);
+    let layout = OverviewLayout::new(sets, [view_w / 2, view_h / 2]);
+    let [width, height] = layout.size;
+    let mut overview = PAPER.repeat((width * height) as usize);
     let mut views = Vec::with_capacity(sets.len());
     for (row, set) in sets.iter().enumerate() {
-        let full: Vec<Vec<u8>> =
-            cameras.iter().map(|c| render_marked(model, c, &set.marks, &set.colors)).collect();
         let (sheet_w, sheet_h) = (view_w * 4, view_h * 2);
         let mut sheet = PAPER.repeat((sheet_w * sheet_h) as usize);
-        for (index, picture) in full.iter().enumerate() {
-            paste(
-                &mut sheet,
-                sheet_w,
-                picture,
-                (view_w, view_h),
-                (index as u32 % 4 * view_w, index as u32 / 4 * view_h),
-            );
+        let mut names = Vec::with_capacity(cameras.len());
+        for (index, camera) in cameras.iter().enumerate() {
+            let picture = render_marked(model, camera, &set.marks, &set.colors);
+            let at = (index as u32 % 4 * view_w, index as u32 / 4 * view_h);
+            paste(&mut sheet, sheet_w, &picture, (view_w, view_h), at);
+            names.push(((at.0 + 6) as i32, (at.1 + 4) as i32, camera.name.to_string()));
         }
+        draw_texts(&mut sheet, [sheet_w, sheet_h], &names, LEGEND_TEXT_PX);
         let path = views_dir.join(format!("{}.png", set.name));
         crate::files::write_rgb_png(&path, [sheet_w, sheet_h], &sheet, png::Compression::Fast)?;
         views.push(path);
         for (index, camera) in small.iter().enumerate() {
             let picture = render_marked(model, camera, &set.marks, &set.colors);
-            let at = (index as u32 * view_w / 2, row as u32 * row_h + CAPTION);
-            paste(&mut overview, overview_size.0, &picture, (view_w / 2, view_h / 2), at);
+            let at = (index as u32 * view_w / 2, layout.views_y[row]);
+            paste(&mut overview, width, &picture, (view_w / 2, view_h / 2), at);
         }
     }
-    let captions: Vec<(i32, String)> = sets
-        .iter()
-        .enumerate()
-        .map(|(row, set)| ((row as u32 * row_h + 4) as i32, set.caption.clone()))
-        .collect();
-    caption_rows(&mut overview, overview_size, &captions);
+    layout.text.draw(&mut overview, layout.size);
+    draw_texts(&mut overview, layout.size, &layout.view_names, layout.text.size);
     let path = out.join(PLACEMENT_PICTURE_FILE);
-    crate::files::write_rgb_png(
-        &path,
-        [overview_size.0, overview_size.1],
+    crate::files::write_rgb_png(&path, layout.size, &overview, png::Compression::Fast)?;
+    let pdf = out.join(PLACEMENT_PDF_FILE);
+    let title = "The chosen eHMI placements on the vehicle";
+    crate::output::pdf::write_image_pdf(
+        &pdf,
         &overview,
-        png::Compression::Fast,
+        layout.size,
+        FigureSize::TwoColumns.width_mm(),
+        title,
     )?;
-    Ok(WrittenPicture { overview: path, views })
+    Ok(WrittenPicture { overview: path, views, pdf })
+}
+
+/// The overview as a PDF, printed two journal columns (183 mm) wide.
+pub const PLACEMENT_PDF_FILE: &str = "placement.pdf";
+/// Left and right margin of the overview's text.
+const MARGIN: u32 = 6;
+
+/// What the overview says where: the key line at the top, per set its
+/// caption (wrapped to the width) and legend (a swatch per member, its
+/// displays' names), and each small view's direction name.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OverviewLayout {
+    pub size: [u32; 2],
+    /// Key, captions and legends ([`crate::output::legend`]).
+    pub text: TextLayout,
+    /// Direction names of the small views: `(x, y, name)`.
+    pub view_names: Vec<(i32, i32, String)>,
+    /// Top of each set's row of views.
+    pub views_y: Vec<u32>,
+}
+
+/// The key at the top of the overview.
+pub const OVERVIEW_KEY: &str = "Each row: the vehicle from front, front-left, left, rear-left, rear, rear-right, \
+     right and front-right (15° from above); coloured = the chosen displays (one colour per member of the \
+     set, a left/right pair shares one), outlined at their rims; grey = the rest of the vehicle.";
+
+impl OverviewLayout {
+    /// The layout of `sets` over rows of eight `view`-sized pictures.
+    pub fn new(sets: &[PicturedSet], view: [u32; 2]) -> OverviewLayout {
+        let width = view[0] * 8;
+        let room = f64::from(width - 2 * MARGIN);
+        // Text at least 7 pt where the picture is printed two columns wide
+        // (placement.pdf), never under the screen size.
+        let size =
+            text_px_for(MIN_TEXT_PT, width, FigureSize::TwoColumns.width_mm()).max(LEGEND_TEXT_PX).ceil();
+        let mut text = TextLayout::new(size);
+        let mut view_names = Vec::new();
+        let mut views_y = Vec::new();
+        let mut y = text.paragraph(OVERVIEW_KEY, MARGIN, 4, room);
+        for set in sets {
+            y = text.paragraph(&set.caption, MARGIN, y + text.line() / 2, room);
+            let entries: Vec<LegendEntry> = set
+                .legend
+                .iter()
+                .enumerate()
+                .map(|(i, label)| LegendEntry {
+                    color: MEMBER_COLORS[i % MEMBER_COLORS.len()],
+                    label: label.clone(),
+                })
+                .collect();
+            y = text.entries(&entries, MARGIN, y, room);
+            views_y.push(y);
+            for (index, (name, _)) in crate::output::DIRECTIONS.iter().enumerate() {
+                let x = (index as u32 * view[0] + 4) as i32;
+                view_names.push((x, (y + 2) as i32, (*name).to_string()));
+            }
+            y += view[1];
+        }
+        OverviewLayout { size: [width, y.max(1)], text, view_names, views_y }
+    }
 }
 
 /// Copies a `size` picture into `sheet` (`sheet_w` wide) at `at`.
@@ -254,22 +326,6 @@ fn paste(sheet: &mut [u8], sheet_w: u32, picture: &[u8], size: (u32, u32), at: (
         let to = (((at.1 + y) * sheet_w + at.0) * 3) as usize;
         sheet[to..to + row_bytes].copy_from_slice(&picture[from..from + row_bytes]);
     }
-}
-
-/// Writes each row's caption when a font is found (a courtesy: the page and
-/// placement.json say the same).
-fn caption_rows(sheet: &mut [u8], (width, height): (u32, u32), captions: &[(i32, String)]) {
-    use plotters::prelude::*;
-    if !crate::output::plot_font_available() {
-        return;
-    }
-    let root = BitMapBackend::with_buffer(sheet, (width, height)).into_drawing_area();
-    let style = ("sans-serif", 15).into_font().color(&BLACK);
-    let mut drawn: std::result::Result<(), _> = Ok(());
-    for (y, caption) in captions {
-        drawn = drawn.and(root.draw(&Text::new(caption.clone(), (6, *y), style.clone())));
-    }
-    let _ = drawn.and(root.present());
 }
 
 #[cfg(test)]
@@ -342,6 +398,93 @@ mod tests {
         assert!(disc < expected && disc > 0.5 * expected, "{disc} of {expected}");
     }
 
+    fn long_set() -> PicturedSet {
+        PicturedSet {
+            name: "patch-best-3".into(),
+            caption: format!(
+                "best patches, at most 3 displays (6 used): {}",
+                "front_bumper@x2.95y-0.76z0.46 ".repeat(8)
+            ),
+            marks: vec![Mark::Part("front".into()), Mark::Part("body".into())],
+            colors: vec![0, 1],
+            legend: vec![
+                "front".into(),
+                "windshield@x1.02y0.76z1.82 & windshield@x1.03y-0.76z1.82".into(),
+                "front_fender_right@x2.45y-1.00z0.65 ".repeat(9),
+            ],
+        }
+    }
+
+    #[test]
+    fn the_overview_caption_fits_and_every_view_is_named_and_every_member_in_the_legend() {
+        if !crate::output::plot_font_available() {
+            eprintln!("skipped: no font (set UFCSR_FONT)");
+            return;
+        }
+        let sets = [long_set(), long_set()];
+        let layout = OverviewLayout::new(&sets, [200, 150]);
+        let width = layout.size[0];
+        assert_eq!(width, 1600);
+        for (x, _, text) in &layout.text.texts {
+            let right = f64::from(*x) + layout.text.width(text);
+            assert!(right <= f64::from(width - MARGIN), "{right} > {width}: {text}");
+        }
+        // The long caption was wrapped, not cut: every word is on some line.
+        let lines: Vec<&str> = layout.text.texts.iter().map(|(_, _, t)| t.as_str()).collect();
+        assert!(lines.iter().filter(|l| l.contains("front_bumper@")).count() >= 2, "{lines:?}");
+        assert!(lines.contains(&"front") && lines.iter().any(|l| l.starts_with("windshield@x1.02")));
+        // The over-long legend entry is cut with an ellipsis.
+        assert!(lines.iter().any(|l| l.starts_with("front_fender_right@") && l.ends_with('…')));
+        assert_eq!(layout.text.swatches.len(), 6, "a swatch per member per set");
+        assert_eq!(layout.text.swatches[1].2, MEMBER_COLORS[1]);
+        let names: Vec<&str> = layout.view_names.iter().map(|(_, _, n)| n.as_str()).collect();
+        assert_eq!(names.len(), 16);
+        assert_eq!(
+            &names[..8],
+            ["front", "front-left", "left", "rear-left", "rear", "rear-right", "right", "front-right"]
+        );
+        // Views start below their set's legend, rows do not overlap.
+        assert!(layout.views_y[1] >= layout.views_y[0] + 150);
+        assert_eq!(layout.size[1], layout.views_y[1] + 150);
+    }
+
+    #[test]
+    fn the_overview_draws_the_legend_swatches_and_the_direction_names() {
+        if !crate::output::plot_font_available() {
+            eprintln!("skipped: no font (set UFCSR_FONT)");
+            return;
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let sets = [long_set()];
+        let written = write_placement_picture(&cube(), &sets, dir.path()).unwrap();
+        let image = crate::png::rows::read_color_image(&written.overview, |_| Ok(())).unwrap();
+        let layout = OverviewLayout::new(&sets, [200, 150]);
+        assert_eq!([image.width, image.height], layout.size);
+        let at = |x: i32, y: i32| image.colors[y as usize * image.width as usize + x as usize];
+        let packed = |[r, g, b]: [u8; 3]| u32::from(r) << 16 | u32::from(g) << 8 | u32::from(b);
+        for (index, &(x, y, color)) in layout.text.swatches.iter().enumerate() {
+            let (cx, cy) = layout.text.swatch_centre(index);
+            assert_eq!(at(cx, cy), packed(color), "swatch at {x},{y}");
+        }
+        // placement.pdf: the picture at 183 mm, its text at least 7 pt there.
+        let pdf = std::fs::read(&written.pdf).unwrap();
+        assert!(pdf.starts_with(b"%PDF-1.4") && pdf.ends_with(b"%%EOF\n"));
+        assert!(
+            String::from_utf8_lossy(&pdf)
+                .contains(&format!("/Width {} /Height {}", image.width, image.height))
+        );
+        let em_mm = layout.text.size / 1.24 / f64::from(image.width) * 183.0;
+        assert!(em_mm / crate::output::figure::MM_PER_PT >= 7.0, "{em_mm} mm");
+        // Dark text pixels where each view's name is (the views are paper and grey there).
+        for (x, y, name) in &layout.view_names {
+            let dark = (0..60)
+                .flat_map(|dx| (0..20).map(move |dy| (x + dx, y + dy)))
+                .filter(|&(px, py)| at(px, py) & 0xFF < 100)
+                .count();
+            assert!(dark > 10, "no label {name} at {x},{y}");
+        }
+    }
+
     #[test]
     fn a_left_right_pair_shares_one_color() {
         use crate::format::placement::{CandidateKind, MemberRecord, Method};
@@ -371,6 +514,7 @@ mod tests {
         };
         let pictured = pictured_sets(&[set], &BTreeMap::new());
         assert_eq!(pictured[0].colors, vec![0, 0, 1]);
+        assert_eq!(pictured[0].legend, ["b_pillar_left & b_pillar_right", "grill"]);
         assert!(pictured[0].caption.contains("at most 3 displays (3 used)"), "{}", pictured[0].caption);
     }
 }

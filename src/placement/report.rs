@@ -300,6 +300,7 @@ pub fn write_placement(placement: &Placement, out: &Path) -> Result<WrittenPlace
         written.csv.clone(),
         written.combinations_csv.clone(),
         out.join(crate::placement::PLACEMENT_PICTURE_FILE),
+        out.join(crate::placement::picture::PLACEMENT_PDF_FILE),
     ];
     let inputs: Vec<PathBuf> = placement.inputs.iter().chain(&placement.vehicle_model).cloned().collect();
     crate::files::refuse_overwriting_inputs(&outputs, &inputs)?;
@@ -312,7 +313,12 @@ pub fn write_placement(placement: &Placement, out: &Path) -> Result<WrittenPlace
     // The picture of an earlier run (placement.png, placement-views/) goes:
     // it showed sets this answer may not choose, or a run without a
     // vehicle model would leave it beside the new files.
-    for stale in [crate::placement::PLACEMENT_PICTURE_FILE, crate::placement::PLACEMENT_VIEWS_DIR] {
+    let stale_files = [
+        crate::placement::PLACEMENT_PICTURE_FILE,
+        crate::placement::picture::PLACEMENT_PDF_FILE,
+        crate::placement::PLACEMENT_VIEWS_DIR,
+    ];
+    for stale in stale_files {
         crate::files::remove_inside(out, &out.join(stale))?;
     }
     let picture = match &placement.vehicle_model {

@@ -121,6 +121,15 @@ impl Measures {
         Some(merged)
     }
 
+    /// Per-texel angular area over time, deg²·s, from per-texel solid angles
+    /// summed over the eye-frames (sr): the part measure's definition
+    /// ([`DEFINITION`]) texel by texel. `None` without fps.
+    pub fn texel_angular_areas(solid_angle_sr: &[f64], clock: &FrameClock) -> Option<Vec<f32>> {
+        let seconds = clock.seconds_per_frame?;
+        let factor = DEG2_PER_SR * seconds / clock.eyes.max(1) as f64;
+        Some(solid_angle_sr.iter().map(|&sr| (sr * factor) as f32).collect())
+    }
+
     /// The measure of the part called `name`.
     pub fn part(&self, name: &str) -> Option<&PartMeasure> {
         self.parts.iter().find(|part| part.name == name)

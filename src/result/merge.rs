@@ -99,7 +99,19 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
     result.measures = merged_measures(&summaries, frames.as_ref());
     let input_files = merge_input_files(paths, parts.as_ref(), vehicle_model.as_ref());
     let timings = Timings::default();
-    Ok(Analysis { result, texel_counts, timings, input_files, vehicle_model, frames, labels: None })
+    // Per-texel angular area is not kept in a result set: a merge shows
+    // the paper's count in its heatmap and views.
+    let texel_angular_area = None;
+    Ok(Analysis {
+        result,
+        texel_counts,
+        timings,
+        input_files,
+        vehicle_model,
+        frames,
+        texel_angular_area,
+        labels: None,
+    })
 }
 
 /// Every result's summary, and their per-texel counts added (saturating, as

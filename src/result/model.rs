@@ -80,6 +80,15 @@ pub struct Analysis {
     /// Per-eye-frame tallies by part (`frames.csv`), with
     /// [`AnalyzeOptions::frames`].
     pub frames: Option<FrameTable>,
+    /// Per texel, row-major like `texel_counts`: the visible angular area
+    /// over time, deg²·s — the part measure `angular_area_deg2_s` texel by
+    /// texel (its pixels' solid angles × seconds per frame / eyes), so the
+    /// texels of a part add up to the part's. The default heatmap
+    /// (`heatmap-area.png`) and the views show it; `None` without the eyes'
+    /// projection or fps, without [`AnalyzeOptions::frames`], for a merge
+    /// (not kept in the result set) and for tiles counted in memory (the
+    /// capture's `--count`, [`crate::analyze_counted`]: not yet tallied).
+    pub texel_angular_area: Option<Vec<f32>>,
     /// The legend and PIdT the counts were joined with, for the figures
     /// drawn after (the frame strip), so they are not read again; `None`
     /// without labels, or for a merge, which reads them when it needs them.

@@ -236,6 +236,7 @@ fn finish(
         input_files: input_files(&summary),
         vehicle_model: inputs.vehicle_model.clone(),
         frames: None,
+        texel_angular_area: None,
         labels: inputs.parts.as_ref().map(crate::archive::resolve::LabelFiles::loaded),
     })
 }
@@ -244,7 +245,7 @@ fn finish(
 /// manifest, also those whose tiles were all empty or trimmed: zero rows), or
 /// per decoded image without one, in eye-frame (or name) order.
 pub(crate) fn frame_table(tallies: FrameTallies, inputs: &Inputs, shard: Option<Shard>) -> FrameTable {
-    let FrameTallies { parts, records } = tallies;
+    let FrameTallies { parts, records, .. } = tallies;
     if inputs.archive.frame_groups == 0 || inputs.eye_frames.len() != inputs.archive.frame_groups {
         let mut records = records;
         records.sort_by_key(|record| match record.label {

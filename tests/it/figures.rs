@@ -144,3 +144,44 @@ fn the_report_leads_with_the_quoted_measures_and_says_it_needs_its_folder() {
     assert!(page.contains("src=\"views.png\"") || page.contains("src=\"heatmap.png\""));
     assert!(!page.contains("src=\"data:"));
 }
+
+/// The default heatmap and the views show per-texel angular area (issue 35
+/// item 2): its texels, summed over each part, give that part's
+/// `angular_area_deg2_s` in result.json (the same pixel solid angles, summed
+/// per texel instead of per part); the paper's count stays in heatmap.png.
+#[test]
+fn per_texel_angular_area_adds_up_to_each_parts_angular_area() {
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let options = ufcsr::AnalyzeOptions { archive: example, frames: true, ..Default::default() };
+    let mut analysis = ufcsr::analyze(&options, None).unwrap();
+    let area = analysis.texel_angular_area.clone().expect("no per-texel angular area");
+    let labels = analysis.labels.clone().expect("the example has labels");
+    assert_eq!(area.len(), analysis.texel_counts.len());
+    let measures = analysis.result.measures.clone().unwrap();
+    let mut checked = 0;
+    for (index, part) in labels.legend.parts.iter().enumerate() {
+        let sum: f64 = area
+            .iter()
+            .zip(&labels.pidt.part_of_texel)
+            .filter(|&(_, &p)| usize::from(p) == index)
+            .map(|(&a, _)| f64::from(a))
+            .sum();
+        let expected = measures.part(&part.name).and_then(|m| m.angular_area_deg2_s).unwrap();
+        assert!((sum - expected).abs() <= 1e-5 * expected.max(1e-9), "{}: {sum} vs {expected}", part.name);
+        checked += usize::from(expected > 0.0);
+    }
+    assert!(checked >= 3, "only {checked} parts were seen");
+    // A texel is seen (count > 0) exactly where it has angular area.
+    for (&count, &a) in analysis.texel_counts.iter().zip(&area) {
+        assert_eq!(count > 0, a > 0.0);
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("results");
+    ufcsr::write_results(&mut analysis, &out).unwrap();
+    assert_eq!(image_size(&out.join("heatmap-area.png")), image_size(&out.join("heatmap.png")));
+    let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let area_section =
+        page.find("The heatmap on the vehicle: angular area per texel").expect("views not area");
+    assert!(area_section < page.find("The heatmap texture (paper-compatible count)").unwrap());
+    assert!(page.contains("src=\"heatmap-area.png\""));
+}

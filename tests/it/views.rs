@@ -113,5 +113,15 @@ fn the_compass_marks_the_pedestrian_on_the_vehicles_front_right() {
         "{front_right} green pixels front-right, {elsewhere} elsewhere"
     );
     let (sheet_width, sheet_height, _) = rgb(&dir.path().join("views.png"));
-    assert_eq!((sheet_width, sheet_height), (4 * 400 * scale, 2 * 300 * scale + 96 * scale));
+    // Below the views: the colour bar, its numbers and the caption, sized
+    // to print at 7 pt or more at 183 mm (views.pdf).
+    assert_eq!(sheet_width, 4 * 400 * scale);
+    assert!(sheet_height > 2 * 300 * scale + 96 * scale, "{sheet_height}");
+    let size = ufcsr::sheet_text_px(sheet_width);
+    let em_pt = size / 1.24 / f64::from(sheet_width) * 183.0 / ufcsr::MM_PER_PT;
+    assert!(em_pt >= ufcsr::MIN_TEXT_PT, "{em_pt} pt");
+    let pdf = std::fs::read(dir.path().join("views.pdf")).unwrap();
+    assert!(pdf.starts_with(b"%PDF-1.4") && pdf.ends_with(b"%%EOF\n"));
+    let head = String::from_utf8_lossy(&pdf[..pdf.len().min(2000)]).into_owned();
+    assert!(head.contains("/MediaBox [0 0 518.74 "), "views.pdf is not 183 mm wide");
 }

@@ -110,6 +110,7 @@ pub fn views_from_results(
         options: ufcsr::HeatmapOptions { scale: counts.scale, max: counts.max },
         caption: format!("{} · wgpu", ufcsr::views_caption(counts.measure, &counts.archive, scenario)),
         unit: ufcsr::measure_unit(counts.measure).to_string(),
+        quantum: None,
         views_scale: options.views_scale,
         pedestrian_azimuths_deg: track.map_or_else(Vec::new, |track| {
             track.frames.iter().filter_map(ufcsr::TrackFrame::pedestrian_azimuth_deg).collect()
@@ -119,6 +120,7 @@ pub fn views_from_results(
     let mut outputs: Vec<String> =
         ufcsr::DIRECTIONS.iter().map(|(name, _)| format!("views/{name}.png")).collect();
     outputs.push("views.png".into());
+    outputs.push("views.pdf".into());
     crate::job::overwrite_guard::refuse_overwriting_inputs(
         &out,
         &outputs.iter().map(String::as_str).collect::<Vec<_>>(),

@@ -17,6 +17,7 @@ use ufcsr::Color;
 
 use crate::error::{CaptureError, Result};
 use crate::inspect::pictures;
+use crate::inspect::pictures::with_legend;
 use crate::scene::mesh::{Axes, Mesh, triangle_area};
 use crate::scene::regions::RegionReport;
 use crate::scene::vehicle::{self, LENGTH_TOLERANCE};
@@ -210,9 +211,27 @@ fn uv_state(mesh: &Mesh) -> UvState {
     }
 }
 
+/// What the overlap picture shows, the first line of its legend.
+const OVERLAP_TITLE: &str = "The model's own UVs on a 1024² palette (u to the right, v = 0 at the top, as glTF; \
+     the legend is below the palette's 1024 rows). Each texel centre one triangle covers is in its part's colour:";
+
+/// The overlap picture's legend: what red and white mean, then the parts.
+fn overlap_entries(parts: &[String], colors: &[Color]) -> Vec<ufcsr::LegendEntry> {
+    let mut entries = vec![
+        ufcsr::LegendEntry { color: OVERLAP_RED, label: "two or more triangles: the UVs overlap".into() },
+        ufcsr::LegendEntry { color: [255, 255, 255], label: "no triangle".into() },
+    ];
+    entries.extend(crate::inspect::pictures::part_entries(parts, colors));
+    entries
+}
+
+/// Texels two or more triangles cover, in the overlap picture.
+const OVERLAP_RED: [u8; 3] = [230, 0, 0];
+
 /// [`OVERLAP_PICTURE`]: the own UVs on the check's palette, each texel
 /// centre a triangle covers in its part's colour, red where two or more
-/// cover it, white where none does (row 0 = v 0, the top, as glTF).
+/// cover it, white where none does (row 0 = v 0, the top, as glTF), and
+/// the legend saying so below the palette's rows.
 fn write_overlap_picture(mesh: &Mesh, colors: &[Color], out: &Path) -> Result<Option<PathBuf>> {
     let Some(uvs) = &mesh.uvs else { return Ok(None) };
     let [w, h] = OVERLAP_CHECK_PALETTE;
@@ -225,12 +244,13 @@ fn write_overlap_picture(mesh: &Mesh, colors: &[Color], out: &Path) -> Result<Op
         crate::texture::uv_islands::for_texel_centres(&uv, OVERLAP_CHECK_PALETTE, |x, y| {
             let i = (y * w + x) as usize;
             count[i] = count[i].saturating_add(1);
-            let shown = if count[i] > 1 { [230, 0, 0] } else { color };
+            let shown = if count[i] > 1 { OVERLAP_RED } else { color };
             rgb[i * 3..i * 3 + 3].copy_from_slice(&shown);
         });
     }
+    let (rgb, size, _) = with_legend(&rgb, [w, h], OVERLAP_TITLE, &overlap_entries(&mesh.parts, colors));
     let path = out.join(OVERLAP_PICTURE);
-    ufcsr::write_rgb_png(&path, [w, h], &rgb, png::Compression::Fast)?;
+    ufcsr::write_rgb_png(&path, size, &rgb, png::Compression::Fast)?;
     Ok(Some(path))
 }
 

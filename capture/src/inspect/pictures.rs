@@ -6,11 +6,14 @@
 //! a capture paints), shaded a little by how squarely they face the viewer
 //! so that the shape reads. A black cross marks the vehicle's origin, a grey
 //! line the ground (z = 0) and ticks every metre along the edges give scale.
+//! Under each picture a legend ([`with_legend`], the analyzer's
+//! [`ufcsr::TextLayout`]) says which way it looks, what the marks are, and
+//! names every part beside its colour (issue 35: the pictures had no key).
 
 use std::path::{Path, PathBuf};
 
 use glam::{DVec2, DVec3, dvec2};
-use ufcsr::{Color, ZBuffer};
+use ufcsr::{Color, LEGEND_TEXT_PX, LegendEntry, TextLayout, ZBuffer};
 
 use crate::error::Result;
 use crate::scene::mesh::Mesh;
@@ -42,6 +45,15 @@ impl View {
             View::Side => (dvec2(p.x, p.z), p.y),
             View::Top => (dvec2(p.x, p.y), -p.z),
             View::Front => (dvec2(-p.y, p.z), -p.x),
+        }
+    }
+
+    /// What the picture shows, for its legend.
+    fn title(self) -> &'static str {
+        match self {
+            View::Side => "From the vehicle's right (−y), front to the right.",
+            View::Top => "From above, front to the right, the vehicle's left at the top.",
+            View::Front => "From the front (+x), the vehicle's left on the right.",
         }
     }
 
@@ -166,14 +178,58 @@ pub fn default_pixels_per_metre(mesh: &Mesh) -> f64 {
     (1200.0 / extent.max(1e-3)).min(200.0)
 }
 
+/// The legend entries of the parts: each part's colour and name.
+pub fn part_entries(names: &[String], colors: &[Color]) -> Vec<LegendEntry> {
+    names
+        .iter()
+        .zip(colors)
+        .map(|(name, color)| LegendEntry { color: color.rgb(), label: name.clone() })
+        .collect()
+}
+
+/// What the marks of the views are, for their legend.
+const MARKS: &str = "Black cross: the vehicle's origin; grey line: the ground (z = 0); ticks every metre along the \
+     left and bottom edges. Parts in their pidt.png colours (as in inspect-parts.csv):";
+
+/// Narrowest picture with a legend, pixels (a narrow front view is widened
+/// with paper on the right so its legend has room).
+pub const LEGEND_MIN_WIDTH: u32 = 480;
+
+/// A picture with a legend band appended below it: `title` wrapped to the
+/// width, then a swatch and label per entry. Returns the picture, its size
+/// and where the legend's texts and swatches are.
+pub fn with_legend(
+    rgb: &[u8],
+    [width, height]: [u32; 2],
+    title: &str,
+    entries: &[LegendEntry],
+) -> (Vec<u8>, [u32; 2], TextLayout) {
+    let wide = width.max(LEGEND_MIN_WIDTH);
+    let room = f64::from(wide - 16);
+    let mut layout = TextLayout::new(LEGEND_TEXT_PX);
+    let y = layout.paragraph(title, 8, height + 6, room);
+    let tall = layout.entries(entries, 8, y, room) + 6;
+    let mut out = PAPER.repeat((wide * tall) as usize);
+    let row = width as usize * 3;
+    for y in 0..height as usize {
+        let to = y * wide as usize * 3;
+        out[to..to + row].copy_from_slice(&rgb[y * row..(y + 1) * row]);
+    }
+    layout.draw(&mut out, [wide, tall]);
+    (out, [wide, tall], layout)
+}
+
 /// Writes `inspect-side.png`, `inspect-top.png` and `inspect-front.png`
-/// into `dir`; returns their paths.
+/// into `dir`, each with its legend; returns their paths.
 pub fn write_views(mesh: &Mesh, colors: &[Color], dir: &Path, pixels_per_metre: f64) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
+    let entries = part_entries(&mesh.parts, colors);
     for view in [View::Side, View::Top, View::Front] {
         let canvas = draw(mesh, colors, view, pixels_per_metre);
+        let title = format!("{} {MARKS}", view.title());
+        let (rgb, size, _) = with_legend(&canvas.rgb, [canvas.width, canvas.height], &title, &entries);
         let path = dir.join(format!("inspect-{}.png", view.name()));
-        ufcsr::write_rgb_png(&path, [canvas.width, canvas.height], &canvas.rgb, png::Compression::Fast)?;
+        ufcsr::write_rgb_png(&path, size, &rgb, png::Compression::Fast)?;
         written.push(path);
     }
     Ok(written)
@@ -205,5 +261,39 @@ mod tests {
         assert_eq!(at(2, 2), PAPER);
         let top = draw(&mesh, &colors, View::Top, 10.0);
         assert_eq!((top.width, top.height), (40 + 2 * MARGIN, 20 + 2 * MARGIN));
+    }
+
+    #[test]
+    fn the_legend_grows_the_picture_and_shows_every_part_in_its_color() {
+        let mut mesh = Mesh::default();
+        mesh.add_box(
+            vec3(-2.0, -1.0, 0.0),
+            vec3(2.0, 1.0, 2.0),
+            [None, None, Some("left"), Some("right"), None, None],
+        );
+        let colors = [Color::from_rgb(0, 200, 0), Color::from_rgb(200, 0, 0)];
+        let canvas = draw(&mesh, &colors, View::Side, 10.0);
+        let entries = part_entries(&mesh.parts, &colors);
+        assert_eq!(entries.len(), mesh.parts.len());
+        let (rgb, [width, height], layout) =
+            with_legend(&canvas.rgb, [canvas.width, canvas.height], View::Side.title(), &entries);
+        assert_eq!(width, LEGEND_MIN_WIDTH, "a narrow picture is widened for its legend");
+        assert!(height > canvas.height + 2 * ufcsr::LEGEND_LINE, "{height}");
+        // The drawing is unchanged at the top left.
+        let at = |x: i32, y: i32| {
+            let i = ((y as u32 * width + x as u32) * 3) as usize;
+            [rgb[i], rgb[i + 1], rgb[i + 2]]
+        };
+        assert_eq!(at(MARGIN as i32 + 5, MARGIN as i32 + 5), [200, 0, 0]);
+        // A swatch in each part's colour, below the drawing, and its name.
+        assert_eq!(layout.swatches.len(), mesh.parts.len());
+        for (index, (part, expected)) in mesh.parts.iter().zip(&colors).enumerate() {
+            let (_, y, color) = layout.swatches[index];
+            assert!(y as u32 >= canvas.height);
+            assert_eq!(color, expected.rgb());
+            let (cx, cy) = layout.swatch_centre(index);
+            assert_eq!(at(cx, cy), expected.rgb());
+            assert!(layout.texts.iter().any(|(_, _, t)| t == part), "{part} not in the legend");
+        }
     }
 }

@@ -130,7 +130,11 @@ pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completio
     let placement = ufcsr::placement(&options)?;
     let written = ufcsr::write_placement(&placement, &args.out)?;
     let picture = match &written.picture {
-        Some(picture) => format!("\nthe chosen placements on the vehicle: {}", picture.overview.display()),
+        Some(picture) => format!(
+            "\nthe chosen placements on the vehicle: {} (and {} for a paper, 183 mm)",
+            picture.overview.display(),
+            picture.pdf.display()
+        ),
         None => "\nno vehicle model (no vehicle.glb in the archive): give --mesh for placement.png".into(),
     };
     let text = format!(
@@ -142,7 +146,10 @@ pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completio
     );
     let mut files = vec![written.json.clone(), written.csv.clone(), written.combinations_csv.clone()];
     files.extend(
-        written.picture.iter().flat_map(|p| std::iter::once(p.overview.clone()).chain(p.views.clone())),
+        written
+            .picture
+            .iter()
+            .flat_map(|p| [p.overview.clone(), p.pdf.clone()].into_iter().chain(p.views.clone())),
     );
     Ok(finish(
         console,

@@ -28,6 +28,7 @@ pub fn run_views(options: ViewsOptions, backend: Backend, console: &Console) -> 
     let written = ufcsr_capture::views_from_results(&gpu.device, &gpu.queue, &options)?;
     say!(console, "views ({}): {}", gpu.describe(), written.contact_sheet.display());
     console.wrote(&written.contact_sheet);
+    console.wrote(&written.pdf);
     for view in &written.views {
         console.wrote(view);
         say!(console, "  {}", view.display());

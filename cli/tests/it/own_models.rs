@@ -146,10 +146,15 @@ fn inspect_says_where_own_uvs_overlap_by_parts_and_triangles() {
     // The picture: the 1024² palette, red where the doors share texels (the left half), the plate in its colour.
     let picture =
         ufcsr::read_color_image(&dir.path().join("out/inspect-uv-overlaps.png"), |_| Ok(())).unwrap();
-    assert_eq!((picture.width, picture.height), (1024, 1024));
+    // The palette's 1024 rows, then its legend below them.
+    assert_eq!(picture.width, 1024);
+    assert!(picture.height > 1024 + 40, "no legend below the palette: {} rows", picture.height);
     let at = |x: usize, y: usize| picture.colors[y * 1024 + x];
     assert_eq!((at(256, 700), at(300, 200)), (0xE60000, 0xE60000), "the doors' shared texels are red");
     assert!(![0xE60000, 0xFFFFFF].contains(&at(800, 500)), "the plate's own texels: {:06X}", at(800, 500));
+    // The legend's swatches: red (overlap) and each part's colour, below the palette.
+    let legend: std::collections::HashSet<u32> = picture.colors[1024 * 1024..].iter().copied().collect();
+    assert!(legend.contains(&0xE60000) && legend.contains(&at(800, 500)), "the legend lacks a swatch");
 }
 
 #[test]

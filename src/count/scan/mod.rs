@@ -38,7 +38,9 @@ use crate::archive::palette::Fcsp;
 use crate::checks::neighbours::NeighbourSampler;
 use crate::color::{AtomicColorSet, SeenSet, color_key};
 use crate::count::part_lookup::{PartLookup, PartPixels, RowSpans};
+use crate::count::texel_area::TexelSolidAngles;
 use crate::error::{Error, Result};
+use crate::optics::solid_angle::TileView;
 use crate::png::rows::{PixelLayout, RowReader};
 use crate::simd::{Classes, FusedScan, RowTally, VectorScan};
 
@@ -740,14 +742,23 @@ pub fn scan_image_by_part(
     strays: &AtomicColorSet,
     parts: Option<(&PartLookup, &mut PartPixels)>,
 ) -> Result<ImageTally> {
-    scan_image_with(path, bytes, classifier, seen, strays, RowPasses { parts, neighbours: None })
+    scan_image_with(
+        path,
+        bytes,
+        classifier,
+        seen,
+        strays,
+        RowPasses { parts, neighbours: None, texel_area: None },
+    )
 }
 
 /// The optional passes over each decoded row beside the counting kernel:
-/// pixels by part, and the neighbour sample of the colour checks.
+/// pixels by part, the neighbour sample of the colour checks, and the
+/// per-texel solid angles (with where the image lies in its eye).
 pub(crate) struct RowPasses<'p, 'l> {
     pub parts: Option<(&'l PartLookup, &'p mut PartPixels)>,
     pub neighbours: Option<&'p mut NeighbourSampler>,
+    pub texel_area: Option<(&'l TexelSolidAngles, TileView)>,
 }
 
 /// [`scan_image_by_part`] with every optional row pass (on error the
@@ -776,7 +787,7 @@ fn scan_rows(
     strays: &AtomicColorSet,
     passes: RowPasses,
 ) -> Result<ImageTally> {
-    let RowPasses { parts, mut neighbours } = passes;
+    let RowPasses { parts, mut neighbours, texel_area } = passes;
     if let Some(sampler) = neighbours.as_mut() {
         sampler.start_image();
     }
@@ -784,6 +795,8 @@ fn scan_rows(
     let layout = reader.layout();
     let scan = row_scan(layout, classifier);
     let mut parts = parts.map(|(lookup, tally)| PartRows::new(scan, layout, classifier, lookup, tally));
+    let size = [reader.width(), reader.height()];
+    let texel_area = texel_area.and_then(|(sums, view)| Some((sums, sums.pixel_weights(&view, size)?)));
     let mut by_class = [0u64; 3];
     let mut y = 0;
     while let Some(row) = reader.next_row()? {
@@ -793,6 +806,11 @@ fn scan_rows(
         }
         if let Some(sampler) = neighbours.as_mut() {
             sampler.row(y, row, layout);
+        }
+        if let Some((sums, weights)) = &texel_area {
+            let width = size[0] as usize;
+            let start = (y as usize * width).min(weights.len());
+            sums.add_row(row, layout, &weights[start..(start + width).min(weights.len())]);
         }
         y += 1;
     }

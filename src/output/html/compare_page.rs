@@ -196,6 +196,7 @@ fn shared_scale_image(
                 track.as_ref().and_then(|t| t.name.as_deref()),
             ),
             unit: crate::output::heatmap_views::measure_unit(result.measure).to_string(),
+            quantum: None,
             views_scale: crate::output::heatmap_views::DEFAULT_VIEWS_SCALE,
             pedestrian_azimuths_deg: track.map_or_else(Vec::new, |t| {
                 t.frames.iter().filter_map(|f| f.pedestrian_azimuth_deg()).collect()

@@ -266,44 +266,73 @@ fn parts(page: &mut String, inputs: &PageInputs) {
     let _ = writeln!(page, "</table>");
 }
 
-/// The heatmap texture, and the link to the vehicle with it (`heatmap.glb`).
+/// The heatmap textures — the default one (per-texel angular area, when
+/// measured) and the paper-compatible count — and the link to the vehicle
+/// with the default one on it (`heatmap.glb`).
 fn heatmap(page: &mut String, inputs: &PageInputs) {
     let (settings, files) = (&inputs.result.settings, inputs.files);
+    let glb = match &files.heatmap_glb {
+        Some(glb) => format!(
+            " The vehicle with the {} heatmap on it: <a href=\"{}\">{}</a> (glTF; opens in Blender, three.js or any glTF viewer).",
+            if files.heatmap_area_png.is_some() { "angular-area" } else { "count" },
+            file_name(glb),
+            file_name(glb)
+        ),
+        None => " (No vehicle model: give <code>--mesh</code> for heatmap.glb.)".to_string(),
+    };
+    if let Some(area) = &files.heatmap_area_png {
+        let _ = writeln!(
+            page,
+            "<h2>The heatmap texture: angular area per texel</h2>\n<p>Each texel's visible angular area over time \
+             (deg²·s: the solid angle its pixels subtended, summed over the eye-frames, × seconds per frame / eyes; \
+             a part's texels add up to its angular area in the table of measures), laid out like the palette: \
+             plasma scale ({:?}) from 0 to the largest texel's, texels never seen in neutral grey.{glb}</p>\n\
+             <img src=\"{}\" alt=\"angular-area heatmap texture\" width=\"384\">",
+            settings.heatmap_scale,
+            file_name(area)
+        );
+    }
     let _ = writeln!(
         page,
         "<h2>The heatmap texture (paper-compatible count)</h2>\n<p>The paper's per-texel counts as a texture laid out \
-         like the palette, for putting on the model in other tools: plasma scale ({:?}{}), texels never seen in \
-         neutral grey.{}</p>\n\
+         like the palette, for comparing with the paper (not a measure to quote: see docs/science.md): plasma scale \
+         ({:?}{}), texels never seen in neutral grey.{}</p>\n\
          <img src=\"{}\" alt=\"heatmap texture\" width=\"384\">",
         settings.heatmap_scale,
         settings.heatmap_max.map(|m| format!(", top of scale {m}")).unwrap_or_default(),
-        match &files.heatmap_glb {
-            Some(glb) => format!(
-                " The vehicle with this heatmap on it: <a href=\"{}\">{}</a> (glTF; opens in Blender, three.js or any glTF viewer).",
-                file_name(glb),
-                file_name(glb)
-            ),
-            None => " (No vehicle model: give <code>--mesh</code> for heatmap.glb.)".to_string(),
-        },
+        if files.heatmap_area_png.is_some() { String::new() } else { glb },
         file_name(&files.heatmap_png)
     );
 }
 
-/// The eight views of the heatmap on the vehicle (`views.png`), when written.
+/// The eight views of the heatmap on the vehicle (`views.png`), when
+/// written: per-texel angular area when measured, else the paper's count.
 fn vehicle_views(page: &mut String, inputs: &PageInputs) {
     let Some(views) = &inputs.files.views_png else { return };
     let (result, settings) = (inputs.result, &inputs.result.settings);
+    let (heading, what, top) = if inputs.files.heatmap_area_png.is_some() {
+        (
+            "The heatmap on the vehicle: angular area per texel",
+            "Each point's visible angular area over time (deg²·s per texel, the quoted measure; the paper's count \
+             is in <code>heatmap.png</code> below).",
+            "the largest texel's".to_string(),
+        )
+    } else {
+        (
+            "The heatmap on the vehicle (paper-compatible count)",
+            "The paper's per-texel count (the analyzer measures angular area and exposure per part, not per \
+             texel, without the eyes' projection and fps: see the table of measures above).",
+            grouped(u64::from(settings.heatmap_max.unwrap_or(result.max_count))),
+        )
+    };
     let _ = writeln!(
         page,
-        "<h2>The heatmap on the vehicle (paper-compatible count)</h2>\n<p>The paper's per-texel count (the \
-         analyzer measures angular area and exposure per part, not per texel: see the table of measures \
-         above). Front, front-left, left, rear-left (top row); rear, rear-right, \
+        "<h2>{heading}</h2>\n<p>{what} Front, front-left, left, rear-left (top row); rear, rear-right, \
          right, front-right (bottom row); seen from 15° above, one scale for all, shaded by a light from the upper \
-         left. Colour bar: grey = never seen, then plasma from 0 to {} ({:?} scale). The compass in each view's \
+         left. Colour bar: grey = never seen, then plasma from 0 to {top} ({:?} scale). The compass in each view's \
          corner shows where the pedestrian was (green) and the view's line of sight (black). Each view is also \
          in <code>views/</code>.</p>\n\
          <img src=\"{}\" alt=\"the heatmap on the vehicle from eight directions\">",
-        grouped(u64::from(settings.heatmap_max.unwrap_or(result.max_count))),
         settings.heatmap_scale,
         file_name(views)
     );
@@ -428,11 +457,13 @@ fn files(page: &mut String, inputs: &PageInputs) {
     let listed = [
         Some(&files.result_json),
         files.parts_csv.as_ref(),
+        files.heatmap_area_png.as_ref(),
         Some(&files.heatmap_png),
         files.heatmap_glb.as_ref(),
         Some(&files.timings_json),
         files.frames_csv.as_ref(),
         files.views_png.as_ref(),
+        files.views_pdf.as_ref(),
         files.map_png.as_ref(),
         files.frames_strip_png.as_ref(),
     ];
@@ -505,6 +536,8 @@ mod tests {
             result_json: "result.json".into(),
             parts_csv: None,
             heatmap_png: "heatmap.png".into(),
+            heatmap_area_png: None,
+            views_pdf: None,
             timings_json: "timings.json".into(),
             heatmap_glb: None,
             report_html: "report.html".into(),
