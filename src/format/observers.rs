@@ -321,7 +321,11 @@ mod tests {
                 legible_s: [("hood".to_string(), 2.0)].into(),
                 coarser_legible_s: Some([("hood".to_string(), 1.8)].into()),
             }],
-            summary: vec![DisplayOverObservers { candidate: "hood".into(), kind: "part".into(), legible_s: value }],
+            summary: vec![DisplayOverObservers {
+                candidate: "hood".into(),
+                kind: "part".into(),
+                legible_s: value,
+            }],
             seconds: 3.0,
         };
         let written = serde_json::to_string(&study(Some(displays.clone()))).unwrap();

@@ -34,7 +34,8 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use ufcsr::{
-    DisplayOverObservers, ObserverDisplayRecord, ObserverDisplays, ObserverSampling, ResolutionCheck, Thresholds,
+    DisplayOverObservers, ObserverDisplayRecord, ObserverDisplays, ObserverSampling, ResolutionCheck,
+    Thresholds,
 };
 
 use super::interval::IntervalKind;
@@ -103,7 +104,10 @@ impl DisplayStudy {
             observers: self
                 .observers
                 .iter()
-                .map(|o| ObserverDisplayRecord { legible_s: o.fine.clone(), coarser_legible_s: o.coarse.clone() })
+                .map(|o| ObserverDisplayRecord {
+                    legible_s: o.fine.clone(),
+                    coarser_legible_s: o.coarse.clone(),
+                })
                 .collect(),
             summary: self.summary.clone(),
             seconds: self.seconds,
