@@ -64,9 +64,9 @@ pub use format::manifest::{
     SceneRecord, ShardRecord, TrackKey, TrafficRecord, UnwrapRecord,
 };
 pub use format::observers::{
-    CoarserCapture, DEFAULT_TRUNCATE_SD, OBSERVERS_SCHEMA, ObserverPlace, ObserverPopulation, ObserverRecord,
-    ObserverSampling, ObserverStudy, PartOverObservers, PopulationValue, ResolutionCheck, StatureGroup,
-    US_ADULTS_SOURCE,
+    CoarserCapture, DEFAULT_TRUNCATE_SD, DisplayOverObservers, OBSERVERS_SCHEMA, ObserverDisplayRecord,
+    ObserverDisplays, ObserverPlace, ObserverPopulation, ObserverRecord, ObserverSampling, ObserverStudy,
+    PartOverObservers, PopulationValue, ResolutionCheck, StatureGroup, US_ADULTS_SOURCE,
 };
 pub use format::placement::{
     ArchiveRecord, CandidateRecord, CombinationRecord, ExposureRecord, MemberRecord, PlacementDocument,

@@ -75,8 +75,8 @@ pub use scene::{
     reversed_z_perspective, street_scene, triangle_area, vehicle_to_world,
 };
 pub use study::observers::displays::{
-    DisplayOptions, DisplayOverObservers, DisplayStudy, OBSERVER_DISPLAYS_FILE, ObserverLegible,
-    run_observer_displays, summarize_displays, write_display_study,
+    DisplayOptions, DisplayStudy, OBSERVER_DISPLAYS_FILE, ObserverLegible, run_observer_displays,
+    summarize_displays, write_display_study,
 };
 pub use study::observers::interval::{IntervalKind, percentile, population_value, t975};
 pub use study::observers::population::{

@@ -191,3 +191,28 @@ def test_placement_study_and_observer_outputs_read_as_document_and_tables(tmp_pa
     (tmp_path / "study.json").write_text(json.dumps({"schema": "ufcsr-placement/1"}))
     with pytest.raises(ufcsr.UfcsrError, match="not a ufcsr study.json"):
         ufcsr.read_study(tmp_path)
+
+
+def test_observer_displays_read_from_the_document_and_their_table_and_are_absent_without_them(tmp_path):
+    legible = {"mean": 1.5, "mean_ci95": [0.5, 2.5], "monte_carlo_half_width": 0.8,
+               "resolution_bound": 0.2, "p2_5": 1.0, "p97_5": 2.0}
+    candidate = "hood@0.40x0.15@x1.00y0.05z1.20"
+    displays = {"display_m": [0.4, 0.15], "spacing_m": 0.3, "sample": 1.0, "interval": "t", "seconds": 3.0,
+                "observers": [{"legible_s": {candidate: 2.0}, "coarser_legible_s": None}],
+                "summary": [{"candidate": candidate, "kind": "patch", "legible_s": legible}]}
+    (tmp_path / "observers.json").write_text(json.dumps({"schema": "ufcsr-observers/1", "displays": displays}))
+    (tmp_path / "observer-parts.csv").write_text("part,measure,mean\nhood,angular_area_deg2_s,3.0\n")
+    (tmp_path / "observer-displays.csv").write_text(
+        "candidate,kind,legible_s_mean,legible_s_ci95_low,legible_s_ci95_high\n"
+        f"{candidate},patch,1.5,0.5,2.5\n"
+    )
+    study = ufcsr.read_observers(tmp_path)
+    assert study.document["displays"]["summary"][0]["legible_s"]["mean_ci95"] == [0.5, 2.5]
+    assert study.document["displays"]["observers"][0]["legible_s"][candidate] == 2.0
+    assert list(study.tables["observer-displays.csv"]["candidate"]) == [candidate]
+    assert study.tables["observer-displays.csv"]["legible_s_ci95_high"][0] == 2.5
+    (tmp_path / "observer-displays.csv").unlink()
+    (tmp_path / "observers.json").write_text(json.dumps({"schema": "ufcsr-observers/1"}))
+    older = ufcsr.read_observers(tmp_path)
+    assert "displays" not in older.document and "observer-displays.csv" not in older.tables
+    assert list(older.tables) == ["observer-parts.csv"]

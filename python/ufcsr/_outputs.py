@@ -23,7 +23,12 @@ from ._files import PathLike, UfcsrError, read_bytes
 KINDS = {
     "placement": ("placement.json", "ufcsr-placement/", ("placement.csv", "placement-combinations.csv")),
     "study": ("study.json", "ufcsr-study/", ("study.csv",)),
-    "observers": ("observers.json", "ufcsr-observers/", ("observers.csv", "observer-parts.csv")),
+    # observer-displays.csv (and the document's "displays") only with `observers --display WxH`.
+    "observers": (
+        "observers.json",
+        "ufcsr-observers/",
+        ("observers.csv", "observer-parts.csv", "observer-displays.csv"),
+    ),
 }
 
 
@@ -64,5 +69,10 @@ def read_study(path: PathLike) -> Outputs:
 
 
 def read_observers(path: PathLike) -> Outputs:
-    """``ufcsr-capture observers``' folder (or its observers.json): the spread over pedestrians."""
+    """``ufcsr-capture observers``' folder (or its observers.json): the spread over pedestrians.
+
+    With ``--display WxH`` the document has ``displays`` (per candidate display the legible seconds
+    over the observers, ``summary``, and each observer's, ``observers``) and ``tables`` has
+    ``observer-displays.csv``; without it (and in files written before it) neither is there.
+    """
     return Outputs("observers", path)

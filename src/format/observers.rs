@@ -3,11 +3,14 @@
 //! stand and how tall they are, with the sources of the figures) and
 //! **`observers.json`**, which the study writes (every sampled observer, and
 //! per part the population mean with its 95 % interval, the spread over
-//! people and the resolution error folded in). One type per file, read and
+//! people and the resolution error folded in; with `--display WxH` the same
+//! for every candidate display's legible seconds, in `displays`, absent
+//! otherwise so files written before it still read). One type per file, read and
 //! written through serde, so the capture that writes them and any reader
 //! agree by construction and the JSON Schema (`schemars`) comes from the
 //! same definition; `docs/science.md` says what every number means.
 
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use schemars::JsonSchema;
@@ -189,6 +192,47 @@ pub struct PartOverObservers {
     pub top5_frequency: f64,
 }
 
+/// One candidate display patch (or whole part) over the observers.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct DisplayOverObservers {
+    /// The placement table's name (a patch: `part@WxH@xXyYzZ`).
+    pub candidate: String,
+    /// `part` or `patch`.
+    pub kind: String,
+    /// Legible seconds under the placement answer's default rule ([`crate::Thresholds::default`]).
+    pub legible_s: PopulationValue,
+}
+
+/// One observer's legible seconds per candidate (the study's `observers` order).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct ObserverDisplayRecord {
+    /// Per candidate this observer sees, legible seconds (a candidate not listed: 0 s).
+    pub legible_s: BTreeMap<String, f64>,
+    /// The same at twice the frame step, behind the resolution bound (`None`: not checked).
+    pub coarser_legible_s: Option<BTreeMap<String, f64>>,
+}
+
+/// The displays of an observer study (`observers --display WxH`): every
+/// observer measured exactly with placement candidates, and per candidate
+/// the legible seconds summarised as the parts' values are.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+pub struct ObserverDisplays {
+    /// Display width × height, metres.
+    pub display_m: [f64; 2],
+    /// Spacing of the candidate patch centres, metres.
+    pub spacing_m: f64,
+    /// Share of the texels each observer's exact measure samples, in (0, 1].
+    pub sample: f64,
+    /// One sentence: what the intervals are and what they leave out.
+    pub interval: String,
+    /// Per observer, in the study's `observers` order.
+    pub observers: Vec<ObserverDisplayRecord>,
+    /// Largest mean legible time first.
+    pub summary: Vec<DisplayOverObservers>,
+    /// Wall seconds of the display measures, all observers.
+    pub seconds: f64,
+}
+
 /// `observers.json`: a finished observer study.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct ObserverStudy {
@@ -210,6 +254,9 @@ pub struct ObserverStudy {
     pub seconds: f64,
     /// Wall seconds of the set-up the observers share, left out of each observer's `seconds`.
     pub setup_seconds: f64,
+    /// Per candidate display, with `--display WxH`; absent without (and in files written before it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub displays: Option<ObserverDisplays>,
 }
 
 #[cfg(test)]
@@ -226,5 +273,63 @@ mod tests {
         );
         let typo = serde_json::from_str::<ObserverPopulation>(r#"{"place": {"kind": "rig"}, "group": []}"#);
         assert!(typo.unwrap_err().to_string().contains("group"));
+    }
+
+    fn study(displays: Option<ObserverDisplays>) -> ObserverStudy {
+        ObserverStudy {
+            schema: OBSERVERS_SCHEMA.into(),
+            scenario: "A".into(),
+            ppd: 6.0,
+            frame_step: 30,
+            population: ObserverPopulation::us_adults(ObserverPlace::Rig),
+            sampling: ObserverSampling::Random { observers: 2, seed: 1 },
+            resolution_check: ResolutionCheck::None,
+            interval: "t".into(),
+            parts: vec!["hood".into()],
+            observers: Vec::new(),
+            summary: Vec::new(),
+            seconds: 1.0,
+            setup_seconds: 0.5,
+            displays,
+        }
+    }
+
+    #[test]
+    fn a_study_without_displays_writes_no_displays_key_and_a_file_written_before_them_still_reads() {
+        let json = serde_json::to_value(study(None)).unwrap();
+        assert!(json.get("displays").is_none(), "{json}");
+        let read: ObserverStudy = serde_json::from_value(json).unwrap();
+        assert_eq!(read, study(None));
+    }
+
+    #[test]
+    fn a_study_with_displays_reads_back_every_candidate_and_observer() {
+        let value = PopulationValue {
+            mean: 1.5,
+            mean_ci95: Some([0.5, 2.5]),
+            monte_carlo_half_width: Some(0.8),
+            resolution_bound: Some(0.2),
+            p2_5: 1.0,
+            p97_5: 2.0,
+        };
+        let displays = ObserverDisplays {
+            display_m: [0.4, 0.15],
+            spacing_m: 0.3,
+            sample: 1.0,
+            interval: "t".into(),
+            observers: vec![ObserverDisplayRecord {
+                legible_s: [("hood".to_string(), 2.0)].into(),
+                coarser_legible_s: Some([("hood".to_string(), 1.8)].into()),
+            }],
+            summary: vec![DisplayOverObservers {
+                candidate: "hood".into(),
+                kind: "part".into(),
+                legible_s: value,
+            }],
+            seconds: 3.0,
+        };
+        let written = serde_json::to_string(&study(Some(displays.clone()))).unwrap();
+        let read: ObserverStudy = serde_json::from_str(&written).unwrap();
+        assert_eq!(read.displays, Some(displays));
     }
 }

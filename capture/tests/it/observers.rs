@@ -288,6 +288,16 @@ fn each_observer_reads_a_display_behind_a_wall_exactly_when_the_wall_leaves_four
     assert!((summary.resolution_bound.unwrap() - 3.0 * 0.2).abs() < 1e-9, "{summary:?}");
     let [from, to] = summary.mean_ci95.unwrap();
     assert!((from - (whole - 0.6)).abs() < 1e-9 && (to - (whole + 0.6)).abs() < 1e-9, "{from} {to}");
+    // observers.json's `displays` carries the same values.
+    let record = study.record();
+    assert_eq!((record.display_m, record.spacing_m, &record.summary), ([0.40, 0.15], 0.10, &study.summary));
+    assert!(
+        record
+            .observers
+            .iter()
+            .zip(&study.observers)
+            .all(|(r, o)| r.legible_s == o.fine && r.coarser_legible_s == o.coarse)
+    );
     let written = write_display_study(&study, dir.path()).unwrap();
     let table = std::fs::read_to_string(written).unwrap();
     assert_eq!(table.lines().count(), 1 + study.summary.len());

@@ -222,23 +222,25 @@ pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<(
     displays.as_ref().map(ufcsr_capture::DisplayOptions::check).transpose()?;
     let gpu = Gpu::create(args.backend.into()).context("creating the GPU device")?;
     eprintln!("adapter: {}", gpu.describe());
-    let study = ufcsr_capture::run_observer_study(&gpu.device, &gpu.queue, &scene, &options)?;
+    let mut study = ufcsr_capture::run_observer_study(&gpu.device, &gpu.queue, &scene, &options)?;
     print_observers(&study, console);
-    for file in ufcsr_capture::write_observer_study(&study, &args.out)? {
+    // The displays are measured before anything is written, so that
+    // observers.json carries them (its `displays`).
+    let mut written = Vec::new();
+    if let Some(displays) = displays {
+        let displays =
+            ufcsr_capture::run_observer_displays(&gpu.device, &gpu.queue, &scene, &options, &displays)?;
+        print_displays(&displays, console);
+        study.displays = Some(displays.record());
+        written.push(ufcsr_capture::write_display_study(&displays, &args.out)?);
+        console.fact("display_candidates", displays.summary.len());
+    }
+    for file in ufcsr_capture::write_observer_study(&study, &args.out)?.into_iter().chain(written) {
         console.wrote(&file);
         say!(console, "wrote {}", file.display());
     }
     console.fact("observers", study.observers.len());
     console.fact("parts", &study.summary);
-    if let Some(displays) = displays {
-        let study =
-            ufcsr_capture::run_observer_displays(&gpu.device, &gpu.queue, &scene, &options, &displays)?;
-        print_displays(&study, console);
-        let file = ufcsr_capture::write_display_study(&study, &args.out)?;
-        console.wrote(&file);
-        say!(console, "wrote {}", file.display());
-        console.fact("display_candidates", study.summary.len());
-    }
     Ok(())
 }
 

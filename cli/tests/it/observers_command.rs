@@ -27,6 +27,10 @@ fn the_observers_command_writes_its_tables_and_names_bad_options() {
     for file in ["observers.json", "observers.csv", "observer-parts.csv"] {
         assert!(out.join(file).is_file(), "{file}");
     }
+    let read = |out: &std::path::Path| -> ufcsr::ObserverStudy {
+        serde_json::from_slice(&std::fs::read(out.join("observers.json")).unwrap()).unwrap()
+    };
+    assert_eq!(read(&out).displays, None, "no displays without --display");
     // Per display: two observers, each also measured exactly on a quarter of the texels.
     let displays = ["--display", "0.40x0.15", "--display-sample", "1/4"];
     let output = run(&[&["--observers", "2", "--resolution-check", "none"], &displays[..]].concat());
@@ -36,6 +40,19 @@ fn the_observers_command_writes_its_tables_and_names_bad_options() {
     let table = std::fs::read_to_string(out.join("observer-displays.csv")).unwrap();
     assert!(table.starts_with("candidate,kind,legible_s_mean,"), "{table}");
     assert!(table.lines().any(|line| line.contains("@0.40x0.15@x") && line.contains(",patch,")), "{table}");
+    // observers.json carries the same displays: every candidate of the table, both observers.
+    let displays = read(&out).displays.expect("observers.json has displays with --display");
+    assert_eq!((displays.display_m, displays.sample, displays.observers.len()), ([0.40, 0.15], 0.25, 2));
+    assert_eq!(displays.summary.len() + 1, table.lines().count());
+    let first = &displays.summary[0];
+    assert!(
+        table.lines().nth(1).unwrap().starts_with(&format!("{},{},", first.candidate, first.kind)),
+        "{table}"
+    );
+    // A run without --display drops the earlier run's display table (it describes other observers).
+    let output = run(&["--observers", "2", "--resolution-check", "none"]);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    assert!(!out.join("observer-displays.csv").exists() && read(&out).displays.is_none());
     // A bad sample is refused before anyone is captured.
     let refused = run(&["--display", "0.40x0.15", "--display-sample", "2"]);
     assert_ne!(refused.status.code(), Some(0));

@@ -33,7 +33,10 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-use ufcsr::{ObserverSampling, PopulationValue, ResolutionCheck, Thresholds};
+use ufcsr::{
+    DisplayOverObservers, ObserverDisplayRecord, ObserverDisplays, ObserverSampling, ResolutionCheck,
+    Thresholds,
+};
 
 use super::interval::IntervalKind;
 use super::population::sample_observers;
@@ -77,16 +80,6 @@ pub struct ObserverLegible {
     pub coarse: Option<BTreeMap<String, f64>>,
 }
 
-/// One candidate over the observers.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DisplayOverObservers {
-    pub candidate: String,
-    /// `part` or `patch`.
-    pub kind: String,
-    /// Legible seconds under the placement answer's default rule.
-    pub legible_s: PopulationValue,
-}
-
 /// The displays of an observer study.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DisplayStudy {
@@ -98,6 +91,28 @@ pub struct DisplayStudy {
     /// Largest mean legible time first.
     pub summary: Vec<DisplayOverObservers>,
     pub seconds: f64,
+}
+
+impl DisplayStudy {
+    /// The study as `observers.json` carries it (its `displays`).
+    pub fn record(&self) -> ObserverDisplays {
+        ObserverDisplays {
+            display_m: self.options.display_m,
+            spacing_m: self.options.spacing_m,
+            sample: self.options.sample,
+            interval: self.interval.clone(),
+            observers: self
+                .observers
+                .iter()
+                .map(|o| ObserverDisplayRecord {
+                    legible_s: o.fine.clone(),
+                    coarser_legible_s: o.coarse.clone(),
+                })
+                .collect(),
+            summary: self.summary.clone(),
+            seconds: self.seconds,
+        }
+    }
 }
 
 /// Legible seconds and kind of every candidate in a placement table.

@@ -109,11 +109,12 @@ pub fn run_observer_study(
     options: &ObserverOptions,
 ) -> Result<ObserverStudy> {
     check(options, scene)?;
-    // A scene file (or mesh) named observers.json, observers.csv or
-    // observer-parts.csv in --out is refused, never replaced (as study does).
+    // A scene file (or mesh) named observers.json, observers.csv,
+    // observer-parts.csv or observer-displays.csv in --out is refused, never
+    // replaced nor removed as stale (as study does).
     crate::job::overwrite_guard::refuse_overwriting_inputs(
         &options.capture.out,
-        &OBSERVER_FILES,
+        &[OBSERVER_FILES.as_slice(), &[displays::OBSERVER_DISPLAYS_FILE]].concat(),
         &[],
         &crate::job::capture_inputs(scene, &options.capture),
     )?;
@@ -163,6 +164,7 @@ pub fn run_observer_study(
         summary,
         seconds: start.elapsed().as_secs_f64(),
         setup_seconds: setup.map_or(0.0, |setup: CaptureSetup| setup.seconds),
+        displays: None,
     })
 }
 
@@ -377,8 +379,11 @@ fn cell(value: Option<f64>) -> String {
 /// The files [`write_observer_study`] writes into the study's folder.
 const OBSERVER_FILES: [&str; 3] = ["observers.json", "observers.csv", "observer-parts.csv"];
 
-/// Writes `observers.json`, `observers.csv` (one row per observer and part)
-/// and `observer-parts.csv` (one row per part); returns what was written.
+/// Writes `observers.json` (with the study's `displays` when it has them),
+/// `observers.csv` (one row per observer and part) and `observer-parts.csv`
+/// (one row per part); returns what was written. Without displays an
+/// earlier run's `observer-displays.csv` is removed: it describes other
+/// observers.
 pub fn write_observer_study(study: &ObserverStudy, dir: &Path) -> Result<Vec<PathBuf>> {
     ufcsr::create_output_dir(dir)?;
     let json_path = dir.join("observers.json");
@@ -410,6 +415,9 @@ pub fn write_observer_study(study: &ObserverStudy, dir: &Path) -> Result<Vec<Pat
     let parts_path = dir.join("observer-parts.csv");
     ufcsr::write_bytes_atomically(&parts_path, parts_table(study).as_bytes())?;
     remove_stale_observers(dir, study.observers.len())?;
+    if study.displays.is_none() {
+        ufcsr::remove_inside(dir, &dir.join(displays::OBSERVER_DISPLAYS_FILE))?;
+    }
     Ok(vec![json_path, observers_path, parts_path])
 }
 
