@@ -194,6 +194,8 @@ pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<(
     eprintln!("adapter: {}", gpu.describe());
     let study = ufcsr_capture::run_observer_study(&gpu.device, &gpu.queue, &scene, &options)?;
     print_observers(&study, console);
+    // Each observer's folder (its archive, results and coarser capture) is this run's whole.
+    crate::capture::captures::record_archives_of(study.observers.iter().map(|o| &o.results), console);
     for file in ufcsr_capture::write_observer_study(&study, &args.out)? {
         console.wrote(&file);
         say!(console, "wrote {}", file.display());
