@@ -191,3 +191,26 @@ def test_placement_study_and_observer_outputs_read_as_document_and_tables(tmp_pa
     (tmp_path / "study.json").write_text(json.dumps({"schema": "ufcsr-placement/1"}))
     with pytest.raises(ufcsr.UfcsrError, match="not a ufcsr study.json"):
         ufcsr.read_study(tmp_path)
+
+
+def test_a_table_pandas_cannot_parse_names_its_file(tmp_path):
+    # pandas reads bytes, so its own message named no file.
+    path, _ = write_result(tmp_path / "r", np.ones(16, dtype=np.uint32))
+    (path.parent / "frames.csv").write_bytes(b'frame,eye\n"0,left\n')
+    with pytest.raises(ufcsr.UfcsrError, match=r"frames.csv: not a readable CSV table"):
+        ufcsr.read_result(path)
+    (tmp_path / "placement.json").write_text(json.dumps({"schema": "ufcsr-placement/2"}))
+    (tmp_path / "placement.csv").write_bytes(b"name,legible_s\n\xff\xfe\"hood\n")
+    with pytest.raises(ufcsr.UfcsrError, match=r"placement.csv: not a readable CSV table"):
+        ufcsr.read_placement(tmp_path)
+
+
+def test_the_heatmap_is_never_written_through_a_link(tmp_path):
+    path, _ = write_result(tmp_path / "r", np.ones(16, dtype=np.uint32))
+    elsewhere = tmp_path / "elsewhere.png"
+    elsewhere.write_bytes(b"mine")
+    link = tmp_path / "heat.png"
+    link.symlink_to(elsewhere)
+    with pytest.raises(ufcsr.UfcsrError, match="heat.png: exists and is not a regular file"):
+        ufcsr.heatmap(path.parent, out=link)
+    assert elsewhere.read_bytes() == b"mine" and link.is_symlink()
