@@ -264,3 +264,48 @@ fn capture_views_never_write_through_a_link_at_results_views() {
     assert!(text(&output.stderr).contains("views.png") && text(&output.stderr).contains("link"));
     assert_eq!(std::fs::read_to_string(&outside).unwrap(), "not a picture");
 }
+
+/// The study's folders (`ppdN-stepM/`, the exact reference's `exact/`) and
+/// the observers' (`observer-NNN/`) are made real: a link planted at one is
+/// replaced, and the folder it names gets nothing. `exact/` used to be
+/// written through.
+#[test]
+fn study_and_observers_never_write_through_a_link_at_their_folders() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes/demo.json");
+    let elsewhere = dir.path().join("elsewhere");
+    std::fs::create_dir(&elsewhere).unwrap();
+    std::fs::write(elsewhere.join("keep.txt"), "mine").unwrap();
+    let small = ["--scenario", "A", "--ppd", "2", "--palette-size", "256", "--frame-step", "90", "-q"];
+    let cases: [(&str, &[&str], &[&str]); 2] = [
+        ("study", &["--exact-sample", "0.05"], &["ppd2-step90", "exact"]),
+        ("observers", &["--kerb=-6.5,-4.5:-4.5,-6.5", "--observers", "1", "--seed", "7"], &["observer-000"]),
+    ];
+    for (command, extra, folders) in cases {
+        let out = dir.path().join(command);
+        std::fs::create_dir(&out).unwrap();
+        for folder in folders {
+            link(&elsewhere, &out.join(folder));
+        }
+        let ran = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+            .arg(command)
+            .arg(&scene)
+            .args(small)
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .env("XDG_RUNTIME_DIR", dir.path())
+            .output()
+            .unwrap();
+        assert!(ran.status.success(), "{command}: {}", text(&ran.stderr));
+        let names: Vec<_> = std::fs::read_dir(&elsewhere).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(names, ["keep.txt"], "{command} wrote through a link");
+        for folder in folders {
+            let kind = std::fs::symlink_metadata(out.join(folder)).unwrap().file_type();
+            assert!(
+                kind.is_dir() && out.join(folder).join("results/result.json").is_file(),
+                "{command} {folder}"
+            );
+        }
+    }
+}
