@@ -327,7 +327,8 @@ fn run_unobstructed(
                 on: args.measure_on.into(),
                 placement,
             },
-        )?;
+        )
+        .map_err(|error| record_written_before(error, &options.out, console))?;
         say!(
             console,
             "scenario {}: unobstructed measure of {} of {} texels ({} surface samples) over {} eye-frames in {:.2} s",
@@ -406,6 +407,21 @@ fn files_below(dir: &Path) -> BTreeSet<PathBuf> {
         }
     }
     found
+}
+
+/// A failure after files were written ([`ufcsr_capture::CaptureError::AfterWriting`]):
+/// the archive's files in `out` and the files it names are recorded, so the
+/// run ends with exit 1 and `written` lists them; any other error as it is.
+fn record_written_before(
+    error: ufcsr_capture::CaptureError,
+    out: &Path,
+    console: &Console,
+) -> ufcsr_capture::CaptureError {
+    if let ufcsr_capture::CaptureError::AfterWriting { written, .. } = &error {
+        record_archive_files(out, &out.join(ufcsr::MANIFEST_FILE), console);
+        written.iter().for_each(|file| console.wrote(file));
+    }
+    error
 }
 
 /// For `--json`: every file of the archives whose results are `results`
