@@ -424,6 +424,11 @@ fn record_written_before(
     error
 }
 
+/// For `--json`: every file below `folder`, written whole by this run.
+pub fn record_folder(folder: &Path, console: &Console) {
+    files_below(folder).iter().for_each(|file| console.wrote(file));
+}
+
 /// For `--json`: every file of the archives whose results are `results`
 /// (`ARCHIVE/results/result.json`), each written whole by this run (a
 /// study's settings, the observers' folders).
