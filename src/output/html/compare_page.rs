@@ -147,7 +147,12 @@ pub fn write_comparison_with(
             Some(max) => {
                 shared_scale_image(&json, &entry.result, (index, out_dir), max, &inputs, &mut files)?
             }
-            None => copy_image(&json, index, out_dir, &mut inputs, &mut files)?,
+            None => {
+                // Checked as the shared scale checks it (palette kind, encoding), though
+                // the counts are not drawn again: a damaged result is refused either way.
+                crate::result::result_json::read_texel_counts(&json)?;
+                copy_image(&json, index, out_dir, &mut inputs, &mut files)?
+            }
         };
     }
     let page = out_dir.join("report.html");
