@@ -35,6 +35,12 @@ pub enum CaptureError {
     /// A PNG could not be encoded or decoded.
     #[error("{}: png: {message}", path.display())]
     Png { path: PathBuf, message: String },
+
+    /// `error` came after `written` were written (each whole, atomically):
+    /// the command line lists them and exits 1 ("done, with failures"), not
+    /// 2 ("nothing done").
+    #[error("{error}")]
+    AfterWriting { written: Vec<PathBuf>, error: Box<CaptureError> },
 }
 
 impl CaptureError {

@@ -58,7 +58,8 @@ pub use job::{
     Assembled, Batch, CaptureOptions, CaptureProgress, CaptureSetup, CapturedTiles, Compression,
     CountedCapture, FrameSelection, MAX_FRAMES, MAX_SCENARIO_SECONDS, MAX_SELECTED_FRAMES, MAX_TILES,
     PreparedCapture, Summary, Task, TileFilter, TileTally, assemble, capture, capture_all, capture_counted,
-    capture_frames, for_each_scenario, load_batch, plan_batch, prepare, read_rgb_png, verify,
+    capture_frames, for_each_scenario, load_batch, partial_manifest_path, plan_batch, prepare, read_rgb_png,
+    verify,
 };
 pub use render::{
     Backend, Gpu, GpuPalette, PixelRect, RenderSetup, Renderer, TileDraw, Vertex, vehicle_vertices,

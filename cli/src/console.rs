@@ -1,7 +1,7 @@
 //! What a command says and what it did, in one place for every command of
 //! the three programs: lines for people on stdout (none with `--quiet`), or
 //! with `--json` exactly one JSON object for programs, whatever the ending —
-//! done, done with failures, an error, a usage error, Ctrl-C. The object
+//! done, done with failures, an error, a usage error, Ctrl-C, a panic. The object
 //! holds `command`, `exit_code`, `written` (every file written, as recorded
 //! by [`Console::wrote`]) and the command's own facts ([`Console::fact`]);
 //! on an error also `error`. A [`Console`] is a handle: the interrupt handler

@@ -269,8 +269,27 @@ pub fn main(program: Program) -> ExitCode {
         matches!(job, Job::Capture(_) | Job::CaptureTool(_)).then(crate::capture::PrivateRuntimeDir::create);
     crate::interrupt::remove_temporaries_on_interrupt(&console);
     warn_of_unknown_kernel();
-    let outcome = global.start_threads().and_then(|()| run(job, program, &global, &console));
-    console.end(outcome)
+    // A panic is a bug, but under --json it still ends in the one JSON object
+    // (exit 101, as Rust's own; the panic's message is on stderr already).
+    let ran = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        global.start_threads().and_then(|()| run(job, program, &global, &console))
+    }));
+    match ran {
+        Ok(outcome) => console.end(outcome),
+        Err(panic) => console.end_with(PANICKED, Some(&format!("internal error: {}", panic_text(&*panic)))),
+    }
+}
+
+/// The exit code of a run that panicked (a bug), as Rust gives it.
+const PANICKED: u8 = 101;
+
+/// What a panic said, when it said it as text.
+fn panic_text(panic: &(dyn std::any::Any + Send)) -> String {
+    match (panic.downcast_ref::<&str>(), panic.downcast_ref::<String>()) {
+        (Some(text), _) => (*text).to_string(),
+        (_, Some(text)) => text.clone(),
+        _ => "a panic".to_string(),
+    }
 }
 
 /// Carries out one job.

@@ -216,3 +216,26 @@ def test_observer_displays_read_from_the_document_and_their_table_and_are_absent
     older = ufcsr.read_observers(tmp_path)
     assert "displays" not in older.document and "observer-displays.csv" not in older.tables
     assert list(older.tables) == ["observer-parts.csv"]
+
+
+def test_a_table_pandas_cannot_parse_names_its_file(tmp_path):
+    # pandas reads bytes, so its own message named no file.
+    path, _ = write_result(tmp_path / "r", np.ones(16, dtype=np.uint32))
+    (path.parent / "frames.csv").write_bytes(b'frame,eye\n"0,left\n')
+    with pytest.raises(ufcsr.UfcsrError, match=r"frames.csv: not a readable CSV table"):
+        ufcsr.read_result(path)
+    (tmp_path / "placement.json").write_text(json.dumps({"schema": "ufcsr-placement/2"}))
+    (tmp_path / "placement.csv").write_bytes(b"name,legible_s\n\xff\xfe\"hood\n")
+    with pytest.raises(ufcsr.UfcsrError, match=r"placement.csv: not a readable CSV table"):
+        ufcsr.read_placement(tmp_path)
+
+
+def test_the_heatmap_is_never_written_through_a_link(tmp_path):
+    path, _ = write_result(tmp_path / "r", np.ones(16, dtype=np.uint32))
+    elsewhere = tmp_path / "elsewhere.png"
+    elsewhere.write_bytes(b"mine")
+    link = tmp_path / "heat.png"
+    link.symlink_to(elsewhere)
+    with pytest.raises(ufcsr.UfcsrError, match="heat.png: exists and is not a regular file"):
+        ufcsr.heatmap(path.parent, out=link)
+    assert elsewhere.read_bytes() == b"mine" and link.is_symlink()

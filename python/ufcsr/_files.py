@@ -14,7 +14,10 @@ from __future__ import annotations
 import os
 import stat
 from pathlib import Path
-from typing import Union
+from typing import TYPE_CHECKING, Union
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -56,6 +59,21 @@ def read_bytes(path: PathLike, kind: str = "small") -> bytes:
     if len(data) > limit:
         raise UfcsrError(f"{path}: more than the {limit:,} bytes a {kind} file may have (it grew while read)")
     return data
+
+
+def read_table(path: PathLike) -> "pd.DataFrame":
+    """A CSV table of a result set (``frames.csv``, placement and study tables) as a DataFrame:
+    read by :func:`read_bytes` (regular file, size cap) and parsed by pandas; a table pandas cannot
+    parse gives an error naming the file (pandas' own message names no file: it reads bytes)."""
+    import io
+
+    import pandas as pd
+
+    data = read_bytes(path, "table")
+    try:
+        return pd.read_csv(io.BytesIO(data))
+    except (ValueError, UnicodeDecodeError, pd.errors.ParserError) as error:
+        raise UfcsrError(f"{os.fspath(path)}: not a readable CSV table: {error}") from None
 
 
 def refuse_half_written(folder: Path, path: Path) -> None:

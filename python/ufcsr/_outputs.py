@@ -9,7 +9,6 @@ can plot what the command decided from the same numbers.
 
 from __future__ import annotations
 
-import io
 import json
 import os
 from pathlib import Path
@@ -17,7 +16,7 @@ from typing import Any
 
 import pandas as pd
 
-from ._files import PathLike, UfcsrError, read_bytes
+from ._files import PathLike, UfcsrError, read_bytes, read_table
 
 # Each output's document, the schema prefix it carries (when it carries one) and its tables.
 KINDS = {
@@ -51,7 +50,7 @@ class Outputs:
         for name in table_names:
             table = self.path.parent / name
             if os.path.lexists(table):
-                self.tables[name] = pd.read_csv(io.BytesIO(read_bytes(table, "table")))
+                self.tables[name] = read_table(table)
 
     def __repr__(self) -> str:
         tables = ", ".join(f"{name} {len(frame):,} rows" for name, frame in self.tables.items()) or "no tables"

@@ -10,7 +10,6 @@ file is an error naming it, never silently different counts.
 
 from __future__ import annotations
 
-import io
 import json
 import os
 from functools import cached_property
@@ -20,7 +19,7 @@ from typing import Any, Optional
 import numpy as np
 import pandas as pd
 
-from ._files import PathLike, UfcsrError, read_bytes, refuse_half_written
+from ._files import PathLike, UfcsrError, read_bytes, read_table, refuse_half_written
 
 RESULT_FILE = "result.json"
 FRAMES_FILE = "frames.csv"
@@ -131,7 +130,7 @@ class Result:
         frames = self.path.parent / FRAMES_FILE
         self.frames: Optional[pd.DataFrame] = None
         if os.path.lexists(frames):
-            self.frames = pd.read_csv(io.BytesIO(read_bytes(frames, "table")))
+            self.frames = read_table(frames)
 
     @cached_property
     def texel_counts(self) -> np.ndarray:

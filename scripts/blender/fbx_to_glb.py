@@ -51,9 +51,18 @@ def arguments(argv):
     return parser.parse_args(argv)
 
 
+# Size cap for the FBX read, as the analyzer's for models (MODEL_LIMIT, docs/reliability.md).
+FBX_LIMIT = 1 << 30
+
+
 def check_paths(fbx, glb, report):
+    """The input a regular file (links resolved) within the cap; the outputs new or regular files,
+    never a link, a device or a FIFO (the result is renamed over them), never the input."""
     if not os.path.isfile(fbx):
         raise InputError(f"{fbx}: not a regular file")
+    size = os.stat(fbx).st_size
+    if size > FBX_LIMIT:
+        raise InputError(f"{fbx}: {size:,} bytes, more than the {FBX_LIMIT:,} bytes allowed")
     if not fbx.lower().endswith(".fbx"):
         raise InputError(f"{fbx}: not an .fbx file")
     if not glb.lower().endswith(".glb"):
@@ -61,11 +70,16 @@ def check_paths(fbx, glb, report):
     for out in (glb, report):
         if os.path.islink(out):
             raise InputError(f"{out}: is a link; refusing to write through it")
+        if os.path.lexists(out) and not os.path.isfile(out):
+            raise InputError(f"{out}: is not a regular file (a folder, device, FIFO or socket); refusing to replace it")
         if os.path.exists(out) and os.path.samefile(out, fbx):
             raise InputError(f"{out}: is the input; refusing to write over it")
-    folder = os.path.dirname(os.path.abspath(glb))
-    if not os.path.isdir(folder):
-        raise InputError(f"{glb}: its folder {folder} does not exist")
+    if os.path.abspath(glb) == os.path.abspath(report):
+        raise InputError(f"{glb}: the report would replace the model; give --report another name")
+    for out in (glb, report):
+        folder = os.path.dirname(os.path.abspath(out))
+        if not os.path.isdir(folder):
+            raise InputError(f"{out}: its folder {folder} does not exist")
 
 
 def import_fbx(bpy, fbx):
@@ -180,6 +194,10 @@ def main(argv):
     try:
         summary = convert(args.fbx, args.glb, report, args.images)
     except InputError as error:
+        print(f"fbx_to_glb.py: {error}", file=sys.stderr)
+        return 2
+    except OSError as error:
+        # A write that failed (no space, a folder gone): the message names the file.
         print(f"fbx_to_glb.py: {error}", file=sys.stderr)
         return 2
     except ImportError as error:

@@ -10,6 +10,7 @@ import tempfile
 import unittest
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import fbx_to_glb  # noqa: E402  (the same: bpy only inside convert)
 import ufcsr_blender as script  # noqa: E402  (bpy is imported only where rendering needs it)
 
 
@@ -87,6 +88,94 @@ class FileRules(unittest.TestCase):
         with self.assertRaisesRegex(script.InputError, "outside the archive"):
             script.copy_described_files(self.archive, out, manifest)
         self.assertFalse(os.path.exists(os.path.join(out, "parts.csv")))
+
+    def described(self, **changes):
+        for name in ("pidt.png", "parts.csv", "vehicle.glb", "scene.glb"):
+            if not os.path.lexists(os.path.join(self.archive, name)):
+                with open(os.path.join(self.archive, name), "wb") as file:
+                    file.write(b"x")
+        manifest = {"pidt": "pidt.png", "parts": "parts.csv", "vehicle": "vehicle.glb", "occluders": "scene.glb"}
+        manifest.update(changes)
+        return script.described_files(self.archive, manifest)
+
+    def test_the_vehicle_and_occluders_are_checked_before_blender_imports_them(self):
+        # A FIFO vehicle.glb used to hang Blender's importer; a link to /dev/zero to fill the memory.
+        os.mkfifo(os.path.join(self.archive, "vehicle.glb"))
+        with self.assertRaisesRegex(script.InputError, "vehicle.glb.*not a regular file"):
+            self.described()
+        os.remove(os.path.join(self.archive, "vehicle.glb"))
+        os.remove(os.path.join(self.archive, "scene.glb"))
+        os.symlink("/dev/zero", os.path.join(self.archive, "scene.glb"))
+        with self.assertRaisesRegex(script.InputError, "scene.glb"):
+            self.described()
+        os.remove(os.path.join(self.archive, "scene.glb"))
+        with self.assertRaisesRegex(script.InputError, "leaves the archive"):
+            self.described(vehicle="../archive/vehicle.glb")
+        with self.assertRaisesRegex(script.InputError, "'occluders' does not name a file"):
+            self.described(occluders=None)
+        found = self.described()
+        self.assertEqual(found["vehicle.glb"], os.path.realpath(os.path.join(self.archive, "vehicle.glb")))
+
+    def test_a_described_file_over_the_cap_is_refused_by_its_size(self):
+        with open(os.path.join(self.archive, "pidt.png"), "wb") as file:
+            file.truncate(script.COPIED_FILE_LIMIT + 1)
+        with self.assertRaisesRegex(script.InputError, "pidt.png: .* bytes allowed"):
+            self.described()
+
+    def test_save_blend_never_replaces_a_link_a_fifo_or_an_input(self):
+        out = os.path.join(self.folder.name, "out")
+        fifo = os.path.join(self.folder.name, "scene.blend")
+        os.mkfifo(fifo)
+        with self.assertRaisesRegex(script.InputError, "not a regular file"):
+            script.refuse_save_blend(fifo, self.archive, out)
+        link = os.path.join(self.folder.name, "link.blend")
+        os.symlink("/dev/null", link)
+        with self.assertRaisesRegex(script.InputError, "link"):
+            script.refuse_save_blend(link, self.archive, out)
+        with self.assertRaisesRegex(script.InputError, "inside the source archive"):
+            script.refuse_save_blend(os.path.join(self.archive, "set-up.blend"), self.archive, out)
+        with self.assertRaisesRegex(script.InputError, "inside --out"):
+            script.refuse_save_blend(os.path.join(out, "set-up.blend"), self.archive, out)
+        script.refuse_save_blend(os.path.join(self.folder.name, "fine.blend"), self.archive, out)
+
+
+class FbxToGlbRules(unittest.TestCase):
+    """fbx_to_glb.py renames its outputs into place: never over a device, FIFO or link, never the input."""
+
+    def setUp(self):
+        self.folder = tempfile.TemporaryDirectory()
+        self.fbx = os.path.join(self.folder.name, "car.fbx")
+        with open(self.fbx, "wb") as file:
+            file.write(b"fbx")
+
+    def tearDown(self):
+        self.folder.cleanup()
+
+    def path(self, name):
+        return os.path.join(self.folder.name, name)
+
+    def test_an_output_that_is_a_fifo_a_device_link_or_the_input_is_refused(self):
+        os.mkfifo(self.path("out.glb"))
+        with self.assertRaisesRegex(fbx_to_glb.InputError, "out.glb: is not a regular file"):
+            fbx_to_glb.check_paths(self.fbx, self.path("out.glb"), self.path("r.json"))
+        os.symlink("/dev/null", self.path("null.glb"))
+        with self.assertRaisesRegex(fbx_to_glb.InputError, "is a link"):
+            fbx_to_glb.check_paths(self.fbx, self.path("null.glb"), self.path("r.json"))
+        os.mkfifo(self.path("r.json"))
+        with self.assertRaisesRegex(fbx_to_glb.InputError, "r.json: is not a regular file"):
+            fbx_to_glb.check_paths(self.fbx, self.path("new.glb"), self.path("r.json"))
+        with self.assertRaisesRegex(fbx_to_glb.InputError, "report would replace the model"):
+            fbx_to_glb.check_paths(self.fbx, self.path("new.glb"), self.path("new.glb"))
+        fbx_to_glb.check_paths(self.fbx, self.path("new.glb"), self.path("new.report.json"))
+
+    def test_the_input_is_a_regular_file_within_the_cap(self):
+        os.symlink("/dev/zero", self.path("zero.fbx"))
+        with self.assertRaisesRegex(fbx_to_glb.InputError, "zero.fbx: not a regular file"):
+            fbx_to_glb.check_paths(self.path("zero.fbx"), self.path("new.glb"), self.path("r.json"))
+        with open(self.fbx, "wb") as file:
+            file.truncate(fbx_to_glb.FBX_LIMIT + 1)
+        with self.assertRaisesRegex(fbx_to_glb.InputError, "car.fbx: .* bytes allowed"):
+            fbx_to_glb.check_paths(self.fbx, self.path("new.glb"), self.path("r.json"))
 
 
 if __name__ == "__main__":

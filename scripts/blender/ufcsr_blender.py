@@ -559,15 +559,47 @@ def prepare_out(source, out):
     os.makedirs(os.path.join(out, "tiles"), exist_ok=True)
 
 
+def described_files(source, manifest):
+    """The PIdT, legend, vehicle, occluders (and an image palette) the manifest
+    names, as {name: resolved path}: each inside the source archive with links
+    resolved, a regular file of at most COPIED_FILE_LIMIT bytes. Checked before
+    Blender imports the vehicle and occluders (a vehicle.glb that is a FIFO or
+    a link to /dev/zero must not hang the importer) and before anything is written."""
+    manifest_path = os.path.join(source, "manifest.json")
+    names = []
+    for key in ("pidt", "parts", "vehicle", "occluders"):
+        if not isinstance(manifest.get(key), str):
+            raise InputError(f"{manifest_path}: '{key}' does not name a file")
+        names.append(manifest[key])
+    if isinstance(manifest.get("palette"), str):
+        names.append(manifest["palette"])
+    found = {}
+    for name in names:
+        real = inside(source, name, manifest_path)
+        size = os.stat(real).st_size
+        if size > COPIED_FILE_LIMIT:
+            raise InputError(f"{os.path.join(source, name)}: {size:,} bytes, more than the {COPIED_FILE_LIMIT:,} bytes allowed")
+        found[name] = real
+    return found
+
+
+def refuse_save_blend(path, source, out):
+    """--save-blend FILE: never a link, a device, a FIFO or a folder (Blender renames its
+    file over whatever is there), never inside the source archive (its inputs) nor --out."""
+    if os.path.islink(path) or (os.path.lexists(path) and not os.path.isfile(path)):
+        raise InputError(f"{path}: --save-blend is a link or not a regular file: it is not written over")
+    real = os.path.realpath(path)
+    for folder, what in ((source, "the source archive"), (out, "--out")):
+        root = os.path.realpath(folder)
+        if os.path.commonpath([real, root]) == root:
+            raise InputError(f"{path}: --save-blend is inside {what} ({folder}): give a file elsewhere")
+
+
 def copy_described_files(source, out, manifest):
     """The PIdT, legend, vehicle, occluders (and an image palette) beside the new
     tiles: each resolved inside the source archive and read by the same rules."""
-    names = [manifest[key] for key in ("pidt", "parts", "vehicle", "occluders")]
-    if isinstance(manifest.get("palette"), str):
-        names.append(manifest["palette"])
-    manifest_path = os.path.join(source, "manifest.json")
-    for name in names:
-        data = read_regular(inside(source, name, manifest_path), COPIED_FILE_LIMIT)
+    for name, real in described_files(source, manifest).items():
+        data = read_regular(real, COPIED_FILE_LIMIT)
         target = os.path.join(out, name)
         os.makedirs(os.path.dirname(target), exist_ok=True)
         write_new(target, data)
@@ -651,12 +683,15 @@ def render_archive(arguments):
         raise InputError(f"{manifest_path}: 'background' is not a list of colours")
     backgrounds = [colour_bytes(text, manifest_path) for text in listed]
     background_linear = tuple(srgb_decoded(byte) for byte in backgrounds[0])
+    inputs = described_files(source, manifest)
+    if arguments.save_blend:
+        refuse_save_blend(arguments.save_blend, source, out)
     prepare_out(source, out)
     bpy.ops.wm.read_factory_settings(use_empty=True)
     set_up_colour_and_world(background_linear)
     set_up_engine(arguments.engine)
-    vehicle = set_up_vehicle(os.path.join(source, manifest["vehicle"]))
-    set_up_occluders(os.path.join(source, manifest["occluders"]), background_linear)
+    vehicle = set_up_vehicle(inputs[manifest["vehicle"]])
+    set_up_occluders(inputs[manifest["occluders"]], background_linear)
     camera = set_up_camera(manifest["rig"]["eye_projection"])
     if arguments.save_blend:
         first = records[0]
@@ -706,6 +741,10 @@ def main():
     try:
         render_archive(arguments)
     except InputError as error:
+        print(f"{TOOL}: {error}", file=sys.stderr)
+        return 2
+    except OSError as error:
+        # A write refused (a file already there, no space, ...): the message names the file.
         print(f"{TOOL}: {error}", file=sys.stderr)
         return 2
     return 0

@@ -49,7 +49,7 @@ fn output_paths(files: &WrittenFiles) -> Vec<PathBuf> {
         files.map_png.as_ref(),
         files.frames_strip_png.as_ref(),
     ];
-    outputs.into_iter().flatten().cloned().collect()
+    outputs.into_iter().flatten().cloned().chain(files.views()).collect()
 }
 
 /// Writes `result.json`, `parts.csv` (with a PIdT), `heatmap.png` and

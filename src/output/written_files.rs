@@ -48,6 +48,7 @@ impl WrittenFiles {
         files.extend(self.heatmap_glb.clone());
         files.extend(self.views_png.clone());
         files.extend(self.views_pdf.clone());
+        files.extend(self.views());
         files.extend(self.map_png.clone());
         files.extend(self.frames_strip_png.clone());
         files.push(self.report_html.clone());
@@ -55,5 +56,16 @@ impl WrittenFiles {
             files.extend(plot.files.iter().map(|file| out_dir.join(file)));
         }
         files
+    }
+
+    /// The eight views beside `views.png` (`views/front.png`, …), written
+    /// whenever the contact sheet is: `--json`'s `written` lists them too.
+    pub fn views(&self) -> Vec<PathBuf> {
+        let Some(sheet) = &self.views_png else { return Vec::new() };
+        let dir = sheet.parent().unwrap_or(Path::new(".")).join("views");
+        crate::output::heatmap_views::DIRECTIONS
+            .iter()
+            .map(|(name, _)| dir.join(format!("{name}.png")))
+            .collect()
     }
 }

@@ -142,8 +142,17 @@ pub fn measure_unobstructed(
             sample_fraction: measure.sample,
             frame_s: measured.seconds_per_frame,
         };
-        capture.placement =
-            Some(write_placement_frames(&inputs, placement, &ufcsr::default_output_dir(&options.out))?);
+        let results = ufcsr::default_output_dir(&options.out);
+        capture.placement = Some(write_placement_frames(&inputs, placement, &results).map_err(|error| {
+            // The result set is written by now (and the patch table, if any):
+            // a table over the cap fails the run after them.
+            let mut written = capture.written.all(&results);
+            written.push(capture.estimates_csv.clone());
+            written.extend(
+                Some(results.join(crate::exact::placement::PLACEMENT_PATCHES_FILE)).filter(|p| p.is_file()),
+            );
+            CaptureError::AfterWriting { written, error: Box::new(error) }
+        })?);
     }
     Ok(capture)
 }

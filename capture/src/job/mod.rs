@@ -28,7 +28,7 @@ pub use capture_job::{
     capture_inputs, for_each_scenario, prepare, prepare_archive, read_rgb_png, summarize, verify,
     write_manifest,
 };
-pub use capture_shard::{Assembled, assemble};
+pub use capture_shard::{Assembled, assemble, partial_manifest_path};
 pub use counted_capture::{CaptureSetup, CountedCapture, capture_counted};
 pub use manifest_builder::TileFiles;
 pub use options::{

@@ -78,13 +78,13 @@ pub fn run_palette(args: PaletteArgs, console: &Console) -> Result<Completion> {
 
 pub fn run_report(args: ReportArgs, console: &Console) -> Result<Completion> {
     let options = ufcsr::ComparisonOptions { labels: args.labels.clone(), own_scales: args.own_scales };
-    let page = ufcsr::write_comparison_with(&args.results, &args.out, &options)?;
+    let written = ufcsr::write_comparison_with(&args.results, &args.out, &options)?;
     Ok(finish(
         console,
         Done {
             completion: Completion::Done,
-            written: vec![page.clone()],
-            text: format!("wrote {} ({} inputs)", page.display(), args.results.len()),
+            text: format!("wrote {} ({} inputs)", written.page.display(), args.results.len()),
+            written: written.files,
             facts: json!({
                 "results": shown_all(&args.results),
                 "out": shown(&args.out),

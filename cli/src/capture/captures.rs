@@ -3,7 +3,8 @@
 //! capture to PNG tiles, the fused count (`--count`) or the exact measure
 //! (`--measure unobstructed`), then prints what each scenario gave.
 
-use std::path::PathBuf;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use anyhow::Context;
@@ -195,15 +196,22 @@ pub fn run_capture(
         ufcsr_capture::for_each_scenario(&scene, &names, all, &options, |scenario, options| {
             let counted =
                 ufcsr_capture::capture_counted(&gpu.device, &gpu.queue, &scene, scenario, options, dedupe)?;
-            report(&counted.summary, Sink::Counted, console);
+            report(&counted.summary, Sink::Counted, &counted.summary.out.join(ufcsr::MANIFEST_FILE), console);
             report_counted(&counted, console);
             Ok(())
         })?;
         return Ok(());
     }
+    // --resume keeps the tiles already there: `written` names only those this run wrote.
+    let kept = if args.resume { files_below(&args.out) } else { BTreeSet::new() };
     let summaries = ufcsr_capture::capture_all(&gpu.device, &gpu.queue, &scene, &names, all, &options)?;
     for summary in &summaries {
-        report(summary, Sink::Png, console);
+        let manifest = match options.shard {
+            Some(shard) => ufcsr_capture::partial_manifest_path(&summary.out, shard),
+            None => summary.out.join(ufcsr::MANIFEST_FILE),
+        };
+        report(summary, Sink::Png, &manifest, console);
+        record_tiles(&summary.out, &manifest, &kept, console)?;
         if let Some(shard) = options.shard {
             say!(
                 console,
@@ -334,7 +342,8 @@ fn run_unobstructed(
                 on: args.measure_on.into(),
                 placement,
             },
-        )?;
+        )
+        .map_err(|error| record_written_before(error, &options.out, console))?;
         say!(
             console,
             "scenario {}: unobstructed measure of {} of {} texels ({} surface samples) over {} eye-frames in {:.2} s",
@@ -352,6 +361,7 @@ fn run_unobstructed(
             (measured.surface_samples * measured.eye_frames) as f64 / measured.visibility_seconds.max(1e-9)
         );
         console.print(&ufcsr::format_table(&measured.analysis.result));
+        record_archive_files(&options.out, &options.out.join(ufcsr::MANIFEST_FILE), console);
         let out = measured.written.result_json.parent().unwrap_or(std::path::Path::new("."));
         measured.written.all(out).iter().for_each(|file| console.wrote(file));
         console.wrote(&measured.estimates_csv);
@@ -395,14 +405,91 @@ fn placement_options(args: &CaptureArgs) -> anyhow::Result<Option<ufcsr_capture:
     Ok(Some(ufcsr_capture::PlacementCandidates { display_m, spacing_m: args.patch_spacing }))
 }
 
-/// For `--json`: the archive's files and the scenario's facts.
-fn record_archive(s: &Summary, console: &Console) {
-    for name in ["manifest.json", "pidt.png", "parts.csv", "palette.png", "vehicle.glb", "scene.glb"] {
-        let path = s.out.join(name);
+/// Every file below `dir` (links not followed), for `--resume`: the tiles
+/// already there are kept, not written.
+fn files_below(dir: &Path) -> BTreeSet<PathBuf> {
+    let mut found = BTreeSet::new();
+    let mut folders = vec![dir.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).into_iter().flatten().flatten() {
+            match entry.file_type() {
+                Ok(kind) if kind.is_dir() => folders.push(entry.path()),
+                Ok(_) => {
+                    found.insert(entry.path());
+                }
+                Err(_) => {}
+            }
+        }
+    }
+    found
+}
+
+/// A failure after files were written ([`ufcsr_capture::CaptureError::AfterWriting`]):
+/// the archive's files in `out` and the files it names are recorded, so the
+/// run ends with exit 1 and `written` lists them; any other error as it is.
+fn record_written_before(
+    error: ufcsr_capture::CaptureError,
+    out: &Path,
+    console: &Console,
+) -> ufcsr_capture::CaptureError {
+    if let ufcsr_capture::CaptureError::AfterWriting { written, .. } = &error {
+        record_archive_files(out, &out.join(ufcsr::MANIFEST_FILE), console);
+        written.iter().for_each(|file| console.wrote(file));
+    }
+    error
+}
+
+/// For `--json`: every file below `folder`, written whole by this run.
+pub fn record_folder(folder: &Path, console: &Console) {
+    files_below(folder).iter().for_each(|file| console.wrote(file));
+}
+
+/// For `--json`: every file of the archives whose results are `results`
+/// (`ARCHIVE/results/result.json`), each written whole by this run (a
+/// study's settings, the observers' folders).
+pub fn record_archives_of<'a>(results: impl Iterator<Item = &'a PathBuf>, console: &Console) {
+    let archives: BTreeSet<&Path> = results.filter_map(|json| json.parent()?.parent()).collect();
+    for file in archives.into_iter().flat_map(files_below) {
+        console.wrote(&file);
+    }
+}
+
+/// For `--json`: the tiles `manifest` lists that this run wrote (not among
+/// `kept`, the files there before a `--resume`).
+fn record_tiles(
+    archive: &Path,
+    manifest: &Path,
+    kept: &BTreeSet<PathBuf>,
+    console: &Console,
+) -> anyhow::Result<()> {
+    let bytes = ufcsr::read_limited(manifest, ufcsr::SMALL_INPUT_LIMIT)?;
+    let manifest = ufcsr::Manifest::parse(manifest, &bytes)?;
+    for file in manifest.tiles.iter().filter_map(|tile| tile.file.as_ref()) {
+        let path = archive.join(file);
+        if !kept.contains(&path) {
+            console.wrote(&path);
+        }
+    }
+    Ok(())
+}
+
+/// For `--json`: the files of the archive in `out` besides its tiles and
+/// results (`manifest`: its manifest, or a shard's part of it).
+fn record_archive_files(out: &Path, manifest: &Path, console: &Console) {
+    if manifest.is_file() {
+        console.wrote(manifest);
+    }
+    for name in ["pidt.png", "parts.csv", "palette.png", "vehicle.glb", "scene.glb"] {
+        let path = out.join(name);
         if path.is_file() {
             console.wrote(&path);
         }
     }
+}
+
+/// For `--json`: the archive's files and the scenario's facts.
+fn record_archive(s: &Summary, manifest: &Path, console: &Console) {
+    record_archive_files(&s.out, manifest, console);
     console.fact_item(
         "scenarios",
         serde_json::json!({
@@ -430,8 +517,8 @@ enum Sink {
     Counted,
 }
 
-fn report(s: &Summary, sink: Sink, console: &Console) {
-    record_archive(s, console);
+fn report(s: &Summary, sink: Sink, manifest: &Path, console: &Console) {
+    record_archive(s, manifest, console);
     let work = if sink == Sink::Counted { "counting included, no PNGs" } else { "encoding included" };
     say!(
         console,

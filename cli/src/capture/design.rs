@@ -126,6 +126,8 @@ fn run_tasks(
         }
         TaskOutcome::Ran(done) => {
             ran += 1;
+            // The task's folder (its units' archives, results and task.json) is this run's.
+            crate::capture::captures::record_folder(&ufcsr_capture::task_dir(out, done.task), console);
             say!(
                 console,
                 "task {} ({}, replicate {}): {:.1} s",

@@ -235,6 +235,8 @@ pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<(
         written.push(ufcsr_capture::write_display_study(&displays, &args.out)?);
         console.fact("display_candidates", displays.summary.len());
     }
+    // Each observer's folder (its archive, results and coarser capture) is this run's whole.
+    crate::capture::captures::record_archives_of(study.observers.iter().map(|o| &o.results), console);
     for file in ufcsr_capture::write_observer_study(&study, &args.out)?.into_iter().chain(written) {
         console.wrote(&file);
         say!(console, "wrote {}", file.display());

@@ -99,6 +99,9 @@ pub fn run_study(args: StudyArgs, console: &Console) -> anyhow::Result<()> {
     eprintln!("adapter: {}", gpu.describe());
     let study = ufcsr_capture::run_study(&gpu.device, &gpu.queue, &scene, &options)?;
     print_study(&study, console);
+    // Each setting's archive (and the exact reference's) is this run's whole.
+    let archives = study.rows.iter().map(|row| &row.results).chain(study.exact.as_ref().map(|e| &e.results));
+    crate::capture::captures::record_archives_of(archives, console);
     for file in ufcsr_capture::write_study(&study, &args.out)? {
         console.wrote(&file);
         say!(console, "wrote {}", file.display());

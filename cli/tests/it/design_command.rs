@@ -35,8 +35,27 @@ fn a_design_plans_runs_resumes_and_merges() {
     let early = ufcsr(dir.path(), &["design", "merge", file, "--out", out]);
     assert_ne!(early.status.code(), Some(0));
     assert!(text(&early).contains("4 missing") && text(&early).contains("vehicle=van scenario=street-2"));
-    let run = ufcsr(dir.path(), &["design", "run", file, "--out", out]);
-    assert!(run.status.success() && text(&run).contains("4 task(s) run, 0 skipped"), "{}", text(&run));
+    let run = ufcsr(dir.path(), &["design", "run", file, "--out", out, "--json"]);
+    assert!(run.status.success(), "{}", text(&run));
+    let summary: serde_json::Value = serde_json::from_slice(&run.stdout).unwrap();
+    assert_eq!((summary["ran"].as_u64(), summary["skipped"].as_u64()), (Some(4), Some(0)), "{summary}");
+    // --json's written: exactly the files the run left in --out (every task's folder).
+    let mut written: Vec<String> =
+        summary["written"].as_array().unwrap().iter().map(|p| p.as_str().unwrap().to_string()).collect();
+    let mut there = Vec::new();
+    let mut folders = vec![std::path::PathBuf::from(out)];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(folder).unwrap().map(Result::unwrap) {
+            if entry.file_type().unwrap().is_dir() {
+                folders.push(entry.path());
+            } else {
+                there.push(entry.path().display().to_string());
+            }
+        }
+    }
+    written.sort();
+    there.sort();
+    assert!(there.len() > 4 && written == there, "written {written:?}\nthere {there:?}");
     // Resumable: complete tasks are skipped, a removed one is measured again.
     std::fs::remove_file(Path::new(out).join("tasks/task-0002/task.json")).unwrap();
     let again = ufcsr(dir.path(), &["design", "run", file, "--out", out]);

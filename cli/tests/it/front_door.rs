@@ -165,6 +165,37 @@ fn completions_under_json_and_into_a_full_device() {
 }
 
 #[test]
+fn man_under_json_is_one_object_and_a_full_device_under_json_is_exit_2() {
+    let page = ufcsr(&["--json", "man"]);
+    assert_eq!(page.status.code(), Some(0));
+    assert!(one_object(&page)["page"].as_str().unwrap().contains(".TH ufcsr"));
+    // One page per command into --out: `written` lists exactly the pages there.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("man");
+    let pages = ufcsr(&["--json", "man", "--out", out.to_str().unwrap()]);
+    let summary = one_object(&pages);
+    let mut listed: Vec<String> =
+        summary["written"].as_array().unwrap().iter().map(|p| p.as_str().unwrap().to_string()).collect();
+    let mut there: Vec<String> =
+        std::fs::read_dir(&out).unwrap().map(|e| e.unwrap().path().display().to_string()).collect();
+    listed.sort();
+    there.sort();
+    assert!(there.len() > COMMANDS.len() && listed == there, "{listed:?} against {there:?}");
+    if Path::new("/dev/full").exists() {
+        for args in [["--json", "completions", "bash"], ["--json", "man", "--quiet"]] {
+            let full = std::fs::OpenOptions::new().write(true).open("/dev/full").unwrap();
+            let output = Command::new(env!("CARGO_BIN_EXE_ufcsr"))
+                .args(args)
+                .stdout(Stdio::from(full))
+                .output()
+                .unwrap();
+            assert_eq!(output.status.code(), Some(2), "{args:?}: {}", text(&output.stderr));
+            assert!(text(&output.stderr).contains("cannot write to stdout"), "{args:?}");
+        }
+    }
+}
+
+#[test]
 fn ctrl_c_under_json_is_one_json_object_with_exit_code_130() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("archive");

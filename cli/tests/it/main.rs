@@ -85,6 +85,8 @@ mod exit_codes;
 mod family_bodies;
 mod fused_count;
 mod hardening;
+mod html_escaping;
+mod json_written;
 mod observers_command;
 mod own_models;
 mod reliability;

@@ -207,3 +207,105 @@ fn placement_views_through_a_link_are_written_into_a_real_folder() {
     assert!(std::fs::symlink_metadata(&views).unwrap().is_dir());
     assert!(std::fs::read_dir(&views).unwrap().count() > 0, "no views written");
 }
+
+/// `ufcsr-capture views RESULTS` writes `RESULTS/views/*.png` and
+/// `RESULTS/views.png`: a link planted at `RESULTS/views` (to a folder
+/// elsewhere) is replaced by a real folder, never written through; a link at
+/// `views.png` (to a file elsewhere) is refused and left as it was.
+#[test]
+fn capture_views_never_write_through_a_link_at_results_views() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = dir.path().join("archive");
+    let counted = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .args([
+            "demo",
+            "--count",
+            "-q",
+            "--ppd",
+            "2",
+            "--palette-size",
+            "256",
+            "--frames",
+            "150,180",
+            "--out",
+        ])
+        .arg(&archive)
+        .env("XDG_RUNTIME_DIR", dir.path())
+        .output()
+        .unwrap();
+    assert!(counted.status.success(), "{}", text(&counted.stderr));
+    let results = archive.join("results");
+    let elsewhere = dir.path().join("elsewhere");
+    std::fs::create_dir(&elsewhere).unwrap();
+    std::fs::write(elsewhere.join("keep.txt"), "mine").unwrap();
+    std::fs::remove_dir_all(results.join("views")).unwrap();
+    std::os::unix::fs::symlink(&elsewhere, results.join("views")).unwrap();
+    let views = |results: &Path| {
+        Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+            .arg("views")
+            .arg(results)
+            .env("XDG_RUNTIME_DIR", dir.path())
+            .output()
+            .unwrap()
+    };
+    let output = views(&results);
+    assert!(output.status.success(), "{}", text(&output.stderr));
+    let names: Vec<_> = std::fs::read_dir(&elsewhere).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(names, ["keep.txt"], "views were written through the link");
+    let kind = std::fs::symlink_metadata(results.join("views")).unwrap().file_type();
+    assert!(kind.is_dir() && results.join("views/front.png").is_file());
+    // views.png a link to a file elsewhere: refused, the file kept.
+    let outside = elsewhere.join("outside.png");
+    std::fs::write(&outside, "not a picture").unwrap();
+    std::fs::remove_file(results.join("views.png")).unwrap();
+    std::os::unix::fs::symlink(&outside, results.join("views.png")).unwrap();
+    let output = views(&results);
+    assert_eq!(output.status.code(), Some(2), "{}", text(&output.stderr));
+    assert!(text(&output.stderr).contains("views.png") && text(&output.stderr).contains("link"));
+    assert_eq!(std::fs::read_to_string(&outside).unwrap(), "not a picture");
+}
+
+/// The study's folders (`ppdN-stepM/`, the exact reference's `exact/`) and
+/// the observers' (`observer-NNN/`) are made real: a link planted at one is
+/// replaced, and the folder it names gets nothing. `exact/` used to be
+/// written through.
+#[test]
+fn study_and_observers_never_write_through_a_link_at_their_folders() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes/demo.json");
+    let elsewhere = dir.path().join("elsewhere");
+    std::fs::create_dir(&elsewhere).unwrap();
+    std::fs::write(elsewhere.join("keep.txt"), "mine").unwrap();
+    let small = ["--scenario", "A", "--ppd", "2", "--palette-size", "256", "--frame-step", "90", "-q"];
+    let cases: [(&str, &[&str], &[&str]); 2] = [
+        ("study", &["--exact-sample", "0.05"], &["ppd2-step90", "exact"]),
+        ("observers", &["--kerb=-6.5,-4.5:-4.5,-6.5", "--observers", "1", "--seed", "7"], &["observer-000"]),
+    ];
+    for (command, extra, folders) in cases {
+        let out = dir.path().join(command);
+        std::fs::create_dir(&out).unwrap();
+        for folder in folders {
+            link(&elsewhere, &out.join(folder));
+        }
+        let ran = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+            .arg(command)
+            .arg(&scene)
+            .args(small)
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .env("XDG_RUNTIME_DIR", dir.path())
+            .output()
+            .unwrap();
+        assert!(ran.status.success(), "{command}: {}", text(&ran.stderr));
+        let names: Vec<_> = std::fs::read_dir(&elsewhere).unwrap().map(|e| e.unwrap().file_name()).collect();
+        assert_eq!(names, ["keep.txt"], "{command} wrote through a link");
+        for folder in folders {
+            let kind = std::fs::symlink_metadata(out.join(folder)).unwrap().file_type();
+            assert!(
+                kind.is_dir() && out.join(folder).join("results/result.json").is_file(),
+                "{command} {folder}"
+            );
+        }
+    }
+}

@@ -1,7 +1,8 @@
 //! Issue 34, output streams: a full device or a closed pipe on stdout ends
 //! a run with a message on stderr and a documented exit code, never a panic
 //! (exit 101): the analysis, with and without `--json`, `palette --json`,
-//! `placement` and the capture's `inspect`. Paths that are not UTF-8 work.
+//! `placement`, the capture's `demo` and `inspect`. Paths that are not
+//! UTF-8 work.
 
 use crate::common;
 
@@ -99,4 +100,30 @@ fn non_utf8_paths_work_or_are_refused_never_a_panic() {
     let stderr = String::from_utf8_lossy(&palette.stderr);
     assert!(palette.status.success() && !stderr.contains("panicked"), "{stderr}");
     assert!(png.is_file());
+}
+
+/// The capture's `demo` into a stdout that fails: a full device is named on
+/// stderr and gives exit 1 (the archive was written, its summary was not
+/// printed); a reader that has gone is not an error (exit 0). Never a panic.
+#[cfg(unix)]
+#[test]
+fn demo_into_a_full_or_closed_stdout_ends_with_its_documented_exit_code() {
+    if !std::path::Path::new("/dev/full").exists() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let demo = |name: &str| {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"));
+        command.args(["demo", "--ppd", "2", "--palette-size", "256", "--frames", "150,180", "--out"]);
+        command.arg(dir.path().join(name)).env("XDG_RUNTIME_DIR", dir.path());
+        command
+    };
+    for (how, (code, stderr), expected) in
+        [("full", into_full_device(demo("full")), 1), ("closed", into_closed_pipe(demo("closed")), 0)]
+    {
+        assert_eq!(code, Some(expected), "demo into a {how} stdout: {stderr}");
+        assert!(!stderr.contains("panicked"), "{how}: {stderr}");
+        assert_eq!(stderr.contains("cannot write to stdout"), how == "full", "{how}: {stderr}");
+        assert!(dir.path().join(how).join("manifest.json").is_file(), "{how}: no archive");
+    }
 }

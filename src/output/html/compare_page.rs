@@ -75,12 +75,23 @@ pub struct ComparisonOptions {
 /// [`write_comparison_with`] with the default options (one colour scale,
 /// folder names as labels).
 pub fn write_comparison(paths: &[PathBuf], out_dir: &Path) -> Result<PathBuf> {
-    write_comparison_with(paths, out_dir, &ComparisonOptions::default())
+    write_comparison_with(paths, out_dir, &ComparisonOptions::default()).map(|written| written.page)
+}
+
+/// What [`write_comparison_with`] wrote.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct WrittenComparison {
+    /// `report.html`.
+    pub page: PathBuf,
+    /// Every file written, in the order written, the page last: the pictures
+    /// beside it (`result-N-heatmap.png`, or `result-N/views.png` and its
+    /// eight views; `placement-N.png`), so `--json`'s `written` is complete.
+    pub files: Vec<PathBuf>,
 }
 
 /// Writes `out_dir/report.html` comparing the results at `paths` (result
 /// folders or `result.json` files; the first is the reference of the ranking
-/// comparison). Returns the page's path.
+/// comparison). Returns the page's path and every file written.
 ///
 /// A path that is a placement folder (holding `placement.json`, written by
 /// `ufcsr-analyze placement`) or that file adds the placement section
@@ -90,7 +101,7 @@ pub fn write_comparison_with(
     paths: &[PathBuf],
     out_dir: &Path,
     options: &ComparisonOptions,
-) -> Result<PathBuf> {
+) -> Result<WrittenComparison> {
     // A folder holding both a result and placement.json is both (issue 34:
     // `report R1 R2` used to drop R1 silently when it held a placement).
     let is_result = |path: &Path| {
@@ -118,7 +129,8 @@ pub fn write_comparison_with(
     }
     let mut entries = Vec::with_capacity(paths.len());
     let mut inputs: Vec<PathBuf> = paths.iter().map(|path| result_json(path)).collect();
-    let placements = copy_placements(&placement_paths, out_dir, &mut inputs)?;
+    let mut files = Vec::new();
+    let placements = copy_placements(&placement_paths, out_dir, &mut inputs, &mut files)?;
     for (index, path) in paths.iter().enumerate() {
         let json = result_json(path);
         let result = read_result_summary(&json)?;
@@ -132,23 +144,33 @@ pub fn write_comparison_with(
     for (index, (path, entry)) in paths.iter().zip(&mut entries).enumerate() {
         let json = result_json(path);
         entry.image = match scale {
-            Some(max) => shared_scale_image(&json, &entry.result, index, out_dir, max, &inputs)?,
-            None => copy_image(&json, index, out_dir, &mut inputs)?,
+            Some(max) => {
+                shared_scale_image(&json, &entry.result, (index, out_dir), max, &inputs, &mut files)?
+            }
+            None => {
+                // Checked as the shared scale checks it (palette kind, encoding), though
+                // the counts are not drawn again: a damaged result is refused either way.
+                crate::result::result_json::read_texel_counts(&json)?;
+                copy_image(&json, index, out_dir, &mut inputs, &mut files)?
+            }
         };
     }
     let page = out_dir.join("report.html");
     crate::files::refuse_overwriting_inputs(std::slice::from_ref(&page), &inputs)?;
     crate::files::write_bytes_atomically(&page, render(&entries, &placements, scale).as_bytes())?;
-    Ok(page)
+    files.push(page.clone());
+    Ok(WrittenComparison { page, files })
 }
 
 /// The result's own picture (the heatmap on the vehicle when it was
-/// rendered, else the texture), copied beside the page as `result-N-NAME`.
+/// rendered, else the texture), copied beside the page as `result-N-NAME`
+/// (added to `written`).
 fn copy_image(
     json: &Path,
     index: usize,
     out_dir: &Path,
     inputs: &mut Vec<PathBuf>,
+    written: &mut Vec<PathBuf>,
 ) -> Result<Option<String>> {
     let dir = json.parent().unwrap_or(Path::new("."));
     let Some(source) =
@@ -162,20 +184,23 @@ fn copy_image(
     crate::files::refuse_overwriting_inputs(std::slice::from_ref(&target), inputs)?;
     let bytes = crate::files::read_limited(&source, crate::files::IMAGE_LIMIT)?;
     crate::files::write_bytes_atomically(&target, &bytes)?;
+    written.push(target);
     Ok(Some(name))
 }
 
 /// The result's heatmap drawn again with the colour scale's top at `max`
 /// (shared by every result on the page): the views on the vehicle
 /// (`result-N/views.png`) when the result has views and its archive's
-/// vehicle model is found, else the texture (`result-N-heatmap.png`).
+/// vehicle model is found, else the texture (`result-N-heatmap.png`); the
+/// files are added to `written`. `(index, out_dir)`: the result's place on
+/// the page and the page's folder.
 fn shared_scale_image(
     json: &Path,
     result: &AnalysisResult,
-    index: usize,
-    out_dir: &Path,
+    (index, out_dir): (usize, &Path),
     max: u32,
     inputs: &[PathBuf],
+    written: &mut Vec<PathBuf>,
 ) -> Result<Option<String>> {
     let stored = crate::result::result_json::read_texel_counts(json)?;
     let options =
@@ -202,7 +227,9 @@ fn shared_scale_image(
                 t.frames.iter().filter_map(|f| f.pedestrian_azimuth_deg()).collect()
             }),
         };
-        crate::output::view_sheet::write_views(&model, &texture, &folder)?;
+        let views = crate::output::view_sheet::write_views(&model, &texture, &folder)?;
+        written.extend(views.views);
+        written.push(views.contact_sheet);
         return Ok(Some(format!("result-{}/views.png", index + 1)));
     }
     let name = format!("result-{}-heatmap.png", index + 1);
@@ -210,6 +237,7 @@ fn shared_scale_image(
     crate::files::refuse_overwriting_inputs(std::slice::from_ref(&target), inputs)?;
     let rgb = crate::output::heatmap::render(&stored.texel_counts, stored.width, options);
     crate::files::write_rgb_png(&target, [stored.width, stored.height], &rgb, png::Compression::Fast)?;
+    written.push(target);
     Ok(Some(name))
 }
 
@@ -228,11 +256,12 @@ fn vehicle_of(
 }
 
 /// Each placement folder's document, its picture copied beside the page as
-/// `placement-N.png`.
+/// `placement-N.png` (added to `written`).
 fn copy_placements(
     folders: &[PathBuf],
     out_dir: &Path,
     inputs: &mut Vec<PathBuf>,
+    written: &mut Vec<PathBuf>,
 ) -> Result<Vec<PlacementOnPage>> {
     let mut placements = Vec::with_capacity(folders.len());
     for (index, path) in folders.iter().enumerate() {
@@ -250,6 +279,7 @@ fn copy_placements(
             crate::files::refuse_overwriting_inputs(std::slice::from_ref(&target), inputs)?;
             let bytes = crate::files::read_limited(&source, crate::files::IMAGE_LIMIT)?;
             crate::files::write_bytes_atomically(&target, &bytes)?;
+            written.push(target);
             placement.picture = Some(name);
         }
         placements.push(placement);
