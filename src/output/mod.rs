@@ -37,8 +37,8 @@ pub use heatmap_views::{
 };
 pub use html::escape::escape as html_escape;
 pub use html::{
-    ComparisonOptions, NEEDS_ITS_FOLDER, OWN_SCALES, QUOTED_HEADING, RANKED_HEADING, SHARED_SCALE,
-    write_comparison, write_comparison_with,
+    AREA_HEATMAPS, COUNT_HEATMAPS, ComparisonOptions, NEEDS_ITS_FOLDER, OWN_SCALES, QUOTED_HEADING,
+    RANKED_HEADING, SHARED_SCALE, write_comparison, write_comparison_with,
 };
 pub use legend::{LEGEND_LINE, LEGEND_TEXT_PX, LegendEntry, TextLayout, text_px_for};
 pub use plots::{PlotText, font_available as plot_font_available};

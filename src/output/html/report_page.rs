@@ -537,6 +537,7 @@ mod tests {
             parts_csv: None,
             heatmap_png: "heatmap.png".into(),
             heatmap_area_png: None,
+            texel_area: None,
             views_pdf: None,
             timings_json: "timings.json".into(),
             heatmap_glb: None,
