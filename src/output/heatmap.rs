@@ -109,6 +109,12 @@ impl AreaLevels {
         AreaLevels { levels, quantum }
     }
 
+    /// The colour scale's top level for `--area-max` (deg²·s per texel;
+    /// `None` = the largest texel's), as `heatmap-area.png` and the views use it.
+    pub fn top(&self, area_max: Option<f64>) -> Option<u32> {
+        area_max.map(|max| self.level_of(max as f32))
+    }
+
     /// The level of `value` (deg²·s): the colour scale's top for a shared
     /// largest value.
     pub fn level_of(&self, value: f32) -> u32 {

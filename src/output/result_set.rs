@@ -293,7 +293,7 @@ fn view_texture<'a>(
     let (counts, max, caption, unit, quantum) = match area {
         Some(area) => (
             &area.levels[..],
-            area_top(area, settings.heatmap_area_max),
+            area.top(settings.heatmap_area_max),
             area_views_caption(scenario),
             AREA_UNIT.to_string(),
             Some(area.quantum),
@@ -327,19 +327,12 @@ fn write_heatmap_file(analysis: &Analysis, path: &Path) -> Result<()> {
     crate::output::heatmap::write_heatmap(path, &analysis.texel_counts, width, height, heatmap)
 }
 
-/// The area heatmap's top level: `--area-max` (deg²·s per texel) in the
-/// levels' quantum, else `None` (the largest texel's).
-fn area_top(area: &AreaLevels, area_max: Option<f64>) -> Option<u32> {
-    area_max.map(|max| area.level_of(max as f32))
-}
-
 /// Writes `heatmap-area.png`: the per-texel angular area on the result's
 /// scale (linear or log), from 0 to `--area-max` or the largest texel's
 /// (`--max`, a count, is the paper heatmap's).
 fn write_area_heatmap(analysis: &Analysis, area: &AreaLevels, path: &Path) -> Result<()> {
     let settings = &analysis.result.settings;
-    let heatmap =
-        HeatmapOptions { scale: settings.heatmap_scale, max: area_top(area, settings.heatmap_area_max) };
+    let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: area.top(settings.heatmap_area_max) };
     let (width, height) = (settings.palette.width, settings.palette.height);
     crate::output::heatmap::write_heatmap(path, &area.levels, width, height, heatmap)
 }
