@@ -132,3 +132,29 @@ fn labels_name_the_columns_and_own_scales_keeps_each_results_pictures() {
     assert!(!output.status.success());
     assert!(String::from_utf8_lossy(&output.stderr).contains("3 labels"));
 }
+
+/// `--area-max` on the command line sets the top of the angular-area scale:
+/// recorded in result.json and said on the page; 0 is refused by name.
+#[test]
+fn area_max_on_the_command_line_is_recorded_and_zero_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
+    let analyse = |max: &str, out: &std::path::Path| {
+        Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
+            .arg(&example)
+            .args(["-q", "--views-scale", "1", "--area-max", max, "--out"])
+            .arg(out)
+            .output()
+            .unwrap()
+    };
+    let out = dir.path().join("results");
+    let output = analyse("0.001", &out);
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let json = std::fs::read_to_string(out.join("result.json")).unwrap();
+    assert!(json.contains("\"heatmap_area_max\": 0.001"), "not recorded");
+    let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(page.contains("1.000e-3 deg²·s (--area-max)"), "the page does not say the scale's top");
+    let output = analyse("0", &dir.path().join("zero"));
+    assert!(!output.status.success());
+    assert!(String::from_utf8_lossy(&output.stderr).contains("--area-max"));
+}
