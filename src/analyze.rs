@@ -33,6 +33,7 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
         kernel: Kernel::selected().name().to_string(),
         ..Timings::default()
     };
+    options.check_area_max()?;
     let inputs = resolve_inputs(options)?;
     if !inputs.tiles_written {
         return Err(Error::bad_file(

@@ -83,13 +83,14 @@ pub use format::{Format, SCHEMAS, check_version, parse_json};
 pub use optics::{EyeProjection, TileView};
 pub use output::html_escape;
 pub use output::{
-    ComparisonOptions, CsvStyle, DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, FigureSize, LEGEND_LINE,
-    LEGEND_TEXT_PX, LegendEntry, MAP_FILE, MAP_SIZE, MIN_TEXT_PT, MM_PER_PT, MapContent, MapFrame,
-    NEEDS_ITS_FOLDER, NEVER_SEEN, OKABE_ITO, OWN_SCALES, PlotText, QUOTED_HEADING, RANKED_HEADING,
-    ResultSetOptions, SHARED_SCALE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED, SceneObject,
-    SceneShapes, TextLayout, VIEW_BASE, VIEWS_PDF_FILE, ViewCamera, ViewTexture, WrittenComparison,
-    WrittenFiles, WrittenViews, ZBuffer, bar_ticks, csv_field, default_output_dir, format_counted_table,
-    format_table, measure_unit, plasma, plot_font_available, render_heatmap, render_view, sheet_text_px,
+    AREA_HEATMAP_FILE, AREA_HEATMAPS, AREA_UNIT, AreaLevels, COUNT_HEATMAPS, ComparisonOptions, CsvStyle,
+    DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, FigureSize, LEGEND_LINE, LEGEND_TEXT_PX, LegendEntry,
+    MAP_FILE, MAP_SIZE, MIN_TEXT_PT, MM_PER_PT, MapContent, MapFrame, NEEDS_ITS_FOLDER, NEVER_SEEN,
+    OKABE_ITO, OWN_SCALES, PlotText, QUOTED_HEADING, RANKED_HEADING, ResultSetOptions, SHARED_SCALE,
+    STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED, SceneObject, SceneShapes, TextLayout, VIEW_BASE,
+    VIEWS_PDF_FILE, ViewCamera, ViewTexture, WrittenComparison, WrittenFiles, WrittenViews, ZBuffer,
+    area_views_caption, bar_ticks, csv_field, default_output_dir, format_counted_table, format_table,
+    largest_area, measure_unit, plasma, plot_font_available, render_heatmap, render_view, sheet_text_px,
     text_px_for, time_color, view_cameras, views_caption, write_comparison, write_comparison_with,
     write_heatmap, write_parts_csv, write_results, write_results_with, write_scenario_map, write_scene_glb,
     write_views, write_views_with,
@@ -107,8 +108,9 @@ pub use placement::{
 };
 pub use result::{
     Analysis, AnalysisResult, Comparison, FrameTable, Measures, PartStats, PartTable, RESULT_SCHEMA,
-    ResolutionReport, compare_parts, join_parts, kendall_tau_b, merge_results, read_result_summary,
-    read_texel_counts, write_result_json, write_timings_json,
+    ResolutionReport, TEXEL_AREA_FILE, compare_parts, join_parts, kendall_tau_b, merge_results,
+    read_result_summary, read_texel_area, read_texel_counts, write_result_json, write_texel_area,
+    write_timings_json,
 };
 #[doc(hidden)]
 pub use testing::fuzz_entry;

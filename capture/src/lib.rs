@@ -51,8 +51,8 @@ pub use exact::{
     visible_solid_angle,
 };
 pub use inspect::{
-    InspectOptions, Inspection, PartInfo, Sliver, TriangleQuality, UvState, ViewsOptions, inspect,
-    triangle_quality, views_from_results, write_views_gpu,
+    InspectOptions, Inspection, PartInfo, Sliver, TriangleQuality, UvState, ViewValues, ViewsOptions,
+    inspect, triangle_quality, view_values, views_from_results, write_views_gpu,
 };
 pub use job::{
     Assembled, Batch, CaptureOptions, CaptureProgress, CaptureSetup, CapturedTiles, Compression,

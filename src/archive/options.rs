@@ -75,6 +75,12 @@ pub struct AnalyzeOptions {
     pub trim: TrimMode,
     /// Heatmap settings, recorded in the result.
     pub heatmap: HeatmapOptions,
+    /// The angular area (deg²·s per texel) shown as the top of the colour
+    /// scale of `heatmap-area.png`, `heatmap.glb` and the views (`--area-max`;
+    /// larger texels clamp), so several scenarios share one scale; `None` =
+    /// the largest texel's. Recorded in the result. [`HeatmapOptions::max`]
+    /// is the paper count heatmap's.
+    pub area_max: Option<f64>,
     /// Stop at the first failed image.
     pub strict: bool,
     /// Files or folders never taken as images (e.g. the output folder).
@@ -109,6 +115,21 @@ impl std::str::FromStr for Scale {
             "linear" => Ok(Scale::Linear),
             "log" => Ok(Scale::Log),
             other => Err(Error::BadOptions(format!("unknown heatmap scale {other:?}: use linear or log"))),
+        }
+    }
+}
+
+impl AnalyzeOptions {
+    /// [`AnalyzeOptions::area_max`] is a positive finite number of deg²·s
+    /// (0, a negative, NaN or an infinity would paint nothing meaningful).
+    pub fn check_area_max(&self) -> Result<(), Error> {
+        match self.area_max {
+            Some(max) if !(max.is_finite() && max > 0.0 && max <= f64::from(f32::MAX)) => {
+                Err(Error::BadOptions(format!(
+                    "--area-max {max}: give the top of the angular-area scale as a positive number of deg²·s"
+                )))
+            }
+            _ => Ok(()),
         }
     }
 }

@@ -134,6 +134,10 @@ pub struct Settings {
     pub trim: TrimReport,
     pub heatmap_scale: Scale,
     pub heatmap_max: Option<u32>,
+    /// The top of the angular-area heatmap's colour scale, deg²·s per texel
+    /// (`--area-max`); absent = the largest texel's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heatmap_area_max: Option<f64>,
     /// The shard counted (`ufcsr-analyze --shard`); absent for a whole archive.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shard: Option<Shard>,

@@ -86,12 +86,13 @@ pub struct AreaLevels {
 impl AreaLevels {
     /// The levels of `values` (deg²·s per texel; NaN and values ≤ 0 as 0).
     pub fn new(values: &[f32]) -> AreaLevels {
-        let largest = values
-            .par_iter()
-            .copied()
-            .filter(|v| v.is_finite())
-            .fold(|| 0f32, f32::max)
-            .reduce(|| 0f32, f32::max);
+        AreaLevels::with_top(values, largest_area(values))
+    }
+
+    /// The levels of `values` with the quantum chosen for `largest` (the
+    /// largest value of several results drawn on one scale, so one level
+    /// is the same deg²·s in each).
+    pub fn with_top(values: &[f32], largest: f32) -> AreaLevels {
         let quantum =
             if largest > 0.0 { 10f64.powf((f64::from(largest)).log10().floor() - 4.0) } else { 1.0 };
         let levels =
@@ -107,6 +108,27 @@ impl AreaLevels {
                 .collect();
         AreaLevels { levels, quantum }
     }
+
+    /// The colour scale's top level for `--area-max` (deg²·s per texel;
+    /// `None` = the largest texel's), as `heatmap-area.png` and the views use it.
+    pub fn top(&self, area_max: Option<f64>) -> Option<u32> {
+        area_max.map(|max| self.level_of(max as f32))
+    }
+
+    /// The level of `value` (deg²·s): the colour scale's top for a shared
+    /// largest value.
+    pub fn level_of(&self, value: f32) -> u32 {
+        if value > 0.0 && value.is_finite() {
+            ((f64::from(value) / self.quantum).round() as u32).max(1)
+        } else {
+            0
+        }
+    }
+}
+
+/// The largest finite value of `values` (0 when none is above 0).
+pub fn largest_area(values: &[f32]) -> f32 {
+    values.par_iter().copied().filter(|v| v.is_finite()).fold(|| 0f32, f32::max).reduce(|| 0f32, f32::max)
 }
 
 /// The per-texel angular-area heatmap's file name (the default heatmap;

@@ -30,15 +30,17 @@ pub use console_table::{format_counted_table, format_table};
 pub use csv::{CsvStyle, csv_field, write_parts_csv};
 pub use figure::{FigureSize, MIN_TEXT_PT, MM_PER_PT, OKABE_ITO};
 pub use frame_strip::{FRAME_STRIP_FILE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED};
-pub use heatmap::{plasma, render as render_heatmap, write_heatmap};
+pub use heatmap::{
+    AREA_HEATMAP_FILE, AreaLevels, largest_area, plasma, render as render_heatmap, write_heatmap,
+};
 pub use heatmap_views::{
-    DEFAULT_VIEWS_SCALE, DIRECTIONS, NEVER_SEEN, VIEW_BASE, ViewCamera, ViewTexture, measure_unit,
-    render_view, view_cameras, views_caption,
+    AREA_UNIT, DEFAULT_VIEWS_SCALE, DIRECTIONS, NEVER_SEEN, VIEW_BASE, ViewCamera, ViewTexture,
+    area_views_caption, measure_unit, render_view, view_cameras, views_caption,
 };
 pub use html::escape::escape as html_escape;
 pub use html::{
-    ComparisonOptions, NEEDS_ITS_FOLDER, OWN_SCALES, QUOTED_HEADING, RANKED_HEADING, SHARED_SCALE,
-    WrittenComparison, write_comparison, write_comparison_with,
+    AREA_HEATMAPS, COUNT_HEATMAPS, ComparisonOptions, NEEDS_ITS_FOLDER, OWN_SCALES, QUOTED_HEADING,
+    RANKED_HEADING, SHARED_SCALE, WrittenComparison, write_comparison, write_comparison_with,
 };
 pub use legend::{LEGEND_LINE, LEGEND_TEXT_PX, LegendEntry, TextLayout, text_px_for};
 pub use plots::{PlotText, font_available as plot_font_available};

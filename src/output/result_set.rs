@@ -26,6 +26,7 @@ use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
 use crate::result::model::Analysis;
 use crate::result::result_json::{write_result_json, write_timings_json};
+use crate::result::texel_area_file::{TEXEL_AREA_FILE, write_texel_area};
 
 /// The default output folder for an archive: `<archive>/results` (excluded
 /// from the images when the archive has no manifest).
@@ -40,6 +41,7 @@ fn output_paths(files: &WrittenFiles) -> Vec<PathBuf> {
         files.parts_csv.as_ref(),
         Some(&files.heatmap_png),
         files.heatmap_area_png.as_ref(),
+        files.texel_area.as_ref(),
         Some(&files.timings_json),
         files.heatmap_glb.as_ref(),
         Some(&files.report_html),
@@ -115,6 +117,7 @@ pub fn result_set_members() -> Vec<String> {
         "parts.csv",
         "heatmap.png",
         AREA_HEATMAP_FILE,
+        TEXEL_AREA_FILE,
         "timings.json",
         "heatmap.glb",
         "report.html",
@@ -139,6 +142,7 @@ fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
         parts_csv: (!analysis.result.parts.is_empty()).then(|| out_dir.join("parts.csv")),
         heatmap_png: out_dir.join("heatmap.png"),
         heatmap_area_png: analysis.texel_angular_area.as_ref().map(|_| out_dir.join(AREA_HEATMAP_FILE)),
+        texel_area: analysis.texel_angular_area.as_ref().map(|_| out_dir.join(TEXEL_AREA_FILE)),
         timings_json: out_dir.join("timings.json"),
         heatmap_glb: analysis.vehicle_model.as_ref().map(|_| out_dir.join("heatmap.glb")),
         report_html: out_dir.join("report.html"),
@@ -255,6 +259,10 @@ fn write_side_by_side(
     };
     let heatmaps = || {
         write_heatmap_file(analysis, &files.heatmap_png)?;
+        if let (Some(values), Some(path)) = (&analysis.texel_angular_area, &files.texel_area) {
+            let palette = &analysis.result.settings.palette;
+            write_texel_area(path, palette.width, palette.height, values)?;
+        }
         match (&area, &files.heatmap_area_png) {
             (Some(area), Some(path)) => write_area_heatmap(analysis, area, path),
             _ => Ok(()),
@@ -283,9 +291,13 @@ fn view_texture<'a>(
     let measure = analysis.result.measure;
     let scenario = track.and_then(|t| t.name.as_deref());
     let (counts, max, caption, unit, quantum) = match area {
-        Some(area) => {
-            (&area.levels[..], None, area_views_caption(scenario), AREA_UNIT.to_string(), Some(area.quantum))
-        }
+        Some(area) => (
+            &area.levels[..],
+            area.top(settings.heatmap_area_max),
+            area_views_caption(scenario),
+            AREA_UNIT.to_string(),
+            Some(area.quantum),
+        ),
         None => (
             &analysis.texel_counts[..],
             settings.heatmap_max,
@@ -316,11 +328,11 @@ fn write_heatmap_file(analysis: &Analysis, path: &Path) -> Result<()> {
 }
 
 /// Writes `heatmap-area.png`: the per-texel angular area on the result's
-/// scale (linear or log), from 0 to the largest texel's (`--max`, a count,
-/// is the paper heatmap's).
+/// scale (linear or log), from 0 to `--area-max` or the largest texel's
+/// (`--max`, a count, is the paper heatmap's).
 fn write_area_heatmap(analysis: &Analysis, area: &AreaLevels, path: &Path) -> Result<()> {
     let settings = &analysis.result.settings;
-    let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: None };
+    let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: area.top(settings.heatmap_area_max) };
     let (width, height) = (settings.palette.width, settings.palette.height);
     crate::output::heatmap::write_heatmap(path, &area.levels, width, height, heatmap)
 }

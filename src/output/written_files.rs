@@ -16,6 +16,10 @@ pub struct WrittenFiles {
     /// measured ([`crate::Analysis::texel_angular_area`]); `heatmap.glb` and
     /// the views show it.
     pub heatmap_area_png: Option<PathBuf>,
+    /// `texel-area.f32`, the per-texel angular area's values beside
+    /// `result.json` (written with `heatmap-area.png`), for the comparison
+    /// page and the capture's `views` ([`crate::read_texel_area`]).
+    pub texel_area: Option<PathBuf>,
     pub timings_json: PathBuf,
     /// The vehicle with the heatmap on it, when the analysis had a vehicle model.
     pub heatmap_glb: Option<PathBuf>,
@@ -42,6 +46,7 @@ impl WrittenFiles {
         let mut files = vec![self.result_json.clone()];
         files.extend(self.parts_csv.clone());
         files.extend(self.heatmap_area_png.clone());
+        files.extend(self.texel_area.clone());
         files.push(self.heatmap_png.clone());
         files.push(self.timings_json.clone());
         files.extend(self.frames_csv.clone());

@@ -14,6 +14,7 @@ pub(crate) mod part_stats;
 pub(crate) mod resolution;
 pub(crate) mod result_json;
 pub(crate) mod summarize;
+pub(crate) mod texel_area_file;
 
 pub use compare::{Comparison, compare_parts, kendall_tau_b};
 pub use frames::FrameTable;
@@ -23,3 +24,4 @@ pub use model::{Analysis, AnalysisResult, RESULT_SCHEMA};
 pub use part_stats::{PartStats, PartTable, join_parts};
 pub use resolution::ResolutionReport;
 pub use result_json::{read_result_summary, read_texel_counts, write_result_json, write_timings_json};
+pub use texel_area_file::{TEXEL_AREA_FILE, read_texel_area, write_texel_area};

@@ -119,6 +119,8 @@ struct HeatmapSettings {
     palette: PaletteSetting,
     heatmap_scale: Scale,
     heatmap_max: Option<u32>,
+    #[serde(default)]
+    heatmap_area_max: Option<f64>,
 }
 
 /// Counts read back from `result.json`.
@@ -128,6 +130,9 @@ pub struct StoredCounts {
     pub texel_counts: Vec<u32>,
     pub scale: Scale,
     pub max: Option<u32>,
+    /// The top of the angular-area heatmap's scale (`--area-max`, deg²·s
+    /// per texel), when it was given.
+    pub area_max: Option<f64>,
     /// What the counts are (`result.json`'s `measure`) and of which archive.
     pub measure: CountMeasure,
     pub archive: String,
@@ -172,6 +177,7 @@ fn stored_counts(path: &Path, source: HeatmapSource) -> Result<StoredCounts> {
         texel_counts,
         scale: source.settings.heatmap_scale,
         max: source.settings.heatmap_max,
+        area_max: source.settings.heatmap_area_max,
         measure: source.measure,
         archive: source.settings.archive,
     })

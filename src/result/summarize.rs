@@ -126,6 +126,7 @@ fn settings(summary: &Summary, empty_tiles: Vec<EmptyTile>) -> Settings {
         trim: TrimReport { mode: options.trim.to_string(), empty_tiles },
         heatmap_scale: options.heatmap.scale,
         heatmap_max: options.heatmap.max,
+        heatmap_area_max: options.area_max,
         shard: options.shard,
         archive_identity: Some(inputs.identity.clone()),
     }

@@ -185,3 +185,40 @@ fn per_texel_angular_area_adds_up_to_each_parts_angular_area() {
     assert!(area_section < page.find("The heatmap texture (paper-compatible count)").unwrap());
     assert!(page.contains("src=\"heatmap-area.png\""));
 }
+
+/// `--area-max` puts the top of the angular-area heatmap where it is told
+/// (shared across scenarios): at twice the largest texel, that texel is
+/// plasma's middle; it is recorded in result.json, and the values
+/// themselves are kept exactly in texel-area.f32. An unusable top is refused.
+#[test]
+fn area_max_sets_the_top_of_the_area_heatmap_and_the_values_are_kept() {
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let options = ufcsr::AnalyzeOptions { archive: example.clone(), frames: true, ..Default::default() };
+    let area = ufcsr::analyze(&options, None).unwrap().texel_angular_area.unwrap();
+    let (at, largest) =
+        area.iter().enumerate().fold((0, 0f32), |best, (i, &v)| if v > best.1 { (i, v) } else { best });
+    let options = ufcsr::AnalyzeOptions { area_max: Some(2.0 * f64::from(largest)), ..options };
+    let mut analysis = ufcsr::analyze(&options, None).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("results");
+    ufcsr::write_results(&mut analysis, &out).unwrap();
+    let decoder = png::Decoder::new(std::io::BufReader::new(
+        std::fs::File::open(out.join("heatmap-area.png")).unwrap(),
+    ));
+    let mut reader = decoder.read_info().unwrap();
+    let mut rgb = vec![0; reader.output_buffer_size().unwrap()];
+    reader.next_frame(&mut rgb).unwrap();
+    assert_eq!(&rgb[at * 3..at * 3 + 3], &ufcsr::plasma(0.5), "the largest texel at half the scale");
+    assert!(!rgb.chunks_exact(3).any(|p| p == ufcsr::plasma(1.0)), "nothing reaches the top");
+    let json = std::fs::read_to_string(out.join("result.json")).unwrap();
+    assert!(json.contains("\"heatmap_area_max\""));
+    let palette = &analysis.result.settings.palette;
+    let kept =
+        ufcsr::read_texel_area(&out.join(ufcsr::TEXEL_AREA_FILE), palette.width, palette.height).unwrap();
+    assert_eq!(kept, area, "texel-area.f32 holds the analysis' values exactly");
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let options = ufcsr::AnalyzeOptions { area_max: Some(bad), ..options.clone() };
+        let error = ufcsr::analyze(&options, None).err().expect("an unusable --area-max is refused");
+        assert!(error.to_string().contains("--area-max"), "{error}");
+    }
+}

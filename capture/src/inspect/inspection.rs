@@ -453,6 +453,11 @@ impl Inspection {
                 )?;
             }
             writeln!(f, "  unmatched: {} triangles kept their part", self.regions.unmatched_triangles)?;
+            writeln!(
+                f,
+                "  cut: {} triangles cut along the rules' boundaries (each into two or three) before matching",
+                self.regions.cut_triangles
+            )?;
         }
         writeln!(f, "parts ({}; colours as in the capture's pidt.png and parts.csv):", self.parts.len())?;
         for part in &self.parts {
@@ -486,6 +491,35 @@ mod tests {
         assert_eq!((quality.degenerate, quality.slivers), (1, 2));
         assert_eq!(quality.examples[0].part, "thin");
         assert!((quality.examples[0].altitude_m - 0.00005).abs() < 1e-8);
+    }
+
+    #[test]
+    fn the_summary_says_how_many_triangles_the_part_rules_cut() {
+        let rule = crate::scene::regions::RuleReport { label: "roof".into(), triangles: 12, area_m2: 6.8 };
+        let inspection = Inspection {
+            input: "scene.json".into(),
+            mesh: "box.glb".into(),
+            axes: Axes::default(),
+            expect_length_m: None,
+            triangles: 40,
+            bounds: (DVec3::ZERO, DVec3::ONE),
+            ground_centre: DVec3::ZERO,
+            quality: TriangleQuality::default(),
+            uvs: UvState::None,
+            parts: Vec::new(),
+            regions: RegionReport {
+                rules: vec![rule],
+                unmatched_triangles: 28,
+                cut_triangles: 7,
+                left_whole: Vec::new(),
+            },
+            part_map: None,
+            warnings: Vec::new(),
+            files: Vec::new(),
+        };
+        let text = inspection.to_string();
+        assert!(text.contains("  unmatched: 28 triangles kept their part"), "{text}");
+        assert!(text.contains("  cut: 7 triangles cut along the rules' boundaries"), "{text}");
     }
 
     #[test]

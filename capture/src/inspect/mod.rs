@@ -7,7 +7,7 @@ pub(crate) mod heatmap_views_gpu;
 pub(crate) mod inspection;
 pub(crate) mod pictures;
 
-pub use heatmap_views_gpu::{ViewsOptions, views_from_results, write_views_gpu};
+pub use heatmap_views_gpu::{ViewValues, ViewsOptions, view_values, views_from_results, write_views_gpu};
 pub use inspection::{
     InspectOptions, Inspection, PartInfo, Sliver, TriangleQuality, UvState, inspect, triangle_quality,
 };

@@ -32,6 +32,7 @@ fn analyze_options(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Re
         dedupe: args.dedupe.into(),
         trim: args.trim.parse::<TrimMode>()?,
         heatmap: args.heatmap.options(None)?,
+        area_max: args.area_max,
         strict: args.strict,
         exclude: vec![out_dir],
         ignore_manifest: args.no_manifest,

@@ -44,6 +44,11 @@ pub struct AnalyzeArgs {
     #[command(flatten)]
     pub heatmap: HeatmapScaleArgs,
 
+    /// Angular area (deg²·s per texel) shown as the top of the colour scale of heatmap-area.png,
+    /// heatmap.glb and the views (share one scale across scenarios; --max is the count heatmap's).
+    #[arg(long, value_name = "DEG2_S")]
+    pub area_max: Option<f64>,
+
     /// Output folder (default: ARCHIVE/results; with --each, DIR/NAME for each archive NAME).
     #[arg(long, short, value_name = "DIR")]
     pub out: Option<PathBuf>,

@@ -153,6 +153,10 @@ pub enum CaptureToolCommand {
         #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
               value_parser = clap::value_parser!(u32).range(1..=8))]
         views_scale: u32,
+        /// Draw the paper's per-texel count instead of the angular area (deg²·s per texel, the
+        /// default where the result kept texel-area.f32; the count otherwise).
+        #[arg(long)]
+        count: bool,
         /// GPU backend.
         #[arg(long, value_enum, default_value_t = Backend::Auto)]
         backend: Backend,
@@ -243,9 +247,11 @@ pub fn run_tool(command: CaptureToolCommand, console: &Console) -> anyhow::Resul
         CaptureToolCommand::Inspect { input, out, pixels_per_metre } => {
             tools::run_inspect(input, out, pixels_per_metre, console)
         }
-        CaptureToolCommand::Views { results, model, out, views_scale, backend } => {
-            tools::run_views(ViewsOptions { results, model, out, views_scale }, backend.into(), console)
-        }
+        CaptureToolCommand::Views { results, model, out, views_scale, count, backend } => tools::run_views(
+            ViewsOptions { results, model, out, views_scale, count },
+            backend.into(),
+            console,
+        ),
     }?;
     Ok(Completion::Done)
 }

@@ -8,10 +8,15 @@ use std::process::Command;
 
 use ufcsr::{AnalyzeOptions, DIRECTIONS};
 
-/// The bundled example analysed into `out` (CPU views, heatmap.glb).
+/// The bundled example analysed into `out` (CPU views, heatmap.glb): of
+/// the count, or with `frames` of the per-texel angular area.
 fn analyse_example(out: &Path) {
+    analyse_example_with(out, false);
+}
+
+fn analyse_example_with(out: &Path, frames: bool) {
     let archive = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
-    let options = AnalyzeOptions { archive, ..AnalyzeOptions::default() };
+    let options = AnalyzeOptions { archive, frames, ..AnalyzeOptions::default() };
     let mut analysis = ufcsr::analyze(&options, None).expect("analyse the example");
     ufcsr::write_results(&mut analysis, out).expect("write the example's results");
 }
@@ -22,9 +27,36 @@ fn colors(path: &Path) -> Vec<u32> {
 
 #[test]
 fn gpu_views_are_the_cpu_views() {
+    gpu_views_match_cpu_views(false);
+}
+
+/// With per-texel angular area kept (`texel-area.f32`), the GPU draws the
+/// area by default, as the CPU views do; `--count` draws the count instead.
+#[test]
+fn gpu_views_of_angular_area_are_the_cpu_views_and_count_is_an_option() {
+    let (dir, results) = gpu_views_match_cpu_views(true);
+    let count_out = dir.path().join("gpu-count");
+    let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .arg("views")
+        .arg(&results)
+        .arg("--count")
+        .arg("--out")
+        .arg(&count_out)
+        .output()
+        .expect("run ufcsr-capture views --count");
+    assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
+    let (cpu, count) = (colors(&results.join("views/front.png")), colors(&count_out.join("views/front.png")));
+    let differ = cpu.iter().zip(&count).filter(|(a, b)| a != b).count();
+    assert!(differ * 20 > cpu.len(), "--count drew the area views ({differ} pixels differ)");
+}
+
+/// Analyses the example (with `frames`: angular area), draws its views with
+/// the GPU and holds them to the CPU views; returns the folder and results.
+fn gpu_views_match_cpu_views(frames: bool) -> (tempfile::TempDir, std::path::PathBuf) {
     let dir = tempfile::tempdir().unwrap();
     let results = dir.path().join("results");
-    analyse_example(&results);
+    analyse_example_with(&results, frames);
+    assert_eq!(results.join(ufcsr::TEXEL_AREA_FILE).is_file(), frames);
     let gpu_out = dir.path().join("gpu");
     let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
         .arg("views")
@@ -54,6 +86,7 @@ fn gpu_views_are_the_cpu_views() {
     }
     assert!(colored > 10_000, "the GPU views show almost no heatmap ({colored} pixels)");
     assert!(gpu_out.join("views.png").is_file());
+    (dir, results)
 }
 
 #[test]

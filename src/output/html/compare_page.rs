@@ -10,9 +10,13 @@
 //! ([`crate::compare_parts`]: share L1 and largest difference, Kendall τ-b by
 //! total and by average with ties, top-5 overlap); and the heatmaps on the
 //! vehicle (`views.png`, else the texture) side by side, by default drawn
-//! again on ONE colour scale (0 to the largest count of any result; the page
-//! says so), with `--own-scales` as each result drew them. Columns are
-//! labelled by `--label` (else the result folders' names).
+//! again on ONE colour scale (the page says so), with `--own-scales` as each
+//! result drew them. The heatmaps show the measure to quote, per-texel
+//! angular area (deg²·s, from each result's `texel-area.f32`, 0 to the
+//! largest texel of any result), when every result has it, else the
+//! paper-compatible count (0 to the largest count of any result); the
+//! heading says which. Columns are labelled by `--label` (else the result
+//! folders' names).
 //!
 //! The images are written next to the page, so the folder is self-contained
 //! like a single result's. Placement folders among the inputs add the
@@ -140,41 +144,99 @@ pub fn write_comparison_with(
         }
         entries.push(Entry { label, result, image: None });
     }
-    let scale = (!options.own_scales).then(|| entries.iter().map(|e| e.result.max_count).max().unwrap_or(0));
+    // The measure to quote where every result kept its per-texel values
+    // (`texel-area.f32`); else the paper-compatible count.
+    let areas = read_areas(paths, &entries)?;
+    if areas.is_some() {
+        inputs.extend(paths.iter().map(|p| area_file(&result_json(p))));
+    }
+    let scale = (!options.own_scales).then(|| match &areas {
+        Some(values) => {
+            let largest = values.iter().map(|v| crate::output::heatmap::largest_area(v)).fold(0f32, f32::max);
+            HeatmapScale::Area(largest)
+        }
+        None => HeatmapScale::Count(entries.iter().map(|e| e.result.max_count).max().unwrap_or(0)),
+    });
     for (index, (path, entry)) in paths.iter().zip(&mut entries).enumerate() {
         let json = result_json(path);
         entry.image = match scale {
-            Some(max) => {
-                shared_scale_image(&json, &entry.result, (index, out_dir), max, &inputs, &mut files)?
+            Some(scale) => {
+                let area = areas.as_ref().map(|values| &values[index][..]);
+                let on = OneScale { result: &entry.result, index, scale, area };
+                shared_scale_image(&json, &on, out_dir, &inputs, &mut files)?
             }
             None => {
                 // Checked as the shared scale checks it (palette kind, encoding), though
                 // the counts are not drawn again: a damaged result is refused either way.
                 crate::result::result_json::read_texel_counts(&json)?;
-                copy_image(&json, index, out_dir, &mut inputs, &mut files)?
+                copy_image(&json, (index, out_dir), &mut inputs, areas.is_some(), &mut files)?
             }
         };
     }
     let page = out_dir.join("report.html");
     crate::files::refuse_overwriting_inputs(std::slice::from_ref(&page), &inputs)?;
-    crate::files::write_bytes_atomically(&page, render(&entries, &placements, scale).as_bytes())?;
+    crate::files::write_bytes_atomically(
+        &page,
+        render(&entries, &placements, scale, areas.is_some()).as_bytes(),
+    )?;
     files.push(page.clone());
     Ok(WrittenComparison { page, files })
 }
 
+/// `texel-area.f32` beside a result's `result.json`.
+fn area_file(json: &Path) -> PathBuf {
+    json.parent().unwrap_or(Path::new(".")).join(crate::result::texel_area_file::TEXEL_AREA_FILE)
+}
+
+/// Every result's per-texel angular area (`texel-area.f32`), when every
+/// result has one; `None` when any lacks it (the page then compares the
+/// count's heatmaps and says why). A file that is there but wrong is an error.
+fn read_areas(paths: &[PathBuf], entries: &[Entry]) -> Result<Option<Vec<Vec<f32>>>> {
+    let files: Vec<PathBuf> = paths.iter().map(|p| area_file(&result_json(p))).collect();
+    if !files.iter().all(|f| f.is_file()) {
+        return Ok(None);
+    }
+    let mut areas = Vec::with_capacity(files.len());
+    for (file, entry) in files.iter().zip(entries) {
+        let palette = &entry.result.settings.palette;
+        areas.push(crate::result::texel_area_file::read_texel_area(file, palette.width, palette.height)?);
+    }
+    Ok(Some(areas))
+}
+
+/// The one colour scale of the page's heatmaps: its top, in the measure shown.
+#[derive(Debug, Clone, Copy)]
+enum HeatmapScale {
+    /// Per-texel angular area, deg²·s (the largest texel of any result).
+    Area(f32),
+    /// The paper-compatible count (the largest of any result).
+    Count(u32),
+}
+
+/// One result drawn again on the page's scale.
+struct OneScale<'a> {
+    result: &'a AnalysisResult,
+    index: usize,
+    scale: HeatmapScale,
+    /// Its per-texel angular area, when the page shows area.
+    area: Option<&'a [f32]>,
+}
+
 /// The result's own picture (the heatmap on the vehicle when it was
-/// rendered, else the texture), copied beside the page as `result-N-NAME`
-/// (added to `written`).
+/// rendered, else the texture: `heatmap-area.png` when `area`, else
+/// `heatmap.png`), copied beside the page as `result-N-NAME` (added to
+/// `written`). `(index, out_dir)`: the result's place on the page and the
+/// page's folder.
 fn copy_image(
     json: &Path,
-    index: usize,
-    out_dir: &Path,
+    (index, out_dir): (usize, &Path),
     inputs: &mut Vec<PathBuf>,
+    area: bool,
     written: &mut Vec<PathBuf>,
 ) -> Result<Option<String>> {
     let dir = json.parent().unwrap_or(Path::new("."));
-    let Some(source) =
-        ["views.png", "heatmap.png"].into_iter().map(|name| dir.join(name)).find(|p| p.is_file())
+    let texture = if area { crate::output::heatmap::AREA_HEATMAP_FILE } else { "heatmap.png" };
+    let Some(source) = ["views.png", texture].into_iter().map(|name| dir.join(name)).find(|p| p.is_file())
     else {
         return Ok(None);
     };
@@ -188,40 +250,63 @@ fn copy_image(
     Ok(Some(name))
 }
 
-/// The result's heatmap drawn again with the colour scale's top at `max`
-/// (shared by every result on the page): the views on the vehicle
+/// The result's heatmap drawn again with the colour scale's top shared by
+/// every result on the page: the views on the vehicle
 /// (`result-N/views.png`) when the result has views and its archive's
 /// vehicle model is found, else the texture (`result-N-heatmap.png`); the
-/// files are added to `written`. `(index, out_dir)`: the result's place on
-/// the page and the page's folder.
+/// files are added to `written`.
 fn shared_scale_image(
     json: &Path,
-    result: &AnalysisResult,
-    (index, out_dir): (usize, &Path),
-    max: u32,
+    on: &OneScale,
+    out_dir: &Path,
     inputs: &[PathBuf],
     written: &mut Vec<PathBuf>,
 ) -> Result<Option<String>> {
-    let stored = crate::result::result_json::read_texel_counts(json)?;
-    let options =
-        crate::archive::options::HeatmapOptions { scale: result.settings.heatmap_scale, max: Some(max) };
+    let (result, index) = (on.result, on.index);
+    let (levels, max, quantum, width, height) = match (on.scale, on.area) {
+        (HeatmapScale::Area(largest), Some(values)) => {
+            let levels = crate::output::heatmap::AreaLevels::with_top(values, largest);
+            let top = levels.level_of(largest);
+            let palette = &result.settings.palette;
+            (levels.levels, Some(top), Some(levels.quantum), palette.width, palette.height)
+        }
+        (scale, _) => {
+            // Area without values cannot happen (the page draws area only
+            // when every result has them); its count then takes its own top.
+            let stored = crate::result::result_json::read_texel_counts(json)?;
+            let max = if let HeatmapScale::Count(max) = scale { Some(max) } else { None };
+            (stored.texel_counts, max, None, stored.width, stored.height)
+        }
+    };
+    let options = crate::archive::options::HeatmapOptions { scale: result.settings.heatmap_scale, max };
     let had_views = json.parent().unwrap_or(Path::new(".")).join("views.png").is_file();
     if let Some((model, manifest)) = had_views.then(|| vehicle_of(result)).flatten() {
         let folder = out_dir.join(format!("result-{}", index + 1));
         crate::files::refuse_overwriting_inputs(&[folder.join("views.png")], inputs)?;
         let track = manifest.as_ref().and_then(crate::archive::scenario_track::ScenarioTrack::from_manifest);
-        let texture = crate::output::heatmap_views::ViewTexture {
-            counts: &stored.texel_counts,
-            width: stored.width,
-            height: stored.height,
-            options,
-            caption: crate::output::heatmap_views::views_caption(
-                result.measure,
-                &result.settings.archive,
-                track.as_ref().and_then(|t| t.name.as_deref()),
+        let scenario = track.as_ref().and_then(|t| t.name.as_deref());
+        let (caption, unit) = match quantum {
+            Some(_) => (
+                crate::output::heatmap_views::area_views_caption(scenario),
+                crate::output::heatmap_views::AREA_UNIT.to_string(),
             ),
-            unit: crate::output::heatmap_views::measure_unit(result.measure).to_string(),
-            quantum: None,
+            None => (
+                crate::output::heatmap_views::views_caption(
+                    result.measure,
+                    &result.settings.archive,
+                    scenario,
+                ),
+                crate::output::heatmap_views::measure_unit(result.measure).to_string(),
+            ),
+        };
+        let texture = crate::output::heatmap_views::ViewTexture {
+            counts: &levels,
+            width,
+            height,
+            options,
+            caption,
+            unit,
+            quantum,
             views_scale: crate::output::heatmap_views::DEFAULT_VIEWS_SCALE,
             pedestrian_azimuths_deg: track.map_or_else(Vec::new, |t| {
                 t.frames.iter().filter_map(|f| f.pedestrian_azimuth_deg()).collect()
@@ -232,11 +317,15 @@ fn shared_scale_image(
         written.push(views.contact_sheet);
         return Ok(Some(format!("result-{}/views.png", index + 1)));
     }
-    let name = format!("result-{}-heatmap.png", index + 1);
+    let name = format!(
+        "result-{}-{}",
+        index + 1,
+        if quantum.is_some() { "heatmap-area.png" } else { "heatmap.png" }
+    );
     let target = out_dir.join(&name);
     crate::files::refuse_overwriting_inputs(std::slice::from_ref(&target), inputs)?;
-    let rgb = crate::output::heatmap::render(&stored.texel_counts, stored.width, options);
-    crate::files::write_rgb_png(&target, [stored.width, stored.height], &rgb, png::Compression::Fast)?;
+    let rgb = crate::output::heatmap::render(&levels, width, options);
+    crate::files::write_rgb_png(&target, [width, height], &rgb, png::Compression::Fast)?;
     written.push(target);
     Ok(Some(name))
 }
@@ -305,7 +394,12 @@ fn refuse_result_folders(paths: &[PathBuf], out_dir: &Path) -> Result<()> {
     Ok(())
 }
 
-fn render(entries: &[Entry], placements: &[PlacementOnPage], scale: Option<u32>) -> String {
+fn render(
+    entries: &[Entry],
+    placements: &[PlacementOnPage],
+    scale: Option<HeatmapScale>,
+    area: bool,
+) -> String {
     let mut page = String::new();
     let title = format!(
         "UFCSR comparison: {}",
@@ -335,19 +429,7 @@ fn render(entries: &[Entry], placements: &[PlacementOnPage], scale: Option<u32>)
     render_shares(&mut page, entries, &header("part (count share %)"));
     render_rankings(&mut page, entries);
 
-    let _ = writeln!(page, "<h2>The heatmaps side by side (paper-compatible count)</h2>");
-    let _ = match scale {
-        Some(max) => writeln!(
-            page,
-            "<p>{SHARED_SCALE}: plasma from 0 to {max} (the largest count of any result), never-seen texels grey; \
-             colours compare across results. (<code>--own-scales</code> shows each result's own pictures.)</p>"
-        ),
-        None => writeln!(
-            page,
-            "<p>{OWN_SCALES}: each runs from 0 to that result's own largest count, so the same colour means \
-             different counts in different results.</p>"
-        ),
-    };
+    render_heatmap_heading(&mut page, scale, area);
     let _ = writeln!(page, "<div class=\"sheets\">");
     for entry in entries {
         match &entry.image {
@@ -523,6 +605,43 @@ fn render_rankings(page: &mut String, entries: &[Entry]) {
     }
     let _ = writeln!(page, "</table>");
 }
+
+/// What the page says above the heatmaps: which measure, which scale.
+fn render_heatmap_heading(page: &mut String, scale: Option<HeatmapScale>, area: bool) {
+    let _ = if area {
+        writeln!(page, "<h2>The heatmaps side by side: {AREA_HEATMAPS}</h2>")
+    } else {
+        writeln!(
+            page,
+            "<h2>The heatmaps side by side: {COUNT_HEATMAPS}</h2>\n<p>Not every result has its per-texel angular \
+             area (<code>texel-area.f32</code>, written by an analysis with the eyes' projection and fps), so the \
+             heatmaps show the paper's count.</p>"
+        )
+    };
+    let _ = match scale {
+        Some(HeatmapScale::Area(largest)) => writeln!(
+            page,
+            "<p>{SHARED_SCALE}: plasma from 0 to {largest:.3e} deg²·s per texel (the largest texel of any result), \
+             never-seen texels grey; colours compare across results. (<code>--own-scales</code> shows each \
+             result's own pictures.)</p>"
+        ),
+        Some(HeatmapScale::Count(max)) => writeln!(
+            page,
+            "<p>{SHARED_SCALE}: plasma from 0 to {max} (the largest count of any result), never-seen texels grey; \
+             colours compare across results. (<code>--own-scales</code> shows each result's own pictures.)</p>"
+        ),
+        None => writeln!(
+            page,
+            "<p>{OWN_SCALES}: each runs from 0 to that result's own largest value, so the same colour means \
+             different values in different results.</p>"
+        ),
+    };
+}
+
+/// The heatmaps' heading when they show the measure to quote.
+pub const AREA_HEATMAPS: &str = "visible angular area over time (deg²·s per texel, the quoted measure)";
+/// The heatmaps' heading when some result lacks per-texel angular area.
+pub const COUNT_HEATMAPS: &str = "the paper-compatible count";
 
 /// The heading of the comparison's first table of parts.
 pub const RANKED_HEADING: &str = "Ranked by angular area: the measures to quote";

@@ -12,7 +12,7 @@ pub(crate) mod provenance;
 pub(crate) mod report_page;
 
 pub use compare_page::{
-    ComparisonOptions, OWN_SCALES, RANKED_HEADING, SHARED_SCALE, WrittenComparison, write_comparison,
-    write_comparison_with,
+    AREA_HEATMAPS, COUNT_HEATMAPS, ComparisonOptions, OWN_SCALES, RANKED_HEADING, SHARED_SCALE,
+    WrittenComparison, write_comparison, write_comparison_with,
 };
 pub use report_page::{NEEDS_ITS_FOLDER, QUOTED_HEADING};

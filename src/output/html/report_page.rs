@@ -286,9 +286,10 @@ fn heatmap(page: &mut String, inputs: &PageInputs) {
             "<h2>The heatmap texture: angular area per texel</h2>\n<p>Each texel's visible angular area over time \
              (deg²·s: the solid angle its pixels subtended, summed over the eye-frames, × seconds per frame / eyes; \
              a part's texels add up to its angular area in the table of measures), laid out like the palette: \
-             plasma scale ({:?}) from 0 to the largest texel's, texels never seen in neutral grey.{glb}</p>\n\
+             plasma scale ({:?}) from 0 to {}, texels never seen in neutral grey.{glb}</p>\n\
              <img src=\"{}\" alt=\"angular-area heatmap texture\" width=\"384\">",
             settings.heatmap_scale,
+            area_top(settings),
             file_name(area)
         );
     }
@@ -305,6 +306,13 @@ fn heatmap(page: &mut String, inputs: &PageInputs) {
     );
 }
 
+/// The top of the angular-area colour scale, in words.
+fn area_top(settings: &crate::format::result::Settings) -> String {
+    settings
+        .heatmap_area_max
+        .map_or_else(|| "the largest texel's".to_string(), |max| format!("{max:.3e} deg²·s (--area-max)"))
+}
+
 /// The eight views of the heatmap on the vehicle (`views.png`), when
 /// written: per-texel angular area when measured, else the paper's count.
 fn vehicle_views(page: &mut String, inputs: &PageInputs) {
@@ -315,7 +323,7 @@ fn vehicle_views(page: &mut String, inputs: &PageInputs) {
             "The heatmap on the vehicle: angular area per texel",
             "Each point's visible angular area over time (deg²·s per texel, the quoted measure; the paper's count \
              is in <code>heatmap.png</code> below).",
-            "the largest texel's".to_string(),
+            area_top(settings),
         )
     } else {
         (
@@ -537,6 +545,7 @@ mod tests {
             parts_csv: None,
             heatmap_png: "heatmap.png".into(),
             heatmap_area_png: None,
+            texel_area: None,
             views_pdf: None,
             timings_json: "timings.json".into(),
             heatmap_glb: None,
