@@ -102,12 +102,14 @@ pub fn pictured_sets(
         .filter(|c| c.objective == Objective::Mean && c.k <= PICTURED_SETS)
         .map(|c| {
             let kind = c.kind.name();
+            // "patches", not "patchs": the caption is prose.
+            let kinds = if kind.ends_with('h') { format!("{kind}es") } else { format!("{kind}s") };
             let candidates = c.candidates();
             let colors = c.members.iter().enumerate().flat_map(|(i, m)| m.candidates.iter().map(move |_| i));
             PicturedSet {
                 name: format!("{kind}-best-{}", c.k),
                 caption: format!(
-                    "best {kind}s, at most {} display{} ({} used): {:.2} s legible, {:.0} % of the time",
+                    "best {kinds}, at most {} display{} ({} used): {:.2} s legible, {:.0} % of the time",
                     c.k,
                     if c.k == 1 { "" } else { "s" },
                     c.displays,
