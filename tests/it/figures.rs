@@ -152,7 +152,7 @@ fn the_report_leads_with_the_quoted_measures_and_says_it_needs_its_folder() {
 #[test]
 fn per_texel_angular_area_adds_up_to_each_parts_angular_area() {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
-    let options = ufcsr::AnalyzeOptions { archive: example, frames: true, ..Default::default() };
+    let options = ufcsr::AnalyzeOptions { archive: example, frames: true, texel_area: true, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
     let area = analysis.texel_angular_area.clone().expect("no per-texel angular area");
     let labels = analysis.labels.clone().expect("the example has labels");
