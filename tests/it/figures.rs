@@ -152,7 +152,8 @@ fn the_report_leads_with_the_quoted_measures_and_says_it_needs_its_folder() {
 #[test]
 fn per_texel_angular_area_adds_up_to_each_parts_angular_area() {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
-    let options = ufcsr::AnalyzeOptions { archive: example, frames: true, texel_area: true, ..Default::default() };
+    let options =
+        ufcsr::AnalyzeOptions { archive: example, frames: true, texel_area: true, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
     let area = analysis.texel_angular_area.clone().expect("no per-texel angular area");
     let labels = analysis.labels.clone().expect("the example has labels");
@@ -184,4 +185,20 @@ fn per_texel_angular_area_adds_up_to_each_parts_angular_area() {
         page.find("The heatmap on the vehicle: angular area per texel").expect("views not area");
     assert!(area_section < page.find("The heatmap texture (paper-compatible count)").unwrap());
     assert!(page.contains("src=\"heatmap-area.png\""));
+}
+
+#[test]
+fn per_texel_angular_area_is_off_unless_asked_for() {
+    // The pass about doubles the analysis's CPU time (docs/performance.md#per-texel-angular-area):
+    // frames.csv and the eyes' projection alone do not turn it on.
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let options = ufcsr::AnalyzeOptions { archive: example, frames: true, ..Default::default() };
+    let mut analysis = ufcsr::analyze(&options, None).unwrap();
+    assert!(analysis.texel_angular_area.is_none());
+    assert!(analysis.result.measures.is_some(), "the part measures are still there");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("results");
+    ufcsr::write_results(&mut analysis, &out).unwrap();
+    assert!(!out.join("heatmap-area.png").exists());
+    assert!(out.join("heatmap.png").exists());
 }
