@@ -19,6 +19,11 @@
 //! that ratio is the cost of counting itself.
 //!
 //! `--keep DIR` writes the generated archive to DIR and leaves it there.
+//! `--projection` gives the generated archive's manifest the eyes'
+//! projection and fps (`rig.settings`, 107° horizontal at 60 fps, as
+//! `ufcsr-capture` writes them), so the default analysis also measures
+//! per-texel angular area (the default heatmap's measure), as it does on a
+//! capture.
 //! `--kernels` times only the row kernels on decoded rows (one thread, each
 //! kernel this CPU runs) and the AVX-512 kernel with the per-part tally, in
 //! its own pass and as a separate pass, for work on the kernels, and the
@@ -60,6 +65,8 @@ struct Args {
     /// ufcsr's own tile decoder (`--decode-files-ufcsr`).
     decode_files: Option<(PathBuf, Decoder)>,
     keep: Option<PathBuf>,
+    /// The generated archive gives the eyes' projection and fps.
+    projection: bool,
     /// Only the row kernels on decoded rows (quick, for kernel work).
     kernels_only: bool,
 }
@@ -73,6 +80,7 @@ fn parse_args() -> Args {
         also: Vec::new(),
         decode_files: None,
         keep: None,
+        projection: false,
         kernels_only: false,
     };
     let mut iter = std::env::args().skip(1);
@@ -90,6 +98,7 @@ fn parse_args() -> Args {
             }
             "--keep" => args.keep = iter.next().map(PathBuf::from),
             "--kernels" => args.kernels_only = true,
+            "--projection" => args.projection = true,
             _ => {} // cargo bench passes --bench
         }
     }
@@ -646,6 +655,9 @@ fn generate_archive(args: &Args, dir: &Path) -> PathBuf {
     let spec = ArchiveSpec { frames: args.frames, object_block: args.block, ..ArchiveSpec::default() };
     let start = Instant::now();
     let summary = write_archive(dir, &spec).unwrap();
+    if args.projection {
+        add_projection(dir, &spec);
+    }
     println!(
         "generated {} tiles ({} with the vehicle, 1284×1620), {:.1} MiB, in {:.1} s",
         summary.tiles,
@@ -654,6 +666,25 @@ fn generate_archive(args: &Args, dir: &Path) -> PathBuf {
         start.elapsed().as_secs_f64()
     );
     dir.to_path_buf()
+}
+
+/// Gives the generated archive's manifest the eyes' projection and fps
+/// (`rig.settings`: 107° horizontal, 60 fps, the eye and its tiling), as a
+/// capture's has.
+fn add_projection(dir: &Path, spec: &ArchiveSpec) {
+    let path = dir.join("manifest.json");
+    let mut manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    manifest["rig"] = serde_json::json!({
+        "settings": {
+            "fps": 60.0,
+            "horizontal_fov_deg": 107.0,
+            "eye_pixels": [spec.cols * spec.tile_width, spec.rows * spec.tile_height],
+            "tiles": [spec.cols, spec.rows],
+        },
+        "tile_pixels": [spec.tile_width, spec.tile_height],
+    });
+    std::fs::write(&path, serde_json::to_string_pretty(&manifest).unwrap()).unwrap();
 }
 
 /// The same tiles for every contender: the archive's own images (the

@@ -98,6 +98,12 @@ pub struct AnalyzeOptions {
     /// off`. The capture's `--count` tallies them itself
     /// ([`crate::TileCounter::tally_parts`]).
     pub frames: bool,
+    /// Also sum the solid angle each texel subtends (`heatmap-area.png`,
+    /// and the views and `heatmap.glb` in deg²·s instead of the count);
+    /// needs `frames` and the eyes' projection. Off by default (the binary's
+    /// `--texel-area on`): it costs about as much CPU time as the rest of
+    /// the analysis (docs/performance.md#per-texel-angular-area).
+    pub texel_area: bool,
     /// The legend and PIdT the analysis would read (from the options or the
     /// manifest), already loaded by the caller: used instead of reading them
     /// again (the files must still be there; the identity digests them).

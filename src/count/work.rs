@@ -89,7 +89,7 @@ pub(crate) fn count_images(job: &CountJob) -> (CountedImages, Option<FrameTallie
         image_counts: Counts::new(),
         frame_counts: inputs.dedupe.per_frame().then(Counts::new),
         strays: AtomicColorSet::new(),
-        texel_area: (options.frames && inputs.optics.is_some())
+        texel_area: (options.texel_area && options.frames && inputs.optics.is_some())
             .then(|| TexelSolidAngles::new(&inputs.palette, job.classifier.backgrounds())),
         stop: AtomicBool::new(false),
     };

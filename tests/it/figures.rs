@@ -152,7 +152,8 @@ fn the_report_leads_with_the_quoted_measures_and_says_it_needs_its_folder() {
 #[test]
 fn per_texel_angular_area_adds_up_to_each_parts_angular_area() {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
-    let options = ufcsr::AnalyzeOptions { archive: example, frames: true, ..Default::default() };
+    let options =
+        ufcsr::AnalyzeOptions { archive: example, frames: true, texel_area: true, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
     let area = analysis.texel_angular_area.clone().expect("no per-texel angular area");
     let labels = analysis.labels.clone().expect("the example has labels");
@@ -193,7 +194,8 @@ fn per_texel_angular_area_adds_up_to_each_parts_angular_area() {
 #[test]
 fn area_max_sets_the_top_of_the_area_heatmap_and_the_values_are_kept() {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
-    let options = ufcsr::AnalyzeOptions { archive: example.clone(), frames: true, ..Default::default() };
+    let options =
+        ufcsr::AnalyzeOptions { archive: example.clone(), frames: true, texel_area: true, ..Default::default() };
     let area = ufcsr::analyze(&options, None).unwrap().texel_angular_area.unwrap();
     let (at, largest) =
         area.iter().enumerate().fold((0, 0f32), |best, (i, &v)| if v > best.1 { (i, v) } else { best });
@@ -221,4 +223,20 @@ fn area_max_sets_the_top_of_the_area_heatmap_and_the_values_are_kept() {
         let error = ufcsr::analyze(&options, None).err().expect("an unusable --area-max is refused");
         assert!(error.to_string().contains("--area-max"), "{error}");
     }
+}
+
+#[test]
+fn per_texel_angular_area_is_off_unless_asked_for() {
+    // The pass about doubles the analysis's CPU time (docs/performance.md#per-texel-angular-area):
+    // frames.csv and the eyes' projection alone do not turn it on.
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let options = ufcsr::AnalyzeOptions { archive: example, frames: true, ..Default::default() };
+    let mut analysis = ufcsr::analyze(&options, None).unwrap();
+    assert!(analysis.texel_angular_area.is_none());
+    assert!(analysis.result.measures.is_some(), "the part measures are still there");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("results");
+    ufcsr::write_results(&mut analysis, &out).unwrap();
+    assert!(!out.join("heatmap-area.png").exists());
+    assert!(out.join("heatmap.png").exists());
 }

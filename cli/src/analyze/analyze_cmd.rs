@@ -38,6 +38,7 @@ fn analyze_options(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf) -> Re
         ignore_manifest: args.no_manifest,
         mesh: args.mesh.clone(),
         frames: args.frames_csv == Switch::On,
+        texel_area: args.texel_area == Switch::On,
         shard: match &args.shard {
             Some(text) => Some(text.parse::<Shard>()?),
             None => Shard::from_job_array(|name| std::env::var(name).ok())?,

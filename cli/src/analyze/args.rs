@@ -69,6 +69,12 @@ pub struct AnalyzeArgs {
     #[arg(long, value_enum, default_value_t = Switch::On)]
     pub frames_csv: Switch,
 
+    /// Per-texel angular area (deg²·s): heatmap-area.png, and the views and heatmap.glb in
+    /// deg²·s instead of the count (needs frames.csv and the eyes' projection): `on` or `off`.
+    /// Off by default: it about doubles the analysis's CPU time.
+    #[arg(long, value_enum, default_value_t = Switch::Off)]
+    pub texel_area: Switch,
+
     /// Columns of parts.csv: `report` (the report's names, precision and order) or `paper`
     /// (part_name, pixel_count, part_total_value, …: the paper's names, for old scripts).
     #[arg(long, value_enum, default_value_t = CsvStyle::Report)]

@@ -38,7 +38,7 @@ use crate::archive::palette::Fcsp;
 use crate::checks::neighbours::NeighbourSampler;
 use crate::color::{AtomicColorSet, SeenSet, color_key};
 use crate::count::part_lookup::{PartLookup, PartPixels, RowSpans};
-use crate::count::texel_area::TexelSolidAngles;
+use crate::count::texel_area::{PendingRuns, TexelSolidAngles};
 use crate::error::{Error, Result};
 use crate::optics::solid_angle::TileView;
 use crate::png::rows::{PixelLayout, RowReader};
@@ -798,6 +798,7 @@ fn scan_rows(
     let size = [reader.width(), reader.height()];
     let texel_area = texel_area.and_then(|(sums, view)| Some((sums, sums.pixel_weights(&view, size)?)));
     let mut by_class = [0u64; 3];
+    let mut pending = PendingRuns::default();
     let mut y = 0;
     while let Some(row) = reader.next_row()? {
         match parts.as_mut() {
@@ -810,11 +811,14 @@ fn scan_rows(
         if let Some((sums, weights)) = &texel_area {
             let width = size[0] as usize;
             let start = (y as usize * width).min(weights.len());
-            sums.add_row(row, layout, &weights[start..(start + width).min(weights.len())]);
+            sums.add_row(row, layout, &weights[start..(start + width).min(weights.len())], &mut pending);
         }
         y += 1;
     }
     reader.finish()?;
+    if let Some((sums, _)) = &texel_area {
+        sums.flush(&mut pending);
+    }
     Ok(ImageTally {
         width: reader.width(),
         height: reader.height(),
