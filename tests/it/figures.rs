@@ -194,8 +194,12 @@ fn per_texel_angular_area_adds_up_to_each_parts_angular_area() {
 #[test]
 fn area_max_sets_the_top_of_the_area_heatmap_and_the_values_are_kept() {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
-    let options =
-        ufcsr::AnalyzeOptions { archive: example.clone(), frames: true, texel_area: true, ..Default::default() };
+    let options = ufcsr::AnalyzeOptions {
+        archive: example.clone(),
+        frames: true,
+        texel_area: true,
+        ..Default::default()
+    };
     let area = ufcsr::analyze(&options, None).unwrap().texel_angular_area.unwrap();
     let (at, largest) =
         area.iter().enumerate().fold((0, 0f32), |best, (i, &v)| if v > best.1 { (i, v) } else { best });
