@@ -326,6 +326,10 @@ pub struct LevelEffect {
 pub struct MainEffect {
     pub factor: String,
     pub candidate: String,
+    /// For a display (`display_main_effects`): the vehicle whose cells alone it is computed over,
+    /// since a patch's name carries its place on that body. Absent for a part (all cells).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub within_vehicle: Option<String>,
     /// Per level, in the levels' order: its mean and its effect.
     pub levels: Vec<LevelEffect>,
     /// The largest level mean minus the smallest, s, with the interval of the per-unit difference
@@ -353,4 +357,8 @@ pub struct DesignResult {
     pub vehicles: Vec<GroupSummary>,
     pub overall: GroupSummary,
     pub main_effects: Vec<MainEffect>,
+    /// Per vehicle with displays, its best 1–3 displays' main effects of every factor other than
+    /// the vehicle, over that vehicle's cells only (`within_vehicle`); absent in older files.
+    #[serde(default)]
+    pub display_main_effects: Vec<MainEffect>,
 }

@@ -7,11 +7,11 @@
 
 use std::path::Path;
 
-use ufcsr::{DESIGN_RESULT_SCHEMA, DESIGN_TASK_SCHEMA, DesignResult, DesignTask, GroupSummary};
+use ufcsr::{DESIGN_RESULT_SCHEMA, DESIGN_TASK_SCHEMA, DesignResult, DesignTask, GroupSummary, MainEffect};
 
 use super::plan::Plan;
 use super::run::{TASK_FILE, task_dir};
-use super::stats::{INTERVAL_METHOD, cell_data, group_summary, main_effects};
+use super::stats::{CellData, INTERVAL_METHOD, cell_data, group_summary, main_effects};
 use crate::error::{CaptureError, Result};
 
 /// The most missing cells named in one message.
@@ -162,6 +162,28 @@ fn answer_with_displays(plan: &Plan, vehicles: &[GroupSummary], overall: &GroupS
     lines
 }
 
+/// Per vehicle, its best 1–3 displays (its `best` patches): the main effect of every factor
+/// with two or more levels among that vehicle's cells (so never the vehicle), by the same
+/// arithmetic as the parts' ([`main_effects`]) over that vehicle's cells only, since a patch's
+/// name carries its place on that body and means nothing on another.
+pub(super) fn display_effects(data: &[CellData], vehicles: &[GroupSummary]) -> Vec<MainEffect> {
+    let mut effects = Vec::new();
+    for group in vehicles {
+        let vehicle = group.group.trim_start_matches("vehicle ");
+        let names: Vec<String> =
+            group.best.iter().filter(|b| b.kind == "patch").map(|b| b.name.clone()).collect();
+        let of: Vec<&CellData> = data.iter().filter(|c| c.cell.vehicle == vehicle).collect();
+        if names.is_empty() || of.is_empty() {
+            continue;
+        }
+        effects.extend(main_effects(&of, &names).into_iter().map(|mut e| {
+            e.within_vehicle = Some(vehicle.to_string());
+            e
+        }));
+    }
+    effects
+}
+
 /// Merges every task of `plan` in `out` into one result.
 pub fn merge_design(plan: &Plan, out: &Path) -> Result<DesignResult> {
     let tasks = read_tasks(plan, out)?;
@@ -191,7 +213,8 @@ pub fn merge_design(plan: &Plan, out: &Path) -> Result<DesignResult> {
         tasks: tasks.len() as u32,
         interval: INTERVAL_METHOD.into(),
         answer: answer_with_displays(plan, &vehicles, &overall),
-        main_effects: main_effects(&data, &named),
+        main_effects: main_effects(&all, &named),
+        display_main_effects: display_effects(&data, &vehicles),
         cells,
         vehicles,
         overall,

@@ -8,7 +8,7 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use ufcsr::{DesignResult, GroupSummary, MeanInterval, html_escape as esc};
+use ufcsr::{DesignResult, GroupSummary, MainEffect, MeanInterval, html_escape as esc};
 
 use crate::error::{CaptureError, Result};
 
@@ -48,6 +48,44 @@ fn group_table(page: &mut String, group: &GroupSummary) {
     page.push_str("</table>");
 }
 
+/// One main-effects table (`within` names the body for a display's).
+fn effects_table(page: &mut String, effects: &[MainEffect]) {
+    let within = effects.iter().any(|e| e.within_vehicle.is_some());
+    let _ = write!(
+        page,
+        "<table><tr>{}<th>factor</th><th>candidate</th><th>range s [95 %]</th>\
+         <th>per level: mean s [95 %]; effect s [95 %]</th></tr>",
+        if within { "<th>within vehicle</th>" } else { "" }
+    );
+    for e in effects {
+        let levels: Vec<String> = e
+            .levels
+            .iter()
+            .map(|l| {
+                format!(
+                    "{}: {}; {:+.2}{}",
+                    l.level,
+                    interval_text(&l.mean_s),
+                    l.effect_s.mean,
+                    bracket(&l.effect_s)
+                )
+            })
+            .collect();
+        let body = e.within_vehicle.as_deref().map_or_else(String::new, |v| format!("<td>{}</td>", esc(v)));
+        let _ = write!(
+            page,
+            "<tr>{body}<td>{}</td><td>{}</td><td>{} ({} − {})</td><td>{}</td></tr>",
+            esc(&e.factor),
+            esc(&e.candidate),
+            interval_text(&e.range_s),
+            esc(&e.highest),
+            esc(&e.lowest),
+            esc(&levels.join(" | "))
+        );
+    }
+    page.push_str("</table>");
+}
+
 /// The report page.
 pub fn page(result: &DesignResult) -> String {
     let mut page = format!(
@@ -78,35 +116,18 @@ pub fn page(result: &DesignResult) -> String {
         "</table><h2>Main effects</h2><p>Per factor and candidate: the range (largest level mean minus \
          smallest, with the interval of the per-unit difference of those two levels) and each level's mean \
          legible time with its effect (the level's mean minus the mean over the levels), each with its 95 % \
-         interval over the random units.</p><table><tr><th>factor</th><th>candidate</th><th>range s [95 %]</th>\
-         <th>per level: mean s [95 %]; effect s [95 %]</th></tr>",
+         interval over the random units.</p>",
     );
-    for e in &result.main_effects {
-        let levels: Vec<String> = e
-            .levels
-            .iter()
-            .map(|l| {
-                format!(
-                    "{}: {}; {:+.2}{}",
-                    l.level,
-                    interval_text(&l.mean_s),
-                    l.effect_s.mean,
-                    bracket(&l.effect_s)
-                )
-            })
-            .collect();
-        let _ = write!(
-            page,
-            "<tr><td>{}</td><td>{}</td><td>{} ({} − {})</td><td>{}</td></tr>",
-            esc(&e.factor),
-            esc(&e.candidate),
-            interval_text(&e.range_s),
-            esc(&e.highest),
-            esc(&e.lowest),
-            esc(&levels.join(" | "))
+    effects_table(&mut page, &result.main_effects);
+    if !result.display_main_effects.is_empty() {
+        page.push_str(
+            "<h3>Displays, within one body</h3><p>Each vehicle's best displays, over that vehicle's cells \
+             only: a display patch's name carries its place on one body, so these compare the other \
+             factors' levels on that body and say nothing across body types (no vehicle effect).</p>",
         );
+        effects_table(&mut page, &result.display_main_effects);
     }
-    page.push_str("</table><h2>Groups</h2>");
+    page.push_str("<h2>Groups</h2>");
     for group in result.vehicles.iter().chain([&result.overall]).chain(&result.cells) {
         group_table(&mut page, group);
     }
@@ -126,7 +147,8 @@ const CSV_HEADER: &str = "group,candidate,kind,legible_s,legible_s_low,legible_s
 
 /// One row per group and candidate; then the main effects, one row per factor, candidate and
 /// level (`kind` `level-mean` or `level-effect`, `group` `FACTOR=LEVEL`) and one for the range
-/// (`kind` `range`, `group` `FACTOR: HIGHEST - LOWEST`), their seconds in the legible columns.
+/// (`kind` `range`, `group` `FACTOR: HIGHEST - LOWEST`), their seconds in the legible columns;
+/// a display's, over one vehicle's cells, with `group` prefixed `within vehicle NAME: `.
 pub fn csv(result: &DesignResult) -> String {
     let mut text = String::from(CSV_HEADER);
     for group in result.cells.iter().chain(&result.vehicles).chain([&result.overall]) {
@@ -144,7 +166,8 @@ pub fn csv(result: &DesignResult) -> String {
             );
         }
     }
-    for e in &result.main_effects {
+    for e in result.main_effects.iter().chain(&result.display_main_effects) {
+        let within = e.within_vehicle.as_ref().map_or_else(String::new, |v| format!("within vehicle {v}: "));
         let mut row = |group: String, kind: &str, v: &MeanInterval| {
             let _ = writeln!(
                 text,
@@ -155,10 +178,10 @@ pub fn csv(result: &DesignResult) -> String {
                 v.n
             );
         };
-        row(format!("{}: {} - {}", e.factor, e.highest, e.lowest), "range", &e.range_s);
+        row(format!("{within}{}: {} - {}", e.factor, e.highest, e.lowest), "range", &e.range_s);
         for l in &e.levels {
-            row(format!("{}={}", e.factor, l.level), "level-mean", &l.mean_s);
-            row(format!("{}={}", e.factor, l.level), "level-effect", &l.effect_s);
+            row(format!("{within}{}={}", e.factor, l.level), "level-mean", &l.mean_s);
+            row(format!("{within}{}={}", e.factor, l.level), "level-effect", &l.effect_s);
         }
     }
     text

@@ -189,7 +189,7 @@ type LevelOf = fn(&CellLevels) -> &str;
 /// value is the equal-weight mean over the level's cells, so each effect is
 /// a per-unit contrast and its t interval covers it as the group means'
 /// does (tested against a known effect).
-pub fn main_effects(cells: &[CellData], names: &[String]) -> Vec<MainEffect> {
+pub fn main_effects(cells: &[&CellData], names: &[String]) -> Vec<MainEffect> {
     let factors: [(&str, LevelOf); 3] =
         [("vehicle", |c| &c.vehicle), ("scenario", |c| &c.scenario), ("traffic", |c| &c.traffic)];
     let mut effects = Vec::new();
@@ -211,7 +211,7 @@ pub fn main_effects(cells: &[CellData], names: &[String]) -> Vec<MainEffect> {
 /// Per level, per unit (the units every cell has): the candidate's mean
 /// legible time over the level's cells; `None` when a cell or unit lacks it.
 fn per_level_units(
-    cells: &[CellData],
+    cells: &[&CellData],
     level_of: LevelOf,
     levels: &[&str],
     name: &str,
@@ -225,7 +225,7 @@ fn per_level_units(
     let per_level = levels
         .iter()
         .map(|level| {
-            let at: Vec<&CellData> = cells.iter().filter(|c| level_of(&c.cell) == *level).collect();
+            let at: Vec<&CellData> = cells.iter().copied().filter(|c| level_of(&c.cell) == *level).collect();
             let k = at.len() as f64;
             units.iter().map(|u| at.iter().map(|c| c.units[u][name].legible_s).sum::<f64>() / k).collect()
         })
@@ -255,6 +255,7 @@ fn main_effect(factor: &str, name: &str, levels: &[&str], per_level: &[Vec<f64>]
     MainEffect {
         factor: factor.into(),
         candidate: name.into(),
+        within_vehicle: None,
         levels: level_effects,
         range_s: signed_interval(&difference),
         highest: levels[high].into(),

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use ufcsr::{CandidateValue, DESIGN_TASK_SCHEMA, Design, DesignTask, UnitValues};
 
-use super::merge::merge_design;
+use super::merge::{display_effects, merge_design};
 use super::plan::{Plan, plan_checked, plan_design};
 use super::run::{add_unseen_patches, candidate_values, completed, task_dir, write_task};
 use super::stats::{cell_data, group_summary, main_effects, p_best};
@@ -267,7 +267,8 @@ fn the_main_effects_intervals_cover_a_known_effect_about_95_percent_of_the_time(
             let second = usize::from(plan.cells[c].vehicle == vehicles[1]);
             2.0 + 1.5 * second as f64 + shared[u as usize] + suits[u as usize][second] + 0.5 * normal.draw()
         });
-        let effects = main_effects(&cell_data(&plan.cells, &tasks), &["a".to_string()]);
+        let data = cell_data(&plan.cells, &tasks);
+        let effects = main_effects(&data.iter().collect::<Vec<_>>(), &["a".to_string()]);
         let of = |factor: &str| effects.iter().find(|e| e.factor == factor).unwrap();
         let inside =
             |v: &ufcsr::MeanInterval, truth: f64| v.ci95.is_some_and(|[lo, hi]| lo <= truth && truth <= hi);
@@ -374,4 +375,92 @@ fn displays_are_compared_within_a_vehicle_and_said_where_not_measured() {
     assert!(none.contains("across all"), "{none}");
     assert!(!merged.answer.iter().any(|l| l.contains("not compared")), "{:?}", merged.answer);
     assert!(!merged.overall.candidates.iter().any(|c| c.kind == "patch"));
+}
+
+/// The tiny design with two demo scenarios and two traffic levels (none, lead car), one replicate.
+fn traffic_plan() -> Plan {
+    let mut value = serde_json::to_value(tiny()).unwrap();
+    value["scenarios"] = serde_json::json!([
+        {"name": "A", "kind": "demo", "scenario": "A"},
+        {"name": "B", "kind": "demo", "scenario": "B"}
+    ]);
+    value["traffic"] =
+        serde_json::json!([{"name": "none", "kind": "none"}, {"name": "lead", "kind": "lead-car"}]);
+    value["replicates"] = 1.into();
+    plan_checked(serde_json::from_value(value).unwrap(), Path::new("traffic.json")).unwrap()
+}
+
+/// One trial's tasks of [`traffic_plan`], `units` units each: parts "a" and "b" everywhere; on the
+/// pickup the display "p@front" (3 s, 1.2 s less behind the lead car; a unit effect shared by its
+/// cells and cell noise) and "p@side" (1 s, no traffic effect, cell noise).
+fn traffic_tasks(plan: &Plan, units: u32, normal: &mut Normal) -> Vec<DesignTask> {
+    let shared: Vec<f64> = (0..units).map(|_| 0.8 * normal.draw()).collect();
+    let mut tasks = tasks_of(plan, units, |_, u| 2.0 + shared[u as usize]);
+    for (i, task) in tasks.iter_mut().enumerate() {
+        task.task = i as u32;
+        if task.cell.vehicle != "pickup" {
+            continue;
+        }
+        let lead = if task.cell.traffic == "lead" { 1.2 } else { 0.0 };
+        for unit in &mut task.units {
+            let mut patch = unit.candidates[0].clone();
+            patch.kind = "patch".into();
+            (patch.name, patch.legible_s) =
+                ("p@front".into(), 3.0 - lead + shared[unit.unit as usize] + 0.4 * normal.draw());
+            unit.candidates.push(patch.clone());
+            (patch.name, patch.legible_s) = ("p@side".into(), 1.0 + 0.4 * normal.draw());
+            unit.candidates.push(patch);
+        }
+    }
+    tasks
+}
+
+#[test]
+fn a_displays_main_effects_are_within_its_vehicle_and_cover_a_known_traffic_effect() {
+    // Truth for the pickup's p@front: traffic range 1.2 s (none highest), level effects +0.6 and
+    // −0.6 s, scenario effects 0; no vehicle effect (a display is compared within one body).
+    let plan = traffic_plan();
+    assert_eq!(plan.cells.len(), 8);
+    let mut normal = Normal(41);
+    // Through the files: design.json's display effects, the CSV rows and the page's label.
+    let dir = tempfile::tempdir().unwrap();
+    for task in traffic_tasks(&plan, 8, &mut normal) {
+        write_task(&task, &task_dir(dir.path(), task.task)).unwrap();
+    }
+    let merged = merge_design(&plan, dir.path()).unwrap();
+    let effects = &merged.display_main_effects;
+    assert!(effects.iter().all(|e| e.within_vehicle.as_deref() == Some("pickup") && e.factor != "vehicle"));
+    let traffic = effects.iter().find(|e| e.factor == "traffic" && e.candidate == "p@front").unwrap();
+    assert_eq!((traffic.highest.as_str(), traffic.lowest.as_str()), ("none", "lead"));
+    assert!(traffic.range_s.ci95.is_some_and(|[lo, hi]| lo <= 1.2 && 1.2 <= hi), "{traffic:?}");
+    assert!(effects.iter().any(|e| e.factor == "scenario" && e.candidate == "p@side"), "{effects:?}");
+    assert!(merged.main_effects.iter().all(|e| e.within_vehicle.is_none()));
+    let csv = super::report::csv(&merged);
+    assert!(csv.contains("within vehicle pickup: traffic: none - lead,p@front,range,"), "{csv}");
+    assert!(csv.contains("within vehicle pickup: traffic=lead,p@front,level-effect,"), "{csv}");
+    assert!(csv.lines().all(|line| line.split(',').count() == 13), "{csv}");
+    assert!(super::report::page(&merged).contains("Displays, within one body"));
+    // Coverage over 400 trials, by the merge's own arithmetic.
+    let mut covered = [0usize; 3];
+    let trials = 400;
+    for _ in 0..trials {
+        let data = cell_data(&plan.cells, &traffic_tasks(&plan, 8, &mut normal));
+        let of: Vec<_> = data.iter().filter(|c| c.cell.vehicle == "pickup").collect();
+        let vehicles = [group_summary("vehicle pickup".into(), &of, 1)];
+        let effects = display_effects(&data, &vehicles);
+        let front =
+            |factor: &str| effects.iter().find(|e| e.factor == factor && e.candidate == "p@front").unwrap();
+        let inside =
+            |v: &ufcsr::MeanInterval, truth: f64| v.ci95.is_some_and(|[lo, hi]| lo <= truth && truth <= hi);
+        let traffic = front("traffic");
+        covered[0] += usize::from(traffic.highest == "none" && inside(&traffic.range_s, 1.2));
+        covered[1] +=
+            usize::from(traffic.levels.iter().any(|l| l.level == "lead" && inside(&l.effect_s, -0.6)));
+        covered[2] += usize::from(front("scenario").levels.iter().all(|l| inside(&l.effect_s, 0.0)));
+    }
+    let rates = covered.map(|n| n as f64 / f64::from(trials));
+    eprintln!("coverage: traffic range, lead effect, scenario effects {rates:?}");
+    for rate in rates {
+        assert!((0.90..=0.99).contains(&rate), "{rates:?}");
+    }
 }
