@@ -80,4 +80,12 @@ fn a_design_plans_runs_resumes_and_merges() {
     assert!(!result.answer.iter().any(|l| l.contains("not compared")), "{:?}", result.answer);
     let page = std::fs::read_to_string(Path::new(out).join("design.html")).unwrap();
     assert!(page.find("Answer").unwrap() < page.find("Main effects").unwrap());
+    // The pickup's displays' main effects: its two scenarios, within its own cells only.
+    let effects = &result.display_main_effects;
+    assert!(!effects.is_empty(), "{result:?}");
+    assert!(effects.iter().all(|e| e.within_vehicle.as_deref() == Some("pickup") && e.factor == "scenario"));
+    assert!(effects.iter().all(|e| displays.iter().any(|d| d.name == e.candidate)), "{effects:?}");
+    assert!(page.contains("Displays, within one body"));
+    let csv = std::fs::read_to_string(Path::new(out).join("design.csv")).unwrap();
+    assert!(csv.contains("within vehicle pickup: scenario="), "{csv}");
 }
