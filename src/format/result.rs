@@ -113,10 +113,28 @@ pub struct StrayImage {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[schemars(deny_unknown_fields)]
 pub struct TrimReport {
-    /// `auto`, `off` or a byte threshold.
+    /// `auto`, `off` or a byte threshold; anything else is refused on
+    /// reading (it used to be shown as it came, issue 34).
+    #[serde(deserialize_with = "trim_mode")]
+    #[schemars(pattern(r"^(auto|off|[0-9]+)$"))]
     pub mode: String,
     /// Candidate empty-file sizes and whether decoding verified them.
     pub empty_tiles: Vec<EmptyTile>,
+}
+
+/// A trim mode as `ufcsr-analyze --trim` takes it: `auto`, `off` or a
+/// byte threshold.
+fn trim_mode<'de, D: serde::Deserializer<'de>>(deserializer: D) -> Result<String, D::Error> {
+    let mode = String::deserialize(deserializer)?;
+    let bytes = !mode.is_empty() && mode.len() <= 20 && mode.bytes().all(|b| b.is_ascii_digit());
+    if mode == "auto" || mode == "off" || bytes {
+        Ok(mode)
+    } else {
+        Err(serde::de::Error::custom(format!(
+            "settings.trim.mode {:?}: expected auto, off or a byte threshold",
+            mode.chars().take(40).collect::<String>()
+        )))
+    }
 }
 
 /// The settings a result was computed with.
@@ -435,4 +453,22 @@ pub enum Scale {
     Linear,
     /// `ln(1 + count) / ln(1 + max)`: shows rarely seen texels too.
     Log,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::TrimReport;
+
+    #[test]
+    fn a_trim_mode_other_than_auto_off_or_bytes_is_refused_naming_the_field() {
+        for good in ["auto", "off", "4096"] {
+            let json = format!(r#"{{"mode": "{good}", "empty_tiles": []}}"#);
+            assert_eq!(serde_json::from_str::<TrimReport>(&json).unwrap().mode, good);
+        }
+        for bad in ["", "<script>", "-1", "4096 bytes", "AUTO"] {
+            let json = format!(r#"{{"mode": "{bad}", "empty_tiles": []}}"#);
+            let error = serde_json::from_str::<TrimReport>(&json).unwrap_err().to_string();
+            assert!(error.contains("settings.trim.mode"), "{bad}: {error}");
+        }
+    }
 }

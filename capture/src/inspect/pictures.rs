@@ -240,16 +240,21 @@ mod tests {
     use super::*;
     use glam::vec3;
 
-    #[test]
-    fn nearer_faces_hide_farther_ones_and_the_picture_has_the_vehicle_size() {
+    /// A 4 × 2 × 2 m box whose right side (y = −1, red) is in front of its
+    /// left side (y = +1, green) seen from the right; the two parts' colours.
+    fn two_sided_box() -> (Mesh, [Color; 2]) {
         let mut mesh = Mesh::default();
-        // Right side (y = −1) red in front of a left side (y = +1) green.
         mesh.add_box(
             vec3(-2.0, -1.0, 0.0),
             vec3(2.0, 1.0, 2.0),
             [None, None, Some("left"), Some("right"), None, None],
         );
-        let colors = [Color::from_rgb(0, 200, 0), Color::from_rgb(200, 0, 0)];
+        (mesh, [Color::from_rgb(0, 200, 0), Color::from_rgb(200, 0, 0)])
+    }
+
+    #[test]
+    fn nearer_faces_hide_farther_ones_and_the_picture_has_the_vehicle_size() {
+        let (mesh, colors) = two_sided_box();
         let canvas = draw(&mesh, &colors, View::Side, 10.0);
         assert_eq!((canvas.width, canvas.height), (40 + 2 * MARGIN, 20 + 2 * MARGIN));
         let at = |x: u32, y: u32| {
@@ -265,13 +270,7 @@ mod tests {
 
     #[test]
     fn the_legend_grows_the_picture_and_shows_every_part_in_its_color() {
-        let mut mesh = Mesh::default();
-        mesh.add_box(
-            vec3(-2.0, -1.0, 0.0),
-            vec3(2.0, 1.0, 2.0),
-            [None, None, Some("left"), Some("right"), None, None],
-        );
-        let colors = [Color::from_rgb(0, 200, 0), Color::from_rgb(200, 0, 0)];
+        let (mesh, colors) = two_sided_box();
         let canvas = draw(&mesh, &colors, View::Side, 10.0);
         let entries = part_entries(&mesh.parts, &colors);
         assert_eq!(entries.len(), mesh.parts.len());

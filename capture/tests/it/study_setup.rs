@@ -205,7 +205,12 @@ fn the_views_scale_changes_only_the_views_of_a_counted_capture() {
     let small = out.with_extension("small");
     std::fs::rename(&out, &small).unwrap();
     capture(2).unwrap();
-    let is_view = |name: &Path| name.starts_with("results/views") || name == Path::new("results/views.png");
+    // The views, their contact sheet and its PDF (views.png, views.pdf).
+    let is_view = |name: &Path| {
+        name.starts_with("results/views")
+            || name.parent() == Some(Path::new("results"))
+                && name.file_name().is_some_and(|n| n.to_string_lossy().starts_with("views."))
+    };
     let without_views = |dir: &Path| {
         let mut files = files_under(dir);
         files.retain(|name, _| !is_view(name));

@@ -15,7 +15,7 @@ fn the_comparison_page_names_both_results_and_ranks_the_second_against_the_first
         let out = dir.path().join(name).join("results");
         let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
             .arg(&example)
-            .args(["--dedupe", dedupe, "-q", "--out"])
+            .args(["--dedupe", dedupe, "--texel-area", "on", "-q", "--out"])
             .arg(&out)
             .status()
             .unwrap();
@@ -142,7 +142,7 @@ fn area_max_on_the_command_line_is_recorded_and_zero_is_refused() {
     let analyse = |max: &str, out: &std::path::Path| {
         Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
             .arg(&example)
-            .args(["-q", "--views-scale", "1", "--area-max", max, "--out"])
+            .args(["-q", "--views-scale", "1", "--texel-area", "on", "--area-max", max, "--out"])
             .arg(out)
             .output()
             .unwrap()

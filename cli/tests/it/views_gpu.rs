@@ -16,7 +16,7 @@ fn analyse_example(out: &Path) {
 
 fn analyse_example_with(out: &Path, frames: bool) {
     let archive = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
-    let options = AnalyzeOptions { archive, frames, ..AnalyzeOptions::default() };
+    let options = AnalyzeOptions { archive, frames, texel_area: frames, ..AnalyzeOptions::default() };
     let mut analysis = ufcsr::analyze(&options, None).expect("analyse the example");
     ufcsr::write_results(&mut analysis, out).expect("write the example's results");
 }

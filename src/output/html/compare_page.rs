@@ -315,6 +315,7 @@ fn shared_scale_image(
         let views = crate::output::view_sheet::write_views(&model, &texture, &folder)?;
         written.extend(views.views);
         written.push(views.contact_sheet);
+        written.push(views.pdf);
         return Ok(Some(format!("result-{}/views.png", index + 1)));
     }
     let name = format!(
