@@ -211,11 +211,40 @@ where
 pub type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
 
 /// The TrueType font the figures' text is drawn and measured with, once
-/// found (see [`crate::output::plots::font_available`]).
-pub(crate) static FONT_BYTES: OnceLock<Option<&'static [u8]>> = OnceLock::new();
+/// found ([`font_bytes`]).
+static FONT_BYTES: OnceLock<Option<&'static [u8]>> = OnceLock::new();
+
+const FONT_CANDIDATES: [&str; 3] = [
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+];
+
+/// The figures' font (`UFCSR_FONT`, else DejaVu Sans), found and registered
+/// with plotters on first use. Measuring text looks it up too, so a layout
+/// computed before anything is drawn has real widths (a placement picture
+/// laid out first measured every text as 0 px wide: its key ran off the
+/// edge and its legend labels overlapped).
+pub(crate) fn font_bytes() -> Option<&'static [u8]> {
+    *FONT_BYTES.get_or_init(|| {
+        let mut candidates: Vec<std::path::PathBuf> =
+            std::env::var_os("UFCSR_FONT").map(std::path::PathBuf::from).into_iter().collect();
+        candidates.extend(FONT_CANDIDATES.iter().map(std::path::PathBuf::from));
+        for path in candidates {
+            if let Ok(bytes) = crate::files::read_limited(&path, crate::files::SMALL_INPUT_LIMIT) {
+                // plotters keeps fonts for the life of the process.
+                let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+                if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
+                    return Some(bytes);
+                }
+            }
+        }
+        None
+    })
+}
 
 fn font() -> Option<FontRef<'static>> {
-    FONT_BYTES.get().copied().flatten().and_then(|bytes| FontRef::try_from_slice(bytes).ok())
+    font_bytes().and_then(|bytes| FontRef::try_from_slice(bytes).ok())
 }
 
 /// The glyph coverage of `text` at plotters size `size`, kerned and with each

@@ -194,4 +194,16 @@ mod tests {
         // 7 pt at 183 mm on a 1600-pixel picture: plotters size 26.8.
         assert!((text_px_for(7.0, 1600, 183.0) - 26.77).abs() < 0.01);
     }
+
+    /// A layout measured before anything was drawn (placement.png's is)
+    /// finds the font itself: measured first, the width is a real one.
+    #[test]
+    fn text_is_measured_with_the_font_even_before_anything_was_drawn() {
+        let width = TextLayout::new(LEGEND_TEXT_PX).width("front_license_plate");
+        if crate::output::plot_font_available() {
+            assert!(width > 100.0, "front_license_plate measured {width} px wide");
+        } else {
+            eprintln!("skipped: no font (set UFCSR_FONT)");
+        }
+    }
 }

@@ -19,7 +19,7 @@
 //! needs no fontconfig; without one the SVGs are drawn without text and no
 //! PNG or PDF is written (the report then shows the SVGs).
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::SegmentValue;
@@ -28,8 +28,8 @@ use plotters::style::text_anchor;
 
 use crate::error::{Error, Result};
 use crate::output::figure::{
-    DrawResult, FONT_BYTES, FigureSize, KernedBitmap, draw_marker, draw_series_line, mm, pt, series_color,
-    stroke, svg_in_millimetres, text_width,
+    DrawResult, FigureSize, KernedBitmap, draw_marker, draw_series_line, mm, pt, series_color, stroke,
+    svg_in_millimetres, text_width,
 };
 use crate::output::numbers::tick;
 use crate::output::pdf::{PdfBackend, pdf_document};
@@ -58,32 +58,10 @@ pub fn plot_file_names() -> Vec<String> {
 /// Parts drawn in the time and distance plots.
 pub const TOP_PARTS: usize = 8;
 
-const FONT_CANDIDATES: [&str; 3] = [
-    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
-    "/usr/share/fonts/TTF/DejaVuSans.ttf",
-    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
-];
-
 /// Registers a sans-serif font with plotters once; false when none is found
 /// (`ufcsr-capture`'s study plot uses it too).
 pub fn font_available() -> bool {
-    FONT_BYTES
-        .get_or_init(|| {
-            let mut candidates: Vec<PathBuf> =
-                std::env::var_os("UFCSR_FONT").map(PathBuf::from).into_iter().collect();
-            candidates.extend(FONT_CANDIDATES.iter().map(PathBuf::from));
-            for path in candidates {
-                if let Ok(bytes) = crate::files::read_limited(&path, crate::files::SMALL_INPUT_LIMIT) {
-                    // plotters keeps fonts for the life of the process.
-                    let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
-                    if plotters::style::register_font("sans-serif", FontStyle::Normal, bytes).is_ok() {
-                        return Some(bytes);
-                    }
-                }
-            }
-            None
-        })
-        .is_some()
+    crate::output::figure::font_bytes().is_some()
 }
 
 /// One plot as written: its name and the image to show (PNG when a font
