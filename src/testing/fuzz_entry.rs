@@ -58,26 +58,58 @@ pub fn commit_journal(bytes: &[u8]) {
     let _ = crate::files::parse_journal(Path::new(".ufcsr-commit.json"), bytes);
 }
 
-/// A placement table (`placement-frames.csv`), as `placement` reads it. The
-/// reader takes a file, so the bytes go into one private temporary file per
-/// thread (a few microseconds per input).
-pub fn placement_table(bytes: &[u8]) {
+/// Writes `bytes` as `name` into one private temporary folder per thread
+/// and calls `read` with the folder: for readers that take a file (a few
+/// microseconds per input).
+fn in_file(name: &str, bytes: &[u8], read: impl FnOnce(&Path)) {
     thread_local! {
-        static FILE: std::path::PathBuf = std::env::temp_dir().join(format!(
+        static FOLDER: std::path::PathBuf = std::env::temp_dir().join(format!(
             "ufcsr-fuzz-{}-{:?}",
             std::process::id(),
             std::thread::current().id()
         ));
     }
-    FILE.with(|folder| {
-        if crate::files::create_output_dir(folder).is_err() {
-            return;
-        }
-        let path = folder.join(crate::format::placement_csv::PLACEMENT_FRAMES_FILE);
-        if crate::files::write_bytes_atomically(&path, bytes).is_ok() {
-            let _ = crate::placement::read_table(&path);
+    FOLDER.with(|folder| {
+        if crate::files::create_output_dir(folder).is_ok()
+            && crate::files::write_bytes_atomically(&folder.join(name), bytes).is_ok()
+        {
+            read(folder);
         }
     });
+}
+
+/// A placement table (`placement-frames.csv`), as `placement` reads it.
+pub fn placement_table(bytes: &[u8]) {
+    let name = crate::format::placement_csv::PLACEMENT_FRAMES_FILE;
+    in_file(name, bytes, |folder| {
+        let _ = crate::placement::read_table(&folder.join(name));
+    });
+}
+
+/// The patches' footprints (`placement-patches.csv`), as `placement` reads
+/// them beside a frames table.
+pub fn placement_patches(bytes: &[u8]) {
+    in_file(crate::PLACEMENT_PATCHES_FILE, bytes, |folder| {
+        let frames = folder.join(crate::format::placement_csv::PLACEMENT_FRAMES_FILE);
+        let _ = crate::placement::footprints::read_footprints(&frames);
+    });
+}
+
+/// A `placement.json`, as `report` and a result's own page read it.
+pub fn placement_json(bytes: &[u8]) {
+    in_file("placement.json", bytes, |folder| {
+        let _ = crate::output::html::placement_section::read_placement(folder);
+    });
+}
+
+/// An `observers.json` and a `study.json` read back through their types.
+pub fn study_outputs(bytes: &[u8]) {
+    let _ = crate::format::parse_json::<crate::format::observers::ObserverStudy>(
+        Path::new("observers.json"),
+        bytes,
+        "observer study",
+    );
+    let _ = crate::format::parse_json::<crate::format::study::Study>(Path::new("study.json"), bytes, "study");
 }
 
 /// A fuzz target's name (its folder under `seeds/` and `regressions/`) and
