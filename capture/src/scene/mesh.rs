@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{CaptureError, Result};
 
 /// A triangle mesh with a part per triangle.
-#[derive(Debug, Clone, Default, PartialEq)]
+#[derive(Debug, Clone, Default)]
 pub struct Mesh {
     pub positions: Vec<Vec3>,
     /// Per-vertex UVs (v = 0 at the top row), if the source had them.
@@ -31,6 +31,28 @@ pub struct Mesh {
     /// where its primitive has none (a part map labels the triangles that
     /// have them, [`crate::scene::part_map`]). Empty for meshes built here.
     pub own_uvs: Vec<Vec2>,
+}
+
+/// Two meshes are equal when every field is, the own UVs compared bit for
+/// bit: they hold NaN where a primitive has no UVs (a plain OBJ or glTF has
+/// none at all), and NaN never equals itself, so a derived equality made
+/// such a mesh unequal to its own copy (every `--count` capture of it was
+/// refused as "a different vehicle", issue 42 §5).
+impl PartialEq for Mesh {
+    fn eq(&self, other: &Mesh) -> bool {
+        self.positions == other.positions
+            && self.uvs == other.uvs
+            && self.triangles == other.triangles
+            && self.triangle_part == other.triangle_part
+            && self.parts == other.parts
+            && self.missing_uvs == other.missing_uvs
+            && self.own_uvs.len() == other.own_uvs.len()
+            && self
+                .own_uvs
+                .iter()
+                .zip(&other.own_uvs)
+                .all(|(a, b)| a.to_array().map(f32::to_bits) == b.to_array().map(f32::to_bits))
+    }
 }
 
 impl Mesh {
@@ -483,5 +505,17 @@ mod tests {
         rename.insert("a".to_string(), "c".to_string());
         mesh.rename_parts(&rename);
         assert_eq!(mesh.parts, ["c", "b"]);
+    }
+
+    #[test]
+    fn a_mesh_without_own_uvs_equals_its_own_copy() {
+        let mut mesh = Mesh::default();
+        mesh.add_box(Vec3::ZERO, Vec3::ONE, [Some("a"); 6]);
+        // What the loaders hold for a primitive without UVs: NaN per vertex.
+        mesh.own_uvs = vec![Vec2::NAN; mesh.positions.len()];
+        assert_eq!(mesh, mesh.clone());
+        let mut other = mesh.clone();
+        other.own_uvs[0] = Vec2::ZERO;
+        assert_ne!(mesh, other);
     }
 }

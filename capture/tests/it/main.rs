@@ -24,4 +24,5 @@ mod study_coverage;
 mod study_setup;
 mod texel_sample;
 mod tile_filter;
+mod uvless_models;
 mod vehicles;

@@ -203,12 +203,16 @@ fn capture_totals(
     setup: &mut Option<CaptureSetup>,
 ) -> Result<PartTotals> {
     let setting = Setting { name: &options.scenario, out, step, dedupe: Dedupe::Frame };
-    let (counted, _) = count_every_nth_frame(device, queue, scene, &options.capture, &setting, setup)?;
+    let (counted, frames) = count_every_nth_frame(device, queue, scene, &options.capture, &setting, setup)?;
     let table = frame_table(&counted, out)?;
     let solid = rendered_per_eye_frame(table, StudyMeasure::AngularArea, out)?;
     let count = rendered_per_eye_frame(table, StudyMeasure::Count, out)?;
-    // deg²·s per eye: Σ sr × (180/π)² × seconds per frame / 2 eyes.
-    let to_deg2_s = (180.0 / std::f64::consts::PI).powi(2) * f64::from(step) / scene.rig.fps / 2.0;
+    // deg²·s per eye: Σ sr × (180/π)² × seconds per frame / 2 eyes, the seconds a
+    // frame stands for read as the observer's own result.json reads them (the step
+    // between the frames captured: one frame's worth when the scenario is shorter
+    // than the step, not the step's).
+    let to_deg2_s =
+        (180.0 / std::f64::consts::PI).powi(2) * crate::exact::seconds_per_frame(scene, &frames) / 2.0;
     let sum = |values: &crate::exact::accuracy::PerEyeFrame, scale: f64| -> Vec<f64> {
         let mut totals = vec![0.0; values.parts.len()];
         for (_, _, row) in &values.rows {
