@@ -12,8 +12,9 @@
 //! 0..1 repeat, as glTF's default sampler does) vote, and the legend part
 //! with most votes names the triangle (ties: the legend's first). A UV
 //! triangle too small to hold a texel centre takes the texel under its
-//! centroid. A large UV triangle is sampled on every k-th texel so that no
-//! triangle takes more than [`MAX_SAMPLES`] (about). Colours the legend does
+//! centroid. A large UV triangle is sampled on every k-th texel along u and
+//! every l-th along v (its box's proportions) so that no triangle takes more
+//! than [`MAX_SAMPLES`] (about; at most twice), however thin or long. Colours the legend does
 //! not list do not vote; a triangle with no listed colour gets the part
 //! [`UNMAPPED_PART`]. Both are counted and reported, as are the triangles
 //! whose votes were split between parts (they straddle a boundary of the
@@ -246,11 +247,11 @@ fn sample(uv: &[DVec2; 3], mut f: impl FnMut(i64, i64)) {
     let mut any = false;
     if finite && area != 0.0 {
         let span = (max - min).max(DVec2::ONE);
-        let stride = (span.x * span.y / MAX_SAMPLES).sqrt().ceil().max(1.0) as i64;
+        let [stride_x, stride_y] = strides(span);
         let (x0, y0) = ((min.x - 0.5).ceil() as i64, (min.y - 0.5).ceil() as i64);
         let (x1, y1) = ((max.x - 0.5).floor() as i64, (max.y - 0.5).floor() as i64);
-        for y in (y0..=y1).step_by(stride as usize) {
-            for x in (x0..=x1).step_by(stride as usize) {
+        for y in (y0..=y1).step_by(stride_y) {
+            for x in (x0..=x1).step_by(stride_x) {
                 let p = DVec2::new(x as f64 + 0.5, y as f64 + 0.5);
                 let inside =
                     (0..3).all(|k| (uv[(k + 1) % 3] - uv[k]).perp_dot(p - uv[k]) * area.signum() >= 0.0);
@@ -265,6 +266,26 @@ fn sample(uv: &[DVec2; 3], mut f: impl FnMut(i64, i64)) {
         let centroid = (uv[0] + uv[1] + uv[2]) / 3.0;
         f(centroid.x.floor() as i64, centroid.y.floor() as i64);
     }
+}
+
+/// The steps (texels) along u and v that put at most about [`MAX_SAMPLES`]
+/// grid points in a UV box of `span` texels (each side at least 1): each
+/// axis gets its share of the grid, so a thin box long in u (a sliver, or
+/// UVs repeating far outside 0..1) is sampled along its length at about
+/// [`MAX_SAMPLES`] points, not at a square stride that left it millions
+/// (one stride for both axes from the box's area: a 2·10¹⁰ × 1 texel box
+/// took 9·10⁶ samples).
+fn strides(span: DVec2) -> [usize; 2] {
+    if span.x * span.y <= MAX_SAMPLES {
+        return [1, 1];
+    }
+    // Points per axis in the box's proportions, none below one.
+    let ratio = span.x / span.y;
+    let along_x = (MAX_SAMPLES * ratio).sqrt().clamp(1.0, MAX_SAMPLES);
+    let along_y = (MAX_SAMPLES / along_x).max(1.0);
+    // `as` saturates: a span past i64 (the loop bounds saturate too) takes one point.
+    let step = |length: f64, points: f64| (length / points).ceil().max(1.0) as usize;
+    [step(span.x, along_x), step(span.y, along_y)]
 }
 
 #[cfg(test)]
@@ -369,5 +390,26 @@ mod tests {
         let mut bare = Mesh { uvs: None, ..mesh };
         let error = apply(&mut bare, &spec, dir.path(), Path::new("scene.json")).unwrap_err().to_string();
         assert!(error.contains("scene.json") && error.contains("own UVs"), "{error}");
+    }
+
+    #[test]
+    fn a_thin_or_far_repeating_uv_triangle_takes_about_max_samples() {
+        // Long in u (UVs repeating far outside 0..1), one to a few texels tall, and a thin diagonal.
+        let triangles = [
+            [DVec2::new(0.0, 0.0), DVec2::new(2e10, 0.0), DVec2::new(0.0, 3.0)],
+            [DVec2::new(0.0, 0.0), DVec2::new(1e7, 0.0), DVec2::new(0.0, 1.2)],
+            [DVec2::new(0.0, 0.0), DVec2::new(0.0, 1e9), DVec2::new(40.0, 0.0)],
+            [DVec2::new(0.0, 0.0), DVec2::new(16384.0, 16384.0), DVec2::new(16384.0, 16383.0)],
+            [DVec2::new(0.0, 0.0), DVec2::new(5000.0, 0.0), DVec2::new(0.0, 5000.0)],
+        ];
+        for uv in triangles {
+            let mut samples = 0u64;
+            sample(&uv, |_, _| samples += 1);
+            assert!((1..=2 * MAX_SAMPLES as u64).contains(&samples), "{uv:?}: {samples} samples");
+        }
+        // A small one is sampled on every texel: a 10 × 10 right triangle holds 55 centres.
+        let mut samples = 0u64;
+        sample(&[DVec2::ZERO, DVec2::new(10.0, 0.0), DVec2::new(0.0, 10.0)], |_, _| samples += 1);
+        assert_eq!(samples, 55);
     }
 }
