@@ -27,9 +27,11 @@ pub mod fuzz_entry;
 pub(crate) mod mesh;
 pub(crate) mod model_files;
 pub(crate) mod moving;
+pub(crate) mod observer;
 pub(crate) mod occluders;
 pub(crate) mod part_map;
 pub(crate) mod ray_triangle;
+pub(crate) mod region_pieces;
 pub(crate) mod regions;
 pub(crate) mod rig;
 pub(crate) mod scenario;
@@ -45,6 +47,10 @@ pub use demo::{ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, DemoTraffic, LEAD_CAR_AHE
 pub use frame_state::FrameState;
 pub use mesh::{Axes, Mesh, PartSource, load_vehicle, triangle_area};
 pub use moving::{FollowOffset, MovingOccluder, OccluderPath, PEDESTRIAN_BODY_M, pedestrian_body};
+pub use observer::{
+    HUMAN_IPD_M, ObserverPreset, PAPER_EYE_HEIGHT_M, PAPER_IPD_M, describe_observer, median_eye_height_m,
+    people_by_default,
+};
 pub use occluders::{OccluderObject, Occluders};
 pub use part_map::{PartMapReport, PartMapSpec, UNMAPPED_PART};
 pub use regions::{PartRule, RegionReport};
