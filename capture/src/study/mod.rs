@@ -420,14 +420,50 @@ fn recommend(study: &mut Study) {
         if study.exact.is_some() { "of the exact measure at 95 %" } else { "of the finest setting" };
     study.reason = Some(match &closest {
         Some(c) => format!(
-            "no setting is within {tolerance} pp {against}: the closest is {} at {:.3} pp{}",
+            "no setting is within {tolerance} pp {against}: the closest is {} at {:.3} pp{}{}",
             c.setting,
             c.share_l1_pp,
-            c.ci95_pp.map_or(String::new(), |[lo, hi]| format!(" (95 % {lo:.3}–{hi:.3} pp)"))
+            c.ci95_pp.map_or(String::new(), |[lo, hi]| format!(" (95 % {lo:.3}–{hi:.3} pp)")),
+            reference_sampling_dominates(study).map_or(String::new(), |note| format!(". {note}"))
         ),
         None => "no settings".into(),
     });
     study.closest = closest;
+}
+
+/// When the exact reference sampled its texels (`--exact-sample`) and that
+/// sampling alone moves a setting's error by half the tolerance or more
+/// (`texel_sampling_pp`, a column of `study.csv`), the settings cannot be
+/// judged against it: says so, and what to rerun with. The reference's
+/// relative errors scale as √((1 − f)/f) in the sampled share f, so the
+/// share suggested brings the shift to a quarter of the tolerance.
+fn reference_sampling_dominates(study: &Study) -> Option<String> {
+    let exact = study.exact.as_ref().filter(|e| e.sample < 1.0 && e.sample > 0.0)?;
+    let shift = study
+        .rows
+        .iter()
+        .filter_map(|r| r.error_vs_exact.as_ref().map(|e| e.texel_sampling_pp))
+        .fold(0.0, f64::max);
+    if shift < study.tolerance_pp / 2.0 {
+        return None;
+    }
+    let f = exact.sample;
+    let ratio = ((1.0 - f) / f).sqrt() * study.tolerance_pp / 4.0 / shift;
+    let wanted = 1.0 / (1.0 + ratio * ratio);
+    let advice = if wanted >= 0.5 {
+        "every texel (leave --exact-sample out)".to_string()
+    } else {
+        format!(
+            "--exact-sample 1/{} or more (or every texel: leave --exact-sample out)",
+            (1.0 / wanted).floor()
+        )
+    };
+    Some(format!(
+        "The exact reference ray traced {:.4} of the texels, and its own sampling moves the settings' errors by \
+         up to {shift:.2} pp (texel_sampling_pp in study.csv), not less than half the {} pp tolerance: the \
+         reference's noise, not the settings, dominates these errors. Rerun with {advice}",
+        f, study.tolerance_pp
+    ))
 }
 
 /// The files [`write_study`] may write.
@@ -629,6 +665,35 @@ mod tests {
         // study.json reads back as the same study.
         let back: Study = serde_json::from_slice(&serde_json::to_vec_pretty(&s).unwrap()).unwrap();
         assert_eq!(back, s);
+    }
+
+    #[test]
+    fn when_the_references_own_sampling_dominates_the_study_says_so_and_what_to_rerun_with() {
+        // A 1/16 sample whose noise moves every setting by 6.16 pp (a 512² palette): every texel.
+        let sampled = |shift: f64| {
+            let mut s = study(
+                vec![
+                    row(60.0, 10.0, 0.0, Some((6.4, [6.2, 6.6]))),
+                    row(30.0, 4.0, 3.0, Some((6.6, [6.3, 6.9]))),
+                ],
+                true,
+            );
+            s.exact.as_mut().unwrap().sample = 1.0 / 16.0;
+            s.rows.iter_mut().for_each(|r| r.error_vs_exact.as_mut().unwrap().texel_sampling_pp = shift);
+            recommend(&mut s);
+            s.reason.unwrap()
+        };
+        let reason = sampled(6.16);
+        assert!(reason.contains("no setting is within 1 pp"), "{reason}");
+        assert!(reason.contains("up to 6.16 pp (texel_sampling_pp in study.csv)"), "{reason}");
+        assert!(reason.contains("reference's noise, not the settings, dominates"), "{reason}");
+        assert!(reason.contains("Rerun with every texel (leave --exact-sample out)"), "{reason}");
+        // 0.6 pp at 1/16: √15 · 0.25 / 0.6 = 1.61, a share of 1 / (1 + 1.61²) = 0.278: 1/3 or more.
+        assert!(sampled(0.6).contains("Rerun with --exact-sample 1/3 or more"), "{}", sampled(0.6));
+        // Below half the tolerance, or against every texel, nothing is added.
+        assert!(!sampled(0.4).contains("dominates"));
+        let every = study(vec![row(60.0, 10.0, 0.0, Some((6.4, [6.2, 6.6])))], true);
+        assert!(!every.reason.unwrap().contains("dominates"));
     }
 
     #[test]
