@@ -68,11 +68,12 @@ pub use scene::family::{BodyDims, BodyType, body_mesh};
 #[doc(hidden)]
 pub use scene::fuzz_entry;
 pub use scene::{
-    ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, Axes, DemoTraffic, Eye, EyeCamera, FollowOffset, FrameState, Key,
-    LEAD_CAR_AHEAD_M, Mesh, Motion, MovingOccluder, OccluderObject, OccluderPath, Occluders,
-    PEDESTRIAN_BODY_M, PartMapReport, PartMapSpec, PartRule, PartSource, PartsFrom, Pose, RegionReport, Rig,
-    Scenario, Scene, SceneFile, StreetOptions, TileId, Track, UNMAPPED_PART, ValueOrTrack, VehicleSpec,
-    box_corners, box_outside, degenerate_vehicle, load_vehicle, look_to, pedestrian_body,
+    ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, Axes, DemoTraffic, Eye, EyeCamera, FollowOffset, FrameState,
+    HUMAN_IPD_M, Key, LEAD_CAR_AHEAD_M, Mesh, Motion, MovingOccluder, ObserverPreset, OccluderObject,
+    OccluderPath, Occluders, PAPER_EYE_HEIGHT_M, PAPER_IPD_M, PEDESTRIAN_BODY_M, PartMapReport, PartMapSpec,
+    PartRule, PartSource, PartsFrom, Pose, RegionReport, Rig, Scenario, Scene, SceneFile, StreetOptions,
+    TileId, Track, UNMAPPED_PART, ValueOrTrack, VehicleSpec, box_corners, box_outside, degenerate_vehicle,
+    describe_observer, load_vehicle, look_to, median_eye_height_m, pedestrian_body, people_by_default,
     reversed_z_perspective, street_scene, triangle_area, vehicle_to_world,
 };
 pub use study::observers::displays::{

@@ -78,6 +78,9 @@ pub fn cell_scene(design: &Design, base: &Path, cell: &CellLevels, traffic_seed:
             scene
         }
     };
+    // A design's answer is about people: where the scene kept the paper's eyes, a median adult's
+    // (a design's population, when it has one, draws each observer's own; issue 42 §6).
+    crate::scene::people_by_default(&mut scene.rig);
     scene.vehicle = mesh;
     scene.name = format!("{} / {} / {}", cell.vehicle, cell.scenario, cell.traffic);
     scene.info.name = scene.name.clone();

@@ -49,8 +49,11 @@ pub struct CaptureArgs {
     /// (docs/guide.md#a-quick-look-first).
     #[arg(long)]
     preview: bool,
-    /// Rig overrides as JSON, e.g. '{"eye_height_m": 1.6, "pedestrian": [-6, -6, 0]}' (applied before --ppd).
-    #[arg(long, value_name = "JSON")]
+    /// Rig overrides as JSON, e.g. '{"eye_height_m": 1.6, "pedestrian": [-6, -6, 0]}' (applied before --ppd),
+    /// or an observer: `paper` (the seed paper's eyes, 1.75 m high and 0.1103594 m apart) or `median` (a
+    /// median US adult's, 1.573 m and 62.85 mm). --placement answers take `median` unless the scene set its
+    /// own eyes.
+    #[arg(long, value_name = "JSON|paper|median")]
     rig: Option<String>,
     /// Canonical palette size, W or WxH (default 4096).
     #[arg(long, value_name = "W|WxH", default_value = "4096")]
@@ -176,8 +179,16 @@ pub fn run_capture(
     for warning in &scene.warnings {
         eprintln!("warning: {warning}");
     }
-    if let Some(json) = &args.rig {
-        scene.rig = scene.rig.override_with(json)?;
+    match args.rig.as_deref() {
+        Some(text) => match ufcsr_capture::ObserverPreset::parse(text) {
+            Some(preset) => preset.apply(&mut scene.rig),
+            None => scene.rig = scene.rig.override_with(text)?,
+        },
+        // Answers are about people: a median adult's eyes, not the paper's camera (issue 42 §6).
+        None if args.placement => {
+            ufcsr_capture::people_by_default(&mut scene.rig);
+        }
+        None => {}
     }
     if let Some(ppd) = args.ppd.or(args.preview.then_some(PREVIEW_PPD)) {
         scene.rig.set_pixels_per_degree(ppd)?;
@@ -296,6 +307,7 @@ fn scenario_names(scene: &Scene, scenario: Option<&str>) -> anyhow::Result<Vec<S
 /// On stderr: the eye's pixels and tiles, the resolution and the palette.
 fn describe_rig(scene: &Scene, options: &CaptureOptions) {
     let rig = &scene.rig;
+    eprintln!("observer: {}", ufcsr_capture::describe_observer(rig));
     eprintln!(
         "eye {}×{} px in {}×{} tiles of {}×{}, {:.2} px/°, palette {}",
         rig.eye_pixels[0],
@@ -366,6 +378,7 @@ fn run_unobstructed(
         measured.written.all(out).iter().for_each(|file| console.wrote(file));
         console.wrote(&measured.estimates_csv);
         console.fact_item("grand_totals", measured.analysis.result.grand_total);
+        console.fact_item("observer", ufcsr_capture::describe_observer(&scene.rig));
         for warning in &measured.analysis.result.warnings {
             eprintln!("  warning: {warning}");
         }
