@@ -25,7 +25,7 @@ use crate::format::manifest::{EyePose, FrameEntry, RigRecord, RigSettings};
 
 pub use metadata::{FrameTime, parse_fov};
 pub use names::{DEFAULT_PATTERN, NamePattern};
-use scan::{Capture, Grid, canonical, check_capture, find_capture, slash_path};
+use scan::{Capture, Grid, canonical, check_capture, find_capture, png_size, slash_path};
 use solo::Solo;
 
 /// What to describe and what is known about it.
@@ -51,6 +51,8 @@ pub struct DescribeOptions {
     pub frame_times: Option<PathBuf>,
     /// List grid positions no file fills as empty tiles (all background, not written) instead of refusing.
     pub missing_tiles_empty: bool,
+    /// `[columns, rows]` of each eye image's tiles (`--grid`); wins over the rig file's `tiles`.
+    pub grid: Option<[u32; 2]>,
     /// Unity Perception SOLO output: only these sensor ids' RGB captures are frames (empty: every RGB camera).
     pub solo_cameras: Vec<String>,
     /// Read frames by their names even where SOLO frame files are present.
@@ -106,13 +108,16 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
         None => RigSettings::default(),
     };
     // With empty tiles left out, the largest row and column seen may fall short of the grid.
-    let given = rig.tiles.filter(|_| options.missing_tiles_empty);
+    let given = options.grid.or(rig.tiles.filter(|_| options.missing_tiles_empty));
     let grid = Grid { given, missing_empty: options.missing_tiles_empty };
     let solo = read_solo(options)?;
     let capture = match &solo {
         Some(solo) => check_capture(solo.tiles.clone(), grid)?,
         None => find_capture(&options.dir, &pattern, &excluded, grid)?,
     };
+    if given.is_none() {
+        refuse_a_guessed_grid(&options.dir, &capture)?;
+    }
     let dir = canonical(&options.dir)?;
     let mut notes = layout_notes(options, &manifest_path, given.is_some(), capture.grid);
     let mut rig = rig;
@@ -253,6 +258,7 @@ fn labels(options: &DescribeOptions, base: &Path) -> Result<Labels> {
         relative_to(&full, base, path, what)
     };
     let pidt = options.pidt.as_deref().map(|p| inside(p, "--pidt")).transpose()?;
+    check_pidt_size(options)?;
     let legend = options.legend.as_deref().map(|p| inside(p, "--legend")).transpose()?;
     let palette = match &options.palette {
         Some(PaletteChoice::Image(path)) => Some(PaletteRecord::File(inside(path, "--fcsp")?)),
@@ -262,6 +268,58 @@ fn labels(options: &DescribeOptions, base: &Path) -> Result<Labels> {
         None => None,
     };
     Ok(Labels { pidt, legend, palette, excluded })
+}
+
+/// With tiles missing (`--missing-tiles-empty`) and no grid given, the grid
+/// is a guess: the largest column and row seen fall short of it when whole
+/// border columns or rows showed only background in every eye-frame (the
+/// bundled capture renamed without its empty tiles spans 4 × 3 of its 5 × 5,
+/// and analysed so it measured 8 px/° for 10 and the windshield's angular
+/// area 33 % short). Refused, naming a missing tile and what to give.
+fn refuse_a_guessed_grid(dir: &Path, capture: &Capture) -> Result<()> {
+    let Some(example) = capture.missing.first() else { return Ok(()) };
+    Err(Error::bad_file(
+        dir,
+        format!(
+            "--missing-tiles-empty: {} tiles are missing (e.g. frame {}, eye {}, row {}, col {}), so the tile \
+             grid cannot be told from the tiles present: the largest column and row seen make {} columns × {} \
+             rows, but border columns or rows that showed only background in every frame would not be seen, \
+             and a short grid gives a wrong pixels per degree and angular areas; give the renderer's grid with \
+             --grid COLUMNSxROWS (or --rig with \"tiles\": [columns, rows])",
+            capture.missing.len(),
+            example.frame,
+            example.eye,
+            example.row,
+            example.col,
+            capture.grid[0],
+            capture.grid[1]
+        ),
+    ))
+}
+
+/// The PIdT must be the palette's size (the default 4096² without
+/// `--palette-size`/`--fcsp`): checked here, naming the file, rather than one
+/// command later by the analysis.
+fn check_pidt_size(options: &DescribeOptions) -> Result<()> {
+    let Some(pidt) = &options.pidt else { return Ok(()) };
+    let side = crate::archive::palette::DEFAULT_PALETTE_SIDE;
+    let (palette, what) = match &options.palette {
+        Some(PaletteChoice::Image(path)) => (png_size(path)?, format!("the palette {}", path.display())),
+        Some(PaletteChoice::Canonical { width, height }) => ([*width, *height], "--palette-size".to_string()),
+        None => ([side, side], "the default palette (without --palette-size or --fcsp)".to_string()),
+    };
+    let found = png_size(pidt)?;
+    if found == palette {
+        return Ok(());
+    }
+    Err(Error::bad_file(
+        pidt,
+        format!(
+            "the PIdT is {}×{} texels, but {what} is {}×{}: a PIdT labels the palette's texels one for one; give \
+             the palette it was made for (e.g. --palette-size {}x{})",
+            found[0], found[1], palette[0], palette[1], found[0], found[1]
+        ),
+    ))
 }
 
 /// What the reader should know about the manifest's name and the tile grid.

@@ -60,6 +60,11 @@ pub struct ManifestArgs {
     #[arg(long)]
     pub missing_tiles_empty: bool,
 
+    /// Tiles of each eye image, columns × rows (e.g. 5x5): needed with --missing-tiles-empty when
+    /// tiles are missing (the tiles present cannot tell it); wins over --rig's "tiles".
+    #[arg(long, value_name = "COLUMNSxROWS", value_parser = parse_grid)]
+    pub grid: Option<[u32; 2]>,
+
     /// Unity Perception SOLO output (sequence.N/stepK.frame_data.json, read without --fps/--fov): only
     /// this camera's RGB captures are frames (sensor id; twice for two eyes). Default: every RGB camera.
     #[arg(long, value_name = "ID")]
@@ -73,6 +78,15 @@ pub struct ManifestArgs {
     /// in DIR or above it; the analyzer reads ARCHIVE/manifest.json.
     #[arg(long, short, value_name = "FILE")]
     pub out: Option<PathBuf>,
+}
+
+/// `--grid 5x5`: columns and rows, each at least 1.
+fn parse_grid(text: &str) -> std::result::Result<[u32; 2], String> {
+    let parsed = text.split_once(['x', 'X']).and_then(|(columns, rows)| {
+        let (columns, rows) = (columns.trim().parse::<u32>().ok()?, rows.trim().parse::<u32>().ok()?);
+        (columns > 0 && rows > 0 && columns.checked_mul(rows).is_some()).then_some([columns, rows])
+    });
+    parsed.ok_or_else(|| format!("{text:?}: expected COLUMNSxROWS, each at least 1 (e.g. 5x5)"))
 }
 
 /// Writes the manifest and says what it holds and what it lacks.
@@ -93,6 +107,7 @@ pub fn run_manifest(args: ManifestArgs, console: &Console) -> Result<Completion>
         rig: args.rig.clone(),
         frame_times: args.frame_times.clone(),
         missing_tiles_empty: args.missing_tiles_empty,
+        grid: args.grid,
         solo_cameras: args.solo_camera.clone(),
         ignore_solo: args.ignore_solo,
     };

@@ -32,6 +32,8 @@ pub fn unity_named_tiles_get_a_working_manifest() -> Outcome {
             .arg(".")
             .args(["--pattern", pattern, "--palette", "4x4", "--pidt", "pidt.png", "--parts", "parts.csv"])
             .arg("--missing-tiles-empty")
+            // A tile is missing: the grid must be given (the tiles present cannot tell it).
+            .args(["--grid", "2x1"])
             .output()
             .unwrap()
     };

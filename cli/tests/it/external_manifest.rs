@@ -260,7 +260,17 @@ fn paths_on_the_command_line_are_relative_to_the_working_directory() {
     mono_sequence(&dir.path().join("work"));
     let output = manifest(
         &dir.path().join("work"),
-        &["shots", "--pattern", "frame_{frame}.png", "--pidt", "shots/pidt.png", "--out", "."],
+        &[
+            "shots",
+            "--pattern",
+            "frame_{frame}.png",
+            "--pidt",
+            "shots/pidt.png",
+            "--palette-size",
+            "4",
+            "--out",
+            ".",
+        ],
     );
     assert!(output.status.success(), "{}", stderr(&output));
     let written = read_json(&dir.path().join("work/manifest.json"));
