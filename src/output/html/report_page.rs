@@ -403,7 +403,8 @@ fn measures(page: &mut String, inputs: &PageInputs) {
     let optional = |value: Option<f64>| value.map_or("–".to_string(), |v| format!("{v:.3}"));
     let _ = writeln!(
         page,
-        "<p>The measures docs/science.md says to quote for eHMI placement (they do not depend on resolution). \
+        "<p>The measures docs/science.md says to quote for eHMI placement: unlike the count they do not \
+         depend on texel size, but they converge with pixels per degree and are not free of resolution error. \
          Per eye, averaged over {} eyes: visible angular area summed over time (deg²·s) and seconds seen \
          (exposure); {} eye-frames, {} s per captured frame, {} pixels per degree. \
          Definition: <code>{}</code>.</p>",
@@ -412,6 +413,11 @@ fn measures(page: &mut String, inputs: &PageInputs) {
         optional(measures.seconds_per_frame),
         optional(measures.pixels_per_degree),
         escape(&measures.definition)
+    );
+    let _ = writeln!(
+        page,
+        "<div class=\"warn\">{}</div>",
+        escape(&resolution_caution(measures.pixels_per_degree))
     );
     for note in &measures.notes {
         let _ = writeln!(page, "<div class=\"warn\">{}</div>", escape(note));
@@ -529,10 +535,78 @@ fn foot(page: &mut String, _inputs: &PageInputs) {
     let _ = writeln!(page, "<p><small>ufcsr {}</small></p>\n</body></html>", env!("CARGO_PKG_VERSION"));
 }
 
+/// The angular-area share L1 measured on demo A–D against the exact solid
+/// angle (`docs/science.md`, "Measured convergence on demo A–D"): the worst
+/// of the four scenarios at 5, 10, 20, 40 and 80 px/°, pp.
+const DEMO_CONVERGENCE: [(f64, f64); 5] =
+    [(5.0, 5.34), (10.0, 2.15), (20.0, 0.85), (40.0, 0.54), (80.0, 0.19)];
+
+/// The slowest rate fitted on the demo (scenario B, ppd^-1.14): how the
+/// envelope is carried below 5 and above 80 px/°.
+const DEMO_SLOWEST_RATE: f64 = -1.14;
+
+/// The angular-area share error to expect at `ppd` from the demo's measured
+/// convergence: the worst scenario's, interpolated on log–log between the
+/// measured resolutions and carried at the slowest fitted rate outside them.
+pub fn demo_share_error_pp(ppd: f64) -> f64 {
+    let (first, last) = (DEMO_CONVERGENCE[0], DEMO_CONVERGENCE[DEMO_CONVERGENCE.len() - 1]);
+    let along = |(p0, e0): (f64, f64), rate: f64| e0 * (ppd / p0).powf(rate);
+    if ppd <= first.0 {
+        return along(first, DEMO_SLOWEST_RATE);
+    }
+    for pair in DEMO_CONVERGENCE.windows(2) {
+        let ((p0, e0), (p1, e1)) = (pair[0], pair[1]);
+        if ppd <= p1 {
+            return along((p0, e0), (e1 / e0).ln() / (p1 / p0).ln());
+        }
+    }
+    along(last, DEMO_SLOWEST_RATE)
+}
+
+/// What a reader should know of the resolution error before quoting the
+/// measures (issue 42 §5: the page once said they "do not depend on
+/// resolution"): the demo's measured error at this archive's px/°, and that
+/// only `ufcsr-capture study` measures it for this scene.
+pub fn resolution_caution(pixels_per_degree: Option<f64>) -> String {
+    let run = "This analysis carries no interval for it: to measure the error for this vehicle and scenario, \
+               run `ufcsr-capture study` (it compares resolutions and frame steps with the exact measure).";
+    match pixels_per_degree.filter(|p| p.is_finite() && *p > 0.0) {
+        Some(ppd) => format!(
+            "Resolution error: at {ppd:.3} px/° the angular-area share of the demo truck (scenarios A–D) is up \
+             to {:.2} pp off the exact solid angle (measured 5.34 pp at 5 px/°, 0.85 at 20, 0.19 at 80, falling \
+             like ppd^-1.1 to ppd^-1.3; docs/science.md). Exposure counts an eye-frame in which one pixel shows \
+             the part, so a part smaller than a pixel at this resolution reads as unseen. {run}",
+            demo_share_error_pp(ppd)
+        ),
+        None => format!("Resolution error: the archive records no pixels per degree. {run}"),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::path::PathBuf;
+
+    #[test]
+    fn the_page_states_the_demos_resolution_error_at_the_archives_ppd_and_says_to_run_study() {
+        // The measured points themselves, and between them on log–log.
+        for (ppd, pp) in DEMO_CONVERGENCE {
+            assert!((demo_share_error_pp(ppd) - pp).abs() < 1e-12, "{ppd}");
+        }
+        // 6 px/° (the bundled example): 5.34 · 1.2^(ln(2.15/5.34)/ln 2) = 4.20 pp.
+        assert!((demo_share_error_pp(6.0) - 4.2035).abs() < 1e-3, "{}", demo_share_error_pp(6.0));
+        // Outside the measured range at the slowest rate: 2.5 px/° is 5.34 · 2^1.14.
+        assert!((demo_share_error_pp(2.5) - 5.34 * 2f64.powf(1.14)).abs() < 1e-9);
+        assert!(demo_share_error_pp(160.0) < 0.19);
+        let mut result = example_result();
+        let ppd = result.measures.as_ref().unwrap().pixels_per_degree.unwrap();
+        let page = page_of(&result);
+        assert!(!page.contains("do not depend on resolution"));
+        assert!(page.contains(&format!("up to {:.2} pp off", demo_share_error_pp(ppd))), "at {ppd} px/°");
+        assert!(page.contains("run `ufcsr-capture study`"));
+        result.measures.as_mut().unwrap().pixels_per_degree = None;
+        assert!(page_of(&result).contains("records no pixels per degree"));
+    }
 
     fn example_result() -> AnalysisResult {
         let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference/example-result.json");
