@@ -3,7 +3,7 @@
 //! The seed paper's rig puts the eyes 1.75 m high — a stature used as an
 //! eye height, about the 96th percentile eye height of the default
 //! population ([`ufcsr::ObserverPopulation::us_adults`], NCHS 2015–2018),
-//! whose median is 1.573 m — and 0.1103594 m apart, which is not a human
+//! whose median is 1.571 m — and 0.1103594 m apart, which is not a human
 //! interpupillary distance (ANSUR II 2012: 64.0 mm men, 61.7 mm women).
 //! [`Rig::default`] stays the paper's, so the paper's captures and their
 //! tests reproduce it; answers (placement candidates, design runs) take

@@ -51,7 +51,7 @@ pub struct CaptureArgs {
     preview: bool,
     /// Rig overrides as JSON, e.g. '{"eye_height_m": 1.6, "pedestrian": [-6, -6, 0]}' (applied before --ppd),
     /// or an observer: `paper` (the seed paper's eyes, 1.75 m high and 0.1103594 m apart) or `median` (a
-    /// median US adult's, 1.573 m and 62.85 mm). --placement answers take `median` unless the scene set its
+    /// median US adult's, 1.571 m and 62.85 mm). --placement answers take `median` unless the scene set its
     /// own eyes.
     #[arg(long, value_name = "JSON|paper|median")]
     rig: Option<String>,

@@ -7,11 +7,12 @@
 use std::path::Path;
 use std::process::Command;
 
-/// `demo` scenario A, one frame, the exact measure on a 64² palette, into `out`: stdout and the manifest.
+/// `demo` scenario A, one frame, the exact measure of 1/4 of a 256² palette's texels, into `out`:
+/// stdout, the manifest and the result.
 fn measure(out: &Path, extra: &[&str]) -> (String, serde_json::Value, serde_json::Value) {
     let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
-        .args(["demo", "--scenario", "A", "--palette-size", "64", "--frames", "150"])
-        .args(["--measure", "unobstructed", "--json", "--out"])
+        .args(["demo", "--scenario", "A", "--palette-size", "256", "--frames", "150"])
+        .args(["--measure", "unobstructed", "--sample", "1/4", "--json", "--out"])
         .arg(out)
         .args(extra)
         .output()
