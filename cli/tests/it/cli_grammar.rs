@@ -47,7 +47,7 @@ fn every_subcommand_has_help_and_refuses_unknown_options_with_exit_2() {
     }
     let version = run(&["--version"]);
     assert_eq!(version.status.code(), Some(0));
-    assert!(text(&version.stdout).starts_with(concat!("ufcsr-analyze ", env!("CARGO_PKG_VERSION"))));
+    assert!(text(&version.stdout).starts_with(concat!("ufcsr analyze ", env!("CARGO_PKG_VERSION"))));
 }
 
 /// The known archive analysed into `dir/NAME`; returns that folder.
@@ -184,7 +184,7 @@ fn completions_for_every_shell_and_man_pages_are_generated() {
 
 #[test]
 fn completions_and_man_pages_into_a_reader_that_stops_early_end_quietly() {
-    // `ufcsr-analyze completions bash | head -1`: stdout closes after the
+    // `ufcsr completions bash | head -1`: stdout closes after the
     // first line; the program must not panic on the broken pipe.
     for args in [&["completions", "bash"][..], &["man"]] {
         let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
