@@ -236,12 +236,17 @@ fn names_a_command(root: &clap::Command, word: &str) -> bool {
 /// The error for a capture command this binary was built without, or for
 /// `capture` followed by no source: `None` when `args` name neither.
 fn not_built_in(program: Program, args: &[OsString]) -> Option<clap::Error> {
+    usage_problem(program, args, cfg!(feature = "capture"))
+}
+
+/// [`not_built_in`] for a binary built with the capture commands or not.
+fn usage_problem(program: Program, args: &[OsString], capture_built: bool) -> Option<clap::Error> {
     let root = UfcsrLine::command();
     let index = first_word(args, &root)?;
     let word = args[index].to_str()?;
     let mut command = program.command();
     command.build();
-    if !cfg!(feature = "capture") && CAPTURE_COMMANDS.contains(&word) {
+    if !capture_built && CAPTURE_COMMANDS.contains(&word) {
         return Some(command.error(
             clap::error::ErrorKind::InvalidSubcommand,
             format!("`ufcsr {word}`: {HOW_TO_GET_CAPTURE}"),
@@ -519,17 +524,20 @@ mod tests {
         assert!(error.contains("Usage: ufcsr capture"), "{error}");
         let fine: Vec<OsString> =
             ["ufcsr", "capture", "demo", "--scenario", "A"].map(OsString::from).to_vec();
-        assert!(not_built_in(Program::Ufcsr, &fine).is_none() || !cfg!(feature = "capture"));
+        assert!(usage_problem(Program::Ufcsr, &fine, true).is_none());
     }
 
-    #[cfg(not(feature = "capture"))]
     #[test]
     fn a_capture_command_not_built_in_says_how_to_get_it() {
         for word in CAPTURE_COMMANDS {
-            let args: Vec<OsString> = ["ufcsr", word, "x"].map(OsString::from).to_vec();
-            let error = not_built_in(Program::Ufcsr, &args).expect("an error").render().to_string();
-            assert!(error.contains("--features capture"), "{error}");
+            let args: Vec<OsString> = ["ufcsr", "--json", word, "x"].map(OsString::from).to_vec();
+            let error = usage_problem(Program::Ufcsr, &args, false).expect("an error").render().to_string();
+            assert!(error.contains(&format!("`ufcsr {word}`")), "{error}");
+            assert!(error.contains("cargo install --path cli --features capture"), "{error}");
+            assert!(usage_problem(Program::Ufcsr, &args, true).is_none() || word == "capture", "{word}");
         }
+        let analysis: Vec<OsString> = ["ufcsr", "analyze", "capA"].map(OsString::from).to_vec();
+        assert!(usage_problem(Program::Ufcsr, &analysis, false).is_none());
     }
 
     #[cfg(feature = "capture")]
