@@ -2,10 +2,10 @@
 # Throughput benchmark driver: ufcsr vs the decode-only ceiling vs a per-pixel
 # hash map (the original algorithm), on the same tiles in one run, with the
 # issue's targets: the counting stage by default and with --frames-csv off
-# against decode-only, the whole ufcsr-analyze process against a whole
+# against decode-only, the whole ufcsr analyze process against a whole
 # decode-only process, peak memory.
 #   scripts/bench.sh                  # a generated realistic archive and a
-#                                     # scenario A capture at 60 px/° (ufcsr-capture demo)
+#                                     # scenario A capture at 60 px/° (ufcsr capture demo)
 #   scripts/bench.sh --no-capture     # the generated archive only
 #   scripts/bench.sh --frames 6       # a smaller generated archive (default 24 frames, 1,200 tiles)
 #   scripts/bench.sh --archive DIR    # your own capture(s) only (repeatable)
@@ -23,7 +23,7 @@ for arg in "$@"; do
 done
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-# The binaries (ufcsr-analyze for the whole-process figures, ufcsr-capture
+# The binaries (ufcsr analyze for the whole-process figures, ufcsr-capture
 # for the capture) come from the command-line crate.
 cargo build --release -q -p ufcsr-cli
 if [[ $capture == 1 ]]; then

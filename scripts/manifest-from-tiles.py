@@ -1,16 +1,16 @@
 #!/usr/bin/env python3
-"""Deprecated: use `ufcsr-analyze manifest` (this script now calls it).
+"""Deprecated: use `ufcsr manifest` (this script now calls it).
 
 Writes manifest.json for a folder of frames rendered by Unity or Blender, so
-that `ufcsr-analyze ARCHIVE` needs no options. Everything is done by the
-subcommand `ufcsr-analyze manifest`, which also describes untiled captures
+that `ufcsr analyze ARCHIVE` needs no options. Everything is done by the
+subcommand `ufcsr manifest`, which also describes untiled captures
 (one image per eye and frame), takes the fps, field of view or pixels per
 degree, a rig file and frame times, and checks tile sizes and grids; see
-`ufcsr-analyze manifest --help` and docs/guide.md#unity-and-blender-captures.
+`ufcsr manifest --help` and docs/guide.md#unity-and-blender-captures.
 
   scripts/manifest-from-tiles.py ARCHIVE [--pattern REGEX] [--palette 4096x4096|palette.png]
                                  [--pidt pidt.png] [--parts parts.csv] [--background '#000FFF' ...]
-                                 [any other option of ufcsr-analyze manifest, e.g. --fps 60 --fov 107]
+                                 [any other option of ufcsr manifest, e.g. --fps 60 --fov 107]
 
 --palette WxH becomes --palette-size WxH, --palette FILE becomes --fcsp FILE; everything
 else is passed on unchanged. Paths are relative to the working directory (before, --pidt,
@@ -34,7 +34,7 @@ def main():
     binary = os.environ.get("UFCSR_ANALYZE") or shutil.which("ufcsr-analyze")
     if not binary:
         print("error: ufcsr-analyze not found: put it on PATH or set UFCSR_ANALYZE to its path "
-              "(this script only calls `ufcsr-analyze manifest`)", file=sys.stderr)
+              "(this script only calls `ufcsr manifest`)", file=sys.stderr)
         return 2
     command = [binary, "manifest", args.archive]
     if args.palette:

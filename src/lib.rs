@@ -26,6 +26,7 @@ mod placement;
 mod png;
 mod result;
 mod simd;
+mod stats;
 mod testing;
 
 pub use self::png::{PixelLayout, RowReader, read_color_image, read_file, verify_image_data};
@@ -93,7 +94,7 @@ pub use output::{
     largest_area, measure_unit, plasma, plot_font_available, render_heatmap, render_view, sheet_text_px,
     text_px_for, time_color, view_cameras, views_caption, write_comparison, write_comparison_with,
     write_heatmap, write_parts_csv, write_results, write_results_with, write_scenario_map, write_scene_glb,
-    write_views, write_views_with,
+    write_views,
 };
 pub use placement::legibility::{ArchiveTimelines, Timeline};
 pub use placement::report::{WrittenPlacement, format_placement};
@@ -112,6 +113,7 @@ pub use result::{
     read_result_summary, read_texel_area, read_texel_counts, write_result_json, write_texel_area,
     write_timings_json,
 };
+pub use stats::{SplitMix64, t975};
 #[doc(hidden)]
 pub use testing::fuzz_entry;
 #[cfg(feature = "synthetic")]

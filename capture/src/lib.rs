@@ -4,7 +4,7 @@
 //! so that every triangle owns its own texels of the canonical palette, a Part
 //! Identification Texture (PIdT) labels those texels, and each frame of a
 //! scenario is rendered unlit from both eyes of a pedestrian into tiles whose
-//! pixels name the texel they show. The archive is what `ufcsr-analyze` reads.
+//! pixels name the texel they show. The archive is what `ufcsr analyze` reads.
 //!
 //! The modules are private, one folder per stage (each folder's `mod.rs`
 //! says what it holds): `scene` what is captured (scene file, meshes,
@@ -43,16 +43,15 @@ pub use design::{TaskOutcome, run_design};
 pub use error::{CaptureError, Result};
 pub use exact::{
     DEFAULT_PATCH_SPACING_M, DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE,
-    EyeFrame, MAX_TEXEL_SAMPLES, MeasureDevice, MeasureOptions, Obstacles, PLACEMENT_FRAMES_FILE,
-    PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PartEstimate, PlacementCandidates, PlacementWritten,
-    SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample, SurfaceSamples, TexelVisibility, Tracer, TriangleBvh,
-    UnobstructedCapture, estimate_parts, eye_frame, eye_frames, is_sampled, measure_unobstructed,
-    parse_display, seconds_per_frame, surface_samples, texel_visibility, texel_visibility_gpu,
-    visible_solid_angle,
+    EyeFrame, MAX_TEXEL_SAMPLES, MeasureOptions, Obstacles, PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS,
+    PLACEMENT_PATCHES_FILE, PartEstimate, PlacementCandidates, PlacementWritten, SURFACE_LIFT_RELATIVE,
+    SampledTexel, SurfaceSample, SurfaceSamples, TexelVisibility, Tracer, TriangleBvh, UnobstructedCapture,
+    estimate_parts, eye_frame, eye_frames, is_sampled, measure_unobstructed, parse_display,
+    seconds_per_frame, surface_samples, texel_visibility, visible_solid_angle,
 };
 pub use inspect::{
     InspectOptions, Inspection, PartInfo, Sliver, TriangleQuality, UvState, ViewValues, ViewsOptions,
-    inspect, triangle_quality, view_values, views_from_results, write_views_gpu,
+    inspect, triangle_quality, view_values, views_from_results,
 };
 pub use job::{
     Assembled, Batch, CaptureOptions, CaptureProgress, CaptureSetup, CapturedTiles, Compression,
@@ -80,7 +79,7 @@ pub use study::observers::displays::{
     DisplayOptions, DisplayStudy, OBSERVER_DISPLAYS_FILE, ObserverLegible, run_observer_displays,
     summarize_displays, write_display_study,
 };
-pub use study::observers::interval::{IntervalKind, percentile, population_value, t975};
+pub use study::observers::interval::{IntervalKind, percentile, population_value};
 pub use study::observers::population::{
     MAX_OBSERVERS, SampledObserver, check_population, eye_height_quantile, normal_cdf, sample_observers,
 };

@@ -106,16 +106,6 @@ mod capture {
     }
 
     mirror! {
-        /// Where to run the exact measure ([`ufcsr_capture::MeasureDevice`]).
-        MeasureDevice => ufcsr_capture::MeasureDevice {
-            /// Every core of the CPU (the reference).
-            Cpu,
-            /// The GPU, through wgpu compute in f64.
-            Gpu,
-        }
-    }
-
-    mirror! {
         /// Traffic for the demo ([`ufcsr_capture::DemoTraffic`]): a second pickup, the truck's twin.
         DemoTraffic => ufcsr_capture::DemoTraffic {
             /// Beside the truck, a lane to the side of the pedestrian and 2 m ahead (the

@@ -1,6 +1,6 @@
 //! Shell completions and man pages, generated from the same clap
 //! definitions as `--help` for whichever program runs (`ufcsr completions
-//! bash`, `ufcsr-analyze man`, …), so each documents itself and never
+//! bash`, `ufcsr man`, …), so each documents itself and never
 //! drifts from what it accepts. Under `--json` the script or page goes into
 //! the one JSON object (`script`, `page`) instead of stdout.
 
@@ -16,8 +16,8 @@ use crate::console::{Completion, Console};
 pub enum DocsCommand {
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell) on stdout.
     ///
-    /// Example: `ufcsr-analyze completions bash > ~/.local/share/bash-completion/completions/ufcsr-analyze`
-    /// (the same for ufcsr and ufcsr-capture)
+    /// Example: `ufcsr completions bash > ~/.local/share/bash-completion/completions/ufcsr`
+    /// (the same for ufcsr and ufcsr capture)
     Completions {
         /// The shell: bash, zsh, fish, elvish or powershell.
         #[arg(value_enum)]
@@ -25,7 +25,7 @@ pub enum DocsCommand {
     },
     /// Print the man page (roff) on stdout, or write one page per command into --out.
     ///
-    /// Example: `ufcsr-analyze man --out ~/.local/share/man/man1` (then `man ufcsr-analyze-merge`)
+    /// Example: `ufcsr man --out ~/.local/share/man/man1` (then `man ufcsr-merge`)
     Man {
         /// Write PROGRAM.1 and one PROGRAM-COMMAND.1 per command (PROGRAM-COMMAND-SUBCOMMAND.1
         /// below it) into this folder (default: print the main page on stdout).

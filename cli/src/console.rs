@@ -20,8 +20,8 @@ use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 use serde::Serialize;
 use serde_json::{Map, Value};
 
-/// The exit codes, the same for every command of `ufcsr`, `ufcsr-analyze`
-/// and `ufcsr-capture` (docs/guide.md#exit-codes).
+/// The exit codes, the same for every command of `ufcsr`, `ufcsr analyze`
+/// and `ufcsr capture` (docs/guide.md#exit-codes).
 pub mod exit_code {
     /// Done: everything read, every file written.
     pub const DONE: u8 = 0;

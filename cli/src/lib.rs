@@ -1,7 +1,7 @@
 //! The ufcsr command line: one command tree for the analyzer (`ufcsr`
 //! library) and the capture (`ufcsr_capture`, behind the default feature
 //! `capture`), reached through three thin binaries — `ufcsr` (the whole
-//! tree), `ufcsr-analyze` and `ufcsr-capture` (the same commands under the
+//! tree), `ufcsr analyze` and `ufcsr capture` (the same commands under the
 //! grammar they always had). Everything a command line needs lives here and
 //! nowhere else: the clap definitions ([`program`], `analyze/`, `capture/`,
 //! with the options more than one command shares in [`options`] and the

@@ -1,11 +1,14 @@
-//! The three programs as one command tree. `ufcsr` is the whole tree
-//! (`ufcsr analyze ARCHIVE`, `ufcsr merge …`, `ufcsr capture demo …`,
-//! `ufcsr study …`, …); `ufcsr-analyze` and `ufcsr-capture` are the same
-//! commands under the grammar they always had (`ufcsr-analyze ARCHIVE`,
-//! `ufcsr-analyze merge …`, `ufcsr-capture demo …`). Each parses into one
-//! [`Job`], which [`run`] carries out the same way whatever the program:
-//! one options model ([`Global`]), one `--json` design ([`Console`]), one
-//! exit-code map, one interrupt handler.
+//! One command tree, `ufcsr` (`ufcsr analyze ARCHIVE`, `ufcsr merge …`,
+//! `ufcsr capture demo …`, `ufcsr study …`, …). `ufcsr-analyze` and
+//! `ufcsr-capture` are aliases kept for old scripts, never shown: their
+//! command lines are rewritten into `ufcsr`'s (`ufcsr-analyze ARCHIVE` is
+//! `ufcsr analyze ARCHIVE`, `ufcsr-capture demo` is `ufcsr capture demo`,
+//! `ufcsr-capture study` is `ufcsr study`), so every help, usage line and
+//! error names `ufcsr <command>`. Each command line parses into one [`Job`],
+//! which [`run`] carries out: one options model ([`Global`]), one `--json`
+//! design ([`Console`]), one exit-code map, one interrupt handler. Without
+//! the `capture` feature the capture commands are not built in, and naming
+//! one says how to get them ([`not_built_in`]).
 
 // The command enums are parsed once per process: their size does not matter,
 // and boxing their variants would cost clap's derive its flattening.
@@ -23,25 +26,38 @@ use crate::command_docs::DocsCommand;
 use crate::console::{Console, EXIT_STATUS_HELP, Style};
 use crate::options::Global;
 
-/// Which of the three programs is running.
+/// Which binary is running: `ufcsr`, or one of its two old names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Program {
     /// `ufcsr`: the whole command tree.
     Ufcsr,
-    /// `ufcsr-analyze`: the analysis as the main command, and the analyzer's commands.
+    /// `ufcsr-analyze`: an alias; `ufcsr-analyze ARCHIVE` is `ufcsr analyze ARCHIVE`.
     Analyze,
-    /// `ufcsr-capture`: the captures and the tools around them.
-    #[cfg(feature = "capture")]
+    /// `ufcsr-capture`: an alias; `ufcsr-capture demo` is `ufcsr capture demo`.
     Capture,
 }
+
+/// What `capture` records: the words after `ufcsr capture`.
+const CAPTURE_SOURCES: [&str; 3] = ["demo", "scene", "unity"];
+
+/// The commands the `capture` feature builds in (`ufcsr capture demo|scene|unity`
+/// and the tools around a capture), known even where it is off so that
+/// naming one says how to get it.
+const CAPTURE_COMMANDS: [&str; 9] =
+    ["capture", "study", "observers", "design", "inspect", "views", "batch", "assemble", "verify"];
+
+/// How to get the capture commands, for a binary built without them.
+const HOW_TO_GET_CAPTURE: &str = "the capture commands (capture, study, observers, design, inspect, \
+     views, batch, assemble, verify) are not built into this binary; build them in with `cargo install \
+     --path cli --features capture`, or run them from the repository with `cargo run --release \
+     --features capture -- capture demo …` (they add the wgpu stack to the build)";
 
 /// Counts how often each texel of a vehicle is visible to a pedestrian (UFCSR), records the
 /// archives of frames that show it, and turns the counts into per-part statistics, heatmaps,
 /// placements and reports.
 ///
 /// `ufcsr analyze ARCHIVE` analyses an archive (a folder of PNG tiles rendered with a Full Color
-/// Space Palette); `ufcsr capture demo` records one. `ufcsr-analyze` and `ufcsr-capture` are the
-/// same commands under their own names.
+/// Space Palette); `ufcsr capture demo` records one.
 ///
 /// Example: `ufcsr capture demo --scenario A --preview --out capA && ufcsr analyze capA`
 #[derive(Parser)]
@@ -55,15 +71,20 @@ struct UfcsrLine {
 
 #[derive(Subcommand)]
 enum UfcsrCommand {
-    /// Count an archive: per-part statistics, heatmap, views, plots and report.html
-    /// (`ufcsr-analyze ARCHIVE`).
+    /// Count an archive: per-part statistics, heatmap, views, plots and report.html.
+    ///
+    /// ARCHIVE is a folder of PNG tiles rendered with a Full Color Space Palette. With a
+    /// manifest.json in it (written by `ufcsr capture`), no other option is needed. Writes
+    /// result.json, parts.csv, heatmap.png, report.html and timings.json to --out (default:
+    /// ARCHIVE/results).
     ///
     /// Example: `ufcsr analyze capA --out capA/results`
+    #[command(alias = "analyse")]
     Analyze(AnalyzeArgs),
     #[command(flatten)]
     Analyzer(AnalyzerCommand),
     /// Record an archive with the headless wgpu renderer: the built-in demo, a scene file or a
-    /// Unity export (`ufcsr-capture demo|scene|unity`).
+    /// Unity export.
     ///
     /// Example: `ufcsr capture scene fixtures/scenes/milk-truck.json --preview --out truck`
     #[cfg(feature = "capture")]
@@ -78,65 +99,7 @@ enum UfcsrCommand {
     Docs(DocsCommand),
 }
 
-/// Counts how often each texel of a vehicle is visible in captured frames
-/// (UFCSR), and turns the counts into per-part statistics and a heatmap.
-///
-/// ARCHIVE is a folder of PNG tiles rendered with a Full Color Space Palette.
-/// With a manifest.json in it (written by ufcsr-capture), no other option is
-/// needed. Writes result.json, parts.csv, heatmap.png, report.html and
-/// timings.json to --out (default: ARCHIVE/results). The same as `ufcsr analyze`.
-///
-/// Example: `ufcsr-analyze capA` (then open capA/results/report.html)
-#[derive(Parser)]
-#[command(
-    name = "ufcsr-analyze",
-    version,
-    args_conflicts_with_subcommands = true,
-    subcommand_negates_reqs = true
-)]
-struct AnalyzeLine {
-    #[command(subcommand)]
-    command: Option<AnalyzeLineCommand>,
-    #[command(flatten)]
-    analyze: AnalyzeArgs,
-    #[command(flatten)]
-    global: Global,
-}
-
-#[derive(Subcommand)]
-enum AnalyzeLineCommand {
-    #[command(flatten)]
-    Analyzer(AnalyzerCommand),
-    #[command(flatten)]
-    Docs(DocsCommand),
-}
-
-/// Record UFCSR archives with a headless, exact wgpu renderer (the same as `ufcsr capture …`,
-/// `ufcsr study …` and the other capture commands of `ufcsr`).
-///
-/// Example: `ufcsr-capture scene my-scene.json --preview --out look && ufcsr-analyze look`
-#[cfg(feature = "capture")]
-#[derive(Parser)]
-#[command(name = "ufcsr-capture", version)]
-struct CaptureLine {
-    #[command(subcommand)]
-    command: CaptureLineCommand,
-    #[command(flatten)]
-    global: Global,
-}
-
-#[cfg(feature = "capture")]
-#[derive(Subcommand)]
-enum CaptureLineCommand {
-    #[command(flatten)]
-    Capture(CaptureCommand),
-    #[command(flatten)]
-    CaptureTool(CaptureToolCommand),
-    #[command(flatten)]
-    Docs(DocsCommand),
-}
-
-/// One command to carry out, whichever program parsed it.
+/// One command to carry out.
 pub enum Job {
     Analyze(Box<AnalyzeArgs>),
     Analyzer(AnalyzerCommand),
@@ -163,67 +126,61 @@ impl Job {
 }
 
 impl Program {
-    /// The program's name, as `--help` and the man pages show it.
+    /// The name every help, usage line, completion and man page shows.
     pub fn name(self) -> &'static str {
-        match self {
-            Program::Ufcsr => "ufcsr",
-            Program::Analyze => "ufcsr-analyze",
-            #[cfg(feature = "capture")]
-            Program::Capture => "ufcsr-capture",
+        "ufcsr"
+    }
+
+    /// The command tree, every command with the exit codes under its help
+    /// (and, without the `capture` feature, how to get the capture commands).
+    pub fn command(self) -> clap::Command {
+        let command = with_exit_status(UfcsrLine::command());
+        if cfg!(feature = "capture") {
+            command
+        } else {
+            command.before_help(format!("Note: {HOW_TO_GET_CAPTURE}."))
         }
     }
 
-    /// The program's command tree, every command with the exit codes under its help.
-    pub fn command(self) -> clap::Command {
-        let command = match self {
-            Program::Ufcsr => UfcsrLine::command(),
-            Program::Analyze => AnalyzeLine::command(),
-            #[cfg(feature = "capture")]
-            Program::Capture => CaptureLine::command(),
-        };
-        with_exit_status(command)
+    /// This binary's command line as `ufcsr`'s: an old name's grammar
+    /// rewritten (see the module documentation), the program named `ufcsr`.
+    pub fn as_ufcsr(self, mut args: Vec<OsString>) -> Vec<OsString> {
+        if args.is_empty() {
+            args.push(OsString::new());
+        }
+        args[0] = OsString::from("ufcsr");
+        let root = UfcsrLine::command();
+        let word = first_word(&args, &root);
+        let named = |index: usize| args[index].to_str().unwrap_or("").to_string();
+        match (self, word) {
+            (Program::Analyze, Some(index)) if !names_a_command(&root, &named(index)) => {
+                args.insert(1, OsString::from("analyze"));
+            }
+            (Program::Capture, Some(index)) if CAPTURE_SOURCES.contains(&named(index).as_str()) => {
+                args.insert(index, OsString::from("capture"));
+            }
+            _ => {}
+        }
+        args
     }
 
     /// The job and the global options the parsed command line asks for.
-    fn job(self, matches: &clap::ArgMatches) -> Result<(Job, Global), clap::Error> {
-        Ok(match self {
-            Program::Ufcsr => {
-                let line = UfcsrLine::from_arg_matches(matches)?;
-                let job = match line.command {
-                    UfcsrCommand::Analyze(args) => Job::Analyze(Box::new(args)),
-                    UfcsrCommand::Analyzer(command) => Job::Analyzer(command),
-                    #[cfg(feature = "capture")]
-                    UfcsrCommand::Capture { command } => Job::Capture(command),
-                    #[cfg(feature = "capture")]
-                    UfcsrCommand::CaptureTool(command) => Job::CaptureTool(command),
-                    UfcsrCommand::Docs(command) => Job::Docs(command),
-                };
-                (job, line.global)
-            }
-            Program::Analyze => {
-                let line = AnalyzeLine::from_arg_matches(matches)?;
-                let job = match line.command {
-                    None => Job::Analyze(Box::new(line.analyze)),
-                    Some(AnalyzeLineCommand::Analyzer(command)) => Job::Analyzer(command),
-                    Some(AnalyzeLineCommand::Docs(command)) => Job::Docs(command),
-                };
-                (job, line.global)
-            }
+    fn job(matches: &clap::ArgMatches) -> Result<(Job, Global), clap::Error> {
+        let line = UfcsrLine::from_arg_matches(matches)?;
+        let job = match line.command {
+            UfcsrCommand::Analyze(args) => Job::Analyze(Box::new(args)),
+            UfcsrCommand::Analyzer(command) => Job::Analyzer(command),
             #[cfg(feature = "capture")]
-            Program::Capture => {
-                let line = CaptureLine::from_arg_matches(matches)?;
-                let job = match line.command {
-                    CaptureLineCommand::Capture(command) => Job::Capture(command),
-                    CaptureLineCommand::CaptureTool(command) => Job::CaptureTool(command),
-                    CaptureLineCommand::Docs(command) => Job::Docs(command),
-                };
-                (job, line.global)
-            }
-        })
+            UfcsrCommand::Capture { command } => Job::Capture(command),
+            #[cfg(feature = "capture")]
+            UfcsrCommand::CaptureTool(command) => Job::CaptureTool(command),
+            UfcsrCommand::Docs(command) => Job::Docs(command),
+        };
+        Ok((job, line.global))
     }
 
     /// The command a usage error belongs to, as far as the arguments name
-    /// one (the deepest subcommand named; the main command otherwise).
+    /// one (the deepest subcommand named; `ufcsr` otherwise).
     fn command_named(self, args: &[OsString]) -> String {
         let mut command = self.command();
         let mut names = Vec::new();
@@ -235,12 +192,78 @@ impl Program {
         if names.len() > 1 && names[0] == "capture" {
             names.remove(0);
         }
-        match (names.is_empty(), self) {
-            (false, _) => names.join(" "),
-            (true, Program::Analyze) => "analyze".into(),
-            (true, program) => program.name().into(),
-        }
+        if names.is_empty() { self.name().into() } else { names.join(" ") }
     }
+}
+
+/// The index of the first word of `args` that is neither an option nor
+/// the value of one of `root`'s options (`--threads 2`): the command, or
+/// for the old `ufcsr analyze ARCHIVE` grammar the archive.
+fn first_word(args: &[OsString], root: &clap::Command) -> Option<usize> {
+    let takes_value = |arg: &str| {
+        root.get_arguments().any(|option| {
+            let named = arg.strip_prefix("--").map_or_else(
+                || {
+                    arg.strip_prefix('-')
+                        .and_then(|short| short.chars().next())
+                        .is_some_and(|c| option.get_short() == Some(c) && arg.len() == 2)
+                },
+                |long| option.get_long() == Some(long),
+            );
+            named && option.get_action().takes_values()
+        })
+    };
+    let mut index = 1;
+    while index < args.len() {
+        let arg = args[index].to_str().unwrap_or("");
+        if arg == "--" {
+            return None;
+        }
+        if !arg.starts_with('-') || arg == "-" {
+            return Some(index);
+        }
+        index += if takes_value(arg) { 2 } else { 1 };
+    }
+    None
+}
+
+/// Whether `word` names one of `root`'s commands (or an alias of one), or
+/// one of the capture commands where they are not built in.
+fn names_a_command(root: &clap::Command, word: &str) -> bool {
+    word == "help" || root.find_subcommand(word).is_some() || CAPTURE_COMMANDS.contains(&word)
+}
+
+/// The error for a capture command this binary was built without, or for
+/// `capture` followed by no source: `None` when `args` name neither.
+fn not_built_in(program: Program, args: &[OsString]) -> Option<clap::Error> {
+    usage_problem(program, args, cfg!(feature = "capture"))
+}
+
+/// [`not_built_in`] for a binary built with the capture commands or not.
+fn usage_problem(program: Program, args: &[OsString], capture_built: bool) -> Option<clap::Error> {
+    let root = UfcsrLine::command();
+    let index = first_word(args, &root)?;
+    let word = args[index].to_str()?;
+    let mut command = program.command();
+    command.build();
+    if !capture_built && CAPTURE_COMMANDS.contains(&word) {
+        return Some(command.error(
+            clap::error::ErrorKind::InvalidSubcommand,
+            format!("`ufcsr {word}`: {HOW_TO_GET_CAPTURE}"),
+        ));
+    }
+    let next = args[index + 1..].iter().filter_map(|arg| arg.to_str()).find(|arg| !arg.starts_with('-'));
+    let asks_for_help = args[index + 1..].iter().any(|arg| arg == "--help" || arg == "-h");
+    let source_named = next.is_some_and(|next| CAPTURE_SOURCES.contains(&next) || next == "help");
+    if word != "capture" || source_named || asks_for_help {
+        return None;
+    }
+    let capture = command.find_subcommand_mut("capture")?;
+    Some(capture.error(
+        clap::error::ErrorKind::MissingSubcommand,
+        "`ufcsr capture` needs what to capture: `demo`, `scene FILE` or `unity FILE` \
+         (for example `ufcsr capture demo --scenario A`)",
+    ))
 }
 
 /// `command` and every command below it with the exit codes under its help.
@@ -256,8 +279,11 @@ fn asks_for_json(args: &[OsString]) -> bool {
 
 /// Runs `program` on this process's arguments: parse, carry out, end.
 pub fn main(program: Program) -> ExitCode {
-    let args: Vec<OsString> = std::env::args_os().collect();
-    let parsed = program.command().try_get_matches_from(&args).and_then(|matches| program.job(&matches));
+    let args = program.as_ufcsr(std::env::args_os().collect());
+    if let Some(error) = not_built_in(program, &args) {
+        return usage_end(program, &args, &error);
+    }
+    let parsed = program.command().try_get_matches_from(&args).and_then(|matches| Program::job(&matches));
     let (job, global) = match parsed {
         Ok(parsed) => parsed,
         Err(error) => return usage_end(program, &args, &error),
@@ -410,15 +436,11 @@ mod tests {
     /// its arguments, so that no file is needed): a typo in an option fails.
     fn parses(example: &str) -> Result<(), String> {
         let words = first_command(example);
-        let program = match words.first().map(String::as_str) {
-            Some("ufcsr") => Program::Ufcsr,
-            Some("ufcsr-analyze") => Program::Analyze,
-            #[cfg(feature = "capture")]
-            Some("ufcsr-capture") => Program::Capture,
-            other => return Err(format!("names no program: {other:?}")),
-        };
+        if words.first().map(String::as_str) != Some("ufcsr") {
+            return Err(format!("does not start with `ufcsr`: {example}"));
+        }
         let args = words.iter().map(String::as_str).chain(["--help"]);
-        match program.command().try_get_matches_from(args) {
+        match Program::Ufcsr.command().try_get_matches_from(args) {
             Err(error) if error.kind() == clap::error::ErrorKind::DisplayHelp => Ok(()),
             Err(error) => Err(error.render().to_string()),
             Ok(_) => Err("parsed without showing help".into()),
@@ -427,31 +449,110 @@ mod tests {
 
     #[test]
     fn every_command_has_its_own_help_example() {
-        let mut programs = vec![Program::Ufcsr, Program::Analyze];
-        #[cfg(feature = "capture")]
-        programs.push(Program::Capture);
-        for program in programs {
-            let mut main = program.command();
-            main.build();
-            let main_example =
-                example(&main).unwrap_or_else(|| panic!("{} --help has no example", program.name()));
-            assert_eq!(parses(&main_example), Ok(()), "{main_example}");
-            let mut commands = Vec::new();
-            subcommands(&main, "", &mut commands);
-            assert!(commands.len() >= 8, "{}: {} commands", program.name(), commands.len());
-            for (path, command) in &commands {
-                let shown = format!("{} {path}", program.name());
-                let Some(own) = example(command) else { panic!("`{shown} --help` has no example") };
-                // Its own: it names the command (`ufcsr-capture demo` names `capture demo`).
-                assert!(own.contains(path.as_str()), "`{shown} --help`'s example does not run it: {own}");
-                if let Err(error) = parses(&own) {
-                    panic!("`{shown} --help`'s example does not parse: {own}\n{error}");
-                }
-                assert!(
-                    !texts(command).contains(&main_example),
-                    "`{shown} --help` repeats the main example: {main_example}"
-                );
+        let mut main = Program::Ufcsr.command();
+        main.build();
+        let main_example = example(&main).expect("ufcsr --help has no example");
+        assert_eq!(parses(&main_example), Ok(()), "{main_example}");
+        let mut commands = Vec::new();
+        subcommands(&main, "", &mut commands);
+        assert!(commands.len() >= 8, "{} commands", commands.len());
+        for (path, command) in &commands {
+            let shown = format!("ufcsr {path}");
+            let Some(own) = example(command) else { panic!("`{shown} --help` has no example") };
+            // Its own: it names the command.
+            assert!(own.contains(path.as_str()), "`{shown} --help`'s example does not run it: {own}");
+            if let Err(error) = parses(&own) {
+                panic!("`{shown} --help`'s example does not parse: {own}\n{error}");
+            }
+            assert!(
+                !texts(command).contains(&main_example),
+                "`{shown} --help` repeats the main example: {main_example}"
+            );
+        }
+    }
+
+    /// The old names' command lines, rewritten as `ufcsr`'s.
+    fn rewritten(program: Program, line: &str) -> String {
+        let args = std::iter::once("old").chain(line.split_whitespace()).map(OsString::from).collect();
+        let args = program.as_ufcsr(args);
+        args.iter().map(|arg| arg.to_string_lossy().into_owned()).collect::<Vec<_>>().join(" ")
+    }
+
+    #[test]
+    fn the_old_names_run_the_same_commands_under_ufcsr() {
+        let cases = [
+            (Program::Analyze, "capA --out r", "ufcsr analyze capA --out r"),
+            (Program::Analyze, "--threads 2 capA", "ufcsr analyze --threads 2 capA"),
+            (Program::Analyze, "--json merge a b --out m", "ufcsr --json merge a b --out m"),
+            (Program::Analyze, "--help", "ufcsr --help"),
+            (Program::Capture, "demo --scenario A", "ufcsr capture demo --scenario A"),
+            (Program::Capture, "-j 2 scene s.json", "ufcsr -j 2 capture scene s.json"),
+            (Program::Capture, "study s.json", "ufcsr study s.json"),
+            (Program::Ufcsr, "analyse capA", "ufcsr analyse capA"),
+        ];
+        for (program, line, expected) in cases {
+            assert_eq!(rewritten(program, line), expected, "{program:?} {line}");
+        }
+    }
+
+    /// Every help text of every command, as `--help` prints it.
+    fn every_help() -> Vec<(String, String)> {
+        let mut main = Program::Ufcsr.command();
+        main.build();
+        let mut commands = vec![(String::new(), main.clone())];
+        subcommands(&main, "", &mut commands);
+        commands
+            .into_iter()
+            .map(|(path, mut command)| (path, command.render_long_help().to_string()))
+            .collect()
+    }
+
+    #[test]
+    fn no_help_names_the_old_programs() {
+        for (path, help) in every_help() {
+            for old in ["ufcsr-analyze", "ufcsr-capture"] {
+                assert!(!help.contains(old), "`ufcsr {path} --help` names {old}:\n{help}");
             }
         }
+    }
+
+    #[test]
+    fn capture_without_a_source_says_what_it_needs() {
+        let args: Vec<OsString> = ["ufcsr", "capture", "--scenario", "A"].map(OsString::from).to_vec();
+        let error = not_built_in(Program::Ufcsr, &args).expect("an error").render().to_string();
+        assert!(error.contains("`demo`, `scene FILE` or `unity FILE`"), "{error}");
+        assert!(error.contains("Usage: ufcsr capture"), "{error}");
+        let fine: Vec<OsString> =
+            ["ufcsr", "capture", "demo", "--scenario", "A"].map(OsString::from).to_vec();
+        assert!(usage_problem(Program::Ufcsr, &fine, true).is_none());
+    }
+
+    #[test]
+    fn a_capture_command_not_built_in_says_how_to_get_it() {
+        for word in CAPTURE_COMMANDS {
+            let args: Vec<OsString> = ["ufcsr", "--json", word, "x"].map(OsString::from).to_vec();
+            let error = usage_problem(Program::Ufcsr, &args, false).expect("an error").render().to_string();
+            assert!(error.contains(&format!("`ufcsr {word}`")), "{error}");
+            assert!(error.contains("cargo install --path cli --features capture"), "{error}");
+            assert!(usage_problem(Program::Ufcsr, &args, true).is_none() || word == "capture", "{word}");
+        }
+        let analysis: Vec<OsString> = ["ufcsr", "analyze", "capA"].map(OsString::from).to_vec();
+        assert!(usage_problem(Program::Ufcsr, &analysis, false).is_none());
+    }
+
+    #[cfg(feature = "capture")]
+    #[test]
+    fn the_capture_commands_are_the_ones_named_where_they_are_not_built_in() {
+        let main = Program::Ufcsr.command();
+        let others =
+            DocsCommand::augment_subcommands(AnalyzerCommand::augment_subcommands(clap::Command::new("x")));
+        let other =
+            |name: &str| name == "analyze" || name == "help" || others.find_subcommand(name).is_some();
+        let mut built: Vec<&str> =
+            main.get_subcommands().map(clap::Command::get_name).filter(|name| !other(name)).collect();
+        built.sort_unstable();
+        let mut named = CAPTURE_COMMANDS.to_vec();
+        named.sort_unstable();
+        assert_eq!(built, named);
     }
 }

@@ -8,7 +8,7 @@ The conversion keeps what a capture depends on:
   metres whatever the FBX's unit (centimetres from 3ds Max/Unity exports);
 - axes: the importer reads the file's UpAxis/FrontAxis into Blender's Z-up
   world, the exporter writes glTF's Y-up (`export_yup`), which is what
-  ufcsr's default `axes` read; check forward with `ufcsr-capture inspect`;
+  ufcsr's default `axes` read; check forward with `ufcsr inspect`;
 - node transforms: objects, their parents and transforms become glTF nodes
   (modifiers are not applied, nothing is flattened);
 - material names and the model's own UVs (TEXCOORD_0), for

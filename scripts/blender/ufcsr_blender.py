@@ -5,7 +5,7 @@ Why it exists: the capture path a researcher already uses is often Blender, and 
 archive describes itself (``manifest.json`` with every frame's vehicle pose and each eye's camera
 and projection, ``vehicle.glb`` with the palette, ``scene.glb`` with the occluders, ``pidt.png``,
 ``parts.csv``), so Blender can render the very same frames. The result is an archive that
-``ufcsr-analyze OUT`` reads alone -- tiles, manifest with rig, fps, pixels per degree, projection,
+``ufcsr analyze OUT`` reads alone -- tiles, manifest with rig, fps, pixels per degree, projection,
 poses, PIdT and legend -- and that ``cli/tests/external/blender.rs`` holds to ufcsr-capture's own.
 
 The colour recipe (docs/guide.md, "Unity and Blender captures") keeps every palette colour
@@ -60,7 +60,7 @@ def parse_arguments(argv):
     parser = argparse.ArgumentParser(
         prog=TOOL,
         description="Render a ufcsr-capture archive's cameras again in Blender and write an "
-        "archive that ufcsr-analyze reads alone.",
+        "archive that ufcsr analyze reads alone.",
     )
     parser.add_argument("--from", dest="source", required=True, metavar="ARCHIVE",
                         help="an archive written by ufcsr-capture (its manifest.json has frames[].eyes)")

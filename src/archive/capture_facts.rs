@@ -116,7 +116,7 @@ pub struct CaptureGeometry {
 }
 
 impl CaptureGeometry {
-    /// Reads the `rig`, `unwrap` and `frames` records `ufcsr-capture` writes
+    /// Reads the `rig`, `unwrap` and `frames` records `ufcsr capture` writes
     /// (absent for hand-written manifests: then only pixels per count is known).
     pub fn from_manifest(manifest: &Manifest) -> CaptureGeometry {
         CaptureGeometry {

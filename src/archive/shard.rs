@@ -8,7 +8,7 @@
 //! `MIN + I·STEP` of `MIN-MAX:STEP` is shard I, from `SLURM_ARRAY_TASK_ID`,
 //! `_MIN`, `_MAX`, `_STEP` and `_COUNT`; what cannot be mapped is refused), Kubernetes Indexed Jobs (`JOB_COMPLETION_INDEX`
 //! of `UFCSR_SHARD_COUNT`) and AWS Batch array jobs
-//! (`AWS_BATCH_JOB_ARRAY_INDEX` of `UFCSR_SHARD_COUNT`). `ufcsr-analyze merge`
+//! (`AWS_BATCH_JOB_ARRAY_INDEX` of `UFCSR_SHARD_COUNT`). `ufcsr merge`
 //! adds the shards' results back together.
 
 use crate::error::{Error, Result};

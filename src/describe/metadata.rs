@@ -2,7 +2,7 @@
 //! or files beside them: the rig (a JSON object of the scene file's rig
 //! fields), the frame rate, the field of view or pixels per degree, and each
 //! frame's time and distance (a CSV). Put into the manifest in the fields
-//! ufcsr-capture writes, so exposure, deg²·s, the solid-angle and time plots
+//! ufcsr capture writes, so exposure, deg²·s, the solid-angle and time plots
 //! and the resolution diagnostics work for them as for a capture.
 
 use std::collections::BTreeMap;

@@ -1,6 +1,6 @@
-//! `ufcsr-analyze manifest`: describes a folder of frames rendered outside
+//! `ufcsr manifest`: describes a folder of frames rendered outside
 //! ufcsr (Unity, Blender, a third party) as an archive manifest, so that
-//! `ufcsr-analyze DIR` reads it alone — eye-frames for `--dedupe frame`, the
+//! `ufcsr analyze DIR` reads it alone — eye-frames for `--dedupe frame`, the
 //! palette, PIdT, legend and background, and the metadata a capture would
 //! have written (fps, field of view or pixels per degree, rig, frame times
 //! and distances) so exposure, deg²·s and the resolution diagnostics work.
@@ -143,7 +143,7 @@ pub fn describe(options: &DescribeOptions) -> Result<Described> {
         background: (!options.background.is_empty()).then(|| options.background.clone()),
         tiles,
         frames,
-        generator: Some(format!("ufcsr-analyze manifest {}", env!("CARGO_PKG_VERSION"))),
+        generator: Some(format!("ufcsr manifest {}", env!("CARGO_PKG_VERSION"))),
         rig: Some(rig),
         ..Manifest::default()
     };

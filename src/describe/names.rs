@@ -8,7 +8,7 @@ use regex::Regex;
 
 use crate::error::{Error, Result};
 
-/// The default: ufcsr-capture's names (`tiles/f0012_left_r2_c3.png`), the
+/// The default: ufcsr capture's names (`tiles/f0012_left_r2_c3.png`), the
 /// row and column optional (`f0012_left.png` is an untiled eye image).
 pub const DEFAULT_PATTERN: &str =
     r"f(?P<frame>\d+)_(?P<eye>[A-Za-z0-9]+)(?:_r(?P<row>\d+)_c(?P<col>\d+))?\.(?i:png)$";

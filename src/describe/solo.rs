@@ -3,7 +3,7 @@
 //! writes `step.K.frame.json`, also read), each listing the frame's
 //! captures — per camera the image file, its `dimension`, the 3×3 `matrix`,
 //! `position` and `rotation` — and the frame's `timestamp`. Read so that
-//! `ufcsr-analyze manifest` needs neither `--fps` nor `--fov` for Unity
+//! `ufcsr manifest` needs neither `--fps` nor `--fov` for Unity
 //! output, and so that the other files Perception writes beside the frames
 //! (segmentation, depth, normals, instance masks) are skipped by a rule and
 //! counted instead of stopping the manifest.

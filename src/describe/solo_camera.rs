@@ -8,6 +8,7 @@
 //! answer.
 
 use crate::format::manifest::EyePose;
+use crate::optics::vector::cross;
 
 /// Largest lens shift (projection matrix entries 0,2 and 1,2) taken as a
 /// centred pinhole: Unity writes the matrix as 32-bit floats (~1e-7).
@@ -104,10 +105,6 @@ pub fn eye_pose(position: [f64; 3], rotation: &[f64]) -> Result<EyePose, String>
         right: to_world(turn([1.0, 0.0, 0.0])),
         up: to_world(turn([0.0, 1.0, 0.0])),
     })
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
 //! Reading 3-D model files safely, for both crates: `--mesh` here, every
-//! vehicle and environment mesh in `ufcsr-capture`.
+//! vehicle and environment mesh in `ufcsr capture`.
 //!
 //! A model names other files (glTF buffers, an OBJ's `mtllib`), and a loader
 //! that opens them itself can hang on a FIFO or read `/dev/zero` until memory
@@ -33,13 +33,13 @@ pub const MAX_COORDINATE_M: f64 = 1.0e5;
 /// A glTF document with the data of every buffer.
 pub struct GltfModel {
     pub document: gltf::Document,
-    pub buffers: Vec<gltf::buffer::Data>,
+    pub buffers: Vec<Vec<u8>>,
 }
 
 impl GltfModel {
     /// The bytes of a buffer, for `primitive.reader`.
     pub fn buffer(&self, buffer: gltf::Buffer) -> Option<&[u8]> {
-        self.buffers.get(buffer.index()).map(|data| &data.0[..])
+        self.buffers.get(buffer.index()).map(Vec::as_slice)
     }
 }
 
@@ -80,9 +80,9 @@ pub fn parse_gltf(path: &Path, bytes: &[u8], limit: u64) -> Result<GltfModel> {
                 (data, "the binary chunk".to_string())
             }
             gltf::buffer::Source::Uri(uri) if uri.starts_with("data:") => {
-                let data = gltf::buffer::Data::from_source(buffer.source(), None)
+                let data = data_uri_bytes(uri)
                     .map_err(|e| Error::bad_file(path, format!("buffer {index}: data URI: {e}")))?;
-                (data.0, "its data URI".to_string())
+                (data, "its data URI".to_string())
             }
             gltf::buffer::Source::Uri(uri) => {
                 let file = resolve_inside(path, uri)?;
@@ -104,9 +104,17 @@ pub fn parse_gltf(path: &Path, bytes: &[u8], limit: u64) -> Result<GltfModel> {
         }
         // As gltf's own importer: accessors may read up to a 4-byte boundary.
         data.resize(data.len().next_multiple_of(4), 0);
-        buffers.push(gltf::buffer::Data(data));
+        buffers.push(data);
     }
     Ok(GltfModel { document: gltf.document, buffers })
+}
+
+/// The bytes of a `data:[MIME];base64,DATA` URI (what gltf's importer
+/// decodes; its `import` feature is off, with its image decoders).
+fn data_uri_bytes(uri: &str) -> std::result::Result<Vec<u8>, String> {
+    use base64::Engine;
+    let (_, encoded) = uri.split_once(";base64,").ok_or("not a base64 data URI (no \";base64,\")")?;
+    base64::engine::general_purpose::STANDARD.decode(encoded).map_err(|e| e.to_string())
 }
 
 /// An error for a primitive whose POSITION names an accessor that does not exist.
@@ -202,7 +210,7 @@ fn check_accessor(
             view.length()
         ));
     }
-    let buffer = model.buffers.get(view.buffer().index()).map_or(0, |data| data.0.len());
+    let buffer = model.buffers.get(view.buffer().index()).map_or(0, Vec::len);
     if view.offset().checked_add(view.length()).is_none_or(|end| end > buffer) {
         return Err(format!("is in a buffer view that runs past its buffer of {buffer} bytes"));
     }

@@ -231,10 +231,10 @@ pub struct CandidateValue {
     /// `part` or `patch`.
     pub kind: String,
     /// Seconds legible under the placement rules (docs/placement.md): legible frames, each inside a run
-    /// of at least the dwell, × seconds per frame; `ufcsr-analyze placement`'s `legible_s`.
+    /// of at least the dwell, × seconds per frame; `ufcsr placement`'s `legible_s`.
     pub legible_s: f64,
     /// Of those, the seconds inside the decision window (the window ending at the smallest
-    /// vehicle–pedestrian distance); `ufcsr-analyze placement`'s `decision_window_legible_s`.
+    /// vehicle–pedestrian distance); `ufcsr placement`'s `decision_window_legible_s`.
     pub decision_window_legible_s: f64,
     /// Visible angular area, deg²·s per eye.
     pub angular_area_deg2_s: f64,

@@ -1,7 +1,7 @@
 //! `manifest.json`, the archive's contract: what a capture wrote and how to
 //! read it, section by section.
 //!
-//! `ufcsr-capture` writes every section; `ufcsr-analyze manifest` writes what
+//! `ufcsr capture` writes every section; `ufcsr manifest` writes what
 //! is known of external frames; Unity or Blender users may write it by hand.
 //! Only `tiles` is required: every other section is optional, but a section
 //! that is present must be well-formed — a malformed one is an error naming
@@ -30,11 +30,11 @@ pub const MANIFEST_FILE: &str = "manifest.json";
 pub const MANIFEST_SCHEMA: &str = "ufcsr-manifest/1";
 
 /// ufcsr archive manifest (`ufcsr-manifest/1`): `manifest.json` of an
-/// archive, written by ufcsr-capture, by `ufcsr-analyze manifest` or by hand
+/// archive, written by ufcsr capture, by `ufcsr manifest` or by hand
 /// (Unity, Blender, scripts/manifest-from-tiles.py). Paths are relative to
 /// the archive folder. Only `tiles` is required; fields the analyzer does not
 /// know are ignored, so the top level and each tile stay open; the sections
-/// ufcsr-capture writes have a fixed form and are closed. Checked by the
+/// ufcsr capture writes have a fixed form and are closed. Checked by the
 /// analyzer and not expressible here: a tile position (frame, eye, row, col)
 /// and a file are listed once each; at most two distinct eyes. Field-by-field
 /// prose: docs/archive-format.md. Generated from the types in
@@ -45,7 +45,7 @@ pub const MANIFEST_SCHEMA: &str = "ufcsr-manifest/1";
     extend(
         "if" = {"required": ["capture"]},
         "then" = {
-            "description": "A manifest of ufcsr-capture records its whole rig.",
+            "description": "A manifest of ufcsr capture records its whole rig.",
             "properties": {"rig": {
                 "required": ["settings", "vertical_fov_deg", "pixels_per_degree", "tile_pixels", "frame_count",
                     "eye_offset", "projection"],
@@ -79,17 +79,17 @@ pub struct Manifest {
     pub background: Option<Vec<Color>>,
     /// Every tile of the capture, written or known to be empty.
     pub tiles: Vec<TileEntry>,
-    /// ufcsr-capture: which tool wrote the archive and what it left out.
+    /// ufcsr capture: which tool wrote the archive and what it left out.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub capture: Option<CaptureRecord>,
-    /// ufcsr-capture (and `ufcsr-analyze manifest` given distances): one
+    /// ufcsr capture (and `ufcsr manifest` given distances): one
     /// record per captured frame.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub frames: Option<Vec<FrameEntry>>,
-    /// `ufcsr-analyze manifest VERSION` for a manifest it wrote.
+    /// `ufcsr manifest VERSION` for a manifest it wrote.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub generator: Option<String>,
-    /// ufcsr-capture: the scene's occluders in world coordinates, glTF axes,
+    /// ufcsr capture: the scene's occluders in world coordinates, glTF axes,
     /// one node per occluder (scene.glb). Static: one file for every frame.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(with = "Option<RelativePath>")]
@@ -97,14 +97,14 @@ pub struct Manifest {
     /// The rig as used and what follows from it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rig: Option<RigRecord>,
-    /// ufcsr-capture: the scenario captured.
+    /// ufcsr capture: the scenario captured.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scenario: Option<ScenarioRecord>,
-    /// ufcsr-capture: the scene, in words for people; its fields depend on
+    /// ufcsr capture: the scene, in words for people; its fields depend on
     /// the kind of scene (demo, unity, scene file).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scene: Option<SceneRecord>,
-    /// ufcsr-capture: how the vehicle was laid into the palette.
+    /// ufcsr capture: how the vehicle was laid into the palette.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub unwrap: Option<UnwrapRecord>,
     /// The vehicle as rendered, with its palette UVs and the palette as
@@ -112,7 +112,7 @@ pub struct Manifest {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(with = "Option<RelativePath>")]
     pub vehicle: Option<PathBuf>,
-    /// ufcsr-capture: impossible-scene and label warnings, for the analyzer
+    /// ufcsr capture: impossible-scene and label warnings, for the analyzer
     /// and for readers of the archive; written only when there is any.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
@@ -259,8 +259,8 @@ pub struct EyePose {
     pub up: [f64; 3],
 }
 
-/// The rig as used (settings) and what follows from it. ufcsr-capture
-/// writes every field; `ufcsr-analyze manifest` writes what is known of
+/// The rig as used (settings) and what follows from it. ufcsr capture
+/// writes every field; `ufcsr manifest` writes what is known of
 /// external frames (settings.eye_pixels, settings.tiles, tile_pixels, and
 /// with --fps/--fov/--rig the rest).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
@@ -285,7 +285,7 @@ pub struct RigRecord {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub projection: Option<String>,
     /// The scene file's rig fields (see docs/scene-file.md): all of them from
-    /// ufcsr-capture, those known for external frames.
+    /// ufcsr capture, those known for external frames.
     pub settings: RigSettings,
     /// Pixels of one tile, `[width, height]`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -544,7 +544,7 @@ pub struct CaptureRecord {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(with = "Option<FalseOnly>")]
     pub tiles_written: Option<bool>,
-    /// `ufcsr-capture VERSION`.
+    /// `ufcsr capture VERSION`.
     pub tool: String,
 }
 

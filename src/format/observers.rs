@@ -1,5 +1,5 @@
 //! The observer study's two files as typed values: the **population file**
-//! a user writes (`ufcsr-capture observers --population FILE`: where people
+//! a user writes (`ufcsr observers --population FILE`: where people
 //! stand and how tall they are, with the sources of the figures) and
 //! **`observers.json`**, which the study writes (every sampled observer, and
 //! per part the population mean with its 95 % interval, the spread over

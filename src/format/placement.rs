@@ -1,4 +1,4 @@
-//! `placement.json` (schema `ufcsr-placement/2`), written by `ufcsr-analyze
+//! `placement.json` (schema `ufcsr-placement/2`), written by `ufcsr analyze
 //! placement` and read back by the report pages: one serde type per object,
 //! closed (`deny_unknown_fields`), with its JSON Schema derived from the
 //! same definition (`docs/schemas/placement.schema.json` is this type's

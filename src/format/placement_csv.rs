@@ -1,4 +1,4 @@
-//! The placement tables the exact measure writes and `ufcsr-analyze
+//! The placement tables the exact measure writes and `ufcsr analyze
 //! placement` reads: `placement-frames.csv` (one row per candidate and
 //! eye-frame, [`PlacementFrameRow`]) and `placement-patches.csv` (each
 //! display patch's rectangle). Their names and columns are defined here

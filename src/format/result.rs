@@ -1,6 +1,6 @@
 //! `result.json`: the summary of one analysis (its counts' bookkeeping,
 //! per-part statistics, settings, diagnostics) followed by the per-texel
-//! counts. Written by `ufcsr-analyze`, `ufcsr-analyze merge` and the
+//! counts. Written by `ufcsr analyze`, `ufcsr merge` and the
 //! capture's `--count` / `--measure unobstructed`; only ufcsr writes it, so
 //! every object is closed in the schema (a new field is a format change).
 //! The types hold data only; what computes them lives beside the analysis
@@ -44,7 +44,7 @@ impl std::fmt::Display for CountMeasure {
 }
 
 /// ufcsr result (`ufcsr-result/1`): `result.json` as written by
-/// ufcsr-analyze, ufcsr-analyze merge and ufcsr-capture --count /
+/// ufcsr analyze, ufcsr merge and ufcsr capture --count /
 /// --measure unobstructed: the summary, then the per-texel counts.
 /// Field-by-field prose: docs/archive-format.md. Generated from the types in
 /// src/format/result.rs.
@@ -122,7 +122,7 @@ pub struct TrimReport {
     pub empty_tiles: Vec<EmptyTile>,
 }
 
-/// A trim mode as `ufcsr-analyze --trim` takes it: `auto`, `off` or a
+/// A trim mode as `ufcsr analyze --trim` takes it: `auto`, `off` or a
 /// byte threshold.
 fn trim_mode<'de, D: serde::Deserializer<'de>>(deserializer: D) -> Result<String, D::Error> {
     let mode = String::deserialize(deserializer)?;
@@ -156,7 +156,7 @@ pub struct Settings {
     /// (`--area-max`); absent = the largest texel's.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub heatmap_area_max: Option<f64>,
-    /// The shard counted (`ufcsr-analyze --shard`); absent for a whole archive.
+    /// The shard counted (`ufcsr analyze --shard`); absent for a whole archive.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shard: Option<Shard>,
     /// What the counts depend on (manifest or tile list, palette, PIdT,

@@ -1,4 +1,4 @@
-//! `study.json`, what `ufcsr-capture study` writes: every setting's error
+//! `study.json`, what `ufcsr study` writes: every setting's error
 //! against the exact measure of the whole scenario with its 95 % interval,
 //! its precision against the finest setting, the Pareto front and the
 //! recommendation. Typed here so the capture writes it and scripts, tests and

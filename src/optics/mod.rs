@@ -1,6 +1,6 @@
 //! Optics: the solid angle each pixel of a pinhole eye subtends
 //! ([`solid_angle`]), the weight the rendered angular-area measure gives a
-//! pixel.
+//! pixel; and the three-vector arithmetic the geometry shares ([`vector`]).
 //!
 //! Its own folder rather than beside the measures in `count/`: two stages
 //! use it — the archive, whose capture facts turn the manifest's field of
@@ -10,5 +10,6 @@
 //! `count/` the archive would need the count and the count the archive.
 
 pub(crate) mod solid_angle;
+pub(crate) mod vector;
 
 pub use solid_angle::{EyeProjection, TileView};

@@ -8,10 +8,8 @@
 //! apart from the darkest colour, and everything off the vehicle is white.
 //! Drawn with the CPU rasterizer ([`crate::output::raster`], which
 //! inspect's pictures share): the analyzer needs no GPU, so
-//! views render wherever analyses run (and in CI). The cameras are public
-//! ([`view_cameras`]) and [`write_views_with`] takes any renderer of them:
-//! `ufcsr-capture views` draws the same views with the capture's wgpu
-//! renderer, and a test holds the two to the same pictures.
+//! views render wherever analyses run (and in CI); `ufcsr views` redraws
+//! a result's views the same way.
 //!
 //! `views/NAME.png` for each direction (400×300 pixels times
 //! `--views-scale`, default 2) and `views.png`, a contact sheet (four by
@@ -20,6 +18,7 @@
 
 use crate::archive::vehicle_model::VehicleModel;
 use crate::format::result::CountMeasure;
+use crate::optics::vector::dot;
 use crate::output::raster::ZBuffer;
 use crate::{
     archive::options::HeatmapOptions,
@@ -68,10 +67,6 @@ pub struct ViewCamera {
     pub size: [u32; 2],
     /// Nearest and farthest depth of the vehicle (metres along −`back`).
     pub depth_range: [f64; 2],
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 impl ViewCamera {
@@ -185,20 +180,6 @@ impl ViewTexture<'_> {
             Some(&count) if count > 0 => plasma(position(count, max, self.options.scale)),
             _ => NEVER_SEEN,
         }
-    }
-
-    /// Every texel's colour in the views, RGBA8, row 0 at the top: the
-    /// heatmap's colours (its per-count table) with never-seen texels grey,
-    /// the texture a GPU renderer draws the views with.
-    pub fn texel_rgba(&self) -> Vec<u8> {
-        let rgb = crate::output::heatmap::render(self.counts, self.width, self.options);
-        rgb.chunks_exact(3)
-            .zip(self.counts)
-            .flat_map(|(color, &count)| {
-                let [r, g, b] = if count > 0 { [color[0], color[1], color[2]] } else { NEVER_SEEN };
-                [r, g, b, 255]
-            })
-            .collect()
     }
 }
 

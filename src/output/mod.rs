@@ -48,5 +48,5 @@ pub use raster::ZBuffer;
 pub use result_set::{MAP_FILE, ResultSetOptions, default_output_dir, write_results, write_results_with};
 pub use scenario_map::{MAP_SIZE, MapContent, MapFrame, SceneShapes, time_color, write_scenario_map};
 pub use scene_model::{SceneObject, write_scene_glb};
-pub use view_sheet::{VIEWS_PDF_FILE, WrittenViews, bar_ticks, sheet_text_px, write_views, write_views_with};
+pub use view_sheet::{VIEWS_PDF_FILE, WrittenViews, bar_ticks, sheet_text_px, write_views};
 pub use written_files::WrittenFiles;

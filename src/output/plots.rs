@@ -59,7 +59,7 @@ pub fn plot_file_names() -> Vec<String> {
 pub const TOP_PARTS: usize = 8;
 
 /// Registers a sans-serif font with plotters once; false when none is found
-/// (`ufcsr-capture`'s study plot uses it too).
+/// (`ufcsr capture`'s study plot uses it too).
 pub fn font_available() -> bool {
     crate::output::figure::font_bytes().is_some()
 }

@@ -7,7 +7,7 @@
 //! [`write_views`] writes them (`views/NAME.png` and `views.png`); the
 //! shading comes from the model's geometry, rasterised here with the
 //! CPU z-buffer whichever renderer filled the heatmap's colours, so the CPU
-//! views and `ufcsr-capture views` stay alike.
+//! views and `ufcsr views` stay alike.
 
 use std::path::{Path, PathBuf};
 
@@ -17,6 +17,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 use crate::archive::options::Scale;
 use crate::archive::vehicle_model::VehicleModel;
 use crate::error::Result;
+use crate::optics::vector::{dot, normalize};
 use crate::output::figure::{FigureSize, MIN_TEXT_PT};
 use crate::output::heatmap::{plasma, position};
 use crate::output::heatmap_views::{
@@ -35,15 +36,6 @@ const OUTLINE: f64 = 0.4;
 const CREASE_DEG: f64 = 35.0;
 /// The pedestrian's marks in the compass.
 const PEDESTRIAN: [u8; 3] = [0, 150, 60];
-
-fn normalize(v: [f64; 3]) -> [f64; 3] {
-    let length = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-300);
-    v.map(|c| c / length)
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
 
 /// The nearest face at every pixel: its part and its normal (towards the
 /// viewer); `None` off the vehicle.
@@ -376,22 +368,11 @@ pub fn write_views(model: &VehicleModel, texture: &ViewTexture, dir: &Path) -> R
     finish_views(model, texture, dir, &cameras, |_| Ok(drawn.pop().unwrap_or_default()))
 }
 
-/// [`write_views`] with another renderer: `render` draws one camera's
-/// picture (RGB, `camera.size`, rows top to bottom), the heatmap's colours
-/// unlit, camera by camera in [`view_cameras`] order; shading, outlines, the
-/// pedestrian marker, the sheet and its colour bar are drawn here (below),
-/// the same whichever renderer filled the pixels, on all cores.
-pub fn write_views_with(
-    model: &VehicleModel,
-    texture: &ViewTexture,
-    dir: &Path,
-    render: impl FnMut(&ViewCamera) -> Result<Vec<u8>>,
-) -> Result<WrittenViews> {
-    finish_views(model, texture, dir, &view_cameras(model, texture.views_scale), render)
-}
-
-/// [`write_views_with`] for `cameras` ([`view_cameras`], computed once by
-/// the caller).
+/// The views of [`write_views`] for `cameras` ([`view_cameras`], computed
+/// once by the caller): `render` draws one camera's picture (RGB,
+/// `camera.size`, rows top to bottom), the heatmap's colours unlit; shading,
+/// outlines, the pedestrian marker, the sheet and its colour bar are drawn
+/// here, on all cores.
 fn finish_views(
     model: &VehicleModel,
     texture: &ViewTexture,

@@ -16,6 +16,7 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::files::{SMALL_INPUT_LIMIT, read_limited};
+use crate::optics::vector::dot;
 
 pub use crate::format::placement_csv::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE};
 
@@ -32,10 +33,6 @@ pub struct PatchFootprint {
     pub up: [f64; 3],
     /// Width and height, m.
     pub size_m: [f64; 2],
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 impl PatchFootprint {

@@ -3,7 +3,7 @@
 //! solid angle, visible fraction, viewing angle, visible angular height;
 //! written by the capture's exact measure), which candidates are *legible*
 //! for how long, and the best one, two, three … placements across
-//! scenarios, with how sure that answer is. `ufcsr-analyze placement
+//! scenarios, with how sure that answer is. `ufcsr placement
 //! RESULTS… --out DIR` writes `placement.json` (schema `ufcsr-placement/2`,
 //! the type [`crate::format::placement::PlacementDocument`]), `placement.csv` and
 //! `placement-combinations.csv`, and with a vehicle model (the archive's
@@ -57,7 +57,7 @@ pub use uncertainty::{DEFAULT_EPSILON_S, DEFAULT_REPLICATES, Resampling};
 /// The most physical displays in one set (`--k`).
 pub const MAX_K: usize = 8;
 
-/// What `ufcsr-analyze placement` is asked.
+/// What `ufcsr placement` is asked.
 #[derive(Debug, Clone)]
 pub struct PlacementOptions {
     /// Tables, or folders holding `placement-frames.csv` (or `results/` of one).

@@ -28,7 +28,7 @@ use crate::placement::search::{Objective, Universe, displays, union_of};
 use crate::placement::uncertainty::{CONFIDENCE, assess};
 use crate::placement::{PlacementOptions, Scoring, Searched};
 
-/// Everything `ufcsr-analyze placement` found.
+/// Everything `ufcsr placement` found.
 #[derive(Debug, Clone)]
 pub struct Placement {
     pub document: PlacementDocument,

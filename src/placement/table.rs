@@ -1,4 +1,4 @@
-//! Reading one archive's `placement-frames.csv` (written by `ufcsr-capture
+//! Reading one archive's `placement-frames.csv` (written by `ufcsr capture
 //! … --measure unobstructed --placement`) into per-candidate, per-eye-frame
 //! numbers, checked so that a bad table is an error naming the file, the
 //! line and the problem, never a silent wrong placement.
@@ -84,7 +84,7 @@ pub fn resolve_table(input: &Path) -> Result<PathBuf> {
     Err(Error::bad_file(
         input,
         format!(
-            "no {PLACEMENT_FRAMES_FILE} here nor in its results/: capture with `ufcsr-capture … --measure \
+            "no {PLACEMENT_FRAMES_FILE} here nor in its results/: capture with `ufcsr capture … --measure \
              unobstructed --placement` (docs/placement.md)"
         ),
     ))

@@ -1,6 +1,6 @@
 //! How far one archive's legible seconds may be from those of every texel,
 //! when the exact measure ray traced only a sample of the texels
-//! (`ufcsr-capture … --measure unobstructed --sample 1/N --placement`).
+//! (`ufcsr capture … --measure unobstructed --sample 1/N --placement`).
 //!
 //! The multi-archive interval ([`crate::placement::uncertainty`]) covers
 //! what varies *between* archives (observers, scenarios, seeds given as

@@ -4,7 +4,7 @@
 //!
 //! **The random units are the archives.** Each table given is one draw of
 //! the conditions the answer should hold for: a scenario, a traffic
-//! condition, an observer sampled from a population (`ufcsr-capture
+//! condition, an observer sampled from a population (`ufcsr capture
 //! observers`), a texel sample drawn with another `--seed`. The answer is
 //! their mean, so the archives are exchangeable when they are drawn alike
 //! from one population (independent observers or seeds are; four fixed,
@@ -54,22 +54,6 @@ impl Default for Resampling {
     }
 }
 
-/// Student's t quantile at 0.975 for `df` degrees of freedom: exact values
-/// to 30, the Cornish-Fisher expansion beyond (error below 1e-4 there).
-pub fn t_975(df: usize) -> f64 {
-    const TABLE: [f64; 30] = [
-        12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145,
-        2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048,
-        2.045, 2.042,
-    ];
-    if (1..=30).contains(&df) {
-        return TABLE[df - 1];
-    }
-    let z: f64 = 1.959_964;
-    let v = df.max(1) as f64;
-    z + (z.powi(3) + z) / (4.0 * v) + (5.0 * z.powi(5) + 16.0 * z.powi(3) + 3.0 * z) / (96.0 * v * v)
-}
-
 /// The 95 % t interval of the mean of `values` (seconds, so not below 0); `None` with fewer than two.
 pub fn t_interval(values: &[f64]) -> Option<[f64; 2]> {
     t_interval_signed(values).map(|[lo, hi]| [lo.max(0.0), hi])
@@ -84,32 +68,19 @@ pub fn t_interval_signed(values: &[f64]) -> Option<[f64; 2]> {
     }
     let mean = values.iter().sum::<f64>() / n as f64;
     let variance = values.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1) as f64;
-    let half = t_975(n - 1) * (variance / n as f64).sqrt();
+    let half = crate::stats::t975(n - 1) * (variance / n as f64).sqrt();
     Some([mean - half, mean + half])
-}
-
-/// A small deterministic generator (SplitMix64): the probabilities must
-/// not change between runs.
-struct SplitMix(u64);
-
-impl SplitMix {
-    fn below(&mut self, n: usize) -> usize {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) % n.max(1) as u64) as usize
-    }
 }
 
 /// Per replicate: how often each archive was drawn.
 pub fn bootstrap_weights(archives: usize, resampling: &Resampling) -> Vec<Vec<f64>> {
-    let mut random = SplitMix(resampling.seed);
+    // Seeded, so the probabilities do not change between runs.
+    let mut random = crate::stats::SplitMix64(resampling.seed);
     (0..resampling.replicates)
         .map(|_| {
             let mut weights = vec![0.0; archives];
             for _ in 0..archives {
-                weights[random.below(archives)] += 1.0;
+                weights[random.below(archives as u64) as usize] += 1.0;
             }
             weights
         })
@@ -204,14 +175,6 @@ fn runner_up(choices: &[Choice], set: &[usize], legible_s: f64, p_best: Option<f
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_t_quantile_matches_the_table_and_the_normal_limit() {
-        assert_eq!(t_975(3), 3.182);
-        assert!((t_975(40) - 2.021).abs() < 1e-3);
-        assert!((t_975(120) - 1.980).abs() < 1e-3);
-        assert!((t_975(100_000) - 1.960).abs() < 1e-3);
-    }
 
     #[test]
     fn a_t_interval_needs_two_values_and_holds_the_mean() {

@@ -1,4 +1,4 @@
-//! Merging the results of shards: `ufcsr-analyze merge RESULT... --out DIR`.
+//! Merging the results of shards: `ufcsr merge RESULT... --out DIR`.
 //!
 //! Shards of one archive ([`crate::archive::shard`]) count disjoint sets of
 //! eye-frames with the same settings, and every shard builds the same

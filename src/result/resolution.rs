@@ -9,7 +9,7 @@
 //! analysis itself, and the share of frames in which a texel is smaller than a
 //! pixel from the capture's geometry — and [`ResolutionReport::warnings`]
 //! says when the counts should not be compared across resolutions (run
-//! `ufcsr-capture study`, or use a resolution-independent measure).
+//! `ufcsr study`, or use a resolution-independent measure).
 
 use crate::archive::capture_facts::CaptureGeometry;
 
@@ -69,7 +69,7 @@ impl ResolutionReport {
             warnings.push(format!(
                 "counts saturate: {:.1} pixels showed each counted texel on average, and a texel counts once per \
                  image however many pixels show it, so totals and shares depend on pixels per degree \
-                 (compare settings with `ufcsr-capture study`)",
+                 (compare settings with `ufcsr study`)",
                 self.pixels_per_count
             ));
         }
@@ -79,7 +79,7 @@ impl ResolutionReport {
             warnings.push(format!(
                 "texels are smaller than a pixel beyond {distance:.1} m, in {:.0}% of the frames: such texels are \
                  sampled only sometimes, so counts depend on pixels per degree (compare settings with \
-                 `ufcsr-capture study`)",
+                 `ufcsr study`)",
                 100.0 * share
             ));
         }

@@ -17,32 +17,27 @@ use crate::color::Color;
 use crate::error::{Error, Result};
 use crate::files::{write_bytes_atomically, write_rgb_png};
 
-/// A small deterministic random generator (SplitMix64): no dependency, same
-/// sequence on every platform.
+/// The synthetic archives' generator: [`crate::SplitMix64`] with draws in a range.
 #[derive(Debug, Clone)]
-pub struct Rng(u64);
+pub struct Rng(crate::stats::SplitMix64);
 
 impl Rng {
     pub fn new(seed: u64) -> Rng {
-        Rng(seed)
+        Rng(crate::stats::SplitMix64(seed))
     }
 
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// Uniform in `[low, high)`.
     pub fn uniform(&mut self, low: f64, high: f64) -> f64 {
-        low + (high - low) * (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        low + (high - low) * self.0.unit()
     }
 
     /// Uniform integer in `[0, n)`.
     pub fn below(&mut self, n: u64) -> u64 {
-        self.next_u64() % n.max(1)
+        self.0.below(n)
     }
 }
 

@@ -35,7 +35,7 @@ fn assert_same_as_reference(written: &str, reference: &str) {
         panic!(
             "{reference} differs from what the analyzer writes now ({line}); \
              if the result changed on purpose, replace it with the new output of \
-             `ufcsr-analyze fixtures/example --out DIR` (result.json with the example's path \
+             `ufcsr analyze fixtures/example --out DIR` (result.json with the example's path \
              written as fixtures/example)"
         );
     }

@@ -1,4 +1,4 @@
-//! `ufcsr-analyze placement` (issue 18) on synthetic `placement-frames.csv`
+//! `ufcsr placement` (issue 18) on synthetic `placement-frames.csv`
 //! tables with known answers: the legibility distance of a facing plate,
 //! the threshold and eye rules, the decision window, symmetric pairs, the
 //! exhaustive search against brute force, the greedy bound, the schema of

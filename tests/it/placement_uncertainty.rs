@@ -41,16 +41,12 @@ fn part(frame: u32, name: &str, legible: bool) -> Sighting<'_> {
     (frame, name, "part", if legible { 1.0 } else { 0.0 }, 10.0, 1.0)
 }
 
-/// SplitMix64, for the generating distribution.
-struct Random(u64);
+/// The analyzer's seeded generator, for the generating distribution.
+struct Random(ufcsr::SplitMix64);
 
 impl Random {
     fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        (z ^ (z >> 31)) as f64 / 2f64.powi(64)
+        self.0.next_u64() as f64 / 2f64.powi(64)
     }
 }
 
@@ -89,7 +85,7 @@ fn name(candidate: usize) -> String {
 
 /// `archives` tables drawn from the distribution.
 fn draw(dir: &Path, seed: u64, archives: usize) -> Vec<PathBuf> {
-    let mut random = Random(seed);
+    let mut random = Random(ufcsr::SplitMix64(seed));
     let names: Vec<String> = (0..CANDIDATES).map(name).collect();
     (0..archives)
         .map(|a| {

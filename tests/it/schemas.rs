@@ -44,7 +44,7 @@ fn analyse_example(options: AnalyzeOptions, out: &Path) -> Value {
 
 #[test]
 fn example_result_json_matches_the_result_schema() {
-    // As `ufcsr-analyze fixtures/example` runs it: manifest, PIdT, frames.csv
+    // As `ufcsr analyze fixtures/example` runs it: manifest, PIdT, frames.csv
     // on, so `resolution` and `measures` are there.
     let dir = tempfile::tempdir().unwrap();
     let options = AnalyzeOptions { archive: example(), frames: true, ..AnalyzeOptions::default() };

@@ -17,7 +17,7 @@ use super::build::cell_scene;
 use super::plan::{Plan, PlannedTask};
 use crate::error::{CaptureError, Result};
 use crate::exact::measure::measure_unobstructed;
-use crate::exact::types::{DEG2_PER_SR, MeasureDevice, MeasureOptions, PlacementCandidates};
+use crate::exact::types::{DEG2_PER_SR, MeasureOptions, PlacementCandidates};
 use crate::job::CaptureOptions;
 use crate::scene::Scene;
 use crate::scene::track::ValueOrTrack;
@@ -84,7 +84,7 @@ fn units(plan: &Plan, task: &PlannedTask, scene: &Scene) -> Result<Vec<Unit>> {
 
 /// Per candidate: legible seconds under the default rules, in all and inside the decision window,
 /// and angular area, deg²·s per eye. The seconds are the placement's own, from the same code
-/// (`ufcsr::timelines` and `ArchiveTimelines::exposure`, which `ufcsr-analyze placement` reports
+/// (`ufcsr::timelines` and `ArchiveTimelines::exposure`, which `ufcsr placement` reports
 /// as `legible_s` and `decision_window_legible_s`): the dwell applies, and the window ends at the
 /// frame of the smallest vehicle–pedestrian distance.
 pub fn candidate_values(table: ufcsr::PlacementTable) -> Vec<CandidateValue> {
@@ -140,7 +140,6 @@ fn measure_unit(
     let measure_options = MeasureOptions {
         sample: measure.sample,
         seed: unit.seed,
-        on: MeasureDevice::Cpu,
         placement: Some(candidates),
         ..MeasureOptions::default()
     };

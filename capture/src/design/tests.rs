@@ -167,20 +167,12 @@ fn a_rerun_skips_complete_tasks_and_redoes_partial_or_foreign_ones() {
     assert!(completed(&plan, dir.path(), 2).is_none());
 }
 
-/// SplitMix64 and Box–Muller: normal draws for the coverage test.
-struct Normal(u64);
+/// Box–Muller on the analyzer's seeded generator: normal draws for the coverage test.
+struct Normal(ufcsr::SplitMix64);
 
 impl Normal {
-    fn uniform(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
     fn draw(&mut self) -> f64 {
-        let (u, v) = (self.uniform().max(1e-300), self.uniform());
+        let (u, v) = (self.0.unit().max(1e-300), self.0.unit());
         (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
     }
 }
@@ -192,7 +184,7 @@ fn the_interval_of_a_vehicle_and_of_all_covers_the_known_mean_about_95_percent_o
     // cell noise. Truth: vehicle "v0" 2.5 s, all 3.5 s.
     let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
     let (trials, units) = (400, 8u32);
-    let mut normal = Normal(11);
+    let mut normal = Normal(ufcsr::SplitMix64(11));
     let (mut covered_vehicle, mut covered_all) = (0, 0);
     for trial in 0..trials {
         let shared: Vec<f64> = (0..units).map(|_| 0.8 * normal.draw()).collect();
@@ -258,7 +250,7 @@ fn the_main_effects_intervals_cover_a_known_effect_about_95_percent_of_the_time(
     let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
     let vehicles: Vec<String> = plan.design.vehicles.iter().map(|v| v.name.clone()).collect();
     let (trials, units) = (400, 8u32);
-    let mut normal = Normal(29);
+    let mut normal = Normal(ufcsr::SplitMix64(29));
     let mut covered = [0usize; 4];
     for _ in 0..trials {
         let shared: Vec<f64> = (0..units).map(|_| 0.8 * normal.draw()).collect();
@@ -421,7 +413,7 @@ fn a_displays_main_effects_are_within_its_vehicle_and_cover_a_known_traffic_effe
     // −0.6 s, scenario effects 0; no vehicle effect (a display is compared within one body).
     let plan = traffic_plan();
     assert_eq!(plan.cells.len(), 8);
-    let mut normal = Normal(41);
+    let mut normal = Normal(ufcsr::SplitMix64(41));
     // Through the files: design.json's display effects, the CSV rows and the page's label.
     let dir = tempfile::tempdir().unwrap();
     for task in traffic_tasks(&plan, 8, &mut normal) {

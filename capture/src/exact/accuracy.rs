@@ -81,31 +81,6 @@ pub fn share_error(names: &[String], reference: &[f64], candidate: &[f64]) -> Sh
     }
 }
 
-/// A small deterministic generator (SplitMix64): the interval must not
-/// change from run to run.
-pub(crate) struct SplitMix(pub(crate) u64);
-
-impl SplitMix {
-    pub(crate) fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in (0, 1).
-    pub(crate) fn uniform(&mut self) -> f64 {
-        ((self.next() >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    }
-
-    /// Standard normal (Box–Muller).
-    pub(crate) fn normal(&mut self) -> f64 {
-        let (u, v) = (self.uniform(), self.uniform());
-        (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -125,14 +100,5 @@ mod tests {
         // Scale does not matter: shares only.
         assert!(share_error(&names(3), &[5.0, 3.0, 2.0], &[50.0, 30.0, 20.0]).share_l1_pp < 1e-12);
         assert_eq!(share_error(&names(3), &[1.0, 2.0, 3.0], &[3.0, 2.0, 1.0]).kendall_tau_b, -1.0);
-    }
-
-    #[test]
-    fn a_normal_draw_has_unit_variance() {
-        let mut random = SplitMix(7);
-        let draws: Vec<f64> = (0..20_000).map(|_| random.normal()).collect();
-        let mean = draws.iter().sum::<f64>() / draws.len() as f64;
-        let variance = draws.iter().map(|d| (d - mean).powi(2)).sum::<f64>() / draws.len() as f64;
-        assert!(mean.abs() < 0.03 && (variance - 1.0).abs() < 0.05, "{mean} {variance}");
     }
 }

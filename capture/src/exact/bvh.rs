@@ -4,10 +4,10 @@
 //! question answered by brute force so tests can check one against the other.
 //!
 //! Nodes are 64 bytes (one cache line): bounds in f64 and `(first, count)`;
-//! an inner node's children sit side by side at `first` and `first + 1`, so
-//! the GPU walks the same array ([`TriangleBvh::flatten`]). Triangles are
-//! stored as `(corner, edge 1, edge 2)`, the form Möller–Trumbore uses, and
-//! every path (BVH, brute force, GPU) reads those same stored numbers.
+//! an inner node's children sit side by side at `first` and `first + 1`.
+//! Triangles are stored as `(corner, edge 1, edge 2)`, the form
+//! Möller–Trumbore uses, and both paths (BVH, brute force) read those same
+//! stored numbers.
 //!
 //! The box test is conservative, so the hierarchy answers exactly as brute
 //! force: every node's bounds are widened at the build by [`BOUNDS_MARGIN`]
@@ -27,7 +27,7 @@ use crate::scene::ray_triangle::ray_triangle_parameter;
 /// The deepest the build goes; a node at this depth is a leaf whatever its
 /// size, so the traversal stack (`TRAVERSAL_STACK`) can never overflow.
 pub const MAX_DEPTH: usize = 48;
-/// Entries of the traversal stack (CPU and `visibility.wgsl`): one more than
+/// Entries of the traversal stack: one more than
 /// the depth of a push-two-pop-one walk of a `MAX_DEPTH` tree.
 pub const TRAVERSAL_STACK: usize = 64;
 /// Triangles at or under which a node is not split.
@@ -182,21 +182,6 @@ impl TriangleBvh {
         self.triangles.iter().any(|t| segment_hits_triangle(from, direction, t))
     }
 
-    /// The hierarchy as flat arrays for the GPU (`visibility.wgsl`): per
-    /// node its bounds (min xyz, max xyz) and `(first, count)`, per triangle
-    /// corner, edge 1 and edge 2 (9 values), in the order the queries index them.
-    pub fn flatten(&self) -> (Vec<f64>, Vec<u32>, Vec<f64>) {
-        let bounds = self.nodes.iter().flat_map(|n| n.min.into_iter().chain(n.max)).collect();
-        let links = self.nodes.iter().flat_map(|n| [n.first, n.count]).collect();
-        let triangles = self
-            .triangles
-            .iter()
-            .flat_map(|t| [t.corner, t.edge1, t.edge2])
-            .flat_map(|p| p.to_array())
-            .collect();
-        (bounds, links, triangles)
-    }
-
     /// How deep the hierarchy is (root = 1); never more than [`MAX_DEPTH`].
     pub fn depth(&self) -> usize {
         let mut deepest = 0;
@@ -336,7 +321,6 @@ fn greater(a: f64, b: f64) -> f64 {
 }
 
 /// Möller–Trumbore, segment parameter strictly inside (1e-9, 1 − 1e-9).
-/// `visibility.wgsl` does the same steps.
 #[inline(always)]
 fn segment_hits_triangle(from: DVec3, direction: DVec3, t: &StoredTriangle) -> bool {
     ray_triangle_parameter(from, direction, t).is_some_and(|along| along > 1e-9 && along < 1.0 - 1e-9)

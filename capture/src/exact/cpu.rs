@@ -6,7 +6,7 @@
 //! consecutive rays start at neighbouring points of the surface and end at
 //! the same eye, and walk the same nodes of the hierarchy while they are in
 //! cache. Per texel the sums run over the eye-frames in order, then over its
-//! samples in order — the order `visibility.wgsl` uses, so both round alike.
+//! samples in order, so a run rounds alike whatever the chunking.
 //!
 //! Occluder memory: each sample of a chunk remembers the triangle that hid
 //! it last, and the sample before it in the same eye-frame offers its own:
@@ -15,7 +15,7 @@
 //! side by side, so the same triangle (most often the vehicle's own near
 //! side hiding its far side) usually hides the sample again, and one
 //! triangle test replaces a walk. The hierarchy's box test is conservative,
-//! so the answers are the same as without the memory (and as the GPU's).
+//! so the answers are the same as without the memory.
 
 use rayon::prelude::*;
 
@@ -94,7 +94,7 @@ fn chunk_visibility(
                 match sample_visibility(sample, eye_frame, obstacles, tracer, &guesses) {
                     Sighting::Visible(solid_angle) => {
                         seen = true;
-                        // Added sample by sample, in the order visibility.wgsl adds them.
+                        // Added sample by sample, in order.
                         out.solid_angle_sr[slot] += solid_angle;
                         texel_sr += solid_angle;
                     }

@@ -1,4 +1,4 @@
-//! `ufcsr-capture … --measure unobstructed`: one scenario measured exactly.
+//! `ufcsr capture … --measure unobstructed`: one scenario measured exactly.
 //!
 //! Writes the archive skeleton (manifest, PIdT, legend, vehicle.glb; no
 //! tiles), the analyzer's results for the per-texel counts (`measure:
@@ -12,13 +12,10 @@ use std::time::Instant;
 use super::cpu::texel_visibility;
 use super::estimator::{PartEstimate, estimate_parts};
 use super::geometry::{Obstacles, eye_frames, seconds_per_frame};
-use super::gpu::texel_visibility_gpu;
 use super::placement::{ExactInputs, PlacementWritten, write_placement_frames};
 use super::points::surface_samples;
 use super::rules::Tracer;
-use super::types::{
-    DEG2_PER_SR, MeasureDevice, MeasureOptions, PartEyeFrames, SurfaceSamples, TexelVisibility,
-};
+use super::types::{DEG2_PER_SR, MeasureOptions, PartEyeFrames, SurfaceSamples, TexelVisibility};
 use crate::error::{CaptureError, Result};
 use crate::job::{
     CaptureOptions, CapturedTiles, TileFiles, TileTally, prepare_archive, summarize, write_manifest,
@@ -108,10 +105,7 @@ pub fn measure_unobstructed(
     let (eye_frames, frame_records) = eye_frames(scene, scenario, &frames, &obstacles)?;
     let parts = scene.vehicle.parts.len();
     let casting = Instant::now();
-    let visibility = match measure.on {
-        MeasureDevice::Cpu => texel_visibility(&samples, &eye_frames, &obstacles, parts, Tracer::Hierarchy),
-        MeasureDevice::Gpu => texel_visibility_gpu(device, queue, &samples, &eye_frames, &obstacles, parts)?,
-    };
+    let visibility = texel_visibility(&samples, &eye_frames, &obstacles, parts, Tracer::Hierarchy);
     let placement_records = measure.placement.map(|_| frame_records.clone());
     let captured = CapturedTiles {
         entries: Vec::new(),
@@ -207,22 +201,18 @@ fn write_results(
 
 /// The result's note on what the counts mean.
 fn describe(measure: &MeasureOptions, measured: &Measured, labelled: u64) -> String {
-    let MeasureOptions { sample, seed, texel_samples, on, .. } = *measure;
+    let MeasureOptions { sample, seed, texel_samples, .. } = *measure;
     format!(
         "measure \"unobstructed\": a count is the number of eye-frames ({}) in which any part of the texel's \
          footprint on the vehicle is visible: in view, beyond the near plane, not edge-on, nothing in between \
          (exact f64 ray casts of {texel_samples}×{texel_samples} samples per texel, {} in all; independent of pixels \
          per degree); {} of {} texels with a footprint sampled (fraction {sample}, seed {seed}), the others are 0 \
          here: divide totals by the fraction to estimate them (per-part estimates with standard errors in \
-         unobstructed-parts.csv); computed on the {}",
+         unobstructed-parts.csv); computed on the CPU",
         measured.eye_frames,
         measured.samples.samples.len(),
         measured.samples.texels.len(),
         labelled,
-        match on {
-            MeasureDevice::Cpu => "CPU",
-            MeasureDevice::Gpu => "GPU (f64 compute shader)",
-        }
     )
 }
 

@@ -17,8 +17,8 @@
 //! The folder: [`points`] where the samples lie, [`geometry`] the scene and
 //! eye-frames for rays, [`bvh`] the hierarchy, [`rules`] what visible
 //! means for one sample (edge-on, frustum and near plane, lift, occlusion),
-//! [`cpu`] the reference loop, [`gpu`] with `visibility.wgsl` the same on the
-//! GPU, [`estimator`] the `--sample` estimates, [`measure`] the command
+//! [`cpu`] the measure's loop on every core, [`estimator`] the `--sample`
+//! estimates, [`measure`] the command
 //! (archive skeleton and results), [`types`] what they share, [`accuracy`]
 //! how far a rendered setting is from it (what `study` recommends by),
 //! [`placement`] candidate eHMI placements measured with the same rules
@@ -29,7 +29,6 @@ pub mod bvh;
 pub mod cpu;
 pub mod estimator;
 pub mod geometry;
-pub mod gpu;
 pub mod measure;
 pub mod placement;
 pub mod points;
@@ -40,7 +39,6 @@ pub use bvh::TriangleBvh;
 pub use cpu::texel_visibility;
 pub use estimator::{PartEstimate, estimate_parts};
 pub use geometry::{Obstacles, eye_frame, eye_frames, seconds_per_frame};
-pub use gpu::texel_visibility_gpu;
 pub use measure::{MAX_TEXEL_SAMPLES, UnobstructedCapture, measure_unobstructed};
 pub use placement::{
     PLACEMENT_FRAMES_FILE, PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PlacementWritten, parse_display,
@@ -49,6 +47,6 @@ pub use points::{is_sampled, surface_samples};
 pub use rules::{Tracer, visible_solid_angle};
 pub use types::{
     DEFAULT_PATCH_SPACING_M, DEFAULT_TEXEL_SAMPLES, DEG2_PER_SR, EDGE_ON_F32_ULPS, EDGE_ON_RELATIVE,
-    EyeFrame, MeasureDevice, MeasureOptions, PlacementCandidates, SURFACE_LIFT_RELATIVE, SampledTexel,
-    SurfaceSample, SurfaceSamples, TexelVisibility,
+    EyeFrame, MeasureOptions, PlacementCandidates, SURFACE_LIFT_RELATIVE, SampledTexel, SurfaceSample,
+    SurfaceSamples, TexelVisibility,
 };

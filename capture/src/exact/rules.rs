@@ -1,6 +1,5 @@
 //! The visibility rules of one surface sample in one eye-frame, and the
-//! solid angle it then covers. `visibility.wgsl` does the same steps in the
-//! same order; change both together.
+//! solid angle it then covers.
 //!
 //! A sample is visible when
 //! 1. the eye is not edge-on to its surface: its height above the surface's
@@ -140,7 +139,7 @@ impl Segment<'_> {
         match frame {
             Frame::Moving(k) => {
                 // Moving occluders: the same segment in each one's own frame,
-                // summed as `transform` in visibility.wgsl sums, so both round alike.
+                // summed in `transform_point`'s fixed order.
                 let local_to_moving = &eye_frame.local_to_moving[k];
                 let from = transform_point(local_to_moving, lifted_local).truncate();
                 (from, transform_point(local_to_moving, end_local).truncate())

@@ -1,6 +1,6 @@
 //! What the exact measure works on: surface samples grouped by texel, one
-//! eye at one frame, the options, and the tolerances every path (CPU, brute
-//! force, GPU) applies the same way. `docs/science-exact.md` explains the
+//! eye at one frame, the options, and the tolerances both paths (hierarchy, brute
+//! force) apply the same way. `docs/science-exact.md` explains the
 //! tolerances and why they have these values.
 
 use glam::{DMat4, DVec3, DVec4};
@@ -91,19 +91,10 @@ pub struct EyeFrame {
     pub local_to_moving: Vec<DMat4>,
 }
 
-/// `m · (p, 1)` summed column by column in a fixed order (the same order as
-/// `transform` in `visibility.wgsl`), so CPU and GPU round alike.
+/// `m · (p, 1)` summed column by column in a fixed order, so every path
+/// that moves a point rounds alike.
 pub fn transform_point(m: &DMat4, p: DVec3) -> DVec4 {
     m.x_axis * p.x + m.y_axis * p.y + m.z_axis * p.z + m.w_axis
-}
-
-/// Where to run the exact measure.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MeasureDevice {
-    /// Every core of the CPU (the reference).
-    Cpu,
-    /// The GPU, through wgpu compute in f64.
-    Gpu,
 }
 
 /// How to measure: which share of the texels, seeded how, how finely each
@@ -115,7 +106,6 @@ pub struct MeasureOptions {
     pub seed: u64,
     /// K: each texel's footprint is sampled on K × K sub-cells (1 ≤ K ≤ 16).
     pub texel_samples: u32,
-    pub on: MeasureDevice,
     /// `--placement`: also measure candidate eHMI placements
     /// (`placement-frames.csv`, `docs/placement.md`).
     pub placement: Option<PlacementCandidates>,
@@ -162,13 +152,7 @@ pub const DEFAULT_TEXEL_SAMPLES: u32 = 1;
 
 impl Default for MeasureOptions {
     fn default() -> MeasureOptions {
-        MeasureOptions {
-            sample: 1.0,
-            seed: 1,
-            texel_samples: DEFAULT_TEXEL_SAMPLES,
-            on: MeasureDevice::Cpu,
-            placement: None,
-        }
+        MeasureOptions { sample: 1.0, seed: 1, texel_samples: DEFAULT_TEXEL_SAMPLES, placement: None }
     }
 }
 

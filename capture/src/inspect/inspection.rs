@@ -1,4 +1,4 @@
-//! `ufcsr-capture inspect`: look at a vehicle before spending a capture on it.
+//! `ufcsr inspect`: look at a vehicle before spending a capture on it.
 //!
 //! Builds the vehicle exactly as a capture would (see [`crate::scene::vehicle`]) and
 //! reports its size and bounds in metres after `axes`, where its origin is,

@@ -3,7 +3,7 @@
 //!
 //! We plan, an existing engine schedules: [`plan`] turns a `batch.json` into
 //! one shell command per task, in a fixed order, so task *i* of an array is
-//! line *i* of `ufcsr-capture batch plan batch.json` (see
+//! line *i* of `ufcsr batch plan batch.json` (see
 //! `scripts/slurm/batch-array.sbatch`). Each task captures and counts one
 //! setting with `--count` (no PNGs) into its own folder, so tasks never
 //! share files.
@@ -44,7 +44,7 @@ pub struct Batch {
     pub dedupe: ufcsr::Dedupe,
     #[serde(default = "default_palette_size")]
     pub palette_size: String,
-    /// More `ufcsr-capture` arguments for every task.
+    /// More `ufcsr capture` arguments for every task.
     #[serde(default)]
     pub extra_args: Vec<String>,
 }
@@ -137,7 +137,7 @@ fn one_line(field: &str, text: &str) -> std::result::Result<(), String> {
 }
 
 /// The tasks of a batch, in order: scene, scenario, ppd, frame step.
-/// `program` is the `ufcsr-capture` to call; scene files are resolved
+/// `program` is the `ufcsr` to call (each task is `PROGRAM capture …`); scene files are resolved
 /// against `base` (the batch file's folder) and their scenarios read. An
 /// error names the batch file and the scene; two tasks writing into one
 /// folder are an error too.
@@ -148,10 +148,13 @@ pub fn plan(batch: &Batch, base: &Path, program: &str) -> Result<Vec<Task>> {
     for (scene_index, scene_name) in batch.scenes.iter().enumerate() {
         let in_scene = |e: CaptureError| in_batch(format!("scenes[{scene_index}] {scene_name:?}: {e}"));
         let (scene, scene_args) = if scene_name == "demo" {
-            (Scene::demo(), vec!["demo".to_string()])
+            (Scene::demo(), vec!["capture".to_string(), "demo".to_string()])
         } else {
             let path = base.join(scene_name);
-            (Scene::load(&path).map_err(in_scene)?, vec!["scene".to_string(), path.display().to_string()])
+            (
+                Scene::load(&path).map_err(in_scene)?,
+                vec!["capture".into(), "scene".into(), path.display().to_string()],
+            )
         };
         let scenarios: Vec<String> = match &batch.scenarios {
             Some(names) => names
@@ -240,18 +243,18 @@ mod tests {
             r#"{"out": "runs", "scenes": ["demo"], "scenarios": ["A", "C"], "ppd": [60, 10], "frame_step": [1, 4]}"#,
         )
         .unwrap();
-        let tasks = plan(&batch, Path::new("."), "ufcsr-capture").unwrap();
+        let tasks = plan(&batch, Path::new("."), "ufcsr").unwrap();
         assert_eq!(tasks.len(), 8);
         assert_eq!(tasks[0].out, PathBuf::from("runs/0-demo/A/ppd60-step1"));
         assert_eq!(tasks[7].out, PathBuf::from("runs/0-demo/C/ppd10-step4"));
         let line = tasks[1].shell_line();
-        assert!(line.starts_with("ufcsr-capture demo --scenario A --ppd 60 --frames 0-180/4"), "{line}");
+        assert!(line.starts_with("ufcsr capture demo --scenario A --ppd 60 --frames 0-180/4"), "{line}");
         assert!(line.contains("--count") && line.ends_with("--out runs/0-demo/A/ppd60-step4"), "{line}");
         assert_eq!(shell_quote("it's"), "'it'\\''s'");
         let unknown: std::result::Result<Batch, _> =
             serde_json::from_str(r#"{"out": "x", "scenes": [], "ppm": 3}"#);
         assert!(unknown.is_err());
         let missing = Batch { scenarios: Some(vec!["Z".into()]), ..batch };
-        assert!(plan(&missing, Path::new("."), "ufcsr-capture").is_err());
+        assert!(plan(&missing, Path::new("."), "ufcsr").is_err());
     }
 }

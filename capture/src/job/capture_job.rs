@@ -1,7 +1,7 @@
 //! The capture job: one scenario of a scene into an archive folder.
 //!
 //! An archive folder holds `manifest.json` (the contract with
-//! `ufcsr-analyze`), `pidt.png`, `parts.csv` and `tiles/fNNNN_EYE_rR_cC.png`.
+//! `ufcsr analyze`), `pidt.png`, `parts.csv` and `tiles/fNNNN_EYE_rR_cC.png`.
 //! [`capture`] runs in stages: [`prepare`] the palette, unwrap, labels and
 //! renderer once; render every frame with [`FrameCapture`] into a
 //! [`TileSink`] (the PNG [`EncoderPool`] here); then write the manifest

@@ -146,7 +146,7 @@ fn read_parts(dir: &Path) -> Result<Vec<ShardPart>> {
         let Some(recorded) = manifest.capture.as_ref().and_then(|capture| capture.shard.clone()) else {
             return Err(CaptureError::bad_file(
                 &path,
-                "has no capture.shard (an older ufcsr-capture, or edited): capture the shards again",
+                "has no capture.shard (an older ufcsr capture, or edited): capture the shards again",
             ));
         };
         if (recorded.index, recorded.count) != (shard.index, shard.count) {

@@ -229,8 +229,8 @@ fn check_countable(scene: &Scene, options: &CaptureOptions) -> Result<()> {
     scene.rig.check()?;
     if options.shard.is_some() {
         return Err(CaptureError::BadOptions(
-            "--count with --shard is not supported: capture the shards as PNG tiles, `ufcsr-capture assemble` \
-             them, then analyse (`ufcsr-analyze --shard` and `merge` split the counting)"
+            "--count with --shard is not supported: capture the shards as PNG tiles, `ufcsr assemble` \
+             them, then analyse (`ufcsr analyze --shard` and `merge` split the counting)"
                 .into(),
         ));
     }
@@ -249,7 +249,7 @@ pub const MAX_VIEWS_SCALE: u32 = 8;
 /// Captures one scenario and counts every tile straight from the readback
 /// buffer: writes the archive's `manifest.json`, `pidt.png` and `parts.csv`
 /// (no tiles) and the analyzer's results into `options.out/results`, the same
-/// `result.json` as writing the tiles and running `ufcsr-analyze --trim off`
+/// `result.json` as writing the tiles and running `ufcsr analyze --trim off`
 /// on them.
 pub fn capture_counted(
     device: &wgpu::Device,

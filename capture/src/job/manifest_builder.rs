@@ -1,4 +1,4 @@
-//! The archive's `manifest.json`: the contract with `ufcsr-analyze`.
+//! The archive's `manifest.json`: the contract with `ufcsr analyze`.
 //!
 //! Built from what the capture knows (rig, scenario, unwrap, per-frame
 //! records) and holding no timings, so the same capture always writes the

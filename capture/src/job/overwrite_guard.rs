@@ -1,7 +1,7 @@
 //! A capture never writes over one of its inputs (issue 19, item 2), nor
 //! through a link (item 1's rule, which the analyzer follows).
 //!
-//! `ufcsr-capture scene` into the folder that holds the scene's own
+//! `ufcsr capture scene` into the folder that holds the scene's own
 //! `vehicle.glb` used to replace the user's mesh with the unwrapped copy.
 //! Every command that writes (the captures, `study`, `inspect`, `views`)
 //! now lists the files it writes and the folders it owns in its output

@@ -1,7 +1,7 @@
 //! What the renderer draws: the vehicle's vertices, each carrying its
 //! triangle's chart in the palette, and the palette itself (canonical, made
 //! in the shader, or an external image). Shared by the renderer, its
-//! pipeline, the occlusion test and the GPU heatmap views.
+//! pipeline and the occlusion test.
 
 use crate::scene::mesh::Mesh;
 use crate::texture::uv_islands::Unwrapped;

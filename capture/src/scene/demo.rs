@@ -290,7 +290,7 @@ pub fn scenario_for_length(name: &str, length_m: f64) -> Option<Scenario> {
     Some(Scenario { name: name.to_string(), duration_s: 3.0, motion })
 }
 
-/// Traffic for the demo (`ufcsr-capture demo --traffic`): a second pickup,
+/// Traffic for the demo (`ufcsr capture demo --traffic`): a second pickup,
 /// the truck's twin, driving with the truck.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum DemoTraffic {

@@ -1,6 +1,5 @@
 //! One ray–triangle test for the whole capture: the exact measure's
-//! segment queries (`exact::bvh`, and `visibility.wgsl` step for
-//! step) and the eye-inside-the-vehicle check (`job::scene_checks`) must
+//! segment queries (`exact::bvh`) and the eye-inside-the-vehicle check (`job::scene_checks`) must
 //! agree on what a crossing is, so both read this Möller–Trumbore. It lives
 //! with the scene, which both depend on, so neither depends on the other.
 

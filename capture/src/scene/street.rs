@@ -140,15 +140,6 @@ fn street_scenario(options: &StreetOptions, end: Pose, pedestrian: DVec3) -> Res
     Ok(Scenario { name, duration_s: duration, motion })
 }
 
-/// SplitMix64: the other vehicles' positions must not change between runs.
-fn split_mix(state: &mut u64) -> u64 {
-    *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    let mut z = *state;
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
-}
-
 /// The other vehicles' positions: `others` of the seven not taken, drawn
 /// without replacement; an approaching vehicle's own lane is left free.
 pub fn other_positions(options: &StreetOptions) -> Result<Vec<u32>> {
@@ -170,10 +161,11 @@ pub fn other_positions(options: &StreetOptions) -> Result<Vec<u32>> {
             free.len()
         )));
     }
-    let mut state = options.seed;
+    // Seeded: the other vehicles' positions must not change between runs.
+    let mut random = ufcsr::SplitMix64(options.seed);
     let mut chosen = Vec::new();
     for _ in 0..options.others {
-        let i = (split_mix(&mut state) % free.len() as u64) as usize;
+        let i = random.below(free.len() as u64) as usize;
         chosen.push(free.remove(i));
     }
     chosen.sort_unstable();

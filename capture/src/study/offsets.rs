@@ -38,7 +38,8 @@
 
 use ufcsr::ErrorVsExact;
 
-use crate::exact::accuracy::{SplitMix, share_error, share_l1_pp};
+use crate::exact::accuracy::{share_error, share_l1_pp};
+use ufcsr::SplitMix64;
 
 /// One resolution's per-frame part values, indexed by frame number (every
 /// frame of the scenario), both eyes summed.
@@ -136,11 +137,11 @@ impl Known {
 }
 
 /// Adds `sign` × `count` centred resolution differences drawn in moving blocks from `centred`.
-fn add_blocks(sum: &mut [f64], centred: &[Vec<f64>], (count, sign): (usize, f64), random: &mut SplitMix) {
+fn add_blocks(sum: &mut [f64], centred: &[Vec<f64>], (count, sign): (usize, f64), random: &mut SplitMix64) {
     let block = ((centred.len() as f64).cbrt().ceil() as usize).clamp(1, centred.len());
     let mut left = count;
     while left > 0 {
-        let start = (random.next() % (centred.len() - block + 1) as u64) as usize;
+        let start = (random.next_u64() % (centred.len() - block + 1) as u64) as usize;
         let take = block.min(left);
         for d in &centred[start..start + take] {
             sum.iter_mut().zip(d).for_each(|(s, v)| *s += sign * v);
@@ -154,7 +155,7 @@ fn offset_draws(
     all: &[f64],
     known: &Known,
     (options, offset): (&IntervalOptions, u32),
-    random: &mut SplitMix,
+    random: &mut SplitMix64,
 ) -> OffsetDraws {
     let parts = all.len();
     let frames = offset_frames(options.step, offset, values.exact.len());
@@ -247,7 +248,7 @@ fn texel_sampling(
     all: &[f64],
     rendered: &[f64],
     relative_error: &[f64],
-    random: &mut SplitMix,
+    random: &mut SplitMix64,
 ) -> Option<TexelSampling> {
     if !relative_error.iter().any(|e| *e > 0.0) {
         return None;
@@ -301,7 +302,7 @@ pub fn setting_error(
     let rendered = sum_frames(&rendered?, &(0..own.len()).collect::<Vec<_>>(), parts.len());
     let exact_own = sum_frames(values.exact, &own, parts.len());
     let known = Known::new(values);
-    let mut random = SplitMix(options.seed);
+    let mut random = SplitMix64(options.seed);
     let offsets = options.step.max(1).min(frames.max(1) as u32);
     let draws: Vec<OffsetDraws> =
         (0..offsets).map(|o| offset_draws(values, &all, &known, (options, o), &mut random)).collect();

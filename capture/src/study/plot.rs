@@ -35,9 +35,15 @@ pub fn plot_png(study: &Study, path: &Path) -> Result<bool> {
     if !font_available() {
         return Ok(false);
     }
-    let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
-    draw(study, &root, ufcsr::PlotText::Drawn)
-        .map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))?;
+    let (width, height) = (900, 600);
+    let mut rgb = vec![0u8; width as usize * height as usize * 3];
+    {
+        let root = BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
+        draw(study, &root, ufcsr::PlotText::Drawn)
+            .and_then(|()| root.present().map_err(Into::into))
+            .map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))?;
+    }
+    ufcsr::write_rgb_png(path, [width, height], &rgb, png::Compression::Fast)?;
     Ok(true)
 }
 

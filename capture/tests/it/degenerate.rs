@@ -2,7 +2,7 @@
 //! of zero-area, needle, sliver, huge-aspect and overlapping triangles
 //! ([`degenerate_vehicle`]) is rendered at several poses and distances, and
 //! every non-background pixel must be a palette colour whose texel the PIdT
-//! labels (what `ufcsr-capture verify` checks on an archive).
+//! labels (what `ufcsr verify` checks on an archive).
 
 use ufcsr_capture::{Backend, CaptureOptions, Gpu, capture, degenerate_vehicle, verify};
 

@@ -1,6 +1,6 @@
 //! Renders a vehicle at ten poses through both eyes and counts its pixels:
 //! every non-background pixel must name a texel the PIdT labels (what
-//! `ufcsr-capture verify` checks on an archive). Shared by the degenerate-mesh
+//! `ufcsr verify` checks on an archive). Shared by the degenerate-mesh
 //! tests (`tests/it/degenerate.rs`) and the milk truck from `../shared`
 //! (`tests/external/milk_truck.rs`, included there by path).
 

@@ -10,9 +10,7 @@
 //! count (it would cover by construction).
 
 use ufcsr::{CandidateKind, PlacementOptions, placement};
-use ufcsr_capture::{
-    CaptureOptions, MeasureDevice, MeasureOptions, PlacementCandidates, Scene, measure_unobstructed,
-};
+use ufcsr_capture::{CaptureOptions, MeasureOptions, PlacementCandidates, Scene, measure_unobstructed};
 
 use crate::study_accuracy::gpu;
 
@@ -37,7 +35,6 @@ fn measured(sample: f64, seed: u64) -> Vec<(String, f64, Option<[f64; 2]>)> {
     let measure = MeasureOptions {
         sample,
         seed,
-        on: MeasureDevice::Cpu,
         placement: Some(PlacementCandidates::default()),
         ..MeasureOptions::default()
     };

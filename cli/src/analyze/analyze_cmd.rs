@@ -1,4 +1,4 @@
-//! The analysis, `ufcsr analyze ARCHIVE` (`ufcsr-analyze ARCHIVE`): options
+//! The analysis, `ufcsr analyze ARCHIVE` (`ufcsr analyze ARCHIVE`): options
 //! validated once, the archive checked for what the user meant
 //! ([`super::intent`]), the analysis with a progress bar, the result set
 //! written, and the summary (table or JSON) with every file written; `--each`

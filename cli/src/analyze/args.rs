@@ -54,13 +54,13 @@ pub struct AnalyzeArgs {
     pub out: Option<PathBuf>,
 
     /// Count only shard I of N (0 ≤ I < N) of the archive's eye-frames; merge the shards'
-    /// results with `ufcsr-analyze merge`. Default: from SLURM_ARRAY_TASK_ID/COUNT, or
+    /// results with `ufcsr merge`. Default: from SLURM_ARRAY_TASK_ID/COUNT, or
     /// JOB_COMPLETION_INDEX / AWS_BATCH_JOB_ARRAY_INDEX with UFCSR_SHARD_COUNT.
     #[arg(long, value_name = "I/N")]
     pub shard: Option<String>,
 
     /// The vehicle as unwrapped (glTF/GLB whose UVs address the palette), for heatmap.glb;
-    /// default: the archive's vehicle.glb (written by ufcsr-capture).
+    /// default: the archive's vehicle.glb (written by ufcsr capture).
     #[arg(long, value_name = "GLB")]
     pub mesh: Option<PathBuf>,
 
@@ -108,7 +108,7 @@ pub struct AnalyzeArgs {
 #[derive(Args)]
 pub struct ReportArgs {
     /// Result folders (or their result.json), at least two; or one and a placement folder (written
-    /// by `ufcsr-analyze placement`, holding placement.json), whose section the page adds.
+    /// by `ufcsr placement`, holding placement.json), whose section the page adds.
     #[arg(required = true, num_args = 2..)]
     pub results: Vec<PathBuf>,
 
@@ -149,7 +149,7 @@ pub struct MergeArgs {
 
 #[derive(Args)]
 pub struct HeatmapArgs {
-    /// A result folder written by ufcsr-analyze, or its result.json.
+    /// A result folder written by ufcsr analyze, or its result.json.
     pub result: PathBuf,
 
     /// Heatmap PNG to write.

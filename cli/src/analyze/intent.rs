@@ -44,7 +44,7 @@ pub fn misread_archive(archive: &Path) -> Option<String> {
         let shown = if parent.as_os_str().is_empty() { Path::new(".") } else { parent };
         return Some(format!(
             "{} has no {MANIFEST_FILE}, but the folder above it is an archive ({}): analyse that \
-             (ufcsr-analyze {}), or pass --no-manifest to count {} on its own",
+             (ufcsr analyze {}), or pass --no-manifest to count {} on its own",
             archive.display(),
             shown.join(MANIFEST_FILE).display(),
             shown.display(),

@@ -1,4 +1,4 @@
-//! `ufcsr manifest` (`ufcsr-analyze manifest`): the command line of
+//! `ufcsr manifest` (`ufcsr manifest`): the command line of
 //! describing externally rendered frames (Unity, Blender) as an archive
 //! ([`ufcsr::describe`]), beside the other commands and sharing their
 //! `--quiet`/`--json`/`-j` words and exit codes. Paths given here are relative to the working
@@ -14,7 +14,7 @@ use super::run::{Done, finish};
 use crate::console::{Completion, Console, shown};
 use crate::options::LabelArgs;
 
-/// Options of `ufcsr-analyze manifest`.
+/// Options of `ufcsr manifest`.
 #[derive(Args)]
 pub struct ManifestArgs {
     /// Folder of rendered frames: PNG tiles, or one image per eye and frame (searched recursively).
@@ -23,7 +23,7 @@ pub struct ManifestArgs {
     /// How file names give frame, eye, row and col: a regex with named groups, e.g.
     /// '(?P<eye>Left|Right)_(?P<frame>\d+)_(?P<row>\d+)_(?P<col>\d+)\.png$', or a template,
     /// e.g. '{eye}_{frame}_{row}_{col}.png' (`*` any text). Only frame is required: no eye is one
-    /// eye "left", no row/col an untiled image. Default: ufcsr-capture's f0012_left_r2_c3.png.
+    /// eye "left", no row/col an untiled image. Default: ufcsr capture's f0012_left_r2_c3.png.
     #[arg(long, value_name = "REGEX|TEMPLATE")]
     pub pattern: Option<String>,
 
@@ -56,7 +56,7 @@ pub struct ManifestArgs {
     pub frame_times: Option<PathBuf>,
 
     /// A tile missing from an eye-frame's grid showed only background and was not written (as
-    /// ufcsr-capture leaves such tiles out): list it as empty instead of refusing the folder.
+    /// ufcsr capture leaves such tiles out): list it as empty instead of refusing the folder.
     #[arg(long)]
     pub missing_tiles_empty: bool,
 

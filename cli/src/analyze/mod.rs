@@ -1,5 +1,5 @@
 //! The analyzer's commands: the analysis (`ufcsr analyze ARCHIVE`, or
-//! `ufcsr-analyze ARCHIVE`; [`analyze_cmd`], with what ARCHIVE means in
+//! `ufcsr analyze ARCHIVE`; [`analyze_cmd`], with what ARCHIVE means in
 //! [`intent`]), the commands on results (`merge`, `report`, `heatmap`,
 //! `palette`: [`run`]), describing external frames ([`manifest`]) and the
 //! placement search ([`placement`]); their grammar is in [`args`] and in each
@@ -29,33 +29,33 @@ pub enum AnalyzerCommand {
     /// Add up the results of every shard (`--shard I/N`) of one archive (their folders or
     /// result.json files): the same files as analysing it whole.
     ///
-    /// Example: `ufcsr-analyze merge shard-1/results shard-2/results --out whole/`
+    /// Example: `ufcsr merge shard-1/results shard-2/results --out whole/`
     Merge(MergeArgs),
     /// Write one report.html comparing several results (result folders or result.json files;
     /// the first is the reference for the ranking differences).
     ///
-    /// Example: `ufcsr-analyze report capA/results capB/results --label "scenario A" --label
+    /// Example: `ufcsr report capA/results capB/results --label "scenario A" --label
     /// "scenario B" --out compared/`
     Report(ReportArgs),
     /// Re-render the heatmap from a result (its folder or its result.json), without the archive.
     ///
-    /// Example: `ufcsr-analyze heatmap capA/results --out heat.png --scale log --max 40`
+    /// Example: `ufcsr heatmap capA/results --out heat.png --scale log --max 40`
     Heatmap(HeatmapArgs),
     /// Write the canonical Full Color Space Palette as a PNG (to texture a mesh in Unity/Blender).
     ///
-    /// Example: `ufcsr-analyze palette --size 4096 --out palette.png`
+    /// Example: `ufcsr palette --size 4096 --out palette.png`
     Palette(PaletteArgs),
     /// Describe a folder of frames rendered elsewhere (Unity, Blender) as an archive: write its
     /// manifest.json with tiles, palette, PIdT, legend and what fps, field of view, rig and frame
-    /// times are known, so `ufcsr-analyze DIR` needs no options (docs/archive-format.md).
+    /// times are known, so `ufcsr analyze DIR` needs no options (docs/archive-format.md).
     ///
-    /// Example: `ufcsr-analyze manifest dataset --pidt dataset/pidt.png --legend dataset/parts.csv
+    /// Example: `ufcsr manifest dataset --pidt dataset/pidt.png --legend dataset/parts.csv
     /// --palette-size 4096`
     Manifest(ManifestArgs),
     /// Where to put an eHMI: legible exposure per candidate placement and the best 1..k placements
     /// from the exact measure's placement-frames.csv (docs/placement.md).
     ///
-    /// Example: `ufcsr-analyze placement runs/A runs/B runs/C runs/D --k 3 --symmetric --out
+    /// Example: `ufcsr placement runs/A runs/B runs/C runs/D --k 3 --symmetric --out
     /// placement/`
     Placement(PlacementArgs),
 }

@@ -1,4 +1,4 @@
-//! `ufcsr placement` (`ufcsr-analyze placement`): the command line of the
+//! `ufcsr placement` (`ufcsr placement`): the command line of the
 //! eHMI placement search (docs/placement.md), a page of options of its own
 //! beside the other commands' (`args`), sharing their `--quiet`/`--json`/`-j`
 //! words.
@@ -12,10 +12,10 @@ use super::run::{Done, finish};
 use crate::choices::EyeRule;
 use crate::console::{Completion, Console};
 
-/// Options of `ufcsr-analyze placement`.
+/// Options of `ufcsr placement`.
 #[derive(Args)]
 pub struct PlacementArgs {
-    /// Result folders of `ufcsr-capture … --measure unobstructed --placement` (or archives, or their
+    /// Result folders of `ufcsr capture … --measure unobstructed --placement` (or archives, or their
     /// placement-frames.csv); several: scenarios or traffic conditions, scored by mean and worst case.
     #[arg(required = true)]
     results: Vec<PathBuf>,
@@ -88,7 +88,7 @@ pub struct PlacementArgs {
     symmetric: bool,
 
     /// The vehicle model the chosen placements are drawn on (placement.png); default: the first
-    /// archive's vehicle.glb (written by ufcsr-capture).
+    /// archive's vehicle.glb (written by ufcsr capture).
     #[arg(long, value_name = "GLB")]
     mesh: Option<PathBuf>,
 

@@ -1,6 +1,6 @@
-//! `ufcsr-analyze`: the analyzer's commands under the grammar they always
-//! had (`ufcsr-analyze ARCHIVE`, `ufcsr-analyze merge …`), the same commands
-//! as `ufcsr analyze ARCHIVE`, `ufcsr merge …` (see `ufcsr_cli`).
+//! `ufcsr-analyze`: an old name of `ufcsr`, kept for scripts and never
+//! shown: `ufcsr-analyze ARCHIVE` runs `ufcsr analyze ARCHIVE`,
+//! `ufcsr-analyze merge …` runs `ufcsr merge …` (see `ufcsr_cli`).
 
 #![forbid(unsafe_code)]
 

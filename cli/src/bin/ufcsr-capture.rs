@@ -1,6 +1,6 @@
-//! `ufcsr-capture`: the capture's commands under the grammar they always had
-//! (`ufcsr-capture demo …`, `ufcsr-capture study …`), the same commands as
-//! `ufcsr capture demo …`, `ufcsr study …` (see `ufcsr_cli`).
+//! `ufcsr-capture`: an old name of `ufcsr`, kept for scripts and never
+//! shown: `ufcsr-capture demo …` runs `ufcsr capture demo …`,
+//! `ufcsr-capture study …` runs `ufcsr study …` (see `ufcsr_cli`).
 
 #![forbid(unsafe_code)]
 

@@ -14,7 +14,7 @@ use ufcsr_capture::{
     Summary, parse_palette_size,
 };
 
-use crate::choices::{Backend, Compression, Dedupe, MeasureDevice, TileFilter};
+use crate::choices::{Backend, Compression, Dedupe, TileFilter};
 use crate::console::{Console, say};
 use crate::progress::Bar;
 
@@ -97,7 +97,7 @@ pub struct CaptureArgs {
     backend: Backend,
     /// Count each rendered tile straight from the GPU readback with the analyzer (no PNGs):
     /// writes the manifest, PIdT, legend and the analyzer's results/ (same result.json as
-    /// capturing PNGs and running `ufcsr-analyze --trim off`).
+    /// capturing PNGs and running `ufcsr analyze --trim off`).
     #[arg(long)]
     count: bool,
     /// With --count: what one count means, image (once per tile), frame (once per eye-frame) or
@@ -122,13 +122,9 @@ pub struct CaptureArgs {
     /// counts when any sample is visible; the solid angle sums them). 1: one sample per texel piece.
     #[arg(long, default_value_t = ufcsr_capture::DEFAULT_TEXEL_SAMPLES, requires = "measure")]
     texel_samples: u32,
-    /// Where the unobstructed measure runs: cpu (every core; the reference) or gpu (wgpu compute
-    /// in f64; needs SHADER_F64, which Mesa's lavapipe and data-centre GPUs have).
-    #[arg(long, value_enum, default_value_t = MeasureDevice::Cpu, requires = "measure")]
-    measure_on: MeasureDevice,
     /// With --measure unobstructed: also measure every part as a candidate eHMI placement (and,
     /// with --display, display patches): writes results/placement-frames.csv for
-    /// `ufcsr-analyze placement` (docs/placement.md). Runs on the CPU; about doubles the ray casts.
+    /// `ufcsr placement` (docs/placement.md). Runs on the CPU; about doubles the ray casts.
     #[arg(long, requires = "measure")]
     placement: bool,
     /// With --placement: candidate display patches of this size, width x height in metres (e.g.
@@ -139,7 +135,7 @@ pub struct CaptureArgs {
     #[arg(long, value_name = "M", default_value_t = ufcsr_capture::DEFAULT_PATCH_SPACING_M, requires = "display")]
     patch_spacing: f64,
     /// Render only shard I of N (0 ≤ I < N) of the selected frames into --out, with the other
-    /// shards; then `ufcsr-capture assemble OUT`. `auto`: from the job array (SLURM_ARRAY_TASK_ID
+    /// shards; then `ufcsr assemble OUT`. `auto`: from the job array (SLURM_ARRAY_TASK_ID
     /// and _COUNT, or JOB_COMPLETION_INDEX / AWS_BATCH_JOB_ARRAY_INDEX with UFCSR_SHARD_COUNT).
     #[arg(long, value_name = "I/N|auto")]
     shard: Option<String>,
@@ -227,7 +223,7 @@ pub fn run_capture(
             say!(
                 console,
                 "  shard {shard}: wrote its part of the manifest; once every shard has finished, run \
-                 `ufcsr-capture assemble {}`",
+                 `ufcsr assemble {}`",
                 summary.out.display()
             );
         }
@@ -351,7 +347,6 @@ fn run_unobstructed(
                 sample,
                 seed: args.seed,
                 texel_samples: args.texel_samples,
-                on: args.measure_on.into(),
                 placement,
             },
         )

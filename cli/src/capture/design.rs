@@ -1,4 +1,4 @@
-//! `ufcsr design plan|run|merge DESIGN` (also `ufcsr-capture design …`): the
+//! `ufcsr design plan|run|merge DESIGN` (also `ufcsr design …`): the
 //! factorial study of issue 36. `plan` prints one independent task per
 //! line (for `xargs -P`, or line I of a Slurm array), `run` measures one
 //! task (`--task I`) or every task in one process, skipping complete ones,

@@ -1,5 +1,5 @@
 //! The capture's commands: the captures (`ufcsr capture demo|scene|unity`,
-//! or `ufcsr-capture demo|scene|unity`; [`captures`], with their `--count`
+//! or `ufcsr capture demo|scene|unity`; [`captures`], with their `--count`
 //! and `--measure` variants), the resolution study ([`study`]), the observer
 //! study ([`observers`]), the factorial study ([`design`]) and the tools around a capture ([`tools`]: inspect,
 //! views, batch plan, assemble, verify), and the private runtime folder Mesa
@@ -18,7 +18,7 @@ use std::path::PathBuf;
 use clap::Subcommand;
 use ufcsr_capture::{Scene, ViewsOptions};
 
-use crate::choices::{Backend, BodyType, DemoTraffic};
+use crate::choices::{BodyType, DemoTraffic};
 use crate::console::{Completion, Console};
 use crate::options::Global;
 
@@ -34,7 +34,7 @@ use study::StudyArgs;
 pub enum CaptureCommand {
     /// The built-in demo: pickup truck, intersection, scenarios A–D.
     ///
-    /// Example: `ufcsr-capture demo --scenario A --preview --out capA` (a quick look; drop
+    /// Example: `ufcsr capture demo --scenario A --preview --out capA` (a quick look; drop
     /// --preview for the paper's 60 px/° and every frame)
     Demo {
         /// A second pickup in traffic: alongside the truck in the lane on the pedestrian's side
@@ -50,7 +50,7 @@ pub enum CaptureCommand {
     },
     /// A scene file (see capture/README.md).
     ///
-    /// Example: `ufcsr-capture scene fixtures/scenes/milk-truck.json --palette-size 1024 --ppd 10 --out
+    /// Example: `ufcsr capture scene fixtures/scenes/milk-truck.json --palette-size 1024 --ppd 10 --out
     /// truck`
     Scene {
         /// The scene JSON file.
@@ -60,7 +60,7 @@ pub enum CaptureCommand {
     },
     /// Replay a Unity export (unity-intersection.json) with the demo truck.
     ///
-    /// Example: `ufcsr-capture unity unity-intersection.json --scenario all --ppd 10 --out unity/`
+    /// Example: `ufcsr capture unity unity-intersection.json --scenario all --ppd 10 --out unity/`
     Unity {
         /// The Unity scenario export.
         file: PathBuf,
@@ -75,16 +75,16 @@ pub enum CaptureToolCommand {
     /// Join the parts the shards of a capture (`--shard I/N`) wrote into the archive's
     /// manifest.json, once all have finished (checks that every shard is there, once).
     ///
-    /// Example: `ufcsr-capture assemble capA` (after `ufcsr-capture demo --shard 0/2 --out capA` and
+    /// Example: `ufcsr assemble capA` (after `ufcsr capture demo --shard 0/2 --out capA` and
     /// `--shard 1/2`)
     Assemble {
         /// The archive folder the shards wrote into (their --out).
         archive: PathBuf,
     },
     /// Plan a batch (batch.json: scenes × scenarios × ppd × frame steps): prints one
-    /// `ufcsr-capture ... --count` command per task, task i on line i (for job arrays, xargs -P).
+    /// `ufcsr capture ... --count` command per task, task i on line i (for job arrays, xargs -P).
     ///
-    /// Example: `ufcsr-capture batch plan batch.json | xargs -P 4 -I{} sh -c '{}'`
+    /// Example: `ufcsr batch plan batch.json | xargs -P 4 -I{} sh -c '{}'`
     Batch {
         #[command(subcommand)]
         action: BatchAction,
@@ -92,7 +92,7 @@ pub enum CaptureToolCommand {
     /// Capture and count one scenario at several ppd and frame steps, compare each with the
     /// finest, and plot error against run time (writes study.csv, study.json, study.svg/.png).
     ///
-    /// Example: `ufcsr-capture study demo --scenario A --ppd 40,20,10 --frame-step 1,2,4 --out
+    /// Example: `ufcsr study demo --scenario A --ppd 40,20,10 --frame-step 1,2,4 --out
     /// study-A`
     Study(StudyArgs),
     /// Capture one scenario from pedestrians drawn from a declared population (kerb or area,
@@ -101,7 +101,7 @@ pub enum CaptureToolCommand {
     /// (writes observers.json, observers.csv, observer-parts.csv); with --display WxH, the same
     /// per candidate display (and part) for its legible seconds (observer-displays.csv).
     ///
-    /// Example: `ufcsr-capture observers demo --scenario A --kerb=-6.5,-4.5:-4.5,-6.5 --observers 16
+    /// Example: `ufcsr observers demo --scenario A --kerb=-6.5,-4.5:-4.5,-6.5 --observers 16
     /// --seed 1 --out observers-A`
     Observers(ObserversArgs),
     /// The factorial study: plan a design file (vehicles × scenarios × traffic × pedestrians)
@@ -117,7 +117,7 @@ pub enum CaptureToolCommand {
     /// Check an archive without the analyzer: tile pixels are background or
     /// palette colours the PIdT labels.
     ///
-    /// Example: `ufcsr-capture verify capA`
+    /// Example: `ufcsr verify capA`
     Verify {
         /// The archive folder.
         archive: PathBuf,
@@ -125,7 +125,7 @@ pub enum CaptureToolCommand {
     /// Look at a vehicle before capturing: size and origin after `axes`,
     /// triangle quality, UVs, parts and their areas, and pictures of it.
     ///
-    /// Example: `ufcsr-capture inspect fixtures/scenes/milk-truck.json --out truck-inspect`
+    /// Example: `ufcsr inspect fixtures/scenes/milk-truck.json --out truck-inspect`
     Inspect {
         /// A scene file (.json) or a mesh (.glb, .gltf, .obj; default axes).
         input: PathBuf,
@@ -136,12 +136,13 @@ pub enum CaptureToolCommand {
         #[arg(long)]
         pixels_per_metre: Option<f64>,
     },
-    /// Draw a result's eight heatmap views with the GPU renderer (the analyzer draws them on
-    /// the CPU): views/*.png and views.png, from RESULTS/result.json and heatmap.glb.
+    /// Redraw a result's eight heatmap views (another scale, the count, another model):
+    /// views/*.png, views.png and views.pdf, from RESULTS/result.json and heatmap.glb, drawn as
+    /// the analysis draws them.
     ///
-    /// Example: `ufcsr-capture views capA/results --views-scale 2`
+    /// Example: `ufcsr views capA/results --views-scale 2`
     Views {
-        /// A result folder written by ufcsr-analyze (or --count).
+        /// A result folder written by `ufcsr analyze` (or --count).
         results: PathBuf,
         /// The vehicle model with its palette UVs (default RESULTS/heatmap.glb).
         #[arg(long)]
@@ -157,9 +158,6 @@ pub enum CaptureToolCommand {
         /// default where the result kept texel-area.f32; the count otherwise).
         #[arg(long)]
         count: bool,
-        /// GPU backend.
-        #[arg(long, value_enum, default_value_t = Backend::Auto)]
-        backend: Backend,
     },
 }
 
@@ -167,11 +165,11 @@ pub enum CaptureToolCommand {
 pub enum BatchAction {
     /// Print the tasks' commands, one per line.
     ///
-    /// Example: `ufcsr-capture batch plan batch.json --program /opt/ufcsr/bin/ufcsr-capture`
+    /// Example: `ufcsr batch plan batch.json --program /opt/ufcsr/bin/ufcsr`
     Plan {
         /// The batch file.
         batch: PathBuf,
-        /// The ufcsr-capture the commands call (default: the ufcsr-capture beside this program).
+        /// The ufcsr capture the commands call (default: the ufcsr capture beside this program).
         #[arg(long)]
         program: Option<String>,
     },
@@ -247,11 +245,9 @@ pub fn run_tool(command: CaptureToolCommand, console: &Console) -> anyhow::Resul
         CaptureToolCommand::Inspect { input, out, pixels_per_metre } => {
             tools::run_inspect(input, out, pixels_per_metre, console)
         }
-        CaptureToolCommand::Views { results, model, out, views_scale, count, backend } => tools::run_views(
-            ViewsOptions { results, model, out, views_scale, count },
-            backend.into(),
-            console,
-        ),
+        CaptureToolCommand::Views { results, model, out, views_scale, count } => {
+            tools::run_views(ViewsOptions { results, model, out, views_scale, count }, console)
+        }
     }?;
     Ok(Completion::Done)
 }

@@ -1,4 +1,4 @@
-//! `ufcsr observers` (`ufcsr-capture observers`): its arguments and [`run_observers`], which
+//! `ufcsr observers` (`ufcsr observers`): its arguments and [`run_observers`], which
 //! draws pedestrians from a declared population (or, with `--sampling
 //! grid`, the old grid), captures a scenario from each and prints each
 //! part's population mean, its 95 % interval and the spread over people;

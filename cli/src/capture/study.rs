@@ -1,4 +1,4 @@
-//! `ufcsr study` (`ufcsr-capture study`): its arguments and [`run_study`], which runs the
+//! `ufcsr study` (`ufcsr study`): its arguments and [`run_study`], which runs the
 //! library's resolution study and prints its table.
 
 use std::path::PathBuf;

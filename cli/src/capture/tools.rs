@@ -1,10 +1,10 @@
 //! The subcommands around a capture: `inspect` a vehicle before capturing,
-//! draw a result's heatmap `views` on the GPU, `batch plan` the commands of a
+//! redraw a result's heatmap `views`, `batch plan` the commands of a
 //! batch, `assemble` the shards of a capture and `verify` an archive.
 
 use std::path::{Path, PathBuf};
 
-use ufcsr_capture::{Backend, Gpu, InspectOptions, ViewsOptions};
+use ufcsr_capture::{InspectOptions, ViewsOptions};
 
 use crate::console::{Completion, Console, say};
 
@@ -22,11 +22,10 @@ pub fn run_inspect(
     Ok(())
 }
 
-/// `views`: a result's eight heatmap views, drawn by the GPU renderer.
-pub fn run_views(options: ViewsOptions, backend: Backend, console: &Console) -> anyhow::Result<()> {
-    let gpu = Gpu::create(backend)?;
-    let written = ufcsr_capture::views_from_results(&gpu.device, &gpu.queue, &options)?;
-    say!(console, "views ({}): {}", gpu.describe(), written.contact_sheet.display());
+/// `views`: a result's eight heatmap views, redrawn as the analysis draws them.
+pub fn run_views(options: ViewsOptions, console: &Console) -> anyhow::Result<()> {
+    let written = ufcsr_capture::views_from_results(&options)?;
+    say!(console, "views: {}", written.contact_sheet.display());
     console.wrote(&written.contact_sheet);
     console.wrote(&written.pdf);
     for view in &written.views {
@@ -41,11 +40,8 @@ pub fn run_batch_plan(batch: &Path, program: Option<String>, console: &Console) 
     let plan = ufcsr_capture::load_batch(batch)?;
     let program = match program {
         Some(program) => program,
-        // The tasks are `ufcsr-capture` commands, whichever front door plans them.
-        None => std::env::current_exe()?
-            .with_file_name(format!("ufcsr-capture{}", std::env::consts::EXE_SUFFIX))
-            .display()
-            .to_string(),
+        // The tasks are `ufcsr capture …` commands of this very program.
+        None => std::env::current_exe()?.display().to_string(),
     };
     let base = batch.parent().unwrap_or(Path::new("."));
     let tasks = ufcsr_capture::plan_batch(&plan, base, &program)?;

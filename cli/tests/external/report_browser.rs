@@ -4,7 +4,7 @@
 //! the screenshot must not be blank. A page with a missing image must fail
 //! the same probe, so the check bites. Ignored (with the reason) where
 //! Chromium is not installed; a failure when `CI` is set (`.ci/run` installs it).
-//! The comparison page of several results (`ufcsr-analyze report`) and a
+//! The comparison page of several results (`ufcsr report`) and a
 //! page with the placement section and its picture are checked the same way.
 
 use std::path::{Path, PathBuf};

@@ -1,5 +1,5 @@
 //! Real Slurm job arrays on a throwaway local cluster: a batch
-//! (`scripts/slurm/submit-batch` runs each task of `ufcsr-capture batch plan`
+//! (`scripts/slurm/submit-batch` runs each task of `ufcsr batch plan`
 //! as one array task; each result.json must equal running the command
 //! directly), and a sharded capture (`scripts/slurm/submit-capture`: a capture
 //! array, an afterok assemble, an analysis array and an afterok merge; the
@@ -78,7 +78,9 @@ pub fn a_sharded_capture_assembles_and_analyses_through_slurm_equal_to_one_proce
         return missing(NEED_SLURM);
     }
     let Some(analyzer) = analyzer() else {
-        return missing("ufcsr-analyze beside ufcsr-capture (cargo test --workspace builds it)");
+        return missing(
+            "ufcsr-analyze beside ufcsr-capture (cargo test --workspace --all-features builds it)",
+        );
     };
     let (_one, dir, cluster) = start_cluster(true, NEED_SLURM).expect("Slurm was found just now");
     let capture = env!("CARGO_BIN_EXE_ufcsr-capture");

@@ -59,7 +59,7 @@ fn shards_assemble_into_the_archive_one_process_writes() {
     std::fs::write(sharded.join("tiles/f0006_left_r0_c0.png"), b"stale").unwrap();
     for index in [2, 0, 3, 1] {
         let said = succeed(capture(&sharded, &["--shard", &format!("{index}/4")]));
-        assert!(said.contains("ufcsr-capture assemble"), "the shard says what comes next: {said}");
+        assert!(said.contains("ufcsr assemble"), "the shard says what comes next: {said}");
     }
     assert!(!sharded.join("manifest.json").exists(), "a shard left the old whole-archive manifest");
     let said = succeed(assemble(&sharded));

@@ -33,7 +33,8 @@ fn every_subcommand_has_help_and_refuses_unknown_options_with_exit_2() {
         let help = run(&[prefix.clone(), vec!["--help"]].concat());
         let shown = text(&help.stdout);
         assert_eq!(help.status.code(), Some(0), "{sub:?} --help");
-        assert!(shown.contains("Usage: ufcsr-analyze"), "{sub:?}: {shown}");
+        // The old name runs `ufcsr`'s command and never shows itself.
+        assert!(shown.contains("Usage: ufcsr") && !shown.contains("ufcsr-analyze"), "{sub:?}: {shown}");
         if WORKING.contains(&sub) {
             for word in
                 ["--quiet", "--json", "-j, --threads", "Exit status: 0 done; 1 done, but with failures"]
@@ -47,7 +48,7 @@ fn every_subcommand_has_help_and_refuses_unknown_options_with_exit_2() {
     }
     let version = run(&["--version"]);
     assert_eq!(version.status.code(), Some(0));
-    assert!(text(&version.stdout).starts_with(concat!("ufcsr-analyze ", env!("CARGO_PKG_VERSION"))));
+    assert!(text(&version.stdout).starts_with(concat!("ufcsr analyze ", env!("CARGO_PKG_VERSION"))));
 }
 
 /// The known archive analysed into `dir/NAME`; returns that folder.
@@ -167,16 +168,16 @@ fn completions_for_every_shell_and_man_pages_are_generated() {
         let output = run(&["completions", shell]);
         assert_eq!(output.status.code(), Some(0), "{shell}");
         let script = text(&output.stdout);
-        assert!(script.contains("ufcsr-analyze") && script.contains("heatmap"), "{shell}: {script}");
+        assert!(script.contains("ufcsr") && script.contains("heatmap"), "{shell}: {script}");
     }
     assert_eq!(run(&["completions", "tcsh"]).status.code(), Some(2));
     let page = run(&["man"]);
     assert_eq!(page.status.code(), Some(0));
-    assert!(text(&page.stdout).contains(".TH ufcsr-analyze"), "{}", text(&page.stdout));
+    assert!(text(&page.stdout).contains(".TH ufcsr"), "{}", text(&page.stdout));
     let dir = tempfile::tempdir().unwrap();
     let pages = run(&[OsStr::new("man"), "--out".as_ref(), dir.path().as_os_str()]);
     assert_eq!(pages.status.code(), Some(0), "{}", text(&pages.stderr));
-    for name in ["ufcsr-analyze", "ufcsr-analyze-heatmap", "ufcsr-analyze-merge", "ufcsr-analyze-report"] {
+    for name in ["ufcsr", "ufcsr-heatmap", "ufcsr-merge", "ufcsr-report"] {
         let page = std::fs::read_to_string(dir.path().join(format!("{name}.1"))).unwrap();
         assert!(page.contains(&format!(".TH {name}")), "{name}.1");
     }
@@ -184,7 +185,7 @@ fn completions_for_every_shell_and_man_pages_are_generated() {
 
 #[test]
 fn completions_and_man_pages_into_a_reader_that_stops_early_end_quietly() {
-    // `ufcsr-analyze completions bash | head -1`: stdout closes after the
+    // `ufcsr completions bash | head -1`: stdout closes after the
     // first line; the program must not panic on the broken pipe.
     for args in [&["completions", "bash"][..], &["man"]] {
         let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))

@@ -1,4 +1,4 @@
-//! `ufcsr-analyze report`: the comparison page of two results of the bundled
+//! `ufcsr report`: the comparison page of two results of the bundled
 //! example (per image and per frame) names both, ranks the second against the
 //! first, draws both heatmaps in angular area on one scale (the count when a
 //! result lacks `texel-area.f32`), and refuses a single result. Its rendering in a real browser is

@@ -39,9 +39,9 @@ fn the_capture_exits_0_when_done_1_with_failures_and_2_when_nothing_was_done() {
 }
 
 #[test]
-fn ufcsr_and_ufcsr_capture_print_their_version() {
+fn ufcsr_and_its_old_name_print_ufcsr_and_the_version() {
     for (program, name) in
-        [(env!("CARGO_BIN_EXE_ufcsr"), "ufcsr"), (env!("CARGO_BIN_EXE_ufcsr-capture"), "ufcsr-capture")]
+        [(env!("CARGO_BIN_EXE_ufcsr"), "ufcsr"), (env!("CARGO_BIN_EXE_ufcsr-capture"), "ufcsr")]
     {
         let output = Command::new(program).arg("--version").output().unwrap();
         assert!(output.status.success(), "{name} --version");
@@ -134,11 +134,11 @@ fn completions_and_man_pages_are_generated_from_the_command_line() {
     let dir = tempfile::tempdir().unwrap();
     let completions = capture(dir.path(), &["completions", "bash"]);
     let script = String::from_utf8_lossy(&completions.stdout);
-    assert!(completions.status.success() && script.contains("ufcsr-capture") && script.contains("observers"));
+    assert!(completions.status.success() && script.contains("ufcsr") && script.contains("observers"));
     let pages = dir.path().join("man");
     let man = capture(dir.path(), &["man", "--out", pages.to_str().unwrap()]);
     assert!(man.status.success(), "{}", String::from_utf8_lossy(&man.stderr));
-    for page in ["ufcsr-capture.1", "ufcsr-capture-observers.1", "ufcsr-capture-study.1"] {
+    for page in ["ufcsr.1", "ufcsr-observers.1", "ufcsr-study.1"] {
         let roff = std::fs::read_to_string(pages.join(page)).unwrap();
         assert!(roff.contains(".TH"), "{page}");
     }

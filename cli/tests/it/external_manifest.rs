@@ -1,4 +1,4 @@
-//! `ufcsr-analyze manifest`: a folder of frames rendered outside ufcsr
+//! `ufcsr manifest`: a folder of frames rendered outside ufcsr
 //! (Unity, Blender) becomes an archive the analyzer reads alone. Known
 //! answers: the bundled capture renamed Unity-style (tiled) or stitched into
 //! one image per eye and frame (untiled) gives the capture's own totals and
@@ -22,7 +22,7 @@ pub(crate) fn example() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example")
 }
 
-/// `ufcsr-analyze manifest ARGS` run in `cwd`.
+/// `ufcsr manifest ARGS` run in `cwd`.
 pub(crate) fn manifest(cwd: &Path, args: &[&str]) -> Output {
     analyzer().current_dir(cwd).arg("manifest").args(args).output().unwrap()
 }
@@ -105,7 +105,7 @@ fn unity_named_tiles_renamed_from_a_capture_give_the_captures_totals() {
     assert_eq!(summary["grid_columns_rows"], serde_json::json!([5, 5]));
     let written = read_json(&unity.join("manifest.json"));
     Schema::load(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../docs/schemas/manifest.schema.json"))
-        .assert_valid(&written, "the manifest of ufcsr-analyze manifest");
+        .assert_valid(&written, "the manifest of ufcsr manifest");
     assert_eq!(written["pidt"], "pidt.png", "relative to the manifest, not the working directory");
 
     let (ours, capture) = (dir.path().join("ours"), dir.path().join("capture"));

@@ -115,7 +115,7 @@ fn a_small_study_compares_every_setting_with_the_finest() {
         .arg(&out)
         .stdout(std::process::Stdio::null())
         .status()
-        .expect("run ufcsr-capture study");
+        .expect("run ufcsr study");
     assert!(status.success());
     let study: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("study.json")).unwrap()).unwrap();

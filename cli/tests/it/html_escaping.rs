@@ -62,7 +62,7 @@ fn copy_folder(from: &Path, to: &Path) {
     }
 }
 
-/// Runs `ufcsr-analyze args`; `Some(page)` when it wrote `page`, `None` when
+/// Runs `ufcsr analyze args`; `Some(page)` when it wrote `page`, `None` when
 /// it refused the file named `file` (exit 2, the file named on stderr).
 fn page_or_refusal(args: &[&Path], page: &Path, file: &str, what: &str) -> Option<String> {
     let output = common::analyzer().args(args).output().unwrap();

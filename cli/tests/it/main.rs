@@ -98,4 +98,4 @@ mod stale_outputs;
 mod traffic;
 mod umbrella;
 mod unobstructed;
-mod views_gpu;
+mod views;

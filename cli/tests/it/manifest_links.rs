@@ -1,4 +1,4 @@
-//! Issue 34: `ufcsr-analyze manifest` never lists a tile the analysis would
+//! Issue 34: `ufcsr manifest` never lists a tile the analysis would
 //! refuse. A frame that is a link leading out of the manifest's folder used
 //! to be listed (the analysis then refused the archive, naming the link);
 //! now the manifest command refuses it, naming the link and where it leads,

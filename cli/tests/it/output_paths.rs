@@ -208,7 +208,7 @@ fn placement_views_through_a_link_are_written_into_a_real_folder() {
     assert!(std::fs::read_dir(&views).unwrap().count() > 0, "no views written");
 }
 
-/// `ufcsr-capture views RESULTS` writes `RESULTS/views/*.png` and
+/// `ufcsr views RESULTS` writes `RESULTS/views/*.png` and
 /// `RESULTS/views.png`: a link planted at `RESULTS/views` (to a folder
 /// elsewhere) is replaced by a real folder, never written through; a link at
 /// `views.png` (to a file elsewhere) is refused and left as it was.

@@ -1,8 +1,8 @@
-//! The chosen placements shown (issue 18): `ufcsr-analyze placement` draws
+//! The chosen placements shown (issue 18): `ufcsr placement` draws
 //! the best sets on the archive's vehicle (`placement.png`,
 //! `placement-views/`), a result's `report.html` shows the placement section
 //! when a placement folder lies beside the result (and says so when it
-//! cannot be read), and `ufcsr-analyze report` adds it when given a
+//! cannot be read), and `ufcsr report` adds it when given a
 //! placement folder. Known answers: on the bundled example's truck, `hood`
 //! is legible 7 of 10 frames and `grill` the other 3, so the best one is
 //! the hood alone (one colour) and the best two cover every frame (two).

@@ -1,4 +1,4 @@
-//! Round trip: `ufcsr-capture demo` at a low `--ppd` with a few frames, then
+//! Round trip: `ufcsr capture demo` at a low `--ppd` with a few frames, then
 //! checks of the archive — our own (no stray pixel, every pixel's texel
 //! labelled, hidden frames contribute nothing, frontal parts outrank rear
 //! parts, same bytes on every run) and the analyzer's (`ufcsr::analyze`, the

@@ -1,4 +1,4 @@
-//! `ufcsr-analyze manifest` on Unity Perception's SOLO output as it comes:
+//! `ufcsr manifest` on Unity Perception's SOLO output as it comes:
 //! a generated SOLO folder (the bundled capture's eye images as two RGB
 //! cameras' captures, with segmentation and depth files beside them and
 //! frame files carrying Perception's 32-bit matrix, poses and timestamps)

@@ -1,5 +1,5 @@
 //! `ufcsr COMMAND ...` is the same command as the program's own (`ufcsr
-//! batch plan` is `ufcsr-capture batch plan`), and refuses what is none.
+//! batch plan` is `ufcsr batch plan`), and refuses what is none.
 
 use std::path::Path;
 use std::process::Command;

@@ -1,5 +1,5 @@
 //! The comparison page: one `report.html` for several results (scenarios,
-//! resolutions, dedupe rules) side by side — `ufcsr-analyze report A B ...`.
+//! resolutions, dedupe rules) side by side — `ufcsr report A B ...`.
 //!
 //! Settings side by side; first the measure docs/science.md says to quote —
 //! each part's angular area and exposure in every result, ranked by the
@@ -65,7 +65,7 @@ fn label_of(json: &Path) -> String {
     }
 }
 
-/// How the comparison page is written (`ufcsr-analyze report`).
+/// How the comparison page is written (`ufcsr report`).
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct ComparisonOptions {
     /// Column labels, one per result in order (`--label`); results beyond
@@ -98,7 +98,7 @@ pub struct WrittenComparison {
 /// comparison). Returns the page's path and every file written.
 ///
 /// A path that is a placement folder (holding `placement.json`, written by
-/// `ufcsr-analyze placement`) or that file adds the placement section
+/// `ufcsr placement`) or that file adds the placement section
 /// ([`crate::output::html::placement_section`]) with its picture copied
 /// beside the page; then one result is enough.
 pub fn write_comparison_with(

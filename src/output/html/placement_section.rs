@@ -1,12 +1,12 @@
 //! The pages' placement section ("Where should the eHMI go?"), from a
-//! `placement.json` written by `ufcsr-analyze placement`: the legibility
+//! `placement.json` written by `ufcsr placement`: the legibility
 //! rule with the source of each default, the best sets of at most k
 //! physical displays with their interval, P(best) and runners-up (members
 //! that add no legible time marked), the thresholds whose one-step change
 //! changes a best set, the candidates ranked by legible seconds, and the
 //! picture of the chosen placements on the vehicle (`placement.png`). The
 //! report of one result shows it when a placement folder lies beside the
-//! result (`placement/` in the result folder); `ufcsr-analyze report` when
+//! result (`placement/` in the result folder); `ufcsr report` when
 //! it is given a placement folder.
 //!
 //! The section reads placement.json through its type
@@ -73,7 +73,7 @@ pub fn read_placement(dir: &Path) -> Result<PlacementDocument> {
             &path,
             format!(
                 "not a placement result of this version (schema {:?}, expected {PLACEMENT_SCHEMA:?}): run \
-                 `ufcsr-analyze placement` again",
+                 `ufcsr placement` again",
                 version.schema.unwrap_or_default()
             ),
         ));
@@ -91,7 +91,7 @@ pub fn section(page: &mut String, placement: &PlacementOnPage) {
     let document = &placement.document;
     let _ = writeln!(
         page,
-        "<h2>Where should the eHMI go? ({})</h2>\n<p>From <code>placement.json</code> (<code>ufcsr-analyze \
+        "<h2>Where should the eHMI go? ({})</h2>\n<p>From <code>placement.json</code> (<code>ufcsr analyze \
          placement</code>, docs/placement.md) over {} archive(s): a candidate is <em>legible</em> in an eye-frame \
          when its characters pass every threshold below, in a run of at least the dwell; seconds are means over \
          the archives; <strong>k counts physical displays</strong> (a symmetric pair is two).</p>",

@@ -395,8 +395,8 @@ fn measures(page: &mut String, inputs: &PageInputs) {
         let _ = writeln!(
             page,
             "<div class=\"warn\">No angular area or exposure: the archive has no manifest with the eyes' \
-             projection and frame rate (capture with <code>ufcsr-capture</code>, or write one with \
-             <code>ufcsr-analyze manifest</code>). Only the paper-compatible count below is available.</div>"
+             projection and frame rate (capture with <code>ufcsr capture</code>, or write one with \
+             <code>ufcsr manifest</code>). Only the paper-compatible count below is available.</div>"
         );
         return;
     };

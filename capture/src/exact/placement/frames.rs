@@ -158,7 +158,7 @@ impl<W: std::io::Write> std::io::Write for LimitedWriter<W> {
         let size = bytes.len() as u64;
         if size > self.left {
             return Err(std::io::Error::other(format!(
-                "the placement table would be larger than {} MiB, the most `ufcsr-analyze placement` \
+                "the placement table would be larger than {} MiB, the most `ufcsr placement` \
                  reads: measure fewer frames (--frames 0-END/STEP), larger or fewer displays (--display, \
                  --patch-spacing) or a sample (--sample)",
                 ufcsr::PLACEMENT_TABLE_LIMIT >> 20

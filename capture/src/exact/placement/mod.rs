@@ -2,7 +2,7 @@
 //! per candidate and eye-frame, the visible solid angle, the visible share
 //! of its area, the mean angle between line of sight and surface normal and
 //! the visible angular height, written as `results/placement-frames.csv`
-//! for `ufcsr-analyze placement` (`docs/placement.md`).
+//! for `ufcsr placement` (`docs/placement.md`).
 //!
 //! Candidates are a [`labels::LabelSet`] over the exact measure's surface
 //! samples: the parts (each sample in its texel's part) and, with

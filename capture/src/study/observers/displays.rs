@@ -42,7 +42,7 @@ use super::interval::IntervalKind;
 use super::population::sample_observers;
 use super::{Measure, ObserverOptions, coarser_step, interval_kind, observer_scene};
 use crate::error::{CaptureError, Result};
-use crate::exact::{MeasureDevice, MeasureOptions, PlacementCandidates, measure_unobstructed};
+use crate::exact::{MeasureOptions, PlacementCandidates, measure_unobstructed};
 use crate::job::CaptureOptions;
 use crate::scene::Scene;
 
@@ -143,7 +143,6 @@ fn measure_candidates(
     let measure = MeasureOptions {
         sample: displays.sample,
         seed,
-        on: MeasureDevice::Cpu,
         placement: Some(PlacementCandidates {
             display_m: Some(displays.display_m),
             spacing_m: displays.spacing_m,

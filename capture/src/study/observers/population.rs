@@ -14,7 +14,7 @@
 use ufcsr::{ObserverPlace, ObserverPopulation, ObserverSampling, StatureGroup};
 
 use crate::error::{CaptureError, Result};
-use crate::exact::accuracy::SplitMix;
+use ufcsr::SplitMix64;
 
 /// The most observers one study captures (each is a full capture).
 pub const MAX_OBSERVERS: u32 = 400;
@@ -123,7 +123,7 @@ pub fn sample_observers(
     check_sampling(sampling, &population.place)?;
     Ok(match *sampling {
         ObserverSampling::Random { observers, seed } => {
-            let mut random = SplitMix(seed);
+            let mut random = SplitMix64(seed);
             (0..observers).map(|_| draw(population, anchor, &mut random)).collect()
         }
         ObserverSampling::Grid { positions, heights, eye_heights_m: [low, high] } => {
@@ -163,7 +163,7 @@ fn place_at(place: &ObserverPlace, anchor: [f64; 3], u: [f64; 2]) -> [f64; 3] {
 }
 
 /// One independent observer: place, group by weight, truncated-normal stature.
-fn draw(population: &ObserverPopulation, anchor: [f64; 3], random: &mut SplitMix) -> SampledObserver {
+fn draw(population: &ObserverPopulation, anchor: [f64; 3], random: &mut SplitMix64) -> SampledObserver {
     let position = place_at(&population.place, anchor, [random.uniform(), random.uniform()]);
     let total: f64 = population.groups.iter().map(|g| g.weight).sum();
     let mut pick = random.uniform() * total;
