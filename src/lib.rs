@@ -70,8 +70,9 @@ pub use format::observers::{
     PartOverObservers, PopulationValue, ResolutionCheck, StatureGroup, US_ADULTS_SOURCE,
 };
 pub use format::placement::{
-    ArchiveRecord, CandidateRecord, CombinationRecord, ExposureRecord, MemberRecord, PlacementDocument,
-    RunnerUpRecord, SensitivityRecord, SensitivitySet, ThresholdsRecord, UncertaintyRecord,
+    ArchiveRecord, CandidateRecord, CombinationRecord, ExcludedRecord, ExclusionReason, ExposureRecord,
+    MemberRecord, PlacementDocument, RunnerUpRecord, SensitivityRecord, SensitivitySet, ThresholdsRecord,
+    UncertaintyRecord,
 };
 pub use format::placement_csv::{PLACEMENT_FRAMES_OPTIONAL, PLACEMENT_TABLE_LIMIT, PlacementFrameRow};
 pub use format::result::{
@@ -96,9 +97,13 @@ pub use output::{
     write_heatmap, write_parts_csv, write_results, write_results_with, write_scenario_map, write_scene_glb,
     write_views,
 };
+pub use placement::eligible::{Fit, default_not_mountable, excluded_line, exclusions};
 pub use placement::legibility::{ArchiveTimelines, Timeline};
 pub use placement::report::{WrittenPlacement, format_placement};
-pub use placement::uncertainty::{bootstrap_weights, t_interval, t_interval_signed};
+pub use placement::uncertainty::{
+    BestShares, NO_CANDIDATE_LEGIBLE, ONE_UNIT, best_shares, bootstrap_weights, t_interval,
+    t_interval_signed, tied as tied_scores, tied_best_credits,
+};
 pub use placement::{
     CandidateKind, CharacterHeight, DEFAULT_EPSILON_S, DEFAULT_NOT_MOUNTABLE, DEFAULT_REGION_RADIUS_M,
     DEFAULT_REPLICATES, EXHAUSTIVE_LIMIT, Exposure, EyeRule, MAX_K, Mark, Method, Objective,

@@ -18,6 +18,7 @@ use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
 use crate::format::observers::ObserverPopulation;
+use crate::format::placement::ExcludedRecord;
 
 /// The design file's `schema` value.
 pub const DESIGN_SCHEMA: &str = "ufcsr-design/1";
@@ -294,8 +295,24 @@ pub struct BestPlacement {
     pub name: String,
     pub kind: String,
     pub legible_s: MeanInterval,
-    /// Share of bootstrap resamples of the units in which it is the best of its kind.
-    pub p_best: f64,
+    /// Share of bootstrap resamples of the units in which it is the best of its kind, exact ties
+    /// sharing (each of t tied candidates 1/t); null with one unit or when no candidate of its kind
+    /// is legible (`p_best_note` says which).
+    pub p_best: Option<f64>,
+    /// Share of resamples in which it is within `epsilon_s` of the best of its kind; absent in
+    /// older files.
+    #[serde(default)]
+    pub p_within_epsilon: Option<f64>,
+    /// The ε of `p_within_epsilon`, s (the placement's `--epsilon-s` default).
+    #[serde(default)]
+    pub epsilon_s: Option<f64>,
+    /// Candidates of its kind with exactly the same mean legible time (a tie: the answer is the
+    /// tied set); absent in older files.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub tied_with: Vec<String>,
+    /// Why there is no P(best): "n/a: one unit" or "no candidate legible".
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub p_best_note: Option<String>,
 }
 
 /// A group of cells: one cell, one vehicle, or all.
@@ -306,8 +323,13 @@ pub struct GroupSummary {
     pub cells: u32,
     /// Largest mean legible time first.
     pub candidates: Vec<CandidateSummary>,
-    /// The best 1–3 parts and the best 1–3 displays, each with P(best).
+    /// The best 1–3 parts and the best 1–3 displays, each with P(best); never a candidate of
+    /// `excluded`.
     pub best: Vec<BestPlacement>,
+    /// Candidates left out of `best` and P(best), and why (not mountable; no display fits), by
+    /// the placement's one rule (`docs/placement.md`); absent in older files.
+    #[serde(default)]
+    pub excluded: Vec<ExcludedRecord>,
 }
 
 /// One level of a factor in a main effect.

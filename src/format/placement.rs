@@ -106,6 +106,32 @@ pub struct PlacementDocument {
     /// The best sets again with each threshold one step lower and higher.
     pub sensitivity: Vec<SensitivityRecord>,
     pub notes: Vec<String>,
+    /// Candidates left out of every answer, and why (not mountable; no display fits); absent in
+    /// older files.
+    #[serde(default)]
+    pub excluded: Vec<ExcludedRecord>,
+}
+
+/// Why a candidate may not be an answer (`docs/placement.md`, "What may be chosen").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum ExclusionReason {
+    /// Its surface is in the not-mountable list (wheels, glass).
+    NotMountable,
+    /// A whole part on which no display patch of the measured size fits (or none is seen):
+    /// exposure only.
+    NoDisplayFits,
+}
+
+/// A candidate left out of the answers.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ExcludedRecord {
+    pub candidate: String,
+    pub kind: CandidateKind,
+    pub reason: ExclusionReason,
+    /// The rule in words.
+    pub detail: String,
 }
 
 /// One table read.
@@ -231,6 +257,11 @@ pub struct CandidateRecord {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texel_sample_interval_s: Option<[f64; 2]>,
     pub per_archive: Vec<ExposureRecord>,
+    /// A part of a table with display patches: the patch its legible time comes from (its most
+    /// legible fitting patch, in the first archive that has one); null for patches, for parts on
+    /// which no display fits (see `excluded`) and for tables without patches.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub legible_through: Option<String>,
 }
 
 /// What one candidate scored in one archive.
@@ -286,7 +317,9 @@ pub struct CombinationRecord {
     /// The interval of legible_s over what varies (the archives), at `uncertainty.confidence`;
     /// null with one archive.
     pub interval_s: Option<[f64; 2]>,
-    /// Share of bootstrap replicates in which this set is the best set of k; null with one archive.
+    /// Share of bootstrap replicates in which this set is the best set of k, exact ties sharing
+    /// (each of t tied sets 1/t); null with one archive or when no candidate is legible
+    /// (`p_best_note` says which).
     pub p_best: Option<f64>,
     /// Share of replicates in which it is within `uncertainty.epsilon_s` of the best.
     pub p_within_epsilon: Option<f64>,
@@ -301,6 +334,13 @@ pub struct CombinationRecord {
     pub gap_s: f64,
     /// Other sets of k displays whose legible_s lies inside this set's interval, best first.
     pub runners_up: Vec<RunnerUpRecord>,
+    /// Sets exactly as legible as this one (a tie the search broke by order): the answer is the
+    /// tied set, not this member alone; absent in older files.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub tied_with: Vec<Vec<String>>,
+    /// Why there is no P(best): "n/a: one unit" or "no candidate legible"; absent otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub p_best_note: Option<String>,
 }
 
 /// A set as good as the best within the interval.

@@ -27,6 +27,7 @@ use std::sync::Arc;
 
 use crate::error::{Error, Result};
 pub use crate::format::placement::{CharacterHeight, EyeRule};
+use crate::placement::eligible::{Fit, FitCandidate, fit_parts};
 use crate::placement::table::{CandidateKind, PlacementTable, Sighting};
 
 /// ISO 9241-3 (1992) §5.6, restated in ISO 9241-303: "the minimum character
@@ -251,6 +252,25 @@ pub struct Timeline {
     pub legible: Vec<usize>,
     /// The frames where any eye sees any of it (any solid angle at all).
     pub visible: Vec<usize>,
+    /// How its legible frames were scored: a part of a table with display
+    /// patches through its most legible fitting patch, or not at all when
+    /// none fits ([`crate::placement::eligible`]).
+    pub fit: Fit,
+}
+
+impl FitCandidate for Timeline {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn kind(&self) -> CandidateKind {
+        self.kind
+    }
+    fn legible_frames(&mut self) -> &mut Vec<usize> {
+        &mut self.legible
+    }
+    fn set_fit(&mut self, fit: Fit) {
+        self.fit = fit;
+    }
 }
 
 /// What one candidate scored in one archive.
@@ -289,7 +309,9 @@ impl ArchiveTimelines {
     }
 }
 
-/// Every candidate's timeline in `table` under `thresholds`.
+/// Every candidate's timeline in `table` under `thresholds`; with display
+/// patches in the table, a part is legible only through a patch that fits on
+/// it ([`crate::placement::eligible`]).
 pub fn timelines(table: Arc<PlacementTable>, thresholds: &Thresholds) -> ArchiveTimelines {
     let eyes = table.eyes.len();
     let dwell = dwell_frames(thresholds.min_dwell_s, table.frame_s);
@@ -326,9 +348,13 @@ pub fn timelines(table: Arc<PlacementTable>, thresholds: &Thresholds) -> Archive
                 size_m: candidate.size_m,
                 legible,
                 visible,
+                fit: Fit::Whole,
             }
         })
-        .collect();
+        .collect::<Vec<Timeline>>();
+    let mut timelines = timelines;
+    // A display must fit where it is said to be legible (one rule, every command).
+    fit_parts(&mut timelines);
     let closest = table.frames.iter().min_by(|a, b| a.distance_m.total_cmp(&b.distance_m)).copied();
     let arrival_s = closest.map_or(0.0, |f| f.time_s);
     let start = arrival_s - thresholds.decision_window_s;

@@ -13,8 +13,9 @@
 //!
 //! The folder: [`table`] reads and checks a table, [`legibility`] the
 //! thresholds and per-candidate timelines, [`choices`] what is chosen among
-//! (pairs with `--symmetric`), [`regions`] which candidates may be chosen
-//! (mountable surfaces, one patch per region of near patches), [`search`]
+//! (pairs with `--symmetric`), [`eligible`] the one rule of which
+//! candidates may be an answer (a display must fit; mountable surfaces),
+//! [`regions`] one patch per region of near patches, [`search`]
 //! exhaustive and greedy search of at most k physical displays with its
 //! bound, [`uncertainty`] the interval, P(best) and runners-up,
 //! [`sensitivity`] the answer with each threshold one step off,
@@ -24,6 +25,7 @@
 //! the chosen placements drawn on the vehicle.
 
 pub mod choices;
+pub mod eligible;
 pub mod footprints;
 pub mod legibility;
 pub mod picture;
@@ -145,6 +147,8 @@ pub(crate) struct Scoring {
     /// Per archive, each candidate's texel-sample bracket of its legible
     /// seconds ([`texel_sample`]); filled for the reported scoring only.
     pub brackets: Vec<Option<BTreeMap<String, [f64; 2]>>>,
+    /// The candidates no answer may hold, and why ([`eligible::exclusions`]).
+    pub excluded: Vec<eligible::ExcludedRecord>,
 }
 
 /// Mean legible seconds per candidate over the archives.
@@ -173,8 +177,12 @@ fn score_and_search(
         .iter()
         .map(|(name, (kind, legible_s))| regions::Scored { name, kind: *kind, legible_s: *legible_s })
         .collect();
-    let regions =
-        regions::representatives(&scored, footprints, &options.not_mountable, options.region_radius_m);
+    let excluded = eligible::exclusions(
+        archives.iter().flat_map(|a| a.timelines.iter().map(|t| (t.name.as_str(), t.kind))),
+        &options.not_mountable,
+    );
+    let left_out = excluded.iter().map(|e| e.candidate.clone()).collect();
+    let regions = regions::representatives(&scored, footprints, &left_out, options.region_radius_m);
     let mut searched = Vec::new();
     for kind in [CandidateKind::Part, CandidateKind::Patch] {
         let choices = choices::choices(&archives, &universe, kind, options.pairing(), &regions);
@@ -188,7 +196,7 @@ fn score_and_search(
             }
         }
     }
-    Scoring { archives, universe, regions, searched, brackets: Vec::new() }
+    Scoring { archives, universe, regions, searched, brackets: Vec::new(), excluded }
 }
 
 /// Reads every table, scores every candidate, searches the best sets and

@@ -513,6 +513,8 @@ mod tests {
             upper_bound_s: 1.0,
             gap_s: 0.0,
             runners_up: Vec::new(),
+            tied_with: Vec::new(),
+            p_best_note: None,
         };
         let pictured = pictured_sets(&[set], &BTreeMap::new());
         assert_eq!(pictured[0].colors, vec![0, 0, 1]);

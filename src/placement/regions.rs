@@ -86,15 +86,16 @@ pub struct Scored<'a> {
     pub legible_s: f64,
 }
 
-/// Per mountable candidate: the candidate standing for its region (itself
-/// for parts and a region's first patch). Not-mountable candidates are absent.
+/// Per candidate that may be chosen: the candidate standing for its region
+/// (itself for parts and a region's first patch). Candidates `excluded`
+/// (not mountable, no display fits: [`crate::placement::eligible`]) are absent.
 pub fn representatives(
     scored: &[Scored],
     footprints: &BTreeMap<String, PatchFootprint>,
-    not_mountable: &[String],
+    excluded: &std::collections::BTreeSet<String>,
     radius_m: f64,
 ) -> BTreeMap<String, String> {
-    let mut order: Vec<&Scored> = scored.iter().filter(|c| mountable(c.name, not_mountable)).collect();
+    let mut order: Vec<&Scored> = scored.iter().filter(|c| !excluded.contains(c.name)).collect();
     order.sort_by(|a, b| b.legible_s.total_cmp(&a.legible_s).then_with(|| a.name.cmp(b.name)));
     let centre = |name: &str| footprints.get(name).map(|f| f.centre).or_else(|| centre_in_name(name));
     let mut out: BTreeMap<String, String> = BTreeMap::new();
@@ -166,12 +167,13 @@ mod tests {
             .zip([1.0, 2.0, 1.5, 0.5])
             .map(|(name, legible_s)| Scored { name, kind: CandidateKind::Patch, legible_s })
             .collect();
-        let regions = representatives(&scored, &BTreeMap::new(), &[], DEFAULT_REGION_RADIUS_M);
+        let none = std::collections::BTreeSet::new();
+        let regions = representatives(&scored, &BTreeMap::new(), &none, DEFAULT_REGION_RADIUS_M);
         assert_eq!(regions[names[0]], names[1], "10 cm away from a better patch: its region");
         assert_eq!(regions[names[1]], names[1]);
         assert_eq!(regions[names[2]], names[2], "50 cm away: a place of its own");
         assert_eq!(regions[names[3]], names[3], "another part: a place of its own");
-        let off = representatives(&scored, &BTreeMap::new(), &[], 0.0);
+        let off = representatives(&scored, &BTreeMap::new(), &none, 0.0);
         assert!(off.iter().all(|(k, v)| k == v));
     }
 }

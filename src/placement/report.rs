@@ -91,6 +91,12 @@ fn candidate_records(main: &Scoring, options: &PlacementOptions) -> Vec<Candidat
         *members.entry(representative).or_default() += 1;
     }
     let n = archives.len().max(1) as f64;
+    let mut through: BTreeMap<String, String> = BTreeMap::new();
+    for timeline in archives.iter().flat_map(|a| &a.timelines) {
+        if let crate::placement::eligible::Fit::Through(patch) = &timeline.fit {
+            through.entry(timeline.name.clone()).or_insert_with(|| patch.clone());
+        }
+    }
     let mut out: Vec<CandidateRecord> = per_name
         .into_iter()
         .map(|(name, (timeline, per_archive))| {
@@ -116,6 +122,7 @@ fn candidate_records(main: &Scoring, options: &PlacementOptions) -> Vec<Candidat
                 worst_case_legible_s: per_archive.iter().map(|e| e.legible_s).fold(f64::MAX, f64::min),
                 texel_sample_interval_s: mean_bracket(&per_archive),
                 per_archive,
+                legible_through: through.get(name.as_str()).cloned(),
                 name,
             }
         })
@@ -193,6 +200,16 @@ pub(crate) fn combination_record(
         per_archive_s: seconds,
         upper_bound_s: upper,
         gap_s: upper - achieved,
+        tied_with: assessment
+            .as_ref()
+            .map(|a| {
+                a.tied_with
+                    .iter()
+                    .map(|set| set.iter().flat_map(|&c| choices[c].names.clone()).collect())
+                    .collect()
+            })
+            .unwrap_or_default(),
+        p_best_note: assessment.as_ref().and_then(|a| a.note).map(String::from),
         runners_up: assessment.map(|a| a.runners_up).unwrap_or_default(),
     }
 }
@@ -232,8 +249,10 @@ pub const UNCERTAINTY_METHOD: &str = "interval_s: Student's t 95 % interval of t
      set's legible seconds (the archives are the random units: scenarios, observers, texel-sample seeds; frames \
      and eyes inside an archive are not); p_best: share of bootstrap replicates over the archives (n drawn with \
      replacement) whose re-run search gives this set; p_within_epsilon: share in which it is at most epsilon_s \
-     below the replicate's best; runners_up: other sets of at most k displays with legible_s inside the \
-     interval (docs/placement.md section 2)";
+     below the replicate's best; exact ties share P(best) (each of t tied sets 1/t per replicate; tied_with \
+     names them); no P(best) with one archive (n/a: one unit) or when the best set is legible 0 s (no candidate \
+     legible); runners_up: other sets of at most k displays with legible_s inside the interval (docs/placement.md \
+     section 2)";
 
 /// The report from the scored archives and the chosen sets.
 pub(crate) fn assemble(
@@ -258,6 +277,7 @@ pub(crate) fn assemble(
         candidates: candidate_records(main, options),
         combinations,
         sensitivity,
+        excluded: main.excluded.clone(),
         notes: vec![
             "legible_s, visible_s and decision_window_legible_s are means over the archives of seconds (legible \
              frames x seconds per frame); a frame is legible when the candidate's characters are legible to the \
@@ -385,13 +405,21 @@ fn write_combinations(w: &mut impl Write, combinations: &[CombinationRecord]) ->
 }
 
 fn interval_text(c: &CombinationRecord) -> String {
-    match (c.interval_s, c.p_best, c.p_within_epsilon) {
-        (Some([low, high]), Some(p), Some(within)) => {
-            format!("95 % {low:.2}-{high:.2} s, P(best) {p:.2}, P(within eps) {within:.2}")
-        }
-        (Some([low, high]), _, _) => format!("95 % {low:.2}-{high:.2} s"),
-        _ => "one archive: no interval".into(),
-    }
+    let interval = c
+        .interval_s
+        .map_or("one archive: no interval".to_string(), |[low, high]| format!("95 % {low:.2}-{high:.2} s"));
+    let p = match (c.p_best, c.p_within_epsilon, &c.p_best_note) {
+        (Some(p), Some(within), _) => format!(", P(best) {p:.2}, P(within eps) {within:.2}"),
+        (_, _, Some(note)) => format!(", P(best) {note}"),
+        _ => String::new(),
+    };
+    let tied = if c.tied_with.is_empty() {
+        String::new()
+    } else {
+        let sets: Vec<String> = c.tied_with.iter().map(|s| s.join(" & ")).collect();
+        format!("\n    tied (exactly as legible, P(best) shared): {}", sets.join("; "))
+    };
+    format!("{interval}{p}{tied}")
 }
 
 /// The console summary: the `top` best candidates, every chosen set (k in
@@ -408,8 +436,12 @@ pub fn format_placement(placement: &Placement, top: usize) -> String {
     let listed = |c: &&CandidateRecord| c.region.is_none() && (c.mountable || c.kind == CandidateKind::Part);
     for c in document.candidates.iter().filter(listed).take(top) {
         let first = c.first_legible_s.map_or("never".to_string(), |s| format!("{s:.3}"));
+        let no_fit = document.excluded.iter().any(|e| {
+            e.candidate == c.name && e.reason == crate::placement::eligible::ExclusionReason::NoDisplayFits
+        });
         let mut note = match (c.mountable, c.region_members) {
             (false, _) => " (not mountable)".to_string(),
+            (true, _) if no_fit => " (no display fits: exposure only)".to_string(),
             (true, n) if n > 1 => format!(" (region of {n})"),
             _ => String::new(),
         };
@@ -456,6 +488,10 @@ pub fn format_placement(placement: &Placement, top: usize) -> String {
                 );
             }
         }
+    }
+    let excluded = crate::placement::eligible::excluded_line(&document.excluded);
+    if !excluded.is_empty() {
+        out += &format!("\n{excluded}\n");
     }
     out += &sensitivity_text(document);
     out

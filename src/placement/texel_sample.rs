@@ -21,7 +21,11 @@
 //!   is a lower bound; the upper end divides it by r, the share of the
 //!   whole that the range of m uniform points reaches with 97.5 %
 //!   (P(R < r) = m·r^(m−1) − (m−1)·r^m = 0.025; m = n·p visible sampled
-//!   texels; below 2 the height is left unbounded).
+//!   texels; below 2 the height is left unbounded). A display patch's
+//!   height is measured from its exact outline (the capture projects the
+//!   W × H rectangle's edges, issue 42 §4), not from its samples, so it has
+//!   no sampling error and is not widened: the bracket is around the exact
+//!   value.
 //!
 //! The candidate's timeline is scored again twice under the same rule and
 //! dwell: once with every sighting's visible fraction z = 1.96 standard
@@ -181,7 +185,7 @@ fn moved(table: &PlacementTable, counts: &SampleCounts, high: bool) -> Placement
             let shift = TEXEL_SAMPLE_Z * visible_fraction_se(p, n, fraction);
             if high {
                 sighting.visible_fraction = (p + shift).min(1.0);
-                if fraction < 1.0 {
+                if fraction < 1.0 && candidate.kind == CandidateKind::Part {
                     sighting.angular_height_deg /= range_share_bound(n * p, 0.025);
                 }
             } else {

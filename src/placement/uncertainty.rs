@@ -16,9 +16,15 @@
 //! * **Interval** (95 %): Student's t over the archives' seconds of the
 //!   reported set, mean ± t(0.975, n−1) · s / √n; none with one archive.
 //! * **P(best)**: a bootstrap over the archives (each replicate draws n
-//!   archives with replacement, as weights) re-runs the search and counts
-//!   how often each set is the replicate's best; **P(within ε)** how often
-//!   the reported set is at most ε seconds below the replicate's best.
+//!   archives with replacement, as weights) re-runs the search and credits
+//!   the replicate's best; **exact ties share** ([`tied_best_credits`]:
+//!   each of t sets as good as the best gets 1/t, among the answer, its
+//!   runners-up and the replicate's own best), so a k-way tie gives 1/k
+//!   each, whatever the order. **P(within ε)** how often the reported set
+//!   is at most ε seconds below the replicate's best. No P(best) with one
+//!   archive ([`ONE_UNIT`]) or when the best set is legible 0 s
+//!   ([`NO_CANDIDATE_LEGIBLE`]). [`best_shares`] is the same arithmetic
+//!   for a list of candidates (the design's merge uses it).
 //! * **Runners-up**: the other sets the search met (exhaustive: the next
 //!   best of all; greedy: single-member swaps) whose mean lies inside the
 //!   interval, sets that only add or drop members of the answer and sets
@@ -39,6 +45,60 @@ pub const CONFIDENCE: f64 = 0.95;
 pub const DEFAULT_REPLICATES: usize = 1000;
 /// The default ε of P(within ε), seconds: about three frames at 60 fps.
 pub const DEFAULT_EPSILON_S: f64 = 0.05;
+
+/// Why there is no P(best) with one random unit.
+pub const ONE_UNIT: &str = "n/a: one unit";
+/// Why there is no P(best) when the best is legible 0 s.
+pub const NO_CANDIDATE_LEGIBLE: &str = "no candidate legible";
+/// Scores this close (relative to the larger) are one tie: the same seconds
+/// summed in another order differ by rounding only.
+const TIE_TOLERANCE: f64 = 1e-12;
+
+/// Whether `a` and `b` are the same score (an exact tie up to rounding).
+pub fn tied(a: f64, b: f64) -> bool {
+    (a - b).abs() <= TIE_TOLERANCE * a.abs().max(b.abs()).max(1.0)
+}
+
+/// One draw's credit to each score: each of the t scores tied with the
+/// largest gets 1/t, the others 0 (exact and deterministic: no order
+/// breaks a tie). Scores of −∞ never get credit; all −∞ (or none) gives 0s.
+pub fn tied_best_credits(scores: &[f64]) -> Vec<f64> {
+    let best = scores.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    if best == f64::NEG_INFINITY {
+        return vec![0.0; scores.len()];
+    }
+    let ties = scores.iter().filter(|&&s| tied(s, best)).count() as f64;
+    scores.iter().map(|&s| if tied(s, best) { 1.0 / ties } else { 0.0 }).collect()
+}
+
+/// P(best) (ties sharing) and P(within ε) of each candidate over draws.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BestShares {
+    pub p_best: Vec<f64>,
+    pub p_within_epsilon: Vec<f64>,
+}
+
+/// Over `draws` (each a score per candidate, in one order): each
+/// candidate's mean [`tied_best_credits`] and the share of draws in which
+/// it is at most `epsilon` below the draw's best.
+pub fn best_shares(draws: impl IntoIterator<Item = Vec<f64>>, candidates: usize, epsilon: f64) -> BestShares {
+    let mut shares = BestShares { p_best: vec![0.0; candidates], p_within_epsilon: vec![0.0; candidates] };
+    let mut n = 0usize;
+    for scores in draws {
+        n += 1;
+        let best = scores.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        for (c, credit) in tied_best_credits(&scores).into_iter().enumerate().take(candidates) {
+            shares.p_best[c] += credit;
+            if scores[c] >= best - epsilon || tied(scores[c], best) {
+                shares.p_within_epsilon[c] += 1.0;
+            }
+        }
+    }
+    for p in shares.p_best.iter_mut().chain(shares.p_within_epsilon.iter_mut()) {
+        *p /= n.max(1) as f64;
+    }
+    shares
+}
 
 /// The bootstrap's settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -94,6 +154,10 @@ pub struct Assessment {
     pub p_best: Option<f64>,
     pub p_within_epsilon: Option<f64>,
     pub runners_up: Vec<RunnerUpRecord>,
+    /// Sets exactly as legible as the reported one (choice indices).
+    pub tied_with: Vec<Vec<usize>>,
+    /// Why there is no P(best) ([`ONE_UNIT`], [`NO_CANDIDATE_LEGIBLE`]).
+    pub note: Option<&'static str>,
 }
 
 fn sorted(set: &[usize]) -> Vec<usize> {
@@ -136,31 +200,71 @@ pub fn assess(
         .filter(|(set, v)| value > 0.0 && *v >= low && !nested(&sorted(set)) && minimal(set))
         .map(|(set, v)| (sorted(set), *v))
         .collect();
-    if archives < 2 || resampling.replicates == 0 {
+    let tied_with: Vec<Vec<usize>> =
+        runners.iter().filter(|(_, v)| value > 0.0 && tied(*v, value)).map(|(set, _)| set.clone()).collect();
+    let note = if archives < 2 {
+        Some(ONE_UNIT)
+    } else if value <= 0.0 {
+        Some(NO_CANDIDATE_LEGIBLE)
+    } else {
+        None
+    };
+    if note.is_some() || resampling.replicates == 0 {
         let runners_up = runners.iter().map(|(set, v)| runner_up(choices, set, *v, None)).collect();
-        return Assessment { interval_s, p_best: None, p_within_epsilon: None, runners_up };
+        return Assessment { interval_s, p_best: None, p_within_epsilon: None, runners_up, tied_with, note };
     }
+    // The sets credited in each replicate: the answer, then its runners-up;
+    // the replicate's own best joins them when it is none of these.
+    let mut pool: Vec<Vec<usize>> = vec![reported.clone()];
+    pool.extend(runners.iter().map(|(set, _)| set.clone()));
     let weights = bootstrap_weights(archives, resampling);
-    let outcomes: Vec<(Vec<usize>, bool)> = weights
+    let draws: Vec<Vec<f64>> = weights
         .into_par_iter()
         .map(|w| {
             let replicate = universe.weighted(w);
             let best = best_set(&replicate, choices, k, objective, exhaustive_limit)
                 .map(|f| sorted(&f.picked))
                 .unwrap_or_default();
-            let best_value = replicate.score(choices, &best, objective).0;
-            let ours = replicate.score(choices, &reported, objective).0;
-            (best, ours >= best_value - resampling.epsilon_s)
+            let mut sets = pool.clone();
+            if !pool.contains(&best) {
+                sets.push(best);
+            }
+            let scores: Vec<f64> =
+                sets.iter().map(|set| replicate.score(choices, set, objective).0).collect();
+            minimal_scores(&sets, scores)
         })
         .collect();
-    let share = |hits: usize| hits as f64 / outcomes.len() as f64;
-    let p_of = |set: &[usize]| share(outcomes.iter().filter(|(best, _)| best == set).count());
+    let shares = best_shares(draws, pool.len(), resampling.epsilon_s);
     Assessment {
         interval_s,
-        p_best: Some(p_of(&reported)),
-        p_within_epsilon: Some(share(outcomes.iter().filter(|(_, within)| *within).count())),
-        runners_up: runners.iter().map(|(set, v)| runner_up(choices, set, *v, Some(p_of(set)))).collect(),
+        p_best: Some(shares.p_best[0]),
+        p_within_epsilon: Some(shares.p_within_epsilon[0]),
+        runners_up: runners
+            .iter()
+            .enumerate()
+            .map(|(i, (set, v))| runner_up(choices, set, *v, Some(shares.p_best[i + 1])))
+            .collect(),
+        tied_with,
+        note,
     }
+}
+
+/// `scores` with a set that holds another set of `sets` scoring at least as
+/// well set to −∞: a set padded with members that add nothing in this
+/// replicate is the smaller set again, not a second best.
+fn minimal_scores(sets: &[Vec<usize>], scores: Vec<f64>) -> Vec<f64> {
+    sets.iter()
+        .enumerate()
+        .map(|(i, set)| {
+            let padded = sets.iter().enumerate().any(|(j, other)| {
+                j != i
+                    && other.len() < set.len()
+                    && other.iter().all(|c| set.contains(c))
+                    && (scores[j] >= scores[i] || tied(scores[j], scores[i]))
+            });
+            if padded { f64::NEG_INFINITY } else { scores[i] }
+        })
+        .collect()
 }
 
 fn runner_up(choices: &[Choice], set: &[usize], legible_s: f64, p_best: Option<f64>) -> RunnerUpRecord {
@@ -190,5 +294,84 @@ mod tests {
         let a = bootstrap_weights(4, &resampling);
         assert!(a.iter().all(|w| w.iter().sum::<f64>() == 4.0));
         assert_eq!(a, bootstrap_weights(4, &resampling));
+    }
+
+    use crate::placement::search::{EXHAUSTIVE_LIMIT, best_set};
+    use crate::placement::table::CandidateKind;
+
+    /// `archives` archives of 64 frames at 0.1 s; `tied` choices legible in
+    /// the same frames of every archive (frames 0..10 + archive), one less
+    /// legible (frames 0..5).
+    fn tie_of(tied: usize, archives: usize) -> (Universe, Vec<Choice>) {
+        let universe = Universe {
+            ranges: (0..archives).map(|a| a..a + 1).collect(),
+            frame_s: vec![0.1; archives],
+            duration_s: vec![6.4; archives],
+            weights: vec![1.0; archives],
+            words: archives,
+        };
+        let mask = |frames: u32| if frames >= 64 { u64::MAX } else { (1u64 << frames) - 1 };
+        let mut choices: Vec<Choice> = (0..tied)
+            .map(|c| Choice {
+                names: vec![format!("tied_{c}")],
+                kind: CandidateKind::Part,
+                bits: (0..archives).map(|a| mask(10 + a as u32)).collect(),
+            })
+            .collect();
+        choices.push(Choice {
+            names: vec!["less".into()],
+            kind: CandidateKind::Part,
+            bits: vec![mask(5); archives],
+        });
+        (universe, choices)
+    }
+
+    fn assessed(universe: &Universe, choices: &[Choice]) -> Assessment {
+        let found = best_set(universe, choices, 1, Objective::Mean, EXHAUSTIVE_LIMIT).unwrap();
+        assess(universe, choices, &found, 1, EXHAUSTIVE_LIMIT, &Resampling::default())
+    }
+
+    #[test]
+    fn an_exact_tie_of_k_sets_gives_each_one_over_k() {
+        for t in [2usize, 3, 7] {
+            let (universe, choices) = tie_of(t, 4);
+            let a = assessed(&universe, &choices);
+            let share = 1.0 / t as f64;
+            assert!((a.p_best.unwrap() - share).abs() < 1e-9, "{t}: {:?}", a.p_best);
+            assert_eq!(a.tied_with.len(), t - 1, "{t}");
+            let tied: Vec<f64> = a
+                .runners_up
+                .iter()
+                .filter(|r| r.candidates[0].starts_with("tied"))
+                .map(|r| r.p_best.unwrap())
+                .collect();
+            assert_eq!(tied.len(), t - 1);
+            assert!(tied.iter().all(|p| (p - share).abs() < 1e-9), "{t}: {tied:?}");
+            assert_eq!(a.p_within_epsilon, Some(1.0));
+            assert_eq!(a.note, None);
+        }
+    }
+
+    #[test]
+    fn one_unit_or_nothing_legible_gives_no_p_best() {
+        let (universe, choices) = tie_of(1, 1);
+        let a = assessed(&universe, &choices);
+        assert_eq!((a.p_best, a.p_within_epsilon, a.note), (None, None, Some(ONE_UNIT)));
+        let (universe, mut choices) = tie_of(3, 4);
+        for c in &mut choices {
+            c.bits.iter_mut().for_each(|w| *w = 0);
+        }
+        let a = assessed(&universe, &choices);
+        assert_eq!((a.p_best, a.note), (None, Some(NO_CANDIDATE_LEGIBLE)));
+        assert!(a.tied_with.is_empty());
+    }
+
+    #[test]
+    fn tied_credits_share_one_draw_exactly() {
+        assert_eq!(tied_best_credits(&[1.0, 3.0, 3.0, 2.0]), vec![0.0, 0.5, 0.5, 0.0]);
+        assert_eq!(tied_best_credits(&[2.0; 7]), vec![1.0 / 7.0; 7]);
+        let shares = best_shares(vec![vec![1.0, 1.0, 0.97], vec![2.0, 1.0, 0.0]], 3, 0.05);
+        assert_eq!(shares.p_best, vec![0.75, 0.25, 0.0]);
+        assert_eq!(shares.p_within_epsilon, vec![1.0, 0.5, 0.5]);
     }
 }

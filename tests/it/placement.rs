@@ -423,3 +423,44 @@ fn a_rendered_frames_table_scored_by_solid_angle_chooses_what_the_exact_table_do
     let error = placement(&options(vec![rendered.clone()])).unwrap_err().to_string();
     assert!(error.contains("frames.csv") && error.contains("--min-solid-angle-sr"), "{error}");
 }
+
+/// Issue 42 §1: a display must fit where it is said to be legible. A thin rail (no 0.40 × 0.15 m
+/// patch fits on it) is legible as a surface in every frame, but has no legible time and is never
+/// the best part; the bumper, wider than the display, is legible exactly as long as its best
+/// fitting patch (15 frames, not its own 5); the rail is listed as left out, with the reason.
+#[test]
+fn a_part_narrower_than_the_display_is_never_best_and_a_wider_one_scores_its_best_patch() {
+    let dir = tempfile::tempdir().unwrap();
+    let patch = "front_bumper@0.40x0.15@x2.90y0.00z0.45";
+    let mut rows = Vec::new();
+    for frame in 0..20 {
+        rows.push(row(frame, "windshield_rail_left", true));
+        rows.push(row(frame, "front_bumper", frame < 5));
+        if frame < 15 {
+            rows.push(Row { kind: "patch", ..row(frame, patch, true) });
+        }
+    }
+    let table = write_table(dir.path(), "placement-frames.csv", &rows);
+    let found = placement(&options(vec![table])).unwrap();
+    let document = &found.document;
+    let candidate = |name: &str| document.candidates.iter().find(|c| c.name == name).unwrap();
+    assert_eq!(candidate("windshield_rail_left").legible_s, 0.0);
+    assert!((candidate("windshield_rail_left").visible_s - 2.0).abs() < 1e-9, "exposure is kept");
+    assert!((candidate("front_bumper").legible_s - 1.5).abs() < 1e-9);
+    assert_eq!(candidate("front_bumper").legible_through.as_deref(), Some(patch));
+    let best_part = document
+        .combinations
+        .iter()
+        .find(|c| c.kind == ufcsr::CandidateKind::Part && c.k == 1 && c.objective == Objective::Mean)
+        .unwrap();
+    assert_eq!(best_part.candidates(), vec!["front_bumper".to_string()]);
+    assert!(
+        document.combinations.iter().all(|c| !c.candidates().contains(&"windshield_rail_left".to_string()))
+    );
+    let rail = document.excluded.iter().find(|e| e.candidate == "windshield_rail_left").unwrap();
+    assert_eq!(rail.reason, ufcsr::ExclusionReason::NoDisplayFits);
+    let console = ufcsr::format_placement(&found, 10);
+    assert!(console.contains("no display fits (exposure only): windshield_rail_left"), "{console}");
+    // One archive: no P(best), said.
+    assert_eq!(best_part.p_best_note.as_deref(), Some("n/a: one unit"));
+}

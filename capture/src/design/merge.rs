@@ -97,28 +97,55 @@ pub fn read_tasks(plan: &Plan, out: &Path) -> Result<Vec<DesignTask>> {
     Ok(tasks)
 }
 
-/// The best of `kind` in a group, as a phrase.
+/// The best of `kind` in a group, as a phrase: `None` when none is legible (a best of 0 s is
+/// no best); a tie names the tied set; no P(best) with one unit.
 fn best_phrase(group: &GroupSummary, kind: &str) -> Option<String> {
     let best = group.best.iter().find(|b| b.kind == kind && b.rank == 1)?;
+    if best.legible_s.mean <= 0.0 {
+        return None;
+    }
     let interval = best.legible_s.ci95.map_or_else(
         || format!(" (n = {}, no interval)", best.legible_s.n),
         |[lo, hi]| format!(" [{lo:.2}–{hi:.2}]"),
     );
-    Some(format!("{} {:.2} s{interval}, P(best) {:.2}", best.name, best.legible_s.mean, best.p_best))
+    let p = match (best.p_best, best.p_within_epsilon, &best.p_best_note) {
+        (Some(p), Some(w), _) => {
+            format!("P(best) {p:.2}, P(within {:.2} s) {w:.2}", best.epsilon_s.unwrap_or(0.0))
+        }
+        (Some(p), None, _) => format!("P(best) {p:.2}"),
+        (None, _, Some(note)) => format!("P(best) {note}"),
+        (None, _, None) => "P(best) n/a".into(),
+    };
+    let name = if best.tied_with.is_empty() {
+        best.name.clone()
+    } else {
+        format!("{} (tied: {}, {})", best.name, best.name, best.tied_with.join(", "))
+    };
+    Some(format!("{name} {:.2} s{interval}, {p}", best.legible_s.mean))
 }
 
 /// The answer, first: per vehicle and across all, the best part and display.
 fn answer(vehicles: &[GroupSummary], overall: &GroupSummary) -> Vec<String> {
     let line = |who: &str, group: &GroupSummary| {
-        let parts = best_phrase(group, "part").unwrap_or_else(|| "no part legible".into());
-        let display = best_phrase(group, "patch").map_or_else(String::new, |d| format!("; best display {d}"));
-        format!("{who}: best part {parts}{display}")
+        let parts = best_phrase(group, "part")
+            .map_or_else(|| "no part legible (no candidate legible)".into(), |p| format!("best part {p}"));
+        let has_display = group.best.iter().any(|b| b.kind == "patch");
+        let display = match best_phrase(group, "patch") {
+            Some(d) => format!("; best display {d}"),
+            None if has_display => "; no display legible".into(),
+            None => String::new(),
+        };
+        format!("{who}: {parts}{display}")
     };
     let mut lines: Vec<String> = vehicles
         .iter()
         .map(|v| line(&format!("for a {}", v.group.trim_start_matches("vehicle ")), v))
         .collect();
     lines.push(line("across all", overall));
+    let left_out = super::stats::left_out_line(vehicles.iter().chain([overall]));
+    if !left_out.is_empty() {
+        lines.push(left_out);
+    }
     lines
 }
 

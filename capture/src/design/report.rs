@@ -97,23 +97,36 @@ pub fn page(result: &DesignResult) -> String {
         let _ = write!(page, "<li>{}</li>", esc(line));
     }
     let _ = write!(page, "</ul><p>{}</p><h2>Best placements</h2>", esc(&result.interval));
-    page.push_str("<table><tr><th>group</th><th>rank</th><th>kind</th><th>candidate</th><th>legible s [95 %]</th><th>P(best)</th></tr>");
+    page.push_str("<table><tr><th>group</th><th>rank</th><th>kind</th><th>candidate</th><th>legible s [95 %]</th><th>P(best)</th><th>P(within 0.05 s)</th><th>tied with</th></tr>");
     for group in result.vehicles.iter().chain([&result.overall]) {
         for b in &group.best {
             let _ = write!(
                 page,
-                "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{:.2}</td></tr>",
+                "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
                 esc(&group.group),
                 b.rank,
                 esc(&b.kind),
                 esc(&b.name),
                 interval_text(&b.legible_s),
                 b.p_best
+                    .map_or_else(|| esc(b.p_best_note.as_deref().unwrap_or("n/a")), |p| format!("{p:.2}")),
+                b.p_within_epsilon.map_or_else(|| "–".to_string(), |p| format!("{p:.2}")),
+                esc(&b.tied_with.join(", "))
             );
         }
     }
+    page.push_str("</table>");
+    let left_out = super::stats::left_out_line(result.vehicles.iter().chain([&result.overall]));
+    if !left_out.is_empty() {
+        let _ = write!(
+            page,
+            "<p>{}. One rule for every command: a display is never placed on wheels or glass, and a whole part \
+             is legible only through a display patch that fits on it (docs/placement.md).</p>",
+            esc(&left_out)
+        );
+    }
     page.push_str(
-        "</table><h2>Main effects</h2><p>Per factor and candidate: the range (largest level mean minus \
+        "<h2>Main effects</h2><p>Per factor and candidate: the range (largest level mean minus \
          smallest, with the interval of the per-unit difference of those two levels) and each level's mean \
          legible time with its effect (the level's mean minus the mean over the levels), each with its 95 % \
          interval over the random units.</p>",

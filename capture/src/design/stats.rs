@@ -22,8 +22,10 @@ pub const INTERVAL_METHOD: &str = "95 % Student-t interval of the mean over the 
      and drawn alike in every cell); a group of cells is averaged with equal weight over its cells within each \
      unit first. It covers the observers, the texel sample and the traffic draws, not the fixed factors' choice \
      of levels, the placement rules' thresholds or the population's declared figures. P(best) is the share of \
-     1000 bootstrap resamples of the units in which the candidate has the largest mean legible time of its kind \
-     (optimistic for small n, as the placement's own P(best), docs/placement.md). A main effect's level means, \
+     1000 bootstrap resamples of the units in which the candidate has the largest mean legible time of its kind, \
+     exact ties sharing (each of t tied candidates 1/t; none with one unit or when none is legible), beside \
+     P(within 0.05 s) (optimistic for small n, as the placement's own P(best), docs/placement.md); candidates \
+     not mountable or on which no display fits are never ranked (the placement's one rule). A main effect's level means, \
      effects (level mean minus the mean over the levels) and range (highest minus lowest level) are per-unit \
      contrasts with the same t interval (an effect and the range signed, they may be negative)";
 
@@ -118,20 +120,54 @@ pub fn signed_interval(values: &[f64]) -> MeanInterval {
     MeanInterval { ci95: ufcsr::t_interval_signed(values), ..mean_interval(values) }
 }
 
-/// Per candidate of `among`: the share of bootstrap resamples of the units in which it has the largest mean.
-pub fn p_best(per_unit: &[Vec<f64>], among: &[usize], seed: u64) -> Vec<f64> {
+/// Per candidate of `among`: the share of bootstrap resamples of the units in which it has the
+/// largest mean, exact ties sharing (each of t tied candidates 1/t), and the share in which it is
+/// within ε ([`ufcsr::DEFAULT_EPSILON_S`]) of the largest: the placement's own arithmetic
+/// ([`ufcsr::best_shares`]).
+pub fn p_best(per_unit: &[Vec<f64>], among: &[usize], seed: u64) -> ufcsr::BestShares {
     let resampling = ufcsr::Resampling { replicates: P_BEST_REPLICATES, seed, epsilon_s: 0.0 };
-    let mut wins = vec![0usize; among.len()];
     let weights = ufcsr::bootstrap_weights(per_unit.len(), &resampling);
-    for w in &weights {
-        let score = |&c: &usize| -> f64 { per_unit.iter().zip(w).map(|(row, w)| row[c] * w).sum() };
-        let best =
-            (0..among.len()).max_by(|&a, &b| score(&among[a]).total_cmp(&score(&among[b])).then(b.cmp(&a)));
-        if let Some(best) = best {
-            wins[best] += 1;
-        }
+    let draws = weights.iter().map(|w| {
+        let total: f64 = w.iter().sum::<f64>().max(1.0);
+        among
+            .iter()
+            .map(|&c| per_unit.iter().zip(w).map(|(row, w)| row[c] * w).sum::<f64>() / total)
+            .collect::<Vec<f64>>()
+    });
+    ufcsr::best_shares(draws, among.len(), ufcsr::DEFAULT_EPSILON_S)
+}
+
+/// Why a group has no P(best) for the candidates `among`: one unit, or none legible.
+fn p_best_note(units: usize, among: &[&CandidateSummary]) -> Option<&'static str> {
+    if units < 2 {
+        Some(ufcsr::ONE_UNIT)
+    } else if among.iter().all(|c| c.legible_s.mean <= 0.0) {
+        Some(ufcsr::NO_CANDIDATE_LEGIBLE)
+    } else {
+        None
     }
-    wins.iter().map(|&w| w as f64 / weights.len().max(1) as f64).collect()
+}
+
+/// The candidates of `names` no answer may hold, and why: the placement's one rule
+/// ([`ufcsr::exclusions`] with the default not-mountable list).
+fn excluded_of(names: &[String], kinds: &BTreeMap<String, String>) -> Vec<ufcsr::ExcludedRecord> {
+    let kind = |n: &String| {
+        if kinds.get(n).map(String::as_str) == Some("patch") {
+            ufcsr::CandidateKind::Patch
+        } else {
+            ufcsr::CandidateKind::Part
+        }
+    };
+    let listed: Vec<(&str, ufcsr::CandidateKind)> = names.iter().map(|n| (n.as_str(), kind(n))).collect();
+    ufcsr::exclusions(listed.iter().copied(), &ufcsr::default_not_mountable())
+}
+
+/// The line naming every candidate the groups left out of their answers, and why (empty when none).
+pub fn left_out_line<'a>(groups: impl Iterator<Item = &'a GroupSummary>) -> String {
+    let mut excluded: Vec<ufcsr::ExcludedRecord> = groups.flat_map(|g| g.excluded.iter().cloned()).collect();
+    excluded.sort_by(|a, b| a.candidate.cmp(&b.candidate));
+    excluded.dedup_by(|a, b| a.candidate == b.candidate);
+    ufcsr::excluded_line(&excluded)
 }
 
 /// One group of cells scored (see the module documentation).
@@ -149,15 +185,19 @@ pub fn group_summary(group: String, cells: &[&CellData], seed: u64) -> GroupSumm
             angular_area_deg2_s: mean_interval(&column(c, |p| p.angular_area_deg2_s)),
         })
         .collect();
+    let excluded = excluded_of(&names, &kinds);
     let legible: Vec<Vec<f64>> =
         per_unit.iter().map(|row| row.iter().map(|p| p.legible_s).collect()).collect();
     let mut best = Vec::new();
     for kind in ["part", "patch"] {
-        let among: Vec<usize> = (0..names.len()).filter(|&c| candidates[c].kind == kind).collect();
+        let among: Vec<usize> = (0..names.len())
+            .filter(|&c| candidates[c].kind == kind && !excluded.iter().any(|e| e.candidate == names[c]))
+            .collect();
         if among.is_empty() {
             continue;
         }
-        let p = p_best(&legible, &among, seed);
+        let shares = p_best(&legible, &among, seed);
+        let note = p_best_note(per_unit.len(), &among.iter().map(|&c| &candidates[c]).collect::<Vec<_>>());
         let mut order: Vec<usize> = (0..among.len()).collect();
         order.sort_by(|&a, &b| {
             let (ca, cb) = (&candidates[among[a]], &candidates[among[b]]);
@@ -166,17 +206,31 @@ pub fn group_summary(group: String, cells: &[&CellData], seed: u64) -> GroupSumm
         order.truncate(3);
         for (rank, &o) in order.iter().enumerate() {
             let c = &candidates[among[o]];
+            let tied_with = among
+                .iter()
+                .map(|&other| &candidates[other])
+                .filter(|other| {
+                    other.name != c.name
+                        && c.legible_s.mean > 0.0
+                        && ufcsr::tied_scores(other.legible_s.mean, c.legible_s.mean)
+                })
+                .map(|other| other.name.clone())
+                .collect();
             best.push(BestPlacement {
                 rank: rank as u32 + 1,
                 name: c.name.clone(),
                 kind: kind.into(),
                 legible_s: c.legible_s,
-                p_best: p[o],
+                p_best: note.is_none().then_some(shares.p_best[o]),
+                p_within_epsilon: note.is_none().then_some(shares.p_within_epsilon[o]),
+                epsilon_s: Some(ufcsr::DEFAULT_EPSILON_S),
+                tied_with,
+                p_best_note: note.map(String::from),
             });
         }
     }
     candidates.sort_by(|a, b| b.legible_s.mean.total_cmp(&a.legible_s.mean).then(a.name.cmp(&b.name)));
-    GroupSummary { group, cells: cells.len() as u32, candidates, best }
+    GroupSummary { group, cells: cells.len() as u32, candidates, best, excluded }
 }
 
 /// A cell's level of one factor.

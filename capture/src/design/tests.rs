@@ -283,9 +283,93 @@ fn p_best_is_one_for_a_candidate_larger_in_every_unit() {
     let rows: Vec<Vec<f64>> =
         (0..10).map(|i| vec![5.0 + f64::from(i % 2), 1.0, 1.0 + f64::from(i % 2)]).collect();
     let p = p_best(&rows, &[0, 1], 3);
-    assert_eq!(p, vec![1.0, 0.0]);
+    assert_eq!(p.p_best, vec![1.0, 0.0]);
     let tie = p_best(&rows, &[1, 2], 3);
-    assert!(tie[1] > 0.9, "{tie:?}");
+    assert!(tie.p_best[1] > 0.9, "{tie:?}");
+}
+
+/// Issue 42 §3: exact ties share P(best), 1/t each whatever their order; a weaker candidate gets 0.
+#[test]
+fn an_exact_tie_of_k_candidates_gives_each_one_over_k() {
+    for t in [2usize, 3, 7] {
+        // Per unit: t candidates with the same seconds (varying over units), one a second less.
+        let rows: Vec<Vec<f64>> = (0..8)
+            .map(|u| {
+                let mut row = vec![2.0 + f64::from(u % 3); t];
+                row.push(1.0 + f64::from(u % 3));
+                row
+            })
+            .collect();
+        let among: Vec<usize> = (0..=t).collect();
+        let shares = p_best(&rows, &among, 5);
+        for c in 0..t {
+            assert!((shares.p_best[c] - 1.0 / t as f64).abs() < 1e-12, "{t}: {:?}", shares.p_best);
+            assert_eq!(shares.p_within_epsilon[c], 1.0);
+        }
+        assert_eq!(shares.p_best[t], 0.0);
+    }
+}
+
+/// No P(best) with one unit ("n/a: one unit") or when every candidate is legible 0 s ("no
+/// candidate legible"), and the answer says so instead of naming a best of nothing.
+#[test]
+fn one_unit_or_nothing_legible_gives_no_p_best_and_ties_are_named() {
+    let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
+    let one = cell_data(&plan.cells, &tasks_of(&plan, 1, |_, _| 2.0));
+    let summary = group_summary("one".into(), &[&one[0]], 1);
+    assert!(
+        summary.best.iter().all(|b| b.p_best.is_none() && b.p_best_note.as_deref() == Some(ufcsr::ONE_UNIT))
+    );
+    // Candidates a and b both 0 s in every unit.
+    let zero = cell_data(&plan.cells, &tasks_of(&plan, 4, |_, _| 0.0));
+    let summary = group_summary("zero".into(), &[&zero[0]], 1);
+    assert!(
+        summary
+            .best
+            .iter()
+            .all(|b| b.p_best.is_none() && b.p_best_note.as_deref() == Some(ufcsr::NO_CANDIDATE_LEGIBLE)),
+        "{:?}",
+        summary.best
+    );
+    // a and b tie exactly (b is 0 in tasks_of; make it equal to a): each names the other, 1/2 each.
+    let mut tied = tasks_of(&plan, 4, |_, u| 1.0 + f64::from(u));
+    for task in &mut tied {
+        for unit in &mut task.units {
+            unit.candidates[1].legible_s = unit.candidates[0].legible_s;
+        }
+    }
+    let tied = cell_data(&plan.cells, &tied);
+    let summary = group_summary("tied".into(), &[&tied[0]], 1);
+    assert_eq!(summary.best[0].tied_with, vec!["b".to_string()]);
+    assert_eq!((summary.best[0].p_best, summary.best[1].p_best), (Some(0.5), Some(0.5)));
+}
+
+/// Issue 42 §2: the design's merge uses the placement's one mountability rule: the most legible
+/// surface, a windshield, is never the best part; the record lists it with the reason.
+#[test]
+fn design_merge_never_picks_a_not_mountable_part_and_lists_it_with_the_reason() {
+    let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for i in 0..plan.tasks.len() as u32 {
+        let mut task = synthetic(&plan, i, 2.0 + f64::from(i), 1.0);
+        let mut glass = task.units[0].candidates[0].clone();
+        (glass.name, glass.legible_s) = ("windshield".into(), 50.0 + f64::from(i));
+        task.units[0].candidates.push(glass);
+        write_task(&task, &task_dir(dir.path(), i)).unwrap();
+    }
+    let merged = merge_design(&plan, dir.path()).unwrap();
+    for group in merged.vehicles.iter().chain([&merged.overall]) {
+        assert!(group.best.iter().all(|b| b.name != "windshield"), "{:?}", group.best);
+        let excluded = group.excluded.iter().find(|e| e.candidate == "windshield").expect("listed");
+        assert_eq!(excluded.reason, ufcsr::ExclusionReason::NotMountable);
+    }
+    assert_eq!(merged.overall.best[0].name, "a");
+    assert!(
+        merged.answer.iter().any(|l| l.contains("not mountable") && l.contains("windshield")),
+        "{:?}",
+        merged.answer
+    );
+    assert!(super::report::page(&merged).contains("not mountable (wheels, glass): windshield"));
 }
 
 #[test]
@@ -358,7 +442,7 @@ fn displays_are_compared_within_a_vehicle_and_said_where_not_measured() {
     let pickup = merged.vehicles.iter().find(|v| v.group == "vehicle pickup").unwrap();
     let displays: Vec<_> = pickup.best.iter().filter(|b| b.kind == "patch").collect();
     assert_eq!(displays.len(), 2, "{:?}", pickup.best);
-    assert_eq!((displays[0].name.as_str(), displays[0].p_best), ("p@front", 1.0));
+    assert_eq!((displays[0].name.as_str(), displays[0].p_best), ("p@front", Some(1.0)));
     assert_eq!(displays[1].legible_s.mean, 0.0);
     // Tasks 0–3 are the pickup's: p@front 1, 2, 3, 4 s, mean 2.5 s over its two units.
     assert!((displays[0].legible_s.mean - 2.5).abs() < 1e-12, "{:?}", displays[0]);

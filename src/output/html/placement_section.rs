@@ -182,7 +182,7 @@ fn combination_row(page: &mut String, c: &CombinationRecord) {
         escape(&c.members_text()),
         c.legible_s,
         interval,
-        probability(c.p_best),
+        c.p_best_note.as_deref().map_or_else(|| probability(c.p_best), escape),
         probability(c.p_within_epsilon),
         100.0 * c.share_of_time,
         c.worst_case_s,
@@ -221,6 +221,30 @@ fn combinations(page: &mut String, document: &PlacementDocument) {
         combination_row(page, c);
     }
     let _ = writeln!(page, "</table>");
+    let tied: Vec<String> = document
+        .combinations
+        .iter()
+        .filter(|c| !c.tied_with.is_empty())
+        .map(|c| {
+            let sets: Vec<String> = c.tied_with.iter().map(|s| s.join(" & ")).collect();
+            format!("k={} {}: {} ties with {}", c.k, c.kind.name(), c.members_text(), sets.join("; "))
+        })
+        .collect();
+    if !tied.is_empty() {
+        let _ = writeln!(
+            page,
+            "<p>Exact ties (the answer is the tied set; P(best) is shared, 1/t each): {}</p>",
+            escape(&tied.join(". "))
+        );
+    }
+    let excluded = crate::placement::eligible::excluded_line(&document.excluded);
+    if !excluded.is_empty() {
+        let _ = writeln!(
+            page,
+            "<p>{}. A whole part is legible only through a display patch that fits on it (docs/placement.md).</p>",
+            escape(&excluded)
+        );
+    }
 }
 
 fn sensitivity(page: &mut String, document: &PlacementDocument) {
@@ -385,6 +409,7 @@ mod tests {
                 worst_case_legible_s: 0.0,
                 texel_sample_interval_s: None,
                 per_archive: Vec::new(),
+                legible_through: Some(text()),
             }],
             combinations: vec![CombinationRecord {
                 k: 1,
@@ -408,6 +433,8 @@ mod tests {
                     legible_s: 0.9,
                     p_best: Some(0.1),
                 }],
+                tied_with: vec![vec![text()]],
+                p_best_note: None,
             }],
             sensitivity: vec![SensitivityRecord {
                 threshold: text(),
@@ -422,6 +449,16 @@ mod tests {
                 }],
             }],
             notes: vec![text()],
+            excluded: vec![hostile_excluded()],
+        }
+    }
+
+    fn hostile_excluded() -> crate::format::placement::ExcludedRecord {
+        crate::format::placement::ExcludedRecord {
+            candidate: HOSTILE.into(),
+            kind: CandidateKind::Part,
+            reason: crate::format::placement::ExclusionReason::NotMountable,
+            detail: HOSTILE.into(),
         }
     }
 

@@ -11,7 +11,17 @@
 //!   from the eye: the largest minus the smallest elevation (world up), each
 //!   sample widened by its own half-height (√area/2 · √(1 − (e·n)²) / r, e the
 //!   direction of rising elevation), so a facing plate of height h at
-//!   distance d gives 2·atan(h / 2d).
+//!   distance d gives 2·atan(h / 2d). For a *display patch* it is measured
+//!   from its exact outline instead (issue 42 §4): the largest minus the
+//!   smallest elevation over the W × H rectangle's four edges, each edge's
+//!   extremes found in closed form ([`outline_elevations`]), whenever any of
+//!   the patch is visible. Sample extents read about one texel too tall
+//!   (+3.4 % at a 512² palette on the demo's licence plate, so legible
+//!   frames early); the outline has no texel in it. Its limit: the whole
+//!   outline is measured even when part of it is hidden (the visible-fraction
+//!   rule guards such views), and an eye right below or above a tilted
+//!   display, where the elevation's extreme lies inside the rectangle, is
+//!   read from the edges.
 //!
 //! Rows: every part in every eye-frame (zeros included, so the analyzer
 //! sees every frame), patches only where something of them is visible.
@@ -81,6 +91,42 @@ fn sample_view(sample: &SurfaceSample, eye_frame: &EyeFrame, local_to_vehicle: &
     (cos.acos(), elevation - half, elevation + half)
 }
 
+/// The elevation (radians above the horizontal of the local frame, whose z
+/// is world up) of the point `d` (from the eye).
+fn elevation(d: DVec3) -> f64 {
+    d.z.atan2(d.truncate().length())
+}
+
+/// The lowest and highest elevation over the edges of the polygon `corners`
+/// (vehicle frame) seen from the eye: along an edge d(t) = a + t·u, the
+/// extremes of sin(elevation) = d_z / |d| lie at its ends or where
+/// d/dt (d_z² / |d|²) = 0, which is linear in t:
+/// t = (a_z (a·u) − u_z |a|²) / (u_z (a·u) − a_z |u|²).
+pub fn outline_elevations(corners: &[DVec3; 4], eye_frame: &EyeFrame) -> (f64, f64) {
+    let local: Vec<DVec3> = corners
+        .iter()
+        .map(|&c| transform_point(&eye_frame.vehicle_to_local, c).truncate() - eye_frame.eye_local)
+        .collect();
+    let (mut low, mut high) = (f64::INFINITY, f64::NEG_INFINITY);
+    for i in 0..local.len() {
+        let (a, b) = (local[i], local[(i + 1) % local.len()]);
+        let u = b - a;
+        let mut at = vec![elevation(a), elevation(b)];
+        let denominator = u.z * a.dot(u) - a.z * u.length_squared();
+        if denominator.abs() > 1e-300 {
+            let t = (a.z * a.dot(u) - u.z * a.length_squared()) / denominator;
+            if t > 0.0 && t < 1.0 {
+                at.push(elevation(a + u * t));
+            }
+        }
+        for e in at {
+            low = low.min(e);
+            high = high.max(e);
+        }
+    }
+    (low, high)
+}
+
 /// Every candidate's numbers in one eye-frame (`None` where nothing is visible).
 pub fn measure_eye_frame(inputs: &ExactInputs, labels: &LabelSet, eye_frame: &EyeFrame) -> Vec<Option<Seen>> {
     let mut sums = vec![Sums::default(); labels.count()];
@@ -102,12 +148,17 @@ pub fn measure_eye_frame(inputs: &ExactInputs, labels: &LabelSet, eye_frame: &Ey
     }
     sums.iter()
         .zip(&labels.area_m2)
-        .map(|(s, &total)| {
-            (s.area_m2 > 0.0).then(|| Seen {
-                solid_angle_sr: s.solid_angle_sr / inputs.sample_fraction,
-                visible_fraction: if total > 0.0 { (s.area_m2 / total).min(1.0) } else { 0.0 },
-                view_angle_deg: (s.angle_area / s.area_m2).to_degrees(),
-                angular_height_deg: (s.highest - s.lowest).to_degrees(),
+        .zip(&labels.outlines)
+        .map(|((s, &total), outline)| {
+            (s.area_m2 > 0.0).then(|| {
+                let (lowest, highest) =
+                    outline.as_ref().map_or((s.lowest, s.highest), |o| outline_elevations(o, eye_frame));
+                Seen {
+                    solid_angle_sr: s.solid_angle_sr / inputs.sample_fraction,
+                    visible_fraction: if total > 0.0 { (s.area_m2 / total).min(1.0) } else { 0.0 },
+                    view_angle_deg: (s.angle_area / s.area_m2).to_degrees(),
+                    angular_height_deg: (highest - lowest).to_degrees(),
+                }
             })
         })
         .collect()

@@ -34,6 +34,8 @@ pub struct LabelSet {
     pub mirrors: Vec<Option<String>>,
     /// Per label: the area of its samples, m² (of the sampled texels).
     pub area_m2: Vec<f64>,
+    /// Per label: a display patch's exact outline (vehicle frame), `None` for a part.
+    pub outlines: Vec<Option<[glam::DVec3; 4]>>,
     /// Per sample: its part's label.
     pub part_of_sample: Vec<u32>,
     /// Per sample `s`: its patch labels are `patch_labels[patch_offsets[s]..patch_offsets[s + 1]]`.
@@ -49,6 +51,7 @@ impl LabelSet {
             kinds: vec![LabelKind::Part; part_names.len()],
             mirrors: part_names.iter().map(|name| mirrored_part(name, part_names)).collect(),
             area_m2: vec![0.0; part_names.len()],
+            outlines: vec![None; part_names.len()],
             part_of_sample: vec![0; samples.samples.len()],
             patch_offsets: vec![0; samples.samples.len() + 1],
             patch_labels: Vec::new(),
@@ -70,6 +73,7 @@ impl LabelSet {
             self.names.push(patch.name.clone());
             self.kinds.push(LabelKind::Patch);
             self.mirrors.push(patch.mirror.clone());
+            self.outlines.push(Some(patch.outline()));
             self.area_m2.push(patch.members.iter().map(|&s| samples.samples[s as usize].area_m2).sum());
             for &sample in &patch.members {
                 per_sample[sample as usize] += 1;

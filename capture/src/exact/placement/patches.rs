@@ -78,8 +78,21 @@ pub struct PlacedPatch {
     pub normal: DVec3,
     /// Unit vector of the height (H) side.
     pub up: DVec3,
+    /// The display's width and height, m.
+    pub size_m: [f64; 2],
     /// Indices into the samples.
     pub members: Vec<u32>,
+}
+
+impl PlacedPatch {
+    /// The W × H rectangle's corners in the vehicle frame, in order around it: the display's
+    /// exact outline, which its angular height is measured from (not its samples).
+    pub fn outline(&self) -> [DVec3; 4] {
+        let across = self.normal.cross(self.up).normalize_or_zero() * (self.size_m[0] / 2.0);
+        let up = self.up * (self.size_m[1] / 2.0);
+        let c = self.centre;
+        [c - across - up, c + across - up, c + across + up, c - across + up]
+    }
 }
 
 /// The outward normal at `point` of a face with normal `normal`, if either
@@ -232,6 +245,7 @@ pub fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> V
             centre: footprint.centre,
             normal: footprint.normal,
             up: footprint.up,
+            size_m: display,
             members: footprint.members(samples, &grid),
         })
         .collect();

@@ -110,6 +110,47 @@ fn a_facing_plate_reaches_sixteen_arcmin_exactly_at_the_distance_it_implies() {
     assert!(seen_from(implied + band).angular_height_deg * 60.0 < 16.0);
 }
 
+/// Issue 42 §4: a display patch's angular height comes from its exact outline, so the frame at
+/// which its characters reach 16′ while the eye walks towards it is the closed form's, at any
+/// palette (the samples' extent read up to a texel tall: 2 frames early at 256² here, on time at 512²).
+#[test]
+fn a_patchs_legibility_onset_approaching_a_fixed_plate_is_the_closed_forms_within_one_frame() {
+    let h = 0.15;
+    // Characters half the display's height reach 16 arcmin: 2·atan(h / 2d) · 60 · 0.5 ≥ 16.
+    let legible = |height_deg: f64| height_deg * 60.0 * 0.5 >= 16.0;
+    // The eye walks from 19 m to 13 m at 0.1 m per frame (onset near 16.1 m).
+    let distance = |frame: usize| 19.0 - 0.1 * frame as f64;
+    let frames = 61;
+    let closed =
+        (0..frames).find(|&f| legible((2.0 * (h / (2.0 * distance(f))).atan()).to_degrees())).unwrap();
+    for palette in [[256, 256], [512, 512]] {
+        let scene = scene_with(plate(1.0, 1.0, 2.0), Occluders::default());
+        let samples = samples_of(&scene.vehicle, palette);
+        let obstacles = Obstacles::new(&scene);
+        let inputs = inputs(&scene, &samples, &obstacles);
+        let (labels, patches) = display_patches(&inputs);
+        let label = centred_patch(&patches, |z| (z - 2.0).abs() < 0.06);
+        let centre = patches[label - 1].centre;
+        // The same patch measured from its samples' extent (the old way), for the comparison.
+        let mut sampled = labels.clone();
+        sampled.outlines.iter_mut().for_each(|o| *o = None);
+        let height_with = |labels: &LabelSet, frame: usize| {
+            let eye = dvec3(distance(frame), centre.y, centre.z);
+            let seen = measure_eye_frame(&inputs, labels, &eye_at(&obstacles, eye, centre));
+            seen[label].expect("the patch is visible").angular_height_deg
+        };
+        let height = |frame: usize| height_with(&labels, frame);
+        let onset = (0..frames).find(|&f| legible(height(f))).expect("legible by 13 m");
+        let old = (0..frames).find(|&f| legible(height_with(&sampled, f))).expect("legible by 13 m");
+        eprintln!("{palette:?}: onset frame {onset} (outline), {old} (samples), closed form {closed}");
+        assert!(onset.abs_diff(closed) <= 1, "{palette:?}: onset frame {onset}, closed form {closed}");
+        assert!(old <= closed, "the samples' extent never reads late: {old} against {closed}");
+        // The outline is exact: the height at the closed form's frame is 2·atan(h / 2d).
+        let exact = (2.0 * (h / (2.0 * distance(closed))).atan()).to_degrees();
+        assert!((height(closed) - exact).abs() < 1e-9 * exact, "{palette:?}");
+    }
+}
+
 #[test]
 fn a_patch_behind_a_box_is_hidden_exactly_while_the_box_covers_it() {
     // A 1 m plate at x = 0 (z 1.5 to 2.5), a box in front of its lower half
