@@ -96,6 +96,10 @@ pub use output::{
     write_views, write_views_with,
 };
 pub use placement::legibility::{ArchiveTimelines, Timeline};
+pub use placement::literature::{
+    LocationScore, PUBLISHED_LOCATIONS, PUBLISHED_LOCATIONS_FILE, PlaceScore, PublishedLocation, Zone,
+    format_published_locations, published_locations, write_published_locations,
+};
 pub use placement::report::{WrittenPlacement, format_placement};
 pub use placement::uncertainty::{bootstrap_weights, t_interval, t_interval_signed};
 pub use placement::{
