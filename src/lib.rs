@@ -99,6 +99,10 @@ pub use output::{
 };
 pub use placement::eligible::{Fit, default_not_mountable, excluded_line, exclusions};
 pub use placement::legibility::{ArchiveTimelines, Timeline};
+pub use placement::literature::{
+    LocationScore, PUBLISHED_LOCATIONS, PUBLISHED_LOCATIONS_FILE, PlaceScore, PublishedLocation, Zone,
+    format_published_locations, published_locations, write_published_locations,
+};
 pub use placement::report::{WrittenPlacement, format_placement};
 pub use placement::uncertainty::{
     BestShares, NO_CANDIDATE_LEGIBLE, ONE_UNIT, best_shares, bootstrap_weights, t_interval,

@@ -21,13 +21,15 @@
 //! [`sensitivity`] the answer with each threshold one step off,
 //! [`texel_sample`] the bracket one archive's texel sample puts on each
 //! candidate's legible seconds, [`report`]
-//! the files written, [`footprints`] where each patch lies and [`picture`]
-//! the chosen placements drawn on the vehicle.
+//! the files written, [`footprints`] where each patch lies, [`picture`]
+//! the chosen placements drawn on the vehicle and [`literature`] the
+//! places published studies tested, scored as named candidates.
 
 pub mod choices;
 pub mod eligible;
 pub mod footprints;
 pub mod legibility;
+pub mod literature;
 pub mod picture;
 pub mod regions;
 pub mod report;

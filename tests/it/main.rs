@@ -26,6 +26,7 @@ mod module_graph;
 mod order_and_saturation;
 mod placement;
 mod placement_uncertainty;
+mod published_locations;
 mod reliability;
 mod reliability_merge;
 mod scenario_map;
