@@ -422,7 +422,7 @@ mod tests {
         // 2 pp): the sampled L1 is mostly noise. Over 200 references drawn around the truth the
         // interval must hold the true error in at least 95 % of them, and stay within the
         // sampled L1 plus twice the noise.
-        let mut random = SplitMix(7);
+        let mut random = SplitMix64(7);
         let parts = 30;
         let truth: Vec<f64> = (0..parts).map(|_| 0.2 + random.uniform()).collect();
         let rendered: Vec<f64> = truth.iter().map(|t| t * (1.0 + 0.002 * random.normal())).collect();
