@@ -97,7 +97,7 @@ pub use output::{
     write_heatmap, write_parts_csv, write_results, write_results_with, write_scenario_map, write_scene_glb,
     write_views,
 };
-pub use placement::eligible::{Fit, default_not_mountable, excluded_line, exclusions};
+pub use placement::eligible::{Fit, default_exclusions, default_not_mountable, excluded_line, exclusions};
 pub use placement::legibility::{ArchiveTimelines, Timeline};
 pub use placement::literature::{
     LocationScore, PUBLISHED_LOCATIONS, PUBLISHED_LOCATIONS_FILE, PlaceScore, PublishedLocation, Zone,

@@ -229,6 +229,10 @@ pub struct ObserverDisplays {
     pub observers: Vec<ObserverDisplayRecord>,
     /// Largest mean legible time first.
     pub summary: Vec<DisplayOverObservers>,
+    /// Candidates no placement answer may hold, and why (not mountable; no display fits: the
+    /// placement's one rule, `docs/placement.md`); absent in older files.
+    #[serde(default)]
+    pub excluded: Vec<crate::format::placement::ExcludedRecord>,
     /// Wall seconds of the display measures, all observers.
     pub seconds: f64,
 }
@@ -326,6 +330,7 @@ mod tests {
                 kind: "part".into(),
                 legible_s: value,
             }],
+            excluded: Vec::new(),
             seconds: 3.0,
         };
         let written = serde_json::to_string(&study(Some(displays.clone()))).unwrap();

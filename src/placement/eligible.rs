@@ -135,6 +135,14 @@ pub fn exclusions<'a>(
     out
 }
 
+/// [`exclusions`] under the default not-mountable list, for candidates whose kind is written
+/// `part`/`patch` (the design's task files and the observer study carry it so).
+pub fn default_exclusions<'a>(candidates: impl Iterator<Item = (&'a str, &'a str)>) -> Vec<ExcludedRecord> {
+    let kind = |k: &str| if k == "patch" { CandidateKind::Patch } else { CandidateKind::Part };
+    let listed: Vec<(&str, CandidateKind)> = candidates.map(|(name, k)| (name, kind(k))).collect();
+    exclusions(listed.iter().copied(), &default_not_mountable())
+}
+
 /// The default not-mountable list as owned strings (the design's and the observers' rule).
 pub fn default_not_mountable() -> Vec<String> {
     crate::placement::DEFAULT_NOT_MOUNTABLE.iter().map(|s| s.to_string()).collect()

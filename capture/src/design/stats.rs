@@ -148,20 +148,6 @@ fn p_best_note(units: usize, among: &[&CandidateSummary]) -> Option<&'static str
     }
 }
 
-/// The candidates of `names` no answer may hold, and why: the placement's one rule
-/// ([`ufcsr::exclusions`] with the default not-mountable list).
-fn excluded_of(names: &[String], kinds: &BTreeMap<String, String>) -> Vec<ufcsr::ExcludedRecord> {
-    let kind = |n: &String| {
-        if kinds.get(n).map(String::as_str) == Some("patch") {
-            ufcsr::CandidateKind::Patch
-        } else {
-            ufcsr::CandidateKind::Part
-        }
-    };
-    let listed: Vec<(&str, ufcsr::CandidateKind)> = names.iter().map(|n| (n.as_str(), kind(n))).collect();
-    ufcsr::exclusions(listed.iter().copied(), &ufcsr::default_not_mountable())
-}
-
 /// The line naming every candidate the groups left out of their answers, and why (empty when none).
 pub fn left_out_line<'a>(groups: impl Iterator<Item = &'a GroupSummary>) -> String {
     let mut excluded: Vec<ufcsr::ExcludedRecord> = groups.flat_map(|g| g.excluded.iter().cloned()).collect();
@@ -185,7 +171,9 @@ pub fn group_summary(group: String, cells: &[&CellData], seed: u64) -> GroupSumm
             angular_area_deg2_s: mean_interval(&column(c, |p| p.angular_area_deg2_s)),
         })
         .collect();
-    let excluded = excluded_of(&names, &kinds);
+    let excluded = ufcsr::default_exclusions(
+        names.iter().map(|n| (n.as_str(), kinds.get(n).map_or("part", String::as_str))),
+    );
     let legible: Vec<Vec<f64>> =
         per_unit.iter().map(|row| row.iter().map(|p| p.legible_s).collect()).collect();
     let mut best = Vec::new();

@@ -272,6 +272,10 @@ fn print_displays(study: &ufcsr_capture::DisplayStudy, console: &Console) {
     if study.summary.len() > 15 {
         say!(console, "… {} more candidates in observer-displays.csv", study.summary.len() - 15);
     }
+    let left_out = ufcsr::excluded_line(&study.excluded);
+    if !left_out.is_empty() {
+        say!(console, "{left_out}");
+    }
 }
 
 /// `mean [interval] (spread)`, the interval left out on a grid.

@@ -62,7 +62,7 @@ fn a_design_plans_runs_resumes_and_merges() {
     assert!(text(&again).contains("1 task(s) run, 3 skipped"), "{}", text(&again));
     let merge = ufcsr(dir.path(), &["design", "merge", file, "--out", out]);
     assert!(merge.status.success(), "{}", text(&merge));
-    assert!(text(&merge).contains("for a pickup: best part") && text(&merge).contains("across all:"));
+    assert!(text(&merge).contains("for a pickup: ") && text(&merge).contains("across all:"));
     let result: ufcsr::DesignResult =
         serde_json::from_slice(&std::fs::read(Path::new(out).join("design.json")).unwrap()).unwrap();
     assert_eq!((result.tasks, result.cells.len(), result.vehicles.len()), (4, 4, 2));
@@ -71,7 +71,8 @@ fn a_design_plans_runs_resumes_and_merges() {
     let pickup = result.vehicles.iter().find(|v| v.group == "vehicle pickup").unwrap();
     let displays: Vec<_> = pickup.best.iter().filter(|b| b.kind == "patch").collect();
     assert!(!displays.is_empty() && displays[0].rank == 1, "{:?}", pickup.best);
-    assert!(text(&merge).contains("for a pickup: best part") && text(&merge).contains("best display"));
+    assert!(text(&merge).contains("for a pickup: ") && text(&merge).contains("display"));
+    follows_the_answer_rules(&result);
     assert!(
         result.answer.iter().any(|l| l.starts_with("displays: none measured for van")),
         "{:?}",
@@ -88,4 +89,31 @@ fn a_design_plans_runs_resumes_and_merges() {
     assert!(page.contains("Displays, within one body"));
     let csv = std::fs::read_to_string(Path::new(out).join("design.csv")).unwrap();
     assert!(csv.contains("within vehicle pickup: scenario="), "{csv}");
+}
+
+/// Issue 42 §2–§3: no group's best is glass or a wheel (the placement's one rule), what was left
+/// out is said, and a best of 0 s is no best.
+fn follows_the_answer_rules(result: &ufcsr::DesignResult) {
+    for group in result.vehicles.iter().chain([&result.overall]) {
+        for best in &group.best {
+            assert!(
+                ufcsr::exclusions(
+                    [(best.name.as_str(), ufcsr::CandidateKind::Part)].into_iter(),
+                    &ufcsr::default_not_mountable()
+                )
+                .is_empty(),
+                "{best:?}"
+            );
+        }
+    }
+    assert!(
+        !result.answer.iter().any(|l| l.contains("best part windshield") || l.contains(" 0.00 s [")),
+        "{:?}",
+        result.answer
+    );
+    assert!(
+        result.answer.iter().any(|l| l.starts_with("left out of the answers: not mountable")),
+        "{:?}",
+        result.answer
+    );
 }

@@ -90,6 +90,8 @@ pub struct DisplayStudy {
     pub observers: Vec<ObserverLegible>,
     /// Largest mean legible time first.
     pub summary: Vec<DisplayOverObservers>,
+    /// Candidates no answer may hold, and why (the placement's one rule, [`ufcsr::exclusions`]).
+    pub excluded: Vec<ufcsr::ExcludedRecord>,
     pub seconds: f64,
 }
 
@@ -110,6 +112,7 @@ impl DisplayStudy {
                 })
                 .collect(),
             summary: self.summary.clone(),
+            excluded: self.excluded.clone(),
             seconds: self.seconds,
         }
     }
@@ -223,6 +226,7 @@ pub fn run_observer_displays(
         options: *displays,
         interval: interval_sentence(&options.sampling, options.resolution_check),
         observers,
+        excluded: ufcsr::default_exclusions(kinds.iter().map(|(n, k)| (n.as_str(), k.as_str()))),
         summary,
         seconds: start.elapsed().as_secs_f64(),
     })
