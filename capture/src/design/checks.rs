@@ -71,7 +71,14 @@ pub fn input_hashes(base: &Path, files: &[PathBuf]) -> Result<BTreeMap<String, S
     let mut hashes = BTreeMap::new();
     for file in files {
         let bytes = ufcsr::read_limited(file, ufcsr::MODEL_LIMIT)?;
-        let name = file.strip_prefix(base).unwrap_or(file).to_string_lossy().replace('\\', "/");
+        // `./x.mtl` (an OBJ beside a design in the working folder names its MTL so) is `x.mtl`.
+        let relative: PathBuf = file
+            .strip_prefix(base)
+            .unwrap_or(file)
+            .components()
+            .filter(|c| !matches!(c, std::path::Component::CurDir))
+            .collect();
+        let name = relative.to_string_lossy().replace('\\', "/");
         hashes.insert(name, fnv1a_hex(&bytes));
     }
     Ok(hashes)
