@@ -32,13 +32,16 @@ mod scene;
 mod study;
 mod texture;
 
+pub use design::checks::check_inputs as check_design_inputs;
 pub use design::merge::{merge_design, read_tasks};
+pub use design::output::write_result_set as write_design_result_set;
 pub use design::plan::{MAX_TASKS, Plan, PlannedTask, plan_checked, plan_design};
 pub use design::report::write_result as write_design_result;
 pub use design::run::{TASK_FILE, candidate_values, derived_seed, run_task, task_dir, write_task};
 pub use design::stats::{
     CellData, INTERVAL_METHOD, Pair, cell_data, group_summary, main_effects, mean_interval, p_best,
 };
+pub use design::task_checks::check_task as check_design_task;
 pub use design::{TaskOutcome, run_design};
 pub use error::{CaptureError, Result};
 pub use exact::{

@@ -106,6 +106,25 @@ pub fn shown(path: &Path) -> String {
     path.display().to_string()
 }
 
+/// `text` safe to print on a terminal: control characters (an escape sequence, a newline that
+/// would forge a line, a carriage return) and the bidirectional overrides that reorder what is
+/// shown are written as `\u{1b}`, so a name read from a file cannot drive the terminal.
+#[cfg_attr(not(feature = "capture"), allow(dead_code))] // the design commands' names
+pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
+    let hostile = |c: char| {
+        c.is_control()
+            || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
+    };
+    if !text.chars().any(hostile) {
+        return std::borrow::Cow::Borrowed(text);
+    }
+    let escaped: String = text
+        .chars()
+        .map(|c| if hostile(c) { c.escape_unicode().to_string() } else { c.to_string() })
+        .collect();
+    std::borrow::Cow::Owned(escaped)
+}
+
 /// An error and the causes its message does not already hold, in one line.
 pub fn message(error: &anyhow::Error) -> String {
     let mut text = error.to_string();
@@ -299,3 +318,16 @@ macro_rules! say {
     };
 }
 pub(crate) use say;
+
+#[cfg(test)]
+mod tests {
+    use super::printable;
+
+    #[test]
+    fn names_print_without_driving_the_terminal() {
+        assert_eq!(printable("bumper"), "bumper");
+        assert_eq!(printable("a\u{1b}[2Jb\nc"), "a\\u{1b}[2Jb\\u{a}c");
+        assert_eq!(printable("x\u{202e}y"), "x\\u{202e}y");
+        assert_eq!(printable("Stoßfänger"), "Stoßfänger");
+    }
+}

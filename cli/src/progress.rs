@@ -6,7 +6,9 @@
 //! (whole items per second from 10 up, one decimal below), the time left in
 //! whole seconds or minutes — at most 80 columns for any count up to
 //! 9,999,999. A new bar per `start` (a capture starts one per scenario),
-//! cleared at `finish`.
+//! cleared at `finish`. A design run, whose tasks take minutes each, prints
+//! one line per finished task instead ([`TaskLine`]: "task k of N", the bar,
+//! the time left), so a log shows it too.
 
 use std::sync::Mutex;
 
@@ -70,6 +72,50 @@ impl Bar {
     }
 }
 
+/// A design run's progress (issue 42 §8): after each task, on stderr (not with `--quiet` or
+/// `--json`), "task k of N", the bar and the time left, estimated from the tasks measured so
+/// far (a skipped, already complete task costs nothing and is not counted in the rate).
+#[cfg(feature = "capture")]
+pub struct TaskLine {
+    total: usize,
+    done: usize,
+    measured: usize,
+    started: std::time::Instant,
+    hidden: bool,
+}
+
+#[cfg(feature = "capture")]
+impl TaskLine {
+    pub fn new(total: usize, console: &Console) -> TaskLine {
+        TaskLine { total, done: 0, measured: 0, started: std::time::Instant::now(), hidden: console.quiet() }
+    }
+
+    /// One more task finished (`measured`: run now, not skipped): prints its line.
+    pub fn finished(&mut self, measured: bool) {
+        self.done += 1;
+        self.measured += usize::from(measured);
+        let per_task = self.started.elapsed().as_secs_f64() / self.measured.max(1) as f64;
+        let left =
+            if self.measured == 0 { 0.0 } else { per_task * self.total.saturating_sub(self.done) as f64 };
+        if !self.hidden {
+            eprintln!("{}", task_line(self.done, self.total, left));
+        }
+    }
+}
+
+/// `task 3 of 8 [=======             ] 40 s left`: the bars' width and time-left words.
+#[cfg(feature = "capture")]
+fn task_line(done: usize, total: usize, left_s: f64) -> String {
+    let filled = (BAR_WIDTH * done / total.max(1)).min(BAR_WIDTH);
+    let line = format!(
+        "task {done} of {total} [{}{}] {}",
+        "=".repeat(filled),
+        " ".repeat(BAR_WIDTH - filled),
+        left_text(left_s)
+    );
+    line.trim_end().to_string()
+}
+
 impl ufcsr::Progress for Bar {
     fn start(&self, total: u64) {
         let target = if self.hidden { ProgressDrawTarget::hidden() } else { ProgressDrawTarget::stderr() };
@@ -128,6 +174,15 @@ mod tests {
     fn both_bars_fit_an_80_column_terminal() {
         assert!(widest_line("counting", "images") <= 80, "{}", widest_line("counting", "images"));
         assert!(widest_line("capturing", "tiles") <= 80, "{}", widest_line("capturing", "tiles"));
+    }
+
+    #[cfg(feature = "capture")]
+    #[test]
+    fn a_design_run_says_task_k_of_n_with_the_time_left() {
+        assert_eq!(task_line(3, 8, 100.0), "task 3 of 8 [=======             ] 100 s left");
+        assert_eq!(task_line(8, 8, 0.0), "task 8 of 8 [====================]");
+        assert_eq!(task_line(1, 1000, 7200.0), "task 1 of 1000 [                    ] 120 min left");
+        assert!(task_line(9_999_999, 9_999_999, 5999.0 * 60.0).chars().count() <= 80);
     }
 
     #[test]

@@ -14,8 +14,11 @@
 //! here ("sedan", "van", …) and its dimension overrides plain numbers; the
 //! capture checks and converts them when it plans.
 
+use std::collections::BTreeMap;
+
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
 
 use crate::format::observers::ObserverPopulation;
 use crate::format::placement::ExcludedRecord;
@@ -38,9 +41,10 @@ pub struct Design {
     /// Factor `vehicle`: at least one level.
     pub vehicles: Vec<VehicleLevel>,
     /// Factor `scenario`: at least one level.
+    #[serde(deserialize_with = "strict_levels")]
     pub scenarios: Vec<ScenarioLevel>,
     /// Factor `traffic` (default: one level, `none`).
-    #[serde(default = "default_traffic")]
+    #[serde(default = "default_traffic", deserialize_with = "strict_levels")]
     pub traffic: Vec<TrafficLevel>,
     /// Who looks: observers drawn in every task (absent: one observer, the
     /// scenario's own pedestrian at the rig's eye height).
@@ -107,7 +111,8 @@ pub struct BodyDimsOverride {
     pub wheelbase_m: Option<f64>,
 }
 
-/// A scenario level.
+/// A scenario level. A field its kind does not have (`"speed"` for
+/// `"speed_mps"`) is refused, not dropped.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct ScenarioLevel {
     /// The level's name, unique in the factor.
@@ -141,7 +146,7 @@ pub struct StreetScenario {
     pub speed_mps: f64,
 }
 
-/// A traffic level.
+/// A traffic level. A field its kind does not have is refused, not dropped.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 pub struct TrafficLevel {
     /// The level's name, unique in the factor.
@@ -163,6 +168,61 @@ pub enum TrafficKind {
     /// `vehicles` other vehicles of the same model, placed by the street
     /// generator from a seed derived from the design's (street scenarios only; at most 7).
     Generated { vehicles: u32 },
+}
+
+/// A level's `name` and its flattened `kind` fields, every field known: serde's
+/// `deny_unknown_fields` does not work beside `flatten`, so the fields the kind
+/// has are the ones it writes back (each is written, defaults included), and any
+/// other field of the object is an error naming it.
+fn level_fields<T: Serialize + serde::de::DeserializeOwned>(
+    mut fields: Map<String, Value>,
+) -> Result<(String, T), String> {
+    let name = match fields.remove("name") {
+        Some(Value::String(name)) => name,
+        Some(other) => return Err(format!("name: {other} is not a string")),
+        None => return Err("missing field `name`".into()),
+    };
+    let kind: T =
+        serde_json::from_value(Value::Object(fields.clone())).map_err(|e| format!("{name:?}: {e}"))?;
+    let known = serde_json::to_value(&kind).map_err(|e| format!("{name:?}: {e}"))?;
+    if let Some(field) = fields.keys().find(|field| known.get(field.as_str()).is_none()) {
+        let mut has: Vec<&str> =
+            known.as_object().map(|o| o.keys().map(String::as_str).collect()).unwrap_or_default();
+        has.insert(0, "name");
+        return Err(format!("{name:?}: unknown field {field:?} (this kind of level has {})", has.join(", ")));
+    }
+    Ok((name, kind))
+}
+
+/// A factor's levels, each through [`level_fields`] (the field attribute keeps the levels'
+/// derived schema, which a container `try_from` would replace by a bare object).
+fn strict_levels<'de, D, T>(deserializer: D) -> Result<Vec<T>, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: TryFrom<Map<String, Value>, Error = String>,
+{
+    let levels = Vec::<Map<String, Value>>::deserialize(deserializer)?;
+    levels
+        .into_iter()
+        .enumerate()
+        .map(|(i, fields)| T::try_from(fields).map_err(|e| serde::de::Error::custom(format!("[{i}] {e}"))))
+        .collect()
+}
+
+impl TryFrom<Map<String, Value>> for ScenarioLevel {
+    type Error = String;
+
+    fn try_from(fields: Map<String, Value>) -> Result<Self, String> {
+        level_fields(fields).map(|(name, source)| ScenarioLevel { name, source })
+    }
+}
+
+impl TryFrom<Map<String, Value>> for TrafficLevel {
+    type Error = String;
+
+    fn try_from(fields: Map<String, Value>) -> Result<Self, String> {
+        level_fields(fields).map(|(name, kind)| TrafficLevel { name, kind })
+    }
 }
 
 /// Who looks: observers drawn from a population in every task.
@@ -265,6 +325,12 @@ pub struct DesignTask {
     pub replicate: u32,
     pub units: Vec<UnitValues>,
     pub seconds: f64,
+    /// Every input file the task read (the vehicle model and its buffers, a scene file and what it
+    /// names), by path relative to the design's folder, with its FNV-1a 64 fingerprint: merge
+    /// refuses tasks that read different versions of one file. Absent (empty) when the task read
+    /// no file (built-in bodies, the demo) and in tasks of older versions.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub inputs: BTreeMap<String, String>,
 }
 
 /// A mean over the random units with its interval.

@@ -20,6 +20,12 @@ const NAMED_MISSING: usize = 20;
 /// Reads one task file, refusing one of another design or place.
 fn read_task(plan: &Plan, out: &Path, index: u32) -> Result<Option<DesignTask>> {
     let path = task_dir(out, index).join(TASK_FILE);
+    if super::run::task_behind_link(out, index) {
+        return Err(CaptureError::bad_file(
+            &path,
+            "lies behind a link (tasks/, its folder or the file): not read",
+        ));
+    }
     if !path.exists() {
         return Ok(None);
     }
@@ -214,6 +220,8 @@ pub(super) fn display_effects(data: &[CellData], vehicles: &[GroupSummary]) -> V
 /// Merges every task of `plan` in `out` into one result.
 pub fn merge_design(plan: &Plan, out: &Path) -> Result<DesignResult> {
     let tasks = read_tasks(plan, out)?;
+    let limits = super::checks::check_inputs(plan)?;
+    super::task_checks::check_tasks(plan, out, &tasks, &limits)?;
     let data = cell_data(&plan.cells, &tasks);
     let seed = plan.design.seed;
     let cells = data.iter().map(|c| group_summary(format!("cell {}", c.cell), &[c], seed)).collect();

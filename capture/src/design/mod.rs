@@ -12,15 +12,22 @@
 //! re-run skips complete tasks; [`stats`] the merge's arithmetic (intervals
 //! over the random units, P(best), main effects); [`merge`] reads every task,
 //! refusing another design's and naming missing cells; [`report`] writes
-//! `design.json`, `design.csv` and `design.html`. `docs/design.md` is the
-//! user's page.
+//! `design.json`, `design.csv` and `design.html`. [`checks`] loads what the
+//! tasks will read before any runs (and gives merge each cell's bounds),
+//! [`task_checks`] checks every value a merge reads, [`output`] writes the
+//! result files as one set. `docs/design.md` is the user's page.
 
 pub mod build;
+pub mod checks;
+#[cfg(test)]
+mod checks_tests;
 pub mod merge;
+pub mod output;
 pub mod plan;
 pub mod report;
 pub mod run;
 pub mod stats;
+pub mod task_checks;
 #[cfg(test)]
 mod tests;
 

@@ -6,10 +6,12 @@
 //! design hash (FNV-1a 64 of the file's canonical JSON) ties every task
 //! file to the design it was run for: merge refuses any other.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-use ufcsr::{CellLevels, Crossing, DESIGN_SCHEMA, Design, ScenarioSource, TrafficKind};
+use ufcsr::{
+    CellLevels, Crossing, DESIGN_SCHEMA, Design, ScenarioLevel, ScenarioSource, TrafficKind, TrafficLevel,
+};
 
 use crate::error::{CaptureError, Result};
 use crate::scene::family::BodyType;
@@ -68,15 +70,17 @@ pub fn plan_design(path: &Path) -> Result<Plan> {
 pub fn plan_checked(design: Design, path: &Path) -> Result<Plan> {
     let bad = |message: String| CaptureError::bad_file(path, message);
     check_levels(&design).map_err(bad)?;
-    let cells = cells_of(&design).map_err(bad)?;
+    // Counted before any cell is listed: a small file may name a vast crossing.
+    let count = cell_count(&design);
     let replicates = design.replicates;
-    if cells.len().saturating_mul(replicates as usize) > MAX_TASKS {
+    let tasks = count.saturating_mul(u128::from(replicates));
+    if tasks > MAX_TASKS as u128 {
         return Err(bad(format!(
-            "{} cells × {replicates} replicates: more than {MAX_TASKS} tasks",
-            cells.len()
+            "{count} cells × {replicates} replicates = {tasks} tasks: more than {MAX_TASKS}"
         )));
     }
-    let mut tasks = Vec::new();
+    let cells = cells_of(&design).map_err(bad)?;
+    let mut tasks = Vec::with_capacity(cells.len() * replicates as usize);
     for cell in &cells {
         for replicate in 0..replicates {
             tasks.push(PlannedTask { index: tasks.len() as u32, cell: cell.clone(), replicate });
@@ -86,12 +90,49 @@ pub fn plan_checked(design: Design, path: &Path) -> Result<Plan> {
     Ok(Plan { hash: fnv1a_hex(&canonical), design, path: path.to_path_buf(), cells, tasks })
 }
 
+/// The cells of the crossing, counted from the levels' kinds without listing them (a full
+/// crossing keeps the scenario × traffic pairs whose kinds go together, [`kinds_fit`]).
+pub fn cell_count(design: &Design) -> u128 {
+    if let Crossing::Cells(cells) = &design.crossing {
+        return cells.len() as u128;
+    }
+    let mut scenarios: Vec<(&ScenarioSource, u128)> = Vec::new();
+    for s in &design.scenarios {
+        match scenarios
+            .iter_mut()
+            .find(|(k, _)| std::mem::discriminant(*k) == std::mem::discriminant(&s.source))
+        {
+            Some((_, n)) => *n += 1,
+            None => scenarios.push((&s.source, 1)),
+        }
+    }
+    let mut traffic: Vec<(&TrafficKind, u128)> = Vec::new();
+    for t in &design.traffic {
+        match traffic.iter_mut().find(|(k, _)| std::mem::discriminant(*k) == std::mem::discriminant(&t.kind))
+        {
+            Some((_, n)) => *n += 1,
+            None => traffic.push((&t.kind, 1)),
+        }
+    }
+    let pairs: u128 = scenarios
+        .iter()
+        .flat_map(|(s, ns)| traffic.iter().filter(|(t, _)| kinds_fit(s, t)).map(move |(_, nt)| ns * nt))
+        .sum();
+    pairs * design.vehicles.len() as u128
+}
+
 /// Names unique and present in every factor.
 fn check_names<'a>(factor: &str, names: impl Iterator<Item = &'a String>) -> std::result::Result<(), String> {
     let mut seen = BTreeSet::new();
     for (i, name) in names.enumerate() {
         if name.trim().is_empty() || !seen.insert(name.as_str()) {
             return Err(format!("{factor}[{i}] {name:?}: each level needs its own, non-empty name"));
+        }
+        if let Some(c) = name.chars().find(|c| c.is_control()) {
+            return Err(format!(
+                "{factor}[{i}] {name:?}: a control character ({c:?}) in a name would forge lines in the \
+                 terminal, design.csv and the plan"
+            ));
         }
     }
     if seen.is_empty() {
@@ -177,6 +218,9 @@ fn check_traffic(design: &Design) -> std::result::Result<(), String> {
 
 /// Every level of every factor, and the measure.
 fn check_levels(design: &Design) -> std::result::Result<(), String> {
+    if let Some(c) = design.name.chars().find(|c| c.is_control()) {
+        return Err(format!("name {:?}: a control character ({c:?}) in the design's name", design.name));
+    }
     check_vehicles(design)?;
     check_scenarios(design)?;
     check_traffic(design)?;
@@ -205,11 +249,12 @@ fn check_levels(design: &Design) -> std::result::Result<(), String> {
 }
 
 /// Traffic a scenario cannot carry, by name.
-fn traffic_fits(design: &Design, cell: &CellLevels) -> std::result::Result<(), String> {
-    let scenario = design.scenarios.iter().find(|s| s.name == cell.scenario);
-    let traffic = design.traffic.iter().find(|t| t.name == cell.traffic);
-    let (Some(scenario), Some(traffic)) = (scenario, traffic) else { return Ok(()) };
-    if !kind_fits(design, cell) {
+fn traffic_fits(
+    cell: &CellLevels,
+    scenario: &ScenarioLevel,
+    traffic: &TrafficLevel,
+) -> std::result::Result<(), String> {
+    if !kinds_fit(&scenario.source, &traffic.kind) {
         return Err(format!(
             "cell {cell}: traffic level {:?} does not fit scenario level {:?} (adjacent-lane and lead-car go with \
              demo scenarios, generated with street scenarios, scene files carry their own occluders)",
@@ -232,51 +277,59 @@ fn traffic_fits(design: &Design, cell: &CellLevels) -> std::result::Result<(), S
 }
 
 /// Whether a traffic level's kind goes with a scenario level's (a full crossing leaves out the others).
-fn kind_fits(design: &Design, cell: &CellLevels) -> bool {
-    let scenario = design.scenarios.iter().find(|s| s.name == cell.scenario);
-    let traffic = design.traffic.iter().find(|t| t.name == cell.traffic);
-    let (Some(scenario), Some(traffic)) = (scenario, traffic) else { return true };
+pub fn kinds_fit(scenario: &ScenarioSource, traffic: &TrafficKind) -> bool {
     matches!(
-        (&scenario.source, &traffic.kind),
+        (scenario, traffic),
         (_, TrafficKind::None)
             | (ScenarioSource::Demo { .. }, TrafficKind::AdjacentLane | TrafficKind::LeadCar)
             | (ScenarioSource::Street(_), TrafficKind::Generated { .. })
     )
 }
 
-/// The cells of the crossing, each level named in its factor.
+#[cfg(test)]
+thread_local! {
+    /// Cells listed by [`cells_of`] on this thread: the tests' bound that a refused crossing was
+    /// counted, never listed.
+    pub static LISTED_CELLS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
+/// The cells of the crossing, each level named in its factor (levels looked up by name in maps:
+/// a listed crossing of many cells over many levels stays linear).
 fn cells_of(design: &Design) -> std::result::Result<Vec<CellLevels>, String> {
+    let vehicles: BTreeSet<&str> = design.vehicles.iter().map(|v| v.name.as_str()).collect();
+    let scenarios: BTreeMap<&str, &ScenarioLevel> =
+        design.scenarios.iter().map(|s| (s.name.as_str(), s)).collect();
+    let traffic: BTreeMap<&str, &TrafficLevel> =
+        design.traffic.iter().map(|t| (t.name.as_str(), t)).collect();
     let cells: Vec<CellLevels> = match &design.crossing {
         Crossing::Full => design
             .vehicles
             .iter()
             .flat_map(|v| {
                 design.scenarios.iter().flat_map(move |s| {
-                    design.traffic.iter().map(move |t| CellLevels {
+                    design.traffic.iter().filter(|t| kinds_fit(&s.source, &t.kind)).map(move |t| CellLevels {
                         vehicle: v.name.clone(),
                         scenario: s.name.clone(),
                         traffic: t.name.clone(),
                     })
                 })
             })
-            .filter(|cell| kind_fits(design, cell))
             .collect(),
         Crossing::Cells(cells) => cells.clone(),
     };
+    #[cfg(test)]
+    LISTED_CELLS.with(|n| n.set(n.get() + cells.len()));
     let mut seen = BTreeSet::new();
     for (i, cell) in cells.iter().enumerate() {
         let missing = |factor: &str, name: &str| format!("cells[{i}]: no {factor} level {name:?}");
-        if !design.vehicles.iter().any(|v| v.name == cell.vehicle) {
+        if !vehicles.contains(cell.vehicle.as_str()) {
             return Err(missing("vehicle", &cell.vehicle));
         }
-        if !design.scenarios.iter().any(|s| s.name == cell.scenario) {
-            return Err(missing("scenario", &cell.scenario));
-        }
-        if !design.traffic.iter().any(|t| t.name == cell.traffic) {
-            return Err(missing("traffic", &cell.traffic));
-        }
-        traffic_fits(design, cell)?;
-        if !seen.insert(cell.clone()) {
+        let scenario =
+            scenarios.get(cell.scenario.as_str()).ok_or_else(|| missing("scenario", &cell.scenario))?;
+        let level = traffic.get(cell.traffic.as_str()).ok_or_else(|| missing("traffic", &cell.traffic))?;
+        traffic_fits(cell, scenario, level)?;
+        if !seen.insert(cell) {
             return Err(format!("cells[{i}]: cell {cell} listed twice"));
         }
     }

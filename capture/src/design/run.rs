@@ -28,7 +28,20 @@ pub const TASK_FILE: &str = "task.json";
 
 /// The folder of task `index` under `out`.
 pub fn task_dir(out: &Path, index: u32) -> PathBuf {
-    out.join("tasks").join(format!("task-{index:04}"))
+    out.join(task_relative(index))
+}
+
+/// [`task_dir`] relative to the output folder.
+pub fn task_relative(index: u32) -> PathBuf {
+    Path::new("tasks").join(format!("task-{index:04}"))
+}
+
+/// True when `tasks/`, the task's folder or its `task.json` is a link: nothing of the task is
+/// read or written through one (a link planted there points outside the output folder).
+pub fn task_behind_link(out: &Path, index: u32) -> bool {
+    let file = task_relative(index).join(TASK_FILE);
+    ufcsr::crosses_link(out, &file)
+        || std::fs::symlink_metadata(out.join(&file)).is_ok_and(|m| m.file_type().is_symlink())
 }
 
 /// A seed derived from the design's, for one purpose and numbers (SplitMix64 steps).
@@ -45,6 +58,9 @@ pub fn derived_seed(seed: u64, purpose: u64, numbers: &[u64]) -> u64 {
 
 /// The task already complete in `out`, when its file is there, reads and is of this design.
 pub fn completed(plan: &Plan, out: &Path, index: u32) -> Option<DesignTask> {
+    if task_behind_link(out, index) {
+        return None;
+    }
     let path = task_dir(out, index).join(TASK_FILE);
     let bytes = ufcsr::read_limited(&path, ufcsr::SMALL_INPUT_LIMIT).ok()?;
     let task: DesignTask = ufcsr::parse_json(&path, &bytes, "design task").ok()?;
@@ -52,14 +68,14 @@ pub fn completed(plan: &Plan, out: &Path, index: u32) -> Option<DesignTask> {
 }
 
 /// One drawn observer: where, how tall, and the texel sample's seed.
-struct Unit {
+pub(super) struct Unit {
     position: Option<[f64; 3]>,
     eye_height_m: f64,
     seed: u64,
 }
 
 /// The task's observers: drawn from the design's population, or the scene's own pedestrian.
-fn units(plan: &Plan, task: &PlannedTask, scene: &Scene) -> Result<Vec<Unit>> {
+pub(super) fn units(plan: &Plan, task: &PlannedTask, scene: &Scene) -> Result<Vec<Unit>> {
     let design = &plan.design;
     let seed = |unit: u32| derived_seed(design.seed, 2, &[u64::from(task.replicate), u64::from(unit)]);
     let Some(population) = &design.population else {
@@ -180,14 +196,17 @@ pub fn run_task(
     let design = &plan.design;
     let traffic_seed = derived_seed(design.seed, 3, &[u64::from(task.replicate)]);
     let scene = cell_scene(design, plan.base(), &task.cell, traffic_seed)?;
+    let inputs = super::checks::input_hashes(plan.base(), &scene.input_files)?;
     let level = design.vehicles.iter().find(|v| v.name == task.cell.vehicle);
     let display_m = level.and_then(|v| v.display_m);
-    let dir = task_dir(out, task.index);
+    // Real folders, never links: a link planted at `tasks` or `task-NNNN` is replaced.
+    ufcsr::create_output_dir(out)?;
+    let dir = ufcsr::output_sub_dir(out, &task_relative(task.index))?;
     let drawn = units(plan, task, &scene)?;
     let per_task = drawn.len() as u32;
     let mut values = Vec::with_capacity(drawn.len());
     for (i, unit) in drawn.iter().enumerate() {
-        let unit_dir = dir.join(format!("unit-{i:03}"));
+        let unit_dir = ufcsr::output_sub_dir(&dir, Path::new(&format!("unit-{i:03}")))?;
         let candidates = measure_unit((device, queue), plan, &scene, (unit, display_m), &unit_dir)?;
         values.push(UnitValues {
             unit: task.replicate * per_task + i as u32,
@@ -205,14 +224,16 @@ pub fn run_task(
         replicate: task.replicate,
         units: values,
         seconds: start.elapsed().as_secs_f64(),
+        inputs,
     };
     write_task(&result, &dir)?;
     Ok(result)
 }
 
-/// Writes `task.json` into `dir`, atomically.
+/// Writes `task.json` into `dir`, atomically (a link at `dir` is replaced by a real folder;
+/// [`run_task`] has made the folders above real).
 pub fn write_task(task: &DesignTask, dir: &Path) -> Result<PathBuf> {
-    ufcsr::create_output_dir(dir)?;
+    ufcsr::real_dir(dir)?;
     let path = dir.join(TASK_FILE);
     let json = serde_json::to_vec_pretty(task).map_err(|e| CaptureError::bad_file(&path, e.to_string()))?;
     ufcsr::write_bytes_atomically(&path, &json)?;

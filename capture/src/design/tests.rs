@@ -79,7 +79,7 @@ fn invalid_designs_are_refused_naming_the_factor_and_level() {
 }
 
 /// A synthetic task of `plan`: every unit sees candidates "a" and "b" with the given legible times.
-fn synthetic(plan: &Plan, index: u32, a: f64, b: f64) -> DesignTask {
+pub(super) fn synthetic(plan: &Plan, index: u32, a: f64, b: f64) -> DesignTask {
     let planned = &plan.tasks[index as usize];
     let value = |name: &str, s: f64| CandidateValue {
         name: name.into(),
@@ -102,6 +102,7 @@ fn synthetic(plan: &Plan, index: u32, a: f64, b: f64) -> DesignTask {
             candidates: vec![value("a", a), value("b", b)],
         }],
         seconds: 0.0,
+        inputs: Default::default(),
     }
 }
 
@@ -110,7 +111,8 @@ fn merge_refuses_a_task_of_another_design_and_names_a_missing_cell() {
     let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
     let dir = tempfile::tempdir().unwrap();
     for i in 0..plan.tasks.len() as u32 {
-        write_task(&synthetic(&plan, i, 2.0 + f64::from(i), 1.0), &task_dir(dir.path(), i)).unwrap();
+        // Within every cell's bound (street-2 is static: 3 measured frames of 1 s).
+        write_task(&synthetic(&plan, i, 0.2 + 0.3 * f64::from(i), 1.0), &task_dir(dir.path(), i)).unwrap();
     }
     let merged = merge_design(&plan, dir.path()).unwrap();
     assert_eq!(merged.tasks, 8);
@@ -122,16 +124,16 @@ fn merge_refuses_a_task_of_another_design_and_names_a_missing_cell() {
         "{:?}",
         merged.answer
     );
-    // Candidate a's vehicle effect: pickup tasks 0–3 (mean 3.5), van tasks 4–7 (mean 7.5).
+    // Candidate a's vehicle effect: pickup tasks 0–3 (mean 0.65), van tasks 4–7 (mean 1.85).
     let effect = merged.main_effects.iter().find(|e| e.factor == "vehicle" && e.candidate == "a").unwrap();
-    assert!((effect.range_s.mean - 4.0).abs() < 1e-12, "{effect:?}");
+    assert!((effect.range_s.mean - 1.2).abs() < 1e-12, "{effect:?}");
     assert_eq!((effect.highest.as_str(), effect.lowest.as_str()), ("van", "pickup"));
     // The effects are in design.csv with the groups, under one header.
     let csv = super::report::csv(&merged);
     let fields = |line: &str| line.split(',').count();
     assert!(csv.lines().all(|line| fields(line) == 13), "{csv}");
-    assert!(csv.contains("vehicle: van - pickup,a,range,4.000000,"), "{csv}");
-    assert!(csv.contains("vehicle=van,a,level-effect,2.000000,"), "{csv}");
+    assert!(csv.contains("vehicle: van - pickup,a,range,1.200000,"), "{csv}");
+    assert!(csv.contains("vehicle=van,a,level-effect,0.600000,"), "{csv}");
     // A task of another design.
     let mut foreign = synthetic(&plan, 5, 1.0, 1.0);
     foreign.design_hash = "0123456789abcdef".into();
@@ -431,7 +433,8 @@ fn displays_are_compared_within_a_vehicle_and_said_where_not_measured() {
             let values = &mut task.units[0].candidates;
             let mut front = values[0].clone();
             (front.name, front.kind, front.legible_s) =
-                ("p@front".into(), "patch".into(), 1.0 + f64::from(i));
+                ("p@front".into(), "patch".into(), 0.5 + 0.5 * f64::from(i));
+            front.decision_window_legible_s = 0.5 * front.legible_s;
             values.push(front);
             add_unseen_patches(values, layout.iter());
             assert_eq!(values.len(), 4, "{values:?}");
@@ -444,9 +447,9 @@ fn displays_are_compared_within_a_vehicle_and_said_where_not_measured() {
     assert_eq!(displays.len(), 2, "{:?}", pickup.best);
     assert_eq!((displays[0].name.as_str(), displays[0].p_best), ("p@front", Some(1.0)));
     assert_eq!(displays[1].legible_s.mean, 0.0);
-    // Tasks 0–3 are the pickup's: p@front 1, 2, 3, 4 s, mean 2.5 s over its two units.
-    assert!((displays[0].legible_s.mean - 2.5).abs() < 1e-12, "{:?}", displays[0]);
-    assert!(merged.answer[0].contains("best display p@front 2.50 s"), "{:?}", merged.answer);
+    // Tasks 0–3 are the pickup's: p@front 0.5, 1, 1.5, 2 s, mean 1.25 s over its two units.
+    assert!((displays[0].legible_s.mean - 1.25).abs() < 1e-12, "{:?}", displays[0]);
+    assert!(merged.answer[0].contains("best display p@front 1.25 s"), "{:?}", merged.answer);
     let none = merged.answer.iter().find(|l| l.starts_with("displays: none measured for van")).unwrap();
     assert!(none.contains("across all"), "{none}");
     assert!(!merged.answer.iter().any(|l| l.contains("not compared")), "{:?}", merged.answer);
@@ -483,8 +486,10 @@ fn traffic_tasks(plan: &Plan, units: u32, normal: &mut Normal) -> Vec<DesignTask
             patch.kind = "patch".into();
             (patch.name, patch.legible_s) =
                 ("p@front".into(), 3.0 - lead + shared[unit.unit as usize] + 0.4 * normal.draw());
+            patch.decision_window_legible_s = 0.5 * patch.legible_s;
             unit.candidates.push(patch.clone());
             (patch.name, patch.legible_s) = ("p@side".into(), 1.0 + 0.4 * normal.draw());
+            patch.decision_window_legible_s = 0.5 * patch.legible_s;
             unit.candidates.push(patch);
         }
     }
@@ -500,7 +505,13 @@ fn a_displays_main_effects_are_within_its_vehicle_and_cover_a_known_traffic_effe
     let mut normal = Normal(ufcsr::SplitMix64(41));
     // Through the files: design.json's display effects, the CSV rows and the page's label.
     let dir = tempfile::tempdir().unwrap();
-    for task in traffic_tasks(&plan, 8, &mut normal) {
+    // The normal model's draws clamped to what a cell can give (merge refuses the rest).
+    let limits = super::checks::check_inputs(&plan).unwrap();
+    for mut task in traffic_tasks(&plan, 8, &mut normal) {
+        for c in task.units.iter_mut().flat_map(|u| u.candidates.iter_mut()) {
+            c.legible_s = c.legible_s.clamp(0.0, limits[&task.cell]);
+            c.decision_window_legible_s = 0.5 * c.legible_s;
+        }
         write_task(&task, &task_dir(dir.path(), task.task)).unwrap();
     }
     let merged = merge_design(&plan, dir.path()).unwrap();

@@ -8,6 +8,8 @@
 //! The files an input names (meshes, buffers, `mtllib`, a Unity export) are
 //! looked for beside a path in a folder that does not exist, so only the
 //! bytes given are parsed; an OBJ's `mtllib` reads the input itself as MTL.
+//! A design file is planned without reading what it names; a `task.json` is
+//! checked as `design merge` checks it, against the shipped tiny design.
 
 use std::path::Path;
 
@@ -49,4 +51,48 @@ pub fn obj(bytes: &[u8]) {
 /// A Unity scenario export (`unity-intersection.json`).
 pub fn unity(bytes: &[u8]) {
     let _ = crate::scene::unity::parse(&Path::new(NOWHERE).join("unity.json"), bytes);
+}
+
+/// A design file: parsed, its version checked, its levels checked and its crossing counted and
+/// planned into tasks (nothing it names is read: that is `check_inputs`, which loads models).
+pub fn design(bytes: &[u8]) {
+    let path = Path::new(NOWHERE).join("design.json");
+    let Ok(design) = ufcsr::parse_json::<ufcsr::Design>(&path, bytes, "design") else { return };
+    if ufcsr::check_version(&path, &design.schema, ufcsr::DESIGN_SCHEMA).is_ok() {
+        let _ = crate::design::plan::plan_checked(design, &path);
+    }
+}
+
+/// The shipped tiny design's plan and its cells' bounds, built once: the design a fuzzed
+/// `task.json` is checked against.
+fn tiny_design() -> Option<&'static (crate::design::plan::Plan, crate::design::checks::CellLimits)> {
+    static TINY: std::sync::OnceLock<Option<(crate::design::plan::Plan, crate::design::checks::CellLimits)>> =
+        std::sync::OnceLock::new();
+    TINY.get_or_init(|| {
+        let path = Path::new(NOWHERE).join("tiny-2x2.json");
+        let bytes = include_bytes!("../../../fixtures/designs/tiny-2x2.json");
+        let design = ufcsr::parse_json::<ufcsr::Design>(&path, bytes, "design").ok()?;
+        let plan = crate::design::plan::plan_checked(design, &path).ok()?;
+        let limits = crate::design::checks::check_inputs(&plan).ok()?;
+        Some((plan, limits))
+    })
+    .as_ref()
+}
+
+/// A `task.json` as `design merge` reads it: parsed, its version checked, then every value,
+/// unit and input record checked against the tiny design's cells (its hash and place are not
+/// required to match, so the checks past them are reached).
+pub fn design_task(bytes: &[u8]) {
+    let path = Path::new(NOWHERE).join("tasks/task-0000/task.json");
+    let Ok(task) = ufcsr::parse_json::<ufcsr::DesignTask>(&path, bytes, "design task") else { return };
+    if ufcsr::check_version(&path, &task.schema, ufcsr::DESIGN_TASK_SCHEMA).is_err() {
+        return;
+    }
+    let Some((plan, limits)) = tiny_design() else { return };
+    let _ = crate::design::task_checks::check_tasks(
+        plan,
+        Path::new(NOWHERE),
+        std::slice::from_ref(&task),
+        limits,
+    );
 }

@@ -7,11 +7,13 @@
 
 use std::path::PathBuf;
 
-const TARGETS: [ufcsr::fuzz_entry::Target; 4] = [
+const TARGETS: [ufcsr::fuzz_entry::Target; 6] = [
     ("scene", ufcsr_capture::fuzz_entry::scene),
     ("gltf", ufcsr_capture::fuzz_entry::gltf),
     ("obj", ufcsr_capture::fuzz_entry::obj),
     ("unity", ufcsr_capture::fuzz_entry::unity),
+    ("design", ufcsr_capture::fuzz_entry::design),
+    ("design_task", ufcsr_capture::fuzz_entry::design_task),
 ];
 
 fn fuzz_dir() -> PathBuf {
@@ -33,6 +35,19 @@ fn the_capture_s_fuzz_seeds_load_so_the_fuzzers_start_past_the_parsers() {
         let bytes = std::fs::read(file.path()).unwrap();
         let scene = ufcsr_capture::Scene::parse(&nowhere.join("scene.json"), &bytes);
         assert!(scene.is_ok(), "{}: {}", file.path().display(), scene.unwrap_err());
+    }
+    for file in std::fs::read_dir(seeds.join("design")).unwrap().flatten() {
+        let bytes = std::fs::read(file.path()).unwrap();
+        let design: ufcsr::Design = serde_json::from_slice(&bytes).unwrap();
+        let plan = ufcsr_capture::plan_checked(design, &nowhere.join("design.json"));
+        assert!(plan.is_ok(), "{}: {}", file.path().display(), plan.err().unwrap());
+    }
+    for file in std::fs::read_dir(seeds.join("design_task")).unwrap().flatten() {
+        let bytes = std::fs::read(file.path()).unwrap();
+        let task = ufcsr::parse_json::<ufcsr::DesignTask>(&file.path(), &bytes, "design task");
+        let task = task.unwrap_or_else(|e| panic!("{e}"));
+        let checked = ufcsr_capture::check_design_task(&task, f64::INFINITY);
+        assert!(checked.is_ok(), "{}: {}", file.path().display(), checked.unwrap_err());
     }
     for file in std::fs::read_dir(seeds.join("gltf")).unwrap().flatten() {
         let bytes = std::fs::read(file.path()).unwrap();

@@ -84,7 +84,7 @@ pub enum CaptureToolCommand {
     /// Plan a batch (batch.json: scenes × scenarios × ppd × frame steps): prints one
     /// `ufcsr capture ... --count` command per task, task i on line i (for job arrays, xargs -P).
     ///
-    /// Example: `ufcsr batch plan batch.json | xargs -P 4 -I{} sh -c '{}'`
+    /// Example: `ufcsr batch plan batch.json | xargs -d '\n' -P 4 -I{} sh -c '{}'` (-d keeps the quotes)
     Batch {
         #[command(subcommand)]
         action: BatchAction,

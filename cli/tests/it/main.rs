@@ -82,6 +82,7 @@ mod capture_replaces_whole;
 mod capture_sees_nothing;
 mod capture_shards;
 mod design_command;
+mod design_pipeline;
 mod exit_codes;
 mod family_bodies;
 mod fused_count;

@@ -1,0 +1,85 @@
+//! What a design's tasks will read, checked once before any task runs (issue 41 §2).
+//!
+//! [`super::plan`] checks the design file alone; a design whose every task
+//! then failed (a missing, FIFO, `/dev/zero` or folder `model`, a missing
+//! scene file or scenario, dims the body family cannot build, a palette the
+//! body does not fit) still planned with exit 0, and a Slurm array started on
+//! it. [`check_inputs`] does here what `run` will do, without measuring: it
+//! loads each vehicle level once through the file layer, unwraps it into the
+//! design's palette, builds every cell's scene and draws its observers. The
+//! same pass gives `merge` each cell's longest possible legible time
+//! ([`CellLimits`]), against which a task's values are checked, and
+//! [`input_hashes`] fingerprints the files a task read, so a merge can refuse
+//! tasks run before and after a model was replaced.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use ufcsr::CellLevels;
+
+use super::build::{cell_scene_with, vehicle_model};
+use super::plan::{Plan, fnv1a_hex};
+use super::run::derived_seed;
+use crate::error::{CaptureError, Result};
+use crate::scene::mesh::Mesh;
+
+/// Per cell, the most seconds one candidate can be legible: the measured frames (every
+/// `frame_step`-th of the scenario's) times the seconds each stands for.
+pub type CellLimits = BTreeMap<CellLevels, f64>;
+
+/// Loads every vehicle level, unwraps it into the palette and builds every cell's scene with its
+/// observers, as `run` will: an error names the design file, the level or cell, and the cause.
+/// Returns each cell's [`CellLimits`].
+pub fn check_inputs(plan: &Plan) -> Result<CellLimits> {
+    let design = &plan.design;
+    let bad = |message: String| CaptureError::bad_file(&plan.path, message);
+    let palette = design.measure.palette;
+    let mut models: BTreeMap<&str, (Mesh, Vec<PathBuf>)> = BTreeMap::new();
+    for (i, level) in design.vehicles.iter().enumerate() {
+        let at = format!("vehicles[{i}] {:?}", level.name);
+        let (mesh, files) = vehicle_model(level, plan.base()).map_err(|e| bad(format!("{at}: {e}")))?;
+        crate::texture::uv_islands::unwrap_islands(&mesh, [palette, palette])
+            .map_err(|e| bad(format!("{at} in measure.palette {palette}: {e}")))?;
+        models.insert(level.name.as_str(), (mesh, files));
+    }
+    let mut limits = CellLimits::new();
+    for task in &plan.tasks {
+        if limits.contains_key(&task.cell) {
+            continue;
+        }
+        let cell = &task.cell;
+        let model = models
+            .get(cell.vehicle.as_str())
+            .cloned()
+            .ok_or_else(|| bad(format!("cell {cell}: no vehicle")))?;
+        let seed = derived_seed(design.seed, 3, &[u64::from(task.replicate)]);
+        let scene = cell_scene_with(design, plan.base(), cell, seed, model)
+            .map_err(|e| bad(format!("cell {cell}: {e}")))?;
+        super::run::units(plan, task, &scene).map_err(|e| bad(format!("cell {cell}: population: {e}")))?;
+        let scenario = scene.scenarios.first().ok_or_else(|| bad(format!("cell {cell}: no scenario")))?;
+        let frames = scene.rig.frame_count(scenario.duration_s).max(1);
+        let step = design.measure.frame_step.max(1);
+        let measured = frames.div_ceil(step);
+        limits.insert(cell.clone(), f64::from(measured) * f64::from(step) / scene.rig.fps);
+    }
+    Ok(limits)
+}
+
+/// Every file in `files` with its FNV-1a 64 fingerprint, by path relative to `base` (the design's
+/// folder), read through the file layer as the model loader read it.
+pub fn input_hashes(base: &Path, files: &[PathBuf]) -> Result<BTreeMap<String, String>> {
+    let mut hashes = BTreeMap::new();
+    for file in files {
+        let bytes = ufcsr::read_limited(file, ufcsr::MODEL_LIMIT)?;
+        // `./x.mtl` (an OBJ beside a design in the working folder names its MTL so) is `x.mtl`.
+        let relative: PathBuf = file
+            .strip_prefix(base)
+            .unwrap_or(file)
+            .components()
+            .filter(|c| !matches!(c, std::path::Component::CurDir))
+            .collect();
+        let name = relative.to_string_lossy().replace('\\', "/");
+        hashes.insert(name, fnv1a_hex(&bytes));
+    }
+    Ok(hashes)
+}
