@@ -19,7 +19,8 @@ fn a_frame_linked_from_outside_the_folder_is_refused_and_one_inside_is_listed() 
     let dir = tempfile::tempdir().unwrap();
     let shots = dir.path().join("shots");
     rgb_png(&shots.join("frame_0000.png"), 2, 1, &[1, BG]);
-    rgb_png(&shots.join("pidt.png"), 2, 2, &[0xFF0000; 4]);
+    // The PIdT is the palette's size (4 × 4), as manifest now checks.
+    rgb_png(&shots.join("pidt.png"), 4, 4, &[0xFF0000; 16]);
     rgb_png(&dir.path().join("elsewhere.png"), 2, 1, &[2, BG]);
     std::os::unix::fs::symlink("../elsewhere.png", shots.join("frame_0001.png")).unwrap();
     let args = ["shots", "--pattern", "frame_{frame}.png", "--pidt", "shots/pidt.png", "--palette-size", "4"];
