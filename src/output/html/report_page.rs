@@ -569,7 +569,7 @@ pub fn demo_share_error_pp(ppd: f64) -> f64 {
 /// only `ufcsr-capture study` measures it for this scene.
 pub fn resolution_caution(pixels_per_degree: Option<f64>) -> String {
     let run = "This analysis carries no interval for it: to measure the error for this vehicle and scenario, \
-               run `ufcsr-capture study` (it compares resolutions and frame steps with the exact measure).";
+               run `ufcsr study` (it compares resolutions and frame steps with the exact measure).";
     match pixels_per_degree.filter(|p| p.is_finite() && *p > 0.0) {
         Some(ppd) => format!(
             "Resolution error: at {ppd:.3} px/° the angular-area share of the demo truck (scenarios A–D) is up \
@@ -603,7 +603,7 @@ mod tests {
         let page = page_of(&result);
         assert!(!page.contains("do not depend on resolution"));
         assert!(page.contains(&format!("up to {:.2} pp off", demo_share_error_pp(ppd))), "at {ppd} px/°");
-        assert!(page.contains("run `ufcsr-capture study`"));
+        assert!(page.contains("run `ufcsr study`"));
         result.measures.as_mut().unwrap().pixels_per_degree = None;
         assert!(page_of(&result).contains("records no pixels per degree"));
     }
