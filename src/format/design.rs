@@ -25,8 +25,10 @@ use crate::format::placement::ExcludedRecord;
 
 /// The design file's `schema` value.
 pub const DESIGN_SCHEMA: &str = "ufcsr-design/1";
-/// A task file's `schema` value.
-pub const DESIGN_TASK_SCHEMA: &str = "ufcsr-design-task/2";
+/// A task file's `schema` value. Version 3: a task's values follow the
+/// display-fit and mountability rules and record the files it read (`inputs`);
+/// a version-2 task predates them, so `run` measures it again and `merge` refuses it.
+pub const DESIGN_TASK_SCHEMA: &str = "ufcsr-design-task/3";
 /// The merged result's `schema` value.
 pub const DESIGN_RESULT_SCHEMA: &str = "ufcsr-design-result/2";
 
