@@ -79,7 +79,7 @@ pub fn a_sharded_capture_assembles_and_analyses_through_slurm_equal_to_one_proce
     }
     let Some(analyzer) = analyzer() else {
         return missing(
-            "ufcsr-analyze beside ufcsr-capture (cargo test --workspace --all-features builds it)",
+            "ufcsr-analyze beside ufcsr-capture (cargo test --workspace builds it)",
         );
     };
     let (_one, dir, cluster) = start_cluster(true, NEED_SLURM).expect("Slurm was found just now");
