@@ -555,4 +555,42 @@ mod tests {
         named.sort_unstable();
         assert_eq!(built, named);
     }
+
+    /// Every `.rs` file under `dir`.
+    fn rust_files(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+        for entry in std::fs::read_dir(dir).unwrap().flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                rust_files(&path, out);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                out.push(path);
+            }
+        }
+    }
+
+    #[test]
+    fn no_message_of_the_three_crates_names_the_old_programs() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let mut files = Vec::new();
+        for dir in ["src", "capture/src", "cli/src"] {
+            rust_files(&root.join(dir), &mut files);
+        }
+        // Not messages: the recorded tool name, a GPU debug label, the binaries'
+        // own names; unit tests (after `#[cfg(test)]`) are not scanned.
+        let allowed = ["concat!(\"ufcsr-capture \"", "label: Some(\"ufcsr-capture\")", "CARGO_BIN_EXE_"];
+        let mut found = Vec::new();
+        for file in &files {
+            let text = std::fs::read_to_string(file).unwrap();
+            for (number, line) in
+                text.lines().enumerate().take_while(|(_, line)| line.trim() != "#[cfg(test)]")
+            {
+                let code = line.trim_start();
+                let names_old = code.contains("ufcsr-analyze") || code.contains("ufcsr-capture");
+                if names_old && !code.starts_with("//") && !allowed.iter().any(|a| code.contains(a)) {
+                    found.push(format!("{}:{}: {code}", file.display(), number + 1));
+                }
+            }
+        }
+        assert!(found.is_empty(), "messages naming the old programs:\n{}", found.join("\n"));
+    }
 }

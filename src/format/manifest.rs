@@ -544,7 +544,7 @@ pub struct CaptureRecord {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     #[schemars(with = "Option<FalseOnly>")]
     pub tiles_written: Option<bool>,
-    /// `ufcsr capture VERSION`.
+    /// `ufcsr-capture VERSION` (the value the capture records).
     pub tool: String,
 }
 

@@ -78,9 +78,7 @@ pub fn a_sharded_capture_assembles_and_analyses_through_slurm_equal_to_one_proce
         return missing(NEED_SLURM);
     }
     let Some(analyzer) = analyzer() else {
-        return missing(
-            "ufcsr-analyze beside ufcsr-capture (cargo test --workspace --all-features builds it)",
-        );
+        return missing("ufcsr-analyze beside ufcsr-capture (cargo test --workspace builds it)");
     };
     let (_one, dir, cluster) = start_cluster(true, NEED_SLURM).expect("Slurm was found just now");
     let capture = env!("CARGO_BIN_EXE_ufcsr-capture");

@@ -48,7 +48,7 @@ fn every_subcommand_has_help_and_refuses_unknown_options_with_exit_2() {
     }
     let version = run(&["--version"]);
     assert_eq!(version.status.code(), Some(0));
-    assert!(text(&version.stdout).starts_with(concat!("ufcsr analyze ", env!("CARGO_PKG_VERSION"))));
+    assert!(text(&version.stdout).starts_with(concat!("ufcsr ", env!("CARGO_PKG_VERSION"))));
 }
 
 /// The known archive analysed into `dir/NAME`; returns that folder.
