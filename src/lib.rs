@@ -47,12 +47,15 @@ pub use describe::{DEFAULT_PATTERN, DescribeOptions, Described, SoloSummary, des
 pub use error::{Error, Result};
 pub use files::{
     GltfModel, IMAGE_LIMIT, MAX_COORDINATE_M, MODEL_LIMIT, PngEncoding, SMALL_INPUT_LIMIT, Staging,
-    check_accessors, check_coordinates, copy_into, create_output_dir, crosses_link, encode_rgb_png,
-    open_regular, output_sub_dir, parse_gltf, read_gltf, read_limited, read_limited_text, real_dir,
+    check_accessors, check_coordinates, copy_into, create_output_dir, create_private_dir, crosses_link,
+    encode_rgb_png, open_regular, output_sub_dir, parse_gltf, read_gltf, read_limited, read_limited_text,
+    real_dir,
     refuse_overwriting_inputs, refuse_replacing_non_file, remove_dead_runs, remove_inside,
     remove_on_interrupt, remove_stale_staging, remove_stale_temporaries, remove_temporaries, resolve_inside,
     same_path, write_atomically, write_bytes_atomically, write_rgb_png,
 };
+// Issue 41: a capture that has not finished marks its folder; the analyzer refuses it.
+pub use files::{UNFINISHED_FILE, mark_finished, mark_unfinished, refuse_unfinished, unfinished_outputs};
 pub use format::design::{
     BestPlacement, BodyDimsOverride, CandidateSummary, CandidateValue, CellLevels, Crossing,
     DESIGN_RESULT_SCHEMA, DESIGN_SCHEMA, DESIGN_TASK_SCHEMA, Design, DesignMeasure, DesignPopulation,

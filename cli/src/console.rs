@@ -32,7 +32,8 @@ pub mod exit_code {
     /// Nothing done: a usage error, bad options or inputs, a failed run that
     /// wrote no file.
     pub const NOTHING_DONE: u8 = 2;
-    /// Interrupted (SIGINT/SIGTERM): temporary files removed, earlier outputs untouched.
+    /// Interrupted (SIGINT/SIGTERM): temporary files removed; earlier outputs untouched, or a capture
+    /// folder left unfinished and marked so ([`interruption_message`]).
     pub const INTERRUPTED: u8 = 130;
 }
 
@@ -254,12 +255,12 @@ impl Console {
     /// For the interrupt handler: prints the JSON object of an interrupted
     /// run (under `--json`) unless the command has already ended; true when
     /// the process should exit now.
-    pub fn interrupted(&self, removed: usize) -> bool {
+    pub fn interrupted(&self, removed: usize, unfinished: &[std::path::PathBuf]) -> bool {
         let mut record = self.record();
         if record.ended {
             return false;
         }
-        let why = format!("interrupted: {removed} temporary files removed; earlier outputs are untouched");
+        let why = interruption_message(removed, unfinished);
         eprintln!("{why}");
         if self.style == Style::Json {
             print_summary(&mut record, exit_code::INTERRUPTED, Some(&why));
@@ -267,6 +268,23 @@ impl Console {
         record.ended = true;
         true
     }
+}
+
+/// What an interruption left: temporaries removed, and either every earlier
+/// output untouched or the capture folders left unfinished (issue 41: a
+/// capture rewrites its folder in place, so "untouched" was untrue there).
+pub fn interruption_message(removed: usize, unfinished: &[std::path::PathBuf]) -> String {
+    if unfinished.is_empty() {
+        return format!("interrupted: {removed} temporary files removed; earlier outputs are untouched");
+    }
+    let folders: Vec<String> = unfinished.iter().map(|dir| shown(dir)).collect();
+    format!(
+        "interrupted: {removed} temporary files removed; the capture in {} did not finish: the folder holds \
+         part of it and no earlier capture's manifest.json, so it is marked unfinished ({}) and the analyzer \
+         refuses it; capture again (or add --resume)",
+        folders.join(", "),
+        ufcsr::UNFINISHED_FILE
+    )
 }
 
 /// A fact as JSON; a value that cannot be one (never for the facts recorded

@@ -1,6 +1,8 @@
 //! Ctrl-C and SIGTERM: every program removes the temporary files and staging
 //! folders its run has open (earlier outputs stay whole: every write is
-//! atomic), says so, prints the one JSON object under `--json`, and exits 130.
+//! atomic), says so — or, for a capture rewriting its archive folder in
+//! place, that the folder is left unfinished and marked so (issue 41) —
+//! prints the one JSON object under `--json`, and exits 130.
 //! The libraries only keep the list of temporaries ([`ufcsr::remove_temporaries`]);
 //! catching the signal is the command line's.
 
@@ -11,7 +13,7 @@ pub fn remove_temporaries_on_interrupt(console: &Console) {
     let console = console.clone();
     let installed = ctrlc::set_handler(move || {
         let removed = ufcsr::remove_temporaries();
-        if console.interrupted(removed) {
+        if console.interrupted(removed, &ufcsr::unfinished_outputs()) {
             std::process::exit(i32::from(exit_code::INTERRUPTED));
         }
     });

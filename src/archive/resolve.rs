@@ -78,6 +78,8 @@ pub(crate) fn resolve_inputs_with(options: &AnalyzeOptions, images: Images) -> R
     if !root.is_dir() {
         return Err(Error::bad_file(root, "not a folder (expected an archive folder of PNG tiles)"));
     }
+    // A capture interrupted in place left part of itself and no manifest (issue 41).
+    crate::files::refuse_unfinished(root)?;
     let manifest = if options.ignore_manifest { None } else { Manifest::load_from_dir(root)? };
     let palette_choice = palette_choice(options, manifest.as_ref())?;
     let palette = match &palette_choice {

@@ -602,7 +602,7 @@ impl<W: Write> Write for BoundedWrites<W> {
 /// Creates `path` new (`O_EXCL`): whatever sits there already, a link
 /// planted there included, is removed (the link itself, never what it points
 /// to) and the file made afresh, so a write never follows a link.
-#[allow(clippy::disallowed_methods)] // the layer: O_EXCL: a link planted under the temporary's name is removed, never followed
+#[allow(clippy::disallowed_methods, clippy::disallowed_types)] // the layer: O_EXCL: a link planted under the temporary's name is removed, never followed
 fn create_new(path: &Path) -> std::io::Result<File> {
     let mut options = fs::OpenOptions::new();
     options.write(true).create_new(true);

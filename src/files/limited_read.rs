@@ -39,7 +39,7 @@ pub(crate) fn kind(metadata: &std::fs::Metadata) -> &'static str {
 }
 
 /// Opens `path` for reading if it is a regular file (symbolic links followed).
-#[allow(clippy::disallowed_methods)] // the layer: type checked before and after a non-blocking open
+#[allow(clippy::disallowed_methods, clippy::disallowed_types)] // the layer: type checked before and after a non-blocking open
 pub fn open_regular(path: &Path) -> Result<File> {
     let metadata = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if !metadata.is_file() {

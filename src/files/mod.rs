@@ -15,6 +15,7 @@ mod limited_read;
 mod model_input;
 mod output_guard;
 mod png_encode;
+mod unfinished;
 
 pub(crate) use atomic_write::parse_journal;
 pub use atomic_write::{
@@ -28,7 +29,10 @@ pub use model_input::{
     resolve_inside,
 };
 pub use output_guard::{
-    create_output_dir, crosses_link, output_sub_dir, real_dir, refuse_overwriting_inputs, remove_inside,
-    resolved, same_path,
+    create_output_dir, create_private_dir, crosses_link, output_sub_dir, real_dir, refuse_overwriting_inputs,
+    remove_inside, resolved, same_path,
 };
 pub use png_encode::{PngEncoding, encode_rgb_png, write_rgb_png};
+pub use unfinished::{
+    UNFINISHED_FILE, mark_finished, mark_unfinished, refuse_unfinished, unfinished_outputs,
+};

@@ -94,6 +94,18 @@ pub fn create_output_dir(dir: &Path) -> Result<()> {
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))
 }
 
+/// Makes the folder `dir` new, readable by this user only (0700 on Unix):
+/// anything already there, a link planted there included, is an error and
+/// never followed (the capture's private runtime folder in the shared
+/// temporary folder).
+#[allow(clippy::disallowed_methods, clippy::disallowed_types)] // the layer: mkdir never follows a link at its name; one there fails
+pub fn create_private_dir(dir: &Path) -> Result<()> {
+    let mut builder = std::fs::DirBuilder::new();
+    #[cfg(unix)]
+    std::os::unix::fs::DirBuilderExt::mode(&mut builder, 0o700);
+    builder.create(dir).map_err(|e| Error::io(dir, e))
+}
+
 /// Makes the sub-folder `relative` of the output folder `out` (e.g.
 /// `placement-views`, `observer-000`) as a real folder: a link at it or at
 /// a folder on the way is removed (the link itself, never what it points

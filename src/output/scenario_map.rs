@@ -168,6 +168,8 @@ pub fn write_scenario_map(path: &Path, content: &MapContent) -> Result<MapFrame>
     }
     let (low, high) = extent(frames);
     let frame = MapFrame::fit(low, high, [90, 70, MAP_SIZE.0 as i32 - 130, MAP_SIZE.1 as i32 - 180]);
+    // Drawn into pixels, written by the file layer (plotters' file backend
+    // would write through a link planted at `path`: issue 41).
     let mut rgb = vec![0u8; MAP_SIZE.0 as usize * MAP_SIZE.1 as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, MAP_SIZE).into_drawing_area();

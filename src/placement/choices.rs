@@ -16,7 +16,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 
 use crate::placement::legibility::ArchiveTimelines;
-use crate::placement::search::{Choice, Universe};
+use crate::placement::search::{Choice, SparseBits, Universe};
 use crate::placement::table::CandidateKind;
 
 /// `name` with the words `left` and `right` swapped (words split by `_`,
@@ -120,14 +120,91 @@ pub fn choices(
             taken.insert(mirror.clone());
             taken.insert(region.clone());
         }
-        let mut bits = vec![0u64; universe.words];
+        let mut bits = SparseBits::default();
         for member in &members {
             let flags = by_name.iter().map(|timelines| timelines.get(member.as_str()).copied());
-            for (word, add) in bits.iter_mut().zip(universe.bits(flags)) {
-                *word |= add;
-            }
+            bits = bits.union(&universe.sparse_bits(flags));
         }
         out.push(Choice { names: members, kind, bits });
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Arc;
+
+    use crate::placement::legibility::{Thresholds, timelines};
+    use crate::placement::table::{CandidateRows, FrameInfo, PlacementTable, Sighting};
+
+    /// `n` parts over `n` frames, part `i` seen in frame `i` only: the
+    /// table grows with `n`, the frames × parts with `n²`.
+    fn diagonal_table(n: usize) -> PlacementTable {
+        let sighting = Sighting {
+            solid_angle_sr: 1e-3,
+            visible_fraction: 1.0,
+            view_angle_deg: 10.0,
+            angular_height_deg: 5.0,
+        };
+        let candidates = (0..n)
+            .map(|i| {
+                let name = format!("part{i:05}");
+                let rows = CandidateRows {
+                    name: name.clone(),
+                    kind: CandidateKind::Part,
+                    mirror: None,
+                    size_m: None,
+                    sightings: BTreeMap::from([((i, 0), sighting)]),
+                };
+                (name, rows)
+            })
+            .collect();
+        PlacementTable {
+            path: "diagonal.csv".into(),
+            frames: (0..n)
+                .map(|i| FrameInfo { frame: i as u64, time_s: i as f64 * 0.1, distance_m: (n - i) as f64 })
+                .collect(),
+            eyes: vec!["left".into()],
+            frame_s: 0.1,
+            candidates,
+            rendered: false,
+        }
+    }
+
+    /// Issue 41: each choice kept a whole bitset of every frame, so a table
+    /// of n parts over n frames stored n²/64 words (271 MB for a 2 MB
+    /// table); now a choice stores one word per legible frame at most.
+    #[test]
+    fn choices_store_words_in_proportion_to_legible_frames_not_to_frames_times_choices() {
+        let thresholds =
+            Thresholds { min_solid_angle_sr: Some(0.0), min_dwell_s: 0.0, ..Thresholds::default() };
+        for n in [64, 4096] {
+            let archives = vec![timelines(Arc::new(diagonal_table(n)), &thresholds)];
+            let universe = Universe::of(&archives);
+            let everyone: BTreeMap<String, String> =
+                archives[0].timelines.iter().map(|t| (t.name.clone(), t.name.clone())).collect();
+            let found = choices(&archives, &universe, CandidateKind::Part, Pairing::Single, &everyone);
+            assert_eq!(found.len(), n);
+            let stored: usize = found.iter().map(|c| c.bits.stored_words()).sum();
+            assert_eq!(
+                stored,
+                n,
+                "n = {n}: one word per legible frame (a dense bitset each: {})",
+                n * n / 64
+            );
+            // The searches of one kind share its choices, not a copy each.
+            let options = crate::placement::PlacementOptions::new(Vec::new());
+            let scoring = crate::placement::score_and_search(
+                &[Arc::clone(&archives[0].table)],
+                &thresholds,
+                &options,
+                &BTreeMap::new(),
+                &[crate::placement::search::Objective::Mean],
+            );
+            let parts: Vec<_> = scoring.searched.iter().filter(|s| s.kind == CandidateKind::Part).collect();
+            assert_eq!(parts.len(), 3);
+            assert!(parts.iter().all(|s| Arc::ptr_eq(&s.choices, &parts[0].choices)));
+        }
+    }
 }

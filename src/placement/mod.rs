@@ -135,7 +135,8 @@ pub(crate) struct Searched {
     pub kind: CandidateKind,
     pub k: usize,
     pub objective: Objective,
-    pub choices: Vec<Choice>,
+    /// Shared by the searches of one kind (each k and objective): one copy.
+    pub choices: Arc<[Choice]>,
     pub found: Found,
 }
 
@@ -187,13 +188,14 @@ fn score_and_search(
     let regions = regions::representatives(&scored, footprints, &left_out, options.region_radius_m);
     let mut searched = Vec::new();
     for kind in [CandidateKind::Part, CandidateKind::Patch] {
-        let choices = choices::choices(&archives, &universe, kind, options.pairing(), &regions);
+        let choices: Arc<[Choice]> =
+            choices::choices(&archives, &universe, kind, options.pairing(), &regions).into();
         for k in 1..=options.k {
             for &objective in objectives {
                 if let Some(found) =
                     search::best_set(&universe, &choices, k, objective, options.exhaustive_limit)
                 {
-                    searched.push(Searched { kind, k, objective, choices: choices.clone(), found });
+                    searched.push(Searched { kind, k, objective, choices: Arc::clone(&choices), found });
                 }
             }
         }

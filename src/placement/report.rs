@@ -324,6 +324,9 @@ pub fn write_placement(placement: &Placement, out: &Path) -> Result<WrittenPlace
     ];
     let inputs: Vec<PathBuf> = placement.inputs.iter().chain(&placement.vehicle_model).cloned().collect();
     crate::files::refuse_overwriting_inputs(&outputs, &inputs)?;
+    // The vehicle model is read (and a bad --mesh refused) before anything
+    // is written (issue 41: the tables used to be written first).
+    let model = placement.vehicle_model.as_deref().map(crate::archive::VehicleModel::read).transpose()?;
     crate::files::create_output_dir(out)?;
     let text = serde_json::to_string_pretty(&placement.document)
         .map_err(|e| Error::bad_file(&written.json, format!("cannot write JSON: {e}")))?;
@@ -341,11 +344,10 @@ pub fn write_placement(placement: &Placement, out: &Path) -> Result<WrittenPlace
     for stale in stale_files {
         crate::files::remove_inside(out, &out.join(stale))?;
     }
-    let picture = match &placement.vehicle_model {
-        Some(path) => {
-            let model = crate::archive::VehicleModel::read(path)?;
+    let picture = match &model {
+        Some(model) => {
             let sets = pictured_sets(&placement.document.combinations, &placement.footprints);
-            Some(write_placement_picture(&model, &sets, out)?)
+            Some(write_placement_picture(model, &sets, out)?)
         }
         None => None,
     };

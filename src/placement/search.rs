@@ -18,7 +18,9 @@
 //! The archives carry weights (all 1 for the answer; bootstrap counts for
 //! the probabilities of [`crate::placement::uncertainty`]). Frames are
 //! bitsets, one run of 64-bit words per archive, so a union is an OR and a
-//! score a popcount per archive.
+//! score a popcount per archive. A choice keeps only its non-zero words
+//! ([`SparseBits`]): stored whole, choices × frames words grew with the
+//! square of the table (issue 41: 271 MB for a 2 MB table).
 
 use std::ops::Range;
 
@@ -38,8 +40,52 @@ pub struct Choice {
     /// The candidates it is made of (one, or a mirror pair): its displays.
     pub names: Vec<String>,
     pub kind: CandidateKind,
-    /// Legible frames of all archives, [`Universe::ranges`] words each.
-    pub bits: Vec<u64>,
+    /// Legible frames of all archives, [`Universe::ranges`] words each,
+    /// the non-zero ones only.
+    pub bits: SparseBits,
+}
+
+/// The non-zero 64-bit words of a bitset over the universe's frames, by
+/// ascending word index: memory goes with the frames set, not with the
+/// frames there are.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct SparseBits {
+    words: Vec<(usize, u64)>,
+}
+
+impl SparseBits {
+    /// From (word index, bits) pairs in any order, indices repeated or not.
+    pub fn from_words(mut words: Vec<(usize, u64)>) -> SparseBits {
+        words.sort_unstable_by_key(|&(index, _)| index);
+        let mut merged: Vec<(usize, u64)> = Vec::with_capacity(words.len());
+        for (index, bits) in words {
+            match merged.last_mut() {
+                Some((last, word)) if *last == index => *word |= bits,
+                _ if bits != 0 => merged.push((index, bits)),
+                _ => {}
+            }
+        }
+        merged.shrink_to_fit();
+        SparseBits { words: merged }
+    }
+
+    /// The union with `other`.
+    pub fn union(&self, other: &SparseBits) -> SparseBits {
+        SparseBits::from_words(self.words.iter().chain(&other.words).copied().collect())
+    }
+
+    /// ORs the bits into the dense bitset `dense`.
+    pub fn or_into(&self, dense: &mut [u64]) {
+        for &(index, bits) in &self.words {
+            dense[index] |= bits;
+        }
+    }
+
+    /// The words stored (the non-zero ones).
+    #[cfg(test)]
+    pub(crate) fn stored_words(&self) -> usize {
+        self.words.len()
+    }
 }
 
 impl Choice {
@@ -97,16 +143,42 @@ impl Universe {
             .collect()
     }
 
-    /// The bits of per-archive legible frames (ascending indices; `None`:
+    /// The bits of per-archive legible frames (frame indices; `None`:
     /// the candidate is not in that archive).
     pub fn bits<'a>(&self, legible: impl Iterator<Item = Option<&'a [usize]>>) -> Vec<u64> {
         let mut bits = vec![0u64; self.words];
+        self.sparse_bits(legible).or_into(&mut bits);
+        bits
+    }
+
+    /// [`Universe::bits`], the non-zero words only.
+    pub fn sparse_bits<'a>(&self, legible: impl Iterator<Item = Option<&'a [usize]>>) -> SparseBits {
+        let mut words = Vec::new();
         for (range, frames) in self.ranges.iter().zip(legible) {
             for &frame in frames.into_iter().flatten() {
-                bits[range.start + frame / 64] |= 1u64 << (frame % 64);
+                words.push((range.start + frame / 64, 1u64 << (frame % 64)));
             }
         }
-        bits
+        SparseBits::from_words(words)
+    }
+
+    /// Per archive, the frames set in the dense bitset `covered`.
+    fn counts(&self, covered: &[u64]) -> Vec<u32> {
+        self.ranges.iter().map(|range| covered[range.clone()].iter().map(|w| w.count_ones()).sum()).collect()
+    }
+
+    /// Seconds per archive of `covered` (its [`Universe::counts`] `counts`)
+    /// with `add`, without building the union: work goes with `add`'s words.
+    fn seconds_adding(&self, covered: &[u64], counts: &[u32], add: &SparseBits) -> Vec<f64> {
+        let mut counts = counts.to_vec();
+        let mut archive = 0;
+        for &(index, bits) in &add.words {
+            while self.ranges[archive].end <= index {
+                archive += 1;
+            }
+            counts[archive] += (bits & !covered[index]).count_ones();
+        }
+        counts.iter().zip(&self.frame_s).map(|(&n, &frame_s)| n as f64 * frame_s).collect()
     }
 
     /// The weighted mean of per-archive values.
@@ -148,8 +220,10 @@ pub fn union_of(universe: &Universe, choices: &[Choice], picked: &[usize]) -> Ve
     picked.iter().fold(vec![0u64; universe.words], |acc, &c| union(&acc, &choices[c].bits))
 }
 
-fn union(a: &[u64], b: &[u64]) -> Vec<u64> {
-    a.iter().zip(b).map(|(x, y)| x | y).collect()
+fn union(a: &[u64], b: &SparseBits) -> Vec<u64> {
+    let mut union = a.to_vec();
+    b.or_into(&mut union);
+    union
 }
 
 /// Physical displays of `picked`.
@@ -314,13 +388,10 @@ fn greedy(universe: &Universe, choices: &[Choice], k: usize, objective: Objectiv
         let mut covered = vec![0u64; universe.words];
         for step in 0..=order.len() {
             let base = universe.seconds(&covered);
-            let gains: Vec<Vec<f64>> = choices
-                .iter()
-                .map(|c| {
-                    let with = universe.seconds(&union(&covered, &c.bits));
-                    with.iter().zip(&base).map(|(w, b)| w - b).collect()
-                })
-                .collect();
+            let counts = universe.counts(&covered);
+            let with = |c: &Choice| universe.seconds_adding(&covered, &counts, &c.bits);
+            let gains: Vec<Vec<f64>> =
+                choices.iter().map(|c| with(c).iter().zip(&base).map(|(w, b)| w - b).collect()).collect();
             for (archive, bound) in archive_bounds.iter_mut().enumerate() {
                 let column: Vec<f64> = gains.iter().map(|g| g[archive]).collect();
                 *bound = bound.min(base[archive] + fitting_sum(&column, choices, k));
@@ -337,9 +408,7 @@ fn greedy(universe: &Universe, choices: &[Choice], k: usize, objective: Objectiv
             let next = (0..choices.len())
                 .filter(|c| !picked.contains(c) && choices[*c].displays() == size)
                 .max_by(|&a, &b| {
-                    let score = |c: usize| {
-                        universe.value(objective, &universe.seconds(&union(&covered, &choices[c].bits)))
-                    };
+                    let score = |c: usize| universe.value(objective, &with(&choices[c]));
                     score(a).partial_cmp(&score(b)).unwrap_or(std::cmp::Ordering::Equal).then(b.cmp(&a))
                 });
             let Some(next) = next else { break };

@@ -72,13 +72,17 @@ pub struct PlacementTable {
 
 /// The table of `input`: the file itself, or `placement-frames.csv` in the
 /// folder or in its `results/`.
+/// A FIFO, a device or a socket, given or found there, is refused as not a
+/// regular file (issue 41: a FIFO was "no placement-frames.csv here").
 pub fn resolve_table(input: &Path) -> Result<PathBuf> {
-    if input.is_file() {
-        return Ok(input.to_path_buf());
+    let regular = |path: &Path| crate::files::open_regular(path).map(|_| path.to_path_buf());
+    match std::fs::metadata(input) {
+        Ok(metadata) if !metadata.is_dir() => return regular(input),
+        _ => {}
     }
     for candidate in [input.join(PLACEMENT_FRAMES_FILE), input.join("results").join(PLACEMENT_FRAMES_FILE)] {
-        if candidate.is_file() {
-            return Ok(candidate);
+        if std::fs::metadata(&candidate).is_ok() {
+            return regular(&candidate);
         }
     }
     Err(Error::bad_file(

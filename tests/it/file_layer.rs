@@ -46,13 +46,18 @@ fn clippy_toml_forbids_direct_file_access_and_names_the_layer_function_to_use() 
 
 #[test]
 fn every_crate_denies_the_lint() {
+    // One table for the three crates (issue 41): the root's [workspace.lints].
+    let text = std::fs::read_to_string(root().join("Cargo.toml")).unwrap();
+    let start = text.find("[workspace.lints.clippy]").expect("Cargo.toml: no [workspace.lints.clippy]");
+    let table = &text[start..];
+    let table = &table[..table[1..].find("\n[").map_or(table.len(), |end| end + 1)];
+    for lint in ["disallowed_methods = \"deny\"", "disallowed_types = \"deny\""] {
+        assert!(table.contains(lint), "[workspace.lints.clippy] does not set {lint}");
+    }
     for manifest in ["Cargo.toml", "capture/Cargo.toml", "cli/Cargo.toml"] {
         let text = std::fs::read_to_string(root().join(manifest)).unwrap();
-        let lints =
-            &text[text.find("[lints.clippy]").unwrap_or_else(|| panic!("{manifest}: no [lints.clippy]"))..];
-        for lint in ["disallowed_methods = \"deny\"", "disallowed_types = \"deny\""] {
-            assert!(lints.contains(lint), "{manifest} does not set {lint}");
-        }
+        assert!(text.contains("\n[lints]\nworkspace = true\n"), "{manifest}: no `[lints] workspace = true`");
+        assert!(!text.contains("[lints.clippy]"), "{manifest}: a table of its own beside the workspace's");
         // No crate brings its own clippy.toml: clippy finds the root one
         // by looking up from each crate's folder.
         let own = root().join(manifest).with_file_name("clippy.toml");
@@ -87,7 +92,7 @@ fn only_the_file_layer_allows_direct_file_access_and_says_why() {
     for file in files {
         let text = std::fs::read_to_string(&file).unwrap();
         for (number, line) in text.lines().enumerate() {
-            if !line.contains("allow(clippy::disallowed_methods") {
+            if !line.contains("clippy::disallowed_methods") && !line.contains("clippy::disallowed_types") {
                 continue;
             }
             let at = format!("{}:{}", file.display(), number + 1);

@@ -24,6 +24,7 @@ mod known_answers;
 mod loaded_labels;
 mod module_graph;
 mod order_and_saturation;
+mod path_openers;
 mod placement;
 mod placement_uncertainty;
 mod published_locations;

@@ -271,11 +271,13 @@ fn measures_block(
     })
 }
 
+/// Writes `unobstructed-parts.csv` through the file layer: never through a
+/// link planted there, never blocking on a FIFO (issue 41).
 fn write_estimates(path: &std::path::Path, estimates: &[PartEstimate]) -> Result<()> {
-    let mut table = csv::Writer::from_path(path)
-        .map_err(|e| CaptureError::bad_file(path, format!("writing CSV: {e}")))?;
+    let mut table = csv::Writer::from_writer(Vec::new());
     for estimate in estimates {
         table.serialize(estimate).map_err(|e| CaptureError::bad_file(path, format!("writing CSV: {e}")))?;
     }
-    table.flush().map_err(|e| CaptureError::io(path, e))
+    let bytes = table.into_inner().map_err(|e| CaptureError::io(path, e.into_error()))?;
+    Ok(ufcsr::write_bytes_atomically(path, &bytes)?)
 }

@@ -161,6 +161,10 @@ pub(crate) fn prepare_folder(scene: &Scene, options: &CaptureOptions) -> Result<
     )?;
     ufcsr::create_output_dir(out)?;
     crate::job::overwrite_guard::unlink_owned_folders(out, &ARCHIVE_FOLDERS)?;
+    // Issue 41: the folder is marked unfinished until the whole manifest is
+    // written, so what an interruption leaves is refused by the analyzer
+    // (and the interrupt message says so).
+    ufcsr::mark_unfinished(out)?;
     // Issue 34: an earlier archive's manifest goes before anything of the
     // new one is written, so a capture interrupted (or out of disk) from
     // here on never leaves it over a mix of old and new tiles, which the
@@ -446,7 +450,10 @@ pub fn write_manifest(
         warnings: prepared.warnings.iter().chain(&captured.warnings).cloned().collect(),
     });
     match options.shard {
-        None => manifest.write_to_dir(&options.out)?,
+        None => {
+            manifest.write_to_dir(&options.out)?;
+            ufcsr::mark_finished(&options.out)?;
+        }
         Some(shard) => {
             let mut manifest = manifest.clone();
             // What assemble accounts for: the whole selection and this shard's tiles.

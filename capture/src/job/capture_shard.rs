@@ -110,6 +110,8 @@ pub fn assemble(archive: &Path) -> Result<Assembled> {
         serde_json::to_vec(&manifest).map_err(|e| CaptureError::bad_file(&manifest_path, e.to_string()))?;
     Manifest::parse(&manifest_path, &text)?;
     manifest.write_to_dir(archive)?;
+    // The shards' capture is whole now (issue 41).
+    ufcsr::mark_finished(archive)?;
     for part in &parts {
         ufcsr::remove_inside(archive, &part.path)?;
     }

@@ -220,11 +220,27 @@ impl OccluderSpec {
         if let Some(value) = values.iter().find(|v| !(v.is_finite() && v.abs() <= limit)) {
             return Err(format!("{value:e} is beyond ±{limit:e}: not a street scene"));
         }
+        if let OccluderShape::Box { min, max } = &self.shape {
+            check_box(min, max)?;
+        }
         if matches!(self.shape, OccluderShape::Vehicle {}) && self.placement.is_empty() {
             return Err("a vehicle needs a position (fixed or a track) or a follow offset".into());
         }
         self.placement.check()
     }
+}
+
+/// A box's corners: `min` at most `max` on every axis (issue 41: a box
+/// with `min` above `max` was accepted, an inside-out box).
+fn check_box(min: &[f64; 3], max: &[f64; 3]) -> std::result::Result<(), String> {
+    for (axis, (low, high)) in min.iter().zip(max).enumerate() {
+        if low > high {
+            return Err(format!(
+                "box.min[{axis}] {low} is above box.max[{axis}] {high}: min must be the low corner, max the high one"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A scenario in a scene file.

@@ -23,27 +23,37 @@ fn font_available() -> bool {
     ufcsr::plot_font_available()
 }
 
-/// Writes the plot as SVG.
+/// The plot's size, pixels.
+const SIZE: (u32, u32) = (900, 600);
+
+/// Writes the plot as SVG: drawn into a string, written by the file layer
+/// (plotters' file backend would write through a link planted at `path`:
+/// issue 41).
 pub fn plot_svg(study: &Study, path: &Path) -> Result<()> {
     let text = ufcsr::PlotText::available();
-    let root = SVGBackend::new(path, (900, 600)).into_drawing_area();
-    draw(study, &root, text).map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        draw(study, &root, text)
+            .map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))?;
+    }
+    Ok(ufcsr::write_bytes_atomically(path, svg.as_bytes())?)
 }
 
-/// Writes the plot as PNG; returns false (and writes nothing) without a font.
+/// Writes the plot as PNG (drawn into pixels, encoded and written by the
+/// file layer); returns false (and writes nothing) without a font.
 pub fn plot_png(study: &Study, path: &Path) -> Result<bool> {
     if !font_available() {
         return Ok(false);
     }
-    let (width, height) = (900, 600);
-    let mut rgb = vec![0u8; width as usize * height as usize * 3];
+    let mut rgb = vec![0u8; SIZE.0 as usize * SIZE.1 as usize * 3];
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, (width, height)).into_drawing_area();
+        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
         draw(study, &root, ufcsr::PlotText::Drawn)
             .and_then(|()| root.present().map_err(Into::into))
             .map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))?;
     }
-    ufcsr::write_rgb_png(path, [width, height], &rgb, png::Compression::Fast)?;
+    ufcsr::write_rgb_png(path, [SIZE.0, SIZE.1], &rgb, png::Compression::Fast)?;
     Ok(true)
 }
 

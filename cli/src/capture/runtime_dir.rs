@@ -27,10 +27,7 @@ impl PrivateRuntimeDir {
         // Those of killed captures (SIGKILL runs no handler) go first.
         ufcsr::remove_dead_runs(&std::env::temp_dir(), RUNTIME_PREFIX);
         let dir = std::env::temp_dir().join(format!("{RUNTIME_PREFIX}{}", std::process::id()));
-        let mut builder = std::fs::DirBuilder::new();
-        #[cfg(unix)]
-        std::os::unix::fs::DirBuilderExt::mode(&mut builder, 0o700);
-        if builder.create(&dir).is_err() {
+        if ufcsr::create_private_dir(&dir).is_err() {
             return PrivateRuntimeDir(None);
         }
         // SAFETY: `crate::program::main` calls this right after parsing the

@@ -300,6 +300,22 @@ fn bad_tracks_and_offsets_are_refused_naming_the_file_and_the_key() {
     }
 }
 
+/// Issue 41: a box with `min` above `max` (inside out) was accepted.
+#[test]
+fn an_occluder_box_with_min_above_max_is_refused_naming_the_file_and_the_field() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut scene = moving_box_scene();
+    scene["occluders"] = json!([{"box": {"min": [30, 30, 2], "max": [31, 31, 1]}}]);
+    let path = write_scene(dir.path(), "inside-out.json", &scene);
+    let error = Scene::load(&path).unwrap_err().to_string();
+    for part in ["inside-out.json", "occluders[0] (box #0)", "box.min[2] 2 is above box.max[2] 1"] {
+        assert!(error.contains(part), "{error:?} does not name {part:?}");
+    }
+    // A flat box (min equal to max on an axis) is still a box.
+    scene["occluders"] = json!([{"box": {"min": [30, 30, 1], "max": [31, 31, 1]}}]);
+    Scene::load(&write_scene(dir.path(), "flat.json", &scene)).unwrap();
+}
+
 #[test]
 fn the_demo_with_traffic_captures_every_scenario_with_the_twin_posed_in_each_frame() {
     let dir = tempfile::tempdir().unwrap();
