@@ -31,4 +31,4 @@ pub use output_guard::{
     create_output_dir, crosses_link, output_sub_dir, real_dir, refuse_overwriting_inputs, remove_inside,
     resolved, same_path,
 };
-pub use png_encode::{PngEncoding, encode_rgb_png, write_rgb_png};
+pub use png_encode::{PngEncoding, encode_rgb_png, write_figure_png, write_rgb_png};
