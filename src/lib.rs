@@ -52,7 +52,7 @@ pub use files::{
     real_dir,
     refuse_overwriting_inputs, refuse_replacing_non_file, remove_dead_runs, remove_inside,
     remove_on_interrupt, remove_stale_staging, remove_stale_temporaries, remove_temporaries, resolve_inside,
-    same_path, write_atomically, write_bytes_atomically, write_rgb_png,
+    same_path, write_atomically, write_bytes_atomically, write_figure_png, write_rgb_png,
 };
 // Issue 41: a capture that has not finished marks its folder; the analyzer refuses it.
 pub use files::{UNFINISHED_FILE, mark_finished, mark_unfinished, refuse_unfinished, unfinished_outputs};
@@ -89,7 +89,7 @@ pub use optics::{EyeProjection, TileView};
 pub use output::html_escape;
 pub use output::{
     AREA_HEATMAP_FILE, AREA_HEATMAPS, AREA_UNIT, AreaLevels, COUNT_HEATMAPS, ComparisonOptions, CsvStyle,
-    DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, FigureSize, LEGEND_LINE, LEGEND_TEXT_PX, LegendEntry,
+    DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, FigureSize, Figures, LEGEND_LINE, LEGEND_TEXT_PX, LegendEntry,
     MAP_FILE, MAP_SIZE, MIN_TEXT_PT, MM_PER_PT, MapContent, MapFrame, NEEDS_ITS_FOLDER, NEVER_SEEN,
     OKABE_ITO, OWN_SCALES, PlotText, QUOTED_HEADING, RANKED_HEADING, ResultSetOptions, SHARED_SCALE,
     STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED, SceneObject, SceneShapes, TextLayout, VIEW_BASE,

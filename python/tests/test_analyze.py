@@ -42,11 +42,16 @@ def test_parts_have_the_report_columns_one_row_per_legend_part(example_result):
     assert isinstance(parts, pd.DataFrame)
     legend = pd.read_csv(EXAMPLE / "parts.csv")
     assert list(parts["name"]) == list(legend["name"])
-    expected = ["name", "color", "texels", "total", "peak", "average", "share", "coverage", "texels_seen"]
+    # parts.csv's names: the unit in the name.
+    expected = [
+        "name", "color", "texels", "total", "peak", "average", "share_percent", "coverage_percent", "texels_seen"
+    ]
     assert list(parts.columns[: len(expected)]) == expected
     assert {"pixels", "eye_frames_seen", "exposure_s"} <= set(parts.columns), "measures joined"
     assert parts["total"].sum() == GRAND_TOTAL
-    assert parts["share"].sum() == pytest.approx(100.0)
+    assert parts["share_percent"].sum() == pytest.approx(100.0)
+    table = pd.read_csv(example_result.path.parent / "parts.csv")
+    assert {"share_percent", "coverage_percent"} <= set(table.columns), "one name in both"
     assert "parts" not in example_result.summary, "the parts live in .parts"
 
 

@@ -6,8 +6,8 @@ only numpy and pandas; :func:`analyze` and :func:`heatmap` run the installed
 ``ufcsr-analyze`` program, so the numbers are exactly the ones it prints.
 
     >>> import ufcsr
-    >>> result = ufcsr.analyze("fixtures/example", out="results")
-    >>> result.parts.nlargest(5, "share")[["total", "share"]]
+    >>> result = ufcsr.analyze("fixtures/example", out="/tmp/example-results")
+    >>> result.parts.nlargest(5, "share_percent")[["total", "share_percent"]]
 """
 
 from __future__ import annotations
@@ -121,6 +121,7 @@ def analyze(
     mesh: Optional[PathLike] = None,
     frames_csv: bool = True,
     csv_style: Literal["report", "paper"] = "report",
+    figures: bool = False,
     threads: Optional[int] = None,
     strict: bool = False,
     strict_colors: bool = False,
@@ -132,7 +133,10 @@ def analyze(
 
     Writes the full result set (result.json, parts.csv, heatmap.png,
     frames.csv, report.html, ...) to ``out`` (default ``ARCHIVE/results``, as
-    the command line) and returns it as a :class:`Result`. The options are
+    the command line) and returns it as a :class:`Result`. The figures (plots,
+    views, map, frame strip) take most of a small analysis and a notebook
+    wants the tables: they are left out unless ``figures=True`` (the command
+    line's ``--figures on``); the tables are the same either way. The options are
     the command line's (``ufcsr-analyze --help``): ``pidt``, ``parts`` (the
     legend), ``fcsp`` or ``palette_size`` ("WxH" or (w, h)), ``background``
     ("#RRGGBB" or a list), ``dedupe``, ``trim`` ("auto", "off" or bytes),
@@ -165,6 +169,7 @@ def analyze(
     _option(arguments, "--shard", None if shard is None else _pair("shard", shard, "/"))
     _option(arguments, "--frames-csv", "on" if _flag("frames_csv", frames_csv) else "off")
     _option(arguments, "--csv-style", _text("csv_style", csv_style))
+    _option(arguments, "--figures", "on" if _flag("figures", figures) else "off")
     _option(arguments, "--threads", None if threads is None else str(_integer("threads", threads)))
     for flag, name, value in (
         ("--strict", "strict", strict),
@@ -176,10 +181,27 @@ def analyze(
     program = find_program(executable)
     if progress:
         arguments.remove("--quiet")
-    run(program, arguments, _flag("progress", progress))
+    existed = os.path.lexists(out_dir)
+    try:
+        run(program, arguments, _flag("progress", progress))
+    except KeyboardInterrupt:
+        _remove_if_empty(out_dir, existed)
+        raise
     result = read_result(out_dir)
     _warn(result)
     return result
+
+
+def _remove_if_empty(out_dir: Path, existed: bool) -> None:
+    """After Ctrl-C: the output folder this call created is removed when nothing was put in it
+    (the program leaves earlier outputs untouched, but it may have created the folder)."""
+    if existed:
+        return
+    try:
+        if out_dir.is_dir() and not out_dir.is_symlink() and not any(out_dir.iterdir()):
+            out_dir.rmdir()
+    except OSError:
+        pass
 
 
 def _write_counts(folder: Path, result: Result, counts: np.ndarray) -> Path:

@@ -11,10 +11,12 @@ reach must pass the same checks. Errors name the file and the problem.
 
 from __future__ import annotations
 
+import json
+import math
 import os
 import stat
 from pathlib import Path
-from typing import TYPE_CHECKING, Union
+from typing import TYPE_CHECKING, Any, Optional, Union
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -49,16 +51,66 @@ def read_bytes(path: PathLike, kind: str = "small") -> bytes:
         raise UfcsrError(f"{path}: no such file") from None
     except OSError as error:
         raise UfcsrError(f"{path}: cannot open: {error.strerror}") from None
+    # Checked before the descriptor becomes a file object: os.fdopen of a folder raises a bare
+    # IsADirectoryError naming no file.
+    info = os.fstat(descriptor)
+    if not stat.S_ISREG(info.st_mode):
+        os.close(descriptor)
+        raise UfcsrError(f"{path}: not a regular file (a folder, device, FIFO or socket)")
     with os.fdopen(descriptor, "rb") as handle:
-        info = os.fstat(handle.fileno())
-        if not stat.S_ISREG(info.st_mode):
-            raise UfcsrError(f"{path}: not a regular file (a folder, device, FIFO or socket)")
         if info.st_size > limit:
             raise UfcsrError(f"{path}: {info.st_size:,} bytes, more than the {limit:,} bytes a {kind} file may have")
         data = handle.read(limit + 1)
     if len(data) > limit:
         raise UfcsrError(f"{path}: more than the {limit:,} bytes a {kind} file may have (it grew while read)")
     return data
+
+
+def _refuse_constant(name: str) -> float:
+    raise ValueError(f"{name} is not a JSON number")
+
+
+def parse_json(path: PathLike, data: bytes) -> Any:
+    """``data`` (the bytes of ``path``) parsed as JSON, strictly: NaN and Infinity are refused (JSON
+    has neither), and too deep a nesting or a malformed file is an error naming the file, never a
+    bare RecursionError or ValueError."""
+    try:
+        return json.loads(data, parse_constant=_refuse_constant)
+    except RecursionError:
+        raise UfcsrError(f"{os.fspath(path)}: nested too deeply to be a ufcsr file") from None
+    except (ValueError, UnicodeDecodeError) as error:
+        raise UfcsrError(f"{os.fspath(path)}: not valid JSON: {error}") from None
+
+
+def field(path: PathLike, document: Any, name: str, kind: type, where: Optional[str] = None, required: bool = True) -> Any:
+    """``document[name]``, which must be a ``kind``; an error naming the file and the field otherwise."""
+    where = where or name
+    value = document.get(name) if isinstance(document, dict) else None
+    if value is None and not required:
+        return None
+    if not isinstance(value, kind) or (kind is int and isinstance(value, bool)):
+        got = "nothing" if value is None else type(value).__name__
+        raise UfcsrError(f"{os.fspath(path)}: {where}: expected {_KIND_WORDS.get(kind, kind.__name__)}, got {got}")
+    return value
+
+
+_KIND_WORDS = {dict: "an object", list: "a list", str: "text", int: "a whole number"}
+
+
+def count(path: PathLike, document: Any, name: str, where: str) -> int:
+    """``document[name]``: a whole number of at least 0 (a count), or an error naming the field."""
+    value = field(path, document, name, int, where)
+    if value < 0:
+        raise UfcsrError(f"{os.fspath(path)}: {where}: {value} is negative: not a count")
+    return value
+
+
+def number(path: PathLike, document: Any, name: str, where: str) -> float:
+    """``document[name]``: a finite number, or an error naming the field."""
+    value = document.get(name) if isinstance(document, dict) else None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise UfcsrError(f"{os.fspath(path)}: {where}: expected a finite number, got {value!r}")
+    return float(value)
 
 
 def read_table(path: PathLike) -> "pd.DataFrame":

@@ -9,14 +9,13 @@ can plot what the command decided from the same numbers.
 
 from __future__ import annotations
 
-import json
 import os
 from pathlib import Path
 from typing import Any
 
 import pandas as pd
 
-from ._files import PathLike, UfcsrError, read_bytes, read_table
+from ._files import PathLike, UfcsrError, parse_json, read_bytes, read_table
 
 # Each output's document, the schema prefix it carries (when it carries one) and its tables.
 KINDS = {
@@ -39,10 +38,7 @@ class Outputs:
         path = Path(os.fspath(path))
         self.kind = kind
         self.path = path / document_name if path.is_dir() else path
-        try:
-            self.document: dict[str, Any] = json.loads(read_bytes(self.path, "small"))
-        except (ValueError, UnicodeDecodeError) as error:
-            raise UfcsrError(f"{self.path}: not a ufcsr {document_name}: {error}") from None
+        self.document: dict[str, Any] = parse_json(self.path, read_bytes(self.path, "small"))
         schema = self.document.get("schema") if isinstance(self.document, dict) else None
         if not isinstance(self.document, dict) or (schema is not None and not str(schema).startswith(schema_prefix)):
             raise UfcsrError(f"{self.path}: schema {schema!r}: not a ufcsr {document_name}")

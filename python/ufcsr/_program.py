@@ -49,13 +49,17 @@ def find_program(executable: Optional[os.PathLike] = None) -> str:
 
 
 def _pump(stream: IO[bytes], lines: list[str], echo: bool) -> None:
-    """Collects the program's stderr, echoing it (progress bar and all) when asked."""
-    for raw in iter(stream.readline, b""):
-        text = raw.decode("utf-8", "replace")
-        lines.append(text)
-        if echo:
-            sys.stderr.write(text)
-            sys.stderr.flush()
+    """Collects the program's stderr, echoing it (progress bar and all) when asked, and closes the
+    pipe at its end (left open, every call leaked a file: ResourceWarning). The reader closes it, not
+    the caller: after Ctrl-C a child of the program may hold the pipe open a while, and the caller
+    must not wait for that."""
+    with stream:
+        for raw in iter(stream.readline, b""):
+            text = raw.decode("utf-8", "replace")
+            lines.append(text)
+            if echo:
+                sys.stderr.write(text)
+                sys.stderr.flush()
 
 
 def _stop(process: subprocess.Popen) -> None:

@@ -10,7 +10,6 @@ file is an error naming it, never silently different counts.
 
 from __future__ import annotations
 
-import json
 import os
 from functools import cached_property
 from pathlib import Path
@@ -19,14 +18,30 @@ from typing import Any, Optional
 import numpy as np
 import pandas as pd
 
-from ._files import PathLike, UfcsrError, read_bytes, read_table, refuse_half_written
+from ._files import (
+    PathLike,
+    UfcsrError,
+    count,
+    field,
+    number,
+    parse_json,
+    read_bytes,
+    read_table,
+    refuse_half_written,
+)
 
 RESULT_FILE = "result.json"
 FRAMES_FILE = "frames.csv"
+TEXEL_AREA_FILE = "texel-area.f32"
+TEXEL_AREA_MAGIC = b"ufcsr-texel-area/1\n\0"
 RESULT_SCHEMA = "ufcsr-result/1"
 
 # result.json's per-part fields, in the report's order (PartStats).
-PART_COLUMNS = ["name", "color", "texels", "total", "peak", "average", "share", "coverage", "texels_seen"]
+PART_FIELDS = ["name", "color", "texels", "total", "peak", "average", "share", "coverage", "texels_seen"]
+# The DataFrame's columns: parts.csv's names, the unit in the name (share and coverage in %).
+PART_COLUMNS = ["name", "color", "texels", "total", "peak", "average", "share_percent", "coverage_percent", "texels_seen"]
+# The per-part fields that count something: whole numbers of at least 0.
+PART_COUNTS = ["texels", "total", "peak", "texels_seen"]
 # result.json's measures.parts fields joined onto the parts (when frames were tallied).
 MEASURE_COLUMNS = ["pixels", "eye_frames_seen", "angular_area_deg2_s", "exposure_s"]
 # The largest palette: one texel per 24-bit colour.
@@ -42,10 +57,7 @@ def result_json_path(path: PathLike) -> Path:
 def _document(path: Path) -> dict[str, Any]:
     """result.json parsed and its schema checked; errors name the file."""
     refuse_half_written(path.parent, path)
-    try:
-        document = json.loads(read_bytes(path, "result"))
-    except (ValueError, UnicodeDecodeError) as error:
-        raise UfcsrError(f"{path}: not a ufcsr result.json: {error}") from None
+    document = parse_json(path, read_bytes(path, "result"))
     schema = document.get("schema") if isinstance(document, dict) else None
     if schema != RESULT_SCHEMA:
         if isinstance(schema, str) and schema.startswith("ufcsr-result/"):
@@ -56,12 +68,36 @@ def _document(path: Path) -> dict[str, Any]:
     return document
 
 
+def _check_result(path: Path, document: dict[str, Any]) -> None:
+    """The fields the package uses, checked as the analyzer checks them (a typed error naming
+    the file and the field, never a bare KeyError, a fractional count or NaN taken as data)."""
+    images = field(path, document, "images", dict)
+    for name in ("found", "failed"):
+        count(path, images, name, f"images.{name}")
+    count(path, document, "grand_total", "grand_total")
+    settings = field(path, document, "settings", dict)
+    field(path, settings, "archive", str, "settings.archive")
+    _palette_size(path, document)
+    for index, part in enumerate(field(path, document, "parts", list, required=False) or []):
+        where = f"parts[{index}]"
+        if not isinstance(part, dict):
+            raise UfcsrError(f"{path}: {where}: expected an object, got {type(part).__name__}")
+        field(path, part, "name", str, f"{where}.name")
+        for name in PART_COUNTS:
+            count(path, part, name, f"{where}.{name}")
+        for name in ("average", "share", "coverage"):
+            number(path, part, name, f"{where}.{name}")
+    for name in ("warnings",):
+        field(path, document, name, list, required=False)
+
+
 def _parts_frame(summary: dict[str, Any]) -> pd.DataFrame:
     """One row per legend part, indexed by part name, plus the measures when present."""
-    parts = pd.DataFrame(summary.get("parts", []), columns=PART_COLUMNS)
+    rows = [[part.get(name) for name in PART_FIELDS] for part in summary.get("parts", [])]
+    parts = pd.DataFrame(rows, columns=PART_COLUMNS)
     measures = (summary.get("measures") or {}).get("parts") or []
     # The measures list the legend's parts in legend order, then "(unlabelled)".
-    names = [measure["name"] for measure in measures[: len(parts)]]
+    names = [measure.get("name") if isinstance(measure, dict) else None for measure in measures[: len(parts)]]
     if measures and names == list(parts["name"]):
         for column in MEASURE_COLUMNS:
             parts[column] = [measure.get(column) for measure in measures[: len(parts)]]
@@ -74,8 +110,8 @@ def decode_texel_counts(path: Path, document: dict[str, Any]) -> np.ndarray:
     encoded = document.get("texel_counts")
     if not isinstance(encoded, dict) or encoded.get("encoding") != "delta":
         raise UfcsrError(f"{path}: texel_counts: expected delta encoding")
-    deltas = np.asarray(encoded.get("texel_delta", []), dtype=np.int64)
-    counts = np.asarray(encoded.get("count", []), dtype=np.int64)
+    deltas = _integers(path, encoded, "texel_delta")
+    counts = _integers(path, encoded, "count")
     if deltas.ndim != 1 or deltas.shape != counts.shape:
         raise UfcsrError(f"{path}: texel_counts: expected delta encoding with arrays of equal length")
     if encoded.get("texels") != len(counts):
@@ -95,12 +131,47 @@ def decode_texel_counts(path: Path, document: dict[str, Any]) -> np.ndarray:
     return dense
 
 
+def _integers(path: Path, encoded: dict[str, Any], name: str) -> np.ndarray:
+    """``texel_counts.NAME``: a list of whole numbers (no fractions, no NaN, no text) as int64."""
+    values = encoded.get(name, [])
+    if not isinstance(values, list) or not all(
+        isinstance(v, int) and not isinstance(v, bool) and -(1 << 62) < v < 1 << 62 for v in values
+    ):
+        raise UfcsrError(f"{path}: texel_counts.{name}: expected a list of whole numbers")
+    return np.asarray(values, dtype=np.int64)
+
+
 def _palette_size(path: Path, document: dict[str, Any]) -> tuple[int, int]:
-    palette = (document.get("settings") or {}).get("palette") or {}
+    settings = document.get("settings")
+    palette = settings.get("palette") if isinstance(settings, dict) else None
+    palette = palette if isinstance(palette, dict) else {}
     width, height = palette.get("width"), palette.get("height")
-    if not (isinstance(width, int) and isinstance(height, int) and 0 < width * height <= COLOR_COUNT):
-        raise UfcsrError(f"{path}: settings.palette is {width}×{height}: not a palette size")
+    whole = all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in (width, height))
+    if not (whole and width * height <= COLOR_COUNT):
+        raise UfcsrError(f"{path}: settings.palette is {width!r}×{height!r}: not a palette size")
     return width, height
+
+
+def decode_texel_area(path: Path, data: bytes, width: int, height: int) -> np.ndarray:
+    """texel-area.f32's values (deg²·s per texel) as a float32 array of the palette's size,
+    checked as the analyzer checks them (src/result/texel_area_file.rs): magic, size, every
+    value finite and at least 0."""
+    header = len(TEXEL_AREA_MAGIC) + 8
+    if len(data) < header or data[: len(TEXEL_AREA_MAGIC)] != TEXEL_AREA_MAGIC:
+        raise UfcsrError(f"{path}: not a ufcsr texel-area.f32 (ufcsr-texel-area/1) file")
+    w, h = np.frombuffer(data[len(TEXEL_AREA_MAGIC) : header], dtype="<u4")
+    if (int(w), int(h)) != (width, height):
+        raise UfcsrError(f"{path}: holds a {w}×{h} raster but the result's palette is {width}×{height}")
+    if len(data) != header + width * height * 4:
+        raise UfcsrError(
+            f"{path}: {len(data)} bytes where a {width}×{height} raster takes {header + width * height * 4} "
+            "(truncated or edited?)"
+        )
+    values = np.frombuffer(data[header:], dtype="<f4").astype(np.float32)
+    bad = np.flatnonzero(~np.isfinite(values) | (values < 0))
+    if len(bad):
+        raise UfcsrError(f"{path}: texel {int(bad[0])} holds {values[bad[0]]}: not an angular area (finite, ≥ 0)")
+    return values
 
 
 class Result:
@@ -110,12 +181,15 @@ class Result:
         path: the result.json read.
         parts: pandas DataFrame, one row per legend part, indexed by part name
             (``result.parts.loc["grill"]``): name, color, texels, total, peak,
-            average, share %, coverage %, texels_seen, and with frames tallied
+            average, share_percent, coverage_percent, texels_seen (parts.csv's
+            names), and with frames tallied
             pixels, eye_frames_seen, angular_area_deg2_s, exposure_s.
         frames: frames.csv as a DataFrame (one row per eye-frame and part), or
             None when the analysis wrote none.
         texel_counts: numpy uint32 array of the palette's size, the count per
             texel index (``y * width + x``), decoded on first use.
+        texel_area: numpy float32 array of the palette's size, deg²·s per
+            texel (texel-area.f32, ``--texel-area on``), or None.
         summary: the rest of result.json as a dict (images, settings,
             warnings, measures, ...).
     """
@@ -123,6 +197,7 @@ class Result:
     def __init__(self, path: PathLike):
         self.path: Path = result_json_path(path)
         document = _document(self.path)
+        _check_result(self.path, document)
         self._encoded = document.pop("texel_counts", None)
         self.parts: pd.DataFrame = _parts_frame(document)
         document.pop("parts", None)
@@ -136,6 +211,17 @@ class Result:
     def texel_counts(self) -> np.ndarray:
         document = {"settings": self.summary.get("settings"), "texel_counts": self._encoded}
         return decode_texel_counts(self.path, document)
+
+    @cached_property
+    def texel_area(self) -> Optional[np.ndarray]:
+        """texel-area.f32 beside result.json (deg²·s per texel, ``--texel-area on``) as a float32
+        array of the palette's size, or None when the analysis measured none."""
+        path = self.path.parent / TEXEL_AREA_FILE
+        if not os.path.lexists(path):
+            return None
+        width, height = self.palette_size
+        data = read_bytes(path, "result")
+        return decode_texel_area(path, data, width, height)
 
     @property
     def palette_size(self) -> tuple[int, int]:

@@ -128,7 +128,16 @@ pub fn find(dir: &Path) -> Result<Option<(PathBuf, Vec<PathBuf>)>> {
         let parent = entry.path().parent().unwrap_or(dir);
         let in_sequence = entry.depth() == 1
             || parent.file_name().is_some_and(|n| n.to_string_lossy().starts_with("sequence."));
-        if is_frame && in_sequence && entry.file_type().is_file() {
+        if is_frame && in_sequence {
+            // A frame file that is a FIFO, a device or a folder is refused by name: skipping it
+            // without a word left frames out (issue 41 §3).
+            if !entry.file_type().is_file() {
+                return Err(Error::bad_file(
+                    entry.path(),
+                    "is a SOLO frame file name but not a regular file (a FIFO, device, socket or folder): \
+                     nothing written",
+                ));
+            }
             by_folder.entry(parent.to_path_buf()).or_default().push(entry.path().to_path_buf());
         }
     }
@@ -190,7 +199,86 @@ pub fn read(folder: &Path, files: &[PathBuf], cameras: &[String]) -> Result<Solo
     }
     skip_unnamed(&mut solo, &named)?;
     assemble(&mut solo, shots)?;
+    if solo.times.is_empty() && solo.fps.is_none() {
+        solo.fps = sensor_rate(&mut solo)?;
+    }
     Ok(solo)
+}
+
+/// `sensor_definitions.json`, where Perception before 1.0 (frame files
+/// without `timestamp`) keeps the capture rate: the fields ufcsr reads.
+#[derive(Debug, Deserialize)]
+struct SensorDefinitions {
+    #[serde(rename = "sensorDefinitions", default)]
+    sensors: Vec<SensorDefinition>,
+}
+
+#[derive(Debug, Deserialize)]
+struct SensorDefinition {
+    #[serde(default)]
+    id: String,
+    /// Seconds per simulation frame while capturing.
+    #[serde(rename = "simulationDeltaTime", default)]
+    simulation_delta_time: Option<f64>,
+    /// Simulation frames skipped between two captures.
+    #[serde(rename = "framesBetweenCaptures", default)]
+    frames_between_captures: Option<f64>,
+}
+
+/// The file beside the sequence folders (or in the sequence folder).
+pub const SENSOR_DEFINITIONS_FILE: &str = "sensor_definitions.json";
+
+/// Captures per second of the chosen cameras from `sensor_definitions.json`
+/// (in the sequence folder or the dataset folder above it):
+/// `1 / (simulationDeltaTime × (framesBetweenCaptures + 1))`. `None` where
+/// there is no such file or it does not say; cameras that disagree are refused.
+fn sensor_rate(solo: &mut Solo) -> Result<Option<f64>> {
+    let candidates = [Some(solo.folder.as_path()), solo.folder.parent()];
+    let Some(path) =
+        candidates.into_iter().flatten().map(|dir| dir.join(SENSOR_DEFINITIONS_FILE)).find(|p| p.exists())
+    else {
+        return Ok(None);
+    };
+    let bytes = crate::files::read_limited(&path, crate::files::SMALL_INPUT_LIMIT)?;
+    let definitions: SensorDefinitions =
+        crate::format::parse_json(&path, &bytes, "Unity Perception SOLO sensor_definitions.json")?;
+    let mut rates = Vec::new();
+    for sensor in definitions.sensors.iter().filter(|s| solo.cameras.contains_key(&s.id)) {
+        let (Some(delta), Some(between)) = (sensor.simulation_delta_time, sensor.frames_between_captures)
+        else {
+            continue;
+        };
+        if !(delta.is_finite()
+            && delta > 0.0
+            && between.is_finite()
+            && between >= 0.0
+            && between.fract() == 0.0)
+        {
+            return Err(Error::bad_file(
+                &path,
+                format!(
+                    "sensor {:?}: simulationDeltaTime {delta} and framesBetweenCaptures {between} are not a \
+                     capture rate (a time above 0 and a whole number of 0 or more)",
+                    sensor.id
+                ),
+            ));
+        }
+        rates.push((sensor.id.clone(), 1.0 / (delta * (between + 1.0))));
+    }
+    let Some((first_id, first)) = rates.first().cloned() else { return Ok(None) };
+    if let Some((id, rate)) = rates.iter().find(|(_, rate)| (rate - first).abs() > 1e-9 * first) {
+        return Err(Error::bad_file(
+            &path,
+            format!(
+                "cameras {first_id:?} and {id:?} capture at {first} and {rate} per second: one rate per archive"
+            ),
+        ));
+    }
+    solo.notes.push(format!(
+        "no SOLO timestamps: {first:.6} frames per second from {SENSOR_DEFINITIONS_FILE} (simulationDeltaTime × \
+         (framesBetweenCaptures + 1) per capture)"
+    ));
+    Ok(Some(first))
 }
 
 /// Every frame file of one sequence.
@@ -294,7 +382,9 @@ fn inside(file: &Path, name: &str) -> Result<String> {
 
 /// PNGs in the sequence folder that no frame file names: skipped, counted.
 fn skip_unnamed(solo: &mut Solo, named: &BTreeSet<String>) -> Result<()> {
-    let walk = walkdir::WalkDir::new(&solo.folder).follow_links(true).sort_by_file_name();
+    // Links are not followed: a link in the dataset may lead anywhere (issue 41 §3); a linked
+    // PNG is not walked into, and a linked folder's PNGs are not looked at.
+    let walk = walkdir::WalkDir::new(&solo.folder).follow_links(false).sort_by_file_name();
     let mut first = None;
     for entry in walk {
         let entry = entry.map_err(|error| {
@@ -302,10 +392,14 @@ fn skip_unnamed(solo: &mut Solo, named: &BTreeSet<String>) -> Result<()> {
             Error::io(&path, error.into())
         })?;
         let path = entry.path();
+        let relative = slash_path(path.strip_prefix(&solo.folder).unwrap_or(path));
+        if entry.path_is_symlink() && entry.depth() > 0 && !named.contains(&relative) {
+            *solo.skipped.entry("link named by no frame file (not followed)".into()).or_default() += 1;
+            continue;
+        }
         if !entry.file_type().is_file() || !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
             continue;
         }
-        let relative = slash_path(path.strip_prefix(&solo.folder).unwrap_or(path));
         if !named.contains(&relative) {
             first.get_or_insert(relative);
             *solo.skipped.entry("PNG named by no frame file".into()).or_default() += 1;

@@ -93,6 +93,17 @@ pub struct PixelCounts {
     pub stray: u64,
 }
 
+impl PixelCounts {
+    /// True when more of the pixels that are not background are stray than
+    /// show a palette colour: the images are most likely not palette renders
+    /// (issue 44 §5: a folder of ordinary PNGs, or renders that are not
+    /// FCSP-textured, lit, antialiased or colour-managed), and nothing counted
+    /// from them can be trusted.
+    pub fn not_palette_renders(&self) -> bool {
+        self.stray > self.texel
+    }
+}
+
 /// A failed image.
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
 #[schemars(deny_unknown_fields)]

@@ -375,7 +375,7 @@ pub fn write_frame_strip(path: &Path, inputs: &StripInputs) -> Result<Vec<u32>> 
         left += size[0] + GAP;
     }
     label_panels(&mut strip, [width, height], &panels);
-    crate::files::write_rgb_png(path, [width, height], &strip, png::Compression::Fast)?;
+    crate::files::write_figure_png(path, [width, height], &strip, crate::output::figure::DPI)?;
     Ok(frames.iter().map(|frame| frame.frame).collect())
 }
 

@@ -140,15 +140,14 @@ pub fn wrap(text: &str, size: f64, room: f64) -> Vec<String> {
 
 /// `text`, cut and ended with "…" where it is wider than `room` at `size`.
 pub fn fit(text: &str, size: f64, room: f64) -> String {
-    let width = |t: &str| f64::from(text_width(t, size));
-    if width(text) <= room {
+    if f64::from(text_width(text, size)) <= room {
         return text.to_string();
     }
-    let mut chars: Vec<char> = text.chars().collect();
-    while !chars.is_empty() && width(&format!("{}…", chars.iter().collect::<String>())) > room {
-        chars.pop();
-    }
-    format!("{}…", chars.into_iter().collect::<String>())
+    // Each prefix's width with the ellipsis, measured in one pass: the longest that fits.
+    let widths = crate::output::figure::widths_with_end(text, '…', size);
+    let keep = (0..widths.len()).rev().find(|&k| f64::from(widths[k]) <= room).unwrap_or(0);
+    let kept: String = text.chars().take(keep).collect();
+    format!("{kept}…")
 }
 
 /// Draws `texts` (kerned, black, at `size`) when a font is found: text is
@@ -193,6 +192,26 @@ mod tests {
         assert!(layout.texts.iter().all(|(x, _, t)| f64::from(*x) + layout.width(t) <= 206.0));
         // 7 pt at 183 mm on a 1600-pixel picture: plotters size 26.8.
         assert!((text_px_for(7.0, 1600, 183.0) - 26.77).abs() < 0.01);
+    }
+
+    #[test]
+    fn fitting_a_long_label_measures_each_glyph_a_bounded_number_of_times() {
+        if !crate::output::plot_font_available() {
+            eprintln!("skipped: no font (set UFCSR_FONT)");
+            return;
+        }
+        let name: String = "windshield_rail_left_".chars().cycle().take(10_000).collect();
+        crate::output::figure::GLYPHS_MEASURED.with(|count| count.set(0));
+        let fitted = fit(&name, LEGEND_TEXT_PX, 300.0);
+        let measured = crate::output::figure::GLYPHS_MEASURED.with(std::cell::Cell::get);
+        // One pass (10,000 glyphs), where cutting one character at a time measured ~50 million.
+        assert!(measured <= 2 * name.len(), "{measured} glyphs measured for a {}-character name", name.len());
+        assert!(fitted.ends_with('…') && fitted.len() < 100, "{fitted}");
+        assert!(TextLayout::new(LEGEND_TEXT_PX).width(&fitted) <= 300.0);
+        // The longest prefix that fits: one more character would not.
+        let kept: String = fitted.chars().take(fitted.chars().count() - 1).collect();
+        let longer: String = name.chars().take(kept.chars().count() + 1).collect();
+        assert!(TextLayout::new(LEGEND_TEXT_PX).width(&format!("{longer}…")) > 300.0);
     }
 
     /// A layout measured before anything was drawn (placement.png's is)

@@ -45,7 +45,9 @@ pub use html::{
 pub use legend::{LEGEND_LINE, LEGEND_TEXT_PX, LegendEntry, TextLayout, text_px_for};
 pub use plots::{PlotText, font_available as plot_font_available};
 pub use raster::ZBuffer;
-pub use result_set::{MAP_FILE, ResultSetOptions, default_output_dir, write_results, write_results_with};
+pub use result_set::{
+    Figures, MAP_FILE, ResultSetOptions, default_output_dir, write_results, write_results_with,
+};
 pub use scenario_map::{MAP_SIZE, MapContent, MapFrame, SceneShapes, time_color, write_scenario_map};
 pub use scene_model::{SceneObject, write_scene_glb};
 pub use view_sheet::{VIEWS_PDF_FILE, WrittenViews, bar_ticks, sheet_text_px, write_views};

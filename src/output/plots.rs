@@ -32,7 +32,7 @@ use crate::output::figure::{
     svg_in_millimetres, text_width,
 };
 use crate::output::numbers::tick;
-use crate::output::pdf::{PdfBackend, pdf_document};
+use crate::output::pdf::{PdfBackend, PdfPage};
 use crate::result::measures::Measures;
 use crate::result::part_stats::PartStats;
 use crate::{count::part_lookup::FrameLabel, result::frames::FrameTable};
@@ -163,15 +163,15 @@ fn write_plot(out_dir: &Path, name: &str, title: &str, drawing: &dyn Drawing) ->
             drawing.draw_png(&root, size).map_err(|e| drawing_error(&path, e))?;
             root.present().map_err(|e| drawing_error(&path, e))?;
         }
-        crate::files::write_rgb_png(&path, [w, h], &rgb, png::Compression::Fast)?;
+        crate::files::write_figure_png(&path, [w, h], &rgb, crate::output::figure::DPI)?;
         files.push(format!("{PLOTS_DIR}/{stem}.png"));
         let path = dir.join(format!("{stem}.pdf"));
-        let mut content = String::new();
+        let mut page = PdfPage::new((w, h));
         {
-            let root = PdfBackend::new(&mut content, (w, h)).into_drawing_area();
+            let root = page.backend().into_drawing_area();
             drawing.draw_pdf(&root, size).map_err(|e| drawing_error(&path, e))?;
         }
-        crate::files::write_bytes_atomically(&path, &pdf_document(&content, (w, h), title))?;
+        crate::files::write_bytes_atomically(&path, &page.finish(title))?;
         files.push(format!("{PLOTS_DIR}/{stem}.pdf"));
     }
     let ext = if text == PlotText::Drawn { "png" } else { "svg" };

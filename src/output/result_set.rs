@@ -72,11 +72,31 @@ pub struct ResultSetOptions {
     pub csv_style: CsvStyle,
     /// Each view is 400×300 pixels times this (`--views-scale`).
     pub views_scale: u32,
+    /// Whether the figures are drawn (`--figures`).
+    pub figures: Figures,
+}
+
+/// Whether a result set has its figures (`--figures on|off`): the plots, the
+/// views (`views.png`, `views/`, `views.pdf`), the scenario map and the frame
+/// strip. Drawing them is most of a small analysis (issue 44 §3): batch runs
+/// and notebooks that want the tables leave them out. The tables, the
+/// heatmaps, `heatmap.glb` and `report.html` are written either way, and the
+/// tables are the same.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Figures {
+    /// Every figure the analysis allows (the default).
+    All,
+    /// No figures.
+    None,
 }
 
 impl Default for ResultSetOptions {
     fn default() -> Self {
-        ResultSetOptions { csv_style: CsvStyle::Report, views_scale: DEFAULT_VIEWS_SCALE }
+        ResultSetOptions {
+            csv_style: CsvStyle::Report,
+            views_scale: DEFAULT_VIEWS_SCALE,
+            figures: Figures::All,
+        }
     }
 }
 
@@ -87,7 +107,7 @@ pub fn write_results_with(
     options: &ResultSetOptions,
 ) -> Result<WrittenFiles> {
     crate::files::create_output_dir(out_dir)?;
-    let mut files = planned_files(analysis, out_dir);
+    let mut files = planned_files(analysis, out_dir, options.figures);
     let mut outputs = output_paths(&files);
     outputs.extend(result_set_members().iter().map(|name| out_dir.join(name)));
     refuse_overwriting_inputs(&outputs, &analysis.input_files)?;
@@ -135,8 +155,12 @@ pub fn result_set_members() -> Vec<String> {
     members
 }
 
-/// The files [`write_results`] writes into `out_dir`.
-fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
+/// The files [`write_results`] writes into `out_dir` (the figures only with
+/// `figures`).
+fn planned_files(analysis: &Analysis, out_dir: &Path, figures: Figures) -> WrittenFiles {
+    let drawn = figures == Figures::All;
+    let model = analysis.vehicle_model.as_ref().filter(|_| drawn);
+    let manifest = analysis.result.settings.manifest && drawn;
     WrittenFiles {
         result_json: out_dir.join("result.json"),
         parts_csv: (!analysis.result.parts.is_empty()).then(|| out_dir.join("parts.csv")),
@@ -146,11 +170,11 @@ fn planned_files(analysis: &Analysis, out_dir: &Path) -> WrittenFiles {
         timings_json: out_dir.join("timings.json"),
         heatmap_glb: analysis.vehicle_model.as_ref().map(|_| out_dir.join("heatmap.glb")),
         report_html: out_dir.join("report.html"),
-        views_png: analysis.vehicle_model.as_ref().map(|_| out_dir.join("views.png")),
-        views_pdf: analysis.vehicle_model.as_ref().map(|_| out_dir.join(VIEWS_PDF_FILE)),
+        views_png: model.map(|_| out_dir.join("views.png")),
+        views_pdf: model.map(|_| out_dir.join(VIEWS_PDF_FILE)),
         frames_csv: analysis.frames.as_ref().map(|_| out_dir.join(FRAMES_FILE)),
-        map_png: analysis.result.settings.manifest.then(|| out_dir.join(MAP_FILE)),
-        frames_strip_png: analysis.result.settings.manifest.then(|| out_dir.join(FRAME_STRIP_FILE)),
+        map_png: manifest.then(|| out_dir.join(MAP_FILE)),
+        frames_strip_png: manifest.then(|| out_dir.join(FRAME_STRIP_FILE)),
         plots: Vec::new(),
     }
 }
@@ -178,7 +202,7 @@ fn write_results_into(
     options: &ResultSetOptions,
     placement: Option<&std::result::Result<PlacementOnPage, String>>,
 ) -> Result<FiguresWritten> {
-    let files = planned_files(analysis, out_dir);
+    let files = planned_files(analysis, out_dir, options.figures);
     let stage = Instant::now();
     let inputs = FigureInputs::read(analysis)?;
     let written = write_side_by_side(analysis, &files, options, &inputs, out_dir)?;
@@ -186,7 +210,8 @@ fn write_results_into(
     analysis.timings.heatmap_seconds = written.heatmap_seconds;
     analysis.timings.write_seconds = written.tables_seconds;
     let timings_json = files.timings_json.clone();
-    let mut figures = write_figures(analysis, out_dir, files, placement, &inputs, written.strip_skipped)?;
+    let mut figures =
+        write_figures(analysis, out_dir, files, placement, &inputs, written.strip_skipped, options.figures)?;
     let timings = &mut analysis.timings;
     timings.total_seconds += side_by_side_seconds + figures.seconds.values().sum::<f64>();
     figures.seconds.insert("frames_strip".to_string(), written.strip_seconds);
@@ -384,6 +409,7 @@ fn write_figures(
     placement: Option<&std::result::Result<PlacementOnPage, String>>,
     inputs: &FigureInputs,
     strip_skipped: Option<String>,
+    figures: Figures,
 ) -> Result<FiguresWritten> {
     let mut clock = StageClock::start();
     let archive = Path::new(&analysis.result.settings.archive);
@@ -405,13 +431,15 @@ fn write_figures(
     if strip_skipped.is_some() || manifest.is_none() {
         files.frames_strip_png = None;
     }
-    files.plots = write_plots(
-        out_dir,
-        &analysis.result.parts,
-        analysis.frames.as_ref(),
-        analysis.result.measures.as_ref(),
-        measure_unit(analysis.result.measure),
-    )?;
+    if figures == Figures::All {
+        files.plots = write_plots(
+            out_dir,
+            &analysis.result.parts,
+            analysis.frames.as_ref(),
+            analysis.result.measures.as_ref(),
+            measure_unit(analysis.result.measure),
+        )?;
+    }
     clock.lap("plots");
     let scenario_page = ScenarioPage { track: track.as_ref(), strip_skipped };
     crate::output::html::report_page::write_report(

@@ -402,17 +402,19 @@ fn finish_views(
             finish_view(&mut rgb, model, camera, texture);
             let path = views_dir.join(format!("{}.png", camera.name));
             let [width, height] = camera.size;
-            crate::files::write_rgb_png(&path, [width, height], &rgb, png::Compression::Fast)?;
+            crate::files::write_figure_png(&path, [width, height], &rgb, crate::output::figure::DPI)?;
             Ok((path, rgb))
         })
         .collect::<Result<_>>()?;
     let (views, pictures): (Vec<PathBuf>, Vec<Vec<u8>>) = finished.into_iter().unzip();
     let (sheet, [sheet_width, sheet_height]) = contact_sheet(&pictures, cameras, texture);
     let contact_sheet = dir.join("views.png");
-    crate::files::write_rgb_png(&contact_sheet, [sheet_width, sheet_height], &sheet, png::Compression::Fast)?;
+    let width_mm = FigureSize::TwoColumns.width_mm();
+    // The sheet says the resolution that prints it as views.pdf does (183 mm).
+    let dpi = f64::from(sheet_width) / (width_mm / 25.4);
+    crate::files::write_figure_png(&contact_sheet, [sheet_width, sheet_height], &sheet, dpi)?;
     let pdf = dir.join(VIEWS_PDF_FILE);
     let title = "The heatmap on the vehicle from eight directions";
-    let width_mm = FigureSize::TwoColumns.width_mm();
     crate::output::pdf::write_image_pdf(&pdf, &sheet, [sheet_width, sheet_height], width_mm, title)?;
     Ok(WrittenViews { contact_sheet, views, pdf })
 }

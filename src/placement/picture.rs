@@ -236,7 +236,7 @@ pub fn write_placement_picture(
         }
         draw_texts(&mut sheet, [sheet_w, sheet_h], &names, LEGEND_TEXT_PX);
         let path = views_dir.join(format!("{}.png", set.name));
-        crate::files::write_rgb_png(&path, [sheet_w, sheet_h], &sheet, png::Compression::Fast)?;
+        crate::files::write_figure_png(&path, [sheet_w, sheet_h], &sheet, crate::output::figure::DPI)?;
         views.push(path);
         for (index, camera) in small.iter().enumerate() {
             let picture = render_marked(model, camera, &set.marks, &set.colors);
@@ -247,7 +247,9 @@ pub fn write_placement_picture(
     layout.text.draw(&mut overview, layout.size);
     draw_texts(&mut overview, layout.size, &layout.view_names, layout.text.size);
     let path = out.join(PLACEMENT_PICTURE_FILE);
-    crate::files::write_rgb_png(&path, layout.size, &overview, png::Compression::Fast)?;
+    // The overview says the resolution that prints it as placement.pdf does (183 mm).
+    let dpi = f64::from(layout.size[0]) / (crate::output::figure::FigureSize::TwoColumns.width_mm() / 25.4);
+    crate::files::write_figure_png(&path, layout.size, &overview, dpi)?;
     let pdf = out.join(PLACEMENT_PDF_FILE);
     let title = "The chosen eHMI placements on the vehicle";
     crate::output::pdf::write_image_pdf(
@@ -470,11 +472,10 @@ mod tests {
         }
         // placement.pdf: the picture at 183 mm, its text at least 7 pt there.
         let pdf = std::fs::read(&written.pdf).unwrap();
-        assert!(pdf.starts_with(b"%PDF-1.4") && pdf.ends_with(b"%%EOF\n"));
-        assert!(
-            String::from_utf8_lossy(&pdf)
-                .contains(&format!("/Width {} /Height {}", image.width, image.height))
-        );
+        assert!(pdf.starts_with(b"%PDF-") && pdf.trim_ascii_end().ends_with(b"%%EOF"));
+        let text = String::from_utf8_lossy(&pdf);
+        assert!(text.contains(&format!("/Width {}", image.width)), "placement.pdf's image width");
+        assert!(text.contains(&format!("/Height {}", image.height)), "placement.pdf's image height");
         let em_mm = layout.text.size / 1.24 / f64::from(image.width) * 183.0;
         assert!(em_mm / crate::output::figure::MM_PER_PT >= 7.0, "{em_mm} mm");
         // Dark text pixels where each view's name is (the views are paper and grey there).

@@ -96,8 +96,9 @@ pub struct Analysis {
 }
 
 impl Analysis {
-    /// True when every image was read (exit code 0 material).
+    /// True when every image was read and the images are palette renders
+    /// (exit code 0 material; see [`crate::format::result::PixelCounts::not_palette_renders`]).
     pub fn is_complete(&self) -> bool {
-        self.result.images.failed == 0
+        self.result.images.failed == 0 && !self.result.pixels.not_palette_renders()
     }
 }

@@ -186,6 +186,10 @@ fn finish(
         Some(per_image) => per_image.par_iter().map(|&count| u64::from(count)).sum(),
         None => grand_total,
     };
+    // Leading the list: nothing after it matters when the images are not palette renders.
+    if let Some(warning) = not_palette_renders_warning(tally.stray_pixels, tally.texel_pixels) {
+        warnings.insert(0, warning);
+    }
     warnings.extend(stray_warning(tally.stray_pixels, tally.stray_images.len()));
     warnings.extend(saturation_warning(texel_counts));
     let resolution = per_texel
@@ -340,6 +344,23 @@ pub(crate) fn color_checks(facts: &ColorFacts, warnings: &mut Vec<String>) -> Co
         ));
     }
     checks
+}
+
+/// The plain warning when most pixels that are not background show no
+/// palette colour ([`crate::format::result::PixelCounts::not_palette_renders`]):
+/// what the images likely are and what to check. The analysis then ends
+/// with failures (exit 1).
+pub(crate) fn not_palette_renders_warning(stray_pixels: u64, texel_pixels: u64) -> Option<String> {
+    (stray_pixels > texel_pixels).then(|| {
+        format!(
+            "these images are not palette renders: {stray_pixels} of the {} pixels that are not background show \
+             no palette colour (only {texel_pixels} do), so the counts mean nothing. Likely the vehicle is not \
+             textured with the FCSP palette, or it was rendered lit or shaded, antialiased (MSAA, FXAA, TAA), \
+             filtered (mipmaps, bilinear), or colour-managed (sRGB conversion, tone mapping, a lossy format); \
+             see docs/guide.md#colour-damage",
+            stray_pixels + texel_pixels
+        )
+    })
 }
 
 /// The warning for stray pixels, in result.json as well as on stderr (on

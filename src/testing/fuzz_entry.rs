@@ -112,6 +112,15 @@ pub fn study_outputs(bytes: &[u8]) {
     let _ = crate::format::parse_json::<crate::format::study::Study>(Path::new("study.json"), bytes, "study");
 }
 
+/// A Unity Perception SOLO frame file (`stepK.frame_data.json`), read as
+/// `manifest` reads a sequence folder holding it.
+pub fn solo_frame(bytes: &[u8]) {
+    let name = "step0.frame_data.json";
+    in_file(name, bytes, |folder| {
+        let _ = crate::describe::solo::read(folder, &[folder.join(name)], &[]);
+    });
+}
+
 /// A fuzz target's name (its folder under `seeds/` and `regressions/`) and
 /// its entry point.
 pub type Target = (&'static str, fn(&[u8]));

@@ -67,12 +67,21 @@ fn every_plot_is_svg_pdf_and_png_at_both_column_widths_with_text_of_at_least_7_p
             );
             let pdf = std::fs::read(stem.with_extension("pdf")).unwrap();
             let pdf = String::from_utf8_lossy(&pdf);
-            assert!(pdf.starts_with("%PDF-1.4") && pdf.trim_end().ends_with("%%EOF"));
-            assert!(pdf.contains(") Tj"), "{plot}{suffix}.pdf has no real text");
-            assert!(pdf.contains(&format!(
-                "/MediaBox [0 0 {:.2}",
-                (width / 25.4 * 300.0_f64).round() * 72.0 / 300.0
-            )));
+            assert!(pdf.starts_with("%PDF-") && pdf.trim_end().ends_with("%%EOF"));
+            assert!(pdf.contains("TJ"), "{plot}{suffix}.pdf has no real text");
+            // The font the text was measured with, embedded as a subset (issue 44 §1).
+            assert!(pdf.contains("/FontFile2") && pdf.contains("/CIDFontType2"), "{plot}{suffix}.pdf");
+            assert!(!pdf.contains("Helvetica") && !pdf.contains("/Type1"), "{plot}{suffix}.pdf");
+            let media = pdf.split("/MediaBox [").nth(1).unwrap().split(']').next().unwrap();
+            let page_width: f64 = media.split_whitespace().nth(2).unwrap().parse().unwrap();
+            let expected = (width / 25.4 * 300.0_f64).round() * 72.0 / 300.0;
+            assert!((page_width - expected).abs() < 0.01, "{plot}{suffix}.pdf is {media}");
+            // 300 dpi in the PNG's pHYs chunk (11811 pixels per metre).
+            let decoder = png::Decoder::new(std::io::BufReader::new(
+                std::fs::File::open(stem.with_extension("png")).unwrap(),
+            ));
+            let dims = decoder.read_info().unwrap().info().pixel_dims.expect("pHYs");
+            assert_eq!((dims.xppu, dims.unit), (11811, png::Unit::Meter), "{plot}{suffix}.png");
             let png = image_size(&stem.with_extension("png"));
             assert_eq!(
                 png[0],
@@ -243,4 +252,29 @@ fn per_texel_angular_area_is_off_unless_asked_for() {
     ufcsr::write_results(&mut analysis, &out).unwrap();
     assert!(!out.join("heatmap-area.png").exists());
     assert!(out.join("heatmap.png").exists());
+}
+
+#[test]
+fn figures_off_writes_no_figure_and_the_same_tables() {
+    let dir = tempfile::tempdir().unwrap();
+    let drawn = example_results(dir.path());
+    let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let options = ufcsr::AnalyzeOptions { archive: example, frames: true, ..Default::default() };
+    let mut analysis = ufcsr::analyze(&options, None).unwrap();
+    let plain = dir.path().join("plain");
+    let set = ufcsr::ResultSetOptions { figures: ufcsr::Figures::None, ..Default::default() };
+    let written = ufcsr::write_results_with(&mut analysis, &plain, &set).unwrap();
+    for figure in ["plots", "views", "views.png", "views.pdf", "map.png", "frames-strip.png"] {
+        assert!(!plain.join(figure).exists(), "{figure} was written with the figures off");
+    }
+    assert!(written.plots.is_empty() && written.views_png.is_none() && written.map_png.is_none());
+    assert!(drawn.join("plots").is_dir() && drawn.join("map.png").is_file(), "the example draws figures");
+    for table in ["result.json", "parts.csv", "frames.csv", "heatmap.png"] {
+        assert_eq!(
+            std::fs::read(plain.join(table)).unwrap(),
+            std::fs::read(drawn.join(table)).unwrap(),
+            "{table}"
+        );
+    }
+    assert!(plain.join("report.html").is_file());
 }

@@ -165,6 +165,23 @@ fn a_huge_heatmap_maximum_builds_no_huge_table() {
 }
 
 #[test]
+fn images_mostly_of_no_palette_colour_are_said_to_be_no_palette_renders_and_end_with_failures() {
+    // All stray (an ordinary picture), then two stray against one palette pixel.
+    for pixels in [&[0xFFFFFF, 0xFFFFFE][..], &[0xFFFFFF, 0xFFFFFE, 1][..]] {
+        let dir = tempfile::tempdir().unwrap();
+        rgb_png(&dir.path().join("a.png"), pixels.len() as u32, 1, pixels);
+        let analysis = analyze_within_bounds(options(dir.path(), TrimMode::Off)).unwrap();
+        assert!(!analysis.is_complete(), "{pixels:?}: exit 1, done with failures");
+        let first = &analysis.result.warnings[0];
+        assert!(first.contains("not palette renders") && first.contains("FCSP"), "{first}");
+    }
+    // A tie (one stray, one palette pixel) is a render with a stray pixel: complete.
+    let dir = tempfile::tempdir().unwrap();
+    rgb_png(&dir.path().join("a.png"), 2, 1, &[1, 0xFFFFFF]);
+    assert!(analyze_within_bounds(options(dir.path(), TrimMode::Off)).unwrap().is_complete());
+}
+
+#[test]
 fn stray_pixels_are_a_warning_in_result_json_too() {
     let dir = tempfile::tempdir().unwrap();
     rgb_png(&dir.path().join("a.png"), 2, 1, &[1, 0xFFFFFF]);

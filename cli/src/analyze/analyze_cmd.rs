@@ -136,7 +136,11 @@ fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf, console: 
     let written = ufcsr::write_results_with(
         &mut analysis,
         &out_dir,
-        &ufcsr::ResultSetOptions { csv_style: args.csv_style.into(), views_scale: args.views_scale },
+        &ufcsr::ResultSetOptions {
+            csv_style: args.csv_style.into(),
+            views_scale: args.views_scale,
+            figures: if args.figures == Switch::On { ufcsr::Figures::All } else { ufcsr::Figures::None },
+        },
     )?;
     report_problems(&analysis.result);
     Ok(Done {

@@ -85,6 +85,11 @@ pub struct AnalyzeArgs {
           value_parser = clap::value_parser!(u32).range(1..=8))]
     pub views_scale: u32,
 
+    /// The figures (plots, views, views.pdf, map, frame strip): `on` or `off`. Off leaves them
+    /// out (most of a small analysis's time, for batch runs); the tables are the same.
+    #[arg(long, value_enum, default_value_t = Switch::On)]
+    pub figures: Switch,
+
     /// Stop at the first image that cannot be read (default: report it, go on, exit 1).
     #[arg(long)]
     pub strict: bool,

@@ -101,7 +101,11 @@ pub fn run_merge(args: MergeArgs, console: &Console) -> Result<Completion> {
     let written = ufcsr::write_results_with(
         &mut analysis,
         &args.out,
-        &ufcsr::ResultSetOptions { csv_style: args.csv_style.into(), views_scale: args.views_scale },
+        &ufcsr::ResultSetOptions {
+            csv_style: args.csv_style.into(),
+            views_scale: args.views_scale,
+            ..Default::default()
+        },
     )?;
     for warning in &analysis.result.warnings {
         eprintln!("warning: {warning}");

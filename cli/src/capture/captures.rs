@@ -193,8 +193,11 @@ pub fn run_capture(
     let all = args.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
     let names = scenario_names(&scene, args.scenario.as_deref())?;
     let gpu = Gpu::create(args.backend.into()).context("creating the GPU device")?;
-    eprintln!("adapter: {}", gpu.describe());
-    describe_rig(&scene, &options);
+    // How the run is set up: on stderr, and not under --quiet or --json (issue 44 §6).
+    if !console.quiet() {
+        eprintln!("adapter: {}", gpu.describe());
+        describe_rig(&scene, &options);
+    }
     if let Some(Measure::Unobstructed) = args.measure {
         return run_unobstructed(&gpu, &scene, &names, all, &options, args, console);
     }
@@ -553,13 +556,15 @@ fn report(s: &Summary, sink: Sink, manifest: &Path, console: &Console) {
         s.tally.hidden,
         s.tally.resumed
     );
-    // On stderr: how the run was done, not what it found.
-    eprintln!(
-        "  left out: {} of the {} pixels of tiles the vehicle's bounds touch ({:.1}%, scissor)",
-        s.tally.pixels_scissored,
-        s.pixels,
-        if s.pixels > 0 { s.tally.pixels_scissored as f64 * 100.0 / s.pixels as f64 } else { 0.0 },
-    );
+    // On stderr: how the run was done, not what it found (not under --quiet or --json).
+    if !console.quiet() {
+        eprintln!(
+            "  left out: {} of the {} pixels of tiles the vehicle's bounds touch ({:.1}%, scissor)",
+            s.tally.pixels_scissored,
+            s.pixels,
+            if s.pixels > 0 { s.tally.pixels_scissored as f64 * 100.0 / s.pixels as f64 } else { 0.0 },
+        );
+    }
     say!(
         console,
         "  unwrap: {} triangles, {} parts, {:.1} texels/m² ({:.1} mm texels), {:.1}% of the palette used",

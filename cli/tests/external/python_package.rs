@@ -126,7 +126,7 @@ pub fn python_package_builds_installs_and_passes_its_pytest_suite() -> Outcome {
 
     let started = Instant::now();
     let tested = Command::new(&python)
-        .args(["-m", "pytest", "-q", "-p", "no:cacheprovider", "python/tests"])
+        .args(["-m", "pytest", "-q", "-W", "error", "-p", "no:cacheprovider", "python/tests"])
         .env("UFCSR_ANALYZE_BIN", env!("CARGO_BIN_EXE_ufcsr-analyze"))
         .current_dir(repository)
         .output()

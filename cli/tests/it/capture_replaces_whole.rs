@@ -23,7 +23,12 @@ fn a_capture_killed_over_a_complete_archive_leaves_no_old_manifest_over_mixed_ti
         command
     };
     let done = capture("A").output().unwrap();
-    assert!(done.status.success(), "{}", String::from_utf8_lossy(&done.stderr));
+    let stderr = String::from_utf8_lossy(&done.stderr);
+    assert!(done.status.success(), "{stderr}");
+    // -q is quiet: none of the set-up lines (adapter, eye and tiles, scissor) on stderr (issue 44 §6).
+    for line in ["adapter:", "px/°", "left out:"] {
+        assert!(!stderr.contains(line), "-q printed {line:?}: {stderr}");
+    }
     let old_manifest = std::fs::read(archive.join("manifest.json")).unwrap();
     let old_tiles = tiles(&archive);
     assert!(old_tiles > 1);

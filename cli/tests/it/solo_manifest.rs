@@ -219,3 +219,71 @@ fn solo_cameras_are_chosen_by_id_and_what_ufcsr_cannot_read_is_refused_with_the_
     assert!(one.status.success(), "one sequence folder: {}", stderr(&one));
     assert_eq!(read_json(&solo.join("manifest.json"))["tiles"][0]["file"], "sequence.1/step0.camera.png");
 }
+
+/// `manifest solo --json`'s summary (the command must succeed).
+fn solo_summary(dir: &Path) -> Value {
+    let output = manifest(dir, &["solo", "--json"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    serde_json::from_slice(&output.stdout).unwrap()
+}
+
+#[test]
+fn perception_before_1_0_takes_the_frame_rate_from_sensor_definitions() {
+    let dir = tempfile::tempdir().unwrap();
+    let solo = dir.path().join("solo");
+    // Frame files without `timestamp`, as Perception before 1.0 wrote them.
+    small_solo(&solo, &["Left"], |frame| {
+        frame.as_object_mut().unwrap().remove("timestamp");
+    });
+    let definitions = json!({"sensorDefinitions": [
+        {"@type": "type.unity.com/unity.solo.RGBCamera", "id": "Left", "modality": "camera",
+         "simulationDeltaTime": 0.0166, "framesBetweenCaptures": 0},
+        {"@type": "type.unity.com/unity.solo.RGBCamera", "id": "Other", "simulationDeltaTime": 0.5,
+         "framesBetweenCaptures": 3}
+    ]});
+    write_json(&solo.join("sensor_definitions.json"), &definitions);
+    let summary = solo_summary(dir.path());
+    // Unity's own sample: 1 / (0.0166 s × (0 + 1)) = 60.24 captures per second.
+    assert!((summary["fps"].as_f64().unwrap() - 1.0 / 0.0166).abs() < 1e-9, "{}", summary["fps"]);
+    std::fs::remove_file(solo.join("manifest.json")).unwrap();
+    // Every second simulation frame captured: half the rate.
+    let mut definitions = definitions;
+    definitions["sensorDefinitions"][0]["framesBetweenCaptures"] = json!(1);
+    write_json(&solo.join("sensor_definitions.json"), &definitions);
+    assert!((solo_summary(dir.path())["fps"].as_f64().unwrap() - 1.0 / 0.0332).abs() < 1e-9);
+    std::fs::remove_file(solo.join("manifest.json")).unwrap();
+    definitions["sensorDefinitions"][0]["simulationDeltaTime"] = json!(-1.0);
+    write_json(&solo.join("sensor_definitions.json"), &definitions);
+    refused(dir.path(), &["solo"], &["sensor_definitions.json", "simulationDeltaTime -1"]);
+}
+
+#[test]
+fn a_solo_frame_file_that_is_a_fifo_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let solo = dir.path().join("solo");
+    small_solo(&solo, &["Left"], |_| {});
+    let fifo = solo.join("sequence.0/step2.frame_data.json");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success());
+    refused(dir.path(), &["solo"], &["step2.frame_data.json", "not a regular file"]);
+    std::fs::remove_file(&fifo).unwrap();
+    std::os::unix::fs::symlink("/dev/zero", &fifo).unwrap();
+    refused(dir.path(), &["solo"], &["step2.frame_data.json", "not a regular file"]);
+}
+
+#[test]
+fn the_solo_png_walk_does_not_follow_links_out_of_the_dataset() {
+    let dir = tempfile::tempdir().unwrap();
+    let solo = dir.path().join("solo");
+    small_solo(&solo, &["Left"], |_| {});
+    let outside = dir.path().join("outside");
+    for index in 0..3 {
+        rgb_png(&outside.join(format!("other{index}.png")), 2, 1, &[1, 2]);
+    }
+    std::os::unix::fs::symlink(&outside, solo.join("sequence.0/elsewhere")).unwrap();
+    std::os::unix::fs::symlink(outside.join("other0.png"), solo.join("sequence.0/linked.png")).unwrap();
+    let summary = solo_summary(dir.path());
+    let skipped = &summary["solo"]["skipped"];
+    assert_eq!(skipped["link named by no frame file (not followed)"], 2, "{skipped}");
+    assert!(skipped.get("PNG named by no frame file").is_none(), "the linked folder was walked: {skipped}");
+}
