@@ -2,7 +2,7 @@
 //! faithful per-pixel hash-map implementation of the original algorithm, on
 //! the same tiles in the same run, with the ratios the issue targets.
 //!
-//! `cargo bench --bench throughput -- [--frames N] [--block N] [--archive DIR]... [--also DIR]... [--keep DIR] [--kernels]`
+//! `cargo bench --bench throughput -- [--frames N] [--block N] [--archive DIR]... [--also DIR]... [--keep DIR] [--projection] [--kernels | --processes]`
 //!
 //! For each archive (each `--archive`; without one, a generated archive and
 //! then each `--also`) it prints the
@@ -10,7 +10,9 @@
 //! against decoding the same tiles alone, with the per-part tables (the
 //! default) and without (`--frames-csv off`), and the whole
 //! `ufcsr-analyze` process against a whole process that only decodes the
-//! tiles (this binary with `--decode-files`), alternated.
+//! tiles (this binary with `--decode-files`) and against itself with
+//! `--texel-area off` (the per-texel angular area's cost, CPU and wall),
+//! alternated.
 //!
 //! The ceiling is decoding with the png crate, as the issue defines it.
 //! ufcsr reads tiles with its own decoder (one inflate that also checks the
@@ -19,6 +21,7 @@
 //! that ratio is the cost of counting itself.
 //!
 //! `--keep DIR` writes the generated archive to DIR and leaves it there.
+//! `--processes` times only the whole processes (5 alternated rounds).
 //! `--projection` gives the generated archive's manifest the eyes'
 //! projection and fps (`rig.settings`, 107° horizontal at 60 fps, as
 //! `ufcsr-capture` writes them), so the default analysis also measures
@@ -69,6 +72,9 @@ struct Args {
     projection: bool,
     /// Only the row kernels on decoded rows (quick, for kernel work).
     kernels_only: bool,
+    /// Only the whole processes (`--processes`: default against decode-only
+    /// and against `--texel-area off`).
+    processes_only: bool,
 }
 
 fn parse_args() -> Args {
@@ -82,6 +88,7 @@ fn parse_args() -> Args {
         keep: None,
         projection: false,
         kernels_only: false,
+        processes_only: false,
     };
     let mut iter = std::env::args().skip(1);
     while let Some(arg) = iter.next() {
@@ -98,6 +105,7 @@ fn parse_args() -> Args {
             }
             "--keep" => args.keep = iter.next().map(PathBuf::from),
             "--kernels" => args.kernels_only = true,
+            "--processes" => args.processes_only = true,
             "--projection" => args.projection = true,
             _ => {} // cargo bench passes --bench
         }
@@ -484,6 +492,10 @@ fn bench_archive(args: &Args, archive: &Path, scratch: &Path) {
     let palette = Fcsp::canonical([4096, 4096]).unwrap();
     let classifier = Classifier::new(&palette, &[0x000FFF]).unwrap();
     let lookup = archive_lookup(archive, &palette);
+    if args.processes_only {
+        whole_processes(archive, &files, scratch);
+        return;
+    }
     if args.kernels_only {
         let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
         one_thread.install(|| kernels_alone(&files, &classifier, lookup.as_ref()));

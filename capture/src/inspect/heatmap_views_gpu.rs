@@ -67,10 +67,12 @@ pub fn view_values(options: &ViewsOptions) -> Result<ViewValues> {
     let counts = ufcsr::read_texel_counts(&json)?;
     let track = ufcsr::ScenarioTrack::from_archive(Path::new(&counts.archive));
     let scenario = track.as_ref().and_then(|track| track.name.as_deref());
-    let area = match options.count {
-        true => None,
-        // Not a regular file there: refused naming it, not painted as the count.
-        false => ufcsr::read_texel_area_in(&options.results, counts.width, counts.height)?,
+    // Anything at texel-area.f32 that is no regular file is refused naming
+    // it, not painted as the count.
+    let area = if options.count {
+        None
+    } else {
+        ufcsr::read_texel_area_in(&options.results, counts.width, counts.height)?
     };
     if let Some(values) = area {
         let area = ufcsr::AreaLevels::new(&values);
