@@ -5,7 +5,7 @@
 //! original per-pixel hash map, the Adler-32 check's cost, reading tiles
 //! against mapping them) are no longer run.
 //!
-//! `cargo bench --bench throughput -- [--frames N] [--block N] [--archive DIR]... [--also DIR]... [--keep DIR] [--kernels]`
+//! `cargo bench --bench throughput -- [--frames N] [--block N] [--archive DIR]... [--also DIR]... [--keep DIR] [--projection] [--kernels | --processes]`
 //!
 //! For each archive (each `--archive`; without one, a generated archive and
 //! then each `--also`) it prints the
@@ -13,7 +13,9 @@
 //! against decoding the same tiles alone, with the per-part tables (the
 //! default) and without (`--frames-csv off`), and the whole
 //! `ufcsr-analyze` process against a whole process that only decodes the
-//! tiles (this binary with `--decode-files`), alternated.
+//! tiles (this binary with `--decode-files`) and against itself with
+//! `--texel-area off` (the per-texel angular area's cost, CPU and wall),
+//! alternated.
 //!
 //! The ceiling is decoding with the png crate, as the issue defines it.
 //! ufcsr reads tiles with its own decoder (one inflate that also checks the
@@ -22,6 +24,7 @@
 //! that ratio is the cost of counting itself.
 //!
 //! `--keep DIR` writes the generated archive to DIR and leaves it there.
+//! `--processes` times only the whole processes (5 alternated rounds).
 //! `--projection` gives the generated archive's manifest the eyes'
 //! projection and fps (`rig.settings`, 107° horizontal at 60 fps, as
 //! `ufcsr-capture` writes them), so the default analysis also measures
@@ -71,6 +74,9 @@ struct Args {
     projection: bool,
     /// Only the row kernels on decoded rows (quick, for kernel work).
     kernels_only: bool,
+    /// Only the whole processes (`--processes`: default against decode-only
+    /// and against `--texel-area off`).
+    processes_only: bool,
 }
 
 fn parse_args() -> Args {
@@ -84,6 +90,7 @@ fn parse_args() -> Args {
         keep: None,
         projection: false,
         kernels_only: false,
+        processes_only: false,
     };
     let mut iter = std::env::args().skip(1);
     while let Some(arg) = iter.next() {
@@ -100,6 +107,7 @@ fn parse_args() -> Args {
             }
             "--keep" => args.keep = iter.next().map(PathBuf::from),
             "--kernels" => args.kernels_only = true,
+            "--processes" => args.processes_only = true,
             "--projection" => args.projection = true,
             _ => {} // cargo bench passes --bench
         }
@@ -442,6 +450,10 @@ fn bench_archive(args: &Args, archive: &Path, scratch: &Path) {
     let palette = Fcsp::canonical([4096, 4096]).unwrap();
     let classifier = Classifier::new(&palette, &[0x000FFF]).unwrap();
     let lookup = archive_lookup(archive, &palette);
+    if args.processes_only {
+        whole_processes(archive, &files, scratch);
+        return;
+    }
     if args.kernels_only {
         let one_thread = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap();
         one_thread.install(|| kernels_alone(&files, &classifier, lookup.as_ref()));
@@ -484,12 +496,16 @@ fn archive_lookup(archive: &Path, palette: &Fcsp) -> Option<PartLookup> {
 /// best of 3 each, alternated.
 fn counting_stage_against_decoding(options: &AnalyzeOptions, [decode_rate, own_rate]: [f64; 2]) {
     let with_frames = AnalyzeOptions { frames: true, ..options.clone() };
-    let (mut framed, mut plain) = (0.0f64, 0.0f64);
-    let (mut framed_whole, mut plain_whole) = (f64::INFINITY, f64::INFINITY);
+    let count_only = AnalyzeOptions { texel_area: false, ..with_frames.clone() };
+    let (mut framed, mut plain, mut counted) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut framed_whole, mut plain_whole, mut counted_whole) =
+        (f64::INFINITY, f64::INFINITY, f64::INFINITY);
     for _ in 0..3 {
-        for (options, rate, whole) in
-            [(&with_frames, &mut framed, &mut framed_whole), (options, &mut plain, &mut plain_whole)]
-        {
+        for (options, rate, whole) in [
+            (&with_frames, &mut framed, &mut framed_whole),
+            (&count_only, &mut counted, &mut counted_whole),
+            (options, &mut plain, &mut plain_whole),
+        ] {
             let start = Instant::now();
             let analysis = analyze(options, None).unwrap();
             *whole = whole.min(start.elapsed().as_secs_f64());
@@ -506,6 +522,11 @@ fn counting_stage_against_decoding(options: &AnalyzeOptions, [decode_rate, own_r
         framed / own_rate
     );
     println!(
+        "  default with --texel-area off          {counted:8.1}  ratio {:.2}; against ufcsr's decoder {:.2}",
+        counted / decode_rate,
+        counted / own_rate
+    );
+    println!(
         "  --frames-csv off                       {plain:8.1}  ratio {:.2}  (target ≥ 0.90); against ufcsr's decoder {:.2}",
         plain / decode_rate,
         plain / own_rate
@@ -513,6 +534,11 @@ fn counting_stage_against_decoding(options: &AnalyzeOptions, [decode_rate, own_r
     println!(
         "  analyze() with frames.csv / without: {:.3} ({framed_whole:.3} s vs {plain_whole:.3} s)",
         framed_whole / plain_whole
+    );
+    println!(
+        "  analyze() default (per-texel area where the projection is known) / --texel-area off: {:.3} \
+         ({framed_whole:.3} s vs {counted_whole:.3} s)",
+        framed_whole / counted_whole
     );
 }
 
@@ -548,17 +574,26 @@ fn whole_processes(archive: &Path, files: &[PathBuf], scratch: &Path) {
         out.display().to_string(),
         "-q".into(),
     ];
+    let mut count_only = ufcsr.to_vec();
+    count_only.extend(["--texel-area".into(), "off".into()]);
     let decode = |flag: &str| {
         [std::env::current_exe().unwrap().display().to_string(), flag.into(), list.display().to_string()]
     };
     let (png_crate, own) = (decode("--decode-files"), decode("--decode-files-ufcsr"));
     let (mut ratios, mut own_ratios, mut peak) = (Vec::new(), Vec::new(), 0.0f64);
+    let (mut area_cpu_ratios, mut area_wall_ratios, mut cpu_ceiling_ratios) =
+        (Vec::new(), Vec::new(), Vec::new());
     let mut walls = [Vec::new(), Vec::new(), Vec::new()];
-    for _ in 0..3 {
+    for _ in 0..5 {
         let _ = std::fs::remove_dir_all(&out);
-        let (ufcsr_wall, ufcsr_peak) = run_process(&ufcsr, scratch);
-        let (decode_wall, _) = run_process(&png_crate, scratch);
-        let (own_wall, _) = run_process(&own, scratch);
+        let (ufcsr_wall, ufcsr_peak, ufcsr_cpu) = run_process(&ufcsr, scratch);
+        let (decode_wall, _, decode_cpu) = run_process(&png_crate, scratch);
+        let _ = std::fs::remove_dir_all(&out);
+        let (count_wall, _, count_cpu) = run_process(&count_only, scratch);
+        let (own_wall, _, _) = run_process(&own, scratch);
+        area_cpu_ratios.push(ufcsr_cpu / count_cpu);
+        area_wall_ratios.push(ufcsr_wall / count_wall);
+        cpu_ceiling_ratios.push(decode_cpu / ufcsr_cpu);
         ratios.push(decode_wall / ufcsr_wall);
         own_ratios.push(own_wall / ufcsr_wall);
         for (list, wall) in walls.iter_mut().zip([ufcsr_wall, decode_wall, own_wall]) {
@@ -572,7 +607,7 @@ fn whole_processes(archive: &Path, files: &[PathBuf], scratch: &Path) {
     };
     let [ufcsr_walls, decode_walls, own_walls] = walls;
     println!(
-        "whole process: ufcsr-analyze (default) {:.3} s, decode-only process (png crate) {:.3} s: ratio {:.2} (target ≥ 0.60), median of 3 triples; ufcsr analyze peak {} (target ≤ 512 MiB)",
+        "whole process: ufcsr analyze (default) {:.3} s, decode-only process (png crate) {:.3} s: ratio {:.2} (target ≥ 0.60), median of 5 rounds; ufcsr analyze peak {} (target ≤ 512 MiB)",
         median(ufcsr_walls),
         median(decode_walls),
         median(ratios),
@@ -583,16 +618,23 @@ fn whole_processes(archive: &Path, files: &[PathBuf], scratch: &Path) {
         median(own_walls),
         median(own_ratios)
     );
+    println!(
+        "  default / --texel-area off (the per-texel angular area's cost): CPU {:.3} (target ≤ 1.2), wall {:.3}; \
+         decode-only / default CPU {:.2}; medians of 5 alternated rounds (CPU = user + sys)",
+        median(area_cpu_ratios),
+        median(area_wall_ratios),
+        median(cpu_ceiling_ratios)
+    );
 }
 
-/// Runs `command` (program and arguments) to the end: wall seconds and
-/// peak resident MiB (0 without `/usr/bin/time`).
-fn run_process(command: &[String], scratch: &Path) -> (f64, f64) {
+/// Runs `command` (program and arguments) to the end: wall seconds, peak
+/// resident MiB and CPU seconds, user + sys (both 0 without `/usr/bin/time`).
+fn run_process(command: &[String], scratch: &Path) -> (f64, f64, f64) {
     let time = Path::new("/usr/bin/time");
     let report = scratch.join("time.txt");
     let mut process = if time.exists() {
         let mut p = std::process::Command::new(time);
-        p.args(["-f", "%M", "-o"]).arg(&report).args(command);
+        p.args(["-f", "%M %U %S", "-o"]).arg(&report).args(command);
         p
     } else {
         let mut p = std::process::Command::new(&command[0]);
@@ -603,9 +645,12 @@ fn run_process(command: &[String], scratch: &Path) -> (f64, f64) {
     let status = process.stdout(std::process::Stdio::null()).status().unwrap();
     let wall = start.elapsed().as_secs_f64();
     assert!(status.success(), "{command:?} failed");
-    let peak_kib: f64 =
-        std::fs::read_to_string(&report).ok().and_then(|t| t.trim().parse().ok()).unwrap_or(0.0);
-    (wall, peak_kib / 1024.0)
+    let report = std::fs::read_to_string(&report).unwrap_or_default();
+    let fields: Vec<f64> = report.split_whitespace().filter_map(|t| t.parse().ok()).collect();
+    match fields[..] {
+        [peak_kib, user, sys] => (wall, peak_kib / 1024.0, user + sys),
+        _ => (wall, 0.0, 0.0),
+    }
 }
 
 /// Writes the generated realistic archive into `dir`.

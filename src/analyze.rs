@@ -24,6 +24,7 @@ use crate::result::frames::FrameTable;
 use crate::result::measures::Measures;
 use crate::result::model::Analysis;
 use crate::result::summarize::{Summary, frame_table, summarize, summarize_texel_counts};
+use crate::result::texel_area_file::TexelAreaUnits;
 
 /// Runs the analysis.
 pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Result<Analysis> {
@@ -53,7 +54,7 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
     let stage = Instant::now();
     let job = CountJob { options, inputs: &inputs, plan: &plan, classifier: &classifier, progress };
     let (counted, mut frame_tallies) = count_images(&job);
-    let texel_sr = frame_tallies.as_mut().and_then(|tallies| tallies.texel_solid_angle_sr.take());
+    let texel_units = frame_tallies.as_mut().and_then(|tallies| tallies.texel_solid_angle_units.take());
     let frames = frame_tallies.map(|tallies| frame_table(tallies, &inputs, options.shard));
     timings.count_seconds = stage.elapsed().as_secs_f64();
 
@@ -64,8 +65,22 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
         analysis.result.measures = Some(Measures::from_frames(frames, &inputs.clock));
     }
     analysis.frames = frames;
-    analysis.texel_angular_area = texel_sr.and_then(|sr| Measures::texel_angular_areas(&sr, &inputs.clock));
+    set_texel_area(&mut analysis, texel_units, &inputs.clock, options);
     Ok(analysis)
+}
+
+/// The per-texel angular area from the kernels' integer sums; a shard
+/// keeps the sums too (`texel-area.units`, which `merge` adds exactly).
+fn set_texel_area(
+    analysis: &mut Analysis,
+    units: Option<Vec<u64>>,
+    clock: &crate::archive::capture_facts::FrameClock,
+    options: &AnalyzeOptions,
+) {
+    let factor = Measures::texel_area_factor(clock);
+    let units = units.zip(factor).map(|(units, deg2_s_per_sr)| TexelAreaUnits { units, deg2_s_per_sr });
+    analysis.texel_angular_area = units.as_ref().map(TexelAreaUnits::areas);
+    analysis.texel_area_units = units.filter(|_| options.shard.is_some());
 }
 
 /// Joins tiles counted from memory ([`TileCounter`], the capture's `--count`)
@@ -78,6 +93,7 @@ pub fn analyze_counted(options: &AnalyzeOptions, mut counter: TileCounter) -> Re
     let timings = Timings { threads: 1, kernel: Kernel::selected().name().to_string(), ..Timings::default() };
     counter.commit_eye_frame();
     counter.finish_parts();
+    let texel_units = counter.take_texel_solid_angles().filter(|_| options.texel_area);
     let inputs = resolve_inputs(options)?;
     let part_tallies = counter.parts.take();
     let mut outcomes = Vec::with_capacity(inputs.archive.images.len());
@@ -107,6 +123,7 @@ pub fn analyze_counted(options: &AnalyzeOptions, mut counter: TileCounter) -> Re
         analysis.result.measures = Some(Measures::from_frames(frames, &inputs.clock));
     }
     analysis.frames = frames;
+    set_texel_area(&mut analysis, texel_units, &inputs.clock, options);
     Ok(analysis)
 }
 
@@ -128,7 +145,7 @@ fn counted_frame_table(tallies: PartTallies, inputs: &crate::archive::resolve::I
         })
         .collect();
     frame_table(
-        FrameTallies { parts: tallies.lookup.names, records, texel_solid_angle_sr: None },
+        FrameTallies { parts: tallies.lookup.names, records, texel_solid_angle_units: None },
         inputs,
         None,
     )

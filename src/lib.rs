@@ -121,9 +121,9 @@ pub use placement::{
 };
 pub use result::{
     Analysis, AnalysisResult, Comparison, FrameTable, Measures, PartStats, PartTable, RESULT_SCHEMA,
-    ResolutionReport, TEXEL_AREA_FILE, compare_parts, join_parts, kendall_tau_b, merge_results,
-    read_result_summary, read_texel_area, read_texel_counts, write_result_json, write_texel_area,
-    write_timings_json,
+    ResolutionReport, TEXEL_AREA_FILE, TEXEL_AREA_UNITS_FILE, TexelAreaUnits, compare_parts, join_parts,
+    kendall_tau_b, merge_results, read_result_summary, read_texel_area, read_texel_area_in,
+    read_texel_counts, write_result_json, write_texel_area, write_timings_json,
 };
 pub use stats::{SplitMix64, t975};
 #[doc(hidden)]

@@ -63,7 +63,7 @@ pub trait Progress: Sync {
 
 /// Everything [`crate::analyze()`] needs. `None` fields fall back to the archive's
 /// manifest, then to the defaults.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct AnalyzeOptions {
     /// The archive folder.
     pub archive: PathBuf,
@@ -99,15 +99,45 @@ pub struct AnalyzeOptions {
     /// ([`crate::TileCounter::tally_parts`]).
     pub frames: bool,
     /// Also sum the solid angle each texel subtends (`heatmap-area.png`,
-    /// and the views and `heatmap.glb` in deg²·s instead of the count);
-    /// needs `frames` and the eyes' projection. Off by default (the binary's
-    /// `--texel-area on`): it costs about as much CPU time as the rest of
-    /// the analysis (docs/performance.md#per-texel-angular-area).
+    /// `texel-area.f32`, and the views and `heatmap.glb` in deg²·s instead of
+    /// the count); needs `frames` and the eyes' projection. On by default
+    /// (the binary's `--texel-area off` keeps the paper's count): the
+    /// counting kernel sums each run's solid angle as it finds the run
+    /// (docs/performance.md#per-texel-angular-area).
     pub texel_area: bool,
     /// The legend and PIdT the analysis would read (from the options or the
     /// manifest), already loaded by the caller: used instead of reading them
     /// again (the files must still be there; the identity digests them).
     pub loaded_labels: Option<crate::archive::labels::LoadedLabels>,
+}
+
+/// The smallest `--area-max` taken (deg²·s): the smallest normal `f32`.
+pub const AREA_MAX_FLOOR: f64 = f32::MIN_POSITIVE as f64;
+
+impl Default for AnalyzeOptions {
+    /// Every field empty, off or its type's default, except
+    /// [`AnalyzeOptions::texel_area`], which is on.
+    fn default() -> AnalyzeOptions {
+        AnalyzeOptions {
+            archive: PathBuf::new(),
+            palette: None,
+            pidt: None,
+            legend: None,
+            background: None,
+            dedupe: Dedupe::default(),
+            trim: TrimMode::default(),
+            heatmap: HeatmapOptions::default(),
+            area_max: None,
+            strict: false,
+            exclude: Vec::new(),
+            ignore_manifest: false,
+            shard: None,
+            mesh: None,
+            frames: false,
+            texel_area: true,
+            loaded_labels: None,
+        }
+    }
 }
 
 pub use crate::format::timings::Timings;
@@ -126,11 +156,15 @@ impl std::str::FromStr for Scale {
 }
 
 impl AnalyzeOptions {
-    /// [`AnalyzeOptions::area_max`] is a positive finite number of deg²·s
-    /// (0, a negative, NaN or an infinity would paint nothing meaningful).
+    /// [`AnalyzeOptions::area_max`] is a finite number of deg²·s from
+    /// [`AREA_MAX_FLOOR`] (the smallest normal `f32`, the type of
+    /// `texel-area.f32`'s values) to `f32::MAX`: 0, a negative, NaN or an
+    /// infinity would paint nothing meaningful, and a value below the floor
+    /// (`1e-300`) rounds to 0 as an `f32`, which painted every texel "never
+    /// seen".
     pub fn check_area_max(&self) -> Result<(), Error> {
         match self.area_max {
-            Some(max) if !(max.is_finite() && max > 0.0 && max <= f64::from(f32::MAX)) => {
+            Some(max) if !(max.is_finite() && max >= AREA_MAX_FLOOR && max <= f64::from(f32::MAX)) => {
                 Err(Error::BadOptions(format!(
                     "--area-max {max}: give the top of the angular-area scale as a positive number of deg²·s"
                 )))

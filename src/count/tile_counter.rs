@@ -9,7 +9,9 @@
 //! path would, so both give the same `result.json`. With
 //! [`TileCounter::tally_parts`] it also tallies pixels, their solid angles and
 //! texels by part per eye-frame, as the PNG path does for `frames.csv` and
-//! the measures.
+//! the measures, and, with the eyes' projection, the per-texel solid angles
+//! behind `texel-area.f32` from the same kernel pass ([`crate::count::texel_area`]),
+//! the same integers as the PNG path's.
 
 use std::collections::BTreeMap;
 
@@ -22,6 +24,7 @@ use crate::count::counts::Counts;
 use crate::count::part_lookup::{PartLookup, PartPixels};
 use crate::count::scan::{Classifier, ImageTally, PixelClass};
 use crate::count::scan::{PartRows, row_scan};
+use crate::count::texel_area::{PendingRuns, TexelSolidAngles};
 use crate::error::{Error, Result};
 use crate::optics::solid_angle::{EyeProjection, TileView};
 use crate::png::rows::PixelLayout;
@@ -82,6 +85,8 @@ pub struct TileCounter<'a> {
     pub(crate) parts: Option<PartTallies>,
     /// The colour checks' neighbour sample (canonical palettes).
     pub(crate) neighbours: Option<NeighbourSampler>,
+    /// Per-texel solid angles, when parts are tallied with the projection.
+    pub(crate) texel_area: Option<(TexelSolidAngles, PendingRuns)>,
 }
 
 impl<'a> TileCounter<'a> {
@@ -101,14 +106,20 @@ impl<'a> TileCounter<'a> {
             tallies: BTreeMap::new(),
             parts: None,
             neighbours,
+            texel_area: None,
         })
     }
 
     /// Also tallies pixels and texels by `lookup`'s parts per eye-frame and,
     /// with the eyes' `projection`, the solid angle of those pixels — what
-    /// `frames.csv` and the measures of [`crate::analyze_counted`] need.
+    /// `frames.csv` and the measures of [`crate::analyze_counted`] need; with
+    /// the projection also each texel's solid angle (`texel-area.f32`).
     pub fn tally_parts(&mut self, lookup: PartLookup, projection: Option<EyeProjection>) {
         let pixels = PartPixels::new(&lookup);
+        self.texel_area = projection.map(|_| {
+            let sums = TexelSolidAngles::new(self.classifier.palette(), self.classifier.backgrounds());
+            (sums, PendingRuns::default())
+        });
         self.parts = Some(PartTallies {
             lookup,
             projection,
@@ -149,6 +160,7 @@ impl<'a> TileCounter<'a> {
             }
             parts.pixels.view = parts.projection.map(|projection| TileView { projection, origin });
         }
+        let projection = self.parts.as_ref().and_then(|parts| parts.projection);
         let mut part_rows = self.parts.as_mut().map(|parts| {
             PartRows::new(scan, PixelLayout::Rgba, &self.classifier, &parts.lookup, &mut parts.pixels)
         });
@@ -156,14 +168,28 @@ impl<'a> TileCounter<'a> {
         if let Some(sampler) = neighbours.as_mut() {
             sampler.start_image();
         }
+        let mut area = self.texel_area.as_mut().zip(projection).and_then(|((sums, pending), projection)| {
+            let table = sums.pixel_prefix(&TileView { projection, origin }, [width, height])?;
+            Some((&*sums, table, pending))
+        });
         for (y, row) in rgba.chunks_exact(row_bytes.max(1)).enumerate() {
-            match part_rows.as_mut() {
-                Some(parts) => parts.scan(row, y as u32, &mut self.seen, &self.strays, &mut by_class),
-                None => scan.scan(row, &self.classifier, &mut self.seen, &self.strays, &mut by_class),
+            let (y, counts) = (y as u32, (&mut self.seen, &self.strays, &mut by_class));
+            match (part_rows.as_mut(), area.as_mut()) {
+                (Some(parts), Some((sums, table, pending))) => {
+                    let mut runs = sums.row_runs(table.row(y), pending);
+                    parts.scan_runs(row, y, counts, &mut runs);
+                    runs.finish(width as usize);
+                    sums.flush_if_full(pending);
+                }
+                (Some(parts), None) => parts.scan_runs(row, y, counts, ()),
+                (None, _) => scan.scan(row, &self.classifier, counts.0, counts.1, counts.2),
             }
             if let Some(sampler) = neighbours.as_mut() {
-                sampler.row(y as u32, row, PixelLayout::Rgba);
+                sampler.row(y, row, PixelLayout::Rgba);
             }
+        }
+        if let Some((sums, _, pending)) = area {
+            sums.flush(pending);
         }
         if let Some(parts) = self.parts.as_mut() {
             self.seen.merge_into(&mut parts.seen);
@@ -188,6 +214,12 @@ impl<'a> TileCounter<'a> {
         if let (Some(counts), Some(frame_seen)) = (&self.frame_counts, self.frame_seen.as_mut()) {
             counts.add_set(frame_seen);
         }
+    }
+
+    /// The per-texel solid angles (units, row-major over the palette), when
+    /// measured ([`TileCounter::tally_parts`] with a projection).
+    pub(crate) fn take_texel_solid_angles(&mut self) -> Option<Vec<u64>> {
+        self.texel_area.take().map(|(sums, _)| sums.into_units())
     }
 
     /// Ends the last eye-frame's part tallies (once every tile is in).

@@ -40,11 +40,12 @@ pub(crate) struct FrameTallies {
     /// Part names ([`PartLookup::names`]).
     pub parts: Vec<String>,
     pub records: Vec<FrameRecord>,
-    /// Per texel, the solid angle (sr) its pixels subtended, summed over the
-    /// images counted, when the eyes' projection is known. A failed image's
+    /// Per texel, the solid angle its pixels subtended, summed over the
+    /// images counted, in units of [`crate::count::texel_area::TEXEL_SOLID_ANGLE_UNITS_PER_SR`],
+    /// when the eyes' projection is known. A failed image's
     /// rows read before the failure stay in it (the result is incomplete
     /// then anyway, and says so).
-    pub texel_solid_angle_sr: Option<Vec<f64>>,
+    pub texel_solid_angle_units: Option<Vec<u64>>,
 }
 
 /// Everything the workers share while counting: the job, and the counts and
@@ -141,8 +142,8 @@ pub(crate) fn count_images(job: &CountJob) -> (CountedImages, Option<FrameTallie
         sum
     });
     let Workers { lookup, image_counts, frame_counts, strays, texel_area, .. } = workers;
-    let texel_solid_angle_sr = texel_area.map(TexelSolidAngles::into_sr);
-    let frames = lookup.map(|lookup| FrameTallies { parts: lookup.names, records, texel_solid_angle_sr });
+    let texel_solid_angle_units = texel_area.map(TexelSolidAngles::into_units);
+    let frames = lookup.map(|lookup| FrameTallies { parts: lookup.names, records, texel_solid_angle_units });
     (CountedImages { outcomes: by_image, image_counts, frame_counts, strays, neighbours }, frames)
 }
 

@@ -26,7 +26,7 @@ use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
 use crate::result::model::Analysis;
 use crate::result::result_json::{write_result_json, write_timings_json};
-use crate::result::texel_area_file::{TEXEL_AREA_FILE, write_texel_area};
+use crate::result::texel_area_file::{TEXEL_AREA_FILE, TEXEL_AREA_UNITS_FILE, write_texel_area};
 
 /// The default output folder for an archive: `<archive>/results` (excluded
 /// from the images when the archive has no manifest).
@@ -167,6 +167,7 @@ fn planned_files(analysis: &Analysis, out_dir: &Path, figures: Figures) -> Writt
         heatmap_png: out_dir.join("heatmap.png"),
         heatmap_area_png: analysis.texel_angular_area.as_ref().map(|_| out_dir.join(AREA_HEATMAP_FILE)),
         texel_area: analysis.texel_angular_area.as_ref().map(|_| out_dir.join(TEXEL_AREA_FILE)),
+        texel_area_units: analysis.texel_area_units.as_ref().map(|_| out_dir.join(TEXEL_AREA_UNITS_FILE)),
         timings_json: out_dir.join("timings.json"),
         heatmap_glb: analysis.vehicle_model.as_ref().map(|_| out_dir.join("heatmap.glb")),
         report_html: out_dir.join("report.html"),
@@ -287,6 +288,10 @@ fn write_side_by_side(
         if let (Some(values), Some(path)) = (&analysis.texel_angular_area, &files.texel_area) {
             let palette = &analysis.result.settings.palette;
             write_texel_area(path, palette.width, palette.height, values)?;
+        }
+        if let (Some(units), Some(path)) = (&analysis.texel_area_units, &files.texel_area_units) {
+            let palette = &analysis.result.settings.palette;
+            units.write(path, palette.width, palette.height)?;
         }
         match (&area, &files.heatmap_area_png) {
             (Some(area), Some(path)) => write_area_heatmap(analysis, area, path),

@@ -20,6 +20,9 @@ pub struct WrittenFiles {
     /// `result.json` (written with `heatmap-area.png`), for the comparison
     /// page and the capture's `views` ([`crate::read_texel_area`]).
     pub texel_area: Option<PathBuf>,
+    /// `texel-area.units`: a shard's integer per-texel sums, which `merge`
+    /// adds exactly ([`crate::TexelAreaUnits`]).
+    pub texel_area_units: Option<PathBuf>,
     pub timings_json: PathBuf,
     /// The vehicle with the heatmap on it, when the analysis had a vehicle model.
     pub heatmap_glb: Option<PathBuf>,
@@ -47,6 +50,7 @@ impl WrittenFiles {
         files.extend(self.parts_csv.clone());
         files.extend(self.heatmap_area_png.clone());
         files.extend(self.texel_area.clone());
+        files.extend(self.texel_area_units.clone());
         files.push(self.heatmap_png.clone());
         files.push(self.timings_json.clone());
         files.extend(self.frames_csv.clone());

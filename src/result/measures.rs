@@ -121,13 +121,13 @@ impl Measures {
         Some(merged)
     }
 
-    /// Per-texel angular area over time, deg²·s, from per-texel solid angles
-    /// summed over the eye-frames (sr): the part measure's definition
-    /// ([`DEFINITION`]) texel by texel. `None` without fps.
-    pub fn texel_angular_areas(solid_angle_sr: &[f64], clock: &FrameClock) -> Option<Vec<f32>> {
-        let seconds = clock.seconds_per_frame?;
-        let factor = DEG2_PER_SR * seconds / clock.eyes.max(1) as f64;
-        Some(solid_angle_sr.iter().map(|&sr| (sr * factor) as f32).collect())
+    /// The factor that turns per-texel solid angles summed over the
+    /// eye-frames into per-texel angular area over time (the part measure's
+    /// definition, [`DEFINITION`], texel by texel,
+    /// [`crate::result::texel_area_file::TexelAreaUnits::areas`]): deg²·s per sr of a texel's summed solid angle: deg² per sr × seconds
+    /// per frame / eyes. `None` without fps.
+    pub fn texel_area_factor(clock: &FrameClock) -> Option<f64> {
+        Some(DEG2_PER_SR * clock.seconds_per_frame? / clock.eyes.max(1) as f64)
     }
 
     /// The measure of the part called `name`.

@@ -99,9 +99,7 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
     result.measures = merged_measures(&summaries, frames.as_ref());
     let input_files = merge_input_files(paths, parts.as_ref(), vehicle_model.as_ref());
     let timings = Timings::default();
-    // Per-texel angular area is not kept in a result set: a merge shows
-    // the paper's count in its heatmap and views.
-    let texel_angular_area = None;
+    let texel_angular_area = merged_texel_area(paths, &result.settings.palette)?;
     Ok(Analysis {
         result,
         texel_counts,
@@ -110,8 +108,45 @@ pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
         vehicle_model,
         frames,
         texel_angular_area,
+        texel_area_units: None,
         labels: None,
     })
+}
+
+/// The shards' per-texel angular area, from their integer sums
+/// (`texel-area.units`) added exactly, so it equals the whole analysis'
+/// bits; `None` unless every shard kept them. Shards of different eyes or
+/// fps (another deg²·s per sr) or sums past a `u64` are refused.
+fn merged_texel_area(
+    paths: &[PathBuf],
+    palette: &crate::format::result::PaletteSetting,
+) -> Result<Option<Vec<f32>>> {
+    use crate::result::texel_area_file::TexelAreaUnits;
+    let mut sum: Option<TexelAreaUnits> = None;
+    for path in paths {
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let Some(shard) = TexelAreaUnits::read_in(dir, palette.width, palette.height)? else {
+            return Ok(None);
+        };
+        let units_file = || dir.join(crate::result::texel_area_file::TEXEL_AREA_UNITS_FILE);
+        match &mut sum {
+            None => sum = Some(shard),
+            Some(sum) => {
+                if sum.deg2_s_per_sr.to_bits() != shard.deg2_s_per_sr.to_bits() {
+                    return Err(Error::bad_file(
+                        &units_file(),
+                        "another deg²·s per sr than the other shards' (eyes or fps differ)",
+                    ));
+                }
+                for (total, units) in sum.units.iter_mut().zip(&shard.units) {
+                    *total = total.checked_add(*units).ok_or_else(|| {
+                        Error::bad_file(&units_file(), "the per-texel sums overflow when added")
+                    })?;
+                }
+            }
+        }
+    }
+    Ok(sum.map(|sum| sum.areas()))
 }
 
 /// Every result's summary, and their per-texel counts added (saturating, as

@@ -24,4 +24,7 @@ pub use model::{Analysis, AnalysisResult, RESULT_SCHEMA};
 pub use part_stats::{PartStats, PartTable, join_parts};
 pub use resolution::ResolutionReport;
 pub use result_json::{read_result_summary, read_texel_counts, write_result_json, write_timings_json};
-pub use texel_area_file::{TEXEL_AREA_FILE, read_texel_area, write_texel_area};
+pub use texel_area_file::{
+    TEXEL_AREA_FILE, TEXEL_AREA_UNITS_FILE, TexelAreaUnits, read_texel_area, read_texel_area_in,
+    write_texel_area,
+};

@@ -89,6 +89,9 @@ pub struct Analysis {
     /// (not kept in the result set) and for tiles counted in memory (the
     /// capture's `--count`, [`crate::analyze_counted`]: not yet tallied).
     pub texel_angular_area: Option<Vec<f32>>,
+    /// The integer sums `texel_angular_area` was made from, kept by a shard
+    /// (written as `texel-area.units`) so that `merge` adds them exactly.
+    pub texel_area_units: Option<crate::result::texel_area_file::TexelAreaUnits>,
     /// The legend and PIdT the counts were joined with, for the figures
     /// drawn after (the frame strip), so they are not read again; `None`
     /// without labels, or for a merge, which reads them when it needs them.

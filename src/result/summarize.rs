@@ -242,6 +242,7 @@ fn finish(
         vehicle_model: inputs.vehicle_model.clone(),
         frames: None,
         texel_angular_area: None,
+        texel_area_units: None,
         labels: inputs.parts.as_ref().map(crate::archive::resolve::LabelFiles::loaded),
     })
 }

@@ -49,6 +49,100 @@ pub fn read_texel_area(path: &Path, width: u32, height: u32) -> Result<Vec<f32>>
     parse_texel_area(path, &bytes, width, height)
 }
 
+/// `texel-area.f32` in the result folder `dir`, when there is one: `None`
+/// only when nothing is at that name (a result without per-texel area).
+/// Anything else there goes through [`read_texel_area`]'s checks, so a
+/// folder, a FIFO, a device or a link to one is refused naming the file,
+/// never silently taken for "no area" (the count painted instead).
+pub fn read_texel_area_in(dir: &Path, width: u32, height: u32) -> Result<Option<Vec<f32>>> {
+    let path = dir.join(TEXEL_AREA_FILE);
+    match path.symlink_metadata() {
+        Err(error) if error.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(error) => Err(Error::io(&path, error)),
+        Ok(_) => read_texel_area(&path, width, height).map(Some),
+    }
+}
+
+/// The file a shard's result keeps beside `texel-area.f32`: the integer
+/// sums the values were made from, which `merge` adds exactly (the `f32`
+/// values of shards would not add up to the whole's bits).
+pub const TEXEL_AREA_UNITS_FILE: &str = "texel-area.units";
+
+/// Its first bytes: format name and version.
+const UNITS_MAGIC: &[u8; 20] = b"ufcsr-texel-units/1\n";
+
+/// Bytes before its values: magic, width, height, the factor.
+const UNITS_HEADER: usize = UNITS_MAGIC.len() + 16;
+
+/// Per-texel solid angles summed over the eye-frames, in units of
+/// [`crate::count::texel_area::TEXEL_SOLID_ANGLE_UNITS_PER_SR`] (row-major
+/// over the palette), and the factor to deg²·s per sr
+/// ([`crate::result::measures::Measures::texel_area_factor`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TexelAreaUnits {
+    pub units: Vec<u64>,
+    pub deg2_s_per_sr: f64,
+}
+
+impl TexelAreaUnits {
+    /// The per-texel angular area, deg²·s: the same operations for an
+    /// analysis and a merge, so equal sums give equal bits.
+    pub fn areas(&self) -> Vec<f32> {
+        let per_sr = crate::count::texel_area::TEXEL_SOLID_ANGLE_UNITS_PER_SR;
+        self.units.iter().map(|&u| (u as f64 / per_sr * self.deg2_s_per_sr) as f32).collect()
+    }
+
+    /// Writes `texel-area.units` for a palette of `width × height`.
+    pub fn write(&self, path: &Path, width: u32, height: u32) -> Result<()> {
+        let mut bytes = Vec::with_capacity(UNITS_HEADER + self.units.len() * 8);
+        bytes.extend_from_slice(UNITS_MAGIC);
+        bytes.extend_from_slice(&width.to_le_bytes());
+        bytes.extend_from_slice(&height.to_le_bytes());
+        bytes.extend_from_slice(&self.deg2_s_per_sr.to_le_bytes());
+        for unit in &self.units {
+            bytes.extend_from_slice(&unit.to_le_bytes());
+        }
+        crate::files::write_bytes_atomically(path, &bytes)
+    }
+
+    /// `texel-area.units` in the result folder `dir`, `None` when nothing
+    /// is at that name; anything else must be the file of a `width × height`
+    /// palette (a folder, FIFO, device, truncated or foreign file is refused
+    /// naming it).
+    pub fn read_in(dir: &Path, width: u32, height: u32) -> Result<Option<TexelAreaUnits>> {
+        let path = dir.join(TEXEL_AREA_UNITS_FILE);
+        match path.symlink_metadata() {
+            Err(error) if error.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+            Err(error) => return Err(Error::io(&path, error)),
+            Ok(_) => {}
+        }
+        let texels = width as usize * height as usize;
+        let bytes = crate::files::read_limited(&path, (UNITS_HEADER + texels * 8) as u64)?;
+        let bad = |what: String| Error::bad_file(&path, what);
+        if bytes.len() != UNITS_HEADER + texels * 8 || &bytes[..UNITS_MAGIC.len()] != UNITS_MAGIC {
+            return Err(bad(format!(
+                "not a ufcsr-texel-units/1 file of a {width}×{height} palette ({} bytes)",
+                bytes.len()
+            )));
+        }
+        let at = UNITS_MAGIC.len();
+        let size =
+            [&bytes[at..at + 4], &bytes[at + 4..at + 8]].map(|b| u32::from_le_bytes(b.try_into().unwrap()));
+        let deg2_s_per_sr = f64::from_le_bytes(bytes[at + 8..at + 16].try_into().unwrap());
+        if size != [width, height] || !(deg2_s_per_sr.is_finite() && deg2_s_per_sr > 0.0) {
+            return Err(bad(format!(
+                "holds a {}×{} raster at {deg2_s_per_sr} deg²·s per sr; the result's palette is {width}×{height}",
+                size[0], size[1]
+            )));
+        }
+        let units = bytes[UNITS_HEADER..]
+            .chunks_exact(8)
+            .map(|b| u64::from_le_bytes(b.try_into().unwrap()))
+            .collect();
+        Ok(Some(TexelAreaUnits { units, deg2_s_per_sr }))
+    }
+}
+
 /// [`read_texel_area`] of the file's bytes (`path` names it in messages).
 pub fn parse_texel_area(path: &Path, bytes: &[u8], width: u32, height: u32) -> Result<Vec<f32>> {
     let bad = |what: String| Error::bad_file(path, what);
@@ -101,5 +195,35 @@ mod tests {
         let mut nan = bytes.clone();
         nan[HEADER + 4..HEADER + 8].copy_from_slice(&f32::NAN.to_le_bytes());
         assert!(parse_texel_area(&path, &nan, 3, 2).unwrap_err().to_string().contains("texel 1"));
+    }
+
+    #[test]
+    fn a_texel_area_that_is_no_regular_file_is_refused_by_name_not_taken_for_none() {
+        let dir = tempfile::tempdir().unwrap();
+        assert_eq!(read_texel_area_in(dir.path(), 3, 2).unwrap(), None, "no file: no area");
+        let path = dir.path().join(TEXEL_AREA_FILE);
+        let refused = |what: &str| {
+            let error = read_texel_area_in(dir.path(), 3, 2).unwrap_err().to_string();
+            assert!(error.contains(TEXEL_AREA_FILE), "{what}: {error}");
+        };
+        std::fs::create_dir(&path).unwrap();
+        refused("a folder");
+        std::fs::remove_dir(&path).unwrap();
+        #[cfg(unix)]
+        {
+            std::os::unix::fs::symlink("/dev/zero", &path).unwrap();
+            refused("a link to /dev/zero");
+            std::fs::remove_file(&path).unwrap();
+            std::os::unix::fs::symlink(dir.path().join("nowhere"), &path).unwrap();
+            refused("a dangling link");
+            std::fs::remove_file(&path).unwrap();
+            let made = std::process::Command::new("mkfifo").arg(&path).status();
+            if made.is_ok_and(|status| status.success()) {
+                refused("a FIFO");
+                std::fs::remove_file(&path).unwrap();
+            }
+        }
+        write_texel_area(&path, 3, 2, &[0.0, 1.0, 2.0, 3.0, 4.0, 5.0]).unwrap();
+        assert_eq!(read_texel_area_in(dir.path(), 3, 2).unwrap().unwrap()[5], 5.0);
     }
 }

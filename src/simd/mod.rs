@@ -30,5 +30,7 @@ mod unfilter;
 
 pub(crate) use counts::add_shard;
 pub use kernel::{KERNEL_ENV, Kernel};
-pub(crate) use scan::{BlockSlots, Classes, FusedScan, RowTally, SlotBlocks, SlotSpans, VectorScan};
+pub(crate) use scan::{
+    BlockSlots, Classes, ColorRuns, FusedScan, RowTally, SlotBlocks, SlotSpans, VectorScan,
+};
 pub(crate) use unfilter::SideBySide;

@@ -51,6 +51,21 @@ pub fn kernel_checks() -> Vec<KernelCheck> {
             scan::the_kernel_that_tallies_parts_gives_the_separate_passs_pixels_and_solid_angles,
         ),
         check(
+            "count::scan::the_portable_kernels_texel_areas_equal_the_reference_pass",
+            Kernel::Portable,
+            scan::the_portable_kernels_texel_areas_equal_the_reference_pass,
+        ),
+        check(
+            "count::scan::the_avx2_kernels_texel_areas_equal_the_reference_pass",
+            Kernel::Avx2,
+            scan::the_avx2_kernels_texel_areas_equal_the_reference_pass,
+        ),
+        check(
+            "count::scan::the_avx512_kernels_texel_areas_equal_the_reference_pass",
+            Kernel::Avx512,
+            scan::the_avx512_kernels_texel_areas_equal_the_reference_pass,
+        ),
+        check(
             "png::unfilter::four_rows_side_by_side_equal_rows_one_at_a_time_for_every_filter_mix",
             Kernel::Avx2,
             unfilter::four_rows_side_by_side_equal_rows_one_at_a_time_for_every_filter_mix,

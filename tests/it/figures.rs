@@ -231,19 +231,24 @@ fn area_max_sets_the_top_of_the_area_heatmap_and_the_values_are_kept() {
     let kept =
         ufcsr::read_texel_area(&out.join(ufcsr::TEXEL_AREA_FILE), palette.width, palette.height).unwrap();
     assert_eq!(kept, area, "texel-area.f32 holds the analysis' values exactly");
-    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+    // 1e-300 rounds to 0 as an f32 (texel-area.f32's type): it painted every texel "never seen".
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY, 1e-300, 1e-39] {
         let options = ufcsr::AnalyzeOptions { area_max: Some(bad), ..options.clone() };
         let error = ufcsr::analyze(&options, None).err().expect("an unusable --area-max is refused");
         assert!(error.to_string().contains("--area-max"), "{error}");
     }
 }
 
+/// The per-texel angular area is on by default (the kernels sum it as they
+/// count, docs/performance.md#per-texel-angular-area) wherever frames are
+/// tallied and the eyes' projection is known; `texel_area: false` (the
+/// binary's `--texel-area off`) keeps the paper's count alone.
 #[test]
-fn per_texel_angular_area_is_off_unless_asked_for() {
-    // The pass about doubles the analysis's CPU time (docs/performance.md#per-texel-angular-area):
-    // frames.csv and the eyes' projection alone do not turn it on.
+fn per_texel_angular_area_is_on_by_default_and_off_when_asked() {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
     let options = ufcsr::AnalyzeOptions { archive: example, frames: true, ..Default::default() };
+    assert!(ufcsr::analyze(&options, None).unwrap().texel_angular_area.is_some(), "on by default");
+    let options = ufcsr::AnalyzeOptions { texel_area: false, ..options };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
     assert!(analysis.texel_angular_area.is_none());
     assert!(analysis.result.measures.is_some(), "the part measures are still there");
@@ -251,6 +256,7 @@ fn per_texel_angular_area_is_off_unless_asked_for() {
     let out = dir.path().join("results");
     ufcsr::write_results(&mut analysis, &out).unwrap();
     assert!(!out.join("heatmap-area.png").exists());
+    assert!(!out.join(ufcsr::TEXEL_AREA_FILE).exists());
     assert!(out.join("heatmap.png").exists());
 }
 

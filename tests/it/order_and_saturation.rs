@@ -134,3 +134,44 @@ fn counts_saturate_at_the_u32_maximum_and_the_result_says_so() {
         merged.result.warnings
     );
 }
+
+/// Shards keep their integer per-texel sums (`texel-area.units`), and a
+/// merge adds them: its per-texel angular area and `texel-area.f32` are the
+/// whole analysis' to the bit, in any order (the `f32` values of the shards
+/// alone would not add up to it).
+#[test]
+fn shards_merge_the_per_texel_angular_area_to_the_whole_analysis_bits() {
+    let dir = tempfile::tempdir().unwrap();
+    let whole_options = AnalyzeOptions { archive: example(), frames: true, ..AnalyzeOptions::default() };
+    let mut whole = analyze(&whole_options, None).expect("analysis");
+    let whole_written = write_results(&mut whole, &dir.path().join("whole")).unwrap();
+    assert!(whole_written.texel_area_units.is_none(), "a whole analysis keeps no sums");
+    let whole_area = whole.texel_angular_area.clone().expect("the example has the eyes' projection");
+    let shards: Vec<PathBuf> = (0..3)
+        .map(|index| {
+            let options =
+                AnalyzeOptions { shard: Some(Shard::new(index, 3).unwrap()), ..whole_options.clone() };
+            let mut analysis = analyze(&options, None).expect("shard");
+            let written = write_results(&mut analysis, &dir.path().join(format!("s{index}"))).unwrap();
+            assert!(written.texel_area_units.is_some_and(|f| f.is_file()), "a shard keeps its sums");
+            written.result_json
+        })
+        .collect();
+    for (order, name) in [([0, 1, 2], "m012"), ([2, 0, 1], "m201")] {
+        let paths: Vec<PathBuf> = order.iter().map(|&i| shards[i].clone()).collect();
+        let mut merged = merge_results(&paths).expect("merge");
+        assert!(
+            merged.texel_angular_area.as_ref() == Some(&whole_area),
+            "merge {order:?} differs from the whole"
+        );
+        let written = write_results(&mut merged, &dir.path().join(name)).unwrap();
+        let bytes = |path: Option<PathBuf>| std::fs::read(path.unwrap()).unwrap();
+        assert!(
+            bytes(written.texel_area) == bytes(whole_written.texel_area.clone()),
+            "texel-area.f32 differs"
+        );
+    }
+    // A shard without its sums: no area (the count is drawn), not a wrong one.
+    std::fs::remove_file(shards[1].parent().unwrap().join(ufcsr::TEXEL_AREA_UNITS_FILE)).unwrap();
+    assert!(merge_results(&shards).unwrap().texel_angular_area.is_none());
+}

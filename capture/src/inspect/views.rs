@@ -55,9 +55,14 @@ pub fn view_values(options: &ViewsOptions) -> Result<ViewValues> {
     let counts = ufcsr::read_texel_counts(&json)?;
     let track = ufcsr::ScenarioTrack::from_archive(Path::new(&counts.archive));
     let scenario = track.as_ref().and_then(|track| track.name.as_deref());
-    let area_file = options.results.join(ufcsr::TEXEL_AREA_FILE);
-    if !options.count && area_file.is_file() {
-        let values = ufcsr::read_texel_area(&area_file, counts.width, counts.height)?;
+    // Anything at texel-area.f32 that is no regular file is refused naming
+    // it, not painted as the count.
+    let area = if options.count {
+        None
+    } else {
+        ufcsr::read_texel_area_in(&options.results, counts.width, counts.height)?
+    };
+    if let Some(values) = area {
         let area = ufcsr::AreaLevels::new(&values);
         return Ok(ViewValues {
             heatmap: ufcsr::HeatmapOptions { scale: counts.scale, max: area.top(counts.area_max) },

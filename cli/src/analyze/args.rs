@@ -69,10 +69,10 @@ pub struct AnalyzeArgs {
     #[arg(long, value_enum, default_value_t = Switch::On)]
     pub frames_csv: Switch,
 
-    /// Per-texel angular area (deg²·s): heatmap-area.png, and the views and heatmap.glb in
-    /// deg²·s instead of the count (needs frames.csv and the eyes' projection): `on` or `off`.
-    /// Off by default: it about doubles the analysis's CPU time.
-    #[arg(long, value_enum, default_value_t = Switch::Off)]
+    /// Per-texel angular area (deg²·s): heatmap-area.png, texel-area.f32, and the views and
+    /// heatmap.glb in deg²·s instead of the count (needs frames.csv and the eyes' projection):
+    /// `on` (the default) or `off` (the paper's count only).
+    #[arg(long, value_enum, default_value_t = Switch::On)]
     pub texel_area: Switch,
 
     /// Columns of parts.csv: `report` (the report's names, precision and order) or `paper`

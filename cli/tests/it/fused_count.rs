@@ -61,6 +61,10 @@ fn counting_from_the_renderer_equals_the_png_round_trip() {
         // Per eye-frame and part: the same pixels, texels and solid angles, to the bit.
         let frames = |dir: &str| std::fs::read_to_string(archive.join(dir).join("frames.csv")).unwrap();
         assert_eq!(frames("png-results"), frames("results"), "--dedupe {flag}: frames.csv differs");
+        // The per-texel angular area, summed by the same kernel pass from the
+        // readback as from the decoded PNGs: the same integers, the same file.
+        let area = |dir: &str| std::fs::read(archive.join(dir).join(ufcsr::TEXEL_AREA_FILE)).expect(dir);
+        assert!(area("png-results") == area("results"), "--dedupe {flag}: texel-area.f32 differs");
         assert!(
             png == fused,
             "--count --dedupe {flag} differs from the PNG path:\n{}\n---\n{}",

@@ -38,17 +38,47 @@ use crate::archive::palette::Fcsp;
 use crate::checks::neighbours::NeighbourSampler;
 use crate::color::{AtomicColorSet, SeenSet, color_key};
 use crate::count::part_lookup::{PartLookup, PartPixels, RowSpans};
-use crate::count::texel_area::{PendingRuns, TexelSolidAngles};
+use crate::count::texel_area::{PendingRuns, Shifted, TexelSolidAngles};
 use crate::error::{Error, Result};
 use crate::optics::solid_angle::TileView;
 use crate::png::rows::{PixelLayout, RowReader};
-use crate::simd::{Classes, FusedScan, RowTally, VectorScan};
+use crate::simd::{Classes, ColorRuns, FusedScan, RowTally, VectorScan};
 
 /// Pixel counts by [`PixelClass`] (indexed by its discriminant).
 pub type ClassCounts = [u64; 3];
 
-/// A row kernel (see [`RowScan::scan`]).
-type SafeKernel = fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet, &mut ClassCounts);
+/// A portable row kernel (see [`RowScan::scan`]), reporting its runs to `R`.
+type SafeKernel<R> = fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet, &mut ClassCounts, R);
+
+/// Which portable kernel: the layout, and whether the palette is canonical
+/// and there is one background colour.
+#[derive(Clone, Copy)]
+struct Portable {
+    layout: PixelLayout,
+    canonical: bool,
+    single: bool,
+}
+
+impl Portable {
+    /// The kernel, reporting runs to an `R`.
+    #[inline]
+    fn kernel<R: ColorRuns>(self) -> SafeKernel<R> {
+        match (self.layout, self.canonical, self.single) {
+            (PixelLayout::Rgb, true, true) => scan_row::<3, false, true, true, R>,
+            (PixelLayout::Rgb, true, false) => scan_row::<3, false, true, false, R>,
+            (PixelLayout::Rgb, false, true) => scan_row::<3, false, false, true, R>,
+            (PixelLayout::Rgb, false, false) => scan_row::<3, false, false, false, R>,
+            (PixelLayout::Rgba, true, true) => scan_row::<4, false, true, true, R>,
+            (PixelLayout::Rgba, true, false) => scan_row::<4, false, true, false, R>,
+            (PixelLayout::Rgba, false, true) => scan_row::<4, false, false, true, R>,
+            (PixelLayout::Rgba, false, false) => scan_row::<4, false, false, false, R>,
+            (PixelLayout::Gray, true, _) => scan_row::<1, true, true, false, R>,
+            (PixelLayout::Gray, false, _) => scan_row::<1, true, false, false, R>,
+            (PixelLayout::GrayAlpha, true, _) => scan_row::<2, true, true, false, R>,
+            (PixelLayout::GrayAlpha, false, _) => scan_row::<2, true, false, false, R>,
+        }
+    }
+}
 
 /// The row kernel chosen for one image.
 #[derive(Clone, Copy)]
@@ -63,9 +93,9 @@ pub struct RowScan {
 // Vector kernels exist on x86-64 only.
 #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 enum Choice {
-    Portable(SafeKernel),
+    Portable(Portable),
     /// A vector kernel, and the portable one for the pixels it leaves.
-    Vector(VectorScan, SafeKernel),
+    Vector(VectorScan, Portable),
 }
 
 impl RowScan {
@@ -95,15 +125,31 @@ impl RowScan {
         strays: &AtomicColorSet,
         by_class: &mut ClassCounts,
     ) {
+        self.scan_runs(row, classifier, seen, strays, by_class, ());
+    }
+
+    /// [`RowScan::scan`], which also reports the row's runs of equal colour
+    /// to `runs` (the per-texel solid angles, [`ColorRuns`]).
+    #[inline]
+    pub(crate) fn scan_runs<R: ColorRuns>(
+        self,
+        row: &[u8],
+        classifier: &Classifier,
+        seen: &mut SeenSet,
+        strays: &AtomicColorSet,
+        by_class: &mut ClassCounts,
+        mut runs: R,
+    ) {
         match self.choice {
-            Choice::Portable(kernel) => kernel(row, classifier, seen, strays, by_class),
+            Choice::Portable(kernel) => kernel.kernel::<R>()(row, classifier, seen, strays, by_class, runs),
             Choice::Vector(vector, rest) => {
-                let tally = vector.scan(row, classifier.classes(), seen, strays);
+                let tally = vector.scan(row, classifier.classes(), seen, strays, &mut runs);
                 add_row_classes(by_class, tally);
                 // The rest of the row (AVX2: a few pixels), if any.
                 let done = tally.pixels * vector.bytes();
                 if done < row.len() {
-                    rest(&row[done..], classifier, seen, strays, by_class);
+                    let runs = Shifted { runs, by: tally.pixels };
+                    rest.kernel::<Shifted<R>>()(&row[done..], classifier, seen, strays, by_class, runs);
                 }
             }
         }
@@ -158,14 +204,28 @@ impl<'l, 't> PartRows<'l, 't> {
         strays: &AtomicColorSet,
         by_class: &mut ClassCounts,
     ) {
+        self.scan_runs(row, y, (seen, strays, by_class), ());
+    }
+
+    /// [`PartRows::scan`], which also reports the row's runs of equal colour
+    /// to `runs` ([`ColorRuns`]).
+    #[inline]
+    pub(crate) fn scan_runs<R: ColorRuns>(
+        &mut self,
+        row: &[u8],
+        y: u32,
+        (seen, strays, by_class): (&mut SeenSet, &AtomicColorSet, &mut ClassCounts),
+        runs: R,
+    ) {
         let classifier = self.classifier;
         match &self.fused {
             Some(fused) => {
                 let spans = RowSpans::new(self.tally, y);
-                add_row_classes(by_class, fused.scan(row, classifier.classes(), seen, strays, spans));
+                let tally = fused.scan(row, classifier.classes(), seen, strays, (spans, runs));
+                add_row_classes(by_class, tally);
             }
             None => {
-                self.scan.scan(row, classifier, seen, strays, by_class);
+                self.scan.scan_runs(row, classifier, seen, strays, by_class, runs);
                 self.lookup.add_row_at(row, self.layout, y, self.tally);
             }
         }
@@ -203,31 +263,18 @@ pub(crate) fn vector_row_scan(
         PixelLayout::Gray | PixelLayout::GrayAlpha => return None,
     };
     let vector = VectorScan::new(kernel, bytes, classifier.backgrounds().len() == 1)?;
-    let Choice::Portable(rest) = portable_row_scan(layout, classifier).choice else {
-        unreachable!("the portable row scan is portable")
-    };
-    Some(RowScan { choice: Choice::Vector(vector, rest), fuse_parts: true })
+    Some(RowScan { choice: Choice::Vector(vector, portable(layout, classifier)), fuse_parts: true })
+}
+
+/// Which portable kernel serves `layout` and the classifier's palette.
+fn portable(layout: PixelLayout, classifier: &Classifier) -> Portable {
+    let canonical = matches!(classifier.palette(), Fcsp::Canonical { .. });
+    Portable { layout, canonical, single: classifier.backgrounds().len() == 1 }
 }
 
 /// The portable kernel for `layout` and the classifier's palette.
 pub(crate) fn portable_row_scan(layout: PixelLayout, classifier: &Classifier) -> RowScan {
-    let canonical = matches!(classifier.palette(), Fcsp::Canonical { .. });
-    let single = classifier.backgrounds().len() == 1;
-    let kernel: SafeKernel = match (layout, canonical, single) {
-        (PixelLayout::Rgb, true, true) => scan_row::<3, false, true, true>,
-        (PixelLayout::Rgb, true, false) => scan_row::<3, false, true, false>,
-        (PixelLayout::Rgb, false, true) => scan_row::<3, false, false, true>,
-        (PixelLayout::Rgb, false, false) => scan_row::<3, false, false, false>,
-        (PixelLayout::Rgba, true, true) => scan_row::<4, false, true, true>,
-        (PixelLayout::Rgba, true, false) => scan_row::<4, false, true, false>,
-        (PixelLayout::Rgba, false, true) => scan_row::<4, false, false, true>,
-        (PixelLayout::Rgba, false, false) => scan_row::<4, false, false, false>,
-        (PixelLayout::Gray, true, _) => scan_row::<1, true, true, false>,
-        (PixelLayout::Gray, false, _) => scan_row::<1, true, false, false>,
-        (PixelLayout::GrayAlpha, true, _) => scan_row::<2, true, true, false>,
-        (PixelLayout::GrayAlpha, false, _) => scan_row::<2, true, false, false>,
-    };
-    RowScan { choice: Choice::Portable(kernel), fuse_parts: false }
+    RowScan { choice: Choice::Portable(portable(layout, classifier)), fuse_parts: false }
 }
 
 #[inline(always)]
@@ -287,20 +334,30 @@ impl WordAccumulator {
 /// Pixels per block of the portable kernel (a power of two).
 const BLOCK: usize = 16;
 
-/// The portable kernel.
+/// The portable kernel; with an active `runs` it reports each pixel whose
+/// colour differs from its left neighbour's (and the slice's first).
 #[inline(always)]
-fn scan_row<const BYTES: usize, const GRAY: bool, const CANONICAL: bool, const SINGLE_BACKGROUND: bool>(
+fn scan_row<
+    const BYTES: usize,
+    const GRAY: bool,
+    const CANONICAL: bool,
+    const SINGLE_BACKGROUND: bool,
+    R: ColorRuns,
+>(
     row: &[u8],
     classifier: &Classifier,
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
     by_class: &mut ClassCounts,
+    mut runs: R,
 ) {
     let pixels = row.len() / BYTES;
     let texels = classifier.palette().texel_count() as u32;
     let background_0 = classifier.backgrounds()[0];
     let block_bytes = BLOCK * BYTES;
     let mut previous_class = PixelClass::Background as usize;
+    // No colour has more than 24 bits: the first pixel starts a run.
+    let mut previous_color = u32::MAX;
     let mut word = WordAccumulator::new();
     let mut start = 0;
     while start < pixels {
@@ -333,6 +390,10 @@ fn scan_row<const BYTES: usize, const GRAY: bool, const CANONICAL: bool, const S
             if is_stray {
                 strays.insert(color); // rare: damaged or filtered pixels
             }
+            if R::ACTIVE && color != previous_color {
+                runs.start(pixel, color, is_texel);
+            }
+            previous_color = color;
             previous_class = usize::from(is_texel) + 2 * usize::from(is_stray);
         }
         by_class[PixelClass::Background as usize] += background;
@@ -581,6 +642,88 @@ pub(crate) mod kernel_checks {
             }
         }
     }
+    /// The per-texel solid angles of a kernel's runs, in its plain form and
+    /// its form with the part tally (AVX-512: fused when the palette's width
+    /// is a power of two), against the second pass they replaced
+    /// ([`crate::count::texel_area::reference_add_row`]): the same integers
+    /// for every texel, on rows that walk the palette as a rendered surface
+    /// does, with background runs, strays, repeats and arbitrary alpha.
+    pub(crate) fn kernel_texel_areas_equal_the_reference(kernel: Kernel) {
+        use crate::count::texel_area::reference_add_row;
+        let projection = crate::optics::solid_angle::EyeProjection::new(107.0, [1284, 1620]).unwrap();
+        let view = TileView { projection, origin: [0, 600] };
+        for (width, height) in [(512u32, 256u32), (100, 37)] {
+            let palette = Fcsp::canonical([width, height]).unwrap();
+            for backgrounds in [vec![0x000FFF], vec![0x000FFF, 0x000010, 5]] {
+                let classifier = Classifier::new(&palette, &backgrounds).unwrap();
+                let lookup = pidt_like_lookup(&palette, &backgrounds);
+                for (layout, bytes) in [(PixelLayout::Rgb, 3), (PixelLayout::Rgba, 4)] {
+                    let scan = match kernel {
+                        Kernel::Portable => portable_row_scan(layout, &classifier),
+                        vector => vector_row_scan(vector, layout, &classifier).unwrap(),
+                    };
+                    let sums: [TexelSolidAngles; 3] =
+                        std::array::from_fn(|_| TexelSolidAngles::new(&palette, &backgrounds));
+                    let table = sums[0].pixel_prefix(&view, [1284, 300]).unwrap();
+                    let mut tally = PartPixels::new(&lookup);
+                    tally.view = Some(view);
+                    let mut parts = PartRows::new(scan, layout, &classifier, &lookup, &mut tally);
+                    assert_eq!(parts.fused(), kernel == Kernel::Avx512 && width.is_power_of_two());
+                    let (mut seen, strays, mut by_class) = (SeenSet::new(), AtomicColorSet::new(), [0; 3]);
+                    let mut pending: [PendingRuns; 3] = Default::default();
+                    for seed in 0..160u64 {
+                        let pixels = match seed % 4 {
+                            0 => seed as usize % 16, // shorter than a block
+                            1 => 1284,
+                            _ => (seed as usize * 37) % 300,
+                        };
+                        let row = random_part_row(seed, pixels, bytes, width, width * height, &backgrounds);
+                        let y = (seed % 300) as u32;
+                        reference_add_row(&sums[0], &row, layout, table.row(y), &mut pending[0]);
+                        let [_, plain, with_parts] = &mut pending;
+                        let mut runs = sums[1].row_runs(table.row(y), plain);
+                        scan.scan_runs(&row, &classifier, &mut seen, &strays, &mut by_class, &mut runs);
+                        runs.finish(pixels);
+                        seen.clear();
+                        let mut runs = sums[2].row_runs(table.row(y), with_parts);
+                        parts.scan_runs(&row, y, (&mut seen, &strays, &mut by_class), &mut runs);
+                        runs.finish(pixels);
+                        seen.clear();
+                    }
+                    for (sum, pending) in sums.iter().zip(&mut pending) {
+                        sum.flush(pending);
+                    }
+                    let [reference, plain, with_parts] = sums.map(TexelSolidAngles::into_units);
+                    let shown = reference.iter().filter(|&&u| u > 0).count();
+                    assert!(shown > 1000.min(width as usize * height as usize / 2), "{shown} texels shown");
+                    let case = format!(
+                        "{kernel:?}, {width}×{height}, {layout:?}, {} backgrounds",
+                        backgrounds.len()
+                    );
+                    assert!(plain == reference, "the kernel's areas differ from the reference: {case}");
+                    assert!(
+                        with_parts == reference,
+                        "the kernel with parts differs from the reference: {case}"
+                    );
+                }
+            }
+        }
+    }
+
+    /// [`kernel_texel_areas_equal_the_reference`] for the portable kernel.
+    pub(crate) fn the_portable_kernels_texel_areas_equal_the_reference_pass() {
+        kernel_texel_areas_equal_the_reference(Kernel::Portable);
+    }
+
+    /// [`kernel_texel_areas_equal_the_reference`] for the AVX2 kernel.
+    pub(crate) fn the_avx2_kernels_texel_areas_equal_the_reference_pass() {
+        kernel_texel_areas_equal_the_reference(Kernel::Avx2);
+    }
+
+    /// [`kernel_texel_areas_equal_the_reference`] for the AVX-512 kernels.
+    pub(crate) fn the_avx512_kernels_texel_areas_equal_the_reference_pass() {
+        kernel_texel_areas_equal_the_reference(Kernel::Avx512);
+    }
 }
 
 #[cfg(test)]
@@ -796,22 +939,23 @@ fn scan_rows(
     let scan = row_scan(layout, classifier);
     let mut parts = parts.map(|(lookup, tally)| PartRows::new(scan, layout, classifier, lookup, tally));
     let size = [reader.width(), reader.height()];
-    let texel_area = texel_area.and_then(|(sums, view)| Some((sums, sums.pixel_weights(&view, size)?)));
+    let texel_area = texel_area.and_then(|(sums, view)| Some((sums, sums.pixel_prefix(&view, size)?)));
     let mut by_class = [0u64; 3];
     let mut pending = PendingRuns::default();
     let mut y = 0;
     while let Some(row) = reader.next_row()? {
-        match parts.as_mut() {
-            Some(parts) => parts.scan(row, y, seen, strays, &mut by_class),
-            None => scan.scan(row, classifier, seen, strays, &mut by_class),
+        let counts = (&mut *seen, strays, &mut by_class);
+        match &texel_area {
+            Some((sums, table)) => {
+                let mut runs = sums.row_runs(table.row(y), &mut pending);
+                scan_row_with(&scan, parts.as_mut(), row, (y, classifier), counts, &mut runs);
+                runs.finish(size[0] as usize);
+                sums.flush_if_full(&mut pending);
+            }
+            None => scan_row_with(&scan, parts.as_mut(), row, (y, classifier), counts, ()),
         }
         if let Some(sampler) = neighbours.as_mut() {
             sampler.row(y, row, layout);
-        }
-        if let Some((sums, weights)) = &texel_area {
-            let width = size[0] as usize;
-            let start = (y as usize * width).min(weights.len());
-            sums.add_row(row, layout, &weights[start..(start + width).min(weights.len())], &mut pending);
         }
         y += 1;
     }
@@ -826,4 +970,21 @@ fn scan_rows(
         texel_pixels: by_class[PixelClass::Texel as usize],
         stray_pixels: by_class[PixelClass::Stray as usize],
     })
+}
+
+/// Row `y` through the counting kernel `scan`, or through `parts` when the
+/// row is also tallied by part; its runs go to `runs`.
+#[inline]
+fn scan_row_with<R: ColorRuns>(
+    scan: &RowScan,
+    parts: Option<&mut PartRows>,
+    row: &[u8],
+    (y, classifier): (u32, &Classifier),
+    (seen, strays, by_class): (&mut SeenSet, &AtomicColorSet, &mut ClassCounts),
+    runs: R,
+) {
+    match parts {
+        Some(parts) => parts.scan_runs(row, y, (seen, strays, by_class), runs),
+        None => scan.scan_runs(row, classifier, seen, strays, by_class, runs),
+    }
 }

@@ -188,18 +188,20 @@ fn area_file(json: &Path) -> PathBuf {
     json.parent().unwrap_or(Path::new(".")).join(crate::result::texel_area_file::TEXEL_AREA_FILE)
 }
 
-/// Every result's per-texel angular area (`texel-area.f32`), when every
-/// result has one; `None` when any lacks it (the page then compares the
-/// count's heatmaps and says why). A file that is there but wrong is an error.
+/// Every result's per-texel angular area (`texel-area.f32` beside its
+/// `result.json`), when every result has one; `None` when any lacks it (the
+/// page then compares the count's heatmaps and says why). A file that is
+/// there but wrong, or no regular file, is an error naming it.
 fn read_areas(paths: &[PathBuf], entries: &[Entry]) -> Result<Option<Vec<Vec<f32>>>> {
-    let files: Vec<PathBuf> = paths.iter().map(|p| area_file(&result_json(p))).collect();
-    if !files.iter().all(|f| f.is_file()) {
-        return Ok(None);
-    }
-    let mut areas = Vec::with_capacity(files.len());
-    for (file, entry) in files.iter().zip(entries) {
+    let mut areas = Vec::with_capacity(paths.len());
+    for (path, entry) in paths.iter().zip(entries) {
+        let json = result_json(path);
+        let dir = json.parent().unwrap_or(Path::new("."));
         let palette = &entry.result.settings.palette;
-        areas.push(crate::result::texel_area_file::read_texel_area(file, palette.width, palette.height)?);
+        match crate::result::texel_area_file::read_texel_area_in(dir, palette.width, palette.height)? {
+            Some(area) => areas.push(area),
+            None => return Ok(None),
+        }
     }
     Ok(Some(areas))
 }

@@ -620,6 +620,7 @@ mod tests {
             heatmap_png: "heatmap.png".into(),
             heatmap_area_png: None,
             texel_area: None,
+            texel_area_units: None,
             views_pdf: None,
             timings_json: "timings.json".into(),
             heatmap_glb: None,

@@ -7,11 +7,11 @@
 
 use std::arch::x86_64::*;
 
-use super::{BACKGROUND, Classes, MarkAccumulator, RowTally, STRAY, unpack_table};
+use super::{BACKGROUND, Classes, ColorRuns, MarkAccumulator, RowTally, STRAY, unpack_table};
 use crate::color::{AtomicColorSet, SeenSet, color_key};
 
 /// One row in progress: what its blocks need and what they add up to.
-struct RowScanner<'a, const BYTES: usize, const SINGLE_BACKGROUND: bool> {
+struct RowScanner<'a, const BYTES: usize, const SINGLE_BACKGROUND: bool, R: ColorRuns> {
     backgrounds: &'a [u32],
     texel_limit: __m256i,
     first_background: __m256i,
@@ -32,9 +32,13 @@ struct RowScanner<'a, const BYTES: usize, const SINGLE_BACKGROUND: bool> {
     last_class: usize,
     background: u64,
     stray: u64,
+    /// Where the runs of equal colour go (as the AVX-512 kernel's).
+    runs: R,
 }
 
-impl<const BYTES: usize, const SINGLE_BACKGROUND: bool> RowScanner<'_, BYTES, SINGLE_BACKGROUND> {
+impl<const BYTES: usize, const SINGLE_BACKGROUND: bool, R: ColorRuns>
+    RowScanner<'_, BYTES, SINGLE_BACKGROUND, R>
+{
     /// Adds a block of `pixels` that all repeat the last pixel scanned: its
     /// class, and nothing new.
     #[inline(always)]
@@ -43,15 +47,15 @@ impl<const BYTES: usize, const SINGLE_BACKGROUND: bool> RowScanner<'_, BYTES, SI
         self.stray += pixels * u64::from(self.last_class == STRAY);
     }
 
-    /// Classifies the 8 pixels of the 32 bytes `raw` and records the texels
-    /// whose colour differs from their left neighbour's.
+    /// Classifies the 8 pixels of the 32 bytes `raw` (pixels `first` on) and
+    /// records the texels whose colour differs from their left neighbour's.
     ///
     /// # Safety
     /// The CPU must have the features `scan_row` enables (as in the AVX-512
     /// kernel, a `#[target_feature]` function here would not be inlined), so
     /// each intrinsic below is called in an `unsafe` block of its own.
     #[inline(always)]
-    unsafe fn block(&mut self, raw: __m256i) {
+    unsafe fn block(&mut self, first: usize, raw: __m256i) {
         let raw = if BYTES == 3 {
             // SAFETY: the caller guarantees the CPU features (as for every
             // intrinsic of this function).
@@ -102,13 +106,20 @@ impl<const BYTES: usize, const SINGLE_BACKGROUND: bool> RowScanner<'_, BYTES, SI
         let same = unsafe { _mm256_movemask_ps(equal) } as u32;
         let fresh = is_texel & !same;
         self.previous = colors;
+        let starts = if R::ACTIVE { !same & 0xFF } else { 0 };
         // Background 0, texel 1, stray 2 (the two flags never both hold).
         self.last_class = (1 - (is_background >> 7) as usize) * (1 + (is_stray >> 7) as usize);
-        if fresh | is_stray != 0 {
+        if fresh | is_stray | starts != 0 {
             let mut lane_values = [0u32; 8];
             // SAFETY: CPU features as above; the store writes the 32 bytes
             // of `lane_values`.
             unsafe { _mm256_storeu_si256(lane_values.as_mut_ptr().cast(), colors) };
+            let mut remaining = starts;
+            while remaining != 0 {
+                let lane = remaining.trailing_zeros() as usize;
+                self.runs.start(first + lane, lane_values[lane], is_texel >> lane & 1 != 0);
+                remaining &= remaining - 1;
+            }
             let mut remaining = fresh;
             while remaining != 0 {
                 let key = color_key(lane_values[remaining.trailing_zeros() as usize]);
@@ -133,16 +144,17 @@ impl<const BYTES: usize, const SINGLE_BACKGROUND: bool> RowScanner<'_, BYTES, SI
 /// that is already set, which changes nothing). For CPUs where
 /// [`crate::simd::Kernel::supported`] is at least AVX2.
 #[target_feature(enable = "avx2,popcnt,bmi1,bmi2")]
-pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
+pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool, R: ColorRuns>(
     row: &[u8],
     classes: Classes,
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
+    runs: R,
 ) -> RowTally {
     let pixels = row.len() / BYTES;
     let backgrounds = classes.backgrounds;
     // Every colour and the limit are below 2^31, so signed comparison works.
-    let mut scanner = RowScanner::<BYTES, SINGLE_BACKGROUND> {
+    let mut scanner = RowScanner::<BYTES, SINGLE_BACKGROUND, R> {
         backgrounds,
         texel_limit: _mm256_set1_epi32(classes.texels as i32),
         first_background: _mm256_set1_epi32(backgrounds[0] as i32),
@@ -157,6 +169,7 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
         last_class: BACKGROUND,
         background: 0,
         stray: 0,
+        runs,
     };
     // Blocks of 8 pixels whose 32-byte load stays inside the row.
     let blocks = if row.len() >= 32 { ((row.len() - 32) / (8 * BYTES) + 1).min(pixels / 8) } else { 0 };
@@ -178,7 +191,7 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
             }
         }
         // SAFETY: this function has the features `block` needs.
-        unsafe { scanner.block(raw) };
+        unsafe { scanner.block(block * 8, raw) };
     }
     scanner.marks.flush(scanner.seen);
     RowTally { pixels: blocks * 8, background: scanner.background, stray: scanner.stray }

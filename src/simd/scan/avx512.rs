@@ -11,10 +11,17 @@
 //! only for lanes in blocks on a chart's edge), and only the rare lanes
 //! whose slot differs from their left neighbour's reach scalar code, which
 //! closes a span there ([`SlotSpans`]). A repeated block changes no slot.
+//!
+//! Both forms also report the row's runs of equal colour when asked
+//! ([`ColorRuns`], the per-texel solid angles): the lanes whose colour differs
+//! from their left neighbour's, found by the comparison the new texels are
+//! found by; a repeated block continues the open run.
 
 use std::arch::x86_64::*;
 
-use super::{BACKGROUND, BlockSlots, Classes, MarkAccumulator, RowTally, STRAY, SlotSpans, unpack_table};
+use super::{
+    BACKGROUND, BlockSlots, Classes, ColorRuns, MarkAccumulator, RowTally, STRAY, SlotSpans, unpack_table,
+};
 use crate::color::{AtomicColorSet, SeenSet};
 
 /// The vector form of [`crate::color::color_key`].
@@ -184,7 +191,7 @@ impl<S: SlotSpans> BlockParts for FusedParts<S> {
 }
 
 /// One row in progress: what its blocks need and what they add up to.
-struct RowScanner<'a, const SINGLE_BACKGROUND: bool, P: BlockParts> {
+struct RowScanner<'a, const SINGLE_BACKGROUND: bool, P: BlockParts, R: ColorRuns> {
     backgrounds: &'a [u32],
     texel_limit: __m512i,
     seen: &'a mut SeenSet,
@@ -199,9 +206,10 @@ struct RowScanner<'a, const SINGLE_BACKGROUND: bool, P: BlockParts> {
     background: u64,
     stray: u64,
     parts: P,
+    runs: R,
 }
 
-impl<const SINGLE_BACKGROUND: bool, P: BlockParts> RowScanner<'_, SINGLE_BACKGROUND, P> {
+impl<const SINGLE_BACKGROUND: bool, P: BlockParts, R: ColorRuns> RowScanner<'_, SINGLE_BACKGROUND, P, R> {
     /// Adds a block of `pixels` that all repeat the last pixel scanned: its
     /// class, and nothing new.
     #[inline(always)]
@@ -244,6 +252,10 @@ impl<const SINGLE_BACKGROUND: bool, P: BlockParts> RowScanner<'_, SINGLE_BACKGRO
         // A pixel with its left neighbour's colour adds nothing new.
         // SAFETY: CPU features as above.
         let left = unsafe { _mm512_alignr_epi32::<15>(colors, self.previous) };
+        if R::ACTIVE {
+            // SAFETY: as above.
+            unsafe { self.report_runs(first, colors, left, lanes, is_texel) };
+        }
         // SAFETY: CPU features as above.
         let fresh = unsafe { _mm512_mask_cmpneq_epi32_mask(is_texel, colors, left) };
         if fresh != 0 {
@@ -266,6 +278,36 @@ impl<const SINGLE_BACKGROUND: bool, P: BlockParts> RowScanner<'_, SINGLE_BACKGRO
         let (last_background, last_stray) = (usize::from(is_background >> 15), usize::from(is_stray >> 15));
         self.last_class = (1 - last_background) * (1 + last_stray);
         self.previous = colors;
+    }
+
+    /// Reports the lanes of `lanes` whose colour differs from `left` (their
+    /// left neighbour's) as starts of runs ([`ColorRuns`]).
+    ///
+    /// # Safety
+    /// As [`RowScanner::block`].
+    #[inline(always)]
+    unsafe fn report_runs(
+        &mut self,
+        first: usize,
+        colors: __m512i,
+        left: __m512i,
+        lanes: __mmask16,
+        is_texel: __mmask16,
+    ) {
+        // SAFETY: the caller guarantees the CPU features.
+        let starts = unsafe { _mm512_mask_cmpneq_epi32_mask(lanes, colors, left) };
+        if starts != 0 {
+            let mut lane_colors = [0u32; 16];
+            // SAFETY: CPU features as above; the store writes the 64 bytes
+            // of `lane_colors`.
+            unsafe { _mm512_storeu_si512(lane_colors.as_mut_ptr().cast(), colors) };
+            let mut remaining = starts;
+            while remaining != 0 {
+                let lane = remaining.trailing_zeros() as usize;
+                self.runs.start(first + lane, lane_colors[lane], is_texel >> lane & 1 != 0);
+                remaining &= remaining - 1;
+            }
+        }
     }
 
     /// The lanes of `colors` that are a background colour.
@@ -296,14 +338,15 @@ impl<const SINGLE_BACKGROUND: bool, P: BlockParts> RowScanner<'_, SINGLE_BACKGRO
 /// `SINGLE_BACKGROUND` is false) several, over the whole row; for CPUs
 /// where [`crate::simd::Kernel::supported`] is AVX-512.
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi,popcnt,bmi1,bmi2")]
-pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
+pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool, R: ColorRuns>(
     row: &[u8],
     classes: Classes,
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
+    runs: R,
 ) -> RowTally {
-    let scanner = RowScanner::<SINGLE_BACKGROUND, ()>::new(classes, seen, strays, ());
-    scan_blocks::<BYTES, SINGLE_BACKGROUND, ()>(row, scanner).0
+    let scanner = RowScanner::<SINGLE_BACKGROUND, (), R>::new(classes, seen, strays, ((), runs));
+    scan_blocks::<BYTES, SINGLE_BACKGROUND, (), R>(row, scanner).0
 }
 
 /// [`scan_row`], which also reports the row's part spans to `spans`, as
@@ -313,22 +356,27 @@ pub(super) fn scan_row<const BYTES: usize, const SINGLE_BACKGROUND: bool>(
 /// As [`scan_row`]; besides, `classes.texels` must be at most `slots.len`
 /// (so every palette colour is in the table's grid).
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi,popcnt,bmi1,bmi2")]
-pub(super) unsafe fn scan_row_by_part<const BYTES: usize, const SINGLE_BACKGROUND: bool, S: SlotSpans>(
+pub(super) unsafe fn scan_row_by_part<
+    const BYTES: usize,
+    const SINGLE_BACKGROUND: bool,
+    S: SlotSpans,
+    R: ColorRuns,
+>(
     row: &[u8],
     classes: Classes,
     seen: &mut SeenSet,
     strays: &AtomicColorSet,
     slots: &BlockSlots,
-    spans: S,
+    (spans, runs): (S, R),
 ) -> RowTally {
     let parts = FusedParts::new(slots, spans);
-    let scanner = RowScanner::<SINGLE_BACKGROUND, _>::new(classes, seen, strays, parts);
-    let (tally, parts) = scan_blocks::<BYTES, SINGLE_BACKGROUND, _>(row, scanner);
+    let scanner = RowScanner::<SINGLE_BACKGROUND, _, R>::new(classes, seen, strays, (parts, runs));
+    let (tally, parts) = scan_blocks::<BYTES, SINGLE_BACKGROUND, _, R>(row, scanner);
     parts.spans.finish(row.len() / BYTES);
     tally
 }
 
-impl<'a, const SINGLE_BACKGROUND: bool, P: BlockParts> RowScanner<'a, SINGLE_BACKGROUND, P> {
+impl<'a, const SINGLE_BACKGROUND: bool, P: BlockParts, R: ColorRuns> RowScanner<'a, SINGLE_BACKGROUND, P, R> {
     /// A scanner before a row's first pixel.
     #[target_feature(enable = "avx512f")]
     #[inline]
@@ -336,8 +384,8 @@ impl<'a, const SINGLE_BACKGROUND: bool, P: BlockParts> RowScanner<'a, SINGLE_BAC
         classes: Classes<'a>,
         seen: &'a mut SeenSet,
         strays: &'a AtomicColorSet,
-        parts: P,
-    ) -> RowScanner<'a, SINGLE_BACKGROUND, P> {
+        (parts, runs): (P, R),
+    ) -> RowScanner<'a, SINGLE_BACKGROUND, P, R> {
         RowScanner {
             backgrounds: classes.backgrounds,
             texel_limit: _mm512_set1_epi32(classes.texels as i32),
@@ -349,6 +397,7 @@ impl<'a, const SINGLE_BACKGROUND: bool, P: BlockParts> RowScanner<'a, SINGLE_BAC
             background: 0,
             stray: 0,
             parts,
+            runs,
         }
     }
 }
@@ -358,9 +407,9 @@ impl<'a, const SINGLE_BACKGROUND: bool, P: BlockParts> RowScanner<'a, SINGLE_BAC
 /// gathered).
 #[target_feature(enable = "avx512f,avx512bw,avx512vbmi,popcnt,bmi1,bmi2")]
 #[inline]
-fn scan_blocks<const BYTES: usize, const SINGLE_BACKGROUND: bool, P: BlockParts>(
+fn scan_blocks<const BYTES: usize, const SINGLE_BACKGROUND: bool, P: BlockParts, R: ColorRuns>(
     row: &[u8],
-    mut scanner: RowScanner<'_, SINGLE_BACKGROUND, P>,
+    mut scanner: RowScanner<'_, SINGLE_BACKGROUND, P, R>,
 ) -> (RowTally, P) {
     let pixels = row.len() / BYTES;
     // SAFETY: the load reads the 64 bytes of the table.

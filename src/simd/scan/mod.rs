@@ -42,8 +42,34 @@ pub(crate) struct RowTally {
 const BACKGROUND: usize = 0;
 const STRAY: usize = 2;
 
-/// A vector row kernel (see [`VectorScan::scan`]).
-type RowKernel = unsafe fn(&[u8], Classes, &mut SeenSet, &AtomicColorSet) -> RowTally;
+/// Where a row kernel reports the runs of equal colour it finds, for the
+/// per-texel solid angles (`count::texel_area::RowRuns`): at the first pixel
+/// of each run, in pixel order. A kernel may also report a run's continuation
+/// as a new run (where it hands the row over to another kernel): the solid
+/// angles are integer differences of one row's prefix sums, so a run split in
+/// two adds the same to its texel. `()` reports nothing, and a kernel given it
+/// does no work for runs at all ([`ColorRuns::ACTIVE`]).
+pub(crate) trait ColorRuns {
+    /// False only for `()`.
+    const ACTIVE: bool;
+    /// Pixel `at` of the row (of the slice the kernel was given) starts a run
+    /// of `color`; `texel`: a palette texel that is no background colour.
+    fn start(&mut self, at: usize, color: u32, texel: bool);
+}
+
+impl ColorRuns for () {
+    const ACTIVE: bool = false;
+    #[inline(always)]
+    fn start(&mut self, _: usize, _: u32, _: bool) {}
+}
+
+impl<R: ColorRuns> ColorRuns for &mut R {
+    const ACTIVE: bool = R::ACTIVE;
+    #[inline(always)]
+    fn start(&mut self, at: usize, color: u32, texel: bool) {
+        (**self).start(at, color, texel);
+    }
+}
 
 /// A vector row kernel this CPU runs, for one pixel layout and palette.
 #[derive(Clone, Copy)]
@@ -51,7 +77,6 @@ pub(crate) struct VectorScan {
     kernel: Kernel,
     bytes: usize,
     single_background: bool,
-    row: RowKernel,
 }
 
 impl VectorScan {
@@ -62,26 +87,8 @@ impl VectorScan {
         if kernel > Kernel::supported() {
             return None;
         }
-        #[cfg(target_arch = "x86_64")]
-        {
-            let row: RowKernel = match (kernel, bytes, single_background) {
-                (Kernel::Avx512, 3, true) => avx512::scan_row::<3, true>,
-                (Kernel::Avx512, 3, false) => avx512::scan_row::<3, false>,
-                (Kernel::Avx512, 4, true) => avx512::scan_row::<4, true>,
-                (Kernel::Avx512, 4, false) => avx512::scan_row::<4, false>,
-                (Kernel::Avx2, 3, true) => avx2::scan_row::<3, true>,
-                (Kernel::Avx2, 3, false) => avx2::scan_row::<3, false>,
-                (Kernel::Avx2, 4, true) => avx2::scan_row::<4, true>,
-                (Kernel::Avx2, 4, false) => avx2::scan_row::<4, false>,
-                _ => return None,
-            };
-            Some(VectorScan { kernel, bytes, single_background, row })
-        }
-        #[cfg(not(target_arch = "x86_64"))]
-        {
-            let _ = (bytes, single_background);
-            None
-        }
+        let known = matches!(kernel, Kernel::Avx512 | Kernel::Avx2) && matches!(bytes, 3 | 4);
+        (cfg!(target_arch = "x86_64") && known).then_some(VectorScan { kernel, bytes, single_background })
     }
 
     /// Bytes per pixel of the rows it takes.
@@ -94,17 +101,39 @@ impl VectorScan {
     /// last few to the portable kernel), adds its palette texels (as
     /// [`crate::color::color_key`]s) to `seen` and its stray colours to
     /// `strays`, and says how many pixels of which class it scanned.
+    /// With an active `runs`, it also reports the runs of equal colour of
+    /// the pixels it scanned ([`ColorRuns`]).
     #[inline]
-    pub(crate) fn scan(
+    pub(crate) fn scan<R: ColorRuns>(
         self,
         row: &[u8],
         classes: Classes,
         seen: &mut SeenSet,
         strays: &AtomicColorSet,
+        runs: R,
     ) -> RowTally {
-        // SAFETY: `new` built this only for a kernel whose every CPU feature
-        // `Kernel::supported` detected; the kernel reads only inside `row`.
-        unsafe { (self.row)(row, classes, seen, strays) }
+        #[cfg(target_arch = "x86_64")]
+        {
+            type Row<R> = unsafe fn(&[u8], Classes, &mut SeenSet, &AtomicColorSet, R) -> RowTally;
+            let kernel: Row<R> = match (self.kernel, self.bytes, self.single_background) {
+                (Kernel::Avx512, 3, true) => avx512::scan_row::<3, true, R>,
+                (Kernel::Avx512, 3, false) => avx512::scan_row::<3, false, R>,
+                (Kernel::Avx512, _, true) => avx512::scan_row::<4, true, R>,
+                (Kernel::Avx512, _, false) => avx512::scan_row::<4, false, R>,
+                (_, 3, true) => avx2::scan_row::<3, true, R>,
+                (_, 3, false) => avx2::scan_row::<3, false, R>,
+                (_, _, true) => avx2::scan_row::<4, true, R>,
+                (_, _, false) => avx2::scan_row::<4, false, R>,
+            };
+            // SAFETY: `new` built this only for a kernel whose every CPU feature
+            // `Kernel::supported` detected; the kernel reads only inside `row`.
+            unsafe { kernel(row, classes, seen, strays, runs) }
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        {
+            let _ = (row, classes, seen, strays, runs);
+            unreachable!("no vector kernel is built on this architecture")
+        }
     }
 
     /// This kernel's form that also tallies each row by part in `slots`,
@@ -135,39 +164,40 @@ pub(crate) struct FusedScan<'t> {
 
 impl FusedScan<'_> {
     /// [`VectorScan::scan`] of all of `row`, which also reports the row's
-    /// part spans (each pixel's slot in the table) to `spans`.
+    /// part spans (each pixel's slot in the table) to `spans` (and its runs
+    /// of equal colour to `runs`).
     ///
     /// # Panics
     /// When `classes.texels` exceeds the table's grid.
     #[inline]
-    pub(crate) fn scan<S: SlotSpans>(
+    pub(crate) fn scan<S: SlotSpans, R: ColorRuns>(
         &self,
         row: &[u8],
         classes: Classes,
         seen: &mut SeenSet,
         strays: &AtomicColorSet,
-        spans: S,
+        (spans, runs): (S, R),
     ) -> RowTally {
         assert!(classes.texels <= self.slots.len, "palette colours outside the slot table's grid");
         #[cfg(target_arch = "x86_64")]
         {
-            type Fused<S> =
-                unsafe fn(&[u8], Classes, &mut SeenSet, &AtomicColorSet, &BlockSlots, S) -> RowTally;
-            let fused: Fused<S> = match (self.scan.bytes, self.scan.single_background) {
-                (3, true) => avx512::scan_row_by_part::<3, true, S>,
-                (3, false) => avx512::scan_row_by_part::<3, false, S>,
-                (_, true) => avx512::scan_row_by_part::<4, true, S>,
-                (_, false) => avx512::scan_row_by_part::<4, false, S>,
+            type Fused<S, R> =
+                unsafe fn(&[u8], Classes, &mut SeenSet, &AtomicColorSet, &BlockSlots, (S, R)) -> RowTally;
+            let fused: Fused<S, R> = match (self.scan.bytes, self.scan.single_background) {
+                (3, true) => avx512::scan_row_by_part::<3, true, S, R>,
+                (3, false) => avx512::scan_row_by_part::<3, false, S, R>,
+                (_, true) => avx512::scan_row_by_part::<4, true, S, R>,
+                (_, false) => avx512::scan_row_by_part::<4, false, S, R>,
             };
             // SAFETY: `VectorScan::fused` built this only for the AVX-512
             // kernel, whose every feature `Kernel::supported` detected; the
             // texels it looks up are below the grid's `len` (asserted above),
             // inside the table `SlotBlocks::new` checked.
-            unsafe { fused(row, classes, seen, strays, &self.slots, spans) }
+            unsafe { fused(row, classes, seen, strays, &self.slots, (spans, runs)) }
         }
         #[cfg(not(target_arch = "x86_64"))]
         {
-            let _ = (row, seen, strays, spans);
+            let _ = (row, seen, strays, spans, runs);
             unreachable!("no vector kernel is built on this architecture")
         }
     }
