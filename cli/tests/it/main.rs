@@ -67,6 +67,7 @@ mod missing_vehicle;
 mod output_paths;
 mod placement_pages;
 mod placement_tables;
+mod published_places;
 mod reliability_inputs;
 mod reliability_outputs;
 mod result_validation;
