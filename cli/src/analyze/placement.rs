@@ -92,7 +92,7 @@ pub struct PlacementArgs {
     #[arg(long, value_name = "GLB")]
     mesh: Option<PathBuf>,
 
-    /// Output folder for placement.json, placement.csv and placement-combinations.csv.
+    /// Output folder for placement.json, placement.csv, placement-combinations.csv and published-locations.csv.
     #[arg(long, short, value_name = "DIR")]
     out: PathBuf,
 
@@ -137,14 +137,19 @@ pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completio
         ),
         None => "\nno vehicle model (no vehicle.glb in the archive): give --mesh for placement.png".into(),
     };
+    let published = ufcsr::published_locations(&placement);
+    let published_csv = ufcsr::write_published_locations(&published, &args.out, &placement.inputs)?;
     let text = format!(
-        "{}\nwrote {}, {} and {}{picture}",
+        "{}\n{}\nwrote {}, {}, {} and {}{picture}",
         ufcsr::format_placement(&placement, args.top).trim_end(),
+        ufcsr::format_published_locations(&published, placement.document.archives.len()).trim_end(),
         written.json.display(),
         written.csv.display(),
-        written.combinations_csv.display()
+        written.combinations_csv.display(),
+        published_csv.display()
     );
-    let mut files = vec![written.json.clone(), written.csv.clone(), written.combinations_csv.clone()];
+    let mut files =
+        vec![written.json.clone(), written.csv.clone(), written.combinations_csv.clone(), published_csv];
     files.extend(
         written
             .picture

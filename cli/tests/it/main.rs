@@ -69,6 +69,7 @@ mod output_paths;
 mod placement_pages;
 mod placement_refusals;
 mod placement_tables;
+mod published_places;
 mod reliability_inputs;
 mod reliability_outputs;
 mod result_validation;

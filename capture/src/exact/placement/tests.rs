@@ -4,7 +4,8 @@
 //! visible in the eye-frames the box covers it and legible in those it does
 //! not, and one behind a box driving past is hidden in exactly the frames
 //! the box covers it; patches fit inside the surface, hold W × H of it and pair with their
-//! mirror images.
+//! mirror images; every place published eHMI studies tested is a named
+//! candidate on the truck and every family body.
 
 use glam::{DMat4, DVec3, Vec3, dvec3};
 
@@ -340,5 +341,51 @@ fn the_patch_layout_is_the_same_whatever_the_texel_sample() {
         let (other, members) = layout(&demo_samples(&scene.vehicle, palette, fraction, seed, k));
         assert_eq!(other, all, "{palette:?} at {fraction} seeded {seed}, K = {k}");
         assert_ne!(members, all_members, "the members do follow the sample");
+    }
+}
+
+/// The candidates of `mesh` as the analyzer's published places see them:
+/// every part, and every 0.40 m × 0.15 m display patch with its centre.
+fn named_candidates(mesh: Mesh) -> Vec<(String, ufcsr::CandidateKind, Option<[f64; 3]>)> {
+    let scene = scene_with(mesh, Occluders::default());
+    let obstacles = Obstacles::new(&scene);
+    let samples = samples_of(&scene.vehicle, [512, 512]);
+    let patches = place_patches(&inputs(&scene, &samples, &obstacles), [0.40, 0.15], 0.10);
+    let parts = scene.vehicle.parts.iter().map(|p| (p.clone(), ufcsr::CandidateKind::Part, None));
+    let patches =
+        patches.into_iter().map(|p| (p.name, ufcsr::CandidateKind::Patch, Some(p.centre.to_array())));
+    parts.chain(patches).collect()
+}
+
+#[test]
+fn every_published_place_is_a_named_candidate_on_the_truck_and_every_family_body() {
+    // Issue 42 §7: the places eHMI studies tested are scored on every body,
+    // so each must be a part of each, and a display patch wherever a
+    // 0.40 m × 0.15 m display fits.
+    let mut bodies = vec![("demo truck".to_string(), Scene::demo().vehicle)];
+    for body in crate::scene::family::BodyType::ALL {
+        let mesh =
+            crate::scene::family::body_mesh(body, &crate::scene::family::BodyDims::typical(body)).unwrap();
+        bodies.push((body.name().to_string(), mesh));
+    }
+    for (body, mesh) in bodies {
+        let candidates = named_candidates(mesh);
+        let keyed: Vec<(&str, ufcsr::CandidateKind, Option<[f64; 3]>)> =
+            candidates.iter().map(|(n, k, c)| (n.as_str(), *k, *c)).collect();
+        for place in ufcsr::PUBLISHED_LOCATIONS {
+            let members = place.members(&keyed);
+            let count = |kind: ufcsr::CandidateKind| members.iter().filter(|&&i| keyed[i].1 == kind).count();
+            let (parts, patches) = (count(ufcsr::CandidateKind::Part), count(ufcsr::CandidateKind::Patch));
+            eprintln!("{body}: {}: {parts} parts, {patches} patches", place.name);
+            assert!(parts >= 1, "{body}: no part is the {}", place.name);
+            // No 0.40 m display fits a 0.2 m mirror, a headlight or a wheel at 90 %, nor the
+            // sedan's and SUV's bumper (at most 30 % of the front panel's height).
+            let fits = match place.name {
+                "side mirrors" | "front wheels" | "headlights" => false,
+                "bumper" => !matches!(body.as_str(), "sedan" | "suv"),
+                _ => true,
+            };
+            assert!(!fits || patches >= 1, "{body}: no display patch at the {}", place.name);
+        }
     }
 }
