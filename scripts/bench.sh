@@ -25,7 +25,7 @@ work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 # The binaries (ufcsr analyze for the whole-process figures, ufcsr-capture
 # for the capture) come from the command-line crate.
-cargo build --release -q -p ufcsr-cli
+cargo build --release -q -p ufcsr-cli --features capture
 if [[ $capture == 1 ]]; then
     export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-$work}"
     "${CARGO_TARGET_DIR:-target}/release/ufcsr-capture" demo --scenario A --out "$work/A" -q > /dev/null
