@@ -72,7 +72,7 @@ pub fn view_values(options: &ViewsOptions) -> Result<ViewValues> {
             height: counts.height,
             caption: ufcsr::area_views_caption(scenario),
             unit: ufcsr::AREA_UNIT.to_string(),
-            inputs: vec![json, area_file],
+            inputs: vec![json, options.results.join(ufcsr::TEXEL_AREA_FILE)],
             archive: counts.archive,
         });
     }
