@@ -147,3 +147,28 @@ fn heading_anchors_follow_github() {
     assert_eq!(anchors(text), expected.iter().map(|a| a.to_string()).collect());
     assert_eq!(link_targets("see [a](x.md#b) and `[c](d)` ![e](f.png)"), ["x.md#b", "f.png"]);
 }
+
+/// The README stays a front page (issue 45): at most 200 lines, its first
+/// commands the two a fresh machine runs (the bundled example, then the exact
+/// test command `.ci/run` ends with), and no project history in user text.
+#[test]
+fn the_readme_is_at_most_200_lines_and_opens_with_the_two_commands() {
+    let root = workspace();
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let lines = readme.lines().count();
+    assert!(lines <= 200, "README.md has {lines} lines (at most 200)");
+    let fenced: Vec<&str> = readme
+        .split("```")
+        .skip(1)
+        .step_by(2)
+        .map(|block| block.trim().trim_start_matches("sh").trim())
+        .collect();
+    assert_eq!(fenced.first(), Some(&"cargo run --release -- fixtures/example"), "first command");
+    assert_eq!(fenced.get(1), Some(&"cargo test --workspace --locked"), "second command");
+    let ci = std::fs::read_to_string(root.join(".ci/run")).unwrap();
+    let last = ci.lines().rev().find(|l| !l.trim().is_empty()).unwrap().trim();
+    assert_eq!(last, "cargo test --workspace --locked", ".ci/run must end with the README's test command");
+    for history in ["issue 3", "issue 4", "withdrawn", "measured before the study"] {
+        assert!(!readme.contains(history), "README.md carries project history: {history:?}");
+    }
+}
