@@ -296,7 +296,7 @@ mod tests {
         assert_eq!(a, bootstrap_weights(4, &resampling));
     }
 
-    use crate::placement::search::{EXHAUSTIVE_LIMIT, best_set};
+    use crate::placement::search::{EXHAUSTIVE_LIMIT, SparseBits, best_set};
     use crate::placement::table::CandidateKind;
 
     /// `archives` archives of 64 frames at 0.1 s; `tied` choices legible in
@@ -315,13 +315,13 @@ mod tests {
             .map(|c| Choice {
                 names: vec![format!("tied_{c}")],
                 kind: CandidateKind::Part,
-                bits: (0..archives).map(|a| mask(10 + a as u32)).collect(),
+                bits: SparseBits::from_words((0..archives).map(|a| (a, mask(10 + a as u32))).collect()),
             })
             .collect();
         choices.push(Choice {
             names: vec!["less".into()],
             kind: CandidateKind::Part,
-            bits: vec![mask(5); archives],
+            bits: SparseBits::from_words((0..archives).map(|a| (a, mask(5))).collect()),
         });
         (universe, choices)
     }
@@ -359,7 +359,7 @@ mod tests {
         assert_eq!((a.p_best, a.p_within_epsilon, a.note), (None, None, Some(ONE_UNIT)));
         let (universe, mut choices) = tie_of(3, 4);
         for c in &mut choices {
-            c.bits.iter_mut().for_each(|w| *w = 0);
+            c.bits = SparseBits::default();
         }
         let a = assessed(&universe, &choices);
         assert_eq!((a.p_best, a.note), (None, Some(NO_CANDIDATE_LEGIBLE)));
