@@ -67,15 +67,15 @@ pub use render::{
     Backend, Gpu, GpuPalette, PixelRect, RenderSetup, Renderer, TileDraw, Vertex, vehicle_vertices,
 };
 pub use scene::family::{BodyDims, BodyType, body_mesh};
+// At the root: its entries reach into scene and design alike.
 #[doc(hidden)]
-pub use scene::fuzz_entry;
+pub mod fuzz_entry;
 pub use scene::{
-    ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, Axes, DemoTraffic, Eye, EyeCamera, FollowOffset, FrameState,
-    HUMAN_IPD_M, Key, LEAD_CAR_AHEAD_M, Mesh, Motion, MovingOccluder, ObserverPreset, OccluderObject,
-    OccluderPath, Occluders, PAPER_EYE_HEIGHT_M, PAPER_IPD_M, PEDESTRIAN_BODY_M, PartMapReport, PartMapSpec,
-    PartRule, PartSource, PartsFrom, Pose, RegionReport, Rig, Scenario, Scene, SceneFile, StreetOptions,
-    TileId, Track, UNMAPPED_PART, ValueOrTrack, VehicleSpec, box_corners, box_outside, degenerate_vehicle,
-    describe_observer, load_vehicle, look_to, median_eye_height_m, pedestrian_body, people_by_default,
+    ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, Axes, DemoTraffic, Eye, EyeCamera, FollowOffset, FrameState, Key,
+    LEAD_CAR_AHEAD_M, Mesh, Motion, MovingOccluder, OccluderObject, OccluderPath, Occluders,
+    PEDESTRIAN_BODY_M, PartMapReport, PartMapSpec, PartRule, PartSource, PartsFrom, Pose, RegionReport, Rig,
+    Scenario, Scene, SceneFile, StreetOptions, TileId, Track, UNMAPPED_PART, ValueOrTrack, VehicleSpec,
+    box_corners, box_outside, degenerate_vehicle, load_vehicle, look_to, pedestrian_body,
     reversed_z_perspective, street_scene, triangle_area, vehicle_to_world,
 };
 pub use study::observers::displays::{
@@ -87,8 +87,9 @@ pub use study::observers::population::{
     MAX_OBSERVERS, SampledObserver, check_population, eye_height_quantile, normal_cdf, sample_observers,
 };
 pub use study::observers::{
-    DEFAULT_SAFETY_FACTOR, ObserverOptions, run_observer_study, summarize as summarize_observers,
-    write_observer_study,
+    DEFAULT_SAFETY_FACTOR, HUMAN_IPD_M, ObserverOptions, ObserverPreset, PAPER_EYE_HEIGHT_M, PAPER_IPD_M,
+    describe_observer, median_eye_height_m, people_by_default, run_observer_study,
+    summarize as summarize_observers, write_observer_study,
 };
 pub use study::offsets::{FrameValues, IntervalOptions, error_at_offset, setting_error};
 pub use study::{

@@ -377,3 +377,31 @@ pub struct SensitivitySet {
     /// The reported set's legible_s under the moved threshold.
     pub reported_set_legible_s: f64,
 }
+
+/// One line naming what was left out, for the console and the pages
+/// (empty when nothing was).
+pub fn excluded_line(excluded: &[ExcludedRecord]) -> String {
+    let of = |reason: ExclusionReason| -> Vec<&str> {
+        excluded.iter().filter(|e| e.reason == reason).map(|e| e.candidate.as_str()).collect()
+    };
+    let mut parts = Vec::new();
+    let not_mountable = of(ExclusionReason::NotMountable);
+    if !not_mountable.is_empty() {
+        parts.push(format!("not mountable (wheels, glass): {}", summarised(&not_mountable)));
+    }
+    let no_fit = of(ExclusionReason::NoDisplayFits);
+    if !no_fit.is_empty() {
+        parts.push(format!("no display fits (exposure only): {}", summarised(&no_fit)));
+    }
+    if parts.is_empty() { String::new() } else { format!("left out of the answers: {}", parts.join("; ")) }
+}
+
+/// Up to eight names, then how many more.
+fn summarised(names: &[&str]) -> String {
+    const SHOWN: usize = 8;
+    let mut text = names.iter().take(SHOWN).copied().collect::<Vec<_>>().join(", ");
+    if names.len() > SHOWN {
+        text += &format!(" and {} more", names.len() - SHOWN);
+    }
+    text
+}

@@ -39,27 +39,30 @@ fn table(dir: &Path, name: &str, candidates: &[(&str, &str, u32)]) -> PathBuf {
 const LOW: &str = "windshield@0.40x0.15@x1.50y0.00z1.20";
 const TOP: &str = "windshield@0.40x0.15@x1.30y0.00z1.50";
 
-fn archive(dir: &Path, name: &str, front_bumper: u32) -> PathBuf {
-    table(
-        dir,
-        name,
-        &[
-            ("roof", "part", 0),
-            ("front_bumper", "part", front_bumper),
-            ("rear_bumper", "part", 10),
-            ("grill", "part", 3),
-            ("front_fender_left", "part", 3),
-            ("windshield", "part", 7),
-            (LOW, "patch", 10),
-            (TOP, "patch", 4),
-        ],
-    )
+/// One archive's table. Without `patches` the parts are scored whole (a
+/// table without display patches); with them a part is legible only through
+/// a patch that fits on it (placement.md), so the windshield's two patches
+/// are added alone.
+fn archive(dir: &Path, name: &str, front_bumper: u32, patches: bool) -> PathBuf {
+    let parts = [
+        ("roof", "part", 0),
+        ("front_bumper", "part", front_bumper),
+        ("rear_bumper", "part", 10),
+        ("grill", "part", 3),
+        ("front_fender_left", "part", 3),
+        ("windshield", "part", 7),
+    ];
+    if patches {
+        table(dir, name, &[("windshield", "part", 7), (LOW, "patch", 10), (TOP, "patch", 4)])
+    } else {
+        table(dir, name, &parts)
+    }
 }
 
 #[test]
 fn each_published_place_takes_its_best_named_candidate_with_the_interval_over_archives() {
     let dir = tempfile::tempdir().unwrap();
-    let tables = vec![archive(dir.path(), "a", 5), archive(dir.path(), "b", 3)];
+    let tables = vec![archive(dir.path(), "a", 5, false), archive(dir.path(), "b", 3, false)];
     let answer = placement(&crate::placement::options(tables.clone())).unwrap();
     let scores = published_locations(&answer);
     assert_eq!(scores.len(), PUBLISHED_LOCATIONS.len());
@@ -79,7 +82,9 @@ fn each_published_place_takes_its_best_named_candidate_with_the_interval_over_ar
     assert_eq!(place("roof").best_part.as_ref().map(|p| (p.legible_s, p.rank)), Some((0.0, 6)));
 
     // The windshield top: the part and the upper patch only, though the lower one is more legible.
-    let top = place("windshield top");
+    let with_patches = vec![archive(dir.path(), "pa", 5, true), archive(dir.path(), "pb", 3, true)];
+    let patched = published_locations(&placement(&crate::placement::options(with_patches)).unwrap());
+    let top = patched.iter().find(|s| s.location.name == "windshield top").unwrap();
     assert_eq!((top.parts, top.patches), (1, 1));
     let patch = top.best_patch.clone().unwrap();
     assert_eq!(patch.candidate, TOP);

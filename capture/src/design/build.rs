@@ -77,7 +77,7 @@ pub fn cell_scene_with(
     };
     // A design's answer is about people: where the scene kept the paper's eyes, a median adult's
     // (a design's population, when it has one, draws each observer's own; issue 42 §6).
-    crate::scene::people_by_default(&mut scene.rig);
+    crate::study::observers::people_by_default(&mut scene.rig);
     scene.vehicle = mesh;
     scene.input_files.extend(model_files);
     scene.name = format!("{} / {} / {}", cell.vehicle, cell.scenario, cell.traffic);

@@ -9,16 +9,16 @@
 //! design's palette, builds every cell's scene and draws its observers. The
 //! same pass gives `merge` each cell's longest possible legible time
 //! ([`CellLimits`]), against which a task's values are checked, and
-//! [`input_hashes`] fingerprints the files a task read, so a merge can refuse
+//! [`input_hashes`](super::plan::input_hashes) fingerprints the files a task read, so a merge can refuse
 //! tasks run before and after a model was replaced.
 
 use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use ufcsr::CellLevels;
 
 use super::build::{cell_scene_with, vehicle_model};
-use super::plan::{Plan, fnv1a_hex};
+use super::plan::Plan;
 use super::run::derived_seed;
 use crate::error::{CaptureError, Result};
 use crate::scene::mesh::Mesh;
@@ -63,23 +63,4 @@ pub fn check_inputs(plan: &Plan) -> Result<CellLimits> {
         limits.insert(cell.clone(), f64::from(measured) * f64::from(step) / scene.rig.fps);
     }
     Ok(limits)
-}
-
-/// Every file in `files` with its FNV-1a 64 fingerprint, by path relative to `base` (the design's
-/// folder), read through the file layer as the model loader read it.
-pub fn input_hashes(base: &Path, files: &[PathBuf]) -> Result<BTreeMap<String, String>> {
-    let mut hashes = BTreeMap::new();
-    for file in files {
-        let bytes = ufcsr::read_limited(file, ufcsr::MODEL_LIMIT)?;
-        // `./x.mtl` (an OBJ beside a design in the working folder names its MTL so) is `x.mtl`.
-        let relative: PathBuf = file
-            .strip_prefix(base)
-            .unwrap_or(file)
-            .components()
-            .filter(|c| !matches!(c, std::path::Component::CurDir))
-            .collect();
-        let name = relative.to_string_lossy().replace('\\', "/");
-        hashes.insert(name, fnv1a_hex(&bytes));
-    }
-    Ok(hashes)
 }

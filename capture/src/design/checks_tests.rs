@@ -255,14 +255,14 @@ fn a_task_records_a_fingerprint_of_every_file_it_read() {
     let plan = plan_file(dir.path(), &value).unwrap();
     let cell = plan.tasks.iter().find(|t| t.cell.vehicle == "box").unwrap().cell.clone();
     let scene = super::build::cell_scene(&plan.design, plan.base(), &cell, 1).unwrap();
-    let hashes = super::checks::input_hashes(plan.base(), &scene.input_files).unwrap();
+    let hashes = super::plan::input_hashes(plan.base(), &scene.input_files).unwrap();
     let names: Vec<&str> = hashes.keys().map(String::as_str).collect();
     assert_eq!(names, ["box-truck.mtl", "box-truck.obj"]);
     // A replaced model is another version.
     let mut obj = std::fs::read(dir.path().join("box-truck.obj")).unwrap();
     obj.extend_from_slice(b"\n# edited\n");
     std::fs::write(dir.path().join("box-truck.obj"), obj).unwrap();
-    let again = super::checks::input_hashes(plan.base(), &scene.input_files).unwrap();
+    let again = super::plan::input_hashes(plan.base(), &scene.input_files).unwrap();
     assert_ne!(again["box-truck.obj"], hashes["box-truck.obj"]);
     assert_eq!(again["box-truck.mtl"], hashes["box-truck.mtl"]);
 }

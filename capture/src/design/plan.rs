@@ -286,6 +286,25 @@ pub fn kinds_fit(scenario: &ScenarioSource, traffic: &TrafficKind) -> bool {
     )
 }
 
+/// Every file in `files` with its FNV-1a 64 fingerprint, by path relative to `base` (the design's
+/// folder), read through the file layer as the model loader read it.
+pub fn input_hashes(base: &Path, files: &[PathBuf]) -> Result<BTreeMap<String, String>> {
+    let mut hashes = BTreeMap::new();
+    for file in files {
+        let bytes = ufcsr::read_limited(file, ufcsr::MODEL_LIMIT)?;
+        // `./x.mtl` (an OBJ beside a design in the working folder names its MTL so) is `x.mtl`.
+        let relative: PathBuf = file
+            .strip_prefix(base)
+            .unwrap_or(file)
+            .components()
+            .filter(|c| !matches!(c, std::path::Component::CurDir))
+            .collect();
+        let name = relative.to_string_lossy().replace('\\', "/");
+        hashes.insert(name, fnv1a_hex(&bytes));
+    }
+    Ok(hashes)
+}
+
 #[cfg(test)]
 thread_local! {
     /// Cells listed by [`cells_of`] on this thread: the tests' bound that a refused crossing was

@@ -196,7 +196,7 @@ pub fn run_task(
     let design = &plan.design;
     let traffic_seed = derived_seed(design.seed, 3, &[u64::from(task.replicate)]);
     let scene = cell_scene(design, plan.base(), &task.cell, traffic_seed)?;
-    let inputs = super::checks::input_hashes(plan.base(), &scene.input_files)?;
+    let inputs = super::plan::input_hashes(plan.base(), &scene.input_files)?;
     let level = design.vehicles.iter().find(|v| v.name == task.cell.vehicle);
     let display_m = level.and_then(|v| v.display_m);
     // Real folders, never links: a link planted at `tasks` or `task-NNNN` is replaced.

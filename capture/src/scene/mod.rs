@@ -14,7 +14,7 @@
 //! ([`demo`] the truck and intersection, [`street`] the raycasting study's
 //! street, [`family`] the parametric sedan, SUV, van, pickup and bus, with
 //! [`shapes`] the building blocks they share, [`degenerate_mesh`] a vehicle of
-//! bad triangles), and the fuzzing entry points ([`fuzz_entry`]). Nothing here
+//! bad triangles), and the rules the fuzz entries (`crate::fuzz_entry`) exercise. Nothing here
 //! renders or writes an archive.
 
 pub(crate) mod coincident;
@@ -23,11 +23,9 @@ pub(crate) mod degenerate_mesh;
 pub(crate) mod demo;
 pub(crate) mod family;
 pub(crate) mod frame_state;
-pub mod fuzz_entry;
 pub(crate) mod mesh;
 pub(crate) mod model_files;
 pub(crate) mod moving;
-pub(crate) mod observer;
 pub(crate) mod occluders;
 pub(crate) mod part_map;
 pub(crate) mod ray_triangle;
@@ -47,10 +45,6 @@ pub use demo::{ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, DemoTraffic, LEAD_CAR_AHE
 pub use frame_state::FrameState;
 pub use mesh::{Axes, Mesh, PartSource, load_vehicle, triangle_area};
 pub use moving::{FollowOffset, MovingOccluder, OccluderPath, PEDESTRIAN_BODY_M, pedestrian_body};
-pub use observer::{
-    HUMAN_IPD_M, ObserverPreset, PAPER_EYE_HEIGHT_M, PAPER_IPD_M, describe_observer, median_eye_height_m,
-    people_by_default,
-};
 pub use occluders::{OccluderObject, Occluders};
 pub use part_map::{PartMapReport, PartMapSpec, UNMAPPED_PART};
 pub use regions::{PartRule, RegionReport};

@@ -237,7 +237,7 @@ fn combinations(page: &mut String, document: &PlacementDocument) {
             escape(&tied.join(". "))
         );
     }
-    let excluded = crate::placement::eligible::excluded_line(&document.excluded);
+    let excluded = crate::format::placement::excluded_line(&document.excluded);
     if !excluded.is_empty() {
         let _ = writeln!(
             page,

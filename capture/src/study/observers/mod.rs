@@ -16,7 +16,13 @@
 
 pub mod displays;
 pub mod interval;
+pub(crate) mod observer;
 pub mod population;
+
+pub use observer::{
+    HUMAN_IPD_M, ObserverPreset, PAPER_EYE_HEIGHT_M, PAPER_IPD_M, describe_observer, median_eye_height_m,
+    people_by_default,
+};
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;

@@ -70,7 +70,7 @@ fn tiny_design() -> Option<&'static (crate::design::plan::Plan, crate::design::c
         std::sync::OnceLock::new();
     TINY.get_or_init(|| {
         let path = Path::new(NOWHERE).join("tiny-2x2.json");
-        let bytes = include_bytes!("../../../fixtures/designs/tiny-2x2.json");
+        let bytes = include_bytes!("../../fixtures/designs/tiny-2x2.json");
         let design = ufcsr::parse_json::<ufcsr::Design>(&path, bytes, "design").ok()?;
         let plan = crate::design::plan::plan_checked(design, &path).ok()?;
         let limits = crate::design::checks::check_inputs(&plan).ok()?;

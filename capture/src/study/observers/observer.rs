@@ -13,8 +13,8 @@
 
 use ufcsr::{ObserverPlace, ObserverPopulation};
 
+use super::population::eye_height_quantile;
 use crate::scene::rig::Rig;
-use crate::study::observers::population::eye_height_quantile;
 
 /// The seed paper's eye height, m (a stature).
 pub const PAPER_EYE_HEIGHT_M: f64 = 1.75;
