@@ -1,4 +1,4 @@
-"""FBX to binary glTF for ufcsr-capture, through Blender's own FBX importer.
+"""FBX to binary glTF for ufcsr capture, through Blender's own FBX importer.
 
 Why: FBX is Unity's and most vendors' format, ufcsr reads glTF and OBJ, and
 no maintained Rust FBX reader exists; Blender's importer is the reference.
@@ -87,7 +87,11 @@ def import_fbx(bpy, fbx):
     scene = bpy.context.scene
     scene.unit_settings.system = "METRIC"
     scene.unit_settings.scale_length = 1.0
-    result = bpy.ops.import_scene.fbx(filepath=os.path.abspath(fbx), use_custom_normals=True, use_anim=False)
+    try:
+        result = bpy.ops.import_scene.fbx(filepath=os.path.abspath(fbx), use_custom_normals=True, use_anim=False)
+    except RuntimeError as error:
+        # Blender's operators raise RuntimeError on a file they cannot parse (a corrupt FBX).
+        raise InputError(f"{fbx}: Blender's FBX importer could not read it ({error})") from None
     if "FINISHED" not in result:
         raise InputError(f"{fbx}: Blender's FBX importer could not read it ({result})")
     meshes = [o for o in scene.objects if o.type == "MESH"]

@@ -36,6 +36,42 @@ class FileRules(unittest.TestCase):
         with self.assertRaisesRegex(script.InputError, "not a regular file"):
             script.read_manifest(self.archive)
 
+    def test_a_deeply_nested_manifest_is_refused_naming_the_file(self):
+        with open(self.manifest_path(), "w") as file:
+            file.write("[" * 100_000 + "]" * 100_000)
+        with self.assertRaisesRegex(script.InputError, "manifest.json: not readable JSON"):
+            script.read_manifest(self.archive)
+
+    def test_a_corrupt_fbx_is_refused_naming_the_file_not_a_traceback(self):
+        class Refusing:
+            def fbx(self, **_):
+                raise RuntimeError("Error: ASCII FBX files are not supported")
+
+        class Ops:
+            import_scene = Refusing()
+
+            class wm:
+                @staticmethod
+                def read_factory_settings(use_empty):
+                    return {"FINISHED"}
+
+        class Units:
+            system = None
+            scale_length = None
+
+        class Scene:
+            unit_settings = Units()
+            objects = []
+
+        class FakeBpy:
+            ops = Ops()
+
+            class context:
+                scene = Scene()
+
+        with self.assertRaisesRegex(fbx_to_glb.InputError, "corrupt.fbx: Blender's FBX importer could not read it"):
+            fbx_to_glb.import_fbx(FakeBpy(), "corrupt.fbx")
+
     def test_a_huge_manifest_is_refused_by_its_size(self):
         with open(self.manifest_path(), "wb") as file:
             file.truncate(script.MANIFEST_LIMIT + 1)

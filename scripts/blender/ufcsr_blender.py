@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
-"""Renders a ufcsr-capture archive's cameras again in Blender and writes a complete archive.
+"""Renders a ufcsr capture archive's cameras again in Blender and writes a complete archive.
 
-Why it exists: the capture path a researcher already uses is often Blender, and ufcsr-capture's
+Why it exists: the capture path a researcher already uses is often Blender, and ufcsr capture's
 archive describes itself (``manifest.json`` with every frame's vehicle pose and each eye's camera
 and projection, ``vehicle.glb`` with the palette, ``scene.glb`` with the occluders, ``pidt.png``,
 ``parts.csv``), so Blender can render the very same frames. The result is an archive that
 ``ufcsr analyze OUT`` reads alone -- tiles, manifest with rig, fps, pixels per degree, projection,
-poses, PIdT and legend -- and that ``cli/tests/external/blender.rs`` holds to ufcsr-capture's own.
+poses, PIdT and legend -- and that ``cli/tests/external/blender.rs`` holds to ufcsr capture's own.
 
 The colour recipe (docs/guide.md, "Unity and Blender captures") keeps every palette colour
 unchanged on its way to the PNG: palette image ``sRGB`` with view transform ``Standard``, look
@@ -59,11 +59,11 @@ class InputError(Exception):
 def parse_arguments(argv):
     parser = argparse.ArgumentParser(
         prog=TOOL,
-        description="Render a ufcsr-capture archive's cameras again in Blender and write an "
+        description="Render a ufcsr capture archive's cameras again in Blender and write an "
         "archive that ufcsr analyze reads alone.",
     )
     parser.add_argument("--from", dest="source", required=True, metavar="ARCHIVE",
-                        help="an archive written by ufcsr-capture (its manifest.json has frames[].eyes)")
+                        help="an archive written by ufcsr capture (its manifest.json has frames[].eyes)")
     parser.add_argument("--out", required=True, metavar="DIR", help="the new archive (absent or empty)")
     parser.add_argument("--engine", choices=["eevee", "cycles"], default="eevee")
     parser.add_argument("--frames", metavar="LIST",
@@ -128,15 +128,17 @@ def read_manifest(archive):
         manifest = json.loads(read_regular(path, MANIFEST_LIMIT))
     except InputError as error:
         if not os.path.lexists(path):
-            raise InputError(f"{path}: not found (--from takes an archive written by ufcsr-capture)")
+            raise InputError(f"{path}: not found (--from takes an archive written by ufcsr capture)")
         raise error
     except (UnicodeDecodeError, ValueError) as error:
         raise InputError(f"{path}: not readable JSON ({error})")
+    except RecursionError:
+        raise InputError(f"{path}: not readable JSON (nested too deeply)") from None
     if not isinstance(manifest, dict) or manifest.get("schema", MANIFEST_SCHEMA) != MANIFEST_SCHEMA:
         raise InputError(f"{path}: not a {MANIFEST_SCHEMA} manifest")
     frames = manifest.get("frames")
     if not isinstance(frames, list) or not frames:
-        raise InputError(f"{path}: no 'frames' records (written by ufcsr-capture only)")
+        raise InputError(f"{path}: no 'frames' records (written by ufcsr capture only)")
     for index, record in enumerate(frames):
         check_frame(record, f"{path}: frames[{index}]")
     rig = manifest.get("rig")
@@ -167,7 +169,7 @@ def check_frame(record, where):
     if not isinstance(eyes, dict) or not isinstance(vehicle, dict):
         raise InputError(
             f"{where} (frame {record['frame']}) has no 'vehicle' pose or 'eyes' cameras: an archive from "
-            "before ufcsr-capture recorded them; capture it again"
+            "before ufcsr capture recorded them; capture it again"
         )
     if not is_vector(vehicle.get("position")) or not is_number(vehicle.get("yaw_deg")):
         raise InputError(f"{where}: 'vehicle' needs 'position' [x, y, z] and 'yaw_deg'")
