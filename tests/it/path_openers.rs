@@ -32,7 +32,7 @@ fn root() -> PathBuf {
 /// clap_mangen; image for when it becomes one), as clippy.toml spells them.
 /// png, serde_json, walkdir (listing only), regex, wgpu, ab_glyph,
 /// indicatif and the rest take no path.
-const PATH_TAKING: &[&str] = &[
+pub(crate) const PATH_TAKING: &[&str] = &[
     "std::fs::write",
     "std::fs::read",
     "std::fs::read_to_string",
