@@ -16,6 +16,7 @@
 // the file layer (clippy.toml, docs/reliability.md).
 #![cfg_attr(test, allow(clippy::disallowed_methods, clippy::disallowed_types))]
 
+mod advanced;
 mod analyze;
 #[cfg(feature = "capture")]
 mod capture;

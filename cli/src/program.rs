@@ -134,6 +134,11 @@ impl Program {
     /// The command tree, every command with the exit codes under its help
     /// (and, without the `capture` feature, how to get the capture commands).
     pub fn command(self) -> clap::Command {
+        crate::advanced::hide_advanced(self.command_all())
+    }
+
+    /// The command tree with every option shown: what `--help-all` lists.
+    pub fn command_all(self) -> clap::Command {
         let command = with_exit_status(UfcsrLine::command());
         if cfg!(feature = "capture") {
             command
@@ -279,11 +284,12 @@ fn asks_for_json(args: &[OsString]) -> bool {
 
 /// Runs `program` on this process's arguments: parse, carry out, end.
 pub fn main(program: Program) -> ExitCode {
-    let args = program.as_ufcsr(std::env::args_os().collect());
+    let mut args = program.as_ufcsr(std::env::args_os().collect());
     if let Some(error) = not_built_in(program, &args) {
         return usage_end(program, &args, &error);
     }
-    let parsed = program.command().try_get_matches_from(&args).and_then(|matches| Program::job(&matches));
+    let command = if crate::advanced::take_help_all(&mut args) { program.command_all() } else { program.command() };
+    let parsed = command.try_get_matches_from(&args).and_then(|matches| Program::job(&matches));
     let (job, global) = match parsed {
         Ok(parsed) => parsed,
         Err(error) => return usage_end(program, &args, &error),
