@@ -353,9 +353,12 @@ fn design_merge_never_picks_a_not_mountable_part_and_lists_it_with_the_reason() 
     let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
     let dir = tempfile::tempdir().unwrap();
     for i in 0..plan.tasks.len() as u32 {
-        let mut task = synthetic(&plan, i, 2.0 + f64::from(i), 1.0);
+        // Within the cell's 3.5 s (7 measured frames of 30 at 60 fps): merge checks every value.
+        let mut task = synthetic(&plan, i, 1.0 + 0.5 * f64::from(i), 0.5);
         let mut glass = task.units[0].candidates[0].clone();
-        (glass.name, glass.legible_s) = ("windshield".into(), 50.0 + f64::from(i));
+        (glass.name, glass.legible_s) = ("windshield".into(), 3.0 + 0.1 * f64::from(i));
+        glass.decision_window_legible_s = 0.5 * glass.legible_s;
+        glass.angular_area_deg2_s = 10.0 * glass.legible_s;
         task.units[0].candidates.push(glass);
         write_task(&task, &task_dir(dir.path(), i)).unwrap();
     }
