@@ -128,7 +128,11 @@ mod tests {
         let commands = tree(Program::Ufcsr.command());
         let mut distinct = BTreeSet::new();
         for (path, longs) in &commands {
-            assert!(longs.len() <= MAX_VISIBLE_PER_COMMAND, "`{path} --help` lists {}: {longs:?}", longs.len());
+            assert!(
+                longs.len() <= MAX_VISIBLE_PER_COMMAND,
+                "`{path} --help` lists {}: {longs:?}",
+                longs.len()
+            );
             distinct.extend(longs.iter().cloned());
         }
         assert!(distinct.len() <= MAX_VISIBLE_DISTINCT, "{} distinct options: {distinct:?}", distinct.len());

@@ -288,7 +288,8 @@ pub fn main(program: Program) -> ExitCode {
     if let Some(error) = not_built_in(program, &args) {
         return usage_end(program, &args, &error);
     }
-    let command = if crate::advanced::take_help_all(&mut args) { program.command_all() } else { program.command() };
+    let command =
+        if crate::advanced::take_help_all(&mut args) { program.command_all() } else { program.command() };
     let parsed = command.try_get_matches_from(&args).and_then(|matches| Program::job(&matches));
     let (job, global) = match parsed {
         Ok(parsed) => parsed,

@@ -95,7 +95,11 @@ impl PendingRuns {
 
 /// A tile position in its eye and its size in pixels: what a table of
 /// pixel solid angles is for.
-type TilePlace = ([u32; 2], [u32; 2]);
+/// A tile's place: its eye (image size and the field of view's bits) as well as
+/// its origin and size, since one sum is shared by captures of several eyes
+/// (the observers' coarser re-capture shares the fine one's set-up: a table
+/// keyed by origin and size alone gave it the fine eye's solid angles).
+type TilePlace = ([u32; 2], u64, [u32; 2], [u32; 2]);
 
 /// Every row's prefix sums of its pixels' solid angles, in
 /// [`TEXEL_SOLID_ANGLE_UNITS_PER_SR`]: row `y` is `width + 1` values, the
@@ -182,8 +186,9 @@ impl TexelSolidAngles {
             return None;
         }
         let mut tables = self.tables.lock().unwrap_or_else(PoisonError::into_inner);
-        let table =
-            tables.entry((view.origin, size)).or_insert_with(|| Arc::new(PixelPrefix::new(view, size)));
+        let table = tables
+            .entry((eye, view.projection.tan_half_x.to_bits(), view.origin, size))
+            .or_insert_with(|| Arc::new(PixelPrefix::new(view, size)));
         Some(Arc::clone(table))
     }
 
@@ -381,6 +386,23 @@ mod tests {
         let sr = total as f64 / TEXEL_SOLID_ANGLE_UNITS_PER_SR;
         assert!((sr - projection.image_sr()).abs() < 1e-9 * sr, "{sr} vs {}", projection.image_sr());
         assert!(whole.row(270).is_empty());
+    }
+
+    /// One sum shared by captures of two eyes (the observers' fine and
+    /// coarser captures): a tile at the same origin and of the same size in
+    /// an eye of half the pixels gets that eye's solid angles, not the first's.
+    #[test]
+    fn a_tile_of_the_same_place_in_another_eye_gets_that_eyes_solid_angles() {
+        let palette = Fcsp::canonical([16, 16]).unwrap();
+        let sums = TexelSolidAngles::new(&palette, &[255]);
+        let fine = EyeProjection::new(107.0, [128, 64]).unwrap();
+        let coarse = EyeProjection::new(107.0, [64, 32]).unwrap();
+        let tile = |projection| TileView { projection, origin: [0, 0] };
+        let first = sums.pixel_prefix(&tile(fine), [32, 16]).unwrap();
+        let second = sums.pixel_prefix(&tile(coarse), [32, 16]).unwrap();
+        let alone = PixelPrefix::new(&tile(coarse), [32, 16]);
+        assert_eq!(second.row(5), alone.row(5));
+        assert!(second.row(5)[32] > 3 * first.row(5)[32], "a coarse pixel is about 4 fine ones");
     }
 
     #[test]
