@@ -34,7 +34,7 @@ fn unfinished() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
 /// What the marker says to someone who opens it.
 const MARKER_TEXT: &str = "A capture into this folder began and has not finished (interrupted, failed, or its \
 shards not yet assembled): the folder holds part of it and no manifest.json of an earlier capture, so \
-ufcsr-analyze refuses it. Capture again (or add --resume), or run `ufcsr-capture assemble` for shards; the \
+`ufcsr analyze` refuses it. Capture again (or add --resume), or run `ufcsr assemble` for shards; the \
 capture removes this file when its manifest.json is written.\n";
 
 /// Marks `dir` (an existing folder) as holding a capture that has not

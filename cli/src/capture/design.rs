@@ -23,8 +23,9 @@ use crate::console::{Console, printable, say};
 pub enum DesignAction {
     /// Check the design and the files its tasks read; print its tasks, one per line (task I on line I+1).
     ///
-    /// Two at a time: `ufcsr design plan D.json --out O --indices | xargs -P 2 -I{} ufcsr design run D.json
-    /// --out O --task {}` (the task numbers are digits: nothing of a path reaches a shell). Without
+    /// Example: `ufcsr design plan fixtures/designs/tiny-2x2.json --out runs/tiny --indices | xargs -P 2
+    /// -I{} ufcsr design run fixtures/designs/tiny-2x2.json --out runs/tiny --task {}` (two at a time;
+    /// the task numbers are digits: nothing of a path reaches a shell). Without
     /// --indices each line is a command quoted for `sh`, for one line at a time (a Slurm array's line
     /// I); never pipe those through plain `xargs`, which strips the quotes.
     Plan {
