@@ -68,8 +68,8 @@ pub fn the_report_of_the_bundled_example_renders_in_chromium() -> Outcome {
     // In page order: the scenario map, the frame strip, the three plots
     // (visibility against time and distance, the parts' bars; the quoted
     // measures come first), the contact sheet of the eight views and the
-    // heatmap texture (paper-compatible, last).
-    assert_eq!(probe(binary, &report), "images=1111111;errors=0");
+    // heatmap textures (the angular area's, on by default, and the paper-compatible count's, last).
+    assert_eq!(probe(binary, &report), "images=11111111;errors=0");
     for figure in ["map.png", "frames-strip.png", "views.png"] {
         let colors = distinct_colors(&out.join(figure));
         assert!(colors > 8, "{figure} is blank ({colors} colours)");
@@ -181,7 +181,7 @@ pub fn the_placement_section_renders_in_chromium() -> Outcome {
     let placement = out.join("placement");
     run(&["placement".as_ref(), archive.as_os_str(), "-q".as_ref(), "--out".as_ref(), placement.as_os_str()]);
     run(&[example.as_os_str(), "-q".as_ref(), "--out".as_ref(), out.as_os_str()]);
-    // The page's seven images (map, frame strip, views, heatmap, three plots) and the placement picture.
-    assert_eq!(probe(binary, &out.join("report.html")), "images=11111111;errors=0");
+    // The page's eight images (map, frame strip, views, the two heatmaps, three plots) and the placement picture.
+    assert_eq!(probe(binary, &out.join("report.html")), "images=111111111;errors=0");
     Ok(Completion::Completed)
 }
