@@ -3,8 +3,8 @@
 //! encoder settings, culling and scissor switches, shards, kernel backends,
 //! placement thresholds past the documented rule) stay accepted everywhere
 //! but are listed only by `--help-all`, so that no command's help shows more
-//! than [`MAX_VISIBLE_PER_COMMAND`] options and the whole tree no more than
-//! [`MAX_VISIBLE_DISTINCT`] (issue 45; held by the tests below). The list is
+//! than 20 options and the whole tree no more than 70 (issue 45; held by the
+//! tests below). The list is
 //! one table, by long name, so a new switch is hidden by naming it here.
 
 use std::ffi::OsString;
@@ -55,11 +55,6 @@ pub const ADVANCED: [&str; 36] = [
     "positions",
 ];
 
-/// The most options one command's `--help` lists (its own and the global ones).
-pub const MAX_VISIBLE_PER_COMMAND: usize = 20;
-/// The most distinct options the whole `--help` tree lists.
-pub const MAX_VISIBLE_DISTINCT: usize = 70;
-
 /// The word that lists every option of a command.
 pub const HELP_ALL: &str = "--help-all";
 
@@ -99,6 +94,11 @@ mod tests {
 
     use super::*;
     use crate::program::Program;
+
+    /// The most options one command's `--help` lists (its own and the global ones).
+    const MAX_VISIBLE_PER_COMMAND: usize = 20;
+    /// The most distinct options the whole `--help` tree lists.
+    const MAX_VISIBLE_DISTINCT: usize = 70;
 
     /// Every command of the tree (built, so global options are on each) with the
     /// long options its help lists.
