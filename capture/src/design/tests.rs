@@ -353,10 +353,10 @@ fn design_merge_never_picks_a_not_mountable_part_and_lists_it_with_the_reason() 
     let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
     let dir = tempfile::tempdir().unwrap();
     for i in 0..plan.tasks.len() as u32 {
-        // Within the cell's 3.5 s (7 measured frames of 30 at 60 fps): merge checks every value.
-        let mut task = synthetic(&plan, i, 1.0 + 0.5 * f64::from(i), 0.5);
+        // Within every cell's measured time (2.5 s on the street, 3.5 s in A): merge checks every value.
+        let mut task = synthetic(&plan, i, 0.5 + 0.15 * f64::from(i), 0.2);
         let mut glass = task.units[0].candidates[0].clone();
-        (glass.name, glass.legible_s) = ("windshield".into(), 3.0 + 0.1 * f64::from(i));
+        (glass.name, glass.legible_s) = ("windshield".into(), 2.0 + 0.05 * f64::from(i));
         glass.decision_window_legible_s = 0.5 * glass.legible_s;
         glass.angular_area_deg2_s = 10.0 * glass.legible_s;
         task.units[0].candidates.push(glass);
