@@ -94,7 +94,7 @@ pub fn the_report_of_the_bundled_example_renders_in_chromium() -> Outcome {
     // listener exists, so the error count is 0 or 1.)
     std::fs::remove_file(out.join("heatmap.png")).unwrap();
     let probed = probe(binary, &report);
-    assert!(probed.starts_with("images=1111110;"), "{probed}");
+    assert!(probed.starts_with("images=11111110;"), "{probed}");
     Ok(Completion::Completed)
 }
 

@@ -236,9 +236,12 @@ fn capture_totals(
 }
 
 /// The coarser setting's frame step: twice the study's, unless the
-/// scenario has too few frames for it (then the study's).
+/// scenario has too few frames for it to capture two (then the study's). A
+/// capture of one frame stands for one frame's time (as its result.json
+/// says), so a coarser capture of one frame of two would measure half the
+/// fine one's time, and the bound would be that difference, not resolution.
 fn coarser_step(step: u32, frames: u32) -> u32 {
-    if step.saturating_mul(2) <= frames { step * 2 } else { step }
+    if step.saturating_mul(2) < frames { step * 2 } else { step }
 }
 
 /// One observer: the fused count at the study's setting and, when asked,
@@ -544,6 +547,9 @@ mod tests {
     fn the_coarser_step_doubles_unless_the_scenario_is_too_short() {
         assert_eq!(coarser_step(6, 181), 12);
         assert_eq!(coarser_step(1, 1), 1);
+        // Two frames: a doubled step would capture one (a still plate's bound came out 1000x).
+        assert_eq!(coarser_step(1, 2), 1);
+        assert_eq!(coarser_step(1, 3), 2);
         assert_eq!(coarser_step(3, 5), 3);
     }
 }
