@@ -105,7 +105,7 @@ pub use placement::literature::{
     LocationScore, PUBLISHED_LOCATIONS, PUBLISHED_LOCATIONS_FILE, PlaceScore, PublishedLocation, Zone,
     format_published_locations, published_locations, write_published_locations,
 };
-pub use placement::report::{WrittenPlacement, format_placement};
+pub use placement::report::{NO_SET_LEGIBLE, WrittenPlacement, format_placement};
 pub use placement::uncertainty::{
     BestShares, NO_CANDIDATE_LEGIBLE, ONE_UNIT, best_shares, bootstrap_weights, t_interval,
     t_interval_signed, tied as tied_scores, tied_best_credits,

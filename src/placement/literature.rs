@@ -179,8 +179,20 @@ pub struct PlaceScore {
     pub mountable: bool,
     /// 1 + the candidates of this kind with more legible seconds: tied candidates share a rank.
     pub rank: usize,
+    /// The other candidates of this kind with exactly its legible seconds (a tie is reported as one).
+    pub tied_with: usize,
     /// Candidates of this kind.
     pub of: usize,
+}
+
+impl PlaceScore {
+    /// "4", or "4-48 (a tie of 45)" when other candidates have exactly its legible seconds.
+    pub fn rank_text(&self) -> String {
+        match self.tied_with {
+            0 => self.rank.to_string(),
+            n => format!("{}-{} (a tie of {})", self.rank, self.rank + n, n + 1),
+        }
+    }
 }
 
 /// One place on one vehicle: how many candidates are it, and the best part and patch.
@@ -208,6 +220,7 @@ fn score(candidates: &[CandidateRecord], best: &CandidateRecord) -> PlaceScore {
         texel_sample_interval_s: best.texel_sample_interval_s,
         mountable: best.mountable,
         rank: 1 + of_kind.clone().filter(|c| c.legible_s > best.legible_s).count(),
+        tied_with: of_kind.clone().filter(|c| c.legible_s == best.legible_s && c.name != best.name).count(),
         of: of_kind.count(),
     }
 }
@@ -265,7 +278,7 @@ pub fn format_published_locations(scores: &[LocationScore], archives: usize) -> 
                         p.legible_s,
                         interval_text(p.interval_s),
                         p.visible_s,
-                        p.rank,
+                        p.rank_text(),
                         p.of
                     )
                 }
@@ -292,17 +305,17 @@ pub fn write_published_locations(
         writeln!(
             w,
             "location,studies,kind,candidates,best,legible_s,ci95_low_s,ci95_high_s,visible_s,\
-             texel_sample_low_s,texel_sample_high_s,mountable,rank,of"
+             texel_sample_low_s,texel_sample_high_s,mountable,rank,of,tied_with"
         )?;
         for s in scores {
             for (kind, best, n) in [("part", &s.best_part, s.parts), ("patch", &s.best_patch, s.patches)] {
                 let field = crate::output::csv_field;
                 let (name, cells) = match best {
-                    None => (String::new(), ",,,,,,,,".to_string()),
+                    None => (String::new(), ",,,,,,,,,".to_string()),
                     Some(p) => (
                         field(&p.candidate),
                         format!(
-                            "{},{},{},{},{},{},{},{},{}",
+                            "{},{},{},{},{},{},{},{},{},{}",
                             p.legible_s,
                             optional(p.interval_s.map(|i| i[0])),
                             optional(p.interval_s.map(|i| i[1])),
@@ -311,7 +324,8 @@ pub fn write_published_locations(
                             optional(p.texel_sample_interval_s.map(|i| i[1])),
                             p.mountable,
                             p.rank,
-                            p.of
+                            p.of,
+                            p.tied_with
                         ),
                     ),
                 };

@@ -47,13 +47,25 @@ impl CombinationRecord {
         self.members.iter().flat_map(|m| m.candidates.clone()).collect()
     }
 
-    /// The members joined by " + ", each that adds no legible time marked.
+    /// The members joined by " + ", each that adds no legible time marked;
+    /// [`NO_SET_LEGIBLE`] when the set is legible for no time at all (a best of
+    /// nothing names no candidate).
     pub fn members_text(&self) -> String {
-        let member = |m: &MemberRecord| {
-            let names = m.candidates.join(" & ");
-            if m.adds_no_time { format!("{names} [adds 0 s]") } else { names }
-        };
-        self.members.iter().map(member).collect::<Vec<_>>().join(" + ")
+        if self.legible_s <= 0.0 {
+            return NO_SET_LEGIBLE.to_string();
+        }
+        self.members.iter().map(MemberRecord::label).collect::<Vec<_>>().join(" + ")
+    }
+}
+
+/// What a best set legible for 0 s prints instead of its (arbitrary) members.
+pub const NO_SET_LEGIBLE: &str = "none: no candidate of this kind is legible (0 s)";
+
+impl MemberRecord {
+    /// The member's candidates joined by " & ", marked "[adds 0 s]" when it adds no legible time.
+    pub fn label(&self) -> String {
+        let names = self.candidates.join(" & ");
+        if self.adds_no_time { format!("{names} [adds 0 s]") } else { names }
     }
 }
 

@@ -79,6 +79,8 @@ fn each_published_place_takes_its_best_named_candidate_with_the_interval_over_ar
     let grille = place("grille").best_part.clone().unwrap();
     let fender = place("above the front wheels (front fenders)").best_part.clone().unwrap();
     assert_eq!((grille.rank, fender.rank), (4, 4), "tied candidates share a rank");
+    assert_eq!((grille.tied_with, grille.rank_text()), (1, "4-5 (a tie of 2)".to_string()), "and say so");
+    assert_eq!((bumper.tied_with, bumper.rank_text()), (0, "3".to_string()));
     assert_eq!(place("roof").best_part.as_ref().map(|p| (p.legible_s, p.rank)), Some((0.0, 6)));
 
     // The windshield top: the part and the upper patch only, though the lower one is more legible.
@@ -108,6 +110,7 @@ fn each_published_place_takes_its_best_named_candidate_with_the_interval_over_ar
     assert!(lines.iter().any(|l| l.starts_with("side mirrors,") && l.contains(",part,0,,")), "{text}");
     let console = ufcsr::format_published_locations(&scores, 2);
     assert!(console.contains("published locations") && console.contains("none on this vehicle"), "{console}");
+    assert!(console.contains("rank 4-5 (a tie of 2) of 6"), "a tie is printed as a tie: {console}");
     // An input is never replaced.
     let input_dir = tables[0].parent().unwrap();
     let clash = input_dir.join(ufcsr::PUBLISHED_LOCATIONS_FILE);
@@ -115,4 +118,24 @@ fn each_published_place_takes_its_best_named_candidate_with_the_interval_over_ar
     let inputs = vec![clash.clone()];
     assert!(write_published_locations(&scores, input_dir, &inputs).is_err());
     assert_eq!(std::fs::read_to_string(clash).unwrap(), "mine");
+}
+
+#[test]
+fn a_best_set_legible_for_no_time_names_no_candidate_anywhere_it_is_printed() {
+    let dir = tempfile::tempdir().unwrap();
+    let never = [("roof", "part", 0), ("grill", "part", 0)];
+    let tables = vec![table(dir.path(), "a", &never), table(dir.path(), "b", &never)];
+    let answer = placement(&crate::placement::options(tables)).unwrap();
+    let console = ufcsr::format_placement(&answer, 10);
+    let best: Vec<&str> = console.lines().filter(|l| l.starts_with("k=")).collect();
+    assert!(!best.is_empty(), "{console}");
+    for line in best {
+        assert!(
+            line.ends_with(ufcsr::NO_SET_LEGIBLE) && !line.contains("roof") && !line.contains("grill"),
+            "{line}"
+        );
+    }
+    let scores = published_locations(&answer);
+    let roof = scores.iter().find(|s| s.location.name == "roof").unwrap().best_part.clone().unwrap();
+    assert_eq!(roof.rank_text(), "1-2 (a tie of 2)", "{roof:?}");
 }
