@@ -66,3 +66,27 @@ fn the_documented_pipeline_runs_no_code_hidden_in_a_path_and_writes_through_no_l
     assert_eq!(String::from_utf8_lossy(&echoed.stdout), expected);
     assert!(!dir.path().join("PWNED").exists(), "the path's $(…) ran");
 }
+
+/// `batch plan`'s documented pipeline (docs/scale-out.md: `xargs -d '\n' -I{} sh -c '{}'`)
+/// keeps `plan`'s quotes: an output folder `x$(touch PWNED)` in the batch file reaches the
+/// command as text (echoed here) and never runs.
+#[cfg(unix)]
+#[test]
+fn the_documented_batch_pipeline_runs_no_code_hidden_in_a_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let batch = dir.path().join("batch.json");
+    let value = serde_json::json!({
+        "out": "x$(touch PWNED)",
+        "scenes": ["demo"],
+        "scenarios": ["A"],
+        "ppd": [10],
+        "frame_step": [30]
+    });
+    std::fs::write(&batch, serde_json::to_vec(&value).unwrap()).unwrap();
+    let lines = r#"ufcsr batch plan "$1" --program echo | xargs -d '\n' -I{} sh -c '{}'"#;
+    let echoed = sh(dir.path(), lines, &[&batch]);
+    assert!(echoed.status.success(), "{}", text(&echoed));
+    let stdout = String::from_utf8_lossy(&echoed.stdout);
+    assert!(stdout.contains("x$(touch PWNED)"), "the path reached the command as text: {stdout}");
+    assert!(!dir.path().join("PWNED").exists(), "the path's $(…) ran: {stdout}");
+}
