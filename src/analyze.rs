@@ -4,7 +4,7 @@
 //! resolve the options against the archive's manifest and load every input
 //! once ([`crate::archive`]), count the images in parallel ([`crate::count`]),
 //! summarize the counts into the result ([`crate::result`]); the caller then
-//! writes the result set ([`crate::write_results`], [`crate::output`]).
+//! writes the result set ([`crate::output::write_results`], [`crate::output`]).
 
 use std::time::Instant;
 

@@ -27,7 +27,7 @@ pub fn scene(bytes: &[u8]) {
 /// A glTF (`.gltf` with data: URIs) or GLB model, loaded as a vehicle.
 pub fn gltf(bytes: &[u8]) {
     let path = Path::new(NOWHERE).join("model.glb");
-    let Ok(model) = ufcsr::parse_gltf(&path, bytes, ufcsr::MODEL_LIMIT) else { return };
+    let Ok(model) = ufcsr::files::parse_gltf(&path, bytes, ufcsr::files::MODEL_LIMIT) else { return };
     if let Ok(mesh) = gltf_mesh(&path, &model, PartSource::Node, &Axes::default()) {
         let _ = check_model(&path, &mesh);
     }
@@ -57,8 +57,10 @@ pub fn unity(bytes: &[u8]) {
 /// planned into tasks (nothing it names is read: that is `check_inputs`, which loads models).
 pub fn design(bytes: &[u8]) {
     let path = Path::new(NOWHERE).join("design.json");
-    let Ok(design) = ufcsr::parse_json::<ufcsr::Design>(&path, bytes, "design") else { return };
-    if ufcsr::check_version(&path, &design.schema, ufcsr::DESIGN_SCHEMA).is_ok() {
+    let Ok(design) = ufcsr::format::parse_json::<ufcsr::format::Design>(&path, bytes, "design") else {
+        return;
+    };
+    if ufcsr::format::check_version(&path, &design.schema, ufcsr::format::DESIGN_SCHEMA).is_ok() {
         let _ = crate::design::plan::plan_checked(design, &path);
     }
 }
@@ -71,7 +73,7 @@ fn tiny_design() -> Option<&'static (crate::design::plan::Plan, crate::design::c
     TINY.get_or_init(|| {
         let path = Path::new(NOWHERE).join("tiny-2x2.json");
         let bytes = include_bytes!("../../fixtures/designs/tiny-2x2.json");
-        let design = ufcsr::parse_json::<ufcsr::Design>(&path, bytes, "design").ok()?;
+        let design = ufcsr::format::parse_json::<ufcsr::format::Design>(&path, bytes, "design").ok()?;
         let plan = crate::design::plan::plan_checked(design, &path).ok()?;
         let limits = crate::design::checks::check_inputs(&plan).ok()?;
         Some((plan, limits))
@@ -84,8 +86,10 @@ fn tiny_design() -> Option<&'static (crate::design::plan::Plan, crate::design::c
 /// required to match, so the checks past them are reached).
 pub fn design_task(bytes: &[u8]) {
     let path = Path::new(NOWHERE).join("tasks/task-0000/task.json");
-    let Ok(task) = ufcsr::parse_json::<ufcsr::DesignTask>(&path, bytes, "design task") else { return };
-    if ufcsr::check_version(&path, &task.schema, ufcsr::DESIGN_TASK_SCHEMA).is_err() {
+    let Ok(task) = ufcsr::format::parse_json::<ufcsr::format::DesignTask>(&path, bytes, "design task") else {
+        return;
+    };
+    if ufcsr::format::check_version(&path, &task.schema, ufcsr::format::DESIGN_TASK_SCHEMA).is_err() {
         return;
     }
     let Some((plan, limits)) = tiny_design() else { return };

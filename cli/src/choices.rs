@@ -47,8 +47,8 @@ mirror! {
 }
 
 mirror! {
-    /// Which eyes must read a candidate for a frame to count ([`ufcsr::EyeRule`]).
-    EyeRule => ufcsr::EyeRule {
+    /// Which eyes must read a candidate for a frame to count ([`ufcsr::placement::EyeRule`]).
+    EyeRule => ufcsr::placement::EyeRule {
         /// Either eye (the default).
         Any,
         /// Every eye of the archive.
@@ -57,8 +57,8 @@ mirror! {
 }
 
 mirror! {
-    /// Columns of `parts.csv` ([`ufcsr::CsvStyle`]).
-    CsvStyle => ufcsr::CsvStyle {
+    /// Columns of `parts.csv` ([`ufcsr::output::CsvStyle`]).
+    CsvStyle => ufcsr::output::CsvStyle {
         Report,
         Paper,
     }
@@ -106,8 +106,8 @@ mod capture {
     }
 
     mirror! {
-        /// Traffic for the demo ([`ufcsr_capture::DemoTraffic`]): a second pickup, the truck's twin.
-        DemoTraffic => ufcsr_capture::DemoTraffic {
+        /// Traffic for the demo ([`ufcsr_capture::scene::DemoTraffic`]): a second pickup, the truck's twin.
+        DemoTraffic => ufcsr_capture::scene::DemoTraffic {
             /// Beside the truck, a lane to the side of the pedestrian and 2 m ahead (the
             /// multiple-threat crossing).
             AdjacentLane,
@@ -117,8 +117,8 @@ mod capture {
     }
 
     mirror! {
-        /// A body of the parametric family ([`ufcsr_capture::BodyType`]; docs/vehicles.md).
-        BodyType => ufcsr_capture::BodyType {
+        /// A body of the parametric family ([`ufcsr_capture::scene::BodyType`]; docs/vehicles.md).
+        BodyType => ufcsr_capture::scene::BodyType {
             Sedan,
             Suv,
             Van,
@@ -128,8 +128,8 @@ mod capture {
     }
 
     mirror! {
-        /// What a study compares ([`ufcsr_capture::StudyMeasure`]).
-        StudyMeasure => ufcsr_capture::StudyMeasure {
+        /// What a study compares ([`ufcsr_capture::study::StudyMeasure`]).
+        StudyMeasure => ufcsr_capture::study::StudyMeasure {
             /// The paper's count, once per eye-frame (texels seen per eye-frame) ↔
             /// any-part visibility.
             Count,

@@ -104,11 +104,11 @@ fn write_man_pages(
     dir: &Path,
     console: &Console,
 ) -> anyhow::Result<Vec<PathBuf>> {
-    ufcsr::create_output_dir(dir)?;
+    ufcsr::files::create_output_dir(dir)?;
     let mut written = Vec::new();
     for (name, page) in pages(&command, program) {
         let path = dir.join(format!("{name}.1"));
-        ufcsr::write_bytes_atomically(&path, &render(page)?)?;
+        ufcsr::files::write_bytes_atomically(&path, &render(page)?)?;
         console.wrote(&path);
         written.push(path);
     }

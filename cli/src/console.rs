@@ -283,7 +283,7 @@ pub fn interruption_message(removed: usize, unfinished: &[std::path::PathBuf]) -
          part of it and no earlier capture's manifest.json, so it is marked unfinished ({}) and the analyzer \
          refuses it; capture again (or add --resume)",
         folders.join(", "),
-        ufcsr::UNFINISHED_FILE
+        ufcsr::files::UNFINISHED_FILE
     )
 }
 

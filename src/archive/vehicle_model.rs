@@ -73,9 +73,9 @@ impl VehicleModel {
     /// the file (node transforms applied) taken into the vehicle frame by
     /// [`FileAxes::of`] (glTF's axes, or an old ufcsr file's z-up frame), with
     /// the UVs of set 0. Buffers may be the GLB's chunk, `data:` URIs or files
-    /// beside the model (see [`crate::read_gltf`]). A primitive without UVs or
+    /// beside the model (see [`crate::files::read_gltf`]). A primitive without UVs or
     /// triangles, or with a vertex that is not finite or beyond
-    /// [`crate::MAX_COORDINATE_M`], is an error naming it and the file.
+    /// [`crate::files::MAX_COORDINATE_M`], is an error naming it and the file.
     pub fn read(path: &Path) -> Result<VehicleModel> {
         VehicleModel::read_with(path, Uvs::Required)
     }

@@ -15,7 +15,7 @@
 //! kind. One sequence per manifest: each sequence is one run of the scenario.
 //!
 //! The JSON is read by typed serde records with the fields ufcsr uses (the
-//! rest of SOLO's record is ignored), through [`crate::read_limited`].
+//! rest of SOLO's record is ignored), through [`crate::files::read_limited`].
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Component, Path, PathBuf};

@@ -4,7 +4,7 @@
 //! A model names other files (glTF buffers, an OBJ's `mtllib`), and a loader
 //! that opens them itself can hang on a FIFO or read `/dev/zero` until memory
 //! runs out. So the model and every file it names are read through
-//! [`crate::read_limited`] (regular files only, never blocking, bounded), and
+//! [`crate::files::read_limited`] (regular files only, never blocking, bounded), and
 //! one rule says which files a model may name:
 //!
 //! **Containment rule.** A file a model names is either a `data:` URI (its

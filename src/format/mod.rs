@@ -30,14 +30,42 @@
 //! `Format::of::<study::StudyFile>("study.schema.json"),`; then regenerate
 //! the schemas with the command above.
 
-pub mod design;
-pub mod manifest;
-pub mod observers;
-pub mod placement;
-pub mod placement_csv;
-pub mod result;
-pub mod study;
-pub mod timings;
+pub(crate) mod design;
+pub(crate) mod manifest;
+pub(crate) mod observers;
+pub(crate) mod placement;
+pub(crate) mod placement_csv;
+pub(crate) mod result;
+pub(crate) mod study;
+pub(crate) mod timings;
+
+pub use design::{
+    BestPlacement, BodyDimsOverride, CandidateSummary, CandidateValue, CellLevels, Crossing,
+    DESIGN_RESULT_SCHEMA, DESIGN_SCHEMA, DESIGN_TASK_SCHEMA, Design, DesignMeasure, DesignPopulation,
+    DesignResult, DesignTask, GroupSummary, LevelEffect, MainEffect, MeanInterval, ScenarioLevel,
+    ScenarioSource, StreetScenario, TrafficKind, TrafficLevel, UnitValues, VehicleLevel,
+};
+pub use manifest::{
+    CaptureRecord, DemoScenario, EyePose, EyeProjectionRecord, FollowRecord, FrameEntry, LabelsRecord,
+    OccluderPose, PaintedByPart, PedestrianSetting, PoseRecord, RigRecord, RigSettings, ScenarioRecord,
+    SceneRecord, ShardRecord, TrackKey, TrafficRecord, UnwrapRecord,
+};
+pub use observers::{
+    CoarserCapture, DEFAULT_TRUNCATE_SD, DisplayOverObservers, OBSERVERS_SCHEMA, ObserverDisplayRecord,
+    ObserverDisplays, ObserverPlace, ObserverPopulation, ObserverRecord, ObserverSampling, ObserverStudy,
+    PartOverObservers, PopulationValue, ResolutionCheck, StatureGroup, US_ADULTS_SOURCE,
+};
+pub use placement::{
+    ArchiveRecord, CandidateRecord, CombinationRecord, ExcludedRecord, ExclusionReason, ExposureRecord,
+    MemberRecord, PlacementDocument, RunnerUpRecord, SensitivityRecord, SensitivitySet, ThresholdsRecord,
+    UncertaintyRecord,
+};
+pub use placement_csv::{PLACEMENT_FRAMES_OPTIONAL, PLACEMENT_TABLE_LIMIT, PlacementFrameRow};
+pub use result::{
+    ColorTexels, CountMeasure, DedupeReport, FailedImage, ImageCounts, PartMeasure, PixelCounts, ResultFile,
+    Settings, StrayImage, TexelCountsJson, TrimReport, UnlabelledReport,
+};
+pub use timings::{TIMINGS_SCHEMA, TimingsFile};
 
 pub use study::{ErrorVsExact, ExactReference, ShareError, Study, StudyPick, StudyRow};
 

@@ -199,7 +199,7 @@ pub struct DisplayOverObservers {
     pub candidate: String,
     /// `part` or `patch`.
     pub kind: String,
-    /// Legible seconds under the placement answer's default rule ([`crate::Thresholds::default`]).
+    /// Legible seconds under the placement answer's default rule ([`crate::placement::Thresholds::default`]).
     pub legible_s: PopulationValue,
 }
 

@@ -1,11 +1,11 @@
 //! The paths of a written result set ([`WrittenFiles`]): what
-//! [`crate::write_results`] returns and what the report page links to.
+//! [`crate::output::write_results`] returns and what the report page links to.
 
 use std::path::{Path, PathBuf};
 
 use crate::output::plots::Plot;
 
-/// The files [`crate::write_results`] wrote.
+/// The files [`crate::output::write_results`] wrote.
 #[derive(Debug, Clone)]
 pub struct WrittenFiles {
     pub result_json: PathBuf,

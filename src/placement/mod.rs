@@ -25,19 +25,31 @@
 //! the chosen placements drawn on the vehicle and [`literature`] the
 //! places published studies tested, scored as named candidates.
 
-pub mod choices;
-pub mod eligible;
-pub mod footprints;
-pub mod legibility;
-pub mod literature;
-pub mod picture;
-pub mod regions;
-pub mod report;
-pub mod search;
-pub mod sensitivity;
-pub mod table;
-pub mod texel_sample;
-pub mod uncertainty;
+pub(crate) mod choices;
+pub(crate) mod eligible;
+pub(crate) mod footprints;
+pub(crate) mod legibility;
+pub(crate) mod literature;
+pub(crate) mod picture;
+pub(crate) mod regions;
+pub(crate) mod report;
+pub(crate) mod search;
+pub(crate) mod sensitivity;
+pub(crate) mod table;
+pub(crate) mod texel_sample;
+pub(crate) mod uncertainty;
+
+pub use eligible::{Fit, default_exclusions, default_not_mountable, excluded_line, exclusions};
+pub use legibility::{ArchiveTimelines, Timeline};
+pub use literature::{
+    LocationScore, PUBLISHED_LOCATIONS, PUBLISHED_LOCATIONS_FILE, PlaceScore, PublishedLocation, Zone,
+    format_published_locations, published_locations, write_published_locations,
+};
+pub use report::{NO_SET_LEGIBLE, WrittenPlacement, format_placement};
+pub use uncertainty::{
+    BestShares, NO_CANDIDATE_LEGIBLE, ONE_UNIT, best_shares, bootstrap_weights, t_interval,
+    t_interval_signed, tied as tied_scores, tied_best_credits,
+};
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};

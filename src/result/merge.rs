@@ -31,7 +31,7 @@ use crate::{
 /// Stray colour examples kept in a result.
 const EXAMPLES: usize = crate::result::model::STRAY_EXAMPLES;
 
-/// Merges shard results into one analysis (write it with [`crate::write_results`]).
+/// Merges shard results into one analysis (write it with [`crate::output::write_results`]).
 pub fn merge_results(paths: &[PathBuf]) -> Result<Analysis> {
     let first_path =
         paths.first().ok_or_else(|| Error::BadOptions("merge needs at least one result.json".into()))?;

@@ -145,7 +145,7 @@ fn background_notes(inputs: &Inputs) -> Vec<String> {
     notes
 }
 
-/// Every file the analysis read: [`crate::write_results`] refuses to write over them.
+/// Every file the analysis read: [`crate::output::write_results`] refuses to write over them.
 fn input_files(summary: &Summary) -> Vec<PathBuf> {
     let inputs = summary.inputs;
     let mut input_files: Vec<PathBuf> =

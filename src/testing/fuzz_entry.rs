@@ -89,7 +89,7 @@ pub fn placement_table(bytes: &[u8]) {
 /// The patches' footprints (`placement-patches.csv`), as `placement` reads
 /// them beside a frames table.
 pub fn placement_patches(bytes: &[u8]) {
-    in_file(crate::PLACEMENT_PATCHES_FILE, bytes, |folder| {
+    in_file(crate::placement::PLACEMENT_PATCHES_FILE, bytes, |folder| {
         let frames = folder.join(crate::format::placement_csv::PLACEMENT_FRAMES_FILE);
         let _ = crate::placement::footprints::read_footprints(&frames);
     });

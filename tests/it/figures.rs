@@ -11,7 +11,7 @@ fn example_results(dir: &Path) -> PathBuf {
     let options = ufcsr::AnalyzeOptions { archive: example, frames: true, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
     let out = dir.join("results");
-    ufcsr::write_results(&mut analysis, &out).unwrap();
+    ufcsr::output::write_results(&mut analysis, &out).unwrap();
     out
 }
 
@@ -36,7 +36,7 @@ fn printed_font_sizes_pt(svg: &str) -> (f64, Vec<f64>) {
         .skip(1)
         .map(|tag| {
             let size: f64 = attribute(&tag[..tag.find('>').unwrap()], "font-size").unwrap().parse().unwrap();
-            size * mm_per_unit / ufcsr::MM_PER_PT
+            size * mm_per_unit / ufcsr::output::MM_PER_PT
         })
         .collect();
     (width_mm, sizes)
@@ -44,7 +44,7 @@ fn printed_font_sizes_pt(svg: &str) -> (f64, Vec<f64>) {
 
 #[test]
 fn every_plot_is_svg_pdf_and_png_at_both_column_widths_with_text_of_at_least_7_pt() {
-    if !ufcsr::plot_font_available() {
+    if !ufcsr::output::plot_font_available() {
         eprintln!("skipped: no TrueType font (UFCSR_FONT or DejaVu Sans) to draw labels with");
         return;
     }
@@ -62,7 +62,7 @@ fn every_plot_is_svg_pdf_and_png_at_both_column_widths_with_text_of_at_least_7_p
             assert!(sizes.len() > 5, "{plot}{suffix}.svg has {} texts", sizes.len());
             let smallest = sizes.iter().copied().fold(f64::MAX, f64::min);
             assert!(
-                smallest >= ufcsr::MIN_TEXT_PT - 1e-6,
+                smallest >= ufcsr::output::MIN_TEXT_PT - 1e-6,
                 "{plot}{suffix}.svg: {smallest:.2} pt at {width} mm"
             );
             let pdf = std::fs::read(stem.with_extension("pdf")).unwrap();
@@ -101,7 +101,7 @@ fn image_size(path: &Path) -> [u32; 2] {
 
 #[test]
 fn the_series_are_okabe_ito_colors_and_every_axis_says_quantity_and_unit() {
-    if !ufcsr::plot_font_available() {
+    if !ufcsr::output::plot_font_available() {
         eprintln!("skipped: no TrueType font (UFCSR_FONT or DejaVu Sans) to draw labels with");
         return;
     }
@@ -109,7 +109,8 @@ fn the_series_are_okabe_ito_colors_and_every_axis_says_quantity_and_unit() {
     let out = example_results(dir.path());
     let svg = std::fs::read_to_string(out.join("plots/visibility-time.svg")).unwrap();
     let hex = |c: &[u8; 3]| format!("#{:02X}{:02X}{:02X}", c[0], c[1], c[2]);
-    let used: Vec<String> = ufcsr::OKABE_ITO.iter().map(hex).filter(|c| svg.contains(c.as_str())).collect();
+    let used: Vec<String> =
+        ufcsr::output::OKABE_ITO.iter().map(hex).filter(|c| svg.contains(c.as_str())).collect();
     assert!(used.len() >= 3, "the series use {used:?} of the Okabe–Ito palette");
     // matplotlib's default cycle (tab10) is gone.
     for old in ["#1F77B4", "#FF7F0E", "#2CA02C"] {
@@ -137,7 +138,7 @@ fn the_report_leads_with_the_quoted_measures_and_says_it_needs_its_folder() {
     let out = example_results(dir.path());
     let page = std::fs::read_to_string(out.join("report.html")).unwrap();
     let first_table = page.find("<table").unwrap();
-    let heading = page.find(ufcsr::QUOTED_HEADING).expect("no table of the quoted measures");
+    let heading = page.find(ufcsr::output::QUOTED_HEADING).expect("no table of the quoted measures");
     assert!(heading < first_table, "the first table is not the quoted measures");
     let table = &page[first_table..page[first_table..].find("</table>").unwrap() + first_table];
     assert!(table.contains("angular area (deg²·s)") && table.contains("exposure (s)"), "{table}");
@@ -149,7 +150,7 @@ fn the_report_leads_with_the_quoted_measures_and_says_it_needs_its_folder() {
         page.find("Paper-compatible: the per-texel count per part").expect("no paper-compatible table");
     assert!(paper > first_table);
     // Pictures are linked, not embedded: the page says it needs its folder.
-    assert!(page.find(ufcsr::NEEDS_ITS_FOLDER).unwrap() < first_table);
+    assert!(page.find(ufcsr::output::NEEDS_ITS_FOLDER).unwrap() < first_table);
     assert!(page.contains("src=\"views.png\"") || page.contains("src=\"heatmap.png\""));
     assert!(!page.contains("src=\"data:"));
 }
@@ -187,7 +188,7 @@ fn per_texel_angular_area_adds_up_to_each_parts_angular_area() {
     }
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("results");
-    ufcsr::write_results(&mut analysis, &out).unwrap();
+    ufcsr::output::write_results(&mut analysis, &out).unwrap();
     assert_eq!(image_size(&out.join("heatmap-area.png")), image_size(&out.join("heatmap.png")));
     let page = std::fs::read_to_string(out.join("report.html")).unwrap();
     let area_section =
@@ -216,15 +217,15 @@ fn area_max_sets_the_top_of_the_area_heatmap_and_the_values_are_kept() {
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("results");
-    ufcsr::write_results(&mut analysis, &out).unwrap();
+    ufcsr::output::write_results(&mut analysis, &out).unwrap();
     let decoder = png::Decoder::new(std::io::BufReader::new(
         std::fs::File::open(out.join("heatmap-area.png")).unwrap(),
     ));
     let mut reader = decoder.read_info().unwrap();
     let mut rgb = vec![0; reader.output_buffer_size().unwrap()];
     reader.next_frame(&mut rgb).unwrap();
-    assert_eq!(&rgb[at * 3..at * 3 + 3], &ufcsr::plasma(0.5), "the largest texel at half the scale");
-    assert!(!rgb.chunks_exact(3).any(|p| p == ufcsr::plasma(1.0)), "nothing reaches the top");
+    assert_eq!(&rgb[at * 3..at * 3 + 3], &ufcsr::output::plasma(0.5), "the largest texel at half the scale");
+    assert!(!rgb.chunks_exact(3).any(|p| p == ufcsr::output::plasma(1.0)), "nothing reaches the top");
     let json = std::fs::read_to_string(out.join("result.json")).unwrap();
     assert!(json.contains("\"heatmap_area_max\""));
     let palette = &analysis.result.settings.palette;
@@ -254,7 +255,7 @@ fn per_texel_angular_area_is_on_by_default_and_off_when_asked() {
     assert!(analysis.result.measures.is_some(), "the part measures are still there");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("results");
-    ufcsr::write_results(&mut analysis, &out).unwrap();
+    ufcsr::output::write_results(&mut analysis, &out).unwrap();
     assert!(!out.join("heatmap-area.png").exists());
     assert!(!out.join(ufcsr::TEXEL_AREA_FILE).exists());
     assert!(out.join("heatmap.png").exists());
@@ -268,8 +269,8 @@ fn figures_off_writes_no_figure_and_the_same_tables() {
     let options = ufcsr::AnalyzeOptions { archive: example, frames: true, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
     let plain = dir.path().join("plain");
-    let set = ufcsr::ResultSetOptions { figures: ufcsr::Figures::None, ..Default::default() };
-    let written = ufcsr::write_results_with(&mut analysis, &plain, &set).unwrap();
+    let set = ufcsr::output::ResultSetOptions { figures: ufcsr::output::Figures::None, ..Default::default() };
+    let written = ufcsr::output::write_results_with(&mut analysis, &plain, &set).unwrap();
     for figure in ["plots", "views", "views.png", "views.pdf", "map.png", "frames-strip.png"] {
         assert!(!plain.join(figure).exists(), "{figure} was written with the figures off");
     }

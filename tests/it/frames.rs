@@ -6,7 +6,7 @@ use crate::common;
 
 use std::path::{Path, PathBuf};
 
-use ufcsr::{AnalyzeOptions, Dedupe, analyze, write_results};
+use ufcsr::{AnalyzeOptions, Dedupe, analyze, output::write_results};
 
 fn example() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example")

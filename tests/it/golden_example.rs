@@ -47,7 +47,7 @@ fn the_example_analysed_as_the_command_line_does_writes_the_checked_in_result_by
     let example = workspace_file("fixtures/example");
     let options = ufcsr::AnalyzeOptions { archive: example.clone(), frames: true, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
-    ufcsr::write_results(&mut analysis, dir.path()).unwrap();
+    ufcsr::output::write_results(&mut analysis, dir.path()).unwrap();
     let read = |name: &str| std::fs::read_to_string(dir.path().join(name)).unwrap();
     let result = with_relative_example_path(&read("result.json"), &example);
     assert_same_as_reference(&result, "tests/reference/example-result.json");

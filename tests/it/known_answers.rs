@@ -4,7 +4,7 @@ use crate::common;
 
 use common::*;
 use ufcsr::{AnalyzeOptions, Dedupe, PaletteChoice, TrimMode, analyze};
-use ufcsr::{HeatmapOptions, Scale, plasma};
+use ufcsr::{HeatmapOptions, Scale, output::plasma};
 
 #[test]
 fn counts_once_per_image_and_joins_parts() {
@@ -71,13 +71,14 @@ fn a_json_legend_gives_the_same_table_as_the_csv() {
 #[test]
 fn heatmap_pixels_follow_plasma() {
     let counts = [0, 2, 2, 1, 0, 1];
-    let linear = ufcsr::render_heatmap(&counts, 3, HeatmapOptions::default());
-    assert_eq!(&linear[0..3], &ufcsr::NEVER_SEEN, "never-seen texels are the no-data grey");
+    let linear = ufcsr::output::render_heatmap(&counts, 3, HeatmapOptions::default());
+    assert_eq!(&linear[0..3], &ufcsr::output::NEVER_SEEN, "never-seen texels are the no-data grey");
     assert_eq!(&linear[3..6], &plasma(1.0));
     assert_eq!(&linear[9..12], &plasma(0.5));
-    let log = ufcsr::render_heatmap(&counts, 3, HeatmapOptions { scale: Scale::Log, max: None });
+    let log = ufcsr::output::render_heatmap(&counts, 3, HeatmapOptions { scale: Scale::Log, max: None });
     assert_eq!(&log[9..12], &plasma(2f64.ln() / 3f64.ln()));
-    let shared = ufcsr::render_heatmap(&counts, 3, HeatmapOptions { scale: Scale::Linear, max: Some(4) });
+    let shared =
+        ufcsr::output::render_heatmap(&counts, 3, HeatmapOptions { scale: Scale::Linear, max: Some(4) });
     assert_eq!(&shared[3..6], &plasma(0.5));
 }
 
@@ -178,7 +179,7 @@ fn result_json_round_trips_and_regenerates_the_heatmap() {
     let heatmap = HeatmapOptions { scale: Scale::Log, max: Some(5) };
     let mut analysis = analyze(&AnalyzeOptions { heatmap, ..known_options(dir.path()) }, None).unwrap();
     let out = dir.path().join("out");
-    let written = ufcsr::write_results(&mut analysis, &out).unwrap();
+    let written = ufcsr::output::write_results(&mut analysis, &out).unwrap();
     let stored = ufcsr::read_texel_counts(&written.result_json).unwrap();
     assert_eq!(stored.texel_counts, analysis.texel_counts);
     assert_eq!((stored.width, stored.height, stored.scale, stored.max), (4, 4, Scale::Log, Some(5)));
@@ -201,10 +202,10 @@ fn parts_csv_in_the_papers_style_keeps_the_old_columns_precision_and_legend_orde
     std::fs::write(dir.path().join("parts.csv"), "name,color\nC,#0000FF\nA,#FF0000\nB,#00FF00\n").unwrap();
     let mut analysis = analyze(&known_options(dir.path()), None).unwrap();
     let out = dir.path().join("out");
-    let written = ufcsr::write_results_with(
+    let written = ufcsr::output::write_results_with(
         &mut analysis,
         &out,
-        &ufcsr::ResultSetOptions { csv_style: ufcsr::CsvStyle::Paper, ..Default::default() },
+        &ufcsr::output::ResultSetOptions { csv_style: ufcsr::output::CsvStyle::Paper, ..Default::default() },
     )
     .unwrap();
     let csv = std::fs::read_to_string(written.parts_csv.unwrap()).unwrap();
@@ -217,7 +218,7 @@ fn parts_csv_in_the_papers_style_keeps_the_old_columns_precision_and_legend_orde
              C,0,0,0,0,0,0\nA,4,5,2,1.25,{share_a},75\nB,4,1,1,0.25,{share_b},25\n"
         )
     );
-    let report = ufcsr::write_results(&mut analysis, &out).unwrap();
+    let report = ufcsr::output::write_results(&mut analysis, &out).unwrap();
     let csv = std::fs::read_to_string(report.parts_csv.unwrap()).unwrap();
     let rows: Vec<&str> = csv.lines().skip(1).map(|row| row.split(',').next().unwrap()).collect();
     assert_eq!(rows, ["A", "B", "C"]);

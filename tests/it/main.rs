@@ -11,6 +11,7 @@
 
 mod common;
 
+mod api_surface;
 mod architecture_page;
 mod bad_input;
 mod doc_links;

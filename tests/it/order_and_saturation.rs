@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use ufcsr::{AnalyzeOptions, Shard, analyze, merge_results, write_results};
+use ufcsr::{AnalyzeOptions, Shard, analyze, merge_results, output::write_results};
 
 fn example() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example")

@@ -328,7 +328,7 @@ fn the_finder_sees_a_path_taking_call_however_it_is_written_and_not_in_tests() {
     let fine = [
         "use plotters::prelude::*; fn f(s: &mut String) { SVGBackend::with_string(s, (9, 6)); }",
         "fn f() { let w = csv::Writer::from_writer(Vec::new()); Gpu::create(backend); }",
-        "fn f(p: &Path) { ufcsr::write_bytes_atomically(p, b\"\"); crate::files::open_regular(p); }",
+        "fn f(p: &Path) { ufcsr::files::write_bytes_atomically(p, b\"\"); crate::files::open_regular(p); }",
         "#[cfg(test)] mod tests { fn f(p: &Path) { csv::Writer::from_path(p); std::fs::write(p, b\"\"); } }",
         "#[test] fn t() { std::fs::write(\"x\", b\"\").unwrap(); }",
         "impl S { #[cfg(test)] fn f(p: &Path) { gltf::Gltf::open(p); } }",
@@ -400,7 +400,7 @@ fn no_path_is_opened_outside_the_file_layer_by_std_or_a_dependency() {
     assert!(
         found.is_empty(),
         "path-taking calls outside src/files/ (hand them bytes or an impl Write from the file layer: \
-         ufcsr::write_atomically, write_bytes_atomically, read_limited, open_regular):\n{}",
+         ufcsr::files::write_atomically, write_bytes_atomically, read_limited, open_regular):\n{}",
         found.join("\n")
     );
 }

@@ -7,8 +7,8 @@
 use std::path::{Path, PathBuf};
 
 use ufcsr::{
-    CharacterHeight, EyeRule, Method, Objective, PlacementOptions, Resampling, Thresholds, brute_force_best,
-    placement,
+    PlacementOptions, placement, placement::CharacterHeight, placement::EyeRule, placement::Method,
+    placement::Objective, placement::Resampling, placement::Thresholds, placement::brute_force_best,
 };
 
 use crate::schemas::validator;
@@ -288,9 +288,9 @@ fn the_greedy_bound_holds_and_greedy_is_within_one_minus_one_over_e() {
 #[test]
 fn placement_json_matches_its_schema_which_is_its_types_schema() {
     // docs/schemas/placement.schema.json is generated from the type placement.json is written
-    // through (ufcsr::SCHEMAS; schemas::committed_schemas_equal_the_generated_ones holds it).
+    // through (ufcsr::format::SCHEMAS; schemas::committed_schemas_equal_the_generated_ones holds it).
     let file = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("docs/schemas/placement.schema.json");
-    let entry = ufcsr::SCHEMAS.iter().find(|f| f.schema_file == "placement.schema.json").unwrap();
+    let entry = ufcsr::format::SCHEMAS.iter().find(|f| f.schema_file == "placement.schema.json").unwrap();
     assert_eq!(std::fs::read_to_string(&file).unwrap(), entry.text());
     let dir = tempfile::tempdir().unwrap();
     let (paths, _) = random_instance(dir.path(), 7, 2, 5, 20);
@@ -301,7 +301,7 @@ fn placement_json_matches_its_schema_which_is_its_types_schema() {
     let document = validator::read_json(&written.json);
     schema.assert_valid(&document, "placement.json");
     assert_eq!(document["schema"], "ufcsr-placement/2");
-    let read: ufcsr::PlacementDocument = serde_json::from_value(document.clone()).unwrap();
+    let read: ufcsr::format::PlacementDocument = serde_json::from_value(document.clone()).unwrap();
     assert_eq!(read, found.document, "placement.json reads back to what was written");
     let csv = std::fs::read_to_string(&written.csv).unwrap();
     assert!(csv.starts_with("rank,candidate,kind,legible_s"));
@@ -451,14 +451,16 @@ fn a_part_narrower_than_the_display_is_never_best_and_a_wider_one_scores_its_bes
     let best_part = document
         .combinations
         .iter()
-        .find(|c| c.kind == ufcsr::CandidateKind::Part && c.k == 1 && c.objective == Objective::Mean)
+        .find(|c| {
+            c.kind == ufcsr::placement::CandidateKind::Part && c.k == 1 && c.objective == Objective::Mean
+        })
         .unwrap();
     assert_eq!(best_part.candidates(), vec!["front_bumper".to_string()]);
     assert!(
         document.combinations.iter().all(|c| !c.candidates().contains(&"windshield_rail_left".to_string()))
     );
     let rail = document.excluded.iter().find(|e| e.candidate == "windshield_rail_left").unwrap();
-    assert_eq!(rail.reason, ufcsr::ExclusionReason::NoDisplayFits);
+    assert_eq!(rail.reason, ufcsr::format::ExclusionReason::NoDisplayFits);
     let console = ufcsr::format_placement(&found, 10);
     assert!(console.contains("no display fits (exposure only): windshield_rail_left"), "{console}");
     // One archive: no P(best), said.

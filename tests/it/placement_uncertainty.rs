@@ -8,7 +8,7 @@
 
 use std::path::{Path, PathBuf};
 
-use ufcsr::{CharacterHeight, PlacementOptions, Resampling, placement};
+use ufcsr::{PlacementOptions, placement, placement::CharacterHeight, placement::Resampling};
 
 use crate::placement::{options, plain};
 
@@ -139,7 +139,9 @@ fn the_interval_covers_the_truth_in_90_to_99_percent_and_p_best_is_roughly_calib
             ..options(paths.clone())
         };
         let found = placement(&options).unwrap();
-        for c in found.document.combinations.iter().filter(|c| c.objective == ufcsr::Objective::Mean) {
+        for c in
+            found.document.combinations.iter().filter(|c| c.objective == ufcsr::placement::Objective::Mean)
+        {
             let set: Vec<usize> = c.candidates().iter().map(|n| n[1..].parse::<usize>().unwrap()).collect();
             let truth = expected_seconds(&set);
             let [low, high] = c.interval_s.expect("six archives give an interval");
@@ -194,7 +196,7 @@ fn the_character_height_not_the_display_height_meets_the_threshold() {
     let dir = tempfile::tempdir().unwrap();
     let path = approaching_patch(dir.path(), "door@0.40x0.15@x1.00y0.90z1.00", 0.15, 0.0);
     let first = |character_height| {
-        let thresholds = ufcsr::Thresholds { character_height, min_characters: 0, ..plain() };
+        let thresholds = ufcsr::placement::Thresholds { character_height, min_characters: 0, ..plain() };
         let found = placement(&PlacementOptions { thresholds, ..options(vec![path.clone()]) }).unwrap();
         found.document.candidates[0].first_legible_distance_m.unwrap()
     };
@@ -219,7 +221,7 @@ fn a_display_too_narrow_for_its_characters_when_seen_obliquely_is_not_legible() 
     let dir = tempfile::tempdir().unwrap();
     let legible_s = |name: &str, angle: f64| {
         let path = approaching_patch(&dir.path().join(format!("{name}{angle}")), name, 0.15, angle);
-        let thresholds = ufcsr::Thresholds {
+        let thresholds = ufcsr::placement::Thresholds {
             character_height: CharacterHeight::Fraction(0.5),
             min_characters: 4,
             ..plain()
@@ -239,7 +241,7 @@ fn legible_runs_shorter_than_the_dwell_do_not_count() {
     let rows: Vec<Sighting> = (0..40).map(|f| part(f, "hood", f < 5 || (10..30).contains(&f))).collect();
     let path = table(dir.path(), "t.csv", 10.0, &rows);
     let with_dwell = |dwell: f64| {
-        let thresholds = ufcsr::Thresholds { min_dwell_s: dwell, ..plain() };
+        let thresholds = ufcsr::placement::Thresholds { min_dwell_s: dwell, ..plain() };
         let found = placement(&PlacementOptions { thresholds, ..options(vec![path.clone()]) }).unwrap();
         found.document.candidates[0].legible_s
     };
@@ -289,7 +291,7 @@ fn near_patches_are_one_region_so_the_answer_lists_distinct_places() {
         rows.push((f, "door@0.40x0.15@x1.00y0.90z1.00", "patch", if f >= 10 { 1.0 } else { 0.0 }, 10.0, 1.0));
     }
     let path = table(dir.path(), "t.csv", 10.0, &rows);
-    let thresholds = ufcsr::Thresholds { min_characters: 0, ..plain() };
+    let thresholds = ufcsr::placement::Thresholds { min_characters: 0, ..plain() };
     let found = placement(&PlacementOptions { thresholds, ..options(vec![path.clone()]) }).unwrap();
     let best2 = found.document.combinations.iter().find(|c| c.k == 2).unwrap();
     assert_eq!(best2.candidates(), [bumper[1], "door@0.40x0.15@x1.00y0.90z1.00"]);
@@ -332,7 +334,7 @@ fn patches_of_two_display_sizes_are_two_candidates() {
         paths.push(table(&folder, "placement-frames.csv", 10.0, &rows));
         let footprints = format!(
             "{}\n{old_name},1,0.9,1,0,1,0,0,0,1,{},{},\n",
-            ufcsr::PLACEMENT_PATCHES_COLUMNS.join(","),
+            ufcsr::placement::PLACEMENT_PATCHES_COLUMNS.join(","),
             size[0],
             size[1]
         );

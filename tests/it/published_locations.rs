@@ -9,7 +9,10 @@
 
 use std::path::{Path, PathBuf};
 
-use ufcsr::{PUBLISHED_LOCATIONS, placement, published_locations, write_published_locations};
+use ufcsr::{
+    placement, placement::PUBLISHED_LOCATIONS, placement::published_locations,
+    placement::write_published_locations,
+};
 
 const HEADER: &str = "frame,time_s,eye,distance_m,candidate,kind,solid_angle_sr,visible_fraction,\
                       view_angle_deg,angular_height_deg,frame_s";
@@ -108,12 +111,12 @@ fn each_published_place_takes_its_best_named_candidate_with_the_interval_over_ar
         "{text}"
     );
     assert!(lines.iter().any(|l| l.starts_with("side mirrors,") && l.contains(",part,0,,")), "{text}");
-    let console = ufcsr::format_published_locations(&scores, 2);
+    let console = ufcsr::placement::format_published_locations(&scores, 2);
     assert!(console.contains("published locations") && console.contains("none on this vehicle"), "{console}");
     assert!(console.contains("rank 4-5 (a tie of 2) of 6"), "a tie is printed as a tie: {console}");
     // An input is never replaced.
     let input_dir = tables[0].parent().unwrap();
-    let clash = input_dir.join(ufcsr::PUBLISHED_LOCATIONS_FILE);
+    let clash = input_dir.join(ufcsr::placement::PUBLISHED_LOCATIONS_FILE);
     std::fs::write(&clash, "mine").unwrap();
     let inputs = vec![clash.clone()];
     assert!(write_published_locations(&scores, input_dir, &inputs).is_err());
@@ -131,7 +134,9 @@ fn a_best_set_legible_for_no_time_names_no_candidate_anywhere_it_is_printed() {
     assert!(!best.is_empty(), "{console}");
     for line in best {
         assert!(
-            line.ends_with(ufcsr::NO_SET_LEGIBLE) && !line.contains("roof") && !line.contains("grill"),
+            line.ends_with(ufcsr::placement::NO_SET_LEGIBLE)
+                && !line.contains("roof")
+                && !line.contains("grill"),
             "{line}"
         );
     }

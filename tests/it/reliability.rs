@@ -146,11 +146,11 @@ fn results_never_overwrite_an_input() {
     options.legend = Some(legend.clone());
     let before = std::fs::read(&legend).unwrap();
     let mut analysis = analyze(&options, None).unwrap();
-    let error = ufcsr::write_results(&mut analysis, &archive).unwrap_err().to_string();
+    let error = ufcsr::output::write_results(&mut analysis, &archive).unwrap_err().to_string();
     assert!(error.contains("overwrite the input") && error.contains("parts.csv"), "{error}");
     assert_eq!(std::fs::read(&legend).unwrap(), before);
     // Anywhere else is fine.
-    ufcsr::write_results(&mut analysis, &dir.path().join("results")).unwrap();
+    ufcsr::output::write_results(&mut analysis, &dir.path().join("results")).unwrap();
 }
 
 #[test]
@@ -158,10 +158,10 @@ fn a_huge_heatmap_maximum_builds_no_huge_table() {
     // --max 4000000000 used to allocate a colour per possible count (12 GB).
     let counts = [0u32, 1, 5, 2];
     let options = ufcsr::HeatmapOptions { scale: ufcsr::Scale::Linear, max: Some(4_000_000_000) };
-    let rgb = ufcsr::render_heatmap(&counts, 2, options);
+    let rgb = ufcsr::output::render_heatmap(&counts, 2, options);
     assert_eq!(rgb.len(), 12);
     // Every count is far below the maximum: all at the bottom of the scale.
-    assert_eq!(&rgb[3..6], &ufcsr::plasma(0.0));
+    assert_eq!(&rgb[3..6], &ufcsr::output::plasma(0.0));
 }
 
 #[test]

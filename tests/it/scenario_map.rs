@@ -10,11 +10,11 @@ fn example() -> PathBuf {
 }
 
 /// The bundled example analysed into a temporary folder.
-fn example_results() -> (tempfile::TempDir, ufcsr::Analysis, ufcsr::WrittenFiles) {
+fn example_results() -> (tempfile::TempDir, ufcsr::Analysis, ufcsr::output::WrittenFiles) {
     let dir = tempfile::tempdir().unwrap();
     let options = ufcsr::AnalyzeOptions { archive: example(), ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
-    let written = ufcsr::write_results(&mut analysis, dir.path()).unwrap();
+    let written = ufcsr::output::write_results(&mut analysis, dir.path()).unwrap();
     (dir, analysis, written)
 }
 
@@ -29,7 +29,7 @@ fn rgb(path: &Path) -> (u32, Vec<u8>) {
 
 #[test]
 fn the_trajectory_is_drawn_where_the_manifest_puts_the_vehicle_in_its_times_color() {
-    if !ufcsr::plot_font_available() {
+    if !ufcsr::output::plot_font_available() {
         // Without a font the map is not written; the analysis test below checks that.
         return;
     }
@@ -37,11 +37,11 @@ fn the_trajectory_is_drawn_where_the_manifest_puts_the_vehicle_in_its_times_colo
     let track = ufcsr::ScenarioTrack::from_manifest(&manifest).unwrap();
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("map.png");
-    let scene = Ok(ufcsr::SceneShapes { occluders: Vec::new() });
-    let content = ufcsr::MapContent { track: &track, scene, vehicle: None, title: "A".into() };
-    let frame = ufcsr::write_scenario_map(&path, &content).unwrap();
+    let scene = Ok(ufcsr::output::SceneShapes { occluders: Vec::new() });
+    let content = ufcsr::output::MapContent { track: &track, scene, vehicle: None, title: "A".into() };
+    let frame = ufcsr::output::write_scenario_map(&path, &content).unwrap();
     let (width, pixels) = rgb(&path);
-    assert_eq!(width, ufcsr::MAP_SIZE.0);
+    assert_eq!(width, ufcsr::output::MAP_SIZE.0);
     let (start, end) = (track.frames[0].time_s, track.frames.last().unwrap().time_s);
     let mut matching = 0;
     let segments = track.frames.windows(2).count();
@@ -50,7 +50,7 @@ fn the_trajectory_is_drawn_where_the_manifest_puts_the_vehicle_in_its_times_colo
         let (x, y) = frame.pixel(middle);
         let i = (y as usize * width as usize + x as usize) * 3;
         let share = ((pair[0].time_s + pair[1].time_s) / 2.0 - start) / (end - start);
-        if pixels[i..i + 3] == ufcsr::time_color(share) {
+        if pixels[i..i + 3] == ufcsr::output::time_color(share) {
             matching += 1;
         }
     }
@@ -61,9 +61,9 @@ fn the_trajectory_is_drawn_where_the_manifest_puts_the_vehicle_in_its_times_colo
 #[test]
 fn an_analysis_with_a_manifest_writes_the_map() {
     let (dir, _, written) = example_results();
-    let map = dir.path().join(ufcsr::MAP_FILE);
-    assert_eq!(written.map_png.as_deref(), ufcsr::plot_font_available().then_some(map.as_path()));
-    assert_eq!(map.is_file(), ufcsr::plot_font_available());
+    let map = dir.path().join(ufcsr::output::MAP_FILE);
+    assert_eq!(written.map_png.as_deref(), ufcsr::output::plot_font_available().then_some(map.as_path()));
+    assert_eq!(map.is_file(), ufcsr::output::plot_font_available());
     // The report shows the scenario (from the manifest) and the map, and
     // the views before the heatmap texture.
     let page = std::fs::read_to_string(dir.path().join("report.html")).unwrap();
@@ -71,7 +71,7 @@ fn an_analysis_with_a_manifest_writes_the_map() {
     assert!(
         page.contains("<tr><th>pedestrian</th><td>standing, eyes at (-5.5, -5.5) m, 1.75 m high</td></tr>")
     );
-    assert_eq!(page.contains("<img src=\"map.png\""), ufcsr::plot_font_available());
+    assert_eq!(page.contains("<img src=\"map.png\""), ufcsr::output::plot_font_available());
     let position = |text: &str| page.find(text).unwrap_or_else(|| panic!("no {text} in the report"));
     assert!(position("<h2>The scenario") < position("<h2>Paper-compatible"));
     assert!(position("<h2>The heatmap on the vehicle") < position("<h2>The heatmap texture"));
@@ -80,21 +80,21 @@ fn an_analysis_with_a_manifest_writes_the_map() {
 #[test]
 fn the_frame_strip_shows_frames_of_one_eye_in_part_colors() {
     let (dir, analysis, written) = example_results();
-    let strip = dir.path().join(ufcsr::FRAME_STRIP_FILE);
+    let strip = dir.path().join(ufcsr::output::FRAME_STRIP_FILE);
     assert_eq!(written.frames_strip_png.as_deref(), Some(strip.as_path()));
     let (width, pixels) = rgb(&strip);
     let height = (pixels.len() / 3) as u32 / width;
     // One row of frames, scaled to the strip's height, under a row of labels.
-    assert_eq!(height, ufcsr::STRIP_FRAME_HEIGHT + 34);
+    assert_eq!(height, ufcsr::output::STRIP_FRAME_HEIGHT + 34);
     let mut allowed: Vec<[u8; 3]> =
         analysis.result.parts.iter().filter_map(|part| part.color).map(|color| color.rgb()).collect();
-    allowed.extend([ufcsr::STRIP_BACKGROUND, ufcsr::STRIP_UNLABELLED, [255, 255, 255]]);
+    allowed.extend([ufcsr::output::STRIP_BACKGROUND, ufcsr::output::STRIP_UNLABELLED, [255, 255, 255]]);
     let below_labels = &pixels[(34 * width * 3) as usize..];
     let mut parts_shown = std::collections::BTreeSet::new();
     for pixel in below_labels.chunks(3) {
         let color = [pixel[0], pixel[1], pixel[2]];
         assert!(allowed.contains(&color), "{color:?} is no part's colour");
-        if color != ufcsr::STRIP_BACKGROUND && color != [255, 255, 255] {
+        if color != ufcsr::output::STRIP_BACKGROUND && color != [255, 255, 255] {
             parts_shown.insert(color);
         }
     }

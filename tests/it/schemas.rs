@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{Value, json};
 use ufcsr::{
-    AnalyzeOptions, Dedupe, HeatmapOptions, Manifest, Scale, Shard, TrimMode, analyze, write_results,
+    AnalyzeOptions, Dedupe, HeatmapOptions, Manifest, Scale, Shard, TrimMode, analyze, output::write_results,
 };
 
 fn workspace_file(relative: &str) -> PathBuf {
@@ -185,7 +185,7 @@ const REGENERATE: &str = "UFCSR_WRITE_SCHEMAS=1 cargo test -p ufcsr --test it sc
 fn committed_schemas_equal_the_generated_ones() {
     let write = std::env::var_os("UFCSR_WRITE_SCHEMAS").is_some_and(|v| v == "1");
     let mut stale = Vec::new();
-    for format in ufcsr::SCHEMAS {
+    for format in ufcsr::format::SCHEMAS {
         let path = workspace_file("docs/schemas").join(format.schema_file);
         let generated = format.text();
         if write {
@@ -204,7 +204,7 @@ fn committed_schemas_equal_the_generated_ones() {
 
 #[test]
 fn every_generated_schema_compiles_as_draft_2020_12() {
-    for format in ufcsr::SCHEMAS {
+    for format in ufcsr::format::SCHEMAS {
         Schema::load(&workspace_file("docs/schemas").join(format.schema_file));
     }
 }

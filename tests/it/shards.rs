@@ -6,7 +6,7 @@ use crate::common;
 
 use std::path::{Path, PathBuf};
 
-use ufcsr::{AnalyzeOptions, Dedupe, Shard, analyze, merge_results, write_results};
+use ufcsr::{AnalyzeOptions, Dedupe, Shard, analyze, merge_results, output::write_results};
 
 fn result_of(options: &AnalyzeOptions, out: &Path) -> PathBuf {
     let mut analysis = analyze(options, None).expect("analysis");

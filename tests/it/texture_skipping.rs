@@ -5,7 +5,7 @@
 
 use crate::common;
 
-use ufcsr::{Shard, analyze, merge_results, write_results};
+use ufcsr::{Shard, analyze, merge_results, output::write_results};
 
 #[test]
 fn a_palette_sized_png_beside_the_tiles_is_left_out_and_reported() {

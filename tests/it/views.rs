@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 /// while the plasma scale has no grey.
 fn colored_pixels(path: &Path) -> (usize, usize) {
     let (width, _, pixels) = rgb(path);
-    let compass = 68 * ufcsr::DEFAULT_VIEWS_SCALE as usize;
+    let compass = 68 * ufcsr::output::DEFAULT_VIEWS_SCALE as usize;
     let (mut seen, mut vehicle) = (0, 0);
     for (index, p) in pixels.chunks(3).enumerate() {
         let (x, y) = (index % width as usize, index / width as usize);
@@ -38,7 +38,7 @@ fn eight_views_show_the_heatmap_where_the_pedestrian_looked() {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
     let options = ufcsr::AnalyzeOptions { archive: example, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
-    let written = ufcsr::write_results(&mut analysis, dir.path()).unwrap();
+    let written = ufcsr::output::write_results(&mut analysis, dir.path()).unwrap();
     assert_eq!(written.views_png.as_deref(), Some(dir.path().join("views.png").as_path()));
     let share = |name: &str| {
         let (seen, vehicle) = colored_pixels(&dir.path().join(format!("views/{name}.png")));
@@ -58,7 +58,7 @@ fn example_results() -> tempfile::TempDir {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
     let options = ufcsr::AnalyzeOptions { archive: example, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
-    ufcsr::write_results(&mut analysis, dir.path()).unwrap();
+    ufcsr::output::write_results(&mut analysis, dir.path()).unwrap();
     dir
 }
 
@@ -98,7 +98,7 @@ fn the_compass_marks_the_pedestrian_on_the_vehicles_front_right() {
     // in every frame: green dots in the compass's upper-right quarter only.
     let dir = example_results();
     let (width, height, pixels) = rgb(&dir.path().join("views/rear.png"));
-    let scale = ufcsr::DEFAULT_VIEWS_SCALE;
+    let scale = ufcsr::output::DEFAULT_VIEWS_SCALE;
     assert_eq!((width, height), (400 * scale, 300 * scale));
     let centre = ((width - 34 * scale) as usize, (34 * scale) as usize);
     let (mut front_right, mut elsewhere) = (0, 0);
@@ -117,9 +117,9 @@ fn the_compass_marks_the_pedestrian_on_the_vehicles_front_right() {
     // to print at 7 pt or more at 183 mm (views.pdf).
     assert_eq!(sheet_width, 4 * 400 * scale);
     assert!(sheet_height > 2 * 300 * scale + 96 * scale, "{sheet_height}");
-    let size = ufcsr::sheet_text_px(sheet_width);
-    let em_pt = size / 1.24 / f64::from(sheet_width) * 183.0 / ufcsr::MM_PER_PT;
-    assert!(em_pt >= ufcsr::MIN_TEXT_PT, "{em_pt} pt");
+    let size = ufcsr::output::sheet_text_px(sheet_width);
+    let em_pt = size / 1.24 / f64::from(sheet_width) * 183.0 / ufcsr::output::MM_PER_PT;
+    assert!(em_pt >= ufcsr::output::MIN_TEXT_PT, "{em_pt} pt");
     let pdf = std::fs::read(dir.path().join("views.pdf")).unwrap();
     assert!(pdf.starts_with(b"%PDF-") && pdf.trim_ascii_end().ends_with(b"%%EOF"));
     let head = String::from_utf8_lossy(&pdf[..pdf.len().min(2000)]).into_owned();

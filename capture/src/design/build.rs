@@ -5,7 +5,9 @@
 
 use std::path::{Path, PathBuf};
 
-use ufcsr::{CellLevels, Design, ScenarioSource, TrafficKind, VehicleLevel};
+use ufcsr::{
+    format::CellLevels, format::Design, format::ScenarioSource, format::TrafficKind, format::VehicleLevel,
+};
 
 use crate::error::{CaptureError, Result};
 use crate::scene::Scene;
@@ -113,13 +115,13 @@ fn street_as_scene(mesh: &Mesh, options: &StreetOptions) -> Result<Scene> {
     Ok(Scene {
         name: scenario.name.clone(),
         vehicle: mesh.clone(),
-        info: ufcsr::SceneRecord {
+        info: ufcsr::format::SceneRecord {
             name: scenario.name.clone(),
             environment: Some(
                 "the raycasting study's street (two-way two-lane, walkways, alleyways; docs/design.md)"
                     .into(),
             ),
-            ..ufcsr::SceneRecord::default()
+            ..ufcsr::format::SceneRecord::default()
         },
         occluders,
         rig,

@@ -15,7 +15,7 @@
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
-use ufcsr::CellLevels;
+use ufcsr::format::CellLevels;
 
 use super::build::{cell_scene_with, vehicle_model};
 use super::plan::Plan;

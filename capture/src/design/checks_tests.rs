@@ -7,7 +7,7 @@
 
 use std::path::{Path, PathBuf};
 
-use ufcsr::DesignTask;
+use ufcsr::format::DesignTask;
 
 use super::checks::check_inputs;
 use super::merge::merge_design;
@@ -38,7 +38,7 @@ fn a_vast_crossing_is_counted_and_refused_before_any_cell_is_listed() {
     value["scenarios"] = (0..1000)
         .map(|i| serde_json::json!({"name": format!("s{i}"), "kind": "demo", "scenario": "A"}))
         .collect();
-    let design: ufcsr::Design = serde_json::from_value(value).unwrap();
+    let design: ufcsr::format::Design = serde_json::from_value(value).unwrap();
     assert_eq!(cell_count(&design), 1_000_000);
     LISTED_CELLS.with(|n| n.set(0));
     let refused = plan_checked(design, Path::new("big.json")).unwrap_err().to_string();

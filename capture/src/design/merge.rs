@@ -7,7 +7,10 @@
 
 use std::path::Path;
 
-use ufcsr::{DESIGN_RESULT_SCHEMA, DESIGN_TASK_SCHEMA, DesignResult, DesignTask, GroupSummary, MainEffect};
+use ufcsr::{
+    format::DESIGN_RESULT_SCHEMA, format::DESIGN_TASK_SCHEMA, format::DesignResult, format::DesignTask,
+    format::GroupSummary, format::MainEffect,
+};
 
 use super::plan::Plan;
 use super::run::{TASK_FILE, task_dir};
@@ -29,9 +32,9 @@ fn read_task(plan: &Plan, out: &Path, index: u32) -> Result<Option<DesignTask>> 
     if !path.exists() {
         return Ok(None);
     }
-    let bytes = ufcsr::read_limited(&path, ufcsr::SMALL_INPUT_LIMIT)?;
-    let task: DesignTask = ufcsr::parse_json(&path, &bytes, "design task")?;
-    ufcsr::check_version(&path, &task.schema, DESIGN_TASK_SCHEMA)?;
+    let bytes = ufcsr::files::read_limited(&path, ufcsr::files::SMALL_INPUT_LIMIT)?;
+    let task: DesignTask = ufcsr::format::parse_json(&path, &bytes, "design task")?;
+    ufcsr::format::check_version(&path, &task.schema, DESIGN_TASK_SCHEMA)?;
     if task.design_hash != plan.hash {
         return Err(CaptureError::bad_file(
             &path,

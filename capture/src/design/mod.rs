@@ -17,23 +17,34 @@
 //! [`task_checks`] checks every value a merge reads, [`output`] writes the
 //! result files as one set. `docs/design.md` is the user's page.
 
-pub mod build;
-pub mod checks;
+pub(crate) mod build;
+pub(crate) mod checks;
 #[cfg(test)]
 mod checks_tests;
-pub mod merge;
-pub mod output;
-pub mod plan;
-pub mod report;
-pub mod run;
-pub mod stats;
-pub mod task_checks;
+pub(crate) mod merge;
+pub(crate) mod output;
+pub(crate) mod plan;
+pub(crate) mod report;
+pub(crate) mod run;
+pub(crate) mod stats;
+pub(crate) mod task_checks;
 #[cfg(test)]
 mod tests;
 
+pub use checks::check_inputs as check_design_inputs;
+pub use merge::{merge_design, read_tasks};
+pub use output::write_result_set as write_design_result_set;
+pub use plan::{MAX_TASKS, Plan, PlannedTask, plan_checked, plan_design};
+pub use report::write_result as write_design_result;
+pub use run::{TASK_FILE, candidate_values, derived_seed, run_task, task_dir, write_task};
+pub use stats::{
+    CellData, INTERVAL_METHOD, Pair, cell_data, group_summary, main_effects, mean_interval, p_best,
+};
+pub use task_checks::check_task as check_design_task;
+
 use std::path::Path;
 
-use ufcsr::DesignTask;
+use ufcsr::format::DesignTask;
 
 use crate::error::Result;
 use plan::Plan;

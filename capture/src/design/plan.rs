@@ -10,7 +10,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use ufcsr::{
-    CellLevels, Crossing, DESIGN_SCHEMA, Design, ScenarioLevel, ScenarioSource, TrafficKind, TrafficLevel,
+    format::CellLevels, format::Crossing, format::DESIGN_SCHEMA, format::Design, format::ScenarioLevel,
+    format::ScenarioSource, format::TrafficKind, format::TrafficLevel,
 };
 
 use crate::error::{CaptureError, Result};
@@ -60,9 +61,9 @@ pub fn fnv1a_hex(bytes: &[u8]) -> String {
 
 /// Reads, checks and plans the design file `path`.
 pub fn plan_design(path: &Path) -> Result<Plan> {
-    let bytes = ufcsr::read_limited(path, ufcsr::SMALL_INPUT_LIMIT)?;
-    let design: Design = ufcsr::parse_json(path, &bytes, "design")?;
-    ufcsr::check_version(path, &design.schema, DESIGN_SCHEMA)?;
+    let bytes = ufcsr::files::read_limited(path, ufcsr::files::SMALL_INPUT_LIMIT)?;
+    let design: Design = ufcsr::format::parse_json(path, &bytes, "design")?;
+    ufcsr::format::check_version(path, &design.schema, DESIGN_SCHEMA)?;
     plan_checked(design, path)
 }
 
@@ -291,7 +292,7 @@ pub fn kinds_fit(scenario: &ScenarioSource, traffic: &TrafficKind) -> bool {
 pub fn input_hashes(base: &Path, files: &[PathBuf]) -> Result<BTreeMap<String, String>> {
     let mut hashes = BTreeMap::new();
     for file in files {
-        let bytes = ufcsr::read_limited(file, ufcsr::MODEL_LIMIT)?;
+        let bytes = ufcsr::files::read_limited(file, ufcsr::files::MODEL_LIMIT)?;
         // `./x.mtl` (an OBJ beside a design in the working folder names its MTL so) is `x.mtl`.
         let relative: PathBuf = file
             .strip_prefix(base)

@@ -8,7 +8,10 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use ufcsr::{DesignResult, GroupSummary, MainEffect, MeanInterval, html_escape as esc};
+use ufcsr::{
+    format::DesignResult, format::GroupSummary, format::MainEffect, format::MeanInterval,
+    output::html_escape as esc,
+};
 
 use crate::error::{CaptureError, Result};
 
@@ -169,8 +172,8 @@ pub fn csv(result: &DesignResult) -> String {
             let _ = writeln!(
                 text,
                 "{},{},{},{},{},{},{}",
-                ufcsr::csv_field(&group.group),
-                ufcsr::csv_field(&c.name),
+                ufcsr::output::csv_field(&group.group),
+                ufcsr::output::csv_field(&c.name),
                 c.kind,
                 csv_interval(&c.legible_s),
                 csv_interval(&c.decision_window_legible_s),
@@ -185,8 +188,8 @@ pub fn csv(result: &DesignResult) -> String {
             let _ = writeln!(
                 text,
                 "{},{},{kind},{},,,,,,,{}",
-                ufcsr::csv_field(&group),
-                ufcsr::csv_field(&e.candidate),
+                ufcsr::output::csv_field(&group),
+                ufcsr::output::csv_field(&e.candidate),
                 csv_interval(v),
                 v.n
             );
@@ -202,13 +205,13 @@ pub fn csv(result: &DesignResult) -> String {
 
 /// Writes `design.json`, `design.csv` and `design.html` into `dir`, never over one of `inputs`.
 pub fn write_result(result: &DesignResult, dir: &Path, inputs: &[PathBuf]) -> Result<Vec<PathBuf>> {
-    ufcsr::create_output_dir(dir)?;
+    ufcsr::files::create_output_dir(dir)?;
     let files = ["design.json", "design.csv", "design.html"].map(|f| dir.join(f));
-    ufcsr::refuse_overwriting_inputs(&files, inputs)?;
+    ufcsr::files::refuse_overwriting_inputs(&files, inputs)?;
     let json =
         serde_json::to_vec_pretty(result).map_err(|e| CaptureError::bad_file(&files[0], e.to_string()))?;
-    ufcsr::write_bytes_atomically(&files[0], &json)?;
-    ufcsr::write_bytes_atomically(&files[1], csv(result).as_bytes())?;
-    ufcsr::write_bytes_atomically(&files[2], page(result).as_bytes())?;
+    ufcsr::files::write_bytes_atomically(&files[0], &json)?;
+    ufcsr::files::write_bytes_atomically(&files[1], csv(result).as_bytes())?;
+    ufcsr::files::write_bytes_atomically(&files[2], page(result).as_bytes())?;
     Ok(files.to_vec())
 }

@@ -11,7 +11,10 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::time::Instant;
 
-use ufcsr::{CandidateValue, DESIGN_TASK_SCHEMA, DesignTask, ObserverSampling, Thresholds, UnitValues};
+use ufcsr::{
+    format::CandidateValue, format::DESIGN_TASK_SCHEMA, format::DesignTask, format::ObserverSampling,
+    format::UnitValues, placement::Thresholds,
+};
 
 use super::build::cell_scene;
 use super::plan::{Plan, PlannedTask};
@@ -40,7 +43,7 @@ pub fn task_relative(index: u32) -> PathBuf {
 /// read or written through one (a link planted there points outside the output folder).
 pub fn task_behind_link(out: &Path, index: u32) -> bool {
     let file = task_relative(index).join(TASK_FILE);
-    ufcsr::crosses_link(out, &file)
+    ufcsr::files::crosses_link(out, &file)
         || std::fs::symlink_metadata(out.join(&file)).is_ok_and(|m| m.file_type().is_symlink())
 }
 
@@ -62,8 +65,8 @@ pub fn completed(plan: &Plan, out: &Path, index: u32) -> Option<DesignTask> {
         return None;
     }
     let path = task_dir(out, index).join(TASK_FILE);
-    let bytes = ufcsr::read_limited(&path, ufcsr::SMALL_INPUT_LIMIT).ok()?;
-    let task: DesignTask = ufcsr::parse_json(&path, &bytes, "design task").ok()?;
+    let bytes = ufcsr::files::read_limited(&path, ufcsr::files::SMALL_INPUT_LIMIT).ok()?;
+    let task: DesignTask = ufcsr::format::parse_json(&path, &bytes, "design task").ok()?;
     (task.schema == DESIGN_TASK_SCHEMA && task.design_hash == plan.hash && task.task == index).then_some(task)
 }
 
@@ -85,7 +88,7 @@ pub(super) fn units(plan: &Plan, task: &PlannedTask, scene: &Scene) -> Result<Ve
         observers: population.observers,
         seed: derived_seed(design.seed, 1, &[u64::from(task.replicate)]),
     };
-    let rig_place = population.population.place == ufcsr::ObserverPlace::Rig;
+    let rig_place = population.population.place == ufcsr::format::ObserverPlace::Rig;
     let drawn = sample_observers(&population.population, &sampling, scene.rig.anchor().to_array())?;
     Ok(drawn
         .iter()
@@ -100,13 +103,13 @@ pub(super) fn units(plan: &Plan, task: &PlannedTask, scene: &Scene) -> Result<Ve
 
 /// Per candidate: legible seconds under the default rules, in all and inside the decision window,
 /// and angular area, deg²·s per eye. The seconds are the placement's own, from the same code
-/// (`ufcsr::timelines` and `ArchiveTimelines::exposure`, which `ufcsr placement` reports
+/// (`ufcsr::placement::timelines` and `ArchiveTimelines::exposure`, which `ufcsr placement` reports
 /// as `legible_s` and `decision_window_legible_s`): the dwell applies, and the window ends at the
 /// frame of the smallest vehicle–pedestrian distance.
-pub fn candidate_values(table: ufcsr::PlacementTable) -> Vec<CandidateValue> {
+pub fn candidate_values(table: ufcsr::placement::PlacementTable) -> Vec<CandidateValue> {
     let table = Arc::new(table);
     let eyes = table.eyes.len().max(1) as f64;
-    let scored = ufcsr::timelines(table.clone(), &Thresholds::default());
+    let scored = ufcsr::placement::timelines(table.clone(), &Thresholds::default());
     scored
         .timelines
         .iter()
@@ -161,8 +164,8 @@ fn measure_unit(
     };
     let measured = measure_unobstructed(device, queue, &scene, &scenario, &options, &measure_options)?;
     let written = measured.placement.ok_or_else(|| CaptureError::BadOptions("no placement table".into()))?;
-    let mut values = candidate_values(ufcsr::read_table(&written.csv)?);
-    let laid_out = ufcsr::read_footprints(&written.csv)?;
+    let mut values = candidate_values(ufcsr::placement::read_table(&written.csv)?);
+    let laid_out = ufcsr::placement::read_footprints(&written.csv)?;
     add_unseen_patches(&mut values, laid_out.keys());
     Ok(values)
 }
@@ -200,13 +203,13 @@ pub fn run_task(
     let level = design.vehicles.iter().find(|v| v.name == task.cell.vehicle);
     let display_m = level.and_then(|v| v.display_m);
     // Real folders, never links: a link planted at `tasks` or `task-NNNN` is replaced.
-    ufcsr::create_output_dir(out)?;
-    let dir = ufcsr::output_sub_dir(out, &task_relative(task.index))?;
+    ufcsr::files::create_output_dir(out)?;
+    let dir = ufcsr::files::output_sub_dir(out, &task_relative(task.index))?;
     let drawn = units(plan, task, &scene)?;
     let per_task = drawn.len() as u32;
     let mut values = Vec::with_capacity(drawn.len());
     for (i, unit) in drawn.iter().enumerate() {
-        let unit_dir = ufcsr::output_sub_dir(&dir, Path::new(&format!("unit-{i:03}")))?;
+        let unit_dir = ufcsr::files::output_sub_dir(&dir, Path::new(&format!("unit-{i:03}")))?;
         let candidates = measure_unit((device, queue), plan, &scene, (unit, display_m), &unit_dir)?;
         values.push(UnitValues {
             unit: task.replicate * per_task + i as u32,
@@ -233,9 +236,9 @@ pub fn run_task(
 /// Writes `task.json` into `dir`, atomically (a link at `dir` is replaced by a real folder;
 /// [`run_task`] has made the folders above real).
 pub fn write_task(task: &DesignTask, dir: &Path) -> Result<PathBuf> {
-    ufcsr::real_dir(dir)?;
+    ufcsr::files::real_dir(dir)?;
     let path = dir.join(TASK_FILE);
     let json = serde_json::to_vec_pretty(task).map_err(|e| CaptureError::bad_file(&path, e.to_string()))?;
-    ufcsr::write_bytes_atomically(&path, &json)?;
+    ufcsr::files::write_bytes_atomically(&path, &json)?;
     Ok(path)
 }

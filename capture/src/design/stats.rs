@@ -7,13 +7,13 @@
 //! per unit as the equal-weight mean over its cells (the fixed factors
 //! averaged within each draw), then over the units: the mean with its 95 %
 //! Student-t interval over the units, and P(best) by the bootstrap over
-//! units (`ufcsr::bootstrap_weights`, the placement's own resampler).
+//! units (`ufcsr::placement::bootstrap_weights`, the placement's own resampler).
 
 use std::collections::{BTreeMap, BTreeSet};
 
 use ufcsr::{
-    BestPlacement, CandidateSummary, CellLevels, DesignTask, GroupSummary, LevelEffect, MainEffect,
-    MeanInterval,
+    format::BestPlacement, format::CandidateSummary, format::CellLevels, format::DesignTask,
+    format::GroupSummary, format::LevelEffect, format::MainEffect, format::MeanInterval,
 };
 
 /// What the intervals are, written into the result.
@@ -77,7 +77,7 @@ pub fn cell_data(cells: &[CellLevels], tasks: &[DesignTask]) -> Vec<CellData> {
 pub fn mean_interval(values: &[f64]) -> MeanInterval {
     let n = values.len();
     let mean = if n == 0 { 0.0 } else { values.iter().sum::<f64>() / n as f64 };
-    MeanInterval { mean, ci95: ufcsr::t_interval(values), n: n as u32 }
+    MeanInterval { mean, ci95: ufcsr::placement::t_interval(values), n: n as u32 }
 }
 
 /// Per unit of the group (units every cell has), per candidate every cell
@@ -117,16 +117,16 @@ fn unit_means(cells: &[&CellData]) -> (Vec<String>, Vec<Vec<Pair>>) {
 
 /// The mean of a difference or an effect (may be negative) and its 95 % t interval.
 pub fn signed_interval(values: &[f64]) -> MeanInterval {
-    MeanInterval { ci95: ufcsr::t_interval_signed(values), ..mean_interval(values) }
+    MeanInterval { ci95: ufcsr::placement::t_interval_signed(values), ..mean_interval(values) }
 }
 
 /// Per candidate of `among`: the share of bootstrap resamples of the units in which it has the
 /// largest mean, exact ties sharing (each of t tied candidates 1/t), and the share in which it is
-/// within ε ([`ufcsr::DEFAULT_EPSILON_S`]) of the largest: the placement's own arithmetic
-/// ([`ufcsr::best_shares`]).
-pub fn p_best(per_unit: &[Vec<f64>], among: &[usize], seed: u64) -> ufcsr::BestShares {
-    let resampling = ufcsr::Resampling { replicates: P_BEST_REPLICATES, seed, epsilon_s: 0.0 };
-    let weights = ufcsr::bootstrap_weights(per_unit.len(), &resampling);
+/// within ε ([`ufcsr::placement::DEFAULT_EPSILON_S`]) of the largest: the placement's own arithmetic
+/// ([`ufcsr::placement::best_shares`]).
+pub fn p_best(per_unit: &[Vec<f64>], among: &[usize], seed: u64) -> ufcsr::placement::BestShares {
+    let resampling = ufcsr::placement::Resampling { replicates: P_BEST_REPLICATES, seed, epsilon_s: 0.0 };
+    let weights = ufcsr::placement::bootstrap_weights(per_unit.len(), &resampling);
     let draws = weights.iter().map(|w| {
         let total: f64 = w.iter().sum::<f64>().max(1.0);
         among
@@ -134,15 +134,15 @@ pub fn p_best(per_unit: &[Vec<f64>], among: &[usize], seed: u64) -> ufcsr::BestS
             .map(|&c| per_unit.iter().zip(w).map(|(row, w)| row[c] * w).sum::<f64>() / total)
             .collect::<Vec<f64>>()
     });
-    ufcsr::best_shares(draws, among.len(), ufcsr::DEFAULT_EPSILON_S)
+    ufcsr::placement::best_shares(draws, among.len(), ufcsr::placement::DEFAULT_EPSILON_S)
 }
 
 /// Why a group has no P(best) for the candidates `among`: one unit, or none legible.
 fn p_best_note(units: usize, among: &[&CandidateSummary]) -> Option<&'static str> {
     if units < 2 {
-        Some(ufcsr::ONE_UNIT)
+        Some(ufcsr::placement::ONE_UNIT)
     } else if among.iter().all(|c| c.legible_s.mean <= 0.0) {
-        Some(ufcsr::NO_CANDIDATE_LEGIBLE)
+        Some(ufcsr::placement::NO_CANDIDATE_LEGIBLE)
     } else {
         None
     }
@@ -150,10 +150,11 @@ fn p_best_note(units: usize, among: &[&CandidateSummary]) -> Option<&'static str
 
 /// The line naming every candidate the groups left out of their answers, and why (empty when none).
 pub fn left_out_line<'a>(groups: impl Iterator<Item = &'a GroupSummary>) -> String {
-    let mut excluded: Vec<ufcsr::ExcludedRecord> = groups.flat_map(|g| g.excluded.iter().cloned()).collect();
+    let mut excluded: Vec<ufcsr::format::ExcludedRecord> =
+        groups.flat_map(|g| g.excluded.iter().cloned()).collect();
     excluded.sort_by(|a, b| a.candidate.cmp(&b.candidate));
     excluded.dedup_by(|a, b| a.candidate == b.candidate);
-    ufcsr::excluded_line(&excluded)
+    ufcsr::placement::excluded_line(&excluded)
 }
 
 /// One group of cells scored (see the module documentation).
@@ -171,7 +172,7 @@ pub fn group_summary(group: String, cells: &[&CellData], seed: u64) -> GroupSumm
             angular_area_deg2_s: mean_interval(&column(c, |p| p.angular_area_deg2_s)),
         })
         .collect();
-    let excluded = ufcsr::default_exclusions(
+    let excluded = ufcsr::placement::default_exclusions(
         names.iter().map(|n| (n.as_str(), kinds.get(n).map_or("part", String::as_str))),
     );
     let legible: Vec<Vec<f64>> =
@@ -200,7 +201,7 @@ pub fn group_summary(group: String, cells: &[&CellData], seed: u64) -> GroupSumm
                 .filter(|other| {
                     other.name != c.name
                         && c.legible_s.mean > 0.0
-                        && ufcsr::tied_scores(other.legible_s.mean, c.legible_s.mean)
+                        && ufcsr::placement::tied_scores(other.legible_s.mean, c.legible_s.mean)
                 })
                 .map(|other| other.name.clone())
                 .collect();
@@ -211,7 +212,7 @@ pub fn group_summary(group: String, cells: &[&CellData], seed: u64) -> GroupSumm
                 legible_s: c.legible_s,
                 p_best: note.is_none().then_some(shares.p_best[o]),
                 p_within_epsilon: note.is_none().then_some(shares.p_within_epsilon[o]),
-                epsilon_s: Some(ufcsr::DEFAULT_EPSILON_S),
+                epsilon_s: Some(ufcsr::placement::DEFAULT_EPSILON_S),
                 tied_with,
                 p_best_note: note.map(String::from),
             });

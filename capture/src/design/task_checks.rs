@@ -12,7 +12,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use ufcsr::{CandidateValue, DesignTask, ScenarioSource, UnitValues};
+use ufcsr::{format::CandidateValue, format::DesignTask, format::ScenarioSource, format::UnitValues};
 
 use super::plan::Plan;
 use super::run::{TASK_FILE, task_dir};
@@ -73,7 +73,7 @@ fn check_unit(unit: &UnitValues, limit: f64) -> std::result::Result<(), String> 
             unit.eye_height_m
         ));
     }
-    if unit.position.iter().any(|p| !(p.is_finite() && p.abs() <= ufcsr::MAX_COORDINATE_M)) {
+    if unit.position.iter().any(|p| !(p.is_finite() && p.abs() <= ufcsr::files::MAX_COORDINATE_M)) {
         return Err(format!(".position {:?}: must be finite coordinates", unit.position));
     }
     let mut names = std::collections::BTreeSet::new();
@@ -128,7 +128,7 @@ fn named(tasks: &[u32]) -> String {
 
 /// Two tasks of one cell with the same unit number: the per-cell table would keep one.
 fn check_units_unique(out: &Path, tasks: &[DesignTask]) -> Result<()> {
-    let mut owner: BTreeMap<(&ufcsr::CellLevels, u32), u32> = BTreeMap::new();
+    let mut owner: BTreeMap<(&ufcsr::format::CellLevels, u32), u32> = BTreeMap::new();
     for task in tasks {
         for unit in &task.units {
             if let Some(first) = owner.insert((&task.cell, unit.unit), task.task) {
@@ -147,7 +147,7 @@ fn check_units_unique(out: &Path, tasks: &[DesignTask]) -> Result<()> {
 }
 
 /// Whether a task of `cell` reads a file (a model other than the demo, or a scene file).
-fn reads_files(plan: &Plan, cell: &ufcsr::CellLevels) -> bool {
+fn reads_files(plan: &Plan, cell: &ufcsr::format::CellLevels) -> bool {
     let design = &plan.design;
     let model = design
         .vehicles

@@ -5,7 +5,10 @@
 
 use std::path::{Path, PathBuf};
 
-use ufcsr::{CandidateValue, DESIGN_TASK_SCHEMA, Design, DesignTask, UnitValues};
+use ufcsr::{
+    format::CandidateValue, format::DESIGN_TASK_SCHEMA, format::Design, format::DesignTask,
+    format::UnitValues,
+};
 
 use super::merge::{display_effects, merge_design};
 use super::plan::{Plan, plan_checked, plan_design};
@@ -207,7 +210,7 @@ fn the_interval_of_a_vehicle_and_of_all_covers_the_known_mean_about_95_percent_o
         let data = cell_data(&plan.cells, &tasks);
         let vehicle: Vec<_> = data.iter().filter(|d| d.cell.vehicle == plan.cells[0].vehicle).collect();
         let all: Vec<_> = data.iter().collect();
-        let inside = |group: ufcsr::GroupSummary, truth: f64| {
+        let inside = |group: ufcsr::format::GroupSummary, truth: f64| {
             let a = group.candidates.iter().find(|c| c.name == "a").unwrap();
             let [lo, hi] = a.legible_s.ci95.unwrap();
             lo <= truth && truth <= hi
@@ -264,8 +267,9 @@ fn the_main_effects_intervals_cover_a_known_effect_about_95_percent_of_the_time(
         let data = cell_data(&plan.cells, &tasks);
         let effects = main_effects(&data.iter().collect::<Vec<_>>(), &["a".to_string()]);
         let of = |factor: &str| effects.iter().find(|e| e.factor == factor).unwrap();
-        let inside =
-            |v: &ufcsr::MeanInterval, truth: f64| v.ci95.is_some_and(|[lo, hi]| lo <= truth && truth <= hi);
+        let inside = |v: &ufcsr::format::MeanInterval, truth: f64| {
+            v.ci95.is_some_and(|[lo, hi]| lo <= truth && truth <= hi)
+        };
         let vehicle = of("vehicle");
         covered[0] += usize::from(vehicle.highest == vehicles[1] && inside(&vehicle.range_s, 1.5));
         let level = |name: &str| vehicle.levels.iter().find(|l| l.level == name).unwrap();
@@ -320,16 +324,17 @@ fn one_unit_or_nothing_legible_gives_no_p_best_and_ties_are_named() {
     let one = cell_data(&plan.cells, &tasks_of(&plan, 1, |_, _| 2.0));
     let summary = group_summary("one".into(), &[&one[0]], 1);
     assert!(
-        summary.best.iter().all(|b| b.p_best.is_none() && b.p_best_note.as_deref() == Some(ufcsr::ONE_UNIT))
+        summary
+            .best
+            .iter()
+            .all(|b| b.p_best.is_none() && b.p_best_note.as_deref() == Some(ufcsr::placement::ONE_UNIT))
     );
     // Candidates a and b both 0 s in every unit.
     let zero = cell_data(&plan.cells, &tasks_of(&plan, 4, |_, _| 0.0));
     let summary = group_summary("zero".into(), &[&zero[0]], 1);
     assert!(
-        summary
-            .best
-            .iter()
-            .all(|b| b.p_best.is_none() && b.p_best_note.as_deref() == Some(ufcsr::NO_CANDIDATE_LEGIBLE)),
+        summary.best.iter().all(|b| b.p_best.is_none()
+            && b.p_best_note.as_deref() == Some(ufcsr::placement::NO_CANDIDATE_LEGIBLE)),
         "{:?}",
         summary.best
     );
@@ -366,7 +371,7 @@ fn design_merge_never_picks_a_not_mountable_part_and_lists_it_with_the_reason() 
     for group in merged.vehicles.iter().chain([&merged.overall]) {
         assert!(group.best.iter().all(|b| b.name != "windshield"), "{:?}", group.best);
         let excluded = group.excluded.iter().find(|e| e.candidate == "windshield").expect("listed");
-        assert_eq!(excluded.reason, ufcsr::ExclusionReason::NotMountable);
+        assert_eq!(excluded.reason, ufcsr::format::ExclusionReason::NotMountable);
     }
     assert_eq!(merged.overall.best[0].name, "a");
     assert!(
@@ -403,7 +408,7 @@ fn a_tasks_legible_seconds_are_the_placement_commands_for_the_same_table() {
     }
     let path = dir.path().join("placement-frames.csv");
     std::fs::write(&path, text).unwrap();
-    let ours = candidate_values(ufcsr::read_table(&path).unwrap());
+    let ours = candidate_values(ufcsr::placement::read_table(&path).unwrap());
     let theirs = ufcsr::placement(&ufcsr::PlacementOptions::new(vec![path])).unwrap().document.candidates;
     for (name, legible_s, window_s) in [("a", 8.0, 4.0), ("b", 3.1, 2.0)] {
         let task = ours.iter().find(|c| c.name == name).unwrap();
@@ -540,8 +545,9 @@ fn a_displays_main_effects_are_within_its_vehicle_and_cover_a_known_traffic_effe
         let effects = display_effects(&data, &vehicles);
         let front =
             |factor: &str| effects.iter().find(|e| e.factor == factor && e.candidate == "p@front").unwrap();
-        let inside =
-            |v: &ufcsr::MeanInterval, truth: f64| v.ci95.is_some_and(|[lo, hi]| lo <= truth && truth <= hi);
+        let inside = |v: &ufcsr::format::MeanInterval, truth: f64| {
+            v.ci95.is_some_and(|[lo, hi]| lo <= truth && truth <= hi)
+        };
         let traffic = front("traffic");
         covered[0] += usize::from(traffic.highest == "none" && inside(&traffic.range_s, 1.2));
         covered[1] +=

@@ -41,7 +41,7 @@ pub fn totals(rows: &[&[f64]], parts: usize) -> Vec<f64> {
 
 /// The share error of `candidate` against `reference` (part totals of the
 /// same parts, in the same order); the type is `study.json`'s.
-pub use ufcsr::ShareError;
+pub use ufcsr::format::ShareError;
 
 fn shares(values: &[f64]) -> Vec<f64> {
     let sum: f64 = values.iter().sum();

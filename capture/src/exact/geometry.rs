@@ -92,7 +92,7 @@ pub fn eye_frames(
     scenario: &Scenario,
     frames: &[u32],
     obstacles: &Obstacles,
-) -> Result<(Vec<EyeFrame>, Vec<ufcsr::FrameEntry>)> {
+) -> Result<(Vec<EyeFrame>, Vec<ufcsr::format::FrameEntry>)> {
     let rig = &scene.rig;
     let mut eye_frames = Vec::with_capacity(frames.len() * 2);
     let mut records = Vec::with_capacity(frames.len());

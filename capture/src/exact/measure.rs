@@ -29,7 +29,7 @@ pub const MAX_TEXEL_SAMPLES: u32 = 16;
 /// What [`measure_unobstructed`] did.
 pub struct UnobstructedCapture {
     pub analysis: ufcsr::Analysis,
-    pub written: ufcsr::WrittenFiles,
+    pub written: ufcsr::output::WrittenFiles,
     pub sampled_texels: u64,
     /// Texels with a footprint on the mesh.
     pub labelled_texels: u64,
@@ -136,7 +136,7 @@ pub fn measure_unobstructed(
             sample_fraction: measure.sample,
             frame_s: measured.seconds_per_frame,
         };
-        let results = ufcsr::default_output_dir(&options.out);
+        let results = ufcsr::output::default_output_dir(&options.out);
         capture.placement = Some(write_placement_frames(&inputs, placement, &results).map_err(|error| {
             // The result set is written by now (and the patch table, if any):
             // a table over the cap fails the run after them.
@@ -173,12 +173,12 @@ fn write_results(
     let mut analysis = ufcsr::analyze_texel_counts(
         &analyze_options,
         texel_counts,
-        ufcsr::CountMeasure::Unobstructed,
+        ufcsr::format::CountMeasure::Unobstructed,
         notes,
     )?;
     analysis.result.measures = Some(measures_block(measure, measured, &estimates)?);
-    let results = ufcsr::default_output_dir(&options.out);
-    let written = ufcsr::write_results(&mut analysis, &results)?;
+    let results = ufcsr::output::default_output_dir(&options.out);
+    let written = ufcsr::output::write_results(&mut analysis, &results)?;
     let estimates_csv = results.join("unobstructed-parts.csv");
     write_estimates(&estimates_csv, &estimates)?;
     Ok(UnobstructedCapture {
@@ -232,7 +232,7 @@ fn measures_block(
 ) -> Result<ufcsr::Measures> {
     let eyes = 2.0;
     let seconds = measured.seconds_per_frame;
-    let parts: Vec<ufcsr::PartMeasure> = estimates
+    let parts: Vec<ufcsr::format::PartMeasure> = estimates
         .iter()
         .enumerate()
         .map(|(part, estimate)| {
@@ -241,7 +241,7 @@ fn measures_block(
                 .iter()
                 .filter(|&&seen| seen)
                 .count() as u64;
-            ufcsr::PartMeasure {
+            ufcsr::format::PartMeasure {
                 name: estimate.part.clone(),
                 pixels: estimate.sampled_total,
                 eye_frames_seen: seen,
@@ -279,5 +279,5 @@ fn write_estimates(path: &std::path::Path, estimates: &[PartEstimate]) -> Result
         table.serialize(estimate).map_err(|e| CaptureError::bad_file(path, format!("writing CSV: {e}")))?;
     }
     let bytes = table.into_inner().map_err(|e| CaptureError::io(path, e.into_error()))?;
-    Ok(ufcsr::write_bytes_atomically(path, &bytes)?)
+    Ok(ufcsr::files::write_bytes_atomically(path, &bytes)?)
 }

@@ -150,7 +150,7 @@ fn vehicle_spec(input: &Path) -> Result<(VehicleSpec, PathBuf)> {
     let base = input.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
     let is_scene = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if is_scene {
-        let bytes = ufcsr::read_limited(input, ufcsr::SMALL_INPUT_LIMIT)?;
+        let bytes = ufcsr::files::read_limited(input, ufcsr::files::SMALL_INPUT_LIMIT)?;
         let file: SceneFile = serde_json::from_slice(&bytes)
             .map_err(|e| CaptureError::bad_file(input, format!("invalid scene file: {e}")))?;
         return Ok((file.vehicle, base));
@@ -216,10 +216,13 @@ const OVERLAP_TITLE: &str = "The model's own UVs on a 1024² palette (u to the r
      the legend is below the palette's 1024 rows). Each texel centre one triangle covers is in its part's colour:";
 
 /// The overlap picture's legend: what red and white mean, then the parts.
-fn overlap_entries(parts: &[String], colors: &[Color]) -> Vec<ufcsr::LegendEntry> {
+fn overlap_entries(parts: &[String], colors: &[Color]) -> Vec<ufcsr::output::LegendEntry> {
     let mut entries = vec![
-        ufcsr::LegendEntry { color: OVERLAP_RED, label: "two or more triangles: the UVs overlap".into() },
-        ufcsr::LegendEntry { color: [255, 255, 255], label: "no triangle".into() },
+        ufcsr::output::LegendEntry {
+            color: OVERLAP_RED,
+            label: "two or more triangles: the UVs overlap".into(),
+        },
+        ufcsr::output::LegendEntry { color: [255, 255, 255], label: "no triangle".into() },
     ];
     entries.extend(crate::inspect::pictures::part_entries(parts, colors));
     entries
@@ -250,7 +253,7 @@ fn write_overlap_picture(mesh: &Mesh, colors: &[Color], out: &Path) -> Result<Op
     }
     let (rgb, size, _) = with_legend(&rgb, [w, h], OVERLAP_TITLE, &overlap_entries(&mesh.parts, colors));
     let path = out.join(OVERLAP_PICTURE);
-    ufcsr::write_rgb_png(&path, size, &rgb, png::Compression::Fast)?;
+    ufcsr::files::write_rgb_png(&path, size, &rgb, png::Compression::Fast)?;
     Ok(Some(path))
 }
 
@@ -282,7 +285,7 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
     let mut inputs = vec![options.input.clone()];
     inputs.extend(built.files.iter().cloned());
     crate::job::overwrite_guard::refuse_overwriting_inputs(out, &INSPECT_FILES, &[], &inputs)?;
-    ufcsr::create_output_dir(out)?;
+    ufcsr::files::create_output_dir(out)?;
     let pixels_per_metre = match options.pixels_per_metre {
         Some(ppm) if ppm.is_finite() && ppm > 0.0 && ppm <= 2000.0 => ppm,
         Some(ppm) => {
@@ -298,13 +301,13 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
         files.extend(write_overlap_picture(mesh, &colors, out)?);
     }
     let legend = out.join("inspect-parts.csv");
-    ufcsr::write_atomically(&legend, |w| {
+    ufcsr::files::write_atomically(&legend, |w| {
         writeln!(w, "name,color,triangles,area_m2")?;
         for part in &parts {
             writeln!(
                 w,
                 "{},{},{},{:.6}",
-                ufcsr::csv_field(&part.name),
+                ufcsr::output::csv_field(&part.name),
                 part.color,
                 part.triangles,
                 part.area_m2

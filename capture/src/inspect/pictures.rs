@@ -1,5 +1,5 @@
 //! Orthographic pictures of the vehicle with its parts coloured, for
-//! `inspect`, drawn with the analyzer's CPU rasterizer ([`ufcsr::ZBuffer`],
+//! `inspect`, drawn with the analyzer's CPU rasterizer ([`ufcsr::output::ZBuffer`],
 //! the one its eight heatmap views use) and written as PNG.
 //!
 //! Faces take their part's PIdT colour (the same [`crate::texture::pidt::part_colors`]
@@ -7,13 +7,13 @@
 //! so that the shape reads. A black cross marks the vehicle's origin, a grey
 //! line the ground (z = 0) and ticks every metre along the edges give scale.
 //! Under each picture a legend ([`with_legend`], the analyzer's
-//! [`ufcsr::TextLayout`]) says which way it looks, what the marks are, and
+//! [`ufcsr::output::TextLayout`]) says which way it looks, what the marks are, and
 //! names every part beside its colour (issue 35: the pictures had no key).
 
 use std::path::{Path, PathBuf};
 
 use glam::{DVec2, DVec3, dvec2};
-use ufcsr::{Color, LEGEND_TEXT_PX, LegendEntry, TextLayout, ZBuffer};
+use ufcsr::{Color, output::LEGEND_TEXT_PX, output::LegendEntry, output::TextLayout, output::ZBuffer};
 
 use crate::error::Result;
 use crate::scene::mesh::Mesh;
@@ -229,7 +229,7 @@ pub fn write_views(mesh: &Mesh, colors: &[Color], dir: &Path, pixels_per_metre: 
         let title = format!("{} {MARKS}", view.title());
         let (rgb, size, _) = with_legend(&canvas.rgb, [canvas.width, canvas.height], &title, &entries);
         let path = dir.join(format!("inspect-{}.png", view.name()));
-        ufcsr::write_rgb_png(&path, size, &rgb, png::Compression::Fast)?;
+        ufcsr::files::write_rgb_png(&path, size, &rgb, png::Compression::Fast)?;
         written.push(path);
     }
     Ok(written)
@@ -277,7 +277,7 @@ mod tests {
         let (rgb, [width, height], layout) =
             with_legend(&canvas.rgb, [canvas.width, canvas.height], View::Side.title(), &entries);
         assert_eq!(width, LEGEND_MIN_WIDTH, "a narrow picture is widened for its legend");
-        assert!(height > canvas.height + 2 * ufcsr::LEGEND_LINE, "{height}");
+        assert!(height > canvas.height + 2 * ufcsr::output::LEGEND_LINE, "{height}");
         // The drawing is unchanged at the top left.
         let at = |x: i32, y: i32| {
             let i = ((y as u32 * width + x as u32) * 3) as usize;

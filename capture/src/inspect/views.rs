@@ -1,12 +1,12 @@
 //! A result's eight heatmap views redrawn from its folder: `ufcsr views
 //! RESULTS` (another scale, the count instead of the area, another model).
-//! The pictures are the analysis' own ([`ufcsr::write_views`], on the CPU),
+//! The pictures are the analysis' own ([`ufcsr::output::write_views`], on the CPU),
 //! so `cli/tests/it/views.rs` holds a redraw to the analysis' views pixel
 //! for pixel.
 
 use std::path::{Path, PathBuf};
 
-use ufcsr::{VehicleModel, ViewTexture, WrittenViews};
+use ufcsr::{VehicleModel, output::ViewTexture, output::WrittenViews};
 
 use crate::error::{CaptureError, Result};
 
@@ -63,15 +63,15 @@ pub fn view_values(options: &ViewsOptions) -> Result<ViewValues> {
         ufcsr::read_texel_area_in(&options.results, counts.width, counts.height)?
     };
     if let Some(values) = area {
-        let area = ufcsr::AreaLevels::new(&values);
+        let area = ufcsr::output::AreaLevels::new(&values);
         return Ok(ViewValues {
             heatmap: ufcsr::HeatmapOptions { scale: counts.scale, max: area.top(counts.area_max) },
             quantum: Some(area.quantum),
             levels: area.levels,
             width: counts.width,
             height: counts.height,
-            caption: ufcsr::area_views_caption(scenario),
-            unit: ufcsr::AREA_UNIT.to_string(),
+            caption: ufcsr::output::area_views_caption(scenario),
+            unit: ufcsr::output::AREA_UNIT.to_string(),
             inputs: vec![json, options.results.join(ufcsr::TEXEL_AREA_FILE)],
             archive: counts.archive,
         });
@@ -79,8 +79,8 @@ pub fn view_values(options: &ViewsOptions) -> Result<ViewValues> {
     Ok(ViewValues {
         heatmap: ufcsr::HeatmapOptions { scale: counts.scale, max: counts.max },
         quantum: None,
-        caption: ufcsr::views_caption(counts.measure, &counts.archive, scenario),
-        unit: ufcsr::measure_unit(counts.measure).to_string(),
+        caption: ufcsr::output::views_caption(counts.measure, &counts.archive, scenario),
+        unit: ufcsr::output::measure_unit(counts.measure).to_string(),
         levels: counts.texel_counts,
         width: counts.width,
         height: counts.height,
@@ -119,7 +119,7 @@ pub fn views_from_results(options: &ViewsOptions) -> Result<WrittenViews> {
     };
     let out = options.out.clone().unwrap_or_else(|| options.results.clone());
     let mut outputs: Vec<String> =
-        ufcsr::DIRECTIONS.iter().map(|(name, _)| format!("views/{name}.png")).collect();
+        ufcsr::output::DIRECTIONS.iter().map(|(name, _)| format!("views/{name}.png")).collect();
     outputs.push("views.png".into());
     outputs.push("views.pdf".into());
     crate::job::overwrite_guard::refuse_overwriting_inputs(
@@ -128,7 +128,7 @@ pub fn views_from_results(options: &ViewsOptions) -> Result<WrittenViews> {
         &[],
         &values.inputs.iter().cloned().chain([model_path]).collect::<Vec<_>>(),
     )?;
-    Ok(ufcsr::write_views(&model, &texture, &out)?)
+    Ok(ufcsr::output::write_views(&model, &texture, &out)?)
 }
 
 #[cfg(test)]
@@ -143,16 +143,16 @@ mod tests {
         // The per-texel pass is off by default (its cost, docs/performance.md).
         let options = ufcsr::AnalyzeOptions { archive, frames: true, texel_area: true, ..Default::default() };
         let mut analysis = ufcsr::analyze(&options, None).unwrap();
-        ufcsr::write_results(&mut analysis, &results).unwrap();
+        ufcsr::output::write_results(&mut analysis, &results).unwrap();
         let area = analysis.texel_angular_area.clone().unwrap();
         let mut options =
             ViewsOptions { results: results.clone(), model: None, out: None, views_scale: 1, count: false };
         // By default: the analysis' own area levels, the area caption and unit.
         let values = view_values(&options).unwrap();
-        let expected = ufcsr::AreaLevels::new(&area);
+        let expected = ufcsr::output::AreaLevels::new(&area);
         assert_eq!(values.levels, expected.levels);
         assert_eq!(values.quantum, Some(expected.quantum));
-        assert_eq!(values.unit, ufcsr::AREA_UNIT);
+        assert_eq!(values.unit, ufcsr::output::AREA_UNIT);
         assert!(values.inputs.contains(&results.join(ufcsr::TEXEL_AREA_FILE)));
         // --count: the paper's count from result.json.
         options.count = true;

@@ -83,7 +83,7 @@ fn shell_quote(text: &str) -> String {
 
 /// Reads and checks a batch file.
 pub fn load(path: &Path) -> Result<Batch> {
-    let bytes = ufcsr::read_limited(path, 16 << 20)?;
+    let bytes = ufcsr::files::read_limited(path, 16 << 20)?;
     let mut batch: Batch = serde_json::from_slice(&bytes)
         .map_err(|e| CaptureError::bad_file(path, format!("invalid batch file: {e}")))?;
     batch.path = path.to_path_buf();

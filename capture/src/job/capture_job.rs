@@ -113,7 +113,7 @@ pub fn prepare_archive(
         Fcsp::Image { .. } => {
             // The archive carries its palette so that it stands alone.
             let path = out.join("palette.png");
-            ufcsr::write_rgb_png(
+            ufcsr::files::write_rgb_png(
                 &path,
                 [palette_size[0], palette_size[1]],
                 &texel_rgb,
@@ -159,12 +159,12 @@ pub(crate) fn prepare_folder(scene: &Scene, options: &CaptureOptions) -> Result<
         &ARCHIVE_FOLDERS,
         &capture_inputs(scene, options),
     )?;
-    ufcsr::create_output_dir(out)?;
+    ufcsr::files::create_output_dir(out)?;
     crate::job::overwrite_guard::unlink_owned_folders(out, &ARCHIVE_FOLDERS)?;
     // Issue 41: the folder is marked unfinished until the whole manifest is
     // written, so what an interruption leaves is refused by the analyzer
     // (and the interrupt message says so).
-    ufcsr::mark_unfinished(out)?;
+    ufcsr::files::mark_unfinished(out)?;
     // Issue 34: an earlier archive's manifest goes before anything of the
     // new one is written, so a capture interrupted (or out of disk) from
     // here on never leaves it over a mix of old and new tiles, which the
@@ -174,11 +174,12 @@ pub(crate) fn prepare_folder(scene: &Scene, options: &CaptureOptions) -> Result<
     let mut stale = vec![ufcsr::MANIFEST_FILE.to_string()];
     if options.shard.is_none() {
         stale.extend(
-            [ufcsr::PLACEMENT_FRAMES_FILE, ufcsr::PLACEMENT_PATCHES_FILE].map(|f| format!("results/{f}")),
+            [ufcsr::placement::PLACEMENT_FRAMES_FILE, ufcsr::placement::PLACEMENT_PATCHES_FILE]
+                .map(|f| format!("results/{f}")),
         );
     }
     for name in stale {
-        ufcsr::remove_inside(out, &out.join(name))?;
+        ufcsr::files::remove_inside(out, &out.join(name))?;
     }
     Ok(())
 }
@@ -213,7 +214,7 @@ fn write_models(
     };
     let [r, g, b] = background.rgb();
     let color = [linear(r), linear(g), linear(b), 1.0];
-    ufcsr::write_scene_glb(&out.join(SCENE_FILE), &scene.occluders.scene_objects(), color)?;
+    ufcsr::output::write_scene_glb(&out.join(SCENE_FILE), &scene.occluders.scene_objects(), color)?;
     Ok(())
 }
 
@@ -222,7 +223,7 @@ fn write_models(
 /// it compresses to a few hundred kB even at 4096²).
 fn palette_png(texel_rgb: &[u8], size: [u32; 2]) -> Result<Vec<u8>> {
     let mut bytes = Vec::new();
-    let encoded = ufcsr::encode_rgb_png(&mut bytes, size, texel_rgb, png::Compression::Fast.into());
+    let encoded = ufcsr::files::encode_rgb_png(&mut bytes, size, texel_rgb, png::Compression::Fast.into());
     encoded.map_err(|e| CaptureError::BadOptions(format!("encoding the palette for vehicle.glb: {e}")))?;
     Ok(bytes)
 }
@@ -271,7 +272,7 @@ fn vehicle_model(scene: &Scene, vertices: &[crate::render::Vertex]) -> ufcsr::Ve
 /// The tiles of a whole capture, as the frame loop produced them.
 pub struct CapturedTiles {
     pub entries: Vec<ufcsr::TileEntry>,
-    pub frame_records: Vec<ufcsr::FrameEntry>,
+    pub frame_records: Vec<ufcsr::format::FrameEntry>,
     pub tally: TileTally,
     pub frames: u32,
     pub tiles: u64,
@@ -375,7 +376,7 @@ pub fn capture(
         Some(_) => {
             // The whole archive's manifest, if one is left from an earlier
             // capture, no longer describes it: `assemble` writes a new one.
-            ufcsr::remove_inside(&options.out, &options.out.join(ufcsr::MANIFEST_FILE))?;
+            ufcsr::files::remove_inside(&options.out, &options.out.join(ufcsr::MANIFEST_FILE))?;
             let frames = frames_to_capture(scene, scenario, options)?;
             OldTiles::OfFrames(frames.into_iter().map(|(_, frame)| frame).collect())
         }
@@ -452,7 +453,7 @@ pub fn write_manifest(
     match options.shard {
         None => {
             manifest.write_to_dir(&options.out)?;
-            ufcsr::mark_finished(&options.out)?;
+            ufcsr::files::mark_finished(&options.out)?;
         }
         Some(shard) => {
             let mut manifest = manifest.clone();
@@ -464,10 +465,10 @@ pub fn write_manifest(
             }
             let path = capture_shard::partial_manifest_path(&options.out, shard);
             let dir = options.out.join(capture_shard::SHARDS_DIR);
-            ufcsr::real_dir(&dir)?;
+            ufcsr::files::real_dir(&dir)?;
             let bytes = serde_json::to_vec_pretty(&manifest)
                 .map_err(|e| CaptureError::bad_file(&path, e.to_string()))?;
-            ufcsr::write_bytes_atomically(&path, &bytes)?;
+            ufcsr::files::write_bytes_atomically(&path, &bytes)?;
         }
     }
     Ok(manifest)
@@ -490,7 +491,7 @@ pub fn for_each_scenario<T>(
         let scenario = scene.scenario(name)?;
         // A link planted at OUT/NAME is replaced by a real folder, never written through.
         let out: PathBuf = if subfolders {
-            ufcsr::output_sub_dir(&options.out, Path::new(&scenario.name))?
+            ufcsr::files::output_sub_dir(&options.out, Path::new(&scenario.name))?
         } else {
             options.out.clone()
         };

@@ -17,7 +17,7 @@ use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use serde_json::Value;
-use ufcsr::{CaptureRecord, FrameEntry, MANIFEST_FILE, Manifest, Shard, ShardRecord};
+use ufcsr::{MANIFEST_FILE, Manifest, Shard, format::CaptureRecord, format::FrameEntry, format::ShardRecord};
 
 use crate::error::{CaptureError, Result};
 
@@ -111,13 +111,13 @@ pub fn assemble(archive: &Path) -> Result<Assembled> {
     Manifest::parse(&manifest_path, &text)?;
     manifest.write_to_dir(archive)?;
     // The shards' capture is whole now (issue 41).
-    ufcsr::mark_finished(archive)?;
+    ufcsr::files::mark_finished(archive)?;
     for part in &parts {
-        ufcsr::remove_inside(archive, &part.path)?;
+        ufcsr::files::remove_inside(archive, &part.path)?;
     }
     // The shards folder goes once empty (a file of the user's in it stays).
     if std::fs::read_dir(&dir).is_ok_and(|mut entries| entries.next().is_none()) {
-        ufcsr::remove_inside(archive, &dir)?;
+        ufcsr::files::remove_inside(archive, &dir)?;
     }
     Ok(Assembled { manifest_path, shards: count, frames: frame_count, tiles })
 }
@@ -143,7 +143,7 @@ fn read_parts(dir: &Path) -> Result<Vec<ShardPart>> {
                 "is not a shard manifest (manifest-I-of-N.json): remove it or move it out of shards/",
             ));
         };
-        let bytes = ufcsr::read_limited(&path, ufcsr::SMALL_INPUT_LIMIT)?;
+        let bytes = ufcsr::files::read_limited(&path, ufcsr::files::SMALL_INPUT_LIMIT)?;
         let manifest = Manifest::parse(&path, &bytes)?;
         let Some(recorded) = manifest.capture.as_ref().and_then(|capture| capture.shard.clone()) else {
             return Err(CaptureError::bad_file(

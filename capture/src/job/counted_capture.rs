@@ -31,7 +31,7 @@ use crate::scene::scenario::Scenario;
 pub struct CountedCapture {
     pub summary: Summary,
     pub analysis: ufcsr::Analysis,
-    pub written: ufcsr::WrittenFiles,
+    pub written: ufcsr::output::WrittenFiles,
     /// RGBA pixels counted (what PNGs would have held).
     pub pixels_counted: u64,
 }
@@ -116,17 +116,17 @@ impl CaptureSetup {
             )));
         }
         let out = &options.out;
-        if !ufcsr::same_path(out, &self.built_in) {
+        if !ufcsr::files::same_path(out, &self.built_in) {
             prepare_folder(scene, options)?;
             if self.files.is_empty() {
                 for name in self.file_names() {
                     let path = self.built_in.join(&name);
-                    let bytes = ufcsr::read_limited(&path, ufcsr::MODEL_LIMIT)?;
+                    let bytes = ufcsr::files::read_limited(&path, ufcsr::files::MODEL_LIMIT)?;
                     self.files.push((name, bytes));
                 }
             }
             for (name, bytes) in &self.files {
-                ufcsr::write_bytes_atomically(&out.join(name), bytes)?;
+                ufcsr::files::write_bytes_atomically(&out.join(name), bytes)?;
             }
         }
         let rig = &scene.rig;
@@ -175,9 +175,13 @@ impl CaptureSetup {
         };
         let Counted { counter, pixels } = counted;
         let mut analysis = ufcsr::analyze_counted(&analyze_options, counter)?;
-        let results = ufcsr::ResultSetOptions { views_scale: options.views_scale, ..Default::default() };
-        let written =
-            ufcsr::write_results_with(&mut analysis, &ufcsr::default_output_dir(&options.out), &results)?;
+        let results =
+            ufcsr::output::ResultSetOptions { views_scale: options.views_scale, ..Default::default() };
+        let written = ufcsr::output::write_results_with(
+            &mut analysis,
+            &ufcsr::output::default_output_dir(&options.out),
+            &results,
+        )?;
         let summary = Summary { seconds: start.elapsed().as_secs_f64(), ..summary };
         Ok(CountedCapture { summary, analysis, written, pixels_counted: pixels })
     }
@@ -187,7 +191,7 @@ impl CaptureSetup {
 /// holds them, and the palette and labels of the options.
 struct BuiltFor {
     vehicle: crate::scene::Mesh,
-    occluders: Vec<ufcsr::SceneObject>,
+    occluders: Vec<ufcsr::output::SceneObject>,
     moving_occluders: usize,
     palette: ([u32; 2], Option<PathBuf>),
     keep_uvs: bool,

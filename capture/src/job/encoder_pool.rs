@@ -9,7 +9,7 @@ use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::thread::JoinHandle;
 
-use ufcsr::PngEncoding;
+use ufcsr::files::PngEncoding;
 
 use crate::error::{CaptureError, Result};
 use crate::job::options::{Compression, TileFilter};
@@ -57,11 +57,11 @@ impl EncoderPool {
         old_tiles: OldTiles,
     ) -> Result<EncoderPool> {
         let tiles_dir = archive.join("tiles");
-        ufcsr::real_dir(&tiles_dir)?;
+        ufcsr::files::real_dir(&tiles_dir)?;
         // Tiles half-written by a killed capture (SIGKILL runs no handler)
         // go, so `--resume` keeps only whole tiles and nothing of theirs.
-        ufcsr::remove_stale_temporaries(&tiles_dir);
-        ufcsr::remove_stale_temporaries(archive);
+        ufcsr::files::remove_stale_temporaries(&tiles_dir);
+        ufcsr::files::remove_stale_temporaries(archive);
         let resume = matches!(old_tiles, OldTiles::Keep);
         match &old_tiles {
             OldTiles::Keep => {}
@@ -166,7 +166,7 @@ pub(crate) fn rgba_to_rgb(rgba: &[u8], rgb: &mut Vec<u8>) {
 /// Writes one RGB tile atomically with the capture's deflate level and row
 /// filter (`format`), through the one encoder.
 fn write_tile_png(path: &Path, size: [u32; 2], rgb: &[u8], format: PngEncoding) -> Result<()> {
-    ufcsr::write_rgb_png(path, [size[0], size[1]], rgb, format)?;
+    ufcsr::files::write_rgb_png(path, [size[0], size[1]], rgb, format)?;
     Ok(())
 }
 
@@ -187,7 +187,7 @@ fn remove_old_tiles_where(dir: &Path, remove: impl Fn(u32) -> bool) -> Result<()
         let name = name.to_string_lossy();
         let frame = name.get(1..).and_then(|rest| rest.split('_').next()).and_then(|n| n.parse().ok());
         if is_tile_name(&name) && frame.is_some_and(&remove) {
-            ufcsr::remove_inside(dir, &entry.path())?;
+            ufcsr::files::remove_inside(dir, &entry.path())?;
         }
     }
     Ok(())

@@ -14,7 +14,7 @@
 use glam::{DMat4, DVec3};
 use std::collections::BTreeMap;
 
-use ufcsr::{Color, FrameEntry, TileEntry};
+use ufcsr::{Color, TileEntry, format::FrameEntry};
 
 use crate::error::Result;
 use crate::job::manifest_builder::round6;

@@ -11,9 +11,10 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use ufcsr::{
-    CaptureRecord, Color, EyePose, EyeProjectionRecord, FrameEntry, LabelsRecord, MANIFEST_SCHEMA, Manifest,
-    OccluderPose, PaintedByPart, PaletteRecord, PedestrianSetting, PoseRecord, RigRecord, RigSettings,
-    ScenarioRecord, TileEntry, TrackKey, UnwrapRecord,
+    Color, MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry, format::CaptureRecord, format::EyePose,
+    format::EyeProjectionRecord, format::FrameEntry, format::LabelsRecord, format::OccluderPose,
+    format::PaintedByPart, format::PedestrianSetting, format::PoseRecord, format::RigRecord,
+    format::RigSettings, format::ScenarioRecord, format::TrackKey, format::UnwrapRecord,
 };
 
 use crate::job::options::{CaptureOptions, TileTally};

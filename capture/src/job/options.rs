@@ -199,7 +199,7 @@ impl Default for CaptureOptions {
             progress: CaptureProgress::default(),
             encoder_threads: 0,
             shard: None,
-            views_scale: ufcsr::DEFAULT_VIEWS_SCALE,
+            views_scale: ufcsr::output::DEFAULT_VIEWS_SCALE,
         }
     }
 }

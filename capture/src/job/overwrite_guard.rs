@@ -7,10 +7,10 @@
 //! now lists the files it writes and the folders it owns in its output
 //! folder, and checks them against every file it read before writing
 //! anything: by resolved path (`./x`, `a/../x` and a link to `x` are all
-//! `x`), with the analyzer's [`ufcsr::refuse_overwriting_inputs`], so the
+//! `x`), with the analyzer's [`ufcsr::files::refuse_overwriting_inputs`], so the
 //! rule and its message are the same in both programs. A link where a
 //! folder the capture owns goes (`tiles/` → another folder) is replaced by
-//! a real folder with the analyzer's [`ufcsr::real_dir`]: writing tiles and
+//! a real folder with the analyzer's [`ufcsr::files::real_dir`]: writing tiles and
 //! removing old ones through it would change a folder outside `--out`.
 
 use std::path::{Path, PathBuf};
@@ -27,11 +27,11 @@ pub(crate) fn refuse_overwriting_inputs(
     inputs: &[PathBuf],
 ) -> Result<()> {
     let outputs: Vec<PathBuf> = files.iter().map(|name| out.join(name)).collect();
-    ufcsr::refuse_overwriting_inputs(&outputs, inputs)?;
+    ufcsr::files::refuse_overwriting_inputs(&outputs, inputs)?;
     for folder in folders.iter().map(|name| out.join(name)) {
         for input in inputs {
             let Ok(real) = input.canonicalize() else { continue };
-            if real.ancestors().skip(1).any(|above| ufcsr::same_path(above, &folder)) {
+            if real.ancestors().skip(1).any(|above| ufcsr::files::same_path(above, &folder)) {
                 return Err(CaptureError::BadOptions(format!(
                     "writing into {} would overwrite the input {}: choose another output",
                     folder.display(),
@@ -49,7 +49,7 @@ pub(crate) fn refuse_overwriting_inputs(
 pub(crate) fn unlink_owned_folders(out: &Path, folders: &[&str]) -> Result<()> {
     for folder in folders.iter().map(|name| out.join(name)) {
         if std::fs::symlink_metadata(&folder).is_ok_and(|m| m.file_type().is_symlink()) {
-            ufcsr::real_dir(&folder)?;
+            ufcsr::files::real_dir(&folder)?;
         }
     }
     Ok(())

@@ -3,7 +3,7 @@
 //!
 //! Bounds (each an error naming the value): at most [`MAX_FRAMES`] frames
 //! and [`MAX_TILES`] tiles in one capture (the rig's own bounds are in
-//! [`Rig::check`], a mesh's in [`ufcsr::check_coordinates`]).
+//! [`Rig::check`], a mesh's in [`ufcsr::files::check_coordinates`]).
 //!
 //! Impossible scenes, checked over the selected frames with the vehicle's
 //! own triangles and the eyes where the (possibly walking) pedestrian is at

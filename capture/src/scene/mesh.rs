@@ -282,8 +282,8 @@ pub(crate) fn load_model(path: &Path, source: PartSource, axes: &Axes) -> Result
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
     let (mesh, files) = match ext.as_str() {
         "gltf" | "glb" => {
-            // The model and its buffers through the analyzer's safe reader (see ufcsr::read_gltf).
-            let gltf = ufcsr::read_gltf(path, ufcsr::MODEL_LIMIT)?;
+            // The model and its buffers through the analyzer's safe reader (see ufcsr::files::read_gltf).
+            let gltf = ufcsr::files::read_gltf(path, ufcsr::files::MODEL_LIMIT)?;
             (gltf_mesh(path, &gltf, source, axes)?, gltf_files(path, &gltf)?)
         }
         "obj" => load_obj(path, source, axes)?,
@@ -294,34 +294,34 @@ pub(crate) fn load_model(path: &Path, source: PartSource, axes: &Axes) -> Result
 }
 
 /// The checks every loaded model passes: triangles, indices, and finite
-/// coordinates within [`ufcsr::MAX_COORDINATE_M`].
+/// coordinates within [`ufcsr::files::MAX_COORDINATE_M`].
 pub(crate) fn check_model(path: &Path, mesh: &Mesh) -> Result<()> {
     mesh.check(&path.display().to_string())?;
     for position in &mesh.positions {
-        ufcsr::check_coordinates(path, "the mesh", position.to_array())?;
+        ufcsr::files::check_coordinates(path, "the mesh", position.to_array())?;
     }
     Ok(())
 }
 
 /// The model and the files its buffers name (data: URIs and the GLB's own
 /// chunk are inside it).
-fn gltf_files(path: &Path, gltf: &ufcsr::GltfModel) -> Result<Vec<PathBuf>> {
+fn gltf_files(path: &Path, gltf: &ufcsr::files::GltfModel) -> Result<Vec<PathBuf>> {
     let mut files = vec![path.to_path_buf()];
     for buffer in gltf.document.buffers() {
         if let gltf::buffer::Source::Uri(uri) = buffer.source()
             && !uri.starts_with("data:")
         {
-            files.push(ufcsr::resolve_inside(path, uri)?);
+            files.push(ufcsr::files::resolve_inside(path, uri)?);
         }
     }
     Ok(files)
 }
 
-/// The mesh of a glTF model read by [`ufcsr::read_gltf`] (or from bytes);
+/// The mesh of a glTF model read by [`ufcsr::files::read_gltf`] (or from bytes);
 /// `path` names it in messages.
 pub(crate) fn gltf_mesh(
     path: &Path,
-    gltf: &ufcsr::GltfModel,
+    gltf: &ufcsr::files::GltfModel,
     source: PartSource,
     axes: &Axes,
 ) -> Result<Mesh> {
@@ -354,7 +354,7 @@ pub(crate) fn gltf_mesh(
             if primitive.mode() != gltf::mesh::Mode::Triangles {
                 continue;
             }
-            ufcsr::check_accessors(
+            ufcsr::files::check_accessors(
                 path,
                 &describe_primitive(&node, &node_mesh, &primitive, number),
                 gltf,

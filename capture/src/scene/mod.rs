@@ -40,6 +40,8 @@ pub(crate) mod track;
 pub(crate) mod unity;
 pub(crate) mod vehicle;
 
+pub use family::{BodyDims, BodyType, body_mesh};
+
 pub use degenerate_mesh::degenerate_vehicle;
 pub use demo::{ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, DemoTraffic, LEAD_CAR_AHEAD_M};
 pub use frame_state::FrameState;

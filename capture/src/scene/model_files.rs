@@ -2,10 +2,10 @@
 //!
 //! `tobj::load_obj` opens the OBJ and its `mtllib` itself: a FIFO hangs it and
 //! a link to `/dev/zero` reads until memory runs out. Here both go through the
-//! analyzer's [`ufcsr::read_limited`] (regular files only, never blocking,
-//! at most [`ufcsr::MODEL_LIMIT`] bytes), and the `mtllib` follows the same
-//! containment rule as glTF buffers ([`ufcsr::resolve_inside`]: a file inside
-//! the OBJ's own folder). glTF goes through [`ufcsr::read_gltf`].
+//! analyzer's [`ufcsr::files::read_limited`] (regular files only, never blocking,
+//! at most [`ufcsr::files::MODEL_LIMIT`] bytes), and the `mtllib` follows the same
+//! containment rule as glTF buffers ([`ufcsr::files::resolve_inside`]: a file inside
+//! the OBJ's own folder). glTF goes through [`ufcsr::files::read_gltf`].
 
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
@@ -23,11 +23,11 @@ pub struct LoadedObj {
 /// Loads an OBJ with its materials; a missing MTL leaves the materials out
 /// (as tobj does), an MTL that cannot be read safely is an error naming it.
 pub fn load_obj(path: &Path, options: &tobj::LoadOptions) -> Result<LoadedObj> {
-    let bytes = ufcsr::read_limited(path, ufcsr::MODEL_LIMIT)?;
+    let bytes = ufcsr::files::read_limited(path, ufcsr::files::MODEL_LIMIT)?;
     let files = RefCell::new(vec![path.to_path_buf()]);
     let read_material = |reference: &Path| {
-        let file = ufcsr::resolve_inside(path, &reference.to_string_lossy())?;
-        let mtl = ufcsr::read_limited(&file, ufcsr::MODEL_LIMIT)?;
+        let file = ufcsr::files::resolve_inside(path, &reference.to_string_lossy())?;
+        let mtl = ufcsr::files::read_limited(&file, ufcsr::files::MODEL_LIMIT)?;
         files.borrow_mut().push(file);
         Ok(mtl)
     };
@@ -85,7 +85,7 @@ fn check_mtl(reference: &Path, mtl: Vec<u8>) -> ufcsr::Result<Vec<u8>> {
 }
 
 /// Largest face index (in magnitude) an OBJ may use: more vertices than a
-/// model within [`ufcsr::MODEL_LIMIT`] can hold.
+/// model within [`ufcsr::files::MODEL_LIMIT`] can hold.
 const MAX_OBJ_INDEX: i64 = 1 << 31;
 
 /// An error unless every index of every `f`, `l` and `p` line is a whole

@@ -120,7 +120,7 @@ impl Occluders {
     /// triangles relative to it (f32 stays exact to a millimetre then); then
     /// one per moving occluder, at the world origin with its triangles in its
     /// own frame (the manifest poses it per frame).
-    pub fn scene_objects(&self) -> Vec<ufcsr::SceneObject> {
+    pub fn scene_objects(&self) -> Vec<ufcsr::output::SceneObject> {
         let mut used = std::collections::BTreeSet::new();
         let moving = self.moving.iter().map(|occluder| {
             let mesh = &occluder.mesh;
@@ -152,7 +152,7 @@ impl Occluders {
                     copy += 1;
                     unique = format!("{name} ({copy})");
                 }
-                ufcsr::SceneObject { name: unique, origin, triangles }
+                ufcsr::output::SceneObject { name: unique, origin, triangles }
             })
             .collect()
     }

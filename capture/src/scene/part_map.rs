@@ -299,7 +299,7 @@ mod tests {
         let (red, blue, green) = (0xFF0000u32, 0x0000FF, 0x00FF00);
         let colors = [red, red, blue, blue, red, red, blue, green];
         let rgb: Vec<u8> = colors.iter().flat_map(|&c| Color::from_packed(c).rgb()).collect();
-        ufcsr::write_rgb_png(&dir.join("map.png"), [4, 2], &rgb, png::Compression::Fast).unwrap();
+        ufcsr::files::write_rgb_png(&dir.join("map.png"), [4, 2], &rgb, png::Compression::Fast).unwrap();
         std::fs::write(dir.join("parts.csv"), "name,color\ndoor,#FF0000\nplate,#0000FF\n").unwrap();
     }
 

@@ -263,7 +263,7 @@ pub struct Scene {
     pub rig: Rig,
     pub scenarios: Vec<Scenario>,
     /// What the manifest records about the scene.
-    pub info: ufcsr::SceneRecord,
+    pub info: ufcsr::format::SceneRecord,
     /// Doubts about the vehicle (size, axes, origin, part rules) to show the user.
     pub warnings: Vec<String>,
     /// Every file the scene was read from (scene file, meshes and the files
@@ -278,7 +278,7 @@ impl Scene {
         let vehicle = demo::truck();
         Scene {
             name: "demo".into(),
-            info: ufcsr::SceneRecord {
+            info: ufcsr::format::SceneRecord {
                 name: "demo".into(),
                 vehicle: Some("built-in pickup truck (5.9 × 2.0 × 1.9 m)".into()),
                 environment: Some(
@@ -287,10 +287,13 @@ impl Scene {
                 scenarios: Some(
                     demo::SCENARIOS
                         .iter()
-                        .map(|(n, _, d)| ufcsr::DemoScenario { name: (*n).into(), arrives: (*d).into() })
+                        .map(|(n, _, d)| ufcsr::format::DemoScenario {
+                            name: (*n).into(),
+                            arrives: (*d).into(),
+                        })
                         .collect(),
                 ),
-                ..ufcsr::SceneRecord::default()
+                ..ufcsr::format::SceneRecord::default()
             },
             vehicle,
             occluders: demo::intersection(),
@@ -334,9 +337,9 @@ impl Scene {
         scene.occluders.moving.push(traffic.occluder(&chosen));
         scene.name = format!("demo, {}", traffic.name());
         let offset = traffic.offset(&chosen);
-        scene.info.traffic = Some(ufcsr::TrafficRecord {
+        scene.info.traffic = Some(ufcsr::format::TrafficRecord {
             name: traffic.name().into(),
-            follow: ufcsr::FollowRecord {
+            follow: ufcsr::format::FollowRecord {
                 ahead_m: offset.ahead_m,
                 left_m: offset.left_m,
                 yaw_deg: offset.yaw_deg,
@@ -355,12 +358,12 @@ impl Scene {
         add_ground(&mut occluders, rig.anchor().z, rig.anchor());
         Ok(Scene {
             name: "unity".into(),
-            info: ufcsr::SceneRecord {
+            info: ufcsr::format::SceneRecord {
                 name: "unity".into(),
                 source: Some(path.display().to_string()),
                 vehicle: Some("built-in pickup truck standing in for the Unity F-150".into()),
                 environment: Some("ground plane only (MCity not available)".into()),
-                ..ufcsr::SceneRecord::default()
+                ..ufcsr::format::SceneRecord::default()
             },
             vehicle: demo::truck(),
             occluders,
@@ -373,7 +376,7 @@ impl Scene {
 
     /// Loads a scene file.
     pub fn load(path: &Path) -> Result<Scene> {
-        let bytes = ufcsr::read_limited(path, ufcsr::SMALL_INPUT_LIMIT)?;
+        let bytes = ufcsr::files::read_limited(path, ufcsr::files::SMALL_INPUT_LIMIT)?;
         Scene::parse(path, &bytes)
     }
 
@@ -418,7 +421,7 @@ impl Scene {
             path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into())
         });
         Ok(Scene {
-            info: ufcsr::SceneRecord {
+            info: ufcsr::format::SceneRecord {
                 name: name.clone(),
                 file: Some(path.display().to_string()),
                 vehicle: Some(match &file.vehicle.body {
@@ -427,7 +430,7 @@ impl Scene {
                 }),
                 occluder_objects: Some(occluders.objects.len() as u64),
                 moving_occluders: Some(occluders.moving.iter().map(|m| m.name.clone()).collect()),
-                ..ufcsr::SceneRecord::default()
+                ..ufcsr::format::SceneRecord::default()
             },
             name,
             vehicle,

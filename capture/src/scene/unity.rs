@@ -69,7 +69,7 @@ pub fn yaw_from_unity(theta_deg: f64) -> f64 {
 
 /// Reads the Unity export: the rig (in our frame) and the scenarios.
 pub fn load(path: &Path) -> Result<(Rig, Vec<Scenario>)> {
-    let bytes = ufcsr::read_limited(path, ufcsr::SMALL_INPUT_LIMIT)?;
+    let bytes = ufcsr::files::read_limited(path, ufcsr::files::SMALL_INPUT_LIMIT)?;
     parse(path, &bytes)
 }
 

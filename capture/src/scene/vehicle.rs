@@ -36,7 +36,7 @@ pub struct VehicleSpec {
     pub body: Option<String>,
     /// The body's dimensions; those left out take the body's typical values.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub dims: Option<ufcsr::BodyDimsOverride>,
+    pub dims: Option<ufcsr::format::BodyDimsOverride>,
     /// What names the parts: `node` (default), `mesh` or `material`, or
     /// `{"part_map": PNG, "legend": CSV}` painted over the model's own UVs.
     #[serde(default)]

@@ -20,16 +20,33 @@
 //! [`observers`] is the other question a study answers: how much the answer
 //! depends on the pedestrian (kerb position, eye height).
 
-pub mod observers;
-pub mod offsets;
-pub mod plot;
-pub mod reference;
+pub(crate) mod observers;
+pub(crate) mod offsets;
+pub(crate) mod plot;
+pub(crate) mod reference;
+
+pub use observers::displays::{
+    DisplayOptions, DisplayStudy, OBSERVER_DISPLAYS_FILE, ObserverLegible, run_observer_displays,
+    summarize_displays, write_display_study,
+};
+pub use observers::interval::{IntervalKind, percentile, population_value};
+pub use observers::population::{
+    MAX_OBSERVERS, SampledObserver, check_population, eye_height_quantile, normal_cdf, sample_observers,
+};
+pub use observers::{
+    DEFAULT_SAFETY_FACTOR, HUMAN_IPD_M, ObserverOptions, ObserverPreset, PAPER_EYE_HEIGHT_M, PAPER_IPD_M,
+    describe_observer, median_eye_height_m, people_by_default, run_observer_study,
+    summarize as summarize_observers, write_observer_study,
+};
+pub use offsets::{FrameValues, IntervalOptions, error_at_offset, setting_error};
 
 use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 use ufcsr::Dedupe;
-pub use ufcsr::{ErrorVsExact, ExactReference, Study, StudyPick, StudyRow};
+pub use ufcsr::{
+    format::ErrorVsExact, format::ExactReference, format::Study, format::StudyPick, format::StudyRow,
+};
 
 use crate::error::{CaptureError, Result};
 use crate::exact::accuracy::{PerEyeFrame, share_error, totals};
@@ -274,7 +291,7 @@ fn capture_setting(
     let mut scene = scene.clone();
     scene.rig.set_pixels_per_degree(ppd)?;
     // A link planted at ppdN-stepM is replaced by a real folder, never written through.
-    let out = ufcsr::output_sub_dir(&options.capture.out, Path::new(&format!("ppd{ppd}-step{step}")))?;
+    let out = ufcsr::files::output_sub_dir(&options.capture.out, Path::new(&format!("ppd{ppd}-step{step}")))?;
     let setting = Setting { name: &options.scenario, out: &out, step, dedupe: options.dedupe };
     let (counted, frames) = count_every_nth_frame(device, queue, &scene, &options.capture, &setting, setup)?;
     eprintln!(
@@ -472,13 +489,13 @@ const STUDY_FILES: [&str; 4] = ["study.csv", "study.json", "study.svg", "study.p
 /// Writes `study.csv`, `study.json`, `study.svg` and, when a TrueType font
 /// is found for its labels, `study.png` into `dir`. Returns the files written.
 pub fn write_study(study: &Study, dir: &Path) -> Result<Vec<PathBuf>> {
-    ufcsr::create_output_dir(dir)?;
+    ufcsr::files::create_output_dir(dir)?;
     let csv_path = dir.join("study.csv");
     write_csv(study, &csv_path)?;
     let json_path = dir.join("study.json");
     let json =
         serde_json::to_vec_pretty(study).map_err(|e| CaptureError::bad_file(&json_path, e.to_string()))?;
-    ufcsr::write_bytes_atomically(&json_path, &json)?;
+    ufcsr::files::write_bytes_atomically(&json_path, &json)?;
     let svg_path = dir.join("study.svg");
     crate::study::plot::plot_svg(study, &svg_path)?;
     let mut written = vec![csv_path, json_path, svg_path];
@@ -557,7 +574,7 @@ fn write_csv(study: &Study, path: &Path) -> Result<()> {
             .map_err(|e| csv_error(path, e))?;
     }
     let bytes = table.into_inner().map_err(|e| CaptureError::io(path, e.into_error()))?;
-    Ok(ufcsr::write_bytes_atomically(path, &bytes)?)
+    Ok(ufcsr::files::write_bytes_atomically(path, &bytes)?)
 }
 
 fn csv_error(path: &Path, error: csv::Error) -> CaptureError {
@@ -567,7 +584,7 @@ fn csv_error(path: &Path, error: csv::Error) -> CaptureError {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use ufcsr::ShareError;
+    use ufcsr::format::ShareError;
 
     /// A setting whose cost is `seconds` million pixels (and `seconds` seconds).
     fn row(ppd: f64, seconds: f64, precision: f64, exact: Option<(f64, [f64; 2])>) -> StudyRow {

@@ -36,7 +36,7 @@
 //! judge a 1 pp tolerance, and the interval says so. Nothing changes when every
 //! texel is ray traced (6.3 s for demo A at 1024²).
 
-use ufcsr::ErrorVsExact;
+use ufcsr::format::ErrorVsExact;
 
 use crate::exact::accuracy::{share_error, share_l1_pp};
 use ufcsr::SplitMix64;

@@ -20,7 +20,7 @@ use crate::study::Study;
 
 /// The font lookup the analyzer's plots use (`UFCSR_FONT`, else DejaVu Sans).
 fn font_available() -> bool {
-    ufcsr::plot_font_available()
+    ufcsr::output::plot_font_available()
 }
 
 /// The plot's size, pixels.
@@ -30,14 +30,14 @@ const SIZE: (u32, u32) = (900, 600);
 /// (plotters' file backend would write through a link planted at `path`:
 /// issue 41).
 pub fn plot_svg(study: &Study, path: &Path) -> Result<()> {
-    let text = ufcsr::PlotText::available();
+    let text = ufcsr::output::PlotText::available();
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
         draw(study, &root, text)
             .map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))?;
     }
-    Ok(ufcsr::write_bytes_atomically(path, svg.as_bytes())?)
+    Ok(ufcsr::files::write_bytes_atomically(path, svg.as_bytes())?)
 }
 
 /// Writes the plot as PNG (drawn into pixels, encoded and written by the
@@ -49,18 +49,18 @@ pub fn plot_png(study: &Study, path: &Path) -> Result<bool> {
     let mut rgb = vec![0u8; SIZE.0 as usize * SIZE.1 as usize * 3];
     {
         let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-        draw(study, &root, ufcsr::PlotText::Drawn)
+        draw(study, &root, ufcsr::output::PlotText::Drawn)
             .and_then(|()| root.present().map_err(Into::into))
             .map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))?;
     }
-    ufcsr::write_rgb_png(path, [SIZE.0, SIZE.1], &rgb, png::Compression::Fast)?;
+    ufcsr::files::write_rgb_png(path, [SIZE.0, SIZE.1], &rgb, png::Compression::Fast)?;
     Ok(true)
 }
 
 fn draw<B: DrawingBackend>(
     study: &Study,
     root: &DrawingArea<B, Shift>,
-    text: ufcsr::PlotText,
+    text: ufcsr::output::PlotText,
 ) -> std::result::Result<(), Box<dyn std::error::Error>>
 where
     B::ErrorType: 'static,
@@ -76,7 +76,7 @@ where
     let exact = study.exact.is_some();
     let mut builder = ChartBuilder::on(root);
     builder.margin(20);
-    if text == ufcsr::PlotText::Drawn {
+    if text == ufcsr::output::PlotText::Drawn {
         let against = if exact { "the exact measure of every frame" } else { "the finest setting" };
         builder
             .caption(
@@ -92,7 +92,7 @@ where
     let (x0, x1) = (t_min * 0.8, t_max * 1.25);
     let mut chart = builder.build_cartesian_2d((x0..x1).log_scale(), 0.0..e_max)?;
     let mut mesh = chart.configure_mesh();
-    if text == ufcsr::PlotText::Drawn {
+    if text == ufcsr::output::PlotText::Drawn {
         let y =
             if exact { "share L1 error vs exact, pp (bars: 95 %)" } else { "share L1 vs finest setting, pp" };
         mesh.x_desc("capture + count, seconds (log scale)")
@@ -117,7 +117,7 @@ where
         draw_precision_and_intervals(study, &mut chart, &times)?;
     }
     draw_front_and_points(study, &mut chart, &times, text)?;
-    if text == ufcsr::PlotText::Drawn {
+    if text == ufcsr::output::PlotText::Drawn {
         chart
             .configure_series_labels()
             .position(SeriesLabelPosition::UpperRight)
@@ -163,7 +163,7 @@ fn draw_front_and_points<B: DrawingBackend>(
     study: &Study,
     chart: &mut Chart<'_, B>,
     times: &[f64],
-    text: ufcsr::PlotText,
+    text: ufcsr::output::PlotText,
 ) -> std::result::Result<(), Box<dyn std::error::Error>>
 where
     B::ErrorType: 'static,
@@ -195,7 +195,7 @@ where
             .label(format!("recommended: {}", pick.setting))
             .legend(|(x, y)| Circle::new((x + 9, y), 6, GREEN.stroke_width(3)));
     }
-    if text == ufcsr::PlotText::Drawn {
+    if text == ufcsr::output::PlotText::Drawn {
         for (row, &time) in study.rows.iter().zip(times) {
             chart.draw_series(std::iter::once(Text::new(
                 format!("{}/{}", row.ppd, row.frame_step),

@@ -74,8 +74,8 @@ pub(crate) fn measure_exact(
     let scenario = scene.scenario(&options.scenario)?;
     let frame_count = scene.rig.frame_count(scenario.duration_s);
     // A link planted at out/exact is replaced by a real folder, never written through.
-    ufcsr::create_output_dir(&options.capture.out)?;
-    let out = ufcsr::output_sub_dir(&options.capture.out, std::path::Path::new("exact"))?;
+    ufcsr::files::create_output_dir(&options.capture.out)?;
+    let out = ufcsr::files::output_sub_dir(&options.capture.out, std::path::Path::new("exact"))?;
     let capture = CaptureOptions {
         out,
         frames: format!("0-{}", frame_count.saturating_sub(1)).parse()?,

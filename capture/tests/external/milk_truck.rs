@@ -205,7 +205,7 @@ pub fn milk_truck_parts_from_a_part_map_over_its_own_uvs_are_its_materials() -> 
         }
     }
     let rgb: Vec<u8> = map.iter().flat_map(|&c| ufcsr::Color::from_packed(c).rgb()).collect();
-    ufcsr::write_rgb_png(
+    ufcsr::files::write_rgb_png(
         &work.path().join("partmap.png"),
         [side as u32, side as u32],
         &rgb,

@@ -4,7 +4,7 @@
 //! every non-background pixel must be a palette colour whose texel the PIdT
 //! labels (what `ufcsr verify` checks on an archive).
 
-use ufcsr_capture::{Backend, CaptureOptions, Gpu, capture, degenerate_vehicle, verify};
+use ufcsr_capture::{Backend, CaptureOptions, Gpu, capture, scene::degenerate_vehicle, verify};
 
 use crate::render_check::{PALETTE, render_and_check};
 

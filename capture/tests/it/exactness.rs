@@ -6,8 +6,8 @@
 use glam::{DVec2, DVec3, dvec2, dvec3, dvec4, vec3};
 use ufcsr::Color;
 use ufcsr_capture::{
-    Backend, Gpu, GpuPalette, Mesh, Occluders, Pose, RenderSetup, Renderer, Rig, TileDraw, box_outside,
-    footprint, unwrap_islands, vehicle_to_world, vehicle_vertices,
+    Backend, Gpu, GpuPalette, Mesh, RenderSetup, Renderer, Rig, TileDraw, footprint, scene::Occluders,
+    scene::Pose, scene::box_outside, scene::vehicle_to_world, unwrap_islands, vehicle_vertices,
 };
 
 const PALETTE: [u32; 2] = [256, 256];
@@ -29,7 +29,7 @@ fn scene() -> (Mesh, Occluders, Rig, Pose) {
     // A post in front of the right part of the vehicle.
     occluders.add_box(dvec3(3.0, -0.55, 0.0), dvec3(3.2, -0.35, 3.0));
     let rig = Rig {
-        pedestrian: ufcsr_capture::ValueOrTrack::Fixed([0.0, 0.0, 0.0]),
+        pedestrian: ufcsr_capture::scene::ValueOrTrack::Fixed([0.0, 0.0, 0.0]),
         eye_height_m: 1.2,
         horizontal_fov_deg: 50.0,
         eye_pixels: [120, 150],
@@ -65,7 +65,7 @@ fn render_eye(gpu: &Gpu, mesh: &Mesh, occluders: &Occluders, rig: &Rig, pose: &P
             .objects
             .iter()
             .enumerate()
-            .filter(|(_, o)| !box_outside(&clip_from_world, &ufcsr_capture::box_corners(o.min, o.max)))
+            .filter(|(_, o)| !box_outside(&clip_from_world, &ufcsr_capture::scene::box_corners(o.min, o.max)))
             .map(|(i, _)| i)
             .collect();
         let draw = TileDraw {

@@ -8,7 +8,8 @@
 use glam::{DVec3, dvec3, vec3};
 use ufcsr::{AnalysisResult, Dedupe};
 use ufcsr_capture::{
-    Backend, CaptureOptions, Gpu, Key, Mesh, Motion, Occluders, Rig, Scenario, Scene, Track, ValueOrTrack,
+    Backend, CaptureOptions, Gpu, Mesh, Rig, Scenario, Scene, scene::Key, scene::Motion, scene::Occluders,
+    scene::Track, scene::ValueOrTrack,
 };
 
 fn gpu() -> Gpu {
@@ -35,7 +36,7 @@ fn scene(vehicle: Mesh, occluders: Occluders, rig: Rig, scenario: Scenario) -> S
         occluders,
         rig,
         scenarios: vec![scenario],
-        info: ufcsr::SceneRecord { name: "extreme".into(), ..Default::default() },
+        info: ufcsr::format::SceneRecord { name: "extreme".into(), ..Default::default() },
         warnings: Vec::new(),
         input_files: Vec::new(),
     }

@@ -10,8 +10,8 @@ use std::collections::BTreeSet;
 
 use ufcsr::Dedupe;
 use ufcsr_capture::{
-    Backend, BodyDims, BodyType, CaptureOptions, FrameSelection, Gpu, Obstacles, Scene, Tracer,
-    background_texel, capture, capture_counted, eye_frames, surface_samples, texel_visibility,
+    Backend, CaptureOptions, FrameSelection, Gpu, Obstacles, Scene, Tracer, background_texel, capture,
+    capture_counted, eye_frames, scene::BodyDims, scene::BodyType, surface_samples, texel_visibility,
     unwrap_islands_avoiding, verify,
 };
 

@@ -38,20 +38,21 @@ fn the_capture_s_fuzz_seeds_load_so_the_fuzzers_start_past_the_parsers() {
     }
     for file in std::fs::read_dir(seeds.join("design")).unwrap().flatten() {
         let bytes = std::fs::read(file.path()).unwrap();
-        let design: ufcsr::Design = serde_json::from_slice(&bytes).unwrap();
-        let plan = ufcsr_capture::plan_checked(design, &nowhere.join("design.json"));
+        let design: ufcsr::format::Design = serde_json::from_slice(&bytes).unwrap();
+        let plan = ufcsr_capture::design::plan_checked(design, &nowhere.join("design.json"));
         assert!(plan.is_ok(), "{}: {}", file.path().display(), plan.err().unwrap());
     }
     for file in std::fs::read_dir(seeds.join("design_task")).unwrap().flatten() {
         let bytes = std::fs::read(file.path()).unwrap();
-        let task = ufcsr::parse_json::<ufcsr::DesignTask>(&file.path(), &bytes, "design task");
+        let task =
+            ufcsr::format::parse_json::<ufcsr::format::DesignTask>(&file.path(), &bytes, "design task");
         let task = task.unwrap_or_else(|e| panic!("{e}"));
-        let checked = ufcsr_capture::check_design_task(&task, f64::INFINITY);
+        let checked = ufcsr_capture::design::check_design_task(&task, f64::INFINITY);
         assert!(checked.is_ok(), "{}: {}", file.path().display(), checked.unwrap_err());
     }
     for file in std::fs::read_dir(seeds.join("gltf")).unwrap().flatten() {
         let bytes = std::fs::read(file.path()).unwrap();
-        let model = ufcsr::parse_gltf(&nowhere.join("model.glb"), &bytes, ufcsr::MODEL_LIMIT);
+        let model = ufcsr::files::parse_gltf(&nowhere.join("model.glb"), &bytes, ufcsr::files::MODEL_LIMIT);
         assert!(model.is_ok(), "{}: {}", file.path().display(), model.err().unwrap());
     }
 }

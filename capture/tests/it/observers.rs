@@ -9,11 +9,15 @@
 
 use std::path::PathBuf;
 
-use ufcsr::{ObserverPlace, ObserverPopulation, ObserverRecord, ObserverSampling, ResolutionCheck};
+use ufcsr::{
+    format::ObserverPlace, format::ObserverPopulation, format::ObserverRecord, format::ObserverSampling,
+    format::ResolutionCheck,
+};
 use ufcsr_capture::{
-    CaptureOptions, DisplayOptions, IntervalKind, ObserverLegible, ObserverOptions, SampledObserver, Scene,
-    ValueOrTrack, normal_cdf, run_observer_displays, run_observer_study, sample_observers,
-    summarize_displays, summarize_observers, write_display_study, write_observer_study,
+    CaptureOptions, Scene, run_observer_study, scene::ValueOrTrack, study::DisplayOptions,
+    study::IntervalKind, study::ObserverLegible, study::ObserverOptions, study::SampledObserver,
+    study::normal_cdf, study::run_observer_displays, study::sample_observers, study::summarize_displays,
+    study::summarize_observers, study::write_display_study, study::write_observer_study,
 };
 
 use crate::study_accuracy::{PLATES, analytic_sr, gpu, plates_scene};
@@ -80,7 +84,7 @@ fn each_sampled_observer_sees_the_plates_analytic_solid_angle_within_its_resolut
     assert!((share_sum - 100.0).abs() < 1e-9);
     let written = write_observer_study(&study, dir.path()).unwrap();
     assert_eq!(written.len(), 3);
-    let read: ufcsr::ObserverStudy =
+    let read: ufcsr::format::ObserverStudy =
         serde_json::from_slice(&std::fs::read(dir.path().join("observers.json")).unwrap()).unwrap();
     assert_eq!(read, study);
     let rows = std::fs::read_to_string(dir.path().join("observers.csv")).unwrap();
@@ -137,7 +141,7 @@ fn coverage(
         let records: Vec<ObserverRecord> = sampled.iter().map(|o| record(scene, o)).collect();
         let summary = summarize_observers(&parts, &records, IntervalKind::MonteCarlo, ResolutionCheck::None);
         let near = summary.iter().find(|s| s.part == "near-axis").unwrap();
-        let inside = |v: ufcsr::PopulationValue, known: f64| {
+        let inside = |v: ufcsr::format::PopulationValue, known: f64| {
             let [low, high] = v.mean_ci95.unwrap();
             low <= known && known <= high
         };

@@ -4,7 +4,7 @@
 
 use std::path::Path;
 
-use ufcsr::write_rgb_png;
+use ufcsr::files::write_rgb_png;
 use ufcsr::{Color, Fcsp, Manifest, PaletteRecord};
 use ufcsr_capture::{Backend, CaptureOptions, FrameSelection, Gpu, Scene, capture, read_rgb_png, verify};
 

@@ -7,8 +7,8 @@
 use glam::dvec3;
 use ufcsr::Color;
 use ufcsr_capture::{
-    Gpu, GpuPalette, Mesh, Occluders, Pose, RenderSetup, Renderer, Rig, TileDraw, UNLABELLED_COLOR,
-    paint_pidt, unwrap_islands, vehicle_to_world, vehicle_vertices,
+    Gpu, GpuPalette, Mesh, RenderSetup, Renderer, Rig, TileDraw, UNLABELLED_COLOR, paint_pidt,
+    scene::Occluders, scene::Pose, scene::vehicle_to_world, unwrap_islands, vehicle_vertices,
 };
 
 /// The palette both callers render with.
@@ -20,7 +20,7 @@ pub fn render_and_check(gpu: &Gpu, mesh: &Mesh) -> (u64, u64) {
     let pidt = paint_pidt(mesh, &unwrapped);
     let vertices = vehicle_vertices(mesh, &unwrapped);
     let rig = Rig {
-        pedestrian: ufcsr_capture::ValueOrTrack::Fixed([0.0, 0.0, 0.0]),
+        pedestrian: ufcsr_capture::scene::ValueOrTrack::Fixed([0.0, 0.0, 0.0]),
         eye_height_m: 1.5,
         horizontal_fov_deg: 60.0,
         eye_pixels: [320, 240],

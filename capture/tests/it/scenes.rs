@@ -30,8 +30,8 @@ fn own_vehicles_load_with_their_parts() {
     // The same truck as binary glTF, parts from materials.
     let glb = ufcsr_capture::load_vehicle(
         &fixture("box-truck.glb"),
-        ufcsr_capture::PartSource::Material,
-        &ufcsr_capture::Axes::default(),
+        ufcsr_capture::scene::PartSource::Material,
+        &ufcsr_capture::scene::Axes::default(),
     )
     .unwrap();
     assert_eq!(glb.triangles.len(), 18);
@@ -48,7 +48,7 @@ fn own_vehicles_load_with_their_parts() {
     );
     // Ground, box, parked vehicle, and an environment mesh in one 20 m chunk.
     assert_eq!(obj.occluders.objects.len(), 4);
-    let ufcsr_capture::OccluderObject { min, max, .. } = obj.occluders.objects[3];
+    let ufcsr_capture::scene::OccluderObject { min, max, .. } = obj.occluders.objects[3];
     // The glTF truck turned by 90°: its 6 m length now runs north-south.
     assert!((max.y - min.y - 6.0).abs() < 1e-5 && (max.x - min.x - 2.2).abs() < 1e-5, "{min} {max}");
 }

@@ -6,7 +6,9 @@
 use std::path::Path;
 
 use ufcsr::{AnalyzeOptions, Dedupe, Manifest};
-use ufcsr_capture::{Backend, CaptureOptions, Gpu, Scene, Summary, capture, degenerate_vehicle, verify};
+use ufcsr_capture::{
+    Backend, CaptureOptions, Gpu, Scene, Summary, capture, scene::degenerate_vehicle, verify,
+};
 
 fn capture_with(gpu: &Gpu, scene: &Scene, scenario: &str, out: &Path, no_scissor: bool) -> Summary {
     let scenario = scene.scenario(scenario).unwrap().clone();

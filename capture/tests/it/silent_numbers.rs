@@ -9,8 +9,9 @@
 
 use glam::{DVec3, dvec3, vec3};
 use ufcsr_capture::{
-    Key, Mesh, Motion, Obstacles, Occluders, Scenario, Scene, Tracer, Track, ValueOrTrack, background_texel,
-    eye_frames, surface_samples, unwrap_islands_avoiding, visible_solid_angle,
+    Mesh, Obstacles, Scenario, Scene, Tracer, background_texel, eye_frames, scene::Key, scene::Motion,
+    scene::Occluders, scene::Track, scene::ValueOrTrack, surface_samples, unwrap_islands_avoiding,
+    visible_solid_angle,
 };
 
 #[test]

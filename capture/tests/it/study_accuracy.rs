@@ -8,8 +8,9 @@
 use glam::{DVec3, dvec3, vec3};
 use ufcsr::Dedupe;
 use ufcsr_capture::{
-    Backend, CaptureOptions, Gpu, Key, MeasureOptions, Mesh, Motion, Occluders, Rig, Scenario, Scene,
-    StudyMeasure, StudyOptions, Track, capture_counted, measure_unobstructed, run_study,
+    Backend, CaptureOptions, Gpu, MeasureOptions, Mesh, Rig, Scenario, Scene, capture_counted,
+    measure_unobstructed, run_study, scene::Key, scene::Motion, scene::Occluders, scene::Track,
+    study::StudyMeasure, study::StudyOptions,
 };
 
 pub(crate) fn gpu() -> Gpu {
@@ -32,7 +33,7 @@ pub(crate) fn plates_scene() -> Scene {
         mesh.add_quad(name, vec3(0.0, y0, z0), vec3(0.0, y1, z0), vec3(0.0, y1, z1), vec3(0.0, y0, z1));
     }
     let rig = Rig {
-        pedestrian: ufcsr_capture::ValueOrTrack::Fixed([0.0, 0.0, 0.0]),
+        pedestrian: ufcsr_capture::scene::ValueOrTrack::Fixed([0.0, 0.0, 0.0]),
         look_at_vehicle: [0.0, -2.5, 1.75],
         tiles: [2, 2],
         ..Rig::default()
@@ -52,7 +53,7 @@ pub(crate) fn plates_scene() -> Scene {
         occluders: Occluders::default(),
         rig,
         scenarios: vec![scenario],
-        info: ufcsr::SceneRecord { name: "plates".into(), ..Default::default() },
+        info: ufcsr::format::SceneRecord { name: "plates".into(), ..Default::default() },
         warnings: Vec::new(),
         input_files: Vec::new(),
     }

@@ -15,8 +15,9 @@ use std::sync::OnceLock;
 
 use ufcsr::Dedupe;
 use ufcsr_capture::{
-    CaptureOptions, FrameValues, IntervalOptions, MeasureOptions, Scene, Study, StudyMeasure, StudyOptions,
-    StudyTables, error_at_offset, exact_tables, measure_unobstructed, run_study_with_tables, setting_error,
+    CaptureOptions, MeasureOptions, Scene, measure_unobstructed, study::FrameValues, study::IntervalOptions,
+    study::Study, study::StudyMeasure, study::StudyOptions, study::StudyTables, study::error_at_offset,
+    study::exact_tables, study::run_study_with_tables, study::setting_error,
 };
 
 use crate::study_accuracy::gpu;

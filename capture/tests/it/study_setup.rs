@@ -14,8 +14,8 @@ use std::path::{Path, PathBuf};
 
 use ufcsr::Dedupe;
 use ufcsr_capture::{
-    CaptureOptions, CaptureSetup, Gpu, ObserverOptions, Scene, StudyMeasure, StudyOptions, ValueOrTrack,
-    capture_counted, read_rgb_png, run_observer_study, run_study,
+    CaptureOptions, CaptureSetup, Gpu, Scene, capture_counted, read_rgb_png, run_observer_study, run_study,
+    scene::ValueOrTrack, study::ObserverOptions, study::StudyMeasure, study::StudyOptions,
 };
 
 use crate::study_accuracy::gpu;
@@ -131,7 +131,7 @@ fn a_study_run_twice_costs_and_recommends_alike_by_pixels_rendered() {
         run_study(&gpu.device, &gpu.queue, &scene, &options).unwrap()
     };
     let (first, second) = (run("first"), run("second"));
-    let costs = |s: &ufcsr_capture::Study| -> Vec<(f64, u32, u64, bool)> {
+    let costs = |s: &ufcsr_capture::study::Study| -> Vec<(f64, u32, u64, bool)> {
         s.rows.iter().map(|r| (r.ppd, r.frame_step, r.pixels_rendered, r.pareto)).collect()
     };
     assert_eq!(costs(&first), costs(&second));
@@ -159,12 +159,16 @@ fn each_observer_is_byte_for_byte_the_capture_of_that_observer_alone() {
         // Two pedestrians 3.5 m apart, every 30th frame (the buildings hide part of the truck in
         // some): the occluders are placed relative to each one's head, and a renderer that kept the
         // first one's placement fails here.
-        population: ufcsr::ObserverPopulation::us_adults(ufcsr::ObserverPlace::Kerb {
+        population: ufcsr::format::ObserverPopulation::us_adults(ufcsr::format::ObserverPlace::Kerb {
             from: [-9.5, -4.5],
             to: [-4.5, -9.5],
         }),
-        sampling: ufcsr::ObserverSampling::Grid { positions: 2, heights: 1, eye_heights_m: [1.5, 1.9] },
-        resolution_check: ufcsr::ResolutionCheck::None,
+        sampling: ufcsr::format::ObserverSampling::Grid {
+            positions: 2,
+            heights: 1,
+            eye_heights_m: [1.5, 1.9],
+        },
+        resolution_check: ufcsr::format::ResolutionCheck::None,
         ppd: 2.0,
         frame_step: 30,
         capture: base_options(&out),

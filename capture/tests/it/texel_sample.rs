@@ -9,7 +9,7 @@
 //! and with a bracket of `[0, 0]` is a trivial case and left out of the
 //! count (it would cover by construction).
 
-use ufcsr::{CandidateKind, PlacementOptions, placement};
+use ufcsr::{PlacementOptions, placement, placement::CandidateKind};
 use ufcsr_capture::{CaptureOptions, MeasureOptions, PlacementCandidates, Scene, measure_unobstructed};
 
 use crate::study_accuracy::gpu;

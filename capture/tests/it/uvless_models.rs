@@ -9,10 +9,13 @@
 
 use std::path::Path;
 
-use ufcsr::{Dedupe, ObserverPlace, ObserverPopulation, ObserverSampling, ResolutionCheck};
+use ufcsr::{
+    Dedupe, format::ObserverPlace, format::ObserverPopulation, format::ObserverSampling,
+    format::ResolutionCheck,
+};
 use ufcsr_capture::{
-    Axes, CaptureOptions, ObserverOptions, PartSource, Scene, StudyMeasure, StudyOptions, load_vehicle,
-    run_observer_study, run_study,
+    CaptureOptions, Scene, load_vehicle, run_observer_study, run_study, scene::Axes, scene::PartSource,
+    study::ObserverOptions, study::StudyMeasure, study::StudyOptions,
 };
 
 use crate::study_accuracy::{gpu, plates_scene};

@@ -8,7 +8,10 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use serde_json::json;
-use ufcsr::{AnalyzeOptions, Shard, TrimMode, WrittenFiles, analyze, default_output_dir, format_table};
+use ufcsr::{
+    AnalyzeOptions, Shard, TrimMode, analyze, output::WrittenFiles, output::default_output_dir,
+    output::format_table,
+};
 
 use super::args::AnalyzeArgs;
 use super::intent::{archives_below, misread_archive};
@@ -133,13 +136,17 @@ fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf, console: 
     if args.strict_colors {
         refuse_color_damage(&options.archive, &analysis.result)?;
     }
-    let written = ufcsr::write_results_with(
+    let written = ufcsr::output::write_results_with(
         &mut analysis,
         &out_dir,
-        &ufcsr::ResultSetOptions {
+        &ufcsr::output::ResultSetOptions {
             csv_style: args.csv_style.into(),
             views_scale: args.views_scale,
-            figures: if args.figures == Switch::On { ufcsr::Figures::All } else { ufcsr::Figures::None },
+            figures: if args.figures == Switch::On {
+                ufcsr::output::Figures::All
+            } else {
+                ufcsr::output::Figures::None
+            },
         },
     )?;
     report_problems(&analysis.result);
@@ -202,7 +209,8 @@ fn run_each(args: &AnalyzeArgs, parent: &Path, console: &Console) -> Result<Comp
             // replaced, never written through into the folder it names.
             Some(out) => {
                 let relative = archive.strip_prefix(parent).unwrap_or(&archive);
-                ufcsr::create_output_dir(out).and_then(|()| ufcsr::output_sub_dir(out, relative))
+                ufcsr::files::create_output_dir(out)
+                    .and_then(|()| ufcsr::files::output_sub_dir(out, relative))
             }
             None => Ok(default_output_dir(&archive)),
         };

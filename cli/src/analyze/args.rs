@@ -81,7 +81,7 @@ pub struct AnalyzeArgs {
     pub csv_style: CsvStyle,
 
     /// Size of the heatmap views: each is 400×300 pixels times this (1–8).
-    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+    #[arg(long, value_name = "N", default_value_t = ufcsr::output::DEFAULT_VIEWS_SCALE,
           value_parser = clap::value_parser!(u32).range(1..=8))]
     pub views_scale: u32,
 
@@ -147,7 +147,7 @@ pub struct MergeArgs {
     pub csv_style: CsvStyle,
 
     /// Size of the heatmap views: each is 400×300 pixels times this (1–8).
-    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+    #[arg(long, value_name = "N", default_value_t = ufcsr::output::DEFAULT_VIEWS_SCALE,
           value_parser = clap::value_parser!(u32).range(1..=8))]
     pub views_scale: u32,
 }

@@ -26,50 +26,50 @@ pub struct PlacementArgs {
 
     /// Legible only when the characters' visible angular height reaches this, arcmin (default: ISO
     /// 9241-3's minimum character height, 16; MUTCD's road-sign 1 in per 40 ft is 7.16).
-    #[arg(long, alias = "min-angular-height-arcmin", default_value_t = ufcsr::Thresholds::default().min_character_height_arcmin)]
+    #[arg(long, alias = "min-angular-height-arcmin", default_value_t = ufcsr::placement::Thresholds::default().min_character_height_arcmin)]
     min_character_height_arcmin: f64,
 
     /// The characters' height: a share of the display's height (0.5, the default: one line of
     /// capitals with margins) or metres (0.06m; parts, whose height is unknown, use 0.5).
     #[arg(long, value_name = "SHARE|METRESm", default_value = "0.5", value_parser = character_height)]
-    character_height: ufcsr::CharacterHeight,
+    character_height: ufcsr::placement::CharacterHeight,
 
     /// A display of known size is legible only when its width, foreshortened by the view angle,
     /// holds this many characters (0: no width check).
-    #[arg(long, default_value_t = ufcsr::Thresholds::default().min_characters)]
+    #[arg(long, default_value_t = ufcsr::placement::Thresholds::default().min_characters)]
     min_characters: u32,
 
     /// Legible runs shorter than this many seconds do not count (FHWA: 1 s per word).
-    #[arg(long, default_value_t = ufcsr::Thresholds::default().min_dwell_s)]
+    #[arg(long, default_value_t = ufcsr::placement::Thresholds::default().min_dwell_s)]
     min_dwell_s: f64,
 
     /// Surfaces where no display is mounted, by the head noun of the part's name (comma-separated;
     /// default: wheels, tyres, rims and glass; '' allows every surface).
-    #[arg(long, value_name = "NOUNS", value_delimiter = ',', default_values_t = ufcsr::DEFAULT_NOT_MOUNTABLE.map(String::from))]
+    #[arg(long, value_name = "NOUNS", value_delimiter = ',', default_values_t = ufcsr::placement::DEFAULT_NOT_MOUNTABLE.map(String::from))]
     not_mountable: Vec<String>,
 
     /// Patches of one part whose centres are within this many metres are one place (0: off).
-    #[arg(long, default_value_t = ufcsr::DEFAULT_REGION_RADIUS_M)]
+    #[arg(long, default_value_t = ufcsr::placement::DEFAULT_REGION_RADIUS_M)]
     region_radius_m: f64,
 
     /// Bootstrap replicates over the archives behind P(best) (0: none).
-    #[arg(long, default_value_t = ufcsr::DEFAULT_REPLICATES)]
+    #[arg(long, default_value_t = ufcsr::placement::DEFAULT_REPLICATES)]
     replicates: usize,
 
     /// P(within EPSILON): how often a set is at most this many seconds below the best.
-    #[arg(long, default_value_t = ufcsr::DEFAULT_EPSILON_S)]
+    #[arg(long, default_value_t = ufcsr::placement::DEFAULT_EPSILON_S)]
     epsilon_s: f64,
 
     /// Legible only when at least this share of the candidate's area is visible (0-1).
-    #[arg(long, default_value_t = ufcsr::Thresholds::default().min_visible_fraction)]
+    #[arg(long, default_value_t = ufcsr::placement::Thresholds::default().min_visible_fraction)]
     min_visible_fraction: f64,
 
     /// Legible only when the mean angle between line of sight and surface normal is at most this, degrees.
-    #[arg(long, default_value_t = ufcsr::Thresholds::default().max_view_angle_deg)]
+    #[arg(long, default_value_t = ufcsr::placement::Thresholds::default().max_view_angle_deg)]
     max_view_angle_deg: f64,
 
     /// Seconds before the vehicle is nearest the pedestrian that count as the decision window.
-    #[arg(long, default_value_t = ufcsr::Thresholds::default().decision_window_s)]
+    #[arg(long, default_value_t = ufcsr::placement::Thresholds::default().decision_window_s)]
     decision_window_s: f64,
 
     /// A frame is legible when either eye (`any`) or both (`both`) can read the candidate.
@@ -104,7 +104,7 @@ pub struct PlacementArgs {
 /// Runs the search and writes its files.
 pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completion> {
     let options = ufcsr::PlacementOptions {
-        thresholds: ufcsr::Thresholds {
+        thresholds: ufcsr::placement::Thresholds {
             min_character_height_arcmin: args.min_character_height_arcmin,
             character_height: args.character_height,
             min_characters: args.min_characters,
@@ -119,10 +119,10 @@ pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completio
         symmetric: args.symmetric,
         not_mountable: args.not_mountable.into_iter().filter(|n| !n.trim().is_empty()).collect(),
         region_radius_m: args.region_radius_m,
-        resampling: ufcsr::Resampling {
+        resampling: ufcsr::placement::Resampling {
             replicates: args.replicates,
             epsilon_s: args.epsilon_s,
-            ..ufcsr::Resampling::default()
+            ..ufcsr::placement::Resampling::default()
         },
         mesh: args.mesh,
         ..ufcsr::PlacementOptions::new(args.results)
@@ -137,12 +137,14 @@ pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completio
         ),
         None => "\nno vehicle model (no vehicle.glb in the archive): give --mesh for placement.png".into(),
     };
-    let published = ufcsr::published_locations(&placement);
-    let published_csv = ufcsr::write_published_locations(&published, &args.out, &placement.inputs)?;
+    let published = ufcsr::placement::published_locations(&placement);
+    let published_csv =
+        ufcsr::placement::write_published_locations(&published, &args.out, &placement.inputs)?;
     let text = format!(
         "{}\n{}\nwrote {}, {}, {} and {}{picture}",
         ufcsr::format_placement(&placement, args.top).trim_end(),
-        ufcsr::format_published_locations(&published, placement.document.archives.len()).trim_end(),
+        ufcsr::placement::format_published_locations(&published, placement.document.archives.len())
+            .trim_end(),
         written.json.display(),
         written.csv.display(),
         written.combinations_csv.display(),
@@ -162,6 +164,6 @@ pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completio
     ))
 }
 
-fn character_height(text: &str) -> std::result::Result<ufcsr::CharacterHeight, String> {
-    ufcsr::parse_character_height(text).map_err(|e| e.to_string())
+fn character_height(text: &str) -> std::result::Result<ufcsr::placement::CharacterHeight, String> {
+    ufcsr::placement::parse_character_height(text).map_err(|e| e.to_string())
 }

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use serde_json::{Value, json};
-use ufcsr::{format_table, read_texel_counts};
+use ufcsr::{output::format_table, read_texel_counts};
 
 use super::args::{HeatmapArgs, MergeArgs, PaletteArgs, ReportArgs};
 use crate::console::{Completion, Console, say, shown};
@@ -42,10 +42,10 @@ pub fn result_json(path: &Path) -> PathBuf {
 
 pub fn run_heatmap(args: HeatmapArgs, console: &Console) -> Result<Completion> {
     let result = result_json(&args.result);
-    ufcsr::refuse_overwriting_inputs(std::slice::from_ref(&args.out), std::slice::from_ref(&result))?;
+    ufcsr::files::refuse_overwriting_inputs(std::slice::from_ref(&args.out), std::slice::from_ref(&result))?;
     let stored = read_texel_counts(&result)?;
     let options = args.heatmap.options(Some((stored.scale, stored.max)))?;
-    ufcsr::write_heatmap(&args.out, &stored.texel_counts, stored.width, stored.height, options)?;
+    ufcsr::output::write_heatmap(&args.out, &stored.texel_counts, stored.width, stored.height, options)?;
     Ok(finish(
         console,
         Done {
@@ -77,8 +77,9 @@ pub fn run_palette(args: PaletteArgs, console: &Console) -> Result<Completion> {
 }
 
 pub fn run_report(args: ReportArgs, console: &Console) -> Result<Completion> {
-    let options = ufcsr::ComparisonOptions { labels: args.labels.clone(), own_scales: args.own_scales };
-    let written = ufcsr::write_comparison_with(&args.results, &args.out, &options)?;
+    let options =
+        ufcsr::output::ComparisonOptions { labels: args.labels.clone(), own_scales: args.own_scales };
+    let written = ufcsr::output::write_comparison_with(&args.results, &args.out, &options)?;
     Ok(finish(
         console,
         Done {
@@ -98,10 +99,10 @@ pub fn run_report(args: ReportArgs, console: &Console) -> Result<Completion> {
 pub fn run_merge(args: MergeArgs, console: &Console) -> Result<Completion> {
     let results: Vec<PathBuf> = args.results.iter().map(|path| result_json(path)).collect();
     let mut analysis = ufcsr::merge_results(&results)?;
-    let written = ufcsr::write_results_with(
+    let written = ufcsr::output::write_results_with(
         &mut analysis,
         &args.out,
-        &ufcsr::ResultSetOptions {
+        &ufcsr::output::ResultSetOptions {
             csv_style: args.csv_style.into(),
             views_scale: args.views_scale,
             ..Default::default()

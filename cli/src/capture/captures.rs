@@ -10,8 +10,8 @@ use std::sync::Arc;
 use anyhow::Context;
 use clap::{Args, ValueEnum};
 use ufcsr_capture::{
-    CaptureOptions, CaptureProgress, CountedCapture, DemoTraffic, FrameSelection, Gpu, OwnLabelFiles, Scene,
-    Summary, parse_palette_size,
+    CaptureOptions, CaptureProgress, CountedCapture, FrameSelection, Gpu, OwnLabelFiles, Scene, Summary,
+    parse_palette_size, scene::DemoTraffic,
 };
 
 use crate::choices::{Backend, Compression, Dedupe, TileFilter};
@@ -105,7 +105,7 @@ pub struct CaptureArgs {
     #[arg(long, value_enum, default_value_t = Dedupe::Image, requires = "count")]
     dedupe: Dedupe,
     /// With --count: size of the heatmap views in results/, each 400×300 pixels times this (1–8).
-    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE, requires = "count",
+    #[arg(long, value_name = "N", default_value_t = ufcsr::output::DEFAULT_VIEWS_SCALE, requires = "count",
           value_parser = clap::value_parser!(u32).range(1..=8))]
     views_scale: u32,
     /// `unobstructed`: instead of rendering pixels, count per texel the eye-frames in which its
@@ -176,13 +176,13 @@ pub fn run_capture(
         eprintln!("warning: {warning}");
     }
     match args.rig.as_deref() {
-        Some(text) => match ufcsr_capture::ObserverPreset::parse(text) {
+        Some(text) => match ufcsr_capture::study::ObserverPreset::parse(text) {
             Some(preset) => preset.apply(&mut scene.rig),
             None => scene.rig = scene.rig.override_with(text)?,
         },
         // Answers are about people: a median adult's eyes, not the paper's camera (issue 42 §6).
         None if args.placement => {
-            ufcsr_capture::people_by_default(&mut scene.rig);
+            ufcsr_capture::study::people_by_default(&mut scene.rig);
         }
         None => {}
     }
@@ -248,8 +248,8 @@ pub fn run_demo_with_traffic(
         let scene = Scene::demo_with_traffic(traffic, &name)?;
         // --out/NAME a real folder: a link planted there is replaced, never written through.
         let out = if all {
-            ufcsr::create_output_dir(&args.out)?;
-            ufcsr::output_sub_dir(&args.out, std::path::Path::new(&name))?
+            ufcsr::files::create_output_dir(&args.out)?;
+            ufcsr::files::output_sub_dir(&args.out, std::path::Path::new(&name))?
         } else {
             args.out.clone()
         };
@@ -306,7 +306,7 @@ fn scenario_names(scene: &Scene, scenario: Option<&str>) -> anyhow::Result<Vec<S
 /// On stderr: the eye's pixels and tiles, the resolution and the palette.
 fn describe_rig(scene: &Scene, options: &CaptureOptions) {
     let rig = &scene.rig;
-    eprintln!("observer: {}", ufcsr_capture::describe_observer(rig));
+    eprintln!("observer: {}", ufcsr_capture::study::describe_observer(rig));
     eprintln!(
         "eye {}×{} px in {}×{} tiles of {}×{}, {:.2} px/°, palette {}",
         rig.eye_pixels[0],
@@ -370,13 +370,13 @@ fn run_unobstructed(
             measured.visibility_seconds,
             (measured.surface_samples * measured.eye_frames) as f64 / measured.visibility_seconds.max(1e-9)
         );
-        console.print(&ufcsr::format_table(&measured.analysis.result));
+        console.print(&ufcsr::output::format_table(&measured.analysis.result));
         record_archive_files(&options.out, &options.out.join(ufcsr::MANIFEST_FILE), console);
         let out = measured.written.result_json.parent().unwrap_or(std::path::Path::new("."));
         measured.written.all(out).iter().for_each(|file| console.wrote(file));
         console.wrote(&measured.estimates_csv);
         console.fact_item("grand_totals", measured.analysis.result.grand_total);
-        console.fact_item("observer", ufcsr_capture::describe_observer(&scene.rig));
+        console.fact_item("observer", ufcsr_capture::study::describe_observer(&scene.rig));
         for warning in &measured.analysis.result.warnings {
             eprintln!("  warning: {warning}");
         }
@@ -473,7 +473,7 @@ fn record_tiles(
     kept: &BTreeSet<PathBuf>,
     console: &Console,
 ) -> anyhow::Result<()> {
-    let bytes = ufcsr::read_limited(manifest, ufcsr::SMALL_INPUT_LIMIT)?;
+    let bytes = ufcsr::files::read_limited(manifest, ufcsr::files::SMALL_INPUT_LIMIT)?;
     let manifest = ufcsr::Manifest::parse(manifest, &bytes)?;
     for file in manifest.tiles.iter().filter_map(|tile| tile.file.as_ref()) {
         let path = archive.join(file);
@@ -610,7 +610,7 @@ fn report_counted(counted: &CountedCapture, console: &Console) {
         result.texels_seen,
         result.grand_total
     );
-    console.print(&ufcsr::format_counted_table(result));
+    console.print(&ufcsr::output::format_counted_table(result));
     let out = counted.written.result_json.parent().unwrap_or(std::path::Path::new("."));
     for (n, file) in counted.written.all(out).iter().enumerate() {
         console.wrote(file);

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::Context;
 use clap::Subcommand;
-use ufcsr_capture::{Gpu, TaskOutcome};
+use ufcsr_capture::{Gpu, design::TaskOutcome};
 
 use crate::choices::Backend;
 use crate::console::{Console, printable, say};
@@ -108,7 +108,7 @@ fn run_plan(
     console: &Console,
 ) -> anyhow::Result<()> {
     let plan = ufcsr_capture::plan_design(design)?;
-    ufcsr_capture::check_design_inputs(&plan)?;
+    ufcsr_capture::design::check_design_inputs(&plan)?;
     let program = match program {
         Some(program) => program,
         None => std::env::current_exe()?
@@ -161,7 +161,7 @@ fn run_tasks(
     let plan = ufcsr_capture::plan_design(design)?;
     if task.is_none() {
         // Every task in this process: what they will read is checked before the first is measured.
-        ufcsr_capture::check_design_inputs(&plan)?;
+        ufcsr_capture::design::check_design_inputs(&plan)?;
     }
     let gpu = Gpu::create(backend.into()).context("creating the GPU device")?;
     let (mut ran, mut skipped) = (0u32, 0u32);
@@ -176,7 +176,10 @@ fn run_tasks(
             TaskOutcome::Ran(done) => {
                 ran += 1;
                 // The task's folder (its units' archives, results and task.json) is this run's.
-                crate::capture::captures::record_folder(&ufcsr_capture::task_dir(out, done.task), console);
+                crate::capture::captures::record_folder(
+                    &ufcsr_capture::design::task_dir(out, done.task),
+                    console,
+                );
                 say!(
                     console,
                     "task {} ({}, replicate {}): {:.1} s",
@@ -206,7 +209,7 @@ fn run_merge(design: &Path, out: &Path, console: &Console) -> anyhow::Result<()>
     for line in &result.answer {
         say!(console, "{}", printable(line));
     }
-    for file in ufcsr_capture::write_design_result_set(&result, out, &[design.to_path_buf()])? {
+    for file in ufcsr_capture::design::write_design_result_set(&result, out, &[design.to_path_buf()])? {
         console.wrote(&file);
         say!(console, "wrote {}", file.display());
     }

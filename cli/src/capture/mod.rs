@@ -151,7 +151,7 @@ pub enum CaptureToolCommand {
         #[arg(long)]
         out: Option<PathBuf>,
         /// Size of the views: each is 400×300 pixels times this (1–8), as the analyzer's.
-        #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+        #[arg(long, value_name = "N", default_value_t = ufcsr::output::DEFAULT_VIEWS_SCALE,
               value_parser = clap::value_parser!(u32).range(1..=8))]
         views_scale: u32,
         /// Draw the paper's per-texel count instead of the angular area (deg²·s per texel, the
@@ -214,8 +214,8 @@ pub fn run_capture_command(
             captures::run_capture(Scene::demo(), &capture, threads, console)
         }
         CaptureCommand::Demo { body: Some(body), capture, .. } => {
-            let body = ufcsr_capture::BodyType::from(body);
-            let scene = Scene::demo_with_body(body, &ufcsr_capture::BodyDims::typical(body))?;
+            let body = ufcsr_capture::scene::BodyType::from(body);
+            let scene = Scene::demo_with_body(body, &ufcsr_capture::scene::BodyDims::typical(body))?;
             captures::run_capture(scene, &capture, threads, console)
         }
         CaptureCommand::Demo { traffic: Some(traffic), capture, .. } => {

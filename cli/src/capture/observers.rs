@@ -9,7 +9,10 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use clap::{Args, ValueEnum};
-use ufcsr::{ObserverPlace, ObserverPopulation, ObserverSampling, ResolutionCheck, StatureGroup};
+use ufcsr::{
+    format::ObserverPlace, format::ObserverPopulation, format::ObserverSampling, format::ResolutionCheck,
+    format::StatureGroup,
+};
 use ufcsr_capture::{CaptureOptions, Gpu, parse_palette_size};
 
 use super::study::{load_scene, scenario_name};
@@ -81,7 +84,7 @@ pub struct ObserversArgs {
     #[arg(long, value_enum, default_value_t = Resolution::Coarser)]
     resolution_check: Resolution,
     /// Safety factor of the coarser-capture bound (Roache's 3 for two grids).
-    #[arg(long, default_value_t = ufcsr_capture::DEFAULT_SAFETY_FACTOR)]
+    #[arg(long, default_value_t = ufcsr_capture::study::DEFAULT_SAFETY_FACTOR)]
     safety_factor: f64,
     /// Pixels per degree of every observer's capture.
     #[arg(long, default_value_t = 10.0)]
@@ -113,7 +116,7 @@ pub struct ObserversArgs {
     display_sample: String,
     /// Size of the heatmap views in each observer's results, each 400×300 pixels times this (1–8):
     /// 1 draws a quarter of the pixels, for a quicker study; the numbers do not change.
-    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+    #[arg(long, value_name = "N", default_value_t = ufcsr::output::DEFAULT_VIEWS_SCALE,
           value_parser = clap::value_parser!(u32).range(1..=8))]
     views_scale: u32,
 }
@@ -157,7 +160,7 @@ fn parse_group(text: &str) -> Result<StatureGroup, String> {
 fn population(args: &ObserversArgs) -> anyhow::Result<ObserverPopulation> {
     if let Some(path) = &args.population {
         // Through the analyzer's reader: a regular file, size-capped, never a FIFO that hangs.
-        let bytes = ufcsr::read_limited(path, ufcsr::SMALL_INPUT_LIMIT)
+        let bytes = ufcsr::files::read_limited(path, ufcsr::files::SMALL_INPUT_LIMIT)
             .with_context(|| format!("reading the population {}", path.display()))?;
         return serde_json::from_slice(&bytes)
             .with_context(|| format!("{}: not a population", path.display()));
@@ -177,18 +180,18 @@ fn population(args: &ObserversArgs) -> anyhow::Result<ObserverPopulation> {
 pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<()> {
     let scene = load_scene(&args.scene)?;
     let population = population(&args)?;
-    ufcsr_capture::check_population(&population)?;
+    ufcsr_capture::study::check_population(&population)?;
     let sampling = match args.sampling {
         Sampling::Random => ObserverSampling::Random { observers: args.observers, seed: args.seed },
         Sampling::Grid => ObserverSampling::Grid {
             positions: args.positions,
             heights: args.heights,
-            eye_heights_m: args
-                .eye_heights
-                .unwrap_or_else(|| [0.05, 0.95].map(|q| ufcsr_capture::eye_height_quantile(&population, q))),
+            eye_heights_m: args.eye_heights.unwrap_or_else(|| {
+                [0.05, 0.95].map(|q| ufcsr_capture::study::eye_height_quantile(&population, q))
+            }),
         },
     };
-    let options = ufcsr_capture::ObserverOptions {
+    let options = ufcsr_capture::study::ObserverOptions {
         scenario: scenario_name(&scene, args.scenario.as_deref())?,
         population,
         sampling,
@@ -206,7 +209,7 @@ pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<(
         },
     };
     let displays = match &args.display {
-        Some(text) => Some(ufcsr_capture::DisplayOptions {
+        Some(text) => Some(ufcsr_capture::study::DisplayOptions {
             display_m: ufcsr_capture::parse_display(text)?,
             spacing_m: args.patch_spacing,
             sample: super::captures::parse_fraction(&args.display_sample).map_err(|_| {
@@ -219,7 +222,7 @@ pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<(
         None => None,
     };
     // Refused before the observers are captured, not after.
-    displays.as_ref().map(ufcsr_capture::DisplayOptions::check).transpose()?;
+    displays.as_ref().map(ufcsr_capture::study::DisplayOptions::check).transpose()?;
     let gpu = Gpu::create(args.backend.into()).context("creating the GPU device")?;
     eprintln!("adapter: {}", gpu.describe());
     let mut study = ufcsr_capture::run_observer_study(&gpu.device, &gpu.queue, &scene, &options)?;
@@ -228,16 +231,21 @@ pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<(
     // observers.json carries them (its `displays`).
     let mut written = Vec::new();
     if let Some(displays) = displays {
-        let displays =
-            ufcsr_capture::run_observer_displays(&gpu.device, &gpu.queue, &scene, &options, &displays)?;
+        let displays = ufcsr_capture::study::run_observer_displays(
+            &gpu.device,
+            &gpu.queue,
+            &scene,
+            &options,
+            &displays,
+        )?;
         print_displays(&displays, console);
         study.displays = Some(displays.record());
-        written.push(ufcsr_capture::write_display_study(&displays, &args.out)?);
+        written.push(ufcsr_capture::study::write_display_study(&displays, &args.out)?);
         console.fact("display_candidates", displays.summary.len());
     }
     // Each observer's folder (its archive, results and coarser capture) is this run's whole.
     crate::capture::captures::record_archives_of(study.observers.iter().map(|o| &o.results), console);
-    for file in ufcsr_capture::write_observer_study(&study, &args.out)?.into_iter().chain(written) {
+    for file in ufcsr_capture::study::write_observer_study(&study, &args.out)?.into_iter().chain(written) {
         console.wrote(&file);
         say!(console, "wrote {}", file.display());
     }
@@ -246,7 +254,7 @@ pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<(
     Ok(())
 }
 
-fn print_displays(study: &ufcsr_capture::DisplayStudy, console: &Console) {
+fn print_displays(study: &ufcsr_capture::study::DisplayStudy, console: &Console) {
     let [w, h] = study.options.display_m;
     say!(
         console,
@@ -272,20 +280,20 @@ fn print_displays(study: &ufcsr_capture::DisplayStudy, console: &Console) {
     if study.summary.len() > 15 {
         say!(console, "… {} more candidates in observer-displays.csv", study.summary.len() - 15);
     }
-    let left_out = ufcsr::excluded_line(&study.excluded);
+    let left_out = ufcsr::placement::excluded_line(&study.excluded);
     if !left_out.is_empty() {
         say!(console, "{left_out}");
     }
 }
 
 /// `mean [interval] (spread)`, the interval left out on a grid.
-fn value_text(v: &ufcsr::PopulationValue, digits: usize) -> String {
+fn value_text(v: &ufcsr::format::PopulationValue, digits: usize) -> String {
     let interval =
         v.mean_ci95.map_or_else(String::new, |[low, high]| format!(" [{low:.digits$}–{high:.digits$}]"));
     format!("{:.digits$}{interval} ({:.digits$}–{:.digits$})", v.mean, v.p2_5, v.p97_5)
 }
 
-fn print_observers(study: &ufcsr::ObserverStudy, console: &Console) {
+fn print_observers(study: &ufcsr::format::ObserverStudy, console: &Console) {
     let n = study.observers.len();
     let how = match study.sampling {
         ObserverSampling::Random { seed, .. } => format!("drawn from the population (seed {seed})"),

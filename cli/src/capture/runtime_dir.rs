@@ -25,16 +25,16 @@ impl PrivateRuntimeDir {
             return PrivateRuntimeDir(None);
         }
         // Those of killed captures (SIGKILL runs no handler) go first.
-        ufcsr::remove_dead_runs(&std::env::temp_dir(), RUNTIME_PREFIX);
+        ufcsr::files::remove_dead_runs(&std::env::temp_dir(), RUNTIME_PREFIX);
         let dir = std::env::temp_dir().join(format!("{RUNTIME_PREFIX}{}", std::process::id()));
-        if ufcsr::create_private_dir(&dir).is_err() {
+        if ufcsr::files::create_private_dir(&dir).is_err() {
             return PrivateRuntimeDir(None);
         }
         // SAFETY: `crate::program::main` calls this right after parsing the
         // command line, before any other thread exists (the interrupt
         // handler, the worker threads and the GPU's threads start later).
         unsafe { std::env::set_var("XDG_RUNTIME_DIR", &dir) };
-        ufcsr::remove_on_interrupt(&dir);
+        ufcsr::files::remove_on_interrupt(&dir);
         PrivateRuntimeDir(Some(dir))
     }
 }
@@ -43,7 +43,7 @@ impl Drop for PrivateRuntimeDir {
     fn drop(&mut self) {
         // Our own folder, made above inside the temporary folder.
         if let Some((dir, parent)) = self.0.as_ref().and_then(|dir| Some((dir, dir.parent()?))) {
-            let _ = ufcsr::remove_inside(parent, dir);
+            let _ = ufcsr::files::remove_inside(parent, dir);
         }
     }
 }

@@ -49,7 +49,7 @@ pub struct StudyArgs {
     backend: Backend,
     /// Size of the heatmap views in each setting's results, each 400×300 pixels times this (1–8):
     /// 1 draws a quarter of the pixels, for a quicker study; the numbers do not change.
-    #[arg(long, value_name = "N", default_value_t = ufcsr::DEFAULT_VIEWS_SCALE,
+    #[arg(long, value_name = "N", default_value_t = ufcsr::output::DEFAULT_VIEWS_SCALE,
           value_parser = clap::value_parser!(u32).range(1..=8))]
     views_scale: u32,
     /// Measure the exact reference (on every frame) on this share of the texels, e.g. 1/16
@@ -76,7 +76,7 @@ pub fn scenario_name(scene: &Scene, asked: Option<&str>) -> anyhow::Result<Strin
 
 pub fn run_study(args: StudyArgs, console: &Console) -> anyhow::Result<()> {
     let scene = load_scene(&args.scene)?;
-    let options = ufcsr_capture::StudyOptions {
+    let options = ufcsr_capture::study::StudyOptions {
         scenario: scenario_name(&scene, args.scenario.as_deref())?,
         ppds: args.ppd,
         frame_steps: args.frame_step,
@@ -102,7 +102,7 @@ pub fn run_study(args: StudyArgs, console: &Console) -> anyhow::Result<()> {
     // Each setting's archive (and the exact reference's) is this run's whole.
     let archives = study.rows.iter().map(|row| &row.results).chain(study.exact.as_ref().map(|e| &e.results));
     crate::capture::captures::record_archives_of(archives, console);
-    for file in ufcsr_capture::write_study(&study, &args.out)? {
+    for file in ufcsr_capture::study::write_study(&study, &args.out)? {
         console.wrote(&file);
         say!(console, "wrote {}", file.display());
     }
@@ -111,7 +111,7 @@ pub fn run_study(args: StudyArgs, console: &Console) -> anyhow::Result<()> {
     Ok(())
 }
 
-fn print_study(study: &ufcsr_capture::Study, console: &Console) {
+fn print_study(study: &ufcsr_capture::study::Study, console: &Console) {
     say!(
         console,
         "scenario {}, measure {}: error = share L1 (pp) of the setting against the exact measure of every \
@@ -183,7 +183,7 @@ fn print_study(study: &ufcsr_capture::Study, console: &Console) {
 }
 
 /// The recommendation, or why there is none.
-fn print_pick(study: &ufcsr_capture::Study, console: &Console) {
+fn print_pick(study: &ufcsr_capture::study::Study, console: &Console) {
     match (&study.recommended, &study.reason) {
         (Some(pick), _) => say!(
             console,

@@ -7,7 +7,7 @@
 use std::path::Path;
 use std::process::Command;
 
-use ufcsr_capture::{Axes, PartSource, Scene, load_vehicle};
+use ufcsr_capture::{Scene, load_vehicle, scene::Axes, scene::PartSource};
 
 /// A quick demo capture (`--count`: no tiles written) into `out`.
 fn demo_archive(out: &Path) {

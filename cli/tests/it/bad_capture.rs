@@ -91,7 +91,8 @@ fn a_gltf_whose_nodes_form_a_cycle_is_an_error() {
     // Node 0 is its own child: the loader must not grow forever.
     std::fs::write(&path, r#"{"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"children": [0]}]}"#)
         .unwrap();
-    let loaded = ufcsr_capture::load_vehicle(&path, ufcsr_capture::PartSource::Node, &Default::default());
+    let loaded =
+        ufcsr_capture::load_vehicle(&path, ufcsr_capture::scene::PartSource::Node, &Default::default());
     let Err(error) = loaded else { panic!("a cycle must be refused") };
     let error = error.to_string();
     assert!(error.contains("appears twice"), "{error}");

@@ -49,13 +49,13 @@ fn the_comparison_page_names_both_results_and_ranks_the_second_against_the_first
     }
     // The quoted measure leads: its table comes before the paper-compatible count shares.
     let at = |text: &str| page.find(text).unwrap_or_else(|| panic!("the page lacks {text:?}"));
-    assert!(at(ufcsr::RANKED_HEADING) < at("Paper-compatible: count shares"));
+    assert!(at(ufcsr::output::RANKED_HEADING) < at("Paper-compatible: count shares"));
     // One colour scale by default, and the page says so; the pictures are drawn again for it.
-    assert!(page.contains(ufcsr::SHARED_SCALE) && !page.contains(ufcsr::OWN_SCALES));
+    assert!(page.contains(ufcsr::output::SHARED_SCALE) && !page.contains(ufcsr::output::OWN_SCALES));
     assert!(compared.join("result-1/views.png").is_file() && compared.join("result-2/views.png").is_file());
     // The heatmaps show the quoted measure, angular area, on one scale whose
     // top is the largest texel of either result (read back from texel-area.f32).
-    assert!(page.contains(ufcsr::AREA_HEATMAPS) && !page.contains(ufcsr::COUNT_HEATMAPS));
+    assert!(page.contains(ufcsr::output::AREA_HEATMAPS) && !page.contains(ufcsr::output::COUNT_HEATMAPS));
     let summary = ufcsr::read_result_summary(&per_image.join("result.json")).unwrap();
     let (width, height) = (summary.settings.palette.width, summary.settings.palette.height);
     let largest = [&per_image, &per_frame]
@@ -80,7 +80,7 @@ fn the_comparison_page_names_both_results_and_ranks_the_second_against_the_first
         .unwrap();
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let page = std::fs::read_to_string(count_page.join("report.html")).unwrap();
-    assert!(page.contains(ufcsr::COUNT_HEATMAPS) && page.contains("texel-area.f32"));
+    assert!(page.contains(ufcsr::output::COUNT_HEATMAPS) && page.contains("texel-area.f32"));
     assert!(page.contains("(the largest count of any result)"));
     // One result alone is no comparison.
     let alone = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))
@@ -118,7 +118,7 @@ fn labels_name_the_columns_and_own_scales_keeps_each_results_pictures() {
     let page = std::fs::read_to_string(compared.join("report.html")).unwrap();
     assert!(page.contains("<th>60 px/°</th><th>baseline</th>"), "the labels are not the column headers");
     assert!(!page.contains("<th>capA</th>"), "the folder name is still a label");
-    assert!(page.contains(ufcsr::OWN_SCALES) && !page.contains(ufcsr::SHARED_SCALE));
+    assert!(page.contains(ufcsr::output::OWN_SCALES) && !page.contains(ufcsr::output::SHARED_SCALE));
     assert!(compared.join("result-1-views.png").is_file());
     // More labels than results is a mistake, said before anything is written.
     let output = Command::new(env!("CARGO_BIN_EXE_ufcsr-analyze"))

@@ -168,7 +168,7 @@ fn an_interrupted_re_capture_says_its_folder_is_unfinished_and_the_analyzer_refu
         .output();
     let first = first.unwrap();
     assert!(first.status.success(), "{}", text(&first.stderr));
-    let marker = out.join(ufcsr::UNFINISHED_FILE);
+    let marker = out.join(ufcsr::files::UNFINISHED_FILE);
     assert!(!marker.exists(), "a finished capture leaves no marker");
     assert_eq!(analyze(&[out.as_os_str(), "-q".as_ref()]).status.code(), Some(0));
 
@@ -190,12 +190,15 @@ fn an_interrupted_re_capture_says_its_folder_is_unfinished_and_the_analyzer_refu
     let stderr = text(&output.stderr);
     assert_eq!(output.status.code(), Some(130), "{stderr}");
     assert!(!stderr.contains("untouched"), "{stderr}");
-    assert!(stderr.contains("did not finish") && stderr.contains(ufcsr::UNFINISHED_FILE), "{stderr}");
+    assert!(stderr.contains("did not finish") && stderr.contains(ufcsr::files::UNFINISHED_FILE), "{stderr}");
     assert!(marker.exists());
     let refused = analyze(&[out.as_os_str(), "-q".as_ref()]);
     let refusal = text(&refused.stderr);
     assert_eq!(refused.status.code(), Some(2), "the partial capture was analysed: {refusal}");
-    assert!(refusal.contains(ufcsr::UNFINISHED_FILE) && refusal.contains("has not finished"), "{refusal}");
+    assert!(
+        refusal.contains(ufcsr::files::UNFINISHED_FILE) && refusal.contains("has not finished"),
+        "{refusal}"
+    );
 
     // Captured again to its end: the marker goes, the folder analyses.
     let again = capture(dir.path())

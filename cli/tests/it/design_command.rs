@@ -63,7 +63,7 @@ fn a_design_plans_runs_resumes_and_merges() {
     let merge = ufcsr(dir.path(), &["design", "merge", file, "--out", out]);
     assert!(merge.status.success(), "{}", text(&merge));
     assert!(text(&merge).contains("for a pickup: ") && text(&merge).contains("across all:"));
-    let result: ufcsr::DesignResult =
+    let result: ufcsr::format::DesignResult =
         serde_json::from_slice(&std::fs::read(Path::new(out).join("design.json")).unwrap()).unwrap();
     assert_eq!((result.tasks, result.cells.len(), result.vehicles.len()), (4, 4, 2));
     // The pickup's display patches are laid out from its mesh alone, so its cells name the same ones
@@ -93,13 +93,13 @@ fn a_design_plans_runs_resumes_and_merges() {
 
 /// Issue 42 §2–§3: no group's best is glass or a wheel (the placement's one rule), what was left
 /// out is said, and a best of 0 s is no best.
-fn follows_the_answer_rules(result: &ufcsr::DesignResult) {
+fn follows_the_answer_rules(result: &ufcsr::format::DesignResult) {
     for group in result.vehicles.iter().chain([&result.overall]) {
         for best in &group.best {
             assert!(
-                ufcsr::exclusions(
-                    [(best.name.as_str(), ufcsr::CandidateKind::Part)].into_iter(),
-                    &ufcsr::default_not_mountable()
+                ufcsr::placement::exclusions(
+                    [(best.name.as_str(), ufcsr::placement::CandidateKind::Part)].into_iter(),
+                    &ufcsr::placement::default_not_mountable()
                 )
                 .is_empty(),
                 "{best:?}"

@@ -24,7 +24,7 @@ fn the_capture_exits_0_when_done_1_with_failures_and_2_when_nothing_was_done() {
     let tile = std::fs::read_dir(archive.join("tiles")).unwrap().next().unwrap().unwrap().path();
     let ([width, height], mut rgb) = read_rgb_png(&tile).unwrap();
     rgb[..3].copy_from_slice(&[255, 255, 255]);
-    ufcsr::write_rgb_png(&tile, [width, height], &rgb, png::Compression::Fast).unwrap();
+    ufcsr::files::write_rgb_png(&tile, [width, height], &rgb, png::Compression::Fast).unwrap();
     let failed = capture(dir.path(), &["verify", archive_text]);
     assert_eq!(failed.status.code(), Some(1), "{}", String::from_utf8_lossy(&failed.stderr));
     assert!(String::from_utf8_lossy(&failed.stderr).contains("1 pixels are neither background"));

@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::process::Output;
 
 use common::*;
-use ufcsr::{AnalyzeOptions, Dedupe, analyze, write_results};
+use ufcsr::{AnalyzeOptions, Dedupe, analyze, output::write_results};
 
 const UNITY: &str = r"(?P<eye>Left|Right)_(?P<frame>\d+)_(?P<row>\d+)_(?P<col>\d+)\.png$";
 

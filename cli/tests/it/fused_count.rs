@@ -31,7 +31,7 @@ fn analyse_png_archive(archive: &Path, dedupe: Dedupe, trim: TrimMode) -> Vec<u8
     };
     let mut analysis = ufcsr::analyze(&options, None).expect("analyse the PNG archive");
     let out = archive.join("png-results");
-    let written = ufcsr::write_results(&mut analysis, &out).unwrap();
+    let written = ufcsr::output::write_results(&mut analysis, &out).unwrap();
     std::fs::read(written.result_json).unwrap()
 }
 

@@ -166,6 +166,6 @@ fn every_string_field_of_a_placement_json_is_escaped_on_both_pages() {
     let analysed = common::analyzer().arg(example()).arg("--out").arg(&own).arg("-q").output().unwrap();
     assert!(analysed.status.success(), "{}", String::from_utf8_lossy(&analysed.stderr));
     let page = std::fs::read_to_string(own.join("report.html")).unwrap();
-    assert!(page.contains(&ufcsr::html_escape(HOSTILE)), "the placement is not on the page");
+    assert!(page.contains(&ufcsr::output::html_escape(HOSTILE)), "the placement is not on the page");
     assert_escaped(&page, "a result's own report.html with the placement beside it");
 }

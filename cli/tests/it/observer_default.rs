@@ -32,9 +32,9 @@ fn placement_answers_take_a_median_adult_and_rig_paper_gives_the_papers_numbers(
         (s["eye_height_m"].as_f64().unwrap(), s["ipd_m"].as_f64().unwrap())
     };
     let (stdout, manifest, _) = measure(&dir.path().join("people"), &["--placement"]);
-    let median = ufcsr_capture::median_eye_height_m();
+    let median = ufcsr_capture::study::median_eye_height_m();
     assert!((median - 1.573).abs() < 0.01);
-    assert_eq!(settings(&manifest), (median, ufcsr_capture::HUMAN_IPD_M));
+    assert_eq!(settings(&manifest), (median, ufcsr_capture::study::HUMAN_IPD_M));
     assert!(stdout.contains("a median US adult (eyes 1.57"), "{stdout}");
     let (stdout, manifest, paper) = measure(&dir.path().join("paper"), &["--placement", "--rig", "paper"]);
     assert_eq!(settings(&manifest), (1.75, 0.1103594));

@@ -27,7 +27,7 @@ fn the_observers_command_writes_its_tables_and_names_bad_options() {
     for file in ["observers.json", "observers.csv", "observer-parts.csv"] {
         assert!(out.join(file).is_file(), "{file}");
     }
-    let read = |out: &std::path::Path| -> ufcsr::ObserverStudy {
+    let read = |out: &std::path::Path| -> ufcsr::format::ObserverStudy {
         serde_json::from_slice(&std::fs::read(out.join("observers.json")).unwrap()).unwrap()
     };
     assert_eq!(read(&out).displays, None, "no displays without --display");

@@ -17,12 +17,12 @@ fn placement_lists_every_published_place_on_the_console_and_in_its_csv() {
     assert!(output.status.success(), "{}", String::from_utf8_lossy(&output.stderr));
     let console = String::from_utf8_lossy(&output.stdout);
     assert!(console.contains("published locations"), "{console}");
-    for place in ufcsr::PUBLISHED_LOCATIONS {
+    for place in ufcsr::placement::PUBLISHED_LOCATIONS {
         assert!(console.contains(&format!("  {} (", place.name)), "{} missing: {console}", place.name);
     }
     assert!(console.contains("legible 0.700 s") && console.contains("none on this vehicle"), "{console}");
-    let csv = std::fs::read_to_string(out.join(ufcsr::PUBLISHED_LOCATIONS_FILE)).unwrap();
-    assert_eq!(csv.lines().count(), 1 + 2 * ufcsr::PUBLISHED_LOCATIONS.len(), "{csv}");
+    let csv = std::fs::read_to_string(out.join(ufcsr::placement::PUBLISHED_LOCATIONS_FILE)).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 2 * ufcsr::placement::PUBLISHED_LOCATIONS.len(), "{csv}");
     assert!(csv.lines().any(|l| l.starts_with("hood,") && l.contains(",part,1,hood,0.7")), "{csv}");
     assert!(csv.lines().any(|l| l.starts_with("grille,") && l.contains(",part,1,grill,0.3")), "{csv}");
     assert!(csv.lines().any(|l| l.starts_with("roof,") && l.contains(",part,0,,")), "{csv}");

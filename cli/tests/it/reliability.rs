@@ -350,7 +350,7 @@ fn gltf_accessors_of_the_wrong_type_or_beyond_their_buffer_are_refused_by_both_l
     ] {
         let path = regressions.join(name);
         let vehicle =
-            ufcsr_capture::load_vehicle(&path, ufcsr_capture::PartSource::Node, &Default::default());
+            ufcsr_capture::load_vehicle(&path, ufcsr_capture::scene::PartSource::Node, &Default::default());
         let error = vehicle.unwrap_err().to_string();
         assert!(error.contains(name) && error.contains(expect), "capture, {name}: {error}");
         let error = ufcsr::VehicleModel::read(&path).unwrap_err().to_string();
@@ -375,15 +375,19 @@ fn obj_face_indices_beyond_any_model_are_an_error_naming_the_line() {
     ] {
         let obj = dir.path().join("far.obj");
         std::fs::write(&obj, format!("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n{face}\n")).unwrap();
-        let error = ufcsr_capture::load_vehicle(&obj, ufcsr_capture::PartSource::Node, &Default::default())
-            .unwrap_err()
-            .to_string();
+        let error =
+            ufcsr_capture::load_vehicle(&obj, ufcsr_capture::scene::PartSource::Node, &Default::default())
+                .unwrap_err()
+                .to_string();
         assert!(error.contains("far.obj") && error.contains(expect), "{face}: {error}");
     }
     // Relative indices within what came before are fine.
     let obj = dir.path().join("relative.obj");
     std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -3 -2 -1\n").unwrap();
-    assert!(ufcsr_capture::load_vehicle(&obj, ufcsr_capture::PartSource::Node, &Default::default()).is_ok());
+    assert!(
+        ufcsr_capture::load_vehicle(&obj, ufcsr_capture::scene::PartSource::Node, &Default::default())
+            .is_ok()
+    );
 }
 
 #[test]

@@ -144,7 +144,7 @@ fn an_earlier_runs_results_inside_the_archive_are_not_frames() {
     rgb_png(&dir.path().join("a.png"), 2, 1, &[1, BG]);
     let mut analysis = analyze(&options(dir.path()), None).unwrap();
     // Written somewhere the next run does not exclude (not its --out).
-    ufcsr::write_results(&mut analysis, &dir.path().join("old-results")).unwrap();
+    ufcsr::output::write_results(&mut analysis, &dir.path().join("old-results")).unwrap();
     rgb_png(&dir.path().join("old-results/plots/parts.png"), 2, 1, &[2, BG]);
     let analysis = analyze(&options(dir.path()), None).unwrap();
     assert_eq!(analysis.result.images.found, 1, "an earlier run's output was counted as a frame");
@@ -163,7 +163,7 @@ fn heatmap_refuses_a_result_of_another_schema() {
     let dir = tempfile::tempdir().unwrap();
     rgb_png(&dir.path().join("a.png"), 2, 1, &[1, BG]);
     let mut analysis = analyze(&options(dir.path()), None).unwrap();
-    let written = ufcsr::write_results(&mut analysis, &dir.path().join("out")).unwrap();
+    let written = ufcsr::output::write_results(&mut analysis, &dir.path().join("out")).unwrap();
     let text = std::fs::read_to_string(&written.result_json).unwrap();
     let newer = dir.path().join("newer.json");
     std::fs::write(&newer, text.replace("ufcsr-result/1", "ufcsr-result/2")).unwrap();

@@ -193,7 +193,8 @@ fn verify_rejects_an_archive_with_a_stray_pixel() {
     // White is index 16777215, far outside a 512² palette.
     let (size, mut rgb) = read_rgb_png(&copy.join(&files[0])).unwrap();
     rgb[..3].copy_from_slice(&[255, 255, 255]);
-    ufcsr::write_rgb_png(&copy.join(&files[0]), [size[0], size[1]], &rgb, png::Compression::Fast).unwrap();
+    ufcsr::files::write_rgb_png(&copy.join(&files[0]), [size[0], size[1]], &rgb, png::Compression::Fast)
+        .unwrap();
     let output = run();
     assert!(!output.status.success());
     assert!(String::from_utf8_lossy(&output.stdout).contains("1 stray pixels"), "{output:?}");

@@ -51,7 +51,7 @@ fn captured_manifests_and_results_match_the_schemas() {
     assert_file_valid(&manifest_schema, &png.join("manifest.json"));
     let options = ufcsr::AnalyzeOptions { archive: png.clone(), frames: true, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).expect("analyse the capture");
-    let written = ufcsr::write_results(&mut analysis, &png.join("results")).expect("write results");
+    let written = ufcsr::output::write_results(&mut analysis, &png.join("results")).expect("write results");
     assert_file_valid(&result_schema, &written.result_json);
 
     // One shard of a split capture: its manifest carries `capture.shard`.

@@ -340,7 +340,7 @@ fn the_demo_with_traffic_captures_every_scenario_with_the_twin_posed_in_each_fra
             let (truck, twin) = (&record["vehicle"]["position"], &lead["position"]);
             let gap =
                 (0..2).map(|i| (twin[i].as_f64().unwrap() - truck[i].as_f64().unwrap()).powi(2)).sum::<f64>();
-            assert!((gap.sqrt() - ufcsr_capture::LEAD_CAR_AHEAD_M).abs() < 1e-5, "{record}");
+            assert!((gap.sqrt() - ufcsr_capture::scene::LEAD_CAR_AHEAD_M).abs() < 1e-5, "{record}");
         }
     }
 }
@@ -353,16 +353,17 @@ fn the_map_draws_the_moving_box_on_its_path_across_the_line_of_sight() {
     let path = write_scene(dir.path(), "moving-box.json", &moving_box_scene());
     let out = dir.path().join("counted");
     capture(&path, &out, &["--count"]);
-    assert_eq!(out.join("results/map.png").is_file(), ufcsr::plot_font_available());
-    if !ufcsr::plot_font_available() {
+    assert_eq!(out.join("results/map.png").is_file(), ufcsr::output::plot_font_available());
+    if !ufcsr::output::plot_font_available() {
         return;
     }
     let manifest = ufcsr::Manifest::load_from_dir(&out).unwrap().unwrap();
     let track = ufcsr::ScenarioTrack::from_manifest(&manifest).unwrap();
-    let scene = Ok(ufcsr::SceneShapes::read(&out.join("scene.glb")).unwrap());
+    let scene = Ok(ufcsr::output::SceneShapes::read(&out.join("scene.glb")).unwrap());
     let map = dir.path().join("map.png");
-    let content = ufcsr::MapContent { track: &track, scene, vehicle: None, title: "moving box".into() };
-    let frame = ufcsr::write_scenario_map(&map, &content).unwrap();
+    let content =
+        ufcsr::output::MapContent { track: &track, scene, vehicle: None, title: "moving box".into() };
+    let frame = ufcsr::output::write_scenario_map(&map, &content).unwrap();
     let image = ufcsr::read_color_image(&map, |_| Ok(())).unwrap();
     let (x, y) = frame.pixel([8.5, 3.0]);
     let drawn = image.colors[y as usize * image.width as usize + x as usize];

@@ -9,9 +9,9 @@ use std::process::Command;
 
 use glam::{DMat4, DVec3, Vec3, dvec3};
 use ufcsr_capture::{
-    EyeFrame, Mesh, Obstacles, Occluders, Scene, SurfaceSamples, TexelVisibility, Tracer, ValueOrTrack,
-    background_texel, eye_frame, eye_frames, look_to, reversed_z_perspective, surface_samples,
-    texel_visibility, unwrap_islands_avoiding, visible_solid_angle,
+    EyeFrame, Mesh, Obstacles, Scene, SurfaceSamples, TexelVisibility, Tracer, background_texel, eye_frame,
+    eye_frames, scene::Occluders, scene::ValueOrTrack, scene::look_to, scene::reversed_z_perspective,
+    surface_samples, texel_visibility, unwrap_islands_avoiding, visible_solid_angle,
 };
 
 const PALETTE: [u32; 2] = [256, 256];
@@ -398,14 +398,18 @@ fn the_cli_measures_placements_that_the_analyzer_ranks() {
     let placement = ufcsr::placement(&ufcsr::PlacementOptions::new(vec![out.clone()])).unwrap();
     let document = &placement.document;
     assert!(document.candidates.len() > parts, "parts and patches are candidates");
-    assert!(document.combinations.iter().any(|c| c.kind == ufcsr::CandidateKind::Part && c.k == 1));
-    assert!(document.combinations.iter().any(|c| c.kind == ufcsr::CandidateKind::Patch && c.k == 1));
+    assert!(
+        document.combinations.iter().any(|c| c.kind == ufcsr::placement::CandidateKind::Part && c.k == 1)
+    );
+    assert!(
+        document.combinations.iter().any(|c| c.kind == ufcsr::placement::CandidateKind::Patch && c.k == 1)
+    );
     // Names carry the display size.
     assert!(
         document
             .candidates
             .iter()
-            .filter(|c| c.kind == ufcsr::CandidateKind::Patch)
+            .filter(|c| c.kind == ufcsr::placement::CandidateKind::Patch)
             .all(|c| c.name.contains("@0.40x0.15@x"))
     );
 }

@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use ufcsr::{AnalyzeOptions, DIRECTIONS};
+use ufcsr::{AnalyzeOptions, output::DIRECTIONS};
 
 /// The bundled example analysed into `out` (views, heatmap.glb): of the
 /// count, or with `area` of the per-texel angular area.
@@ -14,7 +14,7 @@ fn analyse_example(out: &Path, area: bool) {
     let archive = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let options = AnalyzeOptions { archive, frames: area, texel_area: area, ..AnalyzeOptions::default() };
     let mut analysis = ufcsr::analyze(&options, None).expect("analyse the example");
-    ufcsr::write_results(&mut analysis, out).expect("write the example's results");
+    ufcsr::output::write_results(&mut analysis, out).expect("write the example's results");
 }
 
 fn colors(path: &Path) -> Vec<u32> {
@@ -52,7 +52,7 @@ fn redrawn_views_are_the_analysis_views(area: bool) -> (tempfile::TempDir, PathB
         let again = colors(&redrawn.join("views").join(format!("{name}.png")));
         assert!(analysis == again, "{name}: the redrawn view differs from the analysis' view");
     }
-    assert!(redrawn.join("views.png").is_file() && redrawn.join(ufcsr::VIEWS_PDF_FILE).is_file());
+    assert!(redrawn.join("views.png").is_file() && redrawn.join(ufcsr::output::VIEWS_PDF_FILE).is_file());
     (dir, results)
 }
 

@@ -30,7 +30,7 @@ use std::path::Path;
 
 use glam::{DMat4, DVec3};
 use rayon::prelude::*;
-use ufcsr::PlacementFrameRow;
+use ufcsr::format::PlacementFrameRow;
 
 use super::ExactInputs;
 use super::labels::{LabelKind, LabelSet};
@@ -178,8 +178,8 @@ pub fn write_table(inputs: &ExactInputs, labels: &LabelSet, path: &Path) -> Resu
         )));
     }
     let mut rows = 0u64;
-    ufcsr::write_atomically(path, |writer| {
-        let writer = LimitedWriter { inner: writer, left: ufcsr::PLACEMENT_TABLE_LIMIT };
+    ufcsr::files::write_atomically(path, |writer| {
+        let writer = LimitedWriter { inner: writer, left: ufcsr::format::PLACEMENT_TABLE_LIMIT };
         let mut table = csv::Writer::from_writer(writer);
         for (batch, eye_frames) in inputs.eye_frames.chunks(EYE_FRAMES_PER_BATCH).enumerate() {
             let seen: Vec<Vec<Option<Seen>>> =
@@ -196,7 +196,7 @@ pub fn write_table(inputs: &ExactInputs, labels: &LabelSet, path: &Path) -> Resu
 }
 
 /// A writer that fails once more than `left` bytes are written: the table
-/// stops at [`ufcsr::PLACEMENT_TABLE_LIMIT`], the most `placement` reads, so
+/// stops at [`ufcsr::format::PLACEMENT_TABLE_LIMIT`], the most `placement` reads, so
 /// the capture never writes (and keeps) a table `placement` would refuse
 /// (a 40 s scenario with `--display` used to write 420 MB).
 struct LimitedWriter<W> {
@@ -212,7 +212,7 @@ impl<W: std::io::Write> std::io::Write for LimitedWriter<W> {
                 "the placement table would be larger than {} MiB, the most `ufcsr placement` \
                  reads: measure fewer frames (--frames 0-END/STEP), larger or fewer displays (--display, \
                  --patch-spacing) or a sample (--sample)",
-                ufcsr::PLACEMENT_TABLE_LIMIT >> 20
+                ufcsr::format::PLACEMENT_TABLE_LIMIT >> 20
             )));
         }
         self.left -= size;

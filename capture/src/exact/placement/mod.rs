@@ -32,7 +32,7 @@ use crate::error::{CaptureError, Result};
 use crate::scene::Scene;
 
 /// The file written into the results folder (the analyzer's, which reads it).
-pub use ufcsr::PLACEMENT_FRAMES_FILE;
+pub use ufcsr::placement::PLACEMENT_FRAMES_FILE;
 
 pub use patches::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE};
 
@@ -57,7 +57,7 @@ pub struct ExactInputs<'a> {
     /// Both eyes per frame, in frame order (left, right).
     pub eye_frames: &'a [EyeFrame],
     /// Per frame: its record as in the manifest (frame, time, distance).
-    pub frame_records: &'a [ufcsr::FrameEntry],
+    pub frame_records: &'a [ufcsr::format::FrameEntry],
     pub obstacles: &'a Obstacles,
     /// `--sample`: the share of texels measured.
     pub sample_fraction: f64,
@@ -89,7 +89,7 @@ pub fn write_placement_frames(
     let mut labels = labels::LabelSet::parts(&inputs.scene.vehicle.parts, inputs.samples);
     let parts = labels.count();
     // A link at results/ is replaced by a real folder, never written through.
-    ufcsr::real_dir(results_dir)?;
+    ufcsr::files::real_dir(results_dir)?;
     let mut patches_csv = None;
     if let Some(display) = options.display_m {
         let placed = patches::place_patches(inputs, display, options.spacing_m);

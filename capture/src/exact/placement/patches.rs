@@ -60,7 +60,7 @@ use super::surface::{Cell, Surface, area_in_box, cell_of};
 use crate::exact::types::{SURFACE_LIFT_RELATIVE, SurfaceSample};
 
 /// The footprint table's name and columns: the analyzer's, which reads it.
-pub use ufcsr::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE};
+pub use ufcsr::{placement::PLACEMENT_PATCHES_COLUMNS, placement::PLACEMENT_PATCHES_FILE};
 
 /// A kept patch must be covered by at least this share of its W × H.
 pub const MIN_COVER: f64 = 0.9;
@@ -294,7 +294,7 @@ pub fn write_patch_table(
     placed: &[PlacedPatch],
     [w, h]: [f64; 2],
 ) -> crate::error::Result<()> {
-    ufcsr::write_atomically(path, |writer| {
+    ufcsr::files::write_atomically(path, |writer| {
         let mut table = csv::Writer::from_writer(writer);
         table.write_record(PLACEMENT_PATCHES_COLUMNS).map_err(std::io::Error::other)?;
         for patch in placed {

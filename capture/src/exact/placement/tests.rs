@@ -346,14 +346,15 @@ fn the_patch_layout_is_the_same_whatever_the_texel_sample() {
 
 /// The candidates of `mesh` as the analyzer's published places see them:
 /// every part, and every 0.40 m × 0.15 m display patch with its centre.
-fn named_candidates(mesh: Mesh) -> Vec<(String, ufcsr::CandidateKind, Option<[f64; 3]>)> {
+fn named_candidates(mesh: Mesh) -> Vec<(String, ufcsr::placement::CandidateKind, Option<[f64; 3]>)> {
     let scene = scene_with(mesh, Occluders::default());
     let obstacles = Obstacles::new(&scene);
     let samples = samples_of(&scene.vehicle, [512, 512]);
     let patches = place_patches(&inputs(&scene, &samples, &obstacles), [0.40, 0.15], 0.10);
-    let parts = scene.vehicle.parts.iter().map(|p| (p.clone(), ufcsr::CandidateKind::Part, None));
-    let patches =
-        patches.into_iter().map(|p| (p.name, ufcsr::CandidateKind::Patch, Some(p.centre.to_array())));
+    let parts = scene.vehicle.parts.iter().map(|p| (p.clone(), ufcsr::placement::CandidateKind::Part, None));
+    let patches = patches
+        .into_iter()
+        .map(|p| (p.name, ufcsr::placement::CandidateKind::Patch, Some(p.centre.to_array())));
     parts.chain(patches).collect()
 }
 
@@ -370,12 +371,15 @@ fn every_published_place_is_a_named_candidate_on_the_truck_and_every_family_body
     }
     for (body, mesh) in bodies {
         let candidates = named_candidates(mesh);
-        let keyed: Vec<(&str, ufcsr::CandidateKind, Option<[f64; 3]>)> =
+        let keyed: Vec<(&str, ufcsr::placement::CandidateKind, Option<[f64; 3]>)> =
             candidates.iter().map(|(n, k, c)| (n.as_str(), *k, *c)).collect();
-        for place in ufcsr::PUBLISHED_LOCATIONS {
+        for place in ufcsr::placement::PUBLISHED_LOCATIONS {
             let members = place.members(&keyed);
-            let count = |kind: ufcsr::CandidateKind| members.iter().filter(|&&i| keyed[i].1 == kind).count();
-            let (parts, patches) = (count(ufcsr::CandidateKind::Part), count(ufcsr::CandidateKind::Patch));
+            let count = |kind: ufcsr::placement::CandidateKind| {
+                members.iter().filter(|&&i| keyed[i].1 == kind).count()
+            };
+            let (parts, patches) =
+                (count(ufcsr::placement::CandidateKind::Part), count(ufcsr::placement::CandidateKind::Patch));
             eprintln!("{body}: {}: {parts} parts, {patches} patches", place.name);
             assert!(parts >= 1, "{body}: no part is the {}", place.name);
             // No 0.40 m display fits a 0.2 m mirror, a headlight or a wheel at 90 %, nor the

@@ -81,7 +81,7 @@ pub struct BodyDims {
 impl BodyDims {
     /// These dimensions with the ones `overrides` gives in their place (the one type a scene
     /// file's `vehicle.dims` and a design's vehicle level both use).
-    pub fn with(self, overrides: &ufcsr::BodyDimsOverride) -> BodyDims {
+    pub fn with(self, overrides: &ufcsr::format::BodyDimsOverride) -> BodyDims {
         BodyDims {
             length_m: overrides.length_m.unwrap_or(self.length_m),
             width_m: overrides.width_m.unwrap_or(self.width_m),

@@ -8,7 +8,7 @@
 //! (the same draws, [`sample_observers`]) is also measured exactly with
 //! placement candidates, on the CPU, at the study's frame step, and every
 //! candidate's legible seconds are scored under the placement answer's
-//! default rule ([`ufcsr::Thresholds::default`]). Without a display size the
+//! default rule ([`ufcsr::placement::Thresholds::default`]). Without a display size the
 //! study reports no displays: there is nothing to measure them with.
 //!
 //! What the numbers cover, as for parts ([`super::interval`]):
@@ -34,8 +34,8 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use ufcsr::{
-    DisplayOverObservers, ObserverDisplayRecord, ObserverDisplays, ObserverSampling, ResolutionCheck,
-    Thresholds,
+    format::DisplayOverObservers, format::ObserverDisplayRecord, format::ObserverDisplays,
+    format::ObserverSampling, format::ResolutionCheck, placement::Thresholds,
 };
 
 use super::interval::IntervalKind;
@@ -90,8 +90,8 @@ pub struct DisplayStudy {
     pub observers: Vec<ObserverLegible>,
     /// Largest mean legible time first.
     pub summary: Vec<DisplayOverObservers>,
-    /// Candidates no answer may hold, and why (the placement's one rule, [`ufcsr::exclusions`]).
-    pub excluded: Vec<ufcsr::ExcludedRecord>,
+    /// Candidates no answer may hold, and why (the placement's one rule, [`ufcsr::placement::exclusions`]).
+    pub excluded: Vec<ufcsr::format::ExcludedRecord>,
     pub seconds: f64,
 }
 
@@ -119,9 +119,9 @@ impl DisplayStudy {
 }
 
 /// Legible seconds and kind of every candidate in a placement table.
-fn legible_seconds(table: ufcsr::PlacementTable) -> BTreeMap<String, (String, f64)> {
+fn legible_seconds(table: ufcsr::placement::PlacementTable) -> BTreeMap<String, (String, f64)> {
     let table = Arc::new(table);
-    let scored = ufcsr::timelines(table.clone(), &Thresholds::default());
+    let scored = ufcsr::placement::timelines(table.clone(), &Thresholds::default());
     scored
         .timelines
         .iter()
@@ -154,7 +154,7 @@ fn measure_candidates(
     };
     let measured = measure_unobstructed(device, queue, scene, &scenario, &capture, &measure)?;
     let written = measured.placement.ok_or_else(|| CaptureError::BadOptions("no placement table".into()))?;
-    Ok(legible_seconds(ufcsr::read_table(&written.csv)?))
+    Ok(legible_seconds(ufcsr::placement::read_table(&written.csv)?))
 }
 
 /// Measures every observer of the study `options` describes (the same
@@ -181,7 +181,8 @@ pub fn run_observer_displays(
     let mut kinds = BTreeMap::new();
     let mut observers = Vec::with_capacity(sampled.len());
     for (index, observer) in sampled.iter().enumerate() {
-        let dir = ufcsr::output_sub_dir(&options.capture.out, Path::new(&format!("observer-{index:03}")))?;
+        let dir =
+            ufcsr::files::output_sub_dir(&options.capture.out, Path::new(&format!("observer-{index:03}")))?;
         let observer_scene = observer_scene(scene, options, observer, options.ppd)?;
         let seed = if displays.sample < 1.0 { index as u64 + 1 } else { 1 };
         let gpu = (device, queue);
@@ -226,7 +227,7 @@ pub fn run_observer_displays(
         options: *displays,
         interval: interval_sentence(&options.sampling, options.resolution_check),
         observers,
-        excluded: ufcsr::default_exclusions(kinds.iter().map(|(n, k)| (n.as_str(), k.as_str()))),
+        excluded: ufcsr::placement::default_exclusions(kinds.iter().map(|(n, k)| (n.as_str(), k.as_str()))),
         summary,
         seconds: start.elapsed().as_secs_f64(),
     })
@@ -286,7 +287,7 @@ pub fn summarize_displays(
 /// legible seconds' mean, interval (empty on a grid), Monte Carlo
 /// half-width, resolution bound and spread.
 pub fn write_display_study(study: &DisplayStudy, dir: &Path) -> Result<PathBuf> {
-    ufcsr::create_output_dir(dir)?;
+    ufcsr::files::create_output_dir(dir)?;
     let mut table = String::from(
         "candidate,kind,legible_s_mean,legible_s_ci95_low,legible_s_ci95_high,legible_s_monte_carlo_half_width,\
          legible_s_resolution_bound,legible_s_p2_5,legible_s_p97_5\n",
@@ -294,7 +295,7 @@ pub fn write_display_study(study: &DisplayStudy, dir: &Path) -> Result<PathBuf> 
     for s in &study.summary {
         let v = &s.legible_s;
         let row = [
-            ufcsr::csv_field(&s.candidate),
+            ufcsr::output::csv_field(&s.candidate),
             s.kind.clone(),
             super::cell(Some(v.mean)),
             super::cell(v.mean_ci95.map(|c| c[0])),
@@ -307,7 +308,7 @@ pub fn write_display_study(study: &DisplayStudy, dir: &Path) -> Result<PathBuf> 
         table.push_str(&(row.join(",") + "\n"));
     }
     let path = dir.join(OBSERVER_DISPLAYS_FILE);
-    ufcsr::write_bytes_atomically(&path, table.as_bytes())?;
+    ufcsr::files::write_bytes_atomically(&path, table.as_bytes())?;
     Ok(path)
 }
 

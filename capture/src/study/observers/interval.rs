@@ -13,7 +13,7 @@
 //! interval's coverage against a population mean known from a dense
 //! quadrature (`docs/science.md` states it).
 
-use ufcsr::PopulationValue;
+use ufcsr::format::PopulationValue;
 
 /// Which interval the sampling supports.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -28,8 +28,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use ufcsr::{
-    CoarserCapture, Dedupe, OBSERVERS_SCHEMA, ObserverPlace, ObserverPopulation, ObserverRecord,
-    ObserverSampling, ObserverStudy, PartOverObservers, ResolutionCheck,
+    Dedupe, format::CoarserCapture, format::OBSERVERS_SCHEMA, format::ObserverPlace,
+    format::ObserverPopulation, format::ObserverRecord, format::ObserverSampling, format::ObserverStudy,
+    format::PartOverObservers, format::ResolutionCheck,
 };
 
 use crate::error::{CaptureError, Result};
@@ -255,7 +256,7 @@ fn capture_observer(
     setup: &mut Option<CaptureSetup>,
 ) -> Result<(ObserverRecord, Vec<String>)> {
     // A link planted at observer-NNN is replaced by a real folder, never written through.
-    let out = ufcsr::output_sub_dir(&options.capture.out, Path::new(&format!("observer-{index:03}")))?;
+    let out = ufcsr::files::output_sub_dir(&options.capture.out, Path::new(&format!("observer-{index:03}")))?;
     let fine_scene = observer_scene(scene, options, observer, options.ppd)?;
     let fine = capture_totals(device, queue, (&fine_scene, options), (&out, options.frame_step), setup)?;
     let mut seconds = fine.seconds;
@@ -351,7 +352,7 @@ impl Measure {
         Measure { values, bounds }
     }
 
-    fn at(&self, part: usize, kind: IntervalKind) -> ufcsr::PopulationValue {
+    fn at(&self, part: usize, kind: IntervalKind) -> ufcsr::format::PopulationValue {
         let column = |rows: &[Vec<f64>]| -> Vec<f64> { rows.iter().map(|r| r[part]).collect() };
         let bounds = self.bounds.as_deref().map(column);
         population_value(&column(&self.values), bounds.as_deref(), kind)
@@ -398,11 +399,11 @@ const OBSERVER_FILES: [&str; 3] = ["observers.json", "observers.csv", "observer-
 /// earlier run's `observer-displays.csv` is removed: it describes other
 /// observers.
 pub fn write_observer_study(study: &ObserverStudy, dir: &Path) -> Result<Vec<PathBuf>> {
-    ufcsr::create_output_dir(dir)?;
+    ufcsr::files::create_output_dir(dir)?;
     let json_path = dir.join("observers.json");
     let json =
         serde_json::to_vec_pretty(study).map_err(|e| CaptureError::bad_file(&json_path, e.to_string()))?;
-    ufcsr::write_bytes_atomically(&json_path, &json)?;
+    ufcsr::files::write_bytes_atomically(&json_path, &json)?;
     let mut per_observer = String::from(
         "observer,x_m,y_m,group,stature_m,eye_height_m,part,angular_area_deg2_s,angular_area_bound_deg2_s,count\n",
     );
@@ -413,10 +414,10 @@ pub fn write_observer_study(study: &ObserverStudy, dir: &Path) -> Result<Vec<Pat
                 "{i},{},{},{},{},{},{},{},{},{}\n",
                 o.position[0],
                 o.position[1],
-                ufcsr::csv_field(o.group.as_deref().unwrap_or("")),
+                ufcsr::output::csv_field(o.group.as_deref().unwrap_or("")),
                 o.stature_m.map_or_else(String::new, |s| s.to_string()),
                 o.eye_height_m,
-                ufcsr::csv_field(part),
+                ufcsr::output::csv_field(part),
                 o.angular_area_deg2_s[p],
                 bound.map_or_else(String::new, |b| b.to_string()),
                 o.count[p]
@@ -424,12 +425,12 @@ pub fn write_observer_study(study: &ObserverStudy, dir: &Path) -> Result<Vec<Pat
         }
     }
     let observers_path = dir.join("observers.csv");
-    ufcsr::write_bytes_atomically(&observers_path, per_observer.as_bytes())?;
+    ufcsr::files::write_bytes_atomically(&observers_path, per_observer.as_bytes())?;
     let parts_path = dir.join("observer-parts.csv");
-    ufcsr::write_bytes_atomically(&parts_path, parts_table(study).as_bytes())?;
+    ufcsr::files::write_bytes_atomically(&parts_path, parts_table(study).as_bytes())?;
     remove_stale_observers(dir, study.observers.len())?;
     if study.displays.is_none() {
-        ufcsr::remove_inside(dir, &dir.join(displays::OBSERVER_DISPLAYS_FILE))?;
+        ufcsr::files::remove_inside(dir, &dir.join(displays::OBSERVER_DISPLAYS_FILE))?;
     }
     Ok(vec![json_path, observers_path, parts_path])
 }
@@ -445,7 +446,7 @@ fn remove_stale_observers(dir: &Path, observers: usize) -> Result<()> {
         let index =
             name.to_str().and_then(|n| n.strip_prefix("observer-")).and_then(|n| n.parse::<usize>().ok());
         if index.is_some_and(|index| index >= observers) {
-            ufcsr::remove_inside(dir, &entry.path())?;
+            ufcsr::files::remove_inside(dir, &entry.path())?;
         }
     }
     Ok(())
@@ -462,7 +463,7 @@ fn parts_table(study: &ObserverStudy) -> String {
     header.push("top5_frequency".into());
     let mut table = header.join(",") + "\n";
     for s in &study.summary {
-        let mut row = vec![ufcsr::csv_field(&s.part)];
+        let mut row = vec![ufcsr::output::csv_field(&s.part)];
         for v in [&s.angular_area_deg2_s, &s.angular_area_share_percent, &s.count_share_percent] {
             row.extend([
                 cell(Some(v.mean)),

@@ -2,7 +2,7 @@
 //!
 //! The seed paper's rig puts the eyes 1.75 m high — a stature used as an
 //! eye height, about the 96th percentile eye height of the default
-//! population ([`ufcsr::ObserverPopulation::us_adults`], NCHS 2015–2018),
+//! population ([`ufcsr::format::ObserverPopulation::us_adults`], NCHS 2015–2018),
 //! whose median is 1.571 m — and 0.1103594 m apart, which is not a human
 //! interpupillary distance (ANSUR II 2012: 64.0 mm men, 61.7 mm women).
 //! [`Rig::default`] stays the paper's, so the paper's captures and their
@@ -11,7 +11,7 @@
 //! asked for `--rig paper`, and each says which observer it used
 //! ([`describe_observer`]).
 
-use ufcsr::{ObserverPlace, ObserverPopulation};
+use ufcsr::{format::ObserverPlace, format::ObserverPopulation};
 
 use super::population::eye_height_quantile;
 use crate::scene::rig::Rig;

@@ -1,7 +1,7 @@
 //! Who the observers are: drawn from a declared population, not a grid of
 //! guesses.
 //!
-//! A population ([`ufcsr::ObserverPopulation`]) says where people stand (the
+//! A population ([`ufcsr::format::ObserverPopulation`]) says where people stand (the
 //! rig's pedestrian, uniformly along a kerb segment or over a rectangle)
 //! and how tall they are (a mixture of groups, each normal in stature with
 //! a named source, eye height = stature − an offset). [`sample_observers`]
@@ -9,9 +9,11 @@
 //! gives the same observers on every machine): independent draws are what
 //! make the Student-t interval of their mean a valid interval of the
 //! population mean. The old deterministic grid stays as an explicit
-//! [`ufcsr::ObserverSampling::Grid`], for which no interval is claimed.
+//! [`ufcsr::format::ObserverSampling::Grid`], for which no interval is claimed.
 
-use ufcsr::{ObserverPlace, ObserverPopulation, ObserverSampling, StatureGroup};
+use ufcsr::{
+    format::ObserverPlace, format::ObserverPopulation, format::ObserverSampling, format::StatureGroup,
+};
 
 use crate::error::{CaptureError, Result};
 use ufcsr::SplitMix64;

@@ -111,10 +111,10 @@ pub fn load(labels: &OwnLabelFiles, unwrapped: &Unwrapped) -> Result<LoadedOwnLa
 
 /// Writes the legend into the archive as `name,color`.
 pub fn write_legend(legend: &Legend, path: &Path) -> Result<()> {
-    ufcsr::write_atomically(path, |w| {
+    ufcsr::files::write_atomically(path, |w| {
         writeln!(w, "name,color")?;
         for part in &legend.parts {
-            writeln!(w, "{},{}", ufcsr::csv_field(&part.name), part.color)?;
+            writeln!(w, "{},{}", ufcsr::output::csv_field(&part.name), part.color)?;
         }
         Ok(())
     })?;

@@ -106,16 +106,16 @@ pub fn paint(mesh: &Mesh, unwrapped: &Unwrapped) -> PidtImage {
 
 /// Writes the PIdT as an 8-bit RGB PNG.
 pub fn write_png(pidt: &PidtImage, path: &Path) -> Result<()> {
-    ufcsr::write_rgb_png(path, [pidt.size[0], pidt.size[1]], &pidt.rgb, png::Compression::Fast)?;
+    ufcsr::files::write_rgb_png(path, [pidt.size[0], pidt.size[1]], &pidt.rgb, png::Compression::Fast)?;
     Ok(())
 }
 
 /// Writes the legend `name,color`.
 pub fn write_legend(mesh: &Mesh, pidt: &PidtImage, path: &Path) -> Result<()> {
-    ufcsr::write_atomically(path, |w| {
+    ufcsr::files::write_atomically(path, |w| {
         writeln!(w, "name,color")?;
         for (name, color) in mesh.parts.iter().zip(&pidt.part_colors) {
-            writeln!(w, "{},{color}", ufcsr::csv_field(name))?;
+            writeln!(w, "{},{color}", ufcsr::output::csv_field(name))?;
         }
         Ok(())
     })?;
