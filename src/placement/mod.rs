@@ -58,7 +58,6 @@ use std::sync::Arc;
 use crate::error::{Error, Result};
 use crate::format::placement::{CombinationRecord, SensitivitySet};
 pub use footprints::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PatchFootprint, read_footprints};
-use legibility::ArchiveTimelines;
 pub use legibility::{CharacterHeight, Exposure, EyeRule, Thresholds, parse_character_height, timelines};
 pub use picture::{Mark, PLACEMENT_PICTURE_FILE, PLACEMENT_VIEWS_DIR, PicturedSet, render_marked};
 pub use regions::{DEFAULT_NOT_MOUNTABLE, DEFAULT_REGION_RADIUS_M};

@@ -47,7 +47,6 @@ use std::path::Path;
 use ufcsr::format::DesignTask;
 
 use crate::error::Result;
-use plan::Plan;
 
 /// What [`run_design`] did with each task.
 #[derive(Debug, Clone, PartialEq)]

@@ -52,7 +52,6 @@ use crate::error::{CaptureError, Result};
 use crate::exact::accuracy::{PerEyeFrame, share_error, totals};
 use crate::job::{CaptureOptions, CaptureProgress, CaptureSetup, CountedCapture, FrameSelection};
 use crate::scene::Scene;
-use offsets::{IntervalOptions, setting_error};
 pub use reference::{StudyTables, exact_tables};
 
 /// What a study compares.
