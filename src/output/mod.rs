@@ -17,6 +17,7 @@ pub(crate) mod heatmap_views;
 pub(crate) mod html;
 pub(crate) mod legend;
 pub(crate) mod numbers;
+pub(crate) mod part_names;
 pub(crate) mod pdf;
 pub(crate) mod plots;
 pub(crate) mod raster;

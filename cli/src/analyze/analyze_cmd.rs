@@ -139,7 +139,7 @@ fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf, console: 
         &ufcsr::ResultSetOptions {
             csv_style: args.csv_style.into(),
             views_scale: args.views_scale,
-            figures: if args.figures == Switch::On { ufcsr::Figures::All } else { ufcsr::Figures::None },
+            figures: args.figures.into(),
         },
     )?;
     report_problems(&analysis.result);
