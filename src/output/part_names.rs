@@ -21,9 +21,15 @@ const NOUN_FIRST: [&str; 3] = ["door", "window", "seat"];
 /// its noun (`b_pillar` → "B-pillar"), and a patch's centre
 /// (`front_bumper@x2.95y-0.76z0.46`) is said in metres.
 pub fn readable_part_name(name: &str) -> String {
-    if let Some((part, centre)) = name.split_once('@') {
-        let at = readable_centre(centre).unwrap_or_else(|| centre.to_string());
-        return format!("{} patch at {at}", readable_part_name(part));
+    if let Some((part, rest)) = name.split_once('@') {
+        // `part@xXyYzZ` or `part@WxH@xXyYzZ` (a display patch of that size).
+        let (size, centre) = match rest.rsplit_once('@') {
+            Some((size, centre)) => (readable_size(size), centre),
+            None => (None, rest),
+        };
+        let at = readable_centre(centre).unwrap_or_else(|| rest.to_string());
+        let size = size.map_or_else(String::new, |size| format!(" {size}"));
+        return format!("{} patch{size} at {at}", readable_part_name(part));
     }
     let mut words: Vec<String> = name
         .split(['_', '-', ' '])
@@ -55,6 +61,13 @@ pub fn readable_part_name(name: &str) -> String {
         Some(side) => format!("{text}, {side}"),
         None => text,
     }
+}
+
+/// `0.3x0.2` → "0.3 × 0.2 m"; `None` when not that form.
+fn readable_size(size: &str) -> Option<String> {
+    let (width, height) = size.split_once('x')?;
+    let (width, height) = (width.parse::<f64>().ok()?, height.parse::<f64>().ok()?);
+    Some(format!("{width} × {height} m"))
 }
 
 /// `x2.95y-0.76z0.46` → "(2.95, −0.76, 0.46) m"; `None` when not that form.
@@ -89,5 +102,9 @@ mod tests {
             "front bumper patch at (2.95, −0.76, 0.46) m"
         );
         assert_eq!(readable_part_name("hood@centre"), "hood patch at centre");
+        assert_eq!(
+            readable_part_name("door_front_left@0.3x0.2@x1y0.5z1"),
+            "front door, left patch 0.3 × 0.2 m at (1, 0.5, 1) m"
+        );
     }
 }

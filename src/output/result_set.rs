@@ -21,7 +21,7 @@ use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::html::report_page::ScenarioPage;
 use crate::output::plots::{PLOTS_DIR, Plot, PlotFiles, font_available, plot_file_names, write_plots};
 use crate::output::scenario_map::{MapContent, SceneShapes, write_scenario_map};
-use crate::output::view_sheet::{SingleViews, VIEWS_PDF_FILE, write_views_with};
+use crate::output::view_sheet::{SingleViews, VIEWS_PDF_FILE, write_sheet_and_views};
 use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
 use crate::result::model::Analysis;
@@ -285,7 +285,7 @@ fn write_side_by_side(
         (Some(model), Some(_)) => {
             let texture = view_texture(analysis, area.as_ref(), inputs.track.as_ref(), options);
             let singles = if files.single_views { SingleViews::Written } else { SingleViews::Omitted };
-            write_views_with(model, &texture, out_dir, singles).map(drop)
+            write_sheet_and_views(model, &texture, out_dir, singles).map(drop)
         }
         _ => Ok(()),
     };

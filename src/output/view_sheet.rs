@@ -359,7 +359,7 @@ pub const VIEWS_PDF_FILE: &str = "views.pdf";
 /// Writes `dir/views/NAME.png` for the eight directions and `dir/views.png`,
 /// drawn with the CPU renderer ([`render_view`]).
 pub fn write_views(model: &VehicleModel, texture: &ViewTexture, dir: &Path) -> Result<WrittenViews> {
-    write_views_with(model, texture, dir, SingleViews::Written)
+    write_sheet_and_views(model, texture, dir, SingleViews::Written)
 }
 
 /// Whether each view is also written alone (`views/NAME.png`) beside the
@@ -371,8 +371,8 @@ pub(crate) enum SingleViews {
     Omitted,
 }
 
-/// [`write_views`], the single views written or not.
-pub(crate) fn write_views_with(
+/// [`write_views`], each view written alone or not.
+pub(crate) fn write_sheet_and_views(
     model: &VehicleModel,
     texture: &ViewTexture,
     dir: &Path,

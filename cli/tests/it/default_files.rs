@@ -1,4 +1,4 @@
-//! Issue 45 §5: a default analysis of the bundled example (`ufcsr
+//! Issue 45 §5: a default analysis of the bundled example (`cargo run --
 //! fixtures/example`, the README's first command) wrote 37 files, 18 of
 //! them plot variants. By default it writes at most 20 — each figure once,
 //! a plot as two-column PNG and PDF — and `--figures all` adds the variants
@@ -23,17 +23,12 @@ fn files_below(dir: &Path) -> Vec<String> {
     found
 }
 
-/// `ufcsr fixtures/example --out OUT` with `extra`; the files it wrote.
+/// `cargo run -- fixtures/example --out OUT` (the workspace's default binary) with `extra`; the
+/// files it wrote.
 fn analyse_example(out: &Path, extra: &[&str]) -> Vec<String> {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
-    let status = std::process::Command::new(env!("CARGO_BIN_EXE_ufcsr"))
-        .arg(&example)
-        .arg("--out")
-        .arg(out)
-        .arg("-q")
-        .args(extra)
-        .status()
-        .unwrap();
+    let status =
+        crate::common::analyzer().arg(&example).arg("--out").arg(out).arg("-q").args(extra).status().unwrap();
     assert!(status.success());
     files_below(out)
 }
