@@ -99,6 +99,7 @@ pub use output::{
     write_comparison, write_comparison_with, write_heatmap, write_parts_csv, write_results,
     write_results_with, write_scenario_map, write_scene_glb, write_views,
 };
+pub use output::{FIGURE_DPI, KernedBitmap, figure_mm, figure_pt, figure_stroke, svg_in_millimetres};
 pub use output::{IntervalFigure, IntervalRow, readable_part_name};
 pub use placement::eligible::{Fit, default_exclusions, default_not_mountable, excluded_line, exclusions};
 pub use placement::legibility::{ArchiveTimelines, Timeline};

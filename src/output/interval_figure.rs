@@ -190,6 +190,9 @@ mod tests {
             ],
         };
         let svg = figure.svg().unwrap();
+        if let Some(keep) = std::env::var_os("UFCSR_KEEP_FIGURES") {
+            figure.write(&Path::new(&keep).join("interval-figure")).unwrap();
+        }
         // Horizontal whiskers in Okabe–Ito blue, in pixels; the caps are vertical.
         let lines: Vec<[(f64, f64); 2]> = svg
             .split("<polyline")

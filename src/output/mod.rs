@@ -32,6 +32,11 @@ pub(crate) mod written_files;
 
 pub use console_table::{format_counted_table, format_table};
 pub use csv::{CsvStyle, csv_field, write_parts_csv};
+/// The figure units and backend the capture's study plot is drawn with too.
+pub use figure::{
+    DPI as FIGURE_DPI, KernedBitmap, mm as figure_mm, pt as figure_pt, stroke as figure_stroke,
+    svg_in_millimetres,
+};
 pub use figure::{FigureSize, MIN_TEXT_PT, MM_PER_PT, OKABE_ITO};
 pub use frame_strip::{FRAME_STRIP_FILE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED};
 pub use heatmap::{

@@ -7,7 +7,9 @@
 //! tolerance dashed, each point labelled `ppd/step`, and a legend. The time axis has
 //! tick labels in seconds at 1, 2, 5 × 10^k (plotters' own log axis left a range
 //! inside one decade without any, issue 44 §2), and each interval is a bar with
-//! end caps in Okabe–Ito blue. Labels need a TrueType font, looked up at run
+//! end caps in Okabe–Ito blue. Sized like the analysis plots: two journal
+//! columns (181.9 mm) at 300 dpi (`pHYs`), text ≥ 7 pt there, Okabe–Ito
+//! colours. Labels need a TrueType font, looked up at run
 //! time (`UFCSR_FONT`, else DejaVu Sans where Debian and most distributions
 //! put it) so that building needs no fontconfig; without one the SVG is drawn
 //! without text and no PNG is written.
@@ -27,20 +29,29 @@ fn font_available() -> bool {
     ufcsr::plot_font_available()
 }
 
-/// The plot's size, pixels.
-const SIZE: (u32, u32) = (900, 600);
+/// The plot's size, pixels: two journal columns (181.9 mm) at 300 dpi, 2:3 high.
+fn size() -> (u32, u32) {
+    let width = ufcsr::FigureSize::TwoColumns.width_px();
+    (width, width * 2 / 3)
+}
 
-/// Writes the plot as SVG: drawn into a string, written by the file layer
-/// (plotters' file backend would write through a link planted at `path`:
-/// issue 41).
+/// Lengths were laid out on a 900-pixel-wide plot: `v` of those, in figure pixels.
+fn px(v: f64) -> i32 {
+    (v * f64::from(size().0) / 900.0).round() as i32
+}
+
+/// Writes the plot as SVG (its width in millimetres): drawn into a string,
+/// written by the file layer (plotters' file backend would write through a
+/// link planted at `path`: issue 41).
 pub fn plot_svg(study: &Study, path: &Path) -> Result<()> {
     let text = ufcsr::PlotText::available();
     let mut svg = String::new();
     {
-        let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, size()).into_drawing_area();
         draw(study, &root, text)
             .map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))?;
     }
+    let svg = ufcsr::svg_in_millimetres(&svg, ufcsr::FigureSize::TwoColumns, size().1);
     Ok(ufcsr::write_bytes_atomically(path, svg.as_bytes())?)
 }
 
@@ -50,14 +61,16 @@ pub fn plot_png(study: &Study, path: &Path) -> Result<bool> {
     if !font_available() {
         return Ok(false);
     }
-    let mut rgb = vec![0u8; SIZE.0 as usize * SIZE.1 as usize * 3];
+    let (width, height) = size();
+    let mut rgb = vec![0u8; width as usize * height as usize * 3];
     {
-        let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
+        let root =
+            ufcsr::KernedBitmap(BitMapBackend::with_buffer(&mut rgb, (width, height))).into_drawing_area();
         draw(study, &root, ufcsr::PlotText::Drawn)
             .and_then(|()| root.present().map_err(Into::into))
             .map_err(|e| CaptureError::bad_file(path, format!("drawing the study plot: {e}")))?;
     }
-    ufcsr::write_rgb_png(path, [SIZE.0, SIZE.1], &rgb, png::Compression::Fast)?;
+    ufcsr::write_figure_png(path, [width, height], &rgb, ufcsr::FIGURE_DPI)?;
     Ok(true)
 }
 
@@ -79,7 +92,7 @@ where
         errors.iter().copied().chain(highs).chain(precisions).fold(study.tolerance_pp, f64::max) * 1.1 + 0.1;
     let exact = study.exact.is_some();
     let mut builder = ChartBuilder::on(root);
-    builder.margin(20);
+    builder.margin(px(20.0));
     if text == ufcsr::PlotText::Drawn {
         let against = if exact { "the exact measure of every frame" } else { "the finest setting" };
         builder
@@ -88,10 +101,10 @@ where
                     "Scenario {}, {}: share error against {against} vs run time",
                     study.scenario, study.measure
                 ),
-                ("sans-serif", 20),
+                ("sans-serif", ufcsr::figure_pt(9.0)),
             )
-            .x_label_area_size(50)
-            .y_label_area_size(70);
+            .x_label_area_size(px(50.0))
+            .y_label_area_size(px(70.0));
     }
     let (x0, x1) = (t_min * 0.8, t_max * 1.25);
     let ticks = time_ticks(x0, x1);
@@ -108,8 +121,9 @@ where
             .y_desc(y)
             .x_labels(ticks.len())
             .x_label_formatter(&|v: &f64| format!("{} s", seconds_label(*v)))
-            .label_style(("sans-serif", 14))
-            .axis_desc_style(("sans-serif", 16));
+            .label_style(("sans-serif", ufcsr::figure_pt(7.5)))
+            .axis_desc_style(("sans-serif", ufcsr::figure_pt(8.5)))
+            .set_all_tick_mark_size(ufcsr::figure_mm(1.0));
     } else {
         mesh.disable_x_mesh().disable_y_mesh().x_labels(0).y_labels(0);
     }
@@ -118,12 +132,14 @@ where
     chart
         .draw_series(DashedLineSeries::new(
             [(x0, study.tolerance_pp), (x1, study.tolerance_pp)],
-            6,
-            4,
-            grey.stroke_width(1),
+            px(6.0),
+            px(4.0),
+            grey.stroke_width(ufcsr::figure_stroke(0.7)),
         ))?
         .label(format!("tolerance {} pp", study.tolerance_pp))
-        .legend(move |(x, y)| PathElement::new([(x, y), (x + 18, y)], grey));
+        .legend(move |(x, y)| {
+            PathElement::new([(x, y), (x + px(18.0), y)], grey.stroke_width(px(1.0) as u32))
+        });
     if exact {
         draw_precision_and_intervals(study, &mut chart, &times)?;
     }
@@ -134,7 +150,9 @@ where
             .position(SeriesLabelPosition::UpperRight)
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
-            .label_font(("sans-serif", 14))
+            .label_font(("sans-serif", ufcsr::figure_pt(7.5)))
+            .legend_area_size(px(26.0))
+            .margin(px(10.0))
             .draw()?;
     }
     root.present()?;
@@ -145,6 +163,16 @@ type Chart<'a, B> = ChartContext<'a, B, Cartesian2d<WithKeyPoints<LogCoord<f64>>
 
 /// The colour of the 95 % intervals (Okabe–Ito blue).
 const INTERVAL: RGBColor = RGBColor(0, 114, 178);
+/// The Pareto front's colour (Okabe–Ito vermillion) and the recommended setting's (bluish green).
+const FRONT: RGBColor = RGBColor(213, 94, 0);
+const RECOMMENDED: RGBColor = RGBColor(0, 158, 115);
+/// The settings off the front (Okabe–Ito sky blue).
+const SETTING: RGBColor = RGBColor(86, 180, 233);
+
+/// The intervals' line width, pixels.
+fn whisker() -> u32 {
+    ufcsr::figure_stroke(1.0)
+}
 
 /// Tick values of a log time axis from `low` to `high` seconds: 1, 2 and 5
 /// × 10^k inside the range; every 1, 1.5, 2–9 × 10^k when that gives fewer than
@@ -197,11 +225,13 @@ where
 {
     let grey = RGBColor(150, 150, 150);
     let points =
-        study.rows.iter().zip(times).map(|(r, &t)| Circle::new((t, r.precision.share_l1_pp), 3, grey));
+        study.rows.iter().zip(times).map(|(r, &t)| {
+            Circle::new((t, r.precision.share_l1_pp), px(3.0), grey.stroke_width(px(1.0) as u32))
+        });
     chart
         .draw_series(points)?
         .label("precision: vs finest setting")
-        .legend(move |(x, y)| Circle::new((x + 9, y), 3, grey));
+        .legend(move |(x, y)| Circle::new((x + px(9.0), y), px(3.0), grey.stroke_width(px(1.0) as u32)));
     let bars: Vec<[(f64, f64); 2]> = study
         .rows
         .iter()
@@ -209,17 +239,25 @@ where
         .filter_map(|(row, &t)| row.error_vs_exact.as_ref().map(|e| [(t, e.ci95_pp[0]), (t, e.ci95_pp[1])]))
         .collect();
     chart
-        .draw_series(bars.iter().map(|bar| PathElement::new(*bar, INTERVAL.stroke_width(2))))?
+        .draw_series(bars.iter().map(|bar| PathElement::new(*bar, INTERVAL.stroke_width(whisker()))))?
         .label("95 % interval over frame offsets")
-        .legend(|(x, y)| PathElement::new([(x + 9, y - 6), (x + 9, y + 6)], INTERVAL.stroke_width(2)));
-    // End caps, 4 pixels each side of each end (in the plotting area's pixels).
+        .legend(|(x, y)| {
+            PathElement::new(
+                [(x + px(9.0), y - px(6.0)), (x + px(9.0), y + px(6.0))],
+                INTERVAL.stroke_width(whisker()),
+            )
+        });
+    // End caps each side of each end (in the plotting area's pixels).
     let area = chart.plotting_area().strip_coord_spec();
     let base = chart.plotting_area().get_base_pixel();
     for bar in &bars {
         for end in bar {
             let (x, y) = chart.backend_coord(end);
             let (x, y) = (x - base.0, y - base.1);
-            area.draw(&PathElement::new([(x - 4, y), (x + 4, y)], INTERVAL.stroke_width(2)))?;
+            area.draw(&PathElement::new(
+                [(x - px(4.0), y), (x + px(4.0), y)],
+                INTERVAL.stroke_width(whisker()),
+            ))?;
         }
     }
     Ok(())
@@ -244,30 +282,38 @@ where
         .collect();
     front.sort_by(|a, b| a.0.total_cmp(&b.0));
     chart
-        .draw_series(LineSeries::new(front, RED.stroke_width(2)))?
+        .draw_series(LineSeries::new(front, FRONT.stroke_width(ufcsr::figure_stroke(1.2))))?
         .label("Pareto front")
-        .legend(|(x, y)| PathElement::new([(x, y), (x + 18, y)], RED.stroke_width(2)));
+        .legend(|(x, y)| {
+            PathElement::new([(x, y), (x + px(18.0), y)], FRONT.stroke_width(ufcsr::figure_stroke(1.2)))
+        });
     let against = if study.exact.is_some() { "vs exact" } else { "vs finest" };
     chart
         .draw_series(study.rows.iter().zip(times).map(|(r, &t)| {
-            let color = if r.pareto { RED.filled() } else { BLUE.mix(0.7).filled() };
-            Circle::new((t, r.ranking_error()), 4, color)
+            let color = if r.pareto { FRONT.filled() } else { SETTING.filled() };
+            Circle::new((t, r.ranking_error()), px(4.0), color)
         }))?
         .label(format!("setting, {against} (label ppd/step)"))
-        .legend(|(x, y)| Circle::new((x + 9, y), 4, BLUE.mix(0.7).filled()));
+        .legend(|(x, y)| Circle::new((x + px(9.0), y), px(4.0), SETTING.filled()));
     if let Some(pick) = &study.recommended {
         let time = pick.seconds.max(1e-3);
         chart
-            .draw_series(std::iter::once(Circle::new((time, pick.share_l1_pp), 7, GREEN.stroke_width(3))))?
+            .draw_series(std::iter::once(Circle::new(
+                (time, pick.share_l1_pp),
+                px(7.0),
+                RECOMMENDED.stroke_width(px(3.0) as u32),
+            )))?
             .label(format!("recommended: {}", pick.setting))
-            .legend(|(x, y)| Circle::new((x + 9, y), 6, GREEN.stroke_width(3)));
+            .legend(|(x, y)| {
+                Circle::new((x + px(9.0), y), px(6.0), RECOMMENDED.stroke_width(px(3.0) as u32))
+            });
     }
     if text == ufcsr::PlotText::Drawn {
         for (row, &time) in study.rows.iter().zip(times) {
             chart.draw_series(std::iter::once(Text::new(
                 format!("{}/{}", row.ppd, row.frame_step),
                 (time, row.ranking_error()),
-                ("sans-serif", 12),
+                ("sans-serif", ufcsr::figure_pt(7.0)),
             )))?;
         }
     }
@@ -283,7 +329,7 @@ mod tests {
     fn svg_of(study: &Study) -> String {
         let mut svg = String::new();
         {
-            let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
+            let root = SVGBackend::with_string(&mut svg, size()).into_drawing_area();
             draw(study, &root, ufcsr::PlotText::available()).unwrap();
         }
         svg
@@ -302,11 +348,15 @@ mod tests {
             true,
         );
         let svg = svg_of(&s);
-        // The settings' points (radius 4; drawn in row order before the legend's) give the y axis's scale.
+        if let Some(keep) = std::env::var_os("UFCSR_KEEP_FIGURES") {
+            plot_png(&s, &std::path::Path::new(&keep).join("study.png")).unwrap();
+        }
+        // The settings' points (drawn in row order before the legend's) give the y axis's scale.
+        let radius = px(4.0).to_string();
         let points: Vec<(f64, f64)> = svg
             .split("<circle")
             .skip(1)
-            .filter(|tag| attribute(tag, "r").as_deref() == Some("4"))
+            .filter(|tag| attribute(tag, "r").as_deref() == Some(radius.as_str()))
             .map(|tag| {
                 (
                     attribute(tag, "cx").unwrap().parse().unwrap(),
