@@ -64,6 +64,27 @@ mirror! {
     }
 }
 
+/// Which figures an analysis draws (`--figures`; [`ufcsr::output::Figures`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FiguresChoice {
+    /// Each figure once: a plot as two-column PNG and PDF, the views as their sheet.
+    On,
+    /// Also the variants: each plot as SVG and at one column, each view alone in `views/`.
+    All,
+    /// No figures (the tables are the same).
+    Off,
+}
+
+impl From<FiguresChoice> for ufcsr::output::Figures {
+    fn from(choice: FiguresChoice) -> ufcsr::output::Figures {
+        match choice {
+            FiguresChoice::On => ufcsr::output::Figures::All,
+            FiguresChoice::All => ufcsr::output::Figures::WithVariants,
+            FiguresChoice::Off => ufcsr::output::Figures::None,
+        }
+    }
+}
+
 #[cfg(feature = "capture")]
 pub use capture::*;
 

@@ -1,6 +1,7 @@
 //! Figures for a paper (issue 35 item 2): the plots are drawn once, in
 //! figure pixels at 300 dpi, for a journal column width ([`FigureSize`]:
-//! one column 89 mm, two columns 183 mm) with every text size given in
+//! one column 88.9 mm, two columns 181.9 mm — IEEE's column and text
+//! widths, which also fit Elsevier's 90 and 190 mm) with every text size given in
 //! points, so that text is ≥ 7 pt at the size the figure is printed; and
 //! written three ways — PNG (300 dpi, kerned text: plotters' own ab_glyph
 //! drawing drops each glyph's side bearing, "fen der_righ t"), SVG (real
@@ -27,12 +28,14 @@ pub const MM_PER_PT: f64 = 25.4 / 72.0;
 /// The smallest text a figure may have at its printed size, in points.
 pub const MIN_TEXT_PT: f64 = 7.0;
 
-/// A printed figure width: one or two journal columns.
+/// A printed figure width: one or two journal columns, each the narrower of
+/// IEEE's and Elsevier's (IEEE 88.9 / 181.9 mm, Elsevier 90 / 190 mm), so
+/// one file fits both publishers unscaled (issue 44 §2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FigureSize {
-    /// 89 mm.
+    /// 88.9 mm: IEEE's column (3.5 in), inside Elsevier's 90 mm.
     OneColumn,
-    /// 183 mm.
+    /// 181.9 mm: IEEE's text width (7.16 in), inside Elsevier's 190 mm.
     TwoColumns,
 }
 
@@ -43,8 +46,8 @@ impl FigureSize {
     /// The printed width.
     pub fn width_mm(self) -> f64 {
         match self {
-            FigureSize::OneColumn => 89.0,
-            FigureSize::TwoColumns => 183.0,
+            FigureSize::OneColumn => ONE_COLUMN_MM,
+            FigureSize::TwoColumns => TWO_COLUMNS_MM,
         }
     }
 
@@ -56,11 +59,17 @@ impl FigureSize {
         }
     }
 
-    /// The width in figure pixels.
+    /// The width in figure pixels: rounded down, so the printed figure is
+    /// never wider than the column.
     pub fn width_px(self) -> u32 {
-        mm(self.width_mm()) as u32
+        (self.width_mm() / 25.4 * DPI).floor() as u32
     }
 }
+
+/// IEEE's column width (3.5 in); Elsevier's is 90 mm.
+pub const ONE_COLUMN_MM: f64 = 88.9;
+/// IEEE's text width (7.16 in); Elsevier's is 190 mm.
+pub const TWO_COLUMNS_MM: f64 = 181.9;
 
 /// Figure pixels in `mm` millimetres.
 pub fn mm(mm: f64) -> i32 {
@@ -479,8 +488,17 @@ mod tests {
     }
 
     #[test]
-    fn two_column_width_is_183_mm_at_300_dpi() {
-        assert_eq!(FigureSize::TwoColumns.width_px(), 2161);
-        assert!((pt(7.0) / 1.24 * 183.0 / 2161.0 / MM_PER_PT - 7.0).abs() < 0.01);
+    fn both_widths_fit_ieee_and_elsevier_at_300_dpi() {
+        // IEEE: 88.9 / 181.9 mm; Elsevier: 90 / 190 mm.
+        for (size, ieee, elsevier) in
+            [(FigureSize::OneColumn, 88.9, 90.0), (FigureSize::TwoColumns, 181.9, 190.0)]
+        {
+            let printed_mm = f64::from(size.width_px()) / DPI * 25.4;
+            assert!(printed_mm <= ieee + 1e-9 && printed_mm <= elsevier, "{size:?}: {printed_mm} mm");
+            assert!(printed_mm > ieee - 0.1, "{size:?}: {printed_mm} mm wastes the column");
+        }
+        assert_eq!(FigureSize::TwoColumns.width_px(), 2148);
+        assert_eq!(FigureSize::OneColumn.width_px(), 1050);
+        assert!((pt(7.0) / 1.24 * 181.9 / 2148.0 / MM_PER_PT - 7.0).abs() < 0.02);
     }
 }

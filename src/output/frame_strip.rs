@@ -2,7 +2,8 @@
 //! spread over the scenario, put together from the archive's tiles with
 //! every vehicle pixel in its part's colour (the pixel's palette colour
 //! names a texel, the PIdT gives the texel's part colour) and everything
-//! else light grey. Each frame is labelled with its time and distance.
+//! else light grey. Each frame is labelled with its time and distance, and
+//! a colour key below names the parts covering most of the strip.
 //!
 //! Drawn only from tile PNGs: a `--count` archive has none, and an archive
 //! on an image palette (`--palette FILE`) would need a search per colour;
@@ -21,6 +22,8 @@ use crate::archive::palette::Fcsp;
 use crate::count::part_lookup::PartLookup;
 use crate::error::Result;
 use crate::format::manifest::FrameEntry;
+use crate::output::legend::{LegendEntry, TextLayout};
+use crate::output::part_names::readable_part_name;
 use crate::png::rows::{RowReader, read_file};
 
 /// The strip's file name in a result set.
@@ -363,7 +366,10 @@ pub fn write_frame_strip(path: &Path, inputs: &StripInputs) -> Result<Vec<u32>> 
         panels.push((scaled, label));
     }
     let width = panels.iter().map(|((_, size), _)| size[0] + GAP).sum::<u32>().max(GAP) - GAP;
-    let height = STRIP_FRAME_HEIGHT + LABEL;
+    let parts: Vec<(String, [u8; 3])> =
+        inputs.labels.legend.parts.iter().map(|part| (part.name.clone(), part.color.rgb())).collect();
+    let key = key_layout(&strip_key(&panels, &parts), width, STRIP_FRAME_HEIGHT + LABEL);
+    let height = key.1;
     let mut strip = [255u8; 3].repeat((width * height) as usize);
     let mut left = 0;
     for ((rgb, size), _) in &panels {
@@ -375,11 +381,60 @@ pub fn write_frame_strip(path: &Path, inputs: &StripInputs) -> Result<Vec<u32>> 
         left += size[0] + GAP;
     }
     label_panels(&mut strip, [width, height], &panels);
+    key.0.draw(&mut strip, [width, height]);
     crate::files::write_figure_png(path, [width, height], &strip, crate::output::figure::DPI)?;
     Ok(frames.iter().map(|frame| frame.frame).collect())
 }
 
 type Panel = ((Vec<u8>, [u32; 2]), String);
+
+/// Parts named in the strip's colour key at most (the most pixels first).
+const KEY_PARTS: usize = 12;
+/// Text size of the key, plotters pixels (the frames' labels' size).
+const KEY_TEXT_PX: f64 = 18.0;
+
+/// The strip's colour key (issue 44 §2): the parts covering most of the
+/// strip in their colours, named by [`readable_part_name`], then the
+/// vehicle's pixels of no part and what is not the vehicle, when shown.
+fn strip_key(panels: &[Panel], parts: &[(String, [u8; 3])]) -> Vec<LegendEntry> {
+    let mut pixels: HashMap<[u8; 3], u64> = HashMap::new();
+    for ((rgb, _), _) in panels {
+        for pixel in rgb.chunks_exact(3) {
+            *pixels.entry([pixel[0], pixel[1], pixel[2]]).or_default() += 1;
+        }
+    }
+    let mut shown: Vec<(u64, usize)> = parts
+        .iter()
+        .enumerate()
+        .filter(|(_, (_, color))| *color != STRIP_BACKGROUND && *color != STRIP_UNLABELLED)
+        .filter_map(|(index, (_, color))| pixels.get(color).map(|&count| (count, index)))
+        .collect();
+    shown.sort_by(|a, b| b.0.cmp(&a.0).then(a.1.cmp(&b.1)));
+    let mut entries: Vec<LegendEntry> = shown
+        .iter()
+        .take(KEY_PARTS)
+        .map(|&(_, index)| LegendEntry { color: parts[index].1, label: readable_part_name(&parts[index].0) })
+        .collect();
+    if shown.len() > KEY_PARTS {
+        let more = shown.len() - KEY_PARTS;
+        entries.push(LegendEntry { color: [255, 255, 255], label: format!("{more} more parts (parts.csv)") });
+    }
+    for (color, label) in [(STRIP_UNLABELLED, "vehicle, no part"), (STRIP_BACKGROUND, "not the vehicle")] {
+        if pixels.contains_key(&color) {
+            entries.push(LegendEntry { color, label: label.to_string() });
+        }
+    }
+    entries
+}
+
+/// The key laid out below the frames (from `top`), wrapped to the strip's
+/// `width`; and the strip's height with it.
+fn key_layout(entries: &[LegendEntry], width: u32, top: u32) -> (TextLayout, u32) {
+    let mut layout = TextLayout::new(KEY_TEXT_PX);
+    let room = f64::from(width.saturating_sub(8).max(1));
+    let bottom = layout.entries(entries, 4, top + 6, room);
+    (layout, bottom + 6)
+}
 
 /// Each frame's label above it, when a font is found.
 fn label_panels(strip: &mut [u8], [width, height]: [u32; 2], panels: &[Panel]) {
@@ -486,5 +541,30 @@ mod tests {
         let mut tile = ShownTile { size: [4, 1], row_starts: vec![0], runs: Vec::new() };
         tile.push_row([5, 5, 0, 0].into_iter(), &texels);
         assert_eq!(tile.runs, [(2, NOT_VEHICLE), (4, 2)]);
+    }
+
+    #[test]
+    fn the_key_names_the_parts_covering_most_of_the_strip_in_their_colours() {
+        let (frame, texels) = two_tile_frame();
+        // Part 0 covers 4 of the 8 pixels, part 1 two, background two.
+        let panel = frame.panel([0, 0, 4, 1], 2, &texels);
+        let parts = [("windshield_rail_left".to_string(), [1u8; 3]), ("hood".to_string(), [2; 3])];
+        let key = strip_key(&[(panel, "frame 0".into())], &parts);
+        let labels: Vec<(&str, [u8; 3])> = key.iter().map(|e| (e.label.as_str(), e.color)).collect();
+        assert_eq!(
+            labels,
+            [("windshield rail, left", [1; 3]), ("hood", [2; 3]), ("not the vehicle", STRIP_BACKGROUND)]
+        );
+        // The key lies below the frames and each entry's swatch shows its colour.
+        let (layout, height) = key_layout(&key, 400, STRIP_FRAME_HEIGHT + LABEL);
+        assert!(height > STRIP_FRAME_HEIGHT + LABEL);
+        let mut rgb = [255u8; 3].repeat((400 * height) as usize);
+        layout.draw(&mut rgb, [400, height]);
+        for (index, entry) in key.iter().enumerate() {
+            let (x, y) = layout.swatch_centre(index);
+            assert!(y as u32 >= STRIP_FRAME_HEIGHT + LABEL, "{} overlaps the frames", entry.label);
+            let i = (y as usize * 400 + x as usize) * 3;
+            assert_eq!(rgb[i..i + 3], entry.color, "{}", entry.label);
+        }
     }
 }

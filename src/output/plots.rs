@@ -4,15 +4,17 @@
 //! (angular area, exposure) when the result has them, else the paper's
 //! counts, the paper's top-5 union marked.
 //!
-//! Each plot is written for two journal column widths (`NAME.*` two
-//! columns, 183 mm; `NAME-1col.*` one column, 89 mm; see
-//! [`crate::output::figure`]) as PNG (300 dpi, kerned text), SVG and PDF
-//! (vector, real text), all text ≥ 7 pt at the printed size. Series carry
+//! Each plot is written for two journal columns (`NAME.png`, 300 dpi,
+//! kerned text, and `NAME.pdf`, vector, real text; 181.9 mm) and, on
+//! request ([`PlotFiles::WithVariants`]), also as SVG and for one column
+//! (`NAME-1col.*`, 88.9 mm; see [`crate::output::figure`]), all text ≥ 7 pt
+//! at the printed size. Series carry
 //! the Okabe–Ito colours plus a marker and a dash each; every axis says
 //! "quantity (unit)"; no figure carries the archive's folder name (the
 //! page's captions say the scenario). Ticks of counts are whole numbers
-//! with thousands separators, and the legend sits beside the plot, never
-//! over a curve.
+//! with thousands separators, and the legend sits beside the plot (below
+//! it at one column), never over a curve. Parts are named by
+//! [`readable_part_name`].
 //!
 //! Labels need a TrueType font, looked up at run time (`UFCSR_FONT`, else
 //! DejaVu Sans where Debian and most distributions put it) so that building
@@ -32,6 +34,7 @@ use crate::output::figure::{
     svg_in_millimetres, text_width,
 };
 use crate::output::numbers::tick;
+use crate::output::part_names::readable_part_name;
 use crate::output::pdf::{PdfBackend, PdfPage};
 use crate::result::measures::Measures;
 use crate::result::part_stats::PartStats;
@@ -72,12 +75,22 @@ pub struct Plot {
     pub title: String,
     /// The image to show, relative to the output folder (`plots/NAME.png`).
     pub shown: String,
-    /// The two-column SVG, relative to the output folder.
-    pub svg: String,
-    /// The two-column PDF, relative to the output folder (with a font).
-    pub pdf: Option<String>,
+    /// The vector figure the page links to, relative to the output folder:
+    /// the two-column PDF (with a font), else the SVG.
+    pub vector: String,
     /// Every file written for the plot, relative to the output folder.
     pub files: Vec<String>,
+}
+
+/// Which files of each plot are written (issue 45 §5: a default analysis
+/// wrote 18 plot files).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PlotFiles {
+    /// Two columns as PNG (shown on the page) and PDF (for the paper); the
+    /// SVG only without a font (then the only file that can be drawn).
+    Default,
+    /// Also the SVG, and all three at one column (`NAME-1col.*`).
+    WithVariants,
 }
 
 /// Whether a plot's labels are drawn: they need a font, and without one the SVGs are drawn
@@ -134,25 +147,36 @@ fn drawing_error(path: &Path, error: impl std::fmt::Display) -> Error {
     Error::bad_file(path, format!("drawing the plot: {error}"))
 }
 
-/// Writes `drawing` at both column widths as `plots/NAME[-1col].svg` and,
-/// with a font, `.png` and `.pdf`.
-fn write_plot(out_dir: &Path, name: &str, title: &str, drawing: &dyn Drawing) -> Result<Plot> {
+/// Writes `drawing` as `plots/NAME.png` and `.pdf` (two columns) with a
+/// font, else `plots/NAME.svg`; with variants also the SVG and all three at
+/// one column (`NAME-1col.*`).
+fn write_plot(
+    out_dir: &Path,
+    name: &str,
+    title: &str,
+    drawing: &dyn Drawing,
+    which: PlotFiles,
+) -> Result<Plot> {
     let dir = out_dir.join(PLOTS_DIR);
     crate::files::real_dir(&dir)?;
     let text = PlotText::available();
+    let sizes: &[FigureSize] =
+        if which == PlotFiles::WithVariants { &FigureSize::ALL } else { &[FigureSize::TwoColumns] };
     let mut files = Vec::new();
-    for size in FigureSize::ALL {
+    for &size in sizes {
         let (w, h) = drawing.size(size);
         let stem = format!("{name}{}", size.suffix());
-        let path = dir.join(format!("{stem}.svg"));
-        let mut svg = String::new();
-        {
-            let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
-            drawing.draw_svg(&root, size, text).map_err(|e| drawing_error(&path, e))?;
-            root.present().map_err(|e| drawing_error(&path, e))?;
+        if which == PlotFiles::WithVariants || text == PlotText::Omitted {
+            let path = dir.join(format!("{stem}.svg"));
+            let mut svg = String::new();
+            {
+                let root = SVGBackend::with_string(&mut svg, (w, h)).into_drawing_area();
+                drawing.draw_svg(&root, size, text).map_err(|e| drawing_error(&path, e))?;
+                root.present().map_err(|e| drawing_error(&path, e))?;
+            }
+            crate::files::write_bytes_atomically(&path, svg_in_millimetres(&svg, size, h).as_bytes())?;
+            files.push(format!("{PLOTS_DIR}/{stem}.svg"));
         }
-        crate::files::write_bytes_atomically(&path, svg_in_millimetres(&svg, size, h).as_bytes())?;
-        files.push(format!("{PLOTS_DIR}/{stem}.svg"));
         if text == PlotText::Omitted {
             continue;
         }
@@ -174,25 +198,29 @@ fn write_plot(out_dir: &Path, name: &str, title: &str, drawing: &dyn Drawing) ->
         crate::files::write_bytes_atomically(&path, &page.finish(title))?;
         files.push(format!("{PLOTS_DIR}/{stem}.pdf"));
     }
-    let ext = if text == PlotText::Drawn { "png" } else { "svg" };
+    let (shown, vector) = match text {
+        PlotText::Drawn => ("png", "pdf"),
+        PlotText::Omitted => ("svg", "svg"),
+    };
     Ok(Plot {
         title: title.to_string(),
-        shown: format!("{PLOTS_DIR}/{name}.{ext}"),
-        svg: format!("{PLOTS_DIR}/{name}.svg"),
-        pdf: (text == PlotText::Drawn).then(|| format!("{PLOTS_DIR}/{name}.pdf")),
+        shown: format!("{PLOTS_DIR}/{name}.{shown}"),
+        vector: format!("{PLOTS_DIR}/{name}.{vector}"),
         files,
     })
 }
 
 /// Writes every plot the data allows into `out_dir/plots/`: the time and
 /// distance plots need `frames` with eye-frames (a manifest), the bar chart
-/// needs parts (and shows `measures` when the result has them).
+/// needs parts (and shows `measures` when the result has them); `which`
+/// files of each.
 pub fn write_plots(
     out_dir: &Path,
     parts: &[PartStats],
     frames: Option<&FrameTable>,
     measures: Option<&Measures>,
     count_unit: &str,
+    which: PlotFiles,
 ) -> Result<Vec<Plot>> {
     let mut plots = Vec::new();
     if let Some(series) = frames.and_then(VisibilitySeries::new) {
@@ -203,6 +231,7 @@ pub fn write_plots(
             "visibility-time",
             &format!("{what} per eye of the top parts against time"),
             &by_time,
+            which,
         )?);
         if series.has_distance {
             let by_distance = Visibility { series: &series, against_distance: true };
@@ -211,6 +240,7 @@ pub fn write_plots(
                 "visibility-distance",
                 &format!("{what} per eye of the top parts against the vehicle's distance"),
                 &by_distance,
+                which,
             )?);
         }
     }
@@ -221,7 +251,7 @@ pub fn write_plots(
         } else {
             "the paper's total, average and peak count per part, its top-5 union marked"
         };
-        plots.push(write_plot(out_dir, "parts", title, &bars)?);
+        plots.push(write_plot(out_dir, "parts", title, &bars, which)?);
     }
     Ok(plots)
 }
@@ -293,6 +323,11 @@ impl VisibilitySeries {
         })
     }
 
+    /// The parts' names as the figures print them ([`readable_part_name`]).
+    fn readable_names(&self) -> Vec<String> {
+        self.parts.iter().map(|(name, _)| readable_part_name(name)).collect()
+    }
+
     /// What the series measure, in words.
     fn quantity(&self) -> &'static str {
         if self.angular { "angular area (deg²)" } else { "pixels" }
@@ -304,11 +339,67 @@ struct Visibility<'a> {
     against_distance: bool,
 }
 
-/// Width of the legend panel right of the time and distance plots: room
-/// for the longest name (never cut), at most half the figure.
-fn legend_width(names: &[&str], figure_width: i32) -> i32 {
-    let longest = names.iter().map(|n| text_width(n, pt(LABEL_PT))).max().unwrap_or(0);
-    (longest + mm(12.0)).min(figure_width / 2)
+/// Where a time or distance plot puts its data panel and its legend:
+/// beside the data at two columns, below it at one column (at 88.9 mm a
+/// legend beside the data took more than half the width, issue 44 §2), in
+/// one or two columns of entries. Figure pixels.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct VisibilityLayout {
+    /// The whole figure.
+    size: (u32, u32),
+    /// The data panel (axes, ticks and curves): `[left, top, right, bottom]`.
+    data: [i32; 4],
+    /// The legend panel: `[left, top, right, bottom]`.
+    legend: [i32; 4],
+    /// Columns of legend entries.
+    columns: usize,
+}
+
+/// Height of one legend row, figure pixels.
+fn legend_row() -> i32 {
+    (pt(LABEL_PT) * 1.3) as i32
+}
+
+impl VisibilityLayout {
+    fn new(size: FigureSize, names: &[String]) -> VisibilityLayout {
+        let width = size.width_px() as i32;
+        let longest = names.iter().map(|n| text_width(n, pt(LABEL_PT))).max().unwrap_or(0);
+        // Line, marker, gap and the name (never cut).
+        let entry = longest + mm(12.0);
+        match size {
+            FigureSize::TwoColumns => {
+                let height = width / 2;
+                let legend = entry.min(width / 2);
+                VisibilityLayout {
+                    size: (width as u32, height as u32),
+                    data: [0, 0, width - legend, height],
+                    legend: [width - legend, 0, width, height],
+                    columns: 1,
+                }
+            }
+            FigureSize::OneColumn => {
+                let columns = if 2 * entry <= width { 2 } else { 1 };
+                let rows = names.len().div_ceil(columns) as i32;
+                let data_height = (f64::from(width) * 0.62) as i32;
+                let height = data_height + mm(2.0) + rows * legend_row();
+                VisibilityLayout {
+                    size: (width as u32, height as u32),
+                    data: [0, 0, width, data_height],
+                    legend: [0, data_height, width, height],
+                    columns,
+                }
+            }
+        }
+    }
+
+    /// Where entry `index` of the legend is centred vertically and begins,
+    /// relative to the legend panel (entries fill rows left to right).
+    fn entry_at(&self, index: usize) -> (i32, i32) {
+        let column_width = (self.legend[2] - self.legend[0]) / self.columns as i32;
+        let (column, row) = ((index % self.columns) as i32, (index / self.columns) as i32);
+        let top = if self.columns == 1 && self.legend[1] == 0 { mm(6.0) } else { mm(1.0) + legend_row() / 2 };
+        (column * column_width, top + row * legend_row())
+    }
 }
 
 /// Tick labels and legend entries, in points.
@@ -316,20 +407,24 @@ const LABEL_PT: f64 = 7.5;
 /// Axis titles, in points.
 const AXIS_PT: f64 = 8.5;
 
-/// The legend of the top parts in its own panel (beside the data, so it
-/// never hides a curve): each series' line, dash and marker, and the part's name.
-fn draw_legend<B: DrawingBackend>(panel: &DrawingArea<B, Shift>, names: &[&str]) -> DrawResult
+/// The legend of the top parts in its own panel (beside or below the data,
+/// so it never hides a curve): each series' line, dash and marker, and the
+/// part's name.
+fn draw_legend<B: DrawingBackend>(
+    panel: &DrawingArea<B, Shift>,
+    names: &[String],
+    layout: &VisibilityLayout,
+) -> DrawResult
 where
     B::ErrorType: 'static,
 {
-    let row = (pt(LABEL_PT) * 1.3) as i32;
     for (index, name) in names.iter().enumerate() {
-        let y = mm(6.0) + row * index as i32;
-        draw_series_line(panel, index, &[(mm(1.0), y), (mm(8.0), y)])?;
-        draw_marker(panel, index, (mm(4.5), y), mm(0.8))?;
+        let (x, y) = layout.entry_at(index);
+        draw_series_line(panel, index, &[(x + mm(1.0), y), (x + mm(8.0), y)])?;
+        draw_marker(panel, index, (x + mm(4.5), y), mm(0.8))?;
         let style = TextStyle::from(("sans-serif", pt(LABEL_PT)).into_font())
             .pos(text_anchor::Pos::new(text_anchor::HPos::Left, text_anchor::VPos::Center));
-        panel.draw(&Text::new(name.to_string(), (mm(10.0), y), style))?;
+        panel.draw(&Text::new(name.clone(), (x + mm(10.0), y), style))?;
     }
     Ok(())
 }
@@ -360,12 +455,12 @@ impl Visibility<'_> {
         B::ErrorType: 'static,
     {
         root.fill(&WHITE)?;
-        let names: Vec<&str> = self.series.parts.iter().map(|(name, _)| name.as_str()).collect();
-        let (plot_area, legend_area) = if text == PlotText::Drawn {
-            let width = root.dim_in_pixel().0 as i32;
-            root.split_horizontally(width - legend_width(&names, width))
-        } else {
-            (root.clone(), root.clone())
+        let names = self.series.readable_names();
+        let layout = VisibilityLayout::new(size, &names);
+        let (plot_area, legend_area) = match text {
+            PlotText::Omitted => (root.clone(), root.clone()),
+            PlotText::Drawn if layout.legend[1] > 0 => root.split_vertically(layout.data[3]),
+            PlotText::Drawn => root.split_horizontally(layout.data[2]),
         };
         let xs: Vec<f64> = self
             .series
@@ -421,16 +516,15 @@ impl Visibility<'_> {
             }
         }
         if text == PlotText::Drawn {
-            draw_legend(&legend_area, &names)?;
+            draw_legend(&legend_area, &names, &layout)?;
         }
         root.present()?;
         Ok(())
     }
 }
 
-drawing!(Visibility<'_>, |_: &Visibility<'_>, size: FigureSize| {
-    let width = size.width_px();
-    (width, (f64::from(width) * if size == FigureSize::OneColumn { 0.75 } else { 0.5 }) as u32)
+drawing!(Visibility<'_>, |plot: &Visibility<'_>, size: FigureSize| {
+    VisibilityLayout::new(size, &plot.series.readable_names()).size
 });
 
 /// One panel of the bar chart: its axis title and a value per part.
@@ -487,7 +581,8 @@ impl PartBars {
                 false,
             ),
         };
-        PartBars { names: parts.iter().map(|p| p.name.clone()).collect(), marked, panels, quoted }
+        let names = parts.iter().map(|p| readable_part_name(&p.name)).collect();
+        PartBars { names, marked, panels, quoted }
     }
 
     fn row_height(size: FigureSize) -> i32 {
@@ -646,5 +741,63 @@ mod tests {
         let series = VisibilitySeries::new(&table).unwrap();
         assert!(!series.angular);
         assert_eq!(series.parts[0].1, [20.0]);
+    }
+
+    #[test]
+    fn at_one_column_the_legend_sits_below_the_data_which_takes_the_whole_width() {
+        let names: Vec<String> = [
+            "windshield_rail_left",
+            "door_front_right",
+            "b_pillar_left",
+            "front_license_plate",
+            "hood",
+            "grill",
+            "rear_fender_right",
+            "side_mirror_left",
+        ]
+        .iter()
+        .map(|n| readable_part_name(n))
+        .collect();
+        let one = VisibilityLayout::new(FigureSize::OneColumn, &names);
+        let width = FigureSize::OneColumn.width_px() as i32;
+        assert_eq!(one.size.0 as i32, width);
+        assert_eq!(one.data[2] - one.data[0], width, "the data panel spans the figure");
+        assert!(one.legend[1] >= one.data[3], "the legend overlaps the data: {one:?}");
+        let two = VisibilityLayout::new(FigureSize::TwoColumns, &names);
+        assert!(two.legend[0] >= two.data[2], "the legend overlaps the data: {two:?}");
+        assert!(f64::from(two.data[2]) >= 0.6 * f64::from(two.size.0), "{two:?}");
+        for layout in [one, two] {
+            let entries = (0..names.len()).map(|i| (layout.entry_at(i), &names[i]));
+            for ((x, y), name) in entries {
+                // Inside the legend panel (the name never cut).
+                let right = layout.legend[0] + x + mm(10.0) + text_width(name, pt(LABEL_PT));
+                let bottom = layout.legend[1] + y + legend_row() / 2;
+                assert!(
+                    right <= layout.legend[2] && bottom <= layout.legend[3],
+                    "{name} at {x},{y}: {layout:?}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_default_plot_is_a_two_column_png_and_pdf_and_variants_add_svg_and_one_column() {
+        if !font_available() {
+            eprintln!("skipped: no font (set UFCSR_FONT)");
+            return;
+        }
+        let table = FrameTable {
+            parts: vec!["windshield_rail_left".to_string()],
+            records: vec![record("left", 10, Some(0.25)), record("right", 30, Some(0.75))],
+        };
+        let dir = tempfile::tempdir().unwrap();
+        let plots = write_plots(dir.path(), &[], Some(&table), None, "px", PlotFiles::Default).unwrap();
+        assert_eq!(plots[0].files, ["plots/visibility-time.png", "plots/visibility-time.pdf"]);
+        assert_eq!(plots[0].vector, "plots/visibility-time.pdf");
+        let plots = write_plots(dir.path(), &[], Some(&table), None, "px", PlotFiles::WithVariants).unwrap();
+        assert_eq!(plots[0].files.len(), 6, "{:?}", plots[0].files);
+        let svg = std::fs::read_to_string(dir.path().join("plots/visibility-time-1col.svg")).unwrap();
+        assert!(svg.contains("windshield rail, left") && !svg.contains("windshield_rail_left"));
+        assert!(svg.contains("width=\"88.9mm\""), "{}", &svg[..200]);
     }
 }

@@ -19,9 +19,9 @@ use crate::output::heatmap_views::{
 };
 use crate::output::html::placement_section::PlacementOnPage;
 use crate::output::html::report_page::ScenarioPage;
-use crate::output::plots::{PLOTS_DIR, Plot, font_available, plot_file_names, write_plots};
+use crate::output::plots::{PLOTS_DIR, Plot, PlotFiles, font_available, plot_file_names, write_plots};
 use crate::output::scenario_map::{MapContent, SceneShapes, write_scenario_map};
-use crate::output::view_sheet::{VIEWS_PDF_FILE, write_views};
+use crate::output::view_sheet::{SingleViews, VIEWS_PDF_FILE, write_sheet_and_views};
 use crate::output::written_files::WrittenFiles;
 use crate::result::frames::FRAMES_FILE;
 use crate::result::model::Analysis;
@@ -76,16 +76,20 @@ pub struct ResultSetOptions {
     pub figures: Figures,
 }
 
-/// Whether a result set has its figures (`--figures on|off`): the plots, the
-/// views (`views.png`, `views/`, `views.pdf`), the scenario map and the frame
+/// Whether a result set has its figures (`--figures on|all|off`): the plots,
+/// the views (`views.png`, `views.pdf`), the scenario map and the frame
 /// strip. Drawing them is most of a small analysis (issue 44 §3): batch runs
 /// and notebooks that want the tables leave them out. The tables, the
 /// heatmaps, `heatmap.glb` and `report.html` are written either way, and the
 /// tables are the same.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Figures {
-    /// Every figure the analysis allows (the default).
+    /// Every figure the analysis allows, each once (the default): a plot as
+    /// two-column PNG and PDF, the views as their sheet (`views.png`, `views.pdf`).
     All,
+    /// [`Figures::All`] and the variants (issue 45 §5): each plot also as
+    /// SVG and at one column (`plots/NAME-1col.*`), each view alone (`views/NAME.png`).
+    WithVariants,
     /// No figures.
     None,
 }
@@ -158,7 +162,7 @@ pub fn result_set_members() -> Vec<String> {
 /// The files [`write_results`] writes into `out_dir` (the figures only with
 /// `figures`).
 fn planned_files(analysis: &Analysis, out_dir: &Path, figures: Figures) -> WrittenFiles {
-    let drawn = figures == Figures::All;
+    let drawn = figures != Figures::None;
     let model = analysis.vehicle_model.as_ref().filter(|_| drawn);
     let manifest = analysis.result.settings.manifest && drawn;
     WrittenFiles {
@@ -176,6 +180,7 @@ fn planned_files(analysis: &Analysis, out_dir: &Path, figures: Figures) -> Writt
         frames_csv: analysis.frames.as_ref().map(|_| out_dir.join(FRAMES_FILE)),
         map_png: manifest.then(|| out_dir.join(MAP_FILE)),
         frames_strip_png: manifest.then(|| out_dir.join(FRAME_STRIP_FILE)),
+        single_views: figures == Figures::WithVariants,
         plots: Vec::new(),
     }
 }
@@ -279,7 +284,8 @@ fn write_side_by_side(
     let views = || match (&inputs.model, &files.views_png) {
         (Some(model), Some(_)) => {
             let texture = view_texture(analysis, area.as_ref(), inputs.track.as_ref(), options);
-            write_views(model, &texture, out_dir).map(drop)
+            let singles = if files.single_views { SingleViews::Written } else { SingleViews::Omitted };
+            write_sheet_and_views(model, &texture, out_dir, singles).map(drop)
         }
         _ => Ok(()),
     };
@@ -436,13 +442,16 @@ fn write_figures(
     if strip_skipped.is_some() || manifest.is_none() {
         files.frames_strip_png = None;
     }
-    if figures == Figures::All {
+    if figures != Figures::None {
+        let which =
+            if figures == Figures::WithVariants { PlotFiles::WithVariants } else { PlotFiles::Default };
         files.plots = write_plots(
             out_dir,
             &analysis.result.parts,
             analysis.frames.as_ref(),
             analysis.result.measures.as_ref(),
             measure_unit(analysis.result.measure),
+            which,
         )?;
     }
     clock.lap("plots");

@@ -359,13 +359,33 @@ pub const VIEWS_PDF_FILE: &str = "views.pdf";
 /// Writes `dir/views/NAME.png` for the eight directions and `dir/views.png`,
 /// drawn with the CPU renderer ([`render_view`]).
 pub fn write_views(model: &VehicleModel, texture: &ViewTexture, dir: &Path) -> Result<WrittenViews> {
+    write_sheet_and_views(model, texture, dir, SingleViews::Written)
+}
+
+/// Whether each view is also written alone (`views/NAME.png`) beside the
+/// sheet: an analysis writes them only with `--figures all` (issue 45 §5),
+/// `ufcsr views` always.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum SingleViews {
+    Written,
+    Omitted,
+}
+
+/// [`write_views`], each view written alone or not.
+pub(crate) fn write_sheet_and_views(
+    model: &VehicleModel,
+    texture: &ViewTexture,
+    dir: &Path,
+    singles: SingleViews,
+) -> Result<WrittenViews> {
     // The views are independent: drawn on all cores, then handed over in order.
     use rayon::prelude::*;
     let cameras = view_cameras(model, texture.views_scale);
     let mut drawn: Vec<Vec<u8>> =
         cameras.par_iter().map(|camera| render_view(model, texture, camera)).collect();
     drawn.reverse();
-    finish_views(model, texture, dir, &cameras, |_| Ok(drawn.pop().unwrap_or_default()))
+    let render = |_: &ViewCamera| Ok(drawn.pop().unwrap_or_default());
+    finish_views(model, texture, (dir, singles), &cameras, render)
 }
 
 /// The views of [`write_views`] for `cameras` ([`view_cameras`], computed
@@ -376,13 +396,15 @@ pub fn write_views(model: &VehicleModel, texture: &ViewTexture, dir: &Path) -> R
 fn finish_views(
     model: &VehicleModel,
     texture: &ViewTexture,
-    dir: &Path,
+    (dir, singles): (&Path, SingleViews),
     cameras: &[ViewCamera],
     mut render: impl FnMut(&ViewCamera) -> Result<Vec<u8>>,
 ) -> Result<WrittenViews> {
     use rayon::prelude::*;
     let views_dir = dir.join("views");
-    crate::files::real_dir(&views_dir)?;
+    if singles == SingleViews::Written {
+        crate::files::real_dir(&views_dir)?;
+    }
     let mut drawn = Vec::with_capacity(cameras.len());
     for camera in cameras {
         let [width, height] = camera.size;
@@ -401,12 +423,17 @@ fn finish_views(
         .map(|(camera, mut rgb)| {
             finish_view(&mut rgb, model, camera, texture);
             let path = views_dir.join(format!("{}.png", camera.name));
-            let [width, height] = camera.size;
-            crate::files::write_figure_png(&path, [width, height], &rgb, crate::output::figure::DPI)?;
+            if singles == SingleViews::Written {
+                let [width, height] = camera.size;
+                crate::files::write_figure_png(&path, [width, height], &rgb, crate::output::figure::DPI)?;
+            }
             Ok((path, rgb))
         })
         .collect::<Result<_>>()?;
-    let (views, pictures): (Vec<PathBuf>, Vec<Vec<u8>>) = finished.into_iter().unzip();
+    let (mut views, pictures): (Vec<PathBuf>, Vec<Vec<u8>>) = finished.into_iter().unzip();
+    if singles == SingleViews::Omitted {
+        views.clear();
+    }
     let (sheet, [sheet_width, sheet_height]) = contact_sheet(&pictures, cameras, texture);
     let contact_sheet = dir.join("views.png");
     let width_mm = FigureSize::TwoColumns.width_mm();

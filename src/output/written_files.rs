@@ -38,6 +38,9 @@ pub struct WrittenFiles {
     pub map_png: Option<PathBuf>,
     /// `frames-strip.png`, a few frames as the eye saw them (from tile PNGs).
     pub frames_strip_png: Option<PathBuf>,
+    /// Whether each view was also written alone beside `views.png`
+    /// (`views/front.png`, …; `--figures all`).
+    pub single_views: bool,
     /// The plots written under `plots/`.
     pub plots: Vec<Plot>,
 }
@@ -67,10 +70,10 @@ impl WrittenFiles {
         files
     }
 
-    /// The eight views beside `views.png` (`views/front.png`, …), written
-    /// whenever the contact sheet is: `--json`'s `written` lists them too.
+    /// The eight views beside `views.png` (`views/front.png`, …), when
+    /// written ([`WrittenFiles::single_views`]): `--json`'s `written` lists them too.
     pub fn views(&self) -> Vec<PathBuf> {
-        let Some(sheet) = &self.views_png else { return Vec::new() };
+        let Some(sheet) = self.views_png.as_ref().filter(|_| self.single_views) else { return Vec::new() };
         let dir = sheet.parent().unwrap_or(Path::new(".")).join("views");
         crate::output::heatmap_views::DIRECTIONS
             .iter()

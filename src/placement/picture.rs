@@ -23,6 +23,7 @@ use crate::error::Result;
 use crate::format::placement::CombinationRecord;
 use crate::output::figure::{FigureSize, MIN_TEXT_PT};
 use crate::output::legend::{LEGEND_TEXT_PX, LegendEntry, TextLayout, draw_texts, text_px_for};
+use crate::output::part_names::readable_part_name;
 use crate::output::{ViewCamera, ZBuffer, view_cameras};
 use crate::placement::footprints::{PatchFootprint, centre_in_name};
 use crate::placement::search::Objective;
@@ -89,46 +90,71 @@ pub struct PicturedSet {
     pub colors: Vec<usize>,
     /// The legend: per member (colour index = position), its displays' names.
     pub legend: Vec<String>,
+    /// Legible seconds (the mean over the archives) and its 95 % interval,
+    /// drawn as a bar with whiskers under the caption.
+    pub legible_s: f64,
+    pub interval_s: Option<[f64; 2]>,
 }
 
 /// The sets to draw: per kind, the best sets of 1 to [`PICTURED_SETS`]
-/// displays by the mean; a pair's two displays share a colour.
+/// displays by the mean; a pair's two displays share a colour. A set with
+/// no legible time (a "best" of 0 s) is left out, and a set that repeats an
+/// earlier one of its kind (at most 3 displays choosing the same as at most
+/// 2) is drawn once, its caption saying so. Members are named by
+/// [`readable_part_name`].
 pub fn pictured_sets(
     combinations: &[CombinationRecord],
     footprints: &BTreeMap<String, PatchFootprint>,
 ) -> Vec<PicturedSet> {
-    combinations
-        .iter()
-        .filter(|c| c.objective == Objective::Mean && c.k <= PICTURED_SETS)
-        .map(|c| {
-            let kind = c.kind.name();
-            // "patches", not "patchs": the caption is prose.
-            let kinds = if kind.ends_with('h') { format!("{kind}es") } else { format!("{kind}s") };
-            let candidates = c.candidates();
-            let colors = c.members.iter().enumerate().flat_map(|(i, m)| m.candidates.iter().map(move |_| i));
-            PicturedSet {
-                name: format!("{kind}-best-{}", c.k),
-                caption: format!(
-                    "best {kinds}, at most {} display{} ({} used): {:.2} s legible, {:.0} % of the time",
-                    c.k,
-                    if c.k == 1 { "" } else { "s" },
-                    c.displays,
-                    c.legible_s,
-                    100.0 * c.share_of_time
-                ),
-                marks: candidates.iter().filter_map(|name| Mark::of(name, kind, footprints)).collect(),
-                colors: colors.collect(),
-                legend: c
-                    .members
-                    .iter()
-                    .map(|m| {
-                        let names = m.candidates.join(" & ");
-                        if m.adds_no_time { format!("{names} [adds 0 s]") } else { names }
-                    })
-                    .collect(),
-            }
-        })
-        .collect()
+    let mut sets: Vec<(PicturedSet, Vec<String>)> = Vec::new();
+    for c in combinations.iter().filter(|c| c.objective == Objective::Mean && c.k <= PICTURED_SETS) {
+        if c.legible_s <= 0.0 {
+            continue;
+        }
+        let kind = c.kind.name();
+        let mut candidates = c.candidates();
+        candidates.sort();
+        let key = [vec![kind.to_string()], candidates.clone()].concat();
+        if let Some((earlier, _)) = sets.iter_mut().find(|(_, k)| *k == key) {
+            earlier.caption.push_str(&format!("; also the best with at most {}", c.k));
+            continue;
+        }
+        sets.push((pictured_set(c, footprints), key));
+    }
+    sets.into_iter().map(|(set, _)| set).collect()
+}
+
+/// One chosen set as pictured.
+fn pictured_set(c: &CombinationRecord, footprints: &BTreeMap<String, PatchFootprint>) -> PicturedSet {
+    let kind = c.kind.name();
+    // "patches", not "patchs": the caption is prose.
+    let kinds = if kind.ends_with('h') { format!("{kind}es") } else { format!("{kind}s") };
+    let colors = c.members.iter().enumerate().flat_map(|(i, m)| m.candidates.iter().map(move |_| i));
+    let interval = c.interval_s.map_or(String::new(), |[low, high]| format!(" (95 %: {low:.2}–{high:.2} s)"));
+    PicturedSet {
+        name: format!("{kind}-best-{}", c.k),
+        caption: format!(
+            "best {kinds}, at most {} display{} ({} used): {:.2} s legible{interval}, {:.0} % of the time",
+            c.k,
+            if c.k == 1 { "" } else { "s" },
+            c.displays,
+            c.legible_s,
+            100.0 * c.share_of_time
+        ),
+        marks: c.candidates().iter().filter_map(|name| Mark::of(name, kind, footprints)).collect(),
+        colors: colors.collect(),
+        legend: c
+            .members
+            .iter()
+            .map(|m| {
+                let names: Vec<String> = m.candidates.iter().map(|n| readable_part_name(n)).collect();
+                let names = names.join(" & ");
+                if m.adds_no_time { format!("{names} [adds 0 s]") } else { names }
+            })
+            .collect(),
+        legible_s: c.legible_s,
+        interval_s: c.interval_s,
+    }
 }
 
 /// Draws one view: grey body shaded by how squarely it faces the viewer,
@@ -245,6 +271,9 @@ pub fn write_placement_picture(
         }
     }
     layout.text.draw(&mut overview, layout.size);
+    for bar in &layout.bars {
+        bar.draw(&mut overview, width);
+    }
     draw_texts(&mut overview, layout.size, &layout.view_names, layout.text.size);
     let path = out.join(PLACEMENT_PICTURE_FILE);
     // The overview says the resolution that prints it as placement.pdf does (183 mm).
@@ -279,12 +308,55 @@ pub struct OverviewLayout {
     pub view_names: Vec<(i32, i32, String)>,
     /// Top of each set's row of views.
     pub views_y: Vec<u32>,
+    /// Each set's legible time as a bar with its interval's whiskers.
+    pub bars: Vec<TimeBar>,
 }
+
+/// A set's legible time drawn as a bar from `x0` to `value_x` with a
+/// whisker from `low_x` to `high_x` (its 95 % interval), on one scale for
+/// every set of the picture (`px_per_s`); `y`, `height`: the bar's band.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimeBar {
+    pub x0: u32,
+    pub y: u32,
+    pub height: u32,
+    pub px_per_s: f64,
+    pub value_x: u32,
+    pub interval_x: Option<[u32; 2]>,
+}
+
+impl TimeBar {
+    /// Draws the bar (Okabe–Ito blue) and the whisker with end caps (ink).
+    fn draw(&self, rgb: &mut [u8], width: u32) {
+        let mut fill = |x0: u32, x1: u32, y0: u32, y1: u32, color: [u8; 3]| {
+            for y in y0..y1 {
+                for x in x0..x1.min(width) {
+                    let i = ((y * width + x) * 3) as usize;
+                    if i + 3 <= rgb.len() {
+                        rgb[i..i + 3].copy_from_slice(&color);
+                    }
+                }
+            }
+        };
+        let (top, bottom) = (self.y, self.y + self.height);
+        fill(self.x0, self.value_x.max(self.x0 + 1), top + self.height / 4, bottom - self.height / 4, BAR);
+        if let Some([low, high]) = self.interval_x {
+            let middle = self.y + self.height / 2;
+            fill(low, high + 1, middle - 1, middle + 1, OUTLINE);
+            fill(low, low + 2, top, bottom, OUTLINE);
+            fill(high.saturating_sub(1), high + 1, top, bottom, OUTLINE);
+        }
+    }
+}
+
+/// The legible-time bars' colour (Okabe–Ito blue).
+const BAR: [u8; 3] = [0, 114, 178];
 
 /// The key at the top of the overview.
 pub const OVERVIEW_KEY: &str = "Each row: the vehicle from front, front-left, left, rear-left, rear, rear-right, \
      right and front-right (15° from above); coloured = the chosen displays (one colour per member of the \
-     set, a left/right pair shares one), outlined at their rims; grey = the rest of the vehicle.";
+     set, a left/right pair shares one), outlined at their rims; grey = the rest of the vehicle. Under each caption, the blue bar is the seconds \
+     legible and the black whisker its 95 % interval, on one scale for every set.";
 
 impl OverviewLayout {
     /// The layout of `sets` over rows of eight `view`-sized pictures.
@@ -298,9 +370,26 @@ impl OverviewLayout {
         let mut text = TextLayout::new(size);
         let mut view_names = Vec::new();
         let mut views_y = Vec::new();
+        let mut bars = Vec::new();
+        // One scale for every set: the longest time or interval end takes 60 % of the width.
+        let longest = sets
+            .iter()
+            .map(|s| s.interval_s.map_or(s.legible_s, |i| i[1].max(s.legible_s)))
+            .fold(0.0, f64::max);
+        let px_per_s = if longest > 0.0 { 0.6 * room / longest } else { 0.0 };
         let mut y = text.paragraph(OVERVIEW_KEY, MARGIN, 4, room);
         for set in sets {
             y = text.paragraph(&set.caption, MARGIN, y + text.line() / 2, room);
+            let at = |seconds: f64| MARGIN + (seconds.max(0.0) * px_per_s).round() as u32;
+            bars.push(TimeBar {
+                x0: MARGIN,
+                y,
+                height: text.line(),
+                px_per_s,
+                value_x: at(set.legible_s),
+                interval_x: set.interval_s.map(|[low, high]| [at(low), at(high)]),
+            });
+            y += text.line() + 2;
             let entries: Vec<LegendEntry> = set
                 .legend
                 .iter()
@@ -318,7 +407,7 @@ impl OverviewLayout {
             }
             y += view[1];
         }
-        OverviewLayout { size: [width, y.max(1)], text, view_names, views_y }
+        OverviewLayout { size: [width, y.max(1)], text, view_names, views_y, bars }
     }
 }
 
@@ -416,6 +505,8 @@ mod tests {
                 "windshield@x1.02y0.76z1.82 & windshield@x1.03y-0.76z1.82".into(),
                 "front_fender_right@x2.45y-1.00z0.65 ".repeat(9),
             ],
+            legible_s: 2.0,
+            interval_s: Some([1.5, 2.5]),
         }
     }
 
@@ -488,23 +579,22 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_left_right_pair_shares_one_color() {
+    fn combination(k: usize, members: &[&[&str]], legible_s: f64) -> CombinationRecord {
         use crate::format::placement::{CandidateKind, MemberRecord, Method};
-        let member = |names: &[&str]| MemberRecord {
+        let member = |names: &&[&str]| MemberRecord {
             candidates: names.iter().map(|n| n.to_string()).collect(),
             displays: names.len(),
             adds_s: 0.5,
             adds_no_time: false,
         };
-        let set = CombinationRecord {
-            k: 3,
-            displays: 3,
+        CombinationRecord {
+            k,
+            displays: members.iter().map(|m| m.len()).sum(),
             kind: CandidateKind::Part,
             objective: Objective::Mean,
             method: Method::Exhaustive,
-            members: vec![member(&["b_pillar_left", "b_pillar_right"]), member(&["grill"])],
-            legible_s: 1.0,
+            members: members.iter().map(member).collect(),
+            legible_s,
             interval_s: None,
             p_best: None,
             p_within_epsilon: None,
@@ -516,10 +606,56 @@ mod tests {
             runners_up: Vec::new(),
             tied_with: Vec::new(),
             p_best_note: None,
-        };
+        }
+    }
+
+    #[test]
+    fn a_left_right_pair_shares_one_color() {
+        let set = combination(3, &[&["b_pillar_left", "b_pillar_right"], &["grill"]], 1.0);
         let pictured = pictured_sets(&[set], &BTreeMap::new());
         assert_eq!(pictured[0].colors, vec![0, 0, 1]);
-        assert_eq!(pictured[0].legend, ["b_pillar_left & b_pillar_right", "grill"]);
+        assert_eq!(pictured[0].legend, ["B-pillar, left & B-pillar, right", "grill"]);
         assert!(pictured[0].caption.contains("at most 3 displays (3 used)"), "{}", pictured[0].caption);
+    }
+
+    #[test]
+    fn a_repeated_set_is_drawn_once_and_a_set_of_no_legible_time_not_at_all() {
+        let sets = [
+            combination(1, &[&["hood"]], 1.5),
+            combination(2, &[&["hood"], &["grill"]], 2.0),
+            // At most 3 chooses what at most 2 chose (the same displays, listed in another order).
+            combination(3, &[&["grill"], &["hood"]], 2.0),
+        ];
+        let pictured = pictured_sets(&sets, &BTreeMap::new());
+        assert_eq!(pictured.len(), 2, "{pictured:?}");
+        assert!(pictured[1].caption.ends_with("also the best with at most 3"), "{}", pictured[1].caption);
+        let nothing = [combination(1, &[&["front_bumper@x2.95y-0.76z0.46"]], 0.0)];
+        assert!(pictured_sets(&nothing, &BTreeMap::new()).is_empty(), "a 0 s best display is drawn");
+    }
+
+    #[test]
+    fn the_legible_time_bar_spans_its_interval_on_one_scale() {
+        let mut wide = long_set();
+        wide.caption = "a".into();
+        let mut plain = wide.clone();
+        (plain.legible_s, plain.interval_s) = (1.0, None);
+        let layout = OverviewLayout::new(&[wide.clone(), plain], [200, 150]);
+        let [bar, other] = [layout.bars[0], layout.bars[1]];
+        let seconds = |x: u32| f64::from(x - bar.x0) / bar.px_per_s;
+        let [low, high] = bar.interval_x.unwrap();
+        assert!((seconds(low) - 1.5).abs() < 0.01 && (seconds(high) - 2.5).abs() < 0.01, "{bar:?}");
+        assert!((seconds(bar.value_x) - 2.0).abs() < 0.01);
+        assert!((seconds(other.value_x) - 1.0).abs() < 0.01 && other.interval_x.is_none());
+        assert!(bar.y + bar.height <= layout.views_y[0], "the bar runs into the views");
+        // Drawn: the whisker's end caps are ink at 1.5 s and 2.5 s, the bar blue at 1 s.
+        let mut rgb = PAPER.repeat((layout.size[0] * layout.size[1]) as usize);
+        bar.draw(&mut rgb, layout.size[0]);
+        let at = |x: u32, y: u32| {
+            let i = ((y * layout.size[0] + x) * 3) as usize;
+            [rgb[i], rgb[i + 1], rgb[i + 2]]
+        };
+        assert_eq!(at(low, bar.y + 1), OUTLINE);
+        assert_eq!(at(high, bar.y + 1), OUTLINE);
+        assert_eq!(at(bar.x0 + bar.px_per_s as u32, bar.y + bar.height / 2 - 3), BAR);
     }
 }

@@ -1,17 +1,23 @@
 //! Figures for a paper (issue 35 item 2), on the bundled example: every
-//! plot exists as SVG, PDF and PNG at one and two journal columns; the SVG
-//! printed at its stated width (183 mm or 89 mm) has no text under 7 pt;
+//! plot exists as SVG, PDF and PNG at one and two journal columns (with
+//! `--figures all`; PNG and PDF at two by default); the SVG printed at its
+//! stated width (181.9 mm or 88.9 mm) has no text under 7 pt;
 //! the series use the Okabe–Ito palette; no figure names the archive's
 //! folder; every axis title says "quantity (unit)".
 
 use std::path::{Path, PathBuf};
 
+/// The example's result set with every figure variant (`--figures all`).
 fn example_results(dir: &Path) -> PathBuf {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
     let options = ufcsr::AnalyzeOptions { archive: example, frames: true, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
     let out = dir.join("results");
-    ufcsr::output::write_results(&mut analysis, &out).unwrap();
+    let set = ufcsr::output::ResultSetOptions {
+        figures: ufcsr::output::Figures::WithVariants,
+        ..Default::default()
+    };
+    ufcsr::output::write_results_with(&mut analysis, &out, &set).unwrap();
     out
 }
 
@@ -54,7 +60,8 @@ fn every_plot_is_svg_pdf_and_png_at_both_column_widths_with_text_of_at_least_7_p
         let _ = std::process::Command::new("cp").arg("-r").arg(&out).arg(keep).status();
     }
     for plot in ["visibility-time", "visibility-distance", "parts"] {
-        for (suffix, width) in [("", 183.0), ("-1col", 89.0)] {
+        // IEEE's text and column widths, inside Elsevier's 190 and 90 mm.
+        for (suffix, width) in [("", 181.9), ("-1col", 88.9)] {
             let stem = out.join("plots").join(format!("{plot}{suffix}"));
             let svg = std::fs::read_to_string(stem.with_extension("svg")).unwrap();
             let (width_mm, sizes) = printed_font_sizes_pt(&svg);
@@ -74,8 +81,9 @@ fn every_plot_is_svg_pdf_and_png_at_both_column_widths_with_text_of_at_least_7_p
             assert!(!pdf.contains("Helvetica") && !pdf.contains("/Type1"), "{plot}{suffix}.pdf");
             let media = pdf.split("/MediaBox [").nth(1).unwrap().split(']').next().unwrap();
             let page_width: f64 = media.split_whitespace().nth(2).unwrap().parse().unwrap();
-            let expected = (width / 25.4 * 300.0_f64).round() * 72.0 / 300.0;
+            let expected = (width / 25.4 * 300.0_f64).floor() * 72.0 / 300.0;
             assert!((page_width - expected).abs() < 0.01, "{plot}{suffix}.pdf is {media}");
+            assert!(page_width <= width / 25.4 * 72.0, "{plot}{suffix}.pdf is wider than {width} mm");
             // 300 dpi in the PNG's pHYs chunk (11811 pixels per metre).
             let decoder = png::Decoder::new(std::io::BufReader::new(
                 std::fs::File::open(stem.with_extension("png")).unwrap(),
@@ -85,7 +93,7 @@ fn every_plot_is_svg_pdf_and_png_at_both_column_widths_with_text_of_at_least_7_p
             let png = image_size(&stem.with_extension("png"));
             assert_eq!(
                 png[0],
-                (width / 25.4 * 300.0_f64).round() as u32,
+                (width / 25.4 * 300.0_f64).floor() as u32,
                 "{plot}{suffix}.png is not 300 dpi"
             );
             assert!(!svg.contains("example"), "{plot}{suffix}.svg names the archive's folder");

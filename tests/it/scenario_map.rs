@@ -84,12 +84,13 @@ fn the_frame_strip_shows_frames_of_one_eye_in_part_colors() {
     assert_eq!(written.frames_strip_png.as_deref(), Some(strip.as_path()));
     let (width, pixels) = rgb(&strip);
     let height = (pixels.len() / 3) as u32 / width;
-    // One row of frames, scaled to the strip's height, under a row of labels.
-    assert_eq!(height, ufcsr::output::STRIP_FRAME_HEIGHT + 34);
+    // One row of frames, scaled to the strip's height, under a row of labels and above the colour key.
+    assert!(height > ufcsr::output::STRIP_FRAME_HEIGHT + 34, "no colour key below the frames: {height} rows");
     let mut allowed: Vec<[u8; 3]> =
         analysis.result.parts.iter().filter_map(|part| part.color).map(|color| color.rgb()).collect();
     allowed.extend([ufcsr::output::STRIP_BACKGROUND, ufcsr::output::STRIP_UNLABELLED, [255, 255, 255]]);
-    let below_labels = &pixels[(34 * width * 3) as usize..];
+    let frames_end = ((34 + ufcsr::output::STRIP_FRAME_HEIGHT) * width * 3) as usize;
+    let below_labels = &pixels[(34 * width * 3) as usize..frames_end];
     let mut parts_shown = std::collections::BTreeSet::new();
     for pixel in below_labels.chunks(3) {
         let color = [pixel[0], pixel[1], pixel[2]];

@@ -38,7 +38,7 @@ fn eight_views_show_the_heatmap_where_the_pedestrian_looked() {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
     let options = ufcsr::AnalyzeOptions { archive: example, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
-    let written = ufcsr::output::write_results(&mut analysis, dir.path()).unwrap();
+    let written = ufcsr::output::write_results_with(&mut analysis, dir.path(), &with_variants()).unwrap();
     assert_eq!(written.views_png.as_deref(), Some(dir.path().join("views.png").as_path()));
     let share = |name: &str| {
         let (seen, vehicle) = colored_pixels(&dir.path().join(format!("views/{name}.png")));
@@ -52,14 +52,19 @@ fn eight_views_show_the_heatmap_where_the_pedestrian_looked() {
     assert!(seen > 0 && vehicle > seen);
 }
 
-/// The bundled example's result set, in a temporary folder.
+/// The bundled example's result set with each view alone too (`views/`), in a temporary folder.
 fn example_results() -> tempfile::TempDir {
     let dir = tempfile::tempdir().unwrap();
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
     let options = ufcsr::AnalyzeOptions { archive: example, ..Default::default() };
     let mut analysis = ufcsr::analyze(&options, None).unwrap();
-    ufcsr::output::write_results(&mut analysis, dir.path()).unwrap();
+    ufcsr::output::write_results_with(&mut analysis, dir.path(), &with_variants()).unwrap();
     dir
+}
+
+/// The result set's options that write the variants, `views/NAME.png` among them (`--figures all`).
+fn with_variants() -> ufcsr::output::ResultSetOptions {
+    ufcsr::output::ResultSetOptions { figures: ufcsr::output::Figures::WithVariants, ..Default::default() }
 }
 
 /// Decoded RGB pixels of a PNG.
@@ -114,16 +119,16 @@ fn the_compass_marks_the_pedestrian_on_the_vehicles_front_right() {
     );
     let (sheet_width, sheet_height, _) = rgb(&dir.path().join("views.png"));
     // Below the views: the colour bar, its numbers and the caption, sized
-    // to print at 7 pt or more at 183 mm (views.pdf).
+    // to print at 7 pt or more at 181.9 mm (views.pdf).
     assert_eq!(sheet_width, 4 * 400 * scale);
     assert!(sheet_height > 2 * 300 * scale + 96 * scale, "{sheet_height}");
     let size = ufcsr::output::sheet_text_px(sheet_width);
-    let em_pt = size / 1.24 / f64::from(sheet_width) * 183.0 / ufcsr::output::MM_PER_PT;
+    let em_pt = size / 1.24 / f64::from(sheet_width) * 181.9 / ufcsr::output::MM_PER_PT;
     assert!(em_pt >= ufcsr::output::MIN_TEXT_PT, "{em_pt} pt");
     let pdf = std::fs::read(dir.path().join("views.pdf")).unwrap();
     assert!(pdf.starts_with(b"%PDF-") && pdf.trim_ascii_end().ends_with(b"%%EOF"));
     let head = String::from_utf8_lossy(&pdf[..pdf.len().min(2000)]).into_owned();
     let media = head.split("/MediaBox [").nth(1).unwrap().split(']').next().unwrap();
     let page_width: f64 = media.split_whitespace().nth(2).unwrap().parse().unwrap();
-    assert!((page_width - 518.74).abs() < 0.01, "views.pdf is not 183 mm wide: {media}");
+    assert!((page_width - 515.62).abs() < 0.01, "views.pdf is not 181.9 mm wide: {media}");
 }

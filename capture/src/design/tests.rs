@@ -285,6 +285,27 @@ fn the_main_effects_intervals_cover_a_known_effect_about_95_percent_of_the_time(
 }
 
 #[test]
+fn the_effects_figure_draws_each_levels_effect_with_its_interval() {
+    let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
+    let mut normal = Normal(ufcsr::SplitMix64(7));
+    let tasks = tasks_of(&plan, 6, |_, _| 2.0 + normal.draw());
+    let data = cell_data(&plan.cells, &tasks);
+    let effects = main_effects(&data.iter().collect::<Vec<_>>(), &["windshield_rail_left".to_string()]);
+    let figure = super::output::effects_figure("tiny", &effects);
+    let levels: Vec<&ufcsr::format::LevelEffect> = effects.iter().flat_map(|e| &e.levels).collect();
+    assert_eq!(figure.rows.len(), levels.len());
+    for (row, level) in figure.rows.iter().zip(levels) {
+        assert_eq!((row.value, row.interval), (level.effect_s.mean, level.effect_s.ci95));
+        assert!(row.interval.is_some(), "six units give an interval");
+        assert!(
+            row.label.starts_with("windshield rail, left: ") && row.label.ends_with(&level.level),
+            "{}",
+            row.label
+        );
+    }
+}
+
+#[test]
 fn p_best_is_one_for_a_candidate_larger_in_every_unit() {
     let rows: Vec<Vec<f64>> =
         (0..10).map(|i| vec![5.0 + f64::from(i % 2), 1.0, 1.0 + f64::from(i % 2)]).collect();

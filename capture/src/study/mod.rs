@@ -586,7 +586,7 @@ mod tests {
     use ufcsr::format::ShareError;
 
     /// A setting whose cost is `seconds` million pixels (and `seconds` seconds).
-    fn row(ppd: f64, seconds: f64, precision: f64, exact: Option<(f64, [f64; 2])>) -> StudyRow {
+    pub(super) fn row(ppd: f64, seconds: f64, precision: f64, exact: Option<(f64, [f64; 2])>) -> StudyRow {
         let error = |l1: f64| ShareError {
             share_l1_pp: l1,
             share_max_pp: l1 / 2.0,
@@ -620,7 +620,7 @@ mod tests {
         }
     }
 
-    fn study(rows: Vec<StudyRow>, exact: bool) -> Study {
+    pub(super) fn study(rows: Vec<StudyRow>, exact: bool) -> Study {
         let exact = exact.then(|| ExactReference {
             sample: 1.0,
             sampled_texels: 1,

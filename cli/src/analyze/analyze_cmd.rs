@@ -142,11 +142,7 @@ fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf, console: 
         &ufcsr::output::ResultSetOptions {
             csv_style: args.csv_style.into(),
             views_scale: args.views_scale,
-            figures: if args.figures == Switch::On {
-                ufcsr::output::Figures::All
-            } else {
-                ufcsr::output::Figures::None
-            },
+            figures: args.figures.into(),
         },
     )?;
     report_problems(&analysis.result);

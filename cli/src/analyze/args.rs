@@ -9,7 +9,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
-use crate::choices::{CsvStyle, Dedupe, Switch};
+use crate::choices::{CsvStyle, Dedupe, FiguresChoice, Switch};
 use crate::options::{HeatmapScaleArgs, LabelArgs};
 
 #[derive(Args)]
@@ -85,10 +85,10 @@ pub struct AnalyzeArgs {
           value_parser = clap::value_parser!(u32).range(1..=8))]
     pub views_scale: u32,
 
-    /// The figures (plots, views, views.pdf, map, frame strip): `on` or `off`. Off leaves them
-    /// out (most of a small analysis's time, for batch runs); the tables are the same.
-    #[arg(long, value_enum, default_value_t = Switch::On)]
-    pub figures: Switch,
+    /// The figures (plots, views, views.pdf, map, frame strip): `on` (each once), `all` (also
+    /// SVGs, one-column plots and each view alone) or `off` (for batch runs; the tables are the same).
+    #[arg(long, value_enum, default_value_t = FiguresChoice::On)]
+    pub figures: FiguresChoice,
 
     /// Stop at the first image that cannot be read (default: report it, go on, exit 1).
     #[arg(long)]

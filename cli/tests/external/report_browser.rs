@@ -77,11 +77,9 @@ pub fn the_report_of_the_bundled_example_renders_in_chromium() -> Outcome {
     for plot in ["visibility-time", "visibility-distance", "parts"] {
         let colors = distinct_colors(&out.join(format!("plots/{plot}.png")));
         assert!(colors > 8, "plots/{plot}.png is blank ({colors} colours)");
-        assert!(
-            std::fs::read_to_string(report.with_file_name(format!("plots/{plot}.svg")))
-                .unwrap()
-                .contains("<svg")
-        );
+        // The vector figure the page links to.
+        let pdf = std::fs::read(report.with_file_name(format!("plots/{plot}.pdf"))).unwrap();
+        assert!(pdf.starts_with(b"%PDF-"), "plots/{plot}.pdf");
     }
 
     let screenshot = dir.path().join("report.png");

@@ -69,12 +69,12 @@ fn a_smaller_result_set_takes_away_stale_files_and_keeps_the_users_own() {
         let status = common::analyzer().arg(&example).arg("--out").arg(&out).arg("-q").args(extra).status();
         assert!(status.unwrap().success());
     };
-    run(&[]);
+    run(&["--figures", "all"]);
     assert!(out.join("frames.csv").is_file());
     // A note of the user's inside views/, and a file of theirs beside the results.
     std::fs::write(out.join("views/my-notes.txt"), b"mine").unwrap();
     std::fs::write(out.join("paper-draft.txt"), b"mine too").unwrap();
-    run(&["--frames-csv", "off"]);
+    run(&["--frames-csv", "off", "--figures", "all"]);
     assert!(!out.join("frames.csv").exists(), "a stale frames.csv of the earlier run is left");
     assert_eq!(std::fs::read(out.join("views/my-notes.txt")).unwrap(), b"mine");
     assert_eq!(std::fs::read(out.join("paper-draft.txt")).unwrap(), b"mine too");

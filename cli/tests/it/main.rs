@@ -61,6 +61,7 @@ mod cli_grammar;
 mod color_damage;
 mod commit_journal;
 mod comparison_page;
+mod default_files;
 mod external_manifest;
 mod manifest_grid;
 mod manifest_links;

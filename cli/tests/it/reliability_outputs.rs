@@ -56,7 +56,7 @@ fn links_inside_out_are_replaced_and_never_written_through() {
     std::os::unix::fs::symlink(elsewhere.join("views"), out.join("views")).unwrap();
     std::os::unix::fs::symlink(elsewhere.join("plots"), out.join("plots")).unwrap();
     std::os::unix::fs::symlink(elsewhere.join("result.json"), out.join("result.json")).unwrap();
-    analyze_example(&out, &[]);
+    analyze_example(&out, &["--figures", "all"]);
     assert_eq!(snapshot(&elsewhere), before, "a file outside --out was changed");
     for name in ["views", "plots", "result.json"] {
         let metadata = std::fs::symlink_metadata(out.join(name)).unwrap();
@@ -133,10 +133,10 @@ fn the_next_run_removes_staging_folders_that_killed_runs_left() {
 fn a_rerun_without_frames_takes_away_the_earlier_runs_plots() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    analyze_example(&out, &[]);
+    analyze_example(&out, &["--figures", "all"]);
     assert!(out.join("plots/visibility-time.svg").is_file(), "the first run drew no time plot");
     std::fs::write(out.join("plots/my-plot.svg"), b"mine").unwrap();
-    analyze_example(&out, &["--frames-csv", "off"]);
+    analyze_example(&out, &["--frames-csv", "off", "--figures", "all"]);
     let plots: Vec<String> = std::fs::read_dir(out.join("plots"))
         .unwrap()
         .flatten()

@@ -8,13 +8,17 @@ use std::process::Command;
 
 use ufcsr::{AnalyzeOptions, output::DIRECTIONS};
 
-/// The bundled example analysed into `out` (views, heatmap.glb): of the
+/// The bundled example analysed into `out` (views, each alone too, and heatmap.glb): of the
 /// count, or with `area` of the per-texel angular area.
 fn analyse_example(out: &Path, area: bool) {
     let archive = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/example");
     let options = AnalyzeOptions { archive, frames: area, texel_area: area, ..AnalyzeOptions::default() };
     let mut analysis = ufcsr::analyze(&options, None).expect("analyse the example");
-    ufcsr::output::write_results(&mut analysis, out).expect("write the example's results");
+    let set = ufcsr::output::ResultSetOptions {
+        figures: ufcsr::output::Figures::WithVariants,
+        ..Default::default()
+    };
+    ufcsr::output::write_results_with(&mut analysis, out, &set).expect("write the example's results");
 }
 
 fn colors(path: &Path) -> Vec<u32> {

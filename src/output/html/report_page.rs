@@ -338,10 +338,10 @@ fn vehicle_views(page: &mut String, inputs: &PageInputs) {
         "<h2>{heading}</h2>\n<p>{what} Front, front-left, left, rear-left (top row); rear, rear-right, \
          right, front-right (bottom row); seen from 15° above, one scale for all, shaded by a light from the upper \
          left. Colour bar: grey = never seen, then plasma from 0 to {top} ({:?} scale). The compass in each view's \
-         corner shows where the pedestrian was (green) and the view's line of sight (black). Each view is also \
-         in <code>views/</code>.</p>\n\
+         corner shows where the pedestrian was (green) and the view's line of sight (black).{}</p>\n\
          <img src=\"{}\" alt=\"the heatmap on the vehicle from eight directions\">",
         settings.heatmap_scale,
+        if inputs.files.single_views { " Each view is also in <code>views/</code>." } else { "" },
         file_name(views)
     );
 }
@@ -357,17 +357,18 @@ fn plots(page: &mut String, inputs: &PageInputs) {
         "<h2>Plots</h2>\n<p>The angular area (deg², from the eyes' projection; pixels when the manifest gives none) \
          of each of the {} most visible parts per eye, by frame (both in <code>frames.csv</code>), \
          and the per-part bar chart (angular area and exposure when measured, then the paper's count). For a paper, \
-         each plot is also in <code>plots/</code> as PDF and SVG (vector, real text) and PNG (300 dpi), for two \
-         columns (183 mm, <code>NAME.*</code>) and one (89 mm, <code>NAME-1col.*</code>), text at least 7 pt.</p>",
+         each plot is in <code>plots/</code> as PDF (vector, real text) and PNG (300 dpi), two columns wide \
+         (181.9 mm, IEEE's text width, inside Elsevier's 190 mm), text at least 7 pt; <code>--figures all</code> \
+         adds SVGs and one-column figures (88.9 mm, <code>NAME-1col.*</code>).</p>",
         crate::output::plots::TOP_PARTS
     );
     for plot in plots {
         let _ = writeln!(
             page,
-            "<figure><a href=\"{svg}\"><img src=\"{shown}\" alt=\"{title}\" class=\"plot\"></a>\
+            "<figure><a href=\"{vector}\"><img src=\"{shown}\" alt=\"{title}\" class=\"plot\"></a>\
              <figcaption>{scenario}: {title}.</figcaption></figure>",
             scenario = escape(&scenario_name(inputs)),
-            svg = escape(&plot.svg),
+            vector = escape(&plot.vector),
             shown = escape(&plot.shown),
             title = escape(&plot.title)
         );
@@ -629,6 +630,7 @@ mod tests {
             frames_csv: None,
             map_png: None,
             frames_strip_png: None,
+            single_views: false,
             plots: Vec::new(),
         };
         let scenario = ScenarioPage::default();

@@ -117,7 +117,7 @@ pub fn run_observer_study(
 ) -> Result<ObserverStudy> {
     check(options, scene)?;
     // A scene file (or mesh) named observers.json, observers.csv,
-    // observer-parts.csv or observer-displays.csv in --out is refused, never
+    // observer-parts.csv (.png, .pdf) or observer-displays.csv in --out is refused, never
     // replaced nor removed as stale (as study does).
     crate::job::overwrite_guard::refuse_overwriting_inputs(
         &options.capture.out,
@@ -391,11 +391,13 @@ fn cell(value: Option<f64>) -> String {
 }
 
 /// The files [`write_observer_study`] writes into the study's folder.
-const OBSERVER_FILES: [&str; 3] = ["observers.json", "observers.csv", "observer-parts.csv"];
+const OBSERVER_FILES: [&str; 5] =
+    ["observers.json", "observers.csv", "observer-parts.csv", "observer-parts.png", "observer-parts.pdf"];
 
 /// Writes `observers.json` (with the study's `displays` when it has them),
-/// `observers.csv` (one row per observer and part) and `observer-parts.csv`
-/// (one row per part); returns what was written. Without displays an
+/// `observers.csv` (one row per observer and part), `observer-parts.csv`
+/// (one row per part) and, with a font, its figure (`observer-parts.png`,
+/// `.pdf`: each part's mean with its interval); returns what was written. Without displays an
 /// earlier run's `observer-displays.csv` is removed: it describes other
 /// observers.
 pub fn write_observer_study(study: &ObserverStudy, dir: &Path) -> Result<Vec<PathBuf>> {
@@ -428,11 +430,38 @@ pub fn write_observer_study(study: &ObserverStudy, dir: &Path) -> Result<Vec<Pat
     ufcsr::files::write_bytes_atomically(&observers_path, per_observer.as_bytes())?;
     let parts_path = dir.join("observer-parts.csv");
     ufcsr::files::write_bytes_atomically(&parts_path, parts_table(study).as_bytes())?;
+    let mut written = vec![json_path, observers_path, parts_path];
+    written.extend(parts_figure(study).write(&dir.join("observer-parts"))?);
     remove_stale_observers(dir, study.observers.len())?;
     if study.displays.is_none() {
         ufcsr::files::remove_inside(dir, &dir.join(displays::OBSERVER_DISPLAYS_FILE))?;
     }
-    Ok(vec![json_path, observers_path, parts_path])
+    Ok(written)
+}
+
+/// Parts drawn in the observers' figure at most (the largest mean angular area first).
+const FIGURE_PARTS: usize = 20;
+
+/// The per-part angular area over the observers as a figure (issue 44 §2,
+/// `observer-parts.png` and `.pdf`): each part's population mean with its
+/// 95 % interval (none on a grid), the largest first.
+fn parts_figure(study: &ObserverStudy) -> ufcsr::output::IntervalFigure {
+    let rows = study
+        .summary
+        .iter()
+        .filter(|part| part.angular_area_deg2_s.mean > 0.0)
+        .take(FIGURE_PARTS)
+        .map(|part| ufcsr::output::IntervalRow {
+            label: ufcsr::output::readable_part_name(&part.part),
+            value: part.angular_area_deg2_s.mean,
+            interval: part.angular_area_deg2_s.mean_ci95,
+        })
+        .collect();
+    ufcsr::output::IntervalFigure {
+        title: format!("Scenario {}: angular area per part over the observers", study.scenario),
+        axis: "angular area per eye, mean over the observers (deg²·s; whiskers: 95 % interval)".into(),
+        rows,
+    }
 }
 
 /// Removes the `observer-NNN` folders of an earlier study into `dir` with
