@@ -88,6 +88,8 @@ struct Record {
 pub struct Console {
     record: Arc<Mutex<Record>>,
     style: Style,
+    /// No lines for people from this handle ([`Console::muted`]).
+    muted: bool,
 }
 
 /// The `--json` object: the fields every command has, then its facts.
@@ -147,7 +149,16 @@ impl Console {
             stdout: Stdout::Open,
             ended: false,
         };
-        Console { record: Arc::new(Mutex::new(record)), style }
+        Console { record: Arc::new(Mutex::new(record)), style, muted: false }
+    }
+
+    /// A handle on the same record that prints no lines for people but
+    /// keeps the progress bar and records files and facts as before: for a
+    /// step of a command whose own lines say what matters (`where`'s
+    /// captures, before its answer).
+    #[cfg_attr(not(feature = "capture"), allow(dead_code))] // `where`
+    pub fn muted(&self) -> Console {
+        Console { muted: true, ..self.clone() }
     }
 
     fn record(&self) -> MutexGuard<'_, Record> {
@@ -161,7 +172,7 @@ impl Console {
 
     /// A line for people (not under `--quiet` or `--json`).
     pub fn say(&self, line: std::fmt::Arguments) {
-        if self.style == Style::Text {
+        if self.style == Style::Text && !self.muted {
             self.write(format!("{line}\n").as_bytes());
         }
     }
@@ -169,7 +180,7 @@ impl Console {
     /// Text for people as it is, e.g. a table that ends in its own newline.
     #[cfg_attr(not(feature = "capture"), allow(dead_code))] // the captures' tables
     pub fn print(&self, text: &str) {
-        if self.style == Style::Text {
+        if self.style == Style::Text && !self.muted {
             self.write(text.as_bytes());
         }
     }

@@ -43,11 +43,11 @@ const CAPTURE_SOURCES: [&str; 3] = ["demo", "scene", "unity"];
 /// The commands the `capture` feature builds in (`ufcsr capture demo|scene|unity`
 /// and the tools around a capture), known even where it is off so that
 /// naming one says how to get it.
-const CAPTURE_COMMANDS: [&str; 9] =
-    ["capture", "study", "observers", "design", "inspect", "views", "batch", "assemble", "verify"];
+const CAPTURE_COMMANDS: [&str; 10] =
+    ["capture", "where", "study", "observers", "design", "inspect", "views", "batch", "assemble", "verify"];
 
 /// How to get the capture commands, for a binary built without them.
-const HOW_TO_GET_CAPTURE: &str = "the capture commands (capture, study, observers, design, inspect, \
+const HOW_TO_GET_CAPTURE: &str = "the capture commands (capture, where, study, observers, design, inspect, \
      views, batch, assemble, verify) are not built into this binary; build them in with `cargo install \
      --path cli --features capture`, or run them from the repository with `cargo run --release \
      --features capture -- capture demo …` (they add the wgpu stack to the build)";

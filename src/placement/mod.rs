@@ -116,7 +116,9 @@ impl PlacementOptions {
         if self.symmetric { choices::Pairing::Symmetric } else { choices::Pairing::Single }
     }
 
-    fn check(&self) -> Result<()> {
+    /// The options' own errors (bad thresholds, k, radius, resampling), before
+    /// any table is read: `ufcsr where` asks before it measures.
+    pub fn check(&self) -> Result<()> {
         self.thresholds.check()?;
         if !(1..=MAX_K).contains(&self.k) {
             return Err(Error::BadOptions(format!("--k {}: must be 1 to {MAX_K} displays", self.k)));

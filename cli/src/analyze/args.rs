@@ -32,8 +32,9 @@ pub struct AnalyzeArgs {
     #[command(flatten)]
     pub labels: LabelArgs,
 
-    /// What one count means: `image` (once per PNG), `frame` (once per eye-frame) or `eye-pair`
-    /// (once per frame over both eyes); the last two need a manifest.
+    /// What one count means: `image` (once per PNG, the paper's count and the default here and in
+    /// `capture --count`), `frame` (once per eye-frame; `study`'s default, as the exact measure
+    /// counts) or `eye-pair` (once per frame over both eyes); the last two need a manifest.
     #[arg(long, value_enum, default_value_t = Dedupe::Image)]
     pub dedupe: Dedupe,
 

@@ -9,7 +9,7 @@ mod analyze_cmd;
 mod args;
 mod intent;
 mod manifest;
-mod placement;
+pub mod placement;
 mod run;
 
 use clap::Subcommand;

@@ -3,7 +3,7 @@
 //! beside the other commands' (`args`), sharing their `--quiet`/`--json`/`-j`
 //! words.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::Result;
 use clap::Args;
@@ -127,8 +127,20 @@ pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completio
         mesh: args.mesh,
         ..ufcsr::PlacementOptions::new(args.results)
     };
-    let placement = ufcsr::placement(&options)?;
-    let written = ufcsr::write_placement(&placement, &args.out)?;
+    answer(&options, &args.out, args.top, console)
+}
+
+/// The search of `options`, its files written to `out` and the answer
+/// printed (the `top` candidates, the best sets with their intervals, the
+/// places published studies tested): `placement`'s and `where`'s one way.
+pub fn answer(
+    options: &ufcsr::PlacementOptions,
+    out: &Path,
+    top: usize,
+    console: &Console,
+) -> Result<Completion> {
+    let placement = ufcsr::placement(options)?;
+    let written = ufcsr::write_placement(&placement, out)?;
     let picture = match &written.picture {
         Some(picture) => format!(
             "\nthe chosen placements on the vehicle: {} (and {} for a paper, 183 mm)",
@@ -138,11 +150,10 @@ pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completio
         None => "\nno vehicle model (no vehicle.glb in the archive): give --mesh for placement.png".into(),
     };
     let published = ufcsr::placement::published_locations(&placement);
-    let published_csv =
-        ufcsr::placement::write_published_locations(&published, &args.out, &placement.inputs)?;
+    let published_csv = ufcsr::placement::write_published_locations(&published, out, &placement.inputs)?;
     let text = format!(
         "{}\n{}\nwrote {}, {}, {} and {}{picture}",
-        ufcsr::format_placement(&placement, args.top).trim_end(),
+        ufcsr::format_placement(&placement, top).trim_end(),
         ufcsr::placement::format_published_locations(&published, placement.document.archives.len())
             .trim_end(),
         written.json.display(),

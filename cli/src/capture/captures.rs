@@ -100,8 +100,9 @@ pub struct CaptureArgs {
     /// capturing PNGs and running `ufcsr analyze --trim off`).
     #[arg(long)]
     count: bool,
-    /// With --count: what one count means, image (once per tile), frame (once per eye-frame) or
-    /// eye-pair (once per frame over both eyes).
+    /// With --count: what one count means, image (once per tile, the paper's count and the
+    /// default here and in `analyze`), frame (once per eye-frame; `study`'s default, as the exact
+    /// measure counts) or eye-pair (once per frame over both eyes).
     #[arg(long, value_enum, default_value_t = Dedupe::Image, requires = "count")]
     dedupe: Dedupe,
     /// With --count: size of the heatmap views in results/, each 400×300 pixels times this (1–8).
@@ -141,6 +142,26 @@ pub struct CaptureArgs {
     shard: Option<String>,
 }
 
+/// The words after `ufcsr capture demo` (or `scene FILE`) as one parse.
+#[derive(clap::Parser)]
+#[command(name = "ufcsr capture")]
+struct CaptureWords {
+    #[command(flatten)]
+    capture: CaptureArgs,
+}
+
+impl CaptureArgs {
+    /// The capture's options that `words` (as after `ufcsr capture demo`)
+    /// give, parsed and checked by the capture's own definition: a command
+    /// that runs a capture (`where`) validates its options the capture's way
+    /// and gets the capture's defaults.
+    pub fn from_words(words: &[std::ffi::OsString]) -> Result<CaptureArgs, clap::Error> {
+        use clap::Parser;
+        let line = std::iter::once(std::ffi::OsString::from("capture")).chain(words.iter().cloned());
+        Ok(CaptureWords::try_parse_from(line)?.capture)
+    }
+}
+
 /// `I/N`, or `auto`: the job array's index (an error outside one). Unlike the
 /// analyzer, the capture does not read a job array unasked: batch tasks run as
 /// array tasks too, each a whole capture.
@@ -164,17 +185,10 @@ pub fn parse_fraction(text: &str) -> anyhow::Result<f64> {
     Ok(value)
 }
 
-/// A capture of `scene` as `args` say: to PNG tiles, counted (`--count`)
-/// or measured (`--measure`), one scenario or all.
-pub fn run_capture(
-    mut scene: Scene,
-    args: &CaptureArgs,
-    threads: usize,
-    console: &Console,
-) -> anyhow::Result<()> {
-    for warning in &scene.warnings {
-        eprintln!("warning: {warning}");
-    }
+/// The rig `args` ask for on `scene`: `--rig` (a preset or JSON overrides;
+/// without it a `--placement` answer takes a median adult's eyes), then
+/// `--ppd` or `--preview`'s.
+pub fn apply_rig(scene: &mut Scene, args: &CaptureArgs) -> anyhow::Result<()> {
     match args.rig.as_deref() {
         Some(text) => match ufcsr_capture::study::ObserverPreset::parse(text) {
             Some(preset) => preset.apply(&mut scene.rig),
@@ -189,6 +203,21 @@ pub fn run_capture(
     if let Some(ppd) = args.ppd.or(args.preview.then_some(PREVIEW_PPD)) {
         scene.rig.set_pixels_per_degree(ppd)?;
     }
+    Ok(())
+}
+
+/// A capture of `scene` as `args` say: to PNG tiles, counted (`--count`)
+/// or measured (`--measure`), one scenario or all.
+pub fn run_capture(
+    mut scene: Scene,
+    args: &CaptureArgs,
+    threads: usize,
+    console: &Console,
+) -> anyhow::Result<()> {
+    for warning in &scene.warnings {
+        eprintln!("warning: {warning}");
+    }
+    apply_rig(&mut scene, args)?;
     let options = capture_options(args, threads, console)?;
     let all = args.scenario.as_deref().is_some_and(|s| s.eq_ignore_ascii_case("all"));
     let names = scenario_names(&scene, args.scenario.as_deref())?;
@@ -293,7 +322,7 @@ fn capture_options(args: &CaptureArgs, threads: usize, console: &Console) -> any
 }
 
 /// The scenarios `--scenario` names: one, `all`, or (without it) the first.
-fn scenario_names(scene: &Scene, scenario: Option<&str>) -> anyhow::Result<Vec<String>> {
+pub fn scenario_names(scene: &Scene, scenario: Option<&str>) -> anyhow::Result<Vec<String>> {
     Ok(match scenario {
         Some(all) if all.eq_ignore_ascii_case("all") => {
             scene.scenarios.iter().map(|s| s.name.clone()).collect()

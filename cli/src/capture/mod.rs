@@ -1,22 +1,26 @@
-//! The capture's commands: the captures (`ufcsr capture demo|scene|unity`,
-//! or `ufcsr capture demo|scene|unity`; [`captures`], with their `--count`
-//! and `--measure` variants), the resolution study ([`study`]), the observer
+//! The capture's commands: the captures (`ufcsr capture demo|scene|unity`;
+//! [`captures`], with their `--count` and `--measure` variants; what they
+//! measure is a [`Source`], named the same way by `where`, `study` and
+//! `observers`), the one route to the placement answer ([`answer`]: `ufcsr
+//! where`), the resolution study ([`study`]), the observer
 //! study ([`observers`]), the factorial study ([`design`]) and the tools around a capture ([`tools`]: inspect,
 //! views, batch plan, assemble, verify), and the private runtime folder Mesa
 //! wants ([`runtime_dir`]). Each parses into the capture library's plain
 //! options; only the command line draws on the terminal.
 
+mod answer;
 mod captures;
 mod design;
 mod observers;
 mod runtime_dir;
+mod source;
 mod study;
 mod tools;
 
 use std::path::PathBuf;
 
 use clap::Subcommand;
-use ufcsr_capture::{Scene, ViewsOptions};
+use ufcsr_capture::ViewsOptions;
 
 use crate::choices::{BodyType, DemoTraffic};
 use crate::console::{Completion, Console};
@@ -24,9 +28,11 @@ use crate::options::Global;
 
 pub use runtime_dir::PrivateRuntimeDir;
 
+use answer::WhereArgs;
 use captures::CaptureArgs;
 use design::DesignAction;
 use observers::ObserversArgs;
+use source::Source;
 use study::StudyArgs;
 
 /// The captures: a scene recorded into an archive.
@@ -72,6 +78,19 @@ pub enum CaptureCommand {
 /// The commands around a capture.
 #[derive(Subcommand)]
 pub enum CaptureToolCommand {
+    /// Where should the eHMI go? Measures the scene exactly with display-sized candidates on
+    /// every part (as `capture … --measure unobstructed --placement --display`), then ranks them
+    /// (as `placement`), and prints the best one, two and three displays with their intervals,
+    /// the rules used (display size, surfaces left out, observer) and where the files are.
+    ///
+    /// The scene is named as after `ufcsr capture`: `demo`, `scene FILE` or `unity FILE`. Every
+    /// scenario is measured (unless --scenario names one) so that the answer has an interval
+    /// over them; each goes to OUT/runs/SCENARIO, the answer to OUT/answer. Under half a minute
+    /// per demo scenario on 2 cores (release build, 1/16 of the texels, every frame).
+    ///
+    /// Example: `ufcsr where demo --display 0.40x0.15 --symmetric --out where-demo`
+    #[command(name = "where")]
+    Where(WhereArgs),
     /// Join the parts the shards of a capture (`--shard I/N`) wrote into the archive's
     /// manifest.json, once all have finished (checks that every shard is there, once).
     ///
@@ -190,6 +209,7 @@ impl CaptureToolCommand {
     /// The command's name, as `--json` reports it.
     pub fn name(&self) -> &'static str {
         match self {
+            CaptureToolCommand::Where(_) => "where",
             CaptureToolCommand::Assemble { .. } => "assemble",
             CaptureToolCommand::Batch { .. } => "batch plan",
             CaptureToolCommand::Study(_) => "study",
@@ -208,32 +228,34 @@ pub fn run_capture_command(
     global: &Global,
     console: &Console,
 ) -> anyhow::Result<Completion> {
-    let threads = usize::from(global.threads);
-    match command {
-        CaptureCommand::Demo { traffic: None, body: None, capture } => {
-            captures::run_capture(Scene::demo(), &capture, threads, console)
-        }
-        CaptureCommand::Demo { body: Some(body), capture, .. } => {
-            let body = ufcsr_capture::scene::BodyType::from(body);
-            let scene = Scene::demo_with_body(body, &ufcsr_capture::scene::BodyDims::typical(body))?;
-            captures::run_capture(scene, &capture, threads, console)
-        }
-        CaptureCommand::Demo { traffic: Some(traffic), capture, .. } => {
-            captures::run_demo_with_traffic(traffic.into(), &capture, threads, console)
-        }
-        CaptureCommand::Scene { scene, capture } => {
-            captures::run_capture(Scene::load(&scene)?, &capture, threads, console)
-        }
-        CaptureCommand::Unity { file, capture } => {
-            captures::run_capture(Scene::unity(&file)?, &capture, threads, console)
-        }
-    }?;
+    let (source, capture) = match command {
+        CaptureCommand::Demo { traffic, body, capture } => (Source::Demo { traffic, body }, capture),
+        CaptureCommand::Scene { scene, capture } => (Source::Scene(scene), capture),
+        CaptureCommand::Unity { file, capture } => (Source::Unity(file), capture),
+    };
+    capture_source(&source, &capture, usize::from(global.threads), console)?;
     Ok(Completion::Done)
+}
+
+/// Captures `source` as `capture` says (`threads`: PNG encoders, 0: one per core).
+fn capture_source(
+    source: &Source,
+    capture: &CaptureArgs,
+    threads: usize,
+    console: &Console,
+) -> anyhow::Result<()> {
+    match source {
+        Source::Demo { traffic: Some(traffic), .. } => {
+            captures::run_demo_with_traffic((*traffic).into(), capture, threads, console)
+        }
+        _ => captures::run_capture(source.scene()?, capture, threads, console),
+    }
 }
 
 /// Runs one of the commands around a capture.
 pub fn run_tool(command: CaptureToolCommand, console: &Console) -> anyhow::Result<Completion> {
     match command {
+        CaptureToolCommand::Where(args) => return answer::run_where(args, console),
         CaptureToolCommand::Assemble { archive } => tools::run_assemble(&archive, console),
         CaptureToolCommand::Batch { action: BatchAction::Plan { batch, program } } => {
             tools::run_batch_plan(&batch, program, console)

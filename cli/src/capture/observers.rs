@@ -15,7 +15,7 @@ use ufcsr::{
 };
 use ufcsr_capture::{CaptureOptions, Gpu, parse_palette_size};
 
-use super::study::{load_scene, scenario_name};
+use super::study::scenario_name;
 use crate::choices::Backend;
 
 use crate::console::{Console, say};
@@ -41,8 +41,8 @@ enum Resolution {
 /// Uncertainty over the observer (see `ufcsr_capture::run_observer_study`).
 #[derive(Args)]
 pub struct ObserversArgs {
-    /// `demo`, or a scene JSON file.
-    scene: String,
+    #[command(flatten)]
+    scene: super::source::SourceArgs,
     /// Scenario name (default: the first, A for the demo).
     #[arg(long)]
     scenario: Option<String>,
@@ -178,7 +178,7 @@ fn population(args: &ObserversArgs) -> anyhow::Result<ObserverPopulation> {
 }
 
 pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<()> {
-    let scene = load_scene(&args.scene)?;
+    let scene = args.scene.source()?.scene()?;
     let population = population(&args)?;
     ufcsr_capture::study::check_population(&population)?;
     let sampling = match args.sampling {

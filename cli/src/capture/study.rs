@@ -15,8 +15,8 @@ use crate::console::{Console, say};
 /// A resolution study (see `ufcsr_capture::run_study`).
 #[derive(Args)]
 pub struct StudyArgs {
-    /// `demo`, or a scene JSON file.
-    scene: String,
+    #[command(flatten)]
+    scene: super::source::SourceArgs,
     /// Scenario name (default: the first, A for the demo).
     #[arg(long)]
     scenario: Option<String>,
@@ -34,8 +34,10 @@ pub struct StudyArgs {
     /// count (texels seen per eye-frame ↔ any-part visibility).
     #[arg(long, value_enum, default_value_t = StudyMeasure::AngularArea)]
     measure: StudyMeasure,
-    /// What one count of the settings' results means: image (once per tile), frame (once per
-    /// eye-frame, as the exact count) or eye-pair (once per frame over both eyes).
+    /// What one count of the settings' results means: frame (once per eye-frame, the default
+    /// here, because the exact measure it is compared with counts so), image (once per tile, the
+    /// default of `analyze` and `capture --count`, the paper's count) or eye-pair (once per
+    /// frame over both eyes).
     #[arg(long, value_enum, default_value_t = Dedupe::Frame)]
     dedupe: Dedupe,
     /// Canonical palette size, W or WxH.
@@ -61,11 +63,6 @@ pub struct StudyArgs {
     no_exact: bool,
 }
 
-/// `demo`, or a scene file.
-pub fn load_scene(name: &str) -> anyhow::Result<Scene> {
-    Ok(if name == "demo" { Scene::demo() } else { Scene::load(std::path::Path::new(name))? })
-}
-
 /// The scenario asked for, or the scene's first.
 pub fn scenario_name(scene: &Scene, asked: Option<&str>) -> anyhow::Result<String> {
     Ok(match asked {
@@ -75,7 +72,7 @@ pub fn scenario_name(scene: &Scene, asked: Option<&str>) -> anyhow::Result<Strin
 }
 
 pub fn run_study(args: StudyArgs, console: &Console) -> anyhow::Result<()> {
-    let scene = load_scene(&args.scene)?;
+    let scene = args.scene.source()?.scene()?;
     let options = ufcsr_capture::study::StudyOptions {
         scenario: scenario_name(&scene, args.scenario.as_deref())?,
         ppds: args.ppd,
@@ -199,5 +196,39 @@ fn print_pick(study: &ufcsr_capture::study::Study, console: &Console) {
         ),
         (None, Some(reason)) => say!(console, "{reason}"),
         (None, None) => say!(console, "no recommendation"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::program::Program;
+
+    /// `--dedupe`'s default and help under `path` (e.g. `["capture", "demo"]`).
+    fn dedupe(path: &[&str]) -> (String, String) {
+        let mut command = Program::Ufcsr.command_all();
+        command.build();
+        let mut command = &command;
+        for name in path {
+            command = command.find_subcommand(name).unwrap_or_else(|| panic!("no command {name}"));
+        }
+        let arg = command.get_arguments().find(|arg| arg.get_long() == Some("dedupe")).expect("--dedupe");
+        let default = arg.get_default_values().iter().map(|v| v.to_string_lossy().into_owned()).collect();
+        (default, arg.get_help().map(ToString::to_string).unwrap_or_default())
+    }
+
+    /// Issue 45 §4: `--dedupe` has one default where a result is the paper's count (`analyze`,
+    /// `capture --count`: image) and another where it is compared with the exact measure
+    /// (`study`: frame), and each help says both and why.
+    #[test]
+    fn dedupe_defaults_to_image_for_counts_and_frame_for_the_study_and_each_help_says_so() {
+        for (path, default) in
+            [(&["analyze"][..], "image"), (&["capture", "demo"], "image"), (&["study"], "frame")]
+        {
+            let (found, help) = dedupe(path);
+            assert_eq!(found, default, "{path:?}");
+            assert!(help.contains("`study`") || path == ["study"], "{path:?}: {help}");
+            assert!(help.contains("exact measure"), "{path:?} does not say why study differs: {help}");
+            assert!(help.contains("paper's count"), "{path:?}: {help}");
+        }
     }
 }

@@ -9,7 +9,7 @@ use std::path::Path;
 use std::process::{Command, Output, Stdio};
 
 /// Every command of the tree, as `ufcsr --help` lists it.
-const COMMANDS: [&str; 17] = [
+const COMMANDS: [&str; 18] = [
     "analyze",
     "merge",
     "report",
@@ -18,6 +18,7 @@ const COMMANDS: [&str; 17] = [
     "manifest",
     "placement",
     "capture",
+    "where",
     "assemble",
     "batch",
     "study",

@@ -104,3 +104,4 @@ mod traffic;
 mod umbrella;
 mod unobstructed;
 mod views;
+mod where_answer;
