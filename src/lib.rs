@@ -37,8 +37,10 @@ pub use archive::{
     PaletteSetting, Part, Pidt, Progress, Scale, ScenarioTrack, Shard, TileEntry, Timings, TrackFrame,
     TrimMode, UNLABELLED, VehicleModel, inside_archive, parse_palette_size, write_canonical_png,
 };
+pub use archive::{MAX_RGBA32_TEXELS, parse_capture_palette_size, rgba32_id, rgba32_pixel};
 pub use checks::{ColorChecks, ColorWarning, NeighbourSample};
 pub use color::{AtomicColorSet, COLOR_COUNT, Color, ParseColorError, SeenSet, color_key};
+pub use count::read_rgba32_ids;
 pub use count::{
     Classifier, CountedTile, Counts, EmptyTile, FrameLabel, FrameRecord, ImageTally, KERNEL_ENV, Kernel,
     PartLookup, PartPixels, PartRows, PixelClass, RowScan, TileCounter, scan_image, scan_image_by_part,
@@ -51,7 +53,7 @@ pub use files::{
     encode_rgb_png, open_regular, output_sub_dir, parse_gltf, read_gltf, read_limited, read_limited_text,
     real_dir, refuse_overwriting_inputs, refuse_replacing_non_file, remove_dead_runs, remove_inside,
     remove_on_interrupt, remove_stale_staging, remove_stale_temporaries, remove_temporaries, resolve_inside,
-    same_path, write_atomically, write_bytes_atomically, write_figure_png, write_rgb_png,
+    same_path, write_atomically, write_bytes_atomically, write_figure_png, write_rgb_png, write_rgba_png,
 };
 // Issue 41: a capture that has not finished marks its folder; the analyzer refuses it.
 pub use files::{UNFINISHED_FILE, mark_finished, mark_unfinished, refuse_unfinished, unfinished_outputs};
@@ -66,6 +68,7 @@ pub use format::manifest::{
     OccluderPose, PaintedByPart, PedestrianSetting, PoseRecord, RigRecord, RigSettings, ScenarioRecord,
     SceneRecord, ShardRecord, TrackKey, TrafficRecord, UnwrapRecord,
 };
+pub use format::manifest::{MANIFEST_SCHEMA_RGBA32, TexelIds};
 pub use format::observers::{
     CoarserCapture, DEFAULT_TRUNCATE_SD, DisplayOverObservers, OBSERVERS_SCHEMA, ObserverDisplayRecord,
     ObserverDisplays, ObserverPlace, ObserverPopulation, ObserverRecord, ObserverSampling, ObserverStudy,

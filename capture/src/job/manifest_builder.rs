@@ -11,9 +11,9 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use ufcsr::{
-    CaptureRecord, Color, EyePose, EyeProjectionRecord, FrameEntry, LabelsRecord, MANIFEST_SCHEMA, Manifest,
-    OccluderPose, PaintedByPart, PaletteRecord, PedestrianSetting, PoseRecord, RigRecord, RigSettings,
-    ScenarioRecord, TileEntry, TrackKey, UnwrapRecord,
+    CaptureRecord, Color, EyePose, EyeProjectionRecord, FrameEntry, LabelsRecord, Manifest, OccluderPose,
+    PaintedByPart, PaletteRecord, PedestrianSetting, PoseRecord, RigRecord, RigSettings, ScenarioRecord,
+    TexelIds, TileEntry, TrackKey, UnwrapRecord,
 };
 
 use crate::job::options::{CaptureOptions, TileTally};
@@ -233,8 +233,17 @@ fn capture_record(tally: &TileTally, tiles: TileFiles) -> CaptureRecord {
 pub fn build_manifest(parts: ManifestParts) -> Manifest {
     let unwrap = unwrap_record(&parts);
     let ManifestParts { scene, scenario, tally, .. } = parts;
+    // A canonical palette above 2^24 texels is drawn with 32-bit texel ids.
+    let texel_ids = match &parts.palette {
+        PaletteRecord::Canonical { canonical: [width, height] }
+            if u64::from(*width) * u64::from(*height) > ufcsr::COLOR_COUNT as u64 =>
+        {
+            TexelIds::Rgba32
+        }
+        _ => TexelIds::Rgb24,
+    };
     Manifest {
-        schema: Some(MANIFEST_SCHEMA.into()),
+        schema: Some(texel_ids.schema().into()),
         palette: Some(parts.palette),
         pidt: Some(PathBuf::from("pidt.png")),
         parts: Some(PathBuf::from("parts.csv")),
@@ -247,6 +256,7 @@ pub fn build_manifest(parts: ManifestParts) -> Manifest {
         rig: Some(rig_record(&scene.rig, scenario)),
         scenario: Some(ScenarioRecord { name: scenario.name.clone(), duration_s: scenario.duration_s }),
         scene: Some(scene.info.clone()),
+        texel_ids: (texel_ids == TexelIds::Rgba32).then_some(texel_ids),
         unwrap: Some(unwrap),
         vehicle: Some(crate::job::VEHICLE_FILE.into()),
         // Impossible-scene and label warnings, for the analyzer and for readers of the archive.

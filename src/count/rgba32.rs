@@ -1,0 +1,282 @@
+//! Counting archives of 32-bit texel ids (`"texel_ids": "rgba32"`): the
+//! palettes above 2^24 texels that one 24-bit colour per texel cannot name
+//! (a bus or an articulated truck at the paper's texel density).
+//!
+//! Why a path of its own beside [`crate::count::scan`]: the 24-bit path's
+//! tables (the count table, the seen sets, the stray set, the kernels'
+//! colour keys) span the 2^24 colours, and its vector kernels are tuned for
+//! 3-byte pixels. This one is portable and sized to the palette: the shared
+//! counts hold one `u32` per texel of the palette, and an image's texels are
+//! collected as a sorted list of its distinct ids (no per-texel set per
+//! thread), so a palette of N texels costs 4·N bytes however many ids the
+//! 32 bits could name. A pixel's id is [`rgba32_id`] of its RGBA samples
+//! (an RGB tile is opaque: its ids are its 24-bit colours). The outcomes are
+//! the 24-bit path's ([`Outcome`], [`ImageTally`]), so everything after
+//! counting is shared.
+
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+
+use rayon::prelude::*;
+
+use crate::archive::options::{AnalyzeOptions, Progress};
+use crate::archive::palette::rgba32_id;
+use crate::archive::resolve::Inputs;
+use crate::color::AtomicColorSet;
+use crate::count::scan::ImageTally;
+use crate::count::work::{Outcome, in_shard, work_units};
+use crate::error::{Error, Result};
+use crate::png::PixelLayout;
+use crate::png::rows::{RowReader, read_file};
+
+/// What counting an `rgba32` archive gives: the 24-bit path's outcomes and
+/// per-texel counts in palette layout.
+pub(crate) struct Rgba32Counts {
+    /// One outcome per image of the archive, in order.
+    pub outcomes: Vec<Outcome>,
+    /// Per texel, the images that showed it.
+    pub image_counts: Vec<u32>,
+    /// Per texel, the eye-frames (`--dedupe frame`) or frames (`eye-pair`)
+    /// that showed it.
+    pub frame_counts: Option<Vec<u32>>,
+    /// Stray pixels' colours, by their RGB samples (their 24 low id bits).
+    pub strays: AtomicColorSet,
+}
+
+/// Counts the images of an `rgba32` archive (only `options.shard`'s) in
+/// parallel; the result does not depend on the number of threads.
+pub(crate) fn count_rgba32_images(
+    options: &AnalyzeOptions,
+    inputs: &Inputs,
+    progress: Option<&dyn Progress>,
+) -> Rgba32Counts {
+    let images = &inputs.archive.images;
+    let selected: Vec<usize> =
+        (0..images.len()).filter(|&index| in_shard(options.shard, index, &images[index])).collect();
+    let deduped = inputs.archive.frame_groups > 0 && inputs.dedupe.per_frame();
+    // A unit is an image, an eye-frame (frame dedupe) or a frame (eye-pair).
+    let units = work_units(inputs, &selected, deduped);
+    if let Some(progress) = progress {
+        progress.start(selected.len() as u64);
+    }
+    let texels = inputs.palette.texel_count();
+    let backgrounds: Vec<u32> = inputs.backgrounds.iter().map(|c| c.packed()).collect();
+    let counter = Counter {
+        texels: texels as u64,
+        backgrounds: &backgrounds,
+        image_counts: zeroed_counts(texels),
+        frame_counts: deduped.then(|| zeroed_counts(texels)),
+        strays: AtomicColorSet::new(),
+        stop: AtomicBool::new(false),
+        strict: options.strict,
+    };
+    let unit_outcomes: Vec<Vec<(usize, Outcome)>> = units
+        .par_iter()
+        .map(|unit| {
+            let outcomes = counter.count_unit(inputs, unit);
+            if let Some(progress) = progress {
+                progress.advance(outcomes.len() as u64);
+            }
+            outcomes
+        })
+        .collect();
+    if let Some(progress) = progress {
+        progress.finish();
+    }
+    let mut outcomes: Vec<Outcome> = (0..images.len()).map(|_| Outcome::Skipped).collect();
+    for (index, outcome) in unit_outcomes.into_iter().flatten() {
+        outcomes[index] = outcome;
+    }
+    let plain = |counts: Vec<AtomicU32>| counts.into_iter().map(AtomicU32::into_inner).collect::<Vec<u32>>();
+    Rgba32Counts {
+        outcomes,
+        image_counts: plain(counter.image_counts),
+        frame_counts: counter.frame_counts.map(plain),
+        strays: counter.strays,
+    }
+}
+
+/// The tables the workers share while counting.
+struct Counter<'a> {
+    texels: u64,
+    backgrounds: &'a [u32],
+    image_counts: Vec<AtomicU32>,
+    frame_counts: Option<Vec<AtomicU32>>,
+    strays: AtomicColorSet,
+    /// Set by the first failure (`--strict` skips the rest).
+    stop: AtomicBool,
+    strict: bool,
+}
+
+impl Counter<'_> {
+    /// Counts one work unit: each image once, and the unit's distinct
+    /// texels once more into the frame counts (the unit is the eye-frame or
+    /// frame those count).
+    fn count_unit(&self, inputs: &Inputs, unit: &[Vec<usize>]) -> Vec<(usize, Outcome)> {
+        let mut outcomes = Vec::new();
+        let mut unit_ids = Vec::new();
+        let mut ids = Vec::new();
+        for &index in unit.iter().flatten() {
+            if self.strict && self.stop.load(Ordering::Relaxed) {
+                outcomes.push((index, Outcome::Skipped));
+                continue;
+            }
+            ids.clear();
+            let outcome = self.count_image(&inputs.archive.images[index].path, &mut ids);
+            match &outcome {
+                Outcome::Decoded(_) => {
+                    add_ids(&self.image_counts, &ids);
+                    if self.frame_counts.is_some() {
+                        unit_ids.extend_from_slice(&ids);
+                    }
+                }
+                _ => self.stop.store(true, Ordering::Relaxed),
+            }
+            outcomes.push((index, outcome));
+        }
+        if let Some(frame_counts) = &self.frame_counts {
+            unit_ids.sort_unstable();
+            unit_ids.dedup();
+            add_ids(frame_counts, &unit_ids);
+        }
+        outcomes
+    }
+
+    /// Reads and counts one image: its distinct texel ids into `ids`
+    /// (ascending), its stray colours into the shared set once it is whole.
+    fn count_image(&self, path: &Path, ids: &mut Vec<u32>) -> Outcome {
+        let bytes = match read_file(path) {
+            Ok(bytes) => bytes,
+            Err(error) => return Outcome::Failed(error),
+        };
+        let mut strays = Vec::new();
+        match self.scan(path, &bytes, ids, &mut strays) {
+            Ok(tally) => {
+                for stray in strays {
+                    self.strays.insert(stray & 0xFF_FFFF);
+                }
+                Outcome::Decoded(tally)
+            }
+            Err(error) => {
+                ids.clear();
+                Outcome::Failed(error)
+            }
+        }
+    }
+
+    /// Classifies every pixel of one PNG: background (an opaque background
+    /// colour), a texel of the palette (its id below the palette's texel
+    /// count) or stray; a run of one id is classified once.
+    fn scan(
+        &self,
+        path: &Path,
+        bytes: &[u8],
+        ids: &mut Vec<u32>,
+        strays: &mut Vec<u32>,
+    ) -> Result<ImageTally> {
+        let mut reader = RowReader::new(path, bytes)?;
+        let step = pixel_step(path, reader.layout())?;
+        let mut tally =
+            ImageTally { width: reader.width(), height: reader.height(), ..ImageTally::default() };
+        let mut last: Option<(u32, PixelKind)> = None;
+        while let Some(row) = reader.next_row()? {
+            for pixel in row.chunks_exact(step) {
+                let id = pixel_id(pixel);
+                let kind = match last {
+                    Some((previous, kind)) if previous == id => kind,
+                    _ => {
+                        let kind = self.classify(id);
+                        match kind {
+                            PixelKind::Texel => ids.push(id),
+                            PixelKind::Stray => strays.push(id),
+                            PixelKind::Background => {}
+                        }
+                        last = Some((id, kind));
+                        kind
+                    }
+                };
+                match kind {
+                    PixelKind::Texel => tally.texel_pixels += 1,
+                    PixelKind::Background => tally.background_pixels += 1,
+                    PixelKind::Stray => tally.stray_pixels += 1,
+                }
+            }
+        }
+        reader.finish()?;
+        ids.sort_unstable();
+        ids.dedup();
+        Ok(tally)
+    }
+
+    /// What pixel id `id` is.
+    #[inline]
+    fn classify(&self, id: u32) -> PixelKind {
+        if self.backgrounds.contains(&id) {
+            PixelKind::Background
+        } else if u64::from(id) < self.texels {
+            PixelKind::Texel
+        } else {
+            PixelKind::Stray
+        }
+    }
+}
+
+/// Bytes per pixel of an `rgba32` tile: RGBA, or RGB (opaque); any other
+/// layout is refused naming the file.
+fn pixel_step(path: &Path, layout: PixelLayout) -> Result<usize> {
+    match layout {
+        PixelLayout::Rgba => Ok(4),
+        PixelLayout::Rgb => Ok(3),
+        other => Err(Error::bad_file(
+            path,
+            format!(
+                "a {other:?} PNG: the tiles of a 32-bit texel-id archive (texel_ids \"rgba32\") are RGBA \
+                 (or RGB, opaque)"
+            ),
+        )),
+    }
+}
+
+/// The texel id of one RGBA or RGB (opaque) pixel.
+#[inline(always)]
+fn pixel_id(pixel: &[u8]) -> u32 {
+    let alpha = pixel.get(3).copied().unwrap_or(255);
+    rgba32_id([pixel[0], pixel[1], pixel[2], alpha])
+}
+
+/// Every pixel's 32-bit texel id of an `rgba32` tile, with its size: what
+/// the capture's `verify` checks such tiles with. In decoding order (raster
+/// order unless the PNG is interlaced).
+pub fn read_rgba32_ids(path: &Path) -> Result<([u32; 2], Vec<u32>)> {
+    let bytes = read_file(path)?;
+    let mut reader = RowReader::new(path, &bytes)?;
+    let step = pixel_step(path, reader.layout())?;
+    let mut ids = Vec::new();
+    while let Some(row) = reader.next_row()? {
+        ids.extend(row.chunks_exact(step).map(pixel_id));
+    }
+    reader.finish()?;
+    Ok(([reader.width(), reader.height()], ids))
+}
+
+/// The three kinds of pixel.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum PixelKind {
+    Background,
+    Texel,
+    Stray,
+}
+
+/// One count per texel of the palette, all zero.
+fn zeroed_counts(texels: usize) -> Vec<AtomicU32> {
+    (0..texels).into_par_iter().map(|_| AtomicU32::new(0)).collect()
+}
+
+/// Adds one to the count of each id (distinct, inside the palette),
+/// saturating at the `u32` maximum as the 24-bit path does.
+fn add_ids(counts: &[AtomicU32], ids: &[u32]) {
+    for &id in ids {
+        // Err means saturated: the count stays at the maximum.
+        let _ = counts[id as usize].fetch_update(Ordering::Relaxed, Ordering::Relaxed, |c| c.checked_add(1));
+    }
+}
