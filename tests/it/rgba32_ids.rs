@@ -170,3 +170,52 @@ fn rgba32_shards_merge_to_the_whole_analysis_counts() {
     assert_eq!(merged.result.parts, whole.result.parts);
     assert_eq!(merged.result.stray_pixels, 1);
 }
+
+/// Copies the bundled example (24-bit RGB tiles) into `dir`, its manifest
+/// declaring 32-bit texel ids: RGB tiles are opaque, so every id is the
+/// pixel's 24-bit colour.
+fn example_as_rgba32(dir: &Path) -> PathBuf {
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let archive = dir.join("example");
+    std::fs::create_dir_all(archive.join("tiles")).unwrap();
+    for entry in walk(&source) {
+        let relative = entry.strip_prefix(&source).unwrap();
+        std::fs::copy(&entry, archive.join(relative)).unwrap();
+    }
+    let manifest = std::fs::read_to_string(source.join("manifest.json")).unwrap();
+    let manifest =
+        manifest.replacen("\"ufcsr-manifest/1\"", "\"ufcsr-manifest/2\", \"texel_ids\": \"rgba32\"", 1);
+    std::fs::write(archive.join("manifest.json"), manifest).unwrap();
+    archive
+}
+
+fn walk(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() { files.extend(walk(&path)) } else { files.push(path) }
+    }
+    files
+}
+
+#[test]
+fn the_example_declared_rgba32_counts_as_the_24_bit_kernels_count_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
+    let rgba32 = example_as_rgba32(dir.path());
+    for dedupe in [Dedupe::Image, Dedupe::Frame, Dedupe::EyePair] {
+        let options =
+            |archive: &Path| AnalyzeOptions { archive: archive.to_path_buf(), dedupe, ..Default::default() };
+        let reference = analyze(&options(&example), None).unwrap();
+        let wide = analyze(&options(&rgba32), None).unwrap();
+        assert_eq!(wide.texel_counts, reference.texel_counts, "{dedupe:?}");
+        let (a, b) = (&wide.result, &reference.result);
+        assert_eq!(a.parts, b.parts, "{dedupe:?}");
+        assert_eq!((a.pixels.texel, a.stray_pixels), (b.pixels.texel, b.stray_pixels), "{dedupe:?}");
+        // Nothing trimmed on this path: the 24-bit one's trimmed tiles are
+        // decoded (more background pixels, the same texels).
+        assert!(a.pixels.background >= b.pixels.background);
+        assert_eq!(a.images.found, b.images.found);
+        assert_eq!(a.images.decoded + a.images.trimmed, b.images.decoded + b.images.trimmed);
+    }
+}
