@@ -41,3 +41,30 @@ fn a_capture_with_a_palette_above_2_24_texels_draws_32_bit_ids_that_all_name_lab
     assert!(above > 0, "no texel above 2^24 was seen");
     assert_eq!(result.unlabelled.as_ref().unwrap().total, 0, "every counted texel is a part's");
 }
+
+#[test]
+fn counting_while_rendering_refuses_a_palette_above_2_24_texels_before_preparing_it() {
+    let gpu = Gpu::create(Backend::Auto).unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
+    let dir = tempfile::tempdir().unwrap();
+    let scene = Scene::demo();
+    let options = CaptureOptions {
+        out: dir.path().join("counted"),
+        palette: [8192, 4096],
+        ..CaptureOptions::default()
+    };
+    let scenario = scene.scenario("D").unwrap().clone();
+    let refused = ufcsr_capture::capture_counted(
+        &gpu.device,
+        &gpu.queue,
+        &scene,
+        &scenario,
+        &options,
+        ufcsr::Dedupe::Frame,
+    );
+    let error = match refused {
+        Ok(_) => panic!("--count counted a palette of 32-bit texel ids"),
+        Err(error) => error.to_string(),
+    };
+    assert!(error.contains("8192x4096") && error.contains("--count"), "{error}");
+    assert!(!options.out.join("pidt.png").exists(), "refused before the palette was unwrapped");
+}
