@@ -79,8 +79,8 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
 
 /// [`analyze`] for an archive of 32-bit texel ids ([`crate::count::rgba32`]):
 /// nothing to trim (every tile is decoded), and no per-eye-frame tallies
-/// yet, so no `frames.csv`, resolution-independent measures or per-texel
-/// angular area; a note says so.
+/// yet, so no `frames.csv` or resolution-independent measures (a note says
+/// so); the per-texel angular area is summed as the 24-bit path sums it.
 fn analyze_rgba32(
     options: &AnalyzeOptions,
     inputs: &Inputs,
@@ -96,13 +96,14 @@ fn analyze_rgba32(
     let summary = Summary { options, inputs, empty_tiles: Vec::new(), timings, started };
     let mut analysis = summarize_counted_texels(summary, counted.outcomes, counts, None, &counted.strays)?;
     analysis.result.notes.push(RGBA32_NOTE.to_string());
+    set_texel_area(&mut analysis, counted.texel_solid_angle_units, &inputs.clock, options);
     Ok(analysis)
 }
 
 /// The note of every result of a 32-bit texel-id archive.
 pub(crate) const RGBA32_NOTE: &str = "32-bit texel ids (texel_ids \"rgba32\"): counted on the portable path, without \
-    frames.csv, the resolution-independent measures or the per-texel angular area (not yet computed for \
-    these archives); stray colours are told apart by their RGB";
+    frames.csv or the resolution-independent measures (not yet computed for these archives); stray colours \
+    are told apart by their RGB";
 
 /// The per-texel angular area from the kernels' integer sums; a shard
 /// keeps the sums too (`texel-area.units`, which `merge` adds exactly).

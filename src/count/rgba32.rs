@@ -15,7 +15,7 @@
 //! counting is shared.
 
 use std::path::Path;
-use std::sync::atomic::{AtomicBool, AtomicU32, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
 
 use rayon::prelude::*;
 
@@ -24,8 +24,10 @@ use crate::archive::palette::rgba32_id;
 use crate::archive::resolve::Inputs;
 use crate::color::AtomicColorSet;
 use crate::count::scan::ImageTally;
+use crate::count::texel_area::PixelPrefix;
 use crate::count::work::{Outcome, in_shard, work_units};
 use crate::error::{Error, Result};
+use crate::optics::TileView;
 use crate::png::PixelLayout;
 use crate::png::rows::{RowReader, read_file};
 
@@ -41,6 +43,11 @@ pub(crate) struct Rgba32Counts {
     pub frame_counts: Option<Vec<u32>>,
     /// Stray pixels' colours, by their RGB samples (their 24 low id bits).
     pub strays: AtomicColorSet,
+    /// Per texel, the solid angle its pixels subtended over the images, in
+    /// [`crate::count::texel_area::TEXEL_SOLID_ANGLE_UNITS_PER_SR`] (each
+    /// pixel rounded once, as the 24-bit path sums them), with
+    /// `--texel-area` and the eyes' projection.
+    pub texel_solid_angle_units: Option<Vec<u64>>,
 }
 
 /// Counts the images of an `rgba32` archive (only `options.shard`'s) in
@@ -67,6 +74,8 @@ pub(crate) fn count_rgba32_images(
         image_counts: zeroed_counts(texels),
         frame_counts: deduped.then(|| zeroed_counts(texels)),
         strays: AtomicColorSet::new(),
+        area: (options.texel_area && inputs.optics.is_some())
+            .then(|| (0..texels).into_par_iter().map(|_| AtomicU64::new(0)).collect()),
         stop: AtomicBool::new(false),
         strict: options.strict,
     };
@@ -93,6 +102,9 @@ pub(crate) fn count_rgba32_images(
         image_counts: plain(counter.image_counts),
         frame_counts: counter.frame_counts.map(plain),
         strays: counter.strays,
+        texel_solid_angle_units: counter
+            .area
+            .map(|area| area.into_iter().map(AtomicU64::into_inner).collect()),
     }
 }
 
@@ -103,6 +115,8 @@ struct Counter<'a> {
     image_counts: Vec<AtomicU32>,
     frame_counts: Option<Vec<AtomicU32>>,
     strays: AtomicColorSet,
+    /// Per texel, solid-angle units (see [`Rgba32Counts`]).
+    area: Option<Vec<AtomicU64>>,
     /// Set by the first failure (`--strict` skips the rest).
     stop: AtomicBool,
     strict: bool,
@@ -122,7 +136,10 @@ impl Counter<'_> {
                 continue;
             }
             ids.clear();
-            let outcome = self.count_image(&inputs.archive.images[index].path, &mut ids);
+            let image = &inputs.archive.images[index];
+            let view = inputs.optics.zip(image.tile).map(|(optics, tile)| optics.view(tile));
+            let view = view.filter(|_| self.area.is_some());
+            let outcome = self.count_image(&image.path, view.as_ref(), &mut ids);
             match &outcome {
                 Outcome::Decoded(_) => {
                     add_ids(&self.image_counts, &ids);
@@ -143,22 +160,28 @@ impl Counter<'_> {
     }
 
     /// Reads and counts one image: its distinct texel ids into `ids`
-    /// (ascending), its stray colours into the shared set once it is whole.
-    fn count_image(&self, path: &Path, ids: &mut Vec<u32>) -> Outcome {
+    /// (ascending), its stray colours and (at `view`) its texels' solid
+    /// angles into the shared tables once it is whole.
+    fn count_image(&self, path: &Path, view: Option<&TileView>, ids: &mut Vec<u32>) -> Outcome {
         let bytes = match read_file(path) {
             Ok(bytes) => bytes,
             Err(error) => return Outcome::Failed(error),
         };
-        let mut strays = Vec::new();
-        match self.scan(path, &bytes, ids, &mut strays) {
+        let mut found = Found { ids, strays: Vec::new(), runs: Vec::new() };
+        match self.scan(path, &bytes, view, &mut found) {
             Ok(tally) => {
-                for stray in strays {
+                for stray in found.strays {
                     self.strays.insert(stray & 0xFF_FFFF);
+                }
+                if let Some(area) = &self.area {
+                    for (id, units) in found.runs {
+                        area[id as usize].fetch_add(units, Ordering::Relaxed);
+                    }
                 }
                 Outcome::Decoded(tally)
             }
             Err(error) => {
-                ids.clear();
+                found.ids.clear();
                 Outcome::Failed(error)
             }
         }
@@ -166,31 +189,38 @@ impl Counter<'_> {
 
     /// Classifies every pixel of one PNG: background (an opaque background
     /// colour), a texel of the palette (its id below the palette's texel
-    /// count) or stray; a run of one id is classified once.
+    /// count) or stray; a run of one id is classified once. At `view`, each
+    /// texel pixel's solid angle goes to its id's run in `found.runs`.
     fn scan(
         &self,
         path: &Path,
         bytes: &[u8],
-        ids: &mut Vec<u32>,
-        strays: &mut Vec<u32>,
+        view: Option<&TileView>,
+        found: &mut Found,
     ) -> Result<ImageTally> {
         let mut reader = RowReader::new(path, bytes)?;
         let step = pixel_step(path, reader.layout())?;
-        let mut tally =
-            ImageTally { width: reader.width(), height: reader.height(), ..ImageTally::default() };
+        let size = [reader.width(), reader.height()];
+        if view.is_some() && reader.interlaced() {
+            return Err(Error::bad_file(
+                path,
+                "an interlaced PNG: the per-texel angular area needs its rows in order (write the tiles \
+                 without interlacing, or analyse with --texel-area off)",
+            ));
+        }
+        let prefix = view.map(|view| PixelPrefix::new(view, size));
+        let mut tally = ImageTally { width: size[0], height: size[1], ..ImageTally::default() };
         let mut last: Option<(u32, PixelKind)> = None;
+        let mut y = 0;
         while let Some(row) = reader.next_row()? {
-            for pixel in row.chunks_exact(step) {
+            let weights = prefix.as_ref().map_or(&[][..], |prefix| prefix.row(y));
+            for (x, pixel) in row.chunks_exact(step).enumerate() {
                 let id = pixel_id(pixel);
                 let kind = match last {
                     Some((previous, kind)) if previous == id => kind,
                     _ => {
                         let kind = self.classify(id);
-                        match kind {
-                            PixelKind::Texel => ids.push(id),
-                            PixelKind::Stray => strays.push(id),
-                            PixelKind::Background => {}
-                        }
+                        found.first_of_run(id, kind);
                         last = Some((id, kind));
                         kind
                     }
@@ -200,11 +230,17 @@ impl Counter<'_> {
                     PixelKind::Background => tally.background_pixels += 1,
                     PixelKind::Stray => tally.stray_pixels += 1,
                 }
+                if let (PixelKind::Texel, Some(&after), Some(&before)) =
+                    (kind, weights.get(x + 1), weights.get(x))
+                {
+                    found.add_units(id, after - before);
+                }
             }
+            y += 1;
         }
         reader.finish()?;
-        ids.sort_unstable();
-        ids.dedup();
+        found.ids.sort_unstable();
+        found.ids.dedup();
         Ok(tally)
     }
 
@@ -217,6 +253,35 @@ impl Counter<'_> {
             PixelKind::Texel
         } else {
             PixelKind::Stray
+        }
+    }
+}
+
+/// What scanning one image found, kept apart until the image is whole.
+struct Found<'a> {
+    /// Texel ids, one per run (sorted and deduplicated at the end).
+    ids: &'a mut Vec<u32>,
+    /// Stray ids, one per run.
+    strays: Vec<u32>,
+    /// `(texel id, solid-angle units)` per run of one texel.
+    runs: Vec<(u32, u64)>,
+}
+
+impl Found<'_> {
+    /// A run of `id` starts.
+    fn first_of_run(&mut self, id: u32, kind: PixelKind) {
+        match kind {
+            PixelKind::Texel => self.ids.push(id),
+            PixelKind::Stray => self.strays.push(id),
+            PixelKind::Background => {}
+        }
+    }
+
+    /// A texel pixel of `id` subtends `units`.
+    fn add_units(&mut self, id: u32, units: u64) {
+        match self.runs.last_mut() {
+            Some((last, sum)) if *last == id => *sum += units,
+            _ => self.runs.push((id, units)),
         }
     }
 }

@@ -204,11 +204,22 @@ fn the_example_declared_rgba32_counts_as_the_24_bit_kernels_count_it() {
     let example = Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
     let rgba32 = example_as_rgba32(dir.path());
     for dedupe in [Dedupe::Image, Dedupe::Frame, Dedupe::EyePair] {
-        let options =
-            |archive: &Path| AnalyzeOptions { archive: archive.to_path_buf(), dedupe, ..Default::default() };
+        let options = |archive: &Path| AnalyzeOptions {
+            archive: archive.to_path_buf(),
+            dedupe,
+            frames: true,
+            texel_area: true,
+            ..Default::default()
+        };
         let reference = analyze(&options(&example), None).unwrap();
         let wide = analyze(&options(&rgba32), None).unwrap();
         assert_eq!(wide.texel_counts, reference.texel_counts, "{dedupe:?}");
+        // The per-texel angular area, summed pixel by pixel as the 24-bit path sums it: to the bit.
+        assert!(reference.texel_angular_area.is_some());
+        assert!(
+            wide.texel_angular_area == reference.texel_angular_area,
+            "{dedupe:?}: the angular areas differ"
+        );
         let (a, b) = (&wide.result, &reference.result);
         assert_eq!(a.parts, b.parts, "{dedupe:?}");
         assert_eq!((a.pixels.texel, a.stray_pixels), (b.pixels.texel, b.stray_pixels), "{dedupe:?}");
