@@ -78,9 +78,9 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
 }
 
 /// [`analyze`] for an archive of 32-bit texel ids ([`crate::count::rgba32`]):
-/// nothing to trim (every tile is decoded), and no per-eye-frame tallies
-/// yet, so no `frames.csv` or resolution-independent measures (a note says
-/// so); the per-texel angular area is summed as the 24-bit path sums it.
+/// nothing to trim (every tile is decoded; a note says so); `frames.csv`,
+/// the measures and the per-texel angular area are summed as the 24-bit
+/// path sums them.
 fn analyze_rgba32(
     options: &AnalyzeOptions,
     inputs: &Inputs,
@@ -93,17 +93,21 @@ fn analyze_rgba32(
     let counted = count_rgba32_images(options, inputs, progress);
     timings.count_seconds = stage.elapsed().as_secs_f64();
     let counts = TexelCounts { image: counted.image_counts, frame: counted.frame_counts };
+    let frames = counted.frames.map(|tallies| frame_table(tallies, inputs, options.shard));
     let summary = Summary { options, inputs, empty_tiles: Vec::new(), timings, started };
     let mut analysis = summarize_counted_texels(summary, counted.outcomes, counts, None, &counted.strays)?;
     analysis.result.notes.push(RGBA32_NOTE.to_string());
     set_texel_area(&mut analysis, counted.texel_solid_angle_units, &inputs.clock, options);
+    if let Some(frames) = &frames {
+        analysis.result.measures = Some(Measures::from_frames(frames, &inputs.clock));
+    }
+    analysis.frames = frames;
     Ok(analysis)
 }
 
 /// The note of every result of a 32-bit texel-id archive.
-pub(crate) const RGBA32_NOTE: &str = "32-bit texel ids (texel_ids \"rgba32\"): counted on the portable path, without \
-    frames.csv or the resolution-independent measures (not yet computed for these archives); stray colours \
-    are told apart by their RGB";
+pub(crate) const RGBA32_NOTE: &str = "32-bit texel ids (texel_ids \"rgba32\"): counted on the portable path, \
+    every written tile decoded (no empty-tile trimming); stray colours are told apart by their RGB";
 
 /// The per-texel angular area from the kernels' integer sums; a shard
 /// keeps the sums too (`texel-area.units`, which `merge` adds exactly).

@@ -264,7 +264,7 @@ pub(crate) enum Outcome {
 
 /// What counting one work unit gives: its images' outcomes, and its
 /// eye-frame's tallies by part when frames are tallied.
-type UnitResult = (Vec<(usize, Outcome)>, Vec<FrameRecord>);
+pub(crate) type UnitResult = (Vec<(usize, Outcome)>, Vec<FrameRecord>);
 
 /// A worker thread's sets (see [`count_images`]).
 struct WorkerSets {

@@ -220,6 +220,10 @@ fn the_example_declared_rgba32_counts_as_the_24_bit_kernels_count_it() {
             wide.texel_angular_area == reference.texel_angular_area,
             "{dedupe:?}: the angular areas differ"
         );
+        // frames.csv and the resolution-independent measures, by part and eye-frame.
+        assert!(reference.frames.is_some());
+        assert!(wide.frames == reference.frames, "{dedupe:?}: frames.csv differs");
+        assert!(wide.result.measures == reference.result.measures, "{dedupe:?}: the measures differ");
         let (a, b) = (&wide.result, &reference.result);
         assert_eq!(a.parts, b.parts, "{dedupe:?}");
         assert_eq!((a.pixels.texel, a.stray_pixels), (b.pixels.texel, b.stray_pixels), "{dedupe:?}");
