@@ -11,19 +11,23 @@ use std::time::Instant;
 use crate::archive::capture_facts::EyeFrame;
 use crate::archive::manifest::MANIFEST_FILE;
 use crate::archive::options::{AnalyzeOptions, Progress, Timings};
-use crate::archive::resolve::{Images, resolve_inputs, resolve_inputs_with};
+use crate::archive::resolve::{Images, Inputs, resolve_inputs, resolve_inputs_with};
 use crate::count::part_lookup::{FrameLabel, FrameRecord};
+use crate::count::rgba32::count_rgba32_images;
 use crate::count::scan::{Classifier, Kernel};
 use crate::count::tile_counter::{PartTallies, TileCounter};
 use crate::count::trim::TrimPlan;
 use crate::count::work::{CountJob, CountedImages, Outcome, count_images};
 use crate::count::work::{FrameTallies, eye_frame_label};
 use crate::error::{Error, Result};
+use crate::format::manifest::TexelIds;
 use crate::format::result::CountMeasure;
 use crate::result::frames::FrameTable;
 use crate::result::measures::Measures;
 use crate::result::model::Analysis;
-use crate::result::summarize::{Summary, frame_table, summarize, summarize_texel_counts};
+use crate::result::summarize::{
+    Summary, TexelCounts, frame_table, summarize, summarize_counted_texels, summarize_texel_counts,
+};
 use crate::result::texel_area_file::TexelAreaUnits;
 
 /// Runs the analysis.
@@ -42,6 +46,10 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
             "this capture was counted while rendering (--count) and its tiles were never written; \
              its results are in results/ beside the manifest",
         ));
+    }
+    if inputs.texel_ids == TexelIds::Rgba32 {
+        timings.load_seconds = started.elapsed().as_secs_f64();
+        return analyze_rgba32(options, &inputs, timings, started, progress);
     }
     let classifier =
         Classifier::new(&inputs.palette, &inputs.backgrounds.iter().map(|c| c.packed()).collect::<Vec<_>>())?;
@@ -69,6 +77,38 @@ pub fn analyze(options: &AnalyzeOptions, progress: Option<&dyn Progress>) -> Res
     Ok(analysis)
 }
 
+/// [`analyze`] for an archive of 32-bit texel ids ([`crate::count::rgba32`]):
+/// nothing to trim (every tile is decoded; a note says so); `frames.csv`,
+/// the measures and the per-texel angular area are summed as the 24-bit
+/// path sums them.
+fn analyze_rgba32(
+    options: &AnalyzeOptions,
+    inputs: &Inputs,
+    timings: Timings,
+    started: Instant,
+    progress: Option<&dyn Progress>,
+) -> Result<Analysis> {
+    let mut timings = timings;
+    let stage = Instant::now();
+    let counted = count_rgba32_images(options, inputs, progress);
+    timings.count_seconds = stage.elapsed().as_secs_f64();
+    let counts = TexelCounts { image: counted.image_counts, frame: counted.frame_counts };
+    let frames = counted.frames.map(|tallies| frame_table(tallies, inputs, options.shard));
+    let summary = Summary { options, inputs, empty_tiles: Vec::new(), timings, started };
+    let mut analysis = summarize_counted_texels(summary, counted.outcomes, counts, None, &counted.strays)?;
+    analysis.result.notes.push(RGBA32_NOTE.to_string());
+    set_texel_area(&mut analysis, counted.texel_solid_angle_units, &inputs.clock, options);
+    if let Some(frames) = &frames {
+        analysis.result.measures = Some(Measures::from_frames(frames, &inputs.clock));
+    }
+    analysis.frames = frames;
+    Ok(analysis)
+}
+
+/// The note of every result of a 32-bit texel-id archive.
+pub(crate) const RGBA32_NOTE: &str = "32-bit texel ids (texel_ids \"rgba32\"): counted on the portable path, \
+    every written tile decoded (no empty-tile trimming); stray colours are told apart by their RGB";
+
 /// The per-texel angular area from the kernels' integer sums; a shard
 /// keeps the sums too (`texel-area.units`, which `merge` adds exactly).
 fn set_texel_area(
@@ -95,6 +135,13 @@ pub fn analyze_counted(options: &AnalyzeOptions, mut counter: TileCounter) -> Re
     counter.finish_parts();
     let texel_units = counter.take_texel_solid_angles().filter(|_| options.texel_area);
     let inputs = resolve_inputs(options)?;
+    if inputs.texel_ids == TexelIds::Rgba32 {
+        return Err(Error::bad_file(
+            &options.archive.join(MANIFEST_FILE),
+            "texel_ids \"rgba32\": tiles counted while rendering (--count) are counted as 24-bit colours; \
+             write this capture's tiles and analyse them",
+        ));
+    }
     let part_tallies = counter.parts.take();
     let mut outcomes = Vec::with_capacity(inputs.archive.images.len());
     for image in &inputs.archive.images {

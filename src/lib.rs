@@ -53,6 +53,8 @@ pub use count::{
 pub use describe::{DEFAULT_PATTERN, DescribeOptions, Described, SoloSummary, describe, parse_fov};
 pub use error::{Error, Result};
 // Issue 41: a capture that has not finished marks its folder; the analyzer refuses it.
+pub use archive::{MAX_RGBA32_TEXELS, parse_capture_palette_size, rgba32_id, rgba32_pixel};
+pub use count::read_rgba32_ids;
 pub use optics::{EyeProjection, TileView};
 pub use placement::report::format_placement;
 pub use placement::{Placement, PlacementOptions, placement, write_placement};

@@ -70,5 +70,7 @@ pub use texture::{
     OwnLabelFiles, PartOverlap, PidtImage, UNLABELLED_COLOR, Unwrapped, UvOverlaps, background_texel,
     footprint, keep_uvs, paint_pidt, unwrap_islands, unwrap_islands_avoiding, uv_overlaps,
 };
+/// The capture's `--palette-size` (above 2^24 texels: 32-bit texel ids).
+pub use ufcsr::parse_capture_palette_size;
 /// The analyzer's one `--palette-size` parser, for the capture's commands.
 pub use ufcsr::parse_palette_size;

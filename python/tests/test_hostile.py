@@ -97,6 +97,20 @@ def test_a_negative_or_odd_palette_is_refused(tmp_path):
     refused(write(tmp_path, document), "settings")
 
 
+def test_a_palette_of_32_bit_texel_ids_reads_and_an_absurd_one_is_refused(tmp_path):
+    # 8192 × 2049 texels (more than 2^24, an rgba32 archive's): a count at the last texel reads.
+    document = minimal_result()
+    document["settings"]["palette"] = {"width": 8192, "height": 2049}
+    last = 8192 * 2049 - 1
+    document["texel_counts"]["texel_delta"] = [1, last - 1]
+    counts = ufcsr.read_result(write(tmp_path, document)).texel_counts
+    assert counts.shape == (2049, 8192) or counts.size == 8192 * 2049
+    assert counts.reshape(-1)[last] == 3 and counts.reshape(-1)[1] == 2
+    # Beyond 2^26 texels (ufcsr::MAX_RGBA32_TEXELS): no palette ufcsr writes.
+    document["settings"]["palette"] = {"width": 8192, "height": 8193}
+    refused(write(tmp_path, document), "settings.palette")
+
+
 def test_huge_numbers_are_refused_not_overflowing(tmp_path):
     document = minimal_result()
     document["texel_counts"]["count"] = [2, 10**30]

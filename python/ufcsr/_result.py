@@ -44,8 +44,9 @@ PART_COLUMNS = ["name", "color", "texels", "total", "peak", "average", "share_pe
 PART_COUNTS = ["texels", "total", "peak", "texels_seen"]
 # result.json's measures.parts fields joined onto the parts (when frames were tallied).
 MEASURE_COLUMNS = ["pixels", "eye_frames_seen", "angular_area_deg2_s", "exposure_s"]
-# The largest palette: one texel per 24-bit colour.
-COLOR_COUNT = 1 << 24
+# The largest palette: 2^26 texels with 32-bit texel ids (ufcsr::MAX_RGBA32_TEXELS);
+# archives of 24-bit colours hold at most 2^24.
+MAX_TEXELS = 1 << 26
 
 
 def result_json_path(path: PathLike) -> Path:
@@ -147,7 +148,7 @@ def _palette_size(path: Path, document: dict[str, Any]) -> tuple[int, int]:
     palette = palette if isinstance(palette, dict) else {}
     width, height = palette.get("width"), palette.get("height")
     whole = all(isinstance(v, int) and not isinstance(v, bool) and v > 0 for v in (width, height))
-    if not (whole and width * height <= COLOR_COUNT):
+    if not (whole and width * height <= MAX_TEXELS):
         raise UfcsrError(f"{path}: settings.palette is {width!r}×{height!r}: not a palette size")
     return width, height
 

@@ -32,6 +32,9 @@ pub use options::{
     AnalyzeOptions, Dedupe, HeatmapOptions, PaletteChoice, Progress, Scale, Timings, TrimMode,
 };
 pub use palette::{Fcsp, PaletteSetting, parse_size as parse_palette_size, write_canonical_png};
+pub use palette::{
+    MAX_RGBA32_TEXELS, parse_capture_size as parse_capture_palette_size, rgba32_id, rgba32_pixel,
+};
 pub use scenario_track::{ScenarioTrack, TrackFrame};
 pub use shard::Shard;
 pub use vehicle_model::{ModelPart, VehicleModel};

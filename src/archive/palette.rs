@@ -15,6 +15,14 @@ use crate::png::rows::read_color_image;
 /// Default canonical palette side (4096 × 4096 = 2^24 texels).
 pub const DEFAULT_PALETTE_SIDE: u32 = 4096;
 
+/// The most texels a canonical palette of 32-bit texel ids may have
+/// (`"texel_ids": "rgba32"`): 2^26, 8192 × 8192, four times the paper's
+/// 4096² and room for a bus or an articulated truck at the F-150's texel
+/// density. Every per-texel table is sized to the palette (at the limit:
+/// 256 MiB of counts, 8 MiB per thread of seen texels), so a larger one is
+/// refused rather than allocated.
+pub const MAX_RGBA32_TEXELS: u64 = 1 << 26;
+
 /// A palette, loaded: the mapping between texels and the colours that name
 /// them. The one palette type of both crates: the analyzer counts with it,
 /// the capture renders with it (`GpuPalette::of` there), and its relatives
@@ -40,6 +48,26 @@ impl Fcsp {
             )));
         }
         Ok(Fcsp::Canonical { width, height })
+    }
+
+    /// The canonical W×H palette of 32-bit texel ids (`rgba32` archives):
+    /// more than 2^24 texels allowed, up to [`MAX_RGBA32_TEXELS`]. The
+    /// texel `(x, y)` still has id `y*W + x`; its pixel is
+    /// [`rgba32_pixel`] of it.
+    pub fn canonical_rgba32([width, height]: [u32; 2]) -> Result<Fcsp> {
+        let texels = u64::from(width) * u64::from(height);
+        if width == 0 || height == 0 || texels > MAX_RGBA32_TEXELS {
+            return Err(Error::BadOptions(format!(
+                "a canonical palette of 32-bit texel ids must have between 1 and 2^26 (8192×8192) texels; \
+                 {width}×{height} has {texels}"
+            )));
+        }
+        Ok(Fcsp::Canonical { width, height })
+    }
+
+    /// True when this palette has more texels than 24-bit colours can name.
+    pub fn needs_rgba32(&self) -> bool {
+        self.texel_count() > COLOR_COUNT
     }
 
     /// Loads a palette image and checks that its colours are unique.
@@ -166,6 +194,21 @@ impl Fcsp {
     }
 }
 
+/// The 32-bit texel id of an RGBA pixel (`rgba32` archives):
+/// (255 − alpha) × 2^24 + 0xRRGGBB, so an opaque pixel names the texel of
+/// its 24-bit colour, as in the paper's archives.
+#[inline(always)]
+pub fn rgba32_id([r, g, b, a]: [u8; 4]) -> u32 {
+    (u32::from(255 - a) << 24) | (u32::from(r) << 16) | (u32::from(g) << 8) | u32::from(b)
+}
+
+/// The RGBA pixel of 32-bit texel id `id`, the inverse of [`rgba32_id`].
+#[inline(always)]
+pub fn rgba32_pixel(id: u32) -> [u8; 4] {
+    let [high, r, g, b] = id.to_be_bytes();
+    [r, g, b, 255 - high]
+}
+
 /// Writes the canonical W×H palette as an 8-bit RGB PNG, for putting on a
 /// mesh in Unity or Blender (texel `(x, y)` has colour `y * W + x`).
 pub fn write_canonical_png(path: &Path, size: [u32; 2]) -> Result<()> {
@@ -177,6 +220,18 @@ pub fn write_canonical_png(path: &Path, size: [u32; 2]) -> Result<()> {
 /// square), of 1 to 2^24 texels (one colour each). The one parser of
 /// `--palette-size` in both crates.
 pub fn parse_size(text: &str) -> Result<[u32; 2]> {
+    parse_size_within(text, COLOR_COUNT as u64, "1 to 2^24 texels (e.g. 4096, 512x256)")
+}
+
+/// [`parse_size`] for the capture's `--palette-size`: a canonical palette of
+/// more than 2^24 texels is drawn with 32-bit texel ids (an `rgba32`
+/// archive), up to [`MAX_RGBA32_TEXELS`] (8192²).
+pub fn parse_capture_size(text: &str) -> Result<[u32; 2]> {
+    parse_size_within(text, MAX_RGBA32_TEXELS, "1 to 2^26 texels (e.g. 4096, 8192x4096)")
+}
+
+/// `W`, `WxH` or `W×H` of 1 to `limit` texels (`needs` says so in errors).
+fn parse_size_within(text: &str, limit: u64, needs: &str) -> Result<[u32; 2]> {
     let bad =
         || Error::BadOptions(format!("invalid palette size {text:?}: expected W or WxH, e.g. 4096x4096"));
     let mut parts = text.split(['x', 'X', '×']);
@@ -188,9 +243,9 @@ pub fn parse_size(text: &str) -> Result<[u32; 2]> {
     if parts.next().is_some() {
         return Err(bad());
     }
-    if width == 0 || height == 0 || u64::from(width) * u64::from(height) > COLOR_COUNT as u64 {
+    if width == 0 || height == 0 || u64::from(width) * u64::from(height) > limit {
         return Err(Error::BadOptions(format!(
-            "palette size {width}x{height}: needs 1 to 2^24 texels (e.g. 4096, 512x256), from {text:?}"
+            "palette size {width}x{height}: needs {needs}, from {text:?}"
         )));
     }
     Ok([width, height])
@@ -221,6 +276,19 @@ mod tests {
     }
 
     #[test]
+    fn rgba32_ids_round_trip_and_opaque_pixels_keep_their_24_bit_id() {
+        for id in [0u32, 0x00_0FFF, 0xFF_FFFF, 0x100_0000, 0x3FF_FFFF, u32::MAX] {
+            assert_eq!(rgba32_id(rgba32_pixel(id)), id);
+        }
+        assert_eq!(rgba32_id([0x12, 0x34, 0x56, 255]), 0x12_3456);
+        assert_eq!(rgba32_pixel(0x100_0000), [0, 0, 0, 254]);
+        let palette = Fcsp::canonical_rgba32([8192, 2049]).unwrap();
+        assert!(palette.needs_rgba32() && palette.contains(0x100_0000) && !palette.contains(8192 * 2049));
+        assert!(Fcsp::canonical_rgba32([8192, 8193]).is_err(), "more than 2^26 texels");
+        assert!(!Fcsp::canonical([4096, 4096]).unwrap().needs_rgba32());
+    }
+
+    #[test]
     fn parses_sizes() {
         assert_eq!(parse_size("4096").unwrap(), [4096, 4096]);
         assert_eq!(parse_size("64x32").unwrap(), [64, 32]);
@@ -228,5 +296,7 @@ mod tests {
         assert!(parse_size("64x").is_err());
         assert!(parse_size("8192").is_err());
         assert!(parse_size("0x4").is_err());
+        assert_eq!(parse_capture_size("8192x4096").unwrap(), [8192, 4096]);
+        assert!(parse_capture_size("8192x8193").unwrap_err().to_string().contains("2^26"));
     }
 }

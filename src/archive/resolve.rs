@@ -8,11 +8,12 @@ use crate::archive::archive_reader::Archive;
 use crate::archive::capture_facts::{CaptureGeometry, EyeFrame, EyeOptics, FrameClock, eye_frames};
 use crate::archive::identity::archive_identity;
 use crate::archive::labels::{Legend, LoadedLabels, Pidt};
-use crate::archive::manifest::{Manifest, PaletteRecord, inside_archive};
+use crate::archive::manifest::{MANIFEST_FILE, Manifest, PaletteRecord, inside_archive};
 use crate::archive::options::{AnalyzeOptions, Dedupe, PaletteChoice};
 use crate::archive::palette::{DEFAULT_PALETTE_SIDE, Fcsp};
 use crate::color::Color;
 use crate::error::{Error, Result};
+use crate::format::manifest::TexelIds;
 
 /// The legend and the PIdT, each with the file it was read from.
 pub(crate) struct LabelFiles {
@@ -32,6 +33,8 @@ impl LabelFiles {
 /// Options resolved against the manifest: the fully built inputs.
 pub(crate) struct Inputs {
     pub palette: Fcsp,
+    /// How the tiles' pixels name texels (the manifest's `texel_ids`).
+    pub texel_ids: TexelIds,
     pub backgrounds: Vec<Color>,
     /// The legend and PIdT, when the analysis has them.
     pub parts: Option<LabelFiles>,
@@ -82,10 +85,8 @@ pub(crate) fn resolve_inputs_with(options: &AnalyzeOptions, images: Images) -> R
     crate::files::refuse_unfinished(root)?;
     let manifest = if options.ignore_manifest { None } else { Manifest::load_from_dir(root)? };
     let palette_choice = palette_choice(options, manifest.as_ref())?;
-    let palette = match &palette_choice {
-        PaletteChoice::Canonical { width, height } => Fcsp::canonical([*width, *height])?,
-        PaletteChoice::Image(path) => Fcsp::from_png(path)?,
-    };
+    let texel_ids = manifest.as_ref().map(Manifest::texel_ids).unwrap_or_default();
+    let palette = load_palette(root, &palette_choice, texel_ids)?;
     let backgrounds = options
         .background
         .clone()
@@ -113,6 +114,7 @@ pub(crate) fn resolve_inputs_with(options: &AnalyzeOptions, images: Images) -> R
     Ok(Inputs {
         identity,
         palette,
+        texel_ids,
         backgrounds,
         parts,
         archive,
@@ -143,6 +145,32 @@ fn palette_choice(options: &AnalyzeOptions, manifest: Option<&Manifest>) -> Resu
             PaletteChoice::Canonical { width: DEFAULT_PALETTE_SIDE, height: DEFAULT_PALETTE_SIDE }
         }
     })
+}
+
+/// The palette of `choice`, for tiles whose pixels name texels by
+/// `texel_ids`: 32-bit ids take only the canonical palette, of at most
+/// [`crate::archive::palette::MAX_RGBA32_TEXELS`] texels; a larger one is
+/// refused naming the manifest and its `palette` before anything per texel
+/// is allocated.
+fn load_palette(root: &std::path::Path, choice: &PaletteChoice, texel_ids: TexelIds) -> Result<Fcsp> {
+    let manifest = || root.join(MANIFEST_FILE);
+    match (choice, texel_ids) {
+        (PaletteChoice::Canonical { width, height }, TexelIds::Rgb24) => Fcsp::canonical([*width, *height]),
+        (PaletteChoice::Image(path), TexelIds::Rgb24) => Fcsp::from_png(path),
+        (PaletteChoice::Canonical { width, height }, TexelIds::Rgba32) => {
+            Fcsp::canonical_rgba32([*width, *height]).map_err(|error| match error {
+                Error::BadOptions(message) => Error::bad_file(&manifest(), format!("palette: {message}")),
+                other => other,
+            })
+        }
+        (PaletteChoice::Image(path), TexelIds::Rgba32) => Err(Error::bad_file(
+            &manifest(),
+            format!(
+                "palette: texel_ids \"rgba32\" takes the canonical palette, not the image {}",
+                path.display()
+            ),
+        )),
+    }
 }
 
 /// The legend and PIdT (options first, then the manifest's), loaded against

@@ -8,6 +8,7 @@
 
 pub(crate) mod counts;
 pub(crate) mod part_lookup;
+pub(crate) mod rgba32;
 pub(crate) mod scan;
 pub(crate) mod slot_table;
 pub(crate) mod texel_area;
@@ -17,6 +18,7 @@ pub(crate) mod work;
 
 pub use counts::Counts;
 pub use part_lookup::{FrameLabel, FrameRecord, PartLookup, PartPixels};
+pub use rgba32::read_rgba32_ids;
 pub use scan::{
     Classifier, ImageTally, KERNEL_ENV, Kernel, PartRows, PixelClass, RowScan, scan_image, scan_image_by_part,
 };

@@ -151,7 +151,7 @@ pub(crate) fn count_images(job: &CountJob) -> (CountedImages, Option<FrameTallie
 /// is deduplicated together stays in one thread: one image; one eye-frame
 /// (frame dedupe, and frames.csv, which tallies whole eye-frames); both
 /// eye-frames of a frame (eye-pair dedupe). With a shard, only its images.
-fn work_units(inputs: &Inputs, selected: &[usize], by_eye_frame: bool) -> Vec<Vec<Vec<usize>>> {
+pub(crate) fn work_units(inputs: &Inputs, selected: &[usize], by_eye_frame: bool) -> Vec<Vec<Vec<usize>>> {
     match inputs.dedupe {
         Dedupe::EyePair => eye_pair_units(&inputs.archive, &inputs.eye_frames, selected),
         _ if by_eye_frame => {
@@ -264,7 +264,7 @@ pub(crate) enum Outcome {
 
 /// What counting one work unit gives: its images' outcomes, and its
 /// eye-frame's tallies by part when frames are tallied.
-type UnitResult = (Vec<(usize, Outcome)>, Vec<FrameRecord>);
+pub(crate) type UnitResult = (Vec<(usize, Outcome)>, Vec<FrameRecord>);
 
 /// A worker thread's sets (see [`count_images`]).
 struct WorkerSets {

@@ -32,7 +32,7 @@ pub use output_guard::{
     create_output_dir, create_private_dir, crosses_link, output_sub_dir, real_dir, refuse_overwriting_inputs,
     remove_inside, resolved, same_path,
 };
-pub use png_encode::{PngEncoding, encode_rgb_png, write_figure_png, write_rgb_png};
+pub use png_encode::{PngEncoding, encode_rgb_png, write_figure_png, write_rgb_png, write_rgba_png};
 pub use unfinished::{
     UNFINISHED_FILE, mark_finished, mark_unfinished, refuse_unfinished, unfinished_outputs,
 };

@@ -40,20 +40,48 @@ pub fn encode_rgb_png(
     encode_png(writer, size, rgb, encoding, None)
 }
 
+/// Writes an 8-bit RGBA PNG atomically (`rgba` holds `width * height * 4`
+/// bytes): the tiles of a capture of 32-bit texel ids, whose alpha carries
+/// the id's high byte ([`crate::rgba32_id`]).
+pub fn write_rgba_png(
+    path: &Path,
+    size: [u32; 2],
+    rgba: &[u8],
+    encoding: impl Into<PngEncoding>,
+) -> Result<()> {
+    let encoding = encoding.into();
+    write_atomically(path, |writer| {
+        encode_with_color(writer, size, (rgba, png::ColorType::Rgba), encoding, None)
+            .map_err(std::io::Error::other)
+    })
+}
+
 /// [`encode_rgb_png`], with the resolution (`pHYs`, pixels per metre) when
 /// given: figures say how large they print.
 fn encode_png(
     writer: impl Write,
-    [width, height]: [u32; 2],
+    size: [u32; 2],
     rgb: &[u8],
     encoding: PngEncoding,
     pixels_per_metre: Option<u32>,
 ) -> std::result::Result<(), png::EncodingError> {
+    encode_with_color(writer, size, (rgb, png::ColorType::Rgb), encoding, pixels_per_metre)
+}
+
+/// [`encode_png`] of `pixels` in the given colour type (RGB or RGBA).
+fn encode_with_color(
+    writer: impl Write,
+    [width, height]: [u32; 2],
+    (pixels, color): (&[u8], png::ColorType),
+    encoding: PngEncoding,
+    pixels_per_metre: Option<u32>,
+) -> std::result::Result<(), png::EncodingError> {
+    let rgb = pixels;
     let mut encoder = png::Encoder::new(writer, width, height);
     if let Some(ppm) = pixels_per_metre {
         encoder.set_pixel_dims(Some(png::PixelDimensions { xppu: ppm, yppu: ppm, unit: png::Unit::Meter }));
     }
-    encoder.set_color(png::ColorType::Rgb);
+    encoder.set_color(color);
     encoder.set_depth(png::BitDepth::Eight);
     // set_compression also picks a filter: a chosen one goes after it.
     encoder.set_compression(encoding.compression);

@@ -26,8 +26,48 @@ use crate::format::is_false;
 /// File name of the manifest inside an archive folder.
 pub const MANIFEST_FILE: &str = "manifest.json";
 
-/// Schema string written by this version.
+/// Schema string written by this version for the archives of 24-bit
+/// texel ids (every archive of the paper, of Unity and of ufcsr before
+/// 32-bit ids).
 pub const MANIFEST_SCHEMA: &str = "ufcsr-manifest/1";
+
+/// Schema string of an archive whose tiles carry 32-bit texel ids
+/// (`"texel_ids": "rgba32"`): a new version, so that a ufcsr that knows only
+/// `ufcsr-manifest/1` refuses it instead of reading the tiles' RGB alone.
+pub const MANIFEST_SCHEMA_RGBA32: &str = "ufcsr-manifest/2";
+
+/// How a tile's pixel names a texel (`manifest.json`'s `texel_ids`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum TexelIds {
+    /// The paper's: the pixel's 24-bit RGB colour (alpha ignored), at most
+    /// 2^24 texels. What a manifest without `texel_ids` means.
+    #[default]
+    Rgb24,
+    /// 32-bit ids in RGBA tiles: id = (255 − alpha) × 2^24 + 0xRRGGBB, so an
+    /// opaque pixel is the 24-bit id of its colour. For canonical palettes of
+    /// more than 2^24 texels (at most 2^26, `MAX_RGBA32_TEXELS`); needs
+    /// schema `ufcsr-manifest/2`.
+    Rgba32,
+}
+
+impl TexelIds {
+    /// The manifest schema string an archive of these ids is written with.
+    pub fn schema(self) -> &'static str {
+        match self {
+            TexelIds::Rgb24 => MANIFEST_SCHEMA,
+            TexelIds::Rgba32 => MANIFEST_SCHEMA_RGBA32,
+        }
+    }
+
+    /// Its name, as the manifest writes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            TexelIds::Rgb24 => "rgb24",
+            TexelIds::Rgba32 => "rgba32",
+        }
+    }
+}
 
 /// ufcsr archive manifest (`ufcsr-manifest/1`): `manifest.json` of an
 /// archive, written by ufcsr capture, by `ufcsr manifest` or by hand
@@ -43,6 +83,18 @@ pub const MANIFEST_SCHEMA: &str = "ufcsr-manifest/1";
 #[schemars(
     title = "ufcsr archive manifest (ufcsr-manifest/1)",
     extend(
+        "allOf" = [
+            {
+                "description": "ufcsr-manifest/2 is the version of 32-bit texel ids.",
+                "if": {"required": ["schema"], "properties": {"schema": {"const": MANIFEST_SCHEMA_RGBA32}}},
+                "then": {"required": ["texel_ids"], "properties": {"texel_ids": {"const": "rgba32"}}}
+            },
+            {
+                "description": "32-bit texel ids need ufcsr-manifest/2 when a schema is given.",
+                "if": {"required": ["schema", "texel_ids"], "properties": {"texel_ids": {"const": "rgba32"}}},
+                "then": {"properties": {"schema": {"const": MANIFEST_SCHEMA_RGBA32}}}
+            }
+        ],
         "if" = {"required": ["capture"]},
         "then" = {
             "description": "A manifest of ufcsr capture records its whole rig.",
@@ -104,6 +156,11 @@ pub struct Manifest {
     /// the kind of scene (demo, unity, scene file).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scene: Option<SceneRecord>,
+    /// How a tile's pixel names a texel: `rgb24` (the default: its 24-bit
+    /// colour) or `rgba32` (32-bit ids, (255 − alpha) × 2^24 + 0xRRGGBB, for
+    /// canonical palettes above 2^24 texels; schema `ufcsr-manifest/2`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texel_ids: Option<TexelIds>,
     /// ufcsr capture: how the vehicle was laid into the palette.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub unwrap: Option<UnwrapRecord>,
@@ -598,11 +655,43 @@ impl Manifest {
 
     /// Rejects manifests that would make the analysis ambiguous.
     fn check(&self, path: &Path) -> Result<()> {
-        if let Some(schema) = &self.schema {
-            crate::format::check_version(path, schema, MANIFEST_SCHEMA)?;
-        }
+        self.check_schema(path)?;
         self.check_eyes(path)?;
         self.check_tile_places(path)
+    }
+
+    /// `ufcsr-manifest/1` (24-bit ids) or `ufcsr-manifest/2` (`texel_ids`
+    /// `rgba32`): a version must agree with the ids it declares.
+    fn check_schema(&self, path: &Path) -> Result<()> {
+        let Some(schema) = &self.schema else { return Ok(()) };
+        if schema == MANIFEST_SCHEMA_RGBA32 {
+            if self.texel_ids != Some(TexelIds::Rgba32) {
+                return Err(Error::bad_file(
+                    path,
+                    format!(
+                        "schema {schema:?} without \"texel_ids\": \"rgba32\": a version this ufcsr does not know \
+                         ({schema} is the version of 32-bit texel ids)"
+                    ),
+                ));
+            }
+            return Ok(());
+        }
+        crate::format::check_version(path, schema, MANIFEST_SCHEMA)?;
+        if self.texel_ids == Some(TexelIds::Rgba32) {
+            return Err(Error::bad_file(
+                path,
+                format!(
+                    "texel_ids \"rgba32\" needs schema {MANIFEST_SCHEMA_RGBA32:?}, not {schema:?} \
+                     (a reader of {schema:?} would read the tiles' RGB alone)"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// How the tiles' pixels name texels (`rgb24` when not said).
+    pub fn texel_ids(&self) -> TexelIds {
+        self.texel_ids.unwrap_or_default()
     }
 
     /// Two eyes: numbered 0 and 1, or two names (left/right, L/R...).
@@ -701,7 +790,7 @@ fn check_tile_file(path: &Path, place: &str, file: &Path, files: &mut BTreeSet<P
 
 // Schema-only types: the JSON forms serde's types do not say by themselves.
 
-/// `ufcsr-manifest/1`.
+/// `ufcsr-manifest/1`, or `ufcsr-manifest/2` with 32-bit texel ids.
 struct ManifestVersion;
 
 impl JsonSchema for ManifestVersion {
@@ -709,7 +798,7 @@ impl JsonSchema for ManifestVersion {
         "ManifestVersion".into()
     }
     fn json_schema(_: &mut SchemaGenerator) -> Schema {
-        json_schema!({ "const": MANIFEST_SCHEMA })
+        json_schema!({ "enum": [MANIFEST_SCHEMA, MANIFEST_SCHEMA_RGBA32] })
     }
 }
 

@@ -50,6 +50,7 @@ pub use manifest::{
     OccluderPose, PaintedByPart, PedestrianSetting, PoseRecord, RigRecord, RigSettings, ScenarioRecord,
     SceneRecord, ShardRecord, TrackKey, TrafficRecord, UnwrapRecord,
 };
+pub use manifest::{MANIFEST_SCHEMA_RGBA32, TexelIds};
 pub use observers::{
     CoarserCapture, DEFAULT_TRUNCATE_SD, DisplayOverObservers, OBSERVERS_SCHEMA, ObserverDisplayRecord,
     ObserverDisplays, ObserverPlace, ObserverPopulation, ObserverRecord, ObserverSampling, ObserverStudy,

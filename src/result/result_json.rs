@@ -164,7 +164,10 @@ fn stored_counts(path: &Path, source: HeatmapSource) -> Result<StoredCounts> {
         ));
     }
     let texel_count = palette.width as usize * palette.height as usize;
-    if palette.width == 0 || palette.height == 0 || texel_count > crate::color::COLOR_COUNT {
+    if palette.width == 0
+        || palette.height == 0
+        || texel_count as u64 > crate::archive::palette::MAX_RGBA32_TEXELS
+    {
         return Err(Error::bad_file(
             path,
             format!("settings.palette is {}×{}: not a palette size", palette.width, palette.height),

@@ -49,6 +49,31 @@ pub(crate) struct Summary<'a> {
 /// parts table and everything `result.json` reports.
 pub(crate) fn summarize(summary: Summary, counted: CountedImages) -> Result<Analysis> {
     let CountedImages { outcomes, image_counts, frame_counts, strays, neighbours } = counted;
+    let palette = &summary.inputs.palette;
+    let counts = TexelCounts {
+        image: texel_counts_of(palette, image_counts),
+        frame: frame_counts.map(|counts| texel_counts_of(palette, counts)),
+    };
+    summarize_counted_texels(summary, outcomes, counts, neighbours, &strays)
+}
+
+/// Per-texel counts in palette layout: once per image, and once per
+/// eye-frame or frame when deduplicated.
+pub(crate) struct TexelCounts {
+    pub image: Vec<u32>,
+    pub frame: Option<Vec<u32>>,
+}
+
+/// Stages "tally" and "summarize" for images already counted into per-texel
+/// counts ([`summarize`]'s, and the 32-bit texel-id path's,
+/// [`crate::count::rgba32`]).
+pub(crate) fn summarize_counted_texels(
+    summary: Summary,
+    outcomes: Vec<Outcome>,
+    counts: TexelCounts,
+    neighbours: Option<NeighbourSample>,
+    strays: &AtomicColorSet,
+) -> Result<Analysis> {
     let mut summary = summary;
     let mut tally = tally(summary.options, &summary.inputs.archive, outcomes)?;
     tally.neighbours = neighbours;
@@ -57,16 +82,13 @@ pub(crate) fn summarize(summary: Summary, counted: CountedImages) -> Result<Anal
         decoded_pixels as f64 / 1e6 / summary.timings.count_seconds.max(1e-9);
 
     let stage = Instant::now();
-    let palette = &summary.inputs.palette;
-    let texel_counts = texel_counts_of(palette, image_counts);
-    let frame_texel_counts = frame_counts.map(|counts| texel_counts_of(palette, counts));
-    let (texel_counts, per_image_counts) = match frame_texel_counts {
-        Some(frame) => (frame, Some(texel_counts)),
-        None => (texel_counts, None),
+    let (texel_counts, per_image_counts) = match counts.frame {
+        Some(frame) => (frame, Some(counts.image)),
+        None => (counts.image, None),
     };
     let per_texel =
         PerTexel { texel_counts, per_image_counts, measure: CountMeasure::Pixels, resolution_report: true };
-    finish(summary, tally, per_texel, &strays, stage)
+    finish(summary, tally, per_texel, strays, stage)
 }
 
 /// Stage "summarize" for per-texel counts measured some other way than by

@@ -31,6 +31,7 @@ mod placement_uncertainty;
 mod published_locations;
 mod reliability;
 mod reliability_merge;
+mod rgba32_ids;
 mod scenario_map;
 mod schemas;
 mod shards;

@@ -33,9 +33,15 @@ use crate::texture::uv_islands::{self, Unwrapped};
 /// `options.palette`, or the palette image `options.palette_file` (its
 /// colours checked unique by the analyzer's loader, which names a repeated
 /// colour and both places).
+/// A canonical palette of more than 2^24 texels is one of 32-bit texel ids
+/// (up to `ufcsr::MAX_RGBA32_TEXELS`): its archive is `rgba32`.
 pub fn load_palette(options: &CaptureOptions) -> Result<Fcsp> {
+    let [width, height] = options.palette;
     Ok(match &options.palette_file {
-        None => Fcsp::canonical([options.palette[0], options.palette[1]])?,
+        None if u64::from(width) * u64::from(height) > ufcsr::COLOR_COUNT as u64 => {
+            Fcsp::canonical_rgba32([width, height])?
+        }
+        None => Fcsp::canonical([width, height])?,
         Some(path) => Fcsp::from_png(path)?,
     })
 }
@@ -537,18 +543,24 @@ pub fn verify(dir: &Path) -> Result<(u64, u64)> {
         return Err(CaptureError::bad_file(dir, "pidt.png does not match the palette size"));
     }
     let (mut vehicle, mut stray) = (0u64, 0u64);
+    let rgba32 = manifest.texel_ids() == ufcsr::format::TexelIds::Rgba32;
     for tile in &manifest.tiles {
         let Some(file) = &tile.file else { continue };
         let place = format!("tile {}", tile.place());
-        let (_, rgb) = read_rgb_png(&ufcsr::inside_archive(dir, &place, file)?)?;
-        for p in rgb.chunks_exact(3) {
-            let color = Color::from_rgb(p[0], p[1], p[2]);
-            if color == Color::DEFAULT_BACKGROUND {
+        let path = ufcsr::inside_archive(dir, &place, file)?;
+        // 32-bit ids carry their high byte in alpha; 24-bit ones are the RGB.
+        let ids = if rgba32 {
+            ufcsr::read_rgba32_ids(&path)?.1
+        } else {
+            ufcsr::read_color_image(&path, |_| Ok(()))?.colors
+        };
+        for id in ids {
+            if id == Color::DEFAULT_BACKGROUND.packed() {
                 continue;
             }
             let index = match &lookup {
-                None => Some(color.packed() as usize),
-                Some(lookup) => lookup.get(&color).map(|&i| i as usize),
+                None => Some(id as usize),
+                Some(lookup) => lookup.get(&Color::from_packed(id)).map(|&i| i as usize),
             };
             let labelled = index.is_some_and(|index| {
                 index < (w as usize) * (h as usize) && pidt[index * 3..index * 3 + 3] != [0, 0, 0]

@@ -70,6 +70,14 @@ impl CaptureSetup {
         options: &CaptureOptions,
     ) -> Result<CaptureSetup> {
         let start = Instant::now();
+        let [width, height] = options.palette;
+        if options.palette_file.is_none() && u64::from(width) * u64::from(height) > ufcsr::COLOR_COUNT as u64
+        {
+            return Err(CaptureError::BadOptions(format!(
+                "--palette-size {width}x{height}: more than 2^24 texels takes 32-bit texel ids, which --count \
+                 (counting while rendering) does not count yet; capture without --count and analyse the tiles"
+            )));
+        }
         let prepared = prepare_archive(device, queue, scene, options)?;
         let out = &options.out;
         let palette = match &prepared.palette {

@@ -144,9 +144,17 @@ fn encoder_worker(jobs: &Mutex<Receiver<EncodeJob>>, format: PngEncoding, errors
             Err(_) => return,
         };
         let Ok(job) = job else { return };
-        // Tiles are written as RGB: alpha is always 255 and the analyzer reads both.
-        rgba_to_rgb(&job.rgba, &mut rgb);
-        if let Err(error) = write_tile_png(&job.path, job.size, &rgb, format) {
+        // Tiles are written as RGB where alpha is 255 everywhere (always, for
+        // palettes of up to 2^24 texels), and as RGBA where a pixel names a
+        // texel above 2^24 (a 32-bit texel id's high byte is 255 − alpha,
+        // `ufcsr::rgba32_id`); the analyzer reads an RGB tile as opaque.
+        let written = if job.rgba.chunks_exact(4).all(|pixel| pixel[3] == 255) {
+            rgba_to_rgb(&job.rgba, &mut rgb);
+            write_tile_png(&job.path, job.size, &rgb, format)
+        } else {
+            ufcsr::files::write_rgba_png(&job.path, job.size, &job.rgba, format).map_err(CaptureError::from)
+        };
+        if let Err(error) = written {
             errors.lock().unwrap_or_else(PoisonError::into_inner).push(error);
         }
     }

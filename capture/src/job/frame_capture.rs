@@ -185,7 +185,7 @@ impl<'a> FrameCapture<'a> {
         };
         tally.pixels_scissored += scissored_pixels(tile_pixels, region);
         let [r, g, b] = self.background.rgb();
-        let all_background = pixels.chunks_exact(4).all(|p| p[0] == r && p[1] == g && p[2] == b);
+        let all_background = pixels.chunks_exact(4).all(|p| p == [r, g, b, 255]);
         if all_background && !self.keep_background_tiles {
             // Only a rendered tile is "background only": a culled or hidden
             // one is already counted as such (the tally partitions the tiles).

@@ -11,10 +11,10 @@ use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 use ufcsr::{
-    Color, MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry, format::CaptureRecord, format::EyePose,
+    Color, Manifest, PaletteRecord, TileEntry, format::CaptureRecord, format::EyePose,
     format::EyeProjectionRecord, format::FrameEntry, format::LabelsRecord, format::OccluderPose,
     format::PaintedByPart, format::PedestrianSetting, format::PoseRecord, format::RigRecord,
-    format::RigSettings, format::ScenarioRecord, format::TrackKey, format::UnwrapRecord,
+    format::RigSettings, format::ScenarioRecord, format::TexelIds, format::TrackKey, format::UnwrapRecord,
 };
 
 use crate::job::options::{CaptureOptions, TileTally};
@@ -234,8 +234,17 @@ fn capture_record(tally: &TileTally, tiles: TileFiles) -> CaptureRecord {
 pub fn build_manifest(parts: ManifestParts) -> Manifest {
     let unwrap = unwrap_record(&parts);
     let ManifestParts { scene, scenario, tally, .. } = parts;
+    // A canonical palette above 2^24 texels is drawn with 32-bit texel ids.
+    let texel_ids = match &parts.palette {
+        PaletteRecord::Canonical { canonical: [width, height] }
+            if u64::from(*width) * u64::from(*height) > ufcsr::COLOR_COUNT as u64 =>
+        {
+            TexelIds::Rgba32
+        }
+        _ => TexelIds::Rgb24,
+    };
     Manifest {
-        schema: Some(MANIFEST_SCHEMA.into()),
+        schema: Some(texel_ids.schema().into()),
         palette: Some(parts.palette),
         pidt: Some(PathBuf::from("pidt.png")),
         parts: Some(PathBuf::from("parts.csv")),
@@ -248,6 +257,7 @@ pub fn build_manifest(parts: ManifestParts) -> Manifest {
         rig: Some(rig_record(&scene.rig, scenario)),
         scenario: Some(ScenarioRecord { name: scenario.name.clone(), duration_s: scenario.duration_s }),
         scene: Some(scene.info.clone()),
+        texel_ids: (texel_ids == TexelIds::Rgba32).then_some(texel_ids),
         unwrap: Some(unwrap),
         vehicle: Some(crate::job::VEHICLE_FILE.into()),
         // Impossible-scene and label warnings, for the analyzer and for readers of the archive.

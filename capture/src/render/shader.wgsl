@@ -54,8 +54,11 @@ fn vs_main(
 }
 
 fn unpack(packed: u32) -> vec4<f32> {
-    // k / 255 converts back to exactly k in an Rgba8Unorm target.
-    return vec4<f32>(f32((packed >> 16u) & 255u), f32((packed >> 8u) & 255u), f32(packed & 255u), 255.0) / 255.0;
+    // k / 255 converts back to exactly k in an Rgba8Unorm target. Alpha is
+    // 255 minus the id's high byte (32-bit texel ids, palettes above 2^24
+    // texels): 255, opaque, for every id below 2^24.
+    let alpha = f32(255u - (packed >> 24u));
+    return vec4<f32>(f32((packed >> 16u) & 255u), f32((packed >> 8u) & 255u), f32(packed & 255u), alpha) / 255.0;
 }
 
 // The point of the closed chart triangle c0-c1-c2 with barycentric weights

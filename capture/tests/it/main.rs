@@ -16,6 +16,7 @@ mod fuzz_regressions;
 mod observers;
 mod palette;
 pub mod render_check;
+mod rgba32_capture;
 mod scenes;
 mod scissor;
 mod silent_numbers;

@@ -11,7 +11,7 @@ use anyhow::Context;
 use clap::{Args, ValueEnum};
 use ufcsr_capture::{
     CaptureOptions, CaptureProgress, CountedCapture, FrameSelection, Gpu, OwnLabelFiles, Scene, Summary,
-    parse_palette_size, scene::DemoTraffic,
+    parse_capture_palette_size, scene::DemoTraffic,
 };
 
 use crate::choices::{Backend, Compression, Dedupe, TileFilter};
@@ -55,7 +55,8 @@ pub struct CaptureArgs {
     /// own eyes.
     #[arg(long, value_name = "JSON|paper|median")]
     rig: Option<String>,
-    /// Canonical palette size, W or WxH (default 4096).
+    /// Canonical palette size, W or WxH (default 4096); above 2^24 texels
+    /// (up to 8192x8192) the tiles carry 32-bit texel ids (RGBA).
     #[arg(long, value_name = "W|WxH", default_value = "4096")]
     palette_size: String,
     /// An external palette PNG (unique colours) instead of the canonical palette.
@@ -292,7 +293,7 @@ pub fn run_demo_with_traffic(
 fn capture_options(args: &CaptureArgs, threads: usize, console: &Console) -> anyhow::Result<CaptureOptions> {
     Ok(CaptureOptions {
         out: args.out.clone(),
-        palette: parse_palette_size(&args.palette_size)?,
+        palette: parse_capture_palette_size(&args.palette_size)?,
         palette_file: args.palette.clone(),
         keep_uvs: args.keep_uvs,
         own_labels: match (args.pidt.clone(), args.parts.clone()) {
