@@ -87,17 +87,17 @@ pub use format::{Format, SCHEMAS, check_version, parse_json};
 pub use optics::{EyeProjection, TileView};
 pub use output::html_escape;
 pub use output::{
-    AREA_HEATMAP_FILE, AREA_HEATMAPS, AREA_UNIT, AreaLevels, COUNT_HEATMAPS, ComparisonOptions, CsvStyle,
-    DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, FigureSize, Figures, LEGEND_LINE, LEGEND_TEXT_PX,
-    LegendEntry, MAP_FILE, MAP_SIZE, MIN_TEXT_PT, MM_PER_PT, MapContent, MapFrame, NEEDS_ITS_FOLDER,
-    NEVER_SEEN, OKABE_ITO, OWN_SCALES, PlotText, QUOTED_HEADING, RANKED_HEADING, ResultSetOptions,
-    SHARED_SCALE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED, SceneObject, SceneShapes,
-    TextLayout, VIEW_BASE, VIEWS_PDF_FILE, ViewCamera, ViewTexture, WrittenComparison, WrittenFiles,
-    WrittenViews, ZBuffer, area_views_caption, bar_ticks, csv_field, default_output_dir,
+    AREA_HEATMAPS, AREA_UNIT, AreaLevels, COUNT_HEATMAP_FILE, COUNT_HEATMAPS, ComparisonOptions, CsvStyle,
+    DEFAULT_VIEWS_SCALE, DIRECTIONS, FRAME_STRIP_FILE, FigureSize, Figures, HEATMAP_FILE, LEGEND_LINE,
+    LEGEND_TEXT_PX, LegendEntry, MAP_FILE, MAP_SIZE, MIN_TEXT_PT, MM_PER_PT, MapContent, MapFrame,
+    NEEDS_ITS_FOLDER, NEVER_SEEN, OKABE_ITO, OWN_SCALES, PlotText, QUOTED_HEADING, RANKED_HEADING,
+    ResultSetOptions, SHARED_SCALE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED, SceneObject,
+    SceneShapes, TextLayout, VIEW_BASE, VIEWS_PDF_FILE, ViewCamera, ViewTexture, WrittenComparison,
+    WrittenFiles, WrittenViews, ZBuffer, area_views_caption, bar_ticks, csv_field, default_output_dir,
     format_counted_table, format_table, largest_area, measure_unit, plasma, plot_font_available,
     render_heatmap, render_view, sheet_text_px, text_px_for, time_color, view_cameras, views_caption,
-    write_comparison, write_comparison_with, write_heatmap, write_parts_csv, write_results,
-    write_results_with, write_scenario_map, write_scene_glb, write_views,
+    write_area_heatmap, write_comparison, write_comparison_with, write_heatmap, write_parts_csv,
+    write_results, write_results_with, write_scenario_map, write_scene_glb, write_views,
 };
 pub use placement::eligible::{Fit, default_exclusions, default_not_mountable, excluded_line, exclusions};
 pub use placement::legibility::{ArchiveTimelines, Timeline};

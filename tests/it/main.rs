@@ -12,6 +12,7 @@
 mod common;
 
 mod architecture_page;
+mod area_first;
 mod bad_input;
 mod doc_links;
 mod figures;
