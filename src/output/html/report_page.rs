@@ -287,8 +287,8 @@ fn heatmap(page: &mut String, inputs: &PageInputs) {
                 "<h2>The heatmap texture: angular area per texel (deg²·s)</h2>\n<p>Each texel's visible angular area \
                  over time (deg²·s: the solid angle its pixels subtended, summed over the eye-frames, × seconds per \
                  frame / eyes; a part's texels add up to its angular area in the table of measures), laid out like the \
-                 palette (the vehicle's UV layout; the views show it on the vehicle): plasma scale ({:?}) from 0 to {} \
-                 deg²·s, texels never seen in neutral grey.{glb}</p>\n\
+                 palette (the vehicle's UV layout; the views show it on the vehicle): plasma scale ({:?}) from 0 to {} per \
+                 texel, texels never seen in neutral grey.{glb}</p>\n\
                  <img src=\"{}\" alt=\"angular-area heatmap texture\" width=\"384\">",
                 settings.heatmap_scale,
                 area_top(settings),
@@ -313,9 +313,10 @@ fn heatmap(page: &mut String, inputs: &PageInputs) {
 
 /// The top of the angular-area colour scale, in words.
 fn area_top(settings: &crate::format::result::Settings) -> String {
-    settings
-        .heatmap_area_max
-        .map_or_else(|| "the largest texel's".to_string(), |max| format!("{max:.3e} (--area-max)"))
+    settings.heatmap_area_max.map_or_else(
+        || "the largest texel's value (deg²·s)".to_string(),
+        |max| format!("{max:.3e} deg²·s (--area-max)"),
+    )
 }
 
 /// The eight views of the heatmap on the vehicle (`views.png`), when
@@ -328,7 +329,7 @@ fn vehicle_views(page: &mut String, inputs: &PageInputs) {
             "The heatmap on the vehicle: angular area per texel",
             "Each point's visible angular area over time (deg²·s per texel, the quoted measure; the paper's count \
              is in <code>heatmap-count.png</code> below).",
-            format!("{} deg²·s", area_top(settings)),
+            area_top(settings),
         )
     } else {
         (
