@@ -358,7 +358,7 @@ impl TexelSolidAngles {
     /// A row's runs as a counting kernel reports them: `prefix` is the row
     /// of [`PixelPrefix::row`]; each texel run's units go to `pending`.
     pub fn row_runs<'r>(&'r self, prefix: PrefixRow<'r>, pending: &'r mut PendingRuns) -> RowRuns<'r> {
-        RowRuns { sums: self, prefix, pending, start: 0, open: None }
+        RowRuns { sums: self, prefix, pending, open: None }
     }
 
     /// Adds the runs in `pending` to the sums and empties it.
@@ -403,30 +403,23 @@ impl TexelSolidAngles {
 
 /// One row's runs, as a counting kernel reports them ([`ColorRuns`]): each
 /// start closes the open run, whose texel (if it is one) gets the row's
-/// prefix-sum difference over it. [`RowRuns::finish`] closes the last.
+/// prefix-sum difference over it. [`RowRuns::finish`] closes the last. The
+/// prefix sum at a run's start is the one its predecessor closed at: one
+/// lookup per boundary, none between two runs that are no texel.
 pub struct RowRuns<'r> {
     sums: &'r TexelSolidAngles,
     prefix: PrefixRow<'r>,
     pending: &'r mut PendingRuns,
-    /// The open run's first pixel and texel key.
-    start: usize,
-    open: Option<u32>,
+    /// The open run's texel key and the prefix sum at its first pixel.
+    open: Option<(u32, u64)>,
 }
 
 impl RowRuns<'_> {
-    #[inline(always)]
-    fn close(&mut self, end: usize) {
-        if let Some(key) = self.open {
-            let (Some(to), Some(from)) = (self.prefix.at(end), self.prefix.at(self.start)) else {
-                return;
-            };
+    /// The row ends at pixel `end` (its width).
+    pub fn finish(self, end: usize) {
+        if let (Some((key, from)), Some(to)) = (self.open, self.prefix.at(end)) {
             self.pending.0.push((key, to - from));
         }
-    }
-
-    /// The row ends at pixel `end` (its width).
-    pub fn finish(mut self, end: usize) {
-        self.close(end);
     }
 }
 
@@ -435,9 +428,19 @@ impl ColorRuns for RowRuns<'_> {
 
     #[inline(always)]
     fn start(&mut self, at: usize, color: u32, texel: bool) {
-        self.close(at);
-        self.start = at;
-        self.open = self.sums.key(color, texel);
+        let key = self.sums.key(color, texel);
+        if self.open.is_none() && key.is_none() {
+            return;
+        }
+        // Past the tile's edge (a row longer than its table): nothing more is added.
+        let Some(here) = self.prefix.at(at) else {
+            self.open = None;
+            return;
+        };
+        if let Some((open, from)) = self.open {
+            self.pending.0.push((open, here - from));
+        }
+        self.open = key.map(|key| (key, here));
     }
 }
 
