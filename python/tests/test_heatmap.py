@@ -16,9 +16,15 @@ def png_size(path):
     return struct.unpack(">II", header[16:24])
 
 
-def test_default_heatmap_equals_the_analyzers(example_result, tmp_path):
+def test_default_heatmap_equals_the_analyzers_count_heatmap(example_result, tmp_path):
+    # ufcsr.heatmap draws the counts: the analysis' heatmap-count.png (its
+    # heatmap.png shows the per-texel angular area), or heatmap.png without one.
     out = ufcsr.heatmap(example_result, tmp_path / "heatmap.png")
-    assert out.read_bytes() == (example_result.path.parent / "heatmap.png").read_bytes()
+    folder = example_result.path.parent
+    count = folder / "heatmap-count.png"
+    assert count.is_file(), "the example measures per-texel angular area"
+    assert out.read_bytes() == count.read_bytes()
+    assert out.read_bytes() != (folder / "heatmap.png").read_bytes()
     assert png_size(out) == example_result.palette_size
 
 

@@ -242,7 +242,11 @@ def heatmap(
     *,
     executable: Optional[PathLike] = None,
 ) -> Path:
-    """Writes the heatmap PNG of ``result`` (a Result, a result.json or its folder) to ``out``.
+    """Writes the count heatmap texture of ``result`` (a Result, a result.json or its folder) to ``out``.
+
+    This is the paper-compatible count (the analysis' ``heatmap-count.png``,
+    or its ``heatmap.png`` with ``--texel-area off``); the analysis'
+    ``heatmap.png`` shows the per-texel angular area when it was measured.
 
     ``scale`` is "linear" or "log", ``max`` the count shown at the top of the
     colour scale (larger counts clamp); by default the result's own settings

@@ -1,4 +1,6 @@
-//! The console report: image bookkeeping and the headline part table.
+//! The console report: image bookkeeping, the measure to quote (angular
+//! area and exposure per part, when the archive has the eyes' projection)
+//! and the paper-compatible headline count table.
 
 use crate::result::model::AnalysisResult;
 use crate::result::part_stats::{PartStats, ratio};
@@ -50,9 +52,50 @@ pub fn format_counted_table(result: &AnalysisResult) -> String {
     out + &format_parts(result)
 }
 
-/// Texels seen, the dedupe note and the headline part table.
+/// Parts shown by name in the console's table of measures; the rest are
+/// summed in one "(other N parts)" row.
+const MEASURED_PARTS_SHOWN: usize = 8;
+
+/// The measure to quote, first (issue 43 §1): angular area over time
+/// (deg²·s) and exposure (s) per part, largest area first, as the report's
+/// first table; empty without the measures or without angular area.
+fn format_measures(result: &AnalysisResult) -> String {
+    let Some(measures) = &result.measures else { return String::new() };
+    let mut parts: Vec<&crate::format::result::PartMeasure> =
+        measures.parts.iter().filter(|p| p.angular_area_deg2_s.is_some()).collect();
+    if parts.is_empty() {
+        return String::new();
+    }
+    let area = |p: &crate::format::result::PartMeasure| p.angular_area_deg2_s.unwrap_or(0.0);
+    parts.sort_by(|a, b| area(b).total_cmp(&area(a)).then(a.name.cmp(&b.name)));
+    let total: f64 = parts.iter().map(|p| area(p)).sum();
+    let share = |value: f64| if total > 0.0 { 100.0 * value / total } else { 0.0 };
+    let header = format!("\n{:<28} {:>14} {:>8} {:>12}\n", "part", "area deg²·s", "share %", "exposure s");
+    let mut out =
+        String::from("\nwhat to quote: visible angular area over time and exposure per part (per eye)");
+    out.push_str(&header);
+    out.push_str(&format!("{}\n", "-".repeat(header.trim().chars().count())));
+    let row = |name: &str, value: f64, exposure: String| {
+        format!("{:<28} {:>14.4} {:>8.3} {:>12}\n", truncate(name, 28), value, share(value), exposure)
+    };
+    for part in parts.iter().take(MEASURED_PARTS_SHOWN) {
+        let exposure = part.exposure_s.map_or("–".to_string(), |s| format!("{s:.3}"));
+        out.push_str(&row(&part.name, area(part), exposure));
+    }
+    if parts.len() > MEASURED_PARTS_SHOWN {
+        let rest: f64 = parts[MEASURED_PARTS_SHOWN..].iter().map(|p| area(p)).sum();
+        let name = format!("(other {} parts)", parts.len() - MEASURED_PARTS_SHOWN);
+        out.push_str(&row(&name, rest, String::new()));
+    }
+    out.push_str(&format!("{:<28} {:>14.4}\n", "all parts", total));
+    out.push_str("\npaper-compatible count (to compare with the paper, not to quote: docs/science.md)\n");
+    out
+}
+
+/// The measures to quote, then texels seen, the dedupe note and the
+/// headline part table of counts.
 fn format_parts(result: &AnalysisResult) -> String {
-    let mut out = String::new();
+    let mut out = format_measures(result);
     out.push_str(&format!("texels seen: {}, max count: {}\n", result.texels_seen, result.max_count));
     if let Some(dedupe) = &result.dedupe {
         out.push_str(&format!(
@@ -116,5 +159,42 @@ fn truncate(text: &str, width: usize) -> String {
         let mut short: String = text.chars().take(width - 1).collect();
         short.push('…');
         short
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn example_result() -> AnalysisResult {
+        let path =
+            std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/reference/example-result.json");
+        crate::result::result_json::read_result_summary(&path).unwrap()
+    }
+
+    #[test]
+    fn the_console_leads_with_the_angular_area_and_keeps_the_count_below() {
+        let mut result = example_result();
+        let measures = result.measures.as_mut().unwrap();
+        // Two parts ranked oppositely by area and by count: the area decides the order.
+        for part in &mut measures.parts {
+            part.angular_area_deg2_s = Some(0.0);
+        }
+        measures.parts[0].angular_area_deg2_s = Some(1.0);
+        measures.parts[1].angular_area_deg2_s = Some(3.0);
+        let (first, second) = (measures.parts[0].name.clone(), measures.parts[1].name.clone());
+        let table = format_table(&result);
+        let quoted = table.find("what to quote").expect("no table of the measure to quote");
+        let count = table.find("paper-compatible count").expect("the count is not labelled");
+        assert!(quoted < count && count < table.find("grand total").unwrap(), "{table}");
+        let rows: Vec<&str> = table[quoted..count].lines().skip(3).collect();
+        assert!(rows[0].starts_with(&second[..second.len().min(27)]), "{table}");
+        assert!(rows[0].contains("3.0000") && rows[0].contains("75.000"), "{table}");
+        assert!(rows[1].starts_with(&first[..first.len().min(27)]), "{table}");
+        assert!(table[quoted..count].contains("4.0000"), "the parts' sum: {table}");
+        // Without the measures the table is the paper's alone, as before.
+        result.measures = None;
+        let table = format_table(&result);
+        assert!(!table.contains("what to quote") && !table.contains("paper-compatible"), "{table}");
     }
 }

@@ -1,8 +1,12 @@
-//! The heatmap texture: per-texel counts painted with the plasma colormap.
+//! The heatmap texture: per-texel values painted with the plasma colormap.
 //!
-//! The image has the palette's size and layout, so it can replace the FCSP on
-//! the unwrapped mesh. Texel `p` gets `plasma(count(p) / max)` (or the log
-//! scale); never-seen texels (count 0) get the neutral no-data grey
+//! The image has the palette's size and layout (the vehicle's UV layout, not
+//! a picture of the vehicle: `views.png` is that), so it can replace the FCSP
+//! on the unwrapped mesh. `heatmap.png` ([`HEATMAP_FILE`]) shows the measure
+//! to quote, the per-texel angular area (deg²·s, as [`AreaLevels`]), whenever
+//! the analysis measured it, and the paper's count otherwise; the count is
+//! then in `heatmap-count.png` ([`COUNT_HEATMAP_FILE`]). Texel `p` gets
+//! `plasma(count(p) / max)` (or the log scale); never-seen texels (count 0) get the neutral no-data grey
 //! [`NEVER_SEEN`] of the views, so an unseen vehicle is not a navy silhouette in
 //! Blender (`heatmap.glb`) and "never seen" is not confused with "seen a
 //! little" (plasma's dark end). Counts are integers, so the colour of
@@ -131,9 +135,18 @@ pub fn largest_area(values: &[f32]) -> f32 {
     values.par_iter().copied().filter(|v| v.is_finite()).fold(|| 0f32, f32::max).reduce(|| 0f32, f32::max)
 }
 
-/// The per-texel angular-area heatmap's file name (the default heatmap;
-/// `heatmap.png` keeps the paper's count).
-pub const AREA_HEATMAP_FILE: &str = "heatmap-area.png";
+/// The default heatmap texture's file name: the per-texel angular area
+/// (deg²·s) when the analysis measured it, else the paper's count.
+pub const HEATMAP_FILE: &str = "heatmap.png";
+
+/// The paper-compatible count heatmap texture, written beside
+/// [`HEATMAP_FILE`] when that shows the angular area.
+pub const COUNT_HEATMAP_FILE: &str = "heatmap-count.png";
+
+/// Where earlier versions wrote the angular-area heatmap (now
+/// [`HEATMAP_FILE`]): a result set written into such a folder removes it,
+/// and the comparison page still reads it from an earlier result.
+pub const EARLIER_AREA_HEATMAP_FILE: &str = "heatmap-area.png";
 
 /// The largest count painted through the colour table (3 MiB of it).
 const TABLE_LIMIT: u32 = 1 << 20;
@@ -148,6 +161,19 @@ pub fn write_heatmap(
 ) -> Result<()> {
     let rgb = render(texel_counts, width, options);
     write_rgb_png(path, [width, height], &rgb, png::Compression::Fast)
+}
+
+/// Paints and writes the angular-area heatmap atomically: `area`'s levels
+/// on `scale`, from 0 to `area_max` (deg²·s per texel; `None` = the largest
+/// texel's).
+pub fn write_area_heatmap(
+    path: &Path,
+    area: &AreaLevels,
+    [width, height]: [u32; 2],
+    scale: Scale,
+    area_max: Option<f64>,
+) -> Result<()> {
+    write_heatmap(path, &area.levels, width, height, HeatmapOptions { scale, max: area.top(area_max) })
 }
 
 #[cfg(test)]

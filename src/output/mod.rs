@@ -40,7 +40,8 @@ pub use figure::{
 pub use figure::{FigureSize, MIN_TEXT_PT, MM_PER_PT, OKABE_ITO};
 pub use frame_strip::{FRAME_STRIP_FILE, STRIP_BACKGROUND, STRIP_FRAME_HEIGHT, STRIP_UNLABELLED};
 pub use heatmap::{
-    AREA_HEATMAP_FILE, AreaLevels, largest_area, plasma, render as render_heatmap, write_heatmap,
+    AreaLevels, COUNT_HEATMAP_FILE, HEATMAP_FILE, largest_area, plasma, render as render_heatmap,
+    write_area_heatmap, write_heatmap,
 };
 pub use heatmap_views::{
     AREA_UNIT, DEFAULT_VIEWS_SCALE, DIRECTIONS, NEVER_SEEN, VIEW_BASE, ViewCamera, ViewTexture,

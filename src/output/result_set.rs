@@ -13,7 +13,9 @@ use crate::error::Result;
 use crate::files::{IMAGE_LIMIT, Staging, read_limited, refuse_overwriting_inputs};
 use crate::output::csv::{CsvStyle, write_frames_csv, write_parts_table};
 use crate::output::frame_strip::{FRAME_STRIP_FILE, StripInputs, frame_strip_skipped, write_frame_strip};
-use crate::output::heatmap::{AREA_HEATMAP_FILE, AreaLevels};
+use crate::output::heatmap::{
+    AreaLevels, COUNT_HEATMAP_FILE, EARLIER_AREA_HEATMAP_FILE, HEATMAP_FILE, write_area_heatmap,
+};
 use crate::output::heatmap_views::{
     AREA_UNIT, DEFAULT_VIEWS_SCALE, DIRECTIONS, ViewTexture, area_views_caption, measure_unit, views_caption,
 };
@@ -40,7 +42,7 @@ fn output_paths(files: &WrittenFiles) -> Vec<PathBuf> {
         Some(&files.result_json),
         files.parts_csv.as_ref(),
         Some(&files.heatmap_png),
-        files.heatmap_area_png.as_ref(),
+        files.heatmap_count_png.as_ref(),
         files.texel_area.as_ref(),
         Some(&files.timings_json),
         files.heatmap_glb.as_ref(),
@@ -139,8 +141,9 @@ pub fn result_set_members() -> Vec<String> {
     let mut members: Vec<String> = [
         "result.json",
         "parts.csv",
-        "heatmap.png",
-        AREA_HEATMAP_FILE,
+        HEATMAP_FILE,
+        COUNT_HEATMAP_FILE,
+        EARLIER_AREA_HEATMAP_FILE,
         TEXEL_AREA_FILE,
         "timings.json",
         "heatmap.glb",
@@ -168,8 +171,8 @@ fn planned_files(analysis: &Analysis, out_dir: &Path, figures: Figures) -> Writt
     WrittenFiles {
         result_json: out_dir.join("result.json"),
         parts_csv: (!analysis.result.parts.is_empty()).then(|| out_dir.join("parts.csv")),
-        heatmap_png: out_dir.join("heatmap.png"),
-        heatmap_area_png: analysis.texel_angular_area.as_ref().map(|_| out_dir.join(AREA_HEATMAP_FILE)),
+        heatmap_png: out_dir.join(HEATMAP_FILE),
+        heatmap_count_png: analysis.texel_angular_area.as_ref().map(|_| out_dir.join(COUNT_HEATMAP_FILE)),
         texel_area: analysis.texel_angular_area.as_ref().map(|_| out_dir.join(TEXEL_AREA_FILE)),
         texel_area_units: analysis.texel_area_units.as_ref().map(|_| out_dir.join(TEXEL_AREA_UNITS_FILE)),
         timings_json: out_dir.join("timings.json"),
@@ -278,8 +281,8 @@ fn write_side_by_side(
         (Some(manifest), Some(path)) => write_strip(path, manifest, analysis),
         _ => Ok(None),
     };
-    // The default heatmap and the views show per-texel angular area when
-    // it was measured; `heatmap.png` keeps the paper's count.
+    // `heatmap.png` and the views show per-texel angular area when it was
+    // measured; `heatmap-count.png` then keeps the paper's count.
     let area = analysis.texel_angular_area.as_deref().map(AreaLevels::new);
     let views = || match (&inputs.model, &files.views_png) {
         (Some(model), Some(_)) => {
@@ -290,7 +293,23 @@ fn write_side_by_side(
         _ => Ok(()),
     };
     let heatmaps = || {
-        write_heatmap_file(analysis, &files.heatmap_png)?;
+        let settings = &analysis.result.settings;
+        let size = [settings.palette.width, settings.palette.height];
+        match &area {
+            Some(area) => {
+                write_area_heatmap(
+                    &files.heatmap_png,
+                    area,
+                    size,
+                    settings.heatmap_scale,
+                    settings.heatmap_area_max,
+                )?;
+                if let Some(path) = &files.heatmap_count_png {
+                    write_count_heatmap(analysis, path)?;
+                }
+            }
+            None => write_count_heatmap(analysis, &files.heatmap_png)?,
+        }
         if let (Some(values), Some(path)) = (&analysis.texel_angular_area, &files.texel_area) {
             let palette = &analysis.result.settings.palette;
             write_texel_area(path, palette.width, palette.height, values)?;
@@ -299,10 +318,7 @@ fn write_side_by_side(
             let palette = &analysis.result.settings.palette;
             units.write(path, palette.width, palette.height)?;
         }
-        match (&area, &files.heatmap_area_png) {
-            (Some(area), Some(path)) => write_area_heatmap(analysis, area, path),
-            _ => Ok(()),
-        }
+        Ok(())
     };
     let ((heatmap, tables), (strip, views)) = rayon::join(
         || rayon::join(|| timed(heatmaps), || timed(|| write_tables(analysis, files, options))),
@@ -355,22 +371,13 @@ fn view_texture<'a>(
     }
 }
 
-/// Writes `heatmap.png` with the scale recorded in the result's settings.
-fn write_heatmap_file(analysis: &Analysis, path: &Path) -> Result<()> {
+/// Writes the paper's count heatmap (`heatmap.png` without per-texel area,
+/// else `heatmap-count.png`) with the scale recorded in the result's settings.
+fn write_count_heatmap(analysis: &Analysis, path: &Path) -> Result<()> {
     let settings = &analysis.result.settings;
     let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: settings.heatmap_max };
     let (width, height) = (settings.palette.width, settings.palette.height);
     crate::output::heatmap::write_heatmap(path, &analysis.texel_counts, width, height, heatmap)
-}
-
-/// Writes `heatmap-area.png`: the per-texel angular area on the result's
-/// scale (linear or log), from 0 to `--area-max` or the largest texel's
-/// (`--max`, a count, is the paper heatmap's).
-fn write_area_heatmap(analysis: &Analysis, area: &AreaLevels, path: &Path) -> Result<()> {
-    let settings = &analysis.result.settings;
-    let heatmap = HeatmapOptions { scale: settings.heatmap_scale, max: area.top(settings.heatmap_area_max) };
-    let (width, height) = (settings.palette.width, settings.palette.height);
-    crate::output::heatmap::write_heatmap(path, &area.levels, width, height, heatmap)
 }
 
 /// Writes `result.json`, `parts.csv` (with parts) and `frames.csv` (with
@@ -426,8 +433,8 @@ fn write_figures(
     let archive = Path::new(&analysis.result.settings.archive);
     let FigureInputs { manifest, track, model } = inputs;
     if let (Some(model), Some(glb)) = (model, &files.heatmap_glb) {
-        // The default heatmap: angular area when measured, else the count.
-        let png = read_limited(files.heatmap_area_png.as_ref().unwrap_or(&files.heatmap_png), IMAGE_LIMIT)?;
+        // heatmap.png: angular area when measured, else the count.
+        let png = read_limited(&files.heatmap_png, IMAGE_LIMIT)?;
         model.write_glb(glb, Some(("heatmap", &png)))?;
     }
     clock.lap("heatmap_glb");

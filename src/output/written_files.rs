@@ -10,14 +10,16 @@ use crate::output::plots::Plot;
 pub struct WrittenFiles {
     pub result_json: PathBuf,
     pub parts_csv: Option<PathBuf>,
-    /// The paper-compatible heatmap: the per-texel count.
+    /// The heatmap texture `heatmap.png`: the per-texel angular area over
+    /// time (deg²·s) when measured ([`crate::Analysis::texel_angular_area`]),
+    /// else the paper's count; `heatmap.glb` and the views show the same.
     pub heatmap_png: PathBuf,
-    /// The default heatmap, per-texel angular area over time (deg²·s), when
-    /// measured ([`crate::Analysis::texel_angular_area`]); `heatmap.glb` and
-    /// the views show it.
-    pub heatmap_area_png: Option<PathBuf>,
+    /// `heatmap-count.png`, the paper-compatible count, when `heatmap.png`
+    /// shows the angular area (`--texel-area off` writes the count as
+    /// `heatmap.png` alone).
+    pub heatmap_count_png: Option<PathBuf>,
     /// `texel-area.f32`, the per-texel angular area's values beside
-    /// `result.json` (written with `heatmap-area.png`), for the comparison
+    /// `result.json` (written with the angular-area heatmap), for the comparison
     /// page and the capture's `views` ([`crate::read_texel_area`]).
     pub texel_area: Option<PathBuf>,
     /// `texel-area.units`: a shard's integer per-texel sums, which `merge`
@@ -46,15 +48,21 @@ pub struct WrittenFiles {
 }
 
 impl WrittenFiles {
+    /// Whether `heatmap.png`, `heatmap.glb` and the views show the per-texel
+    /// angular area (else the paper's count).
+    pub fn area_first(&self) -> bool {
+        self.heatmap_count_png.is_some()
+    }
+
     /// Every file of the set, in the order summaries list them (the plots'
     /// paths are relative to `out_dir`, the set's folder).
     pub fn all(&self, out_dir: &Path) -> Vec<PathBuf> {
         let mut files = vec![self.result_json.clone()];
         files.extend(self.parts_csv.clone());
-        files.extend(self.heatmap_area_png.clone());
+        files.push(self.heatmap_png.clone());
         files.extend(self.texel_area.clone());
         files.extend(self.texel_area_units.clone());
-        files.push(self.heatmap_png.clone());
+        files.extend(self.heatmap_count_png.clone());
         files.push(self.timings_json.clone());
         files.extend(self.frames_csv.clone());
         files.extend(self.heatmap_glb.clone());

@@ -166,7 +166,7 @@ fn the_report_leads_with_the_quoted_measures_and_says_it_needs_its_folder() {
 /// The default heatmap and the views show per-texel angular area (issue 35
 /// item 2): its texels, summed over each part, give that part's
 /// `angular_area_deg2_s` in result.json (the same pixel solid angles, summed
-/// per texel instead of per part); the paper's count stays in heatmap.png.
+/// per texel instead of per part); the paper's count is in heatmap-count.png.
 #[test]
 fn per_texel_angular_area_adds_up_to_each_parts_angular_area() {
     let example = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures/example");
@@ -197,12 +197,12 @@ fn per_texel_angular_area_adds_up_to_each_parts_angular_area() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("results");
     ufcsr::output::write_results(&mut analysis, &out).unwrap();
-    assert_eq!(image_size(&out.join("heatmap-area.png")), image_size(&out.join("heatmap.png")));
+    assert_eq!(image_size(&out.join("heatmap-count.png")), image_size(&out.join("heatmap.png")));
     let page = std::fs::read_to_string(out.join("report.html")).unwrap();
     let area_section =
         page.find("The heatmap on the vehicle: angular area per texel").expect("views not area");
     assert!(area_section < page.find("The heatmap texture (paper-compatible count)").unwrap());
-    assert!(page.contains("src=\"heatmap-area.png\""));
+    assert!(page.contains("src=\"heatmap.png\"") && page.contains("src=\"heatmap-count.png\""));
 }
 
 /// `--area-max` puts the top of the angular-area heatmap where it is told
@@ -226,9 +226,8 @@ fn area_max_sets_the_top_of_the_area_heatmap_and_the_values_are_kept() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("results");
     ufcsr::output::write_results(&mut analysis, &out).unwrap();
-    let decoder = png::Decoder::new(std::io::BufReader::new(
-        std::fs::File::open(out.join("heatmap-area.png")).unwrap(),
-    ));
+    let decoder =
+        png::Decoder::new(std::io::BufReader::new(std::fs::File::open(out.join("heatmap.png")).unwrap()));
     let mut reader = decoder.read_info().unwrap();
     let mut rgb = vec![0; reader.output_buffer_size().unwrap()];
     reader.next_frame(&mut rgb).unwrap();
@@ -264,7 +263,7 @@ fn per_texel_angular_area_is_on_by_default_and_off_when_asked() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("results");
     ufcsr::output::write_results(&mut analysis, &out).unwrap();
-    assert!(!out.join("heatmap-area.png").exists());
+    assert!(!out.join("heatmap-count.png").exists());
     assert!(!out.join(ufcsr::TEXEL_AREA_FILE).exists());
     assert!(out.join("heatmap.png").exists());
 }

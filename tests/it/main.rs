@@ -13,6 +13,7 @@ mod common;
 
 mod api_surface;
 mod architecture_page;
+mod area_first;
 mod bad_input;
 mod doc_links;
 mod figures;

@@ -60,12 +60,20 @@ fn summary_text(analysis: &ufcsr::Analysis, written: &WrittenFiles, out_dir: &Pa
         out_dir.display()
     ));
     text.push_str(&format!("  report:  {}\n", written.report_html.display()));
+    let shown_measure =
+        if written.area_first() { "angular area per texel, deg²·s" } else { "count per texel" };
+    text.push_str(&format!(
+        "  heatmap: {} (texture in the palette's UV layout: {shown_measure})\n",
+        written.heatmap_png.display()
+    ));
     if let Some(glb) = &written.heatmap_glb {
         text.push_str(&format!("  vehicle: {} (the heatmap on the vehicle, glTF)\n", glb.display()));
     }
     let mut data = vec![written.result_json.display().to_string()];
     data.extend(written.parts_csv.iter().map(|p| p.display().to_string()));
-    data.push(written.heatmap_png.display().to_string());
+    data.extend(
+        written.heatmap_count_png.iter().map(|p| format!("{} (paper-compatible count)", p.display())),
+    );
     data.push(written.timings_json.display().to_string());
     text.push_str(&format!("  data:    {}\n", data.join(", ")));
     if let Some(frames) = &written.frames_csv {
@@ -159,6 +167,7 @@ fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf, console: 
                 "result_json": shown(&written.result_json),
                 "parts_csv": written.parts_csv.as_deref().map(shown),
                 "heatmap_png": shown(&written.heatmap_png),
+                "heatmap_count_png": written.heatmap_count_png.as_deref().map(shown),
                 "timings_json": shown(&written.timings_json),
                 "frames_csv": written.frames_csv.as_deref().map(shown),
                 "heatmap_glb": written.heatmap_glb.as_deref().map(shown),

@@ -45,7 +45,7 @@ pub struct AnalyzeArgs {
     #[command(flatten)]
     pub heatmap: HeatmapScaleArgs,
 
-    /// Angular area (deg²·s per texel) shown as the top of the colour scale of heatmap-area.png,
+    /// Angular area (deg²·s per texel) shown as the top of the colour scale of heatmap.png,
     /// heatmap.glb and the views (share one scale across scenarios; --max is the count heatmap's).
     #[arg(long, value_name = "DEG2_S")]
     pub area_max: Option<f64>,
@@ -70,9 +70,9 @@ pub struct AnalyzeArgs {
     #[arg(long, value_enum, default_value_t = Switch::On)]
     pub frames_csv: Switch,
 
-    /// Per-texel angular area (deg²·s): heatmap-area.png, texel-area.f32, and the views and
-    /// heatmap.glb in deg²·s instead of the count (needs frames.csv and the eyes' projection):
-    /// `on` (the default) or `off` (the paper's count only).
+    /// Per-texel angular area (deg²·s): heatmap.png, heatmap.glb and the views in deg²·s, with
+    /// texel-area.f32 and the count in heatmap-count.png (needs frames.csv and the eyes'
+    /// projection): `on` (the default) or `off` (heatmap.png, glb and views show the paper's count).
     #[arg(long, value_enum, default_value_t = Switch::On)]
     pub texel_area: Switch,
 
@@ -158,10 +158,20 @@ pub struct HeatmapArgs {
     /// A result folder written by ufcsr analyze, or its result.json.
     pub result: PathBuf,
 
-    /// Heatmap PNG to write.
+    /// Heatmap texture PNG to write (the palette's UV layout, as the result's heatmap.png).
     #[arg(long, short, value_name = "PNG")]
     pub out: PathBuf,
 
     #[command(flatten)]
     pub heatmap: HeatmapScaleArgs,
+
+    /// Angular area (deg²·s per texel) shown as the top of the colour scale (default: the
+    /// result's own, else the largest texel's; --max is the count's).
+    #[arg(long, value_name = "DEG2_S")]
+    pub area_max: Option<f64>,
+
+    /// `on` (the default): the per-texel angular area (deg²·s) when the result has it
+    /// (texel-area.f32), as heatmap.png; `off`: the paper's count, as heatmap-count.png.
+    #[arg(long, value_enum, default_value_t = Switch::On)]
+    pub texel_area: Switch,
 }

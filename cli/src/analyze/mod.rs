@@ -37,9 +37,11 @@ pub enum AnalyzerCommand {
     /// Example: `ufcsr report capA/results capB/results --label "scenario A" --label
     /// "scenario B" --out compared/`
     Report(ReportArgs),
-    /// Re-render the heatmap from a result (its folder or its result.json), without the archive.
+    /// Re-draw a result's heatmap texture (its folder or result.json; no archive needed): the
+    /// palette's UV layout as heatmap.png holds it, per-texel angular area (deg²·s) when the result
+    /// has texel-area.f32, else the count. The pictures on the vehicle are the result's views.png.
     ///
-    /// Example: `ufcsr heatmap capA/results --out heat.png --scale log --max 40`
+    /// Example: `ufcsr heatmap capA/results --out heat.png --scale log --area-max 0.01`
     Heatmap(HeatmapArgs),
     /// Write the canonical Full Color Space Palette as a PNG (to texture a mesh in Unity/Blender).
     ///

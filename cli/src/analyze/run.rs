@@ -10,6 +10,7 @@ use serde_json::{Value, json};
 use ufcsr::{output::format_table, read_texel_counts};
 
 use super::args::{HeatmapArgs, MergeArgs, PaletteArgs, ReportArgs};
+use crate::choices::Switch;
 use crate::console::{Completion, Console, say, shown};
 
 /// What a command did, for [`finish`].
@@ -45,19 +46,48 @@ pub fn run_heatmap(args: HeatmapArgs, console: &Console) -> Result<Completion> {
     ufcsr::files::refuse_overwriting_inputs(std::slice::from_ref(&args.out), std::slice::from_ref(&result))?;
     let stored = read_texel_counts(&result)?;
     let options = args.heatmap.options(Some((stored.scale, stored.max)))?;
-    ufcsr::output::write_heatmap(&args.out, &stored.texel_counts, stored.width, stored.height, options)?;
+    let folder = result.parent().unwrap_or(Path::new("."));
+    let area = match args.texel_area {
+        Switch::On => ufcsr::read_texel_area_in(folder, stored.width, stored.height)?,
+        Switch::Off => None,
+    };
+    let size = [stored.width, stored.height];
+    let drawn = match &area {
+        Some(values) => {
+            let area_max = args.area_max.or(stored.area_max);
+            ufcsr::AnalyzeOptions { area_max, ..Default::default() }.check_area_max()?;
+            let levels = ufcsr::output::AreaLevels::new(values);
+            ufcsr::output::write_area_heatmap(&args.out, &levels, size, options.scale, area_max)?;
+            "angular area, deg²·s per texel"
+        }
+        None => {
+            ufcsr::output::write_heatmap(
+                &args.out,
+                &stored.texel_counts,
+                stored.width,
+                stored.height,
+                options,
+            )?;
+            "count per texel"
+        }
+    };
     Ok(finish(
         console,
         Done {
             completion: Completion::Done,
             written: vec![args.out.clone()],
             text: format!(
-                "wrote {} (heatmap of {}, {:?} scale)",
+                "wrote {} (heatmap texture of {}: {drawn}, {:?} scale)",
                 args.out.display(),
                 result.display(),
                 options.scale
             ),
-            facts: json!({ "result": shown(&result), "width": stored.width, "height": stored.height }),
+            facts: json!({
+                "result": shown(&result),
+                "width": stored.width,
+                "height": stored.height,
+                "measure": if area.is_some() { "angular_area_deg2_s" } else { "count" },
+            }),
         },
     ))
 }

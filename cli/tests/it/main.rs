@@ -91,6 +91,7 @@ mod exit_codes;
 mod family_bodies;
 mod fused_count;
 mod hardening;
+mod heatmap_command;
 mod html_escaping;
 mod json_written;
 mod observer_default;

@@ -224,10 +224,12 @@ struct OneScale<'a> {
     area: Option<&'a [f32]>,
 }
 
-/// The result's own picture (the heatmap on the vehicle when it was
-/// rendered, else the texture: `heatmap-area.png` when `area`, else
-/// `heatmap.png`), copied beside the page as `result-N-NAME` (added to
-/// `written`). `(index, out_dir)`: the result's place on the page and the
+/// The result's own picture of the measure the page shows, copied beside
+/// the page as `result-N-NAME` (added to `written`): with `area`, the views
+/// on the vehicle when rendered, else the texture (`heatmap.png`, or an
+/// earlier version's `heatmap-area.png`); without, the count texture
+/// `heatmap-count.png` of a result whose `heatmap.png` and views show the
+/// area, else the views or `heatmap.png`. `(index, out_dir)`: the result's place on the page and the
 /// page's folder.
 fn copy_image(
     json: &Path,
@@ -237,9 +239,15 @@ fn copy_image(
     written: &mut Vec<PathBuf>,
 ) -> Result<Option<String>> {
     let dir = json.parent().unwrap_or(Path::new("."));
-    let texture = if area { crate::output::heatmap::AREA_HEATMAP_FILE } else { "heatmap.png" };
-    let Some(source) = ["views.png", texture].into_iter().map(|name| dir.join(name)).find(|p| p.is_file())
-    else {
+    use crate::output::heatmap::{COUNT_HEATMAP_FILE, EARLIER_AREA_HEATMAP_FILE, HEATMAP_FILE};
+    let candidates = if area {
+        vec!["views.png", EARLIER_AREA_HEATMAP_FILE, HEATMAP_FILE]
+    } else if dir.join(COUNT_HEATMAP_FILE).is_file() {
+        vec![COUNT_HEATMAP_FILE]
+    } else {
+        vec!["views.png", HEATMAP_FILE]
+    };
+    let Some(source) = candidates.into_iter().map(|name| dir.join(name)).find(|p| p.is_file()) else {
         return Ok(None);
     };
     let name = format!("result-{}-{}", index + 1, source.file_name().unwrap_or_default().to_string_lossy());
@@ -323,7 +331,7 @@ fn shared_scale_image(
     let name = format!(
         "result-{}-{}",
         index + 1,
-        if quantum.is_some() { "heatmap-area.png" } else { "heatmap.png" }
+        if quantum.is_some() { "heatmap.png" } else { "heatmap-count.png" }
     );
     let target = out_dir.join(&name);
     crate::files::refuse_overwriting_inputs(std::slice::from_ref(&target), inputs)?;

@@ -266,33 +266,38 @@ fn parts(page: &mut String, inputs: &PageInputs) {
     let _ = writeln!(page, "</table>");
 }
 
-/// The heatmap textures — the default one (per-texel angular area, when
-/// measured) and the paper-compatible count — and the link to the vehicle
-/// with the default one on it (`heatmap.glb`).
+/// The heatmap textures — `heatmap.png` (per-texel angular area, when
+/// measured) and the paper-compatible count (`heatmap-count.png` then, else
+/// `heatmap.png` itself) — and the link to the vehicle with `heatmap.png` on
+/// it (`heatmap.glb`).
 fn heatmap(page: &mut String, inputs: &PageInputs) {
     let (settings, files) = (&inputs.result.settings, inputs.files);
     let glb = match &files.heatmap_glb {
         Some(glb) => format!(
-            " The vehicle with the {} heatmap on it: <a href=\"{}\">{}</a> (glTF; opens in Blender, three.js or any glTF viewer).",
-            if files.heatmap_area_png.is_some() { "angular-area" } else { "count" },
+            " The vehicle with this heatmap on it: <a href=\"{}\">{}</a> (glTF; opens in Blender, three.js or any glTF viewer).",
             file_name(glb),
             file_name(glb)
         ),
         None => " (No vehicle model: give <code>--mesh</code> for heatmap.glb.)".to_string(),
     };
-    if let Some(area) = &files.heatmap_area_png {
-        let _ = writeln!(
-            page,
-            "<h2>The heatmap texture: angular area per texel</h2>\n<p>Each texel's visible angular area over time \
-             (deg²·s: the solid angle its pixels subtended, summed over the eye-frames, × seconds per frame / eyes; \
-             a part's texels add up to its angular area in the table of measures), laid out like the palette: \
-             plasma scale ({:?}) from 0 to {}, texels never seen in neutral grey.{glb}</p>\n\
-             <img src=\"{}\" alt=\"angular-area heatmap texture\" width=\"384\">",
-            settings.heatmap_scale,
-            area_top(settings),
-            file_name(area)
-        );
-    }
+    let count_png = match &files.heatmap_count_png {
+        Some(count) => {
+            let _ = writeln!(
+                page,
+                "<h2>The heatmap texture: angular area per texel (deg²·s)</h2>\n<p>Each texel's visible angular area \
+                 over time (deg²·s: the solid angle its pixels subtended, summed over the eye-frames, × seconds per \
+                 frame / eyes; a part's texels add up to its angular area in the table of measures), laid out like the \
+                 palette (the vehicle's UV layout; the views show it on the vehicle): plasma scale ({:?}) from 0 to {} per \
+                 texel, texels never seen in neutral grey.{glb}</p>\n\
+                 <img src=\"{}\" alt=\"angular-area heatmap texture\" width=\"384\">",
+                settings.heatmap_scale,
+                area_top(settings),
+                file_name(&files.heatmap_png)
+            );
+            count
+        }
+        None => &files.heatmap_png,
+    };
     let _ = writeln!(
         page,
         "<h2>The heatmap texture (paper-compatible count)</h2>\n<p>The paper's per-texel counts as a texture laid out \
@@ -300,17 +305,18 @@ fn heatmap(page: &mut String, inputs: &PageInputs) {
          ({:?}{}), texels never seen in neutral grey.{}</p>\n\
          <img src=\"{}\" alt=\"heatmap texture\" width=\"384\">",
         settings.heatmap_scale,
-        settings.heatmap_max.map(|m| format!(", top of scale {m}")).unwrap_or_default(),
-        if files.heatmap_area_png.is_some() { String::new() } else { glb },
-        file_name(&files.heatmap_png)
+        settings.heatmap_max.map(|m| format!(", top of scale {m} counts")).unwrap_or_default(),
+        if files.area_first() { String::new() } else { glb },
+        file_name(count_png)
     );
 }
 
 /// The top of the angular-area colour scale, in words.
 fn area_top(settings: &crate::format::result::Settings) -> String {
-    settings
-        .heatmap_area_max
-        .map_or_else(|| "the largest texel's".to_string(), |max| format!("{max:.3e} deg²·s (--area-max)"))
+    settings.heatmap_area_max.map_or_else(
+        || "the largest texel's value (deg²·s)".to_string(),
+        |max| format!("{max:.3e} deg²·s (--area-max)"),
+    )
 }
 
 /// The eight views of the heatmap on the vehicle (`views.png`), when
@@ -318,11 +324,11 @@ fn area_top(settings: &crate::format::result::Settings) -> String {
 fn vehicle_views(page: &mut String, inputs: &PageInputs) {
     let Some(views) = &inputs.files.views_png else { return };
     let (result, settings) = (inputs.result, &inputs.result.settings);
-    let (heading, what, top) = if inputs.files.heatmap_area_png.is_some() {
+    let (heading, what, top) = if inputs.files.area_first() {
         (
             "The heatmap on the vehicle: angular area per texel",
             "Each point's visible angular area over time (deg²·s per texel, the quoted measure; the paper's count \
-             is in <code>heatmap.png</code> below).",
+             is in <code>heatmap-count.png</code> below).",
             area_top(settings),
         )
     } else {
@@ -330,7 +336,7 @@ fn vehicle_views(page: &mut String, inputs: &PageInputs) {
             "The heatmap on the vehicle (paper-compatible count)",
             "The paper's per-texel count (the analyzer measures angular area and exposure per part, not per \
              texel, without the eyes' projection and fps: see the table of measures above).",
-            grouped(u64::from(settings.heatmap_max.unwrap_or(result.max_count))),
+            format!("{} counts", grouped(u64::from(settings.heatmap_max.unwrap_or(result.max_count)))),
         )
     };
     let _ = writeln!(
@@ -472,8 +478,8 @@ fn files(page: &mut String, inputs: &PageInputs) {
     let listed = [
         Some(&files.result_json),
         files.parts_csv.as_ref(),
-        files.heatmap_area_png.as_ref(),
         Some(&files.heatmap_png),
+        files.heatmap_count_png.as_ref(),
         files.heatmap_glb.as_ref(),
         Some(&files.timings_json),
         files.frames_csv.as_ref(),
@@ -619,7 +625,7 @@ mod tests {
             result_json: "result.json".into(),
             parts_csv: None,
             heatmap_png: "heatmap.png".into(),
-            heatmap_area_png: None,
+            heatmap_count_png: None,
             texel_area: None,
             texel_area_units: None,
             views_pdf: None,
