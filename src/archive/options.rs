@@ -76,7 +76,7 @@ pub struct AnalyzeOptions {
     /// Heatmap settings, recorded in the result.
     pub heatmap: HeatmapOptions,
     /// The angular area (deg²·s per texel) shown as the top of the colour
-    /// scale of `heatmap-area.png`, `heatmap.glb` and the views (`--area-max`;
+    /// scale of `heatmap.png` (angular area), `heatmap.glb` and the views (`--area-max`;
     /// larger texels clamp), so several scenarios share one scale; `None` =
     /// the largest texel's. Recorded in the result. [`HeatmapOptions::max`]
     /// is the paper count heatmap's.

@@ -114,7 +114,7 @@ impl AreaLevels {
     }
 
     /// The colour scale's top level for `--area-max` (deg²·s per texel;
-    /// `None` = the largest texel's), as `heatmap-area.png` and the views use it.
+    /// `None` = the largest texel's), as the angular-area `heatmap.png` and the views use it.
     pub fn top(&self, area_max: Option<f64>) -> Option<u32> {
         area_max.map(|max| self.level_of(max as f32))
     }

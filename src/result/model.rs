@@ -84,7 +84,7 @@ pub struct Analysis {
     /// over time, deg²·s — the part measure `angular_area_deg2_s` texel by
     /// texel (its pixels' solid angles × seconds per frame / eyes), so the
     /// texels of a part add up to the part's. The default heatmap
-    /// (`heatmap-area.png`) and the views show it; `None` without the eyes'
+    /// (`heatmap.png`) and the views show it; `None` without the eyes'
     /// projection or fps, without [`AnalyzeOptions::frames`], for a merge
     /// (not kept in the result set) and for tiles counted in memory (the
     /// capture's `--count`, [`crate::analyze_counted`]: not yet tallied).

@@ -2,7 +2,7 @@
 //! [`crate::Analysis::texel_angular_area`]) kept beside `result.json`, so
 //! that what draws a result later (the comparison page on one colour scale,
 //! the capture's `views`) paints the measure to quote from the values
-//! themselves, not from `heatmap-area.png`'s colours and not from a
+//! themselves, not from `heatmap.png`'s colours and not from a
 //! re-analysis.
 //!
 //! Why a raster and not a `result.json` field: the values are floats for
