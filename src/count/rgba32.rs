@@ -290,7 +290,7 @@ impl Counter<'_> {
         let mut last: Option<(u32, PixelKind, usize)> = None;
         let mut y = 0;
         while let Some(row) = reader.next_row()? {
-            let weights = prefix.as_ref().map_or(&[][..], |prefix| prefix.row(y));
+            let weights = prefix.as_ref().map(|prefix| prefix.row(y));
             let mut spans = parts.as_deref_mut().map(|tally| RowSpans::new(tally, y));
             let mut span_slot = None;
             for (x, pixel) in row.chunks_exact(step).enumerate() {
@@ -314,8 +314,8 @@ impl Counter<'_> {
                     PixelKind::Background => tally.background_pixels += 1,
                     PixelKind::Stray => tally.stray_pixels += 1,
                 }
-                if let (PixelKind::Texel, Some(&after), Some(&before)) =
-                    (kind, weights.get(x + 1), weights.get(x))
+                if let (PixelKind::Texel, Some(row)) = (kind, weights.as_ref())
+                    && let (Some(after), Some(before)) = (row.at(x + 1), row.at(x))
                 {
                     found.add_units(id, after - before);
                 }

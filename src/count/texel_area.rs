@@ -281,8 +281,8 @@ fn corner(u: f64, v: f64) -> f64 {
 
 impl PixelPrefix {
     /// The table of a tile of `size` pixels at `view`, with an eye table of
-    /// its own (the analysis shares one per eye: [`TexelSolidAngles::pixel_prefix`]).
-    #[cfg(test)]
+    /// its own (the 24-bit analysis shares one per eye:
+    /// [`TexelSolidAngles::pixel_prefix`]; the 32-bit path builds its own).
     pub fn new(view: &TileView, size: [u32; 2]) -> PixelPrefix {
         PixelPrefix::within(Arc::new(EyePrefix::new(view.projection)), view.origin, size)
     }
