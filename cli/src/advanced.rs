@@ -12,7 +12,7 @@ use std::ffi::OsString;
 use crate::console::EXIT_STATUS_HELP;
 
 /// Options shown by `--help-all` only (long names, without the dashes).
-pub const ADVANCED: [&str; 36] = [
+pub(crate) const ADVANCED: [&str; 36] = [
     // capture: the encoder, the renderer's switches, benchmark and plumbing
     "png-compression",
     "tile-filter",
@@ -56,14 +56,14 @@ pub const ADVANCED: [&str; 36] = [
 ];
 
 /// The word that lists every option of a command.
-pub const HELP_ALL: &str = "--help-all";
+pub(crate) const HELP_ALL: &str = "--help-all";
 
 /// What a command's help says when it hides options.
 const MORE: &str = "More options (developer, benchmark and expert switches): add --help-all.";
 
 /// `command` and every command below it with the [`ADVANCED`] options hidden
 /// and a line saying how to see them (under the exit codes).
-pub fn hide_advanced(command: clap::Command) -> clap::Command {
+pub(crate) fn hide_advanced(command: clap::Command) -> clap::Command {
     let hides = command.get_arguments().any(is_advanced);
     let command = command.mut_args(|arg| if is_advanced(&arg) { arg.hide(true) } else { arg });
     let command = if hides { command.after_help(format!("{EXIT_STATUS_HELP}\n\n{MORE}")) } else { command };
@@ -76,7 +76,7 @@ fn is_advanced(arg: &clap::Arg) -> bool {
 
 /// True when the command line asks for `--help-all` (before a `--`); the
 /// arguments then ask for `--help` instead, of the tree with nothing hidden.
-pub fn take_help_all(args: &mut [OsString]) -> bool {
+pub(crate) fn take_help_all(args: &mut [OsString]) -> bool {
     let end = args.iter().position(|arg| arg == "--").unwrap_or(args.len());
     let mut found = false;
     for arg in &mut args[1..end.max(1)] {

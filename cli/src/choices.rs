@@ -86,7 +86,7 @@ impl From<FiguresChoice> for ufcsr::output::Figures {
 }
 
 #[cfg(feature = "capture")]
-pub use capture::*;
+pub(crate) use capture::*;
 
 /// The capture's choices (behind the `capture` feature, as the capture is).
 #[cfg(feature = "capture")]
@@ -163,7 +163,7 @@ mod capture {
 
 /// A switch given as `on` or `off`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum Switch {
+pub(crate) enum Switch {
     On,
     Off,
 }

@@ -13,7 +13,7 @@ use crate::console::{Completion, Console};
 
 /// The commands that document the program.
 #[derive(Subcommand)]
-pub enum DocsCommand {
+pub(crate) enum DocsCommand {
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell) on stdout.
     ///
     /// Example: `ufcsr completions bash > ~/.local/share/bash-completion/completions/ufcsr`
@@ -36,7 +36,7 @@ pub enum DocsCommand {
 
 impl DocsCommand {
     /// The command's name, as `--json` reports it.
-    pub fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         match self {
             DocsCommand::Completions { .. } => "completions",
             DocsCommand::Man { .. } => "man",
@@ -45,7 +45,7 @@ impl DocsCommand {
 }
 
 /// Runs `docs` for `command`, the tree of the program named `program`.
-pub fn run(
+pub(crate) fn run(
     docs: DocsCommand,
     command: clap::Command,
     program: &str,

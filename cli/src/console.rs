@@ -54,7 +54,7 @@ pub enum Completion {
 
 /// What goes to stdout.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Style {
+pub(crate) enum Style {
     /// Lines for people.
     Text,
     /// Nothing but a command's product (a completion script, a batch plan).
@@ -85,7 +85,7 @@ struct Record {
 
 /// A command's stdout and record; clones share them.
 #[derive(Clone)]
-pub struct Console {
+pub(crate) struct Console {
     record: Arc<Mutex<Record>>,
     style: Style,
     /// No lines for people from this handle ([`Console::muted`]).
@@ -105,7 +105,7 @@ struct Summary<'a> {
 }
 
 /// A path as JSON and messages show it (lossy where it is not UTF-8).
-pub fn shown(path: &Path) -> String {
+pub(crate) fn shown(path: &Path) -> String {
     path.display().to_string()
 }
 
@@ -113,7 +113,7 @@ pub fn shown(path: &Path) -> String {
 /// would forge a line, a carriage return) and the bidirectional overrides that reorder what is
 /// shown are written as `\u{1b}`, so a name read from a file cannot drive the terminal.
 #[cfg_attr(not(feature = "capture"), allow(dead_code))] // the design commands' names
-pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
+pub(crate) fn printable(text: &str) -> std::borrow::Cow<'_, str> {
     let hostile = |c: char| {
         c.is_control()
             || matches!(c, '\u{200e}' | '\u{200f}' | '\u{202a}'..='\u{202e}' | '\u{2066}'..='\u{2069}')
@@ -129,7 +129,7 @@ pub fn printable(text: &str) -> std::borrow::Cow<'_, str> {
 }
 
 /// An error and the causes its message does not already hold, in one line.
-pub fn message(error: &anyhow::Error) -> String {
+pub(crate) fn message(error: &anyhow::Error) -> String {
     let mut text = error.to_string();
     for cause in error.chain().skip(1) {
         let cause = cause.to_string();
@@ -141,7 +141,7 @@ pub fn message(error: &anyhow::Error) -> String {
 }
 
 impl Console {
-    pub fn new(command: impl Into<String>, style: Style) -> Console {
+    pub(crate) fn new(command: impl Into<String>, style: Style) -> Console {
         let record = Record {
             command: command.into(),
             written: Vec::new(),
@@ -157,7 +157,7 @@ impl Console {
     /// step of a command whose own lines say what matters (`where`'s
     /// captures, before its answer).
     #[cfg_attr(not(feature = "capture"), allow(dead_code))] // `where`
-    pub fn muted(&self) -> Console {
+    pub(crate) fn muted(&self) -> Console {
         Console { muted: true, ..self.clone() }
     }
 
@@ -166,12 +166,12 @@ impl Console {
     }
 
     /// True under `--quiet` and `--json`: no progress bar, no lines.
-    pub fn quiet(&self) -> bool {
+    pub(crate) fn quiet(&self) -> bool {
         self.style != Style::Text
     }
 
     /// A line for people (not under `--quiet` or `--json`).
-    pub fn say(&self, line: std::fmt::Arguments) {
+    pub(crate) fn say(&self, line: std::fmt::Arguments) {
         if self.style == Style::Text && !self.muted {
             self.write(format!("{line}\n").as_bytes());
         }
@@ -179,7 +179,7 @@ impl Console {
 
     /// Text for people as it is, e.g. a table that ends in its own newline.
     #[cfg_attr(not(feature = "capture"), allow(dead_code))] // the captures' tables
-    pub fn print(&self, text: &str) {
+    pub(crate) fn print(&self, text: &str) {
         if self.style == Style::Text && !self.muted {
             self.write(text.as_bytes());
         }
@@ -188,26 +188,26 @@ impl Console {
     /// The command's product, printed also under `--quiet` (a completion
     /// script, a man page, a batch plan); under `--json` the caller records
     /// it as a fact instead.
-    pub fn product(&self, bytes: &[u8]) {
+    pub(crate) fn product(&self, bytes: &[u8]) {
         if self.style != Style::Json {
             self.write(bytes);
         }
     }
 
     /// Records a file the command wrote.
-    pub fn wrote(&self, path: &Path) {
+    pub(crate) fn wrote(&self, path: &Path) {
         self.record().written.push(path.to_path_buf());
     }
 
     /// Records one of the command's facts for `--json`.
-    pub fn fact(&self, key: &str, value: impl Serialize) {
+    pub(crate) fn fact(&self, key: &str, value: impl Serialize) {
         let value = to_value(value);
         self.record().facts.insert(key.into(), value);
     }
 
     /// Records one entry of the list `key` (e.g. one per scenario).
     #[cfg_attr(not(feature = "capture"), allow(dead_code))] // the captures' scenarios
-    pub fn fact_item(&self, key: &str, value: impl Serialize) {
+    pub(crate) fn fact_item(&self, key: &str, value: impl Serialize) {
         let value = to_value(value);
         match self.record().facts.entry(key).or_insert_with(|| Value::Array(Vec::new())) {
             Value::Array(list) => list.push(value),
@@ -216,7 +216,7 @@ impl Console {
     }
 
     /// Records every field of `facts` (an object) as a fact.
-    pub fn facts(&self, facts: impl Serialize) {
+    pub(crate) fn facts(&self, facts: impl Serialize) {
         if let Value::Object(map) = to_value(facts) {
             self.record().facts.extend(map);
         }
@@ -233,7 +233,7 @@ impl Console {
 
     /// Ends the command: says why on stderr if it failed, prints the JSON
     /// object under `--json`, and gives the exit code.
-    pub fn end(&self, outcome: anyhow::Result<Completion>) -> ExitCode {
+    pub(crate) fn end(&self, outcome: anyhow::Result<Completion>) -> ExitCode {
         let code = match &outcome {
             Ok(Completion::Done) => exit_code::DONE,
             Ok(Completion::WithFailures) => exit_code::WITH_FAILURES,
@@ -250,7 +250,7 @@ impl Console {
 
     /// Ends the command with `code`: the JSON object under `--json` (with
     /// `error`, if given); the code is raised when stdout failed.
-    pub fn end_with(&self, code: u8, error: Option<&str>) -> ExitCode {
+    pub(crate) fn end_with(&self, code: u8, error: Option<&str>) -> ExitCode {
         let mut record = self.record();
         let mut code = code;
         if self.style == Style::Json {
@@ -266,7 +266,7 @@ impl Console {
     /// For the interrupt handler: prints the JSON object of an interrupted
     /// run (under `--json`) unless the command has already ended; true when
     /// the process should exit now.
-    pub fn interrupted(&self, removed: usize, unfinished: &[std::path::PathBuf]) -> bool {
+    pub(crate) fn interrupted(&self, removed: usize, unfinished: &[std::path::PathBuf]) -> bool {
         let mut record = self.record();
         if record.ended {
             return false;
@@ -284,7 +284,7 @@ impl Console {
 /// What an interruption left: temporaries removed, and either every earlier
 /// output untouched or the capture folders left unfinished (issue 41: a
 /// capture rewrites its folder in place, so "untouched" was untrue there).
-pub fn interruption_message(removed: usize, unfinished: &[std::path::PathBuf]) -> String {
+pub(crate) fn interruption_message(removed: usize, unfinished: &[std::path::PathBuf]) -> String {
     if unfinished.is_empty() {
         return format!("interrupted: {removed} temporary files removed; earlier outputs are untouched");
     }

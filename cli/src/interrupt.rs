@@ -9,7 +9,7 @@
 use crate::console::{Console, exit_code};
 
 /// Installs the handler for this process's run, reporting through `console`.
-pub fn remove_temporaries_on_interrupt(console: &Console) {
+pub(crate) fn remove_temporaries_on_interrupt(console: &Console) {
     let console = console.clone();
     let installed = ctrlc::set_handler(move || {
         let removed = ufcsr::files::remove_temporaries();

@@ -14,7 +14,7 @@ use crate::console::Style;
 
 /// The words every command understands, anywhere on the command line.
 #[derive(Args, Clone, Copy, Debug, Default)]
-pub struct Global {
+pub(crate) struct Global {
     /// Nothing on stdout and no progress bar (a command whose result is its output, such as
     /// `completions` or `batch plan`, still prints it); warnings and errors still go to stderr.
     #[arg(long, short, global = true)]
@@ -35,7 +35,7 @@ pub struct Global {
 
 impl Global {
     /// What goes to stdout.
-    pub fn style(&self) -> Style {
+    pub(crate) fn style(&self) -> Style {
         match (self.json, self.quiet) {
             (true, _) => Style::Json,
             (false, true) => Style::Quiet,
@@ -45,7 +45,7 @@ impl Global {
 
     /// Starts the worker threads `--threads` asks for (0: one per core), once
     /// per process: the first and only pool, which every command uses.
-    pub fn start_threads(&self) -> anyhow::Result<()> {
+    pub(crate) fn start_threads(&self) -> anyhow::Result<()> {
         if self.threads > 0 {
             rayon::ThreadPoolBuilder::new()
                 .num_threads(usize::from(self.threads))
@@ -62,7 +62,7 @@ impl Global {
 /// [`LabelArgs::palette`] and [`LabelArgs::background_colors`]. Relative
 /// paths are from the working directory.
 #[derive(Args)]
-pub struct LabelArgs {
+pub(crate) struct LabelArgs {
     /// Part Identification Texture: palette-sized PNG, each texel in its part's colour.
     #[arg(long, value_name = "PNG")]
     pub pidt: Option<PathBuf>,
@@ -87,7 +87,7 @@ pub struct LabelArgs {
 
 impl LabelArgs {
     /// `--fcsp` or `--palette-size`, if either is given.
-    pub fn palette(&self) -> anyhow::Result<Option<ufcsr::PaletteChoice>> {
+    pub(crate) fn palette(&self) -> anyhow::Result<Option<ufcsr::PaletteChoice>> {
         Ok(match (&self.fcsp, &self.palette_size) {
             (Some(png), _) => Some(ufcsr::PaletteChoice::Image(png.clone())),
             (None, Some(size)) => {
@@ -99,7 +99,7 @@ impl LabelArgs {
     }
 
     /// Every `--background`, parsed (empty when none is given).
-    pub fn background_colors(&self) -> anyhow::Result<Vec<ufcsr::Color>> {
+    pub(crate) fn background_colors(&self) -> anyhow::Result<Vec<ufcsr::Color>> {
         self.background
             .iter()
             .map(|text| text.parse::<ufcsr::Color>().with_context(|| format!("--background {text:?}")))
@@ -109,7 +109,7 @@ impl LabelArgs {
 
 /// The heatmap's colour scale.
 #[derive(Args)]
-pub struct HeatmapScaleArgs {
+pub(crate) struct HeatmapScaleArgs {
     /// Colour scale of the heatmap: `linear` or `log` (default: linear, or the result's own).
     #[arg(long, value_enum)]
     pub scale: Option<Scale>,
@@ -122,7 +122,7 @@ pub struct HeatmapScaleArgs {
 impl HeatmapScaleArgs {
     /// The heatmap options: these arguments, else `stored` (a result's own
     /// scale and top), else the defaults.
-    pub fn options(
+    pub(crate) fn options(
         &self,
         stored: Option<(ufcsr::Scale, Option<u32>)>,
     ) -> anyhow::Result<ufcsr::HeatmapOptions> {

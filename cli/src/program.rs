@@ -100,7 +100,7 @@ enum UfcsrCommand {
 }
 
 /// One command to carry out.
-pub enum Job {
+pub(crate) enum Job {
     Analyze(Box<AnalyzeArgs>),
     Analyzer(AnalyzerCommand),
     #[cfg(feature = "capture")]

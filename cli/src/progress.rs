@@ -17,7 +17,7 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
 use crate::console::Console;
 
 /// A bar drawn from what a library reports.
-pub struct Bar {
+pub(crate) struct Bar {
     template: String,
     hidden: bool,
     bar: Mutex<Option<ProgressBar>>,
@@ -57,13 +57,13 @@ fn left_text(seconds: f64) -> String {
 
 impl Bar {
     /// The analysis's bar: images counted.
-    pub fn counting(console: &Console) -> Bar {
+    pub(crate) fn counting(console: &Console) -> Bar {
         Bar::new(template("counting", "images"), console)
     }
 
     /// A capture's bar: tiles rendered.
     #[cfg(feature = "capture")]
-    pub fn capturing(console: &Console) -> Bar {
+    pub(crate) fn capturing(console: &Console) -> Bar {
         Bar::new(template("capturing", "tiles"), console)
     }
 
@@ -76,7 +76,7 @@ impl Bar {
 /// `--json`), "task k of N", the bar and the time left, estimated from the tasks measured so
 /// far (a skipped, already complete task costs nothing and is not counted in the rate).
 #[cfg(feature = "capture")]
-pub struct TaskLine {
+pub(crate) struct TaskLine {
     total: usize,
     done: usize,
     measured: usize,
@@ -86,12 +86,12 @@ pub struct TaskLine {
 
 #[cfg(feature = "capture")]
 impl TaskLine {
-    pub fn new(total: usize, console: &Console) -> TaskLine {
+    pub(crate) fn new(total: usize, console: &Console) -> TaskLine {
         TaskLine { total, done: 0, measured: 0, started: std::time::Instant::now(), hidden: console.quiet() }
     }
 
     /// One more task finished (`measured`: run now, not skipped): prints its line.
-    pub fn finished(&mut self, measured: bool) {
+    pub(crate) fn finished(&mut self, measured: bool) {
         self.done += 1;
         self.measured += usize::from(measured);
         let per_task = self.started.elapsed().as_secs_f64() / self.measured.max(1) as f64;

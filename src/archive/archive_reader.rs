@@ -196,7 +196,7 @@ impl Archive {
 /// A folder of outputs, never frames: one holding a `result.json` (an
 /// earlier run's result set, with its `plots/` and `views/`), or a staging
 /// folder (`.ufcsr-staging-*`) a killed run left.
-pub fn is_output_folder(dir: &Path) -> bool {
+pub(crate) fn is_output_folder(dir: &Path) -> bool {
     let staging = dir.file_name().is_some_and(|n| n.to_string_lossy().starts_with(".ufcsr-staging-"));
     staging || std::fs::symlink_metadata(dir.join("result.json")).is_ok_and(|m| m.is_file())
 }

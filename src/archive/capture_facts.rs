@@ -19,7 +19,7 @@ pub struct EyeFrame {
 
 /// The eye-frames of `manifest`, indexed by eye-frame group: sorted by
 /// `(frame, eye)`, as [`crate::Archive::from_manifest`] numbers them.
-pub fn eye_frames(manifest: &Manifest) -> Vec<EyeFrame> {
+pub(crate) fn eye_frames(manifest: &Manifest) -> Vec<EyeFrame> {
     let records: BTreeMap<u32, &FrameEntry> =
         manifest.frame_records().iter().map(|record| (record.frame, record)).collect();
     let mut groups: BTreeMap<(u32, String), EyeFrame> = BTreeMap::new();
@@ -76,7 +76,7 @@ impl FrameClock {
 /// (`horizontal_fov_deg`, `eye_pixels`, `tiles`): what the solid angle of
 /// each pixel needs ([`crate::optics::solid_angle`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EyeOptics {
+pub(crate) struct EyeOptics {
     pub projection: EyeProjection,
     /// Pixels of one tile, `[width, height]`.
     pub tile_pixels: [u32; 2],
@@ -84,7 +84,7 @@ pub struct EyeOptics {
 
 impl EyeOptics {
     /// `None` for a manifest without these settings (hand-written ones).
-    pub fn from_manifest(manifest: &Manifest) -> Option<EyeOptics> {
+    pub(crate) fn from_manifest(manifest: &Manifest) -> Option<EyeOptics> {
         let settings = manifest.rig_settings()?;
         let fov = settings.horizontal_fov_deg?;
         let (eye, tiles) = (settings.eye_pixels?, settings.tiles?);
@@ -98,7 +98,7 @@ impl EyeOptics {
     }
 
     /// Where the tile `[row, col]` lies in its eye.
-    pub fn view(&self, [row, col]: [u32; 2]) -> TileView {
+    pub(crate) fn view(&self, [row, col]: [u32; 2]) -> TileView {
         TileView {
             projection: self.projection,
             origin: [col * self.tile_pixels[0], row * self.tile_pixels[1]],

@@ -20,14 +20,14 @@ use json::validation::Checked::Valid;
 use json::validation::USize64;
 
 /// The key in `asset.extras` that marks a file written in glTF's axes.
-pub const AXES_MARK: &str = "ufcsr_axes";
+pub(crate) const AXES_MARK: &str = "ufcsr_axes";
 
 /// The mark's value, saying what the axes are (for people reading the JSON).
-pub const AXES_NOTE: &str = "glTF: +Y up, front +Z; ufcsr frame (x, y, z) is glTF (y, z, x)";
+pub(crate) const AXES_NOTE: &str = "glTF: +Y up, front +Z; ufcsr frame (x, y, z) is glTF (y, z, x)";
 
 /// Whether an accessor records its values' bounds (`min`/`max`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Bounds {
+pub(crate) enum Bounds {
     /// Recorded: glTF requires them for positions.
     Written,
     /// Left out (UVs and other attributes).
@@ -35,18 +35,18 @@ pub enum Bounds {
 }
 
 /// A ufcsr frame point (z up) in glTF's axes.
-pub fn to_gltf_axes([x, y, z]: [f32; 3]) -> [f32; 3] {
+pub(crate) fn to_gltf_axes([x, y, z]: [f32; 3]) -> [f32; 3] {
     [y, z, x]
 }
 
 /// A glTF point in the ufcsr frame (z up): the inverse of [`to_gltf_axes`].
-pub fn from_gltf_axes([x, y, z]: [f32; 3]) -> [f32; 3] {
+pub(crate) fn from_gltf_axes([x, y, z]: [f32; 3]) -> [f32; 3] {
     [z, x, y]
 }
 
 /// How a file's positions are to be read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FileAxes {
+pub(crate) enum FileAxes {
     /// glTF's axes: ufcsr's files with the mark, and every other program's.
     Gltf,
     /// The ufcsr frame as is (z up): a ufcsr file from before the rule.
@@ -56,7 +56,7 @@ pub enum FileAxes {
 impl FileAxes {
     /// The rule: the mark means glTF axes; a generator `ufcsr <version>`
     /// without it means an old z-up file; anything else follows glTF.
-    pub fn of(document: &gltf::Document) -> FileAxes {
+    pub(crate) fn of(document: &gltf::Document) -> FileAxes {
         let asset = &document.as_json().asset;
         let marked = asset
             .extras
@@ -72,7 +72,7 @@ impl FileAxes {
     }
 
     /// A file point (after node transforms) in the ufcsr frame.
-    pub fn to_frame(self, p: [f32; 3]) -> [f32; 3] {
+    pub(crate) fn to_frame(self, p: [f32; 3]) -> [f32; 3] {
         match self {
             FileAxes::Gltf => from_gltf_axes(p),
             FileAxes::OldUfcsrFrame => p,
@@ -81,7 +81,7 @@ impl FileAxes {
 }
 
 /// A glTF document being built with its one binary buffer.
-pub struct GlbBuilder {
+pub(crate) struct GlbBuilder {
     pub root: json::Root,
     bin: Vec<u8>,
     buffer: json::Index<json::Buffer>,
@@ -89,7 +89,7 @@ pub struct GlbBuilder {
 
 impl GlbBuilder {
     /// An empty document, marked as written in glTF's axes.
-    pub fn new() -> GlbBuilder {
+    pub(crate) fn new() -> GlbBuilder {
         let mut root = json::Root::default();
         let buffer = root.push(json::Buffer {
             byte_length: USize64(0), // set by `finish`, once the data is all in
@@ -105,7 +105,7 @@ impl GlbBuilder {
     }
 
     /// Appends `bytes` (4-byte aligned) as a buffer view; vertex data has a stride.
-    pub fn view(&mut self, bytes: &[u8], stride: Option<usize>) -> json::Index<json::buffer::View> {
+    pub(crate) fn view(&mut self, bytes: &[u8], stride: Option<usize>) -> json::Index<json::buffer::View> {
         while !self.bin.len().is_multiple_of(4) {
             self.bin.push(0);
         }
@@ -125,7 +125,7 @@ impl GlbBuilder {
 
     /// A float vertex attribute (`N` = 2 or 3 components); positions get their bounds
     /// (glTF requires them there).
-    pub fn attribute<const N: usize>(
+    pub(crate) fn attribute<const N: usize>(
         &mut self,
         values: &[[f32; N]],
         bounds_record: Bounds,
@@ -157,7 +157,7 @@ impl GlbBuilder {
 
     /// An embedded PNG as a nearest-filtered texture: a texel is one point
     /// of the vehicle (or one palette colour), never a blend.
-    pub fn png_texture(&mut self, png: &[u8], name: &str) -> json::Index<json::Texture> {
+    pub(crate) fn png_texture(&mut self, png: &[u8], name: &str) -> json::Index<json::Texture> {
         let view = self.view(png, None);
         let image = self.root.push(json::Image {
             buffer_view: Some(view),
@@ -187,7 +187,7 @@ impl GlbBuilder {
 
     /// An unlit, double-sided material: the colours are the texture's (or
     /// `color`, linear RGBA), never the viewer's lighting.
-    pub fn unlit_material(
+    pub(crate) fn unlit_material(
         &mut self,
         name: &str,
         texture: Option<json::Index<json::Texture>>,
@@ -224,7 +224,7 @@ impl GlbBuilder {
     }
 
     /// A node with a one-primitive triangle-list mesh, both named `name`.
-    pub fn mesh_node(
+    pub(crate) fn mesh_node(
         &mut self,
         name: &str,
         attributes: Vec<(json::mesh::Semantic, json::Index<json::Accessor>)>,
@@ -256,7 +256,7 @@ impl GlbBuilder {
     }
 
     /// The GLB bytes of a document whose scene holds `nodes`.
-    pub fn finish(mut self, nodes: Vec<json::Index<json::Node>>) -> Result<Vec<u8>, String> {
+    pub(crate) fn finish(mut self, nodes: Vec<json::Index<json::Node>>) -> Result<Vec<u8>, String> {
         self.root.buffers[0].byte_length = USize64::from(self.bin.len());
         let scene =
             self.root.push(json::Scene { extensions: None, extras: Default::default(), name: None, nodes });
@@ -284,7 +284,7 @@ fn bounds<const N: usize>(values: &[[f32; N]]) -> ([f32; N], [f32; N]) {
 }
 
 /// The 4×4 column-major product `a · b` (glTF node matrices).
-pub fn multiply(a: &[[f32; 4]; 4], b: &[[f32; 4]; 4]) -> [[f32; 4]; 4] {
+pub(crate) fn multiply(a: &[[f32; 4]; 4], b: &[[f32; 4]; 4]) -> [[f32; 4]; 4] {
     let mut out = [[0.0; 4]; 4];
     for (column, b_column) in out.iter_mut().zip(b) {
         for (row, value) in column.iter_mut().enumerate() {
@@ -295,12 +295,12 @@ pub fn multiply(a: &[[f32; 4]; 4], b: &[[f32; 4]; 4]) -> [[f32; 4]; 4] {
 }
 
 /// A point through a column-major affine matrix.
-pub fn transform_point(m: &[[f32; 4]; 4], [x, y, z]: [f32; 3]) -> [f32; 3] {
+pub(crate) fn transform_point(m: &[[f32; 4]; 4], [x, y, z]: [f32; 3]) -> [f32; 3] {
     [0, 1, 2].map(|row| m[0][row] * x + m[1][row] * y + m[2][row] * z + m[3][row])
 }
 
 /// The identity matrix.
-pub const IDENTITY: [[f32; 4]; 4] =
+pub(crate) const IDENTITY: [[f32; 4]; 4] =
     [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]];
 
 #[cfg(test)]

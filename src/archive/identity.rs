@@ -39,7 +39,7 @@ impl Digest {
 
 /// The archive's identity, 16 hex digits: `manifest` is the manifest file
 /// when one was used; `files` the palette image, PIdT and legend read.
-pub fn archive_identity(manifest: Option<&Path>, archive: &Archive, files: &[&Path]) -> String {
+pub(crate) fn archive_identity(manifest: Option<&Path>, archive: &Archive, files: &[&Path]) -> String {
     let mut digest = Digest::new();
     match manifest {
         Some(path) => {

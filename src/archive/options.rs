@@ -112,7 +112,7 @@ pub struct AnalyzeOptions {
 }
 
 /// The smallest `--area-max` taken (deg²·s): the smallest normal `f32`.
-pub const AREA_MAX_FLOOR: f64 = f32::MIN_POSITIVE as f64;
+pub(crate) const AREA_MAX_FLOOR: f64 = f32::MIN_POSITIVE as f64;
 
 impl Default for AnalyzeOptions {
     /// Every field empty, off or its type's default, except

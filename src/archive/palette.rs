@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use crate::png::rows::read_color_image;
 
 /// Default canonical palette side (4096 × 4096 = 2^24 texels).
-pub const DEFAULT_PALETTE_SIDE: u32 = 4096;
+pub(crate) const DEFAULT_PALETTE_SIDE: u32 = 4096;
 
 /// The most texels a canonical palette of 32-bit texel ids may have
 /// (`"texel_ids": "rgba32"`): 2^26, 8192 × 8192, four times the paper's

@@ -25,7 +25,7 @@ pub(crate) struct LabelFiles {
 
 impl LabelFiles {
     /// The legend and PIdT, shared (the PIdT is not copied).
-    pub fn loaded(&self) -> LoadedLabels {
+    pub(crate) fn loaded(&self) -> LoadedLabels {
         LoadedLabels { legend: self.legend.clone(), pidt: self.pidt.clone() }
     }
 }

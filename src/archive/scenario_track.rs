@@ -65,7 +65,7 @@ fn metres(point: [f64; 3]) -> String {
 
 /// The scenario and the rig in words: what the manifest's `scenario`,
 /// `scene` and `rig.settings` say, and where the pedestrian was.
-pub fn summary_rows(manifest: &Manifest, frames: &[TrackFrame]) -> Vec<(String, String)> {
+pub(crate) fn summary_rows(manifest: &Manifest, frames: &[TrackFrame]) -> Vec<(String, String)> {
     let mut rows = Vec::new();
     if let Some(scenario) = &manifest.scenario {
         rows.push(("scenario".into(), format!("{}, {:.1} s", scenario.name, scenario.duration_s)));

@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 pub use crate::format::result::Shard;
 
 /// Most shards an archive may be split into.
-pub const MAX_SHARDS: u32 = 1_000_000;
+pub(crate) const MAX_SHARDS: u32 = 1_000_000;
 
 impl Shard {
     /// `I/N`, zero-based.

@@ -33,12 +33,12 @@ const JUMP_THRESHOLD: f64 = 0.03;
 const JUMP_MIN_VARYING: u64 = 1000;
 
 /// Names of the checks, as `result.json` and the warnings spell them.
-pub const UNLABELLED_CHECK: &str = "unlabelled-counts";
-pub const BACKGROUND_CHECK: &str = "no-background";
-pub const JUMP_CHECK: &str = "texel-jumps";
+pub(crate) const UNLABELLED_CHECK: &str = "unlabelled-counts";
+pub(crate) const BACKGROUND_CHECK: &str = "no-background";
+pub(crate) const JUMP_CHECK: &str = "texel-jumps";
 
 /// Every warning about colour damage starts with this (stderr, report).
-pub const COLOR_WARNING: &str = "colour damage";
+pub(crate) const COLOR_WARNING: &str = "colour damage";
 
 /// The settings that render the palette unchanged (every fix ends so).
 const RECIPE: &str = "Blender: view transform Standard, look None, exposure 0, gamma 1, dither 0, Image \

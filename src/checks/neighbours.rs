@@ -58,7 +58,7 @@ pub(crate) struct TexelGrid {
 impl TexelGrid {
     /// The grid of `palette` with `backgrounds` (packed colours) left out;
     /// `None` for an image palette (its layout is arbitrary).
-    pub fn new(palette: &Fcsp, backgrounds: &[u32]) -> Option<TexelGrid> {
+    pub(crate) fn new(palette: &Fcsp, backgrounds: &[u32]) -> Option<TexelGrid> {
         match palette {
             Fcsp::Canonical { width, .. } => Some(TexelGrid {
                 width: *width,
@@ -106,18 +106,18 @@ pub(crate) struct NeighbourSampler {
 }
 
 impl NeighbourSampler {
-    pub fn new(grid: TexelGrid) -> NeighbourSampler {
+    pub(crate) fn new(grid: TexelGrid) -> NeighbourSampler {
         NeighbourSampler { grid, rows: Default::default(), next: None, sample: NeighbourSample::default() }
     }
 
     /// Forgets the rows of the previous image.
-    pub fn start_image(&mut self) {
+    pub(crate) fn start_image(&mut self) {
         self.next = None;
     }
 
     /// Looks at row `y` (decoded samples of `layout`): copies it when it
     /// belongs to a window, and measures the window at its third row.
-    pub fn row(&mut self, y: u32, row: &[u8], layout: PixelLayout) {
+    pub(crate) fn row(&mut self, y: u32, row: &[u8], layout: PixelLayout) {
         let phase = y % WINDOW_STEP;
         if phase > 2 || (phase > 0 && self.next != Some(y)) {
             return;

@@ -7,4 +7,5 @@ mod rgb;
 pub(crate) mod sets;
 
 pub use rgb::{COLOR_COUNT, Color, ParseColorError};
-pub use sets::{AtomicColorSet, ColorSet, SeenSet, color_key, zeroed_writable};
+pub use sets::{AtomicColorSet, SeenSet, color_key};
+pub(crate) use sets::{ColorSet, zeroed_writable};

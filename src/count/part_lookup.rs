@@ -20,10 +20,10 @@ use crate::png::rows::PixelLayout;
 use crate::simd::SlotSpans;
 
 /// The part name used for texels whose PIdT colour is in no legend entry.
-pub const UNLABELLED_NAME: &str = "(unlabelled)";
+pub(crate) const UNLABELLED_NAME: &str = "(unlabelled)";
 
 /// The part name used for every texel when there is no PIdT.
-pub const ALL_TEXELS_NAME: &str = "(all texels)";
+pub(crate) const ALL_TEXELS_NAME: &str = "(all texels)";
 
 /// Colour → part slot, for tallying pixels and texels by part.
 pub struct PartLookup {
@@ -339,7 +339,7 @@ impl<const BYTES: usize, const GRAY: bool> Iterator for Runs<'_, BYTES, GRAY> {
 /// its tiles are counted in (the PNG path and the capture's `--count` give
 /// the same bits); a pixel at 480 px/° (≈ 1.3e-9 sr) is ≈ 1.6e15 units, and
 /// 2¹²⁸ units are 2⁴⁸ sr.
-pub const SOLID_ANGLE_UNITS_PER_SR: f64 = (1u128 << 80) as f64;
+pub(crate) const SOLID_ANGLE_UNITS_PER_SR: f64 = (1u128 << 80) as f64;
 
 /// `sr` (≥ 0, or a rounding error below 0) in [`SOLID_ANGLE_UNITS_PER_SR`].
 fn solid_angle_units(sr: f64) -> u128 {

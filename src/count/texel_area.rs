@@ -48,7 +48,7 @@ use crate::simd::ColorRuns;
 /// Units of [`TexelSolidAngles`]: 2⁻⁴⁸ sr. A pixel at 480 px/° (≈ 1.3e-9
 /// sr) is ≈ 3.7e5 units (rounding it costs ≤ 1.4e-6 of it); a texel may sum
 /// to 2¹⁶ sr (10⁴ frames of a texel covering a sixth of the eye's view).
-pub const TEXEL_SOLID_ANGLE_UNITS_PER_SR: f64 = (1u64 << 48) as f64;
+pub(crate) const TEXEL_SOLID_ANGLE_UNITS_PER_SR: f64 = (1u64 << 48) as f64;
 
 /// Colour → texel, for the texels of a palette.
 enum TexelOf {
@@ -71,7 +71,7 @@ impl TexelOf {
 
 /// Per-texel solid angle summed over the images counted (shared by the
 /// workers).
-pub struct TexelSolidAngles {
+pub(crate) struct TexelSolidAngles {
     /// Per texel at its [`color_key`], units of [`TEXEL_SOLID_ANGLE_UNITS_PER_SR`].
     units: Mutex<Vec<u64>>,
     texels: usize,
@@ -88,7 +88,7 @@ pub struct TexelSolidAngles {
 /// and its run's solid angle in units (at most [`PendingRuns::BATCH`],
 /// 512 KiB). Its buffer is the thread's, reused image after image (a new
 /// one per image grew and page-faulted 512 KiB each time).
-pub struct PendingRuns(Vec<(u32, u64)>);
+pub(crate) struct PendingRuns(Vec<(u32, u64)>);
 
 impl PendingRuns {
     /// Runs added under one lock.
@@ -151,7 +151,7 @@ const BAND_ROWS: usize = 64;
 /// per tile position held every pixel (416 MiB, 52 M). Rows are built in
 /// bands of [`BAND_ROWS`] the first time a tile reaches them, each band once
 /// (`OnceLock`, outside any lock the other workers wait on).
-pub struct EyePrefix {
+pub(crate) struct EyePrefix {
     projection: crate::optics::solid_angle::EyeProjection,
     /// Stored values per row: the prefix sums at pixel edges `0..=half`
     /// (`half` = ⌈width / 2⌉), then the row's total.
@@ -223,7 +223,7 @@ impl EyePrefix {
 /// [`EyePrefix`]. Row `y` ([`PixelPrefix::row`]) gives the prefix sum at
 /// each pixel edge `x` of the tile, relative to the tile's left edge
 /// (differences are what a run weighs, so the offset does not matter).
-pub struct PixelPrefix {
+pub(crate) struct PixelPrefix {
     eye: Arc<EyePrefix>,
     origin: [usize; 2],
     size: [usize; 2],
@@ -232,7 +232,7 @@ pub struct PixelPrefix {
 /// One tile row's prefix sums ([`PixelPrefix::row`]): [`PrefixRow::at`]
 /// the pixel edge `x` of the tile (`0..=width`).
 #[derive(Clone, Copy)]
-pub struct PrefixRow<'t> {
+pub(crate) struct PrefixRow<'t> {
     /// The eye row's stored values (the prefix sums to the middle, then the total).
     stored: &'t [u64],
     /// The tile's left edge in the eye.
@@ -246,7 +246,7 @@ impl PrefixRow<'_> {
     /// The prefix sum at the tile's pixel edge `x` (from the eye row's left
     /// edge), `None` past the tile's right edge.
     #[inline(always)]
-    pub fn at(&self, x: usize) -> Option<u64> {
+    pub(crate) fn at(&self, x: usize) -> Option<u64> {
         if x >= self.edges {
             return None;
         }
@@ -262,13 +262,13 @@ impl PrefixRow<'_> {
 
     /// The tile row's pixel edges (its width + 1; 0 past its last row).
     #[cfg(test)]
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.edges
     }
 
     /// Whether the row is past the tile's last row.
     #[cfg(test)]
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.edges == 0
     }
 }
@@ -283,7 +283,7 @@ impl PixelPrefix {
     /// The table of a tile of `size` pixels at `view`, with an eye table of
     /// its own (the 24-bit analysis shares one per eye:
     /// [`TexelSolidAngles::pixel_prefix`]; the 32-bit path builds its own).
-    pub fn new(view: &TileView, size: [u32; 2]) -> PixelPrefix {
+    pub(crate) fn new(view: &TileView, size: [u32; 2]) -> PixelPrefix {
         PixelPrefix::within(Arc::new(EyePrefix::new(view.projection)), view.origin, size)
     }
 
@@ -293,7 +293,7 @@ impl PixelPrefix {
 
     /// Row `y`'s prefix sums (none past the last row).
     #[inline]
-    pub fn row(&self, y: u32) -> PrefixRow<'_> {
+    pub(crate) fn row(&self, y: u32) -> PrefixRow<'_> {
         let y = y as usize;
         let (stored, edges) = if y < self.size[1] {
             (self.eye.row(self.origin[1] + y), self.size[0] + 1)
@@ -306,7 +306,7 @@ impl PixelPrefix {
 
 impl TexelSolidAngles {
     /// Zero for every texel of `palette`.
-    pub fn new(palette: &Fcsp, backgrounds: &[u32]) -> TexelSolidAngles {
+    pub(crate) fn new(palette: &Fcsp, backgrounds: &[u32]) -> TexelSolidAngles {
         let texels = palette.texel_count();
         let texel_of = match palette {
             Fcsp::Canonical { .. } => TexelOf::Canonical(texels as u32),
@@ -331,7 +331,7 @@ impl TexelSolidAngles {
     /// not fit inside its eye (a tile of another size than the manifest
     /// says: its texels get no solid angle, and no table the size a damaged
     /// header claims is allocated).
-    pub fn pixel_prefix(&self, view: &TileView, size: [u32; 2]) -> Option<PixelPrefix> {
+    pub(crate) fn pixel_prefix(&self, view: &TileView, size: [u32; 2]) -> Option<PixelPrefix> {
         let eye = [view.projection.width, view.projection.height];
         let fits =
             (0..2).all(|axis| u64::from(view.origin[axis]) + u64::from(size[axis]) <= u64::from(eye[axis]));
@@ -357,12 +357,12 @@ impl TexelSolidAngles {
 
     /// A row's runs as a counting kernel reports them: `prefix` is the row
     /// of [`PixelPrefix::row`]; each texel run's units go to `pending`.
-    pub fn row_runs<'r>(&'r self, prefix: PrefixRow<'r>, pending: &'r mut PendingRuns) -> RowRuns<'r> {
+    pub(crate) fn row_runs<'r>(&'r self, prefix: PrefixRow<'r>, pending: &'r mut PendingRuns) -> RowRuns<'r> {
         RowRuns { sums: self, prefix, pending, open: None }
     }
 
     /// Adds the runs in `pending` to the sums and empties it.
-    pub fn flush(&self, pending: &mut PendingRuns) {
+    pub(crate) fn flush(&self, pending: &mut PendingRuns) {
         let units = self.units.lock().unwrap_or_else(PoisonError::into_inner);
         add_runs(units, pending);
     }
@@ -373,7 +373,7 @@ impl TexelSolidAngles {
     /// batches (the sums are integers: the order they are added in does not
     /// matter).
     #[inline]
-    pub fn flush_if_full(&self, pending: &mut PendingRuns) {
+    pub(crate) fn flush_if_full(&self, pending: &mut PendingRuns) {
         if pending.0.len() < PendingRuns::BATCH {
             return;
         }
@@ -389,14 +389,14 @@ impl TexelSolidAngles {
     }
 
     /// Per-texel sums in units (row-major over the palette).
-    pub fn into_units(self) -> Vec<u64> {
+    pub(crate) fn into_units(self) -> Vec<u64> {
         let units = self.units.into_inner().unwrap_or_else(PoisonError::into_inner);
         (0..self.texels as u32).map(|texel| units[color_key(texel) as usize]).collect()
     }
 
     /// Per-texel sums, sr (row-major over the palette).
     #[cfg(test)]
-    pub fn into_sr(self) -> Vec<f64> {
+    pub(crate) fn into_sr(self) -> Vec<f64> {
         self.into_units().into_iter().map(|u| u as f64 / TEXEL_SOLID_ANGLE_UNITS_PER_SR).collect()
     }
 }
@@ -406,7 +406,7 @@ impl TexelSolidAngles {
 /// prefix-sum difference over it. [`RowRuns::finish`] closes the last. The
 /// prefix sum at a run's start is the one its predecessor closed at: one
 /// lookup per boundary, none between two runs that are no texel.
-pub struct RowRuns<'r> {
+pub(crate) struct RowRuns<'r> {
     sums: &'r TexelSolidAngles,
     prefix: PrefixRow<'r>,
     pending: &'r mut PendingRuns,
@@ -416,7 +416,7 @@ pub struct RowRuns<'r> {
 
 impl RowRuns<'_> {
     /// The row ends at pixel `end` (its width).
-    pub fn finish(self, end: usize) {
+    pub(crate) fn finish(self, end: usize) {
         if let (Some((key, from)), Some(to)) = (self.open, self.prefix.at(end)) {
             self.pending.0.push((key, to - from));
         }

@@ -21,7 +21,7 @@ use crate::png::rows::{FileBytes, HEADER_BYTES, parse_header, read_file};
 pub use crate::format::result::EmptyTile;
 
 /// The trimming decision for an archive.
-pub struct TrimPlan {
+pub(crate) struct TrimPlan {
     /// Candidate per image, as an index into `empty_tiles`.
     candidate_of: Vec<Option<usize>>,
     /// The candidates, in (width, height, bytes) order.
@@ -32,12 +32,12 @@ pub struct TrimPlan {
 
 impl TrimPlan {
     /// A plan that trims nothing.
-    pub fn none(images: usize) -> TrimPlan {
+    pub(crate) fn none(images: usize) -> TrimPlan {
         TrimPlan { candidate_of: vec![None; images], empty_tiles: Vec::new(), verified_bytes: Vec::new() }
     }
 
     /// Finds candidate sizes and verifies one file of each by decoding it.
-    pub fn build(mode: TrimMode, images: &[ImageSource], classifier: &Classifier) -> TrimPlan {
+    pub(crate) fn build(mode: TrimMode, images: &[ImageSource], classifier: &Classifier) -> TrimPlan {
         if mode == TrimMode::Off || images.is_empty() {
             return TrimPlan::none(images.len());
         }
@@ -86,7 +86,7 @@ impl TrimPlan {
 
     /// True when `bytes` (the content of image `index`) are identical to a
     /// verified empty file, so decoding it could only find background.
-    pub fn is_trimmable(&self, index: usize, bytes: &[u8]) -> bool {
+    pub(crate) fn is_trimmable(&self, index: usize, bytes: &[u8]) -> bool {
         match self.candidate_of.get(index).copied().flatten() {
             Some(slot) => self.verified_bytes[slot].as_deref().is_some_and(|empty| empty == bytes),
             None => false,

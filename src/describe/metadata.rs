@@ -15,7 +15,7 @@ use crate::format::manifest::{RigRecord, RigSettings};
 use crate::error::{Error, Result};
 
 /// The rig fields of the scene file (docs/scene-file.md#rig).
-pub const RIG_FIELDS: [&str; 10] = [
+pub(crate) const RIG_FIELDS: [&str; 10] = [
     "pedestrian",
     "eye_height_m",
     "ipd_m",
@@ -31,7 +31,7 @@ pub const RIG_FIELDS: [&str; 10] = [
 /// A rig file's fields: `{"rig": {...}}` (a scene file), a manifest's
 /// `{"settings": {...}}`, or the fields themselves. Unknown fields and wrong
 /// types are errors naming the file and the field.
-pub fn read_rig(path: &Path) -> Result<RigSettings> {
+pub(crate) fn read_rig(path: &Path) -> Result<RigSettings> {
     let bytes = crate::files::read_limited(path, crate::files::SMALL_INPUT_LIMIT)?;
     let value: Value = serde_json::from_slice(&bytes)
         .map_err(|error| Error::bad_file(path, format!("not a JSON rig description: {error}")))?;
@@ -114,21 +114,21 @@ pub fn parse_fov(text: &str) -> Result<(f64, Option<f64>)> {
 }
 
 /// The vertical field of view of a rectilinear eye with square pixels.
-pub fn vertical_fov_deg(horizontal_deg: f64, [width, height]: [u32; 2]) -> f64 {
+pub(crate) fn vertical_fov_deg(horizontal_deg: f64, [width, height]: [u32; 2]) -> f64 {
     let half = (horizontal_deg.to_radians() / 2.0).tan() * f64::from(height) / f64::from(width);
     2.0 * half.atan().to_degrees()
 }
 
 /// One frame's time and distance from `--frame-times`.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FrameTime {
+pub(crate) struct FrameTime {
     pub time_s: f64,
     pub distance_m: Option<f64>,
 }
 
 /// `--frame-times`: a CSV with a header naming `frame` and `time_s` and,
 /// optionally, `distance_m`; other columns are ignored. Each frame once.
-pub fn read_frame_times(path: &Path) -> Result<BTreeMap<u32, FrameTime>> {
+pub(crate) fn read_frame_times(path: &Path) -> Result<BTreeMap<u32, FrameTime>> {
     let bytes = crate::files::read_limited(path, crate::files::SMALL_INPUT_LIMIT)?;
     let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).from_reader(bytes.as_slice());
     let headers =
@@ -172,7 +172,7 @@ pub fn read_frame_times(path: &Path) -> Result<BTreeMap<u32, FrameTime>> {
 }
 
 /// The manifest's `rig`: the settings as known and what follows from them.
-pub fn rig_record(settings: &RigSettings, tile_pixels: [u32; 2]) -> RigRecord {
+pub(crate) fn rig_record(settings: &RigSettings, tile_pixels: [u32; 2]) -> RigRecord {
     let optics = settings.horizontal_fov_deg.zip(settings.eye_pixels);
     RigRecord {
         settings: settings.clone(),

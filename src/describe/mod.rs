@@ -9,11 +9,11 @@
 //! into the manifest are relative to the manifest's folder, which must hold
 //! every file it names (the analyzer refuses paths that leave it).
 
-pub mod metadata;
-pub mod names;
-pub mod scan;
-pub mod solo;
-pub mod solo_camera;
+pub(crate) mod metadata;
+pub(crate) mod names;
+pub(crate) mod scan;
+pub(crate) mod solo;
+pub(crate) mod solo_camera;
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -23,8 +23,10 @@ use crate::color::Color;
 use crate::error::{Error, Result};
 use crate::format::manifest::{EyePose, FrameEntry, RigRecord, RigSettings};
 
-pub use metadata::{FrameTime, parse_fov};
-pub use names::{DEFAULT_PATTERN, NamePattern};
+pub(crate) use metadata::FrameTime;
+pub use metadata::parse_fov;
+pub use names::DEFAULT_PATTERN;
+pub(crate) use names::NamePattern;
 use scan::{Capture, Grid, canonical, check_capture, find_capture, png_size, slash_path};
 use solo::Solo;
 

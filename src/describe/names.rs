@@ -14,11 +14,11 @@ pub const DEFAULT_PATTERN: &str =
     r"f(?P<frame>\d+)_(?P<eye>[A-Za-z0-9]+)(?:_r(?P<row>\d+)_c(?P<col>\d+))?\.(?i:png)$";
 
 /// The eye a name without an `eye` group is given: one eye, called `left`.
-pub const DEFAULT_EYE: &str = "left";
+pub(crate) const DEFAULT_EYE: &str = "left";
 
 /// What a file's name says.
 #[derive(Debug, Clone, PartialEq, Eq)]
-pub struct TileName {
+pub(crate) struct TileName {
     pub frame: u32,
     pub eye: String,
     pub row: u32,
@@ -27,7 +27,7 @@ pub struct TileName {
 
 /// A compiled `--pattern`.
 #[derive(Debug, Clone)]
-pub struct NamePattern {
+pub(crate) struct NamePattern {
     regex: Regex,
     /// The pattern as given, for messages.
     pub text: String,
@@ -38,7 +38,7 @@ impl NamePattern {
     /// else a template: `{frame}`, `{row}`, `{col}` match digits, `{eye}`
     /// letters and digits, `*` any characters but `/`, `?` one; the template
     /// matches the end of the path (`Left_{frame}.png` finds `x/Left_0012.png`).
-    pub fn new(text: &str) -> Result<NamePattern> {
+    pub(crate) fn new(text: &str) -> Result<NamePattern> {
         let is_regex = text.contains("(?P<") || text.contains("(?<");
         let source = if is_regex { text.to_string() } else { template_to_regex(text)? };
         let regex = Regex::new(&source).map_err(|error| {
@@ -60,7 +60,7 @@ impl NamePattern {
 
     /// What `relative` (a path with `/` separators) says, `None` when it does
     /// not match; an error when a group holds no number it must hold.
-    pub fn read(&self, relative: &str) -> std::result::Result<Option<TileName>, String> {
+    pub(crate) fn read(&self, relative: &str) -> std::result::Result<Option<TileName>, String> {
         let Some(captures) = self.regex.captures(relative) else { return Ok(None) };
         let group = |name: &str| captures.name(name).map(|m| m.as_str()).filter(|s| !s.is_empty());
         let number = |name: &str, default: Option<u32>| -> std::result::Result<u32, String> {

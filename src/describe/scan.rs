@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 
 /// One file of the capture.
 #[derive(Debug, Clone)]
-pub struct FoundTile {
+pub(crate) struct FoundTile {
     /// The file as found below the folder.
     pub path: PathBuf,
     pub name: TileName,
@@ -23,7 +23,7 @@ pub struct FoundTile {
 
 /// The capture's files and their layout.
 #[derive(Debug, Clone)]
-pub struct Capture {
+pub(crate) struct Capture {
     /// Sorted by frame, eye, row, column.
     pub tiles: Vec<FoundTile>,
     /// Tiles per eye image, `[columns, rows]`.
@@ -40,7 +40,7 @@ pub struct Capture {
 
 impl Capture {
     /// Pixels of one eye image, `[width, height]`.
-    pub fn eye_pixels(&self) -> [u32; 2] {
+    pub(crate) fn eye_pixels(&self) -> [u32; 2] {
         [self.grid[0] * self.tile_pixels[0], self.grid[1] * self.tile_pixels[1]]
     }
 }
@@ -48,7 +48,7 @@ impl Capture {
 /// The PNGs below `dir` (by name, `excluded` and result folders — those
 /// holding a `result.json` — left out), read by `pattern` and checked; a
 /// tile missing from a grid is an error unless `missing_empty`.
-pub fn find_capture(
+pub(crate) fn find_capture(
     dir: &Path,
     pattern: &NamePattern,
     excluded: &BTreeSet<PathBuf>,
@@ -99,7 +99,7 @@ pub fn find_capture(
 
 /// How the grid of each eye image is known.
 #[derive(Debug, Clone, Copy, Default)]
-pub struct Grid {
+pub(crate) struct Grid {
     /// `[columns, rows]` as the rig says; else the largest column and row seen.
     pub given: Option<[u32; 2]>,
     /// Positions no file fills are empty tiles, not an error.
@@ -111,17 +111,17 @@ fn key(name: &TileName) -> (u32, &str, u32, u32) {
 }
 
 /// `a/b.png` whatever the platform's separator.
-pub fn slash_path(path: &Path) -> String {
+pub(crate) fn slash_path(path: &Path) -> String {
     path.components().map(|c| c.as_os_str().to_string_lossy()).collect::<Vec<_>>().join("/")
 }
 
 /// The path with links resolved, or an error naming it.
-pub fn canonical(path: &Path) -> Result<PathBuf> {
+pub(crate) fn canonical(path: &Path) -> Result<PathBuf> {
     std::fs::canonicalize(path).map_err(|error| Error::io(path, error))
 }
 
 /// Each tile once, one size, at most two eyes, every grid position in every eye-frame.
-pub fn check_capture(tiles: Vec<FoundTile>, layout: Grid) -> Result<Capture> {
+pub(crate) fn check_capture(tiles: Vec<FoundTile>, layout: Grid) -> Result<Capture> {
     let first = &tiles[0];
     for pair in tiles.windows(2) {
         if key(&pair[0].name) == key(&pair[1].name) {
@@ -220,7 +220,7 @@ fn check_grid(tiles: &[FoundTile], [columns, rows]: [u32; 2], missing_empty: boo
 }
 
 /// `[width, height]` from the PNG signature and IHDR chunk (its CRC checked).
-pub fn png_size(path: &Path) -> Result<[u32; 2]> {
+pub(crate) fn png_size(path: &Path) -> Result<[u32; 2]> {
     let mut head = [0u8; 33];
     let mut file = crate::files::open_regular(path)?;
     let read = read_up_to(&mut file, &mut head).map_err(|error| Error::io(path, error))?;

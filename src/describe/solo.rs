@@ -29,11 +29,11 @@ use crate::error::{Error, Result};
 use crate::format::manifest::EyePose;
 
 /// The endings of a SOLO frame file (Perception 1.0's, then the schema page's).
-pub const FRAME_FILE_ENDINGS: [&str; 2] = [".frame_data.json", ".frame.json"];
+pub(crate) const FRAME_FILE_ENDINGS: [&str; 2] = [".frame_data.json", ".frame.json"];
 
 /// One frame file: the fields ufcsr reads.
 #[derive(Debug, Clone, Deserialize)]
-pub struct SoloFrame {
+pub(crate) struct SoloFrame {
     /// The sequence (scenario iteration) the frame belongs to.
     #[serde(default)]
     pub sequence: Option<u64>,
@@ -50,7 +50,7 @@ pub struct SoloFrame {
 
 /// One sensor's capture in a frame.
 #[derive(Debug, Clone, Deserialize)]
-pub struct SoloCapture {
+pub(crate) struct SoloCapture {
     /// e.g. `type.unity.com/unity.solo.RGBCamera`.
     #[serde(rename = "@type", default)]
     pub kind: String,
@@ -81,7 +81,7 @@ pub struct SoloCapture {
 
 /// An annotation of a capture; those with a file are skipped frames' kin.
 #[derive(Debug, Clone, Deserialize)]
-pub struct SoloAnnotation {
+pub(crate) struct SoloAnnotation {
     #[serde(rename = "@type", default)]
     pub kind: String,
     #[serde(default)]
@@ -90,7 +90,7 @@ pub struct SoloAnnotation {
 
 /// What a SOLO sequence says, ready for the manifest.
 #[derive(Debug, Clone, Default)]
-pub struct Solo {
+pub(crate) struct Solo {
     /// The sequence folder, as found below the described folder.
     pub folder: PathBuf,
     pub frame_files: usize,
@@ -115,7 +115,7 @@ pub struct Solo {
 /// The SOLO frame files below `dir` (in `dir` itself or in its
 /// `sequence.N` folders), or `None` where there are none. More than one
 /// sequence is refused: describe one sequence folder at a time.
-pub fn find(dir: &Path) -> Result<Option<(PathBuf, Vec<PathBuf>)>> {
+pub(crate) fn find(dir: &Path) -> Result<Option<(PathBuf, Vec<PathBuf>)>> {
     let mut by_folder: BTreeMap<PathBuf, Vec<PathBuf>> = BTreeMap::new();
     let walk = walkdir::WalkDir::new(dir).max_depth(2).follow_links(true).sort_by_file_name();
     for entry in walk {
@@ -168,7 +168,7 @@ struct Shot {
 
 /// Reads the sequence's frame files; `cameras` (sensor ids) limits which
 /// RGB cameras are frames (empty: all, at most two).
-pub fn read(folder: &Path, files: &[PathBuf], cameras: &[String]) -> Result<Solo> {
+pub(crate) fn read(folder: &Path, files: &[PathBuf], cameras: &[String]) -> Result<Solo> {
     let mut solo = Solo { folder: folder.to_path_buf(), frame_files: files.len(), ..Solo::default() };
     let mut named = BTreeSet::new();
     let mut shots = Vec::new();
@@ -226,7 +226,7 @@ struct SensorDefinition {
 }
 
 /// The file beside the sequence folders (or in the sequence folder).
-pub const SENSOR_DEFINITIONS_FILE: &str = "sensor_definitions.json";
+pub(crate) const SENSOR_DEFINITIONS_FILE: &str = "sensor_definitions.json";
 
 /// Captures per second of the chosen cameras from `sensor_definitions.json`
 /// (in the sequence folder or the dataset folder above it):

@@ -29,7 +29,7 @@ const SQUARE_PIXELS_DEG: f64 = 1e-3;
 ///
 /// Refused, with the reason: any other matrix, a lens shift or skew (ufcsr's
 /// eye is a centred pinhole), pixels that are not square.
-pub fn horizontal_fov_deg(matrix: &[f64], [width, height]: [f64; 2]) -> Result<f64, String> {
+pub(crate) fn horizontal_fov_deg(matrix: &[f64], [width, height]: [f64; 2]) -> Result<f64, String> {
     let &[m00, m10, _m20, m01, m11, _m21, m02, m12, m22] = matrix else {
         return Err(format!("its matrix has {} numbers, not the 9 of a 3×3 matrix", matrix.len()));
     };
@@ -81,7 +81,7 @@ pub fn horizontal_fov_deg(matrix: &[f64], [width, height]: [f64; 2]) -> Result<f
 /// looks along its local +Z with +X right and +Y up, in a left-handed Y-up
 /// world; ufcsr's world is right-handed and Z-up, and the point (x, y, z) of
 /// Unity is (x, z, y) of ufcsr (swapping two axes turns the handedness).
-pub fn eye_pose(position: [f64; 3], rotation: &[f64]) -> Result<EyePose, String> {
+pub(crate) fn eye_pose(position: [f64; 3], rotation: &[f64]) -> Result<EyePose, String> {
     let &[x, y, z, w] = rotation else {
         return Err(format!("its rotation has {} numbers, not a quaternion's 4", rotation.len()));
     };

@@ -351,7 +351,7 @@ pub fn interrupted_commit(dir: &Path) -> Result<Option<PathBuf>> {
 /// (the files a result set owns) are ever taken away: a journal naming any
 /// other file is refused. Returns whether there was one.
 #[allow(clippy::disallowed_methods)] // the layer: moves only a validated journal's staging folder's files, removes only the set's members
-pub fn finish_interrupted_commit(out_dir: &Path, set: &[&str]) -> Result<bool> {
+pub(crate) fn finish_interrupted_commit(out_dir: &Path, set: &[&str]) -> Result<bool> {
     let Some(path) = interrupted_commit(out_dir)? else { return Ok(false) };
     let journal = read_journal(&path)?;
     if let Some(member) = journal.stale.iter().find(|m| !set.contains(&m.as_str())) {

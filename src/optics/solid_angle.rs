@@ -84,7 +84,7 @@ impl EyeProjection {
 
 /// One row of an eye image: the solid angle of runs of its pixels.
 #[derive(Debug, Clone, Copy)]
-pub struct RowWeights {
+pub(crate) struct RowWeights {
     projection: EyeProjection,
     x0: u32,
     v0: f64,
@@ -93,7 +93,7 @@ pub struct RowWeights {
 
 impl RowWeights {
     /// Row `y` (of the tile) of a tile at `view`.
-    pub fn new(view: &TileView, y: u32) -> RowWeights {
+    pub(crate) fn new(view: &TileView, y: u32) -> RowWeights {
         let row = f64::from(view.origin[1] + y);
         let p = view.projection;
         RowWeights { projection: p, x0: view.origin[0], v0: p.v(row), v1: p.v(row + 1.0) }
@@ -101,7 +101,7 @@ impl RowWeights {
 
     /// `G(x) = F(u(x), v1) − F(u(x), v0)` at the pixel edge `x` of the tile:
     /// the solid angle of a run `[a, b)` is `|G(b) − G(a)|`.
-    pub fn edge(&self, x: usize) -> f64 {
+    pub(crate) fn edge(&self, x: usize) -> f64 {
         let u = self.projection.u(f64::from(self.x0) + x as f64);
         corner(u, self.v1) - corner(u, self.v0)
     }

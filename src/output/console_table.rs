@@ -7,7 +7,7 @@ use crate::result::part_stats::{PartStats, ratio};
 
 /// The parts shown in the console table: the union of the five highest by
 /// total, by peak and by average (the paper's way), ordered by total.
-pub fn headline_parts(parts: &[PartStats]) -> Vec<usize> {
+pub(crate) fn headline_parts(parts: &[PartStats]) -> Vec<usize> {
     let top = |key: &dyn Fn(&PartStats) -> f64| {
         let mut order: Vec<usize> = (0..parts.len()).collect();
         order.sort_by(|&a, &b| key(&parts[b]).total_cmp(&key(&parts[a])).then(a.cmp(&b)));

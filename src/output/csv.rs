@@ -128,7 +128,7 @@ pub fn csv_field(text: &str) -> String {
 }
 
 /// Writes [`crate::result::frames::FRAMES_FILE`] of `table`: one row per eye-frame and part.
-pub fn write_frames_csv(path: &Path, table: &FrameTable) -> Result<()> {
+pub(crate) fn write_frames_csv(path: &Path, table: &FrameTable) -> Result<()> {
     write_atomically(path, |writer| {
         writeln!(writer, "{FRAMES_HEADER}")?;
         let parts: Vec<String> = table.parts.iter().map(|name| csv_field(name)).collect();

@@ -67,9 +67,9 @@ impl FigureSize {
 }
 
 /// IEEE's column width (3.5 in); Elsevier's is 90 mm.
-pub const ONE_COLUMN_MM: f64 = 88.9;
+pub(crate) const ONE_COLUMN_MM: f64 = 88.9;
 /// IEEE's text width (7.16 in); Elsevier's is 190 mm.
-pub const TWO_COLUMNS_MM: f64 = 181.9;
+pub(crate) const TWO_COLUMNS_MM: f64 = 181.9;
 
 /// Figure pixels in `mm` millimetres.
 pub fn mm(mm: f64) -> i32 {
@@ -102,20 +102,20 @@ pub const OKABE_ITO: [[u8; 3]; 8] = [
 ];
 
 /// The colour of series `index`.
-pub fn series_color(index: usize) -> RGBColor {
+pub(crate) fn series_color(index: usize) -> RGBColor {
     let [r, g, b] = OKABE_ITO[index % OKABE_ITO.len()];
     RGBColor(r, g, b)
 }
 
 /// The dash pattern of series `index`: (dash, gap) in points, `None` solid.
-pub fn series_dash(index: usize) -> Option<(f64, f64)> {
+pub(crate) fn series_dash(index: usize) -> Option<(f64, f64)> {
     [None, Some((5.0, 2.5)), Some((1.5, 1.5)), Some((8.0, 2.0))][index % 4]
 }
 
 /// The marker outline of series `index` around the origin, `radius` pixels:
 /// circle, triangle, square, diamond; filled for the first four series,
 /// hollow for the next four.
-pub fn marker_shape(index: usize, radius: i32) -> (Vec<(i32, i32)>, bool) {
+pub(crate) fn marker_shape(index: usize, radius: i32) -> (Vec<(i32, i32)>, bool) {
     let r = f64::from(radius);
     let polygon = |corners: usize, start_deg: f64| -> Vec<(i32, i32)> {
         (0..corners)
@@ -135,7 +135,7 @@ pub fn marker_shape(index: usize, radius: i32) -> (Vec<(i32, i32)>, bool) {
 }
 
 /// Draws series `index`'s marker at `at` (backend pixels) on `area`.
-pub fn draw_marker<B: DrawingBackend>(
+pub(crate) fn draw_marker<B: DrawingBackend>(
     area: &DrawingArea<B, Shift>,
     index: usize,
     at: (i32, i32),
@@ -160,7 +160,7 @@ where
 
 /// The dashed pieces of the polyline `points` (backend pixels) for a
 /// (dash, gap) pattern in pixels; the whole line when `dash` is `None`.
-pub fn dashed(points: &[(i32, i32)], dash: Option<(f64, f64)>) -> Vec<Vec<(i32, i32)>> {
+pub(crate) fn dashed(points: &[(i32, i32)], dash: Option<(f64, f64)>) -> Vec<Vec<(i32, i32)>> {
     let Some((on, off)) = dash else { return vec![points.to_vec()] };
     let mut pieces = Vec::new();
     let mut current: Vec<(i32, i32)> = Vec::new();
@@ -199,7 +199,7 @@ pub fn dashed(points: &[(i32, i32)], dash: Option<(f64, f64)>) -> Vec<Vec<(i32, 
 }
 
 /// Draws series `index`'s line through `points` (backend pixels).
-pub fn draw_series_line<B: DrawingBackend>(
+pub(crate) fn draw_series_line<B: DrawingBackend>(
     area: &DrawingArea<B, Shift>,
     index: usize,
     points: &[(i32, i32)],
@@ -217,7 +217,7 @@ where
 }
 
 /// What drawing a figure returns.
-pub type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
+pub(crate) type DrawResult = std::result::Result<(), Box<dyn std::error::Error>>;
 
 /// The TrueType font the figures' text is drawn and measured with, once
 /// found ([`font_bytes`]).
@@ -262,7 +262,7 @@ pub(crate) fn figure_font() -> Option<FontRef<'static>> {
 /// are drawn with ([`text_width`]; plotters' own box leaves side bearings
 /// out, so right-aligned labels would not end at their anchor) and
 /// plotters' height.
-pub fn kerned_text_size<T: BackendTextStyle, E: std::error::Error + Send + Sync>(
+pub(crate) fn kerned_text_size<T: BackendTextStyle, E: std::error::Error + Send + Sync>(
     text: &str,
     style: &T,
 ) -> Result<(u32, u32), DrawingErrorKind<E>> {
@@ -274,7 +274,7 @@ pub fn kerned_text_size<T: BackendTextStyle, E: std::error::Error + Send + Sync>
 /// The glyph coverage of `text` at plotters size `size`, kerned and with each
 /// glyph's side bearing, calling `plot(x, y, coverage)` with pixels relative to
 /// the left end of the baseline.
-pub fn rasterize_text(text: &str, size: f64, mut plot: impl FnMut(i32, i32, f32)) {
+pub(crate) fn rasterize_text(text: &str, size: f64, mut plot: impl FnMut(i32, i32, f32)) {
     let Some(font) = figure_font() else { return };
     let scale = PxScale::from(size as f32);
     let scaled = font.as_scaled(scale);
@@ -299,7 +299,7 @@ pub fn rasterize_text(text: &str, size: f64, mut plot: impl FnMut(i32, i32, f32)
 
 /// The advance width of `text` at plotters size `size`, kerned, in figure
 /// pixels (0 without a font).
-pub fn text_width(text: &str, size: f64) -> i32 {
+pub(crate) fn text_width(text: &str, size: f64) -> i32 {
     let Some(font) = figure_font() else { return 0 };
     let scaled = font.as_scaled(PxScale::from(size as f32));
     let mut width = 0.0f32;
@@ -321,7 +321,7 @@ pub fn text_width(text: &str, size: f64) -> i32 {
 /// pass over the text, so cutting a label to its room is linear in its
 /// length (measuring each prefix again took 41–73 s for a 10,000-character
 /// part name). Empty without a font.
-pub fn widths_with_end(text: &str, end: char, size: f64) -> Vec<i32> {
+pub(crate) fn widths_with_end(text: &str, end: char, size: f64) -> Vec<i32> {
     let Some(font) = figure_font() else { return Vec::new() };
     let scaled = font.as_scaled(PxScale::from(size as f32));
     let end_id = font.glyph_id(end);
@@ -352,7 +352,7 @@ thread_local! {
 /// Where the baseline lies below the top of plotters' text box, as a share
 /// of the plotters size (the box is `size / 1.24` high; this keeps
 /// descenders inside it and capitals at its top).
-pub const BASELINE: f64 = 0.6;
+pub(crate) const BASELINE: f64 = 0.6;
 
 /// A bitmap backend whose text is kerned and keeps side bearings (plotters'
 /// own ab_glyph drawing drops them); everything else is the bitmap's.
@@ -434,7 +434,7 @@ impl DrawingBackend for KernedBitmap<'_> {
 }
 
 /// The offset of a text box's top left from its anchor point.
-pub fn anchor_offset<T: BackendTextStyle>(style: &T, width: u32, height: u32) -> (i32, i32) {
+pub(crate) fn anchor_offset<T: BackendTextStyle>(style: &T, width: u32, height: u32) -> (i32, i32) {
     let (width, height) = (width as i32, height as i32);
     let dx = match style.anchor().h_pos {
         HPos::Left => 0,

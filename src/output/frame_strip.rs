@@ -67,7 +67,7 @@ impl EyeFrameTiles<'_> {
 }
 
 /// Why an archive gives no strip, or `None` when it can give one.
-pub fn frame_strip_skipped(manifest: &Manifest, canonical_palette: bool) -> Option<&'static str> {
+pub(crate) fn frame_strip_skipped(manifest: &Manifest, canonical_palette: bool) -> Option<&'static str> {
     if !manifest.tiles_written() || !manifest.tiles.iter().any(|tile| tile.file.is_some()) {
         Some("the archive has no tile images (a --count capture), so there is no frame strip")
     } else if !canonical_palette {
@@ -332,7 +332,7 @@ impl ShownFrame {
 }
 
 /// What the strip is drawn from.
-pub struct StripInputs<'a> {
+pub(crate) struct StripInputs<'a> {
     pub archive: &'a Path,
     pub manifest: &'a Manifest,
     /// The legend and PIdT the analysis joined with.
@@ -342,7 +342,7 @@ pub struct StripInputs<'a> {
 }
 
 /// Writes the strip into `path`; returns the frames shown.
-pub fn write_frame_strip(path: &Path, inputs: &StripInputs) -> Result<Vec<u32>> {
+pub(crate) fn write_frame_strip(path: &Path, inputs: &StripInputs) -> Result<Vec<u32>> {
     let texels = TexelsShown::new(inputs.labels, inputs.background);
     let frames = chosen_frames(inputs.manifest);
     let cache = TileCache::default();

@@ -26,7 +26,7 @@ use crate::files::write_rgb_png;
 pub const NEVER_SEEN: [u8; 3] = [160, 160, 160];
 
 /// The colormap position in `[0, 1]` of `count` given `max`.
-pub fn position(count: u32, max: u32, scale: Scale) -> f64 {
+pub(crate) fn position(count: u32, max: u32, scale: Scale) -> f64 {
     if max == 0 {
         return 0.0;
     }
@@ -146,7 +146,7 @@ pub const COUNT_HEATMAP_FILE: &str = "heatmap-count.png";
 /// Where earlier versions wrote the angular-area heatmap (now
 /// [`HEATMAP_FILE`]): a result set written into such a folder removes it,
 /// and the comparison page still reads it from an earlier result.
-pub const EARLIER_AREA_HEATMAP_FILE: &str = "heatmap-area.png";
+pub(crate) const EARLIER_AREA_HEATMAP_FILE: &str = "heatmap-area.png";
 
 /// The largest count painted through the colour table (3 MiB of it).
 const TABLE_LIMIT: u32 = 1 << 20;

@@ -121,7 +121,7 @@ impl TextLayout {
 
 /// `text` broken at spaces into lines no wider than `room` at `size` (a
 /// word wider than the room is cut to fit, see [`fit`]).
-pub fn wrap(text: &str, size: f64, room: f64) -> Vec<String> {
+pub(crate) fn wrap(text: &str, size: f64, room: f64) -> Vec<String> {
     let width = |t: &str| f64::from(text_width(t, size));
     let mut lines: Vec<String> = Vec::new();
     let mut line = String::new();
@@ -139,7 +139,7 @@ pub fn wrap(text: &str, size: f64, room: f64) -> Vec<String> {
 }
 
 /// `text`, cut and ended with "…" where it is wider than `room` at `size`.
-pub fn fit(text: &str, size: f64, room: f64) -> String {
+pub(crate) fn fit(text: &str, size: f64, room: f64) -> String {
     if f64::from(text_width(text, size)) <= room {
         return text.to_string();
     }
@@ -152,7 +152,7 @@ pub fn fit(text: &str, size: f64, room: f64) -> String {
 
 /// Draws `texts` (kerned, black, at `size`) when a font is found: text is
 /// a courtesy the files beside say too.
-pub fn draw_texts(rgb: &mut [u8], [width, height]: [u32; 2], texts: &[(i32, i32, String)], size: f64) {
+pub(crate) fn draw_texts(rgb: &mut [u8], [width, height]: [u32; 2], texts: &[(i32, i32, String)], size: f64) {
     use plotters::prelude::*;
     if texts.is_empty() || !crate::output::plot_font_available() {
         return;

@@ -3,7 +3,7 @@
 //! shared by the plots and the HTML pages.
 
 /// `value` with a comma between each group of three digits.
-pub fn grouped(value: u64) -> String {
+pub(crate) fn grouped(value: u64) -> String {
     let digits = value.to_string();
     let mut out = String::with_capacity(digits.len() + digits.len() / 3);
     for (index, digit) in digits.chars().enumerate() {
@@ -17,7 +17,7 @@ pub fn grouped(value: u64) -> String {
 
 /// An axis tick: a whole, grouped number when the axis spans more than 10
 /// units, else one decimal (`0.5`).
-pub fn tick(value: f64, span: f64) -> String {
+pub(crate) fn tick(value: f64, span: f64) -> String {
     if span > 10.0 {
         let rounded = value.round();
         if rounded < 0.0 { format!("-{}", grouped(-rounded as u64)) } else { grouped(rounded as u64) }

@@ -33,7 +33,7 @@ use crate::output::figure::{BASELINE, DPI, anchor_offset, figure_font, kerned_te
 
 /// The page being drawn: its size in figure pixels, its content stream and
 /// the glyphs its text uses.
-pub struct PdfPage {
+pub(crate) struct PdfPage {
     size: (u32, u32),
     content: Content,
     glyphs: Glyphs,
@@ -48,13 +48,13 @@ struct Glyphs {
 }
 
 /// The backend drawing onto a [`PdfPage`].
-pub struct PdfBackend<'a> {
+pub(crate) struct PdfBackend<'a> {
     page: &'a mut PdfPage,
 }
 
 /// Drawing into memory cannot fail.
 #[derive(Debug)]
-pub struct NoError;
+pub(crate) struct NoError;
 
 impl std::fmt::Display for NoError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -72,7 +72,7 @@ const FONT: Name<'static> = Name(b"F1");
 
 impl PdfPage {
     /// An empty page of `size` figure pixels.
-    pub fn new(size: (u32, u32)) -> PdfPage {
+    pub(crate) fn new(size: (u32, u32)) -> PdfPage {
         PdfPage {
             size,
             content: Content::new(),
@@ -81,7 +81,7 @@ impl PdfPage {
     }
 
     /// The backend that draws onto this page.
-    pub fn backend(&mut self) -> PdfBackend<'_> {
+    pub(crate) fn backend(&mut self) -> PdfBackend<'_> {
         PdfBackend { page: self }
     }
 
@@ -143,7 +143,7 @@ impl PdfPage {
 
     /// The whole file: the page, its font (subsetted and embedded when the
     /// page has text) and `title` in the document information.
-    pub fn finish(self, title: &str) -> Vec<u8> {
+    pub(crate) fn finish(self, title: &str) -> Vec<u8> {
         let (w, h) = (self.size.0 as f32 * K, self.size.1 as f32 * K);
         let mut pdf = Pdf::new();
         let [catalog, pages, page, content, info, font] = [1, 2, 3, 4, 5, 6].map(Ref::new);
@@ -412,7 +412,12 @@ pub(crate) fn em_px(font: &FontRef<'_>, size: f64) -> f32 {
 /// document information. The pixels are kept exactly: PNG row predictors
 /// (Sub or Up, whichever leaves more zeros) and Flate, which every PDF
 /// reader decodes.
-pub fn pdf_image_document(rgb: &[u8], [width, height]: [u32; 2], width_mm: f64, title: &str) -> Vec<u8> {
+pub(crate) fn pdf_image_document(
+    rgb: &[u8],
+    [width, height]: [u32; 2],
+    width_mm: f64,
+    title: &str,
+) -> Vec<u8> {
     let w_pt = (width_mm / 25.4 * 72.0) as f32;
     let h_pt = w_pt * height as f32 / width.max(1) as f32;
     let stream = fdeflate::compress_to_vec(&predicted_rows(rgb, width as usize));
@@ -463,7 +468,7 @@ fn predicted_rows(rgb: &[u8], width: usize) -> Vec<u8> {
 }
 
 /// Writes the picture `rgb` as `path` (a PDF `width_mm` wide), atomically.
-pub fn write_image_pdf(
+pub(crate) fn write_image_pdf(
     path: &std::path::Path,
     rgb: &[u8],
     size: [u32; 2],

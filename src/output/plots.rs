@@ -41,14 +41,14 @@ use crate::result::part_stats::PartStats;
 use crate::{count::part_lookup::FrameLabel, result::frames::FrameTable};
 
 /// Folder of the plots inside the output folder.
-pub const PLOTS_DIR: &str = "plots";
+pub(crate) const PLOTS_DIR: &str = "plots";
 
 /// Every plot a result set can have (`plots/NAME.svg`, `.png`, `.pdf`, and
 /// the same with `-1col`).
-pub const PLOT_NAMES: [&str; 3] = ["visibility-time", "visibility-distance", "parts"];
+pub(crate) const PLOT_NAMES: [&str; 3] = ["visibility-time", "visibility-distance", "parts"];
 
 /// Every file name a plot can have, relative to [`PLOTS_DIR`].
-pub fn plot_file_names() -> Vec<String> {
+pub(crate) fn plot_file_names() -> Vec<String> {
     let mut names = Vec::new();
     for plot in PLOT_NAMES {
         for size in FigureSize::ALL {
@@ -59,7 +59,7 @@ pub fn plot_file_names() -> Vec<String> {
 }
 
 /// Parts drawn in the time and distance plots.
-pub const TOP_PARTS: usize = 8;
+pub(crate) const TOP_PARTS: usize = 8;
 
 /// Registers a sans-serif font with plotters once; false when none is found
 /// (`ufcsr capture`'s study plot uses it too).
@@ -85,7 +85,7 @@ pub struct Plot {
 /// Which files of each plot are written (issue 45 §5: a default analysis
 /// wrote 18 plot files).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum PlotFiles {
+pub(crate) enum PlotFiles {
     /// Two columns as PNG (shown on the page) and PDF (for the paper); the
     /// SVG only without a font (then the only file that can be drawn).
     Default,
@@ -214,7 +214,7 @@ fn write_plot(
 /// distance plots need `frames` with eye-frames (a manifest), the bar chart
 /// needs parts (and shows `measures` when the result has them); `which`
 /// files of each.
-pub fn write_plots(
+pub(crate) fn write_plots(
     out_dir: &Path,
     parts: &[PartStats],
     frames: Option<&FrameTable>,

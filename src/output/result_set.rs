@@ -137,7 +137,7 @@ pub fn write_results_with(
 /// views included): a run that writes fewer (no vehicle model,
 /// `--frames-csv off`) removes the rest of an earlier run, so the folder
 /// never holds a mixed set.
-pub fn result_set_members() -> Vec<String> {
+pub(crate) fn result_set_members() -> Vec<String> {
     let mut members: Vec<String> = [
         "result.json",
         "parts.csv",

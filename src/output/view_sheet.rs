@@ -132,7 +132,7 @@ fn draw_compass(rgb: &mut [u8], camera: &ViewCamera, azimuths: &[f64], scale: u3
 
 /// Shades a rendered view and adds its compass (when the pedestrian's
 /// directions are known): what `views/NAME.png` shows.
-pub fn finish_view(rgb: &mut [u8], model: &VehicleModel, camera: &ViewCamera, texture: &ViewTexture) {
+pub(crate) fn finish_view(rgb: &mut [u8], model: &VehicleModel, camera: &ViewCamera, texture: &ViewTexture) {
     shade(rgb, model, camera);
     if !texture.pedestrian_azimuths_deg.is_empty() {
         draw_compass(rgb, camera, &texture.pedestrian_azimuths_deg, texture.views_scale.max(1));
@@ -166,7 +166,7 @@ pub fn bar_ticks(max: u32, scale: Scale) -> Vec<u32> {
 /// bar with ticks, units and the caption underneath. Returns RGB and size.
 /// Its text is sized to print at least 7 pt when the sheet is printed two
 /// journal columns (183 mm) wide, as `views.pdf` is ([`sheet_text_px`]).
-pub fn contact_sheet(
+pub(crate) fn contact_sheet(
     pictures: &[Vec<u8>],
     cameras: &[ViewCamera],
     texture: &ViewTexture,
@@ -281,7 +281,7 @@ impl ColorBar {
 /// A colour-bar number of a measured quantity: four significant digits at
 /// most, trailing zeros dropped (the ticks are round values, the maximum
 /// is not).
-pub fn tick_value(value: f64) -> String {
+pub(crate) fn tick_value(value: f64) -> String {
     if value == 0.0 {
         return "0".to_string();
     }

@@ -21,7 +21,7 @@ use crate::placement::table::CandidateKind;
 
 /// `name` with the words `left` and `right` swapped (words split by `_`,
 /// `-`, space or `.`); `None` when it has neither.
-pub fn mirrored_name(name: &str) -> Option<String> {
+pub(crate) fn mirrored_name(name: &str) -> Option<String> {
     let mut out = String::with_capacity(name.len());
     let mut swapped = false;
     let mut word = String::new();
@@ -76,7 +76,7 @@ fn names_of(archives: &[ArchiveTimelines], kind: CandidateKind) -> BTreeMap<Stri
 
 /// Whether a left/right pair is one choice (two displays).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Pairing {
+pub(crate) enum Pairing {
     /// Every candidate is a choice of its own.
     Single,
     /// A candidate and its mirror image are chosen together (`--symmetric`).
@@ -86,7 +86,7 @@ pub enum Pairing {
 /// The choices of `kind`, in name order (pairs named by their first
 /// member), among the candidates `representatives` lets through (each
 /// mountable candidate's region's; see the module documentation).
-pub fn choices(
+pub(crate) fn choices(
     archives: &[ArchiveTimelines],
     universe: &Universe,
     kind: CandidateKind,

@@ -25,7 +25,7 @@
 
 use std::collections::BTreeMap;
 
-pub use crate::format::placement::{ExcludedRecord, ExclusionReason};
+pub(crate) use crate::format::placement::{ExcludedRecord, ExclusionReason};
 use crate::placement::footprints::part_of;
 use crate::placement::regions::{head_noun, mountable};
 use crate::placement::table::CandidateKind;
@@ -45,7 +45,7 @@ pub enum Fit {
 }
 
 /// One candidate as [`fit_parts`] sees it: name, kind, legible frames.
-pub trait FitCandidate {
+pub(crate) trait FitCandidate {
     fn name(&self) -> &str;
     fn kind(&self) -> CandidateKind;
     fn legible_frames(&mut self) -> &mut Vec<usize>;
@@ -56,7 +56,7 @@ pub trait FitCandidate {
 /// documentation): with any display patch in the archive, each part's
 /// legible frames become its most legible patch's (ties: the first name),
 /// and a part without a patch has none.
-pub fn fit_parts<T: FitCandidate>(candidates: &mut [T]) {
+pub(crate) fn fit_parts<T: FitCandidate>(candidates: &mut [T]) {
     if !candidates.iter().any(|c| c.kind() == CandidateKind::Patch) {
         return;
     }
@@ -86,7 +86,7 @@ pub fn fit_parts<T: FitCandidate>(candidates: &mut [T]) {
 /// Why `name` may not be an answer, if it may not: not mountable under
 /// `not_mountable`, or (a part, when `patch_parts` is `Some`: the parts
 /// holding a display patch) no display fits on it.
-pub fn exclusion(
+pub(crate) fn exclusion(
     name: &str,
     kind: CandidateKind,
     not_mountable: &[String],

@@ -49,7 +49,7 @@ impl PatchFootprint {
 
 /// The display size a patch's name carries (`PART@0.40x0.15@x1.20y-0.45z0.80`:
 /// width x height, m), if any.
-pub fn size_in_name(name: &str) -> Option<[f64; 2]> {
+pub(crate) fn size_in_name(name: &str) -> Option<[f64; 2]> {
     let mut pieces = name.split('@');
     pieces.next()?;
     let size = pieces.next()?;
@@ -61,7 +61,7 @@ pub fn size_in_name(name: &str) -> Option<[f64; 2]> {
 
 /// `PART@xX.XXyY.YYzZ.ZZ` with the display size put in
 /// (`PART@0.40x0.15@x…`); names that already carry one are kept.
-pub fn name_with_size(name: &str, size: [f64; 2]) -> String {
+pub(crate) fn name_with_size(name: &str, size: [f64; 2]) -> String {
     if size_in_name(name).is_some() {
         return name.to_string();
     }
@@ -72,12 +72,12 @@ pub fn name_with_size(name: &str, size: [f64; 2]) -> String {
 }
 
 /// The part a candidate belongs to: a patch's name before its first `@`.
-pub fn part_of(name: &str) -> &str {
+pub(crate) fn part_of(name: &str) -> &str {
     name.split('@').next().unwrap_or(name)
 }
 
 /// The centre a patch's name carries (`PART@x1.20y-0.45z0.80`), if any.
-pub fn centre_in_name(name: &str) -> Option<[f64; 3]> {
+pub(crate) fn centre_in_name(name: &str) -> Option<[f64; 3]> {
     let (_, place) = name.rsplit_once('@')?;
     let rest = place.strip_prefix('x')?;
     let (x, rest) = rest.split_once('y')?;

@@ -34,57 +34,57 @@ use crate::placement::table::{CandidateKind, PlacementTable, Sighting};
 /// height shall be 16 minutes of arc" (20–22' preferred for reading). It is
 /// applied to the characters, whose height is [`CharacterHeight`] of the
 /// display's.
-pub const DEFAULT_MIN_CHARACTER_HEIGHT_ARCMIN: f64 = 16.0;
+pub(crate) const DEFAULT_MIN_CHARACTER_HEIGHT_ARCMIN: f64 = 16.0;
 /// Where [`DEFAULT_MIN_CHARACTER_HEIGHT_ARCMIN`] comes from.
-pub const CHARACTER_ARCMIN_SOURCE: &str = "ISO 9241-3:1992 / ISO 9241-303 minimum character height 16 arcmin \
+pub(crate) const CHARACTER_ARCMIN_SOURCE: &str = "ISO 9241-3:1992 / ISO 9241-303 minimum character height 16 arcmin \
      (20-22 arcmin preferred), applied to the characters; the road-sign alternative, MUTCD 2009 Sec. 2A.14 \
      (1 in of letter height per 40 ft of legibility distance), is 7.16 arcmin";
 /// One line of capitals half as tall as the display: a quarter of the
 /// height above and below for the border and margins. A design assumption,
 /// no standard fixes it.
-pub const DEFAULT_CHARACTER_FRACTION: f64 = 0.5;
+pub(crate) const DEFAULT_CHARACTER_FRACTION: f64 = 0.5;
 /// Where [`DEFAULT_CHARACTER_FRACTION`] comes from.
-pub const CHARACTER_HEIGHT_SOURCE: &str = "design assumption (no standard): one line of capitals half the display \
+pub(crate) const CHARACTER_HEIGHT_SOURCE: &str = "design assumption (no standard): one line of capitals half the display \
      height, a quarter above and below for border and margins; for a part (height unknown) the characters are \
      this share of its visible angular height";
 /// A one-word message ("WALK", "STOP", "GO AHEAD" is two): four characters.
-pub const DEFAULT_MIN_CHARACTERS: u32 = 4;
+pub(crate) const DEFAULT_MIN_CHARACTERS: u32 = 4;
 /// A character's width plus the space after it, per unit of its height: ISO
 /// 9241-3 / ANSI-HFES 100 width-to-height 0.7 (lower end of the preferred
 /// 0.7-0.9) and a stroke's width of spacing (about 1/7 of the height).
-pub const CHARACTER_PITCH: f64 = 0.85;
+pub(crate) const CHARACTER_PITCH: f64 = 0.85;
 /// Where [`DEFAULT_MIN_CHARACTERS`] and [`CHARACTER_PITCH`] come from.
-pub const CHARACTERS_SOURCE: &str = "one short word (4 characters, e.g. WALK/STOP) at a pitch of 0.85 character \
+pub(crate) const CHARACTERS_SOURCE: &str = "one short word (4 characters, e.g. WALK/STOP) at a pitch of 0.85 character \
      heights (ISO 9241-3 / ANSI-HFES 100 width-to-height 0.7 plus about one stroke of spacing); the display's \
      width is foreshortened by cos(view angle), its height not (measured); parts (size unknown) are not \
      width-checked";
 /// No standard sets how much of an eHMI may be hidden; a design assumption:
 /// four fifths of its face unobstructed.
-pub const DEFAULT_MIN_VISIBLE_FRACTION: f64 = 0.8;
+pub(crate) const DEFAULT_MIN_VISIBLE_FRACTION: f64 = 0.8;
 /// Where [`DEFAULT_MIN_VISIBLE_FRACTION`] comes from.
-pub const VISIBLE_FRACTION_SOURCE: &str =
+pub(crate) const VISIBLE_FRACTION_SOURCE: &str =
     "design assumption (no standard): at least 4/5 of the candidate's area unobstructed";
 /// The half-luminance viewing angle LED-matrix displays are commonly
 /// specified with (±60°); a flat display seen at 60° is also foreshortened
 /// to half its width. A datasheet convention, not a standard.
-pub const DEFAULT_MAX_VIEW_ANGLE_DEG: f64 = 60.0;
+pub(crate) const DEFAULT_MAX_VIEW_ANGLE_DEG: f64 = 60.0;
 /// Where [`DEFAULT_MAX_VIEW_ANGLE_DEG`] comes from.
-pub const VIEW_ANGLE_SOURCE: &str = "common LED/LCD datasheet half-luminance viewing angle of +-60 deg from \
+pub(crate) const VIEW_ANGLE_SOURCE: &str = "common LED/LCD datasheet half-luminance viewing angle of +-60 deg from \
      the normal (not a standard; cos 60 = 1/2 foreshortening)";
 /// FHWA's changeable-message-sign guidance (Dudek 2004, *Changeable Message
 /// Sign Operation and Messaging Handbook*, FHWA-OP-03-070): a message needs
 /// at least one second of exposure per word; an eHMI message is one word.
-pub const DEFAULT_MIN_DWELL_S: f64 = 1.0;
+pub(crate) const DEFAULT_MIN_DWELL_S: f64 = 1.0;
 /// Where [`DEFAULT_MIN_DWELL_S`] comes from.
-pub const DWELL_SOURCE: &str = "FHWA changeable message sign guidance (Dudek 2004, FHWA-OP-03-070): at least \
+pub(crate) const DWELL_SOURCE: &str = "FHWA changeable message sign guidance (Dudek 2004, FHWA-OP-03-070): at least \
      1 s of exposure per word; a one-word message; runs of legible frames shorter than this do not count";
 /// The seconds before the vehicle reaches the pedestrian in which the
 /// crossing decision is made: about the Highway Capacity Manual's pedestrian
 /// critical headway for one 3.5 m lane (L / S_p + t_s = 3.5 m / 1.07 m/s + 3 s
 /// ≈ 6.3 s), rounded.
-pub const DEFAULT_DECISION_WINDOW_S: f64 = 6.0;
+pub(crate) const DEFAULT_DECISION_WINDOW_S: f64 = 6.0;
 /// Where [`DEFAULT_DECISION_WINDOW_S`] comes from.
-pub const DECISION_WINDOW_SOURCE: &str = "about the HCM pedestrian critical headway for one 3.5 m lane \
+pub(crate) const DECISION_WINDOW_SOURCE: &str = "about the HCM pedestrian critical headway for one 3.5 m lane \
      (lane width / 3.5 ft/s walking speed + 3 s start-up), rounded to 6 s; the window ends at the frame of \
      the smallest vehicle-pedestrian distance";
 
@@ -217,7 +217,7 @@ impl Thresholds {
 
 /// The legible frames (ascending indices) without the runs of consecutive
 /// frames shorter than `min_frames`.
-pub fn apply_dwell(legible: Vec<usize>, min_frames: usize) -> Vec<usize> {
+pub(crate) fn apply_dwell(legible: Vec<usize>, min_frames: usize) -> Vec<usize> {
     let mut kept = Vec::with_capacity(legible.len());
     let mut start = 0;
     while start < legible.len() {
@@ -234,7 +234,7 @@ pub fn apply_dwell(legible: Vec<usize>, min_frames: usize) -> Vec<usize> {
 }
 
 /// The frames a dwell of `dwell_s` needs at `frame_s` seconds per frame.
-pub fn dwell_frames(dwell_s: f64, frame_s: f64) -> usize {
+pub(crate) fn dwell_frames(dwell_s: f64, frame_s: f64) -> usize {
     if dwell_s <= 0.0 || frame_s <= 0.0 { 1 } else { ((dwell_s / frame_s) - 1e-9).ceil().max(1.0) as usize }
 }
 

@@ -33,9 +33,9 @@ pub const PLACEMENT_PICTURE_FILE: &str = "placement.png";
 /// The folder of full-size pictures, one per chosen set.
 pub const PLACEMENT_VIEWS_DIR: &str = "placement-views";
 /// Radius of the disc drawn for a patch whose footprint is not recorded, m.
-pub const MARKER_RADIUS_M: f64 = 0.10;
+pub(crate) const MARKER_RADIUS_M: f64 = 0.10;
 /// Chosen sets drawn per kind: the best 1, 2 and 3.
-pub const PICTURED_SETS: usize = 3;
+pub(crate) const PICTURED_SETS: usize = 3;
 
 const PAPER: [u8; 3] = [255, 255, 255];
 const BODY: [u8; 3] = [205, 205, 205];
@@ -102,7 +102,7 @@ pub struct PicturedSet {
 /// earlier one of its kind (at most 3 displays choosing the same as at most
 /// 2) is drawn once, its caption saying so. Members are named by
 /// [`readable_part_name`].
-pub fn pictured_sets(
+pub(crate) fn pictured_sets(
     combinations: &[CombinationRecord],
     footprints: &BTreeMap<String, PatchFootprint>,
 ) -> Vec<PicturedSet> {
@@ -227,7 +227,7 @@ pub struct WrittenPicture {
 }
 
 /// Writes `out/placement.png` and `out/placement-views/NAME.png` for `sets`.
-pub fn write_placement_picture(
+pub(crate) fn write_placement_picture(
     model: &VehicleModel,
     sets: &[PicturedSet],
     out: &Path,
@@ -292,7 +292,7 @@ pub fn write_placement_picture(
 }
 
 /// The overview as a PDF, printed two journal columns (183 mm) wide.
-pub const PLACEMENT_PDF_FILE: &str = "placement.pdf";
+pub(crate) const PLACEMENT_PDF_FILE: &str = "placement.pdf";
 /// Left and right margin of the overview's text.
 const MARGIN: u32 = 6;
 
@@ -300,7 +300,7 @@ const MARGIN: u32 = 6;
 /// caption (wrapped to the width) and legend (a swatch per member, its
 /// displays' names), and each small view's direction name.
 #[derive(Debug, Clone, PartialEq)]
-pub struct OverviewLayout {
+pub(crate) struct OverviewLayout {
     pub size: [u32; 2],
     /// Key, captions and legends ([`crate::output::legend`]).
     pub text: TextLayout,
@@ -316,7 +316,7 @@ pub struct OverviewLayout {
 /// whisker from `low_x` to `high_x` (its 95 % interval), on one scale for
 /// every set of the picture (`px_per_s`); `y`, `height`: the bar's band.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct TimeBar {
+pub(crate) struct TimeBar {
     pub x0: u32,
     pub y: u32,
     pub height: u32,
@@ -353,14 +353,14 @@ impl TimeBar {
 const BAR: [u8; 3] = [0, 114, 178];
 
 /// The key at the top of the overview.
-pub const OVERVIEW_KEY: &str = "Each row: the vehicle from front, front-left, left, rear-left, rear, rear-right, \
+pub(crate) const OVERVIEW_KEY: &str = "Each row: the vehicle from front, front-left, left, rear-left, rear, rear-right, \
      right and front-right (15° from above); coloured = the chosen displays (one colour per member of the \
      set, a left/right pair shares one), outlined at their rims; grey = the rest of the vehicle. Under each caption, the blue bar is the seconds \
      legible and the black whisker its 95 % interval, on one scale for every set.";
 
 impl OverviewLayout {
     /// The layout of `sets` over rows of eight `view`-sized pictures.
-    pub fn new(sets: &[PicturedSet], view: [u32; 2]) -> OverviewLayout {
+    pub(crate) fn new(sets: &[PicturedSet], view: [u32; 2]) -> OverviewLayout {
         let width = view[0] * 8;
         let room = f64::from(width - 2 * MARGIN);
         // Text at least 7 pt where the picture is printed two columns wide

@@ -44,7 +44,7 @@ pub const DEFAULT_NOT_MOUNTABLE: [&str; 15] = [
     "windows",
 ];
 /// Where [`DEFAULT_NOT_MOUNTABLE`] comes from.
-pub const NOT_MOUNTABLE_SOURCE: &str = "wheels, tyres and rims turn; glazing must stay transparent (ECE R43 / \
+pub(crate) const NOT_MOUNTABLE_SOURCE: &str = "wheels, tyres and rims turn; glazing must stay transparent (ECE R43 / \
      FMVSS 205 regulate it): a candidate whose part's head noun (last word without side/position words) is in \
      the list is scored but never chosen; --not-mountable replaces the list ('' allows every surface)";
 /// Patches of one part whose centres are within 0.25 m are one place:
@@ -52,7 +52,7 @@ pub const NOT_MOUNTABLE_SOURCE: &str = "wheels, tyres and rims turn; glazing mus
 /// footprints overlap by more than a third.
 pub const DEFAULT_REGION_RADIUS_M: f64 = 0.25;
 /// Where [`DEFAULT_REGION_RADIUS_M`] comes from.
-pub const REGION_RADIUS_SOURCE: &str = "design choice: patches of one part within 0.25 m (centre to centre) \
+pub(crate) const REGION_RADIUS_SOURCE: &str = "design choice: patches of one part within 0.25 m (centre to centre) \
      overlap by more than a third of a 0.40 m display and are one place; the region's most legible patch \
      stands for it (0 turns collapsing off)";
 
@@ -63,7 +63,7 @@ const POSITION_WORDS: [&str; 20] = [
 ];
 
 /// The head noun of a candidate's part (see the module documentation).
-pub fn head_noun(name: &str) -> String {
+pub(crate) fn head_noun(name: &str) -> String {
     part_of(name)
         .split(['_', '-', '.', ' '])
         .map(str::to_lowercase)
@@ -73,13 +73,13 @@ pub fn head_noun(name: &str) -> String {
 }
 
 /// Whether a display can be mounted on `name`'s surface under `not_mountable`.
-pub fn mountable(name: &str, not_mountable: &[String]) -> bool {
+pub(crate) fn mountable(name: &str, not_mountable: &[String]) -> bool {
     let noun = head_noun(name);
     !not_mountable.iter().any(|n| n.trim().eq_ignore_ascii_case(&noun))
 }
 
 /// One candidate as the region rule sees it.
-pub struct Scored<'a> {
+pub(crate) struct Scored<'a> {
     pub name: &'a str,
     pub kind: CandidateKind,
     /// Mean legible seconds (the region's order).
@@ -89,7 +89,7 @@ pub struct Scored<'a> {
 /// Per candidate that may be chosen: the candidate standing for its region
 /// (itself for parts and a region's first patch). Candidates `excluded`
 /// (not mountable, no display fits: [`crate::placement::eligible`]) are absent.
-pub fn representatives(
+pub(crate) fn representatives(
     scored: &[Scored],
     footprints: &BTreeMap<String, PatchFootprint>,
     excluded: &std::collections::BTreeSet<String>,

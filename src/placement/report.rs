@@ -13,9 +13,10 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 use crate::files::write_atomically;
-pub use crate::format::placement::{
-    ArchiveRecord, CandidateKind, CandidateRecord, CombinationRecord, MemberRecord, PLACEMENT_SCHEMA,
-    PlacementDocument, SensitivityRecord, Sources, ThresholdsRecord, UncertaintyRecord,
+pub use crate::format::placement::PLACEMENT_SCHEMA;
+pub(crate) use crate::format::placement::{
+    ArchiveRecord, CandidateKind, CandidateRecord, CombinationRecord, MemberRecord, PlacementDocument,
+    SensitivityRecord, Sources, ThresholdsRecord, UncertaintyRecord,
 };
 use crate::placement::footprints::PatchFootprint;
 use crate::placement::legibility::{
@@ -257,7 +258,7 @@ fn thresholds_record(options: &PlacementOptions) -> ThresholdsRecord {
 }
 
 /// What placement.json says of the intervals and probabilities.
-pub const UNCERTAINTY_METHOD: &str = "interval_s: Student's t 95 % interval of the mean over the archives of the \
+pub(crate) const UNCERTAINTY_METHOD: &str = "interval_s: Student's t 95 % interval of the mean over the archives of the \
      set's legible seconds (the archives are the random units: scenarios, observers, texel-sample seeds; frames \
      and eyes inside an archive are not); p_best: share of bootstrap replicates over the archives (n drawn with \
      replacement) whose re-run search gives this set; p_within_epsilon: share in which it is at most epsilon_s \

@@ -32,11 +32,11 @@ use crate::placement::table::CandidateKind;
 pub const EXHAUSTIVE_LIMIT: u128 = 2_000_000;
 
 /// How many of the next-best sets the search keeps for the runners-up.
-pub const RUNNERS_UP: usize = 8;
+pub(crate) const RUNNERS_UP: usize = 8;
 
 /// One choice: a candidate, or with `--symmetric` a left/right pair.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Choice {
+pub(crate) struct Choice {
     /// The candidates it is made of (one, or a mirror pair): its displays.
     pub names: Vec<String>,
     pub kind: CandidateKind,
@@ -49,13 +49,13 @@ pub struct Choice {
 /// ascending word index: memory goes with the frames set, not with the
 /// frames there are.
 #[derive(Debug, Clone, PartialEq, Default)]
-pub struct SparseBits {
+pub(crate) struct SparseBits {
     words: Vec<(usize, u64)>,
 }
 
 impl SparseBits {
     /// From (word index, bits) pairs in any order, indices repeated or not.
-    pub fn from_words(mut words: Vec<(usize, u64)>) -> SparseBits {
+    pub(crate) fn from_words(mut words: Vec<(usize, u64)>) -> SparseBits {
         words.sort_unstable_by_key(|&(index, _)| index);
         let mut merged: Vec<(usize, u64)> = Vec::with_capacity(words.len());
         for (index, bits) in words {
@@ -70,12 +70,12 @@ impl SparseBits {
     }
 
     /// The union with `other`.
-    pub fn union(&self, other: &SparseBits) -> SparseBits {
+    pub(crate) fn union(&self, other: &SparseBits) -> SparseBits {
         SparseBits::from_words(self.words.iter().chain(&other.words).copied().collect())
     }
 
     /// ORs the bits into the dense bitset `dense`.
-    pub fn or_into(&self, dense: &mut [u64]) {
+    pub(crate) fn or_into(&self, dense: &mut [u64]) {
         for &(index, bits) in &self.words {
             dense[index] |= bits;
         }
@@ -90,14 +90,14 @@ impl SparseBits {
 
 impl Choice {
     /// Physical displays: one per candidate.
-    pub fn displays(&self) -> usize {
+    pub(crate) fn displays(&self) -> usize {
         self.names.len()
     }
 }
 
 /// The archives' frames as bit ranges, and their weights.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Universe {
+pub(crate) struct Universe {
     /// Per archive: its words of a bitset.
     pub ranges: Vec<Range<usize>>,
     /// Per archive: seconds one frame stands for.
@@ -110,7 +110,7 @@ pub struct Universe {
 }
 
 impl Universe {
-    pub fn of(archives: &[ArchiveTimelines]) -> Universe {
+    pub(crate) fn of(archives: &[ArchiveTimelines]) -> Universe {
         let mut ranges = Vec::new();
         let mut words = 0;
         for archive in archives {
@@ -128,12 +128,12 @@ impl Universe {
     }
 
     /// The same frames with other weights.
-    pub fn weighted(&self, weights: Vec<f64>) -> Universe {
+    pub(crate) fn weighted(&self, weights: Vec<f64>) -> Universe {
         Universe { weights, ..self.clone() }
     }
 
     /// Seconds covered per archive.
-    pub fn seconds(&self, bits: &[u64]) -> Vec<f64> {
+    pub(crate) fn seconds(&self, bits: &[u64]) -> Vec<f64> {
         self.ranges
             .iter()
             .zip(&self.frame_s)
@@ -145,14 +145,14 @@ impl Universe {
 
     /// The bits of per-archive legible frames (frame indices; `None`:
     /// the candidate is not in that archive).
-    pub fn bits<'a>(&self, legible: impl Iterator<Item = Option<&'a [usize]>>) -> Vec<u64> {
+    pub(crate) fn bits<'a>(&self, legible: impl Iterator<Item = Option<&'a [usize]>>) -> Vec<u64> {
         let mut bits = vec![0u64; self.words];
         self.sparse_bits(legible).or_into(&mut bits);
         bits
     }
 
     /// [`Universe::bits`], the non-zero words only.
-    pub fn sparse_bits<'a>(&self, legible: impl Iterator<Item = Option<&'a [usize]>>) -> SparseBits {
+    pub(crate) fn sparse_bits<'a>(&self, legible: impl Iterator<Item = Option<&'a [usize]>>) -> SparseBits {
         let mut words = Vec::new();
         for (range, frames) in self.ranges.iter().zip(legible) {
             for &frame in frames.into_iter().flatten() {
@@ -182,7 +182,7 @@ impl Universe {
     }
 
     /// The weighted mean of per-archive values.
-    pub fn mean(&self, values: &[f64]) -> f64 {
+    pub(crate) fn mean(&self, values: &[f64]) -> f64 {
         let total: f64 = self.weights.iter().sum();
         if total <= 0.0 {
             return 0.0;
@@ -191,7 +191,7 @@ impl Universe {
     }
 
     /// The least value of an archive with weight.
-    pub fn worst(&self, values: &[f64]) -> f64 {
+    pub(crate) fn worst(&self, values: &[f64]) -> f64 {
         values
             .iter()
             .zip(&self.weights)
@@ -202,7 +202,7 @@ impl Universe {
     }
 
     /// The objective's value of per-archive seconds, ties broken by the mean.
-    pub fn value(&self, objective: Objective, seconds: &[f64]) -> (f64, f64) {
+    pub(crate) fn value(&self, objective: Objective, seconds: &[f64]) -> (f64, f64) {
         match objective {
             Objective::Mean => (self.mean(seconds), 0.0),
             Objective::WorstCase => (self.worst(seconds), self.mean(seconds)),
@@ -210,13 +210,13 @@ impl Universe {
     }
 
     /// The objective's value of the union of `picked`.
-    pub fn score(&self, choices: &[Choice], picked: &[usize], objective: Objective) -> (f64, f64) {
+    pub(crate) fn score(&self, choices: &[Choice], picked: &[usize], objective: Objective) -> (f64, f64) {
         self.value(objective, &self.seconds(&union_of(self, choices, picked)))
     }
 }
 
 /// The frames any of `picked` is legible in.
-pub fn union_of(universe: &Universe, choices: &[Choice], picked: &[usize]) -> Vec<u64> {
+pub(crate) fn union_of(universe: &Universe, choices: &[Choice], picked: &[usize]) -> Vec<u64> {
     picked.iter().fold(vec![0u64; universe.words], |acc, &c| union(&acc, &choices[c].bits))
 }
 
@@ -227,19 +227,19 @@ fn union(a: &[u64], b: &SparseBits) -> Vec<u64> {
 }
 
 /// Physical displays of `picked`.
-pub fn displays(choices: &[Choice], picked: &[usize]) -> usize {
+pub(crate) fn displays(choices: &[Choice], picked: &[usize]) -> usize {
     picked.iter().map(|&c| choices[c].displays()).sum()
 }
 
 /// The number of k-subsets of n (of all n when k ≥ n).
-pub fn binomial(n: usize, k: usize) -> u128 {
+pub(crate) fn binomial(n: usize, k: usize) -> u128 {
     (0..k.min(n) as u128).fold(1u128, |acc, i| acc.saturating_mul(n as u128 - i) / (i + 1))
 }
 
 /// What the search found: the set (choice indices), how, the bound on any
 /// set of k displays and the next-best sets it met (with their values).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Found {
+pub(crate) struct Found {
     pub picked: Vec<usize>,
     pub method: Method,
     /// `None` when exhaustive (the value is the optimum).
@@ -251,7 +251,7 @@ pub struct Found {
 
 /// The best set of at most `k` displays among `choices` for `objective`:
 /// exhaustive when there are at most `exhaustive_limit` sets.
-pub fn best_set(
+pub(crate) fn best_set(
     universe: &Universe,
     choices: &[Choice],
     k: usize,

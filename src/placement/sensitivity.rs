@@ -15,7 +15,7 @@ use crate::format::placement::{CharacterHeight, SensitivityRecord, SensitivitySe
 use crate::placement::legibility::Thresholds;
 
 /// One moved threshold: its field name, its new value and the thresholds.
-pub struct Step {
+pub(crate) struct Step {
     pub threshold: &'static str,
     pub value: f64,
     pub thresholds: Thresholds,
@@ -23,7 +23,7 @@ pub struct Step {
 
 /// Every threshold one step down and one step up (values out of range
 /// left out).
-pub fn steps(base: &Thresholds) -> Vec<Step> {
+pub(crate) fn steps(base: &Thresholds) -> Vec<Step> {
     let mut out = Vec::new();
     let mut push = |threshold: &'static str, value: f64, thresholds: Thresholds| {
         if thresholds.check().is_ok() && thresholds != *base {
@@ -63,6 +63,6 @@ pub fn steps(base: &Thresholds) -> Vec<Step> {
 }
 
 /// The record of one step from its best sets.
-pub fn record(step: &Step, sets: Vec<SensitivitySet>) -> SensitivityRecord {
+pub(crate) fn record(step: &Step, sets: Vec<SensitivitySet>) -> SensitivityRecord {
     SensitivityRecord { threshold: step.threshold.to_string(), value: step.value, sets }
 }

@@ -280,10 +280,10 @@ fn parse_row(record: &csv::StringRecord, columns: &Columns) -> std::result::Resu
 /// The longest time a table may name, s: a scenario's duration is at most
 /// 10⁶ s (docs/scene-file.md), so a larger time or `frame_s` is no capture's
 /// and would overflow the seconds summed over frames.
-pub const MAX_SECONDS: f64 = 1e6;
+pub(crate) const MAX_SECONDS: f64 = 1e6;
 
 /// The farthest distance a table may name, m (the tracks' ±10⁶ m bound).
-pub const MAX_DISTANCE_M: f64 = 1e6;
+pub(crate) const MAX_DISTANCE_M: f64 = 1e6;
 
 /// A frame's time and distance: a distance from 0 to [`MAX_DISTANCE_M`], a
 /// time within ±[`MAX_SECONDS`].
@@ -490,7 +490,7 @@ fn refuse_one_sided_mirrors(path: &Path, candidates: &BTreeMap<String, Candidate
 /// and renames the footprints alike, so patches of different sizes are
 /// never scored as one candidate. Patches without a footprint keep their
 /// name and have no known size.
-pub fn label_sizes(
+pub(crate) fn label_sizes(
     table: &mut PlacementTable,
     footprints: &mut BTreeMap<String, crate::placement::footprints::PatchFootprint>,
 ) {

@@ -60,14 +60,14 @@ use crate::placement::legibility::{Thresholds, timelines};
 use crate::placement::table::{CandidateKind, CandidateRows, PlacementTable};
 
 /// The exact measure's per-part estimates, beside `placement-frames.csv`.
-pub const UNOBSTRUCTED_PARTS_FILE: &str = "unobstructed-parts.csv";
+pub(crate) const UNOBSTRUCTED_PARTS_FILE: &str = "unobstructed-parts.csv";
 
 /// Standard errors either side of the visible fraction (95 %, two-sided).
-pub const TEXEL_SAMPLE_Z: f64 = 1.96;
+pub(crate) const TEXEL_SAMPLE_Z: f64 = 1.96;
 
 /// One part's texel sample.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct PartSample {
+pub(crate) struct PartSample {
     /// Texels with a footprint on the mesh.
     pub texels: u64,
     /// Of which ray traced.
@@ -77,13 +77,13 @@ pub struct PartSample {
 }
 
 /// Per part, what one archive's exact measure sampled.
-pub type SampleCounts = BTreeMap<String, PartSample>;
+pub(crate) type SampleCounts = BTreeMap<String, PartSample>;
 
 /// The texel sample behind the table at `table`: `unobstructed-parts.csv`
 /// beside it, and the part areas of `manifest.json` in the archive (the
 /// folder above `results/`). `None` when there is no such file (a table
 /// from elsewhere, or a rendered one).
-pub fn read_sample_counts(table: &Path) -> Result<Option<SampleCounts>> {
+pub(crate) fn read_sample_counts(table: &Path) -> Result<Option<SampleCounts>> {
     let path = table.with_file_name(UNOBSTRUCTED_PARTS_FILE);
     if !path.is_file() {
         return Ok(None);
@@ -152,7 +152,7 @@ fn candidate_sample(candidate: &CandidateRows, counts: &SampleCounts) -> Option<
 
 /// The standard error of a visible fraction `p` over `n` texels sampled
 /// with probability `fraction`.
-pub fn visible_fraction_se(p: f64, n: f64, fraction: f64) -> f64 {
+pub(crate) fn visible_fraction_se(p: f64, n: f64, fraction: f64) -> f64 {
     let shrunk = (n * p + 2.0) / (n + 4.0);
     ((1.0 - fraction).max(0.0) * shrunk * (1.0 - shrunk) / (n + 4.0)).sqrt()
 }
@@ -160,7 +160,7 @@ pub fn visible_fraction_se(p: f64, n: f64, fraction: f64) -> f64 {
 /// The share r of the whole that the range of `m` uniform points reaches
 /// with probability 1 − `alpha`: P(range < r) = m·r^(m−1) − (m−1)·r^m =
 /// `alpha` (bisection; 0 below two points: the extent is then unbounded).
-pub fn range_share_bound(m: f64, alpha: f64) -> f64 {
+pub(crate) fn range_share_bound(m: f64, alpha: f64) -> f64 {
     if m < 2.0 {
         return 0.0;
     }
@@ -199,7 +199,7 @@ fn moved(table: &PlacementTable, counts: &SampleCounts, high: bool) -> Placement
 /// The frames of `legible` (ascending indices below `frames`) with every run
 /// of consecutive frames grown by one frame at each end (`grow`), or shrunk
 /// by one at each end: the crossing frame of a threshold is known to a frame.
-pub fn run_edges(legible: &[usize], frames: usize, grow: bool) -> usize {
+pub(crate) fn run_edges(legible: &[usize], frames: usize, grow: bool) -> usize {
     let mut on = vec![false; frames];
     for &f in legible.iter().filter(|&&f| f < frames) {
         on[f] = true;
@@ -220,7 +220,7 @@ pub fn run_edges(legible: &[usize], frames: usize, grow: bool) -> usize {
 /// Per candidate of `table`, the `[low, high]` legible seconds its texel
 /// sample allows (see the module documentation); empty under the
 /// solid-angle rule or for a rendered table.
-pub fn legible_brackets(
+pub(crate) fn legible_brackets(
     table: &PlacementTable,
     counts: &SampleCounts,
     thresholds: &Thresholds,

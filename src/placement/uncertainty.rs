@@ -40,7 +40,7 @@ use crate::format::placement::RunnerUpRecord;
 use crate::placement::search::{Choice, Found, Objective, Universe, best_set};
 
 /// Nominal coverage of the intervals.
-pub const CONFIDENCE: f64 = 0.95;
+pub(crate) const CONFIDENCE: f64 = 0.95;
 /// Bootstrap replicates by default.
 pub const DEFAULT_REPLICATES: usize = 1000;
 /// The default ε of P(within ε), seconds: about three frames at 60 fps.
@@ -149,7 +149,7 @@ pub fn bootstrap_weights(archives: usize, resampling: &Resampling) -> Vec<Vec<f6
 
 /// What the bootstrap says of one best set.
 #[derive(Debug, Clone, PartialEq)]
-pub struct Assessment {
+pub(crate) struct Assessment {
     pub interval_s: Option<[f64; 2]>,
     pub p_best: Option<f64>,
     pub p_within_epsilon: Option<f64>,
@@ -168,7 +168,7 @@ fn sorted(set: &[usize]) -> Vec<usize> {
 
 /// The interval, P(best), P(within ε) and the runners-up of `found`, the
 /// best set of at most `k` displays by the mean (see the module doc).
-pub fn assess(
+pub(crate) fn assess(
     universe: &Universe,
     choices: &[Choice],
     found: &Found,

@@ -115,7 +115,7 @@ pub(crate) struct PlainDecoder<'a> {
 }
 
 impl<'a> PlainDecoder<'a> {
-    pub fn new(path: &'a Path, header: &PngHeader, plain: PlainPng<'a>) -> PlainDecoder<'a> {
+    pub(crate) fn new(path: &'a Path, header: &PngHeader, plain: PlainPng<'a>) -> PlainDecoder<'a> {
         let bytes_per_pixel = plain.layout.bytes_per_pixel();
         let row_bytes = header.width as usize * bytes_per_pixel;
         // 4 spare bytes per row: the side-by-side unfilter writes 4-byte pixels.
@@ -154,7 +154,7 @@ impl<'a> PlainDecoder<'a> {
 
     /// The next row, unfiltered; `None` after the last.
     #[inline]
-    pub fn next_row(&mut self) -> Result<Option<&[u8]>> {
+    pub(crate) fn next_row(&mut self) -> Result<Option<&[u8]>> {
         if self.group_next > self.group_rows {
             if self.decoded == self.height {
                 return Ok(None);
@@ -247,7 +247,7 @@ impl<'a> PlainDecoder<'a> {
     /// After the last row: inflates the rest of the stream (data beyond the
     /// rows is ignored, as by every PNG decoder) and fails unless it ends
     /// with its Adler-32.
-    pub fn finish(&mut self) -> Result<()> {
+    pub(crate) fn finish(&mut self) -> Result<()> {
         while !self.inflater.is_done() {
             self.taken = self.filled; // nothing more is read out
             self.inflate_more(0)?;

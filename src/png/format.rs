@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 
 /// What the IHDR chunk says, read without decoding anything.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct PngHeader {
+pub(crate) struct PngHeader {
     pub width: u32,
     pub height: u32,
     pub bit_depth: u8,
@@ -20,10 +20,10 @@ pub struct PngHeader {
 const SIGNATURE: [u8; 8] = [0x89, b'P', b'N', b'G', 0x0D, 0x0A, 0x1A, 0x0A];
 
 /// Bytes needed by [`parse_header`]: signature, IHDR length, type and body.
-pub const HEADER_BYTES: usize = 8 + 8 + 13;
+pub(crate) const HEADER_BYTES: usize = 8 + 8 + 13;
 
 /// Reads width, height and format from the first [`HEADER_BYTES`] bytes.
-pub fn parse_header(path: &Path, bytes: &[u8]) -> Result<PngHeader> {
+pub(crate) fn parse_header(path: &Path, bytes: &[u8]) -> Result<PngHeader> {
     let png_error = |message: &str| Error::Png { path: path.to_path_buf(), message: message.to_string() };
     if bytes.is_empty() {
         return Err(png_error("empty file (0 bytes)"));
@@ -94,7 +94,7 @@ pub(crate) struct Chunk<'a> {
 
 impl Chunk<'_> {
     /// Whether the stored CRC is that of the chunk's type and data.
-    pub fn crc_matches(&self) -> bool {
+    pub(crate) fn crc_matches(&self) -> bool {
         crc32fast::hash(self.covered) == self.stored_crc
     }
 }

@@ -16,7 +16,8 @@ use std::path::Path;
 
 use crate::error::{Error, Result};
 use crate::png::decode::{PlainDecoder, plain_layout};
-pub use crate::png::format::{HEADER_BYTES, PixelLayout, PngHeader, parse_header};
+pub use crate::png::format::PixelLayout;
+pub(crate) use crate::png::format::{HEADER_BYTES, PngHeader, parse_header};
 use crate::png::zlib::verify_image_data;
 
 /// The bytes of an input file, read whole.

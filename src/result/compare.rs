@@ -98,7 +98,7 @@ pub fn compare_parts(reference: &[PartStats], candidate: &[PartStats], top_k: us
 /// percentage points; Kendall's τ-b of the rankings (tied pairs left out);
 /// the overlap of the top-k. `None` when either lacks angular areas.
 #[derive(Debug, Clone, PartialEq)]
-pub struct AreaComparison {
+pub(crate) struct AreaComparison {
     pub share_l1_pp: f64,
     pub share_max_pp: f64,
     pub share_max_part: String,
@@ -109,7 +109,7 @@ pub struct AreaComparison {
 }
 
 /// Compares the angular areas of two results' measures ([`AreaComparison`]).
-pub fn compare_angular_areas(
+pub(crate) fn compare_angular_areas(
     reference: &crate::result::measures::Measures,
     candidate: &crate::result::measures::Measures,
     top_k: usize,

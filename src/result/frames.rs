@@ -13,15 +13,15 @@ use crate::count::part_lookup::{FrameLabel, FrameRecord};
 use crate::error::{Error, Result};
 
 /// Name of the per-eye-frame table beside `result.json`.
-pub const FRAMES_FILE: &str = "frames.csv";
+pub(crate) const FRAMES_FILE: &str = "frames.csv";
 
 /// Header of [`FRAMES_FILE`]. `solid_angle_sr` is the solid angle the
 /// part's pixels subtend in the eye's projection (empty when the manifest
 /// gives no projection), written to round-trip exactly.
-pub const FRAMES_HEADER: &str = "frame,time_s,eye,distance_m,part,pixels,texels,solid_angle_sr";
+pub(crate) const FRAMES_HEADER: &str = "frame,time_s,eye,distance_m,part,pixels,texels,solid_angle_sr";
 
 /// The header before `solid_angle_sr` (read back, without solid angles).
-pub const FRAMES_HEADER_V1: &str = "frame,time_s,eye,distance_m,part,pixels,texels";
+pub(crate) const FRAMES_HEADER_V1: &str = "frame,time_s,eye,distance_m,part,pixels,texels";
 
 /// Every eye-frame's tallies, in eye-frame order: the content of [`FRAMES_FILE`].
 #[derive(Debug, Clone, PartialEq, Default)]

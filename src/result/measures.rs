@@ -24,13 +24,13 @@
 use crate::{archive::capture_facts::FrameClock, result::frames::FrameTable};
 
 /// How the measures are defined, recorded in every result.
-pub const DEFINITION: &str = "angular_area_deg2_s = sum over eye-frames of solid_angle_sr (the sum over the \
+pub(crate) const DEFINITION: &str = "angular_area_deg2_s = sum over eye-frames of solid_angle_sr (the sum over the \
      part's pixels of the solid angle each subtends in the eye's rectilinear projection) * (180/pi)^2 * \
      seconds_per_frame / eyes; exposure_s = eye_frames_seen * seconds_per_frame / eyes; seconds_per_frame = \
      smallest step between captured frame numbers / fps";
 
 /// The definition when the manifest gives no projection (older captures).
-pub const DEFINITION_CENTRE_PPD: &str = "angular_area_deg2_s = sum over eye-frames of pixels / \
+pub(crate) const DEFINITION_CENTRE_PPD: &str = "angular_area_deg2_s = sum over eye-frames of pixels / \
      pixels_per_degree^2 * seconds_per_frame / eyes (no projection in the manifest: pixels_per_degree holds \
      at the image centre, off-axis pixels are overweighted); exposure_s = eye_frames_seen * seconds_per_frame \
      / eyes; seconds_per_frame = smallest step between captured frame numbers / fps";
@@ -38,7 +38,7 @@ pub const DEFINITION_CENTRE_PPD: &str = "angular_area_deg2_s = sum over eye-fram
 /// Square degrees per steradian.
 const DEG2_PER_SR: f64 = (180.0 / std::f64::consts::PI) * (180.0 / std::f64::consts::PI);
 
-pub use crate::format::result::PartMeasure;
+pub(crate) use crate::format::result::PartMeasure;
 
 pub use crate::format::result::Measures;
 

@@ -14,21 +14,21 @@ pub use crate::format::result::RESULT_SCHEMA;
 /// How many example stray colours and unlabelled PIdT colours to list.
 pub(crate) const STRAY_EXAMPLES: usize = 10;
 
-pub use crate::format::result::ImageCounts;
+pub(crate) use crate::format::result::ImageCounts;
 
-pub use crate::format::result::PixelCounts;
+pub(crate) use crate::format::result::PixelCounts;
 
-pub use crate::format::result::FailedImage;
+pub(crate) use crate::format::result::FailedImage;
 
-pub use crate::format::result::StrayImage;
+pub(crate) use crate::format::result::StrayImage;
 
-pub use crate::format::result::TrimReport;
+pub(crate) use crate::format::result::TrimReport;
 
-pub use crate::format::result::Settings;
+pub(crate) use crate::format::result::Settings;
 
-pub use crate::format::result::UnlabelledReport;
+pub(crate) use crate::format::result::UnlabelledReport;
 
-pub use crate::format::result::ColorTexels;
+pub(crate) use crate::format::result::ColorTexels;
 
 impl UnlabelledReport {
     /// Summarises the unlabelled row of a table.
@@ -50,7 +50,7 @@ impl UnlabelledReport {
     }
 }
 
-pub use crate::format::result::DedupeReport;
+pub(crate) use crate::format::result::DedupeReport;
 
 impl DedupeReport {
     /// Compares the two grand totals.

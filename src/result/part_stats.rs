@@ -81,7 +81,7 @@ pub fn join_parts(texel_counts: &[u32], pidt: &Pidt, legend: &Legend) -> PartTab
 }
 
 /// `numerator / denominator`, 0 when the denominator is 0.
-pub fn ratio(numerator: u64, denominator: u64) -> f64 {
+pub(crate) fn ratio(numerator: u64, denominator: u64) -> f64 {
     if denominator == 0 { 0.0 } else { numerator as f64 / denominator as f64 }
 }
 

@@ -14,9 +14,9 @@
 use crate::archive::capture_facts::CaptureGeometry;
 
 /// Pixels per count above which counts are called saturated.
-pub const SATURATION_WARNING: f64 = 1.5;
+pub(crate) const SATURATION_WARNING: f64 = 1.5;
 /// Share of frames with sub-pixel texels above which sampling is called sparse.
-pub const SUB_PIXEL_WARNING: f64 = 0.1;
+pub(crate) const SUB_PIXEL_WARNING: f64 = 0.1;
 
 pub use crate::format::result::ResolutionReport;
 

@@ -17,7 +17,7 @@ use crate::files::write_atomically;
 use crate::format::result::CountMeasure;
 use crate::result::model::AnalysisResult;
 
-pub use crate::format::result::TexelCountsJson;
+pub(crate) use crate::format::result::TexelCountsJson;
 
 impl TexelCountsJson {
     /// Expands into dense per-texel counts of `texel_count` texels.
@@ -148,7 +148,7 @@ pub fn read_texel_counts(path: &Path) -> Result<StoredCounts> {
 }
 
 /// [`read_texel_counts`] of a result.json's bytes (`path` names it in messages).
-pub fn parse_texel_counts(path: &Path, bytes: &[u8]) -> Result<StoredCounts> {
+pub(crate) fn parse_texel_counts(path: &Path, bytes: &[u8]) -> Result<StoredCounts> {
     let source: HeatmapSource = serde_json::from_slice(bytes)
         .map_err(|e| Error::bad_file(path, format!("not a ufcsr result.json: {e}")))?;
     stored_counts(path, source)

@@ -22,7 +22,7 @@ use crate::error::{Error, Result};
 pub const TEXEL_AREA_FILE: &str = "texel-area.f32";
 
 /// The first bytes of the file: format name and version.
-pub const TEXEL_AREA_MAGIC: &[u8; 20] = b"ufcsr-texel-area/1\n\0";
+pub(crate) const TEXEL_AREA_MAGIC: &[u8; 20] = b"ufcsr-texel-area/1\n\0";
 
 /// Bytes before the values: magic, width, height.
 const HEADER: usize = TEXEL_AREA_MAGIC.len() + 8;
@@ -144,7 +144,7 @@ impl TexelAreaUnits {
 }
 
 /// [`read_texel_area`] of the file's bytes (`path` names it in messages).
-pub fn parse_texel_area(path: &Path, bytes: &[u8], width: u32, height: u32) -> Result<Vec<f32>> {
+pub(crate) fn parse_texel_area(path: &Path, bytes: &[u8], width: u32, height: u32) -> Result<Vec<f32>> {
     let bad = |what: String| Error::bad_file(path, what);
     if bytes.len() < HEADER || &bytes[..TEXEL_AREA_MAGIC.len()] != TEXEL_AREA_MAGIC {
         return Err(bad("not a ufcsr texel-area.f32 (ufcsr-texel-area/1) file".into()));

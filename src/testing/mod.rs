@@ -6,6 +6,6 @@
 #[doc(hidden)]
 pub mod fuzz_entry;
 #[cfg(feature = "synthetic")]
-pub mod kernel_checks;
+pub(crate) mod kernel_checks;
 #[cfg(feature = "synthetic")]
 pub mod synthetic;

@@ -7,7 +7,9 @@
 //! The rule (`need.rs`) is shared by path with the capture's and the command
 //! line's external tests (`cli/tests/external`: Slurm, Chromium, Python,
 //! Blender, the glTF validator), and so is `../slurm_support`.
-
+// A test crate has no API: its helpers are `pub` for the sibling modules
+// (the workspace's unreachable_pub is about the libraries' surface).
+#![allow(unreachable_pub)]
 // Test and benchmark code may use std::fs directly; production code goes
 // through the file layer (clippy.toml, docs/reliability.md).
 #![allow(clippy::disallowed_methods, clippy::disallowed_types)]

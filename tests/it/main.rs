@@ -4,7 +4,9 @@
 //! The tests that need outside tools (Slurm, Chromium, Python, `../shared`)
 //! are in `tests/external`, whose harness reports a missing tool as ignored;
 //! those that run the binaries are in `cli/tests` (the crate that builds them).
-
+// A test crate has no API: its helpers are `pub` for the sibling modules
+// (the workspace's unreachable_pub is about the libraries' surface).
+#![allow(unreachable_pub)]
 // Test code may use std::fs directly; production code goes through the file
 // layer (clippy.toml, docs/reliability.md).
 #![allow(clippy::disallowed_methods, clippy::disallowed_types)]

@@ -18,7 +18,7 @@ use crate::scene::street::{StreetOptions, street_scene};
 
 /// The vehicle of a level (a model file, the demo pickup, or a family body), with every file it read (the model and its buffers or MTL files; none for
 /// the demo pickup and a family body).
-pub fn vehicle_model(level: &VehicleLevel, base: &Path) -> Result<(Mesh, Vec<PathBuf>)> {
+pub(crate) fn vehicle_model(level: &VehicleLevel, base: &Path) -> Result<(Mesh, Vec<PathBuf>)> {
     if let Some(model) = &level.model {
         if model == "demo" {
             return Ok((demo::truck(), Vec::new()));
@@ -34,7 +34,12 @@ pub fn vehicle_model(level: &VehicleLevel, base: &Path) -> Result<(Mesh, Vec<Pat
 }
 
 /// The scene of `cell`; `traffic_seed` places generated traffic.
-pub fn cell_scene(design: &Design, base: &Path, cell: &CellLevels, traffic_seed: u64) -> Result<Scene> {
+pub(crate) fn cell_scene(
+    design: &Design,
+    base: &Path,
+    cell: &CellLevels,
+    traffic_seed: u64,
+) -> Result<Scene> {
     let vehicle = design.vehicles.iter().find(|v| v.name == cell.vehicle);
     let vehicle =
         vehicle.ok_or_else(|| CaptureError::BadOptions(format!("no vehicle level {:?}", cell.vehicle)))?;
@@ -43,7 +48,7 @@ pub fn cell_scene(design: &Design, base: &Path, cell: &CellLevels, traffic_seed:
 
 /// [`cell_scene`] with the level's vehicle already loaded ([`vehicle_model`]): the scene's
 /// `input_files` are every file the cell read (the model's and a scene file's).
-pub fn cell_scene_with(
+pub(crate) fn cell_scene_with(
     design: &Design,
     base: &Path,
     cell: &CellLevels,

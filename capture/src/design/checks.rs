@@ -25,7 +25,7 @@ use crate::scene::mesh::Mesh;
 
 /// Per cell, the most seconds one candidate can be legible: the measured frames (every
 /// `frame_step`-th of the scenario's) times the seconds each stands for.
-pub type CellLimits = BTreeMap<CellLevels, f64>;
+pub(crate) type CellLimits = BTreeMap<CellLevels, f64>;
 
 /// Loads every vehicle level, unwraps it into the palette and builds every cell's scene with its
 /// observers, as `run` will: an error names the design file, the level or cell, and the cause.

@@ -17,9 +17,9 @@ use super::report::{csv, page};
 use crate::error::{CaptureError, Result};
 
 /// The result set's files, in the order they are listed.
-pub const RESULT_FILES: [&str; 3] = ["design.json", "design.csv", "design.html"];
+pub(crate) const RESULT_FILES: [&str; 3] = ["design.json", "design.csv", "design.html"];
 /// The main effects' figure (with a font): each level's effect with its 95 % interval.
-pub const EFFECTS_FIGURE: [&str; 2] = ["design-effects.png", "design-effects.pdf"];
+pub(crate) const EFFECTS_FIGURE: [&str; 2] = ["design-effects.png", "design-effects.pdf"];
 /// Rows of the main effects' figure at most (the first effects, in `design.json`'s order).
 const EFFECT_ROWS: usize = 48;
 
@@ -54,7 +54,10 @@ pub fn write_result_set(result: &DesignResult, dir: &Path, inputs: &[PathBuf]) -
 
 /// The main effects as a figure (issue 44 §2): per factor level and candidate, the level's
 /// effect on the mean legible time with its 95 % interval over the random units.
-pub fn effects_figure(design: &str, effects: &[ufcsr::format::MainEffect]) -> ufcsr::output::IntervalFigure {
+pub(crate) fn effects_figure(
+    design: &str,
+    effects: &[ufcsr::format::MainEffect],
+) -> ufcsr::output::IntervalFigure {
     let rows = effects
         .iter()
         .flat_map(|effect| {

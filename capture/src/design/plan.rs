@@ -21,7 +21,7 @@ use crate::scene::street::{MAX_OTHER_VEHICLES, POSITIONS, StreetOptions, other_p
 /// The most tasks one design may plan (a Slurm array's usual ceiling is far above; this bounds a typo).
 pub const MAX_TASKS: usize = 100_000;
 /// The most observers per task.
-pub const MAX_OBSERVERS_PER_TASK: u32 = 1000;
+pub(crate) const MAX_OBSERVERS_PER_TASK: u32 = 1000;
 
 /// One independent task: a cell and a replicate.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -50,7 +50,7 @@ impl Plan {
 }
 
 /// FNV-1a, 64 bits, as 16 hex digits: a fingerprint, not a security measure.
-pub fn fnv1a_hex(bytes: &[u8]) -> String {
+pub(crate) fn fnv1a_hex(bytes: &[u8]) -> String {
     let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
     for &b in bytes {
         hash ^= u64::from(b);
@@ -93,7 +93,7 @@ pub fn plan_checked(design: Design, path: &Path) -> Result<Plan> {
 
 /// The cells of the crossing, counted from the levels' kinds without listing them (a full
 /// crossing keeps the scenario × traffic pairs whose kinds go together, [`kinds_fit`]).
-pub fn cell_count(design: &Design) -> u128 {
+pub(crate) fn cell_count(design: &Design) -> u128 {
     if let Crossing::Cells(cells) = &design.crossing {
         return cells.len() as u128;
     }
@@ -278,7 +278,7 @@ fn traffic_fits(
 }
 
 /// Whether a traffic level's kind goes with a scenario level's (a full crossing leaves out the others).
-pub fn kinds_fit(scenario: &ScenarioSource, traffic: &TrafficKind) -> bool {
+pub(crate) fn kinds_fit(scenario: &ScenarioSource, traffic: &TrafficKind) -> bool {
     matches!(
         (scenario, traffic),
         (_, TrafficKind::None)
@@ -289,7 +289,7 @@ pub fn kinds_fit(scenario: &ScenarioSource, traffic: &TrafficKind) -> bool {
 
 /// Every file in `files` with its FNV-1a 64 fingerprint, by path relative to `base` (the design's
 /// folder), read through the file layer as the model loader read it.
-pub fn input_hashes(base: &Path, files: &[PathBuf]) -> Result<BTreeMap<String, String>> {
+pub(crate) fn input_hashes(base: &Path, files: &[PathBuf]) -> Result<BTreeMap<String, String>> {
     let mut hashes = BTreeMap::new();
     for file in files {
         let bytes = ufcsr::files::read_limited(file, ufcsr::files::MODEL_LIMIT)?;

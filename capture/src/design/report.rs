@@ -90,7 +90,7 @@ fn effects_table(page: &mut String, effects: &[MainEffect]) {
 }
 
 /// The report page.
-pub fn page(result: &DesignResult) -> String {
+pub(crate) fn page(result: &DesignResult) -> String {
     let mut page = format!(
         "<!doctype html><meta charset=utf-8><title>{0}</title><style>body{{font-family:sans-serif;max-width:70em}}\
          td,th{{padding:0 .6em;text-align:left}}</style><h1>Design {0}</h1><h2>Answer</h2><ul>",
@@ -165,7 +165,7 @@ const CSV_HEADER: &str = "group,candidate,kind,legible_s,legible_s_low,legible_s
 /// level (`kind` `level-mean` or `level-effect`, `group` `FACTOR=LEVEL`) and one for the range
 /// (`kind` `range`, `group` `FACTOR: HIGHEST - LOWEST`), their seconds in the legible columns;
 /// a display's, over one vehicle's cells, with `group` prefixed `within vehicle NAME: `.
-pub fn csv(result: &DesignResult) -> String {
+pub(crate) fn csv(result: &DesignResult) -> String {
     let mut text = String::from(CSV_HEADER);
     for group in result.cells.iter().chain(&result.vehicles).chain([&result.overall]) {
         for c in &group.candidates {

@@ -35,13 +35,13 @@ pub fn task_dir(out: &Path, index: u32) -> PathBuf {
 }
 
 /// [`task_dir`] relative to the output folder.
-pub fn task_relative(index: u32) -> PathBuf {
+pub(crate) fn task_relative(index: u32) -> PathBuf {
     Path::new("tasks").join(format!("task-{index:04}"))
 }
 
 /// True when `tasks/`, the task's folder or its `task.json` is a link: nothing of the task is
 /// read or written through one (a link planted there points outside the output folder).
-pub fn task_behind_link(out: &Path, index: u32) -> bool {
+pub(crate) fn task_behind_link(out: &Path, index: u32) -> bool {
     let file = task_relative(index).join(TASK_FILE);
     ufcsr::files::crosses_link(out, &file)
         || std::fs::symlink_metadata(out.join(&file)).is_ok_and(|m| m.file_type().is_symlink())
@@ -60,7 +60,7 @@ pub fn derived_seed(seed: u64, purpose: u64, numbers: &[u64]) -> u64 {
 }
 
 /// The task already complete in `out`, when its file is there, reads and is of this design.
-pub fn completed(plan: &Plan, out: &Path, index: u32) -> Option<DesignTask> {
+pub(crate) fn completed(plan: &Plan, out: &Path, index: u32) -> Option<DesignTask> {
     if task_behind_link(out, index) {
         return None;
     }
@@ -174,7 +174,10 @@ fn measure_unit(
 /// lacks: the table has rows only for patches some eye saw, but the layout is the vehicle's alone
 /// (not the unit's texel sample), so a patch this unit never saw is there with 0 s, and every unit
 /// of a vehicle names the same patches.
-pub fn add_unseen_patches<'a>(values: &mut Vec<CandidateValue>, laid_out: impl Iterator<Item = &'a String>) {
+pub(crate) fn add_unseen_patches<'a>(
+    values: &mut Vec<CandidateValue>,
+    laid_out: impl Iterator<Item = &'a String>,
+) {
     let seen: std::collections::BTreeSet<String> = values.iter().map(|v| v.name.clone()).collect();
     for name in laid_out.filter(|name| !seen.contains(*name)) {
         values.push(CandidateValue {

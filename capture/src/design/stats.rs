@@ -30,7 +30,7 @@ pub const INTERVAL_METHOD: &str = "95 % Student-t interval of the mean over the 
      contrasts with the same t interval (an effect and the range signed, they may be negative)";
 
 /// Bootstrap resamples behind P(best).
-pub const P_BEST_REPLICATES: usize = 1000;
+pub(crate) const P_BEST_REPLICATES: usize = 1000;
 
 /// One candidate's numbers in one unit.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -116,7 +116,7 @@ fn unit_means(cells: &[&CellData]) -> (Vec<String>, Vec<Vec<Pair>>) {
 }
 
 /// The mean of a difference or an effect (may be negative) and its 95 % t interval.
-pub fn signed_interval(values: &[f64]) -> MeanInterval {
+pub(crate) fn signed_interval(values: &[f64]) -> MeanInterval {
     MeanInterval { ci95: ufcsr::placement::t_interval_signed(values), ..mean_interval(values) }
 }
 
@@ -149,7 +149,7 @@ fn p_best_note(units: usize, among: &[&CandidateSummary]) -> Option<&'static str
 }
 
 /// The line naming every candidate the groups left out of their answers, and why (empty when none).
-pub fn left_out_line<'a>(groups: impl Iterator<Item = &'a GroupSummary>) -> String {
+pub(crate) fn left_out_line<'a>(groups: impl Iterator<Item = &'a GroupSummary>) -> String {
     let mut excluded: Vec<ufcsr::format::ExcludedRecord> =
         groups.flat_map(|g| g.excluded.iter().cloned()).collect();
     excluded.sort_by(|a, b| a.candidate.cmp(&b.candidate));

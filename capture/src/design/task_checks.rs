@@ -19,7 +19,7 @@ use super::run::{TASK_FILE, task_dir};
 use crate::error::{CaptureError, Result};
 
 /// The candidate kinds a task writes.
-pub const CANDIDATE_KINDS: [&str; 2] = ["part", "patch"];
+pub(crate) const CANDIDATE_KINDS: [&str; 2] = ["part", "patch"];
 /// The whole sphere in square degrees: no candidate subtends more, per eye.
 const SPHERE_DEG2: f64 =
     4.0 * std::f64::consts::PI * (180.0 / std::f64::consts::PI) * (180.0 / std::f64::consts::PI);
@@ -32,7 +32,7 @@ const NAMED_TASKS: usize = 8;
 
 /// Checks every task's values against its cell's `limits` (seconds), its units against the other
 /// tasks of its cell, and the files the tasks read against each other.
-pub fn check_tasks(
+pub(crate) fn check_tasks(
     plan: &Plan,
     out: &Path,
     tasks: &[DesignTask],

@@ -8,7 +8,7 @@
 
 /// Per-part values of every eye-frame, keyed by `(frame, eye)`.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct PerEyeFrame {
+pub(crate) struct PerEyeFrame {
     pub parts: Vec<String>,
     /// `(frame, eye, one value per part)`, in eye-frame order.
     pub rows: Vec<(u32, String, Vec<f64>)>,
@@ -16,7 +16,7 @@ pub struct PerEyeFrame {
 
 impl PerEyeFrame {
     /// The rows of `frames`, in their order; `None` when one is missing.
-    pub fn select(&self, frames: &[u32]) -> Option<Vec<&[f64]>> {
+    pub(crate) fn select(&self, frames: &[u32]) -> Option<Vec<&[f64]>> {
         let mut selected = Vec::with_capacity(frames.len() * 2);
         for &frame in frames {
             let rows: Vec<&[f64]> =
@@ -31,7 +31,7 @@ impl PerEyeFrame {
 }
 
 /// Part totals: the sum of `rows` (each one value per part).
-pub fn totals(rows: &[&[f64]], parts: usize) -> Vec<f64> {
+pub(crate) fn totals(rows: &[&[f64]], parts: usize) -> Vec<f64> {
     let mut sum = vec![0.0; parts];
     for row in rows {
         sum.iter_mut().zip(row.iter()).for_each(|(s, v)| *s += v);
@@ -41,7 +41,7 @@ pub fn totals(rows: &[&[f64]], parts: usize) -> Vec<f64> {
 
 /// The share error of `candidate` against `reference` (part totals of the
 /// same parts, in the same order); the type is `study.json`'s.
-pub use ufcsr::format::ShareError;
+pub(crate) use ufcsr::format::ShareError;
 
 fn shares(values: &[f64]) -> Vec<f64> {
     let sum: f64 = values.iter().sum();
@@ -49,7 +49,7 @@ fn shares(values: &[f64]) -> Vec<f64> {
 }
 
 /// Share L1 alone (for the bootstrap).
-pub fn share_l1_pp(reference: &[f64], candidate: &[f64]) -> f64 {
+pub(crate) fn share_l1_pp(reference: &[f64], candidate: &[f64]) -> f64 {
     shares(reference).iter().zip(shares(candidate)).map(|(a, b)| (a - b).abs()).sum()
 }
 
@@ -61,7 +61,7 @@ fn top5(names: &[String], values: &[f64]) -> Vec<usize> {
 }
 
 /// Compares part totals (see [`ShareError`]).
-pub fn share_error(names: &[String], reference: &[f64], candidate: &[f64]) -> ShareError {
+pub(crate) fn share_error(names: &[String], reference: &[f64], candidate: &[f64]) -> ShareError {
     let (a, b) = (shares(reference), shares(candidate));
     let (mut share_max_pp, mut share_max_part) = (0.0f64, String::new());
     for ((x, y), name) in a.iter().zip(&b).zip(names) {

@@ -21,15 +21,15 @@
 
 use glam::DVec3;
 
-pub use crate::scene::ray_triangle::StoredTriangle;
+pub(crate) use crate::scene::ray_triangle::StoredTriangle;
 use crate::scene::ray_triangle::ray_triangle_parameter;
 
 /// The deepest the build goes; a node at this depth is a leaf whatever its
 /// size, so the traversal stack (`TRAVERSAL_STACK`) can never overflow.
-pub const MAX_DEPTH: usize = 48;
+pub(crate) const MAX_DEPTH: usize = 48;
 /// Entries of the traversal stack: one more than
 /// the depth of a push-two-pop-one walk of a `MAX_DEPTH` tree.
-pub const TRAVERSAL_STACK: usize = 64;
+pub(crate) const TRAVERSAL_STACK: usize = 64;
 /// Triangles at or under which a node is not split.
 const LEAF_SIZE: usize = 2;
 /// Centroid bins per axis of the SAH sweep.
@@ -41,7 +41,7 @@ const TRAVERSAL_COST: f64 = 1.0;
 /// rounding of f64, so a point Möller–Trumbore finds on a triangle (its
 /// rounding included) lies inside every box that holds the triangle, while
 /// the boxes grow by 0.1 µm per metre, which the walk does not notice.
-pub const BOUNDS_MARGIN: f64 = 1e-7;
+pub(crate) const BOUNDS_MARGIN: f64 = 1e-7;
 /// The slab test's exit parameter is scaled by 1 + 2γ₃ (γ₃ = 3ε / (1 − 3ε),
 /// ε = 2⁻⁵³) before it is compared with the entry: the rounding of
 /// `(bound − from) · (1 / direction)` cannot then reject a box the segment

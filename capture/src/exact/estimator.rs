@@ -10,7 +10,7 @@ use super::types::{SurfaceSamples, TexelVisibility};
 
 /// Sums of one per-texel quantity over a part's sample.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct SampleSums {
+pub(crate) struct SampleSums {
     pub sum: f64,
     pub sum_of_squares: f64,
 }
@@ -39,14 +39,14 @@ impl SampleSums {
 
 /// An estimated total with its standard error.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct Estimate {
+pub(crate) struct Estimate {
     pub total: f64,
     pub standard_error: f64,
 }
 
 /// What the sample of one part holds.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct PartSample {
+pub(crate) struct PartSample {
     pub sampled: u64,
     pub counts: SampleSums,
     pub solid_angle_sr: SampleSums,

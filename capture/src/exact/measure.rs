@@ -217,7 +217,7 @@ fn describe(measure: &MeasureOptions, measured: &Measured, labelled: u64) -> Str
 }
 
 /// How the exact measures are defined, recorded in the result's `measures`.
-pub const EXACT_DEFINITION: &str = "exact (ray-traced): angular_area_deg2_s = sum over eye-frames and visible \
+pub(crate) const EXACT_DEFINITION: &str = "exact (ray-traced): angular_area_deg2_s = sum over eye-frames and visible \
      surface samples of area * |cos theta| / r^2 (sr, times (180/pi)^2 for deg^2) * seconds_per_frame / eyes, \
      scaled by texels / sampled texels per part under --sample; exposure_s = eye_frames_seen * seconds_per_frame \
      / eyes, eye_frames_seen = eye-frames in which any sampled surface sample of the part is visible; \

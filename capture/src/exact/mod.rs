@@ -24,16 +24,16 @@
 //! [`placement`] candidate eHMI placements measured with the same rules
 //! (`--placement`, `docs/placement.md`).
 
-pub mod accuracy;
-pub mod bvh;
-pub mod cpu;
-pub mod estimator;
-pub mod geometry;
-pub mod measure;
-pub mod placement;
-pub mod points;
-pub mod rules;
-pub mod types;
+pub(crate) mod accuracy;
+pub(crate) mod bvh;
+pub(crate) mod cpu;
+pub(crate) mod estimator;
+pub(crate) mod geometry;
+pub(crate) mod measure;
+pub(crate) mod placement;
+pub(crate) mod points;
+pub(crate) mod rules;
+pub(crate) mod types;
 
 pub use bvh::TriangleBvh;
 pub use cpu::texel_visibility;

@@ -93,7 +93,7 @@ pub struct EyeFrame {
 
 /// `m · (p, 1)` summed column by column in a fixed order, so every path
 /// that moves a point rounds alike.
-pub fn transform_point(m: &DMat4, p: DVec3) -> DVec4 {
+pub(crate) fn transform_point(m: &DMat4, p: DVec3) -> DVec4 {
     m.x_axis * p.x + m.y_axis * p.y + m.z_axis * p.z + m.w_axis
 }
 

@@ -25,13 +25,13 @@ use crate::scene::{SceneFile, VehicleSpec};
 use crate::texture::pidt::painted::part_colors;
 
 /// Below this area (m²) a triangle has no area at all (f32 rounding).
-pub const DEGENERATE_AREA_M2: f64 = 1e-12;
+pub(crate) const DEGENERATE_AREA_M2: f64 = 1e-12;
 /// A sliver has less than 1 mm² ...
-pub const SLIVER_AREA_M2: f64 = 1e-6;
+pub(crate) const SLIVER_AREA_M2: f64 = 1e-6;
 /// ... or is thinner than 0.1 mm (its smallest altitude).
-pub const SLIVER_ALTITUDE_M: f64 = 1e-4;
+pub(crate) const SLIVER_ALTITUDE_M: f64 = 1e-4;
 /// Longest side of an inspect picture, pixels.
-pub const MAX_PICTURE_PIXELS: f64 = 16384.0;
+pub(crate) const MAX_PICTURE_PIXELS: f64 = 16384.0;
 /// How many slivers the report lists by number.
 const EXAMPLES: usize = 5;
 
@@ -189,7 +189,7 @@ fn check_picture_size(mesh: &Mesh, pixels_per_metre: f64) -> Result<()> {
 
 /// The palette on which inspect looks for overlapping own UVs (a capture's
 /// default is 4096²; a finer palette finds at least these overlaps).
-pub const OVERLAP_CHECK_PALETTE: [u32; 2] = [1024, 1024];
+pub(crate) const OVERLAP_CHECK_PALETTE: [u32; 2] = [1024, 1024];
 
 /// The files [`inspect`] writes into its folder.
 const INSPECT_FILES: [&str; 5] =
@@ -197,7 +197,7 @@ const INSPECT_FILES: [&str; 5] =
 
 /// Where the own UVs overlap, as a picture of the check's palette (only
 /// written when they do).
-pub const OVERLAP_PICTURE: &str = "inspect-uv-overlaps.png";
+pub(crate) const OVERLAP_PICTURE: &str = "inspect-uv-overlaps.png";
 
 /// Whether the mesh has own UVs, and where they overlap.
 fn uv_state(mesh: &Mesh) -> UvState {

@@ -20,7 +20,7 @@ use crate::scene::mesh::Mesh;
 
 /// Which way the picture looks.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum View {
+pub(crate) enum View {
     /// From the vehicle's right (−y), front to the right of the picture.
     Side,
     /// From above, front to the right, the vehicle's left at the top.
@@ -31,7 +31,7 @@ pub enum View {
 
 impl View {
     /// The file-name word.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             View::Side => "side",
             View::Top => "top",
@@ -172,14 +172,14 @@ fn draw(mesh: &Mesh, colors: &[Color], view: View, pixels_per_metre: f64) -> Can
 }
 
 /// A picture size that keeps the longest view under ~1200 pixels.
-pub fn default_pixels_per_metre(mesh: &Mesh) -> f64 {
+pub(crate) fn default_pixels_per_metre(mesh: &Mesh) -> f64 {
     let (min, max) = mesh.bounds();
     let extent = (max - min).max_element().max(min.abs().max_element()).max(max.abs().max_element());
     (1200.0 / extent.max(1e-3)).min(200.0)
 }
 
 /// The legend entries of the parts: each part's colour and name.
-pub fn part_entries(names: &[String], colors: &[Color]) -> Vec<LegendEntry> {
+pub(crate) fn part_entries(names: &[String], colors: &[Color]) -> Vec<LegendEntry> {
     names
         .iter()
         .zip(colors)
@@ -193,12 +193,12 @@ const MARKS: &str = "Black cross: the vehicle's origin; grey line: the ground (z
 
 /// Narrowest picture with a legend, pixels (a narrow front view is widened
 /// with paper on the right so its legend has room).
-pub const LEGEND_MIN_WIDTH: u32 = 480;
+pub(crate) const LEGEND_MIN_WIDTH: u32 = 480;
 
 /// A picture with a legend band appended below it: `title` wrapped to the
 /// width, then a swatch and label per entry. Returns the picture, its size
 /// and where the legend's texts and swatches are.
-pub fn with_legend(
+pub(crate) fn with_legend(
     rgb: &[u8],
     [width, height]: [u32; 2],
     title: &str,
@@ -221,7 +221,12 @@ pub fn with_legend(
 
 /// Writes `inspect-side.png`, `inspect-top.png` and `inspect-front.png`
 /// into `dir`, each with its legend; returns their paths.
-pub fn write_views(mesh: &Mesh, colors: &[Color], dir: &Path, pixels_per_metre: f64) -> Result<Vec<PathBuf>> {
+pub(crate) fn write_views(
+    mesh: &Mesh,
+    colors: &[Color],
+    dir: &Path,
+    pixels_per_metre: f64,
+) -> Result<Vec<PathBuf>> {
     let mut written = Vec::new();
     let entries = part_entries(&mesh.parts, colors);
     for view in [View::Side, View::Top, View::Front] {

@@ -35,7 +35,7 @@ use crate::texture::uv_islands::{self, Unwrapped};
 /// colour and both places).
 /// A canonical palette of more than 2^24 texels is one of 32-bit texel ids
 /// (up to `ufcsr::MAX_RGBA32_TEXELS`): its archive is `rgba32`.
-pub fn load_palette(options: &CaptureOptions) -> Result<Fcsp> {
+pub(crate) fn load_palette(options: &CaptureOptions) -> Result<Fcsp> {
     let [width, height] = options.palette;
     Ok(match &options.palette_file {
         None if u64::from(width) * u64::from(height) > ufcsr::COLOR_COUNT as u64 => {
@@ -48,7 +48,7 @@ pub fn load_palette(options: &CaptureOptions) -> Result<Fcsp> {
 
 /// The texel holding the background colour, if the palette has it (left
 /// out of the unwrap, so no surface is ever drawn in the background colour).
-pub fn palette_background_texel(palette: &Fcsp) -> Option<(u32, u32)> {
+pub(crate) fn palette_background_texel(palette: &Fcsp) -> Option<(u32, u32)> {
     let width = palette.width() as usize;
     let texel = palette.texel_of(Color::DEFAULT_BACKGROUND.packed())?;
     Some(((texel % width) as u32, (texel / width) as u32))
@@ -89,7 +89,7 @@ pub struct PreparedCapture {
 /// Stage one: loads the palette, unwraps and labels the vehicle, writes
 /// `pidt.png`, `parts.csv` (and `palette.png` for an external palette) into
 /// `options.out`, and builds the renderer.
-pub fn prepare_archive(
+pub(crate) fn prepare_archive(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     scene: &Scene,
@@ -192,7 +192,7 @@ pub(crate) fn prepare_folder(scene: &Scene, options: &CaptureOptions) -> Result<
 
 /// Every file a capture of `scene` with `options` reads: the scene's files,
 /// an external palette, an own PIdT and its legend.
-pub fn capture_inputs(scene: &Scene, options: &CaptureOptions) -> Vec<PathBuf> {
+pub(crate) fn capture_inputs(scene: &Scene, options: &CaptureOptions) -> Vec<PathBuf> {
     let mut inputs = scene.input_files.clone();
     inputs.extend(options.palette_file.iter().cloned());
     if let Some(own) = &options.own_labels {
@@ -345,7 +345,7 @@ pub fn capture_frames(
 
 /// The `(position in the selection, frame)` pairs this capture renders: the
 /// selected frames, or this shard's part of them. An empty list is an error.
-pub fn frames_to_capture(
+pub(crate) fn frames_to_capture(
     scene: &Scene,
     scenario: &Scenario,
     options: &CaptureOptions,
@@ -402,7 +402,7 @@ pub fn capture(
 }
 
 /// The summary of a capture (its `seconds` still to be filled in).
-pub fn summarize(
+pub(crate) fn summarize(
     scene: &Scene,
     scenario: &Scenario,
     options: &CaptureOptions,
@@ -432,7 +432,7 @@ pub fn summarize(
 
 /// Stage three: writes `manifest.json` for the captured tiles (a shard: its
 /// part of it, `shards/manifest-I-of-N.json`).
-pub fn write_manifest(
+pub(crate) fn write_manifest(
     scene: &Scene,
     scenario: &Scenario,
     options: &CaptureOptions,

@@ -22,7 +22,7 @@ use ufcsr::{MANIFEST_FILE, Manifest, Shard, format::CaptureRecord, format::Frame
 use crate::error::{CaptureError, Result};
 
 /// Folder of the shards' partial manifests, inside the archive.
-pub const SHARDS_DIR: &str = "shards";
+pub(crate) const SHARDS_DIR: &str = "shards";
 
 /// Where shard `shard` writes its part of the manifest.
 pub fn partial_manifest_path(archive: &Path, shard: Shard) -> PathBuf {
@@ -31,7 +31,7 @@ pub fn partial_manifest_path(archive: &Path, shard: Shard) -> PathBuf {
 
 /// The `(position in the selection, frame)` pairs a shard (or the whole
 /// capture, without one) renders.
-pub fn frames_of_shard(selected: &[u32], shard: Option<Shard>) -> Vec<(usize, u32)> {
+pub(crate) fn frames_of_shard(selected: &[u32], shard: Option<Shard>) -> Vec<(usize, u32)> {
     selected
         .iter()
         .copied()
@@ -43,7 +43,7 @@ pub fn frames_of_shard(selected: &[u32], shard: Option<Shard>) -> Vec<(usize, u3
 /// A shard's `capture.shard` record: which shard it is, the frames the
 /// whole capture selected and how many tiles this shard listed, so that
 /// [`assemble`] can account for every frame and tile.
-pub fn shard_record(shard: Shard, selected: &[u32], tiles: usize) -> ShardRecord {
+pub(crate) fn shard_record(shard: Shard, selected: &[u32], tiles: usize) -> ShardRecord {
     ShardRecord {
         index: shard.index,
         count: shard.count,

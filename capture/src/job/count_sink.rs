@@ -15,7 +15,7 @@ use crate::error::{CaptureError, Result};
 use crate::job::tile_sink::{RenderedTile, TileSink};
 
 /// Hands tiles to the counting thread.
-pub struct CountSink {
+pub(crate) struct CountSink {
     sender: Option<SyncSender<RenderedTile>>,
 }
 
@@ -38,12 +38,16 @@ impl TileSink for CountSink {
 /// eye-frame (`frames.csv` and the measures, as the analyzer does for PNG
 /// tiles): the parts of `lookup` (the archive's legend and PIdT), the rig's
 /// eyes.
-pub fn tally_parts(counter: &mut TileCounter, lookup: ufcsr::PartLookup, rig: &crate::scene::rig::Rig) {
+pub(crate) fn tally_parts(
+    counter: &mut TileCounter,
+    lookup: ufcsr::PartLookup,
+    rig: &crate::scene::rig::Rig,
+) {
     counter.tally_parts(lookup, ufcsr::EyeProjection::new(rig.horizontal_fov_deg, rig.eye_pixels));
 }
 
 /// What the counting thread did.
-pub struct Counted<'a> {
+pub(crate) struct Counted<'a> {
     pub counter: TileCounter<'a>,
     /// RGBA pixels counted.
     pub pixels: u64,
@@ -52,7 +56,7 @@ pub struct Counted<'a> {
 /// Runs `render` with a [`CountSink`] whose tiles `counter` counts on a
 /// second thread; returns what `render` returned and the counter. An error
 /// of the counter wins over the error it caused in `render`.
-pub fn count_while<'a, T>(
+pub(crate) fn count_while<'a, T>(
     counter: TileCounter<'a>,
     render: impl FnOnce(&mut CountSink) -> Result<T>,
 ) -> Result<(T, Counted<'a>)> {

@@ -256,7 +256,7 @@ fn check_countable(scene: &Scene, options: &CaptureOptions) -> Result<()> {
 }
 
 /// The largest views scale (8: 3200×2400 pixels a view), as the analyzer's `--views-scale`.
-pub const MAX_VIEWS_SCALE: u32 = 8;
+pub(crate) const MAX_VIEWS_SCALE: u32 = 8;
 
 /// Captures one scenario and counts every tile straight from the readback
 /// buffer: writes the archive's `manifest.json`, `pidt.png` and `parts.csv`

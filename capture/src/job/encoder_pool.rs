@@ -17,7 +17,7 @@ use crate::job::tile_sink::{RenderedTile, TileAddress, TileSink, is_tile_name};
 
 /// What to do with tiles an earlier capture left in the archive.
 #[derive(Debug, Clone)]
-pub enum OldTiles {
+pub(crate) enum OldTiles {
     /// Remove them all (a fresh capture).
     All,
     /// Remove those of these frames (a shard: the others belong to other shards).
@@ -33,7 +33,7 @@ struct EncodeJob {
 }
 
 /// Writes tiles as RGB PNGs under `archive/tiles/` on worker threads.
-pub struct EncoderPool {
+pub(crate) struct EncoderPool {
     archive: PathBuf,
     tile_size: [u32; 2],
     resume: bool,
@@ -48,7 +48,7 @@ impl EncoderPool {
     /// tiles this capture does not write again must not linger beside its
     /// manifest (a shard removes only those of its own frames, since the other
     /// shards write into the same folder; `--resume` keeps them all).
-    pub fn start(
+    pub(crate) fn start(
         archive: &Path,
         tile_size: [u32; 2],
         compression: Compression,

@@ -28,7 +28,7 @@ use crate::scene::rig::{Eye, EyeCamera, Rig, box_corners, box_outside, vehicle_t
 use crate::scene::scenario::Scenario;
 
 /// Everything a frame needs that does not change from frame to frame.
-pub struct FrameCapture<'a> {
+pub(crate) struct FrameCapture<'a> {
     pub device: &'a wgpu::Device,
     pub queue: &'a wgpu::Queue,
     pub renderer: &'a Renderer,
@@ -46,7 +46,7 @@ pub struct FrameCapture<'a> {
 }
 
 /// What one frame produced.
-pub struct CapturedFrame {
+pub(crate) struct CapturedFrame {
     /// One manifest entry per tile, in archive order (eye, row, column).
     pub entries: Vec<TileEntry>,
     /// The frame's record for the manifest's `frames` list.
@@ -56,7 +56,7 @@ pub struct CapturedFrame {
 
 impl<'a> FrameCapture<'a> {
     /// The vehicle box for `scene`.
-    pub fn vehicle_box(scene: &Scene) -> [DVec3; 8] {
+    pub(crate) fn vehicle_box(scene: &Scene) -> [DVec3; 8] {
         let (min, max) = scene.vehicle.bounds();
         box_corners(min, max)
     }
@@ -67,7 +67,7 @@ impl<'a> FrameCapture<'a> {
 
     /// Renders `frame` for both eyes; `first_index` is the archive position of
     /// its first tile. `on_tile` is called once per tile (for progress).
-    pub fn capture(
+    pub(crate) fn capture(
         &self,
         frame: u32,
         first_index: usize,

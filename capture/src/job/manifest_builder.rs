@@ -27,7 +27,7 @@ use crate::texture::pidt::PidtImage;
 use crate::texture::uv_islands::{self as unwrap, Unwrapped};
 
 /// Everything the manifest describes.
-pub struct ManifestParts<'a> {
+pub(crate) struct ManifestParts<'a> {
     pub scene: &'a Scene,
     pub scenario: &'a Scenario,
     pub options: &'a CaptureOptions,
@@ -50,7 +50,7 @@ pub struct ManifestParts<'a> {
 /// The eyes' projection, everything a camera needs beside its pose: a
 /// symmetric rectilinear (pinhole) eye, principal point at the image centre,
 /// square pixels.
-pub fn eye_projection(rig: &Rig) -> EyeProjectionRecord {
+pub(crate) fn eye_projection(rig: &Rig) -> EyeProjectionRecord {
     EyeProjectionRecord {
         model: "rectilinear".into(),
         horizontal_fov_deg: rig.horizontal_fov_deg,
@@ -64,7 +64,7 @@ pub fn eye_projection(rig: &Rig) -> EyeProjectionRecord {
 }
 
 /// The rig's settings as the manifest records them: the scene file's rig fields.
-pub fn rig_settings(rig: &Rig) -> RigSettings {
+pub(crate) fn rig_settings(rig: &Rig) -> RigSettings {
     let pedestrian = match &rig.pedestrian {
         ValueOrTrack::Fixed(point) => PedestrianSetting::Point(*point),
         ValueOrTrack::Keys(track) => PedestrianSetting::Walk(
@@ -99,7 +99,7 @@ pub fn rig_settings(rig: &Rig) -> RigSettings {
 /// camera looks along `forward`, image x runs along `right`, image y up
 /// along `up`), read back from the very view matrices the renderer and the
 /// exact measure use.
-pub fn frame_pose(rig: &Rig, time_s: f64, pose: &Pose) -> (PoseRecord, BTreeMap<String, EyePose>) {
+pub(crate) fn frame_pose(rig: &Rig, time_s: f64, pose: &Pose) -> (PoseRecord, BTreeMap<String, EyePose>) {
     let aspect = f64::from(rig.eye_pixels[0]) / f64::from(rig.eye_pixels[1]);
     let projection =
         reversed_z_perspective(rig.vertical_fov_deg().to_radians(), aspect, rig.near_m, rig.far_m);
@@ -132,7 +132,7 @@ fn pose_record(pose: &Pose) -> PoseRecord {
 /// occluders adds `occluders` (each one's name and pose: its own frame, as
 /// in `scene.glb`, placed by `position` and `yaw_deg`); a walking
 /// pedestrian adds `pedestrian` (the ground point, world metres).
-pub fn frame_record(scene: &Scene, state: &FrameState) -> FrameEntry {
+pub(crate) fn frame_record(scene: &Scene, state: &FrameState) -> FrameEntry {
     let rig = &scene.rig;
     let (vehicle, eyes) = frame_pose(rig, state.time_s, &state.vehicle);
     let occluders = (!state.moving.is_empty()).then(|| {
@@ -205,7 +205,7 @@ fn unwrap_record(parts: &ManifestParts) -> UnwrapRecord {
 
 /// Whether a capture's tiles were written as PNG files.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum TileFiles {
+pub(crate) enum TileFiles {
     /// Written: the analyzer can read them.
     Written,
     /// Counted while rendering (`--count`) or measured another way, never written.
@@ -231,7 +231,7 @@ fn capture_record(tally: &TileTally, tiles: TileFiles) -> CaptureRecord {
 }
 
 /// Builds the manifest of a capture.
-pub fn build_manifest(parts: ManifestParts) -> Manifest {
+pub(crate) fn build_manifest(parts: ManifestParts) -> Manifest {
     let unwrap = unwrap_record(&parts);
     let ManifestParts { scene, scenario, tally, .. } = parts;
     // A canonical palette above 2^24 texels is drawn with 32-bit texel ids.
@@ -266,6 +266,6 @@ pub fn build_manifest(parts: ManifestParts) -> Manifest {
 }
 
 /// Six decimals keep the manifest readable and stable across platforms.
-pub fn round6(value: f64) -> f64 {
+pub(crate) fn round6(value: f64) -> f64 {
     (value * 1e6).round() / 1e6
 }

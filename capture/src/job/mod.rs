@@ -25,12 +25,12 @@ pub(crate) mod tile_sink;
 pub use batch::{Batch, Task, load as load_batch, plan as plan_batch};
 pub use capture_job::{
     CapturedTiles, MAX_SCENARIO_SECONDS, PreparedCapture, capture, capture_all, capture_frames,
-    capture_inputs, for_each_scenario, prepare, prepare_archive, read_rgb_png, summarize, verify,
-    write_manifest,
+    for_each_scenario, prepare, read_rgb_png, verify,
 };
+pub(crate) use capture_job::{capture_inputs, prepare_archive, summarize, write_manifest};
 pub use capture_shard::{Assembled, assemble, partial_manifest_path};
 pub use counted_capture::{CaptureSetup, CountedCapture, capture_counted};
-pub use manifest_builder::TileFiles;
+pub(crate) use manifest_builder::TileFiles;
 pub use options::{
     CaptureOptions, CaptureProgress, Compression, FrameSelection, MAX_SELECTED_FRAMES, Summary, TileFilter,
     TileTally,
@@ -38,12 +38,12 @@ pub use options::{
 pub use scene_checks::{MAX_FRAMES, MAX_TILES};
 
 /// The archive's copy of the vehicle as unwrapped (named in the manifest).
-pub const VEHICLE_FILE: &str = "vehicle.glb";
+pub(crate) const VEHICLE_FILE: &str = "vehicle.glb";
 /// The occluders, in world coordinates (glTF axes), beside it.
-pub const SCENE_FILE: &str = "scene.glb";
+pub(crate) const SCENE_FILE: &str = "scene.glb";
 /// Every file a capture writes at the top of its archive folder.
-pub const ARCHIVE_FILES: [&str; 6] =
+pub(crate) const ARCHIVE_FILES: [&str; 6] =
     [ufcsr::MANIFEST_FILE, "pidt.png", "parts.csv", "palette.png", VEHICLE_FILE, SCENE_FILE];
 /// The folders of an archive a capture owns: it writes and removes files in
 /// them (tiles, the counted or measured results, the shards' manifests).
-pub const ARCHIVE_FOLDERS: [&str; 3] = ["tiles", "results", capture_shard::SHARDS_DIR];
+pub(crate) const ARCHIVE_FOLDERS: [&str; 3] = ["tiles", "results", capture_shard::SHARDS_DIR];

@@ -54,13 +54,17 @@ pub const MAX_FRAMES: f64 = 1.0e6;
 /// Most tiles in one capture: 10 million (the paper's 50 a frame for 55 min at 60 fps).
 pub const MAX_TILES: u64 = 10_000_000;
 /// Fastest plausible road vehicle, m/s (360 km/h).
-pub const MAX_SPEED_M_S: f64 = 100.0;
+pub(crate) const MAX_SPEED_M_S: f64 = 100.0;
 /// Hardest plausible acceleration or braking: 3 g.
-pub const MAX_ACCELERATION_M_S2: f64 = 3.0 * 9.80665;
+pub(crate) const MAX_ACCELERATION_M_S2: f64 = 3.0 * 9.80665;
 
 /// The frames of `scenario` the options select, after checking that the
 /// scenario's frame count and the capture's tile count are bounded.
-pub fn selected_frames(scene: &Scene, scenario: &Scenario, options: &CaptureOptions) -> Result<Vec<u32>> {
+pub(crate) fn selected_frames(
+    scene: &Scene,
+    scenario: &Scenario,
+    options: &CaptureOptions,
+) -> Result<Vec<u32>> {
     let rig = &scene.rig;
     let frames = scenario.duration_s * rig.fps;
     if !(frames.is_finite() && frames < MAX_FRAMES) {
@@ -96,7 +100,7 @@ pub fn selected_frames(scene: &Scene, scenario: &Scenario, options: &CaptureOpti
 
 /// The impossible-scene checks over `frames`: the warnings, or an error
 /// when an eye is inside the vehicle.
-pub fn scene_warnings(scene: &Scene, scenario: &Scenario, frames: &[u32]) -> Result<Vec<String>> {
+pub(crate) fn scene_warnings(scene: &Scene, scenario: &Scenario, frames: &[u32]) -> Result<Vec<String>> {
     let rig = &scene.rig;
     let mut found = ViewFindings::default();
     for &frame in frames {
@@ -265,7 +269,7 @@ fn segment_meets_square(a: glam::DVec2, b: glam::DVec2) -> bool {
 /// Point-in-mesh by ray parity: inside when three rays in unrelated
 /// directions all cross the surface an odd number of times (a mesh with
 /// holes then gives no false alarm). The bounding box is the quick test.
-pub fn inside_mesh(mesh: &Mesh, point: DVec3) -> bool {
+pub(crate) fn inside_mesh(mesh: &Mesh, point: DVec3) -> bool {
     let (min, max) = mesh.bounds();
     if point.cmplt(min).any() || point.cmpgt(max).any() {
         return false;
@@ -301,7 +305,7 @@ enum Place {
 
 /// Speeds and accelerations between consecutive frames (at the rig's fps,
 /// every frame, not only the selected ones) beyond physical bounds.
-pub fn motion_warnings(rig: &Rig, scenario: &Scenario) -> Vec<String> {
+pub(crate) fn motion_warnings(rig: &Rig, scenario: &Scenario) -> Vec<String> {
     let track = &scenario.motion.position;
     let count = rig.frame_count(scenario.duration_s);
     let at = |frame: u32| {

@@ -28,12 +28,12 @@ impl TileAddress {
 }
 
 /// The file name of a tile, relative to the archive.
-pub fn tile_file(frame: u32, eye: Eye, row: u32, col: u32) -> PathBuf {
+pub(crate) fn tile_file(frame: u32, eye: Eye, row: u32, col: u32) -> PathBuf {
     PathBuf::from(format!("tiles/f{frame:04}_{}_r{row}_c{col}.png", eye.name()))
 }
 
 /// True for `f0000_left_r0_c0.png` and the like.
-pub fn is_tile_name(name: &str) -> bool {
+pub(crate) fn is_tile_name(name: &str) -> bool {
     let Some(rest) = name.strip_prefix('f').and_then(|n| n.strip_suffix(".png")) else {
         return false;
     };

@@ -10,7 +10,11 @@ use crate::error::{CaptureError, Result};
 
 /// Maps `slice` for reading and waits until it is mapped (the one way every
 /// readback in this crate waits on the GPU). `what` names the data in errors.
-pub fn map_for_reading(device: &wgpu::Device, slice: &wgpu::BufferSlice<'_>, what: &str) -> Result<()> {
+pub(crate) fn map_for_reading(
+    device: &wgpu::Device,
+    slice: &wgpu::BufferSlice<'_>,
+    what: &str,
+) -> Result<()> {
     let (sender, receiver) = std::sync::mpsc::channel();
     slice.map_async(wgpu::MapMode::Read, move |result| {
         let _ = sender.send(result);

@@ -33,7 +33,7 @@ pub(crate) struct OcclusionTest {
 const RESULT_BYTES: u64 = 8;
 
 impl OcclusionTest {
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, vehicle: &[Vertex]) -> OcclusionTest {
+    pub(crate) fn new(device: &wgpu::Device, queue: &wgpu::Queue, vehicle: &[Vertex]) -> OcclusionTest {
         let query_set = device.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("vehicle bounds occlusion"),
             ty: wgpu::QueryType::Occlusion,
@@ -67,13 +67,13 @@ impl OcclusionTest {
 
     /// Records the resolve of the query and its copy into the readback buffer
     /// (after the pass that ran the query).
-    pub fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
+    pub(crate) fn resolve(&self, encoder: &mut wgpu::CommandEncoder) {
         encoder.resolve_query_set(&self.query_set, 0..1, &self.resolve, 0);
         encoder.copy_buffer_to_buffer(&self.resolve, 0, &self.readback, 0, RESULT_BYTES);
     }
 
     /// Waits for the submitted query and returns its sample count.
-    pub fn samples(&self, device: &wgpu::Device) -> Result<u64> {
+    pub(crate) fn samples(&self, device: &wgpu::Device) -> Result<u64> {
         let slice = self.readback.slice(..);
         crate::render::gpu::map_for_reading(device, &slice, "occlusion result")?;
         let samples = {

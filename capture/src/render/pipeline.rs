@@ -12,11 +12,11 @@ use crate::render::{GpuPalette, Vertex};
 /// spelled `MODE_*` in `shader.wgsl` — change both together.
 pub(crate) mod draw_mode {
     /// The canonical palette colour of the texel, computed.
-    pub const CANONICAL_PALETTE: u32 = 0;
+    pub(crate) const CANONICAL_PALETTE: u32 = 0;
     /// The texel of the external palette texture.
-    pub const EXTERNAL_PALETTE: u32 = 1;
+    pub(crate) const EXTERNAL_PALETTE: u32 = 1;
     /// The background colour (occluders).
-    pub const BACKGROUND: u32 = 2;
+    pub(crate) const BACKGROUND: u32 = 2;
 }
 
 /// Uniforms as laid out in the shader (80 bytes).
@@ -55,7 +55,7 @@ impl PalettePipeline {
     /// Compiles the shader, builds the pipeline and uploads the palette,
     /// with uniforms for the vehicle, the still occluders and `moving`
     /// moving occluders.
-    pub fn new(
+    pub(crate) fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         palette: &GpuPalette,

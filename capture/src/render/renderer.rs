@@ -152,7 +152,7 @@ fn vertex_buffer(
 }
 
 /// The most moving occluders a scene may have (a uniform block each: 256 kB).
-pub const MAX_MOVING_OCCLUDERS: usize = 1000;
+pub(crate) const MAX_MOVING_OCCLUDERS: usize = 1000;
 
 /// The tile and palette must fit the device's textures.
 fn check_sizes(device: &wgpu::Device, setup: &RenderSetup) -> Result<()> {

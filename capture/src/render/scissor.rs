@@ -19,7 +19,7 @@ const SLACK_PIXELS: f64 = 2.0;
 
 /// The vehicle's projected bounds in one eye.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum EyeBounds {
+pub(crate) enum EyeBounds {
     /// The box reaches behind the camera: no bound, draw whole tiles.
     Unbounded,
     /// Eye-image pixel coordinates `[x0, y0, x1, y1]` (x right, y down), slack included.
@@ -28,7 +28,7 @@ pub enum EyeBounds {
 
 impl EyeBounds {
     /// Projects the box `corners` (world) through `camera`.
-    pub fn project(rig: &Rig, camera: &EyeCamera, corners: &[DVec3; 8]) -> EyeBounds {
+    pub(crate) fn project(rig: &Rig, camera: &EyeCamera, corners: &[DVec3; 8]) -> EyeBounds {
         let [w, h] = rig.eye_pixels.map(f64::from);
         let mut bounds = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
         for corner in corners {
@@ -55,7 +55,7 @@ impl EyeBounds {
 
     /// The part of `tile` the vehicle may cover (the whole tile when
     /// unbounded), or `None` when it covers none of it.
-    pub fn region(&self, rig: &Rig, tile: TileId) -> Option<PixelRect> {
+    pub(crate) fn region(&self, rig: &Rig, tile: TileId) -> Option<PixelRect> {
         let [tw, th] = rig.tile_pixels();
         let EyeBounds::Pixels([x0, y0, x1, y1]) = *self else {
             return Some(PixelRect::whole([tw, th]));
@@ -71,7 +71,7 @@ impl EyeBounds {
 /// A tile of `size` pixels all in the `background` colour (RGBA): one pixel
 /// written, then the filled part copied onto the rest, doubling each time
 /// (memcpy speed, not a byte at a time).
-pub fn background_tile(size: [u32; 2], background: [u8; 4]) -> Vec<u8> {
+pub(crate) fn background_tile(size: [u32; 2], background: [u8; 4]) -> Vec<u8> {
     let [tw, th] = size.map(|v| v as usize);
     let total = tw * th * 4;
     let mut tile = vec![0u8; total];
@@ -90,7 +90,7 @@ pub fn background_tile(size: [u32; 2], background: [u8; 4]) -> Vec<u8> {
 
 /// A full tile of `size` pixels in the background colour `rgba` with the
 /// rendered `region` pixels (tightly packed rows) copied in.
-pub fn fill_tile(size: [u32; 2], background: [u8; 4], region: PixelRect, pixels: &[u8]) -> Vec<u8> {
+pub(crate) fn fill_tile(size: [u32; 2], background: [u8; 4], region: PixelRect, pixels: &[u8]) -> Vec<u8> {
     let tw = size[0] as usize;
     let mut tile = background_tile(size, background);
     let row = region.width as usize * 4;

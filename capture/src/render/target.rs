@@ -40,7 +40,7 @@ pub(crate) struct TileTarget {
 
 impl TileTarget {
     /// Targets and a readback buffer for `size` tiles.
-    pub fn new(device: &wgpu::Device, size: [u32; 2]) -> TileTarget {
+    pub(crate) fn new(device: &wgpu::Device, size: [u32; 2]) -> TileTarget {
         let [width, height] = size;
         let texture = |label: &str, format: wgpu::TextureFormat, usage: wgpu::TextureUsages| {
             device.create_texture(&wgpu::TextureDescriptor {
@@ -79,13 +79,13 @@ impl TileTarget {
     }
 
     /// Tile size in pixels.
-    pub fn size(&self) -> [u32; 2] {
+    pub(crate) fn size(&self) -> [u32; 2] {
         self.size
     }
 
     /// Records the copy of `region` of the colour target into the readback
     /// buffer, rows `padded_row` bytes apart from offset 0.
-    pub fn copy_to_readback(&self, encoder: &mut wgpu::CommandEncoder, region: PixelRect) {
+    pub(crate) fn copy_to_readback(&self, encoder: &mut wgpu::CommandEncoder, region: PixelRect) {
         encoder.copy_texture_to_buffer(
             wgpu::TexelCopyTextureInfo {
                 texture: &self.color,
@@ -107,7 +107,7 @@ impl TileTarget {
 
     /// Waits for the submitted copy of `region`, maps the buffer and returns
     /// the region's pixels, RGBA8, tightly packed rows top to bottom.
-    pub fn read_back(&self, device: &wgpu::Device, region: PixelRect) -> Result<Vec<u8>> {
+    pub(crate) fn read_back(&self, device: &wgpu::Device, region: PixelRect) -> Result<Vec<u8>> {
         let used = u64::from(self.padded_row) * u64::from(region.height);
         let slice = self.readback.slice(..used);
         crate::render::gpu::map_for_reading(device, &slice, "tile")?;

@@ -32,15 +32,15 @@ use crate::scene::scene_file::Scene;
 /// Two surfaces nearer than this share of the vehicle's bounding-box
 /// diagonal are coincident: the exact measure's surface lift (1e-5, 0.06 mm
 /// on a 6 m truck), within which its rays cannot tell them apart either.
-pub const COINCIDENT_RELATIVE: f64 = 1e-5;
+pub(crate) const COINCIDENT_RELATIVE: f64 = 1e-5;
 /// An overlap smaller than this share of the smaller triangle's area is a
 /// touching edge or rounding, not a shared surface.
-pub const MIN_OVERLAP_RELATIVE: f64 = 1e-6;
+pub(crate) const MIN_OVERLAP_RELATIVE: f64 = 1e-6;
 /// Grid cells along the indexed set's longest side.
 const GRID_CELLS: f64 = 32.0;
 
 /// One set of triangles (one frame, metres) indexed for coincidence queries.
-pub struct CoplanarIndex {
+pub(crate) struct CoplanarIndex {
     triangles: Vec<[DVec3; 3]>,
     tolerance: f64,
     min: DVec3,
@@ -52,7 +52,7 @@ pub struct CoplanarIndex {
 impl CoplanarIndex {
     /// Indexes `triangles`; `tolerance` (metres) is how far from each
     /// other's plane two surfaces may lie and still coincide.
-    pub fn new(triangles: Vec<[DVec3; 3]>, tolerance: f64) -> CoplanarIndex {
+    pub(crate) fn new(triangles: Vec<[DVec3; 3]>, tolerance: f64) -> CoplanarIndex {
         let (min, max) = triangles
             .iter()
             .flatten()
@@ -73,7 +73,7 @@ impl CoplanarIndex {
 
     /// The indexed triangles that coincide with `triangle` (same frame), each
     /// with the area of the overlap, m².
-    pub fn coinciding(&self, triangle: &[DVec3; 3]) -> Vec<(u32, f64)> {
+    pub(crate) fn coinciding(&self, triangle: &[DVec3; 3]) -> Vec<(u32, f64)> {
         let (lo, hi) = bounds(triangle, self.tolerance);
         let Some(range) = self.cell_range(lo, hi) else { return Vec::new() };
         let mut candidates: Vec<u32> =
@@ -96,7 +96,7 @@ impl CoplanarIndex {
 
     /// False when the box around `corners` (same frame) is farther than the
     /// tolerance from every indexed triangle's box: nothing there can coincide.
-    pub fn may_meet(&self, corners: &[DVec3; 8]) -> bool {
+    pub(crate) fn may_meet(&self, corners: &[DVec3; 8]) -> bool {
         let lo = corners.iter().fold(DVec3::INFINITY, |m, p| m.min(*p)) - DVec3::splat(self.tolerance);
         let hi = corners.iter().fold(DVec3::NEG_INFINITY, |m, p| m.max(*p)) + DVec3::splat(self.tolerance);
         !(self.triangles.is_empty() || hi.cmplt(self.min).any() || lo.cmpgt(self.max).any())
@@ -128,7 +128,7 @@ fn bounds(triangle: &[DVec3; 3], margin: f64) -> (DVec3, DVec3) {
 /// The area (m²) over which `a` and `b` coincide: 0 unless each one's
 /// corners lie within `tolerance` of the other's plane and their interiors
 /// overlap by more than [`MIN_OVERLAP_RELATIVE`] of the smaller one's area.
-pub fn overlap_area(a: &[DVec3; 3], b: &[DVec3; 3], tolerance: f64) -> f64 {
+pub(crate) fn overlap_area(a: &[DVec3; 3], b: &[DVec3; 3], tolerance: f64) -> f64 {
     let cross = |t: &[DVec3; 3]| (t[1] - t[0]).cross(t[2] - t[0]);
     let (ca, cb) = (cross(a), cross(b));
     let (na, nb) = (ca.normalize_or_zero(), cb.normalize_or_zero());
@@ -189,7 +189,7 @@ fn polygon_area(polygon: &[DVec2]) -> f64 {
 
 /// The vehicle's triangles in its own frame, f64, and the coincidence
 /// tolerance for it ([`COINCIDENT_RELATIVE`] of its bounding-box diagonal).
-pub fn vehicle_index(mesh: &Mesh) -> CoplanarIndex {
+pub(crate) fn vehicle_index(mesh: &Mesh) -> CoplanarIndex {
     let (min, max) = mesh.bounds();
     let triangles = (0..mesh.triangles.len()).map(|t| mesh.corners(t).map(|c| c.as_dvec3())).collect();
     CoplanarIndex::new(triangles, COINCIDENT_RELATIVE * (max - min).length())
@@ -198,14 +198,14 @@ pub fn vehicle_index(mesh: &Mesh) -> CoplanarIndex {
 /// Surface two triangles of one mesh share: the pair (`first` < `second`
 /// in mesh order) and the overlap's area, m².
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SharedSurface {
+pub(crate) struct SharedSurface {
     pub first: u32,
     pub second: u32,
     pub area_m2: f64,
 }
 
 /// Every pair of the indexed triangles that coincide.
-pub fn shared_surfaces(index: &CoplanarIndex) -> Vec<SharedSurface> {
+pub(crate) fn shared_surfaces(index: &CoplanarIndex) -> Vec<SharedSurface> {
     let mut shared = Vec::new();
     for (second, triangle) in index.triangles.iter().enumerate() {
         let second = second as u32;
@@ -221,7 +221,7 @@ pub fn shared_surfaces(index: &CoplanarIndex) -> Vec<SharedSurface> {
 /// Per triangle of `mesh`: true when an earlier triangle covers it whole
 /// (a duplicate face: the exact measure counts its surface once, for the
 /// earlier triangle).
-pub fn covered_triangles(mesh: &Mesh) -> Vec<bool> {
+pub(crate) fn covered_triangles(mesh: &Mesh) -> Vec<bool> {
     let index = vehicle_index(mesh);
     let mut covered = vec![false; mesh.triangles.len()];
     for surface in shared_surfaces(&index) {
@@ -238,7 +238,7 @@ const LISTED: usize = 8;
 
 /// Warnings for the vehicle's triangles that coincide with one another
 /// (within a part or across two), one per pair of parts, largest first.
-pub fn shared_surface_warnings(mesh: &Mesh, index: &CoplanarIndex) -> Vec<String> {
+pub(crate) fn shared_surface_warnings(mesh: &Mesh, index: &CoplanarIndex) -> Vec<String> {
     // (earlier part, later part) → (triangle pairs, shared m², of it covered whole).
     let mut by_parts: BTreeMap<(u32, u32), (usize, f64, f64)> = BTreeMap::new();
     for surface in shared_surfaces(index) {
@@ -293,7 +293,7 @@ struct OnTheVehicle {
 /// Warnings for occluders that lie on the vehicle (coplanar with and
 /// overlapping its faces) in any of `frames`, one per occluder, naming its
 /// parts and the frames. `index` is [`vehicle_index`] of the scene's vehicle.
-pub fn occluder_warnings(
+pub(crate) fn occluder_warnings(
     scene: &Scene,
     scenario: &Scenario,
     frames: &[u32],

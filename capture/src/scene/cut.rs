@@ -25,13 +25,13 @@ use glam::DVec3;
 /// a long triangle can still leave a piece thinner than this, which
 /// `inspect` counts as a sliver: the milk truck's rules leave 11, 0.6 cm²
 /// in all.)
-pub const ON_PLANE_M: f64 = 1e-4;
+pub(crate) const ON_PLANE_M: f64 = 1e-4;
 
 /// A plane `normal · p = offset` (normal of unit length) and the box
 /// (`min`, `max`, already widened by [`ON_PLANE_M`]) outside which no
 /// triangle needs cutting: the part of the plane that bounds a region.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct CutPlane {
+pub(crate) struct CutPlane {
     pub normal: DVec3,
     pub offset: f64,
     pub within: (DVec3, DVec3),

@@ -24,14 +24,14 @@ use crate::scene::shapes::{TRUCK_WHEEL, wheel};
 use crate::scene::track::{Key, Motion, Track, ValueOrTrack};
 
 /// Truck dimensions: length, width (body), height.
-pub const TRUCK_SIZE: [f64; 3] = [5.9, 2.0, 1.9];
+pub(crate) const TRUCK_SIZE: [f64; 3] = [5.9, 2.0, 1.9];
 
 /// Where the pedestrian stands (south-west corner).
-pub const PEDESTRIAN: [f64; 3] = [-5.5, -5.5, 0.0];
+pub(crate) const PEDESTRIAN: [f64; 3] = [-5.5, -5.5, 0.0];
 
 /// The procedural pickup truck in its own frame (x forward, y left, z up).
 #[allow(clippy::too_many_lines)] // data as code: the truck's boxes, one line each
-pub fn truck() -> Mesh {
+pub(crate) fn truck() -> Mesh {
     let mut m = Mesh::default();
     let v = vec3;
     let hl = 2.95_f32; // half length
@@ -210,7 +210,7 @@ pub fn truck() -> Mesh {
 }
 
 /// The intersection's occluders: ground, and the corner buildings.
-pub fn intersection() -> Occluders {
+pub(crate) fn intersection() -> Occluders {
     let mut occluders = Occluders::default();
     // The ground hides the underside of the truck (it would never be seen).
     let mut ground = Mesh::default();
@@ -242,12 +242,12 @@ pub fn intersection() -> Occluders {
 
 /// The demo rig: the paper's defaults with the pedestrian at the south-west
 /// corner, looking at the middle of the truck.
-pub fn rig() -> Rig {
+pub(crate) fn rig() -> Rig {
     Rig { pedestrian: ValueOrTrack::Fixed(PEDESTRIAN), look_at_vehicle: [0.0, 0.0, 0.95], ..Rig::default() }
 }
 
 /// Scenario names and their rotation about the intersection (degrees).
-pub const SCENARIOS: [(&str, f64, &str); 4] = [
+pub(crate) const SCENARIOS: [(&str, f64, &str); 4] = [
     ("A", 0.0, "from the west"),
     ("B", 180.0, "from the east"),
     ("C", 270.0, "from the north"),
@@ -255,13 +255,13 @@ pub const SCENARIOS: [(&str, f64, &str); 4] = [
 ];
 
 /// The demo scenario `name` (A–D).
-pub fn scenario(name: &str) -> Option<Scenario> {
+pub(crate) fn scenario(name: &str) -> Option<Scenario> {
     scenario_for_length(name, TRUCK_SIZE[0])
 }
 
 /// The demo scenario `name` (A–D) for a vehicle `length_m` long: the same
 /// path, shifted so that its front bumper stops at the stop line.
-pub fn scenario_for_length(name: &str, length_m: f64) -> Option<Scenario> {
+pub(crate) fn scenario_for_length(name: &str, length_m: f64) -> Option<Scenario> {
     let &(name, rotation, _) = SCENARIOS.iter().find(|(n, _, _)| n.eq_ignore_ascii_case(name))?;
     // Scenario A: north up the cross street at x = -29.35, right turn into
     // the eastbound lane (y = -2), straight at 8 m/s, then braking at a
@@ -356,7 +356,7 @@ impl DemoTraffic {
 
 /// Bounds of the truck in its frame.
 #[cfg(test)]
-pub fn truck_bounds() -> (glam::DVec3, glam::DVec3) {
+pub(crate) fn truck_bounds() -> (glam::DVec3, glam::DVec3) {
     truck().bounds()
 }
 

@@ -62,7 +62,7 @@ impl FrameState {
 }
 
 /// "0-3, 60, 120" (runs joined; at most 12 items, then how many in all).
-pub fn list_frames(frames: &[u32]) -> String {
+pub(crate) fn list_frames(frames: &[u32]) -> String {
     let mut runs: Vec<(u32, u32)> = Vec::new();
     for &frame in frames {
         match runs.last_mut() {

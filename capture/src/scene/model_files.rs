@@ -14,7 +14,7 @@ use crate::error::{CaptureError, Result};
 
 /// An OBJ as loaded: its models, materials, and every file read (the OBJ
 /// and the MTL files it names).
-pub struct LoadedObj {
+pub(crate) struct LoadedObj {
     pub models: Vec<tobj::Model>,
     pub materials: Vec<tobj::Material>,
     pub files: Vec<PathBuf>,
@@ -22,7 +22,7 @@ pub struct LoadedObj {
 
 /// Loads an OBJ with its materials; a missing MTL leaves the materials out
 /// (as tobj does), an MTL that cannot be read safely is an error naming it.
-pub fn load_obj(path: &Path, options: &tobj::LoadOptions) -> Result<LoadedObj> {
+pub(crate) fn load_obj(path: &Path, options: &tobj::LoadOptions) -> Result<LoadedObj> {
     let bytes = ufcsr::files::read_limited(path, ufcsr::files::MODEL_LIMIT)?;
     let files = RefCell::new(vec![path.to_path_buf()]);
     let read_material = |reference: &Path| {
@@ -38,7 +38,7 @@ pub fn load_obj(path: &Path, options: &tobj::LoadOptions) -> Result<LoadedObj> {
 /// Parses OBJ `bytes` (`path` names it in messages), reading each `mtllib`
 /// with `read_material`: a missing MTL (not found) leaves the materials
 /// out, as tobj does; any other error stops the load.
-pub fn obj_from_bytes(
+pub(crate) fn obj_from_bytes(
     path: &Path,
     bytes: &[u8],
     options: &tobj::LoadOptions,

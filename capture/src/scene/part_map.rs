@@ -35,9 +35,9 @@ use crate::scene::mesh::{Mesh, PartSource, triangle_area};
 /// The part of triangles on which the map shows no legend colour.
 pub const UNMAPPED_PART: &str = "unmapped";
 /// About how many part-map texels one triangle samples at most.
-pub const MAX_SAMPLES: f64 = 4096.0;
+pub(crate) const MAX_SAMPLES: f64 = 4096.0;
 /// Largest part map read, texels per side.
-pub const MAX_SIDE: u32 = 16384;
+pub(crate) const MAX_SIDE: u32 = 16384;
 
 /// `"parts_from": {"part_map": "partmap.png", "legend": "parts.csv"}` in a
 /// scene file's vehicle (paths relative to the scene file).
@@ -170,7 +170,7 @@ impl PartMap {
 
 /// Names every triangle of `mesh` by the part map of `spec` (paths
 /// relative to `base`; `scene` names the scene file in messages).
-pub fn apply(mesh: &mut Mesh, spec: &PartMapSpec, base: &Path, scene: &Path) -> Result<PartMapReport> {
+pub(crate) fn apply(mesh: &mut Mesh, spec: &PartMapSpec, base: &Path, scene: &Path) -> Result<PartMapReport> {
     let uvs = own_uvs(mesh);
     let has_uvs =
         |triangle: &[u32; 3]| triangle.iter().all(|&i| uvs.get(i as usize).is_some_and(|uv| uv.is_finite()));

@@ -7,7 +7,7 @@ use glam::DVec3;
 
 /// A triangle as Möller–Trumbore reads it: a corner and the two edges from it.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StoredTriangle {
+pub(crate) struct StoredTriangle {
     pub corner: DVec3,
     pub edge1: DVec3,
     pub edge2: DVec3,
@@ -15,7 +15,7 @@ pub struct StoredTriangle {
 
 impl StoredTriangle {
     /// The stored form of the triangle with corners `t`.
-    pub fn from_corners(t: &[DVec3; 3]) -> StoredTriangle {
+    pub(crate) fn from_corners(t: &[DVec3; 3]) -> StoredTriangle {
         StoredTriangle { corner: t[0], edge1: t[1] - t[0], edge2: t[2] - t[0] }
     }
 }
@@ -24,7 +24,7 @@ impl StoredTriangle {
 /// `from` crosses the triangle, or `None` when it misses it or runs parallel.
 /// Inlined: the exact measure calls it tens of millions of times a second.
 #[inline]
-pub fn ray_triangle_parameter(from: DVec3, direction: DVec3, t: &StoredTriangle) -> Option<f64> {
+pub(crate) fn ray_triangle_parameter(from: DVec3, direction: DVec3, t: &StoredTriangle) -> Option<f64> {
     let p = direction.cross(t.edge2);
     let determinant = t.edge1.dot(p);
     if determinant.abs() < 1e-15 {

@@ -56,7 +56,7 @@ use crate::scene::region_pieces::{Pieces, RuleCut, cut_into_pieces};
 
 /// The most triangles cutting may add (beyond it, crossed triangles stay
 /// whole and a warning names them): a bound on memory whatever the rules.
-pub const MAX_NEW_TRIANGLES: usize = 4_000_000;
+pub(crate) const MAX_NEW_TRIANGLES: usize = 4_000_000;
 use crate::scene::mesh::{Mesh, triangle_area};
 
 /// One value or a list of them (`"from": "body"` or `"from": ["a", "b"]`).
@@ -373,7 +373,7 @@ fn centroid(mesh: &Mesh, t: usize) -> DVec3 {
 /// their boundaries cross; `rename` is the map already applied (its targets
 /// are taken only by rules that list them in `from`). An error names the bad
 /// rule. Without rules the mesh is left exactly as it was.
-pub fn apply(
+pub(crate) fn apply(
     mesh: &mut Mesh,
     rules: &[PartRule],
     rename: &BTreeMap<String, String>,

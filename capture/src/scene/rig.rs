@@ -18,21 +18,21 @@ use crate::scene::track::{MAX_TRACK_MAGNITUDE, Pose, ValueOrTrack};
 
 /// Largest interpupillary distance: a human's is 0.054–0.074 m; 1 m leaves
 /// room for a stereo camera rig.
-pub const MAX_IPD_M: f64 = 1.0;
+pub(crate) const MAX_IPD_M: f64 = 1.0;
 /// Most frames per second: 1000 (high-speed video); beyond is a unit mistake.
-pub const MAX_FPS: f64 = 1000.0;
+pub(crate) const MAX_FPS: f64 = 1000.0;
 /// Fewest frames per second: 1. Every frame stands for 1/fps seconds of the
 /// time totals (exposure, angular area), the final frame included, so they
 /// exceed the scenario's duration by one frame; slower than 1 fps that frame
 /// is longer than a pedestrian's glance (fps 0.5 made a 3 s scene 4 s of
 /// exposure, fps 0.001 made it 1000 s).
-pub const MIN_FPS: f64 = 1.0;
+pub(crate) const MIN_FPS: f64 = 1.0;
 /// Most pixels per degree: 1000 (an eye of 107,000 pixels, already beyond
 /// any GPU's textures at a few tiles); the paper's is 60.
-pub const MAX_PIXELS_PER_DEGREE: f64 = 1000.0;
+pub(crate) const MAX_PIXELS_PER_DEGREE: f64 = 1000.0;
 /// Nearest near plane: a millimetre. Nearer, the reversed-Z depth of f32
 /// loses the vehicle (a near plane of 1e-300 m rendered nothing, exit 0).
-pub const MIN_NEAR_M: f64 = 1e-3;
+pub(crate) const MIN_NEAR_M: f64 = 1e-3;
 
 /// Rig settings (the paper's defaults); every field can be overridden.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -391,7 +391,7 @@ const VERTICAL_VIEW_SIN2: f64 = 1e-6;
 /// +Y (north) when the view is within [`VERTICAL_VIEW_SIN2`] of vertical, so
 /// that the camera basis is well defined for every direction (an eye looking
 /// straight up at a plate overhead sees it in the middle of its image).
-pub fn image_up(forward: DVec3) -> DVec3 {
+pub(crate) fn image_up(forward: DVec3) -> DVec3 {
     let f = forward.normalize_or_zero();
     if f.cross(DVec3::Z).length_squared() < VERTICAL_VIEW_SIN2 { DVec3::Y } else { DVec3::Z }
 }

@@ -12,7 +12,7 @@ pub struct Scenario {
 }
 
 /// A scenario's duration: finite, not negative, within the tracks' bounds.
-pub fn check_duration(duration_s: f64) -> std::result::Result<(), String> {
+pub(crate) fn check_duration(duration_s: f64) -> std::result::Result<(), String> {
     let limit = crate::scene::track::MAX_TRACK_MAGNITUDE;
     if duration_s.is_finite() && (0.0..=limit).contains(&duration_s) {
         Ok(())
@@ -27,7 +27,11 @@ pub fn check_duration(duration_s: f64) -> std::result::Result<(), String> {
 /// duration by one frame — refused when that frame alone is longer than the
 /// whole scenario (a still scenario of 0 s is one frame of 1/fps, allowed).
 /// `fps` names where the rate came from in the message.
-pub fn check_frame_time(scenario: &Scenario, fps: f64, field: &str) -> std::result::Result<(), String> {
+pub(crate) fn check_frame_time(
+    scenario: &Scenario,
+    fps: f64,
+    field: &str,
+) -> std::result::Result<(), String> {
     let frame_s = 1.0 / fps;
     if scenario.duration_s > 0.0 && frame_s > scenario.duration_s {
         return Err(format!(

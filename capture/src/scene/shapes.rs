@@ -12,7 +12,7 @@ use crate::scene::mesh::Mesh;
 
 /// A wheel's size, metres.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct WheelSize {
+pub(crate) struct WheelSize {
     /// Tyre radius (the wheel's centre stands this high).
     pub radius: f32,
     /// Rim radius (the inner edge of the sidewall ring).
@@ -22,16 +22,16 @@ pub struct WheelSize {
 }
 
 /// The demo truck's wheels (a 0.84 m tyre on a 0.54 m rim, 0.28 m wide).
-pub const TRUCK_WHEEL: WheelSize = WheelSize { radius: 0.42, rim_radius: 0.27, half_width: 0.14 };
+pub(crate) const TRUCK_WHEEL: WheelSize = WheelSize { radius: 0.42, rim_radius: 0.27, half_width: 0.14 };
 
 /// How far the rim disc stands proud of the tyre's outer sidewall, metres (so
 /// that the two never share a plane).
-pub const RIM_PROUD_M: f32 = 0.01;
+pub(crate) const RIM_PROUD_M: f32 = 0.01;
 
 /// A wheel at `centre`; `s` = +1 on the left (outer face towards +y): the
 /// tyre's tread and outer sidewall ring, and the rim disc
 /// [`RIM_PROUD_M`] outside it.
-pub fn wheel(m: &mut Mesh, centre: Vec3, s: f32, [tyre, rim]: [&str; 2], size: WheelSize) {
+pub(crate) fn wheel(m: &mut Mesh, centre: Vec3, s: f32, [tyre, rim]: [&str; 2], size: WheelSize) {
     const SEGMENTS: usize = 12;
     let WheelSize { radius, rim_radius, half_width } = size;
     let at = |angle: f32, r: f32, y: f32| centre + vec3(r * angle.cos(), y, r * angle.sin());
@@ -69,7 +69,7 @@ pub fn wheel(m: &mut Mesh, centre: Vec3, s: f32, [tyre, rim]: [&str; 2], size: W
 
 /// Adds the planar quad `corners` as part `name`, its corners ordered so
 /// that it faces `outward` (counter-clockwise seen from that side).
-pub fn facing(m: &mut Mesh, name: &str, corners: [Vec3; 4], outward: Vec3) {
+pub(crate) fn facing(m: &mut Mesh, name: &str, corners: [Vec3; 4], outward: Vec3) {
     let [a, b, c, d] = corners;
     if (b - a).cross(c - a).dot(outward) >= 0.0 {
         m.add_quad(name, a, b, c, d);
@@ -85,7 +85,7 @@ pub fn facing(m: &mut Mesh, name: &str, corners: [Vec3; 4], outward: Vec3) {
 /// centres on the line can fall between the two and show the body's inside
 /// (a back face, a part the pedestrian cannot see). Positions, parts,
 /// areas and the bounding box do not change.
-pub fn split_t_junctions(mesh: &mut Mesh) {
+pub(crate) fn split_t_junctions(mesh: &mut Mesh) {
     let mut corners: Vec<Vec3> = mesh.positions.clone();
     corners.sort_by(|a, b| a.to_array().partial_cmp(&b.to_array()).unwrap_or(std::cmp::Ordering::Equal));
     corners.dedup();
@@ -131,7 +131,7 @@ fn inside_edge(a: Vec3, b: Vec3, p: Vec3) -> bool {
 /// Pairs of parts with two triangles that lie in one plane and overlap
 /// (share more than an edge): each such pair would fight in the depth buffer.
 #[cfg(test)]
-pub fn coplanar_overlaps(mesh: &Mesh) -> Vec<(String, String)> {
+pub(crate) fn coplanar_overlaps(mesh: &Mesh) -> Vec<(String, String)> {
     use glam::{DVec2, DVec3, dvec2};
     let n = mesh.triangles.len();
     let tris: Vec<[DVec3; 3]> = (0..n).map(|t| mesh.corners(t).map(|c| c.as_dvec3())).collect();

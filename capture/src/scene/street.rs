@@ -24,40 +24,40 @@ use crate::scene::scenario::Scenario;
 use crate::scene::track::{Key, Motion, Pose, Track, ValueOrTrack};
 
 /// Lane width, metres (ours: a common urban lane).
-pub const LANE_WIDTH_M: f64 = 3.5;
+pub(crate) const LANE_WIDTH_M: f64 = 3.5;
 /// Walkway (sidewalk) width, metres (ours).
-pub const WALKWAY_WIDTH_M: f64 = 2.5;
+pub(crate) const WALKWAY_WIDTH_M: f64 = 2.5;
 /// Kerb height, metres (ours).
-pub const KERB_HEIGHT_M: f64 = 0.15;
+pub(crate) const KERB_HEIGHT_M: f64 = 0.15;
 /// Alleyway width, metres (ours).
-pub const ALLEY_WIDTH_M: f64 = 4.0;
+pub(crate) const ALLEY_WIDTH_M: f64 = 4.0;
 /// Where the two alleyways cross the walkways: near side at +X, far side at −X, metres (ours).
-pub const ALLEY_X_M: f64 = 10.0;
+pub(crate) const ALLEY_X_M: f64 = 10.0;
 /// Height of the building blocks lining the street, metres (ours).
-pub const BUILDING_HEIGHT_M: f64 = 10.0;
+pub(crate) const BUILDING_HEIGHT_M: f64 = 10.0;
 /// Half the length of the street modelled, metres (ours).
-pub const STREET_HALF_LENGTH_M: f64 = 60.0;
+pub(crate) const STREET_HALF_LENGTH_M: f64 = 60.0;
 /// The lane positions' vehicle centres along X: near lane (driving +X)
 /// positions 1–3, far lane (driving −X) 4–6, metres (ours).
-pub const LANE_POSITIONS_X_M: [[f64; 3]; 2] = [[-20.0, -12.0, -5.0], [20.0, 12.0, 5.0]];
+pub(crate) const LANE_POSITIONS_X_M: [[f64; 3]; 2] = [[-20.0, -12.0, -5.0], [20.0, 12.0, 5.0]];
 /// The pedestrian's places 1–3 on the near walkway, X metres (ours).
-pub const PEDESTRIAN_X_M: [f64; 3] = [0.0, -6.0, 6.0];
+pub(crate) const PEDESTRIAN_X_M: [f64; 3] = [0.0, -6.0, 6.0];
 /// How far from the kerb the pedestrian stands, metres (ours).
-pub const PEDESTRIAN_FROM_KERB_M: f64 = 0.5;
+pub(crate) const PEDESTRIAN_FROM_KERB_M: f64 = 0.5;
 /// Seconds a static position is recorded (ours; longer than the placement
 /// rules' 1 s dwell, so a legible display can count).
-pub const STATIC_SECONDS: f64 = 2.0;
+pub(crate) const STATIC_SECONDS: f64 = 2.0;
 /// Seconds an approach lasts, ending at the position (ours).
-pub const APPROACH_SECONDS: f64 = 3.0;
+pub(crate) const APPROACH_SECONDS: f64 = 3.0;
 /// Largest recorded pedestrian–vehicle distance: an approach starts no
 /// farther than this (ours).
-pub const MAX_RECORDED_DISTANCE_M: f64 = 50.0;
+pub(crate) const MAX_RECORDED_DISTANCE_M: f64 = 50.0;
 /// Smallest recorded distance: a position nearer the pedestrian is refused (ours).
-pub const MIN_RECORDED_DISTANCE_M: f64 = 2.0;
+pub(crate) const MIN_RECORDED_DISTANCE_M: f64 = 2.0;
 /// Other vehicles at most (the paper's "up to 7").
-pub const MAX_OTHER_VEHICLES: u32 = 7;
+pub(crate) const MAX_OTHER_VEHICLES: u32 = 7;
 /// Vehicle positions (the paper's 8).
-pub const POSITIONS: u32 = 8;
+pub(crate) const POSITIONS: u32 = 8;
 
 /// One street scenario.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,7 +75,7 @@ pub struct StreetOptions {
 }
 
 /// The pose of a vehicle `length_m` long standing at `position` (1–8).
-pub fn position_pose(position: u32, length_m: f64) -> Result<Pose> {
+pub(crate) fn position_pose(position: u32, length_m: f64) -> Result<Pose> {
     let half = LANE_WIDTH_M / 2.0;
     let (x, y, yaw) = match position {
         1..=3 => (LANE_POSITIONS_X_M[0][position as usize - 1], -half, 0.0),
@@ -93,7 +93,7 @@ pub fn position_pose(position: u32, length_m: f64) -> Result<Pose> {
 }
 
 /// Where the pedestrian stands (1–3).
-pub fn pedestrian_at(place: u32) -> Result<[f64; 3]> {
+pub(crate) fn pedestrian_at(place: u32) -> Result<[f64; 3]> {
     let x = *PEDESTRIAN_X_M
         .get((place as usize).wrapping_sub(1))
         .ok_or_else(|| CaptureError::BadOptions(format!("street pedestrian {place}: must be 1 to 3")))?;
@@ -142,7 +142,7 @@ fn street_scenario(options: &StreetOptions, end: Pose, pedestrian: DVec3) -> Res
 
 /// The other vehicles' positions: `others` of the seven not taken, drawn
 /// without replacement; an approaching vehicle's own lane is left free.
-pub fn other_positions(options: &StreetOptions) -> Result<Vec<u32>> {
+pub(crate) fn other_positions(options: &StreetOptions) -> Result<Vec<u32>> {
     if options.others > MAX_OTHER_VEHICLES {
         return Err(CaptureError::BadOptions(format!(
             "{} other vehicles: the street design holds at most {MAX_OTHER_VEHICLES}",
@@ -173,7 +173,7 @@ pub fn other_positions(options: &StreetOptions) -> Result<Vec<u32>> {
 }
 
 /// The street: ground, kerbs and walkways, building blocks with the alleys' gaps.
-pub fn street_occluders() -> Occluders {
+pub(crate) fn street_occluders() -> Occluders {
     let mut occluders = Occluders::default();
     let l = STREET_HALF_LENGTH_M;
     let (lane, walk) = (LANE_WIDTH_M, WALKWAY_WIDTH_M);

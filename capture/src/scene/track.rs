@@ -14,7 +14,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{CaptureError, Result};
 
 /// Largest time, value or slope a track key may have (metres, seconds, degrees).
-pub const MAX_TRACK_MAGNITUDE: f64 = 1.0e6;
+pub(crate) const MAX_TRACK_MAGNITUDE: f64 = 1.0e6;
 
 /// One key of an N-dimensional track.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -287,7 +287,9 @@ mod array_or_scalar {
         Many(Vec<f64>),
     }
 
-    pub fn to_array<const N: usize, E: serde::de::Error>(value: serde_json::Value) -> Result<[f64; N], E> {
+    pub(crate) fn to_array<const N: usize, E: serde::de::Error>(
+        value: serde_json::Value,
+    ) -> Result<[f64; N], E> {
         let either: Either = serde_json::from_value(value).map_err(E::custom)?;
         let values = match either {
             Either::One(v) => vec![v],
@@ -296,11 +298,14 @@ mod array_or_scalar {
         values.try_into().map_err(|v: Vec<f64>| E::custom(format!("expected {N} numbers, found {}", v.len())))
     }
 
-    pub fn serialize<const N: usize, S: Serializer>(value: &[f64; N], s: S) -> Result<S::Ok, S::Error> {
+    pub(crate) fn serialize<const N: usize, S: Serializer>(
+        value: &[f64; N],
+        s: S,
+    ) -> Result<S::Ok, S::Error> {
         if N == 1 { s.serialize_f64(value[0]) } else { serde::Serialize::serialize(&value[..], s) }
     }
 
-    pub fn deserialize<'de, const N: usize, D: Deserializer<'de>>(d: D) -> Result<[f64; N], D::Error> {
+    pub(crate) fn deserialize<'de, const N: usize, D: Deserializer<'de>>(d: D) -> Result<[f64; N], D::Error> {
         to_array(serde_json::Value::deserialize(d)?)
     }
 }
@@ -308,7 +313,7 @@ mod array_or_scalar {
 mod opt_array_or_scalar {
     use serde::{Deserialize, Deserializer, Serializer};
 
-    pub fn serialize<const N: usize, S: Serializer>(
+    pub(crate) fn serialize<const N: usize, S: Serializer>(
         value: &Option<[f64; N]>,
         s: S,
     ) -> Result<S::Ok, S::Error> {
@@ -318,7 +323,7 @@ mod opt_array_or_scalar {
         }
     }
 
-    pub fn deserialize<'de, const N: usize, D: Deserializer<'de>>(
+    pub(crate) fn deserialize<'de, const N: usize, D: Deserializer<'de>>(
         d: D,
     ) -> Result<Option<[f64; N]>, D::Error> {
         match Option::<serde_json::Value>::deserialize(d)? {

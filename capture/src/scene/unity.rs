@@ -58,24 +58,24 @@ struct UnityTrack {
 }
 
 /// Unity position → our world.
-pub fn position_from_unity(p: [f64; 3]) -> [f64; 3] {
+pub(crate) fn position_from_unity(p: [f64; 3]) -> [f64; 3] {
     [p[0], p[2], p[1]]
 }
 
 /// Unity yaw (Euler Y, degrees) of the F-150 → our heading (degrees CCW from +X).
-pub fn yaw_from_unity(theta_deg: f64) -> f64 {
+pub(crate) fn yaw_from_unity(theta_deg: f64) -> f64 {
     180.0 - theta_deg
 }
 
 /// Reads the Unity export: the rig (in our frame) and the scenarios.
-pub fn load(path: &Path) -> Result<(Rig, Vec<Scenario>)> {
+pub(crate) fn load(path: &Path) -> Result<(Rig, Vec<Scenario>)> {
     let bytes = ufcsr::files::read_limited(path, ufcsr::files::SMALL_INPUT_LIMIT)?;
     parse(path, &bytes)
 }
 
 /// The rig and scenarios of a Unity export's bytes; `path` names it in
 /// messages. The rig, tracks and durations get the scene file's bounds.
-pub fn parse(path: &Path, bytes: &[u8]) -> Result<(Rig, Vec<Scenario>)> {
+pub(crate) fn parse(path: &Path, bytes: &[u8]) -> Result<(Rig, Vec<Scenario>)> {
     let file: File = serde_json::from_slice(bytes)
         .map_err(|e| CaptureError::bad_file(path, format!("not a Unity scenario export: {e}")))?;
     let ped = &file.pedestrian;

@@ -90,7 +90,7 @@ impl TryFrom<serde_json::Value> for PartsFrom {
 
 /// The body of the family `spec` names, with its dimensions (`None`: a
 /// mesh); `scene` names the file in errors.
-pub fn family_body(spec: &VehicleSpec, scene: &Path) -> Result<Option<(BodyType, BodyDims)>> {
+pub(crate) fn family_body(spec: &VehicleSpec, scene: &Path) -> Result<Option<(BodyType, BodyDims)>> {
     let Some(name) = &spec.body else {
         if spec.dims.is_some() {
             return Err(CaptureError::bad_file(scene, "vehicle.dims needs vehicle.body"));
@@ -115,11 +115,11 @@ pub fn family_body(spec: &VehicleSpec, scene: &Path) -> Result<Option<(BodyType,
 }
 
 /// How far the vehicle's length may be from `expect_length_m` before a warning.
-pub const LENGTH_TOLERANCE: f64 = 0.2;
+pub(crate) const LENGTH_TOLERANCE: f64 = 0.2;
 
 /// A built vehicle and what was noticed on the way.
 #[derive(Debug, Clone)]
-pub struct Vehicle {
+pub(crate) struct Vehicle {
     pub mesh: Mesh,
     /// What the region rules did (empty without rules).
     pub regions: RegionReport,
@@ -134,7 +134,7 @@ pub struct Vehicle {
 
 /// Builds the vehicle of `spec`; mesh paths are relative to `base`, and
 /// `scene` names the file in errors.
-pub fn build(spec: &VehicleSpec, base: &Path, scene: &Path) -> Result<Vehicle> {
+pub(crate) fn build(spec: &VehicleSpec, base: &Path, scene: &Path) -> Result<Vehicle> {
     let names = match &spec.parts_from {
         PartsFrom::Names(source) => *source,
         PartsFrom::PartMap(map) => map.names,
@@ -175,13 +175,13 @@ pub fn build(spec: &VehicleSpec, base: &Path, scene: &Path) -> Result<Vehicle> {
 
 /// The point the vehicle's origin should be at: on the ground (lowest
 /// point) under the centre of its bounding box, in the vehicle frame.
-pub fn ground_centre(mesh: &Mesh) -> DVec3 {
+pub(crate) fn ground_centre(mesh: &Mesh) -> DVec3 {
     let (min, max) = mesh.bounds();
     dvec3((min.x + max.x) / 2.0, (min.y + max.y) / 2.0, min.z)
 }
 
 /// Warnings about the vehicle's size, axes and origin.
-pub fn checks(mesh: &Mesh, axes: &Axes, expect_length_m: Option<f64>) -> Result<Vec<String>> {
+pub(crate) fn checks(mesh: &Mesh, axes: &Axes, expect_length_m: Option<f64>) -> Result<Vec<String>> {
     let mut warnings = Vec::new();
     let (min, max) = mesh.bounds();
     let size = max - min;

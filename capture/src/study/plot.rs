@@ -43,7 +43,7 @@ fn px(v: f64) -> i32 {
 /// Writes the plot as SVG (its width in millimetres): drawn into a string,
 /// written by the file layer (plotters' file backend would write through a
 /// link planted at `path`: issue 41).
-pub fn plot_svg(study: &Study, path: &Path) -> Result<()> {
+pub(crate) fn plot_svg(study: &Study, path: &Path) -> Result<()> {
     let text = ufcsr::output::PlotText::available();
     let mut svg = String::new();
     {
@@ -57,7 +57,7 @@ pub fn plot_svg(study: &Study, path: &Path) -> Result<()> {
 
 /// Writes the plot as PNG (drawn into pixels, encoded and written by the
 /// file layer); returns false (and writes nothing) without a font.
-pub fn plot_png(study: &Study, path: &Path) -> Result<bool> {
+pub(crate) fn plot_png(study: &Study, path: &Path) -> Result<bool> {
     if !font_available() {
         return Ok(false);
     }

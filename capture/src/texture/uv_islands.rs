@@ -20,7 +20,7 @@ use crate::scene::mesh::{Mesh, triangle_area};
 use crate::texture::uv_overlaps::{UvOverlaps, summarize_overlaps};
 
 /// Palette index of the background colour `#000FFF`.
-pub const BACKGROUND_INDEX: u64 = 0x000FFF;
+pub(crate) const BACKGROUND_INDEX: u64 = 0x000FFF;
 
 /// Texels reserved around an island's triangle: 2 before it (gutter + dilation)
 /// and 3 after it (dilation of a footprint that may touch the next texel, plus
@@ -217,7 +217,7 @@ pub fn keep_uvs(mesh: &Mesh, palette: [u32; 2]) -> Result<Unwrapped> {
 }
 
 /// [`keep_uvs`] for a palette whose background colour sits at `background`.
-pub fn keep_uvs_avoiding(
+pub(crate) fn keep_uvs_avoiding(
     mesh: &Mesh,
     palette: [u32; 2],
     background: Option<(u32, u32)>,
@@ -304,7 +304,7 @@ pub fn uv_overlaps(mesh: &Mesh, palette: [u32; 2]) -> Option<UvOverlaps> {
 }
 
 /// Calls `f` for every texel whose centre lies strictly inside `tri`.
-pub fn for_texel_centres(tri: &[DVec2; 3], palette: [u32; 2], mut f: impl FnMut(u32, u32)) {
+pub(crate) fn for_texel_centres(tri: &[DVec2; 3], palette: [u32; 2], mut f: impl FnMut(u32, u32)) {
     let (lo, hi) = texel_range(tri, palette, 0);
     let area = (tri[1] - tri[0]).perp_dot(tri[2] - tri[0]);
     if area == 0.0 {
@@ -354,7 +354,7 @@ pub fn footprint(tri: &[DVec2; 3], palette: [u32; 2], dilate: u32, mut f: impl F
 
 /// Separating-axis test between a triangle and an axis-aligned rectangle
 /// (touching counts as overlapping).
-pub fn triangle_touches_rect(tri: &[DVec2; 3], lo: DVec2, hi: DVec2) -> bool {
+pub(crate) fn triangle_touches_rect(tri: &[DVec2; 3], lo: DVec2, hi: DVec2) -> bool {
     let min = tri[0].min(tri[1]).min(tri[2]);
     let max = tri[0].max(tri[1]).max(tri[2]);
     if max.x < lo.x || min.x > hi.x || max.y < lo.y || min.y > hi.y {
@@ -377,7 +377,7 @@ pub fn triangle_touches_rect(tri: &[DVec2; 3], lo: DVec2, hi: DVec2) -> bool {
 }
 
 /// Sum of triangle areas (m²) per part, for the report.
-pub fn part_areas(mesh: &Mesh) -> Vec<f64> {
+pub(crate) fn part_areas(mesh: &Mesh) -> Vec<f64> {
     let mut areas = vec![0.0; mesh.parts.len()];
     for t in 0..mesh.triangles.len() {
         areas[mesh.triangle_part[t] as usize] += triangle_area(mesh.corners(t));

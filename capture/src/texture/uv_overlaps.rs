@@ -67,7 +67,7 @@ impl UvOverlaps {
 /// The overlaps found on `palette` (`texels` covered more than once; per
 /// pair of triangles, earlier first, the texels they share), grouped by
 /// pair of parts with example triangles, duplicate faces told apart.
-pub fn summarize_overlaps(
+pub(crate) fn summarize_overlaps(
     mesh: &Mesh,
     palette: [u32; 2],
     texels: u64,

@@ -5,7 +5,9 @@
 //! `tests/external/need.rs`, included by path): a test whose input is missing
 //! is reported *ignored* with the reason, never passed; with `CI` set it fails.
 //! `cargo test -p ufcsr-capture --test external milk` runs some of them.
-
+// A test crate has no API: its helpers are `pub` for the sibling modules
+// (the workspace's unreachable_pub is about the libraries' surface).
+#![allow(unreachable_pub)]
 // Test and benchmark code may use std::fs directly; production code goes
 // through the file layer (clippy.toml, docs/reliability.md).
 #![allow(clippy::disallowed_methods, clippy::disallowed_types)]

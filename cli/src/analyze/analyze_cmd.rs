@@ -179,7 +179,7 @@ fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf, console: 
 }
 
 /// Runs the analysis of ARCHIVE (or, with `--each`, of every archive below it).
-pub fn run_analyze(args: AnalyzeArgs, console: &Console) -> Result<Completion> {
+pub(crate) fn run_analyze(args: AnalyzeArgs, console: &Console) -> Result<Completion> {
     let archive = args.archive.clone().context("ARCHIVE is required")?;
     if args.each {
         return run_each(&args, &archive, console);

@@ -13,7 +13,7 @@ use crate::choices::{CsvStyle, Dedupe, FiguresChoice, Switch};
 use crate::options::{HeatmapScaleArgs, LabelArgs};
 
 #[derive(Args)]
-pub struct PaletteArgs {
+pub(crate) struct PaletteArgs {
     /// PNG to write.
     #[arg(long, short, value_name = "PNG")]
     pub out: PathBuf,
@@ -24,7 +24,7 @@ pub struct PaletteArgs {
 }
 
 #[derive(Args)]
-pub struct AnalyzeArgs {
+pub(crate) struct AnalyzeArgs {
     /// Folder of captured PNG tiles (searched recursively without a manifest).
     #[arg(required = true)]
     pub archive: Option<PathBuf>,
@@ -112,7 +112,7 @@ pub struct AnalyzeArgs {
 }
 
 #[derive(Args)]
-pub struct ReportArgs {
+pub(crate) struct ReportArgs {
     /// Result folders (or their result.json), at least two; or one and a placement folder (written
     /// by `ufcsr placement`, holding placement.json), whose section the page adds.
     #[arg(required = true, num_args = 2..)]
@@ -134,7 +134,7 @@ pub struct ReportArgs {
 }
 
 #[derive(Args)]
-pub struct MergeArgs {
+pub(crate) struct MergeArgs {
     /// The shards' result folders (or their result.json files).
     #[arg(required = true)]
     pub results: Vec<PathBuf>,
@@ -154,7 +154,7 @@ pub struct MergeArgs {
 }
 
 #[derive(Args)]
-pub struct HeatmapArgs {
+pub(crate) struct HeatmapArgs {
     /// A result folder written by ufcsr analyze, or its result.json.
     pub result: PathBuf,
 

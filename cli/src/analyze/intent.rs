@@ -16,7 +16,7 @@ const SEARCH_DEPTH: usize = 3;
 
 /// The folders below `dir` (not `dir` itself) that hold a manifest.json, in
 /// name order; tile folders and result folders are not searched.
-pub fn archives_below(dir: &Path) -> Vec<PathBuf> {
+pub(crate) fn archives_below(dir: &Path) -> Vec<PathBuf> {
     let mut found: Vec<PathBuf> = walkdir::WalkDir::new(dir)
         .min_depth(1)
         .max_depth(SEARCH_DEPTH)
@@ -36,7 +36,7 @@ pub fn archives_below(dir: &Path) -> Vec<PathBuf> {
 
 /// Why `archive` is probably not what the user meant, or `None`: it has no
 /// manifest, but its parent has one, or archives lie below it.
-pub fn misread_archive(archive: &Path) -> Option<String> {
+pub(crate) fn misread_archive(archive: &Path) -> Option<String> {
     if archive.join(MANIFEST_FILE).is_file() || !archive.is_dir() {
         return None;
     }

@@ -16,7 +16,7 @@ use crate::options::LabelArgs;
 
 /// Options of `ufcsr manifest`.
 #[derive(Args)]
-pub struct ManifestArgs {
+pub(crate) struct ManifestArgs {
     /// Folder of rendered frames: PNG tiles, or one image per eye and frame (searched recursively).
     pub dir: PathBuf,
 
@@ -90,7 +90,7 @@ fn parse_grid(text: &str) -> std::result::Result<[u32; 2], String> {
 }
 
 /// Writes the manifest and says what it holds and what it lacks.
-pub fn run_manifest(args: ManifestArgs, console: &Console) -> Result<Completion> {
+pub(crate) fn run_manifest(args: ManifestArgs, console: &Console) -> Result<Completion> {
     let palette = args.labels.palette()?;
     let background = args.labels.background_colors()?;
     let options = ufcsr::DescribeOptions {

@@ -9,15 +9,15 @@ mod analyze_cmd;
 mod args;
 mod intent;
 mod manifest;
-pub mod placement;
+pub(crate) mod placement;
 mod run;
 
 use clap::Subcommand;
 
 use crate::console::{Completion, Console};
 
-pub use analyze_cmd::run_analyze;
-pub use args::AnalyzeArgs;
+pub(crate) use analyze_cmd::run_analyze;
+pub(crate) use args::AnalyzeArgs;
 
 use args::{HeatmapArgs, MergeArgs, PaletteArgs, ReportArgs};
 use manifest::ManifestArgs;
@@ -25,7 +25,7 @@ use placement::PlacementArgs;
 
 /// The analyzer's commands besides the analysis.
 #[derive(Subcommand)]
-pub enum AnalyzerCommand {
+pub(crate) enum AnalyzerCommand {
     /// Add up the results of every shard (`--shard I/N`) of one archive (their folders or
     /// result.json files): the same files as analysing it whole.
     ///
@@ -64,7 +64,7 @@ pub enum AnalyzerCommand {
 
 impl AnalyzerCommand {
     /// The command's name, as `--json` reports it.
-    pub fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         match self {
             AnalyzerCommand::Merge(_) => "merge",
             AnalyzerCommand::Report(_) => "report",
@@ -77,7 +77,7 @@ impl AnalyzerCommand {
 }
 
 /// Runs one of the analyzer's commands besides the analysis.
-pub fn run(command: AnalyzerCommand, console: &Console) -> anyhow::Result<Completion> {
+pub(crate) fn run(command: AnalyzerCommand, console: &Console) -> anyhow::Result<Completion> {
     match command {
         AnalyzerCommand::Merge(args) => run::run_merge(args, console),
         AnalyzerCommand::Report(args) => run::run_report(args, console),

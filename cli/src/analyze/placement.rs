@@ -14,7 +14,7 @@ use crate::console::{Completion, Console};
 
 /// Options of `ufcsr placement`.
 #[derive(Args)]
-pub struct PlacementArgs {
+pub(crate) struct PlacementArgs {
     /// Result folders of `ufcsr capture … --measure unobstructed --placement` (or archives, or their
     /// placement-frames.csv); several: scenarios or traffic conditions, scored by mean and worst case.
     #[arg(required = true)]
@@ -102,7 +102,7 @@ pub struct PlacementArgs {
 }
 
 /// Runs the search and writes its files.
-pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completion> {
+pub(crate) fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completion> {
     let options = ufcsr::PlacementOptions {
         thresholds: ufcsr::placement::Thresholds {
             min_character_height_arcmin: args.min_character_height_arcmin,
@@ -133,7 +133,7 @@ pub fn run_placement(args: PlacementArgs, console: &Console) -> Result<Completio
 /// The search of `options`, its files written to `out` and the answer
 /// printed (the `top` candidates, the best sets with their intervals, the
 /// places published studies tested): `placement`'s and `where`'s one way.
-pub fn answer(
+pub(crate) fn answer(
     options: &ufcsr::PlacementOptions,
     out: &Path,
     top: usize,

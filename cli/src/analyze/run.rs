@@ -14,7 +14,7 @@ use crate::choices::Switch;
 use crate::console::{Completion, Console, say, shown};
 
 /// What a command did, for [`finish`].
-pub struct Done {
+pub(crate) struct Done {
     pub completion: Completion,
     /// Every file written, in the order written.
     pub written: Vec<PathBuf>,
@@ -25,7 +25,7 @@ pub struct Done {
 }
 
 /// Tells the console what `done` did; returns how it finished.
-pub fn finish(console: &Console, done: Done) -> Completion {
+pub(crate) fn finish(console: &Console, done: Done) -> Completion {
     for file in &done.written {
         console.wrote(file);
     }
@@ -37,11 +37,11 @@ pub fn finish(console: &Console, done: Done) -> Completion {
 }
 
 /// The result.json a result argument names: the file, or the one in a result folder.
-pub fn result_json(path: &Path) -> PathBuf {
+pub(crate) fn result_json(path: &Path) -> PathBuf {
     if path.is_dir() { path.join("result.json") } else { path.to_path_buf() }
 }
 
-pub fn run_heatmap(args: HeatmapArgs, console: &Console) -> Result<Completion> {
+pub(crate) fn run_heatmap(args: HeatmapArgs, console: &Console) -> Result<Completion> {
     let result = result_json(&args.result);
     ufcsr::files::refuse_overwriting_inputs(std::slice::from_ref(&args.out), std::slice::from_ref(&result))?;
     let stored = read_texel_counts(&result)?;
@@ -92,7 +92,7 @@ pub fn run_heatmap(args: HeatmapArgs, console: &Console) -> Result<Completion> {
     ))
 }
 
-pub fn run_palette(args: PaletteArgs, console: &Console) -> Result<Completion> {
+pub(crate) fn run_palette(args: PaletteArgs, console: &Console) -> Result<Completion> {
     let [width, height] = ufcsr::parse_palette_size(&args.size)?;
     ufcsr::write_canonical_png(&args.out, [width, height])?;
     Ok(finish(
@@ -106,7 +106,7 @@ pub fn run_palette(args: PaletteArgs, console: &Console) -> Result<Completion> {
     ))
 }
 
-pub fn run_report(args: ReportArgs, console: &Console) -> Result<Completion> {
+pub(crate) fn run_report(args: ReportArgs, console: &Console) -> Result<Completion> {
     let options =
         ufcsr::output::ComparisonOptions { labels: args.labels.clone(), own_scales: args.own_scales };
     let written = ufcsr::output::write_comparison_with(&args.results, &args.out, &options)?;
@@ -126,7 +126,7 @@ pub fn run_report(args: ReportArgs, console: &Console) -> Result<Completion> {
     ))
 }
 
-pub fn run_merge(args: MergeArgs, console: &Console) -> Result<Completion> {
+pub(crate) fn run_merge(args: MergeArgs, console: &Console) -> Result<Completion> {
     let results: Vec<PathBuf> = args.results.iter().map(|path| result_json(path)).collect();
     let mut analysis = ufcsr::merge_results(&results)?;
     let written = ufcsr::output::write_results_with(

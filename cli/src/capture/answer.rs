@@ -30,7 +30,7 @@ const TOP: usize = 10;
 
 /// Options of `ufcsr where`.
 #[derive(Args)]
-pub struct WhereArgs {
+pub(crate) struct WhereArgs {
     #[command(flatten)]
     scene: SourceArgs,
     /// With demo: a body of the parametric family, with its typical dimensions, in place of the
@@ -141,7 +141,7 @@ fn backend_words(backend: Backend) -> Vec<OsString> {
 }
 
 /// Measures, ranks and prints the answer.
-pub fn run_where(args: WhereArgs, console: &Console) -> anyhow::Result<Completion> {
+pub(crate) fn run_where(args: WhereArgs, console: &Console) -> anyhow::Result<Completion> {
     let (plan, names) = plan(&args)?;
     say!(
         console,

@@ -20,20 +20,20 @@ use crate::progress::Bar;
 
 /// What `--measure` counts instead of rendered pixels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
-pub enum Measure {
+pub(crate) enum Measure {
     /// Per texel, the eye-frames in which its point is in view, faces the eye and is not hidden
     /// (exact ray casts).
     Unobstructed,
 }
 
 /// `--preview`'s pixels per degree (the paper's 60 / 6).
-pub const PREVIEW_PPD: f64 = 10.0;
+pub(crate) const PREVIEW_PPD: f64 = 10.0;
 /// `--preview`'s frame step: every 10th frame (6 a second at 60 fps).
-pub const PREVIEW_FRAME_STEP: u32 = 10;
+pub(crate) const PREVIEW_FRAME_STEP: u32 = 10;
 
 /// What a capture records, and how: the options of `demo`, `scene` and `unity`.
 #[derive(Args, Clone)]
-pub struct CaptureArgs {
+pub(crate) struct CaptureArgs {
     /// Output folder (one archive; with --scenario all, one sub-folder per scenario).
     #[arg(long, default_value = "archive")]
     out: PathBuf,
@@ -156,7 +156,7 @@ impl CaptureArgs {
     /// give, parsed and checked by the capture's own definition: a command
     /// that runs a capture (`where`) validates its options the capture's way
     /// and gets the capture's defaults.
-    pub fn from_words(words: &[std::ffi::OsString]) -> Result<CaptureArgs, clap::Error> {
+    pub(crate) fn from_words(words: &[std::ffi::OsString]) -> Result<CaptureArgs, clap::Error> {
         use clap::Parser;
         let line = std::iter::once(std::ffi::OsString::from("capture")).chain(words.iter().cloned());
         Ok(CaptureWords::try_parse_from(line)?.capture)
@@ -177,7 +177,7 @@ fn parse_shard(text: &str) -> anyhow::Result<ufcsr::Shard> {
 }
 
 /// `1/16`, `0.25` or `1`.
-pub fn parse_fraction(text: &str) -> anyhow::Result<f64> {
+pub(crate) fn parse_fraction(text: &str) -> anyhow::Result<f64> {
     let value = match text.split_once('/') {
         Some((a, b)) => a.trim().parse::<f64>()? / b.trim().parse::<f64>()?,
         None => text.trim().parse::<f64>()?,
@@ -189,7 +189,7 @@ pub fn parse_fraction(text: &str) -> anyhow::Result<f64> {
 /// The rig `args` ask for on `scene`: `--rig` (a preset or JSON overrides;
 /// without it a `--placement` answer takes a median adult's eyes), then
 /// `--ppd` or `--preview`'s.
-pub fn apply_rig(scene: &mut Scene, args: &CaptureArgs) -> anyhow::Result<()> {
+pub(crate) fn apply_rig(scene: &mut Scene, args: &CaptureArgs) -> anyhow::Result<()> {
     match args.rig.as_deref() {
         Some(text) => match ufcsr_capture::study::ObserverPreset::parse(text) {
             Some(preset) => preset.apply(&mut scene.rig),
@@ -209,7 +209,7 @@ pub fn apply_rig(scene: &mut Scene, args: &CaptureArgs) -> anyhow::Result<()> {
 
 /// A capture of `scene` as `args` say: to PNG tiles, counted (`--count`)
 /// or measured (`--measure`), one scenario or all.
-pub fn run_capture(
+pub(crate) fn run_capture(
     mut scene: Scene,
     args: &CaptureArgs,
     threads: usize,
@@ -267,7 +267,7 @@ pub fn run_capture(
 /// `demo --traffic`: each selected scenario with the truck's twin in
 /// traffic (its side depends on the scenario), one capture each, into
 /// `--out` or, with `--scenario all`, `--out/NAME`.
-pub fn run_demo_with_traffic(
+pub(crate) fn run_demo_with_traffic(
     traffic: DemoTraffic,
     args: &CaptureArgs,
     threads: usize,
@@ -323,7 +323,7 @@ fn capture_options(args: &CaptureArgs, threads: usize, console: &Console) -> any
 }
 
 /// The scenarios `--scenario` names: one, `all`, or (without it) the first.
-pub fn scenario_names(scene: &Scene, scenario: Option<&str>) -> anyhow::Result<Vec<String>> {
+pub(crate) fn scenario_names(scene: &Scene, scenario: Option<&str>) -> anyhow::Result<Vec<String>> {
     Ok(match scenario {
         Some(all) if all.eq_ignore_ascii_case("all") => {
             scene.scenarios.iter().map(|s| s.name.clone()).collect()
@@ -481,14 +481,14 @@ fn record_written_before(
 }
 
 /// For `--json`: every file below `folder`, written whole by this run.
-pub fn record_folder(folder: &Path, console: &Console) {
+pub(crate) fn record_folder(folder: &Path, console: &Console) {
     files_below(folder).iter().for_each(|file| console.wrote(file));
 }
 
 /// For `--json`: every file of the archives whose results are `results`
 /// (`ARCHIVE/results/result.json`), each written whole by this run (a
 /// study's settings, the observers' folders).
-pub fn record_archives_of<'a>(results: impl Iterator<Item = &'a PathBuf>, console: &Console) {
+pub(crate) fn record_archives_of<'a>(results: impl Iterator<Item = &'a PathBuf>, console: &Console) {
     let archives: BTreeSet<&Path> = results.filter_map(|json| json.parent()?.parent()).collect();
     for file in archives.into_iter().flat_map(files_below) {
         console.wrote(&file);

@@ -20,7 +20,7 @@ use crate::console::{Console, printable, say};
 
 /// What to do with a design.
 #[derive(Subcommand)]
-pub enum DesignAction {
+pub(crate) enum DesignAction {
     /// Check the design and the files its tasks read; print its tasks, one per line (task I on line I+1).
     ///
     /// Example: `ufcsr design plan fixtures/designs/tiny-2x2.json --out runs/tiny --indices | xargs -P 2
@@ -71,7 +71,7 @@ pub enum DesignAction {
 
 impl DesignAction {
     /// The command's name, as `--json` reports it.
-    pub fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         match self {
             DesignAction::Plan { .. } => "design plan",
             DesignAction::Run { .. } => "design run",
@@ -218,7 +218,7 @@ fn run_merge(design: &Path, out: &Path, console: &Console) -> anyhow::Result<()>
 }
 
 /// Runs one design action.
-pub fn run_design_action(action: DesignAction, console: &Console) -> anyhow::Result<()> {
+pub(crate) fn run_design_action(action: DesignAction, console: &Console) -> anyhow::Result<()> {
     match action {
         DesignAction::Plan { design, out, program, indices } => {
             run_plan(&design, &out, program, indices, console)

@@ -26,7 +26,7 @@ use crate::choices::{BodyType, DemoTraffic};
 use crate::console::{Completion, Console};
 use crate::options::Global;
 
-pub use runtime_dir::PrivateRuntimeDir;
+pub(crate) use runtime_dir::PrivateRuntimeDir;
 
 use answer::WhereArgs;
 use captures::CaptureArgs;
@@ -37,7 +37,7 @@ use study::StudyArgs;
 
 /// The captures: a scene recorded into an archive.
 #[derive(Subcommand)]
-pub enum CaptureCommand {
+pub(crate) enum CaptureCommand {
     /// The built-in demo: pickup truck, intersection, scenarios A–D.
     ///
     /// Example: `ufcsr capture demo --scenario A --preview --out capA` (a quick look; drop
@@ -77,7 +77,7 @@ pub enum CaptureCommand {
 
 /// The commands around a capture.
 #[derive(Subcommand)]
-pub enum CaptureToolCommand {
+pub(crate) enum CaptureToolCommand {
     /// Where should the eHMI go? Measures the scene exactly with display-sized candidates on
     /// every part (as `capture … --measure unobstructed --placement --display`), then ranks them
     /// (as `placement`), and prints the best one, two and three displays with their intervals,
@@ -181,7 +181,7 @@ pub enum CaptureToolCommand {
 }
 
 #[derive(Subcommand)]
-pub enum BatchAction {
+pub(crate) enum BatchAction {
     /// Print the tasks' commands, one per line.
     ///
     /// Example: `ufcsr batch plan batch.json --program /opt/ufcsr/bin/ufcsr`
@@ -196,7 +196,7 @@ pub enum BatchAction {
 
 impl CaptureCommand {
     /// The command's name, as `--json` reports it.
-    pub fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         match self {
             CaptureCommand::Demo { .. } => "demo",
             CaptureCommand::Scene { .. } => "scene",
@@ -207,7 +207,7 @@ impl CaptureCommand {
 
 impl CaptureToolCommand {
     /// The command's name, as `--json` reports it.
-    pub fn name(&self) -> &'static str {
+    pub(crate) fn name(&self) -> &'static str {
         match self {
             CaptureToolCommand::Where(_) => "where",
             CaptureToolCommand::Assemble { .. } => "assemble",
@@ -223,7 +223,7 @@ impl CaptureToolCommand {
 }
 
 /// Runs one capture.
-pub fn run_capture_command(
+pub(crate) fn run_capture_command(
     command: CaptureCommand,
     global: &Global,
     console: &Console,
@@ -253,7 +253,7 @@ fn capture_source(
 }
 
 /// Runs one of the commands around a capture.
-pub fn run_tool(command: CaptureToolCommand, console: &Console) -> anyhow::Result<Completion> {
+pub(crate) fn run_tool(command: CaptureToolCommand, console: &Console) -> anyhow::Result<Completion> {
     match command {
         CaptureToolCommand::Where(args) => return answer::run_where(args, console),
         CaptureToolCommand::Assemble { archive } => tools::run_assemble(&archive, console),

@@ -40,7 +40,7 @@ enum Resolution {
 
 /// Uncertainty over the observer (see `ufcsr_capture::run_observer_study`).
 #[derive(Args)]
-pub struct ObserversArgs {
+pub(crate) struct ObserversArgs {
     #[command(flatten)]
     scene: super::source::SourceArgs,
     /// Scenario name (default: the first, A for the demo).
@@ -177,7 +177,7 @@ fn population(args: &ObserversArgs) -> anyhow::Result<ObserverPopulation> {
     Ok(population)
 }
 
-pub fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<()> {
+pub(crate) fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<()> {
     let scene = args.scene.source()?.scene()?;
     let population = population(&args)?;
     ufcsr_capture::study::check_population(&population)?;

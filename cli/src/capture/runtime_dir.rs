@@ -12,13 +12,13 @@ const RUNTIME_PREFIX: &str = "ufcsr-runtime-";
 /// not set` (twice) while it looks for a display, which a headless capture
 /// never uses; a run without a valid `XDG_RUNTIME_DIR` gets its own 0700
 /// folder, so the message a user sees is only ever about their capture.
-pub struct PrivateRuntimeDir(Option<std::path::PathBuf>);
+pub(crate) struct PrivateRuntimeDir(Option<std::path::PathBuf>);
 
 impl PrivateRuntimeDir {
     /// The folder, when the run needs one (see above); call it before any
     /// other thread starts.
     #[allow(unsafe_code)] // std::env::set_var, before any other thread exists
-    pub fn create() -> PrivateRuntimeDir {
+    pub(crate) fn create() -> PrivateRuntimeDir {
         let valid =
             std::env::var_os("XDG_RUNTIME_DIR").is_some_and(|dir| std::path::Path::new(&dir).is_dir());
         if valid || cfg!(not(unix)) {

@@ -16,7 +16,7 @@ use crate::choices::{BodyType, DemoTraffic};
 /// What is measured: the built-in demo (its truck, a family body, or the
 /// truck with traffic), a scene file or a Unity export.
 #[derive(Clone)]
-pub enum Source {
+pub(crate) enum Source {
     /// The built-in demo: with `body`, a family body in place of the truck;
     /// with `traffic`, the truck's twin in traffic.
     Demo { traffic: Option<DemoTraffic>, body: Option<BodyType> },
@@ -31,7 +31,7 @@ impl Source {
     /// scenario's scene with traffic is built where it is captured,
     /// [`ufcsr_capture::Scene::demo_with_traffic`]; it has the demo's
     /// scenarios and rig).
-    pub fn scene(&self) -> anyhow::Result<Scene> {
+    pub(crate) fn scene(&self) -> anyhow::Result<Scene> {
         Ok(match self {
             Source::Demo { body: Some(body), .. } => {
                 let body = ufcsr_capture::scene::BodyType::from(*body);
@@ -44,7 +44,7 @@ impl Source {
     }
 
     /// How the answer names it: `demo`, `demo --body van`, `scene FILE`, …
-    pub fn describe(&self) -> String {
+    pub(crate) fn describe(&self) -> String {
         match self {
             Source::Demo { traffic: Some(traffic), .. } => format!("demo --traffic {}", choice(*traffic)),
             Source::Demo { body: Some(body), .. } => format!("demo --body {}", choice(*body)),
@@ -63,7 +63,7 @@ fn choice(value: impl clap::ValueEnum) -> String {
 /// What is measured, as a command's first arguments: `demo`, `scene FILE`
 /// or `unity FILE` (the words of `ufcsr capture`).
 #[derive(Args, Clone)]
-pub struct SourceArgs {
+pub(crate) struct SourceArgs {
     /// What to measure, as after `ufcsr capture`: `demo` (the built-in pickup and its
     /// scenarios A–D), `scene FILE` (a scene file) or `unity FILE` (a Unity export, replayed
     /// with the demo truck).
@@ -76,13 +76,13 @@ pub struct SourceArgs {
 
 impl SourceArgs {
     /// The source the words name; `demo` with neither a body nor traffic.
-    pub fn source(&self) -> anyhow::Result<Source> {
+    pub(crate) fn source(&self) -> anyhow::Result<Source> {
         self.source_with(None, None)
     }
 
     /// The source the words name, the demo with `traffic` or `body` (refused
     /// for a scene file or a Unity export, which bring their own vehicle).
-    pub fn source_with(
+    pub(crate) fn source_with(
         &self,
         traffic: Option<DemoTraffic>,
         body: Option<BodyType>,

@@ -14,7 +14,7 @@ use crate::console::{Console, say};
 
 /// A resolution study (see `ufcsr_capture::run_study`).
 #[derive(Args)]
-pub struct StudyArgs {
+pub(crate) struct StudyArgs {
     #[command(flatten)]
     scene: super::source::SourceArgs,
     /// Scenario name (default: the first, A for the demo).
@@ -64,14 +64,14 @@ pub struct StudyArgs {
 }
 
 /// The scenario asked for, or the scene's first.
-pub fn scenario_name(scene: &Scene, asked: Option<&str>) -> anyhow::Result<String> {
+pub(crate) fn scenario_name(scene: &Scene, asked: Option<&str>) -> anyhow::Result<String> {
     Ok(match asked {
         Some(name) => scene.scenario(name)?.name.clone(),
         None => scene.scenarios.first().map(|s| s.name.clone()).context("the scene has no scenario")?,
     })
 }
 
-pub fn run_study(args: StudyArgs, console: &Console) -> anyhow::Result<()> {
+pub(crate) fn run_study(args: StudyArgs, console: &Console) -> anyhow::Result<()> {
     let scene = args.scene.source()?.scene()?;
     let options = ufcsr_capture::study::StudyOptions {
         scenario: scenario_name(&scene, args.scenario.as_deref())?,

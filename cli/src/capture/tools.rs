@@ -9,7 +9,7 @@ use ufcsr_capture::{InspectOptions, ViewsOptions};
 use crate::console::{Completion, Console, say};
 
 /// `inspect`: the vehicle's report on stdout, its pictures in `out`.
-pub fn run_inspect(
+pub(crate) fn run_inspect(
     input: PathBuf,
     out: PathBuf,
     pixels_per_metre: Option<f64>,
@@ -23,7 +23,7 @@ pub fn run_inspect(
 }
 
 /// `views`: a result's eight heatmap views, redrawn as the analysis draws them.
-pub fn run_views(options: ViewsOptions, console: &Console) -> anyhow::Result<()> {
+pub(crate) fn run_views(options: ViewsOptions, console: &Console) -> anyhow::Result<()> {
     let written = ufcsr_capture::views_from_results(&options)?;
     say!(console, "views: {}", written.contact_sheet.display());
     console.wrote(&written.contact_sheet);
@@ -36,7 +36,7 @@ pub fn run_views(options: ViewsOptions, console: &Console) -> anyhow::Result<()>
 }
 
 /// `batch plan`: one command per task of the batch file, task i on line i.
-pub fn run_batch_plan(batch: &Path, program: Option<String>, console: &Console) -> anyhow::Result<()> {
+pub(crate) fn run_batch_plan(batch: &Path, program: Option<String>, console: &Console) -> anyhow::Result<()> {
     let plan = ufcsr_capture::load_batch(batch)?;
     let program = match program {
         Some(program) => program,
@@ -59,7 +59,7 @@ pub fn run_batch_plan(batch: &Path, program: Option<String>, console: &Console) 
 }
 
 /// `assemble`: the shards' partial manifests joined into manifest.json.
-pub fn run_assemble(archive: &Path, console: &Console) -> anyhow::Result<()> {
+pub(crate) fn run_assemble(archive: &Path, console: &Console) -> anyhow::Result<()> {
     let assembled = ufcsr_capture::assemble(archive)?;
     console.wrote(&assembled.manifest_path);
     console.fact("shards", assembled.shards);
@@ -78,7 +78,7 @@ pub fn run_assemble(archive: &Path, console: &Console) -> anyhow::Result<()> {
 
 /// `verify`: every tile pixel is background or a labelled palette texel;
 /// done with failures when some are not.
-pub fn run_verify(archive: &Path, console: &Console) -> anyhow::Result<Completion> {
+pub(crate) fn run_verify(archive: &Path, console: &Console) -> anyhow::Result<Completion> {
     let (vehicle, stray) = ufcsr_capture::verify(archive)?;
     console.fact("vehicle_pixels", vehicle);
     console.fact("stray_pixels", stray);

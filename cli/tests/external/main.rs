@@ -8,7 +8,9 @@
 //! here from `tests/external` and `capture/tests/external` because they run
 //! the binaries, which only this crate builds; the names are those they had
 //! (`cargo test -p ufcsr-cli --test external slurm` runs some of them).
-
+// A test crate has no API: its helpers are `pub` for the sibling modules
+// (the workspace's unreachable_pub is about the libraries' surface).
+#![allow(unreachable_pub)]
 // Test and benchmark code may use std::fs directly; production code goes
 // through the file layer (clippy.toml, docs/reliability.md).
 #![allow(clippy::disallowed_methods, clippy::disallowed_types)]

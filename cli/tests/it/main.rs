@@ -5,7 +5,9 @@
 //! capture's), named as it was, so `cargo test -p ufcsr-cli --test it
 //! cli_grammar::` runs one of them. The libraries' own tests stay beside
 //! them; tests that need outside tools are in `tests/external`.
-
+// A test crate has no API: its helpers are `pub` for the sibling modules
+// (the workspace's unreachable_pub is about the libraries' surface).
+#![allow(unreachable_pub)]
 // Test code may use std::fs directly; production code goes through the file
 // layer (clippy.toml, docs/reliability.md).
 #![allow(clippy::disallowed_methods, clippy::disallowed_types)]

@@ -45,7 +45,7 @@ use crate::png::rows::{PixelLayout, RowReader};
 use crate::simd::{Classes, ColorRuns, FusedScan, RowTally, VectorScan};
 
 /// Pixel counts by [`PixelClass`] (indexed by its discriminant).
-pub type ClassCounts = [u64; 3];
+pub(crate) type ClassCounts = [u64; 3];
 
 /// A portable row kernel (see [`RowScan::scan`]), reporting its runs to `R`.
 type SafeKernel<R> = fn(&[u8], &Classifier, &mut SeenSet, &AtomicColorSet, &mut ClassCounts, R);
@@ -763,7 +763,7 @@ mod tests {
 }
 
 /// At most this many background colours (checked without branches).
-pub const MAX_BACKGROUNDS: usize = 8;
+pub(crate) const MAX_BACKGROUNDS: usize = 8;
 
 /// Decides, for each pixel colour, whether it is background, a palette
 /// texel or a stray. Built once from validated options; shared read-only.

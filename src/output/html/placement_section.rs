@@ -25,16 +25,16 @@ use crate::format::placement::{
 use crate::output::html::escape::escape;
 
 /// The file the section is made from.
-pub const PLACEMENT_JSON: &str = "placement.json";
+pub(crate) const PLACEMENT_JSON: &str = "placement.json";
 /// The picture beside it.
-pub const PLACEMENT_PNG: &str = "placement.png";
+pub(crate) const PLACEMENT_PNG: &str = "placement.png";
 /// Candidates listed per kind.
 const LISTED: usize = 15;
 
 /// A placement result to show: its document and the picture's address
 /// relative to the page (when there is a picture).
 #[derive(Debug, Clone)]
-pub struct PlacementOnPage {
+pub(crate) struct PlacementOnPage {
     pub label: String,
     pub document: PlacementDocument,
     pub picture: Option<String>,
@@ -42,7 +42,7 @@ pub struct PlacementOnPage {
 
 /// The placement folder `path` names: the folder holding placement.json, or
 /// the file itself; `None` when it is neither.
-pub fn placement_folder(path: &Path) -> Option<PathBuf> {
+pub(crate) fn placement_folder(path: &Path) -> Option<PathBuf> {
     if path.is_dir() && path.join(PLACEMENT_JSON).is_file() {
         return Some(path.to_path_buf());
     }
@@ -52,14 +52,14 @@ pub fn placement_folder(path: &Path) -> Option<PathBuf> {
 
 /// The placement folder beside a result in `result_dir`: `placement/` in it,
 /// or the folder itself.
-pub fn placement_beside(result_dir: &Path) -> Option<PathBuf> {
+pub(crate) fn placement_beside(result_dir: &Path) -> Option<PathBuf> {
     [result_dir.join("placement"), result_dir.to_path_buf()]
         .into_iter()
         .find_map(|dir| placement_folder(&dir))
 }
 
 /// Reads `dir/placement.json` through its type, checking its schema.
-pub fn read_placement(dir: &Path) -> Result<PlacementDocument> {
+pub(crate) fn read_placement(dir: &Path) -> Result<PlacementDocument> {
     let path = dir.join(PLACEMENT_JSON);
     let bytes = crate::files::read_limited(&path, crate::files::SMALL_INPUT_LIMIT)?;
     #[derive(serde::Deserialize)]
@@ -87,7 +87,7 @@ fn probability(value: Option<f64>) -> String {
 }
 
 /// Appends the section for `placement`.
-pub fn section(page: &mut String, placement: &PlacementOnPage) {
+pub(crate) fn section(page: &mut String, placement: &PlacementOnPage) {
     let document = &placement.document;
     let _ = writeln!(
         page,
@@ -323,7 +323,7 @@ fn candidates(page: &mut String, candidates: &[CandidateRecord]) {
 
 /// The placement in `folder` as shown on a page in `page_dir`: the picture
 /// addressed relative to the page when it lies below it.
-pub fn on_page(folder: &Path, page_dir: &Path, label: &str) -> Result<PlacementOnPage> {
+pub(crate) fn on_page(folder: &Path, page_dir: &Path, label: &str) -> Result<PlacementOnPage> {
     let document = read_placement(folder)?;
     let picture = folder.join(PLACEMENT_PNG);
     let picture = picture

@@ -16,7 +16,7 @@ fn epoch_seconds() -> i64 {
 }
 
 /// `seconds` since 1970 as `YYYY-MM-DD HH:MM UTC` (the proleptic Gregorian calendar).
-pub fn utc_date(seconds: i64) -> String {
+pub(crate) fn utc_date(seconds: i64) -> String {
     let (days, rest) = (seconds.div_euclid(86_400), seconds.rem_euclid(86_400));
     // Days to civil date (H. Hinnant's algorithm).
     let z = days + 719_468;
@@ -42,7 +42,7 @@ fn shell_word(word: &str) -> String {
 }
 
 /// The provenance paragraph of a page, HTML.
-pub fn paragraph() -> String {
+pub(crate) fn paragraph() -> String {
     // args_os: `std::env::args` panics on an argument that is not UTF-8 (a path).
     let command: Vec<String> = std::env::args_os().map(|arg| shell_word(&arg.to_string_lossy())).collect();
     let folder = std::env::current_dir().map(|dir| dir.display().to_string()).unwrap_or_default();

@@ -28,7 +28,7 @@ use crate::{output::written_files::WrittenFiles, result::model::AnalysisResult};
 /// `scenario` is what the archive's manifest says about the scenario (the
 /// scenario section shows it); `placement`: the placement result found
 /// beside it (or why it could not be read).
-pub fn write_report(
+pub(crate) fn write_report(
     path: &Path,
     result: &AnalysisResult,
     files: &WrittenFiles,
@@ -42,7 +42,7 @@ pub fn write_report(
 /// The scenario section's content beyond the files: the manifest's track
 /// (none without a manifest) and why there is no frame strip, if so.
 #[derive(Default)]
-pub struct ScenarioPage<'a> {
+pub(crate) struct ScenarioPage<'a> {
     pub track: Option<&'a ScenarioTrack>,
     pub strip_skipped: Option<String>,
 }
@@ -555,7 +555,7 @@ const DEMO_SLOWEST_RATE: f64 = -1.14;
 /// The angular-area share error to expect at `ppd` from the demo's measured
 /// convergence: the worst scenario's, interpolated on log–log between the
 /// measured resolutions and carried at the slowest fitted rate outside them.
-pub fn demo_share_error_pp(ppd: f64) -> f64 {
+pub(crate) fn demo_share_error_pp(ppd: f64) -> f64 {
     let (first, last) = (DEMO_CONVERGENCE[0], DEMO_CONVERGENCE[DEMO_CONVERGENCE.len() - 1]);
     let along = |(p0, e0): (f64, f64), rate: f64| e0 * (ppd / p0).powf(rate);
     if ppd <= first.0 {
@@ -574,7 +574,7 @@ pub fn demo_share_error_pp(ppd: f64) -> f64 {
 /// measures (issue 42 §5: the page once said they "do not depend on
 /// resolution"): the demo's measured error at this archive's px/°, and that
 /// only `ufcsr-capture study` measures it for this scene.
-pub fn resolution_caution(pixels_per_degree: Option<f64>) -> String {
+pub(crate) fn resolution_caution(pixels_per_degree: Option<f64>) -> String {
     let run = "This analysis carries no interval for it: to measure the error for this vehicle and scenario, \
                run `ufcsr study` (it compares resolutions and frame steps with the exact measure).";
     match pixels_per_degree.filter(|p| p.is_finite() && *p > 0.0) {

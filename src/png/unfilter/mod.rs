@@ -30,7 +30,7 @@ pub(crate) enum Filter {
 
 impl Filter {
     /// The filter of a row's first byte, if it names one.
-    pub fn from_byte(byte: u8) -> Option<Filter> {
+    pub(crate) fn from_byte(byte: u8) -> Option<Filter> {
         [Filter::None, Filter::Sub, Filter::Up, Filter::Average, Filter::Paeth]
             .get(usize::from(byte))
             .copied()

@@ -62,7 +62,7 @@ impl Default for Sums {
 
 /// One candidate's numbers in one eye-frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Seen {
+pub(crate) struct Seen {
     pub solid_angle_sr: f64,
     pub visible_fraction: f64,
     pub view_angle_deg: f64,
@@ -102,7 +102,7 @@ fn elevation(d: DVec3) -> f64 {
 /// extremes of sin(elevation) = d_z / |d| lie at its ends or where
 /// d/dt (d_z² / |d|²) = 0, which is linear in t:
 /// t = (a_z (a·u) − u_z |a|²) / (u_z (a·u) − a_z |u|²).
-pub fn outline_elevations(corners: &[DVec3; 4], eye_frame: &EyeFrame) -> (f64, f64) {
+pub(crate) fn outline_elevations(corners: &[DVec3; 4], eye_frame: &EyeFrame) -> (f64, f64) {
     let local: Vec<DVec3> = corners
         .iter()
         .map(|&c| transform_point(&eye_frame.vehicle_to_local, c).truncate() - eye_frame.eye_local)
@@ -128,7 +128,11 @@ pub fn outline_elevations(corners: &[DVec3; 4], eye_frame: &EyeFrame) -> (f64, f
 }
 
 /// Every candidate's numbers in one eye-frame (`None` where nothing is visible).
-pub fn measure_eye_frame(inputs: &ExactInputs, labels: &LabelSet, eye_frame: &EyeFrame) -> Vec<Option<Seen>> {
+pub(crate) fn measure_eye_frame(
+    inputs: &ExactInputs,
+    labels: &LabelSet,
+    eye_frame: &EyeFrame,
+) -> Vec<Option<Seen>> {
     let mut sums = vec![Sums::default(); labels.count()];
     let local_to_vehicle = eye_frame.vehicle_to_local.inverse();
     for (index, sample) in inputs.samples.samples.iter().enumerate() {
@@ -169,7 +173,7 @@ const EYE_FRAMES_PER_BATCH: usize = 32;
 
 /// Measures every eye-frame (in parallel, a batch at a time) and writes the
 /// table; the rows written.
-pub fn write_table(inputs: &ExactInputs, labels: &LabelSet, path: &Path) -> Result<u64> {
+pub(crate) fn write_table(inputs: &ExactInputs, labels: &LabelSet, path: &Path) -> Result<u64> {
     if inputs.eye_frames.len() != 2 * inputs.frame_records.len() {
         return Err(CaptureError::BadOptions(format!(
             "placement: {} eye-frames for {} frames (expected two eyes per frame)",

@@ -11,13 +11,13 @@ use crate::exact::types::SurfaceSamples;
 
 /// `part` or `patch`, as `placement-frames.csv` spells it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum LabelKind {
+pub(crate) enum LabelKind {
     Part,
     Patch,
 }
 
 impl LabelKind {
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             LabelKind::Part => "part",
             LabelKind::Patch => "patch",
@@ -27,7 +27,7 @@ impl LabelKind {
 
 /// Candidates and which samples each holds.
 #[derive(Debug, Clone, Default, PartialEq)]
-pub struct LabelSet {
+pub(crate) struct LabelSet {
     pub names: Vec<String>,
     pub kinds: Vec<LabelKind>,
     /// The left/right mirror image's name, where there is one.
@@ -45,7 +45,7 @@ pub struct LabelSet {
 
 impl LabelSet {
     /// One label per part, each sample in its texel's part.
-    pub fn parts(part_names: &[String], samples: &SurfaceSamples) -> LabelSet {
+    pub(crate) fn parts(part_names: &[String], samples: &SurfaceSamples) -> LabelSet {
         let mut set = LabelSet {
             names: part_names.to_vec(),
             kinds: vec![LabelKind::Part; part_names.len()],
@@ -66,7 +66,7 @@ impl LabelSet {
     }
 
     /// Adds one label per placed patch, holding its member samples.
-    pub fn add_patches(&mut self, patches: &[PlacedPatch], samples: &SurfaceSamples) {
+    pub(crate) fn add_patches(&mut self, patches: &[PlacedPatch], samples: &SurfaceSamples) {
         let first_label = self.names.len() as u32;
         let mut per_sample = vec![0u32; samples.samples.len()];
         for patch in patches {
@@ -107,13 +107,13 @@ impl LabelSet {
     }
 
     /// The labels of sample `s`: its part, then its patches.
-    pub fn of_sample(&self, s: usize) -> impl Iterator<Item = u32> + '_ {
+    pub(crate) fn of_sample(&self, s: usize) -> impl Iterator<Item = u32> + '_ {
         let patches = &self.patch_labels[self.patch_offsets[s] as usize..self.patch_offsets[s + 1] as usize];
         std::iter::once(self.part_of_sample[s]).chain(patches.iter().copied())
     }
 
     /// How many candidates.
-    pub fn count(&self) -> usize {
+    pub(crate) fn count(&self) -> usize {
         self.names.len()
     }
 }

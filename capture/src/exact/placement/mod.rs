@@ -51,7 +51,7 @@ pub fn parse_display(text: &str) -> Result<[f64; 2]> {
 }
 
 /// What the exact measure hands over: its samples and eye-frames.
-pub struct ExactInputs<'a> {
+pub(crate) struct ExactInputs<'a> {
     pub scene: &'a Scene,
     pub samples: &'a SurfaceSamples,
     /// Both eyes per frame, in frame order (left, right).
@@ -79,7 +79,7 @@ pub struct PlacementWritten {
 
 /// Measures every candidate in every eye-frame and writes the table into
 /// `results_dir`.
-pub fn write_placement_frames(
+pub(crate) fn write_placement_frames(
     inputs: &ExactInputs,
     options: &PlacementCandidates,
     results_dir: &Path,

@@ -63,13 +63,13 @@ use crate::exact::types::{SURFACE_LIFT_RELATIVE, SurfaceSample};
 pub use ufcsr::{placement::PLACEMENT_PATCHES_COLUMNS, placement::PLACEMENT_PATCHES_FILE};
 
 /// A kept patch must be covered by at least this share of its W × H.
-pub const MIN_COVER: f64 = 0.9;
+pub(crate) const MIN_COVER: f64 = 0.9;
 /// Member surfaces face within this angle of the patch normal, degrees.
-pub const MAX_MEMBER_TILT_DEG: f64 = 45.0;
+pub(crate) const MAX_MEMBER_TILT_DEG: f64 = 45.0;
 
 /// One display patch.
 #[derive(Debug, Clone, PartialEq)]
-pub struct PlacedPatch {
+pub(crate) struct PlacedPatch {
     pub name: String,
     pub mirror: Option<String>,
     /// Vehicle frame, metres.
@@ -87,7 +87,7 @@ pub struct PlacedPatch {
 impl PlacedPatch {
     /// The W × H rectangle's corners in the vehicle frame, in order around it: the display's
     /// exact outline, which its angular height is measured from (not its samples).
-    pub fn outline(&self) -> [DVec3; 4] {
+    pub(crate) fn outline(&self) -> [DVec3; 4] {
         let across = self.normal.cross(self.up).normalize_or_zero() * (self.size_m[0] / 2.0);
         let up = self.up * (self.size_m[1] / 2.0);
         let c = self.centre;
@@ -234,7 +234,7 @@ fn lay_out(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<(String
 
 /// Every patch of size `display` that fits on the outward-facing surface,
 /// with the samples it holds.
-pub fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<PlacedPatch> {
+pub(crate) fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<PlacedPatch> {
     let samples = &inputs.samples.samples;
     let grid = Grid::new(samples, spacing.max(display[0].max(display[1]) / 4.0));
     let mut placed: Vec<PlacedPatch> = lay_out(inputs, display, spacing)
@@ -289,7 +289,7 @@ fn pair_mirrors(placed: &mut [PlacedPatch], spacing: f64) {
 /// Writes one row per patch: its name, centre (vehicle frame, m), outward
 /// unit normal, unit height axis, display width and height (m) and mirror,
 /// so the footprint can be drawn where the frames table names the patch.
-pub fn write_patch_table(
+pub(crate) fn write_patch_table(
     path: &std::path::Path,
     placed: &[PlacedPatch],
     [w, h]: [f64; 2],

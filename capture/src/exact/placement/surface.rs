@@ -15,20 +15,20 @@ use glam::DVec3;
 
 use crate::scene::Mesh;
 
-pub type Cell = [i64; 3];
+pub(crate) type Cell = [i64; 3];
 
-pub fn cell_of(p: DVec3, size: f64) -> Cell {
+pub(crate) fn cell_of(p: DVec3, size: f64) -> Cell {
     [(p.x / size).floor() as i64, (p.y / size).floor() as i64, (p.z / size).floor() as i64]
 }
 
 /// The centre of cube `cell` of edge `size`.
-pub fn middle_of(cell: Cell, size: f64) -> DVec3 {
+pub(crate) fn middle_of(cell: Cell, size: f64) -> DVec3 {
     DVec3::new(cell[0] as f64 + 0.5, cell[1] as f64 + 0.5, cell[2] as f64 + 0.5) * size
 }
 
 /// One counted triangle.
 #[derive(Debug, Clone, Copy)]
-pub struct Face {
+pub(crate) struct Face {
     pub corners: [DVec3; 3],
     /// Unit normal (the sampler's: (b − a) × (c − a), normalised).
     pub normal: DVec3,
@@ -36,7 +36,7 @@ pub struct Face {
 }
 
 /// Counted faces bucketed by the cubes of edge `size` they pass near.
-pub struct Surface {
+pub(crate) struct Surface {
     pub faces: Vec<Face>,
     pub size: f64,
     /// Per cube: indices into `faces`, ascending.
@@ -44,7 +44,7 @@ pub struct Surface {
 }
 
 impl Surface {
-    pub fn new(mesh: &Mesh, size: f64) -> Surface {
+    pub(crate) fn new(mesh: &Mesh, size: f64) -> Surface {
         let covered = crate::scene::coincident::covered_triangles(mesh);
         let faces: Vec<Face> = (0..mesh.triangles.len())
             .filter(|&t| !covered[t])
@@ -72,7 +72,7 @@ impl Surface {
 
     /// Every face that may come within the box `lo..hi` (and some more),
     /// ascending and each once.
-    pub fn near(&self, lo: DVec3, hi: DVec3) -> Vec<u32> {
+    pub(crate) fn near(&self, lo: DVec3, hi: DVec3) -> Vec<u32> {
         let [a, b] = [cell_of(lo, self.size), cell_of(hi, self.size)];
         let mut out = Vec::new();
         for x in a[0]..=b[0] {
@@ -90,7 +90,7 @@ impl Surface {
     /// The surface point nearest the centre of cube `cell` (edge `size` of
     /// this surface), with its face, when that point lies in the cube. Ties
     /// go to the face first in the mesh.
-    pub fn nearest_in_cube(&self, cell: Cell) -> Option<(DVec3, u32)> {
+    pub(crate) fn nearest_in_cube(&self, cell: Cell) -> Option<(DVec3, u32)> {
         let middle = middle_of(cell, self.size);
         // A point in the cube is within √3/2 edges of its centre; every face
         // that close passes through the 3 × 3 × 3 cubes around it.
@@ -143,7 +143,7 @@ fn bucket(corners: [DVec3; 3], size: f64, visit: &mut impl FnMut(Cell)) {
 
 /// The point of triangle `[a, b, c]` nearest `p` (Ericson, Real-Time
 /// Collision Detection §5.1.5: by the Voronoi region of `p`).
-pub fn closest_on_triangle(p: DVec3, [a, b, c]: [DVec3; 3]) -> DVec3 {
+pub(crate) fn closest_on_triangle(p: DVec3, [a, b, c]: [DVec3; 3]) -> DVec3 {
     let (ab, ac, ap) = (b - a, c - a, p - a);
     let (d1, d2) = (ab.dot(ap), ac.dot(ap));
     if d1 <= 0.0 && d2 <= 0.0 {
@@ -178,7 +178,7 @@ pub fn closest_on_triangle(p: DVec3, [a, b, c]: [DVec3; 3]) -> DVec3 {
 /// The area of triangle `corners` inside the box `|(x − centre)·axes[i]| ≤
 /// half[i]` (orthonormal axes): the triangle clipped by the box's six
 /// planes (Sutherland–Hodgman), then the polygon's area.
-pub fn area_in_box(corners: [DVec3; 3], centre: DVec3, axes: [DVec3; 3], half: [f64; 3]) -> f64 {
+pub(crate) fn area_in_box(corners: [DVec3; 3], centre: DVec3, axes: [DVec3; 3], half: [f64; 3]) -> f64 {
     let mut polygon: Vec<DVec3> = corners.to_vec();
     for (axis, half) in axes.into_iter().zip(half) {
         for sign in [1.0, -1.0] {

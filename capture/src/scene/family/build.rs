@@ -38,7 +38,7 @@ const PLUS_Y: usize = 2;
 const MINUS_Y: usize = 3;
 
 /// The body's mesh.
-pub fn mesh(l: &Layout) -> Mesh {
+pub(crate) fn mesh(l: &Layout) -> Mesh {
     let mut m = Mesh::default();
     front(&mut m, l);
     rear(&mut m, l);

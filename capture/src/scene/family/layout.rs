@@ -13,17 +13,17 @@ use crate::scene::family::{BodyDims, BodyType};
 
 /// How far the licence plate stands proud of the bumper, and the bumper of
 /// the front and rear faces, metres.
-pub const PLATE_DEPTH_M: f64 = 0.015;
+pub(crate) const PLATE_DEPTH_M: f64 = 0.015;
 /// The bumper's depth in front of the grill panel (and behind the rear face).
-pub const BUMPER_DEPTH_M: f64 = 0.045;
+pub(crate) const BUMPER_DEPTH_M: f64 = 0.045;
 /// How far the greenhouse (windows and roof) is set in from the body sides.
-pub const GREENHOUSE_INSET_M: f64 = 0.05;
+pub(crate) const GREENHOUSE_INSET_M: f64 = 0.05;
 /// Clearance between a tyre and its arch, metres (up and along x).
-pub const ARCH_CLEARANCE_M: f64 = 0.05;
+pub(crate) const ARCH_CLEARANCE_M: f64 = 0.05;
 
 /// What the dimensions leave open, per body type (ours).
 #[derive(Debug, Clone, Copy)]
-pub struct Proportions {
+pub(crate) struct Proportions {
     /// Tyre radius, rim radius, half the tyre width.
     pub wheel: [f64; 3],
     /// Height of the body's lower edge (and the bumpers') above the ground.
@@ -35,7 +35,7 @@ pub struct Proportions {
 }
 
 impl Proportions {
-    pub fn of(body: BodyType) -> Proportions {
+    pub(crate) fn of(body: BodyType) -> Proportions {
         let p = |wheel, clearance_m, front_door_m, rear_door_m| Proportions {
             wheel,
             clearance_m,
@@ -57,7 +57,7 @@ impl Proportions {
 
 /// The body's breaks, metres in the vehicle frame (x forward, y left, z up).
 #[derive(Debug, Clone)]
-pub struct Layout {
+pub(crate) struct Layout {
     pub body: BodyType,
     pub dims: BodyDims,
     pub proportions: Proportions,
@@ -87,7 +87,7 @@ pub struct Layout {
 
 impl Layout {
     /// The layout of `body` with `dims`, or what is wrong with them (naming the field).
-    pub fn new(body: BodyType, dims: &BodyDims) -> Result<Layout, String> {
+    pub(crate) fn new(body: BodyType, dims: &BodyDims) -> Result<Layout, String> {
         check_ranges(dims)?;
         let proportions = Proportions::of(body);
         let BodyDims {
@@ -163,13 +163,13 @@ impl Layout {
     }
 
     /// The x range of each wheel arch, front then rear.
-    pub fn arches(&self) -> [[f64; 2]; 2] {
+    pub(crate) fn arches(&self) -> [[f64; 2]; 2] {
         let reach = self.proportions.wheel[0] + ARCH_CLEARANCE_M;
         self.axles.map(|x| [x - reach, x + reach])
     }
 
     /// How far in from the body side each arch's inner wall stands.
-    pub fn arch_depth(&self) -> f64 {
+    pub(crate) fn arch_depth(&self) -> f64 {
         2.0 * self.proportions.wheel[2] + 0.08
     }
 }

@@ -14,10 +14,10 @@
 //! the same per candidate display (and part) for its legible seconds, from
 //! an exact measure of each observer.
 
-pub mod displays;
-pub mod interval;
+pub(crate) mod displays;
+pub(crate) mod interval;
 pub(crate) mod observer;
-pub mod population;
+pub(crate) mod population;
 
 pub use observer::{
     HUMAN_IPD_M, ObserverPreset, PAPER_EYE_HEIGHT_M, PAPER_IPD_M, describe_observer, median_eye_height_m,

@@ -87,7 +87,7 @@ fn check_group(group: &StatureGroup, truncate: f64) -> Result<()> {
 
 /// Refuses a sampling that asks for no observers, more than
 /// [`MAX_OBSERVERS`], or grid positions without a place to put them.
-pub fn check_sampling(sampling: &ObserverSampling, place: &ObserverPlace) -> Result<()> {
+pub(crate) fn check_sampling(sampling: &ObserverSampling, place: &ObserverPlace) -> Result<()> {
     let (count, what) = match sampling {
         ObserverSampling::Random { observers, .. } => {
             (u64::from(*observers), format!("--observers {observers}"))

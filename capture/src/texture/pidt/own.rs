@@ -27,7 +27,7 @@ pub struct OwnLabelFiles {
 
 /// The user's PIdT and legend, loaded and checked against the kept UVs.
 #[derive(Debug, Clone)]
-pub struct LoadedOwnLabels {
+pub(crate) struct LoadedOwnLabels {
     /// In the form a capture writes (`rgb` as in the file).
     pub pidt: PidtImage,
     pub legend: Legend,
@@ -36,7 +36,7 @@ pub struct LoadedOwnLabels {
 }
 
 /// Loads and checks the user's PIdT for the kept UVs in `unwrapped`.
-pub fn load(labels: &OwnLabelFiles, unwrapped: &Unwrapped) -> Result<LoadedOwnLabels> {
+pub(crate) fn load(labels: &OwnLabelFiles, unwrapped: &Unwrapped) -> Result<LoadedOwnLabels> {
     if unwrapped.method != "kept" {
         return Err(CaptureError::BadOptions(
             "--pidt needs --keep-uvs: a PIdT painted for the mesh's own UVs means nothing for the islands a capture unwraps".into(),
@@ -110,7 +110,7 @@ pub fn load(labels: &OwnLabelFiles, unwrapped: &Unwrapped) -> Result<LoadedOwnLa
 }
 
 /// Writes the legend into the archive as `name,color`.
-pub fn write_legend(legend: &Legend, path: &Path) -> Result<()> {
+pub(crate) fn write_legend(legend: &Legend, path: &Path) -> Result<()> {
     ufcsr::files::write_atomically(path, |w| {
         writeln!(w, "name,color")?;
         for part in &legend.parts {

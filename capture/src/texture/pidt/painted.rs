@@ -50,7 +50,7 @@ impl PidtImage {
 
 /// Distinct, saturated legend colours: hues spread by the golden angle, with
 /// alternating saturation and value so that neighbours differ.
-pub fn part_colors(count: usize) -> Vec<Color> {
+pub(crate) fn part_colors(count: usize) -> Vec<Color> {
     let mut colors: Vec<Color> = Vec::with_capacity(count);
     let mut i = 0usize;
     while colors.len() < count {
@@ -105,13 +105,13 @@ pub fn paint(mesh: &Mesh, unwrapped: &Unwrapped) -> PidtImage {
 }
 
 /// Writes the PIdT as an 8-bit RGB PNG.
-pub fn write_png(pidt: &PidtImage, path: &Path) -> Result<()> {
+pub(crate) fn write_png(pidt: &PidtImage, path: &Path) -> Result<()> {
     ufcsr::files::write_rgb_png(path, [pidt.size[0], pidt.size[1]], &pidt.rgb, png::Compression::Fast)?;
     Ok(())
 }
 
 /// Writes the legend `name,color`.
-pub fn write_legend(mesh: &Mesh, pidt: &PidtImage, path: &Path) -> Result<()> {
+pub(crate) fn write_legend(mesh: &Mesh, pidt: &PidtImage, path: &Path) -> Result<()> {
     ufcsr::files::write_atomically(path, |w| {
         writeln!(w, "name,color")?;
         for (name, color) in mesh.parts.iter().zip(&pidt.part_colors) {
