@@ -25,7 +25,7 @@ use crate::archive::resolve::Inputs;
 use crate::color::AtomicColorSet;
 use crate::count::part_lookup::{FrameLabel, FrameRecord, PartLookup, PartPixels, RowSpans};
 use crate::count::scan::ImageTally;
-use crate::count::texel_area::PixelPrefix;
+use crate::count::texel_area::EyeTables;
 use crate::count::work::{FrameTallies, Outcome, UnitResult, eye_frame_label, in_shard, work_units};
 use crate::error::{Error, Result};
 use crate::optics::TileView;
@@ -82,6 +82,7 @@ pub(crate) fn count_rgba32_images(
         strays: AtomicColorSet::new(),
         area: (options.texel_area && inputs.optics.is_some())
             .then(|| (0..texels).into_par_iter().map(|_| AtomicU64::new(0)).collect()),
+        eye_tables: EyeTables::default(),
         stop: AtomicBool::new(false),
         strict: options.strict,
         lookup,
@@ -134,6 +135,8 @@ struct Counter<'a> {
     strays: AtomicColorSet,
     /// Per texel, solid-angle units (see [`Rgba32Counts`]).
     area: Option<Vec<AtomicU64>>,
+    /// The eyes' pixel prefix tables, shared by every image (one per eye).
+    eye_tables: EyeTables,
     /// Set by the first failure (`--strict` skips the rest).
     stop: AtomicBool,
     strict: bool,
@@ -285,7 +288,7 @@ impl Counter<'_> {
                  without interlacing, or analyse with --texel-area off)",
             ));
         }
-        let prefix = view.map(|view| PixelPrefix::new(view, size));
+        let prefix = view.and_then(|view| self.eye_tables.pixel_prefix(view, size));
         let mut tally = ImageTally { width: size[0], height: size[1], ..ImageTally::default() };
         let mut last: Option<(u32, PixelKind, usize)> = None;
         let mut y = 0;

@@ -81,7 +81,36 @@ pub(crate) struct TexelSolidAngles {
     #[cfg_attr(not(any(test, feature = "synthetic")), allow(dead_code))]
     backgrounds: Vec<u32>,
     /// Per eye, its pixels' prefix sums (built as tiles reach their rows).
+    tables: EyeTables,
+}
+
+/// The pixel prefix tables of the eyes an analysis reads, one per eye (its
+/// rows built once, as tiles reach them), shared by the 24-bit kernels'
+/// [`TexelSolidAngles`] and the 32-bit path.
+#[derive(Default)]
+pub(crate) struct EyeTables {
     tables: Mutex<HashMap<EyeKey, Arc<EyePrefix>>>,
+}
+
+impl EyeTables {
+    /// The pixel prefix sums of an image of `size` at `view`: one table per
+    /// eye, shared by every tile of it. `None` for an image that does not
+    /// fit inside its eye (a tile of another size than the manifest says: its
+    /// texels get no solid angle, and no table the size a damaged header
+    /// claims is allocated).
+    pub(crate) fn pixel_prefix(&self, view: &TileView, size: [u32; 2]) -> Option<PixelPrefix> {
+        let eye = [view.projection.width, view.projection.height];
+        let fits =
+            (0..2).all(|axis| u64::from(view.origin[axis]) + u64::from(size[axis]) <= u64::from(eye[axis]));
+        if !fits {
+            return None;
+        }
+        let mut tables = self.tables.lock().unwrap_or_else(PoisonError::into_inner);
+        let table = tables
+            .entry((eye, view.projection.tan_half_x.to_bits()))
+            .or_insert_with(|| Arc::new(EyePrefix::new(view.projection)));
+        Some(PixelPrefix::within(Arc::clone(table), view.origin, size))
+    }
 }
 
 /// A worker's texel runs not yet added to [`TexelSolidAngles`]: texel key
@@ -281,8 +310,8 @@ fn corner(u: f64, v: f64) -> f64 {
 
 impl PixelPrefix {
     /// The table of a tile of `size` pixels at `view`, with an eye table of
-    /// its own (the 24-bit analysis shares one per eye:
-    /// [`TexelSolidAngles::pixel_prefix`]; the 32-bit path builds its own).
+    /// its own (an analysis shares one per eye: [`EyeTables::pixel_prefix`]).
+    #[cfg(test)]
     pub(crate) fn new(view: &TileView, size: [u32; 2]) -> PixelPrefix {
         PixelPrefix::within(Arc::new(EyePrefix::new(view.projection)), view.origin, size)
     }
@@ -322,27 +351,13 @@ impl TexelSolidAngles {
             texels,
             texel_of,
             backgrounds: backgrounds.to_vec(),
-            tables: Mutex::new(HashMap::new()),
+            tables: EyeTables::default(),
         }
     }
 
-    /// The pixel prefix sums of an image of `size` at `view`: one table per
-    /// eye, shared by every tile of it (its rows built once, as tiles reach them). `None` for an image that does
-    /// not fit inside its eye (a tile of another size than the manifest
-    /// says: its texels get no solid angle, and no table the size a damaged
-    /// header claims is allocated).
+    /// The pixel prefix sums of an image of `size` at `view` ([`EyeTables::pixel_prefix`]).
     pub(crate) fn pixel_prefix(&self, view: &TileView, size: [u32; 2]) -> Option<PixelPrefix> {
-        let eye = [view.projection.width, view.projection.height];
-        let fits =
-            (0..2).all(|axis| u64::from(view.origin[axis]) + u64::from(size[axis]) <= u64::from(eye[axis]));
-        if !fits {
-            return None;
-        }
-        let mut tables = self.tables.lock().unwrap_or_else(PoisonError::into_inner);
-        let table = tables
-            .entry((eye, view.projection.tan_half_x.to_bits()))
-            .or_insert_with(|| Arc::new(EyePrefix::new(view.projection)));
-        Some(PixelPrefix::within(Arc::clone(table), view.origin, size))
+        self.tables.pixel_prefix(view, size)
     }
 
     /// The key a run of `color` adds to (`texel`: the kernel's verdict,
