@@ -171,12 +171,7 @@ fn drawing_error(title: &str, error: impl std::fmt::Display) -> Error {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// The numbers of attribute `name` in an SVG tag.
-    fn attribute(tag: &str, name: &str) -> Option<String> {
-        let start = tag.find(&format!(" {name}=\""))? + name.len() + 3;
-        tag[start..].split('"').next().map(str::to_string)
-    }
+    use crate::testing::synthetic::{svg_attribute as attribute, svg_polylines};
 
     #[test]
     fn each_whisker_spans_its_rows_interval_on_the_axis() {
@@ -194,19 +189,9 @@ mod tests {
             figure.write(&Path::new(&keep).join("interval-figure")).unwrap();
         }
         // Horizontal whiskers in Okabe–Ito blue, in pixels; the caps are vertical.
-        let lines: Vec<[(f64, f64); 2]> = svg
-            .split("<polyline")
-            .skip(1)
-            .filter(|tag| attribute(tag, "stroke").as_deref() == Some("#0072B2"))
-            .filter_map(|tag| {
-                let points: Vec<(f64, f64)> = attribute(tag, "points")?
-                    .split_whitespace()
-                    .map(|p| {
-                        p.split_once(',').map(|(x, y)| (x.parse().unwrap(), y.parse().unwrap())).unwrap()
-                    })
-                    .collect();
-                (points.len() == 2).then(|| [points[0], points[1]])
-            })
+        let lines: Vec<[(f64, f64); 2]> = svg_polylines(&svg, "#0072B2")
+            .into_iter()
+            .filter_map(|points| (points.len() == 2).then(|| [points[0], points[1]]))
             .collect();
         let whiskers: Vec<&[(f64, f64); 2]> = lines.iter().filter(|l| l[0].1 == l[1].1).collect();
         assert_eq!(whiskers.len(), 2, "{lines:?}");

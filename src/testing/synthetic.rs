@@ -8,6 +8,9 @@
 //! pixels to palette texels through a rotated, scaled grid (0.2–2 texels per
 //! pixel, nearest sampling), so object tiles have smooth unique-colour
 //! gradients with occlusion edges. Deterministic for a given seed.
+//!
+//! Beside them, the SVG readers the figures' tests in both crates share
+//! ([`svg_polylines`], [`svg_attribute`]).
 
 pub use crate::png::format::png_from_chunks;
 use std::path::Path;
@@ -258,4 +261,27 @@ fn write_parts(dir: &Path, spec: &ArchiveSpec) -> Result<()> {
         csv.push_str(&format!("{name},{}\n", part_color(k)));
     }
     write_bytes_atomically(&dir.join("parts.csv"), csv.as_bytes())
+}
+
+/// Attribute `name` of one SVG tag (the text after `<tag`), as written: the
+/// figures' tests read what was drawn back from the SVG with it.
+pub fn svg_attribute(tag: &str, name: &str) -> Option<String> {
+    let start = tag.find(&format!(" {name}=\""))? + name.len() + 3;
+    tag[start..].split('"').next().map(str::to_string)
+}
+
+/// The points of every `<polyline>` of `svg` stroked in `stroke` (e.g.
+/// `"#0072B2"`), in drawing order: how the figures' tests find the interval
+/// bars and whiskers they drew.
+pub fn svg_polylines(svg: &str, stroke: &str) -> Vec<Vec<(f64, f64)>> {
+    svg.split("<polyline")
+        .skip(1)
+        .filter(|tag| svg_attribute(tag, "stroke").as_deref() == Some(stroke))
+        .filter_map(|tag| {
+            svg_attribute(tag, "points")?
+                .split_whitespace()
+                .map(|p| p.split_once(',').and_then(|(x, y)| Some((x.parse().ok()?, y.parse().ok()?))))
+                .collect()
+        })
+        .collect()
 }

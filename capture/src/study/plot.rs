@@ -338,11 +338,7 @@ mod tests {
         svg
     }
 
-    /// The numbers of attribute `name` in an SVG tag.
-    fn attribute(tag: &str, name: &str) -> Option<String> {
-        let start = tag.find(&format!(" {name}=\""))? + name.len() + 3;
-        tag[start..].split('"').next().map(str::to_string)
-    }
+    use ufcsr::synthetic::{svg_attribute as attribute, svg_polylines};
 
     #[test]
     fn each_settings_interval_is_drawn_from_its_low_to_its_high_end() {
@@ -372,17 +368,9 @@ mod tests {
         let value = |y: f64| 2.0 + (y - ys[0]) * (4.0 - 2.0) / (ys[1] - ys[0]);
         // The vertical interval bars, in Okabe–Ito blue.
         let setting_xs: Vec<f64> = points.iter().map(|p| p.0).collect();
-        let mut spans: Vec<[f64; 2]> = svg
-            .split("<polyline")
-            .skip(1)
-            .filter(|tag| attribute(tag, "stroke").as_deref() == Some("#0072B2"))
-            .filter_map(|tag| {
-                let points: Vec<(f64, f64)> = attribute(tag, "points")?
-                    .split_whitespace()
-                    .map(|p| {
-                        p.split_once(',').map(|(x, y)| (x.parse().unwrap(), y.parse().unwrap())).unwrap()
-                    })
-                    .collect();
+        let mut spans: Vec<[f64; 2]> = svg_polylines(&svg, "#0072B2")
+            .into_iter()
+            .filter_map(|points| {
                 // At a setting's time (the legend's sample is elsewhere).
                 let at_setting = |x: f64| setting_xs.contains(&x);
                 let vertical = points.len() == 2 && points[0].0 == points[1].0 && at_setting(points[0].0);
