@@ -312,6 +312,7 @@ fn exact_counter_floor(sample: &[PathBuf], tiles: &[(PixelLayout, Vec<Vec<u8>>)]
         }
     });
     black_box(&by_key);
+    angular_area_floor(&keys, pixels);
     let [png, own] = [Decoder::PngCrate, Decoder::Ufcsr].map(|decoder| {
         best_of(3, || {
             black_box(decoder.decode(sample));
@@ -333,6 +334,43 @@ fn exact_counter_floor(sample: &[PathBuf], tiles: &[(PixelLayout, Vec<Vec<u8>>)]
         png / (own + floor),
         png / (own + bits_and_commit),
         png / (own + bits),
+    );
+}
+
+/// The least an exact per-texel angular area must add, on the same keys
+/// (one per texel pixel unlike its left neighbour: one per texel run, what
+/// the counting kernels report) and one thread: each run's weight added to
+/// its texel's sum in a dense table indexed by key, in the order the runs
+/// come, and nothing else (no run found, no prefix sum read, no lock). Once
+/// in `u64` sums (what the analyzer keeps: exact units of 2⁻⁴⁸ sr) and once
+/// in `u32` (half the cache lines; it would need a carry to stay exact).
+/// Against the CPU per pixel of an analysis with `--texel-area off` this is
+/// the least the area can cost (docs/performance.md#per-texel-angular-area).
+fn angular_area_floor(keys: &[Vec<u32>], pixels: usize) {
+    let mut wide = vec![1u64; 1 << 24];
+    let mut narrow = vec![1u32; 1 << 24];
+    let weights: Vec<u64> = (0..4096u64).map(|i| 0x1_0000_0000 + i * 977).collect();
+    let per_pixel = |seconds: f64| seconds * 1e9 / pixels as f64;
+    let u64_sums = best_of(3, || {
+        for tile in keys {
+            for (i, &key) in tile.iter().enumerate() {
+                wide[key as usize] += weights[i & 4095];
+            }
+        }
+    });
+    let u32_sums = best_of(3, || {
+        for tile in keys {
+            for (i, &key) in tile.iter().enumerate() {
+                narrow[key as usize] = narrow[key as usize].wrapping_add(weights[i & 4095] as u32);
+            }
+        }
+    });
+    black_box((&wide, &narrow));
+    println!(
+        "  angular-area floor (1 thread): one add per texel run into the per-texel sums, {:.2} ns/pixel \
+         (u64 sums), {:.2} (u32 sums)",
+        per_pixel(u64_sums),
+        per_pixel(u32_sums),
     );
 }
 
@@ -584,6 +622,8 @@ fn whole_processes(archive: &Path, files: &[PathBuf], scratch: &Path) {
     let (mut area_cpu_ratios, mut area_wall_ratios, mut cpu_ceiling_ratios) =
         (Vec::new(), Vec::new(), Vec::new());
     let mut walls = [Vec::new(), Vec::new(), Vec::new()];
+    let mut count_cpus = Vec::new();
+    let pixels: u64 = files.iter().map(|p| pixels_of(p)).sum();
     for _ in 0..5 {
         let _ = std::fs::remove_dir_all(&out);
         let (ufcsr_wall, ufcsr_peak, ufcsr_cpu) = run_process(&ufcsr, scratch);
@@ -592,6 +632,7 @@ fn whole_processes(archive: &Path, files: &[PathBuf], scratch: &Path) {
         let (count_wall, _, count_cpu) = run_process(&count_only, scratch);
         let (own_wall, _, _) = run_process(&own, scratch);
         area_cpu_ratios.push(ufcsr_cpu / count_cpu);
+        count_cpus.push(count_cpu);
         area_wall_ratios.push(ufcsr_wall / count_wall);
         cpu_ceiling_ratios.push(decode_cpu / ufcsr_cpu);
         ratios.push(decode_wall / ufcsr_wall);
@@ -624,6 +665,12 @@ fn whole_processes(archive: &Path, files: &[PathBuf], scratch: &Path) {
         median(area_cpu_ratios),
         median(area_wall_ratios),
         median(cpu_ceiling_ratios)
+    );
+    let count_ns = median(count_cpus) * 1e9 / pixels.max(1) as f64;
+    println!(
+        "  --texel-area off: {count_ns:.2} ns of CPU per decoded pixel, so the 1.2× target leaves the area \
+         {:.2} ns/pixel (compare the angular-area floor of --kernels: one add per texel run, nothing else)",
+        0.2 * count_ns
     );
 }
 
