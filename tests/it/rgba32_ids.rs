@@ -244,10 +244,29 @@ const TILES: [(&str, u32, &str, [u32; 8]); 3] = [
     ("tiles/c.png", 1, "left", [LOW, BG, BG, BG, 7, 7, BG, BG]),
 ];
 
+/// The fixture with its eyes' optics (8 × 4 pixels of 2 × 2 tiles, 90°, 60
+/// fps), so pixels have solid angles: `b` is the lower right tile of its
+/// eye, `c` the upper right. Returns each tile's `[row, col]`.
+fn with_optics(archive: &Path) -> [[u32; 2]; 3] {
+    let manifest = std::fs::read_to_string(archive.join("manifest.json")).unwrap();
+    let manifest = manifest
+        .replacen(
+            r#""tiles": ["#,
+            r#""rig": {"settings": {"horizontal_fov_deg": 90, "eye_pixels": [8, 4], "tiles": [2, 2], "fps": 60}},
+            "tiles": ["#,
+            1,
+        )
+        .replacen(r#""eye": "right", "row": 0, "col": 0"#, r#""eye": "right", "row": 1, "col": 1"#, 1)
+        .replacen(r#""frame": 1, "eye": "left", "row": 0, "col": 0"#, r#""frame": 1, "eye": "left", "row": 0, "col": 1"#, 1);
+    std::fs::write(archive.join("manifest.json"), manifest).unwrap();
+    [[0, 0], [1, 1], [0, 1]]
+}
+
 #[test]
 fn tiles_of_32_bit_ids_counted_in_memory_give_what_their_png_tiles_give() {
     let dir = tempfile::tempdir().unwrap();
     let archive = rgba32_archive(dir.path());
+    let places = with_optics(&archive);
     let palette = ufcsr::Fcsp::canonical_rgba32(SIZE).unwrap();
     let legend = ufcsr::Legend::load(&archive.join("parts.csv")).unwrap();
     let pidt = ufcsr::Pidt::load(&archive.join("pidt.png"), &legend, SIZE).unwrap();
@@ -256,17 +275,23 @@ fn tiles_of_32_bit_ids_counted_in_memory_give_what_their_png_tiles_give() {
         let background = [ufcsr::Color::from_packed(BG)];
         let mut counter = ufcsr::TileCounter::new(&palette, &background, dedupe).unwrap();
         assert!(counter.counts_rgba32());
-        counter.tally_parts(ufcsr::PartLookup::new(&palette, Some((&legend, &pidt)), &[BG]), None);
-        for (name, frame, eye, ids) in TILES {
+        let lookup = ufcsr::PartLookup::new(&palette, Some((&legend, &pidt)), &[BG]);
+        counter.tally_parts(lookup, ufcsr::EyeProjection::new(90.0, [8, 4]));
+        for ((name, frame, eye, ids), [row, col]) in TILES.into_iter().zip(places) {
             let rgba: Vec<u8> = ids.iter().flat_map(|&id| rgba32_pixel(id)).collect();
-            let tile = ufcsr::CountedTile { name, frame, eye, size: [4, 2], origin: [0, 0] };
+            let tile = ufcsr::CountedTile { name, frame, eye, size: [4, 2], origin: [col * 4, row * 2] };
             counter.count_tile(&tile, &rgba).unwrap();
         }
+        // One shard of one, so both keep the per-texel solid-angle units
+        // (eye-pair dedupe is not sharded; the units do not depend on it).
+        let shard = (dedupe == Dedupe::Frame).then(|| ufcsr::Shard::new(0, 1).unwrap());
         let options = AnalyzeOptions {
             archive: archive.clone(),
             dedupe,
             trim: ufcsr::TrimMode::Off,
             frames: true,
+            texel_area: true,
+            shard,
             ..Default::default()
         };
         let counted = ufcsr::analyze_counted(&options, counter).unwrap();
@@ -279,7 +304,16 @@ fn tiles_of_32_bit_ids_counted_in_memory_give_what_their_png_tiles_give() {
         assert_eq!(seen(&counted.texel_counts), known, "{dedupe:?}");
         assert!(counted.texel_counts == png.texel_counts, "{dedupe:?}");
         assert!(counted.frames.is_some() && counted.frames == png.frames, "{dedupe:?}: frames.csv differs");
-        // All of result.json: pixels, the stray, parts, per-image counts, notes.
+        // The per-texel solid angles: the same integers, for every texel seen.
+        assert!(counted.texel_angular_area.is_some() && counted.texel_angular_area == png.texel_angular_area);
+        if shard.is_some() {
+            let units =
+                |analysis: &ufcsr::Analysis| analysis.texel_area_units.as_ref().unwrap().units.clone();
+            let (counted_units, png_units) = (units(&counted), units(&png));
+            assert!(counted_units == png_units, "the solid-angle units differ");
+            assert!([LOW, 7, HIGH, LAST].iter().all(|&t| png_units[t as usize] > 0));
+        }
+        // All of result.json: pixels, the stray, parts, measures, notes.
         assert_eq!(counted.result, png.result, "{dedupe:?}");
     }
 }
