@@ -378,6 +378,28 @@ impl PartPixels {
     }
 }
 
+/// One eye-frame's tallies by part from tiles counted in memory (the
+/// capture's `--count`, [`crate::TileCounter`]), before it is labelled by
+/// the manifest's eye-frames.
+pub(crate) struct TiledEyeFrame {
+    pub frame: u32,
+    pub eye: String,
+    /// Its pixels (and solid angles) by part, the non-texel slot last.
+    pub pixels: PartPixels,
+    /// Its distinct texels by part, without the non-texel slot.
+    pub texels: Vec<u64>,
+}
+
+/// The eye-frames' tallies by part of tiles counted in memory.
+pub(crate) struct TiledParts {
+    /// Part names ([`PartLookup::names`]).
+    pub names: Vec<String>,
+    /// Whether pixels were weighted by their solid angle (the eyes'
+    /// projection was known).
+    pub weighted: bool,
+    pub records: Vec<TiledEyeFrame>,
+}
+
 /// What one row block of [`FRAMES_FILE`] is about.
 #[derive(Debug, Clone, PartialEq)]
 pub enum FrameLabel {

@@ -11,7 +11,9 @@
 //! texels by part per eye-frame, as the PNG path does for `frames.csv` and
 //! the measures, and, with the eyes' projection, the per-texel solid angles
 //! behind `texel-area.f32` from the same kernel pass ([`crate::count::texel_area`]),
-//! the same integers as the PNG path's.
+//! the same integers as the PNG path's. A palette of more than 2^24 texels
+//! (32-bit texel ids, an `rgba32` archive) is counted by the `rgba32` path's
+//! row scan instead ([`crate::count::rgba32`]), as its PNG tiles would be.
 
 use std::collections::BTreeMap;
 
@@ -21,7 +23,8 @@ use crate::checks::neighbours::{NeighbourSampler, TexelGrid};
 use crate::color::Color;
 use crate::color::{AtomicColorSet, SeenSet};
 use crate::count::counts::Counts;
-use crate::count::part_lookup::{PartLookup, PartPixels};
+use crate::count::part_lookup::{PartLookup, PartPixels, TiledEyeFrame, TiledParts};
+use crate::count::rgba32::Rgba32Tiles;
 use crate::count::scan::{Classifier, ImageTally, PixelClass};
 use crate::count::scan::{PartRows, row_scan};
 use crate::count::texel_area::{PendingRuns, TexelSolidAngles};
@@ -42,7 +45,7 @@ pub struct CountedTile<'n> {
     pub origin: [u32; 2],
 }
 
-/// The per-part tallies of [`TileCounter::tally_parts`].
+/// The per-part tallies of [`TileCounter::tally_parts`] (24-bit colours).
 pub(crate) struct PartTallies {
     pub lookup: PartLookup,
     pub projection: Option<EyeProjection>,
@@ -50,8 +53,8 @@ pub(crate) struct PartTallies {
     current: Option<(u32, String)>,
     pixels: PartPixels,
     seen: SeenSet,
-    /// Finished eye-frames: `(frame, eye, pixels, texels per part)`.
-    pub records: Vec<(u32, String, PartPixels, Vec<u64>)>,
+    /// Finished eye-frames.
+    records: Vec<TiledEyeFrame>,
 }
 
 impl PartTallies {
@@ -59,28 +62,49 @@ impl PartTallies {
         if let Some((frame, eye)) = self.current.take() {
             let mut texels = self.lookup.tally();
             self.lookup.add_texels(&self.seen, &mut texels);
+            texels.pop();
             self.seen.clear();
             let pixels = std::mem::replace(&mut self.pixels, PartPixels::new(&self.lookup));
-            self.records.push((frame, eye, pixels, texels));
+            self.records.push(TiledEyeFrame { frame, eye, pixels, texels });
         }
+    }
+
+    /// The finished eye-frames' tallies.
+    pub(crate) fn into_parts(self) -> TiledParts {
+        let weighted = self.projection.is_some();
+        TiledParts { names: self.lookup.names, weighted, records: self.records }
     }
 }
 
 /// Counts RGBA8 tiles handed over one at a time, in capture order (all tiles
-/// of one eye-frame together).
+/// of one eye-frame together): as 24-bit colours, or as 32-bit texel ids
+/// when the palette has more than 2^24 texels (an `rgba32` archive).
 pub struct TileCounter<'a> {
+    pub(crate) ids: TileIds<'a>,
+    /// The dedupe unit (eye-frame, or frame with `EyePair`) being counted.
+    current_eye_frame: Option<(u32, String)>,
+    /// With `EyePair` the set is committed per frame, not per eye-frame.
+    dedupe: Dedupe,
+    /// Per tile name (`tiles/fNNNN_EYE_rR_cC.png`): its pixel tally.
+    pub(crate) tallies: BTreeMap<String, ImageTally>,
+}
+
+/// What a [`TileCounter`] counts its tiles' pixels as.
+pub(crate) enum TileIds<'a> {
+    /// 24-bit colours, by the analyzer's row kernels.
+    Rgb24(Box<Rgb24Tiles<'a>>),
+    /// 32-bit texel ids, by the `rgba32` path's row scan ([`crate::count::rgba32`]).
+    Rgba32(Box<Rgba32Tiles>),
+}
+
+/// The tables tiles of 24-bit colours are counted into.
+pub(crate) struct Rgb24Tiles<'a> {
     classifier: Classifier<'a>,
     pub(crate) image_counts: Counts,
     pub(crate) frame_counts: Option<Counts>,
     pub(crate) strays: AtomicColorSet,
     seen: SeenSet,
     frame_seen: Option<SeenSet>,
-    /// The eye-frame whose tiles `frame_seen` holds.
-    current_eye_frame: Option<(u32, String)>,
-    /// With `EyePair` the set is committed per frame, not per eye-frame.
-    dedupe: Dedupe,
-    /// Per tile name (`tiles/fNNNN_EYE_rR_cC.png`): its pixel tally.
-    pub(crate) tallies: BTreeMap<String, ImageTally>,
     /// Per eye-frame and part, when asked for ([`TileCounter::tally_parts`]).
     pub(crate) parts: Option<PartTallies>,
     /// The colour checks' neighbour sample (canonical palettes).
@@ -90,24 +114,24 @@ pub struct TileCounter<'a> {
 }
 
 impl<'a> TileCounter<'a> {
-    /// A counter for tiles drawn with `palette` over `backgrounds`.
+    /// A counter for tiles drawn with `palette` over `backgrounds`; a
+    /// palette of more than 2^24 texels takes 32-bit texel ids.
     pub fn new(palette: &'a Fcsp, backgrounds: &[Color], dedupe: Dedupe) -> Result<TileCounter<'a>> {
         let backgrounds: Vec<u32> = backgrounds.iter().map(|c| c.packed()).collect();
-        let neighbours = TexelGrid::new(palette, &backgrounds).map(NeighbourSampler::new);
-        Ok(TileCounter {
-            classifier: Classifier::new(palette, &backgrounds)?,
-            image_counts: Counts::new(),
-            frame_counts: dedupe.per_frame().then(Counts::new),
-            strays: AtomicColorSet::new(),
-            seen: SeenSet::new(),
-            frame_seen: dedupe.per_frame().then(SeenSet::new),
-            dedupe,
-            current_eye_frame: None,
-            tallies: BTreeMap::new(),
-            parts: None,
-            neighbours,
-            texel_area: None,
-        })
+        let ids = if palette.needs_rgba32() {
+            // The classifier checks the backgrounds as for 24-bit colours.
+            Classifier::new(palette, &backgrounds)?;
+            TileIds::Rgba32(Box::new(Rgba32Tiles::new(palette, backgrounds, dedupe)))
+        } else {
+            TileIds::Rgb24(Box::new(Rgb24Tiles::new(palette, &backgrounds, dedupe)?))
+        };
+        Ok(TileCounter { ids, dedupe, current_eye_frame: None, tallies: BTreeMap::new() })
+    }
+
+    /// Whether tiles are counted as 32-bit texel ids (the palette has more
+    /// than 2^24 texels).
+    pub fn counts_rgba32(&self) -> bool {
+        matches!(self.ids, TileIds::Rgba32(_))
     }
 
     /// Also tallies pixels and texels by `lookup`'s parts per eye-frame and,
@@ -115,19 +139,10 @@ impl<'a> TileCounter<'a> {
     /// `frames.csv` and the measures of [`crate::analyze_counted`] need; with
     /// the projection also each texel's solid angle (`texel-area.f32`).
     pub fn tally_parts(&mut self, lookup: PartLookup, projection: Option<EyeProjection>) {
-        let pixels = PartPixels::new(&lookup);
-        self.texel_area = projection.map(|_| {
-            let sums = TexelSolidAngles::new(self.classifier.palette(), self.classifier.backgrounds());
-            (sums, PendingRuns::default())
-        });
-        self.parts = Some(PartTallies {
-            lookup,
-            projection,
-            current: None,
-            pixels,
-            seen: SeenSet::new(),
-            records: Vec::new(),
-        });
+        match &mut self.ids {
+            TileIds::Rgb24(tiles) => tiles.tally_parts(lookup, projection),
+            TileIds::Rgba32(tiles) => tiles.tally_parts(lookup, projection),
+        }
     }
 
     /// Counts one tile, placed in its eye: `rgba` holds the tile's pixels, row 0 at the top,
@@ -151,6 +166,69 @@ impl<'a> TileCounter<'a> {
             self.commit_eye_frame();
             self.current_eye_frame = Some((frame, eye.to_string()));
         }
+        let tally = match &mut self.ids {
+            TileIds::Rgb24(tiles) => tiles.count(tile, rgba),
+            TileIds::Rgba32(tiles) => {
+                tiles.start_eye_frame(frame, eye);
+                tiles.count(name, origin, tile.size, rgba)?
+            }
+        };
+        self.tallies.insert(name.to_string(), tally);
+        Ok(tally)
+    }
+
+    /// Commits the dedupe unit's texels (frame mode) once its last tile is in.
+    pub(crate) fn commit_eye_frame(&mut self) {
+        match &mut self.ids {
+            TileIds::Rgb24(tiles) => tiles.commit_eye_frame(),
+            TileIds::Rgba32(tiles) => tiles.end_unit(),
+        }
+    }
+
+    /// Tiles counted so far.
+    pub fn tiles(&self) -> usize {
+        self.tallies.len()
+    }
+}
+
+impl<'a> Rgb24Tiles<'a> {
+    fn new(palette: &'a Fcsp, backgrounds: &[u32], dedupe: Dedupe) -> Result<Rgb24Tiles<'a>> {
+        let neighbours = TexelGrid::new(palette, backgrounds).map(NeighbourSampler::new);
+        Ok(Rgb24Tiles {
+            classifier: Classifier::new(palette, backgrounds)?,
+            image_counts: Counts::new(),
+            frame_counts: dedupe.per_frame().then(Counts::new),
+            strays: AtomicColorSet::new(),
+            seen: SeenSet::new(),
+            frame_seen: dedupe.per_frame().then(SeenSet::new),
+            parts: None,
+            neighbours,
+            texel_area: None,
+        })
+    }
+
+    /// [`TileCounter::tally_parts`].
+    fn tally_parts(&mut self, lookup: PartLookup, projection: Option<EyeProjection>) {
+        let pixels = PartPixels::new(&lookup);
+        self.texel_area = projection.map(|_| {
+            let sums = TexelSolidAngles::new(self.classifier.palette(), self.classifier.backgrounds());
+            (sums, PendingRuns::default())
+        });
+        self.parts = Some(PartTallies {
+            lookup,
+            projection,
+            current: None,
+            pixels,
+            seen: SeenSet::new(),
+            records: Vec::new(),
+        });
+    }
+
+    /// Counts one tile (its size checked) with the row kernels.
+    fn count(&mut self, tile: &CountedTile, rgba: &[u8]) -> ImageTally {
+        let CountedTile { frame, eye, size: [width, height], origin, .. } = *tile;
+        let row_bytes = width as usize * 4;
+        debug_assert_eq!(rgba.len(), row_bytes * height as usize);
         let scan = row_scan(PixelLayout::Rgba, &self.classifier);
         let mut by_class = [0u64; 3];
         if let Some(parts) = self.parts.as_mut() {
@@ -205,12 +283,11 @@ impl<'a> TileCounter<'a> {
             self.seen.merge_into(frame_seen);
         }
         self.image_counts.add_set(&mut self.seen);
-        self.tallies.insert(name.to_string(), tally);
-        Ok(tally)
+        tally
     }
 
     /// Commits the eye-frame set (frame mode) once its last tile is in.
-    pub(crate) fn commit_eye_frame(&mut self) {
+    fn commit_eye_frame(&mut self) {
         if let (Some(counts), Some(frame_seen)) = (&self.frame_counts, self.frame_seen.as_mut()) {
             counts.add_set(frame_seen);
         }
@@ -227,10 +304,5 @@ impl<'a> TileCounter<'a> {
         if let Some(parts) = self.parts.as_mut() {
             parts.finish_eye_frame();
         }
-    }
-
-    /// Tiles counted so far.
-    pub fn tiles(&self) -> usize {
-        self.tallies.len()
     }
 }

@@ -6,6 +6,8 @@
 //! checking it is pure background, and then trim only files whose bytes are
 //! identical to a verified empty file. A small file that shows a sliver of
 //! the vehicle has different bytes and is decoded: nothing is ever lost.
+//! Archives of 32-bit texel ids are trimmed alike, their candidates verified
+//! by their ids (alpha included) rather than their 24-bit colours.
 
 use std::collections::BTreeMap;
 use std::io::Read;
@@ -36,8 +38,25 @@ impl TrimPlan {
         TrimPlan { candidate_of: vec![None; images], empty_tiles: Vec::new(), verified_bytes: Vec::new() }
     }
 
-    /// Finds candidate sizes and verifies one file of each by decoding it.
+    /// Finds candidate sizes and verifies one file of each by decoding it
+    /// with `classifier` (24-bit colours).
     pub(crate) fn build(mode: TrimMode, images: &[ImageSource], classifier: &Classifier) -> TrimPlan {
+        // A verified file has no stray pixels, so the shared stray set only
+        // collects colours of candidates that fail verification; it is not
+        // reported (those files are decoded again, and counted, later).
+        let strays = AtomicColorSet::new();
+        TrimPlan::build_verified(mode, images, |image| verify_empty(image, classifier, &strays))
+    }
+
+    /// Finds candidate sizes and verifies one file of each with
+    /// `verify_empty`, which gives a file's bytes when every pixel of it is
+    /// background (how depends on what a pixel names: 24-bit colours, or
+    /// 32-bit texel ids, [`crate::count::rgba32::verify_empty`]).
+    pub(crate) fn build_verified(
+        mode: TrimMode,
+        images: &[ImageSource],
+        verify_empty: impl Fn(&ImageSource) -> Option<FileBytes> + Sync,
+    ) -> TrimPlan {
         if mode == TrimMode::Off || images.is_empty() {
             return TrimPlan::none(images.len());
         }
@@ -58,14 +77,8 @@ impl TrimPlan {
         let chosen: Vec<((u32, u32, u64), Vec<usize>)> =
             by_size.into_iter().filter(|((_, _, bytes), files)| is_candidate(*bytes, files.len())).collect();
         // Verify each candidate's first file (in path order) in parallel.
-        // A verified file has no stray pixels, so the shared stray set only
-        // collects colours of candidates that fail verification; it is not
-        // reported (those files are decoded again, and counted, later).
-        let strays = AtomicColorSet::new();
-        let verified_bytes: Vec<Option<FileBytes>> = chosen
-            .par_iter()
-            .map(|(_, files)| verify_empty(&images[files[0]], classifier, &strays))
-            .collect();
+        let verified_bytes: Vec<Option<FileBytes>> =
+            chosen.par_iter().map(|(_, files)| verify_empty(&images[files[0]])).collect();
         let mut candidate_of = vec![None; images.len()];
         let mut empty_tiles = Vec::with_capacity(chosen.len());
         for (slot, ((width, height, bytes), files)) in chosen.into_iter().enumerate() {

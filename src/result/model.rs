@@ -85,9 +85,9 @@ pub struct Analysis {
     /// texel (its pixels' solid angles × seconds per frame / eyes), so the
     /// texels of a part add up to the part's. The default heatmap
     /// (`heatmap.png`) and the views show it; `None` without the eyes'
-    /// projection or fps, without [`AnalyzeOptions::frames`], for a merge
-    /// (not kept in the result set) and for tiles counted in memory (the
-    /// capture's `--count`, [`crate::analyze_counted`]: not yet tallied).
+    /// projection or fps, without [`AnalyzeOptions::frames`] and for a merge
+    /// (not kept in the result set). Tiles counted in memory (the capture's
+    /// `--count`, [`crate::analyze_counted`]) give the PNG path's bits.
     pub texel_angular_area: Option<Vec<f32>>,
     /// The integer sums `texel_angular_area` was made from, kept by a shard
     /// (written as `texel-area.units`) so that `merge` adds them exactly.

@@ -227,10 +227,164 @@ fn the_example_declared_rgba32_counts_as_the_24_bit_kernels_count_it() {
         let (a, b) = (&wide.result, &reference.result);
         assert_eq!(a.parts, b.parts, "{dedupe:?}");
         assert_eq!((a.pixels.texel, a.stray_pixels), (b.pixels.texel, b.stray_pixels), "{dedupe:?}");
-        // Nothing trimmed on this path: the 24-bit one's trimmed tiles are
-        // decoded (more background pixels, the same texels).
-        assert!(a.pixels.background >= b.pixels.background);
-        assert_eq!(a.images.found, b.images.found);
-        assert_eq!(a.images.decoded + a.images.trimmed, b.images.decoded + b.images.trimmed);
+        // The same empty tiles trimmed (verified by their ids here).
+        assert!(b.images.trimmed > 0, "the example has empty tiles");
+        assert_eq!(a.images, b.images, "{dedupe:?}");
+        assert_eq!(a.pixels, b.pixels, "{dedupe:?}");
+        assert_eq!(a.settings.trim, b.settings.trim, "{dedupe:?}");
     }
+}
+
+/// The fixture's tiles as the renderer's readback holds them: RGBA rows,
+/// `(name, frame, eye, ids)` in capture order (a frame's eyes one after
+/// the other; `c`'s RGB PNG is opaque, so its alpha is 255).
+const TILES: [(&str, u32, &str, [u32; 8]); 3] = [
+    ("tiles/a.png", 0, "left", [LOW, LOW, HIGH, BG, LAST, BG, BG, BG]),
+    ("tiles/b.png", 0, "right", [HIGH, HIGH, HIGH, LAST, BEYOND, BG, LOW, BG]),
+    ("tiles/c.png", 1, "left", [LOW, BG, BG, BG, 7, 7, BG, BG]),
+];
+
+/// The fixture with its eyes' optics (8 × 4 pixels of 2 × 2 tiles, 90°, 60
+/// fps), so pixels have solid angles: `b` is the lower right tile of its
+/// eye, `c` the upper right. Returns each tile's `[row, col]`.
+fn with_optics(archive: &Path) -> [[u32; 2]; 3] {
+    let manifest = std::fs::read_to_string(archive.join("manifest.json")).unwrap();
+    let manifest = manifest
+        .replacen(
+            r#""tiles": ["#,
+            r#""rig": {"settings": {"horizontal_fov_deg": 90, "eye_pixels": [8, 4], "tiles": [2, 2], "fps": 60}},
+            "tiles": ["#,
+            1,
+        )
+        .replacen(r#""eye": "right", "row": 0, "col": 0"#, r#""eye": "right", "row": 1, "col": 1"#, 1)
+        .replacen(r#""frame": 1, "eye": "left", "row": 0, "col": 0"#, r#""frame": 1, "eye": "left", "row": 0, "col": 1"#, 1);
+    std::fs::write(archive.join("manifest.json"), manifest).unwrap();
+    [[0, 0], [1, 1], [0, 1]]
+}
+
+#[test]
+fn tiles_of_32_bit_ids_counted_in_memory_give_what_their_png_tiles_give() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = rgba32_archive(dir.path());
+    let places = with_optics(&archive);
+    let palette = ufcsr::Fcsp::canonical_rgba32(SIZE).unwrap();
+    let legend = ufcsr::Legend::load(&archive.join("parts.csv")).unwrap();
+    let pidt = ufcsr::Pidt::load(&archive.join("pidt.png"), &legend, SIZE).unwrap();
+    // Each eye-frame is one tile here, so `image` counts as `frame` does.
+    for dedupe in [Dedupe::Frame, Dedupe::EyePair] {
+        let background = [ufcsr::Color::from_packed(BG)];
+        let mut counter = ufcsr::TileCounter::new(&palette, &background, dedupe).unwrap();
+        assert!(counter.counts_rgba32());
+        let lookup = ufcsr::PartLookup::new(&palette, Some((&legend, &pidt)), &[BG]);
+        counter.tally_parts(lookup, ufcsr::EyeProjection::new(90.0, [8, 4]));
+        for ((name, frame, eye, ids), [row, col]) in TILES.into_iter().zip(places) {
+            let rgba: Vec<u8> = ids.iter().flat_map(|&id| rgba32_pixel(id)).collect();
+            let tile = ufcsr::CountedTile { name, frame, eye, size: [4, 2], origin: [col * 4, row * 2] };
+            counter.count_tile(&tile, &rgba).unwrap();
+        }
+        // One shard of one, so both keep the per-texel solid-angle units
+        // (eye-pair dedupe is not sharded; the units do not depend on it).
+        let shard = (dedupe == Dedupe::Frame).then(|| ufcsr::Shard::new(0, 1).unwrap());
+        let options = AnalyzeOptions {
+            archive: archive.clone(),
+            dedupe,
+            trim: ufcsr::TrimMode::Off,
+            frames: true,
+            texel_area: true,
+            shard,
+            ..Default::default()
+        };
+        let counted = ufcsr::analyze_counted(&options, counter).unwrap();
+        let png = analyze(&options, None).unwrap();
+        // The PNG test's known answers, per eye-frame and per frame.
+        let known: &[(u32, u32)] = match dedupe {
+            Dedupe::EyePair => &[(LOW, 2), (7, 1), (HIGH, 1), (LAST, 1)],
+            _ => &[(LOW, 3), (7, 1), (HIGH, 2), (LAST, 2)],
+        };
+        assert_eq!(seen(&counted.texel_counts), known, "{dedupe:?}");
+        assert!(counted.texel_counts == png.texel_counts, "{dedupe:?}");
+        assert!(counted.frames.is_some() && counted.frames == png.frames, "{dedupe:?}: frames.csv differs");
+        // The per-texel solid angles: the same integers, for every texel seen.
+        assert!(counted.texel_angular_area.is_some() && counted.texel_angular_area == png.texel_angular_area);
+        if shard.is_some() {
+            let units =
+                |analysis: &ufcsr::Analysis| analysis.texel_area_units.as_ref().unwrap().units.clone();
+            let (counted_units, png_units) = (units(&counted), units(&png));
+            assert!(counted_units == png_units, "the solid-angle units differ");
+            assert!([LOW, 7, HIGH, LAST].iter().all(|&t| png_units[t as usize] > 0));
+        }
+        // All of result.json: pixels, the stray, parts, measures, notes.
+        assert_eq!(counted.result, png.result, "{dedupe:?}");
+    }
+}
+
+#[test]
+fn tiles_counted_as_24_bit_colours_are_refused_for_an_rgba32_manifest() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = rgba32_archive(dir.path());
+    // A 4096² palette's counter counts 24-bit colours.
+    let palette = ufcsr::Fcsp::canonical([4096, 4096]).unwrap();
+    let counter = ufcsr::TileCounter::new(&palette, &[ufcsr::Color::from_packed(BG)], Dedupe::Image).unwrap();
+    assert!(!counter.counts_rgba32());
+    let options = AnalyzeOptions { archive, ..Default::default() };
+    let error = ufcsr::analyze_counted(&options, counter).err().expect("refused").to_string();
+    assert!(error.contains("manifest.json") && error.contains("rgba32"), "{error}");
+}
+
+/// Tiles beside the fixture's: `d` and `e` empty RGBA 4×2 tiles (the
+/// background, opaque: the same bytes), `f` and `g` 8×2 tiles of the texel
+/// 2^24 above the background colour (its RGB, alpha 254: no background,
+/// though its RGB is), also the same bytes. Frames 1 right, 2 left and
+/// right, 3 left.
+fn with_empty_tiles(archive: &Path) {
+    let above_bg = BG + (1 << 24);
+    let more = [
+        ("tiles/d.png", 1, "right", BG, 4),
+        ("tiles/e.png", 2, "left", BG, 4),
+        ("tiles/f.png", 2, "right", above_bg, 8),
+        ("tiles/g.png", 3, "left", above_bg, 8),
+    ];
+    let entry = |file: &str, frame: u32, eye: &str| {
+        format!(r#"{{"file": "{file}", "frame": {frame}, "eye": "{eye}", "row": 0, "col": 0}}"#)
+    };
+    let mut entries: Vec<String> =
+        TILES.iter().map(|&(file, frame, eye, _)| entry(file, frame, eye)).collect();
+    for (file, frame, eye, id, width) in more {
+        rgba_png(&archive.join(file), width, 2, &vec![id; width as usize * 2]);
+        entries.push(entry(file, frame, eye));
+    }
+    let manifest = format!(
+        r#"{{"schema": "ufcsr-manifest/2", "texel_ids": "rgba32",
+        "palette": {{"canonical": [{}, {}]}}, "pidt": "pidt.png", "parts": "parts.csv",
+        "tiles": [{}]}}"#,
+        SIZE[0],
+        SIZE[1],
+        entries.join(", ")
+    );
+    std::fs::write(archive.join("manifest.json"), manifest).unwrap();
+}
+
+#[test]
+fn empty_rgba32_tiles_are_trimmed_and_tiles_that_differ_from_the_background_only_by_alpha_are_not() {
+    let dir = tempfile::tempdir().unwrap();
+    let archive = rgba32_archive(dir.path());
+    with_empty_tiles(&archive);
+    let under_bg = BG + (1 << 24);
+    let options = AnalyzeOptions { archive, dedupe: Dedupe::Frame, frames: true, ..Default::default() };
+    let trimmed = analyze(&options, None).unwrap();
+    let whole = analyze(&AnalyzeOptions { trim: ufcsr::TrimMode::Off, ..options.clone() }, None).unwrap();
+    let images = &trimmed.result.images;
+    assert_eq!((images.found, images.decoded, images.trimmed), (7, 5, 2), "d and e trimmed");
+    let empty = &trimmed.result.settings.trim.empty_tiles;
+    let verified: Vec<(&str, bool)> = empty.iter().map(|e| (e.reference.as_str(), e.verified)).collect();
+    assert_eq!(verified, [("tiles/d.png", true), ("tiles/f.png", false)], "f (alpha 254) is no background");
+    // The same counts as decoding every tile: f and g's texel twice (every
+    // tile is an eye-frame of its own).
+    assert!(trimmed.texel_counts == whole.texel_counts);
+    assert_eq!(seen(&trimmed.texel_counts), [(LOW, 3), (7, 1), (HIGH, 2), (under_bg, 2), (LAST, 2)]);
+    assert!(trimmed.frames.is_some() && trimmed.frames == whole.frames, "frames.csv differs");
+    let (a, b) = (&trimmed.result, &whole.result);
+    assert_eq!((&a.parts, a.pixels.texel, a.stray_pixels), (&b.parts, b.pixels.texel, b.stray_pixels));
+    assert_eq!(a.pixels.background + 16, b.pixels.background, "two trimmed tiles of 8 pixels");
+    assert_eq!(a.pixels.texel, 12 + 32, "f and g decoded");
 }

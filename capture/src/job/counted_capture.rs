@@ -70,18 +70,14 @@ impl CaptureSetup {
         options: &CaptureOptions,
     ) -> Result<CaptureSetup> {
         let start = Instant::now();
-        let [width, height] = options.palette;
-        if options.palette_file.is_none() && u64::from(width) * u64::from(height) > ufcsr::COLOR_COUNT as u64
-        {
-            return Err(CaptureError::BadOptions(format!(
-                "--palette-size {width}x{height}: more than 2^24 texels takes 32-bit texel ids, which --count \
-                 (counting while rendering) does not count yet; capture without --count and analyse the tiles"
-            )));
-        }
         let prepared = prepare_archive(device, queue, scene, options)?;
         let out = &options.out;
+        // A canonical palette above 2^24 texels is one of 32-bit texel ids,
+        // which the counter counts as the analyzer counts an `rgba32` archive.
         let palette = match &prepared.palette {
-            PaletteRecord::Canonical { canonical: [width, height] } => Fcsp::canonical([*width, *height])?,
+            PaletteRecord::Canonical { canonical: [width, height] } => {
+                Fcsp::canonical_rgba32([*width, *height])?
+            }
             PaletteRecord::File(file) => Fcsp::from_png(&out.join(file))?,
         };
         let legend = Legend::load(&out.join("parts.csv"))?;

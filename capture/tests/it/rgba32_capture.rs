@@ -2,9 +2,10 @@
 //! 32-bit texel ids (alpha carries the high byte), the tiles that show
 //! texels above 2^24 are RGBA, the manifest says `ufcsr-manifest/2` and
 //! `"texel_ids": "rgba32"`, and every pixel names a labelled texel of the
-//! palette or the background, as a 24-bit capture's do.
+//! palette or the background, as a 24-bit capture's do; counted while
+//! rendering (`--count`), such a capture gives what its PNG tiles give.
 
-use ufcsr::{AnalyzeOptions, Manifest, format::TexelIds};
+use ufcsr::{AnalyzeOptions, Dedupe, Manifest, TrimMode, format::TexelIds};
 use ufcsr_capture::{Backend, CaptureOptions, FrameSelection, Gpu, Scene, capture, verify};
 
 #[test]
@@ -42,29 +43,59 @@ fn a_capture_with_a_palette_above_2_24_texels_draws_32_bit_ids_that_all_name_lab
     assert_eq!(result.unlabelled.as_ref().unwrap().total, 0, "every counted texel is a part's");
 }
 
+/// `result.json` as JSON with what differs between two archives of one
+/// capture blanked: their folders, and the archive identity (a digest of
+/// the manifest file, which each capture writes anew).
+fn comparable(result: &ufcsr::AnalysisResult) -> serde_json::Value {
+    let mut value = serde_json::to_value(result).unwrap();
+    for field in ["archive_identity", "archive", "parts", "pidt"] {
+        value["settings"][field] = serde_json::Value::Null;
+    }
+    value
+}
+
+/// Known answer: the capture written as PNG tiles and analysed
+/// (`ufcsr::analyze`, trimming off as the fused path has nothing to trim).
+/// `--dedupe frame` here; the other dedupe modes' bookkeeping is the
+/// analyzer's (`tests/it/rgba32_ids.rs` counts tiles in memory with each).
 #[test]
-fn counting_while_rendering_refuses_a_palette_above_2_24_texels_before_preparing_it() {
+fn counting_while_rendering_a_palette_above_2_24_texels_gives_what_its_png_tiles_give() {
     let gpu = Gpu::create(Backend::Auto).unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
     let dir = tempfile::tempdir().unwrap();
-    let scene = Scene::demo();
-    let options = CaptureOptions {
-        out: dir.path().join("counted"),
+    let mut scene = Scene::demo();
+    scene.rig.set_pixels_per_degree(3.0).unwrap();
+    let scenario = scene.scenario("D").unwrap().clone();
+    let options = |name: &str| CaptureOptions {
+        out: dir.path().join(name),
         palette: [8192, 4096],
+        frames: "150-180/30".parse::<FrameSelection>().unwrap(),
         ..CaptureOptions::default()
     };
-    let scenario = scene.scenario("D").unwrap().clone();
-    let refused = ufcsr_capture::capture_counted(
-        &gpu.device,
-        &gpu.queue,
-        &scene,
-        &scenario,
-        &options,
-        ufcsr::Dedupe::Frame,
-    );
-    let error = match refused {
-        Ok(_) => panic!("--count counted a palette of 32-bit texel ids"),
-        Err(error) => error.to_string(),
+    let (written, counted) = (options("written"), options("counted"));
+    capture(&gpu.device, &gpu.queue, &scene, &scenario, &written).unwrap();
+    let png = AnalyzeOptions {
+        archive: written.out.clone(),
+        dedupe: Dedupe::Frame,
+        trim: TrimMode::Off,
+        frames: true,
+        texel_area: true,
+        ..Default::default()
     };
-    assert!(error.contains("8192x4096") && error.contains("--count"), "{error}");
-    assert!(!options.out.join("pidt.png").exists(), "refused before the palette was unwrapped");
+    let png = ufcsr::analyze(&png, None).unwrap();
+    let counted =
+        ufcsr_capture::capture_counted(&gpu.device, &gpu.queue, &scene, &scenario, &counted, Dedupe::Frame)
+            .unwrap();
+    let manifest = Manifest::load_from_dir(&dir.path().join("counted")).unwrap().unwrap();
+    assert_eq!(manifest.texel_ids, Some(TexelIds::Rgba32));
+    let counted = counted.analysis;
+    let above = counted.texel_counts[1 << 24..].iter().filter(|&&c| c > 0).count();
+    assert!(above > 0, "no texel above 2^24 was seen");
+    assert!(counted.texel_counts == png.texel_counts, "the texel counts differ");
+    assert_eq!(counted.result.parts, png.result.parts);
+    assert!(counted.frames.is_some() && counted.frames == png.frames, "frames.csv differs");
+    // The per-texel angular area from the same integer sums: the same bits.
+    assert!(counted.texel_angular_area.is_some());
+    assert!(counted.texel_angular_area == png.texel_angular_area, "the angular areas differ");
+    // All of result.json: pixels, strays, per-frame counts, measures, notes.
+    assert_eq!(comparable(&counted.result), comparable(&png.result));
 }
