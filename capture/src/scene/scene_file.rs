@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{CaptureError, Result};
 use crate::scene::demo;
 use crate::scene::family::{BodyDims, BodyType, body_mesh};
+use crate::scene::fleet::FleetVehicle;
 use crate::scene::mesh::{Axes, Mesh, PartSource, load_model};
 use crate::scene::moving::{FollowOffset, MovingOccluder, OccluderPath, PEDESTRIAN_BODY_M};
 use crate::scene::occluders::Occluders;
@@ -66,8 +67,12 @@ pub enum OccluderShape {
         #[serde(default)]
         axes: Axes,
     },
-    /// Another copy of the vehicle.
-    Vehicle {},
+    /// Another copy of the vehicle; with `measure`, a vehicle measured
+    /// too, under that name (an archive of its own: [`crate::scene::fleet`]).
+    Vehicle {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        measure: Option<String>,
+    },
     /// Another pedestrian: a body-sized box ([`PEDESTRIAN_BODY_M`], or
     /// `size_m`: length, width, height).
     Pedestrian {
@@ -175,6 +180,16 @@ impl PlacementSpec {
         })
     }
 
+    /// A still occluder as one that moves on fixed tracks (a measured
+    /// vehicle is always a moving occluder: its passes swap it with the
+    /// scene's own vehicle).
+    fn fixed_path(&self) -> OccluderPath {
+        OccluderPath::Tracks {
+            position: self.position.clone().unwrap_or(ValueOrTrack::Fixed([0.0; 3])),
+            yaw_deg: self.yaw_deg.clone().unwrap_or(ValueOrTrack::Fixed([0.0])),
+        }
+    }
+
     /// Where a still occluder stands (its fixed values).
     fn fixed_pose(&self) -> Pose {
         Pose {
@@ -192,7 +207,7 @@ impl OccluderSpec {
         let name = match &self.shape {
             OccluderShape::Box { .. } => format!("box #{number}"),
             OccluderShape::Mesh { path, .. } => format!("mesh #{number} {}", path.display()),
-            OccluderShape::Vehicle {} => format!("vehicle #{number}"),
+            OccluderShape::Vehicle { .. } => format!("vehicle #{number}"),
             OccluderShape::Pedestrian { .. } => format!("pedestrian #{number}"),
             OccluderShape::Ground { .. } => format!("ground #{number}"),
             OccluderShape::DemoIntersection => return None,
@@ -213,7 +228,7 @@ impl OccluderSpec {
                 Vec::new()
             }
             OccluderShape::Ground { z } => vec![*z],
-            OccluderShape::Mesh { .. } | OccluderShape::Vehicle {} | OccluderShape::DemoIntersection => {
+            OccluderShape::Mesh { .. } | OccluderShape::Vehicle { .. } | OccluderShape::DemoIntersection => {
                 Vec::new()
             }
         };
@@ -223,7 +238,7 @@ impl OccluderSpec {
         if let OccluderShape::Box { min, max } = &self.shape {
             check_box(min, max)?;
         }
-        if matches!(self.shape, OccluderShape::Vehicle {}) && self.placement.is_empty() {
+        if matches!(self.shape, OccluderShape::Vehicle { .. }) && self.placement.is_empty() {
             return Err("a vehicle needs a position (fixed or a track) or a follow offset".into());
         }
         self.placement.check()
@@ -269,6 +284,15 @@ pub struct Scene {
     /// Every file the scene was read from (scene file, meshes and the files
     /// they name, Unity export): a capture refuses to write over any of them.
     pub input_files: Vec<PathBuf>,
+    /// The vehicles a scene file measures, its own `vehicle` first, when it
+    /// measures more than that one (`vehicle` occluders with `measure`);
+    /// empty otherwise. [`Scene::measuring`] makes each one's pass.
+    pub fleet: Vec<FleetVehicle>,
+    /// How the measured vehicle moves: `None` along the scenario's motion;
+    /// `Some` in the pass of a fleet vehicle other than the scene's own, as
+    /// that vehicle moved as an occluder (following the scenario's motion,
+    /// or on its own tracks).
+    pub vehicle_path: Option<OccluderPath>,
 }
 
 impl Scene {
@@ -301,6 +325,8 @@ impl Scene {
             scenarios,
             warnings: Vec::new(),
             input_files: Vec::new(),
+            fleet: Vec::new(),
+            vehicle_path: None,
         }
     }
 
@@ -371,6 +397,8 @@ impl Scene {
             scenarios,
             warnings: Vec::new(),
             input_files: vec![path.to_path_buf()],
+            fleet: Vec::new(),
+            vehicle_path: None,
         })
     }
 
@@ -415,8 +443,9 @@ impl Scene {
                 .map_err(|message| CaptureError::bad_file(path, message))?;
         }
 
-        let (occluders, occluder_files) = build_occluders(&file.occluders, path, &vehicle, &rig)?;
+        let (occluders, occluder_files, measured) = build_occluders(&file.occluders, path, &vehicle, &rig)?;
         input_files.extend(occluder_files);
+        let fleet = crate::scene::fleet::fleet(path, file.vehicle.measure.as_deref(), measured)?;
         let name = file.name.clone().unwrap_or_else(|| {
             path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into())
         });
@@ -439,6 +468,8 @@ impl Scene {
             scenarios,
             warnings,
             input_files,
+            fleet,
+            vehicle_path: None,
         })
     }
 
@@ -466,16 +497,18 @@ fn own_scenarios(path: &Path, file: &SceneFile) -> Result<Vec<Scenario>> {
 
 /// The scene file's occluders (the still ones in world coordinates, the
 /// moving ones in their own frames, see [`crate::scene::moving`]), with
-/// the mesh files they read.
+/// the mesh files they read and the vehicles among them that are measured
+/// too (always moving occluders, a parked one on fixed tracks).
 fn build_occluders(
     specs: &[OccluderSpec],
     path: &Path,
     vehicle: &Mesh,
     rig: &Rig,
-) -> Result<(Occluders, Vec<PathBuf>)> {
+) -> Result<(Occluders, Vec<PathBuf>, Vec<FleetVehicle>)> {
     let base = path.parent().unwrap_or(Path::new("."));
     let mut occluders = Occluders::default();
     let mut files = Vec::new();
+    let mut measured = Vec::new();
     for (number, spec) in specs.iter().enumerate() {
         let name = spec.name(number);
         spec.check().map_err(|message| {
@@ -494,7 +527,7 @@ fn build_occluders(
                 files.extend(mesh_files);
                 mesh
             }
-            OccluderShape::Vehicle {} => vehicle.clone(),
+            OccluderShape::Vehicle { .. } => vehicle.clone(),
             OccluderShape::Pedestrian { size_m } => crate::scene::moving::pedestrian_body(*size_m),
             OccluderShape::DemoIntersection => {
                 occluders.append(&demo::intersection());
@@ -507,7 +540,18 @@ fn build_occluders(
             }
         };
         let name = name.unwrap_or_default();
-        match spec.placement.path() {
+        let measure = match &spec.shape {
+            OccluderShape::Vehicle { measure: Some(measure) } => Some(measure),
+            _ => None,
+        };
+        if let Some(measure) = measure {
+            measured.push(FleetVehicle {
+                name: measure.clone(),
+                source: format!("occluders[{number}]"),
+                moving: Some(occluders.moving.len()),
+            });
+        }
+        match spec.placement.path().or_else(|| measure.map(|_| spec.placement.fixed_path())) {
             Some(path) => occluders.moving.push(MovingOccluder { name, mesh: own, path }),
             None => {
                 occluders.begin_named(name);
@@ -521,7 +565,7 @@ fn build_occluders(
             }
         }
     }
-    Ok((occluders, files))
+    Ok((occluders, files, measured))
 }
 
 /// Environment meshes are split into squares of this size for culling.

@@ -97,6 +97,11 @@ struct Plan {
 fn plan(args: &WhereArgs) -> anyhow::Result<(Plan, Vec<String>)> {
     let source = args.scene.source_with(args.traffic, args.body)?;
     let scene = source.scene()?;
+    // Each vehicle's answer is a placement of its own archives: not yet one command.
+    scene.refuse_fleet(
+        "`ufcsr where` (not yet for several vehicles: run `ufcsr capture scene FILE --measure unobstructed \
+         --placement --display WxH --scenario all --out runs`, then `ufcsr placement runs/NAME/*` for each vehicle)",
+    )?;
     let names = scenario_names(&scene, Some(&args.scenario))?;
     let runs = args.out.join("runs");
     let all = args.scenario.eq_ignore_ascii_case("all");
