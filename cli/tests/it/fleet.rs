@@ -119,6 +119,17 @@ fn a_two_vehicle_capture_gives_each_vehicle_the_counts_of_capturing_it_alone_wit
         grand_total(&alone.join("unhidden")) > grand_total(&out.join("follower")),
         "the lead never hid the follower: the test shows nothing"
     );
+    // One vehicle's archive broken: it is named, the other is analysed, exit 1.
+    std::fs::write(out.join("lead/pidt.png"), b"not a png").unwrap();
+    std::fs::remove_dir_all(out.join("follower/results")).unwrap();
+    let analysed = ufcsr(&["analyze", out.to_str().unwrap(), "--figures", "off"]);
+    let (stdout, stderr) =
+        (String::from_utf8_lossy(&analysed.stdout), String::from_utf8_lossy(&analysed.stderr));
+    assert_eq!(analysed.status.code(), Some(1), "{stdout}{stderr}");
+    assert!(stderr.contains(&out.join("lead").display().to_string()), "{stderr}");
+    assert!(stdout.contains(&format!("{}: analysed", out.join("follower").display())), "{stdout}");
+    assert!(stdout.contains(&format!("{}: not analysed", out.join("lead").display())), "{stdout}");
+    assert!(out.join("follower/results/result.json").is_file());
 }
 
 #[test]
@@ -142,11 +153,52 @@ fn bad_or_repeated_vehicle_names_are_refused_naming_the_scene_file() {
         assert!(stderr.contains(file) && stderr.contains(expected), "{file}: {stderr}");
         assert!(!out.exists(), "{file}: wrote {}", out.display());
     }
-    // `where` answers for one vehicle: it refuses, naming the limitation and the way round it.
+    // `study` measures one vehicle: it refuses, naming the vehicles and the way round it.
     let fleet = write_scene(dir.path(), "fleet.json", &named("follower", None));
     let refused =
-        ufcsr(&["where", "scene", fleet.to_str().unwrap(), "--out", dir.path().join("w").to_str().unwrap()]);
+        ufcsr(&["study", "scene", fleet.to_str().unwrap(), "--out", dir.path().join("s").to_str().unwrap()]);
     let stderr = String::from_utf8_lossy(&refused.stderr);
     assert_eq!(refused.status.code(), Some(2), "{stderr}");
-    assert!(stderr.contains("measures 2 vehicles") && stderr.contains("ufcsr placement"), "{stderr}");
+    assert!(
+        stderr.contains("measures 2 vehicles (vehicle, follower)") && stderr.contains("capture scene"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn where_answers_for_each_measured_vehicle_from_its_own_exact_measure() {
+    let dir = tempfile::tempdir().unwrap();
+    let follower = json!([{"vehicle": {"follow": {"ahead_m": -9.0}, "measure": "follower"}}]);
+    let fleet = write_scene(dir.path(), "fleet.json", &scene(LEAD, follower, Some("lead")));
+    let lead_ahead = json!([{"vehicle": {"follow": {"ahead_m": 9.0}}}]);
+    let follower_alone = write_scene(dir.path(), "follower.json", &scene(FOLLOWER, lead_ahead, None));
+    let out = dir.path().join("where");
+    let small = ["--palette-size", "256", "--sample", "1/4"];
+    let answered = ufcsr(
+        &[&["where", "scene", fleet.to_str().unwrap(), "--out", out.to_str().unwrap()], &small[..]].concat(),
+    );
+    let said = String::from_utf8_lossy(&answered.stdout);
+    assert!(answered.status.success(), "{}", String::from_utf8_lossy(&answered.stderr));
+    for name in ["lead", "follower"] {
+        assert!(said.contains(&format!("== vehicle {name}")), "{said}");
+        assert!(out.join("answer").join(name).join("placement.json").is_file(), "{name}: no answer");
+        assert!(
+            said.contains(&format!("ufcsr placement {}", out.join("runs").join(name).display())),
+            "{said}"
+        );
+    }
+    // The follower's exact measure is that of the follower alone, the lead occluding it.
+    let alone = dir.path().join("alone");
+    let measured = ufcsr(
+        &[
+            &["capture", "scene", follower_alone.to_str().unwrap(), "--out", alone.to_str().unwrap()],
+            &["--measure", "unobstructed", "--placement", "--display", "0.40x0.15"][..],
+            &small[..],
+        ]
+        .concat(),
+    );
+    assert!(measured.status.success(), "{}", String::from_utf8_lossy(&measured.stderr));
+    assert!(counts(&out.join("runs/follower/S")) == counts(&alone), "the follower's exact measure differs");
+    let frames = |archive: &Path| std::fs::read(archive.join("results/placement-frames.csv")).unwrap();
+    assert!(frames(&out.join("runs/follower/S")) == frames(&alone), "the follower's placement table differs");
 }
