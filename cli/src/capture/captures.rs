@@ -275,7 +275,8 @@ fn run_fleet(scene: &Scene, args: &CaptureArgs, threads: usize, console: &Consol
     // A one-vehicle archive left at the top would be what `ufcsr analyze OUT` reads.
     anyhow::ensure!(
         !args.out.join(ufcsr::MANIFEST_FILE).exists(),
-        "{} holds an archive ({}), but scene {} measures {} vehicles and writes one archive per vehicle below          it ({}/NAME): give another --out or remove that archive",
+        "{} holds an archive ({}), but scene {} measures {} vehicles and writes one archive per vehicle below \
+         it ({}/NAME): give another --out or remove that archive",
         args.out.display(),
         args.out.join(ufcsr::MANIFEST_FILE).display(),
         scene.name,
@@ -287,7 +288,8 @@ fn run_fleet(scene: &Scene, args: &CaptureArgs, threads: usize, console: &Consol
     }
     say!(
         console,
-        "scene {} measures {} vehicles ({}): {} passes, each vehicle carrying the palette in its own with the          others as occluders, into {}/NAME",
+        "scene {} measures {} vehicles ({}): {} passes, one per vehicle (it carries the palette, the others \
+         are occluders), into {}/NAME",
         scene.name,
         names.len(),
         names.join(", "),
@@ -305,7 +307,8 @@ fn run_fleet(scene: &Scene, args: &CaptureArgs, threads: usize, console: &Consol
     }
     say!(
         console,
-        "rendered {} passes, one per measured vehicle ({} times the render of one); analyse every vehicle with          `ufcsr analyze {}`",
+        "rendered {} passes, one per measured vehicle ({} times the render of one); analyse every vehicle with \
+         `ufcsr analyze {}`",
         names.len(),
         names.len(),
         args.out.display()
