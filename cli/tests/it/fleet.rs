@@ -100,7 +100,11 @@ fn a_two_vehicle_capture_gives_each_vehicle_the_counts_of_capturing_it_alone_wit
         assert_eq!(measured["name"], name);
         assert_eq!(measured["source"], source);
         assert_eq!(measured["fleet"], json!(["lead", "follower"]));
-        assert!(out.join(name).join("results/report.html").is_file(), "{name}: no report");
+        let report = std::fs::read_to_string(out.join(name).join("results/report.html")).unwrap();
+        assert!(
+            report.contains(&format!("{name} ({source}), one of the 2")),
+            "{name}: the report does not name it"
+        );
     }
 
     let alone = dir.path().join("alone");
