@@ -14,6 +14,7 @@ use std::path::Path;
 use crate::error::{CaptureError, Result};
 use crate::scene::moving::{FollowOffset, MovingOccluder, OccluderPath};
 use crate::scene::scene_file::Scene;
+use crate::scene::vehicle::VehicleSpec;
 
 /// The name of the scene's own vehicle when the file gives it none.
 pub const DEFAULT_VEHICLE_NAME: &str = "vehicle";
@@ -34,20 +35,27 @@ pub struct FleetVehicle {
     pub source: String,
     /// Its place in `Occluders::moving`; `None` for the scene's own vehicle.
     pub moving: Option<usize>,
+    /// Its model in words where it has one of its own (the scene's own
+    /// vehicle, an occluder's `model`); `None` for a copy of the scene's.
+    pub described: Option<String>,
 }
 
 /// The fleet of a scene file at `path`: empty when no occluder is measured,
-/// else the scene's own vehicle (`own_name`, default [`DEFAULT_VEHICLE_NAME`])
-/// and the `measured` occluders, every name checked and unique.
+/// else the scene's own vehicle (`own`, `described`; named by its `measure`,
+/// default [`DEFAULT_VEHICLE_NAME`]) and the `measured` occluders, every
+/// name checked and unique.
 pub(crate) fn fleet(
     path: &Path,
-    own_name: Option<&str>,
+    own: &VehicleSpec,
+    described: &str,
     measured: Vec<FleetVehicle>,
 ) -> Result<Vec<FleetVehicle>> {
+    let own_name = own.measure.as_deref();
     let own = FleetVehicle {
         name: own_name.unwrap_or(DEFAULT_VEHICLE_NAME).to_string(),
         source: "vehicle".into(),
         moving: None,
+        described: Some(described.to_string()),
     };
     if let Some(name) = own_name {
         check_name(name)
@@ -127,10 +135,10 @@ impl Scene {
             pass.vehicle_path = Some(other.path);
         }
         pass.info.moving_occluders = Some(pass.occluders.moving.iter().map(|m| m.name.clone()).collect());
-        pass.info.vehicle = Some(match &self.info.vehicle {
-            Some(described) if member.moving.is_some() => format!("{}: a copy of {described}", member.name),
-            Some(described) => format!("{}: {described}", member.name),
-            None => member.name.clone(),
+        pass.info.vehicle = Some(match (&member.described, &self.info.vehicle) {
+            (Some(described), _) => format!("{}: {described}", member.name),
+            (None, Some(own)) => format!("{}: a copy of {own}", member.name),
+            (None, None) => member.name.clone(),
         });
         pass.info.measured = Some(ufcsr::format::MeasuredRecord {
             fleet: names,

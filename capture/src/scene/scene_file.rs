@@ -67,11 +67,15 @@ pub enum OccluderShape {
         #[serde(default)]
         axes: Axes,
     },
-    /// Another copy of the vehicle; with `measure`, a vehicle measured
-    /// too, under that name (an archive of its own: [`crate::scene::fleet`]).
+    /// Another copy of the vehicle, or with `model` a vehicle of its own
+    /// (a vehicle spec: mesh or body, parts, axes); with `measure`, a
+    /// vehicle measured too, under that name (an archive of its own:
+    /// [`crate::scene::fleet`]).
     Vehicle {
         #[serde(default, skip_serializing_if = "Option::is_none")]
         measure: Option<String>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        model: Option<Box<VehicleSpec>>,
     },
     /// Another pedestrian: a body-sized box ([`PEDESTRIAN_BODY_M`], or
     /// `size_m`: length, width, height).
@@ -240,6 +244,11 @@ impl OccluderSpec {
         }
         if matches!(self.shape, OccluderShape::Vehicle { .. }) && self.placement.is_empty() {
             return Err("a vehicle needs a position (fixed or a track) or a follow offset".into());
+        }
+        if let OccluderShape::Vehicle { model: Some(model), .. } = &self.shape
+            && model.measure.is_some()
+        {
+            return Err("model.measure: give measure beside model, not inside it".into());
         }
         self.placement.check()
     }
@@ -443,9 +452,12 @@ impl Scene {
                 .map_err(|message| CaptureError::bad_file(path, message))?;
         }
 
-        let (occluders, occluder_files, measured) = build_occluders(&file.occluders, path, &vehicle, &rig)?;
-        input_files.extend(occluder_files);
-        let fleet = crate::scene::fleet::fleet(path, file.vehicle.measure.as_deref(), measured)?;
+        let built = build_occluders(&file.occluders, path, &vehicle, &rig)?;
+        let (occluders, mut warnings) = (built.occluders, warnings);
+        input_files.extend(built.files);
+        warnings.extend(built.warnings);
+        let described = describe_vehicle(&file.vehicle);
+        let fleet = crate::scene::fleet::fleet(path, &file.vehicle, &described, built.measured)?;
         let name = file.name.clone().unwrap_or_else(|| {
             path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into())
         });
@@ -453,10 +465,7 @@ impl Scene {
             info: ufcsr::format::SceneRecord {
                 name: name.clone(),
                 file: Some(path.display().to_string()),
-                vehicle: Some(match &file.vehicle.body {
-                    Some(body) => format!("built-in {body} (docs/vehicles.md)"),
-                    None => file.vehicle.mesh.clone(),
-                }),
+                vehicle: Some(described),
                 occluder_objects: Some(occluders.objects.len() as u64),
                 moving_occluders: Some(occluders.moving.iter().map(|m| m.name.clone()).collect()),
                 ..ufcsr::format::SceneRecord::default()
@@ -495,20 +504,34 @@ fn own_scenarios(path: &Path, file: &SceneFile) -> Result<Vec<Scenario>> {
     Ok(scenarios)
 }
 
+/// A vehicle in words, for the manifest: its mesh file, or the family body.
+fn describe_vehicle(spec: &VehicleSpec) -> String {
+    match &spec.body {
+        Some(body) => format!("built-in {body} (docs/vehicles.md)"),
+        None => spec.mesh.clone(),
+    }
+}
+
+/// What a scene file's occluders became.
+struct BuiltOccluders {
+    occluders: Occluders,
+    /// The files they read (meshes, and the files a `model` names).
+    files: Vec<PathBuf>,
+    /// The vehicles among them that are measured too (always moving
+    /// occluders, a parked one on fixed tracks).
+    measured: Vec<FleetVehicle>,
+    /// Doubts about a `vehicle` occluder's own `model`, naming it.
+    warnings: Vec<String>,
+}
+
 /// The scene file's occluders (the still ones in world coordinates, the
-/// moving ones in their own frames, see [`crate::scene::moving`]), with
-/// the mesh files they read and the vehicles among them that are measured
-/// too (always moving occluders, a parked one on fixed tracks).
-fn build_occluders(
-    specs: &[OccluderSpec],
-    path: &Path,
-    vehicle: &Mesh,
-    rig: &Rig,
-) -> Result<(Occluders, Vec<PathBuf>, Vec<FleetVehicle>)> {
+/// moving ones in their own frames, see [`crate::scene::moving`]).
+fn build_occluders(specs: &[OccluderSpec], path: &Path, vehicle: &Mesh, rig: &Rig) -> Result<BuiltOccluders> {
     let base = path.parent().unwrap_or(Path::new("."));
     let mut occluders = Occluders::default();
     let mut files = Vec::new();
     let mut measured = Vec::new();
+    let mut warnings = Vec::new();
     for (number, spec) in specs.iter().enumerate() {
         let name = spec.name(number);
         spec.check().map_err(|message| {
@@ -527,7 +550,19 @@ fn build_occluders(
                 files.extend(mesh_files);
                 mesh
             }
-            OccluderShape::Vehicle { .. } => vehicle.clone(),
+            OccluderShape::Vehicle { model: None, .. } => vehicle.clone(),
+            OccluderShape::Vehicle { model: Some(model), .. } => {
+                let which = format!("occluders[{number}] (vehicle #{number}) model");
+                let built = crate::scene::vehicle::build(model, base, path).map_err(|error| match error {
+                    CaptureError::BadFile { path, message } => {
+                        CaptureError::bad_file(path, format!("{which}: {message}"))
+                    }
+                    other => other,
+                })?;
+                files.extend(built.files);
+                warnings.extend(built.warnings.iter().map(|warning| format!("{which}: {warning}")));
+                built.mesh
+            }
             OccluderShape::Pedestrian { size_m } => crate::scene::moving::pedestrian_body(*size_m),
             OccluderShape::DemoIntersection => {
                 occluders.append(&demo::intersection());
@@ -541,14 +576,15 @@ fn build_occluders(
         };
         let name = name.unwrap_or_default();
         let measure = match &spec.shape {
-            OccluderShape::Vehicle { measure: Some(measure) } => Some(measure),
+            OccluderShape::Vehicle { measure: Some(measure), model } => Some((measure, model)),
             _ => None,
         };
-        if let Some(measure) = measure {
+        if let Some((measure, model)) = measure {
             measured.push(FleetVehicle {
                 name: measure.clone(),
                 source: format!("occluders[{number}]"),
                 moving: Some(occluders.moving.len()),
+                described: model.as_deref().map(describe_vehicle),
             });
         }
         match spec.placement.path().or_else(|| measure.map(|_| spec.placement.fixed_path())) {
@@ -565,7 +601,7 @@ fn build_occluders(
             }
         }
     }
-    Ok((occluders, files, measured))
+    Ok(BuiltOccluders { occluders, files, measured, warnings })
 }
 
 /// Environment meshes are split into squares of this size for culling.

@@ -17,7 +17,11 @@ use serde_json::{Value, json};
 /// every key, time (4 fps) and offset is a dyadic number, so the follower's
 /// pose is the same float whether it follows the lead or has keys of its own.
 fn scene(lead_x: [f64; 2], occluders: Value, lead_name: Option<&str>) -> Value {
-    let mut vehicle = json!({"mesh": "demo"});
+    scene_with(json!({"mesh": "demo"}), lead_x, occluders, lead_name)
+}
+
+/// [`scene`] with `vehicle` as the scene's own vehicle.
+fn scene_with(mut vehicle: Value, lead_x: [f64; 2], occluders: Value, lead_name: Option<&str>) -> Value {
     if let Some(name) = lead_name {
         vehicle["measure"] = json!(name);
     }
@@ -71,11 +75,12 @@ fn grand_total(archive: &Path) -> u64 {
     result["grand_total"].as_u64().unwrap()
 }
 
+/// The follower is a van of the family (its own `model`), the lead the demo truck.
 #[test]
 fn a_two_vehicle_capture_gives_each_vehicle_the_counts_of_capturing_it_alone_with_the_other_as_occluder() {
     let dir = tempfile::tempdir().unwrap();
     let follower = |measure: Option<&str>| {
-        let mut spec = json!({"follow": {"ahead_m": -9.0}});
+        let mut spec = json!({"follow": {"ahead_m": -9.0}, "model": {"body": "van"}});
         if let Some(name) = measure {
             spec["measure"] = json!(name);
         }
@@ -83,10 +88,13 @@ fn a_two_vehicle_capture_gives_each_vehicle_the_counts_of_capturing_it_alone_wit
     };
     let fleet = write_scene(dir.path(), "fleet.json", &scene(LEAD, follower(Some("follower")), Some("lead")));
     let lead_alone = write_scene(dir.path(), "lead.json", &scene(LEAD, follower(None), None));
-    // The follower as the scene's vehicle, on keys 9 m behind, and the lead following it 9 m ahead.
-    let lead_ahead = json!([{"vehicle": {"follow": {"ahead_m": 9.0}}}]);
-    let follower_alone = write_scene(dir.path(), "follower.json", &scene(FOLLOWER, lead_ahead, None));
-    let follower_unhidden = write_scene(dir.path(), "nothing.json", &scene(FOLLOWER, json!([]), None));
+    // The van as the scene's vehicle, on keys 9 m behind, and the truck following it 9 m ahead.
+    let van = json!({"body": "van"});
+    let lead_ahead = json!([{"vehicle": {"follow": {"ahead_m": 9.0}, "model": {"mesh": "demo"}}}]);
+    let follower_alone =
+        write_scene(dir.path(), "follower.json", &scene_with(van.clone(), FOLLOWER, lead_ahead, None));
+    let follower_unhidden =
+        write_scene(dir.path(), "nothing.json", &scene_with(van, FOLLOWER, json!([]), None));
 
     let out = dir.path().join("fleet");
     let said = capture_and_analyze(&fleet, &out);
@@ -110,7 +118,10 @@ fn a_two_vehicle_capture_gives_each_vehicle_the_counts_of_capturing_it_alone_wit
     let alone = dir.path().join("alone");
     capture_and_analyze(&lead_alone, &alone.join("lead"));
     capture_and_analyze(&follower_alone, &alone.join("follower"));
+    let parts = |archive: &Path| std::fs::read_to_string(archive.join("parts.csv")).unwrap();
+    assert!(parts(&out.join("lead")) != parts(&out.join("follower")), "the van has the truck's parts");
     for name in ["lead", "follower"] {
+        assert_eq!(parts(&out.join(name)), parts(&alone.join(name)), "{name}: other parts");
         let (fleet_texels, fleet_parts) = counts(&out.join(name));
         let (alone_texels, alone_parts) = counts(&alone.join(name));
         assert!(grand_total(&out.join(name)) > 0, "{name} is never seen");
@@ -142,12 +153,25 @@ fn bad_or_repeated_vehicle_names_are_refused_naming_the_scene_file() {
     let named = |measure: &str, lead: Option<&str>| {
         scene(LEAD, json!([{"vehicle": {"follow": {"ahead_m": -9.0}, "measure": measure}}]), lead)
     };
+    let modelled = |model: Value| {
+        scene(
+            LEAD,
+            json!([{"vehicle": {"follow": {"ahead_m": -9.0}, "measure": "car", "model": model}}]),
+            None,
+        )
+    };
     for (file, scene, expected) in [
         ("up.json", named("../up", None), "not a plain folder name"),
         ("results.json", named("results", None), "keeps for itself"),
         ("twice.json", named("Vehicle", None), "already names"),
         ("lead-twice.json", named("car", Some("CAR")), "already names"),
         ("bad-lead.json", named("car", Some("a b")), "vehicle.measure"),
+        ("inner.json", modelled(json!({"mesh": "demo", "measure": "car"})), "model.measure"),
+        (
+            "bus.json",
+            modelled(json!({"body": "tram"})),
+            "occluders[0] (vehicle #0) model: vehicle.body \"tram\"",
+        ),
     ] {
         let path = write_scene(dir.path(), file, &scene);
         let out = dir.path().join("out");
