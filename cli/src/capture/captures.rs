@@ -283,7 +283,7 @@ fn run_fleet(scene: &Scene, args: &CaptureArgs, threads: usize, console: &Consol
         names.len(),
         args.out.display()
     );
-    for warning in &scene.warnings {
+    for warning in scene.warnings.iter().chain(&others_below(&args.out, &names)) {
         eprintln!("warning: {warning}");
     }
     say!(
@@ -314,6 +314,28 @@ fn run_fleet(scene: &Scene, args: &CaptureArgs, threads: usize, console: &Consol
         args.out.display()
     );
     Ok(())
+}
+
+/// Archives in folders of `out` that are none of `names` (a capture
+/// before, of other vehicles): `ufcsr analyze OUT` would analyse them too.
+fn others_below(out: &Path, names: &[&str]) -> Vec<String> {
+    let mut others: Vec<String> = std::fs::read_dir(out)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter(|entry| entry.path().join(ufcsr::MANIFEST_FILE).is_file())
+        .filter(|entry| !names.iter().any(|name| entry.file_name() == *name))
+        .map(|entry| {
+            format!(
+                "{} holds an archive that is none of this scene's vehicles: `ufcsr analyze {}` will analyse it \
+                 too; remove it, or capture into another --out",
+                entry.path().display(),
+                out.display()
+            )
+        })
+        .collect();
+    others.sort();
+    others
 }
 
 /// `demo --traffic`: each selected scenario with the truck's twin in

@@ -134,6 +134,33 @@ fn a_two_vehicle_capture_gives_each_vehicle_the_counts_of_capturing_it_alone_wit
         grand_total(&alone.join("unhidden")) > grand_total(&out.join("follower")),
         "the lead never hid the follower: the test shows nothing"
     );
+    stale_and_broken_archives_are_named(&fleet, &out);
+}
+
+/// After the fleet capture of `fleet` into `out`: an archive of another capture left in `out` is
+/// named (`analyze OUT` would analyse it too); one vehicle's broken archive is named, the other
+/// analysed, exit 1.
+fn stale_and_broken_archives_are_named(fleet: &Path, out: &Path) {
+    // An archive of another capture left in OUT is named: `analyze OUT` would analyse it too.
+    std::fs::create_dir(out.join("old")).unwrap();
+    std::fs::copy(out.join("lead/manifest.json"), out.join("old/manifest.json")).unwrap();
+    let again = ufcsr(&[
+        "capture",
+        "scene",
+        fleet.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--palette-size",
+        "256",
+        "-q",
+    ]);
+    let stderr = String::from_utf8_lossy(&again.stderr);
+    assert!(again.status.success(), "{stderr}");
+    assert!(
+        stderr.contains(&format!("{} holds an archive that is none of", out.join("old").display())),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(out.join("old")).unwrap();
     // One vehicle's archive broken: it is named, the other is analysed, exit 1.
     std::fs::write(out.join("lead/pidt.png"), b"not a png").unwrap();
     std::fs::remove_dir_all(out.join("follower/results")).unwrap();
