@@ -76,6 +76,19 @@ pub(crate) fn summary_rows(manifest: &Manifest, frames: &[TrackFrame]) -> Vec<(S
                 rows.push((key.into(), value.clone()));
             }
         }
+        if let Some(measured) = &scene.measured {
+            rows.push((
+                "measured vehicle".into(),
+                format!(
+                    "{} ({}), one of the {} the scene measures ({}), each in an archive of its own with the \
+                     others as occluders",
+                    measured.name,
+                    measured.source,
+                    measured.fleet.len(),
+                    measured.fleet.join(", ")
+                ),
+            ));
+        }
     }
     if let (Some(first), Some(last)) = (frames.first(), frames.last()) {
         rows.push((

@@ -468,6 +468,10 @@ pub struct SceneRecord {
     /// A scene file: its moving occluders' names.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub moving_occluders: Option<Vec<String>>,
+    /// A scene file that measures several vehicles: which one this archive
+    /// measures (each has an archive of its own, `OUT/NAME`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measured: Option<MeasuredRecord>,
     /// `demo`, `unity` or the scene file's name.
     pub name: String,
     /// A scene file: how many occluder objects it has.
@@ -485,6 +489,20 @@ pub struct SceneRecord {
     /// The vehicle, in words or as its mesh file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vehicle: Option<String>,
+}
+
+/// The vehicle an archive of a several-vehicle capture measures
+/// (docs/scene-file.md#several-measured-vehicles).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[schemars(deny_unknown_fields)]
+pub struct MeasuredRecord {
+    /// Every vehicle the scene measures, in the scene file's order (the
+    /// scene's `vehicle` first); each has its own archive `OUT/NAME`.
+    pub fleet: Vec<String>,
+    /// This archive's vehicle: its `measure` name.
+    pub name: String,
+    /// Where the scene file gives it: `vehicle` or `occluders[N]`.
+    pub source: String,
 }
 
 /// One of the demo's scenarios.

@@ -47,8 +47,8 @@ pub use design::{
 };
 pub use manifest::{
     CaptureRecord, DemoScenario, EyePose, EyeProjectionRecord, FollowRecord, FrameEntry, LabelsRecord,
-    OccluderPose, PaintedByPart, PedestrianSetting, PoseRecord, RigRecord, RigSettings, ScenarioRecord,
-    SceneRecord, ShardRecord, TrackKey, TrafficRecord, UnwrapRecord,
+    MeasuredRecord, OccluderPose, PaintedByPart, PedestrianSetting, PoseRecord, RigRecord, RigSettings,
+    ScenarioRecord, SceneRecord, ShardRecord, TrackKey, TrafficRecord, UnwrapRecord,
 };
 pub use manifest::{MANIFEST_SCHEMA_RGBA32, TexelIds};
 pub use observers::{

@@ -77,6 +77,7 @@ pub(crate) fn cell_scene_with(
         }
         (ScenarioSource::Scene { file, scenario }, _) => {
             let mut scene = Scene::load(&base.join(file))?;
+            scene.refuse_fleet("a design cell (its level names the vehicle)")?;
             let chosen = scene.scenario(scenario)?.clone();
             scene.scenarios = vec![chosen];
             scene
@@ -133,5 +134,7 @@ fn street_as_scene(mesh: &Mesh, options: &StreetOptions) -> Result<Scene> {
         scenarios: vec![scenario],
         warnings: Vec::new(),
         input_files: Vec::new(),
+        fleet: Vec::new(),
+        vehicle_path: None,
     })
 }

@@ -167,6 +167,7 @@ fn vehicle_spec(input: &Path) -> Result<(VehicleSpec, PathBuf)> {
         axes: Axes::default(),
         parts: Vec::new(),
         expect_length_m: None,
+        measure: None,
     };
     Ok((spec, base))
 }

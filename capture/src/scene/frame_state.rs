@@ -17,7 +17,8 @@ use crate::scene::track::Pose;
 pub struct FrameState {
     pub frame: u32,
     pub time_s: f64,
-    /// The scenario's vehicle.
+    /// The measured vehicle: the scenario's, or in a pass of a
+    /// several-vehicle scene the one that pass measures.
     pub vehicle: Pose,
     /// The pedestrian's ground point (world metres).
     pub pedestrian: DVec3,
@@ -30,9 +31,12 @@ impl FrameState {
     /// scenario's end); an error naming what is not finite.
     pub fn at(scene: &Scene, scenario: &Scenario, frame: u32) -> Result<FrameState> {
         let time_s = (f64::from(frame) / scene.rig.fps).min(scenario.duration_s);
-        let vehicle = scenario.motion.pose(time_s);
+        // The scenario's motion; the measured vehicle's own path, in a pass
+        // of a several-vehicle scene, and every follower are relative to it.
+        let reference = scenario.motion.pose(time_s);
+        let vehicle = scene.vehicle_path.as_ref().map_or(reference, |path| path.pose(time_s, &reference));
         let moving: Vec<Pose> =
-            scene.occluders.moving.iter().map(|occluder| occluder.pose(time_s, &vehicle)).collect();
+            scene.occluders.moving.iter().map(|occluder| occluder.pose(time_s, &reference)).collect();
         let pedestrian = scene.rig.pedestrian_at(time_s);
         let finite = |pose: &Pose| pose.position.is_finite() && pose.yaw_deg.is_finite();
         if !finite(&vehicle) {

@@ -2,6 +2,7 @@
 //! scenarios), the meshes and their loaders ([`mesh`], with [`model_files`]
 //! reading OBJ/MTL safely), the occluders ([`occluders`] still and
 //! [`moving`] traffic and other pedestrians), the vehicle's spec and checks ([`vehicle`]),
+//! several measured vehicles in one scene, one pass each ([`fleet`]),
 //! parts from a part map painted over the model's own UVs ([`part_map`]) and
 //! parts by region ([`regions`], cutting triangles along their boundaries:
 //! [`cut`]), the pedestrian's eyes and tiles ([`rig`]),
@@ -22,6 +23,7 @@ pub(crate) mod cut;
 pub(crate) mod degenerate_mesh;
 pub(crate) mod demo;
 pub(crate) mod family;
+pub(crate) mod fleet;
 pub(crate) mod frame_state;
 pub(crate) mod mesh;
 pub(crate) mod model_files;
@@ -44,6 +46,7 @@ pub use family::{BodyDims, BodyType, body_mesh};
 
 pub use degenerate_mesh::degenerate_vehicle;
 pub use demo::{ADJACENT_LANE_AHEAD_M, ADJACENT_LANE_M, DemoTraffic, LEAD_CAR_AHEAD_M};
+pub use fleet::{DEFAULT_VEHICLE_NAME, FleetVehicle};
 pub use frame_state::FrameState;
 pub use mesh::{Axes, Mesh, PartSource, load_vehicle, triangle_area};
 pub use moving::{FollowOffset, MovingOccluder, OccluderPath, PEDESTRIAN_BODY_M, pedestrian_body};

@@ -63,6 +63,18 @@ pub enum OccluderPath {
     Follow(FollowOffset),
 }
 
+impl OccluderPath {
+    /// The pose at `time_s`, when the scenario's vehicle stands at `vehicle`.
+    pub fn pose(&self, time_s: f64, vehicle: &Pose) -> Pose {
+        match self {
+            OccluderPath::Tracks { position, yaw_deg } => {
+                Pose { position: DVec3::from(position.eval(time_s)), yaw_deg: yaw_deg.eval(time_s)[0] }
+            }
+            OccluderPath::Follow(offset) => offset.pose(vehicle),
+        }
+    }
+}
+
 /// One moving occluder.
 #[derive(Debug, Clone)]
 pub struct MovingOccluder {
@@ -76,12 +88,7 @@ pub struct MovingOccluder {
 impl MovingOccluder {
     /// Its pose at `time_s`, when the scenario's vehicle stands at `vehicle`.
     pub fn pose(&self, time_s: f64, vehicle: &Pose) -> Pose {
-        match &self.path {
-            OccluderPath::Tracks { position, yaw_deg } => {
-                Pose { position: DVec3::from(position.eval(time_s)), yaw_deg: yaw_deg.eval(time_s)[0] }
-            }
-            OccluderPath::Follow(offset) => offset.pose(vehicle),
-        }
+        self.path.pose(time_s, vehicle)
     }
 
     /// Its triangles, three corners each, in its own frame (f64).

@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 use crate::error::{CaptureError, Result};
 use crate::scene::demo;
 use crate::scene::family::{BodyDims, BodyType, body_mesh};
+use crate::scene::fleet::FleetVehicle;
 use crate::scene::mesh::{Axes, Mesh, PartSource, load_model};
 use crate::scene::moving::{FollowOffset, MovingOccluder, OccluderPath, PEDESTRIAN_BODY_M};
 use crate::scene::occluders::Occluders;
@@ -66,8 +67,16 @@ pub enum OccluderShape {
         #[serde(default)]
         axes: Axes,
     },
-    /// Another copy of the vehicle.
-    Vehicle {},
+    /// Another copy of the vehicle, or with `model` a vehicle of its own
+    /// (a vehicle spec: mesh or body, parts, axes); with `measure`, a
+    /// vehicle measured too, under that name (an archive of its own:
+    /// [`crate::scene::fleet`]).
+    Vehicle {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        measure: Option<String>,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        model: Option<Box<VehicleSpec>>,
+    },
     /// Another pedestrian: a body-sized box ([`PEDESTRIAN_BODY_M`], or
     /// `size_m`: length, width, height).
     Pedestrian {
@@ -175,6 +184,16 @@ impl PlacementSpec {
         })
     }
 
+    /// A still occluder as one that moves on fixed tracks (a measured
+    /// vehicle is always a moving occluder: its passes swap it with the
+    /// scene's own vehicle).
+    fn fixed_path(&self) -> OccluderPath {
+        OccluderPath::Tracks {
+            position: self.position.clone().unwrap_or(ValueOrTrack::Fixed([0.0; 3])),
+            yaw_deg: self.yaw_deg.clone().unwrap_or(ValueOrTrack::Fixed([0.0])),
+        }
+    }
+
     /// Where a still occluder stands (its fixed values).
     fn fixed_pose(&self) -> Pose {
         Pose {
@@ -192,7 +211,7 @@ impl OccluderSpec {
         let name = match &self.shape {
             OccluderShape::Box { .. } => format!("box #{number}"),
             OccluderShape::Mesh { path, .. } => format!("mesh #{number} {}", path.display()),
-            OccluderShape::Vehicle {} => format!("vehicle #{number}"),
+            OccluderShape::Vehicle { .. } => format!("vehicle #{number}"),
             OccluderShape::Pedestrian { .. } => format!("pedestrian #{number}"),
             OccluderShape::Ground { .. } => format!("ground #{number}"),
             OccluderShape::DemoIntersection => return None,
@@ -213,7 +232,7 @@ impl OccluderSpec {
                 Vec::new()
             }
             OccluderShape::Ground { z } => vec![*z],
-            OccluderShape::Mesh { .. } | OccluderShape::Vehicle {} | OccluderShape::DemoIntersection => {
+            OccluderShape::Mesh { .. } | OccluderShape::Vehicle { .. } | OccluderShape::DemoIntersection => {
                 Vec::new()
             }
         };
@@ -223,8 +242,13 @@ impl OccluderSpec {
         if let OccluderShape::Box { min, max } = &self.shape {
             check_box(min, max)?;
         }
-        if matches!(self.shape, OccluderShape::Vehicle {}) && self.placement.is_empty() {
+        if matches!(self.shape, OccluderShape::Vehicle { .. }) && self.placement.is_empty() {
             return Err("a vehicle needs a position (fixed or a track) or a follow offset".into());
+        }
+        if let OccluderShape::Vehicle { model: Some(model), .. } = &self.shape
+            && model.measure.is_some()
+        {
+            return Err("model.measure: give measure beside model, not inside it".into());
         }
         self.placement.check()
     }
@@ -269,6 +293,15 @@ pub struct Scene {
     /// Every file the scene was read from (scene file, meshes and the files
     /// they name, Unity export): a capture refuses to write over any of them.
     pub input_files: Vec<PathBuf>,
+    /// The vehicles a scene file measures, its own `vehicle` first, when it
+    /// measures more than that one (`vehicle` occluders with `measure`);
+    /// empty otherwise. [`Scene::measuring`] makes each one's pass.
+    pub fleet: Vec<FleetVehicle>,
+    /// How the measured vehicle moves: `None` along the scenario's motion;
+    /// `Some` in the pass of a fleet vehicle other than the scene's own, as
+    /// that vehicle moved as an occluder (following the scenario's motion,
+    /// or on its own tracks).
+    pub vehicle_path: Option<OccluderPath>,
 }
 
 impl Scene {
@@ -301,6 +334,8 @@ impl Scene {
             scenarios,
             warnings: Vec::new(),
             input_files: Vec::new(),
+            fleet: Vec::new(),
+            vehicle_path: None,
         }
     }
 
@@ -371,6 +406,8 @@ impl Scene {
             scenarios,
             warnings: Vec::new(),
             input_files: vec![path.to_path_buf()],
+            fleet: Vec::new(),
+            vehicle_path: None,
         })
     }
 
@@ -415,8 +452,12 @@ impl Scene {
                 .map_err(|message| CaptureError::bad_file(path, message))?;
         }
 
-        let (occluders, occluder_files) = build_occluders(&file.occluders, path, &vehicle, &rig)?;
-        input_files.extend(occluder_files);
+        let built = build_occluders(&file.occluders, path, &vehicle, &rig)?;
+        let (occluders, mut warnings) = (built.occluders, warnings);
+        input_files.extend(built.files);
+        warnings.extend(built.warnings);
+        let described = describe_vehicle(&file.vehicle);
+        let fleet = crate::scene::fleet::fleet(path, &file.vehicle, &described, built.measured)?;
         let name = file.name.clone().unwrap_or_else(|| {
             path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into())
         });
@@ -424,10 +465,7 @@ impl Scene {
             info: ufcsr::format::SceneRecord {
                 name: name.clone(),
                 file: Some(path.display().to_string()),
-                vehicle: Some(match &file.vehicle.body {
-                    Some(body) => format!("built-in {body} (docs/vehicles.md)"),
-                    None => file.vehicle.mesh.clone(),
-                }),
+                vehicle: Some(described),
                 occluder_objects: Some(occluders.objects.len() as u64),
                 moving_occluders: Some(occluders.moving.iter().map(|m| m.name.clone()).collect()),
                 ..ufcsr::format::SceneRecord::default()
@@ -439,6 +477,8 @@ impl Scene {
             scenarios,
             warnings,
             input_files,
+            fleet,
+            vehicle_path: None,
         })
     }
 
@@ -464,18 +504,34 @@ fn own_scenarios(path: &Path, file: &SceneFile) -> Result<Vec<Scenario>> {
     Ok(scenarios)
 }
 
+/// A vehicle in words, for the manifest: its mesh file, or the family body.
+fn describe_vehicle(spec: &VehicleSpec) -> String {
+    match &spec.body {
+        Some(body) => format!("built-in {body} (docs/vehicles.md)"),
+        None => spec.mesh.clone(),
+    }
+}
+
+/// What a scene file's occluders became.
+struct BuiltOccluders {
+    occluders: Occluders,
+    /// The files they read (meshes, and the files a `model` names).
+    files: Vec<PathBuf>,
+    /// The vehicles among them that are measured too (always moving
+    /// occluders, a parked one on fixed tracks).
+    measured: Vec<FleetVehicle>,
+    /// Doubts about a `vehicle` occluder's own `model`, naming it.
+    warnings: Vec<String>,
+}
+
 /// The scene file's occluders (the still ones in world coordinates, the
-/// moving ones in their own frames, see [`crate::scene::moving`]), with
-/// the mesh files they read.
-fn build_occluders(
-    specs: &[OccluderSpec],
-    path: &Path,
-    vehicle: &Mesh,
-    rig: &Rig,
-) -> Result<(Occluders, Vec<PathBuf>)> {
+/// moving ones in their own frames, see [`crate::scene::moving`]).
+fn build_occluders(specs: &[OccluderSpec], path: &Path, vehicle: &Mesh, rig: &Rig) -> Result<BuiltOccluders> {
     let base = path.parent().unwrap_or(Path::new("."));
     let mut occluders = Occluders::default();
     let mut files = Vec::new();
+    let mut measured = Vec::new();
+    let mut warnings = Vec::new();
     for (number, spec) in specs.iter().enumerate() {
         let name = spec.name(number);
         spec.check().map_err(|message| {
@@ -494,7 +550,19 @@ fn build_occluders(
                 files.extend(mesh_files);
                 mesh
             }
-            OccluderShape::Vehicle {} => vehicle.clone(),
+            OccluderShape::Vehicle { model: None, .. } => vehicle.clone(),
+            OccluderShape::Vehicle { model: Some(model), .. } => {
+                let which = format!("occluders[{number}] (vehicle #{number}) model");
+                let built = crate::scene::vehicle::build(model, base, path).map_err(|error| match error {
+                    CaptureError::BadFile { path, message } => {
+                        CaptureError::bad_file(path, format!("{which}: {message}"))
+                    }
+                    other => other,
+                })?;
+                files.extend(built.files);
+                warnings.extend(built.warnings.iter().map(|warning| format!("{which}: {warning}")));
+                built.mesh
+            }
             OccluderShape::Pedestrian { size_m } => crate::scene::moving::pedestrian_body(*size_m),
             OccluderShape::DemoIntersection => {
                 occluders.append(&demo::intersection());
@@ -507,7 +575,19 @@ fn build_occluders(
             }
         };
         let name = name.unwrap_or_default();
-        match spec.placement.path() {
+        let measure = match &spec.shape {
+            OccluderShape::Vehicle { measure: Some(measure), model } => Some((measure, model)),
+            _ => None,
+        };
+        if let Some((measure, model)) = measure {
+            measured.push(FleetVehicle {
+                name: measure.clone(),
+                source: format!("occluders[{number}]"),
+                moving: Some(occluders.moving.len()),
+                described: model.as_deref().map(describe_vehicle),
+            });
+        }
+        match spec.placement.path().or_else(|| measure.map(|_| spec.placement.fixed_path())) {
             Some(path) => occluders.moving.push(MovingOccluder { name, mesh: own, path }),
             None => {
                 occluders.begin_named(name);
@@ -521,7 +601,7 @@ fn build_occluders(
             }
         }
     }
-    Ok((occluders, files))
+    Ok(BuiltOccluders { occluders, files, measured, warnings })
 }
 
 /// Environment meshes are split into squares of this size for culling.

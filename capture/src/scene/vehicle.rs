@@ -53,6 +53,10 @@ pub struct VehicleSpec {
     /// The vehicle's real length: warn when it is off by more than 20 %.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub expect_length_m: Option<f64>,
+    /// Its name where the scene measures several vehicles (a `vehicle`
+    /// occluder with `measure`): its archive is `OUT/NAME`; default `vehicle`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measure: Option<String>,
 }
 
 /// What names the vehicle's parts.

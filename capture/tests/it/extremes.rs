@@ -39,6 +39,8 @@ fn scene(vehicle: Mesh, occluders: Occluders, rig: Rig, scenario: Scenario) -> S
         info: ufcsr::format::SceneRecord { name: "extreme".into(), ..Default::default() },
         warnings: Vec::new(),
         input_files: Vec::new(),
+        fleet: Vec::new(),
+        vehicle_path: None,
     }
 }
 

@@ -100,3 +100,36 @@ fn fixture_scenes_capture_without_stray_pixels() {
         assert!(vehicle > 100, "{file}: {vehicle}");
     }
 }
+
+#[test]
+fn the_fleet_scene_measures_the_truck_and_the_lead_car_each_in_a_pass_of_its_own() {
+    use ufcsr_capture::scene::{FollowOffset, FrameState, OccluderPath};
+    let scene = Scene::load(&fixture("fleet.json")).unwrap();
+    let names: Vec<&str> = scene.fleet.iter().map(|vehicle| vehicle.name.as_str()).collect();
+    assert_eq!(names, ["truck", "lead-car"]);
+    assert_eq!(scene.fleet[1].source, "occluders[1]");
+    let scenario = &scene.scenarios[0];
+    // The truck's pass is the scene itself: the lead car follows it, 9 m ahead.
+    let truck = scene.measuring(0).unwrap();
+    assert!(truck.fleet.is_empty() && truck.vehicle_path.is_none());
+    assert_eq!(truck.info.measured.as_ref().unwrap().name, "truck");
+    // The lead car's pass: it is measured 9 m ahead, the truck drives the scenario as an occluder.
+    let lead = scene.measuring(1).unwrap();
+    let ahead = FollowOffset { ahead_m: 9.0, ..FollowOffset::default() };
+    assert_eq!(lead.vehicle_path, Some(OccluderPath::Follow(ahead)));
+    assert_eq!(lead.occluders.moving.len(), 1);
+    assert_eq!(lead.occluders.moving[0].name, "vehicle truck");
+    for frame in [0, 90, 180] {
+        let (in_truck, in_lead) = (
+            FrameState::at(&truck, scenario, frame).unwrap(),
+            FrameState::at(&lead, scenario, frame).unwrap(),
+        );
+        assert_eq!(
+            in_lead.vehicle, in_truck.moving[0],
+            "frame {frame}: the lead car is not where it followed"
+        );
+        assert_eq!(in_lead.moving[0], in_truck.vehicle, "frame {frame}: the truck is not on its track");
+    }
+    let record = lead.info.measured.unwrap();
+    assert_eq!((record.name.as_str(), record.fleet.len()), ("lead-car", 2));
+}

@@ -56,6 +56,8 @@ pub(crate) fn plates_scene() -> Scene {
         info: ufcsr::format::SceneRecord { name: "plates".into(), ..Default::default() },
         warnings: Vec::new(),
         input_files: Vec::new(),
+        fleet: Vec::new(),
+        vehicle_path: None,
     }
 }
 

@@ -14,7 +14,7 @@ use ufcsr::{
 };
 
 use super::args::AnalyzeArgs;
-use super::intent::{archives_below, misread_archive};
+use super::intent::{archives_below, fleet_below, misread_archive};
 use super::run::{Done, finish};
 use crate::choices::Switch;
 use crate::console::{Completion, Console, shown};
@@ -178,10 +178,11 @@ fn analyse_one(args: &AnalyzeArgs, archive: PathBuf, out_dir: PathBuf, console: 
     })
 }
 
-/// Runs the analysis of ARCHIVE (or, with `--each`, of every archive below it).
+/// Runs the analysis of ARCHIVE (or, with `--each` or for the folder of a
+/// several-vehicle capture, of every archive below it).
 pub(crate) fn run_analyze(args: AnalyzeArgs, console: &Console) -> Result<Completion> {
     let archive = args.archive.clone().context("ARCHIVE is required")?;
-    if args.each {
+    if args.each || (!args.no_manifest && fleet_below(&archive)) {
         return run_each(&args, &archive, console);
     }
     if !args.no_manifest
@@ -208,6 +209,8 @@ fn run_each(args: &AnalyzeArgs, parent: &Path, console: &Console) -> Result<Comp
         Done { completion: Completion::Done, written: Vec::new(), text: String::new(), facts: json!({}) };
     let mut each = Vec::new();
     let mut analysed = 0;
+    // One line per archive at the end: analysed into where, or why not.
+    let mut lines = Vec::new();
     for archive in archives {
         let out_dir = match &args.out {
             // DIR/A a real folder: a link planted at DIR/A (or on the way) is
@@ -224,14 +227,20 @@ fn run_each(args: &AnalyzeArgs, parent: &Path, console: &Console) -> Result<Comp
             Err(error) => {
                 let error = anyhow::Error::from(error);
                 eprintln!("error: {}: {error:#}", archive.display());
+                lines.push(format!(
+                    "{}: not analysed ({})",
+                    archive.display(),
+                    crate::console::message(&error)
+                ));
                 done.completion = Completion::WithFailures;
                 each.push(json!({ "archive": shown(&archive), "error": crate::console::message(&error) }));
                 continue;
             }
         };
-        match analyse_one(args, archive.clone(), out_dir, console) {
+        match analyse_one(args, archive.clone(), out_dir.clone(), console) {
             Ok(one) => {
                 analysed += 1;
+                lines.push(format!("{}: analysed → {}", archive.display(), out_dir.display()));
                 if one.completion == Completion::WithFailures {
                     done.completion = Completion::WithFailures;
                 }
@@ -241,11 +250,17 @@ fn run_each(args: &AnalyzeArgs, parent: &Path, console: &Console) -> Result<Comp
             }
             Err(error) => {
                 eprintln!("error: {}: {error:#}", archive.display());
+                lines.push(format!(
+                    "{}: not analysed ({})",
+                    archive.display(),
+                    crate::console::message(&error)
+                ));
                 done.completion = Completion::WithFailures;
                 each.push(json!({ "archive": shown(&archive), "error": crate::console::message(&error) }));
             }
         }
     }
+    done.text.push_str(&lines.join("\n"));
     if analysed == 0 {
         anyhow::bail!("--each: none of the archives below {} could be analysed", parent.display());
     }

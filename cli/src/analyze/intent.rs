@@ -4,7 +4,10 @@
 //! counted as one manifest-less folder and give a plausible but wrong result.
 //! Both stop with exit 2 and a message naming the manifest(s), unless
 //! `--no-manifest` says the folder is meant as it is, or `--each` asks for
-//! every archive below to be analysed separately.
+//! every archive below to be analysed separately. The folder of a capture
+//! that measures several vehicles (one archive per vehicle, each naming it
+//! in its manifest's `scene.measured`) is analysed as with `--each`
+//! ([`fleet_below`]): there is no one archive it could mean.
 
 use std::path::{Path, PathBuf};
 
@@ -65,4 +68,22 @@ pub(crate) fn misread_archive(archive: &Path) -> Option<String> {
         listed.join(", "),
         archive.display()
     ))
+}
+
+/// Whether `dir` is the folder of a capture that measured several vehicles
+/// (`ufcsr capture scene FILE --out DIR` writes `DIR/NAME` per vehicle): no
+/// manifest of its own, and an archive below whose manifest names the
+/// vehicle it measures (`scene.measured`).
+pub(crate) fn fleet_below(dir: &Path) -> bool {
+    if dir.join(MANIFEST_FILE).is_file() {
+        return false;
+    }
+    let measures_a_fleet_vehicle = |archive: &PathBuf| {
+        let path = archive.join(MANIFEST_FILE);
+        ufcsr::files::read_limited(&path, ufcsr::files::SMALL_INPUT_LIMIT)
+            .ok()
+            .and_then(|bytes| ufcsr::Manifest::parse(&path, &bytes).ok())
+            .is_some_and(|manifest| manifest.scene.is_some_and(|scene| scene.measured.is_some()))
+    };
+    archives_below(dir).iter().any(measures_a_fleet_vehicle)
 }

@@ -6,7 +6,9 @@
 //! them (`ufcsr placement`'s [`answer`]), and it prints the answer with the
 //! rules it used (display size, surfaces left out, observer, legibility)
 //! and the two commands it ran, so a user can take either route and get
-//! the same files. Every option is checked before anything is measured.
+//! the same files. Every option is checked before anything is measured. A
+//! scene that measures several vehicles gets one answer per vehicle, each
+//! from that vehicle's own exact archives (the others occluding it).
 
 use std::ffi::OsString;
 use std::path::PathBuf;
@@ -88,9 +90,18 @@ struct Plan {
     /// The words after the source, as `ufcsr capture SOURCE …` takes them.
     capture_words: Vec<OsString>,
     capture: CaptureArgs,
+    /// One answer, or one per measured vehicle of a several-vehicle scene.
+    answers: Vec<Answer>,
+    observer: String,
+}
+
+/// One placement answer: for the scene's vehicle, or for one vehicle of a
+/// scene that measures several.
+struct Answer {
+    /// The vehicle's name where the scene measures several.
+    vehicle: Option<String>,
     placement: ufcsr::PlacementOptions,
     answer: PathBuf,
-    observer: String,
 }
 
 /// The plan of `args`: every option parsed and checked before anything runs.
@@ -100,8 +111,10 @@ fn plan(args: &WhereArgs) -> anyhow::Result<(Plan, Vec<String>)> {
     let names = scenario_names(&scene, Some(&args.scenario))?;
     let runs = args.out.join("runs");
     let all = args.scenario.eq_ignore_ascii_case("all");
-    // Each scenario in runs/NAME: `--scenario all` makes the sub-folders itself.
-    let capture_out = if all { runs.clone() } else { runs.join(&names[0]) };
+    let vehicles: Vec<String> = scene.fleet.iter().map(|vehicle| vehicle.name.clone()).collect();
+    // Each scenario in runs/NAME: `--scenario all` makes the sub-folders itself; several
+    // vehicles each in runs/VEHICLE (runs/VEHICLE/NAME with `all`), made by the capture.
+    let capture_out = if all || !vehicles.is_empty() { runs.clone() } else { runs.join(&names[0]) };
     let mut words: Vec<OsString> =
         ["--measure", "unobstructed", "--placement", "--display"].map(OsString::from).to_vec();
     words.push(args.display.clone().into());
@@ -116,20 +129,46 @@ fn plan(args: &WhereArgs) -> anyhow::Result<(Plan, Vec<String>)> {
     }
     words.extend([OsString::from("--out"), capture_out.into_os_string()]);
     let capture = CaptureArgs::from_words(&[words.clone(), backend_words(args.backend)].concat())?;
-    let mut placement = ufcsr::PlacementOptions::new(names.iter().map(|name| runs.join(name)).collect());
+    let answers = if vehicles.is_empty() {
+        let inputs = names.iter().map(|name| runs.join(name)).collect();
+        vec![Answer {
+            vehicle: None,
+            placement: placement_options(args, inputs)?,
+            answer: args.out.join("answer"),
+        }]
+    } else {
+        let mut answers = Vec::new();
+        for vehicle in vehicles {
+            let archives = runs.join(&vehicle);
+            let inputs =
+                if all { names.iter().map(|name| archives.join(name)).collect() } else { vec![archives] };
+            let placement = placement_options(args, inputs)?;
+            answers.push(Answer {
+                placement,
+                answer: args.out.join("answer").join(&vehicle),
+                vehicle: Some(vehicle),
+            });
+        }
+        answers
+    };
+    ufcsr_capture::parse_display(&args.display)?;
+    super::captures::parse_fraction(&args.sample)?;
+    let mut described = scene;
+    apply_rig(&mut described, &capture)?;
+    let observer = ufcsr_capture::study::describe_observer(&described.rig);
+    Ok((Plan { source, capture_words: words, capture, answers, observer }, names))
+}
+
+/// The placement's options of `args` over the archives `inputs`, checked.
+fn placement_options(args: &WhereArgs, inputs: Vec<PathBuf>) -> anyhow::Result<ufcsr::PlacementOptions> {
+    let mut placement = ufcsr::PlacementOptions::new(inputs);
     placement.k = args.k.unwrap_or(placement.k);
     placement.symmetric = args.symmetric;
     if let Some(nouns) = &args.not_mountable {
         placement.not_mountable = nouns.iter().filter(|n| !n.trim().is_empty()).cloned().collect();
     }
     placement.check()?;
-    ufcsr_capture::parse_display(&args.display)?;
-    super::captures::parse_fraction(&args.sample)?;
-    let mut described = scene;
-    apply_rig(&mut described, &capture)?;
-    let observer = ufcsr_capture::study::describe_observer(&described.rig);
-    let answer = args.out.join("answer");
-    Ok((Plan { source, capture_words: words, capture, placement, answer, observer }, names))
+    Ok(placement)
 }
 
 /// `--backend`, where it is not the default (a hidden switch of the capture).
@@ -157,7 +196,8 @@ pub(crate) fn run_where(args: WhereArgs, console: &Console) -> anyhow::Result<Co
     console.fact("observer", &plan.observer);
     let start = Instant::now();
     super::capture_source(&plan.source, &plan.capture, 0, &console.muted())?;
-    let runs: Vec<String> = plan.placement.inputs.iter().map(|run| shown(run)).collect();
+    let runs: Vec<String> =
+        plan.answers.iter().flat_map(|one| &one.placement.inputs).map(|run| shown(run)).collect();
     say!(
         console,
         "measured {} scenario(s) in {:.1} s: {}\n",
@@ -165,25 +205,41 @@ pub(crate) fn run_where(args: WhereArgs, console: &Console) -> anyhow::Result<Co
         start.elapsed().as_secs_f64(),
         runs.join(", ")
     );
-    let completion = answer(&plan.placement, &plan.answer, TOP, console)?;
+    let mut completion = Completion::Done;
+    for one in &plan.answers {
+        if let Some(vehicle) = &one.vehicle {
+            say!(console, "== vehicle {vehicle} (the scene's other vehicles occluding it)");
+        }
+        if answer(&one.placement, &one.answer, TOP, console)? == Completion::WithFailures {
+            completion = Completion::WithFailures;
+        }
+        match &one.vehicle {
+            Some(vehicle) => console.fact_item(
+                "answers",
+                serde_json::json!({ "vehicle": vehicle, "answer": shown(&one.answer.join("placement.json")) }),
+            ),
+            None => console.fact("answer", shown(&one.answer.join("placement.json"))),
+        }
+    }
     say!(
         console,
-        "\nthe same answer in two steps (to change a threshold, rerun the second):\n{}",
+        "\nthe same {} in two steps (to change a threshold, rerun the second):\n{}",
+        if plan.answers.len() == 1 { "answer" } else { "answers" },
         two_steps(&plan)
     );
-    console.fact("answer", shown(&plan.answer.join("placement.json")));
     console.fact("runs", runs);
     Ok(completion)
 }
 
 /// The rules the answer used, one line each.
 fn rules(plan: &Plan) -> String {
-    let t = &plan.placement.thresholds;
+    let first = &plan.answers[0].placement;
+    let t = &first.thresholds;
     let height = match t.character_height {
         ufcsr::placement::CharacterHeight::Fraction(share) => format!("{share} of the display's height"),
         ufcsr::placement::CharacterHeight::Metres(metres) => format!("{metres} m"),
     };
-    let nouns = &plan.placement.not_mountable;
+    let nouns = &first.not_mountable;
     let left_out = if nouns.is_empty() { "none".to_string() } else { nouns.join(", ") };
     format!(
         "  observer: {}\n  not mountable (scored, never chosen): {left_out}; a part holds a display only where a \
@@ -215,19 +271,22 @@ fn two_steps(plan: &Plan) -> String {
         super::Source::Unity(file) => format!("unity {}", quoted(&file.to_string_lossy())),
         demo => demo.describe(),
     };
-    let p = &plan.placement;
-    let mut placement: Vec<String> = p.inputs.iter().map(|run| quoted(&run.to_string_lossy())).collect();
-    placement.extend(["--k".to_string(), p.k.to_string()]);
-    if p.symmetric {
-        placement.push("--symmetric".into());
-    }
-    if p.not_mountable != ufcsr::PlacementOptions::new(Vec::new()).not_mountable {
-        placement.push(format!("--not-mountable={}", quoted(&p.not_mountable.join(","))));
-    }
-    placement.extend(["--out".to_string(), quoted(&plan.answer.to_string_lossy())]);
+    let placements = plan.answers.iter().map(|one| {
+        let p = &one.placement;
+        let mut placement: Vec<String> = p.inputs.iter().map(|run| quoted(&run.to_string_lossy())).collect();
+        placement.extend(["--k".to_string(), p.k.to_string()]);
+        if p.symmetric {
+            placement.push("--symmetric".into());
+        }
+        if p.not_mountable != ufcsr::PlacementOptions::new(Vec::new()).not_mountable {
+            placement.push(format!("--not-mountable={}", quoted(&p.not_mountable.join(","))));
+        }
+        placement.extend(["--out".to_string(), quoted(&one.answer.to_string_lossy())]);
+        format!("\n  ufcsr placement {}", placement.join(" "))
+    });
     format!(
-        "  ufcsr capture {source} {}\n  ufcsr placement {}",
+        "  ufcsr capture {source} {}{}",
         words(&plan.capture_words).join(" "),
-        placement.join(" ")
+        placements.collect::<String>()
     )
 }

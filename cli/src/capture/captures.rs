@@ -215,6 +215,9 @@ pub(crate) fn run_capture(
     threads: usize,
     console: &Console,
 ) -> anyhow::Result<()> {
+    if !scene.fleet.is_empty() {
+        return run_fleet(&scene, args, threads, console);
+    }
     for warning in &scene.warnings {
         eprintln!("warning: {warning}");
     }
@@ -262,6 +265,77 @@ pub(crate) fn run_capture(
         }
     }
     Ok(())
+}
+
+/// A scene that measures several vehicles: one pass per vehicle
+/// ([`Scene::measuring`]), each an ordinary capture as `args` say into
+/// `--out/NAME` (k vehicles, k times the render of one).
+fn run_fleet(scene: &Scene, args: &CaptureArgs, threads: usize, console: &Console) -> anyhow::Result<()> {
+    let names: Vec<&str> = scene.fleet.iter().map(|vehicle| vehicle.name.as_str()).collect();
+    // A one-vehicle archive left at the top would be what `ufcsr analyze OUT` reads.
+    anyhow::ensure!(
+        !args.out.join(ufcsr::MANIFEST_FILE).exists(),
+        "{} holds an archive ({}), but scene {} measures {} vehicles and writes one archive per vehicle below \
+         it ({}/NAME): give another --out or remove that archive",
+        args.out.display(),
+        args.out.join(ufcsr::MANIFEST_FILE).display(),
+        scene.name,
+        names.len(),
+        args.out.display()
+    );
+    for warning in scene.warnings.iter().chain(&others_below(&args.out, &names)) {
+        eprintln!("warning: {warning}");
+    }
+    say!(
+        console,
+        "scene {} measures {} vehicles ({}): {} passes, one per vehicle (it carries the palette, the others \
+         are occluders), into {}/NAME",
+        scene.name,
+        names.len(),
+        names.join(", "),
+        names.len(),
+        args.out.display()
+    );
+    ufcsr::files::create_output_dir(&args.out)?;
+    for (which, vehicle) in scene.fleet.iter().enumerate() {
+        let mut pass = scene.measuring(which)?;
+        pass.warnings.clear();
+        let out = ufcsr::files::output_sub_dir(&args.out, Path::new(&vehicle.name))?;
+        say!(console, "vehicle {} ({}) → {}", vehicle.name, vehicle.source, out.display());
+        run_capture(pass, &CaptureArgs { out, ..args.clone() }, threads, console)?;
+        console.fact_item("vehicles", serde_json::json!({ "name": vehicle.name, "source": vehicle.source }));
+    }
+    say!(
+        console,
+        "rendered {} passes, one per measured vehicle ({} times the render of one); analyse every vehicle with \
+         `ufcsr analyze {}`",
+        names.len(),
+        names.len(),
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// Archives in folders of `out` that are none of `names` (a capture
+/// before, of other vehicles): `ufcsr analyze OUT` would analyse them too.
+fn others_below(out: &Path, names: &[&str]) -> Vec<String> {
+    let mut others: Vec<String> = std::fs::read_dir(out)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter(|entry| entry.path().join(ufcsr::MANIFEST_FILE).is_file())
+        .filter(|entry| !names.iter().any(|name| entry.file_name() == *name))
+        .map(|entry| {
+            format!(
+                "{} holds an archive that is none of this scene's vehicles: `ufcsr analyze {}` will analyse it \
+                 too; remove it, or capture into another --out",
+                entry.path().display(),
+                out.display()
+            )
+        })
+        .collect();
+    others.sort();
+    others
 }
 
 /// `demo --traffic`: each selected scenario with the truck's twin in

@@ -179,6 +179,7 @@ fn population(args: &ObserversArgs) -> anyhow::Result<ObserverPopulation> {
 
 pub(crate) fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::Result<()> {
     let scene = args.scene.source()?.scene()?;
+    scene.refuse_fleet("`ufcsr observers`")?;
     let population = population(&args)?;
     ufcsr_capture::study::check_population(&population)?;
     let sampling = match args.sampling {

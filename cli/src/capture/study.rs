@@ -73,6 +73,7 @@ pub(crate) fn scenario_name(scene: &Scene, asked: Option<&str>) -> anyhow::Resul
 
 pub(crate) fn run_study(args: StudyArgs, console: &Console) -> anyhow::Result<()> {
     let scene = args.scene.source()?.scene()?;
+    scene.refuse_fleet("`ufcsr study`")?;
     let options = ufcsr_capture::study::StudyOptions {
         scenario: scenario_name(&scene, args.scenario.as_deref())?,
         ppds: args.ppd,

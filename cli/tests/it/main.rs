@@ -91,6 +91,7 @@ mod design_command;
 mod design_pipeline;
 mod exit_codes;
 mod family_bodies;
+mod fleet;
 mod fused_count;
 mod hardening;
 mod heatmap_command;
