@@ -2,7 +2,8 @@
 //! scenarios), the meshes and their loaders ([`mesh`], with [`model_files`]
 //! reading OBJ/MTL safely), the occluders ([`occluders`] still and
 //! [`moving`] traffic and other pedestrians), the vehicle's spec and checks ([`vehicle`]),
-//! several measured vehicles in one scene, one pass each ([`fleet`]),
+//! several measured vehicles in one scene, one pass each ([`fleet`] their
+//! names, [`fleet_pass`] the pass of one),
 //! parts from a part map painted over the model's own UVs ([`part_map`]) and
 //! parts by region ([`regions`], cutting triangles along their boundaries:
 //! [`cut`]), the pedestrian's eyes and tiles ([`rig`]),
@@ -24,6 +25,7 @@ pub(crate) mod degenerate_mesh;
 pub(crate) mod demo;
 pub(crate) mod family;
 pub(crate) mod fleet;
+pub(crate) mod fleet_pass;
 pub(crate) mod frame_state;
 pub(crate) mod mesh;
 pub(crate) mod model_files;
