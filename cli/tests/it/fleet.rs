@@ -1,11 +1,12 @@
 //! Several measured vehicles in one capture (issue 43 §3), with known
-//! answers: a scene that measures the demo truck and a copy following it
+//! answers: a scene that measures the demo truck and a van following it
 //! 9 m behind writes one archive per vehicle, and `ufcsr analyze OUT`
 //! gives each the very counts (every texel, every part) of a capture of
 //! that vehicle alone with the other as an ordinary occluder; the follower
 //! is hidden by the lead in some frames, so the occluder matters. Bad and
-//! duplicate names are refused naming the scene file, and `where`, which
-//! answers for one vehicle, refuses such a scene naming the limitation.
+//! duplicate names are refused naming the scene file, `where` answers for
+//! each vehicle from its own exact measure (the others occluding it), and
+//! `study`, which measures one vehicle, refuses such a scene naming it.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
