@@ -82,6 +82,7 @@ mod stdout_failures;
 // The capture's command line (and the library tests that share their helpers).
 mod archive_models;
 mod bad_capture;
+mod bus_sized;
 mod capture_inputs_kept;
 mod capture_replaces_whole;
 mod capture_sees_nothing;
