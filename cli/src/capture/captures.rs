@@ -305,13 +305,19 @@ fn run_fleet(scene: &Scene, args: &CaptureArgs, threads: usize, console: &Consol
         run_capture(pass, &CaptureArgs { out, ..args.clone() }, threads, console)?;
         console.fact_item("vehicles", serde_json::json!({ "name": vehicle.name, "source": vehicle.source }));
     }
+    let next = match args.shard {
+        Some(_) => format!(
+            "once every shard has finished, assemble every vehicle with `ufcsr assemble {0}`, then analyse \
+             every vehicle with `ufcsr analyze {0}`",
+            args.out.display()
+        ),
+        None => format!("analyse every vehicle with `ufcsr analyze {}`", args.out.display()),
+    };
     say!(
         console,
-        "rendered {} passes, one per measured vehicle ({} times the render of one); analyse every vehicle with \
-         `ufcsr analyze {}`",
+        "rendered {} passes, one per measured vehicle ({} times the render of one); {next}",
         names.len(),
         names.len(),
-        args.out.display()
     );
     Ok(())
 }

@@ -256,7 +256,7 @@ fn capture_source(
 pub(crate) fn run_tool(command: CaptureToolCommand, console: &Console) -> anyhow::Result<Completion> {
     match command {
         CaptureToolCommand::Where(args) => return answer::run_where(args, console),
-        CaptureToolCommand::Assemble { archive } => tools::run_assemble(&archive, console),
+        CaptureToolCommand::Assemble { archive } => return tools::run_assemble(&archive, console),
         CaptureToolCommand::Batch { action: BatchAction::Plan { batch, program } } => {
             tools::run_batch_plan(&batch, program, console)
         }

@@ -58,8 +58,56 @@ pub(crate) fn run_batch_plan(batch: &Path, program: Option<String>, console: &Co
     Ok(())
 }
 
-/// `assemble`: the shards' partial manifests joined into manifest.json.
-pub(crate) fn run_assemble(archive: &Path, console: &Console) -> anyhow::Result<()> {
+/// `assemble`: the shards' partial manifests joined into manifest.json. On
+/// the folder of a sharded capture of several vehicles (no shards of its
+/// own, each vehicle's archive `OUT/NAME` with its `shards/`) each vehicle's
+/// archive in turn, as `ufcsr analyze OUT` analyses each: one that fails is
+/// named and the others go on (exit 1).
+pub(crate) fn run_assemble(archive: &Path, console: &Console) -> anyhow::Result<Completion> {
+    let vehicles = sharded_vehicles(archive);
+    if vehicles.is_empty() {
+        assemble_one(archive, console)?;
+        return Ok(Completion::Done);
+    }
+    let mut failed = Vec::new();
+    for vehicle in &vehicles {
+        if let Err(error) = assemble_one(vehicle, console) {
+            eprintln!("error: {error:#}");
+            failed.push(vehicle.display().to_string());
+        }
+    }
+    say!(
+        console,
+        "{}: assembled {} of {} vehicle archives{}",
+        archive.display(),
+        vehicles.len() - failed.len(),
+        vehicles.len(),
+        if failed.is_empty() { String::new() } else { format!("; not {}", failed.join(", ")) }
+    );
+    Ok(if failed.is_empty() { Completion::Done } else { Completion::WithFailures })
+}
+
+/// The vehicles' archives of a sharded several-vehicle capture in `dir`
+/// (sorted): the folders below with shard manifests of their own, when
+/// `dir` has neither shards nor a manifest (empty otherwise).
+fn sharded_vehicles(dir: &Path) -> Vec<PathBuf> {
+    let own = ["shards", ufcsr::MANIFEST_FILE].iter().any(|name| dir.join(name).symlink_metadata().is_ok());
+    if own {
+        return Vec::new();
+    }
+    let mut below: Vec<PathBuf> = std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .flatten()
+        .map(|entry| entry.path())
+        .filter(|path| path.join("shards").is_dir() && !path.join("shards").is_symlink())
+        .collect();
+    below.sort();
+    below
+}
+
+/// `assemble` of one archive.
+fn assemble_one(archive: &Path, console: &Console) -> anyhow::Result<()> {
     let assembled = ufcsr_capture::assemble(archive)?;
     console.wrote(&assembled.manifest_path);
     console.fact("shards", assembled.shards);

@@ -258,3 +258,48 @@ fn where_answers_for_each_measured_vehicle_from_its_own_exact_measure() {
     let frames = |archive: &Path| std::fs::read(archive.join("results/placement-frames.csv")).unwrap();
     assert!(frames(&out.join("runs/follower/S")) == frames(&alone), "the follower's placement table differs");
 }
+
+/// A several-vehicle capture split in shards is assembled by one `ufcsr assemble OUT`, vehicle by
+/// vehicle, as the capture's last line says, and its analysis gives each vehicle the counts of the
+/// unsplit capture; a vehicle whose shards are missing is named and the other assembled (exit 1).
+#[test]
+fn a_sharded_several_vehicle_capture_is_assembled_vehicle_by_vehicle_by_one_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let follower = json!([{ "vehicle": {"follow": {"ahead_m": -9.0}, "measure": "follower"} }]);
+    let fleet = write_scene(dir.path(), "fleet.json", &scene(LEAD, follower, Some("lead")));
+    let whole = dir.path().join("whole");
+    capture_and_analyze(&fleet, &whole);
+
+    let split = dir.path().join("split");
+    let (fleet_text, split_text) = (fleet.to_str().unwrap(), split.to_str().unwrap());
+    for shard in ["0/2", "1/2"] {
+        let args =
+            ["capture", "scene", fleet_text, "--out", split_text, "--palette-size", "256", "--shard", shard];
+        let captured = ufcsr(&args);
+        assert!(captured.status.success(), "shard {shard}: {}", String::from_utf8_lossy(&captured.stderr));
+        let said = String::from_utf8_lossy(&captured.stdout);
+        assert!(said.contains(&format!("`ufcsr assemble {split_text}`")), "{said}");
+    }
+    let assembled = ufcsr(&["assemble", split_text]);
+    assert!(assembled.status.success(), "assemble: {}", String::from_utf8_lossy(&assembled.stderr));
+    assert!(String::from_utf8_lossy(&assembled.stdout).contains("assembled 2 of 2 vehicle archives"));
+    let analysed = ufcsr(&["analyze", split_text, "--figures", "off", "-q"]);
+    assert!(analysed.status.success(), "analyze: {}", String::from_utf8_lossy(&analysed.stderr));
+    for name in ["lead", "follower"] {
+        assert!(counts(&split.join(name)) == counts(&whole.join(name)), "{name}: the shards count otherwise");
+    }
+
+    // Shards of one vehicle only: the other vehicle is named, this one assembled.
+    let half = dir.path().join("half");
+    for shard in ["0/2", "1/2"] {
+        let args = ["capture", "scene", fleet_text, "--out", half.to_str().unwrap(), "--palette-size", "256"];
+        assert!(ufcsr(&[&args[..], &["--shard", shard]].concat()).status.success());
+    }
+    std::fs::remove_dir_all(half.join("follower/shards")).unwrap();
+    std::fs::create_dir(half.join("follower/shards")).unwrap();
+    let assembled = ufcsr(&["assemble", half.to_str().unwrap()]);
+    assert_eq!(assembled.status.code(), Some(1), "{}", String::from_utf8_lossy(&assembled.stderr));
+    let stderr = String::from_utf8_lossy(&assembled.stderr);
+    assert!(stderr.contains("follower") && stderr.contains("no shard manifest"), "{stderr}");
+    assert!(half.join("lead/manifest.json").is_file(), "the lead was not assembled");
+}
