@@ -306,6 +306,9 @@ fn run_fleet(scene: &Scene, args: &CaptureArgs, threads: usize, console: &Consol
         console.fact_item("vehicles", serde_json::json!({ "name": vehicle.name, "source": vehicle.source }));
     }
     let next = match args.shard {
+        _ if args.count => {
+            format!("each vehicle's results are in {}/NAME/results (counted)", args.out.display())
+        }
         Some(_) => format!(
             "once every shard has finished, assemble every vehicle with `ufcsr assemble {0}`, then analyse \
              every vehicle with `ufcsr analyze {0}`",

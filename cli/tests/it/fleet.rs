@@ -303,3 +303,27 @@ fn a_sharded_several_vehicle_capture_is_assembled_vehicle_by_vehicle_by_one_comm
     assert!(stderr.contains("follower") && stderr.contains("no shard manifest"), "{stderr}");
     assert!(half.join("lead/manifest.json").is_file(), "the lead was not assembled");
 }
+
+/// A batch task of a several-vehicle scene counts every vehicle into its task folder (one
+/// `OUT/NAME/results` each), and its command says where they are, not to analyse them again.
+#[test]
+fn a_batch_task_of_a_several_vehicle_scene_counts_each_vehicle_in_its_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let follower = json!([{ "vehicle": {"follow": {"ahead_m": -9.0}, "measure": "follower"} }]);
+    let fleet = write_scene(dir.path(), "fleet.json", &scene(LEAD, follower, Some("lead")));
+    let runs = dir.path().join("runs");
+    let batch = json!({"out": runs, "scenes": [fleet], "scenarios": ["S"], "ppd": [3], "frame_step": [2],
+                       "dedupe": "image", "palette_size": "256"});
+    let batch_file = write_scene(dir.path(), "batch.json", &batch);
+    let planned = ufcsr(&["batch", "plan", batch_file.to_str().unwrap()]);
+    assert!(planned.status.success(), "plan: {}", String::from_utf8_lossy(&planned.stderr));
+    let line = String::from_utf8_lossy(&planned.stdout).lines().next().unwrap().replace(" --quiet", "");
+    let ran = Command::new("sh").args(["-c", &line]).output().unwrap();
+    assert!(ran.status.success(), "{line}: {}", String::from_utf8_lossy(&ran.stderr));
+    let said = String::from_utf8_lossy(&ran.stdout);
+    assert!(said.contains("NAME/results (counted)") && !said.contains("ufcsr analyze"), "{said}");
+    let task = runs.join("0-fleet/S/ppd3-step2");
+    for name in ["lead", "follower"] {
+        assert!(grand_total(&task.join(name)) > 0, "{name}: no counted result in {}", task.display());
+    }
+}
