@@ -48,7 +48,7 @@ pub use exact::{
 };
 pub use inspect::{
     InspectOptions, Inspection, PartInfo, Sliver, TriangleQuality, UvState, ViewValues, ViewsOptions,
-    inspect, triangle_quality, view_values, views_from_results,
+    inspect, inspect_fleet, triangle_quality, view_values, views_from_results,
 };
 pub use job::{
     Assembled, Batch, CaptureOptions, CaptureProgress, CaptureSetup, CapturedTiles, Compression,

@@ -146,13 +146,20 @@ pub fn triangle_quality(mesh: &Mesh) -> TriangleQuality {
 
 /// The vehicle entry of a scene file, or a bare mesh with default settings;
 /// with the folder its paths are relative to.
+/// The scene file at `input` and the folder its paths are relative to.
+fn scene_file(input: &Path) -> Result<(SceneFile, PathBuf)> {
+    let base = input.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    let bytes = ufcsr::files::read_limited(input, ufcsr::files::SMALL_INPUT_LIMIT)?;
+    let file: SceneFile = serde_json::from_slice(&bytes)
+        .map_err(|e| CaptureError::bad_file(input, format!("invalid scene file: {e}")))?;
+    Ok((file, base))
+}
+
 fn vehicle_spec(input: &Path) -> Result<(VehicleSpec, PathBuf)> {
     let base = input.parent().map_or_else(|| PathBuf::from("."), Path::to_path_buf);
     let is_scene = input.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
     if is_scene {
-        let bytes = ufcsr::files::read_limited(input, ufcsr::files::SMALL_INPUT_LIMIT)?;
-        let file: SceneFile = serde_json::from_slice(&bytes)
-            .map_err(|e| CaptureError::bad_file(input, format!("invalid scene file: {e}")))?;
+        let (file, base) = scene_file(input)?;
         return Ok((file.vehicle, base));
     }
     let Some(name) = input.file_name() else {
@@ -261,7 +268,58 @@ fn write_overlap_picture(mesh: &Mesh, colors: &[Color], out: &Path) -> Result<Op
 /// Inspects the vehicle of a scene file or mesh and writes its pictures.
 pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
     let (spec, base) = vehicle_spec(&options.input)?;
-    let built = vehicle::build(&spec, &base, &options.input)?;
+    inspect_spec(options, &spec, &base, &options.out)
+}
+
+/// Inspects every measured vehicle of a scene file that measures several
+/// ([`crate::scene::fleet`]: its own `vehicle` and the `vehicle` occluders
+/// with `measure`, a copy of the scene's vehicle or their own `model`), each
+/// into `out/NAME`, in the scene's order, its names checked as the capture
+/// checks them. Empty for any other input, which [`inspect`] inspects.
+pub fn inspect_fleet(options: &InspectOptions) -> Result<Vec<(String, Inspection)>> {
+    let is_scene = options.input.extension().is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    if !is_scene {
+        return Ok(Vec::new());
+    }
+    let (file, base) = scene_file(&options.input)?;
+    let vehicles = fleet_specs(&options.input, &file)?;
+    if !vehicles.is_empty() {
+        ufcsr::files::create_output_dir(&options.out)?;
+    }
+    vehicles
+        .into_iter()
+        .map(|(name, spec)| {
+            let out = ufcsr::files::output_sub_dir(&options.out, Path::new(&name))?;
+            Ok((name, inspect_spec(options, &spec, &base, &out)?))
+        })
+        .collect()
+}
+
+/// The measured vehicles of `file` (at `path`) and their specs, the scene's
+/// own first; empty when it measures one.
+fn fleet_specs(path: &Path, file: &SceneFile) -> Result<Vec<(String, VehicleSpec)>> {
+    use crate::scene::fleet::FleetVehicle;
+    use crate::scene::scene_file::OccluderShape;
+    let mut specs = Vec::new();
+    let mut measured = Vec::new();
+    for (number, occluder) in file.occluders.iter().enumerate() {
+        if let OccluderShape::Vehicle { measure: Some(name), model } = &occluder.shape {
+            specs.push((name.clone(), model.as_deref().cloned().unwrap_or_else(|| file.vehicle.clone())));
+            let source = format!("occluders[{number}]");
+            measured.push(FleetVehicle { name: name.clone(), source, moving: None, described: None });
+        }
+    }
+    let fleet = crate::scene::fleet::fleet(path, &file.vehicle, "", measured)?;
+    let Some(own) = fleet.first() else {
+        return Ok(Vec::new());
+    };
+    Ok(std::iter::once((own.name.clone(), file.vehicle.clone())).chain(specs).collect())
+}
+
+/// Inspects the vehicle `spec` (paths relative to `base`; `options.input`
+/// the file it came from) into `out`.
+fn inspect_spec(options: &InspectOptions, spec: &VehicleSpec, base: &Path, out: &Path) -> Result<Inspection> {
+    let built = vehicle::build(spec, base, &options.input)?;
     let mesh = &built.mesh;
     let colors = part_colors(mesh.parts.len());
     let areas = crate::texture::uv_islands::part_areas(mesh);
@@ -282,7 +340,6 @@ pub fn inspect(options: &InspectOptions) -> Result<Inspection> {
         .collect();
     let uvs = uv_state(mesh);
 
-    let out = &options.out;
     let mut inputs = vec![options.input.clone()];
     inputs.extend(built.files.iter().cloned());
     crate::job::overwrite_guard::refuse_overwriting_inputs(out, &INSPECT_FILES, &[], &inputs)?;

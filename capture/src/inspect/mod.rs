@@ -8,6 +8,7 @@ pub(crate) mod pictures;
 pub(crate) mod views;
 
 pub use inspection::{
-    InspectOptions, Inspection, PartInfo, Sliver, TriangleQuality, UvState, inspect, triangle_quality,
+    InspectOptions, Inspection, PartInfo, Sliver, TriangleQuality, UvState, inspect, inspect_fleet,
+    triangle_quality,
 };
 pub use views::{ViewValues, ViewsOptions, view_values, views_from_results};

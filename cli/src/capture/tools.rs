@@ -15,10 +15,21 @@ pub(crate) fn run_inspect(
     pixels_per_metre: Option<f64>,
     console: &Console,
 ) -> anyhow::Result<()> {
-    let inspection = ufcsr_capture::inspect(&InspectOptions { input, out, pixels_per_metre })?;
-    inspection.files.iter().for_each(|file| console.wrote(file));
-    console.fact("triangles", inspection.triangles);
-    console.print(&inspection.to_string());
+    let options = InspectOptions { input, out, pixels_per_metre };
+    // A scene that measures several vehicles: each of them, into out/NAME.
+    let fleet = ufcsr_capture::inspect_fleet(&options)?;
+    for (name, inspection) in &fleet {
+        inspection.files.iter().for_each(|file| console.wrote(file));
+        console.fact_item("vehicles", serde_json::json!({ "name": name, "triangles": inspection.triangles }));
+        say!(console, "== vehicle {name} → {}", options.out.join(name).display());
+        console.print(&inspection.to_string());
+    }
+    if fleet.is_empty() {
+        let inspection = ufcsr_capture::inspect(&options)?;
+        inspection.files.iter().for_each(|file| console.wrote(file));
+        console.fact("triangles", inspection.triangles);
+        console.print(&inspection.to_string());
+    }
     Ok(())
 }
 

@@ -327,3 +327,29 @@ fn a_batch_task_of_a_several_vehicle_scene_counts_each_vehicle_in_its_folder() {
         assert!(grand_total(&task.join(name)) > 0, "{name}: no counted result in {}", task.display());
     }
 }
+
+/// `inspect` of a scene that measures several vehicles inspects each into `OUT/NAME` (the
+/// fixture's truck and its sedan, each with its own parts), and refuses a repeated name as the
+/// capture does.
+#[test]
+fn inspect_of_a_several_vehicle_scene_inspects_each_vehicle_into_its_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let fleet = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fixtures/scenes/fleet.json");
+    let out = dir.path().join("inspect");
+    let inspected = ufcsr(&["inspect", fleet.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(inspected.status.success(), "{}", String::from_utf8_lossy(&inspected.stderr));
+    let said = String::from_utf8_lossy(&inspected.stdout);
+    let parts = |name: &str| std::fs::read_to_string(out.join(name).join("inspect-parts.csv")).unwrap();
+    assert!(said.contains("vehicle truck") && said.contains("vehicle lead-car"), "{said}");
+    assert!(parts("truck").contains("grill") && parts("truck") != parts("lead-car"), "one vehicle twice");
+    assert!(!out.join("inspect-parts.csv").exists(), "the main vehicle alone at the top");
+
+    let twice = json!({"vehicle": {"mesh": "demo", "measure": "car"},
+                       "occluders": [{"vehicle": {"follow": {"ahead_m": 9.0}, "measure": "CAR"}}]});
+    let twice = write_scene(dir.path(), "twice.json", &twice);
+    let refused =
+        ufcsr(&["inspect", twice.to_str().unwrap(), "--out", dir.path().join("x").to_str().unwrap()]);
+    assert_eq!(refused.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(stderr.contains("twice.json") && stderr.contains("occluders[0]"), "{stderr}");
+}
