@@ -259,14 +259,20 @@ fn where_answers_for_each_measured_vehicle_from_its_own_exact_measure() {
     assert!(frames(&out.join("runs/follower/S")) == frames(&alone), "the follower's placement table differs");
 }
 
+/// The test scene measuring `lead` and a copy of it following 9 m behind (`follower`), written in
+/// `dir`.
+fn lead_and_copy(dir: &Path) -> PathBuf {
+    let follower = json!([{ "vehicle": {"follow": {"ahead_m": -9.0}, "measure": "follower"} }]);
+    write_scene(dir, "fleet.json", &scene(LEAD, follower, Some("lead")))
+}
+
 /// A several-vehicle capture split in shards is assembled by one `ufcsr assemble OUT`, vehicle by
 /// vehicle, as the capture's last line says, and its analysis gives each vehicle the counts of the
 /// unsplit capture; a vehicle whose shards are missing is named and the other assembled (exit 1).
 #[test]
 fn a_sharded_several_vehicle_capture_is_assembled_vehicle_by_vehicle_by_one_command() {
     let dir = tempfile::tempdir().unwrap();
-    let follower = json!([{ "vehicle": {"follow": {"ahead_m": -9.0}, "measure": "follower"} }]);
-    let fleet = write_scene(dir.path(), "fleet.json", &scene(LEAD, follower, Some("lead")));
+    let fleet = lead_and_copy(dir.path());
     let whole = dir.path().join("whole");
     capture_and_analyze(&fleet, &whole);
 
@@ -309,8 +315,7 @@ fn a_sharded_several_vehicle_capture_is_assembled_vehicle_by_vehicle_by_one_comm
 #[test]
 fn a_batch_task_of_a_several_vehicle_scene_counts_each_vehicle_in_its_folder() {
     let dir = tempfile::tempdir().unwrap();
-    let follower = json!([{ "vehicle": {"follow": {"ahead_m": -9.0}, "measure": "follower"} }]);
-    let fleet = write_scene(dir.path(), "fleet.json", &scene(LEAD, follower, Some("lead")));
+    let fleet = lead_and_copy(dir.path());
     let runs = dir.path().join("runs");
     let batch = json!({"out": runs, "scenes": [fleet], "scenarios": ["S"], "ppd": [3], "frame_step": [2],
                        "dedupe": "image", "palette_size": "256"});
