@@ -101,7 +101,7 @@ fn check(batch: &Batch) -> std::result::Result<(), String> {
     if batch.ppd.iter().any(|p| !(p.is_finite() && *p > 0.0)) || batch.frame_step.contains(&0) {
         return Err("ppd values must be positive and frame steps at least 1".into());
     }
-    ufcsr::parse_palette_size(&batch.palette_size).map_err(|e| format!("palette_size: {e}"))?;
+    ufcsr::parse_capture_palette_size(&batch.palette_size).map_err(|e| format!("palette_size: {e}"))?;
     let out = batch.out.to_string_lossy();
     let texts = std::iter::once(("out", out.as_ref()))
         .chain(batch.scenes.iter().map(|s| ("scenes", s.as_str())))

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use clap::Args;
-use ufcsr_capture::{CaptureOptions, Gpu, Scene, parse_palette_size};
+use ufcsr_capture::{CaptureOptions, Gpu, Scene, parse_capture_palette_size};
 
 use super::captures::parse_fraction;
 use crate::choices::{Backend, Dedupe, StudyMeasure};
@@ -40,7 +40,8 @@ pub(crate) struct StudyArgs {
     /// frame over both eyes).
     #[arg(long, value_enum, default_value_t = Dedupe::Frame)]
     dedupe: Dedupe,
-    /// Canonical palette size, W or WxH.
+    /// Canonical palette size, W or WxH; above 2^24 texels (up to 8192x8192) as `capture` draws
+    /// and counts them (32-bit texel ids).
     #[arg(long, value_name = "W|WxH", default_value = "4096")]
     palette_size: String,
     /// Study folder: study.csv, study.json, study.svg/.png and one folder per setting.
@@ -83,7 +84,7 @@ pub(crate) fn run_study(args: StudyArgs, console: &Console) -> anyhow::Result<()
         measure: args.measure.into(),
         capture: CaptureOptions {
             out: args.out.clone(),
-            palette: parse_palette_size(&args.palette_size)?,
+            palette: parse_capture_palette_size(&args.palette_size)?,
             views_scale: args.views_scale,
             ..CaptureOptions::default()
         },

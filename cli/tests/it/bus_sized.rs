@@ -64,3 +64,23 @@ fn a_palette_above_2_24_texels_is_captured_analysed_reported_and_placed_end_to_e
     let page = std::fs::read_to_string(results.join("report.html")).unwrap();
     assert!(page.contains("Where should the eHMI go?"), "the report shows the placement");
 }
+
+/// `study` and `batch plan` take a bus-sized palette as `capture` does (their captures count
+/// 32-bit ids: `--count`), where they refused anything above 2²⁴ texels.
+#[test]
+fn a_study_and_a_batch_take_a_palette_above_2_24_texels() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("study");
+    let args = ["study", "demo", "--scenario", "D", "--ppd", "3", "--frame-step", "30", "--palette-size"];
+    let more = ["8192x4096", "--exact-sample", "1/1024", "--out", study.to_str().unwrap()];
+    let said = ok(&ufcsr(&[&args[..], &more].concat()), "study");
+    assert!(said.contains("of 13520776 texels"), "not the bus-sized palette's texels: {said}");
+    assert!(study.join("study.csv").is_file());
+
+    let batch = dir.path().join("batch.json");
+    let plan = serde_json::json!({"out": dir.path().join("runs"), "scenes": ["demo"], "scenarios": ["D"],
+                                  "ppd": [3], "frame_step": [30], "palette_size": "8192x4096"});
+    std::fs::write(&batch, plan.to_string()).unwrap();
+    let lines = ok(&ufcsr(&["batch", "plan", batch.to_str().unwrap()]), "batch plan");
+    assert!(lines.contains("--palette-size 8192x4096 --count"), "{lines}");
+}
