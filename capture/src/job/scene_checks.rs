@@ -26,7 +26,9 @@
 //!   surface twice (it counts a face covered whole by an earlier one once);
 //! - between frames (at the rig's fps) the vehicle moves faster than
 //!   [`MAX_SPEED_M_S`] or accelerates more than [`MAX_ACCELERATION_M_S2`]: a
-//!   warning naming the position keys; where the speed jumps at a key (in
+//!   warning naming the position keys (in the pass of one vehicle of a
+//!   fleet, of that vehicle's own track, naming it, so that each pass warns
+//!   of its own vehicle's motion and the scene's track is not repeated); where the speed jumps at a key (in
 //!   and out slopes differ, as in the paper's Unity clips), the warning says
 //!   which frames a 3 g vehicle would spend changing speed, how far from the
 //!   keyed path it would be, those frames' share of the scenario and what
@@ -45,9 +47,10 @@ use crate::scene::Scene;
 use crate::scene::coincident;
 use crate::scene::frame_state::{FrameState, list_frames};
 use crate::scene::mesh::Mesh;
+use crate::scene::moving::OccluderPath;
 use crate::scene::rig::{Eye, Rig, vehicle_to_world};
 use crate::scene::scenario::Scenario;
-use crate::scene::track::Track;
+use crate::scene::track::{Track, ValueOrTrack};
 
 /// Most frames in a scenario: 1,000,000 (4.6 h at 60 fps).
 pub const MAX_FRAMES: f64 = 1.0e6;
@@ -142,7 +145,9 @@ pub(crate) fn scene_warnings(scene: &Scene, scenario: &Scenario, frames: &[u32])
     let vehicle = coincident::vehicle_index(&scene.vehicle);
     warnings.extend(coincident::occluder_warnings(scene, scenario, frames, &vehicle)?);
     warnings.extend(coincident::shared_surface_warnings(&scene.vehicle, &vehicle));
-    warnings.extend(motion_warnings(rig, scenario));
+    if let Some(measured) = measured_track(scene, scenario) {
+        warnings.extend(motion_warnings(rig, scenario, (measured.0, &measured.1)));
+    }
     Ok(warnings)
 }
 
@@ -303,10 +308,35 @@ enum Place {
     Segment(usize),
 }
 
+/// The track the measured vehicle drives and how the warnings name it: the
+/// scenario's, or, in the pass of another vehicle of a fleet
+/// ([`Scene::measuring`]), that vehicle's own (`None`: it stands still). A
+/// fleet's vehicles are named, so that each pass warns about its own
+/// vehicle's motion, once, and not about the scene's vehicle again.
+pub(crate) fn measured_track<'s>(scene: &'s Scene, scenario: &'s Scenario) -> Option<(&'s Track<3>, String)> {
+    let name = scene.info.measured.as_ref().map(|measured| measured.name.as_str());
+    match (&scene.vehicle_path, name) {
+        (None, None) => Some((&scenario.motion.position, "the vehicle".to_string())),
+        (None, Some(name)) => Some((&scenario.motion.position, format!("the vehicle {name}"))),
+        (Some(OccluderPath::Follow(_)), name) => Some((
+            &scenario.motion.position,
+            format!("the vehicle {}, which follows the scenario's track,", name.unwrap_or("measured")),
+        )),
+        (Some(OccluderPath::Tracks { position: ValueOrTrack::Keys(track), .. }), name) => {
+            Some((track, format!("the vehicle {} on its own track", name.unwrap_or("measured"))))
+        }
+        (Some(OccluderPath::Tracks { position: ValueOrTrack::Fixed(_), .. }), _) => None,
+    }
+}
+
 /// Speeds and accelerations between consecutive frames (at the rig's fps,
-/// every frame, not only the selected ones) beyond physical bounds.
-pub(crate) fn motion_warnings(rig: &Rig, scenario: &Scenario) -> Vec<String> {
-    let track = &scenario.motion.position;
+/// every frame, not only the selected ones) beyond physical bounds, of
+/// `track`, the measured vehicle's (`who` names it, see [`measured_track`]).
+pub(crate) fn motion_warnings(
+    rig: &Rig,
+    scenario: &Scenario,
+    (track, who): (&Track<3>, &str),
+) -> Vec<String> {
     let count = rig.frame_count(scenario.duration_s);
     let at = |frame: u32| {
         let time_s = (f64::from(frame) / rig.fps).min(scenario.duration_s);
@@ -343,7 +373,7 @@ pub(crate) fn motion_warnings(rig: &Rig, scenario: &Scenario) -> Vec<String> {
     let mut warnings = Vec::new();
     if let Some(fastest) = too_fast.values().copied().reduce(f64::max) {
         warnings.push(format!(
-            "scenario {}: the vehicle moves faster than {MAX_SPEED_M_S} m/s between frames (up to {fastest:.1} m/s) \
+            "scenario {}: {who} moves faster than {MAX_SPEED_M_S} m/s between frames (up to {fastest:.1} m/s) \
              at position {}: a mistyped or teleporting track?",
             scenario.name,
             list_places(track, &too_fast)
@@ -353,7 +383,7 @@ pub(crate) fn motion_warnings(rig: &Rig, scenario: &Scenario) -> Vec<String> {
         too_hard.into_iter().partition(|(place, _)| matches!(place, Place::Key(_)));
     if let Some(hardest) = between.values().copied().reduce(f64::max) {
         warnings.push(format!(
-            "scenario {}: the vehicle accelerates or brakes harder than 3 g ({MAX_ACCELERATION_M_S2:.2} m/s²) \
+            "scenario {}: {who} accelerates or brakes harder than 3 g ({MAX_ACCELERATION_M_S2:.2} m/s²) \
              between frames (up to {hardest:.1} m/s², {:.1} g) at position {}",
             scenario.name,
             hardest / G_M_S2,
@@ -361,7 +391,7 @@ pub(crate) fn motion_warnings(rig: &Rig, scenario: &Scenario) -> Vec<String> {
         ));
     }
     if !at_keys.is_empty() {
-        warnings.push(speed_jump_warning(rig, scenario, &at_keys));
+        warnings.push(speed_jump_warning(rig, scenario, (track, who), &at_keys));
     }
     warnings
 }
@@ -373,8 +403,12 @@ const G_M_S2: f64 = 9.80665;
 /// frames there): how large, which frames even a 3 g vehicle would spend
 /// changing speed that much and how far from this path it would be, how much
 /// of the scenario those frames are, and what to do.
-fn speed_jump_warning(rig: &Rig, scenario: &Scenario, at_keys: &BTreeMap<Place, f64>) -> String {
-    let track = &scenario.motion.position;
+fn speed_jump_warning(
+    rig: &Rig,
+    scenario: &Scenario,
+    (track, who): (&Track<3>, &str),
+    at_keys: &BTreeMap<Place, f64>,
+) -> String {
     let count = rig.frame_count(scenario.duration_s);
     let mut affected: Vec<u32> = Vec::new();
     let mut jumps = Vec::new();
@@ -410,7 +444,7 @@ fn speed_jump_warning(rig: &Rig, scenario: &Scenario, at_keys: &BTreeMap<Place, 
         ""
     };
     format!(
-        "scenario {}: the vehicle accelerates or brakes harder than 3 g ({MAX_ACCELERATION_M_S2:.2} m/s²) between \
+        "scenario {}: {who} accelerates or brakes harder than 3 g ({MAX_ACCELERATION_M_S2:.2} m/s²) between \
          frames (up to {hardest:.1} m/s², {:.0} g) where its speed jumps at position keys {}: the replay follows \
          the keys as Unity's AnimationCurve does (a cubic Hermite from the left key's out slope to the right \
          key's in slope), and the slopes on either side of these keys differ.{linear} Even a vehicle changing \
@@ -491,6 +525,29 @@ mod tests {
 
     fn warnings_of(scene: &Scene) -> Vec<String> {
         scene_warnings(scene, &scene.scenarios[0], &[0, 30]).unwrap()
+    }
+
+    #[test]
+    fn each_pass_of_a_fleet_warns_about_its_own_vehicles_motion_once() {
+        // A measured van on its own track that jumps 330 m in 10 ms; the
+        // scene's own vehicle stands still.
+        let van = r#"{"vehicle": {"measure": "van", "model": {"body": "van"}, "yaw_deg": 180, "position": [
+            {"t": 0, "value": [30, 8, 0]}, {"t": 0.5, "value": [30, 8, 0]},
+            {"t": 0.51, "value": [-300, 8, 0]}, {"t": 1, "value": [-300, 8, 0]}]}}"#;
+        let scene = truck_scene(van, 60.0, 1.0).unwrap();
+        let motion = |w: &&String| w.contains("moves faster") || w.contains("harder than 3 g");
+        let own: Vec<String> =
+            warnings_of(&scene.measuring(0).unwrap()).into_iter().filter(|w| motion(&w)).collect();
+        assert!(own.is_empty(), "the standing vehicle's pass warns of motion: {own:#?}");
+        let pass = scene.measuring(1).unwrap();
+        let warnings: Vec<String> = warnings_of(&pass).into_iter().filter(|w| motion(&w)).collect();
+        assert!(!warnings.is_empty(), "the van's teleport is not warned about");
+        for warning in &warnings {
+            assert!(warning.contains("the vehicle van on its own track"), "{warning}");
+        }
+        let fast =
+            warnings.iter().find(|w| w.contains("moves faster than 100 m/s")).expect("no speed warning");
+        assert!(fast.contains("keys 1–2 (t 0.500–0.510 s)"), "{fast}");
     }
 
     #[test]
@@ -600,7 +657,7 @@ mod tests {
         };
         let rig =
             Rig { pedestrian: crate::scene::track::ValueOrTrack::Fixed([10.0, 5.0, 0.0]), ..Rig::default() };
-        let warnings = motion_warnings(&rig, &scenario);
+        let warnings = motion_warnings(&rig, &scenario, (&scenario.motion.position, "the vehicle"));
         assert_eq!(warnings.len(), 1, "{warnings:#?}");
         let warning = &warnings[0];
         // 10 m/s at 3 g takes 0.34 s: frames 50-70 at 60 fps, 0.42 m off the kinked path.
