@@ -13,7 +13,7 @@ use ufcsr::{
     format::ObserverPlace, format::ObserverPopulation, format::ObserverSampling, format::ResolutionCheck,
     format::StatureGroup,
 };
-use ufcsr_capture::{CaptureOptions, Gpu, parse_palette_size};
+use ufcsr_capture::{CaptureOptions, Gpu, parse_capture_palette_size};
 
 use super::study::scenario_name;
 use crate::choices::Backend;
@@ -92,7 +92,8 @@ pub(crate) struct ObserversArgs {
     /// Every n-th frame.
     #[arg(long, default_value_t = 3)]
     frame_step: u32,
-    /// Canonical palette size, W or WxH.
+    /// Canonical palette size, W or WxH; above 2^24 texels (up to 8192x8192) as `capture` draws
+    /// and counts them (32-bit texel ids).
     #[arg(long, value_name = "W|WxH", default_value = "1024")]
     palette_size: String,
     /// Study folder: observers.json, observers.csv, observer-parts.csv and one folder per observer.
@@ -204,7 +205,7 @@ pub(crate) fn run_observers(args: ObserversArgs, console: &Console) -> anyhow::R
         frame_step: args.frame_step,
         capture: CaptureOptions {
             out: args.out.clone(),
-            palette: parse_palette_size(&args.palette_size)?,
+            palette: parse_capture_palette_size(&args.palette_size)?,
             views_scale: args.views_scale,
             ..CaptureOptions::default()
         },
