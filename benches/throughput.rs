@@ -352,13 +352,11 @@ fn exact_counter_floor(sample: &[PathBuf], tiles: &[(PixelLayout, Vec<Vec<u8>>)]
 fn angular_area_floor(keys: &[Vec<u32>], pixels: usize) {
     let mut wide = vec![1u64; 1 << 24];
     let mut narrow = vec![1u32; 1 << 24];
-    let weights: Vec<u64> = (0..4096u64).map(|i| 0x1_0000_0000 + i * 977).collect();
+    let weights = floor_weights();
     let per_pixel = |seconds: f64| seconds * 1e9 / pixels as f64;
     let u64_sums = best_of(3, || {
         for tile in keys {
-            for (i, &key) in tile.iter().enumerate() {
-                wide[key as usize] += weights[i & 4095];
-            }
+            add_runs(&mut wide, tile, &weights);
         }
     });
     let u32_sums = best_of(3, || {
@@ -375,6 +373,20 @@ fn angular_area_floor(keys: &[Vec<u32>], pixels: usize) {
         per_pixel(u64_sums),
         per_pixel(u32_sums),
     );
+}
+
+/// The run weights the floors add (4,096 of them, cycled; above 2³² so that
+/// a `u64` add is needed).
+fn floor_weights() -> Vec<u64> {
+    (0..4096u64).map(|i| 0x1_0000_0000 + i * 977).collect()
+}
+
+/// Each run's weight added to its texel's sum, in the runs' order.
+#[inline]
+fn add_runs(sums: &mut [u64], keys: &[u32], weights: &[u64]) {
+    for (i, &key) in keys.iter().enumerate() {
+        sums[key as usize] += weights[i & 4095];
+    }
 }
 
 /// [`angular_area_floor`] over the whole archive rather than the 12 sampled
@@ -398,10 +410,9 @@ fn angular_area_floor_whole(files: &[PathBuf]) {
         }
     }
     let mut sums = vec![1u64; 1 << 24];
+    let weights = floor_weights();
     let start = Instant::now();
-    for (i, &key) in keys.iter().enumerate() {
-        sums[key as usize] += 0x1_0000_0000 + (i as u64 & 4095) * 977;
-    }
+    add_runs(&mut sums, &keys, &weights);
     let seconds = start.elapsed().as_secs_f64();
     black_box(&sums);
     println!(

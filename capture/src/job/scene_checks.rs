@@ -145,8 +145,8 @@ pub(crate) fn scene_warnings(scene: &Scene, scenario: &Scenario, frames: &[u32])
     let vehicle = coincident::vehicle_index(&scene.vehicle);
     warnings.extend(coincident::occluder_warnings(scene, scenario, frames, &vehicle)?);
     warnings.extend(coincident::shared_surface_warnings(&scene.vehicle, &vehicle));
-    if let Some(measured) = measured_track(scene, scenario) {
-        warnings.extend(motion_warnings(rig, scenario, (measured.0, &measured.1)));
+    if let Some((track, who)) = measured_track(scene, scenario) {
+        warnings.extend(motion_warnings(rig, scenario, (track, &who)));
     }
     Ok(warnings)
 }
