@@ -59,8 +59,19 @@ pub fn check_inputs(plan: &Plan) -> Result<CellLimits> {
         let scenario = scene.scenarios.first().ok_or_else(|| bad(format!("cell {cell}: no scenario")))?;
         let frames = scene.rig.frame_count(scenario.duration_s).max(1);
         let step = design.measure.frame_step.max(1);
-        let measured = frames.div_ceil(step);
-        limits.insert(cell.clone(), f64::from(measured) * f64::from(step) / scene.rig.fps);
+        let measured = crate::job::stepped_frames(frames, step, 0).len();
+        if frames > 1 && measured < 2 {
+            // A lone frame stands for one frame's 1/fps, not for the scenario.
+            return Err(bad(format!(
+                "cell {cell}: measure.frame_step {step} keeps one frame of the scenario's {frames} ({} s at {} \
+                 fps), which would stand for 1/{} s; use at most {}",
+                scenario.duration_s,
+                scene.rig.fps,
+                scene.rig.fps,
+                (2 * frames - 1) / 3
+            )));
+        }
+        limits.insert(cell.clone(), measured as f64 * f64::from(step) / scene.rig.fps);
     }
     Ok(limits)
 }

@@ -125,11 +125,24 @@ fn what_every_task_would_fail_on_is_refused_when_planning() {
     std::fs::copy(&demo_scene, dir.path().join("scene.json")).unwrap();
     let no_scenario = inputs_refusal(dir.path(), scene("scene.json", "Z"));
     assert!(no_scenario.contains("scenario=s") && no_scenario.contains("\"Z\""), "{no_scenario}");
-    // The shipped design plans: every cell builds and its bound is the measured frames' time.
+    // A step that keeps one frame of a scenario would make its totals one frame's (1/fps).
+    let lone = inputs_refusal(dir.path(), |v| v["measure"]["frame_step"] = 100.into());
+    assert!(
+        lone.contains("d.json")
+            && lone.contains("measure.frame_step 100 keeps one frame")
+            && lone.contains("at most"),
+        "{lone}"
+    );
+    // The shipped design plans: every cell builds and its bound is the measured frames' time,
+    // every 30th frame of demo A's 3 s and street-2's 2 s at 60 fps: the scenarios' durations
+    // (keeping their last frames too read 3.5 and 2.5 s).
     let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
     let limits = check_inputs(&plan).unwrap();
     assert_eq!(limits.len(), 4);
-    assert!(limits.values().all(|s| (2.0..30.0).contains(s)), "{limits:?}");
+    for (cell, seconds) in &limits {
+        let want = if cell.scenario == "A" { 3.0 } else { 2.0 };
+        assert!((seconds - want).abs() < 1e-12, "{cell}: {seconds} s");
+    }
 }
 
 /// The tiny design's 8 tasks written into `dir` (every value within its cell's bound), then `edit`

@@ -21,7 +21,7 @@ use super::plan::{Plan, PlannedTask};
 use crate::error::{CaptureError, Result};
 use crate::exact::measure::measure_unobstructed;
 use crate::exact::types::{DEG2_PER_SR, MeasureOptions, PlacementCandidates};
-use crate::job::CaptureOptions;
+use crate::job::{CaptureOptions, FrameSelection};
 use crate::scene::Scene;
 use crate::scene::track::ValueOrTrack;
 use crate::study::observers::population::sample_observers;
@@ -143,12 +143,10 @@ fn measure_unit(
     }
     scene.rig.eye_height_m = unit.eye_height_m;
     let scenario = scene.scenarios[0].clone();
-    let frames = scene.rig.frame_count(scenario.duration_s).max(1);
-    let selection = format!("0-{}/{}", frames - 1, measure.frame_step);
     let options = CaptureOptions {
         out: out.to_path_buf(),
         palette: [measure.palette, measure.palette],
-        frames: selection.parse()?,
+        frames: FrameSelection::every(measure.frame_step),
         views_scale: 1,
         ..CaptureOptions::default()
     };

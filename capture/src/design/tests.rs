@@ -114,8 +114,8 @@ fn merge_refuses_a_task_of_another_design_and_names_a_missing_cell() {
     let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
     let dir = tempfile::tempdir().unwrap();
     for i in 0..plan.tasks.len() as u32 {
-        // Within every cell's bound (street-2 is static: 3 measured frames of 1 s).
-        write_task(&synthetic(&plan, i, 0.2 + 0.3 * f64::from(i), 1.0), &task_dir(dir.path(), i)).unwrap();
+        // Within every cell's bound (its measured time: 2 s on the street, 3 s in A).
+        write_task(&synthetic(&plan, i, 0.2 + 0.25 * f64::from(i), 0.8), &task_dir(dir.path(), i)).unwrap();
     }
     let merged = merge_design(&plan, dir.path()).unwrap();
     assert_eq!(merged.tasks, 8);
@@ -127,16 +127,16 @@ fn merge_refuses_a_task_of_another_design_and_names_a_missing_cell() {
         "{:?}",
         merged.answer
     );
-    // Candidate a's vehicle effect: pickup tasks 0–3 (mean 0.65), van tasks 4–7 (mean 1.85).
+    // Candidate a's vehicle effect: pickup tasks 0–3 (mean 0.575), van tasks 4–7 (mean 1.575).
     let effect = merged.main_effects.iter().find(|e| e.factor == "vehicle" && e.candidate == "a").unwrap();
-    assert!((effect.range_s.mean - 1.2).abs() < 1e-12, "{effect:?}");
+    assert!((effect.range_s.mean - 1.0).abs() < 1e-12, "{effect:?}");
     assert_eq!((effect.highest.as_str(), effect.lowest.as_str()), ("van", "pickup"));
     // The effects are in design.csv with the groups, under one header.
     let csv = super::report::csv(&merged);
     let fields = |line: &str| line.split(',').count();
     assert!(csv.lines().all(|line| fields(line) == 13), "{csv}");
-    assert!(csv.contains("vehicle: van - pickup,a,range,1.200000,"), "{csv}");
-    assert!(csv.contains("vehicle=van,a,level-effect,0.600000,"), "{csv}");
+    assert!(csv.contains("vehicle: van - pickup,a,range,1.000000,"), "{csv}");
+    assert!(csv.contains("vehicle=van,a,level-effect,0.500000,"), "{csv}");
     // A task of another design.
     let mut foreign = synthetic(&plan, 5, 1.0, 1.0);
     foreign.design_hash = "0123456789abcdef".into();
@@ -379,10 +379,10 @@ fn design_merge_never_picks_a_not_mountable_part_and_lists_it_with_the_reason() 
     let plan = plan_design(&fixture("tiny-2x2.json")).unwrap();
     let dir = tempfile::tempdir().unwrap();
     for i in 0..plan.tasks.len() as u32 {
-        // Within every cell's measured time (2.5 s on the street, 3.5 s in A): merge checks every value.
+        // Within every cell's measured time (2 s on the street, 3 s in A): merge checks every value.
         let mut task = synthetic(&plan, i, 0.5 + 0.15 * f64::from(i), 0.2);
         let mut glass = task.units[0].candidates[0].clone();
-        (glass.name, glass.legible_s) = ("windshield".into(), 2.0 + 0.05 * f64::from(i));
+        (glass.name, glass.legible_s) = ("windshield".into(), 1.6 + 0.05 * f64::from(i));
         glass.decision_window_legible_s = 0.5 * glass.legible_s;
         glass.angular_area_deg2_s = 10.0 * glass.legible_s;
         task.units[0].candidates.push(glass);
@@ -499,7 +499,7 @@ fn traffic_plan() -> Plan {
 }
 
 /// One trial's tasks of [`traffic_plan`], `units` units each: parts "a" and "b" everywhere; on the
-/// pickup the display "p@front" (3 s, 1.2 s less behind the lead car; a unit effect shared by its
+/// pickup the display "p@front" (2.1 s, 1.2 s less behind the lead car; a unit effect shared by its
 /// cells and cell noise) and "p@side" (1 s, no traffic effect, cell noise).
 fn traffic_tasks(plan: &Plan, units: u32, normal: &mut Normal) -> Vec<DesignTask> {
     let shared: Vec<f64> = (0..units).map(|_| 0.8 * normal.draw()).collect();
@@ -514,7 +514,7 @@ fn traffic_tasks(plan: &Plan, units: u32, normal: &mut Normal) -> Vec<DesignTask
             let mut patch = unit.candidates[0].clone();
             patch.kind = "patch".into();
             (patch.name, patch.legible_s) =
-                ("p@front".into(), 3.0 - lead + shared[unit.unit as usize] + 0.4 * normal.draw());
+                ("p@front".into(), 2.1 - lead + shared[unit.unit as usize] + 0.4 * normal.draw());
             patch.decision_window_legible_s = 0.5 * patch.legible_s;
             unit.candidates.push(patch.clone());
             (patch.name, patch.legible_s) = ("p@side".into(), 1.0 + 0.4 * normal.draw());
@@ -548,7 +548,13 @@ fn a_displays_main_effects_are_within_its_vehicle_and_cover_a_known_traffic_effe
     assert!(effects.iter().all(|e| e.within_vehicle.as_deref() == Some("pickup") && e.factor != "vehicle"));
     let traffic = effects.iter().find(|e| e.factor == "traffic" && e.candidate == "p@front").unwrap();
     assert_eq!((traffic.highest.as_str(), traffic.lowest.as_str()), ("none", "lead"));
-    assert!(traffic.range_s.ci95.is_some_and(|[lo, hi]| lo <= 1.2 && 1.2 <= hi), "{traffic:?}");
+    // Clamped to the cells' 3 s the draws have no closed-form truth, so the files must carry a
+    // detected effect; the coverage of the unclamped truth is measured over 400 trials below.
+    let range = &traffic.range_s;
+    assert!(
+        range.ci95.is_some_and(|[lo, hi]| 0.0 < lo && lo <= range.mean && range.mean <= hi),
+        "{traffic:?}"
+    );
     assert!(effects.iter().any(|e| e.factor == "scenario" && e.candidate == "p@side"), "{effects:?}");
     assert!(merged.main_effects.iter().all(|e| e.within_vehicle.is_none()));
     let csv = super::report::csv(&merged);

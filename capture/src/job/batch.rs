@@ -172,7 +172,7 @@ pub fn plan(batch: &Batch, base: &Path, program: &str) -> Result<Vec<Task>> {
             for &ppd in &batch.ppd {
                 let mut rig = scene.rig.clone();
                 rig.set_pixels_per_degree(ppd).map_err(in_scene)?;
-                let last = rig.frame_count(scene.scenario(scenario)?.duration_s).saturating_sub(1);
+                scene.scenario(scenario)?;
                 for &step in &batch.frame_step {
                     let out =
                         batch.out.join(&scene_label).join(scenario).join(format!("ppd{ppd}-step{step}"));
@@ -184,7 +184,7 @@ pub fn plan(batch: &Batch, base: &Path, program: &str) -> Result<Vec<Task>> {
                             out.display()
                         )));
                     }
-                    let setting = Setting { scenario, ppd, last, step };
+                    let setting = Setting { scenario, ppd, step };
                     let args = task_args(batch, program, &scene_args, &setting, &out);
                     tasks.push(Task { out, args });
                 }
@@ -198,8 +198,6 @@ pub fn plan(batch: &Batch, base: &Path, program: &str) -> Result<Vec<Task>> {
 struct Setting<'a> {
     scenario: &'a str,
     ppd: f64,
-    /// The scenario's last frame at this rig.
-    last: u32,
     step: u32,
 }
 
@@ -219,7 +217,8 @@ fn task_args(
         "--ppd".into(),
         setting.ppd.to_string(),
         "--frames".into(),
-        format!("0-{}/{}", setting.last, setting.step),
+        // Every step-th frame as `capture` keeps them for the scenario's length.
+        format!("all/{}", setting.step),
         "--palette-size".into(),
         batch.palette_size.clone(),
         "--count".into(),
@@ -248,7 +247,7 @@ mod tests {
         assert_eq!(tasks[0].out, PathBuf::from("runs/0-demo/A/ppd60-step1"));
         assert_eq!(tasks[7].out, PathBuf::from("runs/0-demo/C/ppd10-step4"));
         let line = tasks[1].shell_line();
-        assert!(line.starts_with("ufcsr capture demo --scenario A --ppd 60 --frames 0-180/4"), "{line}");
+        assert!(line.starts_with("ufcsr capture demo --scenario A --ppd 60 --frames all/4"), "{line}");
         assert!(line.contains("--count") && line.ends_with("--out runs/0-demo/A/ppd60-step4"), "{line}");
         assert_eq!(shell_quote("it's"), "'it'\\''s'");
         let unknown: std::result::Result<Batch, _> =

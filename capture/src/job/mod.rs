@@ -31,6 +31,7 @@ pub(crate) use capture_job::{capture_inputs, prepare_archive, summarize, write_m
 pub use capture_shard::{Assembled, assemble, partial_manifest_path};
 pub use counted_capture::{CaptureSetup, CountedCapture, capture_counted};
 pub(crate) use manifest_builder::TileFiles;
+pub(crate) use options::stepped_frames;
 pub use options::{
     CaptureOptions, CaptureProgress, Compression, FrameSelection, MAX_SELECTED_FRAMES, Summary, TileFilter,
     TileTally,

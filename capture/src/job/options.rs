@@ -74,8 +74,8 @@ impl FrameSelection {
         FrameSelection { list: None, every: 1 }
     }
 
-    /// Every `step`-th frame (0, step, 2·step, …) of whatever length the
-    /// scenario has; `step` 0 counts as 1.
+    /// Every `step`-th frame of whatever length the scenario has, as
+    /// [`stepped_frames`] keeps them; `step` 0 counts as 1.
     pub fn every(step: u32) -> FrameSelection {
         FrameSelection { list: None, every: step.max(1) }
     }
@@ -83,10 +83,34 @@ impl FrameSelection {
     /// The frames of a scenario with `count` frames.
     pub fn frames(&self, count: u32) -> Vec<u32> {
         match &self.list {
-            None => (0..count).step_by(self.every as usize).collect(),
+            None => stepped_frames(count, self.every, 0),
             Some(list) => list.iter().copied().filter(|&f| f < count).collect(),
         }
     }
+}
+
+/// Every `step`-th frame from `offset` of a scenario of `count` frames: the one
+/// definition every command that picks frames by a step uses (`--frames all/N`,
+/// `--preview`, `study`, `observers`, `batch plan`, `design run`).
+///
+/// Every frame of a time total stands for the step between the frames kept
+/// (`step / fps` seconds; [`crate::exact::seconds_per_frame`], the analyzer's
+/// `FrameClock`), so a frame is kept while more than half of its step lies in
+/// the scenario's `count` frames (`2·f + step < 2·count`; frame `offset` always).
+/// The kept frames then stand for the scenario's time to within half a step,
+/// and exactly for its duration when `step` divides its frame intervals
+/// (`count − 1`). Keeping every `step`-th frame up to the last one instead made
+/// the final frame, the scenario's last instant, stand for a whole step past
+/// its end: a 2 s scenario measured every 30th frame at 60 fps read 2.5 s.
+pub(crate) fn stepped_frames(count: u32, step: u32, offset: u32) -> Vec<u32> {
+    let step = step.max(1);
+    let within = |f: u32| u64::from(f) * 2 + u64::from(step) < u64::from(count) * 2;
+    (offset..count)
+        .step_by(step as usize)
+        .enumerate()
+        .take_while(|&(i, f)| i == 0 || within(f))
+        .map(|(_, f)| f)
+        .collect()
 }
 
 impl std::str::FromStr for FrameSelection {

@@ -130,10 +130,6 @@ fn check(options: &StudyOptions) -> Result<()> {
     Ok(())
 }
 
-fn frames_every(step: u32, frame_count: u32) -> Vec<u32> {
-    (0..frame_count).step_by(step as usize).collect()
-}
-
 /// Captures every setting and compares it with the exact measure of every
 /// frame and the finest setting.
 pub fn run_study(
@@ -335,10 +331,9 @@ fn count_every_nth_frame(
     let scenario = scene.scenario(setting.name)?;
     let frame_count = scene.rig.frame_count(scenario.duration_s);
     let step = setting.step;
-    let frames: FrameSelection = format!("0-{}/{step}", frame_count.saturating_sub(1)).parse()?;
     let capture = CaptureOptions {
         out: setting.out.to_path_buf(),
-        frames,
+        frames: FrameSelection::every(step),
         progress: CaptureProgress::default(),
         ..base.clone()
     };
@@ -347,7 +342,7 @@ fn count_every_nth_frame(
         None => setup.insert(CaptureSetup::new(device, queue, scene, &capture)?),
     };
     let counted = setup.capture_counted(device, queue, scene, scenario, &capture, setting.dedupe)?;
-    Ok((counted, frames_every(step, frame_count)))
+    Ok((counted, crate::job::stepped_frames(frame_count, step, 0)))
 }
 
 /// The per-eye-frame tallies a fused count keeps.
@@ -750,10 +745,5 @@ mod tests {
         assert_eq!(study(tie.clone(), true).recommended.unwrap().ppd, 30.0);
         tie.reverse();
         assert_eq!(study(tie, true).recommended.unwrap().ppd, 30.0);
-    }
-
-    #[test]
-    fn a_setting_keeps_every_nth_frame_from_the_first() {
-        assert_eq!(frames_every(3, 10), [0, 3, 6, 9]);
     }
 }

@@ -75,7 +75,8 @@ fn sum_frames(rows: &[Vec<f64>], frames: &[usize], parts: usize) -> Vec<f64> {
 }
 
 fn offset_frames(step: u32, offset: u32, frames: usize) -> Vec<usize> {
-    (offset as usize..frames).step_by(step.max(1) as usize).collect()
+    let frames = u32::try_from(frames).unwrap_or(u32::MAX);
+    crate::job::stepped_frames(frames, step, offset).into_iter().map(|f| f as usize).collect()
 }
 
 /// The share L1 against the exact measure of every frame of a capture every
@@ -367,7 +368,8 @@ mod tests {
     fn the_frame_step_error_is_against_every_frame_and_ranges_over_the_offsets() {
         // Every 3rd frame of a perfect render: offset 0 sees frames 0, 3, 6 (part 0 in two of
         // three: totals 4 and 3, shares 57.1/42.9), against every frame 8 and 8 (50/50): 14.29 pp.
-        // Offset 1 (1, 4, 7: 2 and 3) 20 pp, offset 2 (2, 5: 2 and 2) 0 pp.
+        // Offset 1 (1, 4: 2 and 2; frame 7 would stand for frames 7–9, two of them past the
+        // scenario) 0 pp, offset 2 (2, 5: 2 and 2) 0 pp.
         let exact = exact();
         let rendered: Vec<Option<Vec<f64>>> = exact.iter().cloned().map(Some).collect();
         let values = FrameValues { exact: &exact, rendered: &rendered };
@@ -375,11 +377,14 @@ mod tests {
         let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
         assert!(close(e.error.share_l1_pp, 100.0 / 7.0), "{e:?}");
         assert!(close(e.frame_step_pp, 100.0 / 7.0));
-        assert!(close(e.frame_step_range_pp[0], 0.0) && close(e.frame_step_range_pp[1], 20.0), "{e:?}");
+        assert!(
+            close(e.frame_step_range_pp[0], 0.0) && close(e.frame_step_range_pp[1], 100.0 / 7.0),
+            "{e:?}"
+        );
         // Every offset rendered: the interval is the exact range over the offsets.
-        assert!(close(e.ci95_pp[0], 0.0) && close(e.ci95_pp[1], 20.0), "{e:?}");
+        assert!(close(e.ci95_pp[0], 0.0) && close(e.ci95_pp[1], 100.0 / 7.0), "{e:?}");
         assert_eq!((e.imputed_offsets, e.replicates, e.resolution_pp), (0, 0, 0.0));
-        for (offset, want) in [(0, 100.0 / 7.0), (1, 20.0), (2, 0.0)] {
+        for (offset, want) in [(0, 100.0 / 7.0), (1, 0.0), (2, 0.0)] {
             assert!(close(error_at_offset(values, 3, offset).unwrap(), want));
         }
     }

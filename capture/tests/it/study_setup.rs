@@ -14,8 +14,9 @@ use std::path::{Path, PathBuf};
 
 use ufcsr::Dedupe;
 use ufcsr_capture::{
-    CaptureOptions, CaptureSetup, Gpu, Scene, capture_counted, read_rgb_png, run_observer_study, run_study,
-    scene::ValueOrTrack, study::ObserverOptions, study::StudyMeasure, study::StudyOptions,
+    CaptureOptions, CaptureSetup, FrameSelection, Gpu, Scene, capture_counted, read_rgb_png,
+    run_observer_study, run_study, scene::ValueOrTrack, study::ObserverOptions, study::StudyMeasure,
+    study::StudyOptions,
 };
 
 use crate::study_accuracy::gpu;
@@ -69,9 +70,9 @@ fn assert_each_alone_is_the_same(gpu: &Gpu, out: &Path, captures: &[(String, Sce
     std::fs::rename(out, &shared).unwrap();
     for (folder, scene, step) in captures {
         let scenario = scene.scenario("A").unwrap();
-        let last = scene.rig.frame_count(scenario.duration_s) - 1;
-        let frames = format!("0-{last}/{step}").parse().unwrap();
-        let options = CaptureOptions { frames, ..base_options(&out.join(folder)) };
+        // `--frames all/STEP`: the frames a study keeps of the scenario at that step.
+        let options =
+            CaptureOptions { frames: FrameSelection::every(*step), ..base_options(&out.join(folder)) };
         capture_counted(&gpu.device, &gpu.queue, scene, scenario, &options, Dedupe::Frame).unwrap();
         assert_same_files(&shared.join(folder), &out.join(folder));
     }

@@ -48,7 +48,7 @@ pub fn a_batch_runs_as_a_slurm_array_one_task_per_setting() -> Outcome {
     // The same command run directly gives the same result.
     let direct = dir.path().join("direct");
     let status = Command::new(capture)
-        .args(["demo", "--scenario", "B", "--ppd", "3", "--frames", "0-180/10", "--palette-size", "256"])
+        .args(["demo", "--scenario", "B", "--ppd", "3", "--frames", "all/10", "--palette-size", "256"])
         .args(["--count", "--quiet", "--out"])
         .arg(&direct)
         .stdout(std::process::Stdio::null())

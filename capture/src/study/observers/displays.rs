@@ -43,7 +43,7 @@ use super::population::sample_observers;
 use super::{Measure, ObserverOptions, coarser_step, interval_kind, observer_scene};
 use crate::error::{CaptureError, Result};
 use crate::exact::{MeasureOptions, PlacementCandidates, measure_unobstructed};
-use crate::job::CaptureOptions;
+use crate::job::{CaptureOptions, FrameSelection};
 use crate::scene::Scene;
 
 /// The file [`write_display_study`] writes (one row per candidate).
@@ -137,10 +137,9 @@ fn measure_candidates(
     (out, step, seed): (&Path, u32, u64),
 ) -> Result<BTreeMap<String, (String, f64)>> {
     let scenario = scene.scenario(&options.scenario)?.clone();
-    let frames = scene.rig.frame_count(scenario.duration_s).max(1);
     let capture = CaptureOptions {
         out: out.to_path_buf(),
-        frames: format!("0-{}/{step}", frames - 1).parse()?,
+        frames: FrameSelection::every(step),
         ..options.capture.clone()
     };
     let measure = MeasureOptions {

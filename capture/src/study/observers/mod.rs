@@ -242,7 +242,8 @@ fn capture_totals(
 /// says), so a coarser capture of one frame of two would measure half the
 /// fine one's time, and the bound would be that difference, not resolution.
 fn coarser_step(step: u32, frames: u32) -> u32 {
-    if step.saturating_mul(2) < frames { step * 2 } else { step }
+    let doubled = step.saturating_mul(2);
+    if crate::job::stepped_frames(frames, doubled, 0).len() >= 2 { doubled } else { step }
 }
 
 /// One observer: the fused count at the study's setting and, when asked,
@@ -579,7 +580,9 @@ mod tests {
         assert_eq!(coarser_step(1, 1), 1);
         // Two frames: a doubled step would capture one (a still plate's bound came out 1000x).
         assert_eq!(coarser_step(1, 2), 1);
-        assert_eq!(coarser_step(1, 3), 2);
+        // Three: every 2nd frame keeps frame 0 alone (frame 2's step lies half outside).
+        assert_eq!(coarser_step(1, 3), 1);
+        assert_eq!(coarser_step(1, 4), 2);
         assert_eq!(coarser_step(3, 5), 3);
     }
 }
