@@ -59,7 +59,7 @@ pub fn check_inputs(plan: &Plan) -> Result<CellLimits> {
         let scenario = scene.scenarios.first().ok_or_else(|| bad(format!("cell {cell}: no scenario")))?;
         let frames = scene.rig.frame_count(scenario.duration_s).max(1);
         let step = design.measure.frame_step.max(1);
-        let measured = crate::job::stepped_frames(frames, step, 0).len();
+        let measured = crate::job::FrameSelection::every(step).frames(frames).len();
         if frames > 1 && measured < 2 {
             // A lone frame stands for one frame's 1/fps, not for the scenario.
             return Err(bad(format!(

@@ -590,31 +590,42 @@ mod tests {
     use crate::job::tile_sink::{is_tile_name, tile_file};
     use crate::scene::rig::Eye;
 
-    /// Each kept frame stands for `step` frames of time (the frame clock), so the kept frames
-    /// stand for the scenario's `count` frames to within half a step, and for its duration
-    /// (`count − 1` frame intervals) exactly when the step divides it: 2 s at 60 fps every 30th
-    /// frame is 4 frames of 0.5 s, where keeping frame 120 too read 2.5 s.
+    /// Each kept frame stands for the `step` frames centred on it (the frame clock: step / fps), so
+    /// every Nth frame keeps the middles of the blocks `[0, N)`, `[N, 2N)`, … that lie mostly in the
+    /// scenario: they stand for its `count` frames to within half a step, and for its duration
+    /// (`count − 1` frame intervals) exactly when the step divides it. 2 s at 60 fps every 30th
+    /// frame: frames 15–105, 2 s, where frames 0–120 read 2.5 s.
     #[test]
-    fn every_nth_frame_stands_for_the_scenarios_time_to_half_a_step() {
-        assert_eq!(FrameSelection::every(30).frames(121), vec![0, 30, 60, 90]);
-        assert_eq!(FrameSelection::every(90).frames(121), vec![0]);
-        assert_eq!(FrameSelection::every(3).frames(181).len(), 60, "the paper's 0-179/3");
-        assert_eq!(FrameSelection::every(1).frames(181).len(), 181, "every frame, the last included");
+    fn every_nth_frame_keeps_the_middle_of_each_step_and_stands_for_the_scenarios_time() {
+        assert_eq!(FrameSelection::every(30).frames(121), vec![15, 45, 75, 105]);
+        assert_eq!(FrameSelection::every(90).frames(121), vec![45]);
+        let third = FrameSelection::every(3).frames(181);
+        assert_eq!((third.len(), third[0], third[59]), (60, 1, 178), "the paper's 3 s, 0-179/3 moved by one");
+        assert_eq!(
+            FrameSelection::every(1).frames(181),
+            (0..181).collect::<Vec<_>>(),
+            "every frame, the last too"
+        );
         for count in 1..=400u32 {
             for step in 1..=count {
-                let kept = crate::job::stepped_frames(count, step, 0);
+                let kept = FrameSelection::every(step).frames(count);
                 let time = u64::try_from(kept.len()).unwrap() * u64::from(step);
                 let off = time.abs_diff(u64::from(count));
                 assert!(2 * off <= u64::from(step), "{count} frames every {step}th: {time} frames of time");
                 if step > 1 && (count - 1) % step == 0 {
                     assert_eq!(time, u64::from(count - 1), "{count} frames every {step}th");
                 }
-                assert!(kept.windows(2).all(|w| w[1] - w[0] == step) && kept[0] == 0);
+                // The middle of each block of `step` frames from frame 0.
+                assert!(kept.iter().enumerate().all(|(j, &f)| f == j as u32 * step + step / 2));
             }
         }
-        // From an offset (a study's other frame grids): the same rule, started there.
-        assert_eq!(crate::job::stepped_frames(121, 30, 29), vec![29, 59, 89]);
-        assert_eq!(crate::job::stepped_frames(121, 30, 120), vec![120]);
+        // Other phases (a study's offsets): each frame kept while most of its step is inside.
+        assert_eq!(crate::job::stepped_frames(121, 30, 0), vec![30, 60, 90, 120]);
+        assert_eq!(crate::job::stepped_frames(121, 30, 29), vec![29, 59, 89, 119]);
+        // A step over twice the scenario keeps one frame, at the phase or the scenario's middle.
+        assert_eq!(FrameSelection::every(300).frames(121), vec![60]);
+        assert_eq!(crate::job::stepped_frames(121, 300, 7), vec![7]);
+        assert!(FrameSelection::every(3).frames(0).is_empty());
     }
 
     #[test]
@@ -624,10 +635,10 @@ mod tests {
         assert_eq!(frames.frames(40), vec![0, 5, 30]);
         assert_eq!("all".parse::<FrameSelection>().unwrap().frames(3), vec![0, 1, 2]);
         assert!("5-1".parse::<FrameSelection>().is_err());
-        // Every Nth frame, whatever the scenario's length (--preview's selection); frame 20 of
-        // 25 would stand for frames 20–29, only half of them in the scenario.
-        assert_eq!("all/10".parse::<FrameSelection>().unwrap().frames(25), vec![0, 10]);
-        assert_eq!("all/10".parse::<FrameSelection>().unwrap().frames(26), vec![0, 10, 20]);
+        // Every Nth frame, whatever the scenario's length (--preview's selection): the middles of
+        // frames 0–9 and 10–19; of 20–29 only half lie in 25 frames, more than half in 26.
+        assert_eq!("all/10".parse::<FrameSelection>().unwrap().frames(25), vec![5, 15]);
+        assert_eq!("all/10".parse::<FrameSelection>().unwrap().frames(26), vec![5, 15, 25]);
         assert_eq!(FrameSelection::every(10), "ALL/10".parse().unwrap());
         assert!("all/0".parse::<FrameSelection>().is_err() && "all/x".parse::<FrameSelection>().is_err());
         assert_eq!(tile_file(7, Eye::Right, 1, 4), PathBuf::from("tiles/f0007_right_r1_c4.png"));

@@ -31,11 +31,11 @@ pub(crate) use capture_job::{capture_inputs, prepare_archive, summarize, write_m
 pub use capture_shard::{Assembled, assemble, partial_manifest_path};
 pub use counted_capture::{CaptureSetup, CountedCapture, capture_counted};
 pub(crate) use manifest_builder::TileFiles;
-pub(crate) use options::stepped_frames;
 pub use options::{
     CaptureOptions, CaptureProgress, Compression, FrameSelection, MAX_SELECTED_FRAMES, Summary, TileFilter,
     TileTally,
 };
+pub(crate) use options::{step_phase, stepped_frames};
 pub use scene_checks::{MAX_FRAMES, MAX_TILES};
 
 /// The archive's copy of the vehicle as unwrapped (named in the manifest).

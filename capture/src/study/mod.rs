@@ -258,7 +258,8 @@ fn compare_with_exact(run: &Run, tables: &StudyTables, measure: StudyMeasure) ->
     let values = tables.values(run.ppd).ok_or_else(missing)?;
     let interval = IntervalOptions {
         step: run.step,
-        offset: 0,
+        // The frames the setting captured (`FrameSelection::every`).
+        offset: crate::job::step_phase(run.step),
         relative_error: &tables.relative_error,
         replicates: BOOTSTRAP_REPLICATES,
         seed: 1,
@@ -342,7 +343,7 @@ fn count_every_nth_frame(
         None => setup.insert(CaptureSetup::new(device, queue, scene, &capture)?),
     };
     let counted = setup.capture_counted(device, queue, scene, scenario, &capture, setting.dedupe)?;
-    Ok((counted, crate::job::stepped_frames(frame_count, step, 0)))
+    Ok((counted, FrameSelection::every(step).frames(frame_count)))
 }
 
 /// The per-eye-frame tallies a fused count keeps.

@@ -74,6 +74,8 @@ fn sum_frames(rows: &[Vec<f64>], frames: &[usize], parts: usize) -> Vec<f64> {
     sum
 }
 
+/// The frames of a capture every `step`-th frame from `offset`, as every command keeps them
+/// ([`crate::job::stepped_frames`]; the setting's own frames at its phase).
 fn offset_frames(step: u32, offset: u32, frames: usize) -> Vec<usize> {
     let frames = u32::try_from(frames).unwrap_or(u32::MAX);
     crate::job::stepped_frames(frames, step, offset).into_iter().map(|f| f as usize).collect()
@@ -368,8 +370,7 @@ mod tests {
     fn the_frame_step_error_is_against_every_frame_and_ranges_over_the_offsets() {
         // Every 3rd frame of a perfect render: offset 0 sees frames 0, 3, 6 (part 0 in two of
         // three: totals 4 and 3, shares 57.1/42.9), against every frame 8 and 8 (50/50): 14.29 pp.
-        // Offset 1 (1, 4: 2 and 2; frame 7 would stand for frames 7–9, two of them past the
-        // scenario) 0 pp, offset 2 (2, 5: 2 and 2) 0 pp.
+        // Offset 1 (1, 4, 7: 2 and 3) 20 pp, offset 2 (2, 5: 2 and 2) 0 pp.
         let exact = exact();
         let rendered: Vec<Option<Vec<f64>>> = exact.iter().cloned().map(Some).collect();
         let values = FrameValues { exact: &exact, rendered: &rendered };
@@ -377,32 +378,32 @@ mod tests {
         let close = |a: f64, b: f64| (a - b).abs() < 1e-9;
         assert!(close(e.error.share_l1_pp, 100.0 / 7.0), "{e:?}");
         assert!(close(e.frame_step_pp, 100.0 / 7.0));
-        assert!(
-            close(e.frame_step_range_pp[0], 0.0) && close(e.frame_step_range_pp[1], 100.0 / 7.0),
-            "{e:?}"
-        );
+        assert!(close(e.frame_step_range_pp[0], 0.0) && close(e.frame_step_range_pp[1], 20.0), "{e:?}");
         // Every offset rendered: the interval is the exact range over the offsets.
-        assert!(close(e.ci95_pp[0], 0.0) && close(e.ci95_pp[1], 100.0 / 7.0), "{e:?}");
+        assert!(close(e.ci95_pp[0], 0.0) && close(e.ci95_pp[1], 20.0), "{e:?}");
         assert_eq!((e.imputed_offsets, e.replicates, e.resolution_pp), (0, 0, 0.0));
-        for (offset, want) in [(0, 100.0 / 7.0), (1, 0.0), (2, 0.0)] {
+        for (offset, want) in [(0, 100.0 / 7.0), (1, 20.0), (2, 0.0)] {
             assert!(close(error_at_offset(values, 3, offset).unwrap(), want));
         }
     }
 
     #[test]
     fn offsets_the_resolution_did_not_render_are_imputed_and_widen_the_interval() {
-        // Rendered on offset 0 of step 2 only, with part 1 read 10 % high.
+        // Rendered only on the frames every 2nd frame keeps (its phase 1: frames 1, 3, 5, 7), with
+        // part 1 read 10 % high; offset 0 keeps frames 2, 4, 6 (frame 0's two frames are half
+        // outside), which are imputed.
         let exact = exact();
         let rendered: Vec<Option<Vec<f64>>> =
-            exact.iter().enumerate().map(|(f, e)| (f % 2 == 0).then(|| vec![e[0], e[1] * 1.1])).collect();
+            exact.iter().enumerate().map(|(f, e)| (f % 2 == 1).then(|| vec![e[0], e[1] * 1.1])).collect();
         let values = FrameValues { exact: &exact, rendered: &rendered };
-        let e = setting_error(&names(2), "angular-area", values, &options(2, &[])).unwrap();
+        let own = IntervalOptions { offset: crate::job::step_phase(2), ..options(2, &[]) };
+        let e = setting_error(&names(2), "angular-area", values, &own).unwrap();
         assert_eq!((e.offsets, e.imputed_offsets, e.replicates), (2, 1, 200));
         assert!(e.ci95_pp[0] <= e.error.share_l1_pp && e.error.share_l1_pp <= e.ci95_pp[1], "{e:?}");
         assert!(e.resolution_pp > 0.0 && e.frame_step_pp == 0.0, "{e:?}");
         // The setting's own frames must have been rendered.
         assert!(
-            setting_error(&names(2), "count", values, &IntervalOptions { offset: 1, ..options(2, &[]) })
+            setting_error(&names(2), "count", values, &IntervalOptions { offset: 0, ..options(2, &[]) })
                 .is_none()
         );
     }

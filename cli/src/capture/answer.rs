@@ -63,8 +63,8 @@ pub(crate) struct WhereArgs {
     /// Canonical palette size, W or WxH (default 4096, as `capture`'s).
     #[arg(long, value_name = "W|WxH")]
     palette_size: Option<String>,
-    /// Frames measured: `all` (the default), every Nth (`all/N`, each kept while most of its step is in
-    /// the scenario) or a list like 0,30,60-90/10.
+    /// Frames measured: `all` (the default), every Nth (`all/N`, the middle of each N frames) or a list
+    /// like 0,30,60-90/10.
     #[arg(long)]
     frames: Option<String>,
     /// The observer: `median` (the default: a median US adult's eyes, unless the scene sets its

@@ -71,8 +71,8 @@ pub(crate) struct CaptureArgs {
     /// The legend (name,color CSV or JSON) of --pidt.
     #[arg(long, value_name = "FILE", requires = "pidt")]
     parts: Option<PathBuf>,
-    /// Frames to capture: `all` (default), every Nth (`all/N`, each kept while most of its step is in
-    /// the scenario) or a list like 0,30,60-90/10.
+    /// Frames to capture: `all` (default), every Nth (`all/N`, the middle of each N frames) or a list
+    /// like 0,30,60-90/10.
     #[arg(long)]
     frames: Option<String>,
     /// Tile PNG compression.

@@ -243,7 +243,7 @@ fn capture_totals(
 /// fine one's time, and the bound would be that difference, not resolution.
 fn coarser_step(step: u32, frames: u32) -> u32 {
     let doubled = step.saturating_mul(2);
-    if crate::job::stepped_frames(frames, doubled, 0).len() >= 2 { doubled } else { step }
+    if crate::job::FrameSelection::every(doubled).frames(frames).len() >= 2 { doubled } else { step }
 }
 
 /// One observer: the fused count at the study's setting and, when asked,
