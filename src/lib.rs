@@ -42,7 +42,8 @@ pub use archive::{
     AnalyzeOptions, Archive, CaptureGeometry, Dedupe, Fcsp, HeatmapOptions, ImageSource, Legend,
     LoadedLabels, MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, ModelPart, PaletteChoice, PaletteRecord,
     PaletteSetting, Part, Pidt, Progress, Scale, ScenarioTrack, Shard, TileEntry, Timings, TrackFrame,
-    TrimMode, UNLABELLED, VehicleModel, inside_archive, parse_palette_size, write_canonical_png,
+    TrimMode, UNLABELLED, VehicleModel, frame_spacing_warning, inside_archive, parse_palette_size,
+    write_canonical_png,
 };
 pub use checks::{ColorChecks, ColorWarning, NeighbourSample};
 pub use color::{AtomicColorSet, COLOR_COUNT, Color, ParseColorError, SeenSet, color_key};

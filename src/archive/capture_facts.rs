@@ -54,12 +54,10 @@ impl FrameClock {
     /// Reads the clock from a capture's manifest (`rig.settings.fps`,
     /// `rig.pixels_per_degree` and the tiles' frame numbers).
     pub fn from_manifest(manifest: &Manifest) -> FrameClock {
-        let fps = manifest.rig_settings().and_then(|settings| settings.fps).filter(|fps| *fps > 0.0);
+        let fps = manifest_fps(manifest);
         let pixels_per_degree =
             manifest.rig.as_ref().and_then(|rig| rig.pixels_per_degree).filter(|ppd| *ppd > 0.0);
-        let mut frames: Vec<u32> = manifest.tiles.iter().map(|tile| tile.frame).collect();
-        frames.sort_unstable();
-        frames.dedup();
+        let frames = tile_frames(manifest);
         let step = frames.windows(2).map(|pair| pair[1] - pair[0]).min().unwrap_or(1).max(1);
         let mut eyes: Vec<&str> = manifest.tiles.iter().map(|tile| tile.eye.as_str()).collect();
         eyes.sort_unstable();
@@ -70,6 +68,54 @@ impl FrameClock {
             pixels_per_degree,
         }
     }
+}
+
+/// The rig's frames per second, if the manifest has a positive one.
+fn manifest_fps(manifest: &Manifest) -> Option<f64> {
+    manifest.rig_settings().and_then(|settings| settings.fps).filter(|fps| *fps > 0.0)
+}
+
+/// The distinct frame numbers of the manifest's tiles, ascending.
+fn tile_frames(manifest: &Manifest) -> Vec<u32> {
+    let mut frames: Vec<u32> = manifest.tiles.iter().map(|tile| tile.frame).collect();
+    frames.sort_unstable();
+    frames.dedup();
+    frames
+}
+
+/// [`frame_spacing_warning`] for the frames of a manifest's tiles and its fps.
+pub(crate) fn manifest_spacing_warning(manifest: &Manifest) -> Option<String> {
+    frame_spacing_warning(&tile_frames(manifest), manifest_fps(manifest)?)
+}
+
+/// What the time totals of unevenly spaced frames must say, one text for the
+/// analyzer and the exact measure. Both clocks give every frame the smallest
+/// gap between the frame numbers (`seconds_per_frame`), right for every Nth
+/// frame; frames listed unevenly (`--frames 0-180/20,95`: gaps of 5 to 20)
+/// then count every frame as the smallest gap, so `exposure_s` and
+/// `angular_area_deg2_s` come out smaller than the time the frames stand for
+/// (there 0.917 s for frames spanning 3 s). `None` for evenly spaced frames,
+/// fewer than three, or no frame rate.
+pub fn frame_spacing_warning(frames: &[u32], fps: f64) -> Option<String> {
+    let mut frames = frames.to_vec();
+    frames.sort_unstable();
+    frames.dedup();
+    let gaps: Vec<u32> = frames.windows(2).map(|pair| pair[1] - pair[0]).collect();
+    let (&least, &most) = (gaps.iter().min()?, gaps.iter().max()?);
+    if least == most || !(fps.is_finite() && fps > 0.0) {
+        return None;
+    }
+    let (first, last) = (frames[0], frames[frames.len() - 1]);
+    Some(format!(
+        "frames {first}–{last} are unevenly spaced ({least} to {most} frames apart): exposure_s and \
+         angular_area_deg2_s count every frame as the smallest gap, {least} frame(s) ({:.4} s at {fps} fps), so \
+         the {} frames stand for {:.3} s of the {:.3} s from the first to the last; capture evenly spaced frames \
+         (`--frames all/N` or `A-B/N`) for time totals",
+        f64::from(least) / fps,
+        frames.len(),
+        frames.len() as f64 * f64::from(least) / fps,
+        f64::from(last - first) / fps,
+    ))
 }
 
 /// The eyes' projection and tiling, from the manifest's `rig.settings`
@@ -136,5 +182,29 @@ impl CaptureGeometry {
         // A pixel spans 1/ppd degrees: d · tan(1°/ppd) metres at distance d.
         let pixel_angle = (1.0 / ppd).to_radians().tan();
         (pixel_angle > 0.0).then(|| texel_mm / 1000.0 / pixel_angle)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::frame_spacing_warning;
+
+    #[test]
+    fn unevenly_spaced_frames_warn_that_their_time_totals_count_the_smallest_gap() {
+        // The guide's `--frames 0-180/20,95`: 11 frames counted as 5 frames (1/12 s) each.
+        let mut frames: Vec<u32> = (0..=180).step_by(20).collect();
+        frames.push(95);
+        let warning = frame_spacing_warning(&frames, 60.0).unwrap();
+        for part in
+            ["frames 0–180", "5 to 20 frames apart", "0.0833 s at 60 fps", "11 frames stand for 0.917 s"]
+        {
+            assert!(warning.contains(part), "{part}: {warning}");
+        }
+        assert!(warning.contains("of the 3.000 s from the first to the last"), "{warning}");
+        // Every Nth frame, in any order or repeated, two frames, or no frame rate: nothing to say.
+        assert_eq!(frame_spacing_warning(&[15, 45, 75, 45, 105], 60.0), None);
+        assert_eq!(frame_spacing_warning(&[0, 7], 60.0), None);
+        assert_eq!(frame_spacing_warning(&[0, 1, 3], 0.0), None);
+        assert_eq!(frame_spacing_warning(&[], 60.0), None);
     }
 }

@@ -25,7 +25,7 @@ pub(crate) mod shard;
 pub(crate) mod vehicle_model;
 
 pub use archive_reader::{Archive, ImageSource};
-pub use capture_facts::CaptureGeometry;
+pub use capture_facts::{CaptureGeometry, frame_spacing_warning};
 pub use labels::{Legend, LoadedLabels, Part, Pidt, UNLABELLED};
 pub use manifest::{MANIFEST_FILE, MANIFEST_SCHEMA, Manifest, PaletteRecord, TileEntry, inside_archive};
 pub use options::{

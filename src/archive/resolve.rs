@@ -5,7 +5,9 @@
 use std::path::PathBuf;
 
 use crate::archive::archive_reader::Archive;
-use crate::archive::capture_facts::{CaptureGeometry, EyeFrame, EyeOptics, FrameClock, eye_frames};
+use crate::archive::capture_facts::{
+    CaptureGeometry, EyeFrame, EyeOptics, FrameClock, eye_frames, manifest_spacing_warning,
+};
 use crate::archive::identity::archive_identity;
 use crate::archive::labels::{Legend, LoadedLabels, Pidt};
 use crate::archive::manifest::{MANIFEST_FILE, Manifest, PaletteRecord, inside_archive};
@@ -103,6 +105,7 @@ pub(crate) fn resolve_inputs_with(options: &AnalyzeOptions, images: Images) -> R
         PaletteChoice::Canonical { .. } => None,
     };
     let mut warnings = capture_warnings(manifest.as_ref());
+    warnings.extend(manifest.as_ref().and_then(manifest_spacing_warning));
     warnings.extend(left_out_file_warnings(&archive, root));
     let vehicle_model = vehicle_model(options, manifest.as_ref(), &mut warnings)?;
     let mut files: Vec<&std::path::Path> = palette_file.iter().map(PathBuf::as_path).collect();

@@ -177,6 +177,8 @@ fn write_results(
         notes,
     )?;
     analysis.result.measures = Some(measures_block(measure, measured, &estimates)?);
+    // Its clock is the analyzer's (the smallest gap), and so is the caveat of uneven frames.
+    analysis.result.warnings.extend(ufcsr::frame_spacing_warning(&measured.frames, scene.rig.fps));
     let results = ufcsr::output::default_output_dir(&options.out);
     let written = ufcsr::output::write_results(&mut analysis, &results)?;
     let estimates_csv = results.join("unobstructed-parts.csv");

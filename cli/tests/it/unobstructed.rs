@@ -346,6 +346,8 @@ fn the_cli_writes_an_unobstructed_result_with_the_measures_block() {
     assert!(area > 0.0);
     // Four frames of 1/3 s: no part is seen for longer than 4/3 s.
     assert!(exposure > 0.0 && exposure <= 4.0 / 3.0 + 1e-12, "{exposure}");
+    let warnings = result["warnings"].as_array().unwrap();
+    assert!(!warnings.iter().any(|w| w.as_str().unwrap().contains("unevenly")), "{warnings:?}");
     let csv = std::fs::read_to_string(out.join("results/unobstructed-parts.csv")).unwrap();
     assert!(csv.starts_with("part,texels,sampled,sampled_total,estimated_total,standard_error,"), "{csv}");
     assert!(!out.join("tiles").read_dir().is_ok_and(|mut d| d.next().is_some()), "no tiles are written");
@@ -433,4 +435,40 @@ fn placement_options_are_checked_before_any_ray_is_cast() {
         let stderr = String::from_utf8_lossy(&output.stderr);
         assert!(!output.status.success() && stderr.contains(message), "{args:?}: {stderr}");
     }
+}
+
+/// The warnings of the `results/result.json` a capture with `args` writes.
+fn capture_warnings(dir: &std::path::Path, args: &[&str]) -> Vec<String> {
+    let out = dir.join(args.join("_").replace(['/', ' '], "-"));
+    let status = Command::new(env!("CARGO_BIN_EXE_ufcsr-capture"))
+        .args(["demo", "--scenario", "A", "--palette-size", "256", "-q", "--out"])
+        .arg(&out)
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .status()
+        .unwrap();
+    assert!(status.success(), "{args:?}");
+    let result: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("results/result.json")).unwrap()).unwrap();
+    result["warnings"].as_array().unwrap().iter().map(|w| w.as_str().unwrap().to_string()).collect()
+}
+
+/// Frames 120, 130, 140, 160 and 180: both clocks count each as the smallest gap (10 frames,
+/// 1/6 s), so their time totals are short of what the 20-frame gaps stand for, and both results
+/// say so in the same words.
+#[test]
+fn unevenly_spaced_frames_are_warned_about_in_the_exact_and_the_rendered_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames = ["--frames", "120-180/20,130"];
+    let exact = capture_warnings(
+        dir.path(),
+        &[&frames[..], &["--measure", "unobstructed", "--sample", "1/4"]].concat(),
+    );
+    let rendered = capture_warnings(dir.path(), &[&frames[..], &["--count", "--ppd", "3"]].concat());
+    let uneven = |warnings: &[String]| {
+        warnings.iter().find(|w| w.contains("unevenly spaced (10 to 20 frames apart)")).cloned()
+    };
+    let said = uneven(&exact).unwrap_or_else(|| panic!("{exact:?}"));
+    assert!(said.contains("the 5 frames stand for 0.833 s of the 1.000 s"), "{said}");
+    assert_eq!(uneven(&rendered).as_ref(), Some(&said), "{rendered:?}");
 }
