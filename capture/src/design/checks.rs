@@ -68,7 +68,7 @@ pub fn check_inputs(plan: &Plan) -> Result<CellLimits> {
                 scenario.duration_s,
                 scene.rig.fps,
                 scene.rig.fps,
-                (2 * frames - 1) / 3
+                crate::job::longest_step_keeping_two(frames).unwrap_or(1)
             )));
         }
         limits.insert(cell.clone(), measured as f64 * f64::from(step) / scene.rig.fps);

@@ -133,6 +133,12 @@ fn what_every_task_would_fail_on_is_refused_when_planning() {
             && lone.contains("at most"),
         "{lone}"
     );
+    // The step it offers keeps two frames of that cell's scenario, one more keeps one.
+    let offered: u32 = lone.rsplit("at most ").next().and_then(|n| n.trim().parse().ok()).expect("a step");
+    let frames =
+        [181, 121].into_iter().find(|&n| lone.contains(&format!("scenario's {n} "))).expect("frames");
+    let kept = |step: u32| crate::job::FrameSelection::every(step).frames(frames).len();
+    assert!(kept(offered) == 2 && kept(offered + 1) == 1, "{lone}");
     // The shipped design plans: every cell builds and its bound is the measured frames' time,
     // every 30th frame of demo A's 3 s and street-2's 2 s at 60 fps: the scenarios' durations
     // (keeping their last frames too read 3.5 and 2.5 s).

@@ -35,7 +35,7 @@ pub use options::{
     CaptureOptions, CaptureProgress, Compression, FrameSelection, MAX_SELECTED_FRAMES, Summary, TileFilter,
     TileTally,
 };
-pub(crate) use options::{step_phase, stepped_frames};
+pub(crate) use options::{longest_step_keeping_two, step_phase, stepped_frames};
 pub use scene_checks::{MAX_FRAMES, MAX_TILES};
 
 /// The archive's copy of the vehicle as unwrapped (named in the manifest).

@@ -126,6 +126,14 @@ pub(crate) fn stepped_frames(count: u32, step: u32, phase: u32) -> Vec<u32> {
     }
 }
 
+/// The longest step whose every-`step`-th frame keeps at least two of `count`
+/// frames ([`FrameSelection::every`]); `None` below two frames. Searched with
+/// the one rule rather than solved beside it, so a message that names it
+/// cannot drift from what is kept; only a refusal asks.
+pub(crate) fn longest_step_keeping_two(count: u32) -> Option<u32> {
+    (1..count).rev().find(|&step| FrameSelection::every(step).frames(count).len() >= 2)
+}
+
 /// The phase of every `step`-th frame: the middle of the first `step` frames.
 pub(crate) fn step_phase(step: u32) -> u32 {
     step.max(1) / 2
