@@ -60,7 +60,7 @@ use crate::format::placement::{CombinationRecord, SensitivitySet};
 pub use footprints::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PatchFootprint, read_footprints};
 pub use legibility::{CharacterHeight, Exposure, EyeRule, Thresholds, parse_character_height, timelines};
 pub use picture::{Mark, PLACEMENT_PICTURE_FILE, PLACEMENT_VIEWS_DIR, PicturedSet, render_marked};
-pub use regions::{DEFAULT_NOT_MOUNTABLE, DEFAULT_REGION_RADIUS_M};
+pub use regions::{DEFAULT_NOT_MOUNTABLE, DEFAULT_REGION_RADIUS_M, mountable};
 pub use report::{PLACEMENT_SCHEMA, Placement, write_placement};
 use search::{Choice, Found, Universe};
 pub use search::{EXHAUSTIVE_LIMIT, Method, Objective, brute_force_best};

@@ -73,7 +73,7 @@ pub(crate) fn head_noun(name: &str) -> String {
 }
 
 /// Whether a display can be mounted on `name`'s surface under `not_mountable`.
-pub(crate) fn mountable(name: &str, not_mountable: &[String]) -> bool {
+pub fn mountable(name: &str, not_mountable: &[String]) -> bool {
     let noun = head_noun(name);
     !not_mountable.iter().any(|n| n.trim().eq_ignore_ascii_case(&noun))
 }

@@ -25,7 +25,12 @@
 //!    within 25° of horizontal, e.g. the hood), W across it. Its footprint
 //!    is the box of the rectangle and H/2 either side of its plane; surface
 //!    in it that faces within 45° of the patch's normal (either side:
-//!    surfaces are two-sided) is the patch's. On curved surfaces this
+//!    surfaces are two-sided) and is of the centre's kind ([`Mountability`]:
+//!    mountable, or glass and wheels under the default list) is the patch's,
+//!    so a display may span two body panels but never reach onto a window or
+//!    a tyre it would cover (before, 7–15 % of the truck's and the family
+//!    bodies' patches did, named and judged by their centre's part alone).
+//!    On curved surfaces this
 //!    projected footprint is a little larger than the geodesic one (by
 //!    1 − cos of the curvature angle).
 //! 4. **Fit, exact.** A patch is kept only if the surface covers its
@@ -37,7 +42,7 @@
 //!    luck of the sample (with `--exact-sample 1/16`, by a few per cent
 //!    either way), and the set of candidates would differ between units.
 //! 5. **Members.** The samples of a measure that lie in the footprint
-//!    (centre inside the box, facing within 45°) are the patch's: its
+//!    (centre inside the box, facing within 45°, on surface of its kind) are the patch's: its
 //!    visible area is measured on them. With a texel sample a patch may hold
 //!    few samples (or none, then it is never seen); its place and name stay.
 //!
@@ -146,12 +151,42 @@ struct Footprint {
     up: DVec3,
     across: DVec3,
     half: [f64; 3],
+    /// Whether it lies on mountable surface (its centre's part's
+    /// [`Mountability`]): only surface of the same kind is its.
+    mountable: bool,
+}
+
+/// Per part of the vehicle, whether a display may be mounted on it under
+/// the default list ([`ufcsr::placement::DEFAULT_NOT_MOUNTABLE`]: wheels turn,
+/// glazing stays transparent): a patch holds only surface of its centre's
+/// kind, so no display candidate overlaps glass or a wheel, and no glass
+/// candidate reaches onto the body.
+struct Mountability {
+    of_part: Vec<bool>,
+}
+
+impl Mountability {
+    fn new(parts: &[String]) -> Mountability {
+        let list = ufcsr::placement::default_not_mountable();
+        Mountability { of_part: parts.iter().map(|part| ufcsr::placement::mountable(part, &list)).collect() }
+    }
+
+    fn of(&self, part: u32) -> bool {
+        self.of_part.get(part as usize).copied().unwrap_or(true)
+    }
 }
 
 impl Footprint {
-    fn new(centre: DVec3, normal: DVec3, [w, h]: [f64; 2]) -> Footprint {
+    fn new(centre: DVec3, normal: DVec3, [w, h]: [f64; 2], mountable: bool) -> Footprint {
         let up = up_of(normal);
-        Footprint { centre, normal, up, across: up.cross(normal), half: [w / 2.0, h / 2.0, h / 2.0] }
+        Footprint {
+            centre,
+            normal,
+            up,
+            across: up.cross(normal),
+            half: [w / 2.0, h / 2.0, h / 2.0],
+            mountable,
+        }
     }
 
     /// Half the box's diagonal: every point of it is this near the centre.
@@ -170,16 +205,17 @@ impl Footprint {
             && d.dot(self.normal).abs() <= self.half[2]
     }
 
-    /// The share of W × H the facing surface in the box covers, projected
-    /// onto the patch's plane (exact: each face clipped by the box).
-    fn cover(&self, surface: &Surface) -> f64 {
+    /// The share of W × H the facing surface of the patch's kind
+    /// ([`Mountability`]) in the box covers, projected onto the patch's
+    /// plane (exact: each face clipped by the box).
+    fn cover(&self, surface: &Surface, kinds: &Mountability) -> f64 {
         let reach = DVec3::splat(self.radius());
         let axes = [self.across, self.up, self.normal];
         let projected: f64 = surface
             .near(self.centre - reach, self.centre + reach)
             .into_iter()
             .map(|index| &surface.faces[index as usize])
-            .filter(|face| self.faces(face.normal))
+            .filter(|face| self.faces(face.normal) && kinds.of(face.part) == self.mountable)
             .map(|face| {
                 area_in_box(face.corners, self.centre, axes, self.half) * face.normal.dot(self.normal).abs()
             })
@@ -187,13 +223,21 @@ impl Footprint {
         projected / (4.0 * self.half[0] * self.half[1])
     }
 
-    /// The samples in the box that face the patch, ascending.
-    fn members(&self, samples: &[SurfaceSample], grid: &Grid) -> Vec<u32> {
+    /// The samples in the box that face the patch and lie on surface of
+    /// its kind (`part_of_triangle`: the mesh's), ascending.
+    fn members(
+        &self,
+        samples: &[SurfaceSample],
+        grid: &Grid,
+        part_of_triangle: &[u32],
+        kinds: &Mountability,
+    ) -> Vec<u32> {
         let mut members: Vec<u32> = grid
             .near(self.centre, self.radius())
             .filter(|&index| {
                 let s = &samples[index as usize];
-                self.holds(s.position) && self.faces(s.normal)
+                let part = part_of_triangle.get(s.triangle as usize).copied().unwrap_or(u32::MAX);
+                self.holds(s.position) && self.faces(s.normal) && kinds.of(part) == self.mountable
             })
             .collect();
         members.sort_unstable();
@@ -207,6 +251,7 @@ fn lay_out(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<(String
     let mesh = &inputs.scene.vehicle;
     let centres = Surface::new(mesh, spacing);
     let fits = Surface::new(mesh, spacing.max(display[0].max(display[1]) / 4.0));
+    let kinds = Mountability::new(&mesh.parts);
     let mut cubes: Vec<Cell> = centres.cells.keys().copied().collect();
     cubes.sort_unstable();
     let mut placed = Vec::new();
@@ -215,8 +260,8 @@ fn lay_out(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<(String
         let Some((p, face)) = centres.nearest_in_cube(cube) else { continue };
         let face = &centres.faces[face as usize];
         let Some(normal) = outward(inputs, p, face.normal) else { continue };
-        let footprint = Footprint::new(p, normal, display);
-        if footprint.cover(&fits) < MIN_COVER {
+        let footprint = Footprint::new(p, normal, display, kinds.of(face.part));
+        if footprint.cover(&fits, &kinds) < MIN_COVER {
             continue;
         }
         let part = &mesh.parts[face.part as usize];
@@ -237,6 +282,8 @@ fn lay_out(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<(String
 pub(crate) fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<PlacedPatch> {
     let samples = &inputs.samples.samples;
     let grid = Grid::new(samples, spacing.max(display[0].max(display[1]) / 4.0));
+    let mesh = &inputs.scene.vehicle;
+    let kinds = Mountability::new(&mesh.parts);
     let mut placed: Vec<PlacedPatch> = lay_out(inputs, display, spacing)
         .into_iter()
         .map(|(name, footprint)| PlacedPatch {
@@ -246,7 +293,7 @@ pub(crate) fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f6
             normal: footprint.normal,
             up: footprint.up,
             size_m: display,
-            members: footprint.members(samples, &grid),
+            members: footprint.members(samples, &grid, &mesh.triangle_part, &kinds),
         })
         .collect();
     pair_mirrors(&mut placed, spacing);
