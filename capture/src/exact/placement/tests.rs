@@ -371,19 +371,24 @@ fn a_display_patch_never_reaches_from_a_body_panel_onto_glass_but_spans_two_pane
     }
 }
 
-#[test]
-fn no_patch_of_the_truck_or_a_family_body_mixes_mountable_surface_with_glass_or_wheels() {
-    // Before, 7–15 % of their patches did: a trunk-lid display 35 % over the
-    // rear window, a bed-side display 17 % over the tyre, named for (and
-    // judged mountable by) the part at their centres.
-    let not_mountable = ufcsr::placement::default_not_mountable();
+/// The demo truck and every family body at its typical dimensions, named.
+fn truck_and_family_bodies() -> Vec<(String, Mesh)> {
     let mut bodies = vec![("demo truck".to_string(), Scene::demo().vehicle)];
     for body in crate::scene::family::BodyType::ALL {
         let mesh =
             crate::scene::family::body_mesh(body, &crate::scene::family::BodyDims::typical(body)).unwrap();
         bodies.push((body.name().to_string(), mesh));
     }
-    for (body, mesh) in bodies {
+    bodies
+}
+
+#[test]
+fn no_patch_of_the_truck_or_a_family_body_mixes_mountable_surface_with_glass_or_wheels() {
+    // Before, 7–15 % of their patches did: a trunk-lid display 35 % over the
+    // rear window, a bed-side display 17 % over the tyre, named for (and
+    // judged mountable by) the part at their centres.
+    let not_mountable = ufcsr::placement::default_not_mountable();
+    for (body, mesh) in truck_and_family_bodies() {
         let scene = scene_with(mesh, Occluders::default());
         let obstacles = Obstacles::new(&scene);
         let samples = samples_of(&scene.vehicle, [512, 512]);
@@ -457,13 +462,7 @@ fn every_published_place_is_a_named_candidate_on_the_truck_and_every_family_body
     // Issue 42 §7: the places eHMI studies tested are scored on every body,
     // so each must be a part of each, and a display patch wherever a
     // 0.40 m × 0.15 m display fits.
-    let mut bodies = vec![("demo truck".to_string(), Scene::demo().vehicle)];
-    for body in crate::scene::family::BodyType::ALL {
-        let mesh =
-            crate::scene::family::body_mesh(body, &crate::scene::family::BodyDims::typical(body)).unwrap();
-        bodies.push((body.name().to_string(), mesh));
-    }
-    for (body, mesh) in bodies {
+    for (body, mesh) in truck_and_family_bodies() {
         let candidates = named_candidates(mesh);
         let keyed: Vec<(&str, ufcsr::placement::CandidateKind, Option<[f64; 3]>)> =
             candidates.iter().map(|(n, k, c)| (n.as_str(), *k, *c)).collect();
