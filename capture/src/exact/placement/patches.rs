@@ -30,9 +30,8 @@
 //!    so a display may span two body panels but never reach onto a window or
 //!    a tyre it would cover (before, 7–15 % of the truck's and the family
 //!    bodies' patches did, named and judged by their centre's part alone).
-//!    On curved surfaces this
-//!    projected footprint is a little larger than the geodesic one (by
-//!    1 − cos of the curvature angle).
+//!    On curved surfaces this projected footprint is a little larger than
+//!    the geodesic one (by 1 − cos of the curvature angle).
 //! 4. **Fit, exact.** A patch is kept only if the surface covers its
 //!    rectangle: the area of the footprint's faces inside the box (each
 //!    triangle clipped by the box), projected onto the patch's plane, is at
@@ -42,8 +41,8 @@
 //!    luck of the sample (with `--exact-sample 1/16`, by a few per cent
 //!    either way), and the set of candidates would differ between units.
 //! 5. **Members.** The samples of a measure that lie in the footprint
-//!    (centre inside the box, facing within 45°, on surface of its kind) are the patch's: its
-//!    visible area is measured on them. With a texel sample a patch may hold
+//!    (centre inside the box, facing within 45°, on surface of its kind)
+//!    are the patch's: its visible area is measured on them. With a texel sample a patch may hold
 //!    few samples (or none, then it is never seen); its place and name stay.
 //!
 //! Names: `PART@W.WWxH.HH@xX.XXyY.YYzZ.ZZ` (the display's width and height
