@@ -25,6 +25,8 @@ def ranks(values):
     return {k: 1 + sum(1 for w in values.values() if w > v) for k, v in values.items()}
 
 
+# The bodies of §2 in the page's order.
+BODIES = ["truck", "sedan", "suv", "van", "pickup", "bus"]
 RIGS = [("unity-eye-1.159m", "Unity scenarios, Unity eye 1.159 m"), ("unity-eye-1.75m", "Unity scenarios, eye 1.75 m"),
         ("demo-eye-1.75m", "demo A–D, eye 1.75 m")]
 
@@ -122,7 +124,7 @@ def place_tables(root):
     print("\n## §2 as the page prints it: published places per body (legible s [95 % over scenarios], visible s, rank)")
     bodies = {p.name: p for p in (root / "places").iterdir() if (p / "placement/published-locations.csv").is_file()}
     titles = {"truck": "demo truck", "pickup": "pickup (family)"}
-    for body in ["truck", "sedan", "suv", "van", "pickup", "bus"] + sorted(set(bodies) - set(BODIES)):
+    for body in BODIES + sorted(set(bodies) - set(BODIES)):
         if body not in bodies:
             continue
         print(f"\n**{titles.get(body, body)}**\n")
@@ -136,8 +138,6 @@ def place_tables(root):
             label = "front fenders" if place.startswith("above the front wheels") else place
             print(f"| {label} | {place_cell(kinds.get('part'))} | {place_cell(kinds.get('patch'))} |")
 
-
-BODIES = ["truck", "sedan", "suv", "van", "pickup", "bus"]
 
 
 def main():

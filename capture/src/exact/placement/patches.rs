@@ -42,8 +42,9 @@
 //!    either way), and the set of candidates would differ between units.
 //! 5. **Members.** The samples of a measure that lie in the footprint
 //!    (centre inside the box, facing within 45°, on surface of its kind)
-//!    are the patch's: its visible area is measured on them. With a texel sample a patch may hold
-//!    few samples (or none, then it is never seen); its place and name stay.
+//!    are the patch's: its visible area is measured on them. With a texel
+//!    sample a patch may hold few samples (or none, then it is never seen);
+//!    its place and name stay.
 //!
 //! Names: `PART@W.WWxH.HH@xX.XXyY.YYzZ.ZZ` (the display's width and height
 //! and the centre in the vehicle frame, metres, x forward, y left, z up), so
@@ -160,18 +161,27 @@ struct Footprint {
 /// glazing stays transparent): a patch holds only surface of its centre's
 /// kind, so no display candidate overlaps glass or a wheel, and no glass
 /// candidate reaches onto the body.
-struct Mountability {
+struct Mountability<'m> {
     of_part: Vec<bool>,
+    /// The mesh's part of each triangle (a sample's kind is its triangle's).
+    triangle_part: &'m [u32],
 }
 
-impl Mountability {
-    fn new(parts: &[String]) -> Mountability {
+impl Mountability<'_> {
+    fn new(mesh: &crate::scene::Mesh) -> Mountability<'_> {
         let list = ufcsr::placement::default_not_mountable();
-        Mountability { of_part: parts.iter().map(|part| ufcsr::placement::mountable(part, &list)).collect() }
+        Mountability {
+            of_part: mesh.parts.iter().map(|part| ufcsr::placement::mountable(part, &list)).collect(),
+            triangle_part: &mesh.triangle_part,
+        }
     }
 
     fn of(&self, part: u32) -> bool {
         self.of_part.get(part as usize).copied().unwrap_or(true)
+    }
+
+    fn of_triangle(&self, triangle: u32) -> bool {
+        self.triangle_part.get(triangle as usize).is_none_or(|&part| self.of(part))
     }
 }
 
@@ -223,20 +233,15 @@ impl Footprint {
     }
 
     /// The samples in the box that face the patch and lie on surface of
-    /// its kind (`part_of_triangle`: the mesh's), ascending.
-    fn members(
-        &self,
-        samples: &[SurfaceSample],
-        grid: &Grid,
-        part_of_triangle: &[u32],
-        kinds: &Mountability,
-    ) -> Vec<u32> {
+    /// its kind, ascending.
+    fn members(&self, samples: &[SurfaceSample], grid: &Grid, kinds: &Mountability) -> Vec<u32> {
         let mut members: Vec<u32> = grid
             .near(self.centre, self.radius())
             .filter(|&index| {
                 let s = &samples[index as usize];
-                let part = part_of_triangle.get(s.triangle as usize).copied().unwrap_or(u32::MAX);
-                self.holds(s.position) && self.faces(s.normal) && kinds.of(part) == self.mountable
+                self.holds(s.position)
+                    && self.faces(s.normal)
+                    && kinds.of_triangle(s.triangle) == self.mountable
             })
             .collect();
         members.sort_unstable();
@@ -246,11 +251,15 @@ impl Footprint {
 
 /// The layout: every patch of size `display` that fits on the
 /// outward-facing surface, from the mesh alone (members left empty).
-fn lay_out(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<(String, Footprint)> {
+fn lay_out(
+    inputs: &ExactInputs,
+    display: [f64; 2],
+    spacing: f64,
+    kinds: &Mountability,
+) -> Vec<(String, Footprint)> {
     let mesh = &inputs.scene.vehicle;
     let centres = Surface::new(mesh, spacing);
     let fits = Surface::new(mesh, spacing.max(display[0].max(display[1]) / 4.0));
-    let kinds = Mountability::new(&mesh.parts);
     let mut cubes: Vec<Cell> = centres.cells.keys().copied().collect();
     cubes.sort_unstable();
     let mut placed = Vec::new();
@@ -260,7 +269,7 @@ fn lay_out(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<(String
         let face = &centres.faces[face as usize];
         let Some(normal) = outward(inputs, p, face.normal) else { continue };
         let footprint = Footprint::new(p, normal, display, kinds.of(face.part));
-        if footprint.cover(&fits, &kinds) < MIN_COVER {
+        if footprint.cover(&fits, kinds) < MIN_COVER {
             continue;
         }
         let part = &mesh.parts[face.part as usize];
@@ -281,9 +290,8 @@ fn lay_out(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<(String
 pub(crate) fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f64) -> Vec<PlacedPatch> {
     let samples = &inputs.samples.samples;
     let grid = Grid::new(samples, spacing.max(display[0].max(display[1]) / 4.0));
-    let mesh = &inputs.scene.vehicle;
-    let kinds = Mountability::new(&mesh.parts);
-    let mut placed: Vec<PlacedPatch> = lay_out(inputs, display, spacing)
+    let kinds = Mountability::new(&inputs.scene.vehicle);
+    let mut placed: Vec<PlacedPatch> = lay_out(inputs, display, spacing, &kinds)
         .into_iter()
         .map(|(name, footprint)| PlacedPatch {
             name,
@@ -292,7 +300,7 @@ pub(crate) fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f6
             normal: footprint.normal,
             up: footprint.up,
             size_m: display,
-            members: footprint.members(samples, &grid, &mesh.triangle_part, &kinds),
+            members: footprint.members(samples, &grid, &kinds),
         })
         .collect();
     pair_mirrors(&mut placed, spacing);
