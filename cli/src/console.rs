@@ -81,6 +81,9 @@ struct Record {
     stdout: Stdout,
     /// The JSON object (or the final word) has been printed: nothing more.
     ended: bool,
+    /// The interrupt handler ended the command ([`Console::interrupted`]) and
+    /// is exiting the process with 130: the command's own thread must not exit.
+    interrupted: bool,
 }
 
 /// A command's stdout and record; clones share them.
@@ -148,6 +151,7 @@ impl Console {
             facts: Map::new(),
             stdout: Stdout::Open,
             ended: false,
+            interrupted: false,
         };
         Console { record: Arc::new(Mutex::new(record)), style, muted: false }
     }
@@ -234,6 +238,10 @@ impl Console {
     /// Ends the command: says why on stderr if it failed, prints the JSON
     /// object under `--json`, and gives the exit code.
     pub(crate) fn end(&self, outcome: anyhow::Result<Completion>) -> ExitCode {
+        if self.record().interrupted {
+            // The interrupt handler has said what happened; its error is no news.
+            wait_for_the_interrupt_exit();
+        }
         let code = match &outcome {
             Ok(Completion::Done) => exit_code::DONE,
             Ok(Completion::WithFailures) => exit_code::WITH_FAILURES,
@@ -252,6 +260,10 @@ impl Console {
     /// `error`, if given); the code is raised when stdout failed.
     pub(crate) fn end_with(&self, code: u8, error: Option<&str>) -> ExitCode {
         let mut record = self.record();
+        if record.interrupted {
+            drop(record);
+            wait_for_the_interrupt_exit();
+        }
         let mut code = code;
         if self.style == Style::Json {
             print_summary(&mut record, code, error);
@@ -277,7 +289,27 @@ impl Console {
             print_summary(&mut record, exit_code::INTERRUPTED, Some(&why));
         }
         record.ended = true;
+        record.interrupted = true;
         true
+    }
+
+    /// Whether the interrupt handler ended the command and so owns the exit.
+    #[cfg(test)]
+    fn interrupt_owns_the_exit(&self) -> bool {
+        self.record().interrupted
+    }
+}
+
+/// Parks the command's thread for good once the interrupt handler has ended
+/// the command: the handler exits the process with 130, and a second thread
+/// calling `exit` at the same time is undefined (a run killed this way died
+/// of a signal instead of exiting 130, once in 18 runs of the test
+/// `an_interrupted_re_capture_says_its_folder_is_unfinished_and_the_analyzer_refuses_it`).
+/// The decision is taken under the record's lock, so exactly one of the two
+/// threads ends the command ([`Console::end_with`], [`Console::interrupted`]).
+fn wait_for_the_interrupt_exit() -> ! {
+    loop {
+        std::thread::park();
     }
 }
 
@@ -350,7 +382,20 @@ pub(crate) use say;
 
 #[cfg(test)]
 mod tests {
-    use super::printable;
+    use super::{Console, Style, printable};
+
+    #[test]
+    fn exactly_one_thread_ends_an_interrupted_command() {
+        // The handler first: it owns the exit, and the command's thread must not end it too.
+        let console = Console::new("capture", Style::Quiet);
+        assert!(console.interrupted(0, &[]));
+        assert!(console.interrupt_owns_the_exit());
+        assert!(!console.interrupted(0, &[]), "a second signal exits no second time");
+        // The command first: the handler then leaves the exit to it.
+        let console = Console::new("capture", Style::Quiet);
+        let _ = console.end_with(0, None);
+        assert!(!console.interrupted(0, &[]) && !console.interrupt_owns_the_exit());
+    }
 
     #[test]
     fn names_print_without_driving_the_terminal() {
