@@ -60,8 +60,10 @@ pub struct PlacementFrameRow<'a> {
 pub const PLACEMENT_PATCHES_FILE: &str = "placement-patches.csv";
 
 /// The columns of `placement-patches.csv`, in the capture's order; all but
-/// `mirror` (the mirror image's name, may be empty) are read.
-pub const PLACEMENT_PATCHES_COLUMNS: [&str; 13] = [
+/// `mirror` (the mirror image's name, may be empty) are read, and `covers`
+/// (the parts the display covers, [`covers_field`]) when it is there: tables
+/// written before it judge a patch by its own part.
+pub const PLACEMENT_PATCHES_COLUMNS: [&str; 14] = [
     "candidate",
     "centre_x_m",
     "centre_y_m",
@@ -75,7 +77,42 @@ pub const PLACEMENT_PATCHES_COLUMNS: [&str; 13] = [
     "width_m",
     "height_m",
     "mirror",
+    "covers",
 ];
+
+/// A patch's `covers` field: the part names as one CSV record (`bumper,grill`;
+/// a name holding a comma or a quote is quoted), so any part name reads back.
+pub fn covers_field(parts: &[String]) -> String {
+    let mut writer =
+        csv::WriterBuilder::new().terminator(csv::Terminator::Any(b'\n')).from_writer(Vec::new());
+    if parts.is_empty() || writer.write_record(parts).is_err() {
+        return String::new();
+    }
+    let bytes = writer.into_inner().unwrap_or_default();
+    let text = String::from_utf8_lossy(&bytes);
+    text.strip_suffix('\n').unwrap_or(&text).to_string()
+}
+
+/// The part names of a `covers` field ([`covers_field`]); `Err` names the problem.
+pub(crate) fn parse_covers(field: &str) -> Result<Vec<String>, String> {
+    if field.trim().is_empty() {
+        return Ok(Vec::new());
+    }
+    let mut reader = csv::ReaderBuilder::new().has_headers(false).from_reader(field.as_bytes());
+    let mut records = reader.records();
+    let record = records
+        .next()
+        .ok_or("covers is empty")?
+        .map_err(|e| format!("covers {field:?} is not a list of part names: {e}"))?;
+    if records.next().is_some() {
+        return Err(format!("covers {field:?} holds a line break outside quotes"));
+    }
+    let parts: Vec<String> = record.iter().map(|p| p.trim().to_string()).collect();
+    if parts.iter().any(String::is_empty) {
+        return Err(format!("covers {field:?} names an empty part"));
+    }
+    Ok(parts)
+}
 
 #[cfg(test)]
 mod tests {
@@ -107,5 +144,20 @@ mod tests {
         let mut reader = csv::Reader::from_reader(text.as_bytes());
         let back: PlacementFrameRow = reader.deserialize().next().unwrap().unwrap();
         assert_eq!(back, row);
+    }
+
+    #[test]
+    fn a_covers_field_reads_back_any_part_names() {
+        for parts in [
+            vec![],
+            vec!["grill".to_string()],
+            vec!["bumper".into(), "grill".into()],
+            vec!["a,b".into(), "say \"hi\"".into(), "line\nbreak".into()],
+        ] {
+            let field = covers_field(&parts);
+            assert_eq!(parse_covers(&field).unwrap(), parts, "{field:?}");
+        }
+        assert_eq!(covers_field(&["bumper".into(), "grill".into()]), "bumper,grill");
+        assert!(parse_covers("grill,,bumper").unwrap_err().contains("empty part"));
     }
 }

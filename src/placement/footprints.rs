@@ -18,13 +18,17 @@ use crate::error::{Error, Result};
 use crate::files::{SMALL_INPUT_LIMIT, read_limited};
 use crate::optics::vector::dot;
 
-pub use crate::format::placement_csv::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE};
+use crate::format::placement_csv::parse_covers;
+pub use crate::format::placement_csv::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, covers_field};
 
-/// The columns read: all but `mirror`.
+/// The columns read: all but `mirror` (and `covers`, when there).
 const READ_COLUMNS: usize = 12;
+/// `covers`' place in [`PLACEMENT_PATCHES_COLUMNS`] (the last; tables written before it lack it).
+const COVERS_COLUMN: usize = 13;
 
-/// A display patch's rectangle on the surface (vehicle frame, metres).
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// A display patch's rectangle on the surface (vehicle frame, metres), and
+/// the parts it covers.
+#[derive(Debug, Clone, PartialEq)]
 pub struct PatchFootprint {
     pub centre: [f64; 3],
     /// Outward unit normal.
@@ -33,6 +37,9 @@ pub struct PatchFootprint {
     pub up: [f64; 3],
     /// Width and height, m.
     pub size_m: [f64; 2],
+    /// The parts the display covers (`covers`); empty in tables written
+    /// before the column, whose patches are judged by their own part.
+    pub covers: Vec<String>,
 }
 
 impl PatchFootprint {
@@ -101,12 +108,17 @@ pub fn read_footprints(frames_table: &Path) -> Result<BTreeMap<String, PatchFoot
         let found = header.iter().position(|h| h == *column);
         positions.push(found.ok_or_else(|| Error::bad_file(&path, format!("no column {column:?}")))?);
     }
+    let covers = header.iter().position(|h| h == PLACEMENT_PATCHES_COLUMNS[COVERS_COLUMN]);
     let mut footprints = BTreeMap::new();
     for (index, record) in reader.records().enumerate() {
         let line = index + 2;
         let record = record.map_err(|e| Error::bad_file(&path, format!("line {line}: {e}")))?;
-        let footprint = parse_footprint(&record, &positions)
+        let mut footprint = parse_footprint(&record, &positions)
             .map_err(|problem| Error::bad_file(&path, format!("line {line}: {problem}")))?;
+        if let Some(field) = covers.and_then(|column| record.get(column)) {
+            footprint.covers = parse_covers(field)
+                .map_err(|problem| Error::bad_file(&path, format!("line {line}: {problem}")))?;
+        }
         let name = record.get(positions[0]).unwrap_or("").trim();
         if name.is_empty() {
             return Err(Error::bad_file(&path, format!("line {line}: candidate is empty")));
@@ -140,6 +152,7 @@ fn parse_footprint(
         normal: vector(3),
         up: vector(6),
         size_m: [numbers[9], numbers[10]],
+        covers: Vec::new(),
     };
     for (name, v) in [("normal", footprint.normal), ("up", footprint.up)] {
         if (dot(v, v).sqrt() - 1.0).abs() > 1e-3 {
@@ -177,6 +190,7 @@ mod tests {
             normal: [1.0, 0.0, 0.0],
             up: [0.0, 0.0, 1.0],
             size_m: [0.4, 0.15],
+            covers: Vec::new(),
         };
         assert!(patch.contains([0.0, 0.19, 0.07]));
         assert!(!patch.contains([0.0, 0.21, 0.0]));
@@ -191,15 +205,23 @@ mod tests {
         assert!(read_footprints(&frames).unwrap().is_empty(), "no table: no footprints");
         let header = PLACEMENT_PATCHES_COLUMNS.join(",") + "\n";
         let table = dir.path().join(PLACEMENT_PATCHES_FILE);
-        std::fs::write(&table, header.clone() + "p@x0y0z0,0,0,0,1,0,0,0,0,1,0.4,0.15,\n").unwrap();
-        assert_eq!(read_footprints(&frames).unwrap()["p@x0y0z0"].size_m, [0.4, 0.15]);
+        std::fs::write(&table, header.clone() + "p@x0y0z0,0,0,0,1,0,0,0,0,1,0.4,0.15,,\"p,grill\"\n")
+            .unwrap();
+        let read = read_footprints(&frames).unwrap();
+        assert_eq!(read["p@x0y0z0"].size_m, [0.4, 0.15]);
+        assert_eq!(read["p@x0y0z0"].covers, ["p", "grill"]);
+        // A table written before `covers`: no parts named.
+        let before = PLACEMENT_PATCHES_COLUMNS[..13].join(",") + "\n";
+        std::fs::write(&table, before + "p@x0y0z0,0,0,0,1,0,0,0,0,1,0.4,0.15,\n").unwrap();
+        assert!(read_footprints(&frames).unwrap()["p@x0y0z0"].covers.is_empty());
         for (row, problem) in [
-            ("p,0,0,0,2,0,0,0,0,1,0.4,0.15,", "line 2: the normal axis is not a unit vector"),
-            ("p,0,0,NaN,1,0,0,0,0,1,0.4,0.15,", "line 2: centre_z_m \"NaN\" is not a finite number"),
-            ("p,0,0,0,1,0,0,0,0,1,0,0.15,", "line 2: width and height must be more than 0"),
-            ("p,0,0,0,1,0,0,1,0,0,0.4,0.15,", "line 2: the normal and up axes are not perpendicular"),
+            ("p,0,0,0,2,0,0,0,0,1,0.4,0.15,,p", "line 2: the normal axis is not a unit vector"),
+            ("p,0,0,NaN,1,0,0,0,0,1,0.4,0.15,,p", "line 2: centre_z_m \"NaN\" is not a finite number"),
+            ("p,0,0,0,1,0,0,0,0,1,0,0.15,,p", "line 2: width and height must be more than 0"),
+            ("p,0,0,0,1,0,0,1,0,0,0.4,0.15,,p", "line 2: the normal and up axes are not perpendicular"),
+            ("p,0,0,0,1,0,0,0,0,1,0.4,0.15,,\"p,,grill\"", "line 2: covers \"p,,grill\" names an empty part"),
             (
-                "p,0,0,0,1,0,0,0,0,1,0.4,0.15,\np,0,0,0,1,0,0,0,0,1,0.4,0.15,",
+                "p,0,0,0,1,0,0,0,0,1,0.4,0.15,,p\np,0,0,0,1,0,0,0,0,1,0.4,0.15,,p",
                 "line 3: candidate \"p\" is listed twice",
             ),
         ] {

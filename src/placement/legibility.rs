@@ -313,6 +313,17 @@ impl ArchiveTimelines {
 /// patches in the table, a part is legible only through a patch that fits on
 /// it ([`crate::placement::eligible`]).
 pub fn timelines(table: Arc<PlacementTable>, thresholds: &Thresholds) -> ArchiveTimelines {
+    timelines_with(table, thresholds, &std::collections::BTreeSet::new())
+}
+
+/// [`timelines`], where the patches in `unfit` stand for no part
+/// ([`crate::placement::eligible::unfit_patches`]: a not-mountable list
+/// other than the default).
+pub(crate) fn timelines_with(
+    table: Arc<PlacementTable>,
+    thresholds: &Thresholds,
+    unfit: &std::collections::BTreeSet<String>,
+) -> ArchiveTimelines {
     let eyes = table.eyes.len();
     let dwell = dwell_frames(thresholds.min_dwell_s, table.frame_s);
     let timelines = table
@@ -354,7 +365,7 @@ pub fn timelines(table: Arc<PlacementTable>, thresholds: &Thresholds) -> Archive
         .collect::<Vec<Timeline>>();
     let mut timelines = timelines;
     // A display must fit where it is said to be legible (one rule, every command).
-    fit_parts(&mut timelines);
+    fit_parts(&mut timelines, unfit);
     let closest = table.frames.iter().min_by(|a, b| a.distance_m.total_cmp(&b.distance_m)).copied();
     let arrival_s = closest.map_or(0.0, |f| f.time_s);
     let start = arrival_s - thresholds.decision_window_s;

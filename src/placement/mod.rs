@@ -57,7 +57,9 @@ use std::sync::Arc;
 
 use crate::error::{Error, Result};
 use crate::format::placement::{CombinationRecord, SensitivitySet};
-pub use footprints::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PatchFootprint, read_footprints};
+pub use footprints::{
+    PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, PatchFootprint, covers_field, read_footprints,
+};
 pub use legibility::{CharacterHeight, Exposure, EyeRule, Thresholds, parse_character_height, timelines};
 pub use picture::{Mark, PLACEMENT_PICTURE_FILE, PLACEMENT_VIEWS_DIR, PicturedSet, render_marked};
 pub use regions::{DEFAULT_NOT_MOUNTABLE, DEFAULT_REGION_RADIUS_M, mountable};
@@ -165,6 +167,8 @@ pub(crate) struct Scoring {
     pub brackets: Vec<Option<BTreeMap<String, [f64; 2]>>>,
     /// The candidates no answer may hold, and why ([`eligible::exclusions`]).
     pub excluded: Vec<eligible::ExcludedRecord>,
+    /// The patches that stand for no part ([`eligible::unfit_patches`]).
+    pub unfit: std::collections::BTreeSet<String>,
 }
 
 /// Mean legible seconds per candidate over the archives.
@@ -186,7 +190,13 @@ fn score_and_search(
     footprints: &BTreeMap<String, PatchFootprint>,
     objectives: &[Objective],
 ) -> Scoring {
-    let archives: Vec<ArchiveTimelines> = tables.iter().map(|t| timelines(t.clone(), thresholds)).collect();
+    let unfit = eligible::unfit_patches(
+        tables.iter().flat_map(|t| t.candidates.values().map(|c| (c.name.as_str(), c.kind))),
+        footprints,
+        &options.not_mountable,
+    );
+    let archives: Vec<ArchiveTimelines> =
+        tables.iter().map(|t| legibility::timelines_with(t.clone(), thresholds, &unfit)).collect();
     let universe = Universe::of(&archives);
     let legible = mean_legible(&archives);
     let scored: Vec<regions::Scored> = legible
@@ -195,6 +205,7 @@ fn score_and_search(
         .collect();
     let excluded = eligible::exclusions(
         archives.iter().flat_map(|a| a.timelines.iter().map(|t| (t.name.as_str(), t.kind))),
+        footprints,
         &options.not_mountable,
     );
     let left_out = excluded.iter().map(|e| e.candidate.clone()).collect();
@@ -213,7 +224,7 @@ fn score_and_search(
             }
         }
     }
-    Scoring { archives, universe, regions, searched, brackets: Vec::new(), excluded }
+    Scoring { archives, universe, regions, searched, brackets: Vec::new(), excluded, unfit }
 }
 
 /// Reads every table, scores every candidate, searches the best sets and
@@ -254,7 +265,9 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
         .iter()
         .zip(&counts)
         .map(|(table, counts)| {
-            counts.as_ref().map(|c| texel_sample::legible_brackets(table, c, &options.thresholds))
+            counts
+                .as_ref()
+                .map(|c| texel_sample::legible_brackets(table, c, &options.thresholds, &main.unfit))
         })
         .collect();
     let combinations: Vec<CombinationRecord> =

@@ -62,7 +62,7 @@ impl Mark {
             return Some(Mark::Part(name.to_string()));
         }
         match footprints.get(name) {
-            Some(footprint) => Some(Mark::Patch(*footprint)),
+            Some(footprint) => Some(Mark::Patch(footprint.clone())),
             None => centre_in_name(name).map(Mark::Centre),
         }
     }
@@ -475,6 +475,7 @@ mod tests {
             normal: [1.0, 0.0, 0.0],
             up: [0.0, 0.0, 1.0],
             size_m: [0.8, 0.4],
+            covers: Vec::new(),
         };
         let shade = 15f64.to_radians().cos();
         let drawn =

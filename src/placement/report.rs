@@ -70,7 +70,7 @@ impl MemberRecord {
     }
 }
 
-fn candidate_records(main: &Scoring, options: &PlacementOptions) -> Vec<CandidateRecord> {
+fn candidate_records(main: &Scoring) -> Vec<CandidateRecord> {
     let archives = &main.archives;
     let mut per_name: BTreeMap<String, (&crate::placement::legibility::Timeline, Vec<Exposure>)> =
         BTreeMap::new();
@@ -104,6 +104,7 @@ fn candidate_records(main: &Scoring, options: &PlacementOptions) -> Vec<Candidat
         *members.entry(representative).or_default() += 1;
     }
     let n = archives.len().max(1) as f64;
+    let not_mountable = crate::placement::eligible::not_mountable(&main.excluded);
     let mut through: BTreeMap<String, String> = BTreeMap::new();
     for timeline in archives.iter().flat_map(|a| &a.timelines) {
         if let crate::placement::eligible::Fit::Through(patch) = &timeline.fit {
@@ -121,7 +122,7 @@ fn candidate_records(main: &Scoring, options: &PlacementOptions) -> Vec<Candidat
             CandidateRecord {
                 kind: timeline.kind,
                 display_size_m: timeline.size_m,
-                mountable: crate::placement::regions::mountable(&name, &options.not_mountable),
+                mountable: !not_mountable.contains(name.as_str()),
                 region,
                 region_members: region_members.max(1),
                 legible_s: sum(|e| e.legible_s),
@@ -287,7 +288,7 @@ pub(crate) fn assemble(
             epsilon_s: options.resampling.epsilon_s,
             method: UNCERTAINTY_METHOD.into(),
         },
-        candidates: candidate_records(main, options),
+        candidates: candidate_records(main),
         combinations,
         sensitivity,
         excluded: main.excluded.clone(),

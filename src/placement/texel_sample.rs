@@ -56,7 +56,7 @@ use crate::error::{Error, Result};
 use crate::files::{SMALL_INPUT_LIMIT, read_limited};
 use crate::format::manifest::{MANIFEST_FILE, Manifest};
 use crate::placement::footprints::part_of;
-use crate::placement::legibility::{Thresholds, timelines};
+use crate::placement::legibility::{Thresholds, timelines_with};
 use crate::placement::table::{CandidateKind, CandidateRows, PlacementTable};
 
 /// The exact measure's per-part estimates, beside `placement-frames.csv`.
@@ -224,6 +224,7 @@ pub(crate) fn legible_brackets(
     table: &PlacementTable,
     counts: &SampleCounts,
     thresholds: &Thresholds,
+    unfit: &std::collections::BTreeSet<String>,
 ) -> BTreeMap<String, [f64; 2]> {
     if table.rendered || thresholds.min_solid_angle_sr.is_some() {
         return BTreeMap::new();
@@ -234,7 +235,7 @@ pub(crate) fn legible_brackets(
         table.candidates.get(name).and_then(|c| candidate_sample(c, counts)).is_some_and(|(_, f)| f < 1.0)
     };
     let seconds = |high: bool| -> BTreeMap<String, f64> {
-        let scored = timelines(Arc::new(moved(table, counts, high)), thresholds);
+        let scored = timelines_with(Arc::new(moved(table, counts, high)), thresholds, unfit);
         scored
             .timelines
             .iter()

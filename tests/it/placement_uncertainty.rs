@@ -272,6 +272,66 @@ fn wheels_tyres_and_glass_are_scored_but_never_chosen_unless_allowed() {
 }
 
 #[test]
+fn a_display_covering_a_part_in_the_not_mountable_list_is_never_chosen() {
+    // A bumper display reaching over the grill (the capture's `covers`
+    // column names both), legible 1.5 s, and a door display legible 1 s. With
+    // the grill listed as not mountable the bumper display is excluded, by
+    // the part it covers, and the door chosen; a table from before the
+    // column judges the display by its own part.
+    let dir = tempfile::tempdir().unwrap();
+    let (bumper, door) = ("bumper@0.40x0.15@x2.95y0.00z0.46", "door@0.40x0.15@x1.00y0.90z1.00");
+    let mut rows = Vec::new();
+    for f in 0..20 {
+        rows.push((f, bumper, "patch", if f < 15 { 1.0 } else { 0.0 }, 10.0, 1.0));
+        rows.push((f, door, "patch", if f < 10 { 1.0 } else { 0.0 }, 10.0, 1.0));
+        rows.push(part(f, "bumper", true));
+        rows.push(part(f, "door", true));
+    }
+    let path = table(dir.path(), "placement-frames.csv", 10.0, &rows);
+    let patches = |covers: [&str; 2]| {
+        let header = ufcsr::placement::PLACEMENT_PATCHES_COLUMNS.join(",");
+        let text = format!(
+            "{header}\n{bumper},2.95,0,0.46,1,0,0,0,0,1,0.4,0.15,,{}\n{door},1,0.9,1,0,1,0,0,0,1,0.4,0.15,,{}\n",
+            covers[0], covers[1]
+        );
+        std::fs::write(dir.path().join(ufcsr::placement::PLACEMENT_PATCHES_FILE), text).unwrap();
+    };
+    let grill_listed =
+        || PlacementOptions { not_mountable: vec!["grill".into()], ..options(vec![path.clone()]) };
+    // The best single display (the parts' answers are checked below).
+    let best_display = |document: &ufcsr::format::PlacementDocument| {
+        let patches = document.combinations.iter().find(|c| c.kind == ufcsr::placement::CandidateKind::Patch);
+        patches.unwrap().candidates()
+    };
+    let chosen = |options: &PlacementOptions| best_display(&placement(options).unwrap().document);
+
+    patches(["\"bumper,grill\"", "door"]);
+    assert_eq!(chosen(&options(vec![path.clone()])), [bumper]);
+    let found = placement(&grill_listed()).unwrap();
+    assert_eq!(best_display(&found.document), [door]);
+    let record = found.document.candidates.iter().find(|c| c.name == bumper).unwrap();
+    assert!(!record.mountable && (record.legible_s - 1.5).abs() < 1e-9, "scored, marked");
+    let why = found.document.excluded.iter().find(|e| e.candidate == bumper).unwrap();
+    assert!(why.detail.contains("covers part 'grill'"), "{}", why.detail);
+    // Nor is the bumper part legible through it: its only display is not mountable.
+    let legible = |name: &str| found.document.candidates.iter().find(|c| c.name == name).unwrap().legible_s;
+    assert_eq!((legible("bumper"), legible("door")), (0.0, 1.0));
+    let part = found.document.excluded.iter().find(|e| e.candidate == "bumper").unwrap();
+    assert_eq!(part.reason, ufcsr::format::ExclusionReason::NoDisplayFits);
+    let unlisted = placement(&options(vec![path.clone()])).unwrap().document;
+    let bumper_part = unlisted.candidates.iter().find(|c| c.name == "bumper").unwrap();
+    assert!((bumper_part.legible_s - 1.5).abs() < 1e-9, "legible through its display without the list");
+
+    // The same table without `covers` (written before it): the bumper's own part decides.
+    let header = ufcsr::placement::PLACEMENT_PATCHES_COLUMNS[..13].join(",");
+    let old = format!(
+        "{header}\n{bumper},2.95,0,0.46,1,0,0,0,0,1,0.4,0.15,\n{door},1,0.9,1,0,1,0,0,0,1,0.4,0.15,\n"
+    );
+    std::fs::write(dir.path().join(ufcsr::placement::PLACEMENT_PATCHES_FILE), old).unwrap();
+    assert_eq!(chosen(&grill_listed()), [bumper]);
+}
+
+#[test]
 fn near_patches_are_one_region_so_the_answer_lists_distinct_places() {
     // Three bumper patches 10 cm apart, each legible in frames 0-14 with one frame more for the
     // middle one, and a door patch legible in 10-19: the best two displays are a bumper patch and
@@ -334,7 +394,8 @@ fn patches_of_two_display_sizes_are_two_candidates() {
         paths.push(table(&folder, "placement-frames.csv", 10.0, &rows));
         let footprints = format!(
             "{}\n{old_name},1,0.9,1,0,1,0,0,0,1,{},{},\n",
-            ufcsr::placement::PLACEMENT_PATCHES_COLUMNS.join(","),
+            // An older table: no `covers` column either.
+            ufcsr::placement::PLACEMENT_PATCHES_COLUMNS[..13].join(","),
             size[0],
             size[1]
         );

@@ -99,6 +99,7 @@ fn follows_the_answer_rules(result: &ufcsr::format::DesignResult) {
             assert!(
                 ufcsr::placement::exclusions(
                     [(best.name.as_str(), ufcsr::placement::CandidateKind::Part)].into_iter(),
+                    &Default::default(),
                     &ufcsr::placement::default_not_mountable()
                 )
                 .is_empty(),

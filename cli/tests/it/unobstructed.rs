@@ -414,6 +414,25 @@ fn the_cli_measures_placements_that_the_analyzer_ranks() {
             .filter(|c| c.kind == ufcsr::placement::CandidateKind::Patch)
             .all(|c| c.name.contains("@0.40x0.15@x"))
     );
+    // Each patch names the parts it covers, its own among them, and is mountable under a list
+    // exactly when every one of them is.
+    let footprints =
+        ufcsr::placement::read_footprints(&out.join("results").join(ufcsr_capture::PLACEMENT_FRAMES_FILE))
+            .unwrap();
+    let mut list = ufcsr::placement::default_not_mountable();
+    list.push("bumper".into());
+    let options =
+        ufcsr::PlacementOptions { not_mountable: list.clone(), ..ufcsr::PlacementOptions::new(vec![out]) };
+    let listed = ufcsr::placement(&options).unwrap().document;
+    let patches: Vec<_> =
+        listed.candidates.iter().filter(|c| c.kind == ufcsr::placement::CandidateKind::Patch).collect();
+    assert!(patches.iter().any(|c| !c.mountable) && patches.iter().any(|c| c.mountable));
+    for candidate in patches {
+        let covers = &footprints[&candidate.name].covers;
+        assert!(covers.iter().any(|p| candidate.name.starts_with(&format!("{p}@"))), "{covers:?}");
+        let all = covers.iter().all(|p| ufcsr::placement::mountable(p, &list));
+        assert_eq!(candidate.mountable, all, "{} covers {covers:?}", candidate.name);
+    }
 }
 
 #[test]

@@ -35,8 +35,11 @@
 //! 4. **Fit, exact.** A patch is kept only if the surface covers its
 //!    rectangle: the area of the footprint's faces inside the box (each
 //!    triangle clipped by the box), projected onto the patch's plane, is at
-//!    least 90 % of W × H. A display overhanging an edge of the body is no
-//!    candidate. This is the mesh's area, not the samples': an estimate from
+//!    least 90 % of W × H, and the other kind's facing surface covers none of
+//!    it: a display overhanging an edge of the body is no candidate, nor one
+//!    that would hide the edge of a window or a tyre. The parts covering it
+//!    are the patch's `covers`, so `placement` judges it by every part under
+//!    it. This is the mesh's area, not the samples': an estimate from
 //!    a texel sample would keep or drop a patch near the 90 % line by the
 //!    luck of the sample (with `--exact-sample 1/16`, by a few per cent
 //!    either way), and the set of candidates would differ between units.
@@ -52,9 +55,10 @@
 //! a patch is the kept patch nearest its centre mirrored in the plane y = 0,
 //! within half a spacing, when each is the other's.
 //!
-//! Each kept patch's footprint (centre, normal, height axis, W and H) is
-//! written as `placement-patches.csv` ([`write_patch_table`]), so the
-//! analyzer can draw the chosen patches on the vehicle.
+//! Each kept patch's footprint (centre, normal, height axis, W and H) and the
+//! parts it covers are written as `placement-patches.csv`
+//! ([`write_patch_table`]), so the analyzer can draw the chosen patches on
+//! the vehicle and judge each by every part under it.
 
 use std::collections::HashMap;
 
@@ -71,6 +75,9 @@ pub use ufcsr::{placement::PLACEMENT_PATCHES_COLUMNS, placement::PLACEMENT_PATCH
 pub(crate) const MIN_COVER: f64 = 0.9;
 /// Member surfaces face within this angle of the patch normal, degrees.
 pub(crate) const MAX_MEMBER_TILT_DEG: f64 = 45.0;
+/// A part whose surface covers at most this share of W × H (rounding dust
+/// where a face only touches the box) is not under the display.
+const DUST: f64 = 1e-6;
 
 /// One display patch.
 #[derive(Debug, Clone, PartialEq)]
@@ -87,6 +94,10 @@ pub(crate) struct PlacedPatch {
     pub size_m: [f64; 2],
     /// Indices into the samples.
     pub members: Vec<u32>,
+    /// The parts the display covers (its centre's among them), sorted:
+    /// `placement` judges it mountable only if every one is
+    /// (`placement-patches.csv`'s `covers`).
+    pub covers: Vec<String>,
 }
 
 impl PlacedPatch {
@@ -214,22 +225,36 @@ impl Footprint {
             && d.dot(self.normal).abs() <= self.half[2]
     }
 
-    /// The share of W × H the facing surface of the patch's kind
-    /// ([`Mountability`]) in the box covers, projected onto the patch's
-    /// plane (exact: each face clipped by the box).
-    fn cover(&self, surface: &Surface, kinds: &Mountability) -> f64 {
+    /// Per part with facing surface in the box, the share of W × H it
+    /// covers, projected onto the patch's plane (exact: each face clipped
+    /// by the box), in part order.
+    fn cover_by_part(&self, surface: &Surface) -> Vec<(u32, f64)> {
         let reach = DVec3::splat(self.radius());
         let axes = [self.across, self.up, self.normal];
-        let projected: f64 = surface
-            .near(self.centre - reach, self.centre + reach)
-            .into_iter()
-            .map(|index| &surface.faces[index as usize])
-            .filter(|face| self.faces(face.normal) && kinds.of(face.part) == self.mountable)
-            .map(|face| {
-                area_in_box(face.corners, self.centre, axes, self.half) * face.normal.dot(self.normal).abs()
-            })
-            .sum();
-        projected / (4.0 * self.half[0] * self.half[1])
+        let whole = 4.0 * self.half[0] * self.half[1];
+        let mut shares: std::collections::BTreeMap<u32, f64> = std::collections::BTreeMap::new();
+        for index in surface.near(self.centre - reach, self.centre + reach) {
+            let face = &surface.faces[index as usize];
+            if self.faces(face.normal) {
+                let area = area_in_box(face.corners, self.centre, axes, self.half);
+                *shares.entry(face.part).or_default() += area * face.normal.dot(self.normal).abs() / whole;
+            }
+        }
+        shares.into_iter().filter(|&(_, share)| share > DUST).collect()
+    }
+
+    /// The parts a display here would cover, when it fits: surface of the
+    /// patch's kind ([`Mountability`]) covers at least [`MIN_COVER`] of
+    /// W × H, and surface of the other kind none of it (a door display
+    /// reaching over the window's edge, a fender display over the tyre, is
+    /// no candidate, nor is glass reaching onto the body).
+    fn fit(&self, surface: &Surface, kinds: &Mountability) -> Option<Vec<u32>> {
+        let shares = self.cover_by_part(surface);
+        if shares.iter().any(|&(part, _)| kinds.of(part) != self.mountable) {
+            return None;
+        }
+        let cover: f64 = shares.iter().map(|&(_, share)| share).sum();
+        (cover >= MIN_COVER).then(|| shares.into_iter().map(|(part, _)| part).collect())
     }
 
     /// The samples in the box that face the patch and lie on surface of
@@ -256,7 +281,7 @@ fn lay_out(
     display: [f64; 2],
     spacing: f64,
     kinds: &Mountability,
-) -> Vec<(String, Footprint)> {
+) -> Vec<(String, Footprint, Vec<String>)> {
     let mesh = &inputs.scene.vehicle;
     let centres = Surface::new(mesh, spacing);
     let fits = Surface::new(mesh, spacing.max(display[0].max(display[1]) / 4.0));
@@ -269,9 +294,7 @@ fn lay_out(
         let face = &centres.faces[face as usize];
         let Some(normal) = outward(inputs, p, face.normal) else { continue };
         let footprint = Footprint::new(p, normal, display, kinds.of(face.part));
-        if footprint.cover(&fits, kinds) < MIN_COVER {
-            continue;
-        }
+        let Some(covered) = footprint.fit(&fits, kinds) else { continue };
         let part = &mesh.parts[face.part as usize];
         // The display size in the name: runs with different sizes are never one candidate.
         let name = format!("{part}@{:.2}x{:.2}@x{:.2}y{:.2}z{:.2}", display[0], display[1], p.x, p.y, p.z);
@@ -279,7 +302,10 @@ fn lay_out(
         // they are within a centimetre, so the first stands for both (a name
         // twice would make the table ambiguous).
         if names.insert(name.clone()) {
-            placed.push((name, footprint));
+            let mut covers: Vec<String> = covered.iter().map(|&c| mesh.parts[c as usize].clone()).collect();
+            covers.sort();
+            covers.dedup();
+            placed.push((name, footprint, covers));
         }
     }
     placed
@@ -293,8 +319,9 @@ pub(crate) fn place_patches(inputs: &ExactInputs, display: [f64; 2], spacing: f6
     let kinds = Mountability::new(&inputs.scene.vehicle);
     let mut placed: Vec<PlacedPatch> = lay_out(inputs, display, spacing, &kinds)
         .into_iter()
-        .map(|(name, footprint)| PlacedPatch {
+        .map(|(name, footprint, covers)| PlacedPatch {
             name,
+            covers,
             mirror: None,
             centre: footprint.centre,
             normal: footprint.normal,
@@ -341,8 +368,9 @@ fn pair_mirrors(placed: &mut [PlacedPatch], spacing: f64) {
 }
 
 /// Writes one row per patch: its name, centre (vehicle frame, m), outward
-/// unit normal, unit height axis, display width and height (m) and mirror,
-/// so the footprint can be drawn where the frames table names the patch.
+/// unit normal, unit height axis, display width and height (m), mirror and
+/// the parts it covers, so the footprint can be drawn where the frames table
+/// names the patch.
 pub(crate) fn write_patch_table(
     path: &std::path::Path,
     placed: &[PlacedPatch],
@@ -357,6 +385,7 @@ pub(crate) fn write_patch_table(
                 record.extend([v.x, v.y, v.z].map(|c| c.to_string()));
             }
             record.extend([w.to_string(), h.to_string(), patch.mirror.clone().unwrap_or_default()]);
+            record.push(ufcsr::placement::covers_field(&patch.covers));
             table.write_record(&record).map_err(std::io::Error::other)?;
         }
         table.flush()

@@ -11,7 +11,7 @@ use glam::{DMat4, DVec3, Vec3, dvec3};
 
 use super::frames::{Seen, measure_eye_frame};
 use super::labels::LabelSet;
-use super::patches::place_patches;
+use super::patches::{PlacedPatch, place_patches};
 use super::{ExactInputs, parse_display};
 use crate::exact::geometry::{Obstacles, eye_frame};
 use crate::exact::points::surface_samples;
@@ -312,14 +312,40 @@ fn a_flat_plate_holds_the_patches_that_fit_on_it_exactly() {
     }
 }
 
-/// A 1 m × 1 m plate in x = 0 (y −0.5 to 0.5, z 1.5 to 2.5) whose half y < 0
-/// is the part `right` and half y > 0 the part `left`.
-fn split_plate(right: &str, left: &str) -> Mesh {
+/// A 1 m × 1 m plate in x = 0 (y −0.5 to 0.5, z 1.5 to 2.5) whose side
+/// y < `cut` is the part `right` and side y > `cut` the part `left`.
+fn split_plate(right: &str, left: &str, cut: f32) -> Mesh {
     let mut mesh = Mesh::default();
     let corner = |y: f32, z: f32| Vec3::new(0.0, y, z);
-    mesh.add_quad(right, corner(-0.5, 1.5), corner(0.0, 1.5), corner(0.0, 2.5), corner(-0.5, 2.5));
-    mesh.add_quad(left, corner(0.0, 1.5), corner(0.5, 1.5), corner(0.5, 2.5), corner(0.0, 2.5));
+    mesh.add_quad(right, corner(-0.5, 1.5), corner(cut, 1.5), corner(cut, 2.5), corner(-0.5, 2.5));
+    mesh.add_quad(left, corner(cut, 1.5), corner(0.5, 1.5), corner(0.5, 2.5), corner(cut, 2.5));
     mesh
+}
+
+/// The patches of 0.40 × 0.15 m displays on `mesh` (samples 256²), with
+/// the parts each one's samples lie on, sorted.
+fn patches_and_parts_held(mesh: Mesh) -> (Vec<PlacedPatch>, Vec<(String, Vec<String>)>) {
+    let scene = scene_with(mesh, Occluders::default());
+    let samples = samples_of(&scene.vehicle, [256, 256]);
+    let obstacles = Obstacles::new(&scene);
+    let patches = place_patches(&inputs(&scene, &samples, &obstacles), [0.40, 0.15], 0.10);
+    let parts_held: Vec<(String, Vec<String>)> = patches
+        .iter()
+        .map(|patch| {
+            let mut parts: Vec<String> = patch
+                .members
+                .iter()
+                .map(|&m| {
+                    let triangle = samples.samples[m as usize].triangle as usize;
+                    scene.vehicle.parts[scene.vehicle.triangle_part[triangle] as usize].clone()
+                })
+                .collect();
+            parts.sort();
+            parts.dedup();
+            (patch.name.clone(), parts)
+        })
+        .collect();
+    (patches, parts_held)
 }
 
 #[test]
@@ -332,43 +358,48 @@ fn a_display_patch_never_reaches_from_a_body_panel_onto_glass_but_spans_two_pane
     // 0.25 m, at ∓0.15 0.35 m, at ∓0.25 the whole 0.40, so only the outer
     // columns stay, 8 patches on the panel and 8 on the window, each holding
     // samples of its own part alone.
-    let layout = |mesh: Mesh| {
-        let scene = scene_with(mesh, Occluders::default());
-        let samples = samples_of(&scene.vehicle, [256, 256]);
-        let obstacles = Obstacles::new(&scene);
-        let patches = place_patches(&inputs(&scene, &samples, &obstacles), [0.40, 0.15], 0.10);
-        let parts_held: Vec<(String, Vec<String>)> = patches
-            .iter()
-            .map(|patch| {
-                let mut parts: Vec<String> = patch
-                    .members
-                    .iter()
-                    .map(|&m| {
-                        let triangle = samples.samples[m as usize].triangle as usize;
-                        scene.vehicle.parts[scene.vehicle.triangle_part[triangle] as usize].clone()
-                    })
-                    .collect();
-                parts.sort();
-                parts.dedup();
-                (patch.name.clone(), parts)
-            })
-            .collect();
-        (patches, parts_held)
-    };
-    let (panels, held) = layout(split_plate("panel_right", "panel_left"));
+    let (panels, held) = patches_and_parts_held(split_plate("panel_right", "panel_left", 0.0));
     assert_eq!(panels.len(), 48);
     assert!(held.iter().any(|(_, parts)| parts.len() == 2), "a display spans the two panels");
+    for (patch, (_, parts)) in panels.iter().zip(&held) {
+        assert_eq!(
+            &patch.covers, parts,
+            "{}: the parts it covers are the parts its samples lie on",
+            patch.name
+        );
+    }
 
-    let (beside_glass, held) = layout(split_plate("panel", "window"));
+    let (beside_glass, held) = patches_and_parts_held(split_plate("panel", "window", 0.0));
     let mut columns: Vec<String> = beside_glass.iter().map(|p| format!("{:.2}", p.centre.y)).collect();
     columns.sort();
     columns.dedup();
     assert_eq!(columns, ["-0.25", "0.25"], "{:?}", held);
     assert_eq!(beside_glass.len(), 16);
-    for (name, parts) in &held {
+    for ((name, parts), patch) in held.iter().zip(&beside_glass) {
         let own = name.split('@').next().unwrap();
         assert_eq!(parts, &[own.to_string()], "{name} holds {parts:?}");
+        assert_eq!(patch.covers, [own.to_string()], "{name} covers {:?}", patch.covers);
     }
+}
+
+#[test]
+fn a_display_reaching_over_a_window_by_a_twentieth_is_no_candidate() {
+    // The plate cut at y = 0.03. Centred at y = −0.15, a 0.40 m display
+    // spans −0.35 to 0.05: 95 % of it on the panel, enough to fit, and 5 %
+    // over the window, so it would hide the glass's edge: no candidate (it
+    // was one). Kept: the columns y = ∓0.25, wholly on their part. Two body
+    // panels cut there keep all 48, those across the seam covering both.
+    let (beside_glass, _) = patches_and_parts_held(split_plate("panel", "window", 0.03));
+    let mut columns: Vec<String> = beside_glass.iter().map(|p| format!("{:.2}", p.centre.y)).collect();
+    columns.sort();
+    columns.dedup();
+    assert_eq!(columns, ["-0.25", "0.25"]);
+    assert_eq!(beside_glass.len(), 16);
+    let (panels, _) = patches_and_parts_held(split_plate("panel_right", "panel_left", 0.03));
+    assert_eq!(panels.len(), 48);
+    let spanning = panels.iter().filter(|p| p.covers == ["panel_left", "panel_right"]).count();
+    // Columns −0.15, −0.05, 0.05 and 0.15 reach across y = 0.03; 8 rows each.
+    assert_eq!(spanning, 32);
 }
 
 /// The demo truck and every family body at its typical dimensions, named.
@@ -387,6 +418,7 @@ fn no_patch_of_the_truck_or_a_family_body_mixes_mountable_surface_with_glass_or_
     // Before, 7–15 % of their patches did: a trunk-lid display 35 % over the
     // rear window, a bed-side display 17 % over the tyre, named for (and
     // judged mountable by) the part at their centres.
+    // The footprint's surface too: each part a display covers is of its kind.
     let not_mountable = ufcsr::placement::default_not_mountable();
     for (body, mesh) in truck_and_family_bodies() {
         let scene = scene_with(mesh, Occluders::default());
@@ -397,6 +429,12 @@ fn no_patch_of_the_truck_or_a_family_body_mixes_mountable_surface_with_glass_or_
         let mesh = &scene.vehicle;
         for patch in &patches {
             let own = ufcsr::placement::mountable(&patch.name, &not_mountable);
+            let part = patch.name.split('@').next().unwrap();
+            assert!(patch.covers.iter().any(|c| c == part), "{body}: {} covers its own part", patch.name);
+            for covered in &patch.covers {
+                let kind = ufcsr::placement::mountable(covered, &not_mountable);
+                assert_eq!(kind, own, "{body}: {} covers {covered}", patch.name);
+            }
             for &m in &patch.members {
                 let part =
                     &mesh.parts[mesh.triangle_part[samples.samples[m as usize].triangle as usize] as usize];
