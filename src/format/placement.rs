@@ -149,6 +149,11 @@ pub struct ArchiveRecord {
     pub arrival_s: f64,
     /// [start, end] of the decision window, s.
     pub decision_window_s: [f64; 2],
+    /// Why this table's answer may not follow today's rules: its display patches were laid out
+    /// by an older capture (no `covers` in `placement-patches.csv`), so a display there may
+    /// reach over glass or a tyre; capture again. Absent when there is nothing to say.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub warning: Option<String>,
 }
 
 /// The character height the angular threshold applies to.
@@ -394,6 +399,12 @@ pub fn excluded_line(excluded: &[ExcludedRecord]) -> String {
         parts.push(format!("no display fits (exposure only): {}", summarised(&no_fit)));
     }
     if parts.is_empty() { String::new() } else { format!("left out of the answers: {}", parts.join("; ")) }
+}
+
+/// Each archive's warning as a line naming its table (`warning: TABLE: ...`), in input order;
+/// the console and the HTML report print these.
+pub(crate) fn warning_lines(archives: &[ArchiveRecord]) -> Vec<String> {
+    archives.iter().filter_map(|a| a.warning.as_ref().map(|w| format!("warning: {}: {w}", a.table))).collect()
 }
 
 /// Up to eight names, then how many more.

@@ -18,6 +18,7 @@ use crate::error::{Error, Result};
 use crate::files::{SMALL_INPUT_LIMIT, read_limited};
 use crate::optics::vector::dot;
 
+use crate::format::placement::CandidateKind;
 use crate::format::placement_csv::parse_covers;
 pub use crate::format::placement_csv::{PLACEMENT_PATCHES_COLUMNS, PLACEMENT_PATCHES_FILE, covers_field};
 
@@ -91,6 +92,35 @@ pub(crate) fn centre_in_name(name: &str) -> Option<[f64; 3]> {
     let (y, z) = rest.split_once('z')?;
     let centre = [x.parse().ok()?, y.parse().ok()?, z.parse().ok()?];
     centre.iter().all(|c: &f64| c.is_finite()).then_some(centre)
+}
+
+/// Why `table`'s display patches may not follow today's layout rule, if they
+/// may not: a patch with no `covers` (a `placement-patches.csv` written before
+/// the column, or none beside the table) was laid out by an older capture, so
+/// it may reach over glass or a tyre and is judged by its centre's part alone
+/// (`docs/placement.md` §1 item 4). `candidates` are the table's names and
+/// kinds, `footprints` its own, named as in the table.
+pub(crate) fn layout_warning<'a>(
+    candidates: impl Iterator<Item = (&'a str, CandidateKind)>,
+    footprints: &BTreeMap<String, PatchFootprint>,
+) -> Option<String> {
+    let (mut all, mut old) = (0usize, 0usize);
+    for (name, _) in candidates.filter(|(_, kind)| *kind == CandidateKind::Patch) {
+        all += 1;
+        old += usize::from(footprints.get(name).is_none_or(|f| f.covers.is_empty()));
+    }
+    let why = if footprints.is_empty() {
+        format!("there is no {PLACEMENT_PATCHES_FILE} beside it")
+    } else {
+        format!("its {PLACEMENT_PATCHES_FILE} has no covers column")
+    };
+    (old > 0).then(|| {
+        format!(
+            "{old} of its {all} display patches were laid out by an older capture ({why}): such a display may \
+             reach over glass or a tyre and is judged by its centre's part alone; capture again for today's \
+             layout (docs/placement.md §1 item 4)"
+        )
+    })
 }
 
 /// The footprints in `placement-patches.csv` beside the frames table at

@@ -237,6 +237,7 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
     let mut seen: Vec<(PathBuf, &PathBuf)> = Vec::with_capacity(options.inputs.len());
     let mut inputs = Vec::with_capacity(2 * options.inputs.len());
     let mut counts = Vec::with_capacity(options.inputs.len());
+    let mut warnings = Vec::with_capacity(options.inputs.len());
     for input in &options.inputs {
         let path = resolve_table(input)?;
         refuse_table_twice(&path, input, &mut seen)?;
@@ -248,6 +249,10 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
         inputs.push(path.with_file_name(texel_sample::UNOBSTRUCTED_PARTS_FILE));
         let mut table = read_table(&path)?;
         table::label_sizes(&mut table, &mut own);
+        warnings.push(footprints::layout_warning(
+            table.candidates.values().map(|c| (c.name.as_str(), c.kind)),
+            &own,
+        ));
         footprints.extend(own);
         if table.rendered && options.thresholds.min_solid_angle_sr.is_none() {
             return Err(Error::bad_file(
@@ -278,6 +283,9 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
         sensitivity.push(sensitivity::record(&step, moved_sets(&main, &moved)));
     }
     let mut placement = report::assemble(options, &main, combinations, sensitivity);
+    for (record, warning) in placement.document.archives.iter_mut().zip(warnings) {
+        record.warning = warning;
+    }
     placement.footprints = footprints;
     placement.vehicle_model = vehicle_model;
     placement.inputs = inputs;

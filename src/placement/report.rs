@@ -164,6 +164,7 @@ fn archive_records(archives: &[ArchiveTimelines], window_s: f64) -> Vec<ArchiveR
             duration_s: a.duration_s(),
             arrival_s: a.arrival_s,
             decision_window_s: [a.arrival_s - window_s, a.arrival_s],
+            warning: None,
         })
         .collect()
 }
@@ -508,6 +509,9 @@ pub fn format_placement(placement: &Placement, top: usize) -> String {
     let excluded = crate::placement::eligible::excluded_line(&document.excluded);
     if !excluded.is_empty() {
         out += &format!("\n{excluded}\n");
+    }
+    for warning in crate::format::placement::warning_lines(&document.archives) {
+        out += &format!("\n{warning}\n");
     }
     out += &sensitivity_text(document);
     out

@@ -277,7 +277,7 @@ fn a_display_covering_a_part_in_the_not_mountable_list_is_never_chosen() {
     // column names both), legible 1.5 s, and a door display legible 1 s. With
     // the grill listed as not mountable the bumper display is excluded, by
     // the part it covers, and the door chosen; a table from before the
-    // column judges the display by its own part.
+    // column judges the display by its own part, and the answer warns of it.
     let dir = tempfile::tempdir().unwrap();
     let (bumper, door) = ("bumper@0.40x0.15@x2.95y0.00z0.46", "door@0.40x0.15@x1.00y0.90z1.00");
     let mut rows = Vec::new();
@@ -309,6 +309,7 @@ fn a_display_covering_a_part_in_the_not_mountable_list_is_never_chosen() {
     assert_eq!(chosen(&options(vec![path.clone()])), [bumper]);
     let found = placement(&grill_listed()).unwrap();
     assert_eq!(best_display(&found.document), [door]);
+    assert_eq!(found.document.archives[0].warning, None, "today's layout: nothing to warn of");
     let record = found.document.candidates.iter().find(|c| c.name == bumper).unwrap();
     assert!(!record.mountable && (record.legible_s - 1.5).abs() < 1e-9, "scored, marked");
     let why = found.document.excluded.iter().find(|e| e.candidate == bumper).unwrap();
@@ -329,6 +330,17 @@ fn a_display_covering_a_part_in_the_not_mountable_list_is_never_chosen() {
     );
     std::fs::write(dir.path().join(ufcsr::placement::PLACEMENT_PATCHES_FILE), old).unwrap();
     assert_eq!(chosen(&grill_listed()), [bumper]);
+    // ... and the answer says so wherever it is printed, naming the table; so without the file.
+    let warned = |why: &str| {
+        let found = placement(&options(vec![path.clone()])).unwrap();
+        let warning = found.document.archives[0].warning.clone().unwrap_or_default();
+        assert!(warning.starts_with("2 of its 2 display patches") && warning.contains(why), "{warning}");
+        let line = format!("warning: {}: {warning}", found.document.archives[0].table);
+        assert!(ufcsr::format_placement(&found, 5).contains(&line) && line.contains("placement-frames.csv"));
+    };
+    warned("its placement-patches.csv has no covers column");
+    std::fs::remove_file(dir.path().join(ufcsr::placement::PLACEMENT_PATCHES_FILE)).unwrap();
+    warned("there is no placement-patches.csv beside it");
 }
 
 #[test]

@@ -237,6 +237,9 @@ fn combinations(page: &mut String, document: &PlacementDocument) {
             escape(&tied.join(". "))
         );
     }
+    for warning in crate::format::placement::warning_lines(&document.archives) {
+        let _ = writeln!(page, "<p><strong>{}</strong></p>", escape(&warning));
+    }
     let excluded = crate::format::placement::excluded_line(&document.excluded);
     if !excluded.is_empty() {
         let _ = writeln!(
@@ -375,15 +378,7 @@ mod tests {
         let member = MemberRecord { candidates: vec![text()], displays: 1, adds_s: 0.0, adds_no_time: true };
         PlacementDocument {
             schema: PLACEMENT_SCHEMA.into(),
-            archives: vec![ArchiveRecord {
-                table: text(),
-                frames: 1,
-                eyes: vec![text()],
-                seconds_per_frame: 0.1,
-                duration_s: 0.1,
-                arrival_s: 0.0,
-                decision_window_s: [0.0, 0.0],
-            }],
+            archives: vec![hostile_archive()],
             thresholds: hostile_thresholds(),
             uncertainty: UncertaintyRecord {
                 units: text(),
@@ -450,6 +445,20 @@ mod tests {
             }],
             notes: vec![text()],
             excluded: vec![hostile_excluded()],
+        }
+    }
+
+    fn hostile_archive() -> ArchiveRecord {
+        let text = || HOSTILE.to_string();
+        ArchiveRecord {
+            table: text(),
+            frames: 1,
+            eyes: vec![text()],
+            seconds_per_frame: 0.1,
+            duration_s: 0.1,
+            arrival_s: 0.0,
+            decision_window_s: [0.0, 0.0],
+            warning: Some(text()),
         }
     }
 
