@@ -35,11 +35,15 @@
 //! 4. **Fit, exact.** A patch is kept only if the surface covers its
 //!    rectangle: the area of the footprint's faces inside the box (each
 //!    triangle clipped by the box), projected onto the patch's plane, is at
-//!    least 90 % of W × H, and the other kind's facing surface covers none of
-//!    it: a display overhanging an edge of the body is no candidate, nor one
-//!    that would hide the edge of a window or a tyre. The parts covering it
-//!    are the patch's `covers`, so `placement` judges it by every part under
-//!    it. This is the mesh's area, not the samples': an estimate from
+//!    least 90 % of W × H, and none of the other kind's facing surface in the
+//!    box shows from outside (looked for every 5 mm and at every clipped
+//!    piece's corner, along the normal to the box's front): a display
+//!    overhanging an edge of the body is no candidate, nor one that would
+//!    hide the edge of a window or a tyre, while a tyre or glass that the
+//!    body in front already hides (glass run down inside a door) is no reason
+//!    to drop it. The parts of its kind covering it are the patch's `covers`,
+//!    so `placement` judges it by every part under it. The cover is the
+//!    mesh's area, not the samples': an estimate from
 //!    a texel sample would keep or drop a patch near the 90 % line by the
 //!    luck of the sample (with `--exact-sample 1/16`, by a few per cent
 //!    either way), and the set of candidates would differ between units.
@@ -65,7 +69,7 @@ use std::collections::HashMap;
 use glam::DVec3;
 
 use super::ExactInputs;
-use super::surface::{Cell, Surface, area_in_box, cell_of};
+use super::surface::{Cell, Surface, area_in_box, cell_of, polygon_in_box};
 use crate::exact::types::{SURFACE_LIFT_RELATIVE, SurfaceSample};
 
 /// The footprint table's name and columns: the analyzer's, which reads it.
@@ -78,6 +82,31 @@ pub(crate) const MAX_MEMBER_TILT_DEG: f64 = 45.0;
 /// A part whose surface covers at most this share of W × H (rounding dust
 /// where a face only touches the box) is not under the display.
 const DUST: f64 = 1e-6;
+/// Surface of the other kind under a display is looked for at points this
+/// far apart, m, and at every clipped piece's corners: a sliver of it that
+/// shows between them, narrower than this, would go unseen.
+const SIGHT_PITCH_M: f64 = 0.005;
+
+/// Points of the convex polygon `piece` no further than `pitch` apart: each
+/// triangle of its fan on a barycentric lattice, corners and edges included,
+/// each point moved a millionth of the way to its triangle's centroid so that
+/// none lies exactly on a neighbouring face's edge.
+fn points_of(piece: &[DVec3], pitch: f64) -> impl Iterator<Item = DVec3> + '_ {
+    (1..piece.len().saturating_sub(1)).flat_map(move |i| {
+        let [a, b, c] = [piece[0], piece[i], piece[i + 1]];
+        let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+        // At most 4,096 steps a side (a 20 m edge at 5 mm).
+        let n = (longest / pitch).ceil().clamp(1.0, 4096.0) as u32;
+        let centroid = (a + b + c) / 3.0;
+        (0..=n).flat_map(move |i| {
+            (0..=n - i).map(move |j| {
+                let [u, v] = [f64::from(i) / f64::from(n), f64::from(j) / f64::from(n)];
+                let q = a + (b - a) * u + (c - a) * v;
+                q + (centroid - q) * 1e-6
+            })
+        })
+    })
+}
 
 /// One display patch.
 #[derive(Debug, Clone, PartialEq)]
@@ -245,16 +274,44 @@ impl Footprint {
 
     /// The parts a display here would cover, when it fits: surface of the
     /// patch's kind ([`Mountability`]) covers at least [`MIN_COVER`] of
-    /// W × H, and surface of the other kind none of it (a door display
+    /// W × H, and no surface of the other kind shows under it (a door display
     /// reaching over the window's edge, a fender display over the tyre, is
-    /// no candidate, nor is glass reaching onto the body).
-    fn fit(&self, surface: &Surface, kinds: &Mountability) -> Option<Vec<u32>> {
-        let shares = self.cover_by_part(surface);
-        if shares.iter().any(|&(part, _)| kinds.of(part) != self.mountable) {
+    /// no candidate, nor is glass reaching onto the body). The other kind's
+    /// surface hidden behind the display's own (a tyre inside the wheel arch
+    /// behind the fender) is neither a reason to drop it nor among its parts.
+    fn fit(&self, surface: &Surface, kinds: &Mountability, inputs: &ExactInputs) -> Option<Vec<u32>> {
+        let (own, other): (Vec<_>, Vec<_>) =
+            self.cover_by_part(surface).into_iter().partition(|&(part, _)| kinds.of(part) == self.mountable);
+        let cover: f64 = own.iter().map(|&(_, share)| share).sum();
+        if cover < MIN_COVER || other.iter().any(|&(part, _)| self.shows(part, surface, inputs)) {
             return None;
         }
-        let cover: f64 = shares.iter().map(|&(_, share)| share).sum();
-        (cover >= MIN_COVER).then(|| shares.into_iter().map(|(part, _)| part).collect())
+        Some(own.into_iter().map(|(part, _)| part).collect())
+    }
+
+    /// Whether any of `part`'s facing surface in the box shows from outside
+    /// along the normal, rather than lying behind other surface in the box:
+    /// points of it within [`SIGHT_PITCH_M`] of each other (every clipped
+    /// piece's corners among them) are looked at from the box's front face.
+    fn shows(&self, part: u32, surface: &Surface, inputs: &ExactInputs) -> bool {
+        let reach = DVec3::splat(self.radius());
+        let axes = [self.across, self.up, self.normal];
+        let lift = inputs.obstacles.lift_m;
+        surface.near(self.centre - reach, self.centre + reach).into_iter().any(|index| {
+            let face = &surface.faces[index as usize];
+            if face.part != part || !self.faces(face.normal) {
+                return false;
+            }
+            let piece = polygon_in_box(face.corners, self.centre, axes, self.half);
+            points_of(&piece, SIGHT_PITCH_M).any(|q| {
+                // To the box's front face, and a lift past it.
+                let front = self.half[2] - (q - self.centre).dot(self.normal) + lift;
+                !inputs
+                    .obstacles
+                    .vehicle
+                    .blocks(q + self.normal * lift, q + self.normal * front.max(2.0 * lift))
+            })
+        })
     }
 
     /// The samples in the box that face the patch and lie on surface of
@@ -294,7 +351,7 @@ fn lay_out(
         let face = &centres.faces[face as usize];
         let Some(normal) = outward(inputs, p, face.normal) else { continue };
         let footprint = Footprint::new(p, normal, display, kinds.of(face.part));
-        let Some(covered) = footprint.fit(&fits, kinds) else { continue };
+        let Some(covered) = footprint.fit(&fits, kinds, inputs) else { continue };
         let part = &mesh.parts[face.part as usize];
         // The display size in the name: runs with different sizes are never one candidate.
         let name = format!("{part}@{:.2}x{:.2}@x{:.2}y{:.2}z{:.2}", display[0], display[1], p.x, p.y, p.z);

@@ -176,9 +176,25 @@ pub(crate) fn closest_on_triangle(p: DVec3, [a, b, c]: [DVec3; 3]) -> DVec3 {
 }
 
 /// The area of triangle `corners` inside the box `|(x − centre)·axes[i]| ≤
-/// half[i]` (orthonormal axes): the triangle clipped by the box's six
-/// planes (Sutherland–Hodgman), then the polygon's area.
+/// half[i]` (orthonormal axes): the area of [`polygon_in_box`].
 pub(crate) fn area_in_box(corners: [DVec3; 3], centre: DVec3, axes: [DVec3; 3], half: [f64; 3]) -> f64 {
+    let polygon = polygon_in_box(corners, centre, axes, half);
+    let mut twice = DVec3::ZERO;
+    for i in 1..polygon.len().saturating_sub(1) {
+        twice += (polygon[i] - polygon[0]).cross(polygon[i + 1] - polygon[0]);
+    }
+    twice.length() / 2.0
+}
+
+/// Triangle `corners` clipped by the box `|(x − centre)·axes[i]| ≤ half[i]`
+/// (orthonormal axes; its six planes, Sutherland–Hodgman): a convex polygon,
+/// empty when less than one is left.
+pub(crate) fn polygon_in_box(
+    corners: [DVec3; 3],
+    centre: DVec3,
+    axes: [DVec3; 3],
+    half: [f64; 3],
+) -> Vec<DVec3> {
     let mut polygon: Vec<DVec3> = corners.to_vec();
     for (axis, half) in axes.into_iter().zip(half) {
         for sign in [1.0, -1.0] {
@@ -186,15 +202,11 @@ pub(crate) fn area_in_box(corners: [DVec3; 3], centre: DVec3, axes: [DVec3; 3], 
             let outside = |x: DVec3| sign * (x - centre).dot(axis) - half;
             polygon = clip(&polygon, outside);
             if polygon.len() < 3 {
-                return 0.0;
+                return Vec::new();
             }
         }
     }
-    let mut twice = DVec3::ZERO;
-    for i in 1..polygon.len() - 1 {
-        twice += (polygon[i] - polygon[0]).cross(polygon[i + 1] - polygon[0]);
-    }
-    twice.length() / 2.0
+    polygon
 }
 
 /// The part of a convex polygon where `outside(x) ≤ 0`.

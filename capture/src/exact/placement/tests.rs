@@ -402,6 +402,51 @@ fn a_display_reaching_over_a_window_by_a_twentieth_is_no_candidate() {
     assert_eq!(spanning, 32);
 }
 
+#[test]
+fn glass_hidden_behind_the_panel_leaves_its_displays_and_glass_beside_it_does_not() {
+    // The plate of `a_flat_plate_holds_the_patches_that_fit_on_it_exactly`
+    // (48 patches) with a window 3 cm behind it, as a door's glass may run
+    // inside the door: the window does not show under any panel display
+    // (each box reaches 7.5 cm behind its plane), so the panel keeps its 48,
+    // each covering the panel alone (they were dropped), and the window, seen
+    // from its own side, keeps 48 too. A window 3 cm behind the panel and
+    // 0.5 m beside it, cut at y = 0.03 as in
+    // `a_display_reaching_over_a_window_by_a_twentieth_is_no_candidate`,
+    // shows beside the panel's edge: the same 16 as there.
+    let window_behind = |from: f32| {
+        let mut mesh = plate(1.0, 1.0, 2.0);
+        let corner = |y: f32, z: f32| Vec3::new(-0.03, y, z);
+        mesh.add_quad("window", corner(from, 1.5), corner(0.5, 1.5), corner(0.5, 2.5), corner(from, 2.5));
+        mesh
+    };
+    let (patches, parts_held) = patches_and_parts_held(window_behind(-0.5));
+    let on = |part: &str| patches.iter().filter(|p| p.name.starts_with(&format!("{part}@"))).count();
+    assert_eq!(
+        (on("plate"), on("window")),
+        (48, 48),
+        "{:?}",
+        patches.iter().map(|p| &p.name).collect::<Vec<_>>()
+    );
+    for (patch, (_, held)) in patches.iter().zip(&parts_held) {
+        let part = patch.name.split('@').next().unwrap();
+        assert_eq!(
+            (patch.covers.as_slice(), held.as_slice()),
+            ([part.to_string()].as_slice(), [part.to_string()].as_slice())
+        );
+    }
+    let mut beside = split_plate("panel", "window", 0.03);
+    let corner = |y: f32, z: f32| Vec3::new(-0.03, y, z);
+    beside.add_quad("window", corner(-0.5, 1.5), corner(0.03, 1.5), corner(0.03, 2.5), corner(-0.5, 2.5));
+    let (panel, _) = patches_and_parts_held(beside);
+    let panel: Vec<&PlacedPatch> = panel.iter().filter(|p| p.name.starts_with("panel@")).collect();
+    assert_eq!(
+        panel.len(),
+        8,
+        "the column y = −0.25 only: {:?}",
+        panel.iter().map(|p| &p.name).collect::<Vec<_>>()
+    );
+}
+
 /// The demo truck and every family body at its typical dimensions, named.
 fn truck_and_family_bodies() -> Vec<(String, Mesh)> {
     let mut bodies = vec![("demo truck".to_string(), Scene::demo().vehicle)];
