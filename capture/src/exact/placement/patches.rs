@@ -283,23 +283,27 @@ impl Footprint {
         let (own, other): (Vec<_>, Vec<_>) =
             self.cover_by_part(surface).into_iter().partition(|&(part, _)| kinds.of(part) == self.mountable);
         let cover: f64 = own.iter().map(|&(_, share)| share).sum();
-        if cover < MIN_COVER || other.iter().any(|&(part, _)| self.shows(part, surface, inputs)) {
+        let other: Vec<u32> = other.into_iter().map(|(part, _)| part).collect();
+        if cover < MIN_COVER || self.shows(&other, surface, inputs) {
             return None;
         }
         Some(own.into_iter().map(|(part, _)| part).collect())
     }
 
-    /// Whether any of `part`'s facing surface in the box shows from outside
+    /// Whether any facing surface of `parts` in the box shows from outside
     /// along the normal, rather than lying behind other surface in the box:
     /// points of it within [`SIGHT_PITCH_M`] of each other (every clipped
     /// piece's corners among them) are looked at from the box's front face.
-    fn shows(&self, part: u32, surface: &Surface, inputs: &ExactInputs) -> bool {
+    fn shows(&self, parts: &[u32], surface: &Surface, inputs: &ExactInputs) -> bool {
+        if parts.is_empty() {
+            return false;
+        }
         let reach = DVec3::splat(self.radius());
         let axes = [self.across, self.up, self.normal];
         let lift = inputs.obstacles.lift_m;
         surface.near(self.centre - reach, self.centre + reach).into_iter().any(|index| {
             let face = &surface.faces[index as usize];
-            if face.part != part || !self.faces(face.normal) {
+            if !parts.contains(&face.part) || !self.faces(face.normal) {
                 return false;
             }
             let piece = polygon_in_box(face.corners, self.centre, axes, self.half);
