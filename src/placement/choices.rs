@@ -200,6 +200,7 @@ mod tests {
                 &thresholds,
                 &options,
                 &BTreeMap::new(),
+                &std::collections::BTreeSet::new(),
                 &[crate::placement::search::Objective::Mean],
             );
             let parts: Vec<_> = scoring.searched.iter().filter(|s| s.kind == CandidateKind::Part).collect();

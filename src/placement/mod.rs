@@ -167,8 +167,6 @@ pub(crate) struct Scoring {
     pub brackets: Vec<Option<BTreeMap<String, [f64; 2]>>>,
     /// The candidates no answer may hold, and why ([`eligible::exclusions`]).
     pub excluded: Vec<eligible::ExcludedRecord>,
-    /// The patches that stand for no part ([`eligible::unfit_patches`]).
-    pub unfit: std::collections::BTreeSet<String>,
 }
 
 /// Mean legible seconds per candidate over the archives.
@@ -188,15 +186,11 @@ fn score_and_search(
     thresholds: &Thresholds,
     options: &PlacementOptions,
     footprints: &BTreeMap<String, PatchFootprint>,
+    unfit: &std::collections::BTreeSet<String>,
     objectives: &[Objective],
 ) -> Scoring {
-    let unfit = eligible::unfit_patches(
-        tables.iter().flat_map(|t| t.candidates.values().map(|c| (c.name.as_str(), c.kind))),
-        footprints,
-        &options.not_mountable,
-    );
     let archives: Vec<ArchiveTimelines> =
-        tables.iter().map(|t| legibility::timelines_with(t.clone(), thresholds, &unfit)).collect();
+        tables.iter().map(|t| legibility::timelines_with(t.clone(), thresholds, unfit)).collect();
     let universe = Universe::of(&archives);
     let legible = mean_legible(&archives);
     let scored: Vec<regions::Scored> = legible
@@ -224,7 +218,7 @@ fn score_and_search(
             }
         }
     }
-    Scoring { archives, universe, regions, searched, brackets: Vec::new(), excluded, unfit }
+    Scoring { archives, universe, regions, searched, brackets: Vec::new(), excluded }
 }
 
 /// Reads every table, scores every candidate, searches the best sets and
@@ -265,21 +259,26 @@ pub fn placement(options: &PlacementOptions) -> Result<Placement> {
     }
     let objectives: &[Objective] =
         if tables.len() > 1 { &[Objective::Mean, Objective::WorstCase] } else { &[Objective::Mean] };
-    let mut main = score_and_search(&tables, &options.thresholds, options, &footprints, objectives);
+    // Which patches stand for no part depends on the tables and the list, not the thresholds: once.
+    let unfit = eligible::unfit_patches(
+        tables.iter().flat_map(|t| t.candidates.values().map(|c| (c.name.as_str(), c.kind))),
+        &footprints,
+        &options.not_mountable,
+    );
+    let mut main = score_and_search(&tables, &options.thresholds, options, &footprints, &unfit, objectives);
     main.brackets = tables
         .iter()
         .zip(&counts)
         .map(|(table, counts)| {
-            counts
-                .as_ref()
-                .map(|c| texel_sample::legible_brackets(table, c, &options.thresholds, &main.unfit))
+            counts.as_ref().map(|c| texel_sample::legible_brackets(table, c, &options.thresholds, &unfit))
         })
         .collect();
     let combinations: Vec<CombinationRecord> =
         main.searched.iter().map(|s| report::combination_record(&main.universe, s, options)).collect();
     let mut sensitivity = Vec::new();
     for step in sensitivity::steps(&options.thresholds) {
-        let moved = score_and_search(&tables, &step.thresholds, options, &footprints, &[Objective::Mean]);
+        let moved =
+            score_and_search(&tables, &step.thresholds, options, &footprints, &unfit, &[Objective::Mean]);
         sensitivity.push(sensitivity::record(&step, moved_sets(&main, &moved)));
     }
     let mut placement = report::assemble(options, &main, combinations, sensitivity);
